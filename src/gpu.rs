@@ -1,0 +1,179 @@
+//! Headless device creation and texture read-back, for tools and tests.
+
+use crate::error::{PenumbraError, Result};
+
+/// A wgpu instance, adapter, device and queue with no window.
+pub struct HeadlessGpu {
+    pub instance: wgpu::Instance,
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+}
+
+impl HeadlessGpu {
+    /// Creates a device on the adapter the environment selects: `WGPU_BACKEND` (`vulkan`, `gl`,
+    /// ...) picks the backend, `WGPU_ADAPTER_NAME` an adapter by name, `WGPU_POWER_PREF` the
+    /// power preference. With no adapter at all, the error names the package to install.
+    pub fn new() -> Result<Self> {
+        pollster::block_on(Self::new_async())
+    }
+
+    /// As [`HeadlessGpu::new`], for async callers.
+    pub async fn new_async() -> Result<Self> {
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = wgpu::util::initialize_adapter_from_env_or_default(&instance, None)
+            .await
+            .map_err(|e| PenumbraError::NoAdapter { detail: e.to_string() })?;
+        let info = adapter.get_info();
+        let optional = wgpu::Features::TIMESTAMP_QUERY
+            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES;
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("penumbra headless device"),
+                required_features: adapter.features() & optional,
+                required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| PenumbraError::RequestDevice {
+                adapter: format!("{} ({:?})", info.name, info.backend),
+                reason: e.to_string(),
+            })?;
+        Ok(Self {
+            instance,
+            adapter,
+            device,
+            queue,
+        })
+    }
+
+    /// A one-line description of the adapter, e.g. `llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, Cpu)`.
+    pub fn describe(&self) -> String {
+        let info = self.adapter.get_info();
+        format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type)
+    }
+}
+
+/// Copies a 2D RGBA8 (or BGRA8, swizzled to RGBA) texture to the CPU. The texture needs
+/// `COPY_SRC` usage. Rows are returned tightly packed, top row first.
+pub fn read_texture_rgba8(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Result<Vec<u8>> {
+    let (width, height) = (texture.width(), texture.height());
+    let bgra = matches!(
+        texture.format(),
+        wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
+    );
+    let unpadded = width * 4;
+    let padded = unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("penumbra::readback"),
+        size: (padded * height) as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("penumbra::readback"),
+    });
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(height),
+            },
+        },
+        texture.size(),
+    );
+    queue.submit([encoder.finish()]);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+        let _ = sender.send(r);
+    });
+    device
+        .poll(wgpu::PollType::Wait {
+            submission_index: None,
+            timeout: None,
+        })
+        .map_err(|e| PenumbraError::Gpu {
+            during: "waiting for a read-back".into(),
+            reason: e.to_string(),
+        })?;
+    receiver
+        .recv()
+        .map_err(|e| PenumbraError::Gpu {
+            during: "mapping a read-back buffer".into(),
+            reason: e.to_string(),
+        })?
+        .map_err(|e| PenumbraError::Gpu {
+            during: "mapping a read-back buffer".into(),
+            reason: e.to_string(),
+        })?;
+    let mut pixels = Vec::with_capacity((unpadded * height) as usize);
+    {
+        let view = buffer.get_mapped_range(..).map_err(|e| PenumbraError::Gpu {
+            during: "reading a mapped buffer".into(),
+            reason: e.to_string(),
+        })?;
+        for row in view.chunks_exact(padded as usize) {
+            pixels.extend_from_slice(&row[..unpadded as usize]);
+        }
+    }
+    buffer.unmap();
+    if bgra {
+        for px in pixels.chunks_exact_mut(4) {
+            px.swap(0, 2);
+        }
+    }
+    Ok(pixels)
+}
+
+/// Renders one frame of `scene` from `camera` into a new `width` x `height` sRGB texture and
+/// returns it as an image. The renderer must have been made for `Rgba8UnormSrgb`.
+pub fn render_to_image(
+    gpu: &HeadlessGpu,
+    renderer: &mut crate::Renderer,
+    scene: &crate::GpuScene,
+    camera: &crate::Camera,
+    width: u32,
+    height: u32,
+) -> Result<image::RgbaImage> {
+    if width == 0 || height == 0 {
+        return Err(PenumbraError::setting("size", format!("{width}x{height} has no pixels")));
+    }
+    let limit = gpu.device.limits().max_texture_dimension_2d;
+    if width > limit || height > limit {
+        return Err(PenumbraError::setting(
+            "size",
+            format!("{width}x{height} exceeds this device's limit of {limit} pixels per side"),
+        ));
+    }
+    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("penumbra::render_to_image target"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: renderer.color_format(),
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = target.create_view(&Default::default());
+    renderer.resize(&gpu.device, width, height);
+    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("penumbra::render_to_image"),
+    });
+    renderer.render(&gpu.queue, &mut encoder, scene, camera, &view);
+    gpu.queue.submit([encoder.finish()]);
+    let pixels = read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;
+    image::RgbaImage::from_raw(width, height, pixels).ok_or_else(|| PenumbraError::Gpu {
+        during: "reading back the frame".into(),
+        reason: "size mismatch".into(),
+    })
+}

@@ -1,0 +1,49 @@
+//! # penumbra
+//!
+//! Real-time soft shadows as wgpu render passes, built to be embedded: every GPU type takes a
+//! `&wgpu::Device`, a `&wgpu::Queue` and the format it draws into, and the library never owns a
+//! window or an event loop.
+//!
+//! The foundation implemented so far:
+//! * a scene model ([`Scene`]) with meshes that carry a per-position *smoothed normal*,
+//!   materials, instances flagged as casters and receivers, a directional or spot [`Light`]
+//!   with a physical size, and named viewpoints;
+//! * loaders for OBJ and glTF 2.0 ([`load_model`], features `obj` and `gltf`) and a RON scene
+//!   file format ([`SceneFile`], [`load_scene`]);
+//! * the depth-only [`passes::ShadowMapPass`] and the [`passes::ForwardPass`] that lights the
+//!   scene with hard (one tap) or hardware 2x2 PCF shadows, driven by [`Renderer`].
+//!
+//! ```no_run
+//! # fn main() -> penumbra::Result<()> {
+//! let gpu = penumbra::HeadlessGpu::new()?;
+//! let scene = penumbra::load_scene(std::path::Path::new("assets/scenes/teapot.ron"))?;
+//! let format = wgpu::TextureFormat::Rgba8UnormSrgb;
+//! let mut renderer = penumbra::Renderer::new(&gpu.device, format, penumbra::ShadowSettings::default())?;
+//! let gpu_scene = penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene)?;
+//! let image = penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &scene.view(0)?, 640, 480)?;
+//! image.save("teapot.png").expect("writable");
+//! # Ok(()) }
+//! ```
+
+pub mod error;
+pub mod gpu;
+mod gpu_scene;
+pub mod light_space;
+pub mod loaders;
+pub mod passes;
+mod renderer;
+pub mod scene;
+pub mod settings;
+
+pub use error::{PenumbraError, Result};
+pub use gpu::{HeadlessGpu, read_texture_rgba8, render_to_image};
+pub use gpu_scene::{GpuScene, SceneLayouts};
+pub use light_space::LightView;
+pub use loaders::load_model;
+pub use renderer::Renderer;
+pub use scene::file::load_scene;
+pub use scene::{
+    Aabb, AlphaMode, Camera, DirectionalLight, Instance, Light, Material, Mesh, Model, OrbitCamera,
+    Scene, SceneFile, SpotLight, TextureImage, Viewpoint,
+};
+pub use settings::{CullMode, DepthFormat, ShadowMapSettings, ShadowMethod, ShadowSettings};

@@ -1,0 +1,335 @@
+//! glTF 2.0 through the `gltf` crate: `.gltf` with external or embedded (data URI) buffers,
+//! `.glb`, the node hierarchy's transforms, base-color factor and texture, alpha mode MASK,
+//! and skinned meshes posed in their bind pose (the joints' rest transforms).
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+use crate::error::{PenumbraError, Result};
+use crate::scene::{AlphaMode, Instance, Material, Mesh, Model, TextureImage};
+
+pub(super) fn load(path: &Path) -> Result<Model> {
+    let fail = |reason: String| PenumbraError::model(path, reason);
+    let bytes = std::fs::read(path).map_err(|source| PenumbraError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| fail(e.to_string()))?;
+    let base = path.parent().unwrap_or(Path::new(""));
+    for buffer in gltf.buffers() {
+        if let gltf::buffer::Source::Uri(uri) = buffer.source()
+            && !uri.starts_with("data:")
+        {
+            let file = base.join(uri);
+            if !file.is_file() {
+                return Err(fail(format!(
+                    "buffer {} refers to `{uri}`, which does not exist ({})",
+                    buffer.index(),
+                    file.display()
+                )));
+            }
+        }
+    }
+    let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
+        .map_err(|e| fail(format!("cannot read its buffers: {e}")))?;
+    for buffer in gltf.buffers() {
+        let have = buffers[buffer.index()].len();
+        if have < buffer.length() {
+            return Err(fail(format!(
+                "buffer {} declares {} bytes but has {have}",
+                buffer.index(),
+                buffer.length()
+            )));
+        }
+    }
+    check_accessors(&gltf.document, &buffers).map_err(fail)?;
+    let images = gltf::import_images(&gltf.document, Some(base), &buffers)
+        .map_err(|e| fail(format!("cannot read its images: {e}")))?;
+
+    let mut model = Model::default();
+    for (i, image) in images.into_iter().enumerate() {
+        model
+            .textures
+            .push(to_rgba8(format!("{} image {i}", path.display()), image).map_err(fail)?);
+    }
+    for material in gltf.materials() {
+        model.materials.push(convert_material(&material, &mut model.warnings));
+    }
+    let default_material = model.materials.len();
+    model.materials.push(Material::default());
+
+    let document = &gltf.document;
+    let scene = document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+        .ok_or_else(|| fail("it has no scene".into()))?;
+    let globals = global_transforms(document);
+    let mut mesh_cache: HashMap<(usize, usize, Option<usize>), usize> = HashMap::new();
+    let mut stack: Vec<gltf::Node> = scene.nodes().collect();
+    let mut visited = vec![false; document.nodes().len()];
+    while let Some(node) = stack.pop() {
+        if std::mem::replace(&mut visited[node.index()], true) {
+            return Err(fail(format!("node {} is reachable twice (a cycle or shared child)", node.index())));
+        }
+        stack.extend(node.children());
+        let Some(mesh) = node.mesh() else { continue };
+        let skin = node.skin();
+        for primitive in mesh.primitives() {
+            let label = format!(
+                "mesh {} `{}` primitive {}",
+                mesh.index(),
+                mesh.name().unwrap_or(""),
+                primitive.index()
+            );
+            let Some(mut built) = read_primitive(&primitive, &buffers, &label, &mut model.warnings)
+                .map_err(|e| fail(format!("{label}: {e}")))?
+            else {
+                continue;
+            };
+            // A skinned mesh is placed by its joints, not by its node (glTF spec 3.7.3).
+            let transform = match &skin {
+                Some(skin) => {
+                    built = pose_skinned(built, &primitive, skin, &buffers, &globals)
+                        .map_err(|e| fail(format!("{label}: {e}")))?;
+                    Mat4::IDENTITY
+                }
+                None => globals[node.index()],
+            };
+            let key = (mesh.index(), primitive.index(), skin.as_ref().map(|s| s.index()));
+            let mesh_index = *mesh_cache.entry(key).or_insert_with(|| {
+                model.meshes.push(built);
+                model.meshes.len() - 1
+            });
+            let material = primitive.material().index().unwrap_or(default_material);
+            model.parts.push(Instance {
+                mesh: mesh_index,
+                material,
+                transform,
+                caster: true,
+                receiver: true,
+            });
+        }
+    }
+    Ok(model)
+}
+
+/// Checks that every accessor's data lies inside its buffer, so reading can never go out of bounds.
+fn check_accessors(document: &gltf::Document, buffers: &[gltf::buffer::Data]) -> Result<(), String> {
+    for accessor in document.accessors() {
+        let Some(view) = accessor.view() else { continue };
+        let element = accessor.size();
+        let stride = view.stride().unwrap_or(element);
+        let count = accessor.count();
+        let needed = if count == 0 {
+            0
+        } else {
+            (count - 1)
+                .checked_mul(stride)
+                .and_then(|n| n.checked_add(element))
+                .and_then(|n| n.checked_add(accessor.offset()))
+                .ok_or_else(|| format!("accessor {} is too large", accessor.index()))?
+        };
+        if needed > view.length() {
+            return Err(format!(
+                "accessor {} needs {needed} bytes but its buffer view {} has {}",
+                accessor.index(),
+                view.index(),
+                view.length()
+            ));
+        }
+        let buffer_len = buffers.get(view.buffer().index()).map_or(0, |b| b.len());
+        if view.offset() + view.length() > buffer_len {
+            return Err(format!(
+                "buffer view {} ends at byte {} but buffer {} has {buffer_len} bytes",
+                view.index(),
+                view.offset() + view.length(),
+                view.buffer().index()
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Material {
+    let pbr = material.pbr_metallic_roughness();
+    let name = material.name().unwrap_or("material").to_string();
+    let alpha_mode = match material.alpha_mode() {
+        gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+        gltf::material::AlphaMode::Mask => AlphaMode::Mask {
+            cutoff: material.alpha_cutoff().unwrap_or(0.5),
+        },
+        gltf::material::AlphaMode::Blend => {
+            warnings.push(format!("material `{name}`: alpha mode BLEND is drawn as opaque"));
+            AlphaMode::Opaque
+        }
+    };
+    let texture = pbr.base_color_texture().map(|info| {
+        if info.tex_coord() != 0 {
+            warnings.push(format!(
+                "material `{name}`: base color texture uses UV set {}, read from set 0",
+                info.tex_coord()
+            ));
+        }
+        info.texture().source().index()
+    });
+    Material {
+        name,
+        base_color: Vec4::from_array(pbr.base_color_factor()),
+        base_color_texture: texture,
+        alpha_mode,
+    }
+}
+
+/// The mesh of one primitive, or `None` (with a warning) for points and lines.
+fn read_primitive(
+    primitive: &gltf::Primitive,
+    buffers: &[gltf::buffer::Data],
+    label: &str,
+    warnings: &mut Vec<String>,
+) -> Result<Option<Mesh>, String> {
+    use gltf::mesh::Mode;
+    let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+    let positions: Vec<Vec3> = reader
+        .read_positions()
+        .ok_or("it has no POSITION attribute")?
+        .map(Vec3::from_array)
+        .collect();
+    let normals = reader
+        .read_normals()
+        .map(|it| it.map(Vec3::from_array).collect::<Vec<_>>());
+    let uvs = reader
+        .read_tex_coords(0)
+        .map(|it| it.into_f32().map(Vec2::from_array).collect::<Vec<_>>());
+    let vertex_order: Vec<u32> = match reader.read_indices() {
+        Some(it) => it.into_u32().collect(),
+        None => (0..positions.len() as u32).collect(),
+    };
+    let indices = match primitive.mode() {
+        Mode::Triangles => vertex_order,
+        Mode::TriangleStrip => (2..vertex_order.len())
+            .flat_map(|i| {
+                let (a, b, c) = (vertex_order[i - 2], vertex_order[i - 1], vertex_order[i]);
+                if i % 2 == 0 { [a, b, c] } else { [b, a, c] }
+            })
+            .collect(),
+        Mode::TriangleFan => (2..vertex_order.len())
+            .flat_map(|i| [vertex_order[0], vertex_order[i - 1], vertex_order[i]])
+            .collect(),
+        other => {
+            warnings.push(format!("{label}: {other:?} primitives are not drawn (triangles only)"));
+            return Ok(None);
+        }
+    };
+    if indices.len() % 3 != 0 {
+        return Err(format!("{} indices is not a whole number of triangles", indices.len()));
+    }
+    let normals = normals.filter(|n| n.len() == positions.len());
+    let uvs = uvs.filter(|t| t.len() == positions.len());
+    Mesh::new(label, positions, normals, uvs, indices)
+        .map(Some)
+        .map_err(|e| e.to_string())
+}
+
+/// World transforms of every node from its local transform and its parents'.
+fn global_transforms(document: &gltf::Document) -> Vec<Mat4> {
+    let count = document.nodes().len();
+    let mut parent = vec![None; count];
+    for node in document.nodes() {
+        for child in node.children() {
+            parent[child.index()] = Some(node.index());
+        }
+    }
+    let local: Vec<Mat4> = document
+        .nodes()
+        .map(|n| Mat4::from_cols_array_2d(&n.transform().matrix()))
+        .collect();
+    (0..count)
+        .map(|mut i| {
+            let mut m = local[i];
+            let mut steps = 0;
+            while let Some(p) = parent[i] {
+                m = local[p] * m;
+                i = p;
+                steps += 1;
+                if steps > count {
+                    break; // a cycle: stop rather than loop forever
+                }
+            }
+            m
+        })
+        .collect()
+}
+
+/// Applies linear-blend skinning with every joint at its rest transform (the bind pose).
+fn pose_skinned(
+    mesh: Mesh,
+    primitive: &gltf::Primitive,
+    skin: &gltf::Skin,
+    buffers: &[gltf::buffer::Data],
+    globals: &[Mat4],
+) -> Result<Mesh, String> {
+    let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+    let skin_reader = skin.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+    let joints: Vec<usize> = skin.joints().map(|j| j.index()).collect();
+    let inverse_bind: Vec<Mat4> = match skin_reader.read_inverse_bind_matrices() {
+        Some(it) => it.map(|m| Mat4::from_cols_array_2d(&m)).collect(),
+        None => vec![Mat4::IDENTITY; joints.len()],
+    };
+    if inverse_bind.len() < joints.len() {
+        return Err("the skin has fewer inverse bind matrices than joints".into());
+    }
+    let joint_matrices: Vec<Mat4> = joints
+        .iter()
+        .zip(&inverse_bind)
+        .map(|(&j, ibm)| globals[j] * *ibm)
+        .collect();
+    let (Some(joint_ids), Some(weights)) = (reader.read_joints(0), reader.read_weights(0)) else {
+        return Ok(mesh); // a skin without weights: leave the mesh as authored
+    };
+    let joint_ids: Vec<[u16; 4]> = joint_ids.into_u16().collect();
+    let weights: Vec<[f32; 4]> = weights.into_f32().collect();
+    if joint_ids.len() != mesh.vertex_count() || weights.len() != mesh.vertex_count() {
+        return Err("JOINTS_0/WEIGHTS_0 counts differ from the vertex count".into());
+    }
+    let mut positions = Vec::with_capacity(mesh.vertex_count());
+    let mut normals = Vec::with_capacity(mesh.vertex_count());
+    for (v, (ids, w)) in joint_ids.iter().zip(&weights).enumerate() {
+        let mut m = Mat4::ZERO;
+        let mut total = 0.0;
+        for k in 0..4 {
+            if w[k] != 0.0 {
+                let joint = joint_matrices
+                    .get(ids[k] as usize)
+                    .ok_or_else(|| format!("vertex {v} uses joint {} of {}", ids[k], joints.len()))?;
+                m += *joint * w[k];
+                total += w[k];
+            }
+        }
+        let m = if total > 1e-6 { m * (1.0 / total) } else { Mat4::IDENTITY };
+        positions.push(m.transform_point3(mesh.positions[v]));
+        normals.push(m.transform_vector3(mesh.normals[v]));
+    }
+    Mesh::new(mesh.name, positions, Some(normals), Some(mesh.uvs), mesh.indices).map_err(|e| e.to_string())
+}
+
+fn to_rgba8(name: String, image: gltf::image::Data) -> Result<TextureImage, String> {
+    use gltf::image::Format;
+    let (w, h) = (image.width, image.height);
+    let px = &image.pixels;
+    let n = (w as usize) * (h as usize);
+    let rgba: Vec<u8> = match image.format {
+        Format::R8G8B8A8 => px.clone(),
+        Format::R8G8B8 => px.chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 255]).collect(),
+        Format::R8G8 => px.chunks_exact(2).flat_map(|c| [c[0], c[0], c[0], c[1]]).collect(),
+        Format::R8 => px.iter().flat_map(|&c| [c, c, c, 255]).collect(),
+        Format::R16G16B16A16 => px.chunks_exact(8).flat_map(|c| [c[1], c[3], c[5], c[7]]).collect(),
+        Format::R16G16B16 => px.chunks_exact(6).flat_map(|c| [c[1], c[3], c[5], 255]).collect(),
+        other => return Err(format!("{name}: pixel format {other:?} is not supported")),
+    };
+    if rgba.len() != n * 4 {
+        return Err(format!("{name}: {w}x{h} image has {} bytes of pixels", px.len()));
+    }
+    Ok(TextureImage::from_rgba8(name, w, h, rgba))
+}

@@ -1,0 +1,318 @@
+//! Forward lit pass: draws every instance from the camera with Lambert diffuse plus ambient,
+//! shadowing the direct light with one comparison lookup into the shadow map.
+//!
+//! Inputs: the [`GpuScene`], the [`Camera`], the [`LightView`] and the shadow map. Output: the
+//! lit color in the caller's target (any color format given at creation) and the pass's own
+//! camera depth buffer. [`ShadowMethod::Hard`] binds a nearest-filtering comparison sampler (one
+//! tap), [`ShadowMethod::Hardware2x2`] a linear one (the hardware's 2x2 PCF); the pipeline is
+//! the same.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::{POSITION, layout, stream};
+use crate::gpu_scene::{GpuScene, SceneLayouts, vec4};
+use crate::light_space::LightView;
+use crate::scene::{Camera, Light};
+use crate::settings::ShadowMethod;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct FrameUniform {
+    view_proj: [[f32; 4]; 4],
+    light_view_proj: [[f32; 4]; 4],
+    camera_position: [f32; 4],
+    light_direction: [f32; 4],
+    light_position: [f32; 4],
+    light_radiance: [f32; 4],
+    ambient: [f32; 4],
+}
+
+pub struct ForwardPass {
+    color_format: wgpu::TextureFormat,
+    frame_layout: wgpu::BindGroupLayout,
+    frame_buffer: wgpu::Buffer,
+    hard_sampler: wgpu::Sampler,
+    pcf_sampler: wgpu::Sampler,
+    hard_bind_group: wgpu::BindGroup,
+    pcf_bind_group: wgpu::BindGroup,
+    pipeline: wgpu::RenderPipeline,
+    depth: wgpu::TextureView,
+    size: (u32, u32),
+}
+
+impl ForwardPass {
+    /// Camera depth buffer format.
+    pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+    pub fn new(
+        device: &wgpu::Device,
+        layouts: &SceneLayouts,
+        color_format: wgpu::TextureFormat,
+        shadow_map: &wgpu::TextureView,
+    ) -> Self {
+        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/forward.wgsl"));
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("ForwardPass::frame_layout"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(size_of::<FrameUniform>() as u64),
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    count: None,
+                },
+            ],
+        });
+        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ForwardPass::frame"),
+            size: size_of::<FrameUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let comparison_sampler = |label, filter| {
+            device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some(label),
+                address_mode_u: wgpu::AddressMode::ClampToEdge,
+                address_mode_v: wgpu::AddressMode::ClampToEdge,
+                mag_filter: filter,
+                min_filter: filter,
+                compare: Some(wgpu::CompareFunction::LessEqual),
+                ..Default::default()
+            })
+        };
+        let hard_sampler = comparison_sampler("ForwardPass::hard_sampler", wgpu::FilterMode::Nearest);
+        let pcf_sampler = comparison_sampler("ForwardPass::pcf_sampler", wgpu::FilterMode::Linear);
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("ForwardPass::layout"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&layouts.instance), Some(&layouts.material)],
+            immediate_size: 0,
+        });
+        const NORMAL: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x3);
+        const UV: [wgpu::VertexAttribute; 1] = stream(2, wgpu::VertexFormat::Float32x2);
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("ForwardPass::pipeline"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(layout(&POSITION)), Some(layout(&NORMAL)), Some(layout(&UV))],
+            },
+            // Both sides are drawn: imported models are often open or single-sided.
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: Self::DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(color_format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let make_bind_group = |sampler: &wgpu::Sampler, label| {
+            frame_bind_group(device, &frame_layout, &frame_buffer, shadow_map, sampler, label)
+        };
+        let hard_bind_group = make_bind_group(&hard_sampler, "ForwardPass::frame_hard");
+        let pcf_bind_group = make_bind_group(&pcf_sampler, "ForwardPass::frame_pcf");
+        let depth = depth_target(device, 1, 1);
+        Self {
+            color_format,
+            frame_layout,
+            frame_buffer,
+            hard_sampler,
+            pcf_sampler,
+            hard_bind_group,
+            pcf_bind_group,
+            pipeline,
+            depth,
+            size: (1, 1),
+        }
+    }
+
+    pub fn color_format(&self) -> wgpu::TextureFormat {
+        self.color_format
+    }
+
+    /// Points the pass at a new shadow map (after the shadow map was recreated).
+    pub fn set_shadow_map(&mut self, device: &wgpu::Device, shadow_map: &wgpu::TextureView) {
+        self.hard_bind_group = frame_bind_group(
+            device,
+            &self.frame_layout,
+            &self.frame_buffer,
+            shadow_map,
+            &self.hard_sampler,
+            "ForwardPass::frame_hard",
+        );
+        self.pcf_bind_group = frame_bind_group(
+            device,
+            &self.frame_layout,
+            &self.frame_buffer,
+            shadow_map,
+            &self.pcf_sampler,
+            "ForwardPass::frame_pcf",
+        );
+    }
+
+    /// Recreates the camera depth buffer for a new target size (both sides >= 1).
+    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        if self.size != (width, height) {
+            self.depth = depth_target(device, width, height);
+            self.size = (width, height);
+        }
+    }
+
+    /// Records the pass into `target`, which must match the size given to [`ForwardPass::resize`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        queue: &wgpu::Queue,
+        scene: &GpuScene,
+        camera: &Camera,
+        light_view: &LightView,
+        method: ShadowMethod,
+        target: &wgpu::TextureView,
+    ) {
+        let aspect = self.size.0 as f32 / self.size.1 as f32;
+        let light = scene.light();
+        let direction = light.direction();
+        let (kind, position, cos_outer, cos_inner) = match light {
+            Light::Directional(_) => (0.0, glam::Vec3::ZERO, -1.0, -1.0),
+            Light::Spot(spot) => {
+                let outer = spot.cone_angle_deg.to_radians();
+                (1.0, spot.position, outer.cos(), (outer * 0.85).cos())
+            }
+        };
+        let frame = FrameUniform {
+            view_proj: camera.view_projection(aspect).to_cols_array_2d(),
+            light_view_proj: light_view.view_projection.to_cols_array_2d(),
+            camera_position: vec4(camera.eye, 1.0),
+            light_direction: vec4(direction, kind),
+            light_position: vec4(position, cos_outer),
+            light_radiance: vec4(light.radiance(), cos_inner),
+            ambient: vec4(scene.ambient(), 0.0),
+        };
+        queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("ForwardPass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color {
+                        r: 0.55,
+                        g: 0.62,
+                        b: 0.72,
+                        a: 1.0,
+                    }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        let frame_group = match method {
+            ShadowMethod::Hard => &self.hard_bind_group,
+            ShadowMethod::Hardware2x2 => &self.pcf_bind_group,
+        };
+        pass.set_bind_group(0, frame_group, &[]);
+        for inst in &scene.instances {
+            let mesh = &scene.meshes[inst.mesh];
+            if mesh.index_count == 0 {
+                continue;
+            }
+            pass.set_bind_group(1, &scene.instance_bind_group, &[inst.uniform_offset]);
+            pass.set_bind_group(2, &scene.materials[inst.material], &[]);
+            pass.set_vertex_buffer(0, mesh.positions.slice(..));
+            pass.set_vertex_buffer(1, mesh.normals.slice(..));
+            pass.set_vertex_buffer(2, mesh.uvs.slice(..));
+            pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..mesh.index_count, 0, 0..1);
+        }
+    }
+}
+
+fn frame_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    frame: &wgpu::Buffer,
+    shadow_map: &wgpu::TextureView,
+    sampler: &wgpu::Sampler,
+    label: &str,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: frame.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(shadow_map),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::Sampler(sampler),
+            },
+        ],
+    })
+}
+
+fn depth_target(device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureView {
+    device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some("ForwardPass::camera_depth"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: ForwardPass::DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        })
+        .create_view(&Default::default())
+}

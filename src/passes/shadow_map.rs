@@ -1,0 +1,214 @@
+//! Shadow map pass: renders the casters' depth from the light.
+//!
+//! Input: the [`GpuScene`]'s casters and the [`LightView`]. Output: a square depth texture
+//! ([`ShadowMapPass::view`]) of the configured resolution and format, cleared to the far plane.
+//! Opaque casters use one position-only pipeline whatever their material; alpha-masked casters
+//! use a second minimal pipeline that reads alpha. Constant and slope-scaled depth bias are
+//! applied by the rasterizer.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::{POSITION, layout, stream};
+use crate::gpu_scene::{GpuScene, SceneLayouts};
+use crate::light_space::LightView;
+use crate::settings::ShadowMapSettings;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct LightUniform {
+    view_proj: [[f32; 4]; 4],
+}
+
+pub struct ShadowMapPass {
+    settings: ShadowMapSettings,
+    texture: wgpu::Texture,
+    view: wgpu::TextureView,
+    light_buffer: wgpu::Buffer,
+    light_bind_group: wgpu::BindGroup,
+    opaque_pipeline: wgpu::RenderPipeline,
+    masked_pipeline: wgpu::RenderPipeline,
+}
+
+impl ShadowMapPass {
+    /// Creates the pipelines and the shadow map texture. `settings` must have been validated.
+    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, settings: &ShadowMapSettings) -> Self {
+        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/shadow_map.wgsl"));
+        let light_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("ShadowMapPass::light_layout"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let light_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ShadowMapPass::light"),
+            size: size_of::<LightUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let light_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("ShadowMapPass::light"),
+            layout: &light_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: light_buffer.as_entire_binding(),
+            }],
+        });
+        let format = settings.depth_format.texture_format();
+        let depth_stencil = wgpu::DepthStencilState {
+            format,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::LessEqual),
+            stencil: Default::default(),
+            bias: wgpu::DepthBiasState {
+                constant: settings.constant_bias,
+                slope_scale: settings.slope_bias,
+                clamp: 0.0,
+            },
+        };
+        let primitive = wgpu::PrimitiveState {
+            cull_mode: settings.cull_mode.face(),
+            ..Default::default()
+        };
+
+        let opaque_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("ShadowMapPass::opaque_layout"),
+            bind_group_layouts: &[Some(&light_layout), Some(&layouts.instance)],
+            immediate_size: 0,
+        });
+        let opaque_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("ShadowMapPass::opaque"),
+            layout: Some(&opaque_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_opaque"),
+                compilation_options: Default::default(),
+                buffers: &[Some(layout(&POSITION))],
+            },
+            primitive,
+            depth_stencil: Some(depth_stencil.clone()),
+            multisample: Default::default(),
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        });
+
+        let masked_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("ShadowMapPass::masked_layout"),
+            bind_group_layouts: &[Some(&light_layout), Some(&layouts.instance), Some(&layouts.material)],
+            immediate_size: 0,
+        });
+        const UV: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x2);
+        let masked_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("ShadowMapPass::masked"),
+            layout: Some(&masked_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_masked"),
+                compilation_options: Default::default(),
+                buffers: &[Some(layout(&POSITION)), Some(layout(&UV))],
+            },
+            primitive,
+            depth_stencil: Some(depth_stencil),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_masked"),
+                compilation_options: Default::default(),
+                targets: &[],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("ShadowMapPass::shadow_map"),
+            size: wgpu::Extent3d {
+                width: settings.resolution,
+                height: settings.resolution,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        Self {
+            settings: *settings,
+            texture,
+            view,
+            light_buffer,
+            light_bind_group,
+            opaque_pipeline,
+            masked_pipeline,
+        }
+    }
+
+    pub fn settings(&self) -> &ShadowMapSettings {
+        &self.settings
+    }
+
+    /// The depth shadow map.
+    pub fn view(&self) -> &wgpu::TextureView {
+        &self.view
+    }
+
+    pub fn texture(&self) -> &wgpu::Texture {
+        &self.texture
+    }
+
+    /// Records the pass: clears the map and draws every caster.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, queue: &wgpu::Queue, scene: &GpuScene, light: &LightView) {
+        queue.write_buffer(
+            &self.light_buffer,
+            0,
+            bytemuck::bytes_of(&LightUniform {
+                view_proj: light.view_projection.to_cols_array_2d(),
+            }),
+        );
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("ShadowMapPass"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &self.light_bind_group, &[]);
+        for masked in [false, true] {
+            pass.set_pipeline(if masked { &self.masked_pipeline } else { &self.opaque_pipeline });
+            for inst in scene.instances.iter().filter(|i| i.caster && i.masked == masked) {
+                let mesh = &scene.meshes[inst.mesh];
+                if mesh.index_count == 0 {
+                    continue;
+                }
+                pass.set_bind_group(1, &scene.instance_bind_group, &[inst.uniform_offset]);
+                pass.set_vertex_buffer(0, mesh.positions.slice(..));
+                if masked {
+                    pass.set_bind_group(2, &scene.materials[inst.material], &[]);
+                    pass.set_vertex_buffer(1, mesh.uvs.slice(..));
+                }
+                pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..mesh.index_count, 0, 0..1);
+            }
+        }
+    }
+}

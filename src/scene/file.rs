@@ -1,0 +1,384 @@
+//! The scene file format: a RON document that lists meshes, materials, instances, the light and
+//! named viewpoints. Paths inside it are relative to the file.
+//!
+//! ```ron
+//! (
+//!     meshes: [
+//!         (name: "teapot", source: Teapot(tessellation: 12)),
+//!         (name: "floor", source: Plane(size: 16.0)),
+//!     ],
+//!     materials: [(name: "porcelain", base_color: (0.9, 0.85, 0.75, 1.0))],
+//!     instances: [
+//!         (mesh: "teapot", material: Some("porcelain")),
+//!         (mesh: "floor", material: Some("porcelain"), caster: false),
+//!     ],
+//!     light: Directional((direction: (-0.4, -1.0, -0.3), angular_diameter_deg: 2.0)),
+//!     views: [(name: "front", eye: (0.0, 4.0, 9.0), target: (0.0, 1.0, 0.0))],
+//! )
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use glam::{EulerRot, Mat4, Quat, Vec3, Vec4};
+use serde::{Deserialize, Serialize};
+
+use super::{
+    AlphaMode, Camera, Light, Material, Mesh, Model, Scene, TextureImage, Viewpoint, character,
+    primitives, teapot,
+};
+use crate::error::{PenumbraError, Result};
+
+/// Where a mesh comes from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum MeshSource {
+    /// Newell's teapot with `tessellation` x `tessellation` quads per patch (1..=64).
+    Teapot { tessellation: u32 },
+    /// The built-in humanoid figure, about 1.8 units tall.
+    Character,
+    /// A box with the given edge lengths, centered at the origin.
+    Box { size: Vec3 },
+    /// A sphere centered at the origin.
+    Sphere { radius: f32 },
+    /// A floor on y = 0 of side `size`, with UVs repeating `uv_repeat` times.
+    Plane {
+        size: f32,
+        #[serde(default = "one")]
+        uv_repeat: f32,
+    },
+    /// An OBJ or glTF (.gltf / .glb) file, relative to the scene file. Its own materials are
+    /// used unless the instance names one.
+    File { path: String },
+}
+
+/// A named mesh entry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MeshEntry {
+    pub name: String,
+    pub source: MeshSource,
+}
+
+/// Where a base-color texture comes from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum TextureSource {
+    /// A generated checkerboard of `squares` x `squares` cells of two sRGB colors.
+    Checker { squares: u32, a: [u8; 4], b: [u8; 4] },
+    /// A PNG or JPEG file, relative to the scene file.
+    File { path: String },
+}
+
+/// A named material entry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MaterialEntry {
+    pub name: String,
+    /// Linear RGBA.
+    pub base_color: Vec4,
+    #[serde(default)]
+    pub texture: Option<TextureSource>,
+    #[serde(default)]
+    pub alpha_mode: AlphaMode,
+}
+
+/// An instance entry. Rotation is in degrees about Y, then X, then Z.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InstanceEntry {
+    pub mesh: String,
+    /// A material name; `None` keeps a file's own materials (built-in meshes get a grey one).
+    #[serde(default)]
+    pub material: Option<String>,
+    #[serde(default)]
+    pub translation: Vec3,
+    #[serde(default)]
+    pub rotation_deg: Vec3,
+    #[serde(default = "unit_scale")]
+    pub scale: Vec3,
+    #[serde(default = "yes")]
+    pub caster: bool,
+    #[serde(default = "yes")]
+    pub receiver: bool,
+}
+
+/// A named viewpoint. Near and far planes are fitted to the scene when left out.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ViewEntry {
+    pub name: String,
+    pub eye: Vec3,
+    pub target: Vec3,
+    #[serde(default = "default_fov")]
+    pub fov_y_deg: f32,
+    #[serde(default)]
+    pub near: Option<f32>,
+    #[serde(default)]
+    pub far: Option<f32>,
+}
+
+/// A scene description as stored on disk.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SceneFile {
+    pub meshes: Vec<MeshEntry>,
+    #[serde(default)]
+    pub materials: Vec<MaterialEntry>,
+    pub instances: Vec<InstanceEntry>,
+    pub light: Light,
+    #[serde(default = "default_ambient")]
+    pub ambient: Vec3,
+    pub views: Vec<ViewEntry>,
+}
+
+fn one() -> f32 {
+    1.0
+}
+fn yes() -> bool {
+    true
+}
+fn unit_scale() -> Vec3 {
+    Vec3::ONE
+}
+fn default_fov() -> f32 {
+    45.0
+}
+fn default_ambient() -> Vec3 {
+    Vec3::splat(0.12)
+}
+
+impl SceneFile {
+    /// Parses RON text. `path` is only used in error messages.
+    pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
+        ron::from_str(text).map_err(|e| PenumbraError::SceneFile {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        })
+    }
+
+    /// Reads and parses a scene file.
+    pub fn read(path: &Path) -> Result<SceneFile> {
+        let text = std::fs::read_to_string(path).map_err(|source| PenumbraError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::parse(&text, path)
+    }
+
+    /// Serializes to pretty RON.
+    pub fn to_ron(&self) -> String {
+        ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::default())
+            .expect("scene files always serialize")
+    }
+
+    /// Builds the scene, loading referenced files relative to `base_dir`. `path` names the
+    /// scene file in errors.
+    pub fn build(&self, base_dir: &Path, path: &Path) -> Result<Scene> {
+        let bad = |reason: String| PenumbraError::SceneFile {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let mut scene = Scene {
+            light: self.light,
+            ambient: self.ambient,
+            ..Scene::default()
+        };
+        self.light
+            .validate()
+            .map_err(|e| bad(e.to_string()))?;
+
+        // Materials by name.
+        let mut material_index = std::collections::HashMap::new();
+        for entry in &self.materials {
+            if !entry.base_color.is_finite() {
+                return Err(bad(format!("material `{}` has a non-finite base_color", entry.name)));
+            }
+            if let AlphaMode::Mask { cutoff } = entry.alpha_mode
+                && !(0.0..=1.0).contains(&cutoff)
+            {
+                return Err(bad(format!("material `{}`: alpha cutoff {cutoff} is outside [0, 1]", entry.name)));
+            }
+            let texture = match &entry.texture {
+                None => None,
+                Some(TextureSource::Checker { squares, a, b }) => {
+                    scene.textures.push(TextureImage::checker(&entry.name, *squares, *a, *b));
+                    Some(scene.textures.len() - 1)
+                }
+                Some(TextureSource::File { path: rel }) => {
+                    let file = base_dir.join(rel);
+                    let bytes = std::fs::read(&file)
+                        .map_err(|source| PenumbraError::Io { path: file.clone(), source })?;
+                    scene.textures.push(TextureImage::decode(&file.display().to_string(), &bytes)?);
+                    Some(scene.textures.len() - 1)
+                }
+            };
+            let index = scene.add_material(Material {
+                name: entry.name.clone(),
+                base_color: entry.base_color,
+                base_color_texture: texture,
+                alpha_mode: entry.alpha_mode,
+            });
+            if material_index.insert(entry.name.clone(), index).is_some() {
+                return Err(bad(format!("material `{}` is defined twice", entry.name)));
+            }
+        }
+
+        // Meshes by name: built-ins become one-part models.
+        let mut models = std::collections::HashMap::new();
+        for entry in &self.meshes {
+            let builtin = |mesh: Mesh| Model {
+                meshes: vec![mesh],
+                materials: vec![Material::default()],
+                textures: vec![],
+                warnings: vec![],
+                parts: vec![super::Instance {
+                    mesh: 0,
+                    material: 0,
+                    transform: Mat4::IDENTITY,
+                    caster: true,
+                    receiver: true,
+                }],
+            };
+            let positive = |what: &str, v: f32| {
+                if v > 0.0 && v.is_finite() {
+                    Ok(v)
+                } else {
+                    Err(bad(format!("mesh `{}`: {what} {v} must be positive", entry.name)))
+                }
+            };
+            let model = match &entry.source {
+                MeshSource::Teapot { tessellation } => {
+                    if !teapot::TESSELLATION_RANGE.contains(tessellation) {
+                        return Err(bad(format!(
+                            "mesh `{}`: teapot tessellation {tessellation} is outside {:?}",
+                            entry.name,
+                            teapot::TESSELLATION_RANGE
+                        )));
+                    }
+                    builtin(teapot::teapot(*tessellation))
+                }
+                MeshSource::Character => builtin(character::character()),
+                MeshSource::Box { size } => {
+                    for v in size.to_array() {
+                        positive("box size", v)?;
+                    }
+                    builtin(primitives::cuboid(*size))
+                }
+                MeshSource::Sphere { radius } => builtin(primitives::sphere(positive("radius", *radius)?, 48, 24)),
+                MeshSource::Plane { size, uv_repeat } => {
+                    builtin(primitives::plane(positive("plane size", *size)?, *uv_repeat))
+                }
+                MeshSource::File { path: rel } => crate::loaders::load_model(&base_dir.join(rel))?,
+            };
+            if models.insert(entry.name.clone(), model).is_some() {
+                return Err(bad(format!("mesh `{}` is defined twice", entry.name)));
+            }
+        }
+
+        for (k, inst) in self.instances.iter().enumerate() {
+            let model = models.get(&inst.mesh).ok_or_else(|| {
+                bad(format!("instance {k} uses mesh `{}`, which is not in `meshes`", inst.mesh))
+            })?;
+            let material = match &inst.material {
+                None => None,
+                Some(name) => Some(*material_index.get(name).ok_or_else(|| {
+                    bad(format!("instance {k} uses material `{name}`, which is not in `materials`"))
+                })?),
+            };
+            let r = inst.rotation_deg;
+            let transform = Mat4::from_scale_rotation_translation(
+                inst.scale,
+                Quat::from_euler(EulerRot::YXZ, r.y.to_radians(), r.x.to_radians(), r.z.to_radians()),
+                inst.translation,
+            );
+            if !transform.is_finite() || transform.determinant().abs() < 1e-20 {
+                return Err(bad(format!("instance {k}: transform is not finite or has a zero scale")));
+            }
+            scene.add_model(model, transform, material, inst.caster, inst.receiver);
+        }
+
+        let bounds = scene.bounds();
+        for v in &self.views {
+            let mut camera = Camera {
+                eye: v.eye,
+                target: v.target,
+                up: Vec3::Y,
+                fov_y_deg: v.fov_y_deg,
+                near: 0.1,
+                far: 100.0,
+            };
+            if !(v.fov_y_deg > 0.0 && v.fov_y_deg < 180.0) || !v.eye.is_finite() || !v.target.is_finite() {
+                return Err(bad(format!("view `{}`: fov must be in (0, 180) and eye/target finite", v.name)));
+            }
+            camera.fit_depth_range(&bounds);
+            if let Some(near) = v.near {
+                camera.near = near;
+            }
+            if let Some(far) = v.far {
+                camera.far = far;
+            }
+            if !(camera.near > 0.0 && camera.far > camera.near) {
+                return Err(bad(format!("view `{}`: need 0 < near < far", v.name)));
+            }
+            scene.views.push(Viewpoint {
+                name: v.name.clone(),
+                camera,
+            });
+        }
+        scene.validate().map_err(|e| bad(e.to_string()))?;
+        Ok(scene)
+    }
+}
+
+/// Loads a scene: a `.ron` scene file, or an OBJ / glTF model shown by [`Scene::showcase`].
+pub fn load_scene(path: &Path) -> Result<Scene> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    match ext.as_str() {
+        "ron" => {
+            let file = SceneFile::read(path)?;
+            let base: PathBuf = path.parent().map(Path::to_path_buf).unwrap_or_default();
+            file.build(&base, path)
+        }
+        _ => {
+            let model = crate::loaders::load_model(path)?;
+            Scene::showcase(&model).map_err(|e| PenumbraError::model(path, e.to_string()))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MINI: &str = r#"(
+        meshes: [(name: "ball", source: Sphere(radius: 1.0)), (name: "floor", source: Plane(size: 10.0))],
+        materials: [(name: "red", base_color: (1.0, 0.0, 0.0, 1.0))],
+        instances: [(mesh: "ball", material: Some("red"), translation: (0.0, 1.5, 0.0)),
+                    (mesh: "floor", caster: false)],
+        light: Directional((direction: (0.0, -1.0, 0.0))),
+        views: [(name: "a", eye: (0.0, 3.0, 8.0), target: (0.0, 1.0, 0.0))],
+    )"#;
+
+    #[test]
+    fn parses_and_builds_and_round_trips() {
+        let file = SceneFile::parse(MINI, Path::new("mini.ron")).unwrap();
+        let scene = file.build(Path::new("."), Path::new("mini.ron")).unwrap();
+        assert_eq!(scene.instances.len(), 2);
+        assert!(!scene.instances[1].caster && scene.instances[1].receiver);
+        assert!((scene.caster_bounds().min.y - 0.5).abs() < 1e-4);
+        let again = SceneFile::parse(&file.to_ron(), Path::new("x.ron")).unwrap();
+        assert_eq!(again, file);
+    }
+
+    #[test]
+    fn errors_name_the_file_and_the_problem() {
+        let err = SceneFile::parse("(meshes: [", Path::new("broken.ron")).unwrap_err();
+        assert!(err.to_string().contains("broken.ron"), "{err}");
+        let text = MINI.replace("mesh: \"ball\"", "mesh: \"cube\"");
+        let file = SceneFile::parse(&text, Path::new("s.ron")).unwrap();
+        let err = file.build(Path::new("."), Path::new("s.ron")).unwrap_err().to_string();
+        assert!(err.contains("s.ron") && err.contains("`cube`"), "{err}");
+        let text = MINI.replace("radius: 1.0", "radius: -1.0");
+        let file = SceneFile::parse(&text, Path::new("s.ron")).unwrap();
+        assert!(file.build(Path::new("."), Path::new("s.ron")).is_err());
+        let err = load_scene(Path::new("does/not/exist.ron")).unwrap_err().to_string();
+        assert!(err.contains("does/not/exist.ron"), "{err}");
+    }
+}

@@ -1,0 +1,98 @@
+//! Surface materials and their textures.
+
+use glam::Vec4;
+use serde::{Deserialize, Serialize};
+
+/// How a material's alpha is used.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub enum AlphaMode {
+    /// Alpha is ignored; the surface is fully opaque.
+    #[default]
+    Opaque,
+    /// Fragments whose alpha (texture x factor) is below `cutoff` are discarded, in the lit pass
+    /// and in the shadow map (glTF's `MASK`). `cutoff` is in [0, 1]; glTF's default is 0.5.
+    Mask { cutoff: f32 },
+}
+
+/// A material: base color factor times an optional base color texture.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    pub name: String,
+    /// Linear RGBA multiplier.
+    pub base_color: Vec4,
+    /// Index into [`crate::Scene::textures`].
+    pub base_color_texture: Option<usize>,
+    pub alpha_mode: AlphaMode,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            name: "default".into(),
+            base_color: Vec4::new(0.8, 0.8, 0.8, 1.0),
+            base_color_texture: None,
+            alpha_mode: AlphaMode::Opaque,
+        }
+    }
+}
+
+impl Material {
+    /// An opaque, untextured material of the given linear color.
+    pub fn colored(name: impl Into<String>, rgb: [f32; 3]) -> Self {
+        Self {
+            name: name.into(),
+            base_color: Vec4::new(rgb[0], rgb[1], rgb[2], 1.0),
+            ..Default::default()
+        }
+    }
+
+    /// True when the material needs the alpha-testing variant of the passes.
+    pub fn is_masked(&self) -> bool {
+        matches!(self.alpha_mode, AlphaMode::Mask { .. })
+    }
+}
+
+/// An 8-bit sRGB RGBA image, row-major, top row first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TextureImage {
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+    pub rgba8: Vec<u8>,
+}
+
+impl TextureImage {
+    /// Decodes a PNG or JPEG image from memory. `name` is used in error messages.
+    pub fn decode(name: &str, bytes: &[u8]) -> crate::Result<Self> {
+        let img = image::load_from_memory(bytes).map_err(|e| crate::PenumbraError::Texture {
+            name: name.to_string(),
+            reason: e.to_string(),
+        })?;
+        let rgba = img.to_rgba8();
+        Ok(Self::from_rgba8(name, rgba.width(), rgba.height(), rgba.into_raw()))
+    }
+
+    pub fn from_rgba8(name: impl Into<String>, width: u32, height: u32, rgba8: Vec<u8>) -> Self {
+        Self {
+            name: name.into(),
+            width,
+            height,
+            rgba8,
+        }
+    }
+
+    /// A checkerboard of `squares` x `squares` cells alternating two sRGB colors.
+    pub fn checker(name: impl Into<String>, squares: u32, a: [u8; 4], b: [u8; 4]) -> Self {
+        let squares = squares.clamp(1, 256);
+        let cell = (256 / squares).max(1);
+        let size = cell * squares;
+        let mut rgba8 = Vec::with_capacity((size * size * 4) as usize);
+        for y in 0..size {
+            for x in 0..size {
+                let c = if (x / cell + y / cell) % 2 == 0 { a } else { b };
+                rgba8.extend_from_slice(&c);
+            }
+        }
+        Self::from_rgba8(name, size, size, rgba8)
+    }
+}

@@ -1,0 +1,347 @@
+//! Triangle meshes with the per-position *smoothed normal* the fattening pass needs.
+
+use std::collections::HashMap;
+
+use glam::{Mat3, Mat4, Vec2, Vec3};
+
+use super::bounds::Aabb;
+use crate::error::{PenumbraError, Result};
+
+/// An indexed triangle mesh, ready for upload.
+///
+/// Invariants established by [`Mesh::new`]: all four attribute arrays have one entry per
+/// vertex, every index is in range, the index count is a multiple of three, positions are
+/// finite, and `normals` / `smoothed_normals` are unit length.
+#[derive(Debug, Clone)]
+pub struct Mesh {
+    pub name: String,
+    pub positions: Vec<Vec3>,
+    /// Shading normals, one per vertex (may differ between vertices at one position: hard edges).
+    pub normals: Vec<Vec3>,
+    pub uvs: Vec<Vec2>,
+    /// One averaged normal per *position*: all vertices that share a position (within
+    /// [`Mesh::weld_tolerance`]) have the same smoothed normal, so displacing along it never
+    /// tears the mesh open at hard edges.
+    pub smoothed_normals: Vec<Vec3>,
+    pub indices: Vec<u32>,
+    pub bounds: Aabb,
+}
+
+/// What [`Mesh::new`] had to fix in its input, for callers who want to report it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct MeshRepairs {
+    /// Normals that were NaN, infinite or zero length and were replaced.
+    pub repaired_normals: usize,
+    /// True when the input had no normals and all were computed.
+    pub computed_normals: bool,
+}
+
+impl Mesh {
+    /// Relative tolerance (times the bounding box diagonal) within which two vertices count as
+    /// one position for the smoothed normal.
+    pub const WELD_TOLERANCE: f32 = 1e-5;
+
+    /// Builds a mesh, validating indices and computing what is missing.
+    ///
+    /// * `normals`: `None` computes them (angle-weighted, smooth across shared positions);
+    ///   NaN or zero-length entries are repaired the same way.
+    /// * `uvs`: `None` fills zeros.
+    ///
+    /// Errors when an index is out of range, the index count is not a multiple of 3, an
+    /// attribute array has the wrong length, or a position is not finite.
+    pub fn new(
+        name: impl Into<String>,
+        positions: Vec<Vec3>,
+        normals: Option<Vec<Vec3>>,
+        uvs: Option<Vec<Vec2>>,
+        indices: Vec<u32>,
+    ) -> Result<Mesh> {
+        Self::new_with_report(name, positions, normals, uvs, indices).map(|(mesh, _)| mesh)
+    }
+
+    /// As [`Mesh::new`], also saying what was repaired.
+    pub fn new_with_report(
+        name: impl Into<String>,
+        positions: Vec<Vec3>,
+        normals: Option<Vec<Vec3>>,
+        uvs: Option<Vec<Vec2>>,
+        indices: Vec<u32>,
+    ) -> Result<(Mesh, MeshRepairs)> {
+        let name = name.into();
+        let n = positions.len();
+        let bad = |reason: String| PenumbraError::Scene(format!("mesh `{name}`: {reason}"));
+        if indices.len() % 3 != 0 {
+            return Err(bad(format!(
+                "index count {} is not a multiple of 3",
+                indices.len()
+            )));
+        }
+        if let Some(i) = indices.iter().find(|&&i| i as usize >= n) {
+            return Err(bad(format!(
+                "index {i} is out of range (the mesh has {n} vertices)"
+            )));
+        }
+        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(bad(format!("position {i} is not finite")));
+        }
+        if let Some(ns) = &normals
+            && ns.len() != n
+        {
+            return Err(bad(format!("{} normals for {n} positions", ns.len())));
+        }
+        if let Some(uv) = &uvs
+            && uv.len() != n
+        {
+            return Err(bad(format!("{} uvs for {n} positions", uv.len())));
+        }
+
+        let bounds = Aabb::from_points(positions.iter());
+        let smoothed_normals = smoothed_normals(&positions, &indices, bounds);
+        let mut repairs = MeshRepairs::default();
+        let normals = match normals {
+            Some(mut ns) => {
+                for (normal, smooth) in ns.iter_mut().zip(&smoothed_normals) {
+                    let len = normal.length();
+                    if len.is_finite() && len > 1e-12 {
+                        *normal /= len;
+                    } else {
+                        *normal = *smooth;
+                        repairs.repaired_normals += 1;
+                    }
+                }
+                ns
+            }
+            None => {
+                repairs.computed_normals = true;
+                smoothed_normals.clone()
+            }
+        };
+        let uvs = uvs
+            .map(|uv| {
+                uv.into_iter()
+                    .map(|t| if t.is_finite() { t } else { Vec2::ZERO })
+                    .collect()
+            })
+            .unwrap_or_else(|| vec![Vec2::ZERO; n]);
+        Ok((
+            Mesh {
+                name,
+                positions,
+                normals,
+                uvs,
+                smoothed_normals,
+                indices,
+                bounds,
+            },
+            repairs,
+        ))
+    }
+
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// This mesh with `m` applied to positions and normals (normals by the inverse transpose).
+    /// Smoothed normals and bounds are recomputed.
+    pub fn transformed(&self, m: &Mat4) -> Result<Mesh> {
+        let normal_matrix = Mat3::from_mat4(*m).inverse().transpose();
+        let flip = m.determinant() < 0.0;
+        let positions = self.positions.iter().map(|p| m.transform_point3(*p)).collect();
+        let normals = self
+            .normals
+            .iter()
+            .map(|n| (normal_matrix * *n).normalize_or_zero())
+            .collect();
+        let mut indices = self.indices.clone();
+        if flip {
+            for tri in indices.chunks_exact_mut(3) {
+                tri.swap(1, 2);
+            }
+        }
+        Mesh::new(
+            self.name.clone(),
+            positions,
+            Some(normals),
+            Some(self.uvs.clone()),
+            indices,
+        )
+    }
+
+    /// Concatenates several meshes into one (their vertices stay separate).
+    pub fn merge(name: impl Into<String>, parts: &[Mesh]) -> Result<Mesh> {
+        let mut positions = Vec::new();
+        let mut normals = Vec::new();
+        let mut uvs = Vec::new();
+        let mut indices = Vec::new();
+        for part in parts {
+            let base = positions.len() as u32;
+            positions.extend_from_slice(&part.positions);
+            normals.extend_from_slice(&part.normals);
+            uvs.extend_from_slice(&part.uvs);
+            indices.extend(part.indices.iter().map(|i| i + base));
+        }
+        Mesh::new(name, positions, Some(normals), Some(uvs), indices)
+    }
+}
+
+/// The geometric normal of a triangle scaled by nothing (unit length, or zero when degenerate).
+fn face_normal(a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+    (b - a).cross(c - a).normalize_or_zero()
+}
+
+/// Angle at `a` between edges to `b` and `c` (0 for degenerate edges).
+fn corner_angle(a: Vec3, b: Vec3, c: Vec3) -> f32 {
+    let (u, v) = ((b - a).normalize_or_zero(), (c - a).normalize_or_zero());
+    if u == Vec3::ZERO || v == Vec3::ZERO {
+        0.0
+    } else {
+        u.dot(v).clamp(-1.0, 1.0).acos()
+    }
+}
+
+/// Groups vertices whose positions lie within the weld tolerance; returns each vertex's group.
+fn weld_groups(positions: &[Vec3], bounds: Aabb) -> (Vec<u32>, usize) {
+    let tolerance = (bounds.size().length() * Mesh::WELD_TOLERANCE).max(f32::MIN_POSITIVE);
+    let cell_of = |p: Vec3| {
+        let c = ((p - bounds.min) / tolerance).floor();
+        (c.x as i64, c.y as i64, c.z as i64)
+    };
+    let mut cells: HashMap<(i64, i64, i64), Vec<(u32, Vec3)>> = HashMap::new();
+    let mut group_of = Vec::with_capacity(positions.len());
+    let mut groups = 0u32;
+    for &p in positions {
+        let (cx, cy, cz) = cell_of(p);
+        let mut found = None;
+        'search: for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    if let Some(list) = cells.get(&(cx + dx, cy + dy, cz + dz)) {
+                        for &(g, q) in list {
+                            if (p - q).length() <= tolerance {
+                                found = Some(g);
+                                break 'search;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let g = found.unwrap_or_else(|| {
+            let g = groups;
+            groups += 1;
+            cells.entry((cx, cy, cz)).or_default().push((g, p));
+            g
+        });
+        group_of.push(g);
+    }
+    (group_of, groups as usize)
+}
+
+/// Angle-weighted average of the face normals around each welded position, given to every
+/// vertex at that position. Independent of how faces are triangulated; a position with no
+/// usable triangle (or whose normals cancel out) gets +Y.
+fn smoothed_normals(positions: &[Vec3], indices: &[u32], bounds: Aabb) -> Vec<Vec3> {
+    let (group_of, group_count) = weld_groups(positions, bounds);
+    let mut sums = vec![Vec3::ZERO; group_count];
+    for tri in indices.chunks_exact(3) {
+        let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| positions[i as usize]);
+        let n = face_normal(a, b, c);
+        if n == Vec3::ZERO {
+            continue;
+        }
+        let weights = [
+            corner_angle(a, b, c),
+            corner_angle(b, c, a),
+            corner_angle(c, a, b),
+        ];
+        for (k, &i) in tri.iter().enumerate() {
+            sums[group_of[i as usize] as usize] += n * weights[k];
+        }
+    }
+    group_of
+        .iter()
+        .map(|&g| {
+            let n = sums[g as usize].normalize_or_zero();
+            if n == Vec3::ZERO { Vec3::Y } else { n }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::primitives;
+
+    #[test]
+    fn split_normal_cube_gets_one_smoothed_normal_per_corner() {
+        let cube = primitives::cuboid(Vec3::splat(2.0));
+        assert_eq!(cube.vertex_count(), 24, "the cube has split per-face vertices");
+        let mut per_corner: HashMap<[i32; 3], Vec<Vec3>> = HashMap::new();
+        for (p, s) in cube.positions.iter().zip(&cube.smoothed_normals) {
+            per_corner
+                .entry([p.x as i32, p.y as i32, p.z as i32])
+                .or_default()
+                .push(*s);
+        }
+        assert_eq!(per_corner.len(), 8);
+        for (corner, normals) in per_corner {
+            assert_eq!(normals.len(), 3);
+            let expected = Vec3::new(corner[0] as f32, corner[1] as f32, corner[2] as f32).normalize();
+            for n in normals {
+                assert!((n - expected).length() < 1e-5, "corner {corner:?}: {n} vs {expected}");
+            }
+        }
+        // The shading normals stay split (one per face).
+        assert!(cube.normals.iter().all(|n| n.abs().max_element() > 0.999));
+    }
+
+    #[test]
+    fn missing_and_broken_normals_are_computed_and_repaired() {
+        let positions = vec![Vec3::ZERO, Vec3::X, Vec3::Z];
+        let indices = vec![0, 2, 1];
+        let (m, r) = Mesh::new_with_report("t", positions.clone(), None, None, indices.clone()).unwrap();
+        assert!(r.computed_normals);
+        for n in &m.normals {
+            assert!((*n - Vec3::Y).length() < 1e-6, "{n}");
+        }
+        let normals = vec![Vec3::NAN, Vec3::ZERO, Vec3::new(0.0, 2.0, 0.0)];
+        let (m, r) = Mesh::new_with_report("t", positions, Some(normals), None, indices).unwrap();
+        assert_eq!(r.repaired_normals, 2);
+        for n in &m.normals {
+            assert!(n.is_finite() && (n.length() - 1.0).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn degenerate_triangles_give_finite_normals() {
+        let positions = vec![Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, Vec3::X];
+        let m = Mesh::new("d", positions, None, None, vec![0, 1, 2, 0, 1, 3]).unwrap();
+        assert!(m.normals.iter().all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-5));
+    }
+
+    #[test]
+    fn bad_indices_are_rejected_with_the_mesh_name() {
+        let err = Mesh::new("wing", vec![Vec3::ZERO; 3], None, None, vec![0, 1, 7]).unwrap_err();
+        let text = err.to_string();
+        assert!(text.contains("wing") && text.contains("out of range"), "{text}");
+        let err = Mesh::new("wing", vec![Vec3::ZERO; 3], None, None, vec![0, 1]).unwrap_err();
+        assert!(err.to_string().contains("multiple of 3"));
+        let err = Mesh::new("wing", vec![Vec3::NAN; 3], None, None, vec![0, 1, 2]).unwrap_err();
+        assert!(err.to_string().contains("not finite"));
+    }
+
+    #[test]
+    fn mirrored_transform_keeps_winding_outward() {
+        let cube = primitives::cuboid(Vec3::ONE);
+        let mirrored = cube.transformed(&Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0))).unwrap();
+        for tri in mirrored.indices.chunks_exact(3) {
+            let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| mirrored.positions[i as usize]);
+            let n = face_normal(a, b, c);
+            assert!(n.dot(mirrored.normals[tri[0] as usize]) > 0.99);
+        }
+    }
+}

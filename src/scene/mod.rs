@@ -1,0 +1,267 @@
+//! The scene model: meshes, materials, instances, a light and named viewpoints.
+//!
+//! Everything here is plain CPU data; [`crate::GpuScene`] uploads it.
+
+mod bounds;
+mod camera;
+pub mod character;
+pub mod file;
+mod light;
+mod material;
+mod mesh;
+pub mod primitives;
+pub mod teapot;
+mod teapot_data;
+
+pub use bounds::Aabb;
+pub use camera::{Camera, OrbitCamera};
+pub use file::{MeshSource, SceneFile, TextureSource};
+pub use light::{DirectionalLight, Light, SpotLight};
+pub use material::{AlphaMode, Material, TextureImage};
+pub use mesh::{Mesh, MeshRepairs};
+
+use glam::{Mat4, Vec3};
+
+use crate::error::{PenumbraError, Result};
+
+/// One placement of a mesh with a material.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Instance {
+    /// Index into [`Scene::meshes`].
+    pub mesh: usize,
+    /// Index into [`Scene::materials`].
+    pub material: usize,
+    /// Model-to-world transform.
+    pub transform: Mat4,
+    /// Drawn into the shadow map.
+    pub caster: bool,
+    /// Receives shadows (when false it is lit as if nothing occluded it).
+    pub receiver: bool,
+}
+
+/// A named camera position.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Viewpoint {
+    pub name: String,
+    pub camera: Camera,
+}
+
+/// Meshes, materials and textures loaded from one file, with the parts that place them.
+/// Indices in `parts` refer to this model's own lists.
+#[derive(Debug, Clone, Default)]
+pub struct Model {
+    pub meshes: Vec<Mesh>,
+    pub materials: Vec<Material>,
+    pub textures: Vec<TextureImage>,
+    pub parts: Vec<Instance>,
+    /// Things in the file that could not be represented, in words (for the user to see).
+    pub warnings: Vec<String>,
+}
+
+impl Model {
+    /// Bounds of all parts in the model's frame.
+    pub fn bounds(&self) -> Aabb {
+        self.parts.iter().fold(Aabb::EMPTY, |acc, part| {
+            acc.union(&self.meshes[part.mesh].bounds.transformed(&part.transform))
+        })
+    }
+}
+
+/// Everything needed to render a frame.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub meshes: Vec<Mesh>,
+    pub materials: Vec<Material>,
+    pub textures: Vec<TextureImage>,
+    pub instances: Vec<Instance>,
+    pub light: Light,
+    /// Constant light from everywhere (linear RGB), added to every surface unshadowed.
+    pub ambient: Vec3,
+    pub views: Vec<Viewpoint>,
+}
+
+impl Default for Scene {
+    fn default() -> Self {
+        Self {
+            meshes: Vec::new(),
+            materials: Vec::new(),
+            textures: Vec::new(),
+            instances: Vec::new(),
+            light: Light::default(),
+            ambient: Vec3::splat(0.12),
+            views: Vec::new(),
+        }
+    }
+}
+
+impl Scene {
+    /// Adds a mesh and returns its index.
+    pub fn add_mesh(&mut self, mesh: Mesh) -> usize {
+        self.meshes.push(mesh);
+        self.meshes.len() - 1
+    }
+
+    /// Adds a material and returns its index.
+    pub fn add_material(&mut self, material: Material) -> usize {
+        self.materials.push(material);
+        self.materials.len() - 1
+    }
+
+    /// Adds an instance of `mesh` with `material`, casting and receiving shadows.
+    pub fn add_instance(&mut self, mesh: usize, material: usize, transform: Mat4) -> &mut Instance {
+        self.instances.push(Instance {
+            mesh,
+            material,
+            transform,
+            caster: true,
+            receiver: true,
+        });
+        self.instances.last_mut().expect("just pushed")
+    }
+
+    /// Appends a model's meshes, materials and textures, placing its parts under `transform`.
+    /// `material_override`, when given, replaces the model's own materials.
+    /// Returns the range of the new instances.
+    pub fn add_model(
+        &mut self,
+        model: &Model,
+        transform: Mat4,
+        material_override: Option<usize>,
+        caster: bool,
+        receiver: bool,
+    ) -> std::ops::Range<usize> {
+        let (mesh_base, material_base, texture_base) =
+            (self.meshes.len(), self.materials.len(), self.textures.len());
+        self.meshes.extend(model.meshes.iter().cloned());
+        self.textures.extend(model.textures.iter().cloned());
+        self.materials.extend(model.materials.iter().map(|m| Material {
+            base_color_texture: m.base_color_texture.map(|t| t + texture_base),
+            ..m.clone()
+        }));
+        let first = self.instances.len();
+        for part in &model.parts {
+            self.instances.push(Instance {
+                mesh: part.mesh + mesh_base,
+                material: material_override.unwrap_or(part.material + material_base),
+                transform: transform * part.transform,
+                caster,
+                receiver,
+            });
+        }
+        first..self.instances.len()
+    }
+
+    /// World bounds of the instances that pass `filter`.
+    pub fn bounds_where(&self, filter: impl Fn(&Instance) -> bool) -> Aabb {
+        self.instances
+            .iter()
+            .filter(|i| filter(i))
+            .filter_map(|i| self.meshes.get(i.mesh).map(|m| m.bounds.transformed(&i.transform)))
+            .fold(Aabb::EMPTY, |acc, b| acc.union(&b))
+    }
+
+    /// World bounds of every instance.
+    pub fn bounds(&self) -> Aabb {
+        self.bounds_where(|_| true)
+    }
+
+    /// World bounds of the shadow casters.
+    pub fn caster_bounds(&self) -> Aabb {
+        self.bounds_where(|i| i.caster)
+    }
+
+    /// World bounds of the shadow receivers.
+    pub fn receiver_bounds(&self) -> Aabb {
+        self.bounds_where(|i| i.receiver)
+    }
+
+    /// Checks that every index is in range and every transform and setting is valid.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |s: String| Err(PenumbraError::Scene(s));
+        for (k, inst) in self.instances.iter().enumerate() {
+            if inst.mesh >= self.meshes.len() {
+                return bad(format!("instance {k} uses mesh {} of {}", inst.mesh, self.meshes.len()));
+            }
+            if inst.material >= self.materials.len() {
+                return bad(format!(
+                    "instance {k} uses material {} of {}",
+                    inst.material,
+                    self.materials.len()
+                ));
+            }
+            if !inst.transform.is_finite() {
+                return bad(format!("instance {k} has a non-finite transform"));
+            }
+        }
+        for m in &self.materials {
+            if let Some(t) = m.base_color_texture
+                && t >= self.textures.len()
+            {
+                return bad(format!("material `{}` uses texture {t} of {}", m.name, self.textures.len()));
+            }
+            if !m.base_color.is_finite() {
+                return bad(format!("material `{}` has a non-finite base color", m.name));
+            }
+        }
+        for t in &self.textures {
+            if t.width == 0 || t.height == 0 || t.rgba8.len() != (t.width * t.height * 4) as usize {
+                return bad(format!(
+                    "texture `{}` is {}x{} with {} bytes",
+                    t.name,
+                    t.width,
+                    t.height,
+                    t.rgba8.len()
+                ));
+            }
+        }
+        if !self.ambient.is_finite() || self.ambient.min_element() < 0.0 {
+            return bad("ambient must be finite and non-negative".into());
+        }
+        self.light.validate()
+    }
+
+    /// The camera of viewpoint `index`, or an error listing how many there are.
+    pub fn view(&self, index: usize) -> Result<Camera> {
+        self.views.get(index).map(|v| v.camera).ok_or_else(|| {
+            PenumbraError::setting(
+                "view",
+                format!("viewpoint {index} does not exist; the scene has {}", self.views.len()),
+            )
+        })
+    }
+
+    /// A scene that shows `model` standing on a floor: the model is moved so its bounds rest on
+    /// y = 0 centered at the origin, a floor four times its footprint is added, three
+    /// viewpoints orbit it, and a default directional light shines from above at an angle.
+    pub fn showcase(model: &Model) -> Result<Scene> {
+        let bounds = model.bounds();
+        if bounds.is_empty() {
+            return Err(PenumbraError::Scene("the model has no geometry".into()));
+        }
+        let mut scene = Scene::default();
+        let center = bounds.center();
+        let place = Mat4::from_translation(Vec3::new(-center.x, -bounds.min.y, -center.z));
+        scene.add_model(model, place, None, true, true);
+        let size = bounds.size();
+        let footprint = size.x.max(size.z).max(size.y * 0.5).max(1e-6);
+        let floor_material = scene.add_material(Material::colored("floor", [0.75, 0.75, 0.72]));
+        let floor = scene.add_mesh(primitives::plane(footprint * 4.0, 1.0));
+        scene
+            .add_instance(floor, floor_material, Mat4::IDENTITY)
+            .caster = false;
+        let framed = Aabb::new(
+            Vec3::new(-size.x * 0.5, 0.0, -size.z * 0.5),
+            Vec3::new(size.x * 0.5, size.y, size.z * 0.5),
+        );
+        let all = scene.bounds();
+        for (k, yaw) in [35.0f32, 155.0, 275.0].into_iter().enumerate() {
+            let mut orbit = OrbitCamera::framing(&framed, yaw, 28.0);
+            orbit.distance *= 1.3;
+            scene.views.push(Viewpoint {
+                name: format!("orbit {k}"),
+                camera: orbit.camera(&all),
+            });
+        }
+        Ok(scene)
+    }
+}
