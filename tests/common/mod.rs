@@ -1,0 +1,97 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use penumbra::{Camera, GpuScene, HeadlessGpu, Renderer, Scene, ShadowSettings};
+
+/// The real-world models beside the checkout (`../shared/models`).
+pub fn shared_models() -> PathBuf {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/models");
+    assert!(
+        dir.is_dir(),
+        "{} is missing: the tests read real-world models from ../shared/models beside the checkout",
+        dir.display()
+    );
+    dir
+}
+
+pub fn asset(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets").join(rel)
+}
+
+/// A fresh scratch directory under `target/` for one test.
+pub fn scratch_dir(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("target/penumbra-test-scratch")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Where failing image tests write their actual and difference images.
+pub fn output_dir() -> PathBuf {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/penumbra-test-output");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+pub fn gpu() -> HeadlessGpu {
+    // SAFETY of intent: keep Mesa's device-select layer quiet about XDG_RUNTIME_DIR.
+    HeadlessGpu::new().unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Renders `scene` from `camera` with `settings` at `width` x `height`.
+pub fn render(
+    gpu: &HeadlessGpu,
+    scene: &Scene,
+    camera: &Camera,
+    settings: ShadowSettings,
+    width: u32,
+    height: u32,
+) -> image::RgbaImage {
+    let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), scene).unwrap();
+    penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, camera, width, height).unwrap()
+}
+
+/// The same scene with no shadow casters: every pixel as if fully lit.
+pub fn without_casters(scene: &Scene) -> Scene {
+    let mut s = scene.clone();
+    for i in &mut s.instances {
+        i.caster = false;
+    }
+    s
+}
+
+/// Pixel coordinates of a world point, or `None` when it is off screen.
+pub fn project(camera: &Camera, width: u32, height: u32, p: Vec3) -> Option<(u32, u32)> {
+    let clip = camera.view_projection(width as f32 / height as f32) * p.extend(1.0);
+    if clip.w <= 0.0 {
+        return None;
+    }
+    let ndc = clip.truncate() / clip.w;
+    let x = (ndc.x * 0.5 + 0.5) * width as f32;
+    let y = (0.5 - ndc.y * 0.5) * height as f32;
+    (x >= 2.0 && y >= 2.0 && x < width as f32 - 2.0 && y < height as f32 - 2.0).then_some((x as u32, y as u32))
+}
+
+/// Mean luminance (0..1, sRGB-encoded values) of the 3x3 block around (x, y).
+pub fn luminance(img: &image::RgbaImage, (x, y): (u32, u32)) -> f32 {
+    let mut sum = 0.0;
+    for dy in 0..3 {
+        for dx in 0..3 {
+            let p = img.get_pixel(x + dx - 1, y + dy - 1);
+            sum += 0.2126 * p[0] as f32 + 0.7152 * p[1] as f32 + 0.0722 * p[2] as f32;
+        }
+    }
+    sum / (9.0 * 255.0)
+}
+
+/// Where the ray from `p` along the light's direction `d` meets the floor y = 0.
+pub fn shadow_on_floor(p: Vec3, d: Vec3) -> Vec3 {
+    let t = -p.y / d.y;
+    p + d * t
+}

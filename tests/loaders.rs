@@ -1,0 +1,286 @@
+//! Loaders and scene files on real files made elsewhere (`../shared/models`), on the project's
+//! own scenes, and on broken files made here: every failure is an `Err` naming the file and the
+//! reason, never a panic.
+
+mod common;
+
+use std::path::Path;
+
+use base64::Engine;
+use glam::Vec3;
+use penumbra::{Model, PenumbraError, load_model, load_scene};
+
+fn assert_mesh_sane(model: &Model, what: &str) {
+    assert!(!model.parts.is_empty(), "{what}: no parts");
+    for mesh in &model.meshes {
+        assert_eq!(mesh.normals.len(), mesh.vertex_count());
+        assert_eq!(mesh.smoothed_normals.len(), mesh.vertex_count());
+        for n in mesh.normals.iter().chain(&mesh.smoothed_normals) {
+            assert!(n.is_finite() && (n.length() - 1.0).abs() < 1e-3, "{what}: bad normal {n}");
+        }
+        assert!(mesh.positions.iter().all(|p| p.is_finite()));
+        assert!(mesh.indices.iter().all(|&i| (i as usize) < mesh.vertex_count()));
+    }
+}
+
+#[test]
+fn teapot_obj_without_normals_gets_computed_smooth_normals() {
+    let model = load_model(&common::shared_models().join("teapot.obj")).unwrap();
+    assert_mesh_sane(&model, "teapot.obj");
+    let triangles: usize = model.meshes.iter().map(|m| m.triangle_count()).sum();
+    assert_eq!(triangles, 6320);
+    // Computed normals face outward: on the body (away from handle and spout) they point away
+    // from the vertical axis, and the surface encloses a positive volume with its winding.
+    let mesh = &model.meshes[0];
+    let center = mesh.bounds.center();
+    let body: Vec<_> = mesh
+        .positions
+        .iter()
+        .zip(&mesh.normals)
+        .filter(|(p, _)| p.x.abs() < 1.4 && (p.y - center.y).abs() < 0.5)
+        .collect();
+    let outward = body
+        .iter()
+        .filter(|(p, n)| glam::Vec2::new(p.x - center.x, p.z - center.z).dot(glam::Vec2::new(n.x, n.z)) > 0.0)
+        .count();
+    assert!(body.len() > 100 && outward as f32 > 0.97 * body.len() as f32, "{outward} of {}", body.len());
+    let volume: f32 = mesh
+        .indices
+        .chunks_exact(3)
+        .map(|t| {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| mesh.positions[i as usize]);
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum();
+    assert!(volume > 0.0, "signed volume {volume}");
+}
+
+#[test]
+fn spot_obj_keeps_its_uvs_and_gets_normals() {
+    let model = load_model(&common::shared_models().join("spot.obj")).unwrap();
+    assert_mesh_sane(&model, "spot.obj");
+    let mesh = &model.meshes[0];
+    assert_eq!(mesh.triangle_count(), 5856);
+    let distinct_uvs = mesh.uvs.iter().filter(|uv| **uv != glam::Vec2::ZERO).count();
+    assert!(distinct_uvs > mesh.vertex_count() / 2, "UVs were lost");
+    // The file's own UVs reach slightly past [0, 1] (u down to -0.05); flipping v keeps them in range.
+    assert!(mesh.uvs.iter().all(|uv| (-0.1..=1.1).contains(&uv.x) && (-0.1..=1.1).contains(&uv.y)));
+}
+
+#[test]
+fn fox_glb_is_skinned_into_its_bind_pose_with_its_embedded_texture() {
+    let model = load_model(&common::shared_models().join("Fox.glb")).unwrap();
+    assert_mesh_sane(&model, "Fox.glb");
+    assert_eq!(model.textures.len(), 1, "the embedded base color texture");
+    let texture = &model.textures[0];
+    assert!(texture.width >= 64 && texture.height >= 64);
+    let material = &model.materials[model.parts[0].material];
+    assert_eq!(material.base_color_texture, Some(0));
+    // In bind pose the fox stands on four legs: longer than tall, taller than wide, with
+    // its feet at the bottom of its bounds.
+    let b = model.bounds();
+    let size = b.size();
+    assert!(size.z > size.y && size.y > size.x, "fox bounds {size}");
+    assert!(size.max_element() > 50.0 && size.max_element() < 500.0, "fox size {size}");
+}
+
+#[test]
+fn cornell_box_glb_has_several_meshes_and_materials() {
+    let model = load_model(&common::shared_models().join("CornellBox.glb")).unwrap();
+    assert_mesh_sane(&model, "CornellBox.glb");
+    assert!(model.parts.len() >= 3, "{} parts", model.parts.len());
+    let colors: std::collections::HashSet<[u32; 3]> = model
+        .parts
+        .iter()
+        .map(|p| {
+            let c = model.materials[p.material].base_color;
+            [(c.x * 100.0) as u32, (c.y * 100.0) as u32, (c.z * 100.0) as u32]
+        })
+        .collect();
+    assert!(colors.len() >= 3, "expected red, green and white walls, got {colors:?}");
+}
+
+#[test]
+fn project_scenes_load_with_three_viewpoints() {
+    for name in ["teapot", "character"] {
+        let scene = load_scene(&common::asset(&format!("scenes/{name}.ron"))).unwrap();
+        assert_eq!(scene.views.len(), 3, "{name}");
+        assert!(scene.instances.iter().any(|i| i.caster) && scene.instances.iter().any(|i| i.receiver));
+        // The caster stands on the floor: contact shadows are possible.
+        assert!(scene.caster_bounds().min.y.abs() < 1e-3, "{name}: caster floats at {}", scene.caster_bounds().min.y);
+        for k in 0..3 {
+            let cam = scene.view(k).unwrap();
+            assert!(cam.near > 0.0 && cam.far > cam.near);
+        }
+        assert!(scene.view(3).is_err());
+    }
+}
+
+#[test]
+fn models_given_as_scenes_are_shown_on_a_floor() {
+    let scene = load_scene(&common::shared_models().join("spot.obj")).unwrap();
+    assert_eq!(scene.views.len(), 3);
+    let casters = scene.caster_bounds();
+    assert!(casters.min.y.abs() < 1e-4, "model is set on the floor");
+    let floor = scene.bounds_where(|i| !i.caster);
+    assert!(floor.size().x > casters.size().x * 2.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Broken input
+
+fn expect_error(path: &Path, needle: &str) -> PenumbraError {
+    let err = match load_model(path) {
+        Ok(_) => panic!("{} loaded but is broken", path.display()),
+        Err(e) => e,
+    };
+    let text = err.to_string();
+    let name = path.file_name().unwrap().to_string_lossy();
+    assert!(text.contains(&*name), "error does not name the file: {text}");
+    assert!(
+        text.to_lowercase().contains(&needle.to_lowercase()),
+        "error does not say `{needle}`: {text}"
+    );
+    err
+}
+
+#[test]
+fn missing_and_unsupported_files_are_named() {
+    let dir = common::scratch_dir("missing");
+    expect_error(&dir.join("nowhere.obj"), "not found");
+    let stl = dir.join("model.stl");
+    std::fs::write(&stl, b"solid x").unwrap();
+    expect_error(&stl, "unsupported file type");
+}
+
+#[test]
+fn truncated_and_garbage_files_give_errors() {
+    let dir = common::scratch_dir("garbage");
+    let fox = std::fs::read(common::shared_models().join("Fox.glb")).unwrap();
+    for (name, len) in [("fox_header.glb", 12), ("fox_half.glb", fox.len() / 2), ("fox_minus_one.glb", fox.len() - 1)] {
+        let path = dir.join(name);
+        std::fs::write(&path, &fox[..len]).unwrap();
+        expect_error(&path, "");
+    }
+    let noise: Vec<u8> = (0..4096u32).map(|i| (i.wrapping_mul(2654435761) >> 13) as u8).collect();
+    for name in ["noise.glb", "noise.gltf", "noise.obj"] {
+        let path = dir.join(name);
+        std::fs::write(&path, &noise).unwrap();
+        expect_error(&path, "");
+    }
+    let teapot = std::fs::read(common::shared_models().join("teapot.obj")).unwrap();
+    let cut = dir.join("teapot_cut.obj");
+    std::fs::write(&cut, &teapot[..teapot.len() / 3]).unwrap();
+    // A cut OBJ may still be a valid prefix; it must load or fail cleanly, never panic.
+    let _ = load_model(&cut);
+    let empty = dir.join("empty.obj");
+    std::fs::write(&empty, b"# nothing here\n").unwrap();
+    expect_error(&empty, "no triangles");
+}
+
+#[test]
+fn obj_with_out_of_range_face_index_is_rejected() {
+    let dir = common::scratch_dir("obj_range");
+    let path = dir.join("bad_face.obj");
+    std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n").unwrap();
+    expect_error(&path, "");
+    let path = dir.join("missing_mtl.obj");
+    std::fs::write(&path, "mtllib nothere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n").unwrap();
+    expect_error(&path, "material");
+}
+
+/// A minimal glTF with one triangle, its buffer given by `uri`.
+fn gltf_json(uri: &str, byte_length: usize, index_count: usize) -> String {
+    format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1}}]}}],
+        "buffers":[{{"uri":"{uri}","byteLength":{byte_length}}}],
+        "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":{}}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+                     {{"bufferView":1,"componentType":5125,"count":{index_count},"type":"SCALAR"}}]}}"#,
+        index_count * 4
+    )
+}
+
+fn triangle_bytes(indices: &[u32]) -> Vec<u8> {
+    let positions: [f32; 9] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    let mut bytes: Vec<u8> = bytemuck::cast_slice(&positions).to_vec();
+    bytes.extend_from_slice(bytemuck::cast_slice(indices));
+    bytes
+}
+
+#[test]
+fn gltf_with_embedded_buffer_loads() {
+    let dir = common::scratch_dir("gltf_ok");
+    let bytes = triangle_bytes(&[0, 1, 2]);
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&bytes)
+    );
+    let path = dir.join("triangle.gltf");
+    std::fs::write(&path, gltf_json(&uri, bytes.len(), 3)).unwrap();
+    let model = load_model(&path).unwrap();
+    assert_eq!(model.meshes[0].triangle_count(), 1);
+    // Missing normals were computed: the triangle faces +Z.
+    assert!((model.meshes[0].normals[0] - Vec3::Z).length() < 1e-5);
+}
+
+#[test]
+fn gltf_with_external_buffer_loads_and_a_missing_bin_is_named() {
+    let dir = common::scratch_dir("gltf_bin");
+    let bytes = triangle_bytes(&[0, 1, 2]);
+    std::fs::write(dir.join("triangle.bin"), &bytes).unwrap();
+    let path = dir.join("triangle.gltf");
+    std::fs::write(&path, gltf_json("triangle.bin", bytes.len(), 3)).unwrap();
+    assert_eq!(load_model(&path).unwrap().meshes.len(), 1);
+
+    let path = dir.join("orphan.gltf");
+    std::fs::write(&path, gltf_json("gone.bin", bytes.len(), 3)).unwrap();
+    expect_error(&path, "gone.bin");
+
+    let path = dir.join("short.gltf");
+    std::fs::write(dir.join("short.bin"), &bytes[..20]).unwrap();
+    std::fs::write(&path, gltf_json("short.bin", bytes.len(), 3)).unwrap();
+    expect_error(&path, "");
+}
+
+#[test]
+fn gltf_with_out_of_range_indices_is_rejected() {
+    let dir = common::scratch_dir("gltf_range");
+    let bytes = triangle_bytes(&[0, 1, 7]);
+    std::fs::write(dir.join("tri.bin"), &bytes).unwrap();
+    let path = dir.join("bad_index.gltf");
+    std::fs::write(&path, gltf_json("tri.bin", bytes.len(), 3)).unwrap();
+    expect_error(&path, "out of range");
+    // An accessor that claims more indices than its buffer view holds.
+    let path = dir.join("bad_count.gltf");
+    std::fs::write(&path, gltf_json("tri.bin", bytes.len(), 3).replace("\"count\":3,\"type\":\"SCALAR\"", "\"count\":3000,\"type\":\"SCALAR\"")).unwrap();
+    expect_error(&path, "");
+}
+
+#[test]
+fn broken_scene_files_name_the_file() {
+    let dir = common::scratch_dir("scene_files");
+    let path = dir.join("bad.ron");
+    std::fs::write(&path, "(meshes: [(name: \"a\", source: Teapot(tessellation: 8))], instances: [").unwrap();
+    let err = load_scene(&path).unwrap_err().to_string();
+    assert!(err.contains("bad.ron"), "{err}");
+    let path = dir.join("missing_model.ron");
+    std::fs::write(
+        &path,
+        r#"(meshes: [(name: "m", source: File(path: "nothere.glb"))], instances: [(mesh: "m")],
+            light: Directional((direction: (0.0, -1.0, 0.0))), views: [])"#,
+    )
+    .unwrap();
+    let err = load_scene(&path).unwrap_err().to_string();
+    assert!(err.contains("nothere.glb"), "{err}");
+    let path = dir.join("bad_tess.ron");
+    std::fs::write(
+        &path,
+        r#"(meshes: [(name: "t", source: Teapot(tessellation: 0))], instances: [(mesh: "t")],
+            light: Directional((direction: (0.0, -1.0, 0.0))), views: [])"#,
+    )
+    .unwrap();
+    let err = load_scene(&path).unwrap_err().to_string();
+    assert!(err.contains("bad_tess.ron") && err.contains("tessellation"), "{err}");
+}
