@@ -13,15 +13,20 @@ pub struct HeadlessGpu {
 impl HeadlessGpu {
     /// Creates a device on the adapter the environment selects: `WGPU_BACKEND` (`vulkan`, `gl`,
     /// ...) picks the backend, `WGPU_ADAPTER_NAME` an adapter by name, `WGPU_POWER_PREF` the
-    /// power preference. With no adapter at all, the error names the package to install.
+    /// power preference, `WGPU_DEBUG=1` turns on wgpu's debug labels (off by default here,
+    /// see below). With no adapter at all, the error names the package to install.
     pub fn new() -> Result<Self> {
         pollster::block_on(Self::new_async())
     }
 
     /// As [`HeadlessGpu::new`], for async callers.
     pub async fn new_async() -> Result<Self> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
+        // Debug labels stay off unless WGPU_DEBUG=1: Mesa's lavapipe crashes inside
+        // vkCmdBeginDebugUtilsLabelEXT, which wgpu calls for debug groups when this flag is on
+        // (the default in debug builds).
+        descriptor.flags = (wgpu::InstanceFlags::from_build_config() - wgpu::InstanceFlags::DEBUG).with_env();
+        let instance = wgpu::Instance::new(descriptor.with_env());
         let adapter = wgpu::util::initialize_adapter_from_env_or_default(&instance, None)
             .await
             .map_err(|e| PenumbraError::NoAdapter { detail: e.to_string() })?;

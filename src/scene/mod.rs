@@ -255,8 +255,7 @@ impl Scene {
         );
         let all = scene.bounds();
         for (k, yaw) in [35.0f32, 155.0, 275.0].into_iter().enumerate() {
-            let mut orbit = OrbitCamera::framing(&framed, yaw, 28.0);
-            orbit.distance *= 1.3;
+            let orbit = OrbitCamera::framing(&framed, yaw, 28.0);
             scene.views.push(Viewpoint {
                 name: format!("orbit {k}"),
                 camera: orbit.camera(&all),

@@ -1,0 +1,292 @@
+//! Rendering tests on the software adapter: what the pictures must show, and golden images.
+//!
+//! Golden images live in `tests/reference/`. They are compared with NVIDIA's FLIP perceptual
+//! metric; a test passes when the mean FLIP error is at most [`MEAN_FLIP_TOLERANCE`] **and**
+//! at most [`BAD_PIXEL_SHARE`] of the pixels have an error above [`BAD_PIXEL_FLIP`]. The second
+//! bound is what catches a lost or moved shadow, which covers only a few percent of the image
+//! and would hardly move the mean. On failure the actual image and a FLIP heat-map are written
+//! to `target/penumbra-test-output/`. Set `PENUMBRA_UPDATE_REFERENCES=1` to rewrite the
+//! references (then look at them before committing).
+
+mod common;
+
+use glam::{Mat4, Vec3, Vec4};
+use penumbra::{
+    AlphaMode, DirectionalLight, Light, Material, Scene, ShadowMethod, ShadowSettings, SpotLight, TextureImage,
+    load_scene, scene::primitives,
+};
+
+const MEAN_FLIP_TOLERANCE: f32 = 0.01;
+const BAD_PIXEL_FLIP: f32 = 0.25;
+const BAD_PIXEL_SHARE: f32 = 0.005;
+
+fn settings(method: ShadowMethod) -> ShadowSettings {
+    ShadowSettings {
+        method,
+        ..Default::default()
+    }
+}
+
+fn compare_with_reference(name: &str, actual: &image::RgbaImage) {
+    let reference_path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/reference")
+        .join(format!("{name}.png"));
+    if std::env::var_os("PENUMBRA_UPDATE_REFERENCES").is_some() {
+        std::fs::create_dir_all(reference_path.parent().unwrap()).unwrap();
+        actual.save(&reference_path).unwrap();
+        return;
+    }
+    let reference = image::open(&reference_path)
+        .unwrap_or_else(|e| {
+            panic!(
+                "{}: {e}; run with PENUMBRA_UPDATE_REFERENCES=1 to create it",
+                reference_path.display()
+            )
+        })
+        .to_rgba8();
+    assert_eq!(reference.dimensions(), actual.dimensions(), "{name}: size differs from the reference");
+    let rgb = |img: &image::RgbaImage| -> Vec<u8> { img.pixels().flat_map(|p| [p[0], p[1], p[2]]).collect() };
+    let (w, h) = actual.dimensions();
+    let error_map = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(&reference)),
+        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(actual)),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    let errors = error_map.to_vec();
+    let mean = errors.iter().sum::<f32>() / errors.len() as f32;
+    let bad = errors.iter().filter(|&&e| e > BAD_PIXEL_FLIP).count() as f32 / errors.len() as f32;
+    if mean > MEAN_FLIP_TOLERANCE || bad > BAD_PIXEL_SHARE {
+        let out = common::output_dir();
+        actual.save(out.join(format!("{name}.actual.png"))).unwrap();
+        let heat = error_map.apply_color_lut(&nv_flip::magma_lut());
+        image::RgbImage::from_raw(w, h, heat.to_vec())
+            .unwrap()
+            .save(out.join(format!("{name}.difference.png")))
+            .unwrap();
+        panic!(
+            "{name}: mean FLIP {mean:.4} (tolerance {MEAN_FLIP_TOLERANCE}), {:.2}% of pixels above {BAD_PIXEL_FLIP} \
+             (tolerance {:.2}%); actual and difference images in {}",
+            bad * 100.0,
+            BAD_PIXEL_SHARE * 100.0,
+            out.display()
+        );
+    }
+}
+
+#[test]
+fn scenes_match_their_reference_images() {
+    let gpu = common::gpu();
+    for name in ["teapot", "character"] {
+        let scene = load_scene(&common::asset(&format!("scenes/{name}.ron"))).unwrap();
+        for view in 0..3 {
+            let camera = scene.view(view).unwrap();
+            let image = common::render(&gpu, &scene, &camera, settings(ShadowMethod::Hardware2x2), 320, 256);
+            compare_with_reference(&format!("{name}_view{view}_hw2x2"), &image);
+        }
+        let image = common::render(&gpu, &scene, &scene.view(0).unwrap(), settings(ShadowMethod::Hard), 320, 256);
+        compare_with_reference(&format!("{name}_view0_hard"), &image);
+    }
+}
+
+fn directional(direction: Vec3) -> Light {
+    Light::Directional(DirectionalLight {
+        direction,
+        angular_diameter_deg: 0.0,
+        color: Vec3::ONE,
+        intensity: 1.0,
+    })
+}
+
+/// Asserts that `p` is shadowed in `shadowed` (much darker than with no casters) or lit
+/// (the same as with no casters), naming the point in the message.
+fn assert_point(what: &str, shadowed: bool, with: &image::RgbaImage, without: &image::RgbaImage, px: (u32, u32)) {
+    let (a, b) = (common::luminance(with, px), common::luminance(without, px));
+    if shadowed {
+        assert!(a < 0.75 * b && b - a > 0.08, "{what} at pixel {px:?} should be in shadow: {a:.3} vs unshadowed {b:.3}");
+    } else {
+        assert!((a - b).abs() <= 2.0 / 255.0, "{what} at pixel {px:?} should be lit: {a:.3} vs unshadowed {b:.3}");
+    }
+}
+
+#[test]
+fn teapot_shadows_the_floor_beside_it_and_nothing_else() {
+    let gpu = common::gpu();
+    let scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let camera = scene.view(0).unwrap();
+    let (w, h) = (400, 320);
+    let lit_only = common::without_casters(&scene);
+    for method in ShadowMethod::ALL {
+        let with = common::render(&gpu, &scene, &camera, settings(method), w, h);
+        let without = common::render(&gpu, &lit_only, &camera, settings(method), w, h);
+        let d = scene.light.direction();
+        // The rim's center is inside the teapot: the floor point it projects to is in shadow.
+        let under = common::shadow_on_floor(Vec3::new(0.0, 2.4, 0.0), d);
+        let px = common::project(&camera, w, h, under).expect("shadow point on screen");
+        assert_point(&format!("{}: floor behind the teapot", method.name()), true, &with, &without, px);
+        // Floor points toward the light from the teapot are not occluded by anything.
+        for p in [Vec3::new(-3.0, 0.0, 4.0), Vec3::new(3.5, 0.0, 4.5), Vec3::new(-5.0, 0.0, 0.5)] {
+            let px = common::project(&camera, w, h, p).expect("lit point on screen");
+            assert_point(&format!("{}: open floor {p}", method.name()), false, &with, &without, px);
+        }
+        // Shadows only ever remove light.
+        for (a, b) in with.pixels().zip(without.pixels()) {
+            assert!(a[0] <= b[0].saturating_add(1) && a[1] <= b[1].saturating_add(1), "{}: a shadow brightened a pixel", method.name());
+        }
+    }
+}
+
+#[test]
+fn moving_the_light_moves_the_shadow() {
+    let gpu = common::gpu();
+    let mut scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let camera = scene.view(0).unwrap();
+    let (w, h) = (400, 320);
+    let without = common::render(&gpu, &common::without_casters(&scene), &camera, settings(ShadowMethod::Hard), w, h);
+    let right = Vec3::new(0.9, -0.75, 0.45);
+    let left = Vec3::new(-0.9, -0.75, 0.45);
+    let top = Vec3::new(0.0, 2.4, 0.0);
+    let right_spot = common::project(&camera, w, h, common::shadow_on_floor(top, right.normalize())).unwrap();
+    let left_spot = common::project(&camera, w, h, common::shadow_on_floor(top, left.normalize())).unwrap();
+    scene.light = directional(right);
+    let lit_from_left = common::render(&gpu, &scene, &camera, settings(ShadowMethod::Hard), w, h);
+    scene.light = directional(left);
+    let lit_from_right = common::render(&gpu, &scene, &camera, settings(ShadowMethod::Hard), w, h);
+    // `without` has the default light; compare each render against its own unshadowed twin.
+    let _ = without;
+    let twin = |light: Vec3| {
+        let mut s = common::without_casters(&scene);
+        s.light = directional(light);
+        common::render(&gpu, &s, &camera, settings(ShadowMethod::Hard), w, h)
+    };
+    let (twin_right, twin_left) = (twin(right), twin(left));
+    assert_point("light toward +x: shadow on the right", true, &lit_from_left, &twin_right, right_spot);
+    assert_point("light toward +x: left floor lit", false, &lit_from_left, &twin_right, left_spot);
+    assert_point("light toward -x: shadow on the left", true, &lit_from_right, &twin_left, left_spot);
+    assert_point("light toward -x: right floor lit", false, &lit_from_right, &twin_left, right_spot);
+}
+
+#[test]
+fn spot_light_casts_a_perspective_shadow() {
+    let gpu = common::gpu();
+    let mut scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let position = Vec3::new(-4.0, 8.0, 2.0);
+    scene.light = Light::Spot(SpotLight {
+        position,
+        direction: Vec3::new(0.0, 1.0, 0.0) - position,
+        cone_angle_deg: 45.0,
+        radius: 0.0,
+        color: Vec3::ONE,
+        intensity: 1.2,
+    });
+    let camera = scene.view(0).unwrap();
+    let (w, h) = (400, 320);
+    let with = common::render(&gpu, &scene, &camera, settings(ShadowMethod::Hardware2x2), w, h);
+    let without = common::render(&gpu, &common::without_casters(&scene), &camera, settings(ShadowMethod::Hardware2x2), w, h);
+    // A floor point whose path to the light passes through the inside of the teapot's body
+    // (radius 1.7 < 2 at height 1.2), on the side the camera sees.
+    let through = Vec3::new(1.6, 1.2, 0.6);
+    let under = common::shadow_on_floor(through, (through - position).normalize());
+    assert_point("spot: floor behind the teapot", true, &with, &without, common::project(&camera, w, h, under).unwrap());
+    assert_point("spot: floor in front", false, &with, &without, common::project(&camera, w, h, Vec3::new(-2.0, 0.0, 4.0)).unwrap());
+}
+
+#[test]
+fn alpha_masked_casters_cast_only_where_opaque() {
+    let gpu = common::gpu();
+    let mut scene = Scene::default();
+    scene.light = directional(Vec3::NEG_Y);
+    // A 4x1 texture: left half transparent, right half opaque.
+    let mut rgba = Vec::new();
+    for alpha in [0u8, 0, 255, 255] {
+        rgba.extend_from_slice(&[230, 60, 60, alpha]);
+    }
+    scene.textures.push(TextureImage::from_rgba8("half", 4, 1, rgba));
+    let card_material = scene.add_material(Material {
+        name: "card".into(),
+        base_color: Vec4::ONE,
+        base_color_texture: Some(0),
+        alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
+    });
+    let floor_material = scene.add_material(Material::colored("floor", [0.8, 0.8, 0.8]));
+    let card = scene.add_mesh(primitives::cuboid(Vec3::new(2.0, 0.02, 2.0)));
+    let floor = scene.add_mesh(primitives::plane(12.0, 1.0));
+    scene.add_instance(card, card_material, Mat4::from_translation(Vec3::new(0.0, 1.5, 0.0)));
+    scene.add_instance(floor, floor_material, Mat4::IDENTITY).caster = false;
+    let camera = penumbra::Camera::look_at(Vec3::new(0.0, 0.6, 6.0), Vec3::new(0.0, 0.3, 0.0));
+    let (w, h) = (320, 256);
+    let with = common::render(&gpu, &scene, &camera, settings(ShadowMethod::Hard), w, h);
+    let without = common::render(&gpu, &common::without_casters(&scene), &camera, settings(ShadowMethod::Hard), w, h);
+    let left = common::project(&camera, w, h, Vec3::new(-0.5, 0.0, 0.5)).unwrap();
+    let right = common::project(&camera, w, h, Vec3::new(0.5, 0.0, 0.5)).unwrap();
+    assert_point("floor under the transparent half", false, &with, &without, left);
+    assert_point("floor under the opaque half", true, &with, &without, right);
+}
+
+#[test]
+fn real_models_render_with_shadows() {
+    let gpu = common::gpu();
+    for file in ["teapot.obj", "spot.obj", "Fox.glb", "CornellBox.glb"] {
+        let scene = load_scene(&common::shared_models().join(file)).unwrap();
+        let camera = scene.view(0).unwrap();
+        let (w, h) = (256, 192);
+        let with = common::render(&gpu, &scene, &camera, settings(ShadowMethod::Hardware2x2), w, h);
+        let without = common::render(&gpu, &common::without_casters(&scene), &camera, settings(ShadowMethod::Hardware2x2), w, h);
+        if std::env::var_os("PENUMBRA_SAVE_RENDERS").is_some() {
+            with.save(common::output_dir().join(format!("{file}.png"))).unwrap();
+        }
+        let lum: Vec<f32> = with
+            .pixels()
+            .map(|p| (0.2126 * p[0] as f32 + 0.7152 * p[1] as f32 + 0.0722 * p[2] as f32) / 255.0)
+            .collect();
+        let mean = lum.iter().sum::<f32>() / lum.len() as f32;
+        let std_dev = (lum.iter().map(|l| (l - mean).powi(2)).sum::<f32>() / lum.len() as f32).sqrt();
+        assert!(std_dev > 0.04, "{file}: the image is nearly one color (std dev {std_dev})");
+        let darkened = with
+            .pixels()
+            .zip(without.pixels())
+            .filter(|(a, b)| (a[1] as f32) < 0.8 * b[1] as f32)
+            .count() as f32
+            / (w * h) as f32;
+        assert!(darkened > 0.005, "{file}: no visible shadow ({:.2}% of pixels darkened)", darkened * 100.0);
+    }
+}
+
+#[test]
+fn zero_sized_targets_are_rejected_or_skipped() {
+    let gpu = common::gpu();
+    let scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let mut renderer =
+        penumbra::Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, ShadowSettings::default()).unwrap();
+    let gpu_scene = penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
+    let camera = scene.view(0).unwrap();
+    let err = penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, 0, 10).unwrap_err();
+    assert!(err.to_string().contains("size"), "{err}");
+    // A minimized window: resizing to zero and back works and frames are skipped meanwhile.
+    renderer.resize(&gpu.device, 0, 0);
+    let image = penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, 64, 48).unwrap();
+    assert_eq!(image.dimensions(), (64, 48));
+}
+
+#[test]
+fn every_depth_format_and_cull_mode_renders_the_shadow() {
+    let gpu = common::gpu();
+    let scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let camera = scene.view(0).unwrap();
+    let (w, h) = (320, 256);
+    let without = common::render(&gpu, &common::without_casters(&scene), &camera, settings(ShadowMethod::Hard), w, h);
+    let under = common::shadow_on_floor(Vec3::new(0.0, 2.4, 0.0), scene.light.direction());
+    let px = common::project(&camera, w, h, under).unwrap();
+    let open = common::project(&camera, w, h, Vec3::new(-3.0, 0.0, 4.0)).unwrap();
+    for format in [penumbra::DepthFormat::Depth16, penumbra::DepthFormat::Depth24, penumbra::DepthFormat::Depth32] {
+        for cull in [penumbra::CullMode::None, penumbra::CullMode::Back, penumbra::CullMode::Front] {
+            let mut s = settings(ShadowMethod::Hard);
+            s.shadow_map.depth_format = format;
+            s.shadow_map.cull_mode = cull;
+            s.shadow_map.resolution = 1024;
+            let with = common::render(&gpu, &scene, &camera, s, w, h);
+            let what = format!("{format:?}/{cull:?}");
+            assert_point(&format!("{what}: shadow"), true, &with, &without, px);
+            assert_point(&format!("{what}: open floor"), false, &with, &without, open);
+        }
+    }
+}
