@@ -17,17 +17,29 @@ fn main() -> anyhow::Result<()> {
     let quick = std::env::var("PENUMBRA_BENCH").is_ok_and(|v| v == "quick");
     let (warmup, frames, views) = if quick { (2, 5, 1) } else { (5, 30, 3) };
     let gpu = HeadlessGpu::new()?;
-    println!("penumbra bench on {} ({} mode)", gpu.describe(), if quick { "quick" } else { "full" });
-    println!("{:<10} {:>4} {:>10} {:>8} {:>10} {:>7}", "scene", "view", "size", "method", "median ms", "fps");
+    println!(
+        "penumbra bench on {} ({} mode)",
+        gpu.describe(),
+        if quick { "quick" } else { "full" }
+    );
+    println!(
+        "{:<10} {:>4} {:>10} {:>8} {:>10} {:>7}",
+        "scene", "view", "size", "method", "median ms", "fps"
+    );
     let format = wgpu::TextureFormat::Rgba8UnormSrgb;
     let mut ratios = Vec::new();
     for name in ["teapot", "character"] {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("assets/scenes/{name}.ron"));
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join(format!("assets/scenes/{name}.ron"));
         let scene = penumbra::load_scene(&path)?;
         for (width, height) in [(800u32, 600u32), (1280, 1024)] {
             let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
                 label: Some("bench target"),
-                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
                 mip_level_count: 1,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
@@ -40,9 +52,13 @@ fn main() -> anyhow::Result<()> {
                 let camera = scene.view(v)?;
                 let mut per_method = Vec::new();
                 for method in ShadowMethod::ALL {
-                    let settings = ShadowSettings { method, ..Default::default() };
+                    let settings = ShadowSettings {
+                        method,
+                        ..Default::default()
+                    };
                     let mut renderer = Renderer::new(&gpu.device, format, settings)?;
-                    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene)?;
+                    let gpu_scene =
+                        GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene)?;
                     renderer.resize(&gpu.device, width, height);
                     let mut times = Vec::new();
                     for i in 0..warmup + frames {
@@ -50,13 +66,21 @@ fn main() -> anyhow::Result<()> {
                         let mut encoder = gpu.device.create_command_encoder(&Default::default());
                         renderer.render(&gpu.queue, &mut encoder, &gpu_scene, &camera, &view);
                         gpu.queue.submit([encoder.finish()]);
-                        gpu.device.poll(wgpu::PollType::Wait { submission_index: None, timeout: None })?;
+                        gpu.device.poll(wgpu::PollType::Wait {
+                            submission_index: None,
+                            timeout: None,
+                        })?;
                         if i >= warmup {
                             times.push(start.elapsed().as_secs_f64() * 1e3);
                         }
                     }
                     let ms = median(times);
-                    println!("{name:<10} {v:>4} {:>10} {:>8} {ms:>10.2} {:>7.1}", format!("{width}x{height}"), method.name(), 1e3 / ms);
+                    println!(
+                        "{name:<10} {v:>4} {:>10} {:>8} {ms:>10.2} {:>7.1}",
+                        format!("{width}x{height}"),
+                        method.name(),
+                        1e3 / ms
+                    );
                     per_method.push(ms);
                 }
                 ratios.push(per_method[1] / per_method[0]);
@@ -64,6 +88,9 @@ fn main() -> anyhow::Result<()> {
         }
     }
     let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
-    println!("hw2x2 / hard frame-time ratio: mean {mean:.3} over {} configurations", ratios.len());
+    println!(
+        "hw2x2 / hard frame-time ratio: mean {mean:.3} over {} configurations",
+        ratios.len()
+    );
     Ok(())
 }

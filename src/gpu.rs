@@ -25,11 +25,14 @@ impl HeadlessGpu {
         // Debug labels stay off unless WGPU_DEBUG=1: Mesa's lavapipe crashes inside
         // vkCmdBeginDebugUtilsLabelEXT, which wgpu calls for debug groups when this flag is on
         // (the default in debug builds).
-        descriptor.flags = (wgpu::InstanceFlags::from_build_config() - wgpu::InstanceFlags::DEBUG).with_env();
+        descriptor.flags =
+            (wgpu::InstanceFlags::from_build_config() - wgpu::InstanceFlags::DEBUG).with_env();
         let instance = wgpu::Instance::new(descriptor.with_env());
         let adapter = wgpu::util::initialize_adapter_from_env_or_default(&instance, None)
             .await
-            .map_err(|e| PenumbraError::NoAdapter { detail: e.to_string() })?;
+            .map_err(|e| PenumbraError::NoAdapter {
+                detail: e.to_string(),
+            })?;
         let info = adapter.get_info();
         let optional = wgpu::Features::TIMESTAMP_QUERY
             | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
@@ -38,7 +41,8 @@ impl HeadlessGpu {
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("penumbra headless device"),
                 required_features: adapter.features() & optional,
-                required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
+                required_limits: wgpu::Limits::downlevel_defaults()
+                    .using_resolution(adapter.limits()),
                 ..Default::default()
             })
             .await
@@ -63,14 +67,19 @@ impl HeadlessGpu {
 
 /// Copies a 2D RGBA8 (or BGRA8, swizzled to RGBA) texture to the CPU. The texture needs
 /// `COPY_SRC` usage. Rows are returned tightly packed, top row first.
-pub fn read_texture_rgba8(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Result<Vec<u8>> {
+pub fn read_texture_rgba8(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+) -> Result<Vec<u8>> {
     let (width, height) = (texture.width(), texture.height());
     let bgra = matches!(
         texture.format(),
         wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
     );
     let unpadded = width * 4;
-    let padded = unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let padded =
+        unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("penumbra::readback"),
         size: (padded * height) as u64,
@@ -118,10 +127,12 @@ pub fn read_texture_rgba8(device: &wgpu::Device, queue: &wgpu::Queue, texture: &
         })?;
     let mut pixels = Vec::with_capacity((unpadded * height) as usize);
     {
-        let view = buffer.get_mapped_range(..).map_err(|e| PenumbraError::Gpu {
-            during: "reading a mapped buffer".into(),
-            reason: e.to_string(),
-        })?;
+        let view = buffer
+            .get_mapped_range(..)
+            .map_err(|e| PenumbraError::Gpu {
+                during: "reading a mapped buffer".into(),
+                reason: e.to_string(),
+            })?;
         for row in view.chunks_exact(padded as usize) {
             pixels.extend_from_slice(&row[..unpadded as usize]);
         }
@@ -146,7 +157,10 @@ pub fn render_to_image(
     height: u32,
 ) -> Result<image::RgbaImage> {
     if width == 0 || height == 0 {
-        return Err(PenumbraError::setting("size", format!("{width}x{height} has no pixels")));
+        return Err(PenumbraError::setting(
+            "size",
+            format!("{width}x{height} has no pixels"),
+        ));
     }
     let limit = gpu.device.limits().max_texture_dimension_2d;
     if width > limit || height > limit {
@@ -171,9 +185,11 @@ pub fn render_to_image(
     });
     let view = target.create_view(&Default::default());
     renderer.resize(&gpu.device, width, height);
-    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-        label: Some("penumbra::render_to_image"),
-    });
+    let mut encoder = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("penumbra::render_to_image"),
+        });
     renderer.render(&gpu.queue, &mut encoder, scene, camera, &view);
     gpu.queue.submit([encoder.finish()]);
     let pixels = read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;

@@ -7,6 +7,7 @@ use glam::{Mat4, Vec3, Vec4};
 use wgpu::util::DeviceExt;
 
 use crate::error::{PenumbraError, Result};
+use crate::passes::entry;
 use crate::scene::{Aabb, AlphaMode, Light, Scene};
 
 /// Bind group layouts shared by every pass that draws scene geometry.
@@ -21,46 +22,24 @@ impl SceneLayouts {
     pub fn new(device: &wgpu::Device) -> Self {
         let instance = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("SceneLayouts::instance"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: true,
-                    min_binding_size: wgpu::BufferSize::new(size_of::<InstanceUniform>() as u64),
-                },
-                count: None,
-            }],
+            entries: &[entry::uniform(
+                0,
+                wgpu::ShaderStages::VERTEX_FRAGMENT,
+                size_of::<InstanceUniform>(),
+                true,
+            )],
         });
         let material = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("SceneLayouts::material"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: wgpu::BufferSize::new(size_of::<MaterialUniform>() as u64),
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
+                entry::uniform(
+                    0,
+                    wgpu::ShaderStages::FRAGMENT,
+                    size_of::<MaterialUniform>(),
+                    false,
+                ),
+                entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: true }),
+                entry::sampler(2, wgpu::SamplerBindingType::Filtering),
             ],
         });
         Self { instance, material }
@@ -125,7 +104,12 @@ pub struct GpuScene {
 
 impl GpuScene {
     /// Validates and uploads `scene`.
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, layouts: &SceneLayouts, scene: &Scene) -> Result<Self> {
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        layouts: &SceneLayouts,
+        scene: &Scene,
+    ) -> Result<Self> {
         scene.validate()?;
         let meshes = scene
             .meshes
@@ -140,17 +124,39 @@ impl GpuScene {
                 };
                 let vertex = wgpu::BufferUsages::VERTEX;
                 // wgpu rejects zero-sized vertex buffers being bound; pad empty meshes.
-                let pad = |bytes: &[u8]| if bytes.is_empty() { vec![0u8; 16] } else { bytes.to_vec() };
+                let pad = |bytes: &[u8]| {
+                    if bytes.is_empty() {
+                        vec![0u8; 16]
+                    } else {
+                        bytes.to_vec()
+                    }
+                };
                 GpuMesh {
-                    positions: make("GpuMesh::positions", &pad(bytemuck::cast_slice(&mesh.positions)), vertex),
-                    normals: make("GpuMesh::normals", &pad(bytemuck::cast_slice(&mesh.normals)), vertex),
-                    uvs: make("GpuMesh::uvs", &pad(bytemuck::cast_slice(&mesh.uvs)), vertex),
+                    positions: make(
+                        "GpuMesh::positions",
+                        &pad(bytemuck::cast_slice(&mesh.positions)),
+                        vertex,
+                    ),
+                    normals: make(
+                        "GpuMesh::normals",
+                        &pad(bytemuck::cast_slice(&mesh.normals)),
+                        vertex,
+                    ),
+                    uvs: make(
+                        "GpuMesh::uvs",
+                        &pad(bytemuck::cast_slice(&mesh.uvs)),
+                        vertex,
+                    ),
                     smoothed_normals: make(
                         "GpuMesh::smoothed_normals",
                         &pad(bytemuck::cast_slice(&mesh.smoothed_normals)),
                         vertex,
                     ),
-                    indices: make("GpuMesh::indices", &pad(bytemuck::cast_slice(&mesh.indices)), wgpu::BufferUsages::INDEX),
+                    indices: make(
+                        "GpuMesh::indices",
+                        &pad(bytemuck::cast_slice(&mesh.indices)),
+                        wgpu::BufferUsages::INDEX,
+                    ),
                     index_count: mesh.indices.len() as u32,
                 }
             })
@@ -173,10 +179,15 @@ impl GpuScene {
                 if t.width > max_side || t.height > max_side {
                     return Err(PenumbraError::Texture {
                         name: t.name.clone(),
-                        reason: format!("{}x{} exceeds the device limit of {max_side}", t.width, t.height),
+                        reason: format!(
+                            "{}x{} exceeds the device limit of {max_side}",
+                            t.width, t.height
+                        ),
                     });
                 }
-                Ok(upload_texture(device, queue, &t.name, t.width, t.height, &t.rgba8))
+                Ok(upload_texture(
+                    device, queue, &t.name, t.width, t.height, &t.rgba8,
+                ))
             })
             .collect::<Result<_>>()?;
         let white = upload_texture(device, queue, "white", 1, 1, &[255; 4]);
@@ -234,7 +245,8 @@ impl GpuScene {
                 flags: [if inst.receiver { 1.0 } else { 0.0 }, 0.0, 0.0, 0.0],
             };
             let offset = k * stride as usize;
-            instance_bytes[offset..offset + size_of::<InstanceUniform>()].copy_from_slice(bytemuck::bytes_of(&uniform));
+            instance_bytes[offset..offset + size_of::<InstanceUniform>()]
+                .copy_from_slice(bytemuck::bytes_of(&uniform));
             instances.push(GpuInstance {
                 mesh: inst.mesh,
                 material: inst.material,
@@ -324,7 +336,14 @@ fn normal_matrix(m: &Mat4) -> Mat4 {
 }
 
 /// Uploads an sRGB RGBA8 image with a full mip chain (box-filtered on the CPU).
-fn upload_texture(device: &wgpu::Device, queue: &wgpu::Queue, name: &str, width: u32, height: u32, rgba8: &[u8]) -> wgpu::TextureView {
+fn upload_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    name: &str,
+    width: u32,
+    height: u32,
+    rgba8: &[u8],
+) -> wgpu::TextureView {
     let levels = 32 - width.max(height).leading_zeros();
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(name),
@@ -340,7 +359,8 @@ fn upload_texture(device: &wgpu::Device, queue: &wgpu::Queue, name: &str, width:
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     });
-    let mut level_image = image::RgbaImage::from_raw(width, height, rgba8.to_vec()).expect("validated size");
+    let mut level_image =
+        image::RgbaImage::from_raw(width, height, rgba8.to_vec()).expect("validated size");
     for level in 0..levels {
         let (w, h) = level_image.dimensions();
         queue.write_texture(

@@ -57,7 +57,9 @@ impl LightView {
                 // View space looks down -Z: depth along the light is -z.
                 let near = -local.max.z - pad_z;
                 let far = -local.min.z + pad_z;
-                let projection = glam::camera::rh::proj::directx::orthographic(min.x, max.x, min.y, max.y, near, far);
+                let projection = glam::camera::rh::proj::directx::orthographic(
+                    min.x, max.x, min.y, max.y, near, far,
+                );
                 LightView {
                     view,
                     projection,
@@ -75,7 +77,9 @@ impl LightView {
                 let min_depth = depths.iter().cloned().fold(f32::MAX, f32::min);
                 let far = (max_depth * 1.01).max(1e-3);
                 let near = (min_depth * 0.99).max(far * 1e-3);
-                let fov = (spot.cone_angle_deg * 2.0 + 2.0).clamp(1.0, 178.0).to_radians();
+                let fov = (spot.cone_angle_deg * 2.0 + 2.0)
+                    .clamp(1.0, 178.0)
+                    .to_radians();
                 let projection = glam::camera::rh::proj::directx::perspective(fov, 1.0, near, far);
                 let side = 2.0 * near * (fov * 0.5).tan();
                 LightView {
@@ -106,7 +110,11 @@ mod tests {
     #[test]
     fn directional_fit_contains_the_bounds_tightly() {
         let b = Aabb::new(Vec3::new(-5.0, 0.0, -5.0), Vec3::new(5.0, 3.0, 5.0));
-        for dir in [Vec3::new(-0.5, -1.0, -0.3), Vec3::NEG_Y, Vec3::new(1.0, -0.05, 0.0)] {
+        for dir in [
+            Vec3::new(-0.5, -1.0, -0.3),
+            Vec3::NEG_Y,
+            Vec3::new(1.0, -0.05, 0.0),
+        ] {
             let light = Light::Directional(DirectionalLight {
                 direction: dir,
                 angular_diameter_deg: 1.0,
@@ -135,6 +143,11 @@ mod tests {
         let lv = LightView::fit(&light, &b);
         assert!(inside(&lv.view_projection, Vec3::new(1.0, 0.0, 1.0)));
         assert!(inside(&lv.view_projection, Vec3::new(0.0, 2.0, 0.0)));
-        assert!(lv.near > 5.0 && lv.far < 8.5, "near {} far {}", lv.near, lv.far);
+        assert!(
+            lv.near > 5.0 && lv.far < 8.5,
+            "near {} far {}",
+            lv.near,
+            lv.far
+        );
     }
 }

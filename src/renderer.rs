@@ -20,7 +20,11 @@ pub struct Renderer {
 
 impl Renderer {
     /// Creates every pipeline for drawing into targets of `color_format`.
-    pub fn new(device: &wgpu::Device, color_format: wgpu::TextureFormat, settings: ShadowSettings) -> Result<Self> {
+    pub fn new(
+        device: &wgpu::Device,
+        color_format: wgpu::TextureFormat,
+        settings: ShadowSettings,
+    ) -> Result<Self> {
         settings.validate(Some(device.limits().max_texture_dimension_2d))?;
         let layouts = SceneLayouts::new(device);
         let shadow_map = ShadowMapPass::new(device, &layouts, &settings.shadow_map);
@@ -108,8 +112,15 @@ impl Renderer {
         encoder.pop_debug_group();
 
         encoder.push_debug_group("lit pass");
-        self.forward
-            .encode(encoder, queue, scene, camera, &light_view, self.settings.method, target);
+        self.forward.encode(
+            encoder,
+            queue,
+            scene,
+            camera,
+            &light_view,
+            self.settings.method,
+            target,
+        );
         encoder.pop_debug_group();
 
         encoder.pop_debug_group();

@@ -30,10 +30,19 @@ impl ShadowMethod {
 
     /// Parses a command-line name; the error lists the valid ones.
     pub fn from_name(name: &str) -> Result<Self> {
-        Self::ALL.into_iter().find(|m| m.name() == name).ok_or_else(|| {
-            let names: Vec<_> = Self::ALL.iter().map(|m| m.name()).collect();
-            PenumbraError::setting("method", format!("unknown method `{name}`; choose one of {}", names.join(", ")))
-        })
+        Self::ALL
+            .into_iter()
+            .find(|m| m.name() == name)
+            .ok_or_else(|| {
+                let names: Vec<_> = Self::ALL.iter().map(|m| m.name()).collect();
+                PenumbraError::setting(
+                    "method",
+                    format!(
+                        "unknown method `{name}`; choose one of {}",
+                        names.join(", ")
+                    ),
+                )
+            })
     }
 }
 
@@ -163,12 +172,27 @@ mod tests {
         ShadowSettings::default().validate(Some(8192)).unwrap();
         let mut s = ShadowSettings::default();
         s.shadow_map.resolution = 1000;
-        assert!(s.validate(None).unwrap_err().to_string().contains("shadow_map.resolution"));
+        assert!(
+            s.validate(None)
+                .unwrap_err()
+                .to_string()
+                .contains("shadow_map.resolution")
+        );
         s.shadow_map.resolution = 4096;
-        assert!(s.validate(Some(2048)).unwrap_err().to_string().contains("limit"));
+        assert!(
+            s.validate(Some(2048))
+                .unwrap_err()
+                .to_string()
+                .contains("limit")
+        );
         s.shadow_map.resolution = 1024;
         s.shadow_map.slope_bias = f32::NAN;
-        assert!(s.validate(None).unwrap_err().to_string().contains("slope_bias"));
+        assert!(
+            s.validate(None)
+                .unwrap_err()
+                .to_string()
+                .contains("slope_bias")
+        );
     }
 
     #[test]

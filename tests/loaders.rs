@@ -16,10 +16,17 @@ fn assert_mesh_sane(model: &Model, what: &str) {
         assert_eq!(mesh.normals.len(), mesh.vertex_count());
         assert_eq!(mesh.smoothed_normals.len(), mesh.vertex_count());
         for n in mesh.normals.iter().chain(&mesh.smoothed_normals) {
-            assert!(n.is_finite() && (n.length() - 1.0).abs() < 1e-3, "{what}: bad normal {n}");
+            assert!(
+                n.is_finite() && (n.length() - 1.0).abs() < 1e-3,
+                "{what}: bad normal {n}"
+            );
         }
         assert!(mesh.positions.iter().all(|p| p.is_finite()));
-        assert!(mesh.indices.iter().all(|&i| (i as usize) < mesh.vertex_count()));
+        assert!(
+            mesh.indices
+                .iter()
+                .all(|&i| (i as usize) < mesh.vertex_count())
+        );
     }
 }
 
@@ -41,9 +48,15 @@ fn teapot_obj_without_normals_gets_computed_smooth_normals() {
         .collect();
     let outward = body
         .iter()
-        .filter(|(p, n)| glam::Vec2::new(p.x - center.x, p.z - center.z).dot(glam::Vec2::new(n.x, n.z)) > 0.0)
+        .filter(|(p, n)| {
+            glam::Vec2::new(p.x - center.x, p.z - center.z).dot(glam::Vec2::new(n.x, n.z)) > 0.0
+        })
         .count();
-    assert!(body.len() > 100 && outward as f32 > 0.97 * body.len() as f32, "{outward} of {}", body.len());
+    assert!(
+        body.len() > 100 && outward as f32 > 0.97 * body.len() as f32,
+        "{outward} of {}",
+        body.len()
+    );
     let volume: f32 = mesh
         .indices
         .chunks_exact(3)
@@ -61,10 +74,18 @@ fn spot_obj_keeps_its_uvs_and_gets_normals() {
     assert_mesh_sane(&model, "spot.obj");
     let mesh = &model.meshes[0];
     assert_eq!(mesh.triangle_count(), 5856);
-    let distinct_uvs = mesh.uvs.iter().filter(|uv| **uv != glam::Vec2::ZERO).count();
+    let distinct_uvs = mesh
+        .uvs
+        .iter()
+        .filter(|uv| **uv != glam::Vec2::ZERO)
+        .count();
     assert!(distinct_uvs > mesh.vertex_count() / 2, "UVs were lost");
     // The file's own UVs reach slightly past [0, 1] (u down to -0.05); flipping v keeps them in range.
-    assert!(mesh.uvs.iter().all(|uv| (-0.1..=1.1).contains(&uv.x) && (-0.1..=1.1).contains(&uv.y)));
+    assert!(
+        mesh.uvs
+            .iter()
+            .all(|uv| (-0.1..=1.1).contains(&uv.x) && (-0.1..=1.1).contains(&uv.y))
+    );
 }
 
 #[test]
@@ -81,7 +102,10 @@ fn fox_glb_is_skinned_into_its_bind_pose_with_its_embedded_texture() {
     let b = model.bounds();
     let size = b.size();
     assert!(size.z > size.y && size.y > size.x, "fox bounds {size}");
-    assert!(size.max_element() > 50.0 && size.max_element() < 500.0, "fox size {size}");
+    assert!(
+        size.max_element() > 50.0 && size.max_element() < 500.0,
+        "fox size {size}"
+    );
 }
 
 #[test]
@@ -94,10 +118,17 @@ fn cornell_box_glb_has_several_meshes_and_materials() {
         .iter()
         .map(|p| {
             let c = model.materials[p.material].base_color;
-            [(c.x * 100.0) as u32, (c.y * 100.0) as u32, (c.z * 100.0) as u32]
+            [
+                (c.x * 100.0) as u32,
+                (c.y * 100.0) as u32,
+                (c.z * 100.0) as u32,
+            ]
         })
         .collect();
-    assert!(colors.len() >= 3, "expected red, green and white walls, got {colors:?}");
+    assert!(
+        colors.len() >= 3,
+        "expected red, green and white walls, got {colors:?}"
+    );
 }
 
 #[test]
@@ -105,9 +136,15 @@ fn project_scenes_load_with_three_viewpoints() {
     for name in ["teapot", "character"] {
         let scene = load_scene(&common::asset(&format!("scenes/{name}.ron"))).unwrap();
         assert_eq!(scene.views.len(), 3, "{name}");
-        assert!(scene.instances.iter().any(|i| i.caster) && scene.instances.iter().any(|i| i.receiver));
+        assert!(
+            scene.instances.iter().any(|i| i.caster) && scene.instances.iter().any(|i| i.receiver)
+        );
         // The caster stands on the floor: contact shadows are possible.
-        assert!(scene.caster_bounds().min.y.abs() < 1e-3, "{name}: caster floats at {}", scene.caster_bounds().min.y);
+        assert!(
+            scene.caster_bounds().min.y.abs() < 1e-3,
+            "{name}: caster floats at {}",
+            scene.caster_bounds().min.y
+        );
         for k in 0..3 {
             let cam = scene.view(k).unwrap();
             assert!(cam.near > 0.0 && cam.far > cam.near);
@@ -136,7 +173,10 @@ fn expect_error(path: &Path, needle: &str) -> PenumbraError {
     };
     let text = err.to_string();
     let name = path.file_name().unwrap().to_string_lossy();
-    assert!(text.contains(&*name), "error does not name the file: {text}");
+    assert!(
+        text.contains(&*name),
+        "error does not name the file: {text}"
+    );
     assert!(
         text.to_lowercase().contains(&needle.to_lowercase()),
         "error does not say `{needle}`: {text}"
@@ -157,12 +197,18 @@ fn missing_and_unsupported_files_are_named() {
 fn truncated_and_garbage_files_give_errors() {
     let dir = common::scratch_dir("garbage");
     let fox = std::fs::read(common::shared_models().join("Fox.glb")).unwrap();
-    for (name, len) in [("fox_header.glb", 12), ("fox_half.glb", fox.len() / 2), ("fox_minus_one.glb", fox.len() - 1)] {
+    for (name, len) in [
+        ("fox_header.glb", 12),
+        ("fox_half.glb", fox.len() / 2),
+        ("fox_minus_one.glb", fox.len() - 1),
+    ] {
         let path = dir.join(name);
         std::fs::write(&path, &fox[..len]).unwrap();
         expect_error(&path, "");
     }
-    let noise: Vec<u8> = (0..4096u32).map(|i| (i.wrapping_mul(2654435761) >> 13) as u8).collect();
+    let noise: Vec<u8> = (0..4096u32)
+        .map(|i| (i.wrapping_mul(2654435761) >> 13) as u8)
+        .collect();
     for name in ["noise.glb", "noise.gltf", "noise.obj"] {
         let path = dir.join(name);
         std::fs::write(&path, &noise).unwrap();
@@ -185,7 +231,11 @@ fn obj_with_out_of_range_face_index_is_rejected() {
     std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n").unwrap();
     expect_error(&path, "");
     let path = dir.join("missing_mtl.obj");
-    std::fs::write(&path, "mtllib nothere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n").unwrap();
+    std::fs::write(
+        &path,
+        "mtllib nothere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n",
+    )
+    .unwrap();
     expect_error(&path, "material");
 }
 
@@ -254,7 +304,14 @@ fn gltf_with_out_of_range_indices_is_rejected() {
     expect_error(&path, "out of range");
     // An accessor that claims more indices than its buffer view holds.
     let path = dir.join("bad_count.gltf");
-    std::fs::write(&path, gltf_json("tri.bin", bytes.len(), 3).replace("\"count\":3,\"type\":\"SCALAR\"", "\"count\":3000,\"type\":\"SCALAR\"")).unwrap();
+    std::fs::write(
+        &path,
+        gltf_json("tri.bin", bytes.len(), 3).replace(
+            "\"count\":3,\"type\":\"SCALAR\"",
+            "\"count\":3000,\"type\":\"SCALAR\"",
+        ),
+    )
+    .unwrap();
     expect_error(&path, "");
 }
 
@@ -262,7 +319,11 @@ fn gltf_with_out_of_range_indices_is_rejected() {
 fn broken_scene_files_name_the_file() {
     let dir = common::scratch_dir("scene_files");
     let path = dir.join("bad.ron");
-    std::fs::write(&path, "(meshes: [(name: \"a\", source: Teapot(tessellation: 8))], instances: [").unwrap();
+    std::fs::write(
+        &path,
+        "(meshes: [(name: \"a\", source: Teapot(tessellation: 8))], instances: [",
+    )
+    .unwrap();
     let err = load_scene(&path).unwrap_err().to_string();
     assert!(err.contains("bad.ron"), "{err}");
     let path = dir.join("missing_model.ron");
@@ -282,5 +343,8 @@ fn broken_scene_files_name_the_file() {
     )
     .unwrap();
     let err = load_scene(&path).unwrap_err().to_string();
-    assert!(err.contains("bad_tess.ron") && err.contains("tessellation"), "{err}");
+    assert!(
+        err.contains("bad_tess.ron") && err.contains("tessellation"),
+        "{err}"
+    );
 }

@@ -12,8 +12,8 @@ mod common;
 
 use glam::{Mat4, Vec3, Vec4};
 use penumbra::{
-    AlphaMode, DirectionalLight, Light, Material, Scene, ShadowMethod, ShadowSettings, SpotLight, TextureImage,
-    load_scene, scene::primitives,
+    AlphaMode, DirectionalLight, Light, Material, Scene, ShadowMethod, ShadowSettings, SpotLight,
+    TextureImage, load_scene, scene::primitives,
 };
 
 const MEAN_FLIP_TOLERANCE: f32 = 0.01;
@@ -44,8 +44,14 @@ fn compare_with_reference(name: &str, actual: &image::RgbaImage) {
             )
         })
         .to_rgba8();
-    assert_eq!(reference.dimensions(), actual.dimensions(), "{name}: size differs from the reference");
-    let rgb = |img: &image::RgbaImage| -> Vec<u8> { img.pixels().flat_map(|p| [p[0], p[1], p[2]]).collect() };
+    assert_eq!(
+        reference.dimensions(),
+        actual.dimensions(),
+        "{name}: size differs from the reference"
+    );
+    let rgb = |img: &image::RgbaImage| -> Vec<u8> {
+        img.pixels().flat_map(|p| [p[0], p[1], p[2]]).collect()
+    };
     let (w, h) = actual.dimensions();
     let error_map = nv_flip::flip(
         nv_flip::FlipImageRgb8::with_data(w, h, &rgb(&reference)),
@@ -80,10 +86,24 @@ fn scenes_match_their_reference_images() {
         let scene = load_scene(&common::asset(&format!("scenes/{name}.ron"))).unwrap();
         for view in 0..3 {
             let camera = scene.view(view).unwrap();
-            let image = common::render(&gpu, &scene, &camera, settings(ShadowMethod::Hardware2x2), 320, 256);
+            let image = common::render(
+                &gpu,
+                &scene,
+                &camera,
+                settings(ShadowMethod::Hardware2x2),
+                320,
+                256,
+            );
             compare_with_reference(&format!("{name}_view{view}_hw2x2"), &image);
         }
-        let image = common::render(&gpu, &scene, &scene.view(0).unwrap(), settings(ShadowMethod::Hard), 320, 256);
+        let image = common::render(
+            &gpu,
+            &scene,
+            &scene.view(0).unwrap(),
+            settings(ShadowMethod::Hard),
+            320,
+            256,
+        );
         compare_with_reference(&format!("{name}_view0_hard"), &image);
     }
 }
@@ -99,12 +119,24 @@ fn directional(direction: Vec3) -> Light {
 
 /// Asserts that `p` is shadowed in `shadowed` (much darker than with no casters) or lit
 /// (the same as with no casters), naming the point in the message.
-fn assert_point(what: &str, shadowed: bool, with: &image::RgbaImage, without: &image::RgbaImage, px: (u32, u32)) {
+fn assert_point(
+    what: &str,
+    shadowed: bool,
+    with: &image::RgbaImage,
+    without: &image::RgbaImage,
+    px: (u32, u32),
+) {
     let (a, b) = (common::luminance(with, px), common::luminance(without, px));
     if shadowed {
-        assert!(a < 0.75 * b && b - a > 0.08, "{what} at pixel {px:?} should be in shadow: {a:.3} vs unshadowed {b:.3}");
+        assert!(
+            a < 0.75 * b && b - a > 0.08,
+            "{what} at pixel {px:?} should be in shadow: {a:.3} vs unshadowed {b:.3}"
+        );
     } else {
-        assert!((a - b).abs() <= 2.0 / 255.0, "{what} at pixel {px:?} should be lit: {a:.3} vs unshadowed {b:.3}");
+        assert!(
+            (a - b).abs() <= 2.0 / 255.0,
+            "{what} at pixel {px:?} should be lit: {a:.3} vs unshadowed {b:.3}"
+        );
     }
 }
 
@@ -122,15 +154,35 @@ fn teapot_shadows_the_floor_beside_it_and_nothing_else() {
         // The rim's center is inside the teapot: the floor point it projects to is in shadow.
         let under = common::shadow_on_floor(Vec3::new(0.0, 2.4, 0.0), d);
         let px = common::project(&camera, w, h, under).expect("shadow point on screen");
-        assert_point(&format!("{}: floor behind the teapot", method.name()), true, &with, &without, px);
+        assert_point(
+            &format!("{}: floor behind the teapot", method.name()),
+            true,
+            &with,
+            &without,
+            px,
+        );
         // Floor points toward the light from the teapot are not occluded by anything.
-        for p in [Vec3::new(-3.0, 0.0, 4.0), Vec3::new(3.5, 0.0, 4.5), Vec3::new(-5.0, 0.0, 0.5)] {
+        for p in [
+            Vec3::new(-3.0, 0.0, 4.0),
+            Vec3::new(3.5, 0.0, 4.5),
+            Vec3::new(-5.0, 0.0, 0.5),
+        ] {
             let px = common::project(&camera, w, h, p).expect("lit point on screen");
-            assert_point(&format!("{}: open floor {p}", method.name()), false, &with, &without, px);
+            assert_point(
+                &format!("{}: open floor {p}", method.name()),
+                false,
+                &with,
+                &without,
+                px,
+            );
         }
         // Shadows only ever remove light.
         for (a, b) in with.pixels().zip(without.pixels()) {
-            assert!(a[0] <= b[0].saturating_add(1) && a[1] <= b[1].saturating_add(1), "{}: a shadow brightened a pixel", method.name());
+            assert!(
+                a[0] <= b[0].saturating_add(1) && a[1] <= b[1].saturating_add(1),
+                "{}: a shadow brightened a pixel",
+                method.name()
+            );
         }
     }
 }
@@ -141,12 +193,31 @@ fn moving_the_light_moves_the_shadow() {
     let mut scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
     let camera = scene.view(0).unwrap();
     let (w, h) = (400, 320);
-    let without = common::render(&gpu, &common::without_casters(&scene), &camera, settings(ShadowMethod::Hard), w, h);
+    let without = common::render(
+        &gpu,
+        &common::without_casters(&scene),
+        &camera,
+        settings(ShadowMethod::Hard),
+        w,
+        h,
+    );
     let right = Vec3::new(0.9, -0.75, 0.45);
     let left = Vec3::new(-0.9, -0.75, 0.45);
     let top = Vec3::new(0.0, 2.4, 0.0);
-    let right_spot = common::project(&camera, w, h, common::shadow_on_floor(top, right.normalize())).unwrap();
-    let left_spot = common::project(&camera, w, h, common::shadow_on_floor(top, left.normalize())).unwrap();
+    let right_spot = common::project(
+        &camera,
+        w,
+        h,
+        common::shadow_on_floor(top, right.normalize()),
+    )
+    .unwrap();
+    let left_spot = common::project(
+        &camera,
+        w,
+        h,
+        common::shadow_on_floor(top, left.normalize()),
+    )
+    .unwrap();
     scene.light = directional(right);
     let lit_from_left = common::render(&gpu, &scene, &camera, settings(ShadowMethod::Hard), w, h);
     scene.light = directional(left);
@@ -159,10 +230,34 @@ fn moving_the_light_moves_the_shadow() {
         common::render(&gpu, &s, &camera, settings(ShadowMethod::Hard), w, h)
     };
     let (twin_right, twin_left) = (twin(right), twin(left));
-    assert_point("light toward +x: shadow on the right", true, &lit_from_left, &twin_right, right_spot);
-    assert_point("light toward +x: left floor lit", false, &lit_from_left, &twin_right, left_spot);
-    assert_point("light toward -x: shadow on the left", true, &lit_from_right, &twin_left, left_spot);
-    assert_point("light toward -x: right floor lit", false, &lit_from_right, &twin_left, right_spot);
+    assert_point(
+        "light toward +x: shadow on the right",
+        true,
+        &lit_from_left,
+        &twin_right,
+        right_spot,
+    );
+    assert_point(
+        "light toward +x: left floor lit",
+        false,
+        &lit_from_left,
+        &twin_right,
+        left_spot,
+    );
+    assert_point(
+        "light toward -x: shadow on the left",
+        true,
+        &lit_from_right,
+        &twin_left,
+        left_spot,
+    );
+    assert_point(
+        "light toward -x: right floor lit",
+        false,
+        &lit_from_right,
+        &twin_left,
+        right_spot,
+    );
 }
 
 #[test]
@@ -180,27 +275,49 @@ fn spot_light_casts_a_perspective_shadow() {
     });
     let camera = scene.view(0).unwrap();
     let (w, h) = (400, 320);
-    let with = common::render(&gpu, &scene, &camera, settings(ShadowMethod::Hardware2x2), w, h);
-    let without = common::render(&gpu, &common::without_casters(&scene), &camera, settings(ShadowMethod::Hardware2x2), w, h);
+    let (with, without) = common::render_with_and_without_casters(
+        &gpu,
+        &scene,
+        &camera,
+        settings(ShadowMethod::Hardware2x2),
+        w,
+        h,
+    );
     // A floor point whose path to the light passes through the inside of the teapot's body
     // (radius 1.7 < 2 at height 1.2), on the side the camera sees.
     let through = Vec3::new(1.6, 1.2, 0.6);
     let under = common::shadow_on_floor(through, (through - position).normalize());
-    assert_point("spot: floor behind the teapot", true, &with, &without, common::project(&camera, w, h, under).unwrap());
-    assert_point("spot: floor in front", false, &with, &without, common::project(&camera, w, h, Vec3::new(-2.0, 0.0, 4.0)).unwrap());
+    assert_point(
+        "spot: floor behind the teapot",
+        true,
+        &with,
+        &without,
+        common::project(&camera, w, h, under).unwrap(),
+    );
+    assert_point(
+        "spot: floor in front",
+        false,
+        &with,
+        &without,
+        common::project(&camera, w, h, Vec3::new(-2.0, 0.0, 4.0)).unwrap(),
+    );
 }
 
 #[test]
 fn alpha_masked_casters_cast_only_where_opaque() {
     let gpu = common::gpu();
-    let mut scene = Scene::default();
-    scene.light = directional(Vec3::NEG_Y);
+    let mut scene = Scene {
+        light: directional(Vec3::NEG_Y),
+        ..Default::default()
+    };
     // A 4x1 texture: left half transparent, right half opaque.
     let mut rgba = Vec::new();
     for alpha in [0u8, 0, 255, 255] {
         rgba.extend_from_slice(&[230, 60, 60, alpha]);
     }
-    scene.textures.push(TextureImage::from_rgba8("half", 4, 1, rgba));
+    scene
+        .textures
+        .push(TextureImage::from_rgba8("half", 4, 1, rgba));
     let card_material = scene.add_material(Material {
         name: "card".into(),
         base_color: Vec4::ONE,
@@ -210,15 +327,33 @@ fn alpha_masked_casters_cast_only_where_opaque() {
     let floor_material = scene.add_material(Material::colored("floor", [0.8, 0.8, 0.8]));
     let card = scene.add_mesh(primitives::cuboid(Vec3::new(2.0, 0.02, 2.0)));
     let floor = scene.add_mesh(primitives::plane(12.0, 1.0));
-    scene.add_instance(card, card_material, Mat4::from_translation(Vec3::new(0.0, 1.5, 0.0)));
-    scene.add_instance(floor, floor_material, Mat4::IDENTITY).caster = false;
+    scene.add_instance(
+        card,
+        card_material,
+        Mat4::from_translation(Vec3::new(0.0, 1.5, 0.0)),
+    );
+    scene
+        .add_instance(floor, floor_material, Mat4::IDENTITY)
+        .caster = false;
     let camera = penumbra::Camera::look_at(Vec3::new(0.0, 0.6, 6.0), Vec3::new(0.0, 0.3, 0.0));
     let (w, h) = (320, 256);
-    let with = common::render(&gpu, &scene, &camera, settings(ShadowMethod::Hard), w, h);
-    let without = common::render(&gpu, &common::without_casters(&scene), &camera, settings(ShadowMethod::Hard), w, h);
+    let (with, without) = common::render_with_and_without_casters(
+        &gpu,
+        &scene,
+        &camera,
+        settings(ShadowMethod::Hard),
+        w,
+        h,
+    );
     let left = common::project(&camera, w, h, Vec3::new(-0.5, 0.0, 0.5)).unwrap();
     let right = common::project(&camera, w, h, Vec3::new(0.5, 0.0, 0.5)).unwrap();
-    assert_point("floor under the transparent half", false, &with, &without, left);
+    assert_point(
+        "floor under the transparent half",
+        false,
+        &with,
+        &without,
+        left,
+    );
     assert_point("floor under the opaque half", true, &with, &without, right);
 }
 
@@ -229,25 +364,40 @@ fn real_models_render_with_shadows() {
         let scene = load_scene(&common::shared_models().join(file)).unwrap();
         let camera = scene.view(0).unwrap();
         let (w, h) = (256, 192);
-        let with = common::render(&gpu, &scene, &camera, settings(ShadowMethod::Hardware2x2), w, h);
-        let without = common::render(&gpu, &common::without_casters(&scene), &camera, settings(ShadowMethod::Hardware2x2), w, h);
+        let (with, without) = common::render_with_and_without_casters(
+            &gpu,
+            &scene,
+            &camera,
+            settings(ShadowMethod::Hardware2x2),
+            w,
+            h,
+        );
         if std::env::var_os("PENUMBRA_SAVE_RENDERS").is_some() {
-            with.save(common::output_dir().join(format!("{file}.png"))).unwrap();
+            with.save(common::output_dir().join(format!("{file}.png")))
+                .unwrap();
         }
         let lum: Vec<f32> = with
             .pixels()
             .map(|p| (0.2126 * p[0] as f32 + 0.7152 * p[1] as f32 + 0.0722 * p[2] as f32) / 255.0)
             .collect();
         let mean = lum.iter().sum::<f32>() / lum.len() as f32;
-        let std_dev = (lum.iter().map(|l| (l - mean).powi(2)).sum::<f32>() / lum.len() as f32).sqrt();
-        assert!(std_dev > 0.04, "{file}: the image is nearly one color (std dev {std_dev})");
+        let std_dev =
+            (lum.iter().map(|l| (l - mean).powi(2)).sum::<f32>() / lum.len() as f32).sqrt();
+        assert!(
+            std_dev > 0.04,
+            "{file}: the image is nearly one color (std dev {std_dev})"
+        );
         let darkened = with
             .pixels()
             .zip(without.pixels())
             .filter(|(a, b)| (a[1] as f32) < 0.8 * b[1] as f32)
             .count() as f32
             / (w * h) as f32;
-        assert!(darkened > 0.005, "{file}: no visible shadow ({:.2}% of pixels darkened)", darkened * 100.0);
+        assert!(
+            darkened > 0.005,
+            "{file}: no visible shadow ({:.2}% of pixels darkened)",
+            darkened * 100.0
+        );
     }
 }
 
@@ -255,15 +405,22 @@ fn real_models_render_with_shadows() {
 fn zero_sized_targets_are_rejected_or_skipped() {
     let gpu = common::gpu();
     let scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
-    let mut renderer =
-        penumbra::Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, ShadowSettings::default()).unwrap();
-    let gpu_scene = penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
+    let mut renderer = penumbra::Renderer::new(
+        &gpu.device,
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        ShadowSettings::default(),
+    )
+    .unwrap();
+    let gpu_scene =
+        penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
     let camera = scene.view(0).unwrap();
-    let err = penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, 0, 10).unwrap_err();
+    let err =
+        penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, 0, 10).unwrap_err();
     assert!(err.to_string().contains("size"), "{err}");
     // A minimized window: resizing to zero and back works and frames are skipped meanwhile.
     renderer.resize(&gpu.device, 0, 0);
-    let image = penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, 64, 48).unwrap();
+    let image =
+        penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, 64, 48).unwrap();
     assert_eq!(image.dimensions(), (64, 48));
 }
 
@@ -273,12 +430,27 @@ fn every_depth_format_and_cull_mode_renders_the_shadow() {
     let scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
     let camera = scene.view(0).unwrap();
     let (w, h) = (320, 256);
-    let without = common::render(&gpu, &common::without_casters(&scene), &camera, settings(ShadowMethod::Hard), w, h);
+    let without = common::render(
+        &gpu,
+        &common::without_casters(&scene),
+        &camera,
+        settings(ShadowMethod::Hard),
+        w,
+        h,
+    );
     let under = common::shadow_on_floor(Vec3::new(0.0, 2.4, 0.0), scene.light.direction());
     let px = common::project(&camera, w, h, under).unwrap();
     let open = common::project(&camera, w, h, Vec3::new(-3.0, 0.0, 4.0)).unwrap();
-    for format in [penumbra::DepthFormat::Depth16, penumbra::DepthFormat::Depth24, penumbra::DepthFormat::Depth32] {
-        for cull in [penumbra::CullMode::None, penumbra::CullMode::Back, penumbra::CullMode::Front] {
+    for format in [
+        penumbra::DepthFormat::Depth16,
+        penumbra::DepthFormat::Depth24,
+        penumbra::DepthFormat::Depth32,
+    ] {
+        for cull in [
+            penumbra::CullMode::None,
+            penumbra::CullMode::Back,
+            penumbra::CullMode::Front,
+        ] {
             let mut s = settings(ShadowMethod::Hard);
             s.shadow_map.depth_format = format;
             s.shadow_map.cull_mode = cull;

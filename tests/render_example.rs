@@ -8,16 +8,31 @@ use std::process::Command;
 
 /// `cargo test` builds the examples next to the test binaries: target/<profile>/examples/.
 fn render_example() -> PathBuf {
-    let deps = std::env::current_exe().unwrap().parent().unwrap().to_path_buf();
-    let exe = deps.parent().unwrap().join("examples").join(format!("render{}", std::env::consts::EXE_SUFFIX));
-    assert!(exe.is_file(), "{} not built; `cargo test` builds examples", exe.display());
+    let deps = std::env::current_exe()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .to_path_buf();
+    let exe = deps
+        .parent()
+        .unwrap()
+        .join("examples")
+        .join(format!("render{}", std::env::consts::EXE_SUFFIX));
+    assert!(
+        exe.is_file(),
+        "{} not built; `cargo test` builds examples",
+        exe.display()
+    );
     exe
 }
 
 fn run(args: &[&str]) -> (bool, String) {
     let out = Command::new(render_example()).args(args).output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(!stderr.contains("panicked"), "the example panicked:\n{stderr}");
+    assert!(
+        !stderr.contains("panicked"),
+        "the example panicked:\n{stderr}"
+    );
     (out.status.success(), stderr)
 }
 
@@ -43,7 +58,16 @@ fn renders_a_scene_file_and_a_model_to_png() {
 
     let model = common::shared_models().join("Fox.glb");
     let out = dir.join("fox.png");
-    let (ok, stderr) = run(&["--scene", model.to_str().unwrap(), "--view", "1", "--size", "96x64", "--out", out.to_str().unwrap()]);
+    let (ok, stderr) = run(&[
+        "--scene",
+        model.to_str().unwrap(),
+        "--view",
+        "1",
+        "--size",
+        "96x64",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(ok, "{stderr}");
     assert_eq!(image::image_dimensions(&out).unwrap(), (96, 64));
 }
@@ -56,12 +80,24 @@ fn bad_arguments_get_plain_errors() {
         (vec!["--scene", "no/such/scene.ron"], "no/such/scene.ron"),
         (vec!["--scene", scene, "--size", "800by600"], "WIDTHxHEIGHT"),
         (vec!["--scene", scene, "--size", "0x600"], "at least 1"),
-        (vec!["--scene", scene, "--method", "vsm"], "unknown method `vsm`"),
-        (vec!["--scene", scene, "--view", "7"], "viewpoint 7 does not exist"),
-        (vec!["--scene", scene, "--shadow-map", "1000"], "power of two"),
+        (
+            vec!["--scene", scene, "--method", "vsm"],
+            "unknown method `vsm`",
+        ),
+        (
+            vec!["--scene", scene, "--view", "7"],
+            "viewpoint 7 does not exist",
+        ),
+        (
+            vec!["--scene", scene, "--shadow-map", "1000"],
+            "power of two",
+        ),
     ] {
         let (ok, stderr) = run(&args);
         assert!(!ok, "{args:?} should fail");
-        assert!(stderr.contains(needle), "{args:?}: expected `{needle}` in:\n{stderr}");
+        assert!(
+            stderr.contains(needle),
+            "{args:?}: expected `{needle}` in:\n{stderr}"
+        );
     }
 }

@@ -4,12 +4,27 @@
 use std::path::Path;
 
 fn validate(path: &Path) -> naga::Module {
-    let source = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let module = naga::front::wgsl::parse_str(&source)
-        .unwrap_or_else(|e| panic!("{} does not parse:\n{}", path.display(), e.emit_to_string(&source)));
-    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
-        .validate(&module)
-        .unwrap_or_else(|e| panic!("{} does not validate:\n{}", path.display(), e.emit_to_string(&source)));
+    let source =
+        std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| {
+        panic!(
+            "{} does not parse:\n{}",
+            path.display(),
+            e.emit_to_string(&source)
+        )
+    });
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .unwrap_or_else(|e| {
+        panic!(
+            "{} does not validate:\n{}",
+            path.display(),
+            e.emit_to_string(&source)
+        )
+    });
     module
 }
 
@@ -24,14 +39,20 @@ fn every_shader_validates() {
             count += 1;
         }
     }
-    assert!(count >= 2, "expected at least the shadow map and forward shaders, found {count}");
+    assert!(
+        count >= 2,
+        "expected at least the shadow map and forward shaders, found {count}"
+    );
 }
 
 #[test]
 fn passes_find_their_entry_points() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     for (file, entry_points) in [
-        ("shadow_map.wgsl", &["vs_opaque", "vs_masked", "fs_masked"][..]),
+        (
+            "shadow_map.wgsl",
+            &["vs_opaque", "vs_masked", "fs_masked"][..],
+        ),
         ("forward.wgsl", &["vs_main", "fs_main"][..]),
     ] {
         let module = validate(&dir.join(file));
@@ -48,6 +69,14 @@ fn passes_find_their_entry_points() {
 fn opaque_shadow_shader_is_depth_only() {
     // The opaque caster shader must stay minimal: a vertex stage reading only the position.
     let module = validate(&Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders/shadow_map.wgsl"));
-    let vs = module.entry_points.iter().find(|e| e.name == "vs_opaque").unwrap();
-    assert_eq!(vs.function.arguments.len(), 1, "vs_opaque should take the position only");
+    let vs = module
+        .entry_points
+        .iter()
+        .find(|e| e.name == "vs_opaque")
+        .unwrap();
+    assert_eq!(
+        vs.function.arguments.len(),
+        1,
+        "vs_opaque should take the position only"
+    );
 }

@@ -55,7 +55,9 @@ pub(super) fn load(path: &Path) -> Result<Model> {
             .push(to_rgba8(format!("{} image {i}", path.display()), image).map_err(fail)?);
     }
     for material in gltf.materials() {
-        model.materials.push(convert_material(&material, &mut model.warnings));
+        model
+            .materials
+            .push(convert_material(&material, &mut model.warnings));
     }
     let default_material = model.materials.len();
     model.materials.push(Material::default());
@@ -71,7 +73,10 @@ pub(super) fn load(path: &Path) -> Result<Model> {
     let mut visited = vec![false; document.nodes().len()];
     while let Some(node) = stack.pop() {
         if std::mem::replace(&mut visited[node.index()], true) {
-            return Err(fail(format!("node {} is reachable twice (a cycle or shared child)", node.index())));
+            return Err(fail(format!(
+                "node {} is reachable twice (a cycle or shared child)",
+                node.index()
+            )));
         }
         stack.extend(node.children());
         let Some(mesh) = node.mesh() else { continue };
@@ -97,7 +102,11 @@ pub(super) fn load(path: &Path) -> Result<Model> {
                 }
                 None => globals[node.index()],
             };
-            let key = (mesh.index(), primitive.index(), skin.as_ref().map(|s| s.index()));
+            let key = (
+                mesh.index(),
+                primitive.index(),
+                skin.as_ref().map(|s| s.index()),
+            );
             let mesh_index = *mesh_cache.entry(key).or_insert_with(|| {
                 model.meshes.push(built);
                 model.meshes.len() - 1
@@ -116,9 +125,14 @@ pub(super) fn load(path: &Path) -> Result<Model> {
 }
 
 /// Checks that every accessor's data lies inside its buffer, so reading can never go out of bounds.
-fn check_accessors(document: &gltf::Document, buffers: &[gltf::buffer::Data]) -> Result<(), String> {
+fn check_accessors(
+    document: &gltf::Document,
+    buffers: &[gltf::buffer::Data],
+) -> Result<(), String> {
     for accessor in document.accessors() {
-        let Some(view) = accessor.view() else { continue };
+        let Some(view) = accessor.view() else {
+            continue;
+        };
         let element = accessor.size();
         let stride = view.stride().unwrap_or(element);
         let count = accessor.count();
@@ -161,7 +175,9 @@ fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Ma
             cutoff: material.alpha_cutoff().unwrap_or(0.5),
         },
         gltf::material::AlphaMode::Blend => {
-            warnings.push(format!("material `{name}`: alpha mode BLEND is drawn as opaque"));
+            warnings.push(format!(
+                "material `{name}`: alpha mode BLEND is drawn as opaque"
+            ));
             AlphaMode::Opaque
         }
     };
@@ -218,12 +234,17 @@ fn read_primitive(
             .flat_map(|i| [vertex_order[0], vertex_order[i - 1], vertex_order[i]])
             .collect(),
         other => {
-            warnings.push(format!("{label}: {other:?} primitives are not drawn (triangles only)"));
+            warnings.push(format!(
+                "{label}: {other:?} primitives are not drawn (triangles only)"
+            ));
             return Ok(None);
         }
     };
     if indices.len() % 3 != 0 {
-        return Err(format!("{} indices is not a whole number of triangles", indices.len()));
+        return Err(format!(
+            "{} indices is not a whole number of triangles",
+            indices.len()
+        ));
     }
     let normals = normals.filter(|n| n.len() == positions.len());
     let uvs = uvs.filter(|t| t.len() == positions.len());
@@ -300,18 +321,29 @@ fn pose_skinned(
         let mut total = 0.0;
         for k in 0..4 {
             if w[k] != 0.0 {
-                let joint = joint_matrices
-                    .get(ids[k] as usize)
-                    .ok_or_else(|| format!("vertex {v} uses joint {} of {}", ids[k], joints.len()))?;
+                let joint = joint_matrices.get(ids[k] as usize).ok_or_else(|| {
+                    format!("vertex {v} uses joint {} of {}", ids[k], joints.len())
+                })?;
                 m += *joint * w[k];
                 total += w[k];
             }
         }
-        let m = if total > 1e-6 { m * (1.0 / total) } else { Mat4::IDENTITY };
+        let m = if total > 1e-6 {
+            m * (1.0 / total)
+        } else {
+            Mat4::IDENTITY
+        };
         positions.push(m.transform_point3(mesh.positions[v]));
         normals.push(m.transform_vector3(mesh.normals[v]));
     }
-    Mesh::new(mesh.name, positions, Some(normals), Some(mesh.uvs), mesh.indices).map_err(|e| e.to_string())
+    Mesh::new(
+        mesh.name,
+        positions,
+        Some(normals),
+        Some(mesh.uvs),
+        mesh.indices,
+    )
+    .map_err(|e| e.to_string())
 }
 
 fn to_rgba8(name: String, image: gltf::image::Data) -> Result<TextureImage, String> {
@@ -321,15 +353,30 @@ fn to_rgba8(name: String, image: gltf::image::Data) -> Result<TextureImage, Stri
     let n = (w as usize) * (h as usize);
     let rgba: Vec<u8> = match image.format {
         Format::R8G8B8A8 => px.clone(),
-        Format::R8G8B8 => px.chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 255]).collect(),
-        Format::R8G8 => px.chunks_exact(2).flat_map(|c| [c[0], c[0], c[0], c[1]]).collect(),
+        Format::R8G8B8 => px
+            .chunks_exact(3)
+            .flat_map(|c| [c[0], c[1], c[2], 255])
+            .collect(),
+        Format::R8G8 => px
+            .chunks_exact(2)
+            .flat_map(|c| [c[0], c[0], c[0], c[1]])
+            .collect(),
         Format::R8 => px.iter().flat_map(|&c| [c, c, c, 255]).collect(),
-        Format::R16G16B16A16 => px.chunks_exact(8).flat_map(|c| [c[1], c[3], c[5], c[7]]).collect(),
-        Format::R16G16B16 => px.chunks_exact(6).flat_map(|c| [c[1], c[3], c[5], 255]).collect(),
+        Format::R16G16B16A16 => px
+            .chunks_exact(8)
+            .flat_map(|c| [c[1], c[3], c[5], c[7]])
+            .collect(),
+        Format::R16G16B16 => px
+            .chunks_exact(6)
+            .flat_map(|c| [c[1], c[3], c[5], 255])
+            .collect(),
         other => return Err(format!("{name}: pixel format {other:?} is not supported")),
     };
     if rgba.len() != n * 4 {
-        return Err(format!("{name}: {w}x{h} image has {} bytes of pixels", px.len()));
+        return Err(format!(
+            "{name}: {w}x{h} image has {} bytes of pixels",
+            px.len()
+        ));
     }
     Ok(TextureImage::from_rgba8(name, w, h, rgba))
 }

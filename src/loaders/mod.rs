@@ -71,7 +71,10 @@ fn guarded(path: &Path, load: impl FnOnce() -> Result<Model>) -> Result<Model> {
                 .map(|s| s.to_string())
                 .or_else(|| panic.downcast_ref::<String>().cloned())
                 .unwrap_or_else(|| "unknown failure".into());
-            Err(PenumbraError::model(path, format!("malformed file (parser failed: {what})")))
+            Err(PenumbraError::model(
+                path,
+                format!("malformed file (parser failed: {what})"),
+            ))
         }
     }
 }

@@ -18,7 +18,10 @@ pub(super) fn load(path: &Path) -> Result<Model> {
     let (objects, materials) =
         tobj::load_obj(path, &options).map_err(|e| PenumbraError::model(path, e.to_string()))?;
     let obj_materials = materials.map_err(|e| {
-        PenumbraError::model(path, format!("its material library (.mtl) cannot be loaded: {e}"))
+        PenumbraError::model(
+            path,
+            format!("its material library (.mtl) cannot be loaded: {e}"),
+        )
     })?;
     let base_dir = path.parent().unwrap_or(Path::new(""));
 
@@ -28,7 +31,10 @@ pub(super) fn load(path: &Path) -> Result<Model> {
             Some(name) if !name.trim().is_empty() => {
                 let file = base_dir.join(name.trim());
                 let bytes = std::fs::read(&file).map_err(|e| {
-                    PenumbraError::model(path, format!("texture {} of material `{}`: {e}", file.display(), m.name))
+                    PenumbraError::model(
+                        path,
+                        format!("texture {} of material `{}`: {e}", file.display(), m.name),
+                    )
                 })?;
                 model.textures.push(
                     TextureImage::decode(&file.display().to_string(), &bytes)
@@ -54,9 +60,17 @@ pub(super) fn load(path: &Path) -> Result<Model> {
         if mesh.indices.is_empty() {
             continue;
         }
-        let positions: Vec<Vec3> = mesh.positions.chunks_exact(3).map(Vec3::from_slice).collect();
-        let normals = (!mesh.normals.is_empty())
-            .then(|| mesh.normals.chunks_exact(3).map(Vec3::from_slice).collect::<Vec<_>>());
+        let positions: Vec<Vec3> = mesh
+            .positions
+            .chunks_exact(3)
+            .map(Vec3::from_slice)
+            .collect();
+        let normals = (!mesh.normals.is_empty()).then(|| {
+            mesh.normals
+                .chunks_exact(3)
+                .map(Vec3::from_slice)
+                .collect::<Vec<_>>()
+        });
         // OBJ's v axis points up; textures here are stored top row first.
         let uvs = (!mesh.texcoords.is_empty()).then(|| {
             mesh.texcoords
@@ -64,13 +78,20 @@ pub(super) fn load(path: &Path) -> Result<Model> {
                 .map(|t| Vec2::new(t[0], 1.0 - t[1]))
                 .collect::<Vec<_>>()
         });
-        let name = if object.name.is_empty() { "obj".to_string() } else { object.name };
+        let name = if object.name.is_empty() {
+            "obj".to_string()
+        } else {
+            object.name
+        };
         let built = Mesh::new(name, positions, normals, uvs, mesh.indices)
             .map_err(|e| PenumbraError::model(path, e.to_string()))?;
         let material = match mesh.material_id {
             Some(id) if id < obj_materials.len() => id,
             Some(id) => {
-                return Err(PenumbraError::model(path, format!("material id {id} does not exist")));
+                return Err(PenumbraError::model(
+                    path,
+                    format!("material id {id} does not exist"),
+                ));
             }
             None => default_material,
         };

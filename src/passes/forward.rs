@@ -9,7 +9,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{POSITION, layout, stream};
+use super::{POSITION, entry, layout, stream};
 use crate::gpu_scene::{GpuScene, SceneLayouts, vec4};
 use crate::light_space::LightView;
 use crate::scene::{Camera, Light};
@@ -54,32 +54,14 @@ impl ForwardPass {
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ForwardPass::frame_layout"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: wgpu::BufferSize::new(size_of::<FrameUniform>() as u64),
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                    count: None,
-                },
+                entry::uniform(
+                    0,
+                    wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    size_of::<FrameUniform>(),
+                    false,
+                ),
+                entry::texture_2d(1, wgpu::TextureSampleType::Depth),
+                entry::sampler(2, wgpu::SamplerBindingType::Comparison),
             ],
         });
         let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
@@ -99,11 +81,16 @@ impl ForwardPass {
                 ..Default::default()
             })
         };
-        let hard_sampler = comparison_sampler("ForwardPass::hard_sampler", wgpu::FilterMode::Nearest);
+        let hard_sampler =
+            comparison_sampler("ForwardPass::hard_sampler", wgpu::FilterMode::Nearest);
         let pcf_sampler = comparison_sampler("ForwardPass::pcf_sampler", wgpu::FilterMode::Linear);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("ForwardPass::layout"),
-            bind_group_layouts: &[Some(&frame_layout), Some(&layouts.instance), Some(&layouts.material)],
+            bind_group_layouts: &[
+                Some(&frame_layout),
+                Some(&layouts.instance),
+                Some(&layouts.material),
+            ],
             immediate_size: 0,
         });
         const NORMAL: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x3);
@@ -115,7 +102,11 @@ impl ForwardPass {
                 module: &shader,
                 entry_point: Some("vs_main"),
                 compilation_options: Default::default(),
-                buffers: &[Some(layout(&POSITION)), Some(layout(&NORMAL)), Some(layout(&UV))],
+                buffers: &[
+                    Some(layout(&POSITION)),
+                    Some(layout(&NORMAL)),
+                    Some(layout(&UV)),
+                ],
             },
             // Both sides are drawn: imported models are often open or single-sided.
             primitive: wgpu::PrimitiveState::default(),
@@ -137,7 +128,14 @@ impl ForwardPass {
             cache: None,
         });
         let make_bind_group = |sampler: &wgpu::Sampler, label| {
-            frame_bind_group(device, &frame_layout, &frame_buffer, shadow_map, sampler, label)
+            frame_bind_group(
+                device,
+                &frame_layout,
+                &frame_buffer,
+                shadow_map,
+                sampler,
+                label,
+            )
         };
         let hard_bind_group = make_bind_group(&hard_sampler, "ForwardPass::frame_hard");
         let pcf_bind_group = make_bind_group(&pcf_sampler, "ForwardPass::frame_pcf");

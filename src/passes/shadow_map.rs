@@ -8,7 +8,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{POSITION, layout, stream};
+use super::{POSITION, entry, layout, stream};
 use crate::gpu_scene::{GpuScene, SceneLayouts};
 use crate::light_space::LightView;
 use crate::settings::ShadowMapSettings;
@@ -31,20 +31,21 @@ pub struct ShadowMapPass {
 
 impl ShadowMapPass {
     /// Creates the pipelines and the shadow map texture. `settings` must have been validated.
-    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, settings: &ShadowMapSettings) -> Self {
-        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/shadow_map.wgsl"));
+    pub fn new(
+        device: &wgpu::Device,
+        layouts: &SceneLayouts,
+        settings: &ShadowMapSettings,
+    ) -> Self {
+        let shader =
+            device.create_shader_module(wgpu::include_wgsl!("../../shaders/shadow_map.wgsl"));
         let light_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ShadowMapPass::light_layout"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
+            entries: &[entry::uniform(
+                0,
+                wgpu::ShaderStages::VERTEX,
+                size_of::<LightUniform>(),
+                false,
+            )],
         });
         let light_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("ShadowMapPass::light"),
@@ -101,7 +102,11 @@ impl ShadowMapPass {
 
         let masked_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("ShadowMapPass::masked_layout"),
-            bind_group_layouts: &[Some(&light_layout), Some(&layouts.instance), Some(&layouts.material)],
+            bind_group_layouts: &[
+                Some(&light_layout),
+                Some(&layouts.instance),
+                Some(&layouts.material),
+            ],
             immediate_size: 0,
         });
         const UV: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x2);
@@ -169,7 +174,13 @@ impl ShadowMapPass {
     }
 
     /// Records the pass: clears the map and draws every caster.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, queue: &wgpu::Queue, scene: &GpuScene, light: &LightView) {
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        queue: &wgpu::Queue,
+        scene: &GpuScene,
+        light: &LightView,
+    ) {
         queue.write_buffer(
             &self.light_buffer,
             0,
@@ -194,8 +205,16 @@ impl ShadowMapPass {
         });
         pass.set_bind_group(0, &self.light_bind_group, &[]);
         for masked in [false, true] {
-            pass.set_pipeline(if masked { &self.masked_pipeline } else { &self.opaque_pipeline });
-            for inst in scene.instances.iter().filter(|i| i.caster && i.masked == masked) {
+            pass.set_pipeline(if masked {
+                &self.masked_pipeline
+            } else {
+                &self.opaque_pipeline
+            });
+            for inst in scene
+                .instances
+                .iter()
+                .filter(|i| i.caster && i.masked == masked)
+            {
                 let mesh = &scene.meshes[inst.mesh];
                 if mesh.index_count == 0 {
                     continue;

@@ -114,7 +114,12 @@ impl OrbitCamera {
             self.pitch_deg.clamp(-89.0, 89.0).to_radians(),
         );
         self.target
-            + self.distance * Vec3::new(yaw.sin() * pitch.cos(), pitch.sin(), yaw.cos() * pitch.cos())
+            + self.distance
+                * Vec3::new(
+                    yaw.sin() * pitch.cos(),
+                    pitch.sin(),
+                    yaw.cos() * pitch.cos(),
+                )
     }
 
     /// Rotates by the given degrees (pitch is clamped).
@@ -172,7 +177,10 @@ mod tests {
         for corner in b.corners() {
             let clip = vp * corner.extend(1.0);
             let ndc = clip.truncate() / clip.w;
-            assert!(ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 && (0.0..=1.0).contains(&ndc.z), "{ndc}");
+            assert!(
+                ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 && (0.0..=1.0).contains(&ndc.z),
+                "{ndc}"
+            );
         }
     }
 }

@@ -61,7 +61,11 @@ pub struct MeshEntry {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum TextureSource {
     /// A generated checkerboard of `squares` x `squares` cells of two sRGB colors.
-    Checker { squares: u32, a: [u8; 4], b: [u8; 4] },
+    Checker {
+        squares: u32,
+        a: [u8; 4],
+        b: [u8; 4],
+    },
     /// A PNG or JPEG file, relative to the scene file.
     File { path: String },
 }
@@ -176,32 +180,42 @@ impl SceneFile {
             ambient: self.ambient,
             ..Scene::default()
         };
-        self.light
-            .validate()
-            .map_err(|e| bad(e.to_string()))?;
+        self.light.validate().map_err(|e| bad(e.to_string()))?;
 
         // Materials by name.
         let mut material_index = std::collections::HashMap::new();
         for entry in &self.materials {
             if !entry.base_color.is_finite() {
-                return Err(bad(format!("material `{}` has a non-finite base_color", entry.name)));
+                return Err(bad(format!(
+                    "material `{}` has a non-finite base_color",
+                    entry.name
+                )));
             }
             if let AlphaMode::Mask { cutoff } = entry.alpha_mode
                 && !(0.0..=1.0).contains(&cutoff)
             {
-                return Err(bad(format!("material `{}`: alpha cutoff {cutoff} is outside [0, 1]", entry.name)));
+                return Err(bad(format!(
+                    "material `{}`: alpha cutoff {cutoff} is outside [0, 1]",
+                    entry.name
+                )));
             }
             let texture = match &entry.texture {
                 None => None,
                 Some(TextureSource::Checker { squares, a, b }) => {
-                    scene.textures.push(TextureImage::checker(&entry.name, *squares, *a, *b));
+                    scene
+                        .textures
+                        .push(TextureImage::checker(&entry.name, *squares, *a, *b));
                     Some(scene.textures.len() - 1)
                 }
                 Some(TextureSource::File { path: rel }) => {
                     let file = base_dir.join(rel);
-                    let bytes = std::fs::read(&file)
-                        .map_err(|source| PenumbraError::Io { path: file.clone(), source })?;
-                    scene.textures.push(TextureImage::decode(&file.display().to_string(), &bytes)?);
+                    let bytes = std::fs::read(&file).map_err(|source| PenumbraError::Io {
+                        path: file.clone(),
+                        source,
+                    })?;
+                    scene
+                        .textures
+                        .push(TextureImage::decode(&file.display().to_string(), &bytes)?);
                     Some(scene.textures.len() - 1)
                 }
             };
@@ -236,7 +250,10 @@ impl SceneFile {
                 if v > 0.0 && v.is_finite() {
                     Ok(v)
                 } else {
-                    Err(bad(format!("mesh `{}`: {what} {v} must be positive", entry.name)))
+                    Err(bad(format!(
+                        "mesh `{}`: {what} {v} must be positive",
+                        entry.name
+                    )))
                 }
             };
             let model = match &entry.source {
@@ -257,10 +274,13 @@ impl SceneFile {
                     }
                     builtin(primitives::cuboid(*size))
                 }
-                MeshSource::Sphere { radius } => builtin(primitives::sphere(positive("radius", *radius)?, 48, 24)),
-                MeshSource::Plane { size, uv_repeat } => {
-                    builtin(primitives::plane(positive("plane size", *size)?, *uv_repeat))
+                MeshSource::Sphere { radius } => {
+                    builtin(primitives::sphere(positive("radius", *radius)?, 48, 24))
                 }
+                MeshSource::Plane { size, uv_repeat } => builtin(primitives::plane(
+                    positive("plane size", *size)?,
+                    *uv_repeat,
+                )),
                 MeshSource::File { path: rel } => crate::loaders::load_model(&base_dir.join(rel))?,
             };
             if models.insert(entry.name.clone(), model).is_some() {
@@ -270,22 +290,34 @@ impl SceneFile {
 
         for (k, inst) in self.instances.iter().enumerate() {
             let model = models.get(&inst.mesh).ok_or_else(|| {
-                bad(format!("instance {k} uses mesh `{}`, which is not in `meshes`", inst.mesh))
+                bad(format!(
+                    "instance {k} uses mesh `{}`, which is not in `meshes`",
+                    inst.mesh
+                ))
             })?;
             let material = match &inst.material {
                 None => None,
                 Some(name) => Some(*material_index.get(name).ok_or_else(|| {
-                    bad(format!("instance {k} uses material `{name}`, which is not in `materials`"))
+                    bad(format!(
+                        "instance {k} uses material `{name}`, which is not in `materials`"
+                    ))
                 })?),
             };
             let r = inst.rotation_deg;
             let transform = Mat4::from_scale_rotation_translation(
                 inst.scale,
-                Quat::from_euler(EulerRot::YXZ, r.y.to_radians(), r.x.to_radians(), r.z.to_radians()),
+                Quat::from_euler(
+                    EulerRot::YXZ,
+                    r.y.to_radians(),
+                    r.x.to_radians(),
+                    r.z.to_radians(),
+                ),
                 inst.translation,
             );
             if !transform.is_finite() || transform.determinant().abs() < 1e-20 {
-                return Err(bad(format!("instance {k}: transform is not finite or has a zero scale")));
+                return Err(bad(format!(
+                    "instance {k}: transform is not finite or has a zero scale"
+                )));
             }
             scene.add_model(model, transform, material, inst.caster, inst.receiver);
         }
@@ -300,8 +332,15 @@ impl SceneFile {
                 near: 0.1,
                 far: 100.0,
             };
-            if !(v.fov_y_deg > 0.0 && v.fov_y_deg < 180.0) || !v.eye.is_finite() || !v.target.is_finite() {
-                return Err(bad(format!("view `{}`: fov must be in (0, 180) and eye/target finite", v.name)));
+            if !(v.fov_y_deg > 0.0
+                && v.fov_y_deg < 180.0
+                && v.eye.is_finite()
+                && v.target.is_finite())
+            {
+                return Err(bad(format!(
+                    "view `{}`: fov must be in (0, 180) and eye/target finite",
+                    v.name
+                )));
             }
             camera.fit_depth_range(&bounds);
             if let Some(near) = v.near {
@@ -373,12 +412,17 @@ mod tests {
         assert!(err.to_string().contains("broken.ron"), "{err}");
         let text = MINI.replace("mesh: \"ball\"", "mesh: \"cube\"");
         let file = SceneFile::parse(&text, Path::new("s.ron")).unwrap();
-        let err = file.build(Path::new("."), Path::new("s.ron")).unwrap_err().to_string();
+        let err = file
+            .build(Path::new("."), Path::new("s.ron"))
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("s.ron") && err.contains("`cube`"), "{err}");
         let text = MINI.replace("radius: 1.0", "radius: -1.0");
         let file = SceneFile::parse(&text, Path::new("s.ron")).unwrap();
         assert!(file.build(Path::new("."), Path::new("s.ron")).is_err());
-        let err = load_scene(Path::new("does/not/exist.ron")).unwrap_err().to_string();
+        let err = load_scene(Path::new("does/not/exist.ron"))
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("does/not/exist.ron"), "{err}");
     }
 }

@@ -87,7 +87,10 @@ impl Light {
         match self {
             Light::Directional(l) => {
                 if !finite(l.direction) || l.direction.length() < 1e-12 {
-                    return Err(E::setting("light.direction", "must be a finite, non-zero vector"));
+                    return Err(E::setting(
+                        "light.direction",
+                        "must be a finite, non-zero vector",
+                    ));
                 }
                 if !(0.0..90.0).contains(&l.angular_diameter_deg) {
                     return Err(E::setting(
@@ -101,7 +104,10 @@ impl Light {
                     return Err(E::setting("light.position", "must be finite"));
                 }
                 if !finite(l.direction) || l.direction.length() < 1e-12 {
-                    return Err(E::setting("light.direction", "must be a finite, non-zero vector"));
+                    return Err(E::setting(
+                        "light.direction",
+                        "must be a finite, non-zero vector",
+                    ));
                 }
                 if !(l.cone_angle_deg > 0.0 && l.cone_angle_deg <= 89.0) {
                     return Err(E::setting(
@@ -110,7 +116,10 @@ impl Light {
                     ));
                 }
                 if !(l.radius >= 0.0 && l.radius.is_finite()) {
-                    return Err(E::setting("light.radius", format!("{} must be >= 0", l.radius)));
+                    return Err(E::setting(
+                        "light.radius",
+                        format!("{} must be >= 0", l.radius),
+                    ));
                 }
             }
         }
@@ -122,7 +131,10 @@ impl Light {
             return Err(E::setting("light.color", "must be finite and non-negative"));
         }
         if !(intensity >= 0.0 && intensity.is_finite()) {
-            return Err(E::setting("light.intensity", "must be finite and non-negative"));
+            return Err(E::setting(
+                "light.intensity",
+                "must be finite and non-negative",
+            ));
         }
         Ok(())
     }

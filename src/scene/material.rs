@@ -69,7 +69,12 @@ impl TextureImage {
             reason: e.to_string(),
         })?;
         let rgba = img.to_rgba8();
-        Ok(Self::from_rgba8(name, rgba.width(), rgba.height(), rgba.into_raw()))
+        Ok(Self::from_rgba8(
+            name,
+            rgba.width(),
+            rgba.height(),
+            rgba.into_raw(),
+        ))
     }
 
     pub fn from_rgba8(name: impl Into<String>, width: u32, height: u32, rgba8: Vec<u8>) -> Self {
@@ -89,7 +94,11 @@ impl TextureImage {
         let mut rgba8 = Vec::with_capacity((size * size * 4) as usize);
         for y in 0..size {
             for x in 0..size {
-                let c = if (x / cell + y / cell) % 2 == 0 { a } else { b };
+                let c = if (x / cell + y / cell).is_multiple_of(2) {
+                    a
+                } else {
+                    b
+                };
                 rgba8.extend_from_slice(&c);
             }
         }

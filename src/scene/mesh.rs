@@ -70,7 +70,7 @@ impl Mesh {
         let name = name.into();
         let n = positions.len();
         let bad = |reason: String| PenumbraError::Scene(format!("mesh `{name}`: {reason}"));
-        if indices.len() % 3 != 0 {
+        if !indices.len().is_multiple_of(3) {
             return Err(bad(format!(
                 "index count {} is not a multiple of 3",
                 indices.len()
@@ -150,7 +150,11 @@ impl Mesh {
     pub fn transformed(&self, m: &Mat4) -> Result<Mesh> {
         let normal_matrix = Mat3::from_mat4(*m).inverse().transpose();
         let flip = m.determinant() < 0.0;
-        let positions = self.positions.iter().map(|p| m.transform_point3(*p)).collect();
+        let positions = self
+            .positions
+            .iter()
+            .map(|p| m.transform_point3(*p))
+            .collect();
         let normals = self
             .normals
             .iter()
@@ -279,7 +283,11 @@ mod tests {
     #[test]
     fn split_normal_cube_gets_one_smoothed_normal_per_corner() {
         let cube = primitives::cuboid(Vec3::splat(2.0));
-        assert_eq!(cube.vertex_count(), 24, "the cube has split per-face vertices");
+        assert_eq!(
+            cube.vertex_count(),
+            24,
+            "the cube has split per-face vertices"
+        );
         let mut per_corner: HashMap<[i32; 3], Vec<Vec3>> = HashMap::new();
         for (p, s) in cube.positions.iter().zip(&cube.smoothed_normals) {
             per_corner
@@ -290,9 +298,13 @@ mod tests {
         assert_eq!(per_corner.len(), 8);
         for (corner, normals) in per_corner {
             assert_eq!(normals.len(), 3);
-            let expected = Vec3::new(corner[0] as f32, corner[1] as f32, corner[2] as f32).normalize();
+            let expected =
+                Vec3::new(corner[0] as f32, corner[1] as f32, corner[2] as f32).normalize();
             for n in normals {
-                assert!((n - expected).length() < 1e-5, "corner {corner:?}: {n} vs {expected}");
+                assert!(
+                    (n - expected).length() < 1e-5,
+                    "corner {corner:?}: {n} vs {expected}"
+                );
             }
         }
         // The shading normals stay split (one per face).
@@ -303,7 +315,8 @@ mod tests {
     fn missing_and_broken_normals_are_computed_and_repaired() {
         let positions = vec![Vec3::ZERO, Vec3::X, Vec3::Z];
         let indices = vec![0, 2, 1];
-        let (m, r) = Mesh::new_with_report("t", positions.clone(), None, None, indices.clone()).unwrap();
+        let (m, r) =
+            Mesh::new_with_report("t", positions.clone(), None, None, indices.clone()).unwrap();
         assert!(r.computed_normals);
         for n in &m.normals {
             assert!((*n - Vec3::Y).length() < 1e-6, "{n}");
@@ -320,14 +333,21 @@ mod tests {
     fn degenerate_triangles_give_finite_normals() {
         let positions = vec![Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, Vec3::X];
         let m = Mesh::new("d", positions, None, None, vec![0, 1, 2, 0, 1, 3]).unwrap();
-        assert!(m.normals.iter().all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-5));
+        assert!(
+            m.normals
+                .iter()
+                .all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-5)
+        );
     }
 
     #[test]
     fn bad_indices_are_rejected_with_the_mesh_name() {
         let err = Mesh::new("wing", vec![Vec3::ZERO; 3], None, None, vec![0, 1, 7]).unwrap_err();
         let text = err.to_string();
-        assert!(text.contains("wing") && text.contains("out of range"), "{text}");
+        assert!(
+            text.contains("wing") && text.contains("out of range"),
+            "{text}"
+        );
         let err = Mesh::new("wing", vec![Vec3::ZERO; 3], None, None, vec![0, 1]).unwrap_err();
         assert!(err.to_string().contains("multiple of 3"));
         let err = Mesh::new("wing", vec![Vec3::NAN; 3], None, None, vec![0, 1, 2]).unwrap_err();
@@ -337,7 +357,9 @@ mod tests {
     #[test]
     fn mirrored_transform_keeps_winding_outward() {
         let cube = primitives::cuboid(Vec3::ONE);
-        let mirrored = cube.transformed(&Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0))).unwrap();
+        let mirrored = cube
+            .transformed(&Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0)))
+            .unwrap();
         for tri in mirrored.indices.chunks_exact(3) {
             let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| mirrored.positions[i as usize]);
             let n = face_normal(a, b, c);

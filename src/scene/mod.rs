@@ -134,10 +134,11 @@ impl Scene {
             (self.meshes.len(), self.materials.len(), self.textures.len());
         self.meshes.extend(model.meshes.iter().cloned());
         self.textures.extend(model.textures.iter().cloned());
-        self.materials.extend(model.materials.iter().map(|m| Material {
-            base_color_texture: m.base_color_texture.map(|t| t + texture_base),
-            ..m.clone()
-        }));
+        self.materials
+            .extend(model.materials.iter().map(|m| Material {
+                base_color_texture: m.base_color_texture.map(|t| t + texture_base),
+                ..m.clone()
+            }));
         let first = self.instances.len();
         for part in &model.parts {
             self.instances.push(Instance {
@@ -156,7 +157,11 @@ impl Scene {
         self.instances
             .iter()
             .filter(|i| filter(i))
-            .filter_map(|i| self.meshes.get(i.mesh).map(|m| m.bounds.transformed(&i.transform)))
+            .filter_map(|i| {
+                self.meshes
+                    .get(i.mesh)
+                    .map(|m| m.bounds.transformed(&i.transform))
+            })
             .fold(Aabb::EMPTY, |acc, b| acc.union(&b))
     }
 
@@ -180,7 +185,11 @@ impl Scene {
         let bad = |s: String| Err(PenumbraError::Scene(s));
         for (k, inst) in self.instances.iter().enumerate() {
             if inst.mesh >= self.meshes.len() {
-                return bad(format!("instance {k} uses mesh {} of {}", inst.mesh, self.meshes.len()));
+                return bad(format!(
+                    "instance {k} uses mesh {} of {}",
+                    inst.mesh,
+                    self.meshes.len()
+                ));
             }
             if inst.material >= self.materials.len() {
                 return bad(format!(
@@ -197,7 +206,11 @@ impl Scene {
             if let Some(t) = m.base_color_texture
                 && t >= self.textures.len()
             {
-                return bad(format!("material `{}` uses texture {t} of {}", m.name, self.textures.len()));
+                return bad(format!(
+                    "material `{}` uses texture {t} of {}",
+                    m.name,
+                    self.textures.len()
+                ));
             }
             if !m.base_color.is_finite() {
                 return bad(format!("material `{}` has a non-finite base color", m.name));
@@ -225,7 +238,10 @@ impl Scene {
         self.views.get(index).map(|v| v.camera).ok_or_else(|| {
             PenumbraError::setting(
                 "view",
-                format!("viewpoint {index} does not exist; the scene has {}", self.views.len()),
+                format!(
+                    "viewpoint {index} does not exist; the scene has {}",
+                    self.views.len()
+                ),
             )
         })
     }

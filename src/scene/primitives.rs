@@ -10,7 +10,13 @@ use glam::{Vec2, Vec3};
 use super::mesh::Mesh;
 
 /// Builds a mesh from generated data that is valid by construction.
-fn build(name: &str, positions: Vec<Vec3>, normals: Vec<Vec3>, uvs: Vec<Vec2>, indices: Vec<u32>) -> Mesh {
+fn build(
+    name: &str,
+    positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    uvs: Vec<Vec2>,
+    indices: Vec<u32>,
+) -> Mesh {
     Mesh::new(name, positions, Some(normals), Some(uvs), indices)
         .expect("built-in primitive data is consistent")
 }
@@ -58,7 +64,13 @@ pub fn plane(size: f32, uv_repeat: f32) -> Mesh {
         Vec2::new(uv_repeat, 0.0),
         Vec2::new(0.0, 0.0),
     ];
-    build("plane", positions, vec![Vec3::Y; 4], uvs, vec![0, 1, 2, 0, 2, 3])
+    build(
+        "plane",
+        positions,
+        vec![Vec3::Y; 4],
+        uvs,
+        vec![0, 1, 2, 0, 2, 3],
+    )
 }
 
 /// A surface of revolution about +Y from a profile of (radius, height) points with their
@@ -75,7 +87,10 @@ fn lathe(name: &str, profile: &[(Vec2, Vec2)], segments: u32) -> Mesh {
             let (s, c) = theta.sin_cos();
             positions.push(Vec3::new(p.x * c, p.y, p.x * s));
             normals.push(Vec3::new(n.x * c, n.y, n.x * s).normalize_or_zero());
-            uvs.push(Vec2::new(j as f32 / segments as f32, 1.0 - i as f32 / (rings - 1).max(1) as f32));
+            uvs.push(Vec2::new(
+                j as f32 / segments as f32,
+                1.0 - i as f32 / (rings - 1).max(1) as f32,
+            ));
         }
     }
     let row = segments + 1;
@@ -150,7 +165,11 @@ mod tests {
             volume += a.dot(b.cross(c)) / 6.0;
             if face.length() > 1e-9 {
                 let avg: Vec3 = tri.iter().map(|&i| mesh.normals[i as usize]).sum();
-                assert!(face.dot(avg) > 0.0, "{}: triangle wound against its normals", mesh.name);
+                assert!(
+                    face.dot(avg) > 0.0,
+                    "{}: triangle wound against its normals",
+                    mesh.name
+                );
             }
         }
         assert!(
@@ -164,7 +183,10 @@ mod tests {
     fn primitives_are_closed_and_outward() {
         assert_outward(&cuboid(Vec3::new(1.0, 2.0, 3.0)), 6.0);
         assert_outward(&sphere(1.0, 48, 24), 4.0 / 3.0 * PI);
-        assert_outward(&capsule(0.5, 1.0, 48), PI * 0.25 * 1.0 + 4.0 / 3.0 * PI * 0.125);
+        assert_outward(
+            &capsule(0.5, 1.0, 48),
+            PI * 0.25 * 1.0 + 4.0 / 3.0 * PI * 0.125,
+        );
         assert_outward(&cylinder(1.0, 2.0, 64), 2.0 * PI);
     }
 

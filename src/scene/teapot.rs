@@ -54,7 +54,10 @@ fn evaluate(cp: &[Vec3; 16], u: f32, v: f32) -> (Vec3, Vec3, Vec3) {
 fn normal_at(cp: &[Vec3; 16], u: f32, v: f32) -> Vec3 {
     const STEP: f32 = 1e-3;
     // A derivative shorter than this (relative to the patch's size) is roundoff, not a direction.
-    let size = cp.iter().fold(Vec3::ZERO, |m, p| m.max((*p - cp[0]).abs())).length();
+    let size = cp
+        .iter()
+        .fold(Vec3::ZERO, |m, p| m.max((*p - cp[0]).abs()))
+        .length();
     let min_derivative = size * 1e-4;
     let nudge = |t: f32| if t < 0.5 { t + STEP } else { t - STEP };
     for (uu, vv) in [(u, v), (u, nudge(v)), (nudge(u), v), (nudge(u), nudge(v))] {
@@ -109,7 +112,11 @@ mod tests {
         let m = teapot(4);
         assert_eq!(m.vertex_count(), 32 * 25);
         assert_eq!(m.triangle_count(), 32 * 32);
-        assert_eq!(teapot(0).triangle_count(), 64, "level is clamped to at least 1");
+        assert_eq!(
+            teapot(0).triangle_count(),
+            64,
+            "level is clamped to at least 1"
+        );
     }
 
     #[test]
@@ -140,7 +147,10 @@ mod tests {
             let face = (b - a).cross(c - a);
             if face.length() > 1e-7 {
                 let avg: Vec3 = tri.iter().map(|&i| m.normals[i as usize]).sum();
-                assert!(face.dot(avg) > 0.0, "triangle {tri:?} wound against its normals");
+                assert!(
+                    face.dot(avg) > 0.0,
+                    "triangle {tri:?} wound against its normals"
+                );
             }
         }
         // Outward: on each patch, the vertex farthest from the teapot's center has a

@@ -18,7 +18,9 @@ pub fn shared_models() -> PathBuf {
 }
 
 pub fn asset(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets").join(rel)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets")
+        .join(rel)
 }
 
 /// A fresh scratch directory under `target/` for one test.
@@ -52,9 +54,33 @@ pub fn render(
     width: u32,
     height: u32,
 ) -> image::RgbaImage {
-    let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+    let mut renderer =
+        Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
     let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), scene).unwrap();
     penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, camera, width, height).unwrap()
+}
+
+/// Renders `scene` as it is and with no casters (every pixel as if fully lit), so a test can
+/// ask of any pixel whether a shadow darkened it.
+pub fn render_with_and_without_casters(
+    gpu: &HeadlessGpu,
+    scene: &Scene,
+    camera: &Camera,
+    settings: ShadowSettings,
+    width: u32,
+    height: u32,
+) -> (image::RgbaImage, image::RgbaImage) {
+    (
+        render(gpu, scene, camera, settings, width, height),
+        render(
+            gpu,
+            &without_casters(scene),
+            camera,
+            settings,
+            width,
+            height,
+        ),
+    )
 }
 
 /// The same scene with no shadow casters: every pixel as if fully lit.
@@ -75,7 +101,8 @@ pub fn project(camera: &Camera, width: u32, height: u32, p: Vec3) -> Option<(u32
     let ndc = clip.truncate() / clip.w;
     let x = (ndc.x * 0.5 + 0.5) * width as f32;
     let y = (0.5 - ndc.y * 0.5) * height as f32;
-    (x >= 2.0 && y >= 2.0 && x < width as f32 - 2.0 && y < height as f32 - 2.0).then_some((x as u32, y as u32))
+    (x >= 2.0 && y >= 2.0 && x < width as f32 - 2.0 && y < height as f32 - 2.0)
+        .then_some((x as u32, y as u32))
 }
 
 /// Mean luminance (0..1, sRGB-encoded values) of the 3x3 block around (x, y).
