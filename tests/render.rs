@@ -462,3 +462,54 @@ fn every_depth_format_and_cull_mode_renders_the_shadow() {
         }
     }
 }
+
+/// Share of pixels that are partly shadowed: darker than unshadowed, but clearly lighter than
+/// the darkest shadow in the image.
+fn partly_shadowed_share(with: &image::RgbaImage, without: &image::RgbaImage) -> f32 {
+    let ratios: Vec<f32> = with
+        .pixels()
+        .zip(without.pixels())
+        .filter(|(_, b)| b[1] > 20)
+        .map(|(a, b)| a[1] as f32 / b[1] as f32)
+        .collect();
+    let darkest = ratios.iter().cloned().fold(1.0, f32::min);
+    let partial = ratios
+        .iter()
+        .filter(|&&r| r > darkest + 0.1 && r < 0.95)
+        .count();
+    partial as f32 / ratios.len() as f32
+}
+
+#[test]
+fn hardware_pcf_grades_the_edges_that_hard_shadows_cut() {
+    let gpu = common::gpu();
+    let mut scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    // Only the floor receives: there the shadowed / unshadowed ratio is the visibility alone
+    // (on the curved teapot it would also vary with the angle to the light).
+    for instance in &mut scene.instances {
+        instance.receiver = !instance.caster;
+    }
+    let camera = scene.view(2).unwrap();
+    let (w, h) = (400, 320);
+    let mut shares = Vec::new();
+    for method in ShadowMethod::ALL {
+        let mut s = settings(method);
+        // A coarse map makes each shadow-map texel span several pixels.
+        s.shadow_map.resolution = 256;
+        let (with, without) =
+            common::render_with_and_without_casters(&gpu, &scene, &camera, s, w, h);
+        shares.push(partly_shadowed_share(&with, &without));
+    }
+    let (hard, pcf) = (shares[0], shares[1]);
+    assert!(
+        hard < 0.0005,
+        "hard shadows should be all or nothing per pixel: {:.3}% partial",
+        hard * 100.0
+    );
+    assert!(
+        pcf > 0.002 && pcf > 5.0 * hard,
+        "2x2 PCF should grade its edges: {:.3}% partial vs hard {:.3}%",
+        pcf * 100.0,
+        hard * 100.0
+    );
+}
