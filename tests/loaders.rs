@@ -348,3 +348,68 @@ fn broken_scene_files_name_the_file() {
         "{err}"
     );
 }
+
+#[test]
+fn gltf_node_hierarchy_and_alpha_mask_are_applied() {
+    let dir = common::scratch_dir("gltf_hierarchy");
+    let bytes = triangle_bytes(&[0, 1, 2]);
+    std::fs::write(dir.join("tri.bin"), &bytes).unwrap();
+    // A parent translated up by 5 holds a child scaled by 2 that draws the unit triangle,
+    // with a masked material.
+    let json = gltf_json("tri.bin", bytes.len(), 3)
+        .replace(
+            r#""scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}]"#,
+            r#""scenes":[{"nodes":[0]}],"nodes":[{"children":[1],"translation":[0,5,0]},{"mesh":0,"scale":[2,2,2]}],
+               "materials":[{"alphaMode":"MASK","alphaCutoff":0.3,"pbrMetallicRoughness":{"baseColorFactor":[1,0,0,1]}}]"#,
+        )
+        .replace(r#""indices":1}"#, r#""indices":1,"material":0}"#);
+    let path = dir.join("nested.gltf");
+    std::fs::write(&path, json).unwrap();
+    let model = load_model(&path).unwrap();
+    let b = model.bounds();
+    assert!((b.min - Vec3::new(0.0, 5.0, 0.0)).length() < 1e-5, "{b:?}");
+    assert!((b.max - Vec3::new(2.0, 7.0, 0.0)).length() < 1e-5, "{b:?}");
+    let material = &model.materials[model.parts[0].material];
+    assert_eq!(
+        material.alpha_mode,
+        penumbra::AlphaMode::Mask { cutoff: 0.3 }
+    );
+    assert_eq!(material.base_color, glam::Vec4::new(1.0, 0.0, 0.0, 1.0));
+}
+
+#[test]
+fn obj_material_library_gives_color_and_texture() {
+    let dir = common::scratch_dir("obj_mtl");
+    image::RgbaImage::from_pixel(4, 4, image::Rgba([10, 200, 30, 255]))
+        .save(dir.join("green.png"))
+        .unwrap();
+    std::fs::write(
+        dir.join("quad.mtl"),
+        "newmtl painted\nKd 0.5 0.25 1.0\nmap_Kd green.png\n\nnewmtl plain\nKd 0.2 0.3 0.4\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("quad.obj"),
+        "mtllib quad.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+         o painted_quad\nusemtl painted\nf 1/1 2/2 3/3 4/4\no plain_tri\nusemtl plain\nf 1/1 2/2 3/3\n",
+    )
+    .unwrap();
+    let model = load_model(&dir.join("quad.obj")).unwrap();
+    assert_eq!(model.parts.len(), 2);
+    let painted = &model.materials[model.parts[0].material];
+    assert_eq!(painted.base_color, glam::Vec4::new(0.5, 0.25, 1.0, 1.0));
+    let texture = &model.textures[painted.base_color_texture.expect("map_Kd loaded")];
+    assert_eq!((texture.width, texture.height), (4, 4));
+    assert_eq!(&texture.rgba8[..4], &[10, 200, 30, 255]);
+    assert_eq!(
+        model.meshes[0].triangle_count(),
+        2,
+        "the quad is triangulated"
+    );
+    let plain = &model.materials[model.parts[1].material];
+    assert_eq!(plain.base_color, glam::Vec4::new(0.2, 0.3, 0.4, 1.0));
+    assert_eq!(plain.base_color_texture, None);
+    // A texture the .mtl names but that does not exist is an error naming it.
+    std::fs::remove_file(dir.join("green.png")).unwrap();
+    expect_error(&dir.join("quad.obj"), "green.png");
+}

@@ -101,3 +101,24 @@ fn bad_arguments_get_plain_errors() {
         );
     }
 }
+
+#[test]
+fn no_adapter_names_the_package_to_install() {
+    // On Linux there is no DirectX 12: asking for it alone leaves no adapter at all.
+    if !cfg!(target_os = "linux") {
+        return;
+    }
+    let scene = common::asset("scenes/teapot.ron");
+    let out = Command::new(render_example())
+        .args(["--scene", scene.to_str().unwrap(), "--size", "8x8"])
+        .env("WGPU_BACKEND", "dx12")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        stderr.contains("no graphics adapter") && stderr.contains("mesa-vulkan-drivers"),
+        "{stderr}"
+    );
+}
