@@ -58,6 +58,9 @@ fn main() -> Result<()> {
     settings.validate(None).context("--shadow-map")?;
 
     let scene = penumbra::load_scene(&args.scene)?;
+    for warning in &scene.warnings {
+        eprintln!("warning: {}: {warning}", args.scene.display());
+    }
     let camera = scene.view(args.view).context("--view")?;
     let gpu = HeadlessGpu::new()?;
     eprintln!("adapter: {}", gpu.describe());

@@ -513,3 +513,53 @@ fn hardware_pcf_grades_the_edges_that_hard_shadows_cut() {
         hard * 100.0
     );
 }
+
+#[test]
+fn empty_and_one_triangle_scenes_render() {
+    let gpu = common::gpu();
+    let camera = penumbra::Camera::look_at(Vec3::new(0.0, 1.0, 4.0), Vec3::ZERO);
+    let empty = Scene::default();
+    let image = common::render(
+        &gpu,
+        &empty,
+        &camera,
+        settings(ShadowMethod::Hardware2x2),
+        64,
+        48,
+    );
+    let background = *image.get_pixel(0, 0);
+    assert!(
+        image.pixels().all(|p| *p == background),
+        "an empty scene shows only the background"
+    );
+
+    let mut one = Scene::default();
+    let mesh = one.add_mesh(
+        penumbra::Mesh::new(
+            "tri",
+            vec![
+                Vec3::new(-1.0, 0.0, 0.0),
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+            ],
+            None,
+            None,
+            vec![0, 1, 2],
+        )
+        .unwrap(),
+    );
+    let material = one.add_material(Material::colored("white", [1.0, 1.0, 1.0]));
+    one.add_instance(mesh, material, Mat4::IDENTITY);
+    let image = common::render(
+        &gpu,
+        &one,
+        &camera,
+        settings(ShadowMethod::Hardware2x2),
+        64,
+        48,
+    );
+    assert!(
+        image.pixels().any(|p| *p != background),
+        "the triangle is drawn"
+    );
+}

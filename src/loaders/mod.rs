@@ -27,21 +27,19 @@ pub fn load_model(path: &Path) -> Result<Model> {
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase())
         .unwrap_or_default();
-    let model = match ext.as_str() {
+    let model: Model = match ext.as_str() {
         #[cfg(feature = "obj")]
-        "obj" => guarded(path, || obj::load(path))?,
+        "obj" => guarded(path, || obj::load(path)),
         #[cfg(feature = "gltf")]
-        "gltf" | "glb" => guarded(path, || gltf::load(path))?,
-        _ => {
-            return Err(PenumbraError::model(
-                path,
-                format!(
-                    "unsupported file type `.{ext}`; supported: {}",
-                    supported_extensions().join(", ")
-                ),
-            ));
-        }
-    };
+        "gltf" | "glb" => guarded(path, || gltf::load(path)),
+        _ => Err(PenumbraError::model(
+            path,
+            format!(
+                "unsupported file type `.{ext}`; supported: {}",
+                supported_extensions().join(", ")
+            ),
+        )),
+    }?;
     if model.parts.is_empty() {
         return Err(PenumbraError::model(path, "the file contains no triangles"));
     }
@@ -51,6 +49,9 @@ pub fn load_model(path: &Path) -> Result<Model> {
 /// The extensions [`load_model`] accepts with the enabled features.
 pub fn supported_extensions() -> Vec<&'static str> {
     let mut v = Vec::new();
+    if !cfg!(any(feature = "obj", feature = "gltf")) {
+        v.push("none (enable the `obj` or `gltf` cargo feature)");
+    }
     if cfg!(feature = "obj") {
         v.push(".obj");
     }
@@ -62,6 +63,7 @@ pub fn supported_extensions() -> Vec<&'static str> {
 
 /// Runs a parser and turns a panic inside a third-party parser into an error naming the file:
 /// a last line of defence, since malformed files must never take the caller down.
+#[cfg_attr(not(any(feature = "obj", feature = "gltf")), allow(dead_code))]
 fn guarded(path: &Path, load: impl FnOnce() -> Result<Model>) -> Result<Model> {
     match std::panic::catch_unwind(std::panic::AssertUnwindSafe(load)) {
         Ok(result) => result,

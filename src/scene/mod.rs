@@ -78,6 +78,8 @@ pub struct Scene {
     /// Constant light from everywhere (linear RGB), added to every surface unshadowed.
     pub ambient: Vec3,
     pub views: Vec<Viewpoint>,
+    /// What the loaders could not represent (from [`Model::warnings`]), for the user to see.
+    pub warnings: Vec<String>,
 }
 
 impl Default for Scene {
@@ -90,6 +92,7 @@ impl Default for Scene {
             light: Light::default(),
             ambient: Vec3::splat(0.12),
             views: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 }
@@ -133,6 +136,7 @@ impl Scene {
         let (mesh_base, material_base, texture_base) =
             (self.meshes.len(), self.materials.len(), self.textures.len());
         self.meshes.extend(model.meshes.iter().cloned());
+        self.warnings.extend(model.warnings.iter().cloned());
         self.textures.extend(model.textures.iter().cloned());
         self.materials
             .extend(model.materials.iter().map(|m| Material {
