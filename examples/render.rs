@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use clap::Parser;
-use penumbra::{GpuScene, HeadlessGpu, Renderer, ShadowMethod, ShadowSettings};
+use penumbra::{GpuScene, HeadlessGpu, Light, Quality, Renderer, ShadowMethod, ShadowSettings};
 
 #[derive(Parser)]
 #[command(about = "Render a penumbra scene (or an OBJ/glTF model on a floor) to a PNG, headless")]
@@ -23,9 +23,16 @@ struct Args {
     /// Output size, WIDTHxHEIGHT.
     #[arg(long, default_value = "1280x1024")]
     size: String,
-    /// Shadow method: hard or hw2x2.
-    #[arg(long, default_value = "hw2x2")]
+    /// Shadow method: ours, ours-fast, traditional, pcss, hard or hw2x2.
+    #[arg(long, default_value = "ours")]
     method: String,
+    /// Quality preset: low, medium, high or ultra.
+    #[arg(long, default_value = "medium")]
+    quality: String,
+    /// Light size: angular diameter in degrees (directional) or radius in world units (spot).
+    /// Defaults to the scene's.
+    #[arg(long)]
+    light_size: Option<f32>,
     /// Shadow map resolution in texels (power of two, 64..=8192).
     #[arg(long, default_value_t = 2048)]
     shadow_map: u32,
@@ -50,14 +57,19 @@ fn main() -> Result<()> {
     let args = Args::parse();
     let (width, height) = parse_size(&args.size)?;
     let method = ShadowMethod::from_name(&args.method).context("--method")?;
-    let mut settings = ShadowSettings {
-        method,
-        ..Default::default()
-    };
+    let quality = Quality::from_name(&args.quality).context("--quality")?;
+    let mut settings = ShadowSettings::preset(method, quality);
     settings.shadow_map.resolution = args.shadow_map;
     settings.validate(None).context("--shadow-map")?;
 
-    let scene = penumbra::load_scene(&args.scene)?;
+    let mut scene = penumbra::load_scene(&args.scene)?;
+    if let Some(size) = args.light_size {
+        match &mut scene.light {
+            Light::Directional(l) => l.angular_diameter_deg = size,
+            Light::Spot(l) => l.radius = size,
+        }
+        scene.light.validate().context("--light-size")?;
+    }
     for warning in &scene.warnings {
         eprintln!("warning: {}: {warning}", args.scene.display());
     }

@@ -89,6 +89,8 @@ pub struct GpuInstance {
 
 /// A scene on the GPU. Made once per scene; the light can be changed with [`GpuScene::set_light`].
 pub struct GpuScene {
+    /// Unique per scene, and bumped when the light changes: what shadow-map caching keys on.
+    revision: (u64, u64),
     pub meshes: Vec<GpuMesh>,
     pub materials: Vec<wgpu::BindGroup>,
     pub instances: Vec<GpuInstance>,
@@ -274,7 +276,10 @@ impl GpuScene {
             }],
         });
         let caster_bounds = scene.caster_bounds();
+        static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+        let id = NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         Ok(Self {
+            revision: (id, 0),
             meshes,
             materials,
             instances,
@@ -299,8 +304,16 @@ impl GpuScene {
     /// Replaces the light (validated).
     pub fn set_light(&mut self, light: Light) -> Result<()> {
         light.validate()?;
-        self.light = light;
+        if light != self.light {
+            self.light = light;
+            self.revision.1 += 1;
+        }
         Ok(())
+    }
+
+    /// (scene id, revision): changes whenever anything the shadow maps depend on changes.
+    pub fn revision(&self) -> (u64, u64) {
+        self.revision
     }
 
     pub fn ambient(&self) -> Vec3 {

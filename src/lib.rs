@@ -26,6 +26,7 @@
 //! ```
 
 pub mod error;
+mod frame;
 pub mod gpu;
 mod gpu_scene;
 pub mod light_space;
@@ -36,14 +37,18 @@ pub mod scene;
 pub mod settings;
 
 pub use error::{PenumbraError, Result};
+pub use frame::DerivedSpreads;
 pub use gpu::{HeadlessGpu, read_texture_rgba8, render_to_image};
 pub use gpu_scene::{GpuScene, SceneLayouts};
 pub use light_space::LightView;
 pub use loaders::load_model;
-pub use renderer::Renderer;
+pub use renderer::{DebugTexture, FrameReport, PassPlan, Renderer};
 pub use scene::file::load_scene;
 pub use scene::{
     Aabb, AlphaMode, Camera, DirectionalLight, Instance, Light, Material, Mesh, Model, OrbitCamera,
     Scene, SceneFile, SpotLight, TextureImage, Viewpoint,
 };
-pub use settings::{CullMode, DepthFormat, ShadowMapSettings, ShadowMethod, ShadowSettings};
+pub use settings::{
+    CullMode, DepthFormat, PcfKernel, PcssSettings, PenumbraSettings, Quality, ShadowMapSettings,
+    ShadowMethod, ShadowSettings, SpreadMode, TraditionalSettings,
+};

@@ -1,25 +1,153 @@
-//! The top-level renderer: runs the passes in order for one frame.
+//! The top-level renderer: runs the method's passes in order for one frame.
 
 use crate::error::Result;
+use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, derive_spreads, is_point_light};
 use crate::gpu_scene::{GpuScene, SceneLayouts};
 use crate::light_space::LightView;
-use crate::passes::{ForwardPass, ShadowMapPass};
-use crate::scene::Camera;
-use crate::settings::ShadowSettings;
+use crate::passes::{
+    BlurPass, CompositePass, DistanceMapPass, FattenedShadowMapPass, ForwardPass, PcfPass,
+    PcssPass, ShadowMapPass, screen_target,
+};
+use crate::scene::{Camera, Light};
+use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
 
-/// Owns the passes and their targets. Made once per output format; [`Renderer::resize`] when
-/// the output size changes, [`Renderer::set_settings`] when settings change.
-pub struct Renderer {
-    settings: ShadowSettings,
-    layouts: SceneLayouts,
-    shadow_map: ShadowMapPass,
-    forward: ForwardPass,
-    size: (u32, u32),
-    last_light_view: Option<LightView>,
+/// Which passes a frame runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct PassPlan {
+    /// The method actually drawn: a method that needs a light size falls back to
+    /// [`ShadowMethod::Hard`] when the light has none.
+    pub method: ShadowMethod,
+    pub shadow_map: bool,
+    pub fattened_map: bool,
+    /// The camera depth prepass (every screen-space method).
+    pub depth_prepass: bool,
+    /// The prepass also writes the distance map and mask.
+    pub distance_map: bool,
+    pub pcf: bool,
+    pub pcss: bool,
+    pub blur: bool,
+    pub composite: bool,
+    /// The one-pass lit forward pass (hard and hw2x2).
+    pub forward: bool,
 }
 
+impl PassPlan {
+    /// The passes `settings.method` needs under `light`.
+    pub fn new(settings: &ShadowSettings, light: &Light) -> Self {
+        let method = match settings.method {
+            ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Pcss
+                if is_point_light(light) =>
+            {
+                ShadowMethod::Hard
+            }
+            m => m,
+        };
+        let blur_taps = match method {
+            ShadowMethod::Traditional => settings.traditional.blur_taps,
+            _ => settings.penumbra.blur_taps,
+        };
+        let screen = method.is_screen_space();
+        PassPlan {
+            method,
+            shadow_map: true,
+            fattened_map: method.uses_distance_map(),
+            depth_prepass: screen,
+            distance_map: method.uses_distance_map(),
+            pcf: matches!(
+                method,
+                ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Traditional
+            ),
+            pcss: method == ShadowMethod::Pcss,
+            blur: method != ShadowMethod::Pcss && screen && blur_taps > 1,
+            composite: screen,
+            forward: !screen,
+        }
+    }
+
+    /// The names of the passes, in the order they run.
+    pub fn names(&self) -> Vec<&'static str> {
+        [
+            (self.shadow_map, "shadow map"),
+            (self.fattened_map, "fattened shadow map"),
+            (self.depth_prepass && self.distance_map, "distance map"),
+            (self.depth_prepass && !self.distance_map, "depth prepass"),
+            (self.pcf, "pcf"),
+            (self.pcss, "pcss"),
+            (self.blur, "blur"),
+            (self.composite, "composite"),
+            (self.forward, "forward"),
+        ]
+        .into_iter()
+        .filter_map(|(on, name)| on.then_some(name))
+        .collect()
+    }
+}
+
+/// What a frame did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameReport {
+    pub plan: PassPlan,
+    /// False when the shadow map and fattened map were reused from an earlier frame.
+    pub shadow_maps_rendered: bool,
+    /// The spreads derived from the light (physical mode) for this frame.
+    pub spreads: DerivedSpreads,
+    pub light_view: LightView,
+}
+
+/// An intermediate texture, for debug views.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DebugTexture {
+    /// Depth of the casters from the light.
+    ShadowMap,
+    /// Depth of the fattened casters from the light.
+    FattenedMap,
+    /// Camera depth.
+    CameraDepth,
+    /// RG16F: R = distance to the fattened occluder (world units), G = mask.
+    DistanceMap,
+    /// Raw PCF or PCSS visibility (R16F).
+    Visibility,
+    /// Blurred visibility (R16F).
+    BlurredVisibility,
+}
+
+/// What decides whether the shadow maps can be reused.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct ShadowKey {
+    scene: (u64, u64),
+    light: Light,
+    light_view: [f32; 16],
+    shadow_map: ShadowMapSettings,
+    fatten_distance: Option<f32>,
+}
+
+/// Owns the passes and their targets. Made once per output format; [`Renderer::resize`] when
+/// the output size changes, [`Renderer::set_settings`] when settings change. Passes the
+/// current method does not use are not allocated.
+pub struct Renderer {
+    settings: ShadowSettings,
+    color_format: wgpu::TextureFormat,
+    layouts: SceneLayouts,
+    frame_buffer: wgpu::Buffer,
+    /// A 1x1 zero distance map for methods without one.
+    no_distance: (wgpu::Texture, wgpu::TextureView),
+    shadow_map: ShadowMapPass,
+    fattened_map: Option<FattenedShadowMapPass>,
+    forward: Option<ForwardPass>,
+    distance_map: Option<DistanceMapPass>,
+    pcf: Option<PcfPass>,
+    pcss: Option<PcssPass>,
+    blur: Option<BlurPass>,
+    composite: Option<CompositePass>,
+    size: (u32, u32),
+    shadow_key: Option<ShadowKey>,
+    last_report: Option<FrameReport>,
+}
+
+const FRAME_SIZE: usize = size_of::<FrameUniform>();
+
 impl Renderer {
-    /// Creates every pipeline for drawing into targets of `color_format`.
+    /// Creates the passes `settings.method` needs for drawing into targets of `color_format`.
     pub fn new(
         device: &wgpu::Device,
         color_format: wgpu::TextureFormat,
@@ -28,15 +156,39 @@ impl Renderer {
         settings.validate(Some(device.limits().max_texture_dimension_2d))?;
         let layouts = SceneLayouts::new(device);
         let shadow_map = ShadowMapPass::new(device, &layouts, &settings.shadow_map);
-        let forward = ForwardPass::new(device, &layouts, color_format, shadow_map.view());
-        Ok(Self {
+        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("Renderer::frame"),
+            size: FRAME_SIZE as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let no_distance = screen_target(
+            device,
+            "Renderer::no_distance_map",
+            1,
+            1,
+            DistanceMapPass::DISTANCE_FORMAT,
+        );
+        let mut renderer = Self {
             settings,
+            color_format,
             layouts,
+            frame_buffer,
+            no_distance,
             shadow_map,
-            forward,
+            fattened_map: None,
+            forward: None,
+            distance_map: None,
+            pcf: None,
+            pcss: None,
+            blur: None,
+            composite: None,
             size: (0, 0),
-            last_light_view: None,
-        })
+            shadow_key: None,
+            last_report: None,
+        };
+        renderer.allocate(device);
+        Ok(renderer)
     }
 
     /// The layouts a [`GpuScene`] must be made with to be drawn by this renderer.
@@ -49,27 +201,33 @@ impl Renderer {
     }
 
     pub fn color_format(&self) -> wgpu::TextureFormat {
-        self.forward.color_format()
+        self.color_format
     }
 
-    /// Applies new settings, recreating only what they change (the shadow map and its
-    /// pipelines when its resolution, format, bias or culling change).
+    /// Applies new settings: recreates the shadow maps when their resolution, format, bias or
+    /// culling change, allocates the passes a new method needs and drops the others.
     pub fn set_settings(&mut self, device: &wgpu::Device, settings: ShadowSettings) -> Result<()> {
         settings.validate(Some(device.limits().max_texture_dimension_2d))?;
         if settings.shadow_map != *self.shadow_map.settings() {
             self.shadow_map = ShadowMapPass::new(device, &self.layouts, &settings.shadow_map);
-            self.forward.set_shadow_map(device, self.shadow_map.view());
+            self.fattened_map = None;
+            self.forward = None;
+            self.shadow_key = None;
         }
         self.settings = settings;
+        self.allocate(device);
         Ok(())
     }
 
     /// Sets the output size. A zero width or height (a minimized window) is accepted: frames
     /// are then skipped until a non-zero size is set again.
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        if self.size == (width, height) {
+            return;
+        }
         self.size = (width, height);
         if width > 0 && height > 0 {
-            self.forward.resize(device, width, height);
+            self.resize_targets(device);
         }
     }
 
@@ -77,7 +235,32 @@ impl Renderer {
         self.size
     }
 
-    /// The depth shadow map of the last frame.
+    /// What the last frame did.
+    pub fn last_report(&self) -> Option<&FrameReport> {
+        self.last_report.as_ref()
+    }
+
+    /// An intermediate texture of the last frame, if the current method has it.
+    pub fn debug_texture(&self, which: DebugTexture) -> Option<&wgpu::Texture> {
+        match which {
+            DebugTexture::ShadowMap => Some(self.shadow_map.texture()),
+            DebugTexture::FattenedMap => self.fattened_map.as_ref().map(|p| p.texture()),
+            DebugTexture::CameraDepth => self.distance_map.as_ref().map(|p| p.depth_texture()),
+            DebugTexture::DistanceMap => self
+                .distance_map
+                .as_ref()
+                .filter(|_| self.settings.method.uses_distance_map())
+                .map(|p| p.distance_texture()),
+            DebugTexture::Visibility => self
+                .pcf
+                .as_ref()
+                .map(|p| p.visibility_texture())
+                .or_else(|| self.pcss.as_ref().map(|p| p.visibility_texture())),
+            DebugTexture::BlurredVisibility => self.blur.as_ref().map(|p| p.blurred_texture()),
+        }
+    }
+
+    /// The depth shadow map.
     pub fn shadow_map(&self) -> &wgpu::TextureView {
         self.shadow_map.view()
     }
@@ -88,11 +271,113 @@ impl Renderer {
 
     /// The light's view used by the last frame.
     pub fn light_view(&self) -> Option<&LightView> {
-        self.last_light_view.as_ref()
+        self.last_report.as_ref().map(|r| &r.light_view)
+    }
+
+    /// Creates the passes the method needs (for any light size) and drops the rest, then
+    /// re-points every pass at its inputs.
+    fn allocate(&mut self, device: &wgpu::Device) {
+        let method = self.settings.method;
+        let screen = method.is_screen_space();
+        let distance = method.uses_distance_map();
+        let uses_pcf = matches!(
+            method,
+            ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Traditional
+        );
+        // Methods that need a light size fall back to the forward pass when it is zero.
+        let forward = !screen
+            || matches!(
+                method,
+                ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Pcss
+            );
+        let layouts = &self.layouts;
+        let settings = self.settings.shadow_map;
+        keep(&mut self.fattened_map, distance, || {
+            FattenedShadowMapPass::new(device, layouts, &settings)
+        });
+        keep(&mut self.distance_map, screen, || {
+            DistanceMapPass::new(device, layouts, FRAME_SIZE)
+        });
+        keep(&mut self.pcf, uses_pcf, || PcfPass::new(device, FRAME_SIZE));
+        keep(&mut self.pcss, method == ShadowMethod::Pcss, || {
+            PcssPass::new(device, FRAME_SIZE)
+        });
+        keep(&mut self.blur, uses_pcf, || {
+            BlurPass::new(device, FRAME_SIZE)
+        });
+        keep(&mut self.composite, screen, || {
+            CompositePass::new(device, layouts, self.color_format, FRAME_SIZE)
+        });
+        let shadow_view = self.shadow_map.view();
+        keep(&mut self.forward, forward, || {
+            ForwardPass::new(device, layouts, self.color_format, shadow_view)
+        });
+        self.resize_targets(device);
+    }
+
+    /// Recreates screen-sized targets and rebuilds every bind group.
+    fn resize_targets(&mut self, device: &wgpu::Device) {
+        let (w, h) = (self.size.0.max(1), self.size.1.max(1));
+        for_each_pass_mut(self, |pass| match pass {
+            AnyPass::Distance(p) => p.resize(device, w, h),
+            AnyPass::Pcf(p) => p.resize(device, w, h),
+            AnyPass::Pcss(p) => p.resize(device, w, h),
+            AnyPass::Blur(p) => p.resize(device, w, h),
+            AnyPass::Forward(p) => p.resize(device, w, h),
+        });
+        self.rebind(device);
+    }
+
+    fn rebind(&mut self, device: &wgpu::Device) {
+        let frame = &self.frame_buffer;
+        let shadow_map = self.shadow_map.view();
+        let fattened = self.fattened_map.as_ref().map_or(shadow_map, |f| f.view());
+        if let Some(d) = &mut self.distance_map {
+            d.bind(device, frame, fattened);
+        }
+        let distance_view = match (&self.distance_map, self.settings.method.uses_distance_map()) {
+            (Some(d), true) => d.distance_map(),
+            _ => &self.no_distance.1,
+        };
+        let Some(depth) = self.distance_map.as_ref().map(|d| d.depth()) else {
+            if let Some(f) = &mut self.forward {
+                f.set_shadow_map(device, shadow_map);
+            }
+            return;
+        };
+        if let Some(p) = &mut self.pcf {
+            p.bind(device, frame, depth, distance_view, shadow_map);
+        }
+        if let Some(p) = &mut self.pcss {
+            p.bind(device, frame, depth, shadow_map);
+        }
+        let raw = self
+            .pcf
+            .as_ref()
+            .map(|p| p.visibility())
+            .or_else(|| self.pcss.as_ref().map(|p| p.visibility()));
+        if let (Some(b), Some(raw)) = (&mut self.blur, raw) {
+            b.bind(device, frame, depth, distance_view, raw);
+        }
+        let blur_taps = match self.settings.method {
+            ShadowMethod::Traditional => self.settings.traditional.blur_taps,
+            _ => self.settings.penumbra.blur_taps,
+        };
+        let composited = match &self.blur {
+            Some(b) if blur_taps > 1 => Some(b.blurred()),
+            _ => raw,
+        };
+        if let (Some(c), Some(v)) = (&mut self.composite, composited) {
+            c.bind(device, frame, v, distance_view);
+        }
+        if let Some(f) = &mut self.forward {
+            f.set_shadow_map(device, shadow_map);
+        }
     }
 
     /// Records one frame into `target` (a view of a texture of the renderer's color format and
-    /// size): the shadow map from the light, then the lit pass from the camera.
+    /// size) and says what it did. Reads like the method: shadow map, fattened map, distance
+    /// map, PCF, blur, composite; the other methods run the subset they need.
     pub fn render(
         &mut self,
         queue: &wgpu::Queue,
@@ -100,30 +385,163 @@ impl Renderer {
         scene: &GpuScene,
         camera: &Camera,
         target: &wgpu::TextureView,
-    ) {
+    ) -> Option<FrameReport> {
         if self.size.0 == 0 || self.size.1 == 0 {
-            return;
+            return None;
         }
-        let light_view = LightView::fit(scene.light(), &scene.shadow_bounds());
-        encoder.push_debug_group("penumbra frame");
-
-        encoder.push_debug_group("shadow map");
-        self.shadow_map.encode(encoder, queue, scene, &light_view);
-        encoder.pop_debug_group();
-
-        encoder.push_debug_group("lit pass");
-        self.forward.encode(
-            encoder,
-            queue,
-            scene,
-            camera,
-            &light_view,
-            self.settings.method,
-            target,
+        let light = *scene.light();
+        let plan = PassPlan::new(&self.settings, &light);
+        let light_view = LightView::fit(&light, &scene.shadow_bounds());
+        let spreads = self.spreads(&light, &light_view, scene);
+        queue.write_buffer(
+            &self.frame_buffer,
+            0,
+            bytemuck::bytes_of(&FrameUniform::new(&FrameInputs {
+                camera,
+                width: self.size.0,
+                height: self.size.1,
+                light: &light,
+                ambient: scene.ambient(),
+                light_view: &light_view,
+                settings: &self.settings,
+                spreads,
+                scene_radius: scene.bounds().radius(),
+            })),
         );
-        encoder.pop_debug_group();
 
+        // The shadow maps depend on the light and the casters, not on the camera.
+        let key = ShadowKey {
+            scene: scene.revision(),
+            light,
+            light_view: light_view.view_projection.to_cols_array(),
+            shadow_map: self.settings.shadow_map,
+            fatten_distance: plan.fattened_map.then_some(spreads.fatten_distance),
+        };
+        let shadow_maps_rendered = self.shadow_key != Some(key);
+        encoder.push_debug_group("penumbra frame");
+        if shadow_maps_rendered {
+            encoder.push_debug_group("shadow map");
+            self.shadow_map.encode(encoder, queue, scene, &light_view);
+            encoder.pop_debug_group();
+            if let (true, Some(fattened)) = (plan.fattened_map, &self.fattened_map) {
+                encoder.push_debug_group("fattened shadow map");
+                fattened.encode(encoder, queue, scene, &light_view, spreads.fatten_distance);
+                encoder.pop_debug_group();
+            }
+            self.shadow_key = Some(key);
+        }
+        if let (true, Some(distance)) = (plan.depth_prepass, &self.distance_map) {
+            encoder.push_debug_group(if plan.distance_map {
+                "distance map"
+            } else {
+                "depth prepass"
+            });
+            distance.encode(encoder, scene, plan.distance_map);
+            encoder.pop_debug_group();
+        }
+        if let (true, Some(pcf)) = (plan.pcf, &self.pcf) {
+            encoder.push_debug_group("pcf");
+            pcf.encode(encoder);
+            encoder.pop_debug_group();
+        }
+        if let (true, Some(pcss)) = (plan.pcss, &self.pcss) {
+            encoder.push_debug_group("pcss");
+            pcss.encode(encoder);
+            encoder.pop_debug_group();
+        }
+        if let (true, Some(blur)) = (plan.blur, &self.blur) {
+            encoder.push_debug_group("blur");
+            let taps = match plan.method {
+                ShadowMethod::Traditional => self.settings.traditional.blur_taps,
+                _ => self.settings.penumbra.blur_taps,
+            };
+            blur.encode(encoder, queue, taps);
+            encoder.pop_debug_group();
+        }
+        if let (true, Some(composite), Some(distance)) =
+            (plan.composite, &self.composite, &self.distance_map)
+        {
+            encoder.push_debug_group("composite");
+            composite.encode(encoder, scene, distance.depth(), target);
+            encoder.pop_debug_group();
+        }
+        if let (true, Some(forward)) = (plan.forward, &self.forward) {
+            encoder.push_debug_group("forward");
+            forward.encode(
+                encoder,
+                queue,
+                scene,
+                camera,
+                &light_view,
+                plan.method,
+                target,
+            );
+            encoder.pop_debug_group();
+        }
         encoder.pop_debug_group();
-        self.last_light_view = Some(light_view);
+        let report = FrameReport {
+            plan,
+            shadow_maps_rendered,
+            spreads,
+            light_view,
+        };
+        self.last_report = Some(report);
+        Some(report)
+    }
+
+    /// The fatten distance and penumbra scale for this frame: derived from the light in
+    /// physical mode, the user's in manual mode.
+    fn spreads(&self, light: &Light, light_view: &LightView, scene: &GpuScene) -> DerivedSpreads {
+        let derived = derive_spreads(
+            light,
+            light_view,
+            &scene.shadow_bounds(),
+            self.settings.shadow_map.resolution,
+        );
+        match self.settings.penumbra.spreads {
+            SpreadMode::Physical => derived,
+            SpreadMode::Manual {
+                fatten_distance, ..
+            } => DerivedSpreads {
+                fatten_distance,
+                ..derived
+            },
+        }
+    }
+}
+
+/// Makes `slot` hold a pass exactly when `wanted`.
+fn keep<T>(slot: &mut Option<T>, wanted: bool, make: impl FnOnce() -> T) {
+    if !wanted {
+        *slot = None;
+    } else if slot.is_none() {
+        *slot = Some(make());
+    }
+}
+
+enum AnyPass<'a> {
+    Distance(&'a mut DistanceMapPass),
+    Pcf(&'a mut PcfPass),
+    Pcss(&'a mut PcssPass),
+    Blur(&'a mut BlurPass),
+    Forward(&'a mut ForwardPass),
+}
+
+/// Calls `f` on every allocated pass with screen-sized targets.
+fn for_each_pass_mut(r: &mut Renderer, mut f: impl FnMut(AnyPass)) {
+    if let Some(p) = &mut r.distance_map {
+        f(AnyPass::Distance(p));
+    }
+    if let Some(p) = &mut r.pcf {
+        f(AnyPass::Pcf(p));
+    }
+    if let Some(p) = &mut r.pcss {
+        f(AnyPass::Pcss(p));
+    }
+    if let Some(p) = &mut r.blur {
+        f(AnyPass::Blur(p));
+    }
+    if let Some(p) = &mut r.forward {
+        f(AnyPass::Forward(p));
     }
 }

@@ -7,22 +7,49 @@ use crate::error::{PenumbraError, Result};
 /// How shadows are filtered.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 pub enum ShadowMethod {
+    /// The distance-map method: a fattened shadow map bounds where penumbrae can fall, a
+    /// screen-space distance map stores each pixel's distance to its occluder, PCF taps spread
+    /// and a separable Gaussian blur widens with that distance, so shadows are sharp at contact
+    /// and soft far away (the 2008 distance-map soft-shadow paper; a close relative is Gumbau,
+    /// Chover and Sbert, "Screen Space Soft Shadows", GPU Pro, 2010).
+    #[default]
+    Ours,
+    /// [`ShadowMethod::Ours`] without PCF: one hard tap per pixel, the penumbra comes from the
+    /// distance-driven blur alone.
+    OursFast,
+    /// The paper's baseline: fixed-spacing PCF followed by a fixed separable Gaussian blur in
+    /// screen space; every edge gets the same softness.
+    Traditional,
+    /// Percentage-closer soft shadows (Fernando, "Percentage-Closer Soft Shadows", NVIDIA,
+    /// 2005): a blocker search estimates the occluder depth, then PCF over a disk whose size
+    /// follows the light's size.
+    Pcss,
     /// One depth comparison per pixel, nearest texel: hard, aliased edges.
     Hard,
     /// The hardware's bilinear 2x2 percentage-closer filter (one comparison sample with
     /// linear filtering; Reeves, Salesin and Cook, "Rendering antialiased shadows with depth
     /// maps", SIGGRAPH 1987): edges one shadow-map texel wide.
-    #[default]
     Hardware2x2,
 }
 
 impl ShadowMethod {
     /// Every method, in the order tools list them.
-    pub const ALL: [ShadowMethod; 2] = [ShadowMethod::Hard, ShadowMethod::Hardware2x2];
+    pub const ALL: [ShadowMethod; 6] = [
+        ShadowMethod::Ours,
+        ShadowMethod::OursFast,
+        ShadowMethod::Traditional,
+        ShadowMethod::Pcss,
+        ShadowMethod::Hard,
+        ShadowMethod::Hardware2x2,
+    ];
 
-    /// The name used on command lines (`hard`, `hw2x2`).
+    /// The name used on command lines (`ours`, `ours-fast`, `traditional`, `pcss`, `hard`, `hw2x2`).
     pub fn name(self) -> &'static str {
         match self {
+            ShadowMethod::Ours => "ours",
+            ShadowMethod::OursFast => "ours-fast",
+            ShadowMethod::Traditional => "traditional",
+            ShadowMethod::Pcss => "pcss",
             ShadowMethod::Hard => "hard",
             ShadowMethod::Hardware2x2 => "hw2x2",
         }
@@ -43,6 +70,175 @@ impl ShadowMethod {
                     ),
                 )
             })
+    }
+
+    /// True for the methods that compute a screen-space visibility texture and composite it.
+    pub fn is_screen_space(self) -> bool {
+        !matches!(self, ShadowMethod::Hard | ShadowMethod::Hardware2x2)
+    }
+
+    /// True for the distance-map methods (fattened map, distance map, distance-driven passes).
+    pub fn uses_distance_map(self) -> bool {
+        matches!(self, ShadowMethod::Ours | ShadowMethod::OursFast)
+    }
+}
+
+/// Quality presets: more taps cost more time and give smoother penumbrae.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+pub enum Quality {
+    Low,
+    #[default]
+    Medium,
+    High,
+    Ultra,
+}
+
+impl Quality {
+    pub const ALL: [Quality; 4] = [Quality::Low, Quality::Medium, Quality::High, Quality::Ultra];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Quality::Low => "low",
+            Quality::Medium => "medium",
+            Quality::High => "high",
+            Quality::Ultra => "ultra",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|q| q.name() == name)
+            .ok_or_else(|| {
+                PenumbraError::setting(
+                    "quality",
+                    format!("unknown preset `{name}`; choose one of low, medium, high, ultra"),
+                )
+            })
+    }
+}
+
+/// How the distance-map method's spreads are chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum SpreadMode {
+    /// Derived from the light's size (directional: angular diameter; spot: radius), the shadow
+    /// map's texel size and the camera's projection, so the penumbra width matches
+    /// `2 d tan(theta / 2)` (directional) or `2 R d / D` (spot) at every pixel.
+    Physical,
+    /// Set by hand, as in the paper.
+    Manual {
+        /// How far casters are pushed out along their smoothed normals for the fattened map,
+        /// world units, >= 0.
+        fatten_distance: f32,
+        /// PCF tap spacing gained per world unit of receiver-to-occluder distance, in
+        /// shadow-map texels, >= 0.
+        pcf_spread: f32,
+        /// Blur step gained per world unit of receiver-to-occluder distance, in pixels, >= 0.
+        blur_spread: f32,
+    },
+}
+
+/// PCF kernel: N x N taps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+pub enum PcfKernel {
+    #[default]
+    Pcf3x3,
+    Pcf4x4,
+    Pcf5x5,
+}
+
+impl PcfKernel {
+    /// Taps per side.
+    pub fn side(self) -> u32 {
+        match self {
+            PcfKernel::Pcf3x3 => 3,
+            PcfKernel::Pcf4x4 => 4,
+            PcfKernel::Pcf5x5 => 5,
+        }
+    }
+}
+
+/// Settings of the distance-map method ([`ShadowMethod::Ours`] and [`ShadowMethod::OursFast`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PenumbraSettings {
+    /// Default [`SpreadMode::Physical`].
+    pub spreads: SpreadMode,
+    /// PCF taps (the fast mode uses one hard tap whatever this says). Default 3x3.
+    pub pcf_kernel: PcfKernel,
+    /// Tap spacing at zero distance, shadow-map texels, in [0, 16]. Default 1.
+    pub pcf_base_spacing: f32,
+    /// In physical mode, the share of the penumbra's variance made by PCF (the rest by the
+    /// blur), in [0, 1]. Default 0.5. The fast mode uses 0.
+    pub pcf_variance_share: f32,
+    /// Rotate the PCF taps per pixel by a noise angle to break up banding. Default true.
+    pub rotate_taps: bool,
+    /// Take no shadow-map taps where the mask says no shadow can fall. Default true.
+    pub mask_early_out: bool,
+    /// Taps of each blur direction, odd, in [1, 31]. Default 11.
+    pub blur_taps: u32,
+    /// Weight blur taps by depth similarity so the blur does not bleed across depth
+    /// discontinuities. Default true.
+    pub depth_aware_blur: bool,
+    /// How much shadows far from their occluder are lightened by bounced light, in [0, 1];
+    /// 0 turns it off. Default 0.
+    pub indirect_weight: f32,
+}
+
+impl Default for PenumbraSettings {
+    fn default() -> Self {
+        Self {
+            spreads: SpreadMode::Physical,
+            pcf_kernel: PcfKernel::Pcf3x3,
+            pcf_base_spacing: 1.0,
+            pcf_variance_share: 0.5,
+            rotate_taps: true,
+            mask_early_out: true,
+            blur_taps: 11,
+            depth_aware_blur: true,
+            indirect_weight: 0.0,
+        }
+    }
+}
+
+/// Settings of the baseline: fixed PCF + fixed Gaussian blur.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TraditionalSettings {
+    /// Default 3x3.
+    pub pcf_kernel: PcfKernel,
+    /// Spacing between PCF taps, shadow-map texels, in [0, 16]. Default 1.5.
+    pub pcf_spacing: f32,
+    /// Taps of each blur direction, odd, in [1, 31]. Default 11.
+    pub blur_taps: u32,
+    /// Step between blur taps, pixels, in [0, 16]. Default 1.
+    pub blur_step: f32,
+}
+
+impl Default for TraditionalSettings {
+    fn default() -> Self {
+        Self {
+            pcf_kernel: PcfKernel::Pcf3x3,
+            pcf_spacing: 1.5,
+            blur_taps: 11,
+            blur_step: 1.0,
+        }
+    }
+}
+
+/// Settings of PCSS.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PcssSettings {
+    /// Blocker-search taps, in [1, 64]. Default 16.
+    pub blocker_samples: u32,
+    /// PCF taps, in [1, 64]. Default 16.
+    pub pcf_samples: u32,
+}
+
+impl Default for PcssSettings {
+    fn default() -> Self {
+        Self {
+            blocker_samples: 16,
+            pcf_samples: 16,
+        }
     }
 }
 
@@ -121,11 +317,15 @@ impl Default for ShadowMapSettings {
     }
 }
 
-/// All shadow settings. `Default` gives hardware 2x2 PCF on a 2048^2 32-bit shadow map.
+/// All shadow settings. `Default` is the distance-map method in physical mode on a 2048^2
+/// 32-bit shadow map.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
 pub struct ShadowSettings {
     pub method: ShadowMethod,
     pub shadow_map: ShadowMapSettings,
+    pub penumbra: PenumbraSettings,
+    pub traditional: TraditionalSettings,
+    pub pcss: PcssSettings,
 }
 
 impl ShadowSettings {
@@ -159,7 +359,95 @@ impl ShadowSettings {
                 format!("{} is outside [0, 1048576]", sm.constant_bias),
             ));
         }
+        let p = &self.penumbra;
+        if let SpreadMode::Manual {
+            fatten_distance,
+            pcf_spread,
+            blur_spread,
+        } = p.spreads
+        {
+            for (name, v) in [
+                ("penumbra.fatten_distance", fatten_distance),
+                ("penumbra.pcf_spread", pcf_spread),
+                ("penumbra.blur_spread", blur_spread),
+            ] {
+                if !(v >= 0.0 && v.is_finite()) {
+                    return Err(PenumbraError::setting(
+                        name,
+                        format!("{v} must be finite and >= 0"),
+                    ));
+                }
+            }
+        }
+        check_range("penumbra.pcf_base_spacing", p.pcf_base_spacing, 0.0, 16.0)?;
+        check_range(
+            "penumbra.pcf_variance_share",
+            p.pcf_variance_share,
+            0.0,
+            1.0,
+        )?;
+        check_range("penumbra.indirect_weight", p.indirect_weight, 0.0, 1.0)?;
+        check_taps("penumbra.blur_taps", p.blur_taps)?;
+        let t = &self.traditional;
+        check_range("traditional.pcf_spacing", t.pcf_spacing, 0.0, 16.0)?;
+        check_range("traditional.blur_step", t.blur_step, 0.0, 16.0)?;
+        check_taps("traditional.blur_taps", t.blur_taps)?;
+        for (name, n) in [
+            ("pcss.blocker_samples", self.pcss.blocker_samples),
+            ("pcss.pcf_samples", self.pcss.pcf_samples),
+        ] {
+            if !(1..=64).contains(&n) {
+                return Err(PenumbraError::setting(
+                    name,
+                    format!("{n} is outside [1, 64]"),
+                ));
+            }
+        }
         Ok(())
+    }
+
+    /// The settings of `quality` for `method`: kernel sizes, tap counts and shadow-map size.
+    pub fn preset(method: ShadowMethod, quality: Quality) -> Self {
+        let mut s = ShadowSettings {
+            method,
+            ..Default::default()
+        };
+        let (resolution, kernel, taps, pcss) = match quality {
+            Quality::Low => (1024, PcfKernel::Pcf3x3, 7, 8),
+            Quality::Medium => (2048, PcfKernel::Pcf3x3, 11, 16),
+            Quality::High => (2048, PcfKernel::Pcf4x4, 15, 24),
+            Quality::Ultra => (4096, PcfKernel::Pcf5x5, 21, 32),
+        };
+        s.shadow_map.resolution = resolution;
+        s.penumbra.pcf_kernel = kernel;
+        s.penumbra.blur_taps = taps;
+        s.traditional.pcf_kernel = kernel;
+        s.traditional.blur_taps = taps;
+        s.pcss.blocker_samples = pcss;
+        s.pcss.pcf_samples = pcss;
+        s
+    }
+}
+
+fn check_range(name: &'static str, v: f32, lo: f32, hi: f32) -> Result<()> {
+    if (lo..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err(PenumbraError::setting(
+            name,
+            format!("{v} is outside [{lo}, {hi}]"),
+        ))
+    }
+}
+
+fn check_taps(name: &'static str, n: u32) -> Result<()> {
+    if (1..=31).contains(&n) && n % 2 == 1 {
+        Ok(())
+    } else {
+        Err(PenumbraError::setting(
+            name,
+            format!("{n} must be odd and in [1, 31]"),
+        ))
     }
 }
 

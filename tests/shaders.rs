@@ -54,6 +54,15 @@ fn passes_find_their_entry_points() {
             &["vs_opaque", "vs_masked", "fs_masked"][..],
         ),
         ("forward.wgsl", &["vs_main", "fs_main"][..]),
+        ("fattened_shadow_map.wgsl", &["vs_main"][..]),
+        (
+            "distance_map.wgsl",
+            &["vs_main", "fs_depth", "fs_distance"][..],
+        ),
+        ("pcf.wgsl", &["vs_fullscreen", "fs_main"][..]),
+        ("blur.wgsl", &["vs_fullscreen", "fs_main"][..]),
+        ("pcss.wgsl", &["vs_fullscreen", "fs_main"][..]),
+        ("composite.wgsl", &["vs_main", "fs_main"][..]),
     ] {
         let module = validate(&dir.join(file));
         for name in entry_points {

@@ -9,7 +9,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{POSITION, entry, layout, stream};
+use super::{POSITION, entry, stream, vertex_layout};
 use crate::gpu_scene::{GpuScene, SceneLayouts, vec4};
 use crate::light_space::LightView;
 use crate::scene::{Camera, Light};
@@ -26,6 +26,14 @@ struct FrameUniform {
     light_radiance: [f32; 4],
     ambient: [f32; 4],
 }
+
+/// The color behind the scene (linear RGB), shared by the lit passes.
+pub(crate) const BACKGROUND: wgpu::Color = wgpu::Color {
+    r: 0.55,
+    g: 0.62,
+    b: 0.72,
+    a: 1.0,
+};
 
 pub struct ForwardPass {
     color_format: wgpu::TextureFormat,
@@ -103,9 +111,9 @@ impl ForwardPass {
                 entry_point: Some("vs_main"),
                 compilation_options: Default::default(),
                 buffers: &[
-                    Some(layout(&POSITION)),
-                    Some(layout(&NORMAL)),
-                    Some(layout(&UV)),
+                    Some(vertex_layout(&POSITION)),
+                    Some(vertex_layout(&NORMAL)),
+                    Some(vertex_layout(&UV)),
                 ],
             },
             // Both sides are drawn: imported models are often open or single-sided.
@@ -180,6 +188,7 @@ impl ForwardPass {
 
     /// Recreates the camera depth buffer for a new target size (both sides >= 1).
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        let (width, height) = (width.max(1), height.max(1));
         if self.size != (width, height) {
             self.depth = depth_target(device, width, height);
             self.size = (width, height);
@@ -225,12 +234,7 @@ impl ForwardPass {
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r: 0.55,
-                        g: 0.62,
-                        b: 0.72,
-                        a: 1.0,
-                    }),
+                    load: wgpu::LoadOp::Clear(BACKGROUND),
                     store: wgpu::StoreOp::Store,
                 },
             })],
@@ -249,7 +253,7 @@ impl ForwardPass {
         pass.set_pipeline(&self.pipeline);
         let frame_group = match method {
             ShadowMethod::Hard => &self.hard_bind_group,
-            ShadowMethod::Hardware2x2 => &self.pcf_bind_group,
+            _ => &self.pcf_bind_group,
         };
         pass.set_bind_group(0, frame_group, &[]);
         for inst in &scene.instances {

@@ -8,7 +8,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{POSITION, entry, layout, stream};
+use super::{POSITION, entry, stream, vertex_layout};
 use crate::gpu_scene::{GpuScene, SceneLayouts};
 use crate::light_space::LightView;
 use crate::settings::ShadowMapSettings;
@@ -61,18 +61,7 @@ impl ShadowMapPass {
                 resource: light_buffer.as_entire_binding(),
             }],
         });
-        let format = settings.depth_format.texture_format();
-        let depth_stencil = wgpu::DepthStencilState {
-            format,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::LessEqual),
-            stencil: Default::default(),
-            bias: wgpu::DepthBiasState {
-                constant: settings.constant_bias,
-                slope_scale: settings.slope_bias,
-                clamp: 0.0,
-            },
-        };
+        let depth_stencil = depth_state(settings);
         let primitive = wgpu::PrimitiveState {
             cull_mode: settings.cull_mode.face(),
             ..Default::default()
@@ -90,7 +79,7 @@ impl ShadowMapPass {
                 module: &shader,
                 entry_point: Some("vs_opaque"),
                 compilation_options: Default::default(),
-                buffers: &[Some(layout(&POSITION))],
+                buffers: &[Some(vertex_layout(&POSITION))],
             },
             primitive,
             depth_stencil: Some(depth_stencil.clone()),
@@ -117,7 +106,7 @@ impl ShadowMapPass {
                 module: &shader,
                 entry_point: Some("vs_masked"),
                 compilation_options: Default::default(),
-                buffers: &[Some(layout(&POSITION)), Some(layout(&UV))],
+                buffers: &[Some(vertex_layout(&POSITION)), Some(vertex_layout(&UV))],
             },
             primitive,
             depth_stencil: Some(depth_stencil),
@@ -132,23 +121,7 @@ impl ShadowMapPass {
             cache: None,
         });
 
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("ShadowMapPass::shadow_map"),
-            size: wgpu::Extent3d {
-                width: settings.resolution,
-                height: settings.resolution,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
-        let view = texture.create_view(&Default::default());
+        let (texture, view) = light_depth_target(device, settings, "ShadowMapPass::shadow_map");
         Self {
             settings: *settings,
             texture,
@@ -188,21 +161,7 @@ impl ShadowMapPass {
                 view_proj: light.view_projection.to_cols_array_2d(),
             }),
         );
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("ShadowMapPass"),
-            color_attachments: &[],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &self.view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = begin_depth_pass(encoder, "ShadowMapPass", &self.view);
         pass.set_bind_group(0, &self.light_bind_group, &[]);
         for masked in [false, true] {
             pass.set_pipeline(if masked {
@@ -230,4 +189,68 @@ impl ShadowMapPass {
             }
         }
     }
+}
+
+/// Depth state of the passes that render from the light: write, less-equal, the configured bias.
+pub(super) fn depth_state(settings: &ShadowMapSettings) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: settings.depth_format.texture_format(),
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::LessEqual),
+        stencil: Default::default(),
+        bias: wgpu::DepthBiasState {
+            constant: settings.constant_bias,
+            slope_scale: settings.slope_bias,
+            clamp: 0.0,
+        },
+    }
+}
+
+/// A square depth texture of the shadow map's resolution and format, readable by shaders.
+pub(super) fn light_depth_target(
+    device: &wgpu::Device,
+    settings: &ShadowMapSettings,
+    label: &str,
+) -> (wgpu::Texture, wgpu::TextureView) {
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: settings.resolution,
+            height: settings.resolution,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: settings.depth_format.texture_format(),
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    (texture, view)
+}
+
+/// Begins a depth-only pass that clears `view` to the far plane.
+pub(super) fn begin_depth_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    view: &wgpu::TextureView,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
 }

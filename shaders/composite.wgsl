@@ -1,0 +1,110 @@
+// Composite pass: the lit scene from the camera. Direct light (Lambert, spot cone) times the
+// screen-space visibility, on top of the base color (texture x factor), plus ambient. Shadows
+// far from their occluder receive bounced light: with indirect weight k and distance d,
+// visibility' = mix(visibility, 1, k d / (d + h)), h = half the scene's radius.
+// Depth is tested against the prepass (equal geometry, `@invariant` positions).
+
+struct Frame {
+    view_proj: mat4x4<f32>,
+    inv_view_proj: mat4x4<f32>,
+    light_view_proj: mat4x4<f32>,
+    // xyz: eye; w: pixels per world unit at view distance 1
+    camera_position: vec4<f32>,
+    // x: near, y: far
+    camera_depth: vec4<f32>,
+    // xyz: direction the light travels; w: 0 directional, 1 spot
+    light_direction: vec4<f32>,
+    // xyz: spot position; w: cos(outer cone angle)
+    light_position: vec4<f32>,
+    // rgb: color x intensity; w: cos(inner cone angle)
+    light_radiance: vec4<f32>,
+    // rgb: ambient; w: indirect weight
+    ambient: vec4<f32>,
+    // x: near, y: far, z: 0 orthographic / 1 perspective, w: shadow-map resolution
+    light_depth: vec4<f32>,
+    // xy: orthographic extent; z: tan(half fov); w: light size term (2 tan(theta/2) or 2R)
+    light_frustum: vec4<f32>,
+    // x: fatten distance; y: 1 physical; z: indirect half distance; w: PCF width / penumbra width
+    penumbra: vec4<f32>,
+    // x: taps per side; y: base spacing (texels); z: spread or fixed spacing; w: 1 fixed
+    pcf: vec4<f32>,
+    // x: taps; y: spread (px per unit) or fixed step; z: sigma / penumbra width; w: 1 fixed
+    blur: vec4<f32>,
+    // x: rotate taps; y: mask early-out; z: depth-aware blur; w: PCSS blocker samples
+    flags: vec4<f32>,
+    // width, height, 1/width, 1/height
+    screen: vec4<f32>,
+    // x: PCSS PCF samples
+    pcss: vec4<f32>,
+}
+struct Instance {
+    model: mat4x4<f32>,
+    normal: mat4x4<f32>,
+    // x: 1 when the instance receives shadows
+    flags: vec4<f32>,
+}
+
+struct Material {
+    base_color: vec4<f32>,
+    // x: alpha cutoff (negative: opaque)
+    alpha: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var visibility: texture_2d<f32>;
+@group(0) @binding(2) var distance_map: texture_2d<f32>;
+@group(1) @binding(0) var<uniform> instance: Instance;
+@group(2) @binding(0) var<uniform> material: Material;
+@group(2) @binding(1) var base_color_texture: texture_2d<f32>;
+@group(2) @binding(2) var base_color_sampler: sampler;
+
+struct VsOut {
+    @builtin(position) @invariant clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+}
+
+@vertex
+fn vs_main(
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+) -> VsOut {
+    let world = instance.model * vec4<f32>(position, 1.0);
+    var out: VsOut;
+    out.clip = frame.view_proj * world;
+    out.world = world.xyz;
+    out.normal = (instance.normal * vec4<f32>(normal, 0.0)).xyz;
+    out.uv = uv;
+    return out;
+}
+
+@fragment
+fn fs_main(in: VsOut, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
+    let base = material.base_color * textureSample(base_color_texture, base_color_sampler, in.uv);
+    if material.alpha.x >= 0.0 && base.a < material.alpha.x {
+        discard;
+    }
+    var n = normalize(in.normal);
+    if !front_facing {
+        n = -n;
+    }
+    var to_light = -frame.light_direction.xyz;
+    var cone = 1.0;
+    if frame.light_direction.w > 0.5 {
+        to_light = normalize(frame.light_position.xyz - in.world);
+        cone = smoothstep(frame.light_position.w, frame.light_radiance.w, dot(-to_light, frame.light_direction.xyz));
+    }
+    let n_dot_l = max(dot(n, to_light), 0.0);
+    let pixel = vec2<i32>(in.clip.xy);
+    var v = 1.0;
+    if instance.flags.x > 0.5 {
+        v = textureLoad(visibility, pixel, 0).x;
+        let d = textureLoad(distance_map, pixel, 0).x;
+        let k = frame.ambient.w;
+        v = mix(v, 1.0, k * d / (d + frame.penumbra.z));
+    }
+    let light = frame.light_radiance.rgb * (n_dot_l * cone * v) + frame.ambient.rgb;
+    return vec4<f32>(base.rgb * light, 1.0);
+}

@@ -1,0 +1,182 @@
+//! Separable Gaussian blur of the visibility texture: one pass object, two draws (horizontal
+//! into a temporary texture, then vertical into the output) that differ by an axis uniform.
+//!
+//! Input: the frame uniform, the camera depth, the distance map and the visibility to blur.
+//! Output: an R16F blurred visibility. Gaussian weights are computed on the CPU
+//! ([`crate::frame`]); the step between taps is per pixel (distance-driven) or fixed.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::{
+    VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target,
+};
+use crate::frame::gaussian_weights;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct BlurUniform {
+    axis: [f32; 4],
+    weights: [[f32; 4]; 4],
+}
+
+pub struct BlurPass {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+    sampler: wgpu::Sampler,
+    axis_buffers: [wgpu::Buffer; 2],
+    axis_groups: [wgpu::BindGroup; 2],
+    temp: (wgpu::Texture, wgpu::TextureView),
+    output: (wgpu::Texture, wgpu::TextureView),
+    bind_groups: Option<[wgpu::BindGroup; 2]>,
+}
+
+impl BlurPass {
+    pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
+        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/blur.wgsl"));
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("BlurPass::layout"),
+            entries: &[
+                entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
+                entry::texture_2d(1, wgpu::TextureSampleType::Depth),
+                entry::texture_2d(2, wgpu::TextureSampleType::Float { filterable: false }),
+                entry::texture_2d(3, wgpu::TextureSampleType::Float { filterable: true }),
+                entry::sampler(4, wgpu::SamplerBindingType::Filtering),
+            ],
+        });
+        let axis_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("BlurPass::axis_layout"),
+            entries: &[entry::uniform(
+                0,
+                wgpu::ShaderStages::FRAGMENT,
+                size_of::<BlurUniform>(),
+                false,
+            )],
+        });
+        let pipeline = fullscreen_pipeline(
+            device,
+            "BlurPass::pipeline",
+            &shader,
+            &[Some(&layout), Some(&axis_layout)],
+            VISIBILITY_FORMAT,
+        );
+        let axis_buffers = ["BlurPass::horizontal", "BlurPass::vertical"].map(|label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size_of::<BlurUniform>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        });
+        let axis_groups = [0, 1].map(|i| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("BlurPass::axis"),
+                layout: &axis_layout,
+                entries: &entries(&[axis_buffers[i].as_entire_binding()]),
+            })
+        });
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("BlurPass::linear_sampler"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        Self {
+            layout,
+            pipeline,
+            sampler,
+            axis_buffers,
+            axis_groups,
+            temp: screen_target(device, "BlurPass::horizontal", 1, 1, VISIBILITY_FORMAT),
+            output: screen_target(
+                device,
+                "BlurPass::blurred_visibility",
+                1,
+                1,
+                VISIBILITY_FORMAT,
+            ),
+            bind_groups: None,
+        }
+    }
+
+    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.temp = screen_target(
+            device,
+            "BlurPass::horizontal",
+            width,
+            height,
+            VISIBILITY_FORMAT,
+        );
+        self.output = screen_target(
+            device,
+            "BlurPass::blurred_visibility",
+            width,
+            height,
+            VISIBILITY_FORMAT,
+        );
+    }
+
+    /// Points the pass at its inputs; `visibility` is the texture to blur.
+    pub fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        frame: &wgpu::Buffer,
+        camera_depth: &wgpu::TextureView,
+        distance_map: &wgpu::TextureView,
+        visibility: &wgpu::TextureView,
+    ) {
+        let group = |input: &wgpu::TextureView| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("BlurPass::bind_group"),
+                layout: &self.layout,
+                entries: &entries(&[
+                    frame.as_entire_binding(),
+                    wgpu::BindingResource::TextureView(camera_depth),
+                    wgpu::BindingResource::TextureView(distance_map),
+                    wgpu::BindingResource::TextureView(input),
+                    wgpu::BindingResource::Sampler(&self.sampler),
+                ]),
+            })
+        };
+        self.bind_groups = Some([group(visibility), group(&self.temp.1)]);
+    }
+
+    pub fn blurred(&self) -> &wgpu::TextureView {
+        &self.output.1
+    }
+
+    pub fn blurred_texture(&self) -> &wgpu::Texture {
+        &self.output.0
+    }
+
+    /// Records both directions for a blur of `taps` taps.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, queue: &wgpu::Queue, taps: u32) {
+        let Some(groups) = &self.bind_groups else {
+            return;
+        };
+        let weights = gaussian_weights(taps);
+        for (i, axis) in [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]]
+            .into_iter()
+            .enumerate()
+        {
+            queue.write_buffer(
+                &self.axis_buffers[i],
+                0,
+                bytemuck::bytes_of(&BlurUniform { axis, weights }),
+            );
+        }
+        draw_fullscreen(
+            encoder,
+            "BlurPass::horizontal",
+            &self.pipeline,
+            &[&groups[0], &self.axis_groups[0]],
+            &self.temp.1,
+        );
+        draw_fullscreen(
+            encoder,
+            "BlurPass::vertical",
+            &self.pipeline,
+            &[&groups[1], &self.axis_groups[1]],
+            &self.output.1,
+        );
+    }
+}

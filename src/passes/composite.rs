@@ -1,0 +1,155 @@
+//! Composite pass: the lit scene from the camera, its direct light multiplied by a screen-space
+//! visibility texture, lightened far from occluders by the indirect-light term.
+//!
+//! Input: every instance, the frame uniform, the (blurred) visibility, the distance map and the
+//! prepass's camera depth (tested, not written). Output: the lit color in the caller's target.
+
+use super::{POSITION, entries, entry, stream, vertex_layout};
+use crate::gpu_scene::{GpuScene, SceneLayouts};
+
+pub struct CompositePass {
+    color_format: wgpu::TextureFormat,
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+    bind_group: Option<wgpu::BindGroup>,
+}
+
+impl CompositePass {
+    pub fn new(
+        device: &wgpu::Device,
+        layouts: &SceneLayouts,
+        color_format: wgpu::TextureFormat,
+        frame_size: usize,
+    ) -> Self {
+        let shader =
+            device.create_shader_module(wgpu::include_wgsl!("../../shaders/composite.wgsl"));
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("CompositePass::layout"),
+            entries: &[
+                entry::uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT, frame_size, false),
+                entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
+                entry::texture_2d(2, wgpu::TextureSampleType::Float { filterable: false }),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("CompositePass::pipeline_layout"),
+            bind_group_layouts: &[
+                Some(&layout),
+                Some(&layouts.instance),
+                Some(&layouts.material),
+            ],
+            immediate_size: 0,
+        });
+        const NORMAL: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x3);
+        const UV: [wgpu::VertexAttribute; 1] = stream(2, wgpu::VertexFormat::Float32x2);
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("CompositePass::pipeline"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[
+                    Some(vertex_layout(&POSITION)),
+                    Some(vertex_layout(&NORMAL)),
+                    Some(vertex_layout(&UV)),
+                ],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: super::DistanceMapPass::DEPTH_FORMAT,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(color_format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        Self {
+            color_format,
+            layout,
+            pipeline,
+            bind_group: None,
+        }
+    }
+
+    pub fn color_format(&self) -> wgpu::TextureFormat {
+        self.color_format
+    }
+
+    pub fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        frame: &wgpu::Buffer,
+        visibility: &wgpu::TextureView,
+        distance_map: &wgpu::TextureView,
+    ) {
+        self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("CompositePass::bind_group"),
+            layout: &self.layout,
+            entries: &entries(&[
+                frame.as_entire_binding(),
+                wgpu::BindingResource::TextureView(visibility),
+                wgpu::BindingResource::TextureView(distance_map),
+            ]),
+        }));
+    }
+
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        camera_depth: &wgpu::TextureView,
+        target: &wgpu::TextureView,
+    ) {
+        let Some(bind_group) = &self.bind_group else {
+            return;
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("CompositePass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(super::forward::BACKGROUND),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: camera_depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        for inst in &scene.instances {
+            let mesh = &scene.meshes[inst.mesh];
+            if mesh.index_count == 0 {
+                continue;
+            }
+            pass.set_bind_group(1, &scene.instance_bind_group, &[inst.uniform_offset]);
+            pass.set_bind_group(2, &scene.materials[inst.material], &[]);
+            pass.set_vertex_buffer(0, mesh.positions.slice(..));
+            pass.set_vertex_buffer(1, mesh.normals.slice(..));
+            pass.set_vertex_buffer(2, mesh.uvs.slice(..));
+            pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..mesh.index_count, 0, 0..1);
+        }
+    }
+}

@@ -1,0 +1,108 @@
+//! PCF pass: screen-space visibility from N x N comparison taps on the real shadow map.
+//!
+//! Input: the frame uniform, the camera depth (world positions are reconstructed from it), the
+//! distance map (distance and mask; unused by the fixed-spacing baseline) and the shadow map.
+//! Output: an R16F visibility texture (1 lit, 0 shadowed). With the distance-map method the
+//! spacing grows with the distance and pixels outside the mask take no shadow-map tap at all;
+//! the baseline uses a fixed spacing everywhere. The fast mode runs this pass with one tap.
+
+use super::{
+    VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target,
+};
+
+pub struct PcfPass {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+    sampler: wgpu::Sampler,
+    output: (wgpu::Texture, wgpu::TextureView),
+    bind_group: Option<wgpu::BindGroup>,
+}
+
+impl PcfPass {
+    pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
+        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/pcf.wgsl"));
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("PcfPass::layout"),
+            entries: &[
+                entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
+                entry::texture_2d(1, wgpu::TextureSampleType::Depth),
+                entry::texture_2d(2, wgpu::TextureSampleType::Float { filterable: false }),
+                entry::texture_2d(3, wgpu::TextureSampleType::Depth),
+                entry::sampler(4, wgpu::SamplerBindingType::Comparison),
+            ],
+        });
+        let pipeline = fullscreen_pipeline(
+            device,
+            "PcfPass::pipeline",
+            &shader,
+            &[Some(&layout)],
+            VISIBILITY_FORMAT,
+        );
+        Self {
+            layout,
+            pipeline,
+            sampler: comparison_sampler(device, "PcfPass::comparison_sampler"),
+            output: screen_target(device, "PcfPass::visibility", 1, 1, VISIBILITY_FORMAT),
+            bind_group: None,
+        }
+    }
+
+    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.output = screen_target(
+            device,
+            "PcfPass::visibility",
+            width,
+            height,
+            VISIBILITY_FORMAT,
+        );
+    }
+
+    pub fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        frame: &wgpu::Buffer,
+        camera_depth: &wgpu::TextureView,
+        distance_map: &wgpu::TextureView,
+        shadow_map: &wgpu::TextureView,
+    ) {
+        self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("PcfPass::bind_group"),
+            layout: &self.layout,
+            entries: &entries(&[
+                frame.as_entire_binding(),
+                wgpu::BindingResource::TextureView(camera_depth),
+                wgpu::BindingResource::TextureView(distance_map),
+                wgpu::BindingResource::TextureView(shadow_map),
+                wgpu::BindingResource::Sampler(&self.sampler),
+            ]),
+        }));
+    }
+
+    /// The raw PCF visibility.
+    pub fn visibility(&self) -> &wgpu::TextureView {
+        &self.output.1
+    }
+
+    pub fn visibility_texture(&self) -> &wgpu::Texture {
+        &self.output.0
+    }
+
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
+        if let Some(group) = &self.bind_group {
+            draw_fullscreen(encoder, "PcfPass", &self.pipeline, &[group], &self.output.1);
+        }
+    }
+}
+
+/// A bilinear comparison sampler (each tap is a hardware 2x2 PCF), clamped at the map's edges.
+pub(super) fn comparison_sampler(device: &wgpu::Device, label: &str) -> wgpu::Sampler {
+    device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some(label),
+        address_mode_u: wgpu::AddressMode::ClampToEdge,
+        address_mode_v: wgpu::AddressMode::ClampToEdge,
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        compare: Some(wgpu::CompareFunction::LessEqual),
+        ..Default::default()
+    })
+}

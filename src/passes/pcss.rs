@@ -1,0 +1,96 @@
+//! PCSS pass (Fernando 2005): screen-space visibility from a blocker search and a PCF disk
+//! sized by the light.
+//!
+//! Input: the frame uniform, the camera depth and the shadow map. Output: an R16F visibility
+//! texture. Blocker and PCF tap counts come from [`crate::PcssSettings`].
+
+use super::pcf::comparison_sampler;
+use super::{
+    VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target,
+};
+
+pub struct PcssPass {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+    sampler: wgpu::Sampler,
+    output: (wgpu::Texture, wgpu::TextureView),
+    bind_group: Option<wgpu::BindGroup>,
+}
+
+impl PcssPass {
+    pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
+        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/pcss.wgsl"));
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("PcssPass::layout"),
+            entries: &[
+                entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
+                entry::texture_2d(1, wgpu::TextureSampleType::Depth),
+                entry::texture_2d(2, wgpu::TextureSampleType::Depth),
+                entry::sampler(3, wgpu::SamplerBindingType::Comparison),
+            ],
+        });
+        let pipeline = fullscreen_pipeline(
+            device,
+            "PcssPass::pipeline",
+            &shader,
+            &[Some(&layout)],
+            VISIBILITY_FORMAT,
+        );
+        Self {
+            layout,
+            pipeline,
+            sampler: comparison_sampler(device, "PcssPass::comparison_sampler"),
+            output: screen_target(device, "PcssPass::visibility", 1, 1, VISIBILITY_FORMAT),
+            bind_group: None,
+        }
+    }
+
+    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.output = screen_target(
+            device,
+            "PcssPass::visibility",
+            width,
+            height,
+            VISIBILITY_FORMAT,
+        );
+    }
+
+    pub fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        frame: &wgpu::Buffer,
+        camera_depth: &wgpu::TextureView,
+        shadow_map: &wgpu::TextureView,
+    ) {
+        self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("PcssPass::bind_group"),
+            layout: &self.layout,
+            entries: &entries(&[
+                frame.as_entire_binding(),
+                wgpu::BindingResource::TextureView(camera_depth),
+                wgpu::BindingResource::TextureView(shadow_map),
+                wgpu::BindingResource::Sampler(&self.sampler),
+            ]),
+        }));
+    }
+
+    pub fn visibility(&self) -> &wgpu::TextureView {
+        &self.output.1
+    }
+
+    pub fn visibility_texture(&self) -> &wgpu::Texture {
+        &self.output.0
+    }
+
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
+        if let Some(group) = &self.bind_group {
+            draw_fullscreen(
+                encoder,
+                "PcssPass",
+                &self.pipeline,
+                &[group],
+                &self.output.1,
+            );
+        }
+    }
+}
