@@ -9,6 +9,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use clap::Parser;
+use penumbra::debug::DebugView;
 use penumbra::{GpuScene, HeadlessGpu, Light, Quality, Renderer, ShadowMethod, ShadowSettings};
 
 #[derive(Parser)]
@@ -36,6 +37,10 @@ struct Args {
     /// Shadow map resolution in texels (power of two, 64..=8192).
     #[arg(long, default_value_t = 2048)]
     shadow_map: u32,
+    /// Write an intermediate texture instead of the final image: shadow-map, fattened-map,
+    /// distance, mask, pcf or blur (false color where it helps).
+    #[arg(long)]
+    debug_view: Option<String>,
     /// Output PNG.
     #[arg(long, default_value = "out.png")]
     out: PathBuf,
@@ -62,6 +67,12 @@ fn main() -> Result<()> {
     settings.shadow_map.resolution = args.shadow_map;
     settings.validate(None).context("--shadow-map")?;
 
+    let debug_view = args
+        .debug_view
+        .as_deref()
+        .map(DebugView::from_name)
+        .transpose()
+        .context("--debug-view")?;
     let mut scene = penumbra::load_scene(&args.scene)?;
     if let Some(size) = args.light_size {
         match &mut scene.light {
@@ -78,7 +89,11 @@ fn main() -> Result<()> {
     eprintln!("adapter: {}", gpu.describe());
     let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings)?;
     let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene)?;
-    let image = penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, width, height)?;
+    let mut image =
+        penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, width, height)?;
+    if let Some(view) = debug_view {
+        image = penumbra::debug::debug_image(&gpu.device, &gpu.queue, &renderer, view)?;
+    }
     image
         .save(&args.out)
         .with_context(|| format!("cannot write {}", args.out.display()))?;

@@ -121,11 +121,25 @@ fn receiver_plane_slope(p: vec3<f32>) -> vec2<f32> {
     return clamp(slope, vec2<f32>(-8.0), vec2<f32>(8.0));
 }
 
+
+// The receiver pushed off its surface along the geometric normal (from screen-space
+// derivatives, turned toward the camera) by `texels` shadow-map texels: normal-offset bias.
+fn normal_offset(world: vec3<f32>, texels: f32) -> vec3<f32> {
+    let n = cross(dpdx(world), dpdy(world));
+    let len = length(n);
+    if len < 1e-20 {
+        return world;
+    }
+    let facing = select(-1.0, 1.0, dot(n, frame.camera_position.xyz - world) >= 0.0);
+    let texel_world = shadow_map_world_size(world).x / frame.light_depth.w;
+    return world + n / len * facing * texel_world * texels;
+}
+
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
     let depth = textureLoad(camera_depth, pixel, 0);
-    let world = world_position(frag.xy, depth);
+    let world = normal_offset(world_position(frag.xy, depth), 1.5);
     let p = to_shadow_map(world);
     // Derivatives first, while every pixel of the quad is still running.
     let slope = receiver_plane_slope(p);

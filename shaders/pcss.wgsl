@@ -122,11 +122,25 @@ fn vogel(k: i32, n: i32, angle: f32) -> vec2<f32> {
     return r * vec2<f32>(cos(theta), sin(theta));
 }
 
+
+// The receiver pushed off its surface along the geometric normal (from screen-space
+// derivatives, turned toward the camera) by `texels` shadow-map texels: normal-offset bias.
+fn normal_offset(world: vec3<f32>, texels: f32) -> vec3<f32> {
+    let n = cross(dpdx(world), dpdy(world));
+    let len = length(n);
+    if len < 1e-20 {
+        return world;
+    }
+    let facing = select(-1.0, 1.0, dot(n, frame.camera_position.xyz - world) >= 0.0);
+    let texel_world = shadow_map_world_size(world).x / frame.light_depth.w;
+    return world + n / len * facing * texel_world * texels;
+}
+
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
     let depth = textureLoad(camera_depth, pixel, 0);
-    let world = world_position(frag.xy, depth);
+    let world = normal_offset(world_position(frag.xy, depth), 1.5);
     let p = to_shadow_map(world);
     let slope = receiver_plane_slope(p);
     if depth >= 1.0 || p.z > 1.0 {

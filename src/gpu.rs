@@ -72,12 +72,44 @@ pub fn read_texture_rgba8(
     queue: &wgpu::Queue,
     texture: &wgpu::Texture,
 ) -> Result<Vec<u8>> {
-    let (width, height) = (texture.width(), texture.height());
-    let bgra = matches!(
+    let mut pixels = read_texture_bytes(device, queue, texture)?;
+    if matches!(
         texture.format(),
         wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
-    );
-    let unpadded = width * 4;
+    ) {
+        for px in pixels.chunks_exact_mut(4) {
+            px.swap(0, 2);
+        }
+    }
+    Ok(pixels)
+}
+
+/// Copies mip level 0 of a 2D texture to the CPU, rows tightly packed, top row first. The
+/// texture needs `COPY_SRC` usage; depth formats are read as their depth aspect (Depth24Plus
+/// cannot be copied at all, and on the GL backend no depth texture can).
+pub fn read_texture_bytes(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+) -> Result<Vec<u8>> {
+    let gpu_error = |during: &str, reason: String| PenumbraError::Gpu {
+        during: during.into(),
+        reason,
+    };
+    let format = texture.format();
+    let aspect = if format.is_depth_stencil_format() {
+        wgpu::TextureAspect::DepthOnly
+    } else {
+        wgpu::TextureAspect::All
+    };
+    let bytes_per_pixel = format.block_copy_size(Some(aspect)).ok_or_else(|| {
+        gpu_error(
+            "reading back a texture",
+            format!("{format:?} cannot be copied to a buffer"),
+        )
+    })?;
+    let (width, height) = (texture.width(), texture.height());
+    let unpadded = width * bytes_per_pixel;
     let padded =
         unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
@@ -90,7 +122,12 @@ pub fn read_texture_rgba8(
         label: Some("penumbra::readback"),
     });
     encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect,
+        },
         wgpu::TexelCopyBufferInfo {
             buffer: &buffer,
             layout: wgpu::TexelCopyBufferLayout {
@@ -99,7 +136,11 @@ pub fn read_texture_rgba8(
                 rows_per_image: Some(height),
             },
         },
-        texture.size(),
+        wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
     );
     queue.submit([encoder.finish()]);
     let (sender, receiver) = std::sync::mpsc::channel();
@@ -111,39 +152,64 @@ pub fn read_texture_rgba8(
             submission_index: None,
             timeout: None,
         })
-        .map_err(|e| PenumbraError::Gpu {
-            during: "waiting for a read-back".into(),
-            reason: e.to_string(),
-        })?;
+        .map_err(|e| gpu_error("waiting for a read-back", e.to_string()))?;
     receiver
         .recv()
-        .map_err(|e| PenumbraError::Gpu {
-            during: "mapping a read-back buffer".into(),
-            reason: e.to_string(),
-        })?
-        .map_err(|e| PenumbraError::Gpu {
-            during: "mapping a read-back buffer".into(),
-            reason: e.to_string(),
-        })?;
+        .map_err(|e| gpu_error("mapping a read-back buffer", e.to_string()))?
+        .map_err(|e| gpu_error("mapping a read-back buffer", e.to_string()))?;
     let mut pixels = Vec::with_capacity((unpadded * height) as usize);
     {
         let view = buffer
             .get_mapped_range(..)
-            .map_err(|e| PenumbraError::Gpu {
-                during: "reading a mapped buffer".into(),
-                reason: e.to_string(),
-            })?;
+            .map_err(|e| gpu_error("reading a mapped buffer", e.to_string()))?;
         for row in view.chunks_exact(padded as usize) {
             pixels.extend_from_slice(&row[..unpadded as usize]);
         }
     }
     buffer.unmap();
-    if bgra {
-        for px in pixels.chunks_exact_mut(4) {
-            px.swap(0, 2);
-        }
-    }
     Ok(pixels)
+}
+
+/// Reads back a float or depth texture as f32 values, `channels` per pixel: Depth16Unorm,
+/// Depth32Float, R16Float, Rg16Float, Rgba16Float, R32Float, Rg32Float, Rgba32Float.
+pub fn read_texture_f32(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+) -> Result<(Vec<f32>, u32)> {
+    use wgpu::TextureFormat as F;
+    let bytes = read_texture_bytes(device, queue, texture)?;
+    let halves = |b: &[u8]| -> Vec<f32> {
+        b.chunks_exact(2)
+            .map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32())
+            .collect()
+    };
+    let floats = |b: &[u8]| -> Vec<f32> {
+        b.chunks_exact(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect()
+    };
+    Ok(match texture.format() {
+        F::Depth16Unorm => (
+            bytes
+                .chunks_exact(2)
+                .map(|c| u16::from_le_bytes([c[0], c[1]]) as f32 / 65535.0)
+                .collect(),
+            1,
+        ),
+        F::Depth32Float | F::R32Float => (floats(&bytes), 1),
+        F::Rg32Float => (floats(&bytes), 2),
+        F::Rgba32Float => (floats(&bytes), 4),
+        F::R16Float => (halves(&bytes), 1),
+        F::Rg16Float => (halves(&bytes), 2),
+        F::Rgba16Float => (halves(&bytes), 4),
+        other => {
+            return Err(PenumbraError::Gpu {
+                during: "reading back a texture as floats".into(),
+                reason: format!("{other:?} is not a float or depth format"),
+            });
+        }
+    })
 }
 
 /// Renders one frame of `scene` from `camera` into a new `width` x `height` sRGB texture and

@@ -25,6 +25,7 @@
 //! # Ok(()) }
 //! ```
 
+pub mod debug;
 pub mod error;
 mod frame;
 pub mod gpu;
@@ -38,7 +39,9 @@ pub mod settings;
 
 pub use error::{PenumbraError, Result};
 pub use frame::DerivedSpreads;
-pub use gpu::{HeadlessGpu, read_texture_rgba8, render_to_image};
+pub use gpu::{
+    HeadlessGpu, read_texture_bytes, read_texture_f32, read_texture_rgba8, render_to_image,
+};
 pub use gpu_scene::{GpuScene, SceneLayouts};
 pub use light_space::LightView;
 pub use loaders::load_model;

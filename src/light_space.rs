@@ -33,11 +33,28 @@ impl LightView {
     /// Fits the light around `bounds` (normally the union of casters and receivers).
     /// An empty box gives a unit box at the origin.
     pub fn fit(light: &Light, bounds: &Aabb) -> LightView {
-        let bounds = if bounds.is_empty() {
-            Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0))
-        } else {
-            *bounds
+        Self::fit_casters(light, bounds, bounds, 0.0)
+    }
+
+    /// Fits the light to where shadows can fall: for a directional light the orthographic
+    /// box's sides enclose the casters (a caster's shadow lies at its own light-space x, y),
+    /// widened by `margin` world units for penumbrae, and its depth range encloses casters and
+    /// receivers. A spot light covers its cone, its depth range the casters and receivers.
+    pub fn fit_casters(
+        light: &Light,
+        casters: &Aabb,
+        casters_and_receivers: &Aabb,
+        margin: f32,
+    ) -> LightView {
+        let empty_to_unit = |b: &Aabb| {
+            if b.is_empty() {
+                Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0))
+            } else {
+                *b
+            }
         };
+        let bounds = empty_to_unit(casters_and_receivers);
+        let casters = if casters.is_empty() { bounds } else { *casters };
         let direction = light.direction();
         let up = if direction.cross(Vec3::Y).length_squared() < 1e-6 {
             Vec3::Z
@@ -50,10 +67,13 @@ impl LightView {
                 let eye = bounds.center() - direction * radius * 2.0;
                 let view = glam::camera::rh::view::look_to_mat4(eye, direction, up);
                 let local = bounds.transformed(&view);
+                let sides = casters.transformed(&view);
                 // Small margins so geometry on the boundary is not clipped.
-                let pad_xy = (local.size().truncate() * 0.01).max(glam::Vec2::splat(radius * 1e-4));
+                let margin = glam::Vec2::splat(margin.max(0.0));
+                let pad_xy =
+                    (sides.size().truncate() * 0.01).max(glam::Vec2::splat(radius * 1e-4)) + margin;
                 let pad_z = (local.size().z * 0.01).max(radius * 1e-4);
-                let (min, max) = (local.min.truncate() - pad_xy, local.max.truncate() + pad_xy);
+                let (min, max) = (sides.min.truncate() - pad_xy, sides.max.truncate() + pad_xy);
                 // View space looks down -Z: depth along the light is -z.
                 let near = -local.max.z - pad_z;
                 let far = -local.min.z + pad_z;
@@ -105,6 +125,29 @@ mod tests {
         let c = *vp * p.extend(1.0);
         let n = c.truncate() / c.w;
         n.x.abs() <= 1.0 && n.y.abs() <= 1.0 && (0.0..=1.0).contains(&n.z)
+    }
+
+    #[test]
+    fn caster_fit_covers_casters_and_receiver_depths() {
+        let casters = Aabb::new(Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 2.0, 1.0));
+        let all = Aabb::new(Vec3::new(-9.0, 0.0, -9.0), Vec3::new(9.0, 2.0, 9.0));
+        let light = Light::Directional(DirectionalLight {
+            direction: Vec3::new(0.5, -1.0, 0.2),
+            angular_diameter_deg: 1.0,
+            color: Vec3::ONE,
+            intensity: 1.0,
+        });
+        let tight = LightView::fit_casters(&light, &casters, &all, 0.5);
+        let loose = LightView::fit(&light, &all);
+        assert!(tight.extent.max_element() < loose.extent.max_element() * 0.4);
+        for c in casters.corners() {
+            assert!(inside(&tight.view_projection, c));
+        }
+        // Every receiver depth is inside [0, 1], even outside the sides.
+        for c in all.corners() {
+            let clip = tight.view_projection * c.extend(1.0);
+            assert!((0.0..=1.0).contains(&clip.z), "{c}");
+        }
     }
 
     #[test]

@@ -391,8 +391,16 @@ impl Renderer {
         }
         let light = *scene.light();
         let plan = PassPlan::new(&self.settings, &light);
-        let light_view = LightView::fit(&light, &scene.shadow_bounds());
-        let spreads = self.spreads(&light, &light_view, scene);
+        // Fit once to find the depth range (and so the widest penumbra), then fit the sides
+        // to the casters widened by that penumbra.
+        let loose = LightView::fit(&light, &scene.shadow_bounds());
+        let spreads = self.spreads(&light, &loose, scene);
+        let light_view = LightView::fit_casters(
+            &light,
+            &scene.caster_bounds(),
+            &scene.shadow_bounds(),
+            spreads.fatten_distance * 2.0,
+        );
         queue.write_buffer(
             &self.frame_buffer,
             0,

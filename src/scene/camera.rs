@@ -74,7 +74,13 @@ impl Camera {
         let distance = (bounds.center() - self.eye).length();
         let radius = bounds.radius().max(1e-6);
         self.far = (distance + radius) * 1.05;
-        self.near = (distance - radius).max(self.far * 1e-4).max(1e-6);
+        // The nearest point of the box (not of its bounding sphere, which may hold the eye
+        // even when the box does not): a near plane as far out as possible keeps depth precise.
+        let to_box = (bounds.min - self.eye)
+            .max(self.eye - bounds.max)
+            .max(Vec3::ZERO)
+            .length();
+        self.near = (to_box * 0.9).max(self.far * 1e-3).max(1e-6);
         if self.near >= self.far {
             self.near = self.far * 1e-3;
         }

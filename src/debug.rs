@@ -1,0 +1,156 @@
+//! Debug views: an intermediate texture of the last frame read back and shown in false color.
+
+use crate::error::{PenumbraError, Result};
+use crate::gpu::read_texture_f32;
+use crate::renderer::{DebugTexture, Renderer};
+
+/// What a debug view shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DebugView {
+    /// The shadow map's depth, gray (near dark, far light).
+    ShadowMap,
+    /// The fattened map's depth, gray.
+    FattenedMap,
+    /// Distance to the fattened occluder in false color (blue near, red far; outside the mask dark gray).
+    Distance,
+    /// The mask: white where a shadow can fall.
+    Mask,
+    /// Raw PCF (or PCSS) visibility, gray.
+    Pcf,
+    /// Blurred visibility, gray.
+    Blur,
+}
+
+impl DebugView {
+    pub const ALL: [DebugView; 6] = [
+        DebugView::ShadowMap,
+        DebugView::FattenedMap,
+        DebugView::Distance,
+        DebugView::Mask,
+        DebugView::Pcf,
+        DebugView::Blur,
+    ];
+
+    /// Command-line names: shadow-map, fattened-map, distance, mask, pcf, blur.
+    pub fn name(self) -> &'static str {
+        match self {
+            DebugView::ShadowMap => "shadow-map",
+            DebugView::FattenedMap => "fattened-map",
+            DebugView::Distance => "distance",
+            DebugView::Mask => "mask",
+            DebugView::Pcf => "pcf",
+            DebugView::Blur => "blur",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|v| v.name() == name)
+            .ok_or_else(|| {
+                let names: Vec<_> = Self::ALL.iter().map(|v| v.name()).collect();
+                PenumbraError::setting(
+                    "debug_view",
+                    format!(
+                        "unknown debug view `{name}`; choose one of {}",
+                        names.join(", ")
+                    ),
+                )
+            })
+    }
+
+    fn texture(self) -> DebugTexture {
+        match self {
+            DebugView::ShadowMap => DebugTexture::ShadowMap,
+            DebugView::FattenedMap => DebugTexture::FattenedMap,
+            DebugView::Distance | DebugView::Mask => DebugTexture::DistanceMap,
+            DebugView::Pcf => DebugTexture::Visibility,
+            DebugView::Blur => DebugTexture::BlurredVisibility,
+        }
+    }
+}
+
+/// A perceptually ordered blue-cyan-green-yellow-red ramp for t in [0, 1].
+fn false_color(t: f32) -> [u8; 3] {
+    let stops = [
+        [0.19, 0.07, 0.55],
+        [0.12, 0.55, 0.90],
+        [0.20, 0.85, 0.45],
+        [0.95, 0.85, 0.15],
+        [0.85, 0.15, 0.10],
+    ];
+    let x = t.clamp(0.0, 1.0) * (stops.len() - 1) as f32;
+    let i = (x as usize).min(stops.len() - 2);
+    let f = x - i as f32;
+    let c = |k: usize| ((stops[i][k] * (1.0 - f) + stops[i + 1][k] * f) * 255.0) as u8;
+    [c(0), c(1), c(2)]
+}
+
+/// Reads `view` of the renderer's last frame back and turns it into an image. Errors when the
+/// current method has no such texture (for example the distance map of `traditional`).
+pub fn debug_image(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    renderer: &Renderer,
+    view: DebugView,
+) -> Result<image::RgbaImage> {
+    let texture = renderer.debug_texture(view.texture()).ok_or_else(|| {
+        PenumbraError::setting(
+            "debug_view",
+            format!(
+                "method `{}` has no {} texture",
+                renderer.settings().method.name(),
+                view.name()
+            ),
+        )
+    })?;
+    let (values, channels) = read_texture_f32(device, queue, texture)?;
+    let (w, h) = (texture.width(), texture.height());
+    let pixel = |i: usize, k: usize| values[i * channels as usize + k];
+    let n = (w * h) as usize;
+    let mut img = image::RgbaImage::new(w, h);
+    match view {
+        DebugView::ShadowMap | DebugView::FattenedMap => {
+            let (lo, hi) = (0..n)
+                .map(|i| pixel(i, 0))
+                .filter(|d| *d < 1.0)
+                .fold((f32::MAX, f32::MIN), |(lo, hi), d| (lo.min(d), hi.max(d)));
+            for (i, p) in img.pixels_mut().enumerate() {
+                let d = pixel(i, 0);
+                let g = if d >= 1.0 || hi <= lo {
+                    255
+                } else {
+                    (((d - lo) / (hi - lo)) * 230.0) as u8
+                };
+                *p = image::Rgba([g, g, g, 255]);
+            }
+        }
+        DebugView::Distance => {
+            let max = (0..n)
+                .map(|i| pixel(i, 0))
+                .fold(0.0f32, f32::max)
+                .max(1e-20);
+            for (i, p) in img.pixels_mut().enumerate() {
+                let [r, g, b] = if pixel(i, 1) > 0.5 {
+                    false_color(pixel(i, 0) / max)
+                } else {
+                    [40, 40, 40]
+                };
+                *p = image::Rgba([r, g, b, 255]);
+            }
+        }
+        DebugView::Mask => {
+            for (i, p) in img.pixels_mut().enumerate() {
+                let g = if pixel(i, 1) > 0.5 { 255 } else { 0 };
+                *p = image::Rgba([g, g, g, 255]);
+            }
+        }
+        DebugView::Pcf | DebugView::Blur => {
+            for (i, p) in img.pixels_mut().enumerate() {
+                let g = (pixel(i, 0).clamp(0.0, 1.0) * 255.0) as u8;
+                *p = image::Rgba([g, g, g, 255]);
+            }
+        }
+    }
+    Ok(img)
+}
