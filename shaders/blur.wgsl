@@ -149,11 +149,15 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         for (var s = -1; s <= 1; s += 2) {
             let tap_uv = uv + direction * f32(k * s);
             var weight = w;
+            let tap_pixel = clamp(vec2<i32>(tap_uv * frame.screen.xy), vec2<i32>(0), vec2<i32>(frame.screen.xy) - 1);
             if frame.flags.z > 0.5 {
-                let tap_pixel = clamp(vec2<i32>(tap_uv * frame.screen.xy), vec2<i32>(0), vec2<i32>(frame.screen.xy) - 1);
                 let tap_z = view_depth(textureLoad(camera_depth, tap_pixel, 0));
                 let relative = (tap_z - z) / (z * 0.02);
                 weight *= exp(-relative * relative);
+            }
+            // Surfaces that receive no shadow are not blurred into those that do.
+            if frame.blur.w < 0.5 && textureLoad(distance_map, tap_pixel, 0).y < -0.5 {
+                weight = 0.0;
             }
             sum += textureSampleLevel(visibility, linear_sampler, tap_uv, 0.0).x * weight;
             total += weight;

@@ -1,8 +1,7 @@
 // Distance map pass (and camera depth prepass). Draws every instance from the camera into the
 // camera depth buffer. The `fs_distance` variant also writes, for each receiver pixel, the
 // distance along the light from the fattened occluder to the receiver (world units, >= 0) and
-// a mask that is 1 inside the fattened shadow; non-receivers and pixels outside the fattened
-// shadow get (0, 0). `fs_depth` only discards alpha-masked fragments (depth prepass for the
+// a mask: 1 inside the fattened shadow, 0 outside it, -1 on non-receivers (distance 0). `fs_depth` only discards alpha-masked fragments (depth prepass for the
 // other screen-space methods).
 
 struct Frame {
@@ -125,8 +124,9 @@ fn fs_depth(in: VsOut) {
 @fragment
 fn fs_distance(in: VsOut) -> @location(0) vec4<f32> {
     alpha_test(in.uv);
+    // Non-receivers are marked -1 so the blur can leave them out.
     if instance.flags.x < 0.5 {
-        return vec4<f32>(0.0);
+        return vec4<f32>(0.0, -1.0, 0.0, 0.0);
     }
     let p = to_shadow_map(in.world);
     let size = vec2<i32>(textureDimensions(fattened_map));

@@ -5,7 +5,7 @@
 // chosen by the comparison sampler bound with it: nearest filtering gives a hard one-tap test,
 // linear filtering the hardware's 2x2 percentage-closer filter.
 
-struct Frame {
+struct ForwardFrame {
     view_proj: mat4x4<f32>,
     light_view_proj: mat4x4<f32>,
     camera_position: vec4<f32>,
@@ -31,7 +31,7 @@ struct Material {
     alpha: vec4<f32>,
 }
 
-@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(0) var<uniform> frame: ForwardFrame;
 @group(0) @binding(1) var shadow_map: texture_depth_2d;
 @group(0) @binding(2) var shadow_sampler: sampler_comparison;
 @group(1) @binding(0) var<uniform> instance: Instance;

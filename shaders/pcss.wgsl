@@ -104,16 +104,6 @@ fn pixel_noise(pixel: vec2<f32>) -> f32 {
     return fract(52.9829189 * fract(dot(pixel, vec2<f32>(0.06711056, 0.00583715))));
 }
 
-fn receiver_plane_slope(p: vec3<f32>) -> vec2<f32> {
-    let dx = dpdx(p);
-    let dy = dpdy(p);
-    let det = dx.x * dy.y - dx.y * dy.x;
-    if abs(det) < 1e-20 {
-        return vec2<f32>(0.0);
-    }
-    let slope = vec2<f32>(dy.y * dx.z - dx.y * dy.z, dx.x * dy.z - dy.x * dx.z) / det;
-    return clamp(slope, vec2<f32>(-8.0), vec2<f32>(8.0));
-}
 
 // Point k of n on a Vogel (golden-angle) disk of radius 1, rotated by `angle`.
 fn vogel(k: i32, n: i32, angle: f32) -> vec2<f32> {
@@ -123,27 +113,70 @@ fn vogel(k: i32, n: i32, angle: f32) -> vec2<f32> {
 }
 
 
-// The receiver pushed off its surface along the geometric normal (from screen-space
-// derivatives, turned toward the camera) by `texels` shadow-map texels: normal-offset bias.
-fn normal_offset(world: vec3<f32>, texels: f32) -> vec3<f32> {
-    let n = cross(dpdx(world), dpdy(world));
-    let len = length(n);
-    if len < 1e-20 {
-        return world;
+
+struct Receiver {
+    // World position pushed off the surface along its normal (normal-offset bias).
+    world: vec3<f32>,
+    // Shadow-map position of `world`: uv and depth.
+    p: vec3<f32>,
+    // Light-space depth change per unit of shadow-map uv across the receiver's plane.
+    slope: vec2<f32>,
+}
+
+// The difference to the neighbor pixel along `axis` on the side whose depth is closer, so a
+// pixel next to a silhouette never mixes two surfaces.
+fn neighbor_delta(pixel: vec2<i32>, world: vec3<f32>, depth: f32, axis: vec2<i32>) -> vec3<f32> {
+    let size = vec2<i32>(frame.screen.xy);
+    let a = clamp(pixel + axis, vec2<i32>(0), size - 1);
+    let b = clamp(pixel - axis, vec2<i32>(0), size - 1);
+    let depth_a = textureLoad(camera_depth, a, 0);
+    let depth_b = textureLoad(camera_depth, b, 0);
+    if abs(depth_a - depth) <= abs(depth_b - depth) {
+        return world_position(vec2<f32>(a) + 0.5, depth_a) - world;
     }
-    let facing = select(-1.0, 1.0, dot(n, frame.camera_position.xyz - world) >= 0.0);
-    let texel_world = shadow_map_world_size(world).x / frame.light_depth.w;
-    return world + n / len * facing * texel_world * texels;
+    return world - world_position(vec2<f32>(b) + 0.5, depth_b);
+}
+
+// The receiver at `pixel`: its plane from neighbor pixels, pushed `texels` shadow-map texels
+// along its normal (turned toward the camera), and the plane's slope in shadow-map space for
+// receiver-plane depth bias.
+fn receiver(pixel: vec2<i32>, depth: f32, texels: f32) -> Receiver {
+    let center = world_position(vec2<f32>(pixel) + 0.5, depth);
+    let dx = neighbor_delta(pixel, center, depth, vec2<i32>(1, 0));
+    let dy = neighbor_delta(pixel, center, depth, vec2<i32>(0, 1));
+    var out: Receiver;
+    out.world = center;
+    let n = cross(dx, dy);
+    let len = length(n);
+    if len > 1e-30 {
+        let facing = select(-1.0, 1.0, dot(n, frame.camera_position.xyz - center) >= 0.0);
+        let texel_world = shadow_map_world_size(center).x / frame.light_depth.w;
+        out.world = center + n / len * facing * texel_world * texels;
+    }
+    out.p = to_shadow_map(out.world);
+    let px = to_shadow_map(out.world + dx) - out.p;
+    let py = to_shadow_map(out.world + dy) - out.p;
+    let det = px.x * py.y - px.y * py.x;
+    out.slope = vec2<f32>(0.0);
+    if abs(det) > 1e-30 {
+        let slope = vec2<f32>(py.y * px.z - px.y * py.z, px.x * py.z - py.x * px.z) / det;
+        out.slope = clamp(slope, vec2<f32>(-8.0), vec2<f32>(8.0));
+    }
+    return out;
 }
 
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
     let depth = textureLoad(camera_depth, pixel, 0);
-    let world = normal_offset(world_position(frag.xy, depth), 1.5);
-    let p = to_shadow_map(world);
-    let slope = receiver_plane_slope(p);
-    if depth >= 1.0 || p.z > 1.0 {
+    if depth >= 1.0 {
+        return vec4<f32>(1.0);
+    }
+    let r = receiver(pixel, depth, 1.5);
+    let world = r.world;
+    let p = r.p;
+    let slope = r.slope;
+    if p.z > 1.0 {
         return vec4<f32>(1.0);
     }
     let world_size = shadow_map_world_size(world).x;

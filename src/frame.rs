@@ -226,3 +226,42 @@ pub(crate) fn gaussian_weights(taps: u32) -> [[f32; 4]; 4] {
     }
     w
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every shader that declares `struct Frame` declares it with the Rust struct's size.
+    #[test]
+    fn wgsl_frame_structs_match_the_rust_layout() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+        let mut checked = 0;
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            let source = std::fs::read_to_string(&path).unwrap();
+            let module = naga::front::wgsl::parse_str(&source).unwrap();
+            let mut layouter = naga::proc::Layouter::default();
+            layouter.update(module.to_ctx()).unwrap();
+            for (handle, ty) in module.types.iter() {
+                if ty.name.as_deref() == Some("Frame") {
+                    assert_eq!(
+                        layouter[handle].size as usize,
+                        size_of::<FrameUniform>(),
+                        "{}: struct Frame size differs from FrameUniform",
+                        path.display()
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked >= 5, "only {checked} shaders declare Frame");
+    }
+
+    #[test]
+    fn gaussian_weights_fall_off() {
+        let w = gaussian_weights(11);
+        assert_eq!(w[0][0], 1.0);
+        assert!(w[0][1] < 1.0 && w[1][1] < w[0][1] && w[1][1] > 0.0);
+        assert_eq!(w[1][2], 0.0, "taps beyond the radius are zero");
+    }
+}

@@ -260,6 +260,20 @@ impl Renderer {
         }
     }
 
+    /// The visibility texture the last frame composited (blurred if the method blurs), or
+    /// `None` for the methods that shade in one forward pass.
+    pub fn composited_visibility(&self) -> Option<&wgpu::Texture> {
+        let plan = self.last_report.as_ref()?.plan;
+        if !plan.composite {
+            return None;
+        }
+        if plan.blur {
+            self.debug_texture(DebugTexture::BlurredVisibility)
+        } else {
+            self.debug_texture(DebugTexture::Visibility)
+        }
+    }
+
     /// The depth shadow map.
     pub fn shadow_map(&self) -> &wgpu::TextureView {
         self.shadow_map.view()

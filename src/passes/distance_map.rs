@@ -4,9 +4,9 @@
 //! Output: the camera depth buffer (read by the screen-space passes and tested by the
 //! composite) and, in the distance variant, an RG16F texture: R = distance along the light from
 //! the fattened occluder to the receiver (world units, >= 0), G = mask (1 inside the fattened
-//! shadow, 0 outside or on non-receivers).
+//! shadow, 0 outside it, -1 on surfaces that receive no shadow).
 //!
-//! RG16F was chosen by a precision test (`tests/intermediates.rs`): distances from 1e-4 to 1e4
+//! RG16F was chosen by a precision test (this module's tests): distances from 1e-4 to 1e4
 //! come back with a relative error below 1e-3, far below what a blur or kernel width can show,
 //! at half the bandwidth of RG32F (which is also not filterable everywhere).
 
@@ -228,4 +228,26 @@ fn depth_target(
     });
     let view = texture.create_view(&Default::default());
     (texture, view)
+}
+
+#[cfg(test)]
+mod tests {
+    /// The distance map's format keeps distances from 1e-4 to 1e4 scene units to a relative
+    /// error below 1e-3 (half floats round to 11 significant bits).
+    #[test]
+    fn rg16float_holds_distances_from_1e_minus_4_to_1e4() {
+        assert_eq!(
+            super::DistanceMapPass::DISTANCE_FORMAT,
+            wgpu::TextureFormat::Rg16Float
+        );
+        let mut worst: f32 = 0.0;
+        for i in 0..=800 {
+            let d = 10f32.powf(-4.0 + i as f32 * 0.01);
+            let stored = half::f16::from_f32(d).to_f32();
+            worst = worst.max((stored - d).abs() / d);
+        }
+        assert!(worst < 1e-3, "worst relative error {worst}");
+        // 1e5 would not fit: the format's largest finite value is 65504.
+        assert!(half::f16::from_f32(1e5).to_f32().is_infinite());
+    }
 }

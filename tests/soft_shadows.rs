@@ -1,0 +1,510 @@
+//! The distance-map method and the methods beside it: contact hardening, penumbra width against
+//! the light's size, the conservative mask, numerical stability, the fattened map, pass
+//! planning and shadow-map reuse.
+
+mod common;
+
+use glam::{Mat4, Quat, Vec3};
+use penumbra::{
+    Camera, DebugTexture, DirectionalLight, GpuScene, HeadlessGpu, Light, Material, Renderer,
+    Scene, ShadowMethod, ShadowSettings, SpreadMode, load_scene, scene::primitives,
+};
+
+fn settings(method: ShadowMethod) -> ShadowSettings {
+    ShadowSettings {
+        method,
+        ..Default::default()
+    }
+}
+
+fn sun(direction: Vec3, degrees: f32) -> Light {
+    Light::Directional(DirectionalLight {
+        direction,
+        angular_diameter_deg: degrees,
+        color: Vec3::ONE,
+        intensity: 1.0,
+    })
+}
+
+/// Renders one frame and keeps the renderer so its intermediate textures can be read.
+fn render_frame(
+    gpu: &HeadlessGpu,
+    scene: &Scene,
+    camera: &Camera,
+    settings: ShadowSettings,
+    (w, h): (u32, u32),
+) -> (image::RgbaImage, Renderer) {
+    let mut renderer =
+        Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), scene).unwrap();
+    let image = penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, camera, w, h).unwrap();
+    (image, renderer)
+}
+
+fn read(gpu: &HeadlessGpu, texture: &wgpu::Texture) -> (Vec<f32>, u32) {
+    penumbra::read_texture_f32(&gpu.device, &gpu.queue, texture).unwrap()
+}
+
+/// A floor with a long bar lying tilted above it: touching the floor at x = -2, 1.5 units up
+/// at x = +2, 0.6 wide (|z| < 0.3). The sun shines down and toward +z (0.8 units sideways per
+/// unit of drop), so the bar's +z shadow edge lies at z = 0.3 + 0.8 h(x), beside the bar, and
+/// the distance from bar to floor grows along it. The camera looks straight down.
+const SIDEWAYS: f32 = 0.8;
+
+/// Height of the tilted bar's lower face above the floor at `x`.
+fn bar_height(x: f32) -> f32 {
+    1.5 * (x + 2.0) / 4.0
+}
+
+fn tilted_bar_scene(light_degrees: f32) -> (Scene, Camera) {
+    let mut scene = Scene {
+        light: sun(Vec3::new(0.0, -1.0, SIDEWAYS), light_degrees),
+        ..Default::default()
+    };
+    let floor_material = scene.add_material(Material::colored("floor", [0.8, 0.8, 0.8]));
+    let bar_material = scene.add_material(Material::colored("bar", [0.3, 0.5, 0.8]));
+    let floor = scene.add_mesh(primitives::plane(12.0, 1.0));
+    scene
+        .add_instance(floor, floor_material, Mat4::IDENTITY)
+        .caster = false;
+    let length = (4.0f32 * 4.0 + 1.5 * 1.5).sqrt();
+    let bar = scene.add_mesh(primitives::cuboid(Vec3::new(length, 0.05, 0.6)));
+    let tilt = Quat::from_rotation_z((1.5f32 / 4.0).atan());
+    // The bar's lower face touches the floor at x = -2.
+    let transform = Mat4::from_rotation_translation(tilt, Vec3::new(0.0, 0.75 + 0.03, 0.0));
+    scene.add_instance(bar, bar_material, transform).receiver = false;
+    let camera = Camera {
+        eye: Vec3::new(0.0, 12.0, 0.0),
+        target: Vec3::ZERO,
+        up: Vec3::NEG_Z,
+        fov_y_deg: 30.0,
+        near: 5.0,
+        far: 20.0,
+    };
+    (scene, camera)
+}
+
+/// 10%-90% width (world units, along z on the floor) of the bar's +z shadow edge at `x`,
+/// from the visibility the frame composited. Starts beside the bar inside the shadow and must
+/// end in full light.
+fn edge_width(what: &str, visibility: &[f32], camera: &Camera, (w, h): (u32, u32), x: f32) -> f32 {
+    let sample = |z: f32| {
+        let (px, py) = common::project(camera, w, h, Vec3::new(x, 0.0, z)).expect("on screen");
+        visibility[(py * w + px) as usize]
+    };
+    let edge = 0.3 + SIDEWAYS * bar_height(x);
+    // Halfway between the bar's edge and the shadow's edge, or 0.3 inside the shadow.
+    let start = (edge - 0.3).max((0.3 + edge) / 2.0);
+    let zs: Vec<f32> = (0..=800).map(|i| start + i as f32 * 0.001).collect();
+    assert!(
+        sample(start) < 0.1,
+        "{what}, x = {x}: z = {start} should be in shadow, visibility {}",
+        sample(start)
+    );
+    assert!(
+        sample(*zs.last().unwrap()) > 0.9,
+        "{what}, x = {x}: the far side should be lit"
+    );
+    let first_above = |level: f32| zs.iter().copied().find(|&z| sample(z) >= level).unwrap();
+    let width = first_above(0.9) - first_above(0.1);
+    assert!(width > 0.0, "{what}, x = {x}: no penumbra at all");
+    width
+}
+
+fn bar_edge_widths(gpu: &HeadlessGpu, method: ShadowMethod, degrees: f32) -> (f32, f32) {
+    let (scene, camera) = tilted_bar_scene(degrees);
+    let size = (900, 900);
+    let (image, renderer) = render_frame(gpu, &scene, &camera, settings(method), size);
+    if std::env::var_os("PENUMBRA_SAVE_RENDERS").is_some() {
+        image
+            .save(common::output_dir().join(format!("bar_{}_{degrees}.png", method.name())))
+            .unwrap();
+    }
+    let (visibility, channels) = read(
+        gpu,
+        renderer
+            .composited_visibility()
+            .expect("screen-space method"),
+    );
+    assert_eq!(channels, 1);
+    let what = format!("{} at {degrees} degrees", method.name());
+    let widths = (
+        edge_width(&what, &visibility, &camera, size, -1.2),
+        edge_width(&what, &visibility, &camera, size, 1.6),
+    );
+    eprintln!(
+        "{what}: 10-90% penumbra {:.4} at the contact end, {:.4} at the far end",
+        widths.0, widths.1
+    );
+    widths
+}
+
+#[test]
+fn penumbrae_harden_at_contact_with_ours_and_pcss_but_not_traditional() {
+    let gpu = common::gpu();
+    for method in [
+        ShadowMethod::Ours,
+        ShadowMethod::Pcss,
+        ShadowMethod::OursFast,
+    ] {
+        let (near, far) = bar_edge_widths(&gpu, method, 6.0);
+        assert!(
+            far >= 2.0 * near,
+            "{}: far-end penumbra {far:.4} should be at least twice the contact end's {near:.4}",
+            method.name()
+        );
+    }
+    let (near, far) = bar_edge_widths(&gpu, ShadowMethod::Traditional, 6.0);
+    assert!(
+        (far / near - 1.0).abs() <= 0.25,
+        "traditional: penumbra should be about constant, got {near:.4} near and {far:.4} far"
+    );
+}
+
+#[test]
+fn penumbra_width_follows_the_light_size() {
+    let gpu = common::gpu();
+    let (_, far_small) = bar_edge_widths(&gpu, ShadowMethod::Ours, 4.0);
+    let (_, far_large) = bar_edge_widths(&gpu, ShadowMethod::Ours, 8.0);
+    let ratio = far_large / far_small;
+    assert!(
+        (ratio - 2.0).abs() <= 0.6,
+        "doubling the light doubled the far penumbra by {ratio:.3} ({far_small:.4} -> {far_large:.4})"
+    );
+    // And it matches the physics: 10%-90% of a disk light's edge is about 0.69 of the full
+    // width 2 d tan(theta / 2), d measured along the light; on the floor it stretches by
+    // 1 / cos(incidence).
+    let cos_incidence = 1.0 / (1.0 + SIDEWAYS * SIDEWAYS).sqrt();
+    let d = bar_height(1.6) / cos_incidence;
+    let expected = 0.69 * 2.0 * d * (8.0f32.to_radians() / 2.0).tan() / cos_incidence;
+    assert!(
+        (far_large / expected - 1.0).abs() < 0.5,
+        "far penumbra {far_large:.4} vs the disk light's {expected:.4}"
+    );
+}
+
+#[test]
+fn light_size_zero_is_hard_shadows() {
+    let gpu = common::gpu();
+    let mut scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    if let Light::Directional(l) = &mut scene.light {
+        l.angular_diameter_deg = 0.0;
+    }
+    let camera = scene.view(0).unwrap();
+    let (hard, _) = render_frame(
+        &gpu,
+        &scene,
+        &camera,
+        settings(ShadowMethod::Hard),
+        (320, 256),
+    );
+    for method in [
+        ShadowMethod::Ours,
+        ShadowMethod::OursFast,
+        ShadowMethod::Pcss,
+    ] {
+        let (image, renderer) = render_frame(&gpu, &scene, &camera, settings(method), (320, 256));
+        let plan = renderer.last_report().unwrap().plan;
+        assert_eq!(plan.method, ShadowMethod::Hard, "{}", method.name());
+        assert!(
+            !plan.fattened_map && !plan.pcf && !plan.blur,
+            "{}: {:?}",
+            method.name(),
+            plan.names()
+        );
+        let differing = image
+            .pixels()
+            .zip(hard.pixels())
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(
+            differing,
+            0,
+            "{}: {differing} pixels differ from hard",
+            method.name()
+        );
+    }
+}
+
+#[test]
+fn mask_contains_every_hard_shadowed_pixel() {
+    let gpu = common::gpu();
+    let size = (320, 256);
+    for name in ["teapot", "character"] {
+        let scene = load_scene(&common::asset(&format!("scenes/{name}.ron"))).unwrap();
+        for view in 0..3 {
+            let camera = scene.view(view).unwrap();
+            let (hard, without) = common::render_with_and_without_casters(
+                &gpu,
+                &scene,
+                &camera,
+                settings(ShadowMethod::Hard),
+                size.0,
+                size.1,
+            );
+            let (_, renderer) =
+                render_frame(&gpu, &scene, &camera, settings(ShadowMethod::Ours), size);
+            let (distance, _) = read(
+                &gpu,
+                renderer.debug_texture(DebugTexture::DistanceMap).unwrap(),
+            );
+            let mut shadowed = 0;
+            let mut outside = 0;
+            for (i, (a, b)) in hard.pixels().zip(without.pixels()).enumerate() {
+                if (a[1] as f32) < 0.9 * b[1] as f32 {
+                    shadowed += 1;
+                    if distance[i * 2 + 1] < 0.5 {
+                        outside += 1;
+                    }
+                }
+            }
+            assert!(
+                shadowed > 100,
+                "{name} view {view}: only {shadowed} shadowed pixels"
+            );
+            assert_eq!(
+                outside, 0,
+                "{name} view {view}: {outside} of {shadowed} hard-shadowed pixels lie outside the mask"
+            );
+        }
+    }
+}
+
+#[test]
+fn intermediates_stay_finite_at_extreme_settings() {
+    let gpu = common::gpu();
+    let base = load_scene(&common::asset("scenes/character.ron")).unwrap();
+    let camera = base.view(0).unwrap();
+    let mut cases: Vec<(String, ShadowSettings, f32)> = Vec::new();
+    for degrees in [0.0, 0.5, 45.0] {
+        for method in [
+            ShadowMethod::Ours,
+            ShadowMethod::OursFast,
+            ShadowMethod::Traditional,
+            ShadowMethod::Pcss,
+        ] {
+            cases.push((
+                format!("{} at {degrees} degrees", method.name()),
+                settings(method),
+                degrees,
+            ));
+        }
+    }
+    for fatten in [0.0, 1e3] {
+        for spread in [0.0, 1e3] {
+            let mut s = settings(ShadowMethod::Ours);
+            s.penumbra.spreads = SpreadMode::Manual {
+                fatten_distance: fatten,
+                pcf_spread: spread,
+                blur_spread: spread,
+            };
+            cases.push((format!("manual fatten {fatten} spreads {spread}"), s, 3.0));
+        }
+    }
+    for (what, s, degrees) in cases {
+        let mut scene = base.clone();
+        if let Light::Directional(l) = &mut scene.light {
+            l.angular_diameter_deg = degrees;
+        }
+        let (image, renderer) = render_frame(&gpu, &scene, &camera, s, (160, 128));
+        for which in [
+            DebugTexture::ShadowMap,
+            DebugTexture::FattenedMap,
+            DebugTexture::CameraDepth,
+            DebugTexture::DistanceMap,
+            DebugTexture::Visibility,
+            DebugTexture::BlurredVisibility,
+        ] {
+            let Some(texture) = renderer.debug_texture(which) else {
+                continue;
+            };
+            let (values, _) = read(&gpu, texture);
+            let bad = values.iter().filter(|v| !v.is_finite()).count();
+            assert_eq!(bad, 0, "{what}: {bad} non-finite values in {which:?}");
+            if matches!(
+                which,
+                DebugTexture::Visibility | DebugTexture::BlurredVisibility
+            ) {
+                assert!(
+                    values.iter().all(|v| (0.0..=1.0).contains(v)),
+                    "{what}: visibility outside [0, 1] in {which:?}"
+                );
+            }
+        }
+        let first = *image.get_pixel(0, image.height() - 1);
+        assert!(
+            image.pixels().any(|p| *p != first),
+            "{what}: a one-color frame"
+        );
+    }
+}
+
+#[test]
+fn flat_shaded_cube_fattens_into_a_closed_shape() {
+    let gpu = common::gpu();
+    let mut scene = Scene {
+        light: sun(Vec3::new(0.4, -1.0, 0.3), 10.0),
+        ..Default::default()
+    };
+    let material = scene.add_material(Material::colored("cube", [0.8, 0.8, 0.8]));
+    let floor_material = scene.add_material(Material::colored("floor", [0.8, 0.8, 0.8]));
+    let cube = scene.add_mesh(primitives::cuboid(Vec3::ONE));
+    assert_eq!(
+        scene.meshes[cube].vertex_count(),
+        24,
+        "split per-face normals"
+    );
+    scene.add_instance(
+        cube,
+        material,
+        Mat4::from_rotation_translation(Quat::from_rotation_y(0.5), Vec3::new(0.0, 1.5, 0.0)),
+    );
+    let floor = scene.add_mesh(primitives::plane(10.0, 1.0));
+    scene
+        .add_instance(floor, floor_material, Mat4::IDENTITY)
+        .caster = false;
+    let mut s = settings(ShadowMethod::Ours);
+    s.shadow_map.resolution = 512;
+    s.penumbra.spreads = SpreadMode::Manual {
+        fatten_distance: 0.15,
+        pcf_spread: 1.0,
+        blur_spread: 1.0,
+    };
+    let camera = scene
+        .view(0)
+        .unwrap_or(Camera::look_at(Vec3::new(0.0, 5.0, 6.0), Vec3::ZERO));
+    let (_, renderer) = render_frame(&gpu, &scene, &camera, s, (64, 64));
+    let (real, _) = read(
+        &gpu,
+        renderer.debug_texture(DebugTexture::ShadowMap).unwrap(),
+    );
+    let (fat, _) = read(
+        &gpu,
+        renderer.debug_texture(DebugTexture::FattenedMap).unwrap(),
+    );
+    let side = 512usize;
+    let covered = |d: &[f32], i: usize| d[i] < 1.0;
+    let real_area = (0..side * side).filter(|&i| covered(&real, i)).count();
+    let fat_area = (0..side * side).filter(|&i| covered(&fat, i)).count();
+    assert!(real_area > 1000, "the cube covers {real_area} texels");
+    assert!(
+        (0..side * side).all(|i| !covered(&real, i) || covered(&fat, i)),
+        "the fattened map must contain the real one"
+    );
+    assert!(
+        fat_area as f32 > real_area as f32 * 1.1,
+        "fattening grew {real_area} texels only to {fat_area}"
+    );
+    // Holes: uncovered texels not connected to the map's border.
+    let mut outside = vec![false; side * side];
+    let mut stack: Vec<usize> = (0..side)
+        .flat_map(|k| [k, (side - 1) * side + k, k * side, k * side + side - 1])
+        .filter(|&i| !covered(&fat, i))
+        .collect();
+    while let Some(i) = stack.pop() {
+        if outside[i] || covered(&fat, i) {
+            continue;
+        }
+        outside[i] = true;
+        let (x, y) = (i % side, i / side);
+        if x > 0 {
+            stack.push(i - 1);
+        }
+        if x + 1 < side {
+            stack.push(i + 1);
+        }
+        if y > 0 {
+            stack.push(i - side);
+        }
+        if y + 1 < side {
+            stack.push(i + side);
+        }
+    }
+    let holes = (0..side * side)
+        .filter(|&i| !covered(&fat, i) && !outside[i])
+        .count();
+    assert_eq!(holes, 0, "the fattened cube has {holes} texels of holes");
+}
+
+#[test]
+fn camera_moves_reuse_the_shadow_maps() {
+    let gpu = common::gpu();
+    let scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let mut renderer = Renderer::new(
+        &gpu.device,
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        settings(ShadowMethod::Ours),
+    )
+    .unwrap();
+    let mut gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
+    let frame = |renderer: &mut Renderer, scene: &GpuScene, camera: &Camera| {
+        penumbra::render_to_image(&gpu, renderer, scene, camera, 96, 64).unwrap();
+        *renderer.last_report().unwrap()
+    };
+    assert!(frame(&mut renderer, &gpu_scene, &scene.view(0).unwrap()).shadow_maps_rendered);
+    let second = frame(&mut renderer, &gpu_scene, &scene.view(1).unwrap());
+    assert!(
+        !second.shadow_maps_rendered,
+        "a camera move must not re-render the shadow maps"
+    );
+    assert_eq!(
+        second.plan.names(),
+        [
+            "shadow map",
+            "fattened shadow map",
+            "distance map",
+            "pcf",
+            "blur",
+            "composite"
+        ]
+    );
+    let mut light = scene.light;
+    if let Light::Directional(l) = &mut light {
+        l.direction.x += 0.1;
+    }
+    gpu_scene.set_light(light).unwrap();
+    assert!(
+        frame(&mut renderer, &gpu_scene, &scene.view(1).unwrap()).shadow_maps_rendered,
+        "a light move must"
+    );
+}
+
+#[test]
+fn passes_the_method_does_not_use_are_not_allocated() {
+    let gpu = common::gpu();
+    let mut renderer = Renderer::new(
+        &gpu.device,
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        settings(ShadowMethod::Hardware2x2),
+    )
+    .unwrap();
+    for t in [
+        DebugTexture::FattenedMap,
+        DebugTexture::DistanceMap,
+        DebugTexture::Visibility,
+        DebugTexture::BlurredVisibility,
+    ] {
+        assert!(renderer.debug_texture(t).is_none(), "hw2x2 allocated {t:?}");
+    }
+    renderer
+        .set_settings(&gpu.device, settings(ShadowMethod::Ours))
+        .unwrap();
+    for t in [
+        DebugTexture::FattenedMap,
+        DebugTexture::DistanceMap,
+        DebugTexture::Visibility,
+        DebugTexture::BlurredVisibility,
+    ] {
+        assert!(renderer.debug_texture(t).is_some(), "ours lacks {t:?}");
+    }
+    renderer
+        .set_settings(&gpu.device, settings(ShadowMethod::Pcss))
+        .unwrap();
+    assert!(renderer.debug_texture(DebugTexture::FattenedMap).is_none());
+    assert!(
+        renderer
+            .debug_texture(DebugTexture::BlurredVisibility)
+            .is_none()
+    );
+    assert!(renderer.debug_texture(DebugTexture::Visibility).is_some());
+}
