@@ -97,6 +97,16 @@ fn main() -> Result<()> {
     image
         .save(&args.out)
         .with_context(|| format!("cannot write {}", args.out.display()))?;
+    if renderer.last_report().is_some_and(|r| r.plan.distance_map) && debug_view.is_none() {
+        let saved = penumbra::debug::mask_savings(&gpu.device, &gpu.queue, &renderer)?;
+        eprintln!(
+            "mask: {} of {} receiver pixels ({:.1}%) took no shadow-map taps; {} taps saved",
+            saved.skipped_pixels,
+            saved.receiver_pixels,
+            saved.share * 100.0,
+            saved.taps_saved
+        );
+    }
     eprintln!(
         "wrote {} ({width}x{height}, {} triangles, method {}, view {})",
         args.out.display(),

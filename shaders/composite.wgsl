@@ -1,7 +1,7 @@
 // Composite pass: the lit scene from the camera. Direct light (Lambert, spot cone) times the
 // screen-space visibility, on top of the base color (texture x factor), plus ambient. Shadows
 // far from their occluder receive bounced light: with indirect weight k and distance d,
-// visibility' = mix(visibility, 1, k d / (d + h)), h = half the scene's radius.
+// visibility' = mix(visibility, 1, k d / (d + h)), h = half the casters' bounding radius.
 // Depth is tested against the prepass (equal geometry, `@invariant` positions).
 
 struct Frame {

@@ -154,3 +154,71 @@ pub fn debug_image(
     }
     Ok(img)
 }
+
+/// How much work the mask saved in the last frame of a distance-map method.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MaskSavings {
+    /// Pixels covered by shadow receivers.
+    pub receiver_pixels: usize,
+    /// Receiver pixels outside the mask, which took no shadow-map tap.
+    pub skipped_pixels: usize,
+    /// PCF taps per pixel inside the mask.
+    pub taps_per_pixel: u32,
+    /// Shadow-map taps not taken: skipped pixels x taps per pixel.
+    pub taps_saved: u64,
+    /// Share of the receiver pixels' taps that were saved, in [0, 1].
+    pub share: f32,
+}
+
+/// Measures [`MaskSavings`] by reading back the last frame's distance map and camera depth.
+/// Errors when the renderer's method has no distance map.
+pub fn mask_savings(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    renderer: &Renderer,
+) -> Result<MaskSavings> {
+    let no_mask = || {
+        PenumbraError::setting(
+            "method",
+            format!(
+                "`{}` has no mask to measure",
+                renderer.settings().method.name()
+            ),
+        )
+    };
+    let distance = renderer
+        .debug_texture(DebugTexture::DistanceMap)
+        .ok_or_else(no_mask)?;
+    let depth = renderer
+        .debug_texture(DebugTexture::CameraDepth)
+        .ok_or_else(no_mask)?;
+    let (values, _) = read_texture_f32(device, queue, distance)?;
+    let (depths, _) = read_texture_f32(device, queue, depth)?;
+    let mut receiver_pixels = 0;
+    let mut skipped_pixels = 0;
+    // Mask: 1 inside, 0 outside, -1 on non-receivers; the background (depth 1) is not drawn.
+    for (px, d) in values.chunks_exact(2).zip(&depths) {
+        if *d < 1.0 && px[1] > -0.5 {
+            receiver_pixels += 1;
+            if px[1] < 0.5 {
+                skipped_pixels += 1;
+            }
+        }
+    }
+    let settings = renderer.settings();
+    let taps_per_pixel = match settings.method {
+        crate::ShadowMethod::OursFast => 1,
+        _ => settings.penumbra.pcf_kernel.side().pow(2),
+    };
+    Ok(MaskSavings {
+        receiver_pixels,
+        skipped_pixels,
+        taps_per_pixel,
+        taps_saved: skipped_pixels as u64 * taps_per_pixel as u64,
+        share: if receiver_pixels == 0 {
+            0.0
+        } else {
+            skipped_pixels as f32 / receiver_pixels as f32
+        },
+    })
+}

@@ -37,7 +37,8 @@ pub(crate) struct FrameUniform {
     /// xy: orthographic extent (world units); z: tan(half fov) when perspective;
     /// w: light size term (directional `2 tan(theta / 2)`, spot `2 R`).
     pub light_frustum: [f32; 4],
-    /// x: fatten distance; y: 1 physical / 0 manual; z: indirect half distance (world);
+    /// x: fatten distance; y: 1 physical / 0 manual; z: indirect half distance (half the
+    /// casters' bounding radius, world units);
     /// w: PCF kernel width as a fraction of the penumbra width (physical).
     pub penumbra: [f32; 4],
     /// x: taps per side; y: base spacing (texels); z: spread (texels per world unit) or the
@@ -116,7 +117,7 @@ pub(crate) struct FrameInputs<'a> {
     pub light_view: &'a LightView,
     pub settings: &'a ShadowSettings,
     pub spreads: DerivedSpreads,
-    pub scene_radius: f32,
+    pub caster_radius: f32,
 }
 
 impl FrameUniform {
@@ -196,7 +197,12 @@ impl FrameUniform {
                 tan_half_fov,
                 light_size_term(light),
             ],
-            penumbra: [fatten, physical, f.scene_radius * 0.5, pcf_width_fraction],
+            penumbra: [
+                fatten,
+                physical,
+                f.caster_radius.max(1e-6) * 0.5,
+                pcf_width_fraction,
+            ],
             pcf,
             blur,
             flags: [

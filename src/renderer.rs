@@ -316,7 +316,11 @@ impl Renderer {
         keep(&mut self.pcss, method == ShadowMethod::Pcss, || {
             PcssPass::new(device, FRAME_SIZE)
         });
-        keep(&mut self.blur, uses_pcf, || {
+        let blur_taps = match method {
+            ShadowMethod::Traditional => self.settings.traditional.blur_taps,
+            _ => self.settings.penumbra.blur_taps,
+        };
+        keep(&mut self.blur, uses_pcf && blur_taps > 1, || {
             BlurPass::new(device, FRAME_SIZE)
         });
         keep(&mut self.composite, screen, || {
@@ -427,7 +431,7 @@ impl Renderer {
                 light_view: &light_view,
                 settings: &self.settings,
                 spreads,
-                scene_radius: scene.bounds().radius(),
+                caster_radius: scene.caster_bounds().radius(),
             })),
         );
 

@@ -508,3 +508,110 @@ fn passes_the_method_does_not_use_are_not_allocated() {
     );
     assert!(renderer.debug_texture(DebugTexture::Visibility).is_some());
 }
+
+/// Pixels near a depth jump that the blur darkened by more than 0.1 below their own PCF
+/// visibility: shadow smeared in from a surface at another depth (the paper's ghosting).
+fn bleeding(gpu: &HeadlessGpu, scene: &Scene, camera: &Camera, depth_aware: bool) -> usize {
+    let size = (480, 384);
+    let mut s = settings(ShadowMethod::Ours);
+    s.penumbra.depth_aware_blur = depth_aware;
+    let (_, renderer) = render_frame(gpu, scene, camera, s, size);
+    let (blurred, _) = read(
+        gpu,
+        renderer
+            .debug_texture(DebugTexture::BlurredVisibility)
+            .unwrap(),
+    );
+    let (raw, _) = read(
+        gpu,
+        renderer.debug_texture(DebugTexture::Visibility).unwrap(),
+    );
+    let (depth, _) = read(
+        gpu,
+        renderer.debug_texture(DebugTexture::CameraDepth).unwrap(),
+    );
+    let (w, h) = size;
+    let mut count = 0;
+    for y in 8..h - 8 {
+        for x in 8..w - 8 {
+            let i = (y * w + x) as usize;
+            // Within 8 pixels of a jump in camera depth.
+            let near_edge = [(8i32, 0i32), (-8, 0), (0, 8), (0, -8)]
+                .iter()
+                .any(|(dx, dy)| {
+                    let j = ((y as i32 + dy) * w as i32 + x as i32 + dx) as usize;
+                    (depth[j] - depth[i]).abs() > 0.05 * (1.0 - depth[i]).max(1e-6)
+                });
+            if near_edge && depth[i] < 1.0 && blurred[i] < raw[i] - 0.1 {
+                count += 1;
+            }
+        }
+    }
+    count
+}
+
+#[test]
+fn depth_aware_blur_bleeds_less_across_depth_jumps() {
+    let gpu = common::gpu();
+    let mut total = (0, 0);
+    for name in ["teapot", "character"] {
+        let mut scene = load_scene(&common::asset(&format!("scenes/{name}.ron"))).unwrap();
+        // A large light makes wide blurs, where bleeding shows.
+        if let Light::Directional(l) = &mut scene.light {
+            l.angular_diameter_deg = 8.0;
+        }
+        for view in 0..3 {
+            let camera = scene.view(view).unwrap();
+            let (off, on) = (
+                bleeding(&gpu, &scene, &camera, false),
+                bleeding(&gpu, &scene, &camera, true),
+            );
+            eprintln!(
+                "{name} view {view}: {off} bled pixels without depth-aware weights, {on} with"
+            );
+            total.0 += off;
+            total.1 += on;
+        }
+    }
+    assert!(total.0 > 0, "no bleeding to measure");
+    assert!(
+        (total.1 as f32) < 0.8 * total.0 as f32,
+        "depth-aware weights should cut bleeding: {} -> {}",
+        total.0,
+        total.1
+    );
+}
+
+#[test]
+fn indirect_light_lightens_far_shadows_more_than_contact_shadows() {
+    let gpu = common::gpu();
+    let (scene, camera) = tilted_bar_scene(6.0);
+    let size = (600, 600);
+    let render = |weight: f32| {
+        let mut s = settings(ShadowMethod::Ours);
+        s.penumbra.indirect_weight = weight;
+        render_frame(&gpu, &scene, &camera, s, size).0
+    };
+    let (plain, bounced) = (render(0.0), render(0.6));
+    // Shadow centers beside the bar, near the contact end and at the far end, in linear light.
+    let linear = |img: &image::RgbaImage, x: f32| {
+        let z = 0.3 + SIDEWAYS * bar_height(x) - 0.1;
+        let (px, py) = common::project(&camera, size.0, size.1, Vec3::new(x, 0.0, z)).unwrap();
+        let c = img.get_pixel(px, py)[1] as f32 / 255.0;
+        ((c + 0.055) / 1.055).powf(2.4)
+    };
+    let near_gain = linear(&bounced, -1.2) - linear(&plain, -1.2);
+    let far_gain = linear(&bounced, 1.6) - linear(&plain, 1.6);
+    assert!(far_gain > 0.02, "far shadow gained only {far_gain:.3}");
+    // The gain follows d / (d + h): larger where the occluder is farther.
+    assert!(
+        far_gain > 1.3 * near_gain.max(0.0),
+        "far gain {far_gain:.3} vs contact gain {near_gain:.3}"
+    );
+    // Lit floor is untouched.
+    let open = common::project(&camera, size.0, size.1, Vec3::new(0.0, 0.0, -1.5)).unwrap();
+    assert_eq!(
+        plain.get_pixel(open.0, open.1),
+        bounced.get_pixel(open.0, open.1)
+    );
+}
