@@ -122,3 +122,57 @@ fn no_adapter_names_the_package_to_install() {
         "{stderr}"
     );
 }
+
+#[test]
+fn every_method_and_debug_view_writes_a_png() {
+    let dir = common::scratch_dir("render_example_methods");
+    let scene = common::asset("scenes/teapot.ron");
+    let scene = scene.to_str().unwrap();
+    for method in ["ours", "ours-fast", "traditional", "pcss", "hard", "hw2x2"] {
+        let out = dir.join(format!("{method}.png"));
+        let (ok, stderr) = run(&[
+            "--scene",
+            scene,
+            "--size",
+            "64x48",
+            "--method",
+            method,
+            "--light-size",
+            "4",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{method}: {stderr}");
+        assert_eq!(image::image_dimensions(&out).unwrap(), (64, 48));
+        if method == "ours" {
+            assert!(stderr.contains("took no shadow-map taps"), "{stderr}");
+        }
+    }
+    for view in [
+        "shadow-map",
+        "fattened-map",
+        "distance",
+        "mask",
+        "pcf",
+        "blur",
+    ] {
+        let out = dir.join(format!("debug-{view}.png"));
+        let (ok, stderr) = run(&[
+            "--scene",
+            scene,
+            "--size",
+            "64x48",
+            "--debug-view",
+            view,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{view}: {stderr}");
+        let image = image::open(&out).unwrap().to_rgba8();
+        let first = *image.get_pixel(0, 0);
+        assert!(
+            image.pixels().any(|p| *p != first),
+            "{view}: the debug view is one color"
+        );
+    }
+}
