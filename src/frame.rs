@@ -208,7 +208,8 @@ impl FrameUniform {
             flags: [
                 p.rotate_taps as u32 as f32,
                 p.mask_early_out as u32 as f32,
-                p.depth_aware_blur as u32 as f32,
+                // The baseline is the paper's plain fixed Gaussian.
+                (p.depth_aware_blur && !traditional) as u32 as f32,
                 s.pcss.blocker_samples as f32,
             ],
             screen: [

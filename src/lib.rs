@@ -4,14 +4,16 @@
 //! `&wgpu::Device`, a `&wgpu::Queue` and the format it draws into, and the library never owns a
 //! window or an event loop.
 //!
-//! The foundation implemented so far:
-//! * a scene model ([`Scene`]) with meshes that carry a per-position *smoothed normal*,
-//!   materials, instances flagged as casters and receivers, a directional or spot [`Light`]
-//!   with a physical size, and named viewpoints;
-//! * loaders for OBJ and glTF 2.0 ([`load_model`], features `obj` and `gltf`) and a RON scene
-//!   file format ([`SceneFile`], [`load_scene`]);
-//! * the depth-only [`passes::ShadowMapPass`] and the [`passes::ForwardPass`] that lights the
-//!   scene with hard (one tap) or hardware 2x2 PCF shadows, driven by [`Renderer`].
+//! * [`ShadowMethod::Ours`]: the distance-map method. A depth shadow map, a fattened shadow
+//!   map, a screen-space distance map, PCF whose spacing grows with the receiver-to-occluder
+//!   distance, a distance-driven separable blur, indirect-light attenuation and a composite
+//!   (see [`passes`]).
+//! * Beside it: the PCF + Gaussian baseline ([`ShadowMethod::Traditional`]), PCSS, hard shadows
+//!   and hardware 2x2 PCF, all driven by [`Renderer`] and configured by [`ShadowSettings`]
+//!   (physical mode by default: only the light's size is set).
+//! * The scene model ([`Scene`]): meshes carry a per-position *smoothed normal*. Loaders for
+//!   OBJ and glTF 2.0 ([`load_model`]) and a RON scene format ([`SceneFile`], [`load_scene`]).
+//! * Debug access to every intermediate texture ([`Renderer::debug_texture`], [`debug`]).
 //!
 //! ```no_run
 //! # fn main() -> penumbra::Result<()> {
