@@ -33,8 +33,7 @@ fn main() -> anyhow::Result<()> {
     // One row per configuration: its name and the median frame times of ours, traditional, pcss.
     let mut runs: Vec<Run> = Vec::new();
     for name in ["teapot", "character"] {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join(format!("assets/scenes/{name}.ron"));
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("assets/scenes/{name}.ron"));
         let scene = penumbra::load_scene(&path)?;
         for (width, height) in [(800u32, 600u32), (1280, 1024)] {
             let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
@@ -55,14 +54,13 @@ fn main() -> anyhow::Result<()> {
             for v in 0..views {
                 let camera = scene.view(v)?;
                 let mut ms_of = std::collections::HashMap::new();
-                for method in ShadowMethod::ALL {
+                for method in ShadowMethod::REAL_TIME {
                     let settings = ShadowSettings {
                         method,
                         ..Default::default()
                     };
                     let mut renderer = Renderer::new(&gpu.device, format, settings)?;
-                    let gpu_scene =
-                        GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene)?;
+                    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene)?;
                     renderer.resize(&gpu.device, width, height);
                     let mut times = Vec::new();
                     for i in 0..warmup + frames {
@@ -102,11 +100,7 @@ fn main() -> anyhow::Result<()> {
         "configuration", "ours/traditional", "ours/pcss"
     );
     for (what, ours, traditional, pcss) in &runs {
-        println!(
-            "{what:<32} {:>18.3} {:>12.3}",
-            ours / traditional,
-            ours / pcss
-        );
+        println!("{what:<32} {:>18.3} {:>12.3}", ours / traditional, ours / pcss);
     }
     let mean = |f: &dyn Fn(&Run) -> f64| runs.iter().map(f).sum::<f64>() / runs.len() as f64;
     println!(

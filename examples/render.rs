@@ -27,6 +27,9 @@ struct Args {
     /// Shadow method: ours, ours-fast, traditional, pcss, hard or hw2x2.
     #[arg(long, default_value = "ours")]
     method: String,
+    /// Light samples for `--method reference` (1..=4096); defaults to the preset's.
+    #[arg(long)]
+    samples: Option<u32>,
     /// Quality preset: low, medium, high or ultra.
     #[arg(long, default_value = "medium")]
     quality: String,
@@ -65,6 +68,9 @@ fn main() -> Result<()> {
     let quality = Quality::from_name(&args.quality).context("--quality")?;
     let mut settings = ShadowSettings::preset(method, quality);
     settings.shadow_map.resolution = args.shadow_map;
+    if let Some(samples) = args.samples {
+        settings.reference.samples = samples;
+    }
     settings.validate(None).context("--shadow-map")?;
 
     let debug_view = args
@@ -89,8 +95,11 @@ fn main() -> Result<()> {
     eprintln!("adapter: {}", gpu.describe());
     let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings)?;
     let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene)?;
-    let mut image =
-        penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, width, height)?;
+    let mut image = if method == ShadowMethod::Reference {
+        render_reference_with_progress(&gpu, &mut renderer, &gpu_scene, &camera, width, height)?
+    } else {
+        penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, width, height)?
+    };
     if let Some(view) = debug_view {
         image = penumbra::debug::debug_image(&gpu.device, &gpu.queue, &renderer, view)?;
     }
@@ -115,4 +124,41 @@ fn main() -> Result<()> {
         args.view
     );
     Ok(())
+}
+
+/// The reference, with a progress bar on the terminal while its samples accumulate.
+fn render_reference_with_progress(
+    gpu: &HeadlessGpu,
+    renderer: &mut Renderer,
+    scene: &GpuScene,
+    camera: &penumbra::Camera,
+    width: u32,
+    height: u32,
+) -> Result<image::RgbaImage> {
+    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("render: reference target"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: renderer.color_format(),
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = target.create_view(&Default::default());
+    renderer.resize(&gpu.device, width, height);
+    let bar = indicatif::ProgressBar::new(renderer.settings().reference.samples as u64).with_style(
+        indicatif::ProgressStyle::with_template("reference {bar:40} {pos}/{len} light samples, {eta} left")
+            .expect("valid template"),
+    );
+    renderer.render_reference(&gpu.device, &gpu.queue, scene, camera, &view, |done, _| {
+        bar.set_position(done as u64)
+    })?;
+    bar.finish_and_clear();
+    let pixels = penumbra::read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;
+    image::RgbaImage::from_raw(width, height, pixels).context("reading back the reference")
 }

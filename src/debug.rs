@@ -44,19 +44,13 @@ impl DebugView {
     }
 
     pub fn from_name(name: &str) -> Result<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|v| v.name() == name)
-            .ok_or_else(|| {
-                let names: Vec<_> = Self::ALL.iter().map(|v| v.name()).collect();
-                PenumbraError::setting(
-                    "debug_view",
-                    format!(
-                        "unknown debug view `{name}`; choose one of {}",
-                        names.join(", ")
-                    ),
-                )
-            })
+        Self::ALL.into_iter().find(|v| v.name() == name).ok_or_else(|| {
+            let names: Vec<_> = Self::ALL.iter().map(|v| v.name()).collect();
+            PenumbraError::setting(
+                "debug_view",
+                format!("unknown debug view `{name}`; choose one of {}", names.join(", ")),
+            )
+        })
     }
 
     fn texture(self) -> DebugTexture {
@@ -126,10 +120,7 @@ pub fn debug_image(
             }
         }
         DebugView::Distance => {
-            let max = (0..n)
-                .map(|i| pixel(i, 0))
-                .fold(0.0f32, f32::max)
-                .max(1e-20);
+            let max = (0..n).map(|i| pixel(i, 0)).fold(0.0f32, f32::max).max(1e-20);
             for (i, p) in img.pixels_mut().enumerate() {
                 let [r, g, b] = if pixel(i, 1) > 0.5 {
                     false_color(pixel(i, 0) / max)
@@ -172,18 +163,11 @@ pub struct MaskSavings {
 
 /// Measures [`MaskSavings`] by reading back the last frame's distance map and camera depth.
 /// Errors when the renderer's method has no distance map.
-pub fn mask_savings(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    renderer: &Renderer,
-) -> Result<MaskSavings> {
+pub fn mask_savings(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Renderer) -> Result<MaskSavings> {
     let no_mask = || {
         PenumbraError::setting(
             "method",
-            format!(
-                "`{}` has no mask to measure",
-                renderer.settings().method.name()
-            ),
+            format!("`{}` has no mask to measure", renderer.settings().method.name()),
         )
     };
     let distance = renderer

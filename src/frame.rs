@@ -163,18 +163,13 @@ impl FrameUniform {
                 [t.blur_taps as f32, t.blur_step, 0.0, 1.0],
             )
         } else {
-            let side = if fast {
-                1.0
-            } else {
-                p.pcf_kernel.side() as f32
-            };
+            let side = if fast { 1.0 } else { p.pcf_kernel.side() as f32 };
             (
                 [side, p.pcf_base_spacing, pcf_spread, 0.0],
                 [p.blur_taps as f32, blur_spread, blur_sigma_fraction, 0.0],
             )
         };
-        let pixels_per_unit =
-            f.height as f32 / (2.0 * (f.camera.fov_y_deg.to_radians() * 0.5).tan());
+        let pixels_per_unit = f.height as f32 / (2.0 * (f.camera.fov_y_deg.to_radians() * 0.5).tan());
         FrameUniform {
             view_proj: view_proj.to_cols_array_2d(),
             inv_view_proj: view_proj.inverse().to_cols_array_2d(),
@@ -191,12 +186,7 @@ impl FrameUniform {
                 if perspective { 1.0 } else { 0.0 },
                 s.shadow_map.resolution as f32,
             ],
-            light_frustum: [
-                lv.extent.x,
-                lv.extent.y,
-                tan_half_fov,
-                light_size_term(light),
-            ],
+            light_frustum: [lv.extent.x, lv.extent.y, tan_half_fov, light_size_term(light)],
             penumbra: [
                 fatten,
                 physical,

@@ -25,8 +25,7 @@ impl HeadlessGpu {
         // Debug labels stay off unless WGPU_DEBUG=1: Mesa's lavapipe crashes inside
         // vkCmdBeginDebugUtilsLabelEXT, which wgpu calls for debug groups when this flag is on
         // (the default in debug builds).
-        descriptor.flags =
-            (wgpu::InstanceFlags::from_build_config() - wgpu::InstanceFlags::DEBUG).with_env();
+        descriptor.flags = (wgpu::InstanceFlags::from_build_config() - wgpu::InstanceFlags::DEBUG).with_env();
         let instance = wgpu::Instance::new(descriptor.with_env());
         let adapter = wgpu::util::initialize_adapter_from_env_or_default(&instance, None)
             .await
@@ -41,8 +40,7 @@ impl HeadlessGpu {
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("penumbra headless device"),
                 required_features: adapter.features() & optional,
-                required_limits: wgpu::Limits::downlevel_defaults()
-                    .using_resolution(adapter.limits()),
+                required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
                 ..Default::default()
             })
             .await
@@ -110,8 +108,7 @@ pub fn read_texture_bytes(
     })?;
     let (width, height) = (texture.width(), texture.height());
     let unpadded = width * bytes_per_pixel;
-    let padded =
-        unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let padded = unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("penumbra::readback"),
         size: (padded * height) as u64,
@@ -251,13 +248,17 @@ pub fn render_to_image(
     });
     let view = target.create_view(&Default::default());
     renderer.resize(&gpu.device, width, height);
-    let mut encoder = gpu
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("penumbra::render_to_image"),
-        });
-    renderer.render(&gpu.queue, &mut encoder, scene, camera, &view);
-    gpu.queue.submit([encoder.finish()]);
+    if renderer.settings().method == crate::ShadowMethod::Reference {
+        renderer.render_reference(&gpu.device, &gpu.queue, scene, camera, &view, |_, _| {})?;
+    } else {
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("penumbra::render_to_image"),
+            });
+        renderer.render(&gpu.queue, &mut encoder, scene, camera, &view);
+        gpu.queue.submit([encoder.finish()]);
+    }
     let pixels = read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;
     image::RgbaImage::from_raw(width, height, pixels).ok_or_else(|| PenumbraError::Gpu {
         during: "reading back the frame".into(),

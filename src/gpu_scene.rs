@@ -144,11 +144,7 @@ impl GpuScene {
                         &pad(bytemuck::cast_slice(&mesh.normals)),
                         vertex,
                     ),
-                    uvs: make(
-                        "GpuMesh::uvs",
-                        &pad(bytemuck::cast_slice(&mesh.uvs)),
-                        vertex,
-                    ),
+                    uvs: make("GpuMesh::uvs", &pad(bytemuck::cast_slice(&mesh.uvs)), vertex),
                     smoothed_normals: make(
                         "GpuMesh::smoothed_normals",
                         &pad(bytemuck::cast_slice(&mesh.smoothed_normals)),
@@ -181,10 +177,7 @@ impl GpuScene {
                 if t.width > max_side || t.height > max_side {
                     return Err(PenumbraError::Texture {
                         name: t.name.clone(),
-                        reason: format!(
-                            "{}x{} exceeds the device limit of {max_side}",
-                            t.width, t.height
-                        ),
+                        reason: format!("{}x{} exceeds the device limit of {max_side}", t.width, t.height),
                     });
                 }
                 Ok(upload_texture(
@@ -372,8 +365,7 @@ fn upload_texture(
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     });
-    let mut level_image =
-        image::RgbaImage::from_raw(width, height, rgba8.to_vec()).expect("validated size");
+    let mut level_image = image::RgbaImage::from_raw(width, height, rgba8.to_vec()).expect("validated size");
     for level in 0..levels {
         let (w, h) = level_image.dimensions();
         queue.write_texture(

@@ -32,6 +32,7 @@ pub mod error;
 mod frame;
 pub mod gpu;
 mod gpu_scene;
+pub mod light_samples;
 pub mod light_space;
 pub mod loaders;
 pub mod passes;
@@ -41,17 +42,15 @@ pub mod settings;
 
 pub use error::{PenumbraError, Result};
 pub use frame::DerivedSpreads;
-pub use gpu::{
-    HeadlessGpu, read_texture_bytes, read_texture_f32, read_texture_rgba8, render_to_image,
-};
+pub use gpu::{HeadlessGpu, read_texture_bytes, read_texture_f32, read_texture_rgba8, render_to_image};
 pub use gpu_scene::{GpuScene, SceneLayouts};
 pub use light_space::LightView;
 pub use loaders::load_model;
 pub use renderer::{DebugTexture, FrameReport, PassPlan, Renderer};
 pub use scene::file::load_scene;
 pub use scene::{
-    Aabb, AlphaMode, Camera, DirectionalLight, Instance, Light, Material, Mesh, Model, OrbitCamera,
-    Scene, SceneFile, SpotLight, TextureImage, Viewpoint,
+    Aabb, AlphaMode, Camera, DirectionalLight, Instance, Light, Material, Mesh, Model, OrbitCamera, Scene,
+    SceneFile, SpotLight, TextureImage, Viewpoint,
 };
 pub use settings::{
     CullMode, DepthFormat, PcfKernel, PcssSettings, PenumbraSettings, Quality, ShadowMapSettings,

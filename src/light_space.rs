@@ -70,16 +70,14 @@ impl LightView {
                 let sides = casters.transformed(&view);
                 // Small margins so geometry on the boundary is not clipped.
                 let margin = glam::Vec2::splat(margin.max(0.0));
-                let pad_xy =
-                    (sides.size().truncate() * 0.01).max(glam::Vec2::splat(radius * 1e-4)) + margin;
+                let pad_xy = (sides.size().truncate() * 0.01).max(glam::Vec2::splat(radius * 1e-4)) + margin;
                 let pad_z = (local.size().z * 0.01).max(radius * 1e-4);
                 let (min, max) = (sides.min.truncate() - pad_xy, sides.max.truncate() + pad_xy);
                 // View space looks down -Z: depth along the light is -z.
                 let near = -local.max.z - pad_z;
                 let far = -local.min.z + pad_z;
-                let projection = glam::camera::rh::proj::directx::orthographic(
-                    min.x, max.x, min.y, max.y, near, far,
-                );
+                let projection =
+                    glam::camera::rh::proj::directx::orthographic(min.x, max.x, min.y, max.y, near, far);
                 LightView {
                     view,
                     projection,
@@ -97,9 +95,7 @@ impl LightView {
                 let min_depth = depths.iter().cloned().fold(f32::MAX, f32::min);
                 let far = (max_depth * 1.01).max(1e-3);
                 let near = (min_depth * 0.99).max(far * 1e-3);
-                let fov = (spot.cone_angle_deg * 2.0 + 2.0)
-                    .clamp(1.0, 178.0)
-                    .to_radians();
+                let fov = (spot.cone_angle_deg * 2.0 + 2.0).clamp(1.0, 178.0).to_radians();
                 let projection = glam::camera::rh::proj::directx::perspective(fov, 1.0, near, far);
                 let side = 2.0 * near * (fov * 0.5).tan();
                 LightView {
@@ -186,11 +182,6 @@ mod tests {
         let lv = LightView::fit(&light, &b);
         assert!(inside(&lv.view_projection, Vec3::new(1.0, 0.0, 1.0)));
         assert!(inside(&lv.view_projection, Vec3::new(0.0, 2.0, 0.0)));
-        assert!(
-            lv.near > 5.0 && lv.far < 8.5,
-            "near {} far {}",
-            lv.near,
-            lv.far
-        );
+        assert!(lv.near > 5.0 && lv.far < 8.5, "near {} far {}", lv.near, lv.far);
     }
 }

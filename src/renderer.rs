@@ -5,8 +5,8 @@ use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, derive_spreads, is
 use crate::gpu_scene::{GpuScene, SceneLayouts};
 use crate::light_space::LightView;
 use crate::passes::{
-    BlurPass, CompositePass, DistanceMapPass, FattenedShadowMapPass, ForwardPass, PcfPass,
-    PcssPass, ShadowMapPass, screen_target,
+    BlurPass, CompositePass, DistanceMapPass, FattenedShadowMapPass, ForwardPass, PcfPass, PcssPass,
+    ReferencePass, ShadowMapPass, screen_target,
 };
 use crate::scene::{Camera, Light};
 use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
@@ -25,6 +25,9 @@ pub struct PassPlan {
     pub distance_map: bool,
     pub pcf: bool,
     pub pcss: bool,
+    /// The reference's accumulated visibility is composited (accumulated by
+    /// [`Renderer::render_reference`]).
+    pub reference: bool,
     pub blur: bool,
     pub composite: bool,
     /// The one-pass lit forward pass (hard and hw2x2).
@@ -35,9 +38,7 @@ impl PassPlan {
     /// The passes `settings.method` needs under `light`.
     pub fn new(settings: &ShadowSettings, light: &Light) -> Self {
         let method = match settings.method {
-            ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Pcss
-                if is_point_light(light) =>
-            {
+            ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Pcss if is_point_light(light) => {
                 ShadowMethod::Hard
             }
             m => m,
@@ -58,7 +59,11 @@ impl PassPlan {
                 ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Traditional
             ),
             pcss: method == ShadowMethod::Pcss,
-            blur: method != ShadowMethod::Pcss && screen && blur_taps > 1,
+            reference: method == ShadowMethod::Reference,
+            blur: matches!(
+                method,
+                ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Traditional
+            ) && blur_taps > 1,
             composite: screen,
             forward: !screen,
         }
@@ -73,6 +78,7 @@ impl PassPlan {
             (self.depth_prepass && !self.distance_map, "depth prepass"),
             (self.pcf, "pcf"),
             (self.pcss, "pcss"),
+            (self.reference, "reference"),
             (self.blur, "blur"),
             (self.composite, "composite"),
             (self.forward, "forward"),
@@ -137,6 +143,7 @@ pub struct Renderer {
     distance_map: Option<DistanceMapPass>,
     pcf: Option<PcfPass>,
     pcss: Option<PcssPass>,
+    reference: Option<ReferencePass>,
     blur: Option<BlurPass>,
     composite: Option<CompositePass>,
     size: (u32, u32),
@@ -181,6 +188,7 @@ impl Renderer {
             distance_map: None,
             pcf: None,
             pcss: None,
+            reference: None,
             blur: None,
             composite: None,
             size: (0, 0),
@@ -255,7 +263,8 @@ impl Renderer {
                 .pcf
                 .as_ref()
                 .map(|p| p.visibility_texture())
-                .or_else(|| self.pcss.as_ref().map(|p| p.visibility_texture())),
+                .or_else(|| self.pcss.as_ref().map(|p| p.visibility_texture()))
+                .or_else(|| self.reference.as_ref().map(|p| p.visibility_texture())),
             DebugTexture::BlurredVisibility => self.blur.as_ref().map(|p| p.blurred_texture()),
         }
     }
@@ -316,6 +325,9 @@ impl Renderer {
         keep(&mut self.pcss, method == ShadowMethod::Pcss, || {
             PcssPass::new(device, FRAME_SIZE)
         });
+        keep(&mut self.reference, method == ShadowMethod::Reference, || {
+            ReferencePass::new(device, FRAME_SIZE)
+        });
         let blur_taps = match method {
             ShadowMethod::Traditional => self.settings.traditional.blur_taps,
             _ => self.settings.penumbra.blur_taps,
@@ -340,6 +352,7 @@ impl Renderer {
             AnyPass::Distance(p) => p.resize(device, w, h),
             AnyPass::Pcf(p) => p.resize(device, w, h),
             AnyPass::Pcss(p) => p.resize(device, w, h),
+            AnyPass::Reference(p) => p.resize(device, w, h),
             AnyPass::Blur(p) => p.resize(device, w, h),
             AnyPass::Forward(p) => p.resize(device, w, h),
         });
@@ -369,11 +382,15 @@ impl Renderer {
         if let Some(p) = &mut self.pcss {
             p.bind(device, frame, depth, shadow_map);
         }
+        if let Some(p) = &mut self.reference {
+            p.bind(device, frame, depth, shadow_map);
+        }
         let raw = self
             .pcf
             .as_ref()
             .map(|p| p.visibility())
-            .or_else(|| self.pcss.as_ref().map(|p| p.visibility()));
+            .or_else(|| self.pcss.as_ref().map(|p| p.visibility()))
+            .or_else(|| self.reference.as_ref().map(|p| p.visibility()));
         if let (Some(b), Some(raw)) = (&mut self.blur, raw) {
             b.bind(device, frame, depth, distance_view, raw);
         }
@@ -484,8 +501,7 @@ impl Renderer {
             blur.encode(encoder, queue, taps);
             encoder.pop_debug_group();
         }
-        if let (true, Some(composite), Some(distance)) =
-            (plan.composite, &self.composite, &self.distance_map)
+        if let (true, Some(composite), Some(distance)) = (plan.composite, &self.composite, &self.distance_map)
         {
             encoder.push_debug_group("composite");
             composite.encode(encoder, scene, distance.depth(), target);
@@ -493,15 +509,7 @@ impl Renderer {
         }
         if let (true, Some(forward)) = (plan.forward, &self.forward) {
             encoder.push_debug_group("forward");
-            forward.encode(
-                encoder,
-                queue,
-                scene,
-                camera,
-                &light_view,
-                plan.method,
-                target,
-            );
+            forward.encode(encoder, queue, scene, camera, &light_view, plan.method, target);
             encoder.pop_debug_group();
         }
         encoder.pop_debug_group();
@@ -515,6 +523,94 @@ impl Renderer {
         Some(report)
     }
 
+    /// Renders the ground truth ([`ShadowMethod::Reference`], which must be the current
+    /// method) into `target`: the camera depth, then for each of the
+    /// [`crate::ReferenceSettings::samples`] points on the light a hard shadow map and one
+    /// accumulation step, each submitted on its own so memory does not grow with the count,
+    /// then the composite. `progress(done, total)` is called after every sample.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_reference(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &GpuScene,
+        camera: &Camera,
+        target: &wgpu::TextureView,
+        mut progress: impl FnMut(u32, u32),
+    ) -> Result<Option<FrameReport>> {
+        if self.settings.method != ShadowMethod::Reference {
+            return Err(crate::PenumbraError::setting(
+                "method",
+                format!(
+                    "render_reference needs method `reference`, not `{}`",
+                    self.settings.method.name()
+                ),
+            ));
+        }
+        if self.size.0 == 0 || self.size.1 == 0 {
+            return Ok(None);
+        }
+        let light = *scene.light();
+        let total = self.settings.reference.samples;
+        let loose = LightView::fit(&light, &scene.shadow_bounds());
+        let spreads = self.spreads(&light, &loose, scene);
+        queue.write_buffer(
+            &self.frame_buffer,
+            0,
+            bytemuck::bytes_of(&FrameUniform::new(&FrameInputs {
+                camera,
+                width: self.size.0,
+                height: self.size.1,
+                light: &light,
+                ambient: scene.ambient(),
+                light_view: &loose,
+                settings: &self.settings,
+                spreads,
+                caster_radius: scene.caster_bounds().radius(),
+            })),
+        );
+        let (Some(distance), Some(reference)) = (&self.distance_map, &mut self.reference) else {
+            return Ok(None);
+        };
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("reference: depth prepass"),
+        });
+        distance.encode(&mut encoder, scene, false);
+        queue.submit([encoder.finish()]);
+        reference.reset();
+        for k in 0..total {
+            let sample = crate::light_samples::light_sample(&light, k, total);
+            let view = LightView::fit_casters(&sample, &scene.caster_bounds(), &scene.shadow_bounds(), 0.0);
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("reference: sample"),
+            });
+            self.shadow_map.encode(&mut encoder, queue, scene, &view);
+            reference.accumulate(&mut encoder, queue, &view);
+            queue.submit([encoder.finish()]);
+            if k % 16 == 15 {
+                device
+                    .poll(wgpu::PollType::Wait {
+                        submission_index: None,
+                        timeout: None,
+                    })
+                    .map_err(|e| crate::PenumbraError::Gpu {
+                        during: "rendering the reference".into(),
+                        reason: e.to_string(),
+                    })?;
+            }
+            progress(k + 1, total);
+        }
+        // The shadow map now holds the last sample's, and the result sits in one of two targets.
+        self.shadow_key = None;
+        self.rebind(device);
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("reference: composite"),
+        });
+        let report = self.render(queue, &mut encoder, scene, camera, target);
+        queue.submit([encoder.finish()]);
+        Ok(report)
+    }
+
     /// The fatten distance and penumbra scale for this frame: derived from the light in
     /// physical mode, the user's in manual mode.
     fn spreads(&self, light: &Light, light_view: &LightView, scene: &GpuScene) -> DerivedSpreads {
@@ -526,9 +622,7 @@ impl Renderer {
         );
         match self.settings.penumbra.spreads {
             SpreadMode::Physical => derived,
-            SpreadMode::Manual {
-                fatten_distance, ..
-            } => DerivedSpreads {
+            SpreadMode::Manual { fatten_distance, .. } => DerivedSpreads {
                 fatten_distance,
                 ..derived
             },
@@ -549,6 +643,7 @@ enum AnyPass<'a> {
     Distance(&'a mut DistanceMapPass),
     Pcf(&'a mut PcfPass),
     Pcss(&'a mut PcssPass),
+    Reference(&'a mut ReferencePass),
     Blur(&'a mut BlurPass),
     Forward(&'a mut ForwardPass),
 }
@@ -563,6 +658,9 @@ fn for_each_pass_mut(r: &mut Renderer, mut f: impl FnMut(AnyPass)) {
     }
     if let Some(p) = &mut r.pcss {
         f(AnyPass::Pcss(p));
+    }
+    if let Some(p) = &mut r.reference {
+        f(AnyPass::Reference(p));
     }
     if let Some(p) = &mut r.blur {
         f(AnyPass::Blur(p));

@@ -30,11 +30,26 @@ pub enum ShadowMethod {
     /// linear filtering; Reeves, Salesin and Cook, "Rendering antialiased shadows with depth
     /// maps", SIGGRAPH 1987): edges one shadow-map texel wide.
     Hardware2x2,
+    /// The ground truth: the average of N hard shadows from N points stratified over the light
+    /// ([`ReferenceSettings::samples`]). Not real time: render it with
+    /// [`crate::Renderer::render_reference`].
+    Reference,
 }
 
 impl ShadowMethod {
     /// Every method, in the order tools list them.
-    pub const ALL: [ShadowMethod; 6] = [
+    pub const ALL: [ShadowMethod; 7] = [
+        ShadowMethod::Ours,
+        ShadowMethod::OursFast,
+        ShadowMethod::Traditional,
+        ShadowMethod::Pcss,
+        ShadowMethod::Hard,
+        ShadowMethod::Hardware2x2,
+        ShadowMethod::Reference,
+    ];
+
+    /// The real-time methods (all but the reference).
+    pub const REAL_TIME: [ShadowMethod; 6] = [
         ShadowMethod::Ours,
         ShadowMethod::OursFast,
         ShadowMethod::Traditional,
@@ -52,24 +67,19 @@ impl ShadowMethod {
             ShadowMethod::Pcss => "pcss",
             ShadowMethod::Hard => "hard",
             ShadowMethod::Hardware2x2 => "hw2x2",
+            ShadowMethod::Reference => "reference",
         }
     }
 
     /// Parses a command-line name; the error lists the valid ones.
     pub fn from_name(name: &str) -> Result<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|m| m.name() == name)
-            .ok_or_else(|| {
-                let names: Vec<_> = Self::ALL.iter().map(|m| m.name()).collect();
-                PenumbraError::setting(
-                    "method",
-                    format!(
-                        "unknown method `{name}`; choose one of {}",
-                        names.join(", ")
-                    ),
-                )
-            })
+        Self::ALL.into_iter().find(|m| m.name() == name).ok_or_else(|| {
+            let names: Vec<_> = Self::ALL.iter().map(|m| m.name()).collect();
+            PenumbraError::setting(
+                "method",
+                format!("unknown method `{name}`; choose one of {}", names.join(", ")),
+            )
+        })
     }
 
     /// True for the methods that compute a screen-space visibility texture and composite it.
@@ -106,15 +116,12 @@ impl Quality {
     }
 
     pub fn from_name(name: &str) -> Result<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|q| q.name() == name)
-            .ok_or_else(|| {
-                PenumbraError::setting(
-                    "quality",
-                    format!("unknown preset `{name}`; choose one of low, medium, high, ultra"),
-                )
-            })
+        Self::ALL.into_iter().find(|q| q.name() == name).ok_or_else(|| {
+            PenumbraError::setting(
+                "quality",
+                format!("unknown preset `{name}`; choose one of low, medium, high, ultra"),
+            )
+        })
     }
 }
 
@@ -224,6 +231,19 @@ impl Default for TraditionalSettings {
     }
 }
 
+/// Settings of the ground-truth reference.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceSettings {
+    /// Points sampled on the light, each one hard shadow map, in [1, 4096]. Default 256.
+    pub samples: u32,
+}
+
+impl Default for ReferenceSettings {
+    fn default() -> Self {
+        Self { samples: 256 }
+    }
+}
+
 /// Settings of PCSS.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PcssSettings {
@@ -326,6 +346,7 @@ pub struct ShadowSettings {
     pub penumbra: PenumbraSettings,
     pub traditional: TraditionalSettings,
     pub pcss: PcssSettings,
+    pub reference: ReferenceSettings,
 }
 
 impl ShadowSettings {
@@ -380,27 +401,25 @@ impl ShadowSettings {
             }
         }
         check_range("penumbra.pcf_base_spacing", p.pcf_base_spacing, 0.0, 16.0)?;
-        check_range(
-            "penumbra.pcf_variance_share",
-            p.pcf_variance_share,
-            0.0,
-            1.0,
-        )?;
+        check_range("penumbra.pcf_variance_share", p.pcf_variance_share, 0.0, 1.0)?;
         check_range("penumbra.indirect_weight", p.indirect_weight, 0.0, 1.0)?;
         check_taps("penumbra.blur_taps", p.blur_taps)?;
         let t = &self.traditional;
         check_range("traditional.pcf_spacing", t.pcf_spacing, 0.0, 16.0)?;
         check_range("traditional.blur_step", t.blur_step, 0.0, 16.0)?;
         check_taps("traditional.blur_taps", t.blur_taps)?;
+        if !(1..=4096).contains(&self.reference.samples) {
+            return Err(PenumbraError::setting(
+                "reference.samples",
+                format!("{} is outside [1, 4096]", self.reference.samples),
+            ));
+        }
         for (name, n) in [
             ("pcss.blocker_samples", self.pcss.blocker_samples),
             ("pcss.pcf_samples", self.pcss.pcf_samples),
         ] {
             if !(1..=64).contains(&n) {
-                return Err(PenumbraError::setting(
-                    name,
-                    format!("{n} is outside [1, 64]"),
-                ));
+                return Err(PenumbraError::setting(name, format!("{n} is outside [1, 64]")));
             }
         }
         Ok(())
@@ -425,6 +444,12 @@ impl ShadowSettings {
         s.traditional.blur_taps = taps;
         s.pcss.blocker_samples = pcss;
         s.pcss.pcf_samples = pcss;
+        s.reference.samples = match quality {
+            Quality::Low => 64,
+            Quality::Medium => 256,
+            Quality::High => 512,
+            Quality::Ultra => 1024,
+        };
         s
     }
 }
@@ -467,20 +492,10 @@ mod tests {
                 .contains("shadow_map.resolution")
         );
         s.shadow_map.resolution = 4096;
-        assert!(
-            s.validate(Some(2048))
-                .unwrap_err()
-                .to_string()
-                .contains("limit")
-        );
+        assert!(s.validate(Some(2048)).unwrap_err().to_string().contains("limit"));
         s.shadow_map.resolution = 1024;
         s.shadow_map.slope_bias = f32::NAN;
-        assert!(
-            s.validate(None)
-                .unwrap_err()
-                .to_string()
-                .contains("slope_bias")
-        );
+        assert!(s.validate(None).unwrap_err().to_string().contains("slope_bias"));
     }
 
     #[test]

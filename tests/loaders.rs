@@ -22,11 +22,7 @@ fn assert_mesh_sane(model: &Model, what: &str) {
             );
         }
         assert!(mesh.positions.iter().all(|p| p.is_finite()));
-        assert!(
-            mesh.indices
-                .iter()
-                .all(|&i| (i as usize) < mesh.vertex_count())
-        );
+        assert!(mesh.indices.iter().all(|&i| (i as usize) < mesh.vertex_count()));
     }
 }
 
@@ -48,9 +44,7 @@ fn teapot_obj_without_normals_gets_computed_smooth_normals() {
         .collect();
     let outward = body
         .iter()
-        .filter(|(p, n)| {
-            glam::Vec2::new(p.x - center.x, p.z - center.z).dot(glam::Vec2::new(n.x, n.z)) > 0.0
-        })
+        .filter(|(p, n)| glam::Vec2::new(p.x - center.x, p.z - center.z).dot(glam::Vec2::new(n.x, n.z)) > 0.0)
         .count();
     assert!(
         body.len() > 100 && outward as f32 > 0.97 * body.len() as f32,
@@ -74,11 +68,7 @@ fn spot_obj_keeps_its_uvs_and_gets_normals() {
     assert_mesh_sane(&model, "spot.obj");
     let mesh = &model.meshes[0];
     assert_eq!(mesh.triangle_count(), 5856);
-    let distinct_uvs = mesh
-        .uvs
-        .iter()
-        .filter(|uv| **uv != glam::Vec2::ZERO)
-        .count();
+    let distinct_uvs = mesh.uvs.iter().filter(|uv| **uv != glam::Vec2::ZERO).count();
     assert!(distinct_uvs > mesh.vertex_count() / 2, "UVs were lost");
     // The file's own UVs reach slightly past [0, 1] (u down to -0.05); flipping v keeps them in range.
     assert!(
@@ -118,11 +108,7 @@ fn cornell_box_glb_has_several_meshes_and_materials() {
         .iter()
         .map(|p| {
             let c = model.materials[p.material].base_color;
-            [
-                (c.x * 100.0) as u32,
-                (c.y * 100.0) as u32,
-                (c.z * 100.0) as u32,
-            ]
+            [(c.x * 100.0) as u32, (c.y * 100.0) as u32, (c.z * 100.0) as u32]
         })
         .collect();
     assert!(
@@ -136,9 +122,7 @@ fn project_scenes_load_with_three_viewpoints() {
     for name in ["teapot", "character"] {
         let scene = load_scene(&common::asset(&format!("scenes/{name}.ron"))).unwrap();
         assert_eq!(scene.views.len(), 3, "{name}");
-        assert!(
-            scene.instances.iter().any(|i| i.caster) && scene.instances.iter().any(|i| i.receiver)
-        );
+        assert!(scene.instances.iter().any(|i| i.caster) && scene.instances.iter().any(|i| i.receiver));
         // The caster stands on the floor: contact shadows are possible.
         assert!(
             scene.caster_bounds().min.y.abs() < 1e-3,
@@ -173,10 +157,7 @@ fn expect_error(path: &Path, needle: &str) -> PenumbraError {
     };
     let text = err.to_string();
     let name = path.file_name().unwrap().to_string_lossy();
-    assert!(
-        text.contains(&*name),
-        "error does not name the file: {text}"
-    );
+    assert!(text.contains(&*name), "error does not name the file: {text}");
     assert!(
         text.to_lowercase().contains(&needle.to_lowercase()),
         "error does not say `{needle}`: {text}"
@@ -370,10 +351,7 @@ fn gltf_node_hierarchy_and_alpha_mask_are_applied() {
     assert!((b.min - Vec3::new(0.0, 5.0, 0.0)).length() < 1e-5, "{b:?}");
     assert!((b.max - Vec3::new(2.0, 7.0, 0.0)).length() < 1e-5, "{b:?}");
     let material = &model.materials[model.parts[0].material];
-    assert_eq!(
-        material.alpha_mode,
-        penumbra::AlphaMode::Mask { cutoff: 0.3 }
-    );
+    assert_eq!(material.alpha_mode, penumbra::AlphaMode::Mask { cutoff: 0.3 });
     assert_eq!(material.base_color, glam::Vec4::new(1.0, 0.0, 0.0, 1.0));
 }
 
@@ -401,11 +379,7 @@ fn obj_material_library_gives_color_and_texture() {
     let texture = &model.textures[painted.base_color_texture.expect("map_Kd loaded")];
     assert_eq!((texture.width, texture.height), (4, 4));
     assert_eq!(&texture.rgba8[..4], &[10, 200, 30, 255]);
-    assert_eq!(
-        model.meshes[0].triangle_count(),
-        2,
-        "the quad is triangulated"
-    );
+    assert_eq!(model.meshes[0].triangle_count(), 2, "the quad is triangulated");
     let plain = &model.materials[model.parts[1].material];
     assert_eq!(plain.base_color, glam::Vec4::new(0.2, 0.3, 0.4, 1.0));
     assert_eq!(plain.base_color_texture, None);

@@ -8,11 +8,7 @@ use std::process::Command;
 
 /// `cargo test` builds the examples next to the test binaries: target/<profile>/examples/.
 fn render_example() -> PathBuf {
-    let deps = std::env::current_exe()
-        .unwrap()
-        .parent()
-        .unwrap()
-        .to_path_buf();
+    let deps = std::env::current_exe().unwrap().parent().unwrap().to_path_buf();
     let exe = deps
         .parent()
         .unwrap()
@@ -29,10 +25,7 @@ fn render_example() -> PathBuf {
 fn run(args: &[&str]) -> (bool, String) {
     let out = Command::new(render_example()).args(args).output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(
-        !stderr.contains("panicked"),
-        "the example panicked:\n{stderr}"
-    );
+    assert!(!stderr.contains("panicked"), "the example panicked:\n{stderr}");
     (out.status.success(), stderr)
 }
 
@@ -80,18 +73,12 @@ fn bad_arguments_get_plain_errors() {
         (vec!["--scene", "no/such/scene.ron"], "no/such/scene.ron"),
         (vec!["--scene", scene, "--size", "800by600"], "WIDTHxHEIGHT"),
         (vec!["--scene", scene, "--size", "0x600"], "at least 1"),
-        (
-            vec!["--scene", scene, "--method", "vsm"],
-            "unknown method `vsm`",
-        ),
+        (vec!["--scene", scene, "--method", "vsm"], "unknown method `vsm`"),
         (
             vec!["--scene", scene, "--view", "7"],
             "viewpoint 7 does not exist",
         ),
-        (
-            vec!["--scene", scene, "--shadow-map", "1000"],
-            "power of two",
-        ),
+        (vec!["--scene", scene, "--shadow-map", "1000"], "power of two"),
     ] {
         let (ok, stderr) = run(&args);
         assert!(!ok, "{args:?} should fail");
@@ -148,14 +135,7 @@ fn every_method_and_debug_view_writes_a_png() {
             assert!(stderr.contains("took no shadow-map taps"), "{stderr}");
         }
     }
-    for view in [
-        "shadow-map",
-        "fattened-map",
-        "distance",
-        "mask",
-        "pcf",
-        "blur",
-    ] {
+    for view in ["shadow-map", "fattened-map", "distance", "mask", "pcf", "blur"] {
         let out = dir.join(format!("debug-{view}.png"));
         let (ok, stderr) = run(&[
             "--scene",

@@ -4,8 +4,7 @@
 use std::path::Path;
 
 fn validate(path: &Path) -> naga::Module {
-    let source =
-        std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let source = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| {
         panic!(
             "{} does not parse:\n{}",
@@ -49,20 +48,15 @@ fn every_shader_validates() {
 fn passes_find_their_entry_points() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     for (file, entry_points) in [
-        (
-            "shadow_map.wgsl",
-            &["vs_opaque", "vs_masked", "fs_masked"][..],
-        ),
+        ("shadow_map.wgsl", &["vs_opaque", "vs_masked", "fs_masked"][..]),
         ("forward.wgsl", &["vs_main", "fs_main"][..]),
         ("fattened_shadow_map.wgsl", &["vs_main"][..]),
-        (
-            "distance_map.wgsl",
-            &["vs_main", "fs_depth", "fs_distance"][..],
-        ),
+        ("distance_map.wgsl", &["vs_main", "fs_depth", "fs_distance"][..]),
         ("pcf.wgsl", &["vs_fullscreen", "fs_main"][..]),
         ("blur.wgsl", &["vs_fullscreen", "fs_main"][..]),
         ("pcss.wgsl", &["vs_fullscreen", "fs_main"][..]),
         ("composite.wgsl", &["vs_main", "fs_main"][..]),
+        ("reference.wgsl", &["vs_fullscreen", "fs_main"][..]),
     ] {
         let module = validate(&dir.join(file));
         for name in entry_points {

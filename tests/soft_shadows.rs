@@ -6,8 +6,8 @@ mod common;
 
 use glam::{Mat4, Quat, Vec3};
 use penumbra::{
-    Camera, DebugTexture, DirectionalLight, GpuScene, HeadlessGpu, Light, Material, Renderer,
-    Scene, ShadowMethod, ShadowSettings, SpreadMode, load_scene, scene::primitives,
+    Camera, DebugTexture, DirectionalLight, GpuScene, HeadlessGpu, Light, Material, Renderer, Scene,
+    ShadowMethod, ShadowSettings, SpreadMode, load_scene, scene::primitives,
 };
 
 fn settings(method: ShadowMethod) -> ShadowSettings {
@@ -34,8 +34,7 @@ fn render_frame(
     settings: ShadowSettings,
     (w, h): (u32, u32),
 ) -> (image::RgbaImage, Renderer) {
-    let mut renderer =
-        Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+    let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
     let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), scene).unwrap();
     let image = penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, camera, w, h).unwrap();
     (image, renderer)
@@ -64,9 +63,7 @@ fn tilted_bar_scene(light_degrees: f32) -> (Scene, Camera) {
     let floor_material = scene.add_material(Material::colored("floor", [0.8, 0.8, 0.8]));
     let bar_material = scene.add_material(Material::colored("bar", [0.3, 0.5, 0.8]));
     let floor = scene.add_mesh(primitives::plane(12.0, 1.0));
-    scene
-        .add_instance(floor, floor_material, Mat4::IDENTITY)
-        .caster = false;
+    scene.add_instance(floor, floor_material, Mat4::IDENTITY).caster = false;
     let length = (4.0f32 * 4.0 + 1.5 * 1.5).sqrt();
     let bar = scene.add_mesh(primitives::cuboid(Vec3::new(length, 0.05, 0.6)));
     let tilt = Quat::from_rotation_z((1.5f32 / 4.0).atan());
@@ -122,9 +119,7 @@ fn bar_edge_widths(gpu: &HeadlessGpu, method: ShadowMethod, degrees: f32) -> (f3
     }
     let (visibility, channels) = read(
         gpu,
-        renderer
-            .composited_visibility()
-            .expect("screen-space method"),
+        renderer.composited_visibility().expect("screen-space method"),
     );
     assert_eq!(channels, 1);
     let what = format!("{} at {degrees} degrees", method.name());
@@ -142,11 +137,7 @@ fn bar_edge_widths(gpu: &HeadlessGpu, method: ShadowMethod, degrees: f32) -> (f3
 #[test]
 fn penumbrae_harden_at_contact_with_ours_and_pcss_but_not_traditional() {
     let gpu = common::gpu();
-    for method in [
-        ShadowMethod::Ours,
-        ShadowMethod::Pcss,
-        ShadowMethod::OursFast,
-    ] {
+    for method in [ShadowMethod::Ours, ShadowMethod::Pcss, ShadowMethod::OursFast] {
         let (near, far) = bar_edge_widths(&gpu, method, 6.0);
         assert!(
             far >= 2.0 * near,
@@ -191,18 +182,8 @@ fn light_size_zero_is_hard_shadows() {
         l.angular_diameter_deg = 0.0;
     }
     let camera = scene.view(0).unwrap();
-    let (hard, _) = render_frame(
-        &gpu,
-        &scene,
-        &camera,
-        settings(ShadowMethod::Hard),
-        (320, 256),
-    );
-    for method in [
-        ShadowMethod::Ours,
-        ShadowMethod::OursFast,
-        ShadowMethod::Pcss,
-    ] {
+    let (hard, _) = render_frame(&gpu, &scene, &camera, settings(ShadowMethod::Hard), (320, 256));
+    for method in [ShadowMethod::Ours, ShadowMethod::OursFast, ShadowMethod::Pcss] {
         let (image, renderer) = render_frame(&gpu, &scene, &camera, settings(method), (320, 256));
         let plan = renderer.last_report().unwrap().plan;
         assert_eq!(plan.method, ShadowMethod::Hard, "{}", method.name());
@@ -212,11 +193,7 @@ fn light_size_zero_is_hard_shadows() {
             method.name(),
             plan.names()
         );
-        let differing = image
-            .pixels()
-            .zip(hard.pixels())
-            .filter(|(a, b)| a != b)
-            .count();
+        let differing = image.pixels().zip(hard.pixels()).filter(|(a, b)| a != b).count();
         assert_eq!(
             differing,
             0,
@@ -242,12 +219,8 @@ fn mask_contains_every_hard_shadowed_pixel() {
                 size.0,
                 size.1,
             );
-            let (_, renderer) =
-                render_frame(&gpu, &scene, &camera, settings(ShadowMethod::Ours), size);
-            let (distance, _) = read(
-                &gpu,
-                renderer.debug_texture(DebugTexture::DistanceMap).unwrap(),
-            );
+            let (_, renderer) = render_frame(&gpu, &scene, &camera, settings(ShadowMethod::Ours), size);
+            let (distance, _) = read(&gpu, renderer.debug_texture(DebugTexture::DistanceMap).unwrap());
             let mut shadowed = 0;
             let mut outside = 0;
             for (i, (a, b)) in hard.pixels().zip(without.pixels()).enumerate() {
@@ -321,10 +294,7 @@ fn intermediates_stay_finite_at_extreme_settings() {
             let (values, _) = read(&gpu, texture);
             let bad = values.iter().filter(|v| !v.is_finite()).count();
             assert_eq!(bad, 0, "{what}: {bad} non-finite values in {which:?}");
-            if matches!(
-                which,
-                DebugTexture::Visibility | DebugTexture::BlurredVisibility
-            ) {
+            if matches!(which, DebugTexture::Visibility | DebugTexture::BlurredVisibility) {
                 assert!(
                     values.iter().all(|v| (0.0..=1.0).contains(v)),
                     "{what}: visibility outside [0, 1] in {which:?}"
@@ -332,10 +302,7 @@ fn intermediates_stay_finite_at_extreme_settings() {
             }
         }
         let first = *image.get_pixel(0, image.height() - 1);
-        assert!(
-            image.pixels().any(|p| *p != first),
-            "{what}: a one-color frame"
-        );
+        assert!(image.pixels().any(|p| *p != first), "{what}: a one-color frame");
     }
 }
 
@@ -349,20 +316,14 @@ fn flat_shaded_cube_fattens_into_a_closed_shape() {
     let material = scene.add_material(Material::colored("cube", [0.8, 0.8, 0.8]));
     let floor_material = scene.add_material(Material::colored("floor", [0.8, 0.8, 0.8]));
     let cube = scene.add_mesh(primitives::cuboid(Vec3::ONE));
-    assert_eq!(
-        scene.meshes[cube].vertex_count(),
-        24,
-        "split per-face normals"
-    );
+    assert_eq!(scene.meshes[cube].vertex_count(), 24, "split per-face normals");
     scene.add_instance(
         cube,
         material,
         Mat4::from_rotation_translation(Quat::from_rotation_y(0.5), Vec3::new(0.0, 1.5, 0.0)),
     );
     let floor = scene.add_mesh(primitives::plane(10.0, 1.0));
-    scene
-        .add_instance(floor, floor_material, Mat4::IDENTITY)
-        .caster = false;
+    scene.add_instance(floor, floor_material, Mat4::IDENTITY).caster = false;
     let mut s = settings(ShadowMethod::Ours);
     s.shadow_map.resolution = 512;
     s.penumbra.spreads = SpreadMode::Manual {
@@ -374,14 +335,8 @@ fn flat_shaded_cube_fattens_into_a_closed_shape() {
         .view(0)
         .unwrap_or(Camera::look_at(Vec3::new(0.0, 5.0, 6.0), Vec3::ZERO));
     let (_, renderer) = render_frame(&gpu, &scene, &camera, s, (64, 64));
-    let (real, _) = read(
-        &gpu,
-        renderer.debug_texture(DebugTexture::ShadowMap).unwrap(),
-    );
-    let (fat, _) = read(
-        &gpu,
-        renderer.debug_texture(DebugTexture::FattenedMap).unwrap(),
-    );
+    let (real, _) = read(&gpu, renderer.debug_texture(DebugTexture::ShadowMap).unwrap());
+    let (fat, _) = read(&gpu, renderer.debug_texture(DebugTexture::FattenedMap).unwrap());
     let side = 512usize;
     let covered = |d: &[f32], i: usize| d[i] < 1.0;
     let real_area = (0..side * side).filter(|&i| covered(&real, i)).count();
@@ -501,11 +456,7 @@ fn passes_the_method_does_not_use_are_not_allocated() {
         .set_settings(&gpu.device, settings(ShadowMethod::Pcss))
         .unwrap();
     assert!(renderer.debug_texture(DebugTexture::FattenedMap).is_none());
-    assert!(
-        renderer
-            .debug_texture(DebugTexture::BlurredVisibility)
-            .is_none()
-    );
+    assert!(renderer.debug_texture(DebugTexture::BlurredVisibility).is_none());
     assert!(renderer.debug_texture(DebugTexture::Visibility).is_some());
 }
 
@@ -518,30 +469,20 @@ fn bleeding(gpu: &HeadlessGpu, scene: &Scene, camera: &Camera, depth_aware: bool
     let (_, renderer) = render_frame(gpu, scene, camera, s, size);
     let (blurred, _) = read(
         gpu,
-        renderer
-            .debug_texture(DebugTexture::BlurredVisibility)
-            .unwrap(),
+        renderer.debug_texture(DebugTexture::BlurredVisibility).unwrap(),
     );
-    let (raw, _) = read(
-        gpu,
-        renderer.debug_texture(DebugTexture::Visibility).unwrap(),
-    );
-    let (depth, _) = read(
-        gpu,
-        renderer.debug_texture(DebugTexture::CameraDepth).unwrap(),
-    );
+    let (raw, _) = read(gpu, renderer.debug_texture(DebugTexture::Visibility).unwrap());
+    let (depth, _) = read(gpu, renderer.debug_texture(DebugTexture::CameraDepth).unwrap());
     let (w, h) = size;
     let mut count = 0;
     for y in 8..h - 8 {
         for x in 8..w - 8 {
             let i = (y * w + x) as usize;
             // Within 8 pixels of a jump in camera depth.
-            let near_edge = [(8i32, 0i32), (-8, 0), (0, 8), (0, -8)]
-                .iter()
-                .any(|(dx, dy)| {
-                    let j = ((y as i32 + dy) * w as i32 + x as i32 + dx) as usize;
-                    (depth[j] - depth[i]).abs() > 0.05 * (1.0 - depth[i]).max(1e-6)
-                });
+            let near_edge = [(8i32, 0i32), (-8, 0), (0, 8), (0, -8)].iter().any(|(dx, dy)| {
+                let j = ((y as i32 + dy) * w as i32 + x as i32 + dx) as usize;
+                (depth[j] - depth[i]).abs() > 0.05 * (1.0 - depth[i]).max(1e-6)
+            });
             if near_edge && depth[i] < 1.0 && blurred[i] < raw[i] - 0.1 {
                 count += 1;
             }
@@ -566,9 +507,7 @@ fn depth_aware_blur_bleeds_less_across_depth_jumps() {
                 bleeding(&gpu, &scene, &camera, false),
                 bleeding(&gpu, &scene, &camera, true),
             );
-            eprintln!(
-                "{name} view {view}: {off} bled pixels without depth-aware weights, {on} with"
-            );
+            eprintln!("{name} view {view}: {off} bled pixels without depth-aware weights, {on} with");
             total.0 += off;
             total.1 += on;
         }
@@ -610,8 +549,5 @@ fn indirect_light_lightens_far_shadows_more_than_contact_shadows() {
     );
     // Lit floor is untouched.
     let open = common::project(&camera, size.0, size.1, Vec3::new(0.0, 0.0, -1.5)).unwrap();
-    assert_eq!(
-        plain.get_pixel(open.0, open.1),
-        bounced.get_pixel(open.0, open.1)
-    );
+    assert_eq!(plain.get_pixel(open.0, open.1), bounced.get_pixel(open.0, open.1));
 }

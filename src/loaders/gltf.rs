@@ -102,11 +102,7 @@ pub(super) fn load(path: &Path) -> Result<Model> {
                 }
                 None => globals[node.index()],
             };
-            let key = (
-                mesh.index(),
-                primitive.index(),
-                skin.as_ref().map(|s| s.index()),
-            );
+            let key = (mesh.index(), primitive.index(), skin.as_ref().map(|s| s.index()));
             let mesh_index = *mesh_cache.entry(key).or_insert_with(|| {
                 model.meshes.push(built);
                 model.meshes.len() - 1
@@ -125,10 +121,7 @@ pub(super) fn load(path: &Path) -> Result<Model> {
 }
 
 /// Checks that every accessor's data lies inside its buffer, so reading can never go out of bounds.
-fn check_accessors(
-    document: &gltf::Document,
-    buffers: &[gltf::buffer::Data],
-) -> Result<(), String> {
+fn check_accessors(document: &gltf::Document, buffers: &[gltf::buffer::Data]) -> Result<(), String> {
     for accessor in document.accessors() {
         let Some(view) = accessor.view() else {
             continue;
@@ -175,9 +168,7 @@ fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Ma
             cutoff: material.alpha_cutoff().unwrap_or(0.5),
         },
         gltf::material::AlphaMode::Blend => {
-            warnings.push(format!(
-                "material `{name}`: alpha mode BLEND is drawn as opaque"
-            ));
+            warnings.push(format!("material `{name}`: alpha mode BLEND is drawn as opaque"));
             AlphaMode::Opaque
         }
     };
@@ -321,9 +312,9 @@ fn pose_skinned(
         let mut total = 0.0;
         for k in 0..4 {
             if w[k] != 0.0 {
-                let joint = joint_matrices.get(ids[k] as usize).ok_or_else(|| {
-                    format!("vertex {v} uses joint {} of {}", ids[k], joints.len())
-                })?;
+                let joint = joint_matrices
+                    .get(ids[k] as usize)
+                    .ok_or_else(|| format!("vertex {v} uses joint {} of {}", ids[k], joints.len()))?;
                 m += *joint * w[k];
                 total += w[k];
             }
@@ -336,14 +327,7 @@ fn pose_skinned(
         positions.push(m.transform_point3(mesh.positions[v]));
         normals.push(m.transform_vector3(mesh.normals[v]));
     }
-    Mesh::new(
-        mesh.name,
-        positions,
-        Some(normals),
-        Some(mesh.uvs),
-        mesh.indices,
-    )
-    .map_err(|e| e.to_string())
+    Mesh::new(mesh.name, positions, Some(normals), Some(mesh.uvs), mesh.indices).map_err(|e| e.to_string())
 }
 
 fn to_rgba8(name: String, image: gltf::image::Data) -> Result<TextureImage, String> {
@@ -353,10 +337,7 @@ fn to_rgba8(name: String, image: gltf::image::Data) -> Result<TextureImage, Stri
     let n = (w as usize) * (h as usize);
     let rgba: Vec<u8> = match image.format {
         Format::R8G8B8A8 => px.clone(),
-        Format::R8G8B8 => px
-            .chunks_exact(3)
-            .flat_map(|c| [c[0], c[1], c[2], 255])
-            .collect(),
+        Format::R8G8B8 => px.chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 255]).collect(),
         Format::R8G8 => px
             .chunks_exact(2)
             .flat_map(|c| [c[0], c[0], c[0], c[1]])
@@ -366,17 +347,11 @@ fn to_rgba8(name: String, image: gltf::image::Data) -> Result<TextureImage, Stri
             .chunks_exact(8)
             .flat_map(|c| [c[1], c[3], c[5], c[7]])
             .collect(),
-        Format::R16G16B16 => px
-            .chunks_exact(6)
-            .flat_map(|c| [c[1], c[3], c[5], 255])
-            .collect(),
+        Format::R16G16B16 => px.chunks_exact(6).flat_map(|c| [c[1], c[3], c[5], 255]).collect(),
         other => return Err(format!("{name}: pixel format {other:?} is not supported")),
     };
     if rgba.len() != n * 4 {
-        return Err(format!(
-            "{name}: {w}x{h} image has {} bytes of pixels",
-            px.len()
-        ));
+        return Err(format!("{name}: {w}x{h} image has {} bytes of pixels", px.len()));
     }
     Ok(TextureImage::from_rgba8(name, w, h, rgba))
 }

@@ -18,10 +18,7 @@ pub(super) fn load(path: &Path) -> Result<Model> {
     let (objects, materials) =
         tobj::load_obj(path, &options).map_err(|e| PenumbraError::model(path, e.to_string()))?;
     let obj_materials = materials.map_err(|e| {
-        PenumbraError::model(
-            path,
-            format!("its material library (.mtl) cannot be loaded: {e}"),
-        )
+        PenumbraError::model(path, format!("its material library (.mtl) cannot be loaded: {e}"))
     })?;
     let base_dir = path.parent().unwrap_or(Path::new(""));
 
@@ -60,11 +57,7 @@ pub(super) fn load(path: &Path) -> Result<Model> {
         if mesh.indices.is_empty() {
             continue;
         }
-        let positions: Vec<Vec3> = mesh
-            .positions
-            .chunks_exact(3)
-            .map(Vec3::from_slice)
-            .collect();
+        let positions: Vec<Vec3> = mesh.positions.chunks_exact(3).map(Vec3::from_slice).collect();
         let normals = (!mesh.normals.is_empty()).then(|| {
             mesh.normals
                 .chunks_exact(3)

@@ -7,9 +7,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{
-    VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target,
-};
+use super::{VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target};
 use crate::frame::gaussian_weights;
 
 #[repr(C)]
@@ -87,25 +85,13 @@ impl BlurPass {
             axis_buffers,
             axis_groups,
             temp: screen_target(device, "BlurPass::horizontal", 1, 1, VISIBILITY_FORMAT),
-            output: screen_target(
-                device,
-                "BlurPass::blurred_visibility",
-                1,
-                1,
-                VISIBILITY_FORMAT,
-            ),
+            output: screen_target(device, "BlurPass::blurred_visibility", 1, 1, VISIBILITY_FORMAT),
             bind_groups: None,
         }
     }
 
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.temp = screen_target(
-            device,
-            "BlurPass::horizontal",
-            width,
-            height,
-            VISIBILITY_FORMAT,
-        );
+        self.temp = screen_target(device, "BlurPass::horizontal", width, height, VISIBILITY_FORMAT);
         self.output = screen_target(
             device,
             "BlurPass::blurred_visibility",

@@ -21,8 +21,7 @@ impl CompositePass {
         color_format: wgpu::TextureFormat,
         frame_size: usize,
     ) -> Self {
-        let shader =
-            device.create_shader_module(wgpu::include_wgsl!("../../shaders/composite.wgsl"));
+        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/composite.wgsl"));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("CompositePass::layout"),
             entries: &[
@@ -33,11 +32,7 @@ impl CompositePass {
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("CompositePass::pipeline_layout"),
-            bind_group_layouts: &[
-                Some(&layout),
-                Some(&layouts.instance),
-                Some(&layouts.material),
-            ],
+            bind_group_layouts: &[Some(&layout), Some(&layouts.instance), Some(&layouts.material)],
             immediate_size: 0,
         });
         const NORMAL: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x3);

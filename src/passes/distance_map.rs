@@ -27,8 +27,7 @@ impl DistanceMapPass {
     pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, frame_size: usize) -> Self {
-        let shader =
-            device.create_shader_module(wgpu::include_wgsl!("../../shaders/distance_map.wgsl"));
+        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/distance_map.wgsl"));
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("DistanceMapPass::frame_layout"),
             entries: &[
@@ -112,12 +111,7 @@ impl DistanceMapPass {
     }
 
     /// Points the pass at the frame uniform and the fattened map.
-    pub fn bind(
-        &mut self,
-        device: &wgpu::Device,
-        frame: &wgpu::Buffer,
-        fattened_map: &wgpu::TextureView,
-    ) {
+    pub fn bind(&mut self, device: &wgpu::Device, frame: &wgpu::Buffer, fattened_map: &wgpu::TextureView) {
         self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("DistanceMapPass::bind_group"),
             layout: &self.frame_layout,
@@ -147,12 +141,7 @@ impl DistanceMapPass {
     }
 
     /// Records the pass; with `with_distance` false only the depth prepass runs.
-    pub fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        scene: &GpuScene,
-        with_distance: bool,
-    ) {
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, scene: &GpuScene, with_distance: bool) {
         let Some(bind_group) = &self.bind_group else {
             return;
         };
@@ -205,11 +194,7 @@ impl DistanceMapPass {
     }
 }
 
-fn depth_target(
-    device: &wgpu::Device,
-    width: u32,
-    height: u32,
-) -> (wgpu::Texture, wgpu::TextureView) {
+fn depth_target(device: &wgpu::Device, width: u32, height: u32) -> (wgpu::Texture, wgpu::TextureView) {
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("DistanceMapPass::camera_depth"),
         size: wgpu::Extent3d {

@@ -32,14 +32,9 @@ pub struct FattenedShadowMapPass {
 }
 
 impl FattenedShadowMapPass {
-    pub fn new(
-        device: &wgpu::Device,
-        layouts: &SceneLayouts,
-        settings: &ShadowMapSettings,
-    ) -> Self {
-        let shader = device.create_shader_module(wgpu::include_wgsl!(
-            "../../shaders/fattened_shadow_map.wgsl"
-        ));
+    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, settings: &ShadowMapSettings) -> Self {
+        let shader =
+            device.create_shader_module(wgpu::include_wgsl!("../../shaders/fattened_shadow_map.wgsl"));
         let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("FattenedShadowMapPass::layout"),
             entries: &[entry::uniform(
@@ -68,8 +63,7 @@ impl FattenedShadowMapPass {
             bind_group_layouts: &[Some(&bind_layout), Some(&layouts.instance)],
             immediate_size: 0,
         });
-        const SMOOTHED_NORMAL: [wgpu::VertexAttribute; 1] =
-            stream(1, wgpu::VertexFormat::Float32x3);
+        const SMOOTHED_NORMAL: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x3);
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("FattenedShadowMapPass::pipeline"),
             layout: Some(&pipeline_layout),
@@ -90,8 +84,7 @@ impl FattenedShadowMapPass {
             multiview_mask: None,
             cache: None,
         });
-        let (texture, view) =
-            light_depth_target(device, settings, "FattenedShadowMapPass::fattened_map");
+        let (texture, view) = light_depth_target(device, settings, "FattenedShadowMapPass::fattened_map");
         Self {
             settings: *settings,
             texture,

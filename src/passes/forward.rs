@@ -89,8 +89,7 @@ impl ForwardPass {
                 ..Default::default()
             })
         };
-        let hard_sampler =
-            comparison_sampler("ForwardPass::hard_sampler", wgpu::FilterMode::Nearest);
+        let hard_sampler = comparison_sampler("ForwardPass::hard_sampler", wgpu::FilterMode::Nearest);
         let pcf_sampler = comparison_sampler("ForwardPass::pcf_sampler", wgpu::FilterMode::Linear);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("ForwardPass::layout"),
@@ -136,14 +135,7 @@ impl ForwardPass {
             cache: None,
         });
         let make_bind_group = |sampler: &wgpu::Sampler, label| {
-            frame_bind_group(
-                device,
-                &frame_layout,
-                &frame_buffer,
-                shadow_map,
-                sampler,
-                label,
-            )
+            frame_bind_group(device, &frame_layout, &frame_buffer, shadow_map, sampler, label)
         };
         let hard_bind_group = make_bind_group(&hard_sampler, "ForwardPass::frame_hard");
         let pcf_bind_group = make_bind_group(&pcf_sampler, "ForwardPass::frame_pcf");

@@ -9,6 +9,7 @@
 //! | [`PcssPass`] | `shaders/pcss.wgsl` | camera depth, shadow map | visibility (R16F) |
 //! | [`BlurPass`] | `shaders/blur.wgsl` | visibility, distance map, camera depth | blurred visibility (R16F) |
 //! | [`CompositePass`] | `shaders/composite.wgsl` | all instances, visibility, distance map, camera depth | lit color |
+//! | [`ReferencePass`] | `shaders/reference.wgsl` | camera depth, one hard shadow map per light sample | mean visibility (R32F) |
 //! | [`ForwardPass`] | `shaders/forward.wgsl` | all instances, camera, shadow map | lit color + camera depth (hard, hw2x2) |
 
 mod blur;
@@ -18,6 +19,7 @@ mod fattened_shadow_map;
 mod forward;
 mod pcf;
 mod pcss;
+mod reference;
 mod shadow_map;
 
 pub use blur::BlurPass;
@@ -27,13 +29,11 @@ pub use fattened_shadow_map::FattenedShadowMapPass;
 pub use forward::ForwardPass;
 pub use pcf::PcfPass;
 pub use pcss::PcssPass;
+pub use reference::ReferencePass;
 pub use shadow_map::ShadowMapPass;
 
 /// Vertex buffer layout of one tightly packed attribute stream.
-pub(crate) const fn stream(
-    location: u32,
-    format: wgpu::VertexFormat,
-) -> [wgpu::VertexAttribute; 1] {
+pub(crate) const fn stream(location: u32, format: wgpu::VertexFormat) -> [wgpu::VertexAttribute; 1] {
     [wgpu::VertexAttribute {
         format,
         offset: 0,
@@ -82,10 +82,7 @@ pub(crate) mod entry {
     }
 
     /// A sampler used in the fragment stage.
-    pub(crate) fn sampler(
-        binding: u32,
-        kind: wgpu::SamplerBindingType,
-    ) -> wgpu::BindGroupLayoutEntry {
+    pub(crate) fn sampler(binding: u32, kind: wgpu::SamplerBindingType) -> wgpu::BindGroupLayoutEntry {
         wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::FRAGMENT,
@@ -202,9 +199,7 @@ pub(crate) fn draw_fullscreen(
 }
 
 /// Bind group entries for a list of resources, numbered from 0.
-pub(crate) fn entries<'a>(
-    resources: &[wgpu::BindingResource<'a>],
-) -> Vec<wgpu::BindGroupEntry<'a>> {
+pub(crate) fn entries<'a>(resources: &[wgpu::BindingResource<'a>]) -> Vec<wgpu::BindGroupEntry<'a>> {
     resources
         .iter()
         .enumerate()

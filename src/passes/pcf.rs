@@ -6,9 +6,7 @@
 //! spacing grows with the distance and pixels outside the mask take no shadow-map tap at all;
 //! the baseline uses a fixed spacing everywhere. The fast mode runs this pass with one tap.
 
-use super::{
-    VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target,
-};
+use super::{VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target};
 
 pub struct PcfPass {
     layout: wgpu::BindGroupLayout,
@@ -48,13 +46,7 @@ impl PcfPass {
     }
 
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.output = screen_target(
-            device,
-            "PcfPass::visibility",
-            width,
-            height,
-            VISIBILITY_FORMAT,
-        );
+        self.output = screen_target(device, "PcfPass::visibility", width, height, VISIBILITY_FORMAT);
     }
 
     pub fn bind(

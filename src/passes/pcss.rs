@@ -5,9 +5,7 @@
 //! texture. Blocker and PCF tap counts come from [`crate::PcssSettings`].
 
 use super::pcf::comparison_sampler;
-use super::{
-    VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target,
-};
+use super::{VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target};
 
 pub struct PcssPass {
     layout: wgpu::BindGroupLayout,
@@ -46,13 +44,7 @@ impl PcssPass {
     }
 
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.output = screen_target(
-            device,
-            "PcssPass::visibility",
-            width,
-            height,
-            VISIBILITY_FORMAT,
-        );
+        self.output = screen_target(device, "PcssPass::visibility", width, height, VISIBILITY_FORMAT);
     }
 
     pub fn bind(
@@ -84,13 +76,7 @@ impl PcssPass {
 
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
         if let Some(group) = &self.bind_group {
-            draw_fullscreen(
-                encoder,
-                "PcssPass",
-                &self.pipeline,
-                &[group],
-                &self.output.1,
-            );
+            draw_fullscreen(encoder, "PcssPass", &self.pipeline, &[group], &self.output.1);
         }
     }
 }

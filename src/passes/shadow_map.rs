@@ -31,13 +31,8 @@ pub struct ShadowMapPass {
 
 impl ShadowMapPass {
     /// Creates the pipelines and the shadow map texture. `settings` must have been validated.
-    pub fn new(
-        device: &wgpu::Device,
-        layouts: &SceneLayouts,
-        settings: &ShadowMapSettings,
-    ) -> Self {
-        let shader =
-            device.create_shader_module(wgpu::include_wgsl!("../../shaders/shadow_map.wgsl"));
+    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, settings: &ShadowMapSettings) -> Self {
+        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/shadow_map.wgsl"));
         let light_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ShadowMapPass::light_layout"),
             entries: &[entry::uniform(
@@ -169,11 +164,7 @@ impl ShadowMapPass {
             } else {
                 &self.opaque_pipeline
             });
-            for inst in scene
-                .instances
-                .iter()
-                .filter(|i| i.caster && i.masked == masked)
-            {
+            for inst in scene.instances.iter().filter(|i| i.caster && i.masked == masked) {
                 let mesh = &scene.meshes[inst.mesh];
                 if mesh.index_count == 0 {
                     continue;

@@ -117,11 +117,7 @@ mod tests {
 
     #[test]
     fn from_points_and_transform() {
-        let pts = [
-            Vec3::new(-1.0, 0.0, 2.0),
-            Vec3::new(3.0, -2.0, 1.0),
-            Vec3::NAN,
-        ];
+        let pts = [Vec3::new(-1.0, 0.0, 2.0), Vec3::new(3.0, -2.0, 1.0), Vec3::NAN];
         let b = Aabb::from_points(pts.iter());
         assert_eq!(b.min, Vec3::new(-1.0, -2.0, 1.0));
         assert_eq!(b.max, Vec3::new(3.0, 0.0, 2.0));

@@ -119,13 +119,7 @@ impl OrbitCamera {
             self.yaw_deg.to_radians(),
             self.pitch_deg.clamp(-89.0, 89.0).to_radians(),
         );
-        self.target
-            + self.distance
-                * Vec3::new(
-                    yaw.sin() * pitch.cos(),
-                    pitch.sin(),
-                    yaw.cos() * pitch.cos(),
-                )
+        self.target + self.distance * Vec3::new(yaw.sin() * pitch.cos(), pitch.sin(), yaw.cos() * pitch.cos())
     }
 
     /// Rotates by the given degrees (pitch is clamped).

@@ -60,16 +60,8 @@ pub fn character() -> Mesh {
         primitives::cuboid(Vec3::new(0.36, 0.46, 0.2)),
         Mat4::from_translation(Vec3::new(0.0, 1.22, 0.0)),
     ));
-    parts.push(limb(
-        Vec3::new(-0.2, 1.44, 0.0),
-        Vec3::new(0.2, 1.44, 0.0),
-        0.07,
-    ));
-    parts.push(limb(
-        Vec3::new(0.0, 1.45, 0.0),
-        Vec3::new(0.0, 1.56, 0.0),
-        0.05,
-    ));
+    parts.push(limb(Vec3::new(-0.2, 1.44, 0.0), Vec3::new(0.2, 1.44, 0.0), 0.07));
+    parts.push(limb(Vec3::new(0.0, 1.45, 0.0), Vec3::new(0.0, 1.56, 0.0), 0.05));
     parts.push(placed(
         primitives::sphere(0.12, 32, 16),
         Mat4::from_translation(Vec3::new(0.0, 1.68, 0.01)),
@@ -85,16 +77,7 @@ mod tests {
     fn stands_on_the_floor_at_human_height() {
         let m = character();
         assert!(m.bounds.min.y.abs() < 1e-4, "feet at {}", m.bounds.min.y);
-        assert!(
-            (1.7..1.9).contains(&m.bounds.max.y),
-            "height {}",
-            m.bounds.max.y
-        );
-        assert!(
-            m.normals
-                .iter()
-                .chain(&m.smoothed_normals)
-                .all(|n| n.is_finite())
-        );
+        assert!((1.7..1.9).contains(&m.bounds.max.y), "height {}", m.bounds.max.y);
+        assert!(m.normals.iter().chain(&m.smoothed_normals).all(|n| n.is_finite()));
     }
 }

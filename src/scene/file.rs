@@ -23,8 +23,8 @@ use glam::{EulerRot, Mat4, Quat, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 use super::{
-    AlphaMode, Camera, Light, Material, Mesh, Model, Scene, TextureImage, Viewpoint, character,
-    primitives, teapot,
+    AlphaMode, Camera, Light, Material, Mesh, Model, Scene, TextureImage, Viewpoint, character, primitives,
+    teapot,
 };
 use crate::error::{PenumbraError, Result};
 
@@ -61,11 +61,7 @@ pub struct MeshEntry {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum TextureSource {
     /// A generated checkerboard of `squares` x `squares` cells of two sRGB colors.
-    Checker {
-        squares: u32,
-        a: [u8; 4],
-        b: [u8; 4],
-    },
+    Checker { squares: u32, a: [u8; 4], b: [u8; 4] },
     /// A PNG or JPEG file, relative to the scene file.
     File { path: String },
 }
@@ -250,10 +246,7 @@ impl SceneFile {
                 if v > 0.0 && v.is_finite() {
                     Ok(v)
                 } else {
-                    Err(bad(format!(
-                        "mesh `{}`: {what} {v} must be positive",
-                        entry.name
-                    )))
+                    Err(bad(format!("mesh `{}`: {what} {v} must be positive", entry.name)))
                 }
             };
             let model = match &entry.source {
@@ -277,10 +270,9 @@ impl SceneFile {
                 MeshSource::Sphere { radius } => {
                     builtin(primitives::sphere(positive("radius", *radius)?, 48, 24))
                 }
-                MeshSource::Plane { size, uv_repeat } => builtin(primitives::plane(
-                    positive("plane size", *size)?,
-                    *uv_repeat,
-                )),
+                MeshSource::Plane { size, uv_repeat } => {
+                    builtin(primitives::plane(positive("plane size", *size)?, *uv_repeat))
+                }
                 MeshSource::File { path: rel } => crate::loaders::load_model(&base_dir.join(rel))?,
             };
             if models.insert(entry.name.clone(), model).is_some() {
@@ -332,11 +324,7 @@ impl SceneFile {
                 near: 0.1,
                 far: 100.0,
             };
-            if !(v.fov_y_deg > 0.0
-                && v.fov_y_deg < 180.0
-                && v.eye.is_finite()
-                && v.target.is_finite())
-            {
+            if !(v.fov_y_deg > 0.0 && v.fov_y_deg < 180.0 && v.eye.is_finite() && v.target.is_finite()) {
                 return Err(bad(format!(
                     "view `{}`: fov must be in (0, 180) and eye/target finite",
                     v.name

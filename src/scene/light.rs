@@ -87,10 +87,7 @@ impl Light {
         match self {
             Light::Directional(l) => {
                 if !finite(l.direction) || l.direction.length() < 1e-12 {
-                    return Err(E::setting(
-                        "light.direction",
-                        "must be a finite, non-zero vector",
-                    ));
+                    return Err(E::setting("light.direction", "must be a finite, non-zero vector"));
                 }
                 if !(0.0..90.0).contains(&l.angular_diameter_deg) {
                     return Err(E::setting(
@@ -104,10 +101,7 @@ impl Light {
                     return Err(E::setting("light.position", "must be finite"));
                 }
                 if !finite(l.direction) || l.direction.length() < 1e-12 {
-                    return Err(E::setting(
-                        "light.direction",
-                        "must be a finite, non-zero vector",
-                    ));
+                    return Err(E::setting("light.direction", "must be a finite, non-zero vector"));
                 }
                 if !(l.cone_angle_deg > 0.0 && l.cone_angle_deg <= 89.0) {
                     return Err(E::setting(
@@ -116,10 +110,7 @@ impl Light {
                     ));
                 }
                 if !(l.radius >= 0.0 && l.radius.is_finite()) {
-                    return Err(E::setting(
-                        "light.radius",
-                        format!("{} must be >= 0", l.radius),
-                    ));
+                    return Err(E::setting("light.radius", format!("{} must be >= 0", l.radius)));
                 }
             }
         }
@@ -131,10 +122,7 @@ impl Light {
             return Err(E::setting("light.color", "must be finite and non-negative"));
         }
         if !(intensity >= 0.0 && intensity.is_finite()) {
-            return Err(E::setting(
-                "light.intensity",
-                "must be finite and non-negative",
-            ));
+            return Err(E::setting("light.intensity", "must be finite and non-negative"));
         }
         Ok(())
     }

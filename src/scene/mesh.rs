@@ -150,11 +150,7 @@ impl Mesh {
     pub fn transformed(&self, m: &Mat4) -> Result<Mesh> {
         let normal_matrix = Mat3::from_mat4(*m).inverse().transpose();
         let flip = m.determinant() < 0.0;
-        let positions = self
-            .positions
-            .iter()
-            .map(|p| m.transform_point3(*p))
-            .collect();
+        let positions = self.positions.iter().map(|p| m.transform_point3(*p)).collect();
         let normals = self
             .normals
             .iter()
@@ -283,11 +279,7 @@ mod tests {
     #[test]
     fn split_normal_cube_gets_one_smoothed_normal_per_corner() {
         let cube = primitives::cuboid(Vec3::splat(2.0));
-        assert_eq!(
-            cube.vertex_count(),
-            24,
-            "the cube has split per-face vertices"
-        );
+        assert_eq!(cube.vertex_count(), 24, "the cube has split per-face vertices");
         let mut per_corner: HashMap<[i32; 3], Vec<Vec3>> = HashMap::new();
         for (p, s) in cube.positions.iter().zip(&cube.smoothed_normals) {
             per_corner
@@ -298,8 +290,7 @@ mod tests {
         assert_eq!(per_corner.len(), 8);
         for (corner, normals) in per_corner {
             assert_eq!(normals.len(), 3);
-            let expected =
-                Vec3::new(corner[0] as f32, corner[1] as f32, corner[2] as f32).normalize();
+            let expected = Vec3::new(corner[0] as f32, corner[1] as f32, corner[2] as f32).normalize();
             for n in normals {
                 assert!(
                     (n - expected).length() < 1e-5,
@@ -315,8 +306,7 @@ mod tests {
     fn missing_and_broken_normals_are_computed_and_repaired() {
         let positions = vec![Vec3::ZERO, Vec3::X, Vec3::Z];
         let indices = vec![0, 2, 1];
-        let (m, r) =
-            Mesh::new_with_report("t", positions.clone(), None, None, indices.clone()).unwrap();
+        let (m, r) = Mesh::new_with_report("t", positions.clone(), None, None, indices.clone()).unwrap();
         assert!(r.computed_normals);
         for n in &m.normals {
             assert!((*n - Vec3::Y).length() < 1e-6, "{n}");
@@ -344,10 +334,7 @@ mod tests {
     fn bad_indices_are_rejected_with_the_mesh_name() {
         let err = Mesh::new("wing", vec![Vec3::ZERO; 3], None, None, vec![0, 1, 7]).unwrap_err();
         let text = err.to_string();
-        assert!(
-            text.contains("wing") && text.contains("out of range"),
-            "{text}"
-        );
+        assert!(text.contains("wing") && text.contains("out of range"), "{text}");
         let err = Mesh::new("wing", vec![Vec3::ZERO; 3], None, None, vec![0, 1]).unwrap_err();
         assert!(err.to_string().contains("multiple of 3"));
         let err = Mesh::new("wing", vec![Vec3::NAN; 3], None, None, vec![0, 1, 2]).unwrap_err();

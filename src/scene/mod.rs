@@ -138,11 +138,10 @@ impl Scene {
         self.meshes.extend(model.meshes.iter().cloned());
         self.warnings.extend(model.warnings.iter().cloned());
         self.textures.extend(model.textures.iter().cloned());
-        self.materials
-            .extend(model.materials.iter().map(|m| Material {
-                base_color_texture: m.base_color_texture.map(|t| t + texture_base),
-                ..m.clone()
-            }));
+        self.materials.extend(model.materials.iter().map(|m| Material {
+            base_color_texture: m.base_color_texture.map(|t| t + texture_base),
+            ..m.clone()
+        }));
         let first = self.instances.len();
         for part in &model.parts {
             self.instances.push(Instance {
@@ -266,9 +265,7 @@ impl Scene {
         let footprint = size.x.max(size.z).max(size.y * 0.5).max(1e-6);
         let floor_material = scene.add_material(Material::colored("floor", [0.75, 0.75, 0.72]));
         let floor = scene.add_mesh(primitives::plane(footprint * 4.0, 1.0));
-        scene
-            .add_instance(floor, floor_material, Mat4::IDENTITY)
-            .caster = false;
+        scene.add_instance(floor, floor_material, Mat4::IDENTITY).caster = false;
         let framed = Aabb::new(
             Vec3::new(-size.x * 0.5, 0.0, -size.z * 0.5),
             Vec3::new(size.x * 0.5, size.y, size.z * 0.5),

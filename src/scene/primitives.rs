@@ -10,13 +10,7 @@ use glam::{Vec2, Vec3};
 use super::mesh::Mesh;
 
 /// Builds a mesh from generated data that is valid by construction.
-fn build(
-    name: &str,
-    positions: Vec<Vec3>,
-    normals: Vec<Vec3>,
-    uvs: Vec<Vec2>,
-    indices: Vec<u32>,
-) -> Mesh {
+fn build(name: &str, positions: Vec<Vec3>, normals: Vec<Vec3>, uvs: Vec<Vec2>, indices: Vec<u32>) -> Mesh {
     Mesh::new(name, positions, Some(normals), Some(uvs), indices)
         .expect("built-in primitive data is consistent")
 }
@@ -64,13 +58,7 @@ pub fn plane(size: f32, uv_repeat: f32) -> Mesh {
         Vec2::new(uv_repeat, 0.0),
         Vec2::new(0.0, 0.0),
     ];
-    build(
-        "plane",
-        positions,
-        vec![Vec3::Y; 4],
-        uvs,
-        vec![0, 1, 2, 0, 2, 3],
-    )
+    build("plane", positions, vec![Vec3::Y; 4], uvs, vec![0, 1, 2, 0, 2, 3])
 }
 
 /// A surface of revolution about +Y from a profile of (radius, height) points with their
@@ -183,10 +171,7 @@ mod tests {
     fn primitives_are_closed_and_outward() {
         assert_outward(&cuboid(Vec3::new(1.0, 2.0, 3.0)), 6.0);
         assert_outward(&sphere(1.0, 48, 24), 4.0 / 3.0 * PI);
-        assert_outward(
-            &capsule(0.5, 1.0, 48),
-            PI * 0.25 * 1.0 + 4.0 / 3.0 * PI * 0.125,
-        );
+        assert_outward(&capsule(0.5, 1.0, 48), PI * 0.25 * 1.0 + 4.0 / 3.0 * PI * 0.125);
         assert_outward(&cylinder(1.0, 2.0, 64), 2.0 * PI);
     }
 

@@ -112,11 +112,7 @@ mod tests {
         let m = teapot(4);
         assert_eq!(m.vertex_count(), 32 * 25);
         assert_eq!(m.triangle_count(), 32 * 32);
-        assert_eq!(
-            teapot(0).triangle_count(),
-            64,
-            "level is clamped to at least 1"
-        );
+        assert_eq!(teapot(0).triangle_count(), 64, "level is clamped to at least 1");
     }
 
     #[test]
@@ -147,10 +143,7 @@ mod tests {
             let face = (b - a).cross(c - a);
             if face.length() > 1e-7 {
                 let avg: Vec3 = tri.iter().map(|&i| m.normals[i as usize]).sum();
-                assert!(
-                    face.dot(avg) > 0.0,
-                    "triangle {tri:?} wound against its normals"
-                );
+                assert!(face.dot(avg) > 0.0, "triangle {tri:?} wound against its normals");
             }
         }
         // Outward: on each patch, the vertex farthest from the teapot's center has a

@@ -18,9 +18,7 @@ pub fn shared_models() -> PathBuf {
 }
 
 pub fn asset(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets")
-        .join(rel)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets").join(rel)
 }
 
 /// A fresh scratch directory under `target/` for one test.
@@ -54,8 +52,7 @@ pub fn render(
     width: u32,
     height: u32,
 ) -> image::RgbaImage {
-    let mut renderer =
-        Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+    let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
     let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), scene).unwrap();
     penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, camera, width, height).unwrap()
 }
@@ -72,14 +69,7 @@ pub fn render_with_and_without_casters(
 ) -> (image::RgbaImage, image::RgbaImage) {
     (
         render(gpu, scene, camera, settings, width, height),
-        render(
-            gpu,
-            &without_casters(scene),
-            camera,
-            settings,
-            width,
-            height,
-        ),
+        render(gpu, &without_casters(scene), camera, settings, width, height),
     )
 }
 

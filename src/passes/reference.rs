@@ -1,0 +1,146 @@
+//! Reference pass: the ground-truth soft shadow of an area light, as the average of N hard
+//! shadows from N points stratified over the light.
+//!
+//! Input: the frame uniform, the camera depth, and for each sample a hard shadow map rendered
+//! by the caller from that sample's point light. Output: an R32F visibility, the running mean,
+//! kept in two ping-pong targets whatever N is.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::{draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target};
+use crate::light_space::LightView;
+
+const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct SampleUniform {
+    light_view_proj: [[f32; 4]; 4],
+    params: [f32; 4],
+}
+
+pub struct ReferencePass {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+    sampler: wgpu::Sampler,
+    sample: wgpu::Buffer,
+    targets: [(wgpu::Texture, wgpu::TextureView); 2],
+    /// Bind group reading target i and writing the other.
+    bind_groups: Option<[wgpu::BindGroup; 2]>,
+    accumulated: u32,
+}
+
+impl ReferencePass {
+    pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
+        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/reference.wgsl"));
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("ReferencePass::layout"),
+            entries: &[
+                entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
+                entry::texture_2d(1, wgpu::TextureSampleType::Depth),
+                entry::texture_2d(2, wgpu::TextureSampleType::Depth),
+                entry::sampler(3, wgpu::SamplerBindingType::Comparison),
+                entry::texture_2d(4, wgpu::TextureSampleType::Float { filterable: false }),
+                entry::uniform(5, wgpu::ShaderStages::FRAGMENT, size_of::<SampleUniform>(), false),
+            ],
+        });
+        let pipeline = fullscreen_pipeline(
+            device,
+            "ReferencePass::pipeline",
+            &shader,
+            &[Some(&layout)],
+            FORMAT,
+        );
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("ReferencePass::hard_sampler"),
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+        let sample = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ReferencePass::sample"),
+            size: size_of::<SampleUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            layout,
+            pipeline,
+            sampler,
+            sample,
+            targets: [0, 1].map(|_| screen_target(device, "ReferencePass::visibility", 1, 1, FORMAT)),
+            bind_groups: None,
+            accumulated: 0,
+        }
+    }
+
+    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.targets =
+            [0, 1].map(|_| screen_target(device, "ReferencePass::visibility", width, height, FORMAT));
+        self.accumulated = 0;
+    }
+
+    pub fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        frame: &wgpu::Buffer,
+        camera_depth: &wgpu::TextureView,
+        shadow_map: &wgpu::TextureView,
+    ) {
+        let group = |previous: &wgpu::TextureView| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ReferencePass::bind_group"),
+                layout: &self.layout,
+                entries: &entries(&[
+                    frame.as_entire_binding(),
+                    wgpu::BindingResource::TextureView(camera_depth),
+                    wgpu::BindingResource::TextureView(shadow_map),
+                    wgpu::BindingResource::Sampler(&self.sampler),
+                    wgpu::BindingResource::TextureView(previous),
+                    self.sample.as_entire_binding(),
+                ]),
+            })
+        };
+        self.bind_groups = Some([group(&self.targets[0].1), group(&self.targets[1].1)]);
+    }
+
+    /// Starts a new average.
+    pub fn reset(&mut self) {
+        self.accumulated = 0;
+    }
+
+    /// Samples averaged so far.
+    pub fn accumulated(&self) -> u32 {
+        self.accumulated
+    }
+
+    /// Adds one sample whose hard shadow map (already recorded in `encoder`) was rendered from
+    /// `light`. The caller must submit before the next sample: the sample uniform is rewritten.
+    pub fn accumulate(&mut self, encoder: &mut wgpu::CommandEncoder, queue: &wgpu::Queue, light: &LightView) {
+        let Some(groups) = &self.bind_groups else {
+            return;
+        };
+        let uniform = SampleUniform {
+            light_view_proj: light.view_projection.to_cols_array_2d(),
+            params: [self.accumulated as f32, 0.0, 0.0, 0.0],
+        };
+        queue.write_buffer(&self.sample, 0, bytemuck::bytes_of(&uniform));
+        let read = (self.accumulated % 2) as usize;
+        draw_fullscreen(
+            encoder,
+            "ReferencePass",
+            &self.pipeline,
+            &[&groups[read]],
+            &self.targets[1 - read].1,
+        );
+        self.accumulated += 1;
+    }
+
+    /// The mean visibility so far.
+    pub fn visibility(&self) -> &wgpu::TextureView {
+        &self.targets[(self.accumulated % 2) as usize].1
+    }
+
+    pub fn visibility_texture(&self) -> &wgpu::Texture {
+        &self.targets[(self.accumulated % 2) as usize].0
+    }
+}
