@@ -35,6 +35,7 @@ mod gpu_scene;
 pub mod light_samples;
 pub mod light_space;
 pub mod loaders;
+pub mod metrics;
 pub mod passes;
 mod renderer;
 pub mod scene;
