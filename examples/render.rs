@@ -40,6 +40,11 @@ struct Args {
     /// Shadow map resolution in texels (power of two, 64..=8192).
     #[arg(long, default_value_t = 2048)]
     shadow_map: u32,
+    /// Also render the ground-truth reference with this many light samples, print the
+    /// visibility error (RMSE, penumbra RMSE, max) and FLIP, and write OUT.heat.png (the
+    /// visibility error) next to the output.
+    #[arg(long)]
+    compare_to_reference: Option<u32>,
     /// Write an intermediate texture instead of the final image: shadow-map, fattened-map,
     /// distance, mask, pcf or blur (false color where it helps).
     #[arg(long)]
@@ -106,6 +111,9 @@ fn main() -> Result<()> {
     image
         .save(&args.out)
         .with_context(|| format!("cannot write {}", args.out.display()))?;
+    if let Some(samples) = args.compare_to_reference {
+        compare_to_reference(&gpu, &scene, &camera, settings, samples, &image, &args.out)?;
+    }
     if renderer.last_report().is_some_and(|r| r.plan.distance_map) && debug_view.is_none() {
         let saved = penumbra::debug::mask_savings(&gpu.device, &gpu.queue, &renderer)?;
         eprintln!(
@@ -161,4 +169,54 @@ fn render_reference_with_progress(
     bar.finish_and_clear();
     let pixels = penumbra::read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;
     image::RgbaImage::from_raw(width, height, pixels).context("reading back the reference")
+}
+
+/// Renders the reference, measures this method's error against it and writes the heat map.
+fn compare_to_reference(
+    gpu: &HeadlessGpu,
+    scene: &penumbra::Scene,
+    camera: &penumbra::Camera,
+    settings: ShadowSettings,
+    samples: u32,
+    image: &image::RgbaImage,
+    out: &std::path::Path,
+) -> Result<()> {
+    use penumbra::metrics;
+    let size = image.dimensions();
+    let mut reference_settings = ShadowSettings {
+        method: ShadowMethod::Reference,
+        ..settings
+    };
+    reference_settings.reference.samples = samples;
+    reference_settings
+        .validate(None)
+        .context("--compare-to-reference")?;
+    eprintln!("measuring against a {samples}-sample reference...");
+    let reference = metrics::measure_visibility(gpu, scene, camera, reference_settings, size)?;
+    let measured = metrics::measure_visibility(gpu, scene, camera, settings, size)?;
+    let error = metrics::visibility_error(&reference, &measured)?;
+    let mut renderer = Renderer::new(
+        &gpu.device,
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        reference_settings,
+    )?;
+    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), scene)?;
+    let reference_image =
+        render_reference_with_progress(gpu, &mut renderer, &gpu_scene, camera, size.0, size.1)?;
+    let (flip, _) = metrics::flip(&reference_image, image)?;
+    println!(
+        "{}: visibility RMSE {:.4}, penumbra RMSE {:.4} ({} penumbra pixels), max error {:.3}, mean FLIP {:.4}",
+        settings.method.name(),
+        error.rmse,
+        error.penumbra_rmse,
+        error.penumbra_pixels,
+        error.max_abs,
+        flip
+    );
+    let heat_path = out.with_extension("heat.png");
+    metrics::error_heat_map(&reference, &measured)
+        .save(&heat_path)
+        .with_context(|| format!("cannot write {}", heat_path.display()))?;
+    eprintln!("wrote {}", heat_path.display());
+    Ok(())
 }

@@ -156,3 +156,33 @@ fn every_method_and_debug_view_writes_a_png() {
         );
     }
 }
+
+#[test]
+fn comparing_to_the_reference_prints_metrics_and_writes_a_heat_map() {
+    let dir = common::scratch_dir("render_example_compare");
+    let scene = common::asset("scenes/character.ron");
+    let out = dir.join("ours.png");
+    let output = Command::new(render_example())
+        .args([
+            "--scene",
+            scene.to_str().unwrap(),
+            "--size",
+            "96x72",
+            "--method",
+            "ours",
+        ])
+        .args(["--compare-to-reference", "16", "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(
+        stdout.contains("visibility RMSE") && stdout.contains("penumbra RMSE") && stdout.contains("FLIP"),
+        "{stdout}"
+    );
+    assert_eq!(
+        image::image_dimensions(dir.join("ours.heat.png")).unwrap(),
+        (96, 72)
+    );
+}
