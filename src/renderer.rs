@@ -149,6 +149,7 @@ pub struct Renderer {
     size: (u32, u32),
     shadow_key: Option<ShadowKey>,
     last_report: Option<FrameReport>,
+    timer: Option<crate::timing::GpuTimer>,
 }
 
 const FRAME_SIZE: usize = size_of::<FrameUniform>();
@@ -194,6 +195,7 @@ impl Renderer {
             size: (0, 0),
             shadow_key: None,
             last_report: None,
+            timer: None,
         };
         renderer.allocate(device);
         Ok(renderer)
@@ -241,6 +243,21 @@ impl Renderer {
 
     pub fn size(&self) -> (u32, u32) {
         self.size
+    }
+
+    /// Times every pass with GPU timestamps from now on. Returns false (and times nothing)
+    /// when the device has no timestamp queries inside encoders.
+    pub fn enable_timing(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) -> bool {
+        if self.timer.is_none() {
+            self.timer = crate::timing::GpuTimer::new(device, queue);
+        }
+        self.timer.is_some()
+    }
+
+    /// The GPU time of each pass of the last submitted frame, when timing is enabled.
+    /// Waits for the GPU to finish that frame.
+    pub fn pass_times(&self, device: &wgpu::Device) -> Option<Result<Vec<crate::timing::PassTime>>> {
+        self.timer.as_ref().map(|t| t.read(device))
     }
 
     /// What the last frame did.
@@ -461,15 +478,26 @@ impl Renderer {
             fatten_distance: plan.fattened_map.then_some(spreads.fatten_distance),
         };
         let shadow_maps_rendered = self.shadow_key != Some(key);
+        let mut timer = self.timer.take();
+        if let Some(t) = &mut timer {
+            t.begin(encoder);
+        }
+        let mut mark = |encoder: &mut wgpu::CommandEncoder, label: &'static str| {
+            if let Some(t) = &mut timer {
+                t.mark(encoder, label);
+            }
+        };
         encoder.push_debug_group("penumbra frame");
         if shadow_maps_rendered {
             encoder.push_debug_group("shadow map");
             self.shadow_map.encode(encoder, queue, scene, &light_view);
             encoder.pop_debug_group();
+            mark(encoder, "shadow map");
             if let (true, Some(fattened)) = (plan.fattened_map, &self.fattened_map) {
                 encoder.push_debug_group("fattened shadow map");
                 fattened.encode(encoder, queue, scene, &light_view, spreads.fatten_distance);
                 encoder.pop_debug_group();
+                mark(encoder, "fattened shadow map");
             }
             self.shadow_key = Some(key);
         }
@@ -481,16 +509,19 @@ impl Renderer {
             });
             distance.encode(encoder, scene, plan.distance_map);
             encoder.pop_debug_group();
+            mark(encoder, "distance map");
         }
         if let (true, Some(pcf)) = (plan.pcf, &self.pcf) {
             encoder.push_debug_group("pcf");
             pcf.encode(encoder);
             encoder.pop_debug_group();
+            mark(encoder, "pcf");
         }
         if let (true, Some(pcss)) = (plan.pcss, &self.pcss) {
             encoder.push_debug_group("pcss");
             pcss.encode(encoder);
             encoder.pop_debug_group();
+            mark(encoder, "pcss");
         }
         if let (true, Some(blur)) = (plan.blur, &self.blur) {
             encoder.push_debug_group("blur");
@@ -500,19 +531,26 @@ impl Renderer {
             };
             blur.encode(encoder, queue, taps);
             encoder.pop_debug_group();
+            mark(encoder, "blur");
         }
         if let (true, Some(composite), Some(distance)) = (plan.composite, &self.composite, &self.distance_map)
         {
             encoder.push_debug_group("composite");
             composite.encode(encoder, scene, distance.depth(), target);
             encoder.pop_debug_group();
+            mark(encoder, "composite");
         }
         if let (true, Some(forward)) = (plan.forward, &self.forward) {
             encoder.push_debug_group("forward");
             forward.encode(encoder, queue, scene, camera, &light_view, plan.method, target);
             encoder.pop_debug_group();
+            mark(encoder, "forward");
         }
         encoder.pop_debug_group();
+        if let Some(t) = &mut timer {
+            t.finish(encoder);
+        }
+        self.timer = timer;
         let report = FrameReport {
             plan,
             shadow_maps_rendered,

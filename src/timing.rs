@@ -1,0 +1,129 @@
+//! Per-pass GPU timings from timestamp queries.
+//!
+//! The renderer writes one timestamp before its first pass and one after each pass (inside the
+//! command encoder), resolves them at the end of the frame, and [`GpuTimer::read`] turns them
+//! into milliseconds per pass once the frame is submitted. Devices without
+//! `TIMESTAMP_QUERY_INSIDE_ENCODERS` get no timer ([`GpuTimer::new`] returns `None`); tools
+//! then fall back to submit-and-wait wall time for the whole frame.
+
+use crate::error::{PenumbraError, Result};
+
+/// The most timestamps one frame writes.
+const CAPACITY: u32 = 32;
+
+/// One pass's GPU time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PassTime {
+    pub pass: &'static str,
+    pub milliseconds: f64,
+}
+
+pub struct GpuTimer {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    labels: Vec<&'static str>,
+    period_ns: f64,
+    resolved: usize,
+}
+
+impl GpuTimer {
+    /// A timer, or `None` when the device cannot write timestamps inside encoders.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Option<Self> {
+        let needed = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS;
+        if !device.features().contains(needed) {
+            return None;
+        }
+        let size = CAPACITY as u64 * 8;
+        Some(Self {
+            queries: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("GpuTimer::queries"),
+                ty: wgpu::QueryType::Timestamp,
+                count: CAPACITY,
+            }),
+            resolve: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("GpuTimer::resolve"),
+                size,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            readback: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("GpuTimer::readback"),
+                size,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            }),
+            labels: Vec::with_capacity(CAPACITY as usize),
+            period_ns: queue.get_timestamp_period() as f64,
+            resolved: 0,
+        })
+    }
+
+    /// Starts a frame: the first timestamp.
+    pub(crate) fn begin(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        self.labels.clear();
+        encoder.write_timestamp(&self.queries, 0);
+        self.labels.push("start");
+    }
+
+    /// Marks the end of the pass `label`.
+    pub(crate) fn mark(&mut self, encoder: &mut wgpu::CommandEncoder, label: &'static str) {
+        let index = self.labels.len() as u32;
+        if index < CAPACITY {
+            encoder.write_timestamp(&self.queries, index);
+            self.labels.push(label);
+        }
+    }
+
+    /// Resolves the frame's timestamps into the read-back buffer.
+    pub(crate) fn finish(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        let count = self.labels.len() as u32;
+        encoder.resolve_query_set(&self.queries, 0..count, &self.resolve, 0);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, count as u64 * 8);
+        self.resolved = count as usize;
+    }
+
+    /// The last submitted frame's pass times (waits for the GPU).
+    pub fn read(&self, device: &wgpu::Device) -> Result<Vec<PassTime>> {
+        let gpu_error = |reason: String| PenumbraError::Gpu {
+            during: "reading timestamps".into(),
+            reason,
+        };
+        if self.resolved < 2 {
+            return Ok(Vec::new());
+        }
+        let bytes = self.resolved as u64 * 8;
+        let (sender, receiver) = std::sync::mpsc::channel();
+        self.readback.map_async(wgpu::MapMode::Read, 0..bytes, move |r| {
+            let _ = sender.send(r);
+        });
+        device
+            .poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: None,
+            })
+            .map_err(|e| gpu_error(e.to_string()))?;
+        receiver
+            .recv()
+            .map_err(|e| gpu_error(e.to_string()))?
+            .map_err(|e| gpu_error(e.to_string()))?;
+        let ticks: Vec<u64> = {
+            let view = self
+                .readback
+                .get_mapped_range(0..bytes)
+                .map_err(|e| gpu_error(e.to_string()))?;
+            view.chunks_exact(8)
+                .map(|c| u64::from_le_bytes(c.try_into().expect("8 bytes")))
+                .collect()
+        };
+        self.readback.unmap();
+        Ok(self.labels[1..self.resolved]
+            .iter()
+            .zip(ticks.windows(2))
+            .map(|(pass, w)| PassTime {
+                pass,
+                milliseconds: w[1].saturating_sub(w[0]) as f64 * self.period_ns * 1e-6,
+            })
+            .collect())
+    }
+}
