@@ -1,0 +1,605 @@
+//! The benchmark's measurements and report, shared by `cargo bench` (benches/methods.rs) and
+//! the smoke test that keeps it from rotting (tests/bench_report.rs).
+//!
+//! For each scene x viewpoint x resolution x method x quality preset: warm up, render frames
+//! with the light turning a hundredth of a degree per frame (so every pass runs every frame),
+//! and record the median frame time, FPS, per-pass GPU milliseconds, the share of shadow-map
+//! taps the mask saved (distance-map methods) and the error against the reference. The error
+//! is measured once per scene, viewpoint and method at `metric_size` against a reference of
+//! `reference_samples` light samples. A light-size sweep times `ours` and `pcss` at several
+//! light sizes. Writes report.md, report.json and tradeoff.png into `out_dir`.
+
+#![allow(dead_code)]
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use penumbra::metrics::{self, VisibilityImage};
+use penumbra::{GpuScene, HeadlessGpu, Light, Quality, Renderer, ShadowMethod, ShadowSettings};
+
+/// What to measure.
+#[derive(Debug, Clone)]
+pub struct Config {
+    pub mode: &'static str,
+    pub scenes: Vec<&'static str>,
+    pub views: Vec<usize>,
+    pub sizes: Vec<(u32, u32)>,
+    pub methods: Vec<ShadowMethod>,
+    pub presets: Vec<Quality>,
+    pub warmup: usize,
+    pub frames: usize,
+    pub reference_samples: u32,
+    pub metric_size: (u32, u32),
+    /// Directional light sizes (degrees) for the sweep of `ours` and `pcss`.
+    pub light_sizes: Vec<f32>,
+    pub out_dir: PathBuf,
+}
+
+impl Config {
+    /// Every scene, viewpoint, size, method and preset.
+    pub fn full(out_dir: PathBuf) -> Self {
+        Self {
+            mode: "full",
+            scenes: vec!["teapot", "character"],
+            views: vec![0, 1, 2],
+            sizes: vec![(800, 600), (1280, 1024)],
+            methods: ShadowMethod::REAL_TIME.to_vec(),
+            presets: Quality::ALL.to_vec(),
+            warmup: 3,
+            frames: 10,
+            reference_samples: 256,
+            metric_size: (400, 320),
+            light_sizes: vec![0.5, 2.0, 8.0],
+            out_dir,
+        }
+    }
+
+    /// One viewpoint, the medium and high presets, few frames: under 3 minutes on a software
+    /// adapter.
+    pub fn quick(out_dir: PathBuf) -> Self {
+        Self {
+            mode: "quick",
+            views: vec![0],
+            presets: vec![Quality::Medium, Quality::High],
+            warmup: 1,
+            frames: 3,
+            reference_samples: 64,
+            metric_size: (240, 192),
+            ..Self::full(out_dir)
+        }
+    }
+
+    /// The smallest run that still exercises every part of the report (for the test).
+    pub fn smoke(out_dir: PathBuf) -> Self {
+        Self {
+            mode: "smoke",
+            sizes: vec![(160, 120), (200, 160)],
+            methods: vec![
+                ShadowMethod::Ours,
+                ShadowMethod::Traditional,
+                ShadowMethod::Pcss,
+                ShadowMethod::Hard,
+            ],
+            presets: vec![Quality::Medium],
+            frames: 1,
+            reference_samples: 8,
+            metric_size: (96, 72),
+            light_sizes: vec![2.0],
+            ..Self::quick(out_dir)
+        }
+    }
+}
+
+/// One measured configuration, as report.json lists it.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Run {
+    pub scene: String,
+    pub view: usize,
+    pub width: u32,
+    pub height: u32,
+    pub method: String,
+    pub preset: String,
+    pub light_size_deg: Option<f32>,
+    pub frame_ms: f64,
+    pub fps: f64,
+    pub pass_ms: BTreeMap<String, f64>,
+    pub mask_saved_share: Option<f32>,
+    pub rmse: Option<f32>,
+    pub penumbra_rmse: Option<f32>,
+    pub max_error: Option<f32>,
+    pub flip: Option<f32>,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() { f64::NAN } else { v[v.len() / 2] }
+}
+
+fn nudged(light: &Light, frame: usize) -> Light {
+    let turn = glam::Quat::from_rotation_y((frame as f32 * 0.01).to_radians());
+    match *light {
+        Light::Directional(l) => Light::Directional(penumbra::DirectionalLight {
+            direction: turn * l.direction,
+            ..l
+        }),
+        Light::Spot(l) => Light::Spot(penumbra::SpotLight {
+            direction: turn * l.direction,
+            ..l
+        }),
+    }
+}
+
+struct Timing {
+    frame_ms: f64,
+    pass_ms: BTreeMap<String, f64>,
+    mask_saved_share: Option<f32>,
+}
+
+fn time_frames(
+    gpu: &HeadlessGpu,
+    scene: &penumbra::Scene,
+    camera: &penumbra::Camera,
+    settings: ShadowSettings,
+    (width, height): (u32, u32),
+    config: &Config,
+) -> Result<Timing> {
+    let format = wgpu::TextureFormat::Rgba8UnormSrgb;
+    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("bench target"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    let view = target.create_view(&Default::default());
+    let mut renderer = Renderer::new(&gpu.device, format, settings)?;
+    renderer.enable_timing(&gpu.device, &gpu.queue);
+    let mut gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), scene)?;
+    renderer.resize(&gpu.device, width, height);
+    let mut times = Vec::new();
+    let mut passes: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+    for i in 0..config.warmup + config.frames {
+        gpu_scene.set_light(nudged(&scene.light, i))?;
+        let start = Instant::now();
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        renderer.render(&gpu.queue, &mut encoder, &gpu_scene, camera, &view);
+        gpu.queue.submit([encoder.finish()]);
+        gpu.device.poll(wgpu::PollType::Wait {
+            submission_index: None,
+            timeout: None,
+        })?;
+        if i >= config.warmup {
+            times.push(start.elapsed().as_secs_f64() * 1e3);
+            if let Some(pass_times) = renderer.pass_times(&gpu.device) {
+                for p in pass_times? {
+                    passes.entry(p.pass.to_string()).or_default().push(p.milliseconds);
+                }
+            }
+        }
+    }
+    let mask_saved_share = if renderer.last_report().is_some_and(|r| r.plan.distance_map) {
+        Some(penumbra::debug::mask_savings(&gpu.device, &gpu.queue, &renderer)?.share)
+    } else {
+        None
+    };
+    Ok(Timing {
+        frame_ms: median(times),
+        pass_ms: passes.into_iter().map(|(k, v)| (k, median(v))).collect(),
+        mask_saved_share,
+    })
+}
+
+/// Runs the benchmark and writes the report. Returns every run.
+pub fn run(config: &Config) -> Result<Vec<Run>> {
+    let gpu = HeadlessGpu::new()?;
+    let device_name = gpu.describe();
+    println!("penumbra bench ({} mode) on {device_name}", config.mode);
+    std::fs::create_dir_all(&config.out_dir)
+        .with_context(|| format!("cannot create {}", config.out_dir.display()))?;
+    let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let mut runs = Vec::new();
+    for &name in &config.scenes {
+        let scene = penumbra::load_scene(&assets.join(format!("{name}.ron")))?;
+        for &v in &config.views {
+            let camera = scene.view(v)?;
+            let mut reference_settings = ShadowSettings {
+                method: ShadowMethod::Reference,
+                ..Default::default()
+            };
+            reference_settings.reference.samples = config.reference_samples;
+            let reference: VisibilityImage =
+                metrics::measure_visibility(&gpu, &scene, &camera, reference_settings, config.metric_size)?;
+            let reference_image =
+                render_image(&gpu, &scene, &camera, reference_settings, config.metric_size)?;
+            for &method in &config.methods {
+                for &preset in &config.presets {
+                    let settings = ShadowSettings::preset(method, preset);
+                    let measured =
+                        metrics::measure_visibility(&gpu, &scene, &camera, settings, config.metric_size)?;
+                    let error = metrics::visibility_error(&reference, &measured)?;
+                    let image = render_image(&gpu, &scene, &camera, settings, config.metric_size)?;
+                    let (flip, _) = metrics::flip(&reference_image, &image)?;
+                    for &(width, height) in &config.sizes {
+                        let t = time_frames(&gpu, &scene, &camera, settings, (width, height), config)?;
+                        let run = Run {
+                            scene: name.to_string(),
+                            view: v,
+                            width,
+                            height,
+                            method: method.name().to_string(),
+                            preset: preset.name().to_string(),
+                            light_size_deg: None,
+                            frame_ms: t.frame_ms,
+                            fps: 1e3 / t.frame_ms,
+                            pass_ms: t.pass_ms,
+                            mask_saved_share: t.mask_saved_share,
+                            rmse: Some(error.rmse),
+                            penumbra_rmse: Some(error.penumbra_rmse),
+                            max_error: Some(error.max_abs),
+                            flip: Some(flip),
+                        };
+                        println!(
+                            "{name:<10} view {v} {width:>4}x{height:<4} {:<11} {:<6} {:>9.2} ms  penumbra RMSE {:.4}",
+                            run.method, run.preset, run.frame_ms, error.penumbra_rmse
+                        );
+                        runs.push(run);
+                    }
+                }
+            }
+        }
+    }
+    // Light-size sweep: does the cost stay flat as the light grows?
+    let teapot = penumbra::load_scene(&assets.join("teapot.ron"))?;
+    let camera = teapot.view(0)?;
+    let size = *config.sizes.last().expect("a size");
+    for &degrees in &config.light_sizes {
+        let mut scene = teapot.clone();
+        if let Light::Directional(l) = &mut scene.light {
+            l.angular_diameter_deg = degrees;
+        }
+        for method in [ShadowMethod::Ours, ShadowMethod::Pcss] {
+            let settings = ShadowSettings::preset(method, Quality::Medium);
+            let t = time_frames(&gpu, &scene, &camera, settings, size, config)?;
+            runs.push(Run {
+                scene: "teapot".into(),
+                view: 0,
+                width: size.0,
+                height: size.1,
+                method: method.name().into(),
+                preset: "medium".into(),
+                light_size_deg: Some(degrees),
+                frame_ms: t.frame_ms,
+                fps: 1e3 / t.frame_ms,
+                pass_ms: t.pass_ms,
+                mask_saved_share: t.mask_saved_share,
+                rmse: None,
+                penumbra_rmse: None,
+                max_error: None,
+                flip: None,
+            });
+        }
+    }
+    write_report(config, &device_name, &runs)?;
+    Ok(runs)
+}
+
+fn render_image(
+    gpu: &HeadlessGpu,
+    scene: &penumbra::Scene,
+    camera: &penumbra::Camera,
+    settings: ShadowSettings,
+    (w, h): (u32, u32),
+) -> Result<image::RgbaImage> {
+    let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings)?;
+    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), scene)?;
+    Ok(penumbra::render_to_image(
+        gpu,
+        &mut renderer,
+        &gpu_scene,
+        camera,
+        w,
+        h,
+    )?)
+}
+
+fn find<'a>(
+    runs: &'a [Run],
+    scene: &str,
+    view: usize,
+    size: (u32, u32),
+    method: &str,
+    preset: &str,
+) -> Option<&'a Run> {
+    runs.iter().find(|r| {
+        r.light_size_deg.is_none()
+            && r.scene == scene
+            && r.view == view
+            && (r.width, r.height) == size
+            && r.method == method
+            && r.preset == preset
+    })
+}
+
+fn verdict(met: bool) -> &'static str {
+    if met { "**met**" } else { "**missed**" }
+}
+
+fn write_report(config: &Config, device: &str, runs: &[Run]) -> Result<()> {
+    use std::fmt::Write;
+    let mut md = String::new();
+    let preset = "medium";
+    writeln!(md, "# penumbra benchmark ({} mode)\n", config.mode)?;
+    writeln!(
+        md,
+        "Device: {device}. Frames: {} after {} warm-up, light turning 0.01 degrees per frame so every pass runs. \
+         Errors against a {}-sample reference at {}x{}. Software adapters' absolute times mean little; \
+         the ratios, measured in one run, do.\n",
+        config.frames, config.warmup, config.reference_samples, config.metric_size.0, config.metric_size.1
+    )?;
+    // Tables 1 and 2: FPS per viewpoint, ours beside traditional, both resolutions.
+    for (k, scene) in config.scenes.iter().enumerate() {
+        writeln!(md, "## Table {}: {scene}, FPS ({preset} preset)\n", k + 1)?;
+        let mut header = String::from("| view |");
+        let mut rule = String::from("|---|");
+        for (w, h) in &config.sizes {
+            write!(header, " ours {w}x{h} | traditional {w}x{h} | ratio |")?;
+            rule.push_str("---|---|---|");
+        }
+        writeln!(md, "{header}\n{rule}")?;
+        for &v in &config.views {
+            let mut row = format!("| {v} |");
+            for &size in &config.sizes {
+                let ours = find(runs, scene, v, size, "ours", preset);
+                let traditional = find(runs, scene, v, size, "traditional", preset);
+                match (ours, traditional) {
+                    (Some(o), Some(t)) => {
+                        write!(row, " {:.1} | {:.1} | {:.3} |", o.fps, t.fps, o.fps / t.fps)?
+                    }
+                    _ => row.push_str(" - | - | - |"),
+                }
+            }
+            writeln!(md, "{row}")?;
+        }
+        writeln!(md)?;
+    }
+    // Every run.
+    writeln!(md, "## Every configuration\n")?;
+    writeln!(
+        md,
+        "| scene | view | size | method | preset | frame ms | FPS | penumbra RMSE | RMSE | max | FLIP | mask saved | GPU ms per pass |"
+    )?;
+    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+    for r in runs.iter().filter(|r| r.light_size_deg.is_none()) {
+        let passes: Vec<String> = r.pass_ms.iter().map(|(k, v)| format!("{k} {v:.2}")).collect();
+        writeln!(
+            md,
+            "| {} | {} | {}x{} | {} | {} | {:.2} | {:.1} | {:.4} | {:.4} | {:.3} | {:.4} | {} | {} |",
+            r.scene,
+            r.view,
+            r.width,
+            r.height,
+            r.method,
+            r.preset,
+            r.frame_ms,
+            r.fps,
+            r.penumbra_rmse.unwrap_or(f32::NAN),
+            r.rmse.unwrap_or(f32::NAN),
+            r.max_error.unwrap_or(f32::NAN),
+            r.flip.unwrap_or(f32::NAN),
+            r.mask_saved_share
+                .map_or("-".to_string(), |s| format!("{:.0}%", s * 100.0)),
+            passes.join(", ")
+        )?;
+    }
+    // Targets.
+    writeln!(md, "\n## Targets\n")?;
+    let largest = *config.sizes.last().expect("a size");
+    for scene in &config.scenes {
+        let ratios: Vec<f64> = config
+            .views
+            .iter()
+            .filter_map(|&v| {
+                Some(
+                    find(runs, scene, v, largest, "ours", preset)?.frame_ms
+                        / find(runs, scene, v, largest, "traditional", preset)?.frame_ms,
+                )
+            })
+            .collect();
+        if !ratios.is_empty() {
+            let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
+            writeln!(
+                md,
+                "- `ours` frame time within 5% of `traditional` at {}x{} on {scene}: mean ratio {mean:.3} (faster counts) -> {}",
+                largest.0,
+                largest.1,
+                verdict(mean <= 1.05)
+            )?;
+        }
+        let mut all_better = true;
+        let mut details = Vec::new();
+        for &v in &config.views {
+            if let (Some(o), Some(t)) = (
+                find(runs, scene, v, largest, "ours", preset),
+                find(runs, scene, v, largest, "traditional", preset),
+            ) {
+                let (a, b) = (
+                    o.penumbra_rmse.unwrap_or(f32::NAN),
+                    t.penumbra_rmse.unwrap_or(f32::NAN),
+                );
+                all_better &= a < b;
+                details.push(format!("view {v}: {a:.4} vs {b:.4}"));
+            }
+        }
+        writeln!(
+            md,
+            "- `ours` penumbra RMSE below `traditional` on {scene} from every viewpoint ({}) -> {}",
+            details.join("; "),
+            verdict(all_better)
+        )?;
+    }
+    // ours vs pcss at the presets whose penumbra RMSE is closest.
+    let mut best: Option<(f32, &Run, &Run)> = None;
+    for o in runs
+        .iter()
+        .filter(|r| r.method == "ours" && r.light_size_deg.is_none() && (r.width, r.height) == largest)
+    {
+        for p in runs.iter().filter(|r| {
+            r.method == "pcss"
+                && r.light_size_deg.is_none()
+                && r.scene == o.scene
+                && r.view == o.view
+                && (r.width, r.height) == largest
+        }) {
+            let gap = (o.penumbra_rmse.unwrap_or(f32::NAN) - p.penumbra_rmse.unwrap_or(f32::NAN)).abs();
+            if best.is_none_or(|(g, _, _)| gap < g) {
+                best = Some((gap, o, p));
+            }
+        }
+    }
+    if let Some((_, o, p)) = best {
+        let ratio = o.frame_ms / p.frame_ms;
+        writeln!(
+            md,
+            "- `ours` at or under 0.6x the time of `pcss` where their penumbra RMSE is closest ({} {} view {}: ours {} {:.4}, pcss {} {:.4}): ratio {ratio:.3} -> {}",
+            o.scene,
+            format!("{}x{}", o.width, o.height),
+            o.view,
+            o.preset,
+            o.penumbra_rmse.unwrap_or(f32::NAN),
+            p.preset,
+            p.penumbra_rmse.unwrap_or(f32::NAN),
+            verdict(ratio <= 0.6)
+        )?;
+    }
+    // Light-size sweep.
+    writeln!(
+        md,
+        "\n## Cost against light size (teapot, view 0, {}x{}, medium)\n",
+        largest.0, largest.1
+    )?;
+    writeln!(md, "| light (degrees) | ours ms | pcss ms |\n|---|---|---|")?;
+    for &d in &config.light_sizes {
+        let ms = |m: &str| {
+            runs.iter()
+                .find(|r| r.light_size_deg == Some(d) && r.method == m)
+                .map_or(f64::NAN, |r| r.frame_ms)
+        };
+        writeln!(md, "| {d} | {:.2} | {:.2} |", ms("ours"), ms("pcss"))?;
+    }
+    std::fs::write(config.out_dir.join("report.md"), &md)?;
+    std::fs::write(
+        config.out_dir.join("report.json"),
+        serde_json::to_string_pretty(runs)?,
+    )?;
+    plot_tradeoff(&config.out_dir.join("tradeoff.png"), runs, largest)?;
+    println!("{md}");
+    println!(
+        "wrote {}/report.md, report.json and tradeoff.png",
+        config.out_dir.display()
+    );
+    Ok(())
+}
+
+/// Penumbra RMSE against frame time, one point per method and preset (averaged over scenes and
+/// viewpoints at the largest size), with the Pareto front.
+fn plot_tradeoff(path: &Path, runs: &[Run], size: (u32, u32)) -> Result<()> {
+    use plotters::prelude::*;
+    static FONT: std::sync::OnceLock<Option<&'static [u8]>> = std::sync::OnceLock::new();
+    let font = FONT.get_or_init(|| {
+        [
+            "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+            "/usr/share/fonts/TTF/DejaVuSans.ttf",
+        ]
+        .iter()
+        .find_map(|p| std::fs::read(p).ok())
+        .map(|bytes| &*Box::leak(bytes.into_boxed_slice()))
+    });
+    let font =
+        font.context("the trade-off plot needs DejaVuSans.ttf (Debian: apt-get install fonts-dejavu-core)")?;
+    let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, font);
+
+    let mut points: BTreeMap<(String, String), (f64, f64, usize)> = BTreeMap::new();
+    for r in runs
+        .iter()
+        .filter(|r| r.light_size_deg.is_none() && (r.width, r.height) == size)
+    {
+        let e = points
+            .entry((r.method.clone(), r.preset.clone()))
+            .or_insert((0.0, 0.0, 0));
+        e.0 += r.frame_ms;
+        e.1 += r.penumbra_rmse.unwrap_or(f32::NAN) as f64;
+        e.2 += 1;
+    }
+    let points: Vec<(String, String, f64, f64)> = points
+        .into_iter()
+        .map(|((m, p), (t, e, n))| (m, p, t / n as f64, e / n as f64))
+        .collect();
+    let max_t = points.iter().map(|p| p.2).fold(1e-3, f64::max) * 1.15;
+    let max_e = points.iter().map(|p| p.3).fold(1e-3, f64::max) * 1.15;
+    let root = BitMapBackend::new(path, (1000, 700)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!("Penumbra error against frame time ({}x{})", size.0, size.1),
+            ("sans-serif", 26),
+        )
+        .margin(20)
+        .x_label_area_size(50)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.0..max_t, 0.0..max_e)?;
+    chart
+        .configure_mesh()
+        .x_desc("frame time (ms)")
+        .y_desc("penumbra RMSE against the reference")
+        .label_style(("sans-serif", 16))
+        .draw()?;
+    // Pareto front: points no other point beats in both time and error.
+    let mut front: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|a| {
+            !points
+                .iter()
+                .any(|b| b.2 <= a.2 && b.3 <= a.3 && (b.2 < a.2 || b.3 < a.3))
+        })
+        .map(|p| (p.2, p.3))
+        .collect();
+    front.sort_by(|a, b| a.0.total_cmp(&b.0));
+    chart.draw_series(LineSeries::new(
+        front,
+        ShapeStyle::from(&RGBColor(150, 150, 150)).stroke_width(2),
+    ))?;
+    let colors = [RED, BLUE, GREEN, MAGENTA, CYAN, BLACK];
+    for (i, method) in ShadowMethod::REAL_TIME.iter().enumerate() {
+        let color = colors[i % colors.len()];
+        let mine: Vec<_> = points.iter().filter(|p| p.0 == method.name()).collect();
+        chart
+            .draw_series(mine.iter().map(|p| Circle::new((p.2, p.3), 6, color.filled())))?
+            .label(method.name())
+            .legend(move |(x, y)| Circle::new((x, y), 6, color.filled()));
+        chart.draw_series(mine.iter().map(|p| {
+            Text::new(
+                p.1.clone(),
+                (p.2, p.3),
+                ("sans-serif", 13).into_font().color(&color),
+            )
+        }))?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.9))
+        .label_font(("sans-serif", 16))
+        .draw()?;
+    root.present()?;
+    Ok(())
+}

@@ -1,0 +1,57 @@
+//! The benchmark's report code, run on a tiny configuration so it cannot rot: it must write
+//! report.md (with the paper's tables and the targets), report.json (one entry per run with the
+//! documented keys) and the trade-off picture.
+
+#[path = "../benches/report.rs"]
+mod report;
+
+#[test]
+fn the_bench_writes_its_report() {
+    let out = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/penumbra-test-scratch/bench");
+    let _ = std::fs::remove_dir_all(&out);
+    let config = report::Config::smoke(out.clone());
+    let runs = report::run(&config).unwrap();
+    // 2 scenes x 1 view x 2 sizes x 4 methods x 1 preset, plus the light sweep (1 size x 2 methods).
+    assert_eq!(runs.len(), 2 * 2 * 4 + 2);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let entries = json.as_array().unwrap();
+    assert_eq!(entries.len(), runs.len());
+    for key in [
+        "scene",
+        "view",
+        "width",
+        "height",
+        "method",
+        "preset",
+        "frame_ms",
+        "fps",
+        "pass_ms",
+        "rmse",
+        "penumbra_rmse",
+    ] {
+        assert!(entries[0].get(key).is_some(), "report.json lacks `{key}`");
+    }
+    assert!(
+        entries
+            .iter()
+            .all(|e| e["frame_ms"].as_f64().is_some_and(|t| t > 0.0))
+    );
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for needle in [
+        "Table 1: teapot",
+        "Table 2: character",
+        "## Targets",
+        "ours",
+        "traditional",
+        "Cost against light size",
+    ] {
+        assert!(md.contains(needle), "report.md lacks `{needle}`");
+    }
+    assert!(
+        md.contains("**met**") || md.contains("**missed**"),
+        "targets have verdicts"
+    );
+    let (w, h) = image::image_dimensions(out.join("tradeoff.png")).unwrap();
+    assert_eq!((w, h), (1000, 700));
+}
