@@ -469,9 +469,10 @@ fn write_report(config: &Config, device: &str, runs: &[Run]) -> Result<()> {
         let ratio = o.frame_ms / p.frame_ms;
         writeln!(
             md,
-            "- `ours` at or under 0.6x the time of `pcss` where their penumbra RMSE is closest ({} {} view {}: ours {} {:.4}, pcss {} {:.4}): ratio {ratio:.3} -> {}",
+            "- `ours` at or under 0.6x the time of `pcss` where their penumbra RMSE is closest ({} {}x{} view {}: ours {} {:.4}, pcss {} {:.4}): ratio {ratio:.3} -> {}",
             o.scene,
-            format!("{}x{}", o.width, o.height),
+            o.width,
+            o.height,
             o.view,
             o.preset,
             o.penumbra_rmse.unwrap_or(f32::NAN),
