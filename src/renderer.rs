@@ -149,7 +149,7 @@ pub struct Renderer {
     size: (u32, u32),
     shadow_key: Option<ShadowKey>,
     last_report: Option<FrameReport>,
-    timer: Option<crate::timing::GpuTimer>,
+    timer: Option<crate::timing::Timer>,
 }
 
 const FRAME_SIZE: usize = size_of::<FrameUniform>();
@@ -245,17 +245,26 @@ impl Renderer {
         self.size
     }
 
-    /// Times every pass with GPU timestamps from now on. Returns false (and times nothing)
-    /// when the device has no timestamp queries inside encoders.
+    /// Times every pass from now on: with GPU timestamps where the device has them (returns
+    /// true), otherwise by submitting and waiting after every pass (returns false; slower, for
+    /// measuring only).
     pub fn enable_timing(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) -> bool {
-        if self.timer.is_none() {
-            self.timer = crate::timing::GpuTimer::new(device, queue);
-        }
-        self.timer.is_some()
+        let timer = self
+            .timer
+            .get_or_insert_with(|| crate::timing::Timer::new(device, queue));
+        matches!(timer, crate::timing::Timer::Gpu(_))
     }
 
-    /// The GPU time of each pass of the last submitted frame, when timing is enabled.
-    /// Waits for the GPU to finish that frame.
+    /// Times every pass by submitting and waiting after each, even where timestamps exist
+    /// (to compare the two, or on drivers whose timestamps are unreliable).
+    pub fn enable_wall_clock_timing(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) {
+        self.timer = Some(crate::timing::Timer::WallClock(
+            crate::timing::WallClockTimer::new(device, queue),
+        ));
+    }
+
+    /// The time of each pass of the last submitted frame, when timing is enabled. Waits for
+    /// the GPU to finish that frame.
     pub fn pass_times(&self, device: &wgpu::Device) -> Option<Result<Vec<crate::timing::PassTime>>> {
         self.timer.as_ref().map(|t| t.read(device))
     }
@@ -487,7 +496,6 @@ impl Renderer {
                 t.mark(encoder, label);
             }
         };
-        encoder.push_debug_group("penumbra frame");
         if shadow_maps_rendered {
             encoder.push_debug_group("shadow map");
             self.shadow_map.encode(encoder, queue, scene, &light_view);
@@ -546,7 +554,6 @@ impl Renderer {
             encoder.pop_debug_group();
             mark(encoder, "forward");
         }
-        encoder.pop_debug_group();
         if let Some(t) = &mut timer {
             t.finish(encoder);
         }

@@ -3,8 +3,9 @@
 //! The renderer writes one timestamp before its first pass and one after each pass (inside the
 //! command encoder), resolves them at the end of the frame, and [`GpuTimer::read`] turns them
 //! into milliseconds per pass once the frame is submitted. Devices without
-//! `TIMESTAMP_QUERY_INSIDE_ENCODERS` get no timer ([`GpuTimer::new`] returns `None`); tools
-//! then fall back to submit-and-wait wall time for the whole frame.
+//! `TIMESTAMP_QUERY_INSIDE_ENCODERS` get [`Timer::WallClock`] instead: the frame is submitted
+//! after every pass and waited for, and the wall time between is the pass's time. That
+//! serializes the frame, so it is only for measuring.
 
 use crate::error::{PenumbraError, Result};
 
@@ -16,6 +17,103 @@ const CAPACITY: u32 = 32;
 pub struct PassTime {
     pub pass: &'static str,
     pub milliseconds: f64,
+}
+
+/// How a renderer times its passes.
+pub enum Timer {
+    /// GPU timestamps written inside the command encoder.
+    Gpu(GpuTimer),
+    /// Submit and wait after every pass, timing with the CPU clock.
+    WallClock(WallClockTimer),
+}
+
+impl Timer {
+    /// Timestamps where the device has them, submit-and-wait wall time otherwise.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        match GpuTimer::new(device, queue) {
+            Some(t) => Timer::Gpu(t),
+            None => Timer::WallClock(WallClockTimer::new(device, queue)),
+        }
+    }
+
+    pub(crate) fn begin(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        match self {
+            Timer::Gpu(t) => t.begin(encoder),
+            Timer::WallClock(t) => t.begin(encoder),
+        }
+    }
+
+    pub(crate) fn mark(&mut self, encoder: &mut wgpu::CommandEncoder, label: &'static str) {
+        match self {
+            Timer::Gpu(t) => t.mark(encoder, label),
+            Timer::WallClock(t) => t.mark(encoder, label),
+        }
+    }
+
+    pub(crate) fn finish(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        if let Timer::Gpu(t) = self {
+            t.finish(encoder);
+        }
+    }
+
+    /// The last frame's pass times.
+    pub fn read(&self, device: &wgpu::Device) -> Result<Vec<PassTime>> {
+        match self {
+            Timer::Gpu(t) => t.read(device),
+            Timer::WallClock(t) => Ok(t.times.clone()),
+        }
+    }
+}
+
+/// Submits the frame after every pass and waits, timing each pass with the CPU clock.
+pub struct WallClockTimer {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    last: std::time::Instant,
+    times: Vec<PassTime>,
+}
+
+impl WallClockTimer {
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        Self {
+            device: device.clone(),
+            queue: queue.clone(),
+            last: std::time::Instant::now(),
+            times: Vec::new(),
+        }
+    }
+
+    /// Submits what `encoder` holds, waits for it, and gives the caller a fresh encoder.
+    fn flush(&self, encoder: &mut wgpu::CommandEncoder) {
+        let fresh = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("WallClockTimer"),
+            });
+        let done = std::mem::replace(encoder, fresh);
+        self.queue.submit([done.finish()]);
+        // A failed wait only makes the measurement wrong, not the frame.
+        let _ = self.device.poll(wgpu::PollType::Wait {
+            submission_index: None,
+            timeout: None,
+        });
+    }
+
+    fn begin(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        self.times.clear();
+        self.flush(encoder);
+        self.last = std::time::Instant::now();
+    }
+
+    fn mark(&mut self, encoder: &mut wgpu::CommandEncoder, label: &'static str) {
+        self.flush(encoder);
+        let now = std::time::Instant::now();
+        self.times.push(PassTime {
+            pass: label,
+            milliseconds: (now - self.last).as_secs_f64() * 1e3,
+        });
+        self.last = now;
+    }
 }
 
 pub struct GpuTimer {
