@@ -4,53 +4,6 @@
 // visibility' = mix(visibility, 1, k d / (d + h)), h = half the casters' bounding radius.
 // Depth is tested against the prepass (equal geometry, `@invariant` positions).
 
-struct Frame {
-    view_proj: mat4x4<f32>,
-    inv_view_proj: mat4x4<f32>,
-    light_view_proj: mat4x4<f32>,
-    // xyz: eye; w: pixels per world unit at view distance 1
-    camera_position: vec4<f32>,
-    // x: near, y: far
-    camera_depth: vec4<f32>,
-    // xyz: direction the light travels; w: 0 directional, 1 spot
-    light_direction: vec4<f32>,
-    // xyz: spot position; w: cos(outer cone angle)
-    light_position: vec4<f32>,
-    // rgb: color x intensity; w: cos(inner cone angle)
-    light_radiance: vec4<f32>,
-    // rgb: ambient; w: indirect weight
-    ambient: vec4<f32>,
-    // x: near, y: far, z: 0 orthographic / 1 perspective, w: shadow-map resolution
-    light_depth: vec4<f32>,
-    // xy: orthographic extent; z: tan(half fov); w: light size term (2 tan(theta/2) or 2R)
-    light_frustum: vec4<f32>,
-    // x: fatten distance; y: 1 physical; z: indirect half distance; w: PCF width / penumbra width
-    penumbra: vec4<f32>,
-    // x: taps per side; y: base spacing (texels); z: spread or fixed spacing; w: 1 fixed
-    pcf: vec4<f32>,
-    // x: taps; y: spread (px per unit) or fixed step; z: sigma / penumbra width; w: 1 fixed
-    blur: vec4<f32>,
-    // x: rotate taps; y: mask early-out; z: depth-aware blur; w: PCSS blocker samples
-    flags: vec4<f32>,
-    // width, height, 1/width, 1/height
-    screen: vec4<f32>,
-    // x: PCSS PCF samples
-    pcss: vec4<f32>,
-}
-struct Instance {
-    model: mat4x4<f32>,
-    normal: mat4x4<f32>,
-    // x: 1 when the instance receives shadows
-    flags: vec4<f32>,
-}
-
-struct Material {
-    base_color: vec4<f32>,
-    // x: alpha cutoff (negative: opaque)
-    alpha: vec4<f32>,
-}
-
-@group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var visibility: texture_2d<f32>;
 @group(0) @binding(2) var distance_map: texture_2d<f32>;
 @group(1) @binding(0) var<uniform> instance: Instance;

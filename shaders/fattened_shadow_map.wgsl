@@ -9,12 +9,6 @@ struct Fatten {
     params: vec4<f32>,
 }
 
-struct Instance {
-    model: mat4x4<f32>,
-    normal: mat4x4<f32>,
-    flags: vec4<f32>,
-}
-
 @group(0) @binding(0) var<uniform> fatten: Fatten;
 @group(1) @binding(0) var<uniform> instance: Instance;
 

@@ -18,19 +18,6 @@ struct ForwardFrame {
     ambient: vec4<f32>,
 }
 
-struct Instance {
-    model: mat4x4<f32>,
-    normal: mat4x4<f32>,
-    // x: 1 when the instance receives shadows
-    flags: vec4<f32>,
-}
-
-struct Material {
-    base_color: vec4<f32>,
-    // x: alpha cutoff (negative: opaque)
-    alpha: vec4<f32>,
-}
-
 @group(0) @binding(0) var<uniform> frame: ForwardFrame;
 @group(0) @binding(1) var shadow_map: texture_depth_2d;
 @group(0) @binding(2) var shadow_sampler: sampler_comparison;

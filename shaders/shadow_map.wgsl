@@ -8,18 +8,6 @@ struct LightUniform {
     view_proj: mat4x4<f32>,
 }
 
-struct Instance {
-    model: mat4x4<f32>,
-    normal: mat4x4<f32>,
-    flags: vec4<f32>,
-}
-
-struct Material {
-    base_color: vec4<f32>,
-    // x: alpha cutoff (negative: opaque)
-    alpha: vec4<f32>,
-}
-
 @group(0) @binding(0) var<uniform> light: LightUniform;
 @group(1) @binding(0) var<uniform> instance: Instance;
 @group(2) @binding(0) var<uniform> material: Material;

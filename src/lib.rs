@@ -40,6 +40,7 @@ pub mod passes;
 mod renderer;
 pub mod scene;
 pub mod settings;
+pub mod shaders;
 pub mod timing;
 
 pub use error::{PenumbraError, Result};

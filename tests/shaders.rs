@@ -1,68 +1,61 @@
-//! Every WGSL file in `shaders/` parses and validates with naga (no GPU needed), and declares
-//! the entry points the passes use.
+//! Every pass's WGSL (its file in `shaders/` joined with the shared pieces in
+//! `shaders/common/`) parses and validates with naga (no GPU needed), every pass file is used,
+//! and the passes find their entry points.
 
-use std::path::Path;
-
-fn validate(path: &Path) -> naga::Module {
-    let source = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| {
-        panic!(
-            "{} does not parse:\n{}",
-            path.display(),
-            e.emit_to_string(&source)
-        )
-    });
+fn validate(name: &str, source: &str) -> naga::Module {
+    let module = naga::front::wgsl::parse_str(source)
+        .unwrap_or_else(|e| panic!("{name} does not parse:\n{}", e.emit_to_string(source)));
     naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
         naga::valid::Capabilities::all(),
     )
     .validate(&module)
-    .unwrap_or_else(|e| {
-        panic!(
-            "{} does not validate:\n{}",
-            path.display(),
-            e.emit_to_string(&source)
-        )
-    });
+    .unwrap_or_else(|e| panic!("{name} does not validate:\n{}", e.emit_to_string(source)));
     module
 }
 
 #[test]
 fn every_shader_validates() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
-    let mut count = 0;
-    for entry in std::fs::read_dir(&dir).expect("shaders/ exists") {
+    for (name, source) in penumbra::shaders::ALL {
+        validate(name, source);
+    }
+}
+
+#[test]
+fn every_shader_file_belongs_to_a_pass() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();
         if path.extension().is_some_and(|e| e == "wgsl") {
-            validate(&path);
-            count += 1;
+            let stem = path.file_stem().unwrap().to_str().unwrap();
+            assert!(
+                penumbra::shaders::ALL.iter().any(|(name, _)| *name == stem),
+                "{} is not composed into any pass",
+                path.display()
+            );
         }
     }
-    assert!(
-        count >= 2,
-        "expected at least the shadow map and forward shaders, found {count}"
-    );
 }
 
 #[test]
 fn passes_find_their_entry_points() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
-    for (file, entry_points) in [
-        ("shadow_map.wgsl", &["vs_opaque", "vs_masked", "fs_masked"][..]),
-        ("forward.wgsl", &["vs_main", "fs_main"][..]),
-        ("fattened_shadow_map.wgsl", &["vs_main"][..]),
-        ("distance_map.wgsl", &["vs_main", "fs_depth", "fs_distance"][..]),
-        ("pcf.wgsl", &["vs_fullscreen", "fs_main"][..]),
-        ("blur.wgsl", &["vs_fullscreen", "fs_main"][..]),
-        ("pcss.wgsl", &["vs_fullscreen", "fs_main"][..]),
-        ("composite.wgsl", &["vs_main", "fs_main"][..]),
-        ("reference.wgsl", &["vs_fullscreen", "fs_main"][..]),
+    for (name, entry_points) in [
+        ("shadow_map", &["vs_opaque", "vs_masked", "fs_masked"][..]),
+        ("forward", &["vs_main", "fs_main"][..]),
+        ("fattened_shadow_map", &["vs_main"][..]),
+        ("distance_map", &["vs_main", "fs_depth", "fs_distance"][..]),
+        ("pcf", &["vs_fullscreen", "fs_main"][..]),
+        ("blur", &["vs_fullscreen", "fs_main"][..]),
+        ("pcss", &["vs_fullscreen", "fs_main"][..]),
+        ("composite", &["vs_main", "fs_main"][..]),
+        ("reference", &["vs_fullscreen", "fs_main"][..]),
     ] {
-        let module = validate(&dir.join(file));
-        for name in entry_points {
+        let source = penumbra::shaders::ALL.iter().find(|(n, _)| *n == name).unwrap().1;
+        let module = validate(name, source);
+        for entry in entry_points {
             assert!(
-                module.entry_points.iter().any(|e| e.name == *name),
-                "{file} has no entry point {name}"
+                module.entry_points.iter().any(|e| e.name == *entry),
+                "{name} has no entry point {entry}"
             );
         }
     }
@@ -71,7 +64,7 @@ fn passes_find_their_entry_points() {
 #[test]
 fn opaque_shadow_shader_is_depth_only() {
     // The opaque caster shader must stay minimal: a vertex stage reading only the position.
-    let module = validate(&Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders/shadow_map.wgsl"));
+    let module = validate("shadow_map", penumbra::shaders::SHADOW_MAP);
     let vs = module
         .entry_points
         .iter()

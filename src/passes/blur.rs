@@ -30,7 +30,7 @@ pub struct BlurPass {
 
 impl BlurPass {
     pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
-        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/blur.wgsl"));
+        let shader = crate::shaders::module(device, "blur.wgsl", crate::shaders::BLUR);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("BlurPass::layout"),
             entries: &[

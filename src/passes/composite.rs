@@ -21,7 +21,7 @@ impl CompositePass {
         color_format: wgpu::TextureFormat,
         frame_size: usize,
     ) -> Self {
-        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/composite.wgsl"));
+        let shader = crate::shaders::module(device, "composite.wgsl", crate::shaders::COMPOSITE);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("CompositePass::layout"),
             entries: &[

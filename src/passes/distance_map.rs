@@ -27,7 +27,7 @@ impl DistanceMapPass {
     pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, frame_size: usize) -> Self {
-        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/distance_map.wgsl"));
+        let shader = crate::shaders::module(device, "distance_map.wgsl", crate::shaders::DISTANCE_MAP);
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("DistanceMapPass::frame_layout"),
             entries: &[

@@ -33,8 +33,11 @@ pub struct FattenedShadowMapPass {
 
 impl FattenedShadowMapPass {
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, settings: &ShadowMapSettings) -> Self {
-        let shader =
-            device.create_shader_module(wgpu::include_wgsl!("../../shaders/fattened_shadow_map.wgsl"));
+        let shader = crate::shaders::module(
+            device,
+            "fattened_shadow_map.wgsl",
+            crate::shaders::FATTENED_SHADOW_MAP,
+        );
         let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("FattenedShadowMapPass::layout"),
             entries: &[entry::uniform(

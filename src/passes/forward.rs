@@ -58,7 +58,7 @@ impl ForwardPass {
         color_format: wgpu::TextureFormat,
         shadow_map: &wgpu::TextureView,
     ) -> Self {
-        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/forward.wgsl"));
+        let shader = crate::shaders::module(device, "forward.wgsl", crate::shaders::FORWARD);
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ForwardPass::frame_layout"),
             entries: &[

@@ -18,7 +18,7 @@ pub struct PcfPass {
 
 impl PcfPass {
     pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
-        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/pcf.wgsl"));
+        let shader = crate::shaders::module(device, "pcf.wgsl", crate::shaders::PCF);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("PcfPass::layout"),
             entries: &[

@@ -17,7 +17,7 @@ pub struct PcssPass {
 
 impl PcssPass {
     pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
-        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/pcss.wgsl"));
+        let shader = crate::shaders::module(device, "pcss.wgsl", crate::shaders::PCSS);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("PcssPass::layout"),
             entries: &[

@@ -32,7 +32,7 @@ pub struct ReferencePass {
 
 impl ReferencePass {
     pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
-        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/reference.wgsl"));
+        let shader = crate::shaders::module(device, "reference.wgsl", crate::shaders::REFERENCE);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ReferencePass::layout"),
             entries: &[

@@ -32,7 +32,7 @@ pub struct ShadowMapPass {
 impl ShadowMapPass {
     /// Creates the pipelines and the shadow map texture. `settings` must have been validated.
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, settings: &ShadowMapSettings) -> Self {
-        let shader = device.create_shader_module(wgpu::include_wgsl!("../../shaders/shadow_map.wgsl"));
+        let shader = crate::shaders::module(device, "shadow_map.wgsl", crate::shaders::SHADOW_MAP);
         let light_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ShadowMapPass::light_layout"),
             entries: &[entry::uniform(

@@ -1,0 +1,28 @@
+// Shared by the full-screen passes: the screen-covering triangle and position reconstruction
+// from the camera depth.
+
+// One triangle that covers the screen.
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {
+    let uv = vec2<f32>(f32((index << 1u) & 2u), f32(index & 2u));
+    return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
+}
+
+// World position of pixel `pixel` with camera depth `depth`.
+fn world_position(pixel: vec2<f32>, depth: f32) -> vec3<f32> {
+    let ndc = vec2<f32>(pixel.x * frame.screen.z * 2.0 - 1.0, 1.0 - pixel.y * frame.screen.w * 2.0);
+    let world = frame.inv_view_proj * vec4<f32>(ndc, depth, 1.0);
+    return world.xyz / world.w;
+}
+
+// Distance from the camera along its view, for a camera depth in [0, 1].
+fn view_depth(depth: f32) -> f32 {
+    let near = frame.camera_depth.x;
+    let far = frame.camera_depth.y;
+    return near * far / max(far - depth * (far - near), 1e-20);
+}
+
+// A stable per-pixel noise value in [0, 1) (interleaved gradient noise, Jimenez 2014).
+fn pixel_noise(pixel: vec2<f32>) -> f32 {
+    return fract(52.9829189 * fract(dot(pixel, vec2<f32>(0.06711056, 0.00583715))));
+}

@@ -1,0 +1,53 @@
+// Shared by PCF and PCSS: the receiver's plane from its neighbor pixels, for normal-offset and
+// receiver-plane depth bias. Needs `camera_depth` bound by the including pass.
+
+struct Receiver {
+    // World position pushed off the surface along its normal (normal-offset bias).
+    world: vec3<f32>,
+    // Shadow-map position of `world`: uv and depth.
+    p: vec3<f32>,
+    // Light-space depth change per unit of shadow-map uv across the receiver's plane.
+    slope: vec2<f32>,
+}
+
+// The difference to the neighbor pixel along `axis` on the side whose depth is closer, so a
+// pixel next to a silhouette never mixes two surfaces.
+fn neighbor_delta(pixel: vec2<i32>, world: vec3<f32>, depth: f32, axis: vec2<i32>) -> vec3<f32> {
+    let size = vec2<i32>(frame.screen.xy);
+    let a = clamp(pixel + axis, vec2<i32>(0), size - 1);
+    let b = clamp(pixel - axis, vec2<i32>(0), size - 1);
+    let depth_a = textureLoad(camera_depth, a, 0);
+    let depth_b = textureLoad(camera_depth, b, 0);
+    if abs(depth_a - depth) <= abs(depth_b - depth) {
+        return world_position(vec2<f32>(a) + 0.5, depth_a) - world;
+    }
+    return world - world_position(vec2<f32>(b) + 0.5, depth_b);
+}
+
+// The receiver at `pixel`: its plane from neighbor pixels, pushed `texels` shadow-map texels
+// along its normal (turned toward the camera), and the plane's slope in shadow-map space for
+// receiver-plane depth bias.
+fn receiver(pixel: vec2<i32>, depth: f32, texels: f32) -> Receiver {
+    let center = world_position(vec2<f32>(pixel) + 0.5, depth);
+    let dx = neighbor_delta(pixel, center, depth, vec2<i32>(1, 0));
+    let dy = neighbor_delta(pixel, center, depth, vec2<i32>(0, 1));
+    var out: Receiver;
+    out.world = center;
+    let n = cross(dx, dy);
+    let len = length(n);
+    if len > 1e-30 {
+        let facing = select(-1.0, 1.0, dot(n, frame.camera_position.xyz - center) >= 0.0);
+        let texel_world = shadow_map_world_size(center).x / frame.light_depth.w;
+        out.world = center + n / len * facing * texel_world * texels;
+    }
+    out.p = to_shadow_map(out.world);
+    let px = to_shadow_map(out.world + dx) - out.p;
+    let py = to_shadow_map(out.world + dy) - out.p;
+    let det = px.x * py.y - px.y * py.x;
+    out.slope = vec2<f32>(0.0);
+    if abs(det) > 1e-30 {
+        let slope = vec2<f32>(py.y * px.z - px.y * py.z, px.x * py.z - py.x * px.z) / det;
+        out.slope = clamp(slope, vec2<f32>(-8.0), vec2<f32>(8.0));
+    }
+    return out;
+}

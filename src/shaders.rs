@@ -1,0 +1,51 @@
+//! The passes' WGSL sources. Each pass has one file in `shaders/`; the pieces several passes
+//! share (the frame uniform and light-space helpers, the full-screen triangle, the receiver
+//! plane, the instance and material uniforms) live in `shaders/common/` and are joined to the
+//! pass's file at compile time, so there is one copy of each.
+
+macro_rules! wgsl {
+    ($($file:literal),+ $(,)?) => {
+        concat!($(include_str!(concat!("../shaders/", $file)), "\n"),+)
+    };
+}
+
+pub const SHADOW_MAP: &str = wgsl!("common/scene.wgsl", "shadow_map.wgsl");
+pub const FATTENED_SHADOW_MAP: &str = wgsl!("common/scene.wgsl", "fattened_shadow_map.wgsl");
+pub const DISTANCE_MAP: &str = wgsl!("common/frame.wgsl", "common/scene.wgsl", "distance_map.wgsl");
+pub const PCF: &str = wgsl!(
+    "common/frame.wgsl",
+    "common/fullscreen.wgsl",
+    "common/receiver.wgsl",
+    "pcf.wgsl"
+);
+pub const PCSS: &str = wgsl!(
+    "common/frame.wgsl",
+    "common/fullscreen.wgsl",
+    "common/receiver.wgsl",
+    "pcss.wgsl"
+);
+pub const BLUR: &str = wgsl!("common/frame.wgsl", "common/fullscreen.wgsl", "blur.wgsl");
+pub const COMPOSITE: &str = wgsl!("common/frame.wgsl", "common/scene.wgsl", "composite.wgsl");
+pub const REFERENCE: &str = wgsl!("common/frame.wgsl", "common/fullscreen.wgsl", "reference.wgsl");
+pub const FORWARD: &str = wgsl!("common/scene.wgsl", "forward.wgsl");
+
+/// Every pass's composed source, by the name of its file in `shaders/`.
+pub const ALL: [(&str, &str); 9] = [
+    ("shadow_map", SHADOW_MAP),
+    ("fattened_shadow_map", FATTENED_SHADOW_MAP),
+    ("distance_map", DISTANCE_MAP),
+    ("pcf", PCF),
+    ("pcss", PCSS),
+    ("blur", BLUR),
+    ("composite", COMPOSITE),
+    ("reference", REFERENCE),
+    ("forward", FORWARD),
+];
+
+/// A shader module from one of the sources above.
+pub(crate) fn module(device: &wgpu::Device, label: &str, source: &'static str) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Borrowed(source)),
+    })
+}
