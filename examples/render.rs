@@ -143,32 +143,16 @@ fn render_reference_with_progress(
     width: u32,
     height: u32,
 ) -> Result<image::RgbaImage> {
-    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("render: reference target"),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: renderer.color_format(),
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
-    let view = target.create_view(&Default::default());
-    renderer.resize(&gpu.device, width, height);
     let bar = indicatif::ProgressBar::new(renderer.settings().reference.samples as u64).with_style(
         indicatif::ProgressStyle::with_template("reference {bar:40} {pos}/{len} light samples, {eta} left")
             .expect("valid template"),
     );
-    renderer.render_reference(&gpu.device, &gpu.queue, scene, camera, &view, |done, _| {
-        bar.set_position(done as u64)
-    })?;
+    let image =
+        penumbra::render_to_image_with_progress(gpu, renderer, scene, camera, width, height, |done, _| {
+            bar.set_position(done as u64)
+        })?;
     bar.finish_and_clear();
-    let pixels = penumbra::read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;
-    image::RgbaImage::from_raw(width, height, pixels).context("reading back the reference")
+    Ok(image)
 }
 
 /// Renders the reference, measures this method's error against it and writes the heat map.

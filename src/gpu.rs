@@ -219,6 +219,20 @@ pub fn render_to_image(
     width: u32,
     height: u32,
 ) -> Result<image::RgbaImage> {
+    render_to_image_with_progress(gpu, renderer, scene, camera, width, height, |_, _| {})
+}
+
+/// As [`render_to_image`]; for the reference method `progress(done, total)` is called after
+/// every light sample.
+pub fn render_to_image_with_progress(
+    gpu: &HeadlessGpu,
+    renderer: &mut crate::Renderer,
+    scene: &crate::GpuScene,
+    camera: &crate::Camera,
+    width: u32,
+    height: u32,
+    progress: impl FnMut(u32, u32),
+) -> Result<image::RgbaImage> {
     if width == 0 || height == 0 {
         return Err(PenumbraError::setting(
             "size",
@@ -249,7 +263,7 @@ pub fn render_to_image(
     let view = target.create_view(&Default::default());
     renderer.resize(&gpu.device, width, height);
     if renderer.settings().method == crate::ShadowMethod::Reference {
-        renderer.render_reference(&gpu.device, &gpu.queue, scene, camera, &view, |_, _| {})?;
+        renderer.render_reference(&gpu.device, &gpu.queue, scene, camera, &view, progress)?;
     } else {
         let mut encoder = gpu
             .device
