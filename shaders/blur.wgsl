@@ -12,7 +12,7 @@ struct Blur {
     weights: array<vec4<f32>, 4>,
 }
 
-@group(0) @binding(1) var camera_depth: texture_depth_2d;
+@group(0) @binding(1) var camera_depth: texture_2d<f32>;
 @group(0) @binding(2) var distance_map: texture_2d<f32>;
 @group(0) @binding(3) var visibility: texture_2d<f32>;
 @group(0) @binding(4) var linear_sampler: sampler;
@@ -22,7 +22,7 @@ struct Blur {
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
     let center = textureLoad(visibility, pixel, 0).x;
-    let depth = textureLoad(camera_depth, pixel, 0);
+    let depth = textureLoad(camera_depth, pixel, 0).x;
     if depth >= 1.0 {
         return vec4<f32>(center);
     }
@@ -54,7 +54,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
             var weight = w;
             let tap_pixel = clamp(vec2<i32>(tap_uv * frame.screen.xy), vec2<i32>(0), vec2<i32>(frame.screen.xy) - 1);
             if frame.flags.z > 0.5 {
-                let tap_z = view_depth(textureLoad(camera_depth, tap_pixel, 0));
+                let tap_z = view_depth(textureLoad(camera_depth, tap_pixel, 0).x);
                 let relative = (tap_z - z) / (z * 0.02);
                 weight *= exp(-relative * relative);
             }

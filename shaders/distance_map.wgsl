@@ -1,10 +1,11 @@
 // Distance map pass (and camera depth prepass). Draws every instance from the camera into the
 // camera depth buffer. The `fs_distance` variant also writes, for each receiver pixel, the
 // distance along the light from the fattened occluder to the receiver (world units, >= 0) and
-// a mask: 1 inside the fattened shadow, 0 outside it, -1 on non-receivers (distance 0). `fs_depth` only discards alpha-masked fragments (depth prepass for the
+// a mask: 1 inside the fattened shadow, 0 outside it, -1 on non-receivers (distance 0), -2
+// where nothing is drawn (the clear value). `fs_depth` only discards alpha-masked fragments (depth prepass for the
 // other screen-space methods).
 
-@group(0) @binding(1) var fattened_map: texture_depth_2d;
+@group(0) @binding(1) var fattened_map: texture_2d<f32>;
 @group(1) @binding(0) var<uniform> instance: Instance;
 @group(2) @binding(0) var<uniform> material: Material;
 @group(2) @binding(1) var base_color_texture: texture_2d<f32>;
@@ -48,7 +49,7 @@ fn fs_distance(in: VsOut) -> @location(0) vec4<f32> {
     let p = to_shadow_map(in.world);
     let size = vec2<i32>(textureDimensions(fattened_map));
     let texel = clamp(vec2<i32>(p.xy * vec2<f32>(size)), vec2<i32>(0), size - 1);
-    let fattened_depth = textureLoad(fattened_map, texel, 0);
+    let fattened_depth = textureLoad(fattened_map, texel, 0).x;
     let on_map = all(p.xy >= vec2<f32>(0.0)) && all(p.xy <= vec2<f32>(1.0)) && p.z <= 1.0;
     let inside = on_map && fattened_depth < p.z;
     let distance = max(light_linear_depth(p.z) - light_linear_depth(fattened_depth), 0.0);

@@ -5,7 +5,7 @@
 // mask says no shadow can fall, no shadow-map tap is taken. A receiver-plane depth bias keeps
 // wide kernels from shadowing the receiver itself.
 
-@group(0) @binding(1) var camera_depth: texture_depth_2d;
+@group(0) @binding(1) var camera_depth: texture_2d<f32>;
 @group(0) @binding(2) var distance_map: texture_2d<f32>;
 @group(0) @binding(3) var shadow_map: texture_depth_2d;
 @group(0) @binding(4) var shadow_sampler: sampler_comparison;
@@ -13,7 +13,7 @@
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
-    let depth = textureLoad(camera_depth, pixel, 0);
+    let depth = textureLoad(camera_depth, pixel, 0).x;
     if depth >= 1.0 {
         return vec4<f32>(1.0);
     }

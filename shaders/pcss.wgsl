@@ -3,9 +3,11 @@
 // as the physical distance-map method), and a rotated Vogel-disk PCF of that width gives the
 // visibility.
 
-@group(0) @binding(1) var camera_depth: texture_depth_2d;
+@group(0) @binding(1) var camera_depth: texture_2d<f32>;
 @group(0) @binding(2) var shadow_map: texture_depth_2d;
 @group(0) @binding(3) var shadow_sampler: sampler_comparison;
+// The same shadow map, read as plain depths for the blocker search.
+@group(0) @binding(4) var shadow_depths: texture_2d<f32>;
 
 // Point k of n on a Vogel (golden-angle) disk of radius 1, rotated by `angle`.
 fn vogel(k: i32, n: i32, angle: f32) -> vec2<f32> {
@@ -17,7 +19,7 @@ fn vogel(k: i32, n: i32, angle: f32) -> vec2<f32> {
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
-    let depth = textureLoad(camera_depth, pixel, 0);
+    let depth = textureLoad(camera_depth, pixel, 0).x;
     if depth >= 1.0 {
         return vec4<f32>(1.0);
     }
@@ -35,14 +37,14 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     // receiver; the light's footprint there is the widest penumbra possible.
     let search_world = max(penumbra_width(receiver - frame.light_depth.x, world), 0.0);
     let search_uv = min(search_world / world_size, 0.25) * 0.5;
-    let size = vec2<i32>(textureDimensions(shadow_map));
+    let size = vec2<i32>(textureDimensions(shadow_depths));
     let blockers = i32(frame.flags.w);
     var blocker_sum = 0.0;
     var blocker_count = 0.0;
     for (var k = 0; k < blockers; k++) {
         let offset = vogel(k, blockers, angle) * search_uv;
         let texel = clamp(vec2<i32>((p.xy + offset) * vec2<f32>(size)), vec2<i32>(0), size - 1);
-        let occluder = textureLoad(shadow_map, texel, 0);
+        let occluder = textureLoad(shadow_depths, texel, 0).x;
         if occluder < p.z + dot(slope, offset) - 1e-5 {
             blocker_sum += occluder;
             blocker_count += 1.0;

@@ -10,7 +10,7 @@ struct Sample {
     params: vec4<f32>,
 }
 
-@group(0) @binding(1) var camera_depth: texture_depth_2d;
+@group(0) @binding(1) var camera_depth: texture_2d<f32>;
 @group(0) @binding(2) var shadow_map: texture_depth_2d;
 @group(0) @binding(3) var shadow_sampler: sampler_comparison;
 @group(0) @binding(4) var previous: texture_2d<f32>;
@@ -19,7 +19,7 @@ struct Sample {
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
-    let depth = textureLoad(camera_depth, pixel, 0);
+    let depth = textureLoad(camera_depth, pixel, 0).x;
     let count = sample.params.x;
     let before = select(textureLoad(previous, pixel, 0).x, 1.0, count < 0.5);
     if depth >= 1.0 {

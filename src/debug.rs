@@ -161,30 +161,23 @@ pub struct MaskSavings {
     pub share: f32,
 }
 
-/// Measures [`MaskSavings`] by reading back the last frame's distance map and camera depth.
-/// Errors when the renderer's method has no distance map.
+/// Measures [`MaskSavings`] by reading back the last frame's distance map. Errors when the
+/// renderer's method has no distance map.
 pub fn mask_savings(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Renderer) -> Result<MaskSavings> {
-    let no_mask = || {
+    let distance = renderer.debug_texture(DebugTexture::DistanceMap).ok_or_else(|| {
         PenumbraError::setting(
             "method",
             format!("`{}` has no mask to measure", renderer.settings().method.name()),
         )
-    };
-    let distance = renderer
-        .debug_texture(DebugTexture::DistanceMap)
-        .ok_or_else(no_mask)?;
-    let depth = renderer
-        .debug_texture(DebugTexture::CameraDepth)
-        .ok_or_else(no_mask)?;
+    })?;
     let (values, _) = read_texture_f32(device, queue, distance)?;
-    let (depths, _) = read_texture_f32(device, queue, depth)?;
     let mut receiver_pixels = 0;
     let mut skipped_pixels = 0;
-    // Mask: 1 inside, 0 outside, -1 on non-receivers; the background (depth 1) is not drawn.
-    for (px, d) in values.chunks_exact(2).zip(&depths) {
-        if *d < 1.0 && px[1] > -0.5 {
+    // Mask: 1 inside, 0 outside, -1 on non-receivers, -2 where nothing is drawn.
+    for mask in values.chunks_exact(2).map(|px| px[1]) {
+        if mask > -0.5 {
             receiver_pixels += 1;
-            if px[1] < 0.5 {
+            if mask < 0.5 {
                 skipped_pixels += 1;
             }
         }

@@ -115,6 +115,8 @@ pub fn read_texture_bytes(
         usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         mapped_at_creation: false,
     });
+    // Some backends cannot copy some formats (GL: no depth copies): report, don't panic.
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
         label: Some("penumbra::readback"),
     });
@@ -140,6 +142,12 @@ pub fn read_texture_bytes(
         },
     );
     queue.submit([encoder.finish()]);
+    if let Some(error) = pollster::block_on(scope.pop()) {
+        return Err(gpu_error(
+            "reading back a texture",
+            format!("{format:?} cannot be read back on this device: {error}"),
+        ));
+    }
     let (sender, receiver) = std::sync::mpsc::channel();
     buffer.map_async(wgpu::MapMode::Read, .., move |r| {
         let _ = sender.send(r);

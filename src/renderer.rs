@@ -197,7 +197,7 @@ impl Renderer {
             last_report: None,
             timer: None,
         };
-        renderer.allocate(device);
+        renderer.allocate_checked(device)?;
         Ok(renderer)
     }
 
@@ -225,8 +225,7 @@ impl Renderer {
             self.shadow_key = None;
         }
         self.settings = settings;
-        self.allocate(device);
-        Ok(())
+        self.allocate_checked(device)
     }
 
     /// Sets the output size. A zero width or height (a minimized window) is accepted: frames
@@ -321,6 +320,20 @@ impl Renderer {
     /// The light's view used by the last frame.
     pub fn light_view(&self) -> Option<&LightView> {
         self.last_report.as_ref().map(|r| &r.light_view)
+    }
+
+    /// [`Self::allocate`], turning a device's refusal (a format it cannot render to, say) into
+    /// an error that names the method instead of a panic.
+    fn allocate_checked(&mut self, device: &wgpu::Device) -> Result<()> {
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        self.allocate(device);
+        match pollster::block_on(scope.pop()) {
+            None => Ok(()),
+            Some(error) => Err(crate::PenumbraError::Gpu {
+                during: format!("creating the passes of method `{}`", self.settings.method.name()),
+                reason: format!("this device cannot run it: {error}"),
+            }),
+        }
     }
 
     /// Creates the passes the method needs (for any light size) and drops the rest, then

@@ -186,3 +186,60 @@ fn comparing_to_the_reference_prints_metrics_and_writes_a_heat_map() {
         (96, 72)
     );
 }
+
+#[test]
+fn the_gl_backend_renders_every_real_time_method_and_refuses_the_rest_in_words() {
+    let dir = common::scratch_dir("render_example_gl");
+    let scene = common::asset("scenes/teapot.ron");
+    let scene = scene.to_str().unwrap();
+    let gl = |args: &[&str]| {
+        let out = Command::new(render_example())
+            .args(args)
+            .env("WGPU_BACKEND", "gl")
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(!stderr.contains("panicked"), "{args:?} panicked on GL:\n{stderr}");
+        (out.status.success(), stderr)
+    };
+    for method in ["ours", "ours-fast", "traditional", "pcss", "hard", "hw2x2"] {
+        let out = dir.join(format!("{method}.png"));
+        let (ok, stderr) = gl(&[
+            "--scene",
+            scene,
+            "--size",
+            "64x48",
+            "--method",
+            method,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{method} on GL: {stderr}");
+    }
+    // GL cannot render to R32F (the reference) nor copy depth (depth debug views): errors, not panics.
+    let out = dir.join("x.png");
+    let (ok, stderr) = gl(&[
+        "--scene",
+        scene,
+        "--size",
+        "64x48",
+        "--method",
+        "reference",
+        "--samples",
+        "4",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok && stderr.contains("`reference`"), "{stderr}");
+    let (ok, stderr) = gl(&[
+        "--scene",
+        scene,
+        "--size",
+        "64x48",
+        "--debug-view",
+        "shadow-map",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok && stderr.contains("cannot be read back"), "{stderr}");
+}

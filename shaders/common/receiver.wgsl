@@ -16,8 +16,8 @@ fn neighbor_delta(pixel: vec2<i32>, world: vec3<f32>, depth: f32, axis: vec2<i32
     let size = vec2<i32>(frame.screen.xy);
     let a = clamp(pixel + axis, vec2<i32>(0), size - 1);
     let b = clamp(pixel - axis, vec2<i32>(0), size - 1);
-    let depth_a = textureLoad(camera_depth, a, 0);
-    let depth_b = textureLoad(camera_depth, b, 0);
+    let depth_a = textureLoad(camera_depth, a, 0).x;
+    let depth_b = textureLoad(camera_depth, b, 0).x;
     if abs(depth_a - depth) <= abs(depth_b - depth) {
         return world_position(vec2<f32>(a) + 0.5, depth_a) - world;
     }

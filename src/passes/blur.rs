@@ -35,7 +35,7 @@ impl BlurPass {
             label: Some("BlurPass::layout"),
             entries: &[
                 entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
-                entry::texture_2d(1, wgpu::TextureSampleType::Depth),
+                entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
                 entry::texture_2d(2, wgpu::TextureSampleType::Float { filterable: false }),
                 entry::texture_2d(3, wgpu::TextureSampleType::Float { filterable: true }),
                 entry::sampler(4, wgpu::SamplerBindingType::Filtering),

@@ -32,7 +32,7 @@ impl DistanceMapPass {
             label: Some("DistanceMapPass::frame_layout"),
             entries: &[
                 entry::uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT, frame_size, false),
-                entry::texture_2d(1, wgpu::TextureSampleType::Depth),
+                entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -150,7 +150,13 @@ impl DistanceMapPass {
             depth_slice: None,
             resolve_target: None,
             ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                // Mask -2: nothing drawn here.
+                load: wgpu::LoadOp::Clear(wgpu::Color {
+                    r: 0.0,
+                    g: -2.0,
+                    b: 0.0,
+                    a: 0.0,
+                }),
                 store: wgpu::StoreOp::Store,
             },
         })];

@@ -23,7 +23,7 @@ impl PcfPass {
             label: Some("PcfPass::layout"),
             entries: &[
                 entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
-                entry::texture_2d(1, wgpu::TextureSampleType::Depth),
+                entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
                 entry::texture_2d(2, wgpu::TextureSampleType::Float { filterable: false }),
                 entry::texture_2d(3, wgpu::TextureSampleType::Depth),
                 entry::sampler(4, wgpu::SamplerBindingType::Comparison),

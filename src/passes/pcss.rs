@@ -22,9 +22,10 @@ impl PcssPass {
             label: Some("PcssPass::layout"),
             entries: &[
                 entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
-                entry::texture_2d(1, wgpu::TextureSampleType::Depth),
+                entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
                 entry::texture_2d(2, wgpu::TextureSampleType::Depth),
                 entry::sampler(3, wgpu::SamplerBindingType::Comparison),
+                entry::texture_2d(4, wgpu::TextureSampleType::Float { filterable: false }),
             ],
         });
         let pipeline = fullscreen_pipeline(
@@ -62,6 +63,7 @@ impl PcssPass {
                 wgpu::BindingResource::TextureView(camera_depth),
                 wgpu::BindingResource::TextureView(shadow_map),
                 wgpu::BindingResource::Sampler(&self.sampler),
+                wgpu::BindingResource::TextureView(shadow_map),
             ]),
         }));
     }

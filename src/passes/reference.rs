@@ -37,7 +37,7 @@ impl ReferencePass {
             label: Some("ReferencePass::layout"),
             entries: &[
                 entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
-                entry::texture_2d(1, wgpu::TextureSampleType::Depth),
+                entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
                 entry::texture_2d(2, wgpu::TextureSampleType::Depth),
                 entry::sampler(3, wgpu::SamplerBindingType::Comparison),
                 entry::texture_2d(4, wgpu::TextureSampleType::Float { filterable: false }),
