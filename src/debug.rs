@@ -64,8 +64,9 @@ impl DebugView {
     }
 }
 
-/// A perceptually ordered blue-cyan-green-yellow-red ramp for t in [0, 1].
-fn false_color(t: f32) -> [u8; 3] {
+/// A perceptually ordered blue-cyan-green-yellow-red ramp for t in [0, 1] (the distance
+/// view's colors, for drawing its legend).
+pub fn false_color(t: f32) -> [u8; 3] {
     let stops = [
         [0.19, 0.07, 0.55],
         [0.12, 0.55, 0.90],
@@ -80,6 +81,24 @@ fn false_color(t: f32) -> [u8; 3] {
     [c(0), c(1), c(2)]
 }
 
+/// What the colors of a false-color debug image stand for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Legend {
+    /// The value at the low end of the ramp ([`false_color`] of 0).
+    pub low: f32,
+    /// The value at the high end ([`false_color`] of 1).
+    pub high: f32,
+    /// The values' unit, in words.
+    pub unit: &'static str,
+}
+
+/// A debug image, with its legend where its colors stand for values.
+#[derive(Debug, Clone)]
+pub struct DebugImage {
+    pub image: image::RgbaImage,
+    pub legend: Option<Legend>,
+}
+
 /// Reads `view` of the renderer's last frame back and turns it into an image. Errors when the
 /// current method has no such texture (for example the distance map of `traditional`).
 pub fn debug_image(
@@ -88,6 +107,17 @@ pub fn debug_image(
     renderer: &Renderer,
     view: DebugView,
 ) -> Result<image::RgbaImage> {
+    debug_image_with_legend(device, queue, renderer, view).map(|d| d.image)
+}
+
+/// As [`debug_image`], with the legend of the distance view's false colors.
+pub fn debug_image_with_legend(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    renderer: &Renderer,
+    view: DebugView,
+) -> Result<DebugImage> {
+    let mut legend = None;
     let texture = renderer.debug_texture(view.texture()).ok_or_else(|| {
         PenumbraError::setting(
             "debug_view",
@@ -120,7 +150,16 @@ pub fn debug_image(
             }
         }
         DebugView::Distance => {
-            let max = (0..n).map(|i| pixel(i, 0)).fold(0.0f32, f32::max).max(1e-20);
+            let max = (0..n)
+                .filter(|i| pixel(*i, 1) > 0.5)
+                .map(|i| pixel(i, 0))
+                .fold(0.0f32, f32::max)
+                .max(1e-20);
+            legend = Some(Legend {
+                low: 0.0,
+                high: max,
+                unit: "world units to the occluder",
+            });
             for (i, p) in img.pixels_mut().enumerate() {
                 let [r, g, b] = if pixel(i, 1) > 0.5 {
                     false_color(pixel(i, 0) / max)
@@ -143,7 +182,7 @@ pub fn debug_image(
             }
         }
     }
-    Ok(img)
+    Ok(DebugImage { image: img, legend })
 }
 
 /// How much work the mask saved in the last frame of a distance-map method.

@@ -10,7 +10,10 @@ use crate::error::{PenumbraError, Result};
 use crate::passes::entry;
 use crate::scene::{Aabb, AlphaMode, Light, Scene};
 
-/// Bind group layouts shared by every pass that draws scene geometry.
+/// Bind group layouts shared by every pass that draws scene geometry. Cloning shares the
+/// layouts, so several [`crate::Renderer`]s made with [`crate::Renderer::with_layouts`] can
+/// draw one [`GpuScene`].
+#[derive(Clone)]
 pub struct SceneLayouts {
     /// Group with one dynamic-offset uniform: [`InstanceUniform`].
     pub instance: wgpu::BindGroupLayout,

@@ -46,13 +46,13 @@ pub mod timing;
 pub use error::{PenumbraError, Result};
 pub use frame::DerivedSpreads;
 pub use gpu::{
-    HeadlessGpu, read_texture_bytes, read_texture_f32, read_texture_rgba8, render_to_image,
+    HeadlessGpu, device_descriptor, instance_flags, read_texture_bytes, read_texture_f32, read_texture_rgba8, render_to_image,
     render_to_image_with_progress,
 };
 pub use gpu_scene::{GpuScene, SceneLayouts};
 pub use light_space::LightView;
 pub use loaders::load_model;
-pub use renderer::{DebugTexture, FrameReport, PassPlan, Renderer};
+pub use renderer::{DebugTexture, FrameReport, PassPlan, ReferenceProgress, Renderer};
 pub use scene::file::load_scene;
 pub use scene::{
     Aabb, AlphaMode, Camera, DirectionalLight, Instance, Light, Material, Mesh, Model, OrbitCamera, Scene,

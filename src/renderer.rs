@@ -117,6 +117,31 @@ pub enum DebugTexture {
     BlurredVisibility,
 }
 
+/// How far a progressive reference has come.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ReferenceProgress {
+    /// Light samples averaged so far.
+    pub done: u32,
+    /// Light samples the settings ask for.
+    pub total: u32,
+}
+
+impl ReferenceProgress {
+    pub fn is_complete(&self) -> bool {
+        self.done >= self.total
+    }
+}
+
+/// What a progressive reference's average depends on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct ReferenceKey {
+    camera: Camera,
+    light: Light,
+    scene: (u64, u64),
+    size: (u32, u32),
+    settings: ShadowSettings,
+}
+
 /// What decides whether the shadow maps can be reused.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct ShadowKey {
@@ -148,6 +173,7 @@ pub struct Renderer {
     composite: Option<CompositePass>,
     size: (u32, u32),
     shadow_key: Option<ShadowKey>,
+    reference_key: Option<ReferenceKey>,
     last_report: Option<FrameReport>,
     timer: Option<crate::timing::Timer>,
 }
@@ -161,8 +187,18 @@ impl Renderer {
         color_format: wgpu::TextureFormat,
         settings: ShadowSettings,
     ) -> Result<Self> {
+        Self::with_layouts(device, color_format, settings, SceneLayouts::new(device))
+    }
+
+    /// As [`Renderer::new`], drawing scenes made with `layouts` (shared with other renderers,
+    /// so that one [`GpuScene`] serves them all, as in a side-by-side comparison).
+    pub fn with_layouts(
+        device: &wgpu::Device,
+        color_format: wgpu::TextureFormat,
+        settings: ShadowSettings,
+        layouts: SceneLayouts,
+    ) -> Result<Self> {
         settings.validate(Some(device.limits().max_texture_dimension_2d))?;
-        let layouts = SceneLayouts::new(device);
         let shadow_map = ShadowMapPass::new(device, &layouts, &settings.shadow_map);
         let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("Renderer::frame"),
@@ -194,6 +230,7 @@ impl Renderer {
             composite: None,
             size: (0, 0),
             shadow_key: None,
+            reference_key: None,
             last_report: None,
             timer: None,
         };
@@ -475,21 +512,7 @@ impl Renderer {
             &scene.shadow_bounds(),
             spreads.fatten_distance * 2.0,
         );
-        queue.write_buffer(
-            &self.frame_buffer,
-            0,
-            bytemuck::bytes_of(&FrameUniform::new(&FrameInputs {
-                camera,
-                width: self.size.0,
-                height: self.size.1,
-                light: &light,
-                ambient: scene.ambient(),
-                light_view: &light_view,
-                settings: &self.settings,
-                spreads,
-                caster_radius: scene.caster_bounds().radius(),
-            })),
-        );
+        self.write_frame_uniform(queue, scene, camera, &light_view);
 
         // The shadow maps depend on the light and the casters, not on the camera.
         let key = ShadowKey {
@@ -582,10 +605,11 @@ impl Renderer {
     }
 
     /// Renders the ground truth ([`ShadowMethod::Reference`], which must be the current
-    /// method) into `target`: the camera depth, then for each of the
+    /// method) into `target` from start to end: the camera depth, then for each of the
     /// [`crate::ReferenceSettings::samples`] points on the light a hard shadow map and one
     /// accumulation step, each submitted on its own so memory does not grow with the count,
-    /// then the composite. `progress(done, total)` is called after every sample.
+    /// then the composite. `progress(done, total)` is called after every sample. Blocks until
+    /// all samples are in; interactive programs call [`Renderer::render_reference_step`].
     #[allow(clippy::too_many_arguments)]
     pub fn render_reference(
         &mut self,
@@ -596,47 +620,93 @@ impl Renderer {
         target: &wgpu::TextureView,
         mut progress: impl FnMut(u32, u32),
     ) -> Result<Option<FrameReport>> {
+        self.reference_key = None;
+        let total = self.settings.reference.samples;
+        if !self.accumulate_reference(device, queue, scene, camera, total, &mut progress)? {
+            return Ok(None);
+        }
+        Ok(self.composite_reference(device, queue, scene, camera, target))
+    }
+
+    /// Adds up to `max_samples` more light samples to the reference and composites the mean
+    /// so far into `target`, so a window can show the ground truth converging while it stays
+    /// responsive. The average restarts by itself when the camera, light, scene, size or
+    /// settings differ from the previous call. Returns the progress, or `None` when the
+    /// target has no pixels. Once every sample is in, further calls only composite.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_reference_step(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &GpuScene,
+        camera: &Camera,
+        target: &wgpu::TextureView,
+        max_samples: u32,
+    ) -> Result<Option<ReferenceProgress>> {
+        if !self.accumulate_reference(device, queue, scene, camera, max_samples, &mut |_, _| {})? {
+            return Ok(None);
+        }
+        self.composite_reference(device, queue, scene, camera, target);
+        Ok(self.reference_progress())
+    }
+
+    /// How far the reference average has come, when the method is the reference.
+    pub fn reference_progress(&self) -> Option<ReferenceProgress> {
+        self.reference.as_ref().map(|r| ReferenceProgress {
+            done: r.accumulated(),
+            total: self.settings.reference.samples,
+        })
+    }
+
+    /// Accumulates up to `max_samples` samples (restarting the average when its inputs
+    /// changed). Returns false when there is nothing to draw into.
+    fn accumulate_reference(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &GpuScene,
+        camera: &Camera,
+        max_samples: u32,
+        progress: &mut dyn FnMut(u32, u32),
+    ) -> Result<bool> {
         if self.settings.method != ShadowMethod::Reference {
             return Err(crate::PenumbraError::setting(
                 "method",
                 format!(
-                    "render_reference needs method `reference`, not `{}`",
+                    "rendering the reference needs method `reference`, not `{}`",
                     self.settings.method.name()
                 ),
             ));
         }
         if self.size.0 == 0 || self.size.1 == 0 {
-            return Ok(None);
+            return Ok(false);
         }
         let light = *scene.light();
         let total = self.settings.reference.samples;
-        let loose = LightView::fit(&light, &scene.shadow_bounds());
-        let spreads = self.spreads(&light, &loose, scene);
-        queue.write_buffer(
-            &self.frame_buffer,
-            0,
-            bytemuck::bytes_of(&FrameUniform::new(&FrameInputs {
-                camera,
-                width: self.size.0,
-                height: self.size.1,
-                light: &light,
-                ambient: scene.ambient(),
-                light_view: &loose,
-                settings: &self.settings,
-                spreads,
-                caster_radius: scene.caster_bounds().radius(),
-            })),
-        );
-        let (Some(distance), Some(reference)) = (&self.distance_map, &mut self.reference) else {
-            return Ok(None);
+        let key = ReferenceKey {
+            camera: *camera,
+            light,
+            scene: scene.revision(),
+            size: self.size,
+            settings: self.settings,
         };
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("reference: depth prepass"),
-        });
-        distance.encode(&mut encoder, scene, false);
-        queue.submit([encoder.finish()]);
-        reference.reset();
-        for k in 0..total {
+        let restart = self.reference_key.as_ref() != Some(&key);
+        self.write_frame_uniform(queue, scene, camera, &LightView::fit(&light, &scene.shadow_bounds()));
+        let (Some(distance), Some(reference)) = (&self.distance_map, &mut self.reference) else {
+            return Ok(false);
+        };
+        if restart {
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("reference: depth prepass"),
+            });
+            distance.encode(&mut encoder, scene, false);
+            queue.submit([encoder.finish()]);
+            reference.reset();
+            self.reference_key = Some(key);
+        }
+        let first = reference.accumulated();
+        let last = first.saturating_add(max_samples).min(total);
+        for k in first..last {
             let sample = crate::light_samples::light_sample(&light, k, total);
             let view = LightView::fit_casters(&sample, &scene.caster_bounds(), &scene.shadow_bounds(), 0.0);
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -658,15 +728,51 @@ impl Renderer {
             }
             progress(k + 1, total);
         }
-        // The shadow map now holds the last sample's, and the result sits in one of two targets.
-        self.shadow_key = None;
-        self.rebind(device);
+        if last > first {
+            // The shadow map now holds the last sample's, and the mean sits in the other target.
+            self.shadow_key = None;
+            self.rebind(device);
+        }
+        Ok(true)
+    }
+
+    /// Draws the reference's mean so far into `target` (the composite of a normal frame).
+    fn composite_reference(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &GpuScene,
+        camera: &Camera,
+        target: &wgpu::TextureView,
+    ) -> Option<FrameReport> {
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("reference: composite"),
         });
         let report = self.render(queue, &mut encoder, scene, camera, target);
         queue.submit([encoder.finish()]);
-        Ok(report)
+        report
+    }
+
+    /// Writes the uniform every screen-space pass reads.
+    fn write_frame_uniform(&self, queue: &wgpu::Queue, scene: &GpuScene, camera: &Camera, light_view: &LightView) {
+        let light = *scene.light();
+        let loose = LightView::fit(&light, &scene.shadow_bounds());
+        let spreads = self.spreads(&light, &loose, scene);
+        queue.write_buffer(
+            &self.frame_buffer,
+            0,
+            bytemuck::bytes_of(&FrameUniform::new(&FrameInputs {
+                camera,
+                width: self.size.0,
+                height: self.size.1,
+                light: &light,
+                ambient: scene.ambient(),
+                light_view,
+                settings: &self.settings,
+                spreads,
+                caster_radius: scene.caster_bounds().radius(),
+            })),
+        );
     }
 
     /// The fatten distance and penumbra scale for this frame: derived from the light in

@@ -122,6 +122,33 @@ impl OrbitCamera {
         self.target + self.distance * Vec3::new(yaw.sin() * pitch.cos(), pitch.sin(), yaw.cos() * pitch.cos())
     }
 
+    /// The orbit that sees what `camera` sees (its target, distance and direction; `up` is
+    /// taken to be +Y).
+    pub fn from_camera(camera: &Camera) -> Self {
+        let offset = camera.eye - camera.target;
+        let distance = offset.length().max(1e-6);
+        let dir = offset / distance;
+        Self {
+            target: camera.target,
+            distance,
+            yaw_deg: dir.x.atan2(dir.z).to_degrees().rem_euclid(360.0),
+            pitch_deg: dir.y.clamp(-1.0, 1.0).asin().to_degrees().clamp(-89.0, 89.0),
+            fov_y_deg: camera.fov_y_deg,
+        }
+    }
+
+    /// Moves the target (and the eye with it) in the view plane by `right` and `up` times the
+    /// distance, so a drag pans at the same screen speed whatever the zoom.
+    pub fn pan(&mut self, right: f32, up: f32) {
+        if !(right.is_finite() && up.is_finite()) {
+            return;
+        }
+        let forward = (self.target - self.eye()).normalize_or(Vec3::NEG_Z);
+        let side = forward.cross(Vec3::Y).normalize_or(Vec3::X);
+        let true_up = side.cross(forward);
+        self.target += (side * right + true_up * up) * self.distance;
+    }
+
     /// Rotates by the given degrees (pitch is clamped).
     pub fn rotate(&mut self, yaw_deg: f32, pitch_deg: f32) {
         self.yaw_deg = (self.yaw_deg + yaw_deg).rem_euclid(360.0);
@@ -153,6 +180,17 @@ impl OrbitCamera {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn orbit_from_camera_gives_the_same_eye() {
+        let c = Camera::look_at(Vec3::new(3.0, 4.0, 5.0), Vec3::new(0.5, 1.0, -1.0));
+        let orbit = OrbitCamera::from_camera(&c);
+        assert!((orbit.eye() - c.eye).length() < 1e-4, "{:?} vs {:?}", orbit.eye(), c.eye);
+        let mut panned = orbit;
+        panned.pan(0.1, 0.0);
+        assert!((panned.target - orbit.target).length() > 0.05);
+        assert!(((panned.eye() - panned.target) - (orbit.eye() - orbit.target)).length() < 1e-4);
+    }
 
     #[test]
     fn target_projects_to_the_center() {

@@ -1,0 +1,438 @@
+//! The settings panel: every setting of the library with its unit, the scene, the light,
+//! the intermediate maps, the measurements and the screenshot and settings-file buttons.
+
+use eframe::egui;
+use penumbra::debug::DebugView;
+use penumbra::{
+    CullMode, DepthFormat, DirectionalLight, Light, PcfKernel, Quality, ShadowMethod, ShadowSettings, SpotLight,
+    SpreadMode,
+};
+
+use crate::app::{BUILT_IN, DemoApp, LightAngles, MapView, built_in_path};
+
+fn method_combo(ui: &mut egui::Ui, id: &str, label: &str, method: &mut ShadowMethod) {
+    egui::ComboBox::from_id_salt(id)
+        .selected_text(format!("{label}: {}", method.name()))
+        .show_ui(ui, |ui| {
+            for m in ShadowMethod::ALL {
+                ui.selectable_value(method, m, m.name());
+            }
+        });
+}
+
+fn kernel_combo(ui: &mut egui::Ui, id: &str, kernel: &mut PcfKernel) {
+    egui::ComboBox::from_id_salt(id)
+        .selected_text(format!("PCF kernel {0}x{0}", kernel.side()))
+        .show_ui(ui, |ui| {
+            for k in [PcfKernel::Pcf3x3, PcfKernel::Pcf4x4, PcfKernel::Pcf5x5] {
+                ui.selectable_value(kernel, k, format!("{0}x{0}", k.side()));
+            }
+        });
+}
+
+/// A slider for an odd tap count in [1, 31].
+fn odd_taps(ui: &mut egui::Ui, taps: &mut u32, label: &str) {
+    let mut half = (*taps / 2) as i32;
+    ui.add(
+        egui::Slider::new(&mut half, 0..=15)
+            .custom_formatter(|h, _| format!("{}", 2 * h as i32 + 1))
+            .text(label),
+    );
+    *taps = 2 * half as u32 + 1;
+}
+
+impl DemoApp {
+    pub fn settings_panel(&mut self, ui: &mut egui::Ui) {
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            ui.heading("penumbra");
+            if let Some((text, is_error)) = &self.message {
+                let color = if *is_error {
+                    egui::Color32::from_rgb(255, 110, 90)
+                } else {
+                    ui.visuals().text_color()
+                };
+                ui.colored_label(color, text);
+            }
+            self.compare_section(ui);
+            self.light_section(ui);
+            self.method_sections(ui);
+            self.shadow_map_section(ui);
+            self.view_section(ui);
+            self.scene_section(ui);
+            self.measure_section(ui);
+            self.keep_section(ui);
+        });
+    }
+
+    fn compare_section(&mut self, ui: &mut egui::Ui) {
+        egui::CollapsingHeader::new("Compare").default_open(true).show(ui, |ui| {
+            ui.checkbox(&mut self.split, "split view (drag the divider)");
+            let [left, right] = &mut self.sides;
+            method_combo(ui, "left method", if self.split { "left" } else { "method" }, &mut left.method);
+            if self.split {
+                method_combo(ui, "right method", "right", &mut right.method);
+                ui.add(egui::Slider::new(&mut self.divider, 0.0..=1.0).text("divider (share of width)"));
+            }
+            ui.horizontal(|ui| {
+                let mut quality = None;
+                egui::ComboBox::from_id_salt("preset")
+                    .selected_text("apply quality preset")
+                    .show_ui(ui, |ui| {
+                        for q in [Quality::Low, Quality::Medium, Quality::High, Quality::Ultra] {
+                            if ui.selectable_label(false, q.name()).clicked() {
+                                quality = Some(q);
+                            }
+                        }
+                    });
+                if let Some(q) = quality {
+                    let method = self.shared.method;
+                    self.shared = ShadowSettings {
+                        method,
+                        ..ShadowSettings::preset(method, q)
+                    };
+                    self.say(format!("applied the {} preset", q.name()));
+                }
+                if ui.button("reset to defaults").clicked() {
+                    self.reset();
+                }
+            });
+        });
+    }
+
+    fn light_section(&mut self, ui: &mut egui::Ui) {
+        egui::CollapsingHeader::new("Light").default_open(true).show(ui, |ui| {
+            let center = self.bounds.center();
+            let radius = self.bounds.radius().max(1e-3);
+            let mut light = self.light;
+            ui.horizontal(|ui| {
+                let directional = matches!(light, Light::Directional(_));
+                if ui.selectable_label(directional, "directional").clicked() && !directional {
+                    light = to_directional(&light);
+                }
+                if ui.selectable_label(!directional, "spot").clicked() && directional {
+                    light = to_spot(&light, center, radius);
+                }
+            });
+            match &mut light {
+                Light::Directional(d) => {
+                    ui.add(
+                        egui::Slider::new(&mut d.angular_diameter_deg, 0.0..=20.0)
+                            .suffix("°")
+                            .text("size (angular diameter)"),
+                    );
+                    ui.add(egui::Slider::new(&mut d.intensity, 0.0..=4.0).text("intensity"));
+                }
+                Light::Spot(s) => {
+                    ui.add(
+                        egui::Slider::new(&mut s.radius, 0.0..=radius * 0.5)
+                            .suffix(" units")
+                            .text("size (disk radius)"),
+                    );
+                    ui.add(egui::Slider::new(&mut s.cone_angle_deg, 5.0..=89.0).suffix("°").text("cone half-angle"));
+                    ui.add(egui::Slider::new(&mut s.intensity, 0.0..=4.0).text("intensity"));
+                }
+            }
+            if light != self.light {
+                self.set_light(light);
+            }
+            let mut angles = self.angles;
+            ui.add(egui::Slider::new(&mut angles.azimuth_deg, -180.0..=180.0).suffix("°").text("azimuth"));
+            ui.add(egui::Slider::new(&mut angles.elevation_deg, 1.0..=90.0).suffix("°").text("elevation"));
+            ui.horizontal(|ui| {
+                light_gizmo(ui, &mut angles);
+                ui.vertical(|ui| {
+                    ui.label("drag the dot, or Shift + drag in the view");
+                    ui.checkbox(&mut self.animate_light, "animate light");
+                    ui.add(egui::Slider::new(&mut self.animation_speed, 0.1..=3.0).text("speed"));
+                });
+            });
+            if angles != self.angles {
+                self.set_angles(angles);
+            }
+        });
+    }
+
+    fn method_sections(&mut self, ui: &mut egui::Ui) {
+        egui::CollapsingHeader::new("Ours (distance map)").default_open(true).show(ui, |ui| {
+            let p = &mut self.shared.penumbra;
+            let mut manual = matches!(p.spreads, SpreadMode::Manual { .. });
+            ui.horizontal(|ui| {
+                ui.radio_value(&mut manual, false, "physical (from the light)");
+                ui.radio_value(&mut manual, true, "manual");
+            });
+            match (&mut p.spreads, manual) {
+                (SpreadMode::Physical, true) => {
+                    p.spreads = SpreadMode::Manual {
+                        fatten_distance: 0.1,
+                        pcf_spread: 8.0,
+                        blur_spread: 8.0,
+                    }
+                }
+                (SpreadMode::Manual { .. }, false) => p.spreads = SpreadMode::Physical,
+                _ => {}
+            }
+            if let SpreadMode::Manual {
+                fatten_distance,
+                pcf_spread,
+                blur_spread,
+            } = &mut p.spreads
+            {
+                ui.add(
+                    egui::Slider::new(fatten_distance, 0.0..=2.0)
+                        .logarithmic(true)
+                        .suffix(" units")
+                        .text("fatten_distance"),
+                );
+                ui.add(
+                    egui::Slider::new(pcf_spread, 0.0..=200.0)
+                        .logarithmic(true)
+                        .suffix(" texels/unit")
+                        .text("pcf_spread"),
+                );
+                ui.add(
+                    egui::Slider::new(blur_spread, 0.0..=200.0)
+                        .logarithmic(true)
+                        .suffix(" px/unit")
+                        .text("blur_spread"),
+                );
+            } else {
+                ui.add(egui::Slider::new(&mut p.pcf_variance_share, 0.0..=1.0).text("PCF share of the penumbra"));
+            }
+            kernel_combo(ui, "ours kernel", &mut p.pcf_kernel);
+            ui.add(egui::Slider::new(&mut p.pcf_base_spacing, 0.0..=16.0).suffix(" texels").text("PCF base spacing"));
+            odd_taps(ui, &mut p.blur_taps, "blur taps");
+            ui.checkbox(&mut p.rotate_taps, "rotate PCF taps per pixel");
+            ui.checkbox(&mut p.mask_early_out, "mask early-out (no taps outside the mask)");
+            ui.checkbox(&mut p.depth_aware_blur, "depth-aware blur");
+            ui.add(egui::Slider::new(&mut p.indirect_weight, 0.0..=1.0).text("indirect_weight"));
+        });
+        egui::CollapsingHeader::new("Traditional (PCF + Gaussian)").show(ui, |ui| {
+            let t = &mut self.shared.traditional;
+            kernel_combo(ui, "traditional kernel", &mut t.pcf_kernel);
+            ui.add(egui::Slider::new(&mut t.pcf_spacing, 0.0..=16.0).suffix(" texels").text("PCF spacing"));
+            odd_taps(ui, &mut t.blur_taps, "blur taps");
+            ui.add(egui::Slider::new(&mut t.blur_step, 0.0..=16.0).suffix(" px").text("blur step"));
+        });
+        egui::CollapsingHeader::new("PCSS and reference").show(ui, |ui| {
+            let s = &mut self.shared;
+            ui.add(egui::Slider::new(&mut s.pcss.blocker_samples, 1..=64).text("PCSS blocker-search taps"));
+            ui.add(egui::Slider::new(&mut s.pcss.pcf_samples, 1..=64).text("PCSS filter taps"));
+            ui.add(
+                egui::Slider::new(&mut s.reference.samples, 1..=4096)
+                    .logarithmic(true)
+                    .text("reference light samples"),
+            );
+        });
+    }
+
+    fn shadow_map_section(&mut self, ui: &mut egui::Ui) {
+        egui::CollapsingHeader::new("Shadow map").show(ui, |ui| {
+            let max = self.render_state.device.limits().max_texture_dimension_2d.min(8192);
+            let m = &mut self.shared.shadow_map;
+            egui::ComboBox::from_id_salt("resolution")
+                .selected_text(format!("{0}x{0} texels", m.resolution))
+                .show_ui(ui, |ui| {
+                    let mut r = 256;
+                    while r <= max {
+                        ui.selectable_value(&mut m.resolution, r, format!("{r}"));
+                        r *= 2;
+                    }
+                });
+            egui::ComboBox::from_id_salt("depth format")
+                .selected_text(format!("depth {:?}", m.depth_format))
+                .show_ui(ui, |ui| {
+                    for f in [DepthFormat::Depth16, DepthFormat::Depth24, DepthFormat::Depth32] {
+                        ui.selectable_value(&mut m.depth_format, f, format!("{f:?}"));
+                    }
+                });
+            ui.add(
+                egui::Slider::new(&mut m.constant_bias, 0..=64)
+                    .text("constant bias (depth steps)"),
+            );
+            ui.add(egui::Slider::new(&mut m.slope_bias, 0.0..=16.0).text("slope bias (x depth slope)"));
+            egui::ComboBox::from_id_salt("cull")
+                .selected_text(format!("cull {:?} faces", m.cull_mode))
+                .show_ui(ui, |ui| {
+                    for c in [CullMode::None, CullMode::Back, CullMode::Front] {
+                        ui.selectable_value(&mut m.cull_mode, c, format!("{c:?}"));
+                    }
+                });
+        });
+    }
+
+    fn view_section(&mut self, ui: &mut egui::Ui) {
+        egui::CollapsingHeader::new("Intermediate maps").default_open(true).show(ui, |ui| {
+            let before = (self.map, self.map_side);
+            egui::ComboBox::from_id_salt("map")
+                .selected_text(self.map.name())
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut self.map, MapView::Final, MapView::Final.name());
+                    for v in DebugView::ALL {
+                        ui.selectable_value(&mut self.map, MapView::Debug(v), MapView::Debug(v).name());
+                    }
+                    ui.selectable_value(&mut self.map, MapView::Error, MapView::Error.name());
+                });
+            if matches!(self.map, MapView::Debug(_)) {
+                ui.horizontal(|ui| {
+                    ui.label("of");
+                    ui.radio_value(&mut self.map_side, 0, self.sides[0].method.name());
+                    if self.split {
+                        ui.radio_value(&mut self.map_side, 1, self.sides[1].method.name());
+                    }
+                });
+            }
+            if self.map == MapView::Error {
+                ui.label("needs `reference` on one side; shows |visibility - reference|");
+            }
+            if (self.map, self.map_side) != before {
+                self.map_stale = true;
+            }
+            ui.add(egui::Slider::new(&mut self.render_scale, 0.25..=1.0).text("render scale (share of pixels)"));
+            ui.checkbox(&mut self.continuous, "redraw every frame (for timing)");
+        });
+    }
+
+    fn scene_section(&mut self, ui: &mut egui::Ui) {
+        egui::CollapsingHeader::new("Scene and camera").default_open(true).show(ui, |ui| {
+            ui.label(format!("{} ({} triangles)", self.scene_name, self.gpu_scene.triangle_count()));
+            ui.horizontal(|ui| {
+                for (name, file) in BUILT_IN {
+                    if ui.button(name).clicked() {
+                        self.open_scene(&built_in_path(file));
+                    }
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.add(egui::TextEdit::singleline(&mut self.open_path).hint_text("path to .obj, .gltf, .glb or .ron"));
+                if ui.button("open").clicked() {
+                    let path = std::path::PathBuf::from(self.open_path.trim());
+                    self.open_scene(&path);
+                }
+            });
+            ui.label("or drop a file on the window");
+            ui.horizontal_wrapped(|ui| {
+                ui.label("viewpoints:");
+                let names: Vec<String> = self.scene.views.iter().map(|v| v.name.clone()).collect();
+                for (i, name) in names.iter().enumerate() {
+                    if ui.button(name).clicked() {
+                        self.go_to_view(i);
+                    }
+                }
+            });
+            ui.label("drag: orbit · right drag: pan · wheel: zoom");
+        });
+    }
+
+    fn measure_section(&mut self, ui: &mut egui::Ui) {
+        egui::CollapsingHeader::new("Measure").default_open(true).show(ui, |ui| {
+            if let Some(ms) = self.clock.mean_ms() {
+                ui.label(format!("window: {:.1} FPS ({ms:.1} ms per frame)", 1000.0 / ms.max(1e-3)));
+            }
+            self.clock.graph(ui);
+            let count = if self.split { 2 } else { 1 };
+            for side in &self.sides[..count] {
+                let s = &side.stats;
+                ui.label(egui::RichText::new(side.method.name()).strong());
+                if let Some(p) = s.reference {
+                    ui.label(format!("{}/{} light samples", p.done, p.total));
+                    continue;
+                }
+                ui.label(format!("GPU {:.2} ms · redraw {:.1} ms wall", s.gpu_ms, s.wall_ms));
+                egui::Grid::new(format!("passes {}", side.method.name())).striped(true).show(ui, |ui| {
+                    for p in &s.passes {
+                        ui.label(p.pass);
+                        ui.label(format!("{:.2} ms", p.milliseconds));
+                        ui.end_row();
+                    }
+                });
+                if let Some(m) = &s.mask {
+                    ui.label(format!(
+                        "mask saved {:.1}% of the shadow-map taps ({} of {} receiver pixels skipped)",
+                        m.share * 100.0,
+                        m.skipped_pixels,
+                        m.receiver_pixels
+                    ));
+                }
+            }
+        });
+    }
+
+    fn keep_section(&mut self, ui: &mut egui::Ui) {
+        egui::CollapsingHeader::new("Keep").default_open(true).show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.add(egui::TextEdit::singleline(&mut self.screenshot_path).desired_width(190.0));
+                if ui.button("screenshot").clicked() {
+                    let path = std::path::PathBuf::from(self.screenshot_path.trim());
+                    self.request_screenshot(ui.ctx(), path);
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.add(egui::TextEdit::singleline(&mut self.settings_path).desired_width(150.0));
+                if ui.button("save settings").clicked() {
+                    self.save_settings();
+                }
+                if ui.button("load").clicked() {
+                    self.load_settings();
+                }
+            });
+        });
+    }
+}
+
+/// A top view of the sky: the dot is where the light is (center: overhead, rim: horizon).
+fn light_gizmo(ui: &mut egui::Ui, angles: &mut LightAngles) {
+    let size = 96.0;
+    let (rect, response) = ui.allocate_exact_size(egui::vec2(size, size), egui::Sense::click_and_drag());
+    let painter = ui.painter_at(rect);
+    let center = rect.center();
+    let radius = size * 0.5 - 4.0;
+    painter.circle_filled(center, radius, ui.visuals().extreme_bg_color);
+    painter.circle_stroke(center, radius, ui.visuals().widgets.noninteractive.bg_stroke);
+    painter.circle_stroke(center, radius * 0.5, ui.visuals().widgets.noninteractive.bg_stroke);
+    if let Some(p) = response.interact_pointer_pos()
+        && (response.dragged() || response.clicked())
+    {
+        let v = (p - center) / radius;
+        let r = v.length().min(1.0);
+        angles.elevation_deg = r.acos().to_degrees().clamp(1.0, 90.0);
+        if r > 1e-3 {
+            angles.azimuth_deg = v.x.atan2(v.y).to_degrees();
+        }
+    }
+    let (az, el) = (angles.azimuth_deg.to_radians(), angles.elevation_deg.to_radians());
+    let dot = center + egui::vec2(az.sin(), az.cos()) * el.cos() * radius;
+    painter.circle_filled(dot, 6.0, egui::Color32::from_rgb(255, 210, 80));
+}
+
+fn to_directional(light: &Light) -> Light {
+    match *light {
+        Light::Directional(_) => *light,
+        Light::Spot(s) => {
+            let distance = 10.0f32.max(s.radius);
+            Light::Directional(DirectionalLight {
+                direction: s.direction,
+                angular_diameter_deg: (2.0 * (s.radius / distance).atan()).to_degrees().min(20.0),
+                color: s.color,
+                intensity: s.intensity,
+            })
+        }
+    }
+}
+
+fn to_spot(light: &Light, center: glam::Vec3, radius: f32) -> Light {
+    match *light {
+        Light::Spot(_) => *light,
+        Light::Directional(d) => {
+            let distance = radius * 2.5;
+            let toward = -light.direction();
+            Light::Spot(SpotLight {
+                position: center + toward * distance,
+                direction: -toward,
+                cone_angle_deg: (radius * 1.3 / distance).atan().to_degrees().clamp(5.0, 89.0),
+                radius: distance * (d.angular_diameter_deg.to_radians() * 0.5).tan(),
+                color: d.color,
+                intensity: d.intensity,
+            })
+        }
+    }
+}
