@@ -43,16 +43,17 @@ pub struct VisibilityError {
 }
 
 fn render_linear(
-    gpu: &HeadlessGpu,
+    gpu: (&wgpu::Device, &wgpu::Queue),
     scene: &Scene,
     camera: &Camera,
     settings: ShadowSettings,
     (width, height): (u32, u32),
 ) -> Result<Vec<f32>> {
     let format = wgpu::TextureFormat::Rgba32Float;
-    let mut renderer = Renderer::new(&gpu.device, format, settings)?;
-    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), scene)?;
-    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
+    let (device, queue) = gpu;
+    let mut renderer = Renderer::new(device, format, settings)?;
+    let gpu_scene = GpuScene::new(device, queue, renderer.layouts(), scene)?;
+    let target = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("metrics::target"),
         size: wgpu::Extent3d {
             width,
@@ -67,15 +68,15 @@ fn render_linear(
         view_formats: &[],
     });
     let view = target.create_view(&Default::default());
-    renderer.resize(&gpu.device, width, height);
+    renderer.resize(device, width, height);
     if settings.method == ShadowMethod::Reference {
-        renderer.render_reference(&gpu.device, &gpu.queue, &gpu_scene, camera, &view, |_, _| {})?;
+        renderer.render_reference(device, queue, &gpu_scene, camera, &view, |_, _| {})?;
     } else {
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        renderer.render(&gpu.queue, &mut encoder, &gpu_scene, camera, &view);
-        gpu.queue.submit([encoder.finish()]);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        renderer.render(queue, &mut encoder, &gpu_scene, camera, &view);
+        queue.submit([encoder.finish()]);
     }
-    let (values, _) = read_texture_f32(&gpu.device, &gpu.queue, &target)?;
+    let (values, _) = read_texture_f32(device, queue, &target)?;
     Ok(values.chunks_exact(4).map(|px| px[1]).collect())
 }
 
@@ -88,13 +89,60 @@ pub fn measure_visibility(
     settings: ShadowSettings,
     size: (u32, u32),
 ) -> Result<VisibilityImage> {
+    check_size(size)?;
+    let shaded = render_linear((&gpu.device, &gpu.queue), scene, camera, settings, size)?;
+    let (unshadowed, ambient) = unshadowed_and_ambient((&gpu.device, &gpu.queue), scene, camera, settings, size)?;
+    let visibility = shaded
+        .iter()
+        .zip(&unshadowed)
+        .zip(&ambient)
+        .map(|((l, u), a)| {
+            let direct = u - a;
+            (direct >= MIN_DIRECT).then(|| ((l - a) / direct).clamp(0.0, 1.0))
+        })
+        .collect();
+    Ok(VisibilityImage {
+        width: size.0,
+        height: size.1,
+        visibility,
+    })
+}
+
+/// Which pixels get enough direct light (at least [`MIN_DIRECT`]) for their visibility to be
+/// measured: false on surfaces facing away from the light and on the background. Two
+/// shadow-free renders on the caller's device, for tools that compare visibility textures
+/// (such as the demo's error view) and must ignore the same pixels [`measure_visibility`] does.
+pub fn direct_light_mask(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    camera: &Camera,
+    settings: ShadowSettings,
+    size: (u32, u32),
+) -> Result<Vec<bool>> {
+    check_size(size)?;
+    let (unshadowed, ambient) = unshadowed_and_ambient((device, queue), scene, camera, settings, size)?;
+    Ok(unshadowed.iter().zip(&ambient).map(|(u, a)| u - a >= MIN_DIRECT).collect())
+}
+
+fn check_size(size: (u32, u32)) -> Result<()> {
     if size.0 == 0 || size.1 == 0 {
         return Err(PenumbraError::setting(
             "size",
             format!("{}x{} has no pixels", size.0, size.1),
         ));
     }
-    let shaded = render_linear(gpu, scene, camera, settings, size)?;
+    Ok(())
+}
+
+/// The frame with nothing casting shadows, and the frame with the light off.
+fn unshadowed_and_ambient(
+    gpu: (&wgpu::Device, &wgpu::Queue),
+    scene: &Scene,
+    camera: &Camera,
+    settings: ShadowSettings,
+    size: (u32, u32),
+) -> Result<(Vec<f32>, Vec<f32>)> {
     // Unshadowed and ambient-only frames need no shadow method at all.
     let plain = ShadowSettings {
         method: ShadowMethod::Hard,
@@ -111,20 +159,7 @@ pub fn measure_visibility(
         Light::Spot(l) => l.intensity = 0.0,
     }
     let ambient = render_linear(gpu, &dark_scene, camera, plain, size)?;
-    let visibility = shaded
-        .iter()
-        .zip(&unshadowed)
-        .zip(&ambient)
-        .map(|((l, u), a)| {
-            let direct = u - a;
-            (direct >= MIN_DIRECT).then(|| ((l - a) / direct).clamp(0.0, 1.0))
-        })
-        .collect();
-    Ok(VisibilityImage {
-        width: size.0,
-        height: size.1,
-        visibility,
-    })
+    Ok((unshadowed, ambient))
 }
 
 /// Error of `test` against `reference` over the pixels measured in both.

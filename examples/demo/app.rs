@@ -126,6 +126,14 @@ struct AutoScreenshot {
     path: PathBuf,
     frames: u32,
     requested: bool,
+    /// Window sizes to go through first (`--exercise-resize`), one every few frames.
+    resizes: Vec<ResizeStep>,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum ResizeStep {
+    Size(f32, f32),
+    Minimize(bool),
 }
 
 pub struct DemoApp {
@@ -152,6 +160,9 @@ pub struct DemoApp {
     pub(crate) map_side: usize,
     map_image: Option<MapImage>,
     pub(crate) map_stale: bool,
+    /// Pixels with direct light, for the error view, and what they were computed for.
+    #[allow(clippy::type_complexity)]
+    direct_mask: Option<((penumbra::Camera, Light, (u32, u32)), Vec<bool>)>,
     pub(crate) render_scale: f32,
     pub(crate) continuous: bool,
     pub(crate) clock: FrameClock,
@@ -164,6 +175,8 @@ pub struct DemoApp {
     auto: Option<AutoScreenshot>,
     outcome: Outcome,
     frames: u64,
+    /// Window frames, drawn view or not.
+    ui_frames: u64,
     view_rect_px: [f32; 4],
     divider_px: f32,
 }
@@ -199,8 +212,7 @@ impl DemoApp {
         let mut split = !args.single;
         let mut methods = startup.methods;
         let mut light = scene.light;
-        if let Some(path) = &args.settings {
-            let saved = read_settings(path)?;
+        if let Some(saved) = startup.saved.clone() {
             shared = saved.shadows;
             methods = [saved.left, saved.right];
             split = saved.split;
@@ -233,6 +245,7 @@ impl DemoApp {
             map_side: 0,
             map_image: None,
             map_stale: true,
+            direct_mask: None,
             render_scale: args.render_scale,
             continuous: false,
             clock: FrameClock::new(),
@@ -246,9 +259,23 @@ impl DemoApp {
                 path,
                 frames: args.frames,
                 requested: false,
+                resizes: if args.exercise_resize {
+                    let (w, h) = startup.window;
+                    vec![
+                        ResizeStep::Size(400.0, 300.0),
+                        ResizeStep::Size(1.0, 1.0),
+                        ResizeStep::Minimize(true),
+                        ResizeStep::Minimize(false),
+                        ResizeStep::Size(w * 0.5, h),
+                        ResizeStep::Size(w, h),
+                    ]
+                } else {
+                    Vec::new()
+                },
             }),
             outcome,
             frames: 0,
+            ui_frames: 0,
             view_rect_px: [0.0; 4],
             divider_px: 0.0,
             render_state,
@@ -712,7 +739,7 @@ impl DemoApp {
 
     /// The visibility error of the non-reference side against the reference side.
     #[allow(clippy::type_complexity)]
-    fn error_map(&self) -> Result<(image::RgbaImage, Option<Legend>, Option<VisibilityError>), String> {
+    fn error_map(&mut self) -> Result<(image::RgbaImage, Option<Legend>, Option<VisibilityError>), String> {
         let reference = self
             .sides
             .iter()
@@ -739,10 +766,36 @@ impl DemoApp {
                 visibility: values.chunks_exact(channels as usize).map(|px| Some(px[0])).collect(),
             })
         };
-        let r = read(&self.sides[reference])?;
-        let t = read(test)?;
+        let mut r = read(&self.sides[reference])?;
+        let mut t = read(test)?;
         if (r.width, r.height) != (t.width, t.height) {
             return Err("the sides have not both rendered at this size yet".into());
+        }
+        // Measure only where direct light falls, as penumbra::metrics does: surfaces facing
+        // away from the light are dark whatever their visibility.
+        let key = (self.camera(), self.light, (r.width, r.height));
+        if self.direct_mask.as_ref().is_none_or(|(k, _)| *k != key) {
+            let mut scene = self.scene.clone();
+            scene.light = self.light;
+            let mask = penumbra::metrics::direct_light_mask(
+                &self.render_state.device,
+                &self.render_state.queue,
+                &scene,
+                &key.0,
+                self.shared,
+                key.2,
+            )
+            .map_err(|e| e.to_string())?;
+            self.direct_mask = Some((key, mask));
+        }
+        if let Some((_, mask)) = &self.direct_mask {
+            for image in [&mut r, &mut t] {
+                for (v, lit) in image.visibility.iter_mut().zip(mask) {
+                    if !lit {
+                        *v = None;
+                    }
+                }
+            }
         }
         let error = penumbra::metrics::visibility_error(&r, &t).map_err(|e| e.to_string())?;
         let legend = Legend {
@@ -857,16 +910,30 @@ impl eframe::App for DemoApp {
 impl DemoApp {
     /// `--screenshot`: after the frames asked for (and any reference complete), take it.
     fn drive_auto_screenshot(&mut self, ctx: &egui::Context) {
-        let Some(auto) = &self.auto else {
+        self.ui_frames += 1;
+        let ui_frames = self.ui_frames;
+        let Some(auto) = &mut self.auto else {
             return;
         };
         ctx.request_repaint();
         if auto.requested {
             return;
         }
+        if !auto.resizes.is_empty() {
+            // One step every five window frames, so each size is seen for a while.
+            if ui_frames % 5 == 0 {
+                let step = auto.resizes.remove(0);
+                eprintln!("exercise: {step:?}");
+                ctx.send_viewport_cmd(match step {
+                    ResizeStep::Size(w, h) => egui::ViewportCommand::InnerSize(egui::vec2(w, h)),
+                    ResizeStep::Minimize(on) => egui::ViewportCommand::Minimized(on),
+                });
+            }
+            return;
+        }
         let converging = self.sides.iter().any(|s| s.stats.reference.is_some_and(|p| !p.is_complete()));
         let ready = self.frames >= auto.frames as u64 && !converging && !self.map_stale;
-        let too_long = self.frames > auto.frames as u64 + 20_000;
+        let too_long = ui_frames > auto.frames as u64 + 20_000;
         if too_long {
             self.outcome.fail("the screenshot never became ready (a reference that does not finish?)");
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);

@@ -61,6 +61,10 @@ pub struct Args {
     /// Render `--frames` frames, save the window's image to this PNG and exit.
     #[arg(long)]
     pub screenshot: Option<PathBuf>,
+    /// Before the screenshot, shrink the window to nothing, minimize it and restore it (a
+    /// check that resizing, to zero included, is handled).
+    #[arg(long)]
+    pub exercise_resize: bool,
     /// Frames to render before `--screenshot` is taken (at least 1).
     #[arg(long, default_value_t = 10)]
     pub frames: u32,
@@ -74,6 +78,8 @@ pub struct Startup {
     pub quality: Quality,
     pub map: Option<app::MapView>,
     pub window: (f32, f32),
+    /// The `--settings` file, read.
+    pub saved: Option<app::SavedSettings>,
 }
 
 fn parse_args(args: Args) -> Result<Startup> {
@@ -108,7 +114,17 @@ fn parse_args(args: Args) -> Result<Startup> {
     {
         bail!("--samples {samples}: must be in 1..=4096");
     }
+    let saved = match &args.settings {
+        Some(path) => {
+            let saved = app::read_settings(path)?;
+            saved.shadows.validate(None).with_context(|| format!("{}", path.display()))?;
+            saved.light.validate().with_context(|| format!("{}", path.display()))?;
+            Some(saved)
+        }
+        None => None,
+    };
     Ok(Startup {
+        saved,
         args,
         methods,
         quality,
