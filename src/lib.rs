@@ -46,8 +46,8 @@ pub mod timing;
 pub use error::{PenumbraError, Result};
 pub use frame::DerivedSpreads;
 pub use gpu::{
-    HeadlessGpu, device_descriptor, instance_flags, read_texture_bytes, read_texture_f32, read_texture_rgba8, render_to_image,
-    render_to_image_with_progress,
+    HeadlessGpu, device_descriptor, instance_flags, read_texture_bytes, read_texture_f32, read_texture_rgba8,
+    render_to_image, render_to_image_with_progress,
 };
 pub use gpu_scene::{GpuScene, SceneLayouts};
 pub use light_space::LightView;

@@ -91,7 +91,8 @@ pub fn measure_visibility(
 ) -> Result<VisibilityImage> {
     check_size(size)?;
     let shaded = render_linear((&gpu.device, &gpu.queue), scene, camera, settings, size)?;
-    let (unshadowed, ambient) = unshadowed_and_ambient((&gpu.device, &gpu.queue), scene, camera, settings, size)?;
+    let (unshadowed, ambient) =
+        unshadowed_and_ambient((&gpu.device, &gpu.queue), scene, camera, settings, size)?;
     let visibility = shaded
         .iter()
         .zip(&unshadowed)
@@ -122,7 +123,11 @@ pub fn direct_light_mask(
 ) -> Result<Vec<bool>> {
     check_size(size)?;
     let (unshadowed, ambient) = unshadowed_and_ambient((device, queue), scene, camera, settings, size)?;
-    Ok(unshadowed.iter().zip(&ambient).map(|(u, a)| u - a >= MIN_DIRECT).collect())
+    Ok(unshadowed
+        .iter()
+        .zip(&ambient)
+        .map(|(u, a)| u - a >= MIN_DIRECT)
+        .collect())
 }
 
 fn check_size(size: (u32, u32)) -> Result<()> {

@@ -691,7 +691,12 @@ impl Renderer {
             settings: self.settings,
         };
         let restart = self.reference_key.as_ref() != Some(&key);
-        self.write_frame_uniform(queue, scene, camera, &LightView::fit(&light, &scene.shadow_bounds()));
+        self.write_frame_uniform(
+            queue,
+            scene,
+            camera,
+            &LightView::fit(&light, &scene.shadow_bounds()),
+        );
         let (Some(distance), Some(reference)) = (&self.distance_map, &mut self.reference) else {
             return Ok(false);
         };
@@ -754,7 +759,13 @@ impl Renderer {
     }
 
     /// Writes the uniform every screen-space pass reads.
-    fn write_frame_uniform(&self, queue: &wgpu::Queue, scene: &GpuScene, camera: &Camera, light_view: &LightView) {
+    fn write_frame_uniform(
+        &self,
+        queue: &wgpu::Queue,
+        scene: &GpuScene,
+        camera: &Camera,
+        light_view: &LightView,
+    ) {
         let light = *scene.light();
         let loose = LightView::fit(&light, &scene.shadow_bounds());
         let spreads = self.spreads(&light, &loose, scene);

@@ -18,7 +18,11 @@ fn demo_example() -> PathBuf {
         .unwrap()
         .join("examples")
         .join(format!("demo{}", std::env::consts::EXE_SUFFIX));
-    assert!(exe.is_file(), "{} not built; `cargo test` builds examples", exe.display());
+    assert!(
+        exe.is_file(),
+        "{} not built; `cargo test` builds examples",
+        exe.display()
+    );
     exe
 }
 
@@ -51,7 +55,11 @@ fn run_in_xvfb(args: &[&str], limit: Duration) -> Output {
     let out = command.output().expect("run timeout/xvfb-run");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "the demo panicked:\n{stderr}");
-    assert!(out.status.success(), "the demo failed ({}):\n{stderr}", out.status);
+    assert!(
+        out.status.success(),
+        "the demo failed ({}):\n{stderr}",
+        out.status
+    );
     out
 }
 
@@ -64,7 +72,14 @@ struct Shot {
 
 fn screenshot(dir: &Path, name: &str, extra: &[&str]) -> Shot {
     let png = dir.join(format!("{name}.png"));
-    let mut args = vec!["--screenshot", png.to_str().unwrap(), "--frames", "3", "--size", "960x640"];
+    let mut args = vec![
+        "--screenshot",
+        png.to_str().unwrap(),
+        "--frames",
+        "3",
+        "--size",
+        "960x640",
+    ];
     args.extend_from_slice(extra);
     run_in_xvfb(&args, Duration::from_secs(300));
     let image = image::open(&png).unwrap().to_rgb8();
@@ -78,7 +93,10 @@ fn screenshot(dir: &Path, name: &str, extra: &[&str]) -> Shot {
         .collect();
     assert_eq!(
         (image.width(), image.height()),
-        (layout["width"].as_u64().unwrap() as u32, layout["height"].as_u64().unwrap() as u32)
+        (
+            layout["width"].as_u64().unwrap() as u32,
+            layout["height"].as_u64().unwrap() as u32
+        )
     );
     Shot {
         image,
@@ -123,10 +141,19 @@ fn split_view_screenshot_shows_both_methods() {
         .into_iter()
         .map(|(x, y)| split.image.get_pixel(x, y).0)
         .collect();
-    eprintln!("view luma mean {mean:.1}, spread {spread:.1}, {} colors", distinct.len());
-    assert!(spread > 20.0, "the view is nearly uniform (luma spread {spread:.1})");
+    eprintln!(
+        "view luma mean {mean:.1}, spread {spread:.1}, {} colors",
+        distinct.len()
+    );
+    assert!(
+        spread > 20.0,
+        "the view is nearly uniform (luma spread {spread:.1})"
+    );
     assert!(distinct.len() > 500, "only {} colors in the view", distinct.len());
-    assert!(lumas.iter().filter(|l| **l < 60.0).count() > lumas.len() / 100, "no shadow in the view");
+    assert!(
+        lumas.iter().filter(|l| **l < 60.0).count() > lumas.len() / 100,
+        "no shadow in the view"
+    );
 
     // Same camera, same light: the left halves (ours in both) match, and the right halves
     // (traditional vs ours) differ, in the shadow's soft edges.
@@ -136,14 +163,19 @@ fn split_view_screenshot_shows_both_methods() {
         let pixels = region(&split, xs);
         let differing = pixels
             .iter()
-            .filter(|(x, y)| (luma(split.image.get_pixel(*x, *y)) - luma(same.image.get_pixel(*x, *y))).abs() > 6.0)
+            .filter(|(x, y)| {
+                (luma(split.image.get_pixel(*x, *y)) - luma(same.image.get_pixel(*x, *y))).abs() > 6.0
+            })
             .count();
         (differing, pixels.len())
     };
     let (left_diff, left_n) = diff(x0 + 70..split.divider - margin);
     let (right_diff, right_n) = diff(split.divider + margin..x0 + w - 90);
     eprintln!("differing pixels: left {left_diff}/{left_n}, right {right_diff}/{right_n}");
-    assert!(left_diff * 1000 <= left_n, "the left halves (both ours) differ in {left_diff} pixels");
+    assert!(
+        left_diff * 1000 <= left_n,
+        "the left halves (both ours) differ in {left_diff} pixels"
+    );
     assert!(
         right_diff * 200 > right_n,
         "traditional and ours look the same on the right ({right_diff} of {right_n} pixels differ)"
@@ -151,13 +183,18 @@ fn split_view_screenshot_shows_both_methods() {
     // The differences sit in partly shadowed pixels, not in the fully lit or the umbra.
     let soft = region(&split, split.divider + margin..x0 + w - 90)
         .into_iter()
-        .filter(|(x, y)| (luma(split.image.get_pixel(*x, *y)) - luma(same.image.get_pixel(*x, *y))).abs() > 6.0)
+        .filter(|(x, y)| {
+            (luma(split.image.get_pixel(*x, *y)) - luma(same.image.get_pixel(*x, *y))).abs() > 6.0
+        })
         .filter(|(x, y)| {
             let l = luma(same.image.get_pixel(*x, *y)).min(luma(split.image.get_pixel(*x, *y)));
             l > 15.0
         })
         .count();
-    assert!(soft * 2 > right_diff, "the differences are not in the penumbra ({soft} of {right_diff})");
+    assert!(
+        soft * 2 > right_diff,
+        "the differences are not in the penumbra ({soft} of {right_diff})"
+    );
 }
 
 #[test]
@@ -178,7 +215,10 @@ fn intermediate_map_and_resizing_to_zero() {
             hi - lo > 120
         })
         .count();
-    assert!(saturated > 5000, "no false-color distance map in the view ({saturated} saturated pixels)");
+    assert!(
+        saturated > 5000,
+        "no false-color distance map in the view ({saturated} saturated pixels)"
+    );
 }
 
 #[test]
@@ -191,7 +231,10 @@ fn without_a_display_the_demo_says_so() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
     assert!(!stderr.contains("panicked"), "{stderr}");
-    assert!(stderr.contains("DISPLAY") && stderr.contains("--example render"), "{stderr}");
+    assert!(
+        stderr.contains("DISPLAY") && stderr.contains("--example render"),
+        "{stderr}"
+    );
 }
 
 #[test]
@@ -202,7 +245,10 @@ fn bad_arguments_get_plain_errors() {
         (&["--map", "nothing"][..], "nothing"),
         (&["--render-scale", "2"][..], "--render-scale"),
         (&["--size", "10x10"][..], "--size"),
-        (&["--settings", "no/such/settings.ron"][..], "no/such/settings.ron"),
+        (
+            &["--settings", "no/such/settings.ron"][..],
+            "no/such/settings.ron",
+        ),
         (&["--settings", "Cargo.toml"][..], "Cargo.toml"),
     ] {
         let out = Command::new(demo_example()).args(args).output().unwrap();

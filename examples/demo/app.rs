@@ -9,9 +9,7 @@ use eframe::egui_wgpu::RenderState;
 use glam::Vec3;
 use penumbra::debug::{DebugView, Legend};
 use penumbra::metrics::{VisibilityError, VisibilityImage};
-use penumbra::{
-    Aabb, GpuScene, Light, OrbitCamera, Scene, SceneLayouts, ShadowMethod, ShadowSettings,
-};
+use penumbra::{Aabb, GpuScene, Light, OrbitCamera, Scene, SceneLayouts, ShadowMethod, ShadowSettings};
 use serde::{Deserialize, Serialize};
 
 use crate::Startup;
@@ -165,6 +163,7 @@ pub struct DemoApp {
     direct_mask: Option<((penumbra::Camera, Light, (u32, u32)), Vec<bool>)>,
     pub(crate) render_scale: f32,
     pub(crate) continuous: bool,
+    pub(crate) open_sections: Vec<String>,
     pub(crate) clock: FrameClock,
     pub(crate) open_path: String,
     pub(crate) settings_path: String,
@@ -185,7 +184,9 @@ pub struct DemoApp {
 pub const BUILT_IN: [(&str, &str); 2] = [("teapot", "teapot.ron"), ("character", "character.ron")];
 
 pub fn built_in_path(file: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes").join(file)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/scenes")
+        .join(file)
 }
 
 impl DemoApp {
@@ -195,7 +196,10 @@ impl DemoApp {
             .clone()
             .context("eframe started without its wgpu renderer")?;
         let info = render_state.adapter.get_info();
-        eprintln!("adapter: {} ({:?}, {:?})", info.name, info.backend, info.device_type);
+        eprintln!(
+            "adapter: {} ({:?}, {:?})",
+            info.name, info.backend, info.device_type
+        );
         let args = &startup.args;
         let scene_path = args.scene.clone().unwrap_or_else(|| built_in_path(BUILT_IN[0].1));
         let scene = penumbra::load_scene(&scene_path)?;
@@ -248,6 +252,11 @@ impl DemoApp {
             direct_mask: None,
             render_scale: args.render_scale,
             continuous: false,
+            open_sections: args
+                .open_sections
+                .split(',')
+                .map(|s| s.trim().to_string())
+                .collect(),
             clock: FrameClock::new(),
             open_path: String::new(),
             settings_path: "penumbra-demo-settings.ron".into(),
@@ -304,7 +313,12 @@ impl DemoApp {
     /// Loads a scene file or model; on failure the current scene stays and the error is shown.
     pub(crate) fn open_scene(&mut self, path: &Path) {
         let loaded = penumbra::load_scene(path).and_then(|scene| {
-            let gpu = GpuScene::new(&self.render_state.device, &self.render_state.queue, &self.layouts, &scene)?;
+            let gpu = GpuScene::new(
+                &self.render_state.device,
+                &self.render_state.queue,
+                &self.layouts,
+                &scene,
+            )?;
             Ok((scene, gpu))
         });
         match loaded {
@@ -409,7 +423,10 @@ impl DemoApp {
                 .shadows
                 .validate(Some(self.render_state.device.limits().max_texture_dimension_2d))
                 .with_context(|| format!("{}", path.display()))?;
-            saved.light.validate().with_context(|| format!("{}", path.display()))?;
+            saved
+                .light
+                .validate()
+                .with_context(|| format!("{}", path.display()))?;
             Ok(saved)
         });
         match loaded {
@@ -449,7 +466,10 @@ impl DemoApp {
         let bytes: Vec<u8> = image.pixels.iter().flat_map(|c| c.to_array()).collect();
         let saved = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
             .context("screenshot has the wrong size")
-            .and_then(|img| img.save(&path).with_context(|| format!("cannot write {}", path.display())));
+            .and_then(|img| {
+                img.save(&path)
+                    .with_context(|| format!("cannot write {}", path.display()))
+            });
         match saved {
             Ok(()) => {
                 self.say(format!("saved {} ({w}x{h})", path.display()));
@@ -480,7 +500,14 @@ impl DemoApp {
     /// Files dropped on the window: a scene or model opens, a settings file (.ron with
     /// `shadows`) loads.
     fn handle_dropped_files(&mut self, ctx: &egui::Context) {
-        let dropped: Vec<PathBuf> = ctx.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).filter(|p| !p.as_os_str().is_empty()).collect());
+        let dropped: Vec<PathBuf> = ctx.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .map(|f| f.path().to_path_buf())
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect()
+        });
         for path in dropped {
             self.open_path = path.display().to_string();
             self.open_scene(&path);
@@ -508,7 +535,8 @@ impl DemoApp {
     /// right drag pans, Shift + left drag or middle drag moves the light, the wheel zooms.
     fn handle_view_input(&mut self, ui: &egui::Ui, response: &egui::Response, rect: egui::Rect) {
         let divider_x = rect.left() + self.divider * rect.width();
-        let near_divider = |p: egui::Pos2| self.split && self.map == MapView::Final && (p.x - divider_x).abs() < 8.0;
+        let near_divider =
+            |p: egui::Pos2| self.split && self.map == MapView::Final && (p.x - divider_x).abs() < 8.0;
         if response.hovered()
             && let Some(p) = response.hover_pos()
             && near_divider(p)
@@ -565,10 +593,14 @@ impl DemoApp {
     /// Redraws the sides that need it; returns whether any did.
     fn draw_sides(&mut self, size: (u32, u32)) -> bool {
         let camera = self.camera();
-        let count = if self.split || self.map == MapView::Error { 2 } else { 1 };
+        let count = if self.split || self.map == MapView::Error {
+            2
+        } else {
+            1
+        };
         let mut drew = false;
         for i in 0..count {
-            let measure_mask = self.sides[i].stats.redraws % 15 == 0;
+            let measure_mask = self.sides[i].stats.redraws.is_multiple_of(15);
             let result = self.sides[i].draw(
                 &self.render_state,
                 &self.layouts,
@@ -609,7 +641,12 @@ impl DemoApp {
         );
         let max = self.render_state.device.limits().max_texture_dimension_2d;
         let size = (size.0.min(max), size.1.min(max));
-        self.view_rect_px = [rect.left() * ppp, rect.top() * ppp, rect.width() * ppp, rect.height() * ppp];
+        self.view_rect_px = [
+            rect.left() * ppp,
+            rect.top() * ppp,
+            rect.width() * ppp,
+            rect.height() * ppp,
+        ];
         self.divider_px = (rect.left() + self.divider * rect.width()) * ppp;
         if size.0 == 0 || size.1 == 0 {
             return;
@@ -627,7 +664,12 @@ impl DemoApp {
         } else {
             self.paint_final(&painter, rect);
         }
-        if let Some(progress) = self.sides.iter().filter_map(|s| s.stats.reference).find(|p| !p.is_complete()) {
+        if let Some(progress) = self
+            .sides
+            .iter()
+            .filter_map(|s| s.stats.reference)
+            .find(|p| !p.is_complete())
+        {
             painter.text(
                 rect.left_bottom() + egui::vec2(8.0, -8.0),
                 egui::Align2::LEFT_BOTTOM,
@@ -651,7 +693,11 @@ impl DemoApp {
             if let Some(id) = self.sides[0].texture_id() {
                 painter.image(id, rect, full, white);
             }
-            label(rect.left_top() + egui::vec2(10.0, 10.0), egui::Align2::LEFT_TOP, self.sides[0].method.name());
+            label(
+                rect.left_top() + egui::vec2(10.0, 10.0),
+                egui::Align2::LEFT_TOP,
+                self.sides[0].method.name(),
+            );
             return;
         }
         let x = rect.left() + self.divider * rect.width();
@@ -671,8 +717,16 @@ impl DemoApp {
             [egui::pos2(x, rect.top()), egui::pos2(x, rect.bottom())],
             egui::Stroke::new(2.0, egui::Color32::from_rgb(255, 200, 60)),
         );
-        label(rect.left_top() + egui::vec2(10.0, 10.0), egui::Align2::LEFT_TOP, self.sides[0].method.name());
-        label(rect.right_top() + egui::vec2(-10.0, 10.0), egui::Align2::RIGHT_TOP, self.sides[1].method.name());
+        label(
+            rect.left_top() + egui::vec2(10.0, 10.0),
+            egui::Align2::LEFT_TOP,
+            self.sides[0].method.name(),
+        );
+        label(
+            rect.right_top() + egui::vec2(-10.0, 10.0),
+            egui::Align2::RIGHT_TOP,
+            self.sides[1].method.name(),
+        );
     }
 
     /// Reads the chosen intermediate map back when the image changed.
@@ -681,8 +735,15 @@ impl DemoApp {
             return;
         }
         // While the reference converges, refresh the error map every few frames only.
-        let converging = self.sides.iter().any(|s| s.stats.reference.is_some_and(|p| !p.is_complete()));
-        if converging && self.map == MapView::Error && self.frames % 8 != 0 && self.map_image.is_some() {
+        let converging = self
+            .sides
+            .iter()
+            .any(|s| s.stats.reference.is_some_and(|p| !p.is_complete()));
+        if converging
+            && self.map == MapView::Error
+            && !self.frames.is_multiple_of(8)
+            && self.map_image.is_some()
+        {
             return;
         }
         self.map_stale = false;
@@ -703,7 +764,11 @@ impl DemoApp {
                     }
                     None => {
                         self.map_image = Some(MapImage {
-                            texture: ctx.load_texture("intermediate map", color, egui::TextureOptions::LINEAR),
+                            texture: ctx.load_texture(
+                                "intermediate map",
+                                color,
+                                egui::TextureOptions::LINEAR,
+                            ),
                             legend,
                             error,
                         })
@@ -763,7 +828,10 @@ impl DemoApp {
             Ok(VisibilityImage {
                 width: texture.width(),
                 height: texture.height(),
-                visibility: values.chunks_exact(channels as usize).map(|px| Some(px[0])).collect(),
+                visibility: values
+                    .chunks_exact(channels as usize)
+                    .map(|px| Some(px[0]))
+                    .collect(),
             })
         };
         let mut r = read(&self.sides[reference])?;
@@ -803,7 +871,11 @@ impl DemoApp {
             high: 0.5,
             unit: "absolute visibility error",
         };
-        Ok((penumbra::metrics::error_heat_map(&r, &t), Some(legend), Some(error)))
+        Ok((
+            penumbra::metrics::error_heat_map(&r, &t),
+            Some(legend),
+            Some(error),
+        ))
     }
 
     fn paint_map(&self, ui: &egui::Ui, painter: &egui::Painter, rect: egui::Rect) {
@@ -825,7 +897,10 @@ impl DemoApp {
             MapView::Error => format!(
                 "{}: {}",
                 self.map.name(),
-                self.sides.iter().find(|s| s.method != ShadowMethod::Reference).map_or("", |s| s.method.name())
+                self.sides
+                    .iter()
+                    .find(|s| s.method != ShadowMethod::Reference)
+                    .map_or("", |s| s.method.name())
             ),
             _ => format!("{} of {side}", self.map.name()),
         };
@@ -840,7 +915,10 @@ impl DemoApp {
             painter.text(
                 rect.left_top() + egui::vec2(10.0, 32.0),
                 egui::Align2::LEFT_TOP,
-                format!("RMSE {:.4}, penumbra RMSE {:.4}, max {:.3}", e.rmse, e.penumbra_rmse, e.max_abs),
+                format!(
+                    "RMSE {:.4}, penumbra RMSE {:.4}, max {:.3}",
+                    e.rmse, e.penumbra_rmse, e.max_abs
+                ),
                 egui::FontId::proportional(14.0),
                 egui::Color32::WHITE,
             );
@@ -853,15 +931,26 @@ impl DemoApp {
 
 /// A color bar with its end values, at the bottom right of the view.
 fn paint_legend(ui: &egui::Ui, painter: &egui::Painter, rect: egui::Rect, legend: Legend, heat: bool) {
-    let bar = egui::Rect::from_min_size(rect.right_bottom() + egui::vec2(-270.0, -46.0), egui::vec2(240.0, 14.0));
-    painter.rect_filled(bar.expand2(egui::vec2(8.0, 26.0)), 4.0, egui::Color32::from_black_alpha(160));
+    let bar = egui::Rect::from_min_size(
+        rect.right_bottom() + egui::vec2(-270.0, -46.0),
+        egui::vec2(240.0, 14.0),
+    );
+    painter.rect_filled(
+        bar.expand2(egui::vec2(8.0, 26.0)),
+        4.0,
+        egui::Color32::from_black_alpha(160),
+    );
     let steps = 48;
     for k in 0..steps {
         let t = k as f32 / (steps - 1) as f32;
         let [r, g, b] = if heat {
             let e = t;
-            [(e * 3.0).min(1.0), (e * 3.0 - 1.0).clamp(0.0, 1.0), (e * 3.0 - 2.0).clamp(0.0, 1.0)]
-                .map(|c| (c * 255.0) as u8)
+            [
+                (e * 3.0).min(1.0),
+                (e * 3.0 - 1.0).clamp(0.0, 1.0),
+                (e * 3.0 - 2.0).clamp(0.0, 1.0),
+            ]
+            .map(|c| (c * 255.0) as u8)
         } else {
             penumbra::debug::false_color(t)
         };
@@ -875,9 +964,27 @@ fn paint_legend(ui: &egui::Ui, painter: &egui::Painter, rect: egui::Rect, legend
     }
     let color = egui::Color32::WHITE;
     let font = egui::FontId::proportional(12.0);
-    painter.text(bar.left_bottom() + egui::vec2(0.0, 2.0), egui::Align2::LEFT_TOP, format!("{:.3}", legend.low), font.clone(), color);
-    painter.text(bar.right_bottom() + egui::vec2(0.0, 2.0), egui::Align2::RIGHT_TOP, format!("{:.3}", legend.high), font.clone(), color);
-    painter.text(bar.center_top() - egui::vec2(0.0, 2.0), egui::Align2::CENTER_BOTTOM, legend.unit, font, color);
+    painter.text(
+        bar.left_bottom() + egui::vec2(0.0, 2.0),
+        egui::Align2::LEFT_TOP,
+        format!("{:.3}", legend.low),
+        font.clone(),
+        color,
+    );
+    painter.text(
+        bar.right_bottom() + egui::vec2(0.0, 2.0),
+        egui::Align2::RIGHT_TOP,
+        format!("{:.3}", legend.high),
+        font.clone(),
+        color,
+    );
+    painter.text(
+        bar.center_top() - egui::vec2(0.0, 2.0),
+        egui::Align2::CENTER_BOTTOM,
+        legend.unit,
+        font,
+        color,
+    );
     let _ = ui;
 }
 
@@ -921,7 +1028,7 @@ impl DemoApp {
         }
         if !auto.resizes.is_empty() {
             // One step every five window frames, so each size is seen for a while.
-            if ui_frames % 5 == 0 {
+            if ui_frames.is_multiple_of(5) {
                 let step = auto.resizes.remove(0);
                 eprintln!("exercise: {step:?}");
                 ctx.send_viewport_cmd(match step {
@@ -931,11 +1038,15 @@ impl DemoApp {
             }
             return;
         }
-        let converging = self.sides.iter().any(|s| s.stats.reference.is_some_and(|p| !p.is_complete()));
+        let converging = self
+            .sides
+            .iter()
+            .any(|s| s.stats.reference.is_some_and(|p| !p.is_complete()));
         let ready = self.frames >= auto.frames as u64 && !converging && !self.map_stale;
         let too_long = ui_frames > auto.frames as u64 + 20_000;
         if too_long {
-            self.outcome.fail("the screenshot never became ready (a reference that does not finish?)");
+            self.outcome
+                .fail("the screenshot never became ready (a reference that does not finish?)");
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             return;
         }

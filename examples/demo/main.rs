@@ -51,6 +51,10 @@ pub struct Args {
     /// Start with these settings (a file written by the demo's "Save settings").
     #[arg(long)]
     pub settings: Option<PathBuf>,
+    /// Sections of the settings panel open at start, comma-separated: compare, light, ours,
+    /// traditional, pcss, shadow-map, maps, scene, measure, keep.
+    #[arg(long, default_value = "compare,light,ours,maps,scene,measure,keep")]
+    pub open_sections: String,
     /// Window size in points, WIDTHxHEIGHT.
     #[arg(long, default_value = "1280x800")]
     pub size: String,
@@ -83,10 +87,12 @@ pub struct Startup {
 }
 
 fn parse_args(args: Args) -> Result<Startup> {
-    let (left, right) = args
-        .split
-        .split_once(',')
-        .with_context(|| format!("--split {}: expected LEFT,RIGHT, for example ours,traditional", args.split))?;
+    let (left, right) = args.split.split_once(',').with_context(|| {
+        format!(
+            "--split {}: expected LEFT,RIGHT, for example ours,traditional",
+            args.split
+        )
+    })?;
     let methods = [
         ShadowMethod::from_name(left.trim()).context("--split")?,
         ShadowMethod::from_name(right.trim()).context("--split")?,
@@ -117,8 +123,14 @@ fn parse_args(args: Args) -> Result<Startup> {
     let saved = match &args.settings {
         Some(path) => {
             let saved = app::read_settings(path)?;
-            saved.shadows.validate(None).with_context(|| format!("{}", path.display()))?;
-            saved.light.validate().with_context(|| format!("{}", path.display()))?;
+            saved
+                .shadows
+                .validate(None)
+                .with_context(|| format!("{}", path.display()))?;
+            saved
+                .light
+                .validate()
+                .with_context(|| format!("{}", path.display()))?;
             Some(saved)
         }
         None => None,
@@ -135,7 +147,11 @@ fn parse_args(args: Args) -> Result<Startup> {
 
 /// True when a window system is reachable (Linux and the BSDs need X11 or Wayland).
 fn display_available() -> bool {
-    if cfg!(any(target_os = "linux", target_os = "freebsd", target_os = "openbsd")) {
+    if cfg!(any(
+        target_os = "linux",
+        target_os = "freebsd",
+        target_os = "openbsd"
+    )) {
         std::env::var_os("DISPLAY").is_some_and(|d| !d.is_empty())
             || std::env::var_os("WAYLAND_DISPLAY").is_some_and(|d| !d.is_empty())
     } else {
@@ -206,8 +222,11 @@ fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
     setup.device_descriptor = std::sync::Arc::new(|adapter| {
         let mut descriptor = penumbra::device_descriptor(adapter);
         // egui wants surfaces up to 8192 pixels wide.
-        descriptor.required_limits.max_texture_dimension_2d =
-            descriptor.required_limits.max_texture_dimension_2d.max(8192).min(adapter.limits().max_texture_dimension_2d);
+        descriptor.required_limits.max_texture_dimension_2d = descriptor
+            .required_limits
+            .max_texture_dimension_2d
+            .max(8192)
+            .min(adapter.limits().max_texture_dimension_2d);
         descriptor.label = Some("penumbra demo device");
         descriptor
     });

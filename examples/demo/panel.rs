@@ -4,8 +4,8 @@
 use eframe::egui;
 use penumbra::debug::DebugView;
 use penumbra::{
-    CullMode, DepthFormat, DirectionalLight, Light, PcfKernel, Quality, ShadowMethod, ShadowSettings, SpotLight,
-    SpreadMode,
+    CullMode, DepthFormat, DirectionalLight, Light, PcfKernel, Quality, ShadowMethod, ShadowSettings,
+    SpotLight, SpreadMode,
 };
 
 use crate::app::{BUILT_IN, DemoApp, LightAngles, MapView, built_in_path};
@@ -42,6 +42,10 @@ fn odd_taps(ui: &mut egui::Ui, taps: &mut u32, label: &str) {
 }
 
 impl DemoApp {
+    fn is_open(&self, section: &str) -> bool {
+        self.open_sections.iter().any(|s| s == section)
+    }
+
     pub fn settings_panel(&mut self, ui: &mut egui::Ui) {
         egui::ScrollArea::vertical().show(ui, |ui| {
             ui.heading("penumbra");
@@ -65,317 +69,391 @@ impl DemoApp {
     }
 
     fn compare_section(&mut self, ui: &mut egui::Ui) {
-        egui::CollapsingHeader::new("Compare").default_open(true).show(ui, |ui| {
-            ui.checkbox(&mut self.split, "split view (drag the divider)");
-            let [left, right] = &mut self.sides;
-            method_combo(ui, "left method", if self.split { "left" } else { "method" }, &mut left.method);
-            if self.split {
-                method_combo(ui, "right method", "right", &mut right.method);
-                ui.add(egui::Slider::new(&mut self.divider, 0.0..=1.0).text("divider (share of width)"));
-            }
-            ui.horizontal(|ui| {
-                let mut quality = None;
-                egui::ComboBox::from_id_salt("preset")
-                    .selected_text("apply quality preset")
-                    .show_ui(ui, |ui| {
-                        for q in [Quality::Low, Quality::Medium, Quality::High, Quality::Ultra] {
-                            if ui.selectable_label(false, q.name()).clicked() {
-                                quality = Some(q);
+        egui::CollapsingHeader::new("Compare")
+            .default_open(self.is_open("compare"))
+            .show(ui, |ui| {
+                ui.checkbox(&mut self.split, "split view (drag the divider)");
+                let [left, right] = &mut self.sides;
+                method_combo(
+                    ui,
+                    "left method",
+                    if self.split { "left" } else { "method" },
+                    &mut left.method,
+                );
+                if self.split {
+                    method_combo(ui, "right method", "right", &mut right.method);
+                    ui.add(egui::Slider::new(&mut self.divider, 0.0..=1.0).text("divider (share of width)"));
+                }
+                ui.horizontal(|ui| {
+                    let mut quality = None;
+                    egui::ComboBox::from_id_salt("preset")
+                        .selected_text("apply quality preset")
+                        .show_ui(ui, |ui| {
+                            for q in [Quality::Low, Quality::Medium, Quality::High, Quality::Ultra] {
+                                if ui.selectable_label(false, q.name()).clicked() {
+                                    quality = Some(q);
+                                }
                             }
-                        }
-                    });
-                if let Some(q) = quality {
-                    let method = self.shared.method;
-                    self.shared = ShadowSettings {
-                        method,
-                        ..ShadowSettings::preset(method, q)
-                    };
-                    self.say(format!("applied the {} preset", q.name()));
-                }
-                if ui.button("reset to defaults").clicked() {
-                    self.reset();
-                }
+                        });
+                    if let Some(q) = quality {
+                        let method = self.shared.method;
+                        self.shared = ShadowSettings {
+                            method,
+                            ..ShadowSettings::preset(method, q)
+                        };
+                        self.say(format!("applied the {} preset", q.name()));
+                    }
+                    if ui.button("reset to defaults").clicked() {
+                        self.reset();
+                    }
+                });
             });
-        });
     }
 
     fn light_section(&mut self, ui: &mut egui::Ui) {
-        egui::CollapsingHeader::new("Light").default_open(true).show(ui, |ui| {
-            let center = self.bounds.center();
-            let radius = self.bounds.radius().max(1e-3);
-            let mut light = self.light;
-            ui.horizontal(|ui| {
-                let directional = matches!(light, Light::Directional(_));
-                if ui.selectable_label(directional, "directional").clicked() && !directional {
-                    light = to_directional(&light);
-                }
-                if ui.selectable_label(!directional, "spot").clicked() && directional {
-                    light = to_spot(&light, center, radius);
-                }
-            });
-            match &mut light {
-                Light::Directional(d) => {
-                    ui.add(
-                        egui::Slider::new(&mut d.angular_diameter_deg, 0.0..=20.0)
-                            .suffix("°")
-                            .text("size (angular diameter)"),
-                    );
-                    ui.add(egui::Slider::new(&mut d.intensity, 0.0..=4.0).text("intensity"));
-                }
-                Light::Spot(s) => {
-                    ui.add(
-                        egui::Slider::new(&mut s.radius, 0.0..=radius * 0.5)
-                            .suffix(" units")
-                            .text("size (disk radius)"),
-                    );
-                    ui.add(egui::Slider::new(&mut s.cone_angle_deg, 5.0..=89.0).suffix("°").text("cone half-angle"));
-                    ui.add(egui::Slider::new(&mut s.intensity, 0.0..=4.0).text("intensity"));
-                }
-            }
-            if light != self.light {
-                self.set_light(light);
-            }
-            let mut angles = self.angles;
-            ui.add(egui::Slider::new(&mut angles.azimuth_deg, -180.0..=180.0).suffix("°").text("azimuth"));
-            ui.add(egui::Slider::new(&mut angles.elevation_deg, 1.0..=90.0).suffix("°").text("elevation"));
-            ui.horizontal(|ui| {
-                light_gizmo(ui, &mut angles);
-                ui.vertical(|ui| {
-                    ui.label("drag the dot, or Shift + drag in the view");
-                    ui.checkbox(&mut self.animate_light, "animate light");
-                    ui.add(egui::Slider::new(&mut self.animation_speed, 0.1..=3.0).text("speed"));
+        egui::CollapsingHeader::new("Light")
+            .default_open(self.is_open("light"))
+            .show(ui, |ui| {
+                let center = self.bounds.center();
+                let radius = self.bounds.radius().max(1e-3);
+                let mut light = self.light;
+                ui.horizontal(|ui| {
+                    let directional = matches!(light, Light::Directional(_));
+                    if ui.selectable_label(directional, "directional").clicked() && !directional {
+                        light = to_directional(&light);
+                    }
+                    if ui.selectable_label(!directional, "spot").clicked() && directional {
+                        light = to_spot(&light, center, radius);
+                    }
                 });
+                match &mut light {
+                    Light::Directional(d) => {
+                        ui.add(
+                            egui::Slider::new(&mut d.angular_diameter_deg, 0.0..=20.0)
+                                .suffix("°")
+                                .text("size (angular diameter)"),
+                        );
+                        ui.add(egui::Slider::new(&mut d.intensity, 0.0..=4.0).text("intensity"));
+                    }
+                    Light::Spot(s) => {
+                        ui.add(
+                            egui::Slider::new(&mut s.radius, 0.0..=radius * 0.5)
+                                .suffix(" units")
+                                .text("size (disk radius)"),
+                        );
+                        ui.add(
+                            egui::Slider::new(&mut s.cone_angle_deg, 5.0..=89.0)
+                                .suffix("°")
+                                .text("cone half-angle"),
+                        );
+                        ui.add(egui::Slider::new(&mut s.intensity, 0.0..=4.0).text("intensity"));
+                    }
+                }
+                if light != self.light {
+                    self.set_light(light);
+                }
+                let mut angles = self.angles;
+                ui.add(
+                    egui::Slider::new(&mut angles.azimuth_deg, -180.0..=180.0)
+                        .suffix("°")
+                        .text("azimuth"),
+                );
+                ui.add(
+                    egui::Slider::new(&mut angles.elevation_deg, 1.0..=90.0)
+                        .suffix("°")
+                        .text("elevation"),
+                );
+                ui.horizontal(|ui| {
+                    light_gizmo(ui, &mut angles);
+                    ui.vertical(|ui| {
+                        ui.label("drag the dot, or Shift + drag in the view");
+                        ui.checkbox(&mut self.animate_light, "animate light");
+                        ui.add(egui::Slider::new(&mut self.animation_speed, 0.1..=3.0).text("speed"));
+                    });
+                });
+                if angles != self.angles {
+                    self.set_angles(angles);
+                }
             });
-            if angles != self.angles {
-                self.set_angles(angles);
-            }
-        });
     }
 
     fn method_sections(&mut self, ui: &mut egui::Ui) {
-        egui::CollapsingHeader::new("Ours (distance map)").default_open(true).show(ui, |ui| {
-            let p = &mut self.shared.penumbra;
-            let mut manual = matches!(p.spreads, SpreadMode::Manual { .. });
-            ui.horizontal(|ui| {
-                ui.radio_value(&mut manual, false, "physical (from the light)");
-                ui.radio_value(&mut manual, true, "manual");
-            });
-            match (&mut p.spreads, manual) {
-                (SpreadMode::Physical, true) => {
-                    p.spreads = SpreadMode::Manual {
-                        fatten_distance: 0.1,
-                        pcf_spread: 8.0,
-                        blur_spread: 8.0,
+        egui::CollapsingHeader::new("Ours (distance map)")
+            .default_open(self.is_open("ours"))
+            .show(ui, |ui| {
+                let p = &mut self.shared.penumbra;
+                let mut manual = matches!(p.spreads, SpreadMode::Manual { .. });
+                ui.horizontal(|ui| {
+                    ui.radio_value(&mut manual, false, "physical (from the light)");
+                    ui.radio_value(&mut manual, true, "manual");
+                });
+                match (&mut p.spreads, manual) {
+                    (SpreadMode::Physical, true) => {
+                        p.spreads = SpreadMode::Manual {
+                            fatten_distance: 0.1,
+                            pcf_spread: 8.0,
+                            blur_spread: 8.0,
+                        }
                     }
+                    (SpreadMode::Manual { .. }, false) => p.spreads = SpreadMode::Physical,
+                    _ => {}
                 }
-                (SpreadMode::Manual { .. }, false) => p.spreads = SpreadMode::Physical,
-                _ => {}
-            }
-            if let SpreadMode::Manual {
-                fatten_distance,
-                pcf_spread,
-                blur_spread,
-            } = &mut p.spreads
-            {
+                if let SpreadMode::Manual {
+                    fatten_distance,
+                    pcf_spread,
+                    blur_spread,
+                } = &mut p.spreads
+                {
+                    ui.add(
+                        egui::Slider::new(fatten_distance, 0.0..=2.0)
+                            .logarithmic(true)
+                            .suffix(" units")
+                            .text("fatten_distance"),
+                    );
+                    ui.add(
+                        egui::Slider::new(pcf_spread, 0.0..=200.0)
+                            .logarithmic(true)
+                            .suffix(" texels/unit")
+                            .text("pcf_spread"),
+                    );
+                    ui.add(
+                        egui::Slider::new(blur_spread, 0.0..=200.0)
+                            .logarithmic(true)
+                            .suffix(" px/unit")
+                            .text("blur_spread"),
+                    );
+                } else {
+                    ui.add(
+                        egui::Slider::new(&mut p.pcf_variance_share, 0.0..=1.0)
+                            .text("PCF share of the penumbra"),
+                    );
+                }
+                kernel_combo(ui, "ours kernel", &mut p.pcf_kernel);
                 ui.add(
-                    egui::Slider::new(fatten_distance, 0.0..=2.0)
-                        .logarithmic(true)
-                        .suffix(" units")
-                        .text("fatten_distance"),
+                    egui::Slider::new(&mut p.pcf_base_spacing, 0.0..=16.0)
+                        .suffix(" texels")
+                        .text("PCF base spacing"),
                 );
+                odd_taps(ui, &mut p.blur_taps, "blur taps");
+                ui.checkbox(&mut p.rotate_taps, "rotate PCF taps per pixel");
+                ui.checkbox(&mut p.mask_early_out, "mask early-out (no taps outside the mask)");
+                ui.checkbox(&mut p.depth_aware_blur, "depth-aware blur");
+                ui.add(egui::Slider::new(&mut p.indirect_weight, 0.0..=1.0).text("indirect_weight"));
+            });
+        egui::CollapsingHeader::new("Traditional (PCF + Gaussian)")
+            .default_open(self.is_open("traditional"))
+            .show(ui, |ui| {
+                let t = &mut self.shared.traditional;
+                kernel_combo(ui, "traditional kernel", &mut t.pcf_kernel);
                 ui.add(
-                    egui::Slider::new(pcf_spread, 0.0..=200.0)
-                        .logarithmic(true)
-                        .suffix(" texels/unit")
-                        .text("pcf_spread"),
+                    egui::Slider::new(&mut t.pcf_spacing, 0.0..=16.0)
+                        .suffix(" texels")
+                        .text("PCF spacing"),
                 );
+                odd_taps(ui, &mut t.blur_taps, "blur taps");
                 ui.add(
-                    egui::Slider::new(blur_spread, 0.0..=200.0)
-                        .logarithmic(true)
-                        .suffix(" px/unit")
-                        .text("blur_spread"),
+                    egui::Slider::new(&mut t.blur_step, 0.0..=16.0)
+                        .suffix(" px")
+                        .text("blur step"),
                 );
-            } else {
-                ui.add(egui::Slider::new(&mut p.pcf_variance_share, 0.0..=1.0).text("PCF share of the penumbra"));
-            }
-            kernel_combo(ui, "ours kernel", &mut p.pcf_kernel);
-            ui.add(egui::Slider::new(&mut p.pcf_base_spacing, 0.0..=16.0).suffix(" texels").text("PCF base spacing"));
-            odd_taps(ui, &mut p.blur_taps, "blur taps");
-            ui.checkbox(&mut p.rotate_taps, "rotate PCF taps per pixel");
-            ui.checkbox(&mut p.mask_early_out, "mask early-out (no taps outside the mask)");
-            ui.checkbox(&mut p.depth_aware_blur, "depth-aware blur");
-            ui.add(egui::Slider::new(&mut p.indirect_weight, 0.0..=1.0).text("indirect_weight"));
-        });
-        egui::CollapsingHeader::new("Traditional (PCF + Gaussian)").show(ui, |ui| {
-            let t = &mut self.shared.traditional;
-            kernel_combo(ui, "traditional kernel", &mut t.pcf_kernel);
-            ui.add(egui::Slider::new(&mut t.pcf_spacing, 0.0..=16.0).suffix(" texels").text("PCF spacing"));
-            odd_taps(ui, &mut t.blur_taps, "blur taps");
-            ui.add(egui::Slider::new(&mut t.blur_step, 0.0..=16.0).suffix(" px").text("blur step"));
-        });
-        egui::CollapsingHeader::new("PCSS and reference").show(ui, |ui| {
-            let s = &mut self.shared;
-            ui.add(egui::Slider::new(&mut s.pcss.blocker_samples, 1..=64).text("PCSS blocker-search taps"));
-            ui.add(egui::Slider::new(&mut s.pcss.pcf_samples, 1..=64).text("PCSS filter taps"));
-            ui.add(
-                egui::Slider::new(&mut s.reference.samples, 1..=4096)
-                    .logarithmic(true)
-                    .text("reference light samples"),
-            );
-        });
+            });
+        egui::CollapsingHeader::new("PCSS and reference")
+            .default_open(self.is_open("pcss"))
+            .show(ui, |ui| {
+                let s = &mut self.shared;
+                ui.add(
+                    egui::Slider::new(&mut s.pcss.blocker_samples, 1..=64).text("PCSS blocker-search taps"),
+                );
+                ui.add(egui::Slider::new(&mut s.pcss.pcf_samples, 1..=64).text("PCSS filter taps"));
+                ui.add(
+                    egui::Slider::new(&mut s.reference.samples, 1..=4096)
+                        .logarithmic(true)
+                        .text("reference light samples"),
+                );
+            });
     }
 
     fn shadow_map_section(&mut self, ui: &mut egui::Ui) {
-        egui::CollapsingHeader::new("Shadow map").show(ui, |ui| {
-            let max = self.render_state.device.limits().max_texture_dimension_2d.min(8192);
-            let m = &mut self.shared.shadow_map;
-            egui::ComboBox::from_id_salt("resolution")
-                .selected_text(format!("{0}x{0} texels", m.resolution))
-                .show_ui(ui, |ui| {
-                    let mut r = 256;
-                    while r <= max {
-                        ui.selectable_value(&mut m.resolution, r, format!("{r}"));
-                        r *= 2;
-                    }
-                });
-            egui::ComboBox::from_id_salt("depth format")
-                .selected_text(format!("depth {:?}", m.depth_format))
-                .show_ui(ui, |ui| {
-                    for f in [DepthFormat::Depth16, DepthFormat::Depth24, DepthFormat::Depth32] {
-                        ui.selectable_value(&mut m.depth_format, f, format!("{f:?}"));
-                    }
-                });
-            ui.add(
-                egui::Slider::new(&mut m.constant_bias, 0..=64)
-                    .text("constant bias (depth steps)"),
-            );
-            ui.add(egui::Slider::new(&mut m.slope_bias, 0.0..=16.0).text("slope bias (x depth slope)"));
-            egui::ComboBox::from_id_salt("cull")
-                .selected_text(format!("cull {:?} faces", m.cull_mode))
-                .show_ui(ui, |ui| {
-                    for c in [CullMode::None, CullMode::Back, CullMode::Front] {
-                        ui.selectable_value(&mut m.cull_mode, c, format!("{c:?}"));
-                    }
-                });
-        });
+        egui::CollapsingHeader::new("Shadow map")
+            .default_open(self.is_open("shadow-map"))
+            .show(ui, |ui| {
+                let max = self
+                    .render_state
+                    .device
+                    .limits()
+                    .max_texture_dimension_2d
+                    .min(8192);
+                let m = &mut self.shared.shadow_map;
+                egui::ComboBox::from_id_salt("resolution")
+                    .selected_text(format!("{0}x{0} texels", m.resolution))
+                    .show_ui(ui, |ui| {
+                        let mut r = 256;
+                        while r <= max {
+                            ui.selectable_value(&mut m.resolution, r, format!("{r}"));
+                            r *= 2;
+                        }
+                    });
+                egui::ComboBox::from_id_salt("depth format")
+                    .selected_text(format!("depth {:?}", m.depth_format))
+                    .show_ui(ui, |ui| {
+                        for f in [DepthFormat::Depth16, DepthFormat::Depth24, DepthFormat::Depth32] {
+                            ui.selectable_value(&mut m.depth_format, f, format!("{f:?}"));
+                        }
+                    });
+                ui.add(egui::Slider::new(&mut m.constant_bias, 0..=64).text("constant bias (depth steps)"));
+                ui.add(egui::Slider::new(&mut m.slope_bias, 0.0..=16.0).text("slope bias (x depth slope)"));
+                egui::ComboBox::from_id_salt("cull")
+                    .selected_text(format!("cull {:?} faces", m.cull_mode))
+                    .show_ui(ui, |ui| {
+                        for c in [CullMode::None, CullMode::Back, CullMode::Front] {
+                            ui.selectable_value(&mut m.cull_mode, c, format!("{c:?}"));
+                        }
+                    });
+            });
     }
 
     fn view_section(&mut self, ui: &mut egui::Ui) {
-        egui::CollapsingHeader::new("Intermediate maps").default_open(true).show(ui, |ui| {
-            let before = (self.map, self.map_side);
-            egui::ComboBox::from_id_salt("map")
-                .selected_text(self.map.name())
-                .show_ui(ui, |ui| {
-                    ui.selectable_value(&mut self.map, MapView::Final, MapView::Final.name());
-                    for v in DebugView::ALL {
-                        ui.selectable_value(&mut self.map, MapView::Debug(v), MapView::Debug(v).name());
-                    }
-                    ui.selectable_value(&mut self.map, MapView::Error, MapView::Error.name());
-                });
-            if matches!(self.map, MapView::Debug(_)) {
-                ui.horizontal(|ui| {
-                    ui.label("of");
-                    ui.radio_value(&mut self.map_side, 0, self.sides[0].method.name());
-                    if self.split {
-                        ui.radio_value(&mut self.map_side, 1, self.sides[1].method.name());
-                    }
-                });
-            }
-            if self.map == MapView::Error {
-                ui.label("needs `reference` on one side; shows |visibility - reference|");
-            }
-            if (self.map, self.map_side) != before {
-                self.map_stale = true;
-            }
-            ui.add(egui::Slider::new(&mut self.render_scale, 0.25..=1.0).text("render scale (share of pixels)"));
-            ui.checkbox(&mut self.continuous, "redraw every frame (for timing)");
-        });
+        egui::CollapsingHeader::new("Intermediate maps")
+            .default_open(self.is_open("maps"))
+            .show(ui, |ui| {
+                let before = (self.map, self.map_side);
+                egui::ComboBox::from_id_salt("map")
+                    .selected_text(self.map.name())
+                    .show_ui(ui, |ui| {
+                        ui.selectable_value(&mut self.map, MapView::Final, MapView::Final.name());
+                        for v in DebugView::ALL {
+                            ui.selectable_value(&mut self.map, MapView::Debug(v), MapView::Debug(v).name());
+                        }
+                        ui.selectable_value(&mut self.map, MapView::Error, MapView::Error.name());
+                    });
+                if matches!(self.map, MapView::Debug(_)) {
+                    ui.horizontal(|ui| {
+                        ui.label("of");
+                        ui.radio_value(&mut self.map_side, 0, self.sides[0].method.name());
+                        if self.split {
+                            ui.radio_value(&mut self.map_side, 1, self.sides[1].method.name());
+                        }
+                    });
+                }
+                if self.map == MapView::Error {
+                    ui.label("needs `reference` on one side; shows |visibility - reference|");
+                }
+                if (self.map, self.map_side) != before {
+                    self.map_stale = true;
+                }
+                ui.add(
+                    egui::Slider::new(&mut self.render_scale, 0.25..=1.0)
+                        .text("render scale (share of pixels)"),
+                );
+                ui.checkbox(&mut self.continuous, "redraw every frame (for timing)");
+            });
     }
 
     fn scene_section(&mut self, ui: &mut egui::Ui) {
-        egui::CollapsingHeader::new("Scene and camera").default_open(true).show(ui, |ui| {
-            ui.label(format!("{} ({} triangles)", self.scene_name, self.gpu_scene.triangle_count()));
-            ui.horizontal(|ui| {
-                for (name, file) in BUILT_IN {
-                    if ui.button(name).clicked() {
-                        self.open_scene(&built_in_path(file));
+        egui::CollapsingHeader::new("Scene and camera")
+            .default_open(self.is_open("scene"))
+            .show(ui, |ui| {
+                ui.label(format!(
+                    "{} ({} triangles)",
+                    self.scene_name,
+                    self.gpu_scene.triangle_count()
+                ));
+                ui.horizontal(|ui| {
+                    for (name, file) in BUILT_IN {
+                        if ui.button(name).clicked() {
+                            self.open_scene(&built_in_path(file));
+                        }
                     }
-                }
-            });
-            ui.horizontal(|ui| {
-                ui.add(egui::TextEdit::singleline(&mut self.open_path).hint_text("path to .obj, .gltf, .glb or .ron"));
-                if ui.button("open").clicked() {
-                    let path = std::path::PathBuf::from(self.open_path.trim());
-                    self.open_scene(&path);
-                }
-            });
-            ui.label("or drop a file on the window");
-            ui.horizontal_wrapped(|ui| {
-                ui.label("viewpoints:");
-                let names: Vec<String> = self.scene.views.iter().map(|v| v.name.clone()).collect();
-                for (i, name) in names.iter().enumerate() {
-                    if ui.button(name).clicked() {
-                        self.go_to_view(i);
+                });
+                ui.horizontal(|ui| {
+                    ui.add(
+                        egui::TextEdit::singleline(&mut self.open_path)
+                            .hint_text("path to .obj, .gltf, .glb or .ron"),
+                    );
+                    if ui.button("open").clicked() {
+                        let path = std::path::PathBuf::from(self.open_path.trim());
+                        self.open_scene(&path);
                     }
-                }
+                });
+                ui.label("or drop a file on the window");
+                ui.horizontal_wrapped(|ui| {
+                    ui.label("viewpoints:");
+                    let names: Vec<String> = self.scene.views.iter().map(|v| v.name.clone()).collect();
+                    for (i, name) in names.iter().enumerate() {
+                        if ui.button(name).clicked() {
+                            self.go_to_view(i);
+                        }
+                    }
+                });
+                ui.label("drag: orbit · right drag: pan · wheel: zoom");
             });
-            ui.label("drag: orbit · right drag: pan · wheel: zoom");
-        });
     }
 
     fn measure_section(&mut self, ui: &mut egui::Ui) {
-        egui::CollapsingHeader::new("Measure").default_open(true).show(ui, |ui| {
-            if let Some(ms) = self.clock.mean_ms() {
-                ui.label(format!("window: {:.1} FPS ({ms:.1} ms per frame)", 1000.0 / ms.max(1e-3)));
-            }
-            self.clock.graph(ui);
-            let count = if self.split { 2 } else { 1 };
-            for side in &self.sides[..count] {
-                let s = &side.stats;
-                ui.label(egui::RichText::new(side.method.name()).strong());
-                if let Some(p) = s.reference {
-                    ui.label(format!("{}/{} light samples", p.done, p.total));
-                    continue;
-                }
-                ui.label(format!("GPU {:.2} ms · redraw {:.1} ms wall", s.gpu_ms, s.wall_ms));
-                egui::Grid::new(format!("passes {}", side.method.name())).striped(true).show(ui, |ui| {
-                    for p in &s.passes {
-                        ui.label(p.pass);
-                        ui.label(format!("{:.2} ms", p.milliseconds));
-                        ui.end_row();
-                    }
-                });
-                if let Some(m) = &s.mask {
+        egui::CollapsingHeader::new("Measure")
+            .default_open(self.is_open("measure"))
+            .show(ui, |ui| {
+                if let Some(ms) = self.clock.mean_ms() {
                     ui.label(format!(
-                        "mask saved {:.1}% of the shadow-map taps ({} of {} receiver pixels skipped)",
-                        m.share * 100.0,
-                        m.skipped_pixels,
-                        m.receiver_pixels
+                        "window: {:.1} FPS ({ms:.1} ms per frame)",
+                        1000.0 / ms.max(1e-3)
                     ));
                 }
-            }
-        });
+                self.clock.graph(ui);
+                let count = if self.split { 2 } else { 1 };
+                for side in &self.sides[..count] {
+                    let s = &side.stats;
+                    ui.label(egui::RichText::new(side.method.name()).strong());
+                    if let Some(p) = s.reference {
+                        ui.label(format!("{}/{} light samples", p.done, p.total));
+                        continue;
+                    }
+                    ui.label(format!(
+                        "GPU {:.2} ms · redraw {:.1} ms wall",
+                        s.gpu_ms, s.wall_ms
+                    ));
+                    egui::Grid::new(format!("passes {}", side.method.name()))
+                        .striped(true)
+                        .show(ui, |ui| {
+                            for p in &s.passes {
+                                ui.label(p.pass);
+                                ui.label(format!("{:.2} ms", p.milliseconds));
+                                ui.end_row();
+                            }
+                        });
+                    if let Some(m) = &s.mask {
+                        ui.label(format!(
+                            "mask saved {:.1}% of the shadow-map taps ({} of {} receiver pixels skipped)",
+                            m.share * 100.0,
+                            m.skipped_pixels,
+                            m.receiver_pixels
+                        ));
+                    }
+                }
+            });
     }
 
     fn keep_section(&mut self, ui: &mut egui::Ui) {
-        egui::CollapsingHeader::new("Keep").default_open(true).show(ui, |ui| {
-            ui.horizontal(|ui| {
-                ui.add(egui::TextEdit::singleline(&mut self.screenshot_path).desired_width(190.0));
-                if ui.button("screenshot").clicked() {
-                    let path = std::path::PathBuf::from(self.screenshot_path.trim());
-                    self.request_screenshot(ui.ctx(), path);
-                }
+        egui::CollapsingHeader::new("Keep")
+            .default_open(self.is_open("keep"))
+            .show(ui, |ui| {
+                ui.horizontal(|ui| {
+                    ui.add(egui::TextEdit::singleline(&mut self.screenshot_path).desired_width(190.0));
+                    if ui.button("screenshot").clicked() {
+                        let path = std::path::PathBuf::from(self.screenshot_path.trim());
+                        self.request_screenshot(ui.ctx(), path);
+                    }
+                });
+                ui.horizontal(|ui| {
+                    ui.add(egui::TextEdit::singleline(&mut self.settings_path).desired_width(150.0));
+                    if ui.button("save settings").clicked() {
+                        self.save_settings();
+                    }
+                    if ui.button("load").clicked() {
+                        self.load_settings();
+                    }
+                });
             });
-            ui.horizontal(|ui| {
-                ui.add(egui::TextEdit::singleline(&mut self.settings_path).desired_width(150.0));
-                if ui.button("save settings").clicked() {
-                    self.save_settings();
-                }
-                if ui.button("load").clicked() {
-                    self.load_settings();
-                }
-            });
-        });
     }
 }
 
@@ -388,7 +466,11 @@ fn light_gizmo(ui: &mut egui::Ui, angles: &mut LightAngles) {
     let radius = size * 0.5 - 4.0;
     painter.circle_filled(center, radius, ui.visuals().extreme_bg_color);
     painter.circle_stroke(center, radius, ui.visuals().widgets.noninteractive.bg_stroke);
-    painter.circle_stroke(center, radius * 0.5, ui.visuals().widgets.noninteractive.bg_stroke);
+    painter.circle_stroke(
+        center,
+        radius * 0.5,
+        ui.visuals().widgets.noninteractive.bg_stroke,
+    );
     if let Some(p) = response.interact_pointer_pos()
         && (response.dragged() || response.clicked())
     {

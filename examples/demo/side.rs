@@ -142,8 +142,14 @@ impl Side {
         renderer.resize(device, size.0, size.1);
         let start = Instant::now();
         if self.method == ShadowMethod::Reference {
-            let progress =
-                renderer.render_reference_step(device, queue, scene, camera, &target.view, self.reference_batch)?;
+            let progress = renderer.render_reference_step(
+                device,
+                queue,
+                scene,
+                camera,
+                &target.view,
+                self.reference_batch,
+            )?;
             self.stats.reference = progress;
             self.stats.passes.clear();
             self.stats.gpu_ms = 0.0;
@@ -219,9 +225,12 @@ impl Side {
         let view = texture.create_view(&Default::default());
         let mut egui_renderer = render_state.renderer.write();
         match self.texture_id {
-            Some(id) => {
-                egui_renderer.update_egui_texture_from_wgpu_texture(device, &view, wgpu::FilterMode::Linear, id)
-            }
+            Some(id) => egui_renderer.update_egui_texture_from_wgpu_texture(
+                device,
+                &view,
+                wgpu::FilterMode::Linear,
+                id,
+            ),
             None => {
                 self.texture_id =
                     Some(egui_renderer.register_native_texture(device, &view, wgpu::FilterMode::Linear))

@@ -51,7 +51,12 @@ impl FrameClock {
             .history
             .iter()
             .enumerate()
-            .map(|(i, ms)| egui::pos2(rect.left() + i as f32 * step, rect.bottom() - ms / max * rect.height()))
+            .map(|(i, ms)| {
+                egui::pos2(
+                    rect.left() + i as f32 * step,
+                    rect.bottom() - ms / max * rect.height(),
+                )
+            })
             .collect();
         if points.len() > 1 {
             painter.add(egui::Shape::line(

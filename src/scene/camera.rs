@@ -185,7 +185,12 @@ mod tests {
     fn orbit_from_camera_gives_the_same_eye() {
         let c = Camera::look_at(Vec3::new(3.0, 4.0, 5.0), Vec3::new(0.5, 1.0, -1.0));
         let orbit = OrbitCamera::from_camera(&c);
-        assert!((orbit.eye() - c.eye).length() < 1e-4, "{:?} vs {:?}", orbit.eye(), c.eye);
+        assert!(
+            (orbit.eye() - c.eye).length() < 1e-4,
+            "{:?} vs {:?}",
+            orbit.eye(),
+            c.eye
+        );
         let mut panned = orbit;
         panned.pan(0.1, 0.0);
         assert!((panned.target - orbit.target).length() > 0.05);
