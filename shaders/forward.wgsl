@@ -8,6 +8,8 @@
 struct ForwardFrame {
     view_proj: mat4x4<f32>,
     light_view_proj: mat4x4<f32>,
+    // xyz: eye; w: normal offset in world units (orthographic light) or world units per unit
+    // of distance from the light (spot light)
     camera_position: vec4<f32>,
     // xyz: direction the light travels; w: 0 directional, 1 spot
     light_direction: vec4<f32>,
@@ -80,7 +82,12 @@ fn fs_main(in: VsOut, @builtin(front_facing) front_facing: bool) -> @location(0)
     let n_dot_l = max(dot(n, to_light), 0.0);
     var visibility = 1.0;
     if instance.flags.x > 0.5 && n_dot_l > 0.0 {
-        visibility = shadow_visibility(in.world);
+        // Normal-offset bias: look the shadow map up a little off the surface.
+        var offset = frame.camera_position.w;
+        if frame.light_direction.w > 0.5 {
+            offset *= max(dot(in.world - frame.light_position.xyz, frame.light_direction.xyz), 0.0);
+        }
+        visibility = shadow_visibility(in.world + n * offset);
     }
     let light = frame.light_radiance.rgb * (n_dot_l * cone * visibility) + frame.ambient.rgb;
     return vec4<f32>(base.rgb * light, 1.0);

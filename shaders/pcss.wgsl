@@ -23,7 +23,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     if depth >= 1.0 {
         return vec4<f32>(1.0);
     }
-    let r = receiver(pixel, depth, 1.5);
+    let r = receiver(pixel, depth, frame.pcss.z);
     let world = r.world;
     let p = r.p;
     let slope = r.slope;

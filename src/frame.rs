@@ -51,7 +51,8 @@ pub(crate) struct FrameUniform {
     pub flags: [f32; 4],
     /// width, height, 1 / width, 1 / height.
     pub screen: [f32; 4],
-    /// x: PCSS PCF samples; y: PCSS blocker search width (world units per unit of depth).
+    /// x: PCSS PCF samples; y: PCSS blocker search width (world units per unit of depth);
+    /// z: normal offset (shadow-map texels).
     pub pcss: [f32; 4],
 }
 
@@ -208,7 +209,7 @@ impl FrameUniform {
                 1.0 / f.width as f32,
                 1.0 / f.height as f32,
             ],
-            pcss: [s.pcss.pcf_samples as f32, 0.0, 0.0, 0.0],
+            pcss: [s.pcss.pcf_samples as f32, 0.0, s.shadow_map.normal_offset, 0.0],
         }
     }
 }

@@ -586,7 +586,16 @@ impl Renderer {
         }
         if let (true, Some(forward)) = (plan.forward, &self.forward) {
             encoder.push_debug_group("forward");
-            forward.encode(encoder, queue, scene, camera, &light_view, plan.method, target);
+            forward.encode(
+                encoder,
+                queue,
+                scene,
+                camera,
+                &light_view,
+                plan.method,
+                &self.settings.shadow_map,
+                target,
+            );
             encoder.pop_debug_group();
             mark(encoder, "forward");
         }

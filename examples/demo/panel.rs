@@ -302,6 +302,11 @@ impl DemoApp {
                     });
                 ui.add(egui::Slider::new(&mut m.constant_bias, 0..=64).text("constant bias (depth steps)"));
                 ui.add(egui::Slider::new(&mut m.slope_bias, 0.0..=16.0).text("slope bias (x depth slope)"));
+                ui.add(
+                    egui::Slider::new(&mut m.normal_offset, 0.0..=8.0)
+                        .suffix(" texels")
+                        .text("normal offset"),
+                );
                 egui::ComboBox::from_id_salt("cull")
                     .selected_text(format!("cull {:?} faces", m.cull_mode))
                     .show_ui(ui, |ui| {

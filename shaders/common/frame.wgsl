@@ -31,7 +31,7 @@ struct Frame {
     flags: vec4<f32>,
     // width, height, 1/width, 1/height
     screen: vec4<f32>,
-    // x: PCSS PCF samples
+    // x: PCSS PCF samples; z: normal offset (shadow-map texels)
     pcss: vec4<f32>,
 }
 

@@ -197,6 +197,7 @@ impl ForwardPass {
         camera: &Camera,
         light_view: &LightView,
         method: ShadowMethod,
+        shadow_map: &crate::ShadowMapSettings,
         target: &wgpu::TextureView,
     ) {
         let aspect = self.size.0 as f32 / self.size.1 as f32;
@@ -212,7 +213,7 @@ impl ForwardPass {
         let frame = FrameUniform {
             view_proj: camera.view_projection(aspect).to_cols_array_2d(),
             light_view_proj: light_view.view_projection.to_cols_array_2d(),
-            camera_position: vec4(camera.eye, 1.0),
+            camera_position: vec4(camera.eye, normal_offset_scale(light_view, shadow_map)),
             light_direction: vec4(direction, kind),
             light_position: vec4(position, cos_outer),
             light_radiance: vec4(light.radiance(), cos_inner),
@@ -309,4 +310,15 @@ fn depth_target(device: &wgpu::Device, width: u32, height: u32) -> wgpu::Texture
             view_formats: &[],
         })
         .create_view(&Default::default())
+}
+
+/// The normal offset in world units for an orthographic light view, or in world units per unit
+/// of distance from the light for a perspective one (one texel's footprint grows with it).
+fn normal_offset_scale(light_view: &LightView, shadow_map: &crate::ShadowMapSettings) -> f32 {
+    let texel = light_view.extent.x / shadow_map.resolution.max(1) as f32;
+    let per_texel = match light_view.kind {
+        crate::light_space::ProjectionKind::Orthographic => texel,
+        crate::light_space::ProjectionKind::Perspective => texel / light_view.near.max(1e-12),
+    };
+    shadow_map.normal_offset * per_texel
 }
