@@ -221,6 +221,34 @@ fn intermediate_map_and_resizing_to_zero() {
     );
 }
 
+/// The settings a screenshot run records load back with `--settings`, overriding `--split`.
+#[test]
+fn settings_saved_by_one_run_load_in_the_next() {
+    if !have_xvfb() {
+        return;
+    }
+    let dir = common::scratch_dir("demo_settings");
+    screenshot(&dir, "first", &["--split", "pcss,hard", "--single"]);
+    let saved = dir.join("first.settings.ron");
+    let text = std::fs::read_to_string(&saved).unwrap();
+    assert!(text.contains("Pcss") && text.contains("Hard"), "{text}");
+    screenshot(
+        &dir,
+        "second",
+        &[
+            "--split",
+            "ours,traditional",
+            "--settings",
+            saved.to_str().unwrap(),
+        ],
+    );
+    let layout: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("second.json")).unwrap()).unwrap();
+    assert_eq!(layout["left"], "pcss");
+    assert_eq!(layout["right"], "hard");
+    assert_eq!(layout["split"], false);
+}
+
 #[test]
 fn without_a_display_the_demo_says_so() {
     let out = Command::new(demo_example())

@@ -407,10 +407,15 @@ impl DemoApp {
 
     pub(crate) fn save_settings(&mut self) {
         let path = PathBuf::from(&self.settings_path);
+        self.save_settings_to(&path);
+    }
+
+    fn save_settings_to(&mut self, path: &Path) {
         let text = ron::ser::to_string_pretty(&self.saved_settings(), ron::ser::PrettyConfig::default());
-        match text.map_err(anyhow::Error::from).and_then(|t| {
-            std::fs::write(&path, t).with_context(|| format!("cannot write {}", path.display()))
-        }) {
+        match text
+            .map_err(anyhow::Error::from)
+            .and_then(|t| std::fs::write(path, t).with_context(|| format!("cannot write {}", path.display())))
+        {
             Ok(()) => self.say(format!("saved settings to {}", path.display())),
             Err(e) => self.complain(format!("{e:#}")),
         }
@@ -493,6 +498,8 @@ impl DemoApp {
             if let Err(e) = std::fs::write(&json, layout.to_string()) {
                 self.complain(format!("cannot write {}: {e}", json.display()));
             }
+            // The settings it ran with, loadable with --settings (the same file "Save" writes).
+            self.save_settings_to(&path.with_extension("settings.ron"));
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
     }

@@ -62,7 +62,8 @@ pub struct Args {
     /// is slow; lower it for a smoother window).
     #[arg(long, default_value_t = 1.0)]
     pub render_scale: f32,
-    /// Render `--frames` frames, save the window's image to this PNG and exit.
+    /// Render `--frames` frames, save the window's image to this PNG (with PATH.json, where the
+    /// view is, and PATH.settings.ron, the settings it ran with) and exit.
     #[arg(long)]
     pub screenshot: Option<PathBuf>,
     /// Before the screenshot, shrink the window to nothing, minimize it and restore it (a
