@@ -10,8 +10,6 @@
 //! reference is strictly between 0.02 and 0.98) and the maximum absolute error. With the `flip`
 //! feature, NVIDIA's FLIP perceptual metric compares final images.
 
-use glam::Vec3;
-
 use crate::error::{PenumbraError, Result};
 use crate::gpu::{HeadlessGpu, read_texture_f32};
 use crate::scene::{Camera, Light, Scene};
@@ -201,6 +199,18 @@ pub fn visibility_error(reference: &VisibilityImage, test: &VisibilityImage) -> 
     })
 }
 
+/// The heat map's color for an absolute visibility error: black (0) through red and yellow to
+/// white (0.5 or more). For drawing its legend.
+pub fn heat_color(error: f32) -> [u8; 3] {
+    let e = (error * 2.0).clamp(0.0, 1.0);
+    [
+        (e * 3.0).min(1.0),
+        (e * 3.0 - 1.0).clamp(0.0, 1.0),
+        (e * 3.0 - 2.0).clamp(0.0, 1.0),
+    ]
+    .map(|c| (c * 255.0) as u8)
+}
+
 /// The absolute visibility error as a heat map: black (none) through red to yellow and white
 /// (0.5 or more); pixels not measured are dark blue.
 pub fn error_heat_map(reference: &VisibilityImage, test: &VisibilityImage) -> image::RgbaImage {
@@ -211,13 +221,8 @@ pub fn error_heat_map(reference: &VisibilityImage, test: &VisibilityImage) -> im
             test.visibility.get(i).copied().flatten(),
         ) {
             (Some(r), Some(t)) => {
-                let e = ((r - t).abs() * 2.0).clamp(0.0, 1.0);
-                let c = Vec3::new(
-                    (e * 3.0).min(1.0),
-                    (e * 3.0 - 1.0).clamp(0.0, 1.0),
-                    (e * 3.0 - 2.0).clamp(0.0, 1.0),
-                );
-                image::Rgba([(c.x * 255.0) as u8, (c.y * 255.0) as u8, (c.z * 255.0) as u8, 255])
+                let [red, green, blue] = heat_color((r - t).abs());
+                image::Rgba([red, green, blue, 255])
             }
             _ => image::Rgba([10, 10, 40, 255]),
         };

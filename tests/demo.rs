@@ -12,18 +12,7 @@ use std::process::{Command, Output};
 use std::time::Duration;
 
 fn demo_example() -> PathBuf {
-    let deps = std::env::current_exe().unwrap().parent().unwrap().to_path_buf();
-    let exe = deps
-        .parent()
-        .unwrap()
-        .join("examples")
-        .join(format!("demo{}", std::env::consts::EXE_SUFFIX));
-    assert!(
-        exe.is_file(),
-        "{} not built; `cargo test` builds examples",
-        exe.display()
-    );
-    exe
+    common::example_exe("demo")
 }
 
 fn have_xvfb() -> bool {

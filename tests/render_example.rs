@@ -8,18 +8,7 @@ use std::process::Command;
 
 /// `cargo test` builds the examples next to the test binaries: target/<profile>/examples/.
 fn render_example() -> PathBuf {
-    let deps = std::env::current_exe().unwrap().parent().unwrap().to_path_buf();
-    let exe = deps
-        .parent()
-        .unwrap()
-        .join("examples")
-        .join(format!("render{}", std::env::consts::EXE_SUFFIX));
-    assert!(
-        exe.is_file(),
-        "{} not built; `cargo test` builds examples",
-        exe.display()
-    );
-    exe
+    common::example_exe("render")
 }
 
 fn run(args: &[&str]) -> (bool, String) {

@@ -667,7 +667,7 @@ impl DemoApp {
         painter.rect_filled(rect, 0.0, egui::Color32::from_gray(20));
         if self.map != MapView::Final {
             self.update_map(ui.ctx());
-            self.paint_map(ui, &painter, rect);
+            self.paint_map(&painter, rect);
         } else {
             self.paint_final(&painter, rect);
         }
@@ -692,9 +692,10 @@ impl DemoApp {
         let white = egui::Color32::WHITE;
         let full = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
         let label = |pos: egui::Pos2, align: egui::Align2, text: &str| {
-            let galley_rect = painter.text(pos, align, text, egui::FontId::proportional(16.0), white);
-            painter.rect_filled(galley_rect.expand(4.0), 3.0, egui::Color32::from_black_alpha(140));
-            painter.text(pos, align, text, egui::FontId::proportional(16.0), white);
+            let galley = painter.layout_no_wrap(text.to_string(), egui::FontId::proportional(16.0), white);
+            let at = align.anchor_size(pos, galley.size());
+            painter.rect_filled(at.expand(4.0), 3.0, egui::Color32::from_black_alpha(140));
+            painter.galley(at.min, galley, white);
         };
         if !self.split {
             if let Some(id) = self.sides[0].texture_id() {
@@ -885,7 +886,7 @@ impl DemoApp {
         ))
     }
 
-    fn paint_map(&self, ui: &egui::Ui, painter: &egui::Painter, rect: egui::Rect) {
+    fn paint_map(&self, painter: &egui::Painter, rect: egui::Rect) {
         let Some(map) = &self.map_image else {
             return;
         };
@@ -931,13 +932,13 @@ impl DemoApp {
             );
         }
         if let Some(legend) = map.legend {
-            paint_legend(ui, painter, rect, legend, self.map == MapView::Error);
+            paint_legend(painter, rect, legend, self.map == MapView::Error);
         }
     }
 }
 
 /// A color bar with its end values, at the bottom right of the view.
-fn paint_legend(ui: &egui::Ui, painter: &egui::Painter, rect: egui::Rect, legend: Legend, heat: bool) {
+fn paint_legend(painter: &egui::Painter, rect: egui::Rect, legend: Legend, heat: bool) {
     let bar = egui::Rect::from_min_size(
         rect.right_bottom() + egui::vec2(-270.0, -46.0),
         egui::vec2(240.0, 14.0),
@@ -951,13 +952,7 @@ fn paint_legend(ui: &egui::Ui, painter: &egui::Painter, rect: egui::Rect, legend
     for k in 0..steps {
         let t = k as f32 / (steps - 1) as f32;
         let [r, g, b] = if heat {
-            let e = t;
-            [
-                (e * 3.0).min(1.0),
-                (e * 3.0 - 1.0).clamp(0.0, 1.0),
-                (e * 3.0 - 2.0).clamp(0.0, 1.0),
-            ]
-            .map(|c| (c * 255.0) as u8)
+            penumbra::metrics::heat_color(t * 0.5)
         } else {
             penumbra::debug::false_color(t)
         };
@@ -992,7 +987,6 @@ fn paint_legend(ui: &egui::Ui, painter: &egui::Painter, rect: egui::Rect, legend
         font,
         color,
     );
-    let _ = ui;
 }
 
 pub fn read_settings(path: &Path) -> Result<SavedSettings> {

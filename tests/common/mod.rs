@@ -21,6 +21,23 @@ pub fn asset(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("assets").join(rel)
 }
 
+/// An example binary: `cargo test` builds the examples next to the test binaries, in
+/// target/<profile>/examples/.
+pub fn example_exe(name: &str) -> PathBuf {
+    let deps = std::env::current_exe().unwrap().parent().unwrap().to_path_buf();
+    let exe = deps
+        .parent()
+        .unwrap()
+        .join("examples")
+        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
+    assert!(
+        exe.is_file(),
+        "{} not built; `cargo test` builds examples",
+        exe.display()
+    );
+    exe
+}
+
 /// A fresh scratch directory under `target/` for one test.
 pub fn scratch_dir(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
