@@ -102,6 +102,8 @@ pub struct GpuScene {
     ambient: Vec3,
     /// Union of caster and receiver bounds: what the light's projection must cover.
     shadow_bounds: Aabb,
+    /// World bounds of each instance that casts or receives shadows.
+    shadow_parts: Vec<Aabb>,
     bounds: Aabb,
     caster_bounds: Aabb,
     triangle_count: usize,
@@ -283,6 +285,13 @@ impl GpuScene {
             light: scene.light,
             ambient: scene.ambient,
             shadow_bounds: caster_bounds.union(&scene.receiver_bounds()),
+            shadow_parts: scene
+                .instances
+                .iter()
+                .filter(|i| i.caster || i.receiver)
+                .map(|i| scene.meshes[i.mesh].bounds.transformed(&i.transform))
+                .filter(|b| !b.is_empty())
+                .collect(),
             bounds: scene.bounds(),
             caster_bounds,
             triangle_count: scene
@@ -319,6 +328,12 @@ impl GpuScene {
     /// What the light's projection is fitted around: casters and receivers.
     pub fn shadow_bounds(&self) -> Aabb {
         self.shadow_bounds
+    }
+
+    /// World bounds of each instance that casts or receives shadows: the light's near and far
+    /// planes enclose the parts of these inside its frustum.
+    pub fn shadow_parts(&self) -> &[Aabb] {
+        &self.shadow_parts
     }
 
     pub fn bounds(&self) -> Aabb {

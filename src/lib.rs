@@ -59,6 +59,6 @@ pub use scene::{
     SceneFile, SpotLight, TextureImage, Viewpoint,
 };
 pub use settings::{
-    CullMode, DepthFormat, PcfKernel, PcssSettings, PenumbraSettings, Quality, ShadowMapSettings,
+    CullMode, DepthFormat, LightFit, PcfKernel, PcssSettings, PenumbraSettings, Quality, ShadowMapSettings,
     ShadowMethod, ShadowSettings, SpreadMode, TraditionalSettings,
 };

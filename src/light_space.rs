@@ -1,12 +1,18 @@
-//! The light's view and projection, fitted around the shadow casters and receivers.
+//! The light's view and projection.
 //!
-//! Directional lights get an orthographic projection whose box tightly encloses the fitted
-//! bounds seen along the light; spot lights get a perspective projection covering their cone,
-//! with near and far planes around the bounds.
+//! Directional lights get an orthographic projection. Its sides enclose where shadows can fall
+//! (the casters, seen along the light) and, with [`LightFit::CameraFrustum`], only the part the
+//! camera sees. With texel snapping its texel size stays fixed while the camera moves and its
+//! window moves in whole texels, so a static shadow samples the same texels every frame. Spot
+//! lights get a perspective projection covering their cone.
+//!
+//! Either way the near and far planes come from clipping the scene's bounds against the four
+//! side planes of the light's frustum: only geometry that can land in the map counts.
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
-use crate::scene::{Aabb, Light};
+use crate::scene::{Aabb, Camera, Light};
+use crate::settings::LightFit;
 
 /// Whether the light's projection is orthographic or perspective.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -26,7 +32,30 @@ pub struct LightView {
     pub near: f32,
     pub far: f32,
     /// Width and height of the projection at the near plane (orthographic: everywhere), world units.
-    pub extent: glam::Vec2,
+    pub extent: Vec2,
+}
+
+/// What [`LightView::fit_with`] fits the light to.
+#[derive(Debug, Clone, Copy)]
+pub struct FitInputs<'a> {
+    pub light: &'a Light,
+    /// Where shadows come from: a directional map's sides enclose these (seen along the light).
+    pub casters: Aabb,
+    /// Everything that casts or receives.
+    pub casters_and_receivers: Aabb,
+    /// The boxes of the instances that cast or receive: the near and far planes enclose the
+    /// parts of these inside the light's frustum. Empty: `casters_and_receivers` stands in.
+    pub parts: &'a [Aabb],
+    /// World units added around the casters (and the camera's view) for penumbrae and filter taps.
+    pub margin: f32,
+    /// Placement of a directional light's map.
+    pub fit: LightFit,
+    /// The camera and its width / height, for [`LightFit::CameraFrustum`].
+    pub camera: Option<(&'a Camera, f32)>,
+    /// Shadow-map texels per side, for snapping.
+    pub resolution: u32,
+    /// Fixed texel size and whole-texel moves (directional lights).
+    pub snap_to_texels: bool,
 }
 
 impl LightView {
@@ -36,16 +65,30 @@ impl LightView {
         Self::fit_casters(light, bounds, bounds, 0.0)
     }
 
-    /// Fits the light to where shadows can fall: for a directional light the orthographic
-    /// box's sides enclose the casters (a caster's shadow lies at its own light-space x, y),
-    /// widened by `margin` world units for penumbrae, and its depth range encloses casters and
-    /// receivers. A spot light covers its cone, its depth range the casters and receivers.
+    /// Fits the light to where shadows can fall, wherever the camera is, without snapping:
+    /// for a directional light the orthographic box's sides enclose the casters (a caster's
+    /// shadow lies at its own light-space x, y) widened by `margin` world units for penumbrae.
     pub fn fit_casters(
         light: &Light,
         casters: &Aabb,
         casters_and_receivers: &Aabb,
         margin: f32,
     ) -> LightView {
+        Self::fit_with(&FitInputs {
+            light,
+            casters: *casters,
+            casters_and_receivers: *casters_and_receivers,
+            parts: &[],
+            margin,
+            fit: LightFit::Scene,
+            camera: None,
+            resolution: 2048,
+            snap_to_texels: false,
+        })
+    }
+
+    /// Fits the light as `inputs` say (see the module documentation).
+    pub fn fit_with(inputs: &FitInputs) -> LightView {
         let empty_to_unit = |b: &Aabb| {
             if b.is_empty() {
                 Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0))
@@ -53,29 +96,35 @@ impl LightView {
                 *b
             }
         };
-        let bounds = empty_to_unit(casters_and_receivers);
-        let casters = if casters.is_empty() { bounds } else { *casters };
+        let bounds = empty_to_unit(&inputs.casters_and_receivers);
+        let casters = if inputs.casters.is_empty() {
+            bounds
+        } else {
+            inputs.casters
+        };
+        let light = inputs.light;
         let direction = light.direction();
         let up = if direction.cross(Vec3::Y).length_squared() < 1e-6 {
             Vec3::Z
         } else {
             Vec3::Y
         };
+        let radius = bounds.radius().max(1e-6);
         match light {
             Light::Directional(_) => {
-                let radius = bounds.radius().max(1e-6);
+                // The eye depends on the scene only, so the texel grid is fixed in the world.
                 let eye = bounds.center() - direction * radius * 2.0;
                 let view = glam::camera::rh::view::look_to_mat4(eye, direction, up);
-                let local = bounds.transformed(&view);
-                let sides = casters.transformed(&view);
-                // Small margins so geometry on the boundary is not clipped.
-                let margin = glam::Vec2::splat(margin.max(0.0));
-                let pad_xy = (sides.size().truncate() * 0.01).max(glam::Vec2::splat(radius * 1e-4)) + margin;
-                let pad_z = (local.size().z * 0.01).max(radius * 1e-4);
-                let (min, max) = (sides.min.truncate() - pad_xy, sides.max.truncate() + pad_xy);
-                // View space looks down -Z: depth along the light is -z.
-                let near = -local.max.z - pad_z;
-                let far = -local.min.z + pad_z;
+                let (min, max) = directional_window(inputs, &view, &casters, radius);
+                let planes = [
+                    Vec4::new(1.0, 0.0, 0.0, -min.x),
+                    Vec4::new(-1.0, 0.0, 0.0, max.x),
+                    Vec4::new(0.0, 1.0, 0.0, -min.y),
+                    Vec4::new(0.0, -1.0, 0.0, max.y),
+                ];
+                let (near, far) = clipped_depth_range(&view, &bounds, inputs.parts, &planes);
+                let pad_z = ((far - near) * 0.01).max(radius * 1e-4);
+                let (near, far) = (near - pad_z, far + pad_z);
                 let projection =
                     glam::camera::rh::proj::directx::orthographic(min.x, max.x, min.y, max.y, near, far);
                 LightView {
@@ -90,14 +139,19 @@ impl LightView {
             }
             Light::Spot(spot) => {
                 let view = glam::camera::rh::view::look_to_mat4(spot.position, direction, up);
-                let depths = bounds.corners().map(|c| -view.transform_point3(c).z);
-                let max_depth = depths.iter().cloned().fold(f32::MIN, f32::max);
-                let min_depth = depths.iter().cloned().fold(f32::MAX, f32::min);
+                let fov = (spot.cone_angle_deg * 2.0 + 2.0).clamp(1.0, 178.0).to_radians();
+                let t = (fov * 0.5).tan();
+                // Inside when |x| <= t * depth and |y| <= t * depth, depth = -z.
+                let planes = [
+                    Vec4::new(1.0, 0.0, -t, 0.0),
+                    Vec4::new(-1.0, 0.0, -t, 0.0),
+                    Vec4::new(0.0, 1.0, -t, 0.0),
+                    Vec4::new(0.0, -1.0, -t, 0.0),
+                ];
+                let (min_depth, max_depth) = clipped_depth_range(&view, &bounds, inputs.parts, &planes);
                 let far = (max_depth * 1.01).max(1e-3);
                 let near = (min_depth * 0.99).max(far * 1e-3);
-                let fov = (spot.cone_angle_deg * 2.0 + 2.0).clamp(1.0, 178.0).to_radians();
                 let projection = glam::camera::rh::proj::directx::perspective(fov, 1.0, near, far);
-                let side = 2.0 * near * (fov * 0.5).tan();
                 LightView {
                     view,
                     projection,
@@ -105,11 +159,145 @@ impl LightView {
                     kind: ProjectionKind::Perspective,
                     near,
                     far,
-                    extent: glam::Vec2::splat(side),
+                    extent: Vec2::splat(2.0 * near * t),
                 }
             }
         }
     }
+}
+
+/// The orthographic window (light-space x, y) of a directional light.
+fn directional_window(inputs: &FitInputs, view: &Mat4, casters: &Aabb, radius: f32) -> (Vec2, Vec2) {
+    let sides = casters.transformed(view);
+    let margin = inputs.margin.max(0.0);
+    // Small margins so geometry on the boundary is not clipped.
+    let pad = (sides.size().truncate() * 0.01).max(Vec2::splat(radius * 1e-4)) + margin;
+    let (mut lo, mut hi) = (sides.min.truncate() - pad, sides.max.truncate() + pad);
+    // The size the window keeps while the camera moves (snapping).
+    let mut stable = hi - lo;
+    let mut center = (lo + hi) * 0.5;
+    if let (LightFit::CameraFrustum { max_distance }, Some((camera, aspect))) = (inputs.fit, inputs.camera) {
+        let corners = frustum_corners(camera, aspect, max_distance);
+        let seen = Aabb::from_points(corners.map(|c| view.transform_point3(c)).iter());
+        let (seen_lo, seen_hi) = (seen.min.truncate() - margin, seen.max.truncate() + margin);
+        let (cut_lo, cut_hi) = (lo.max(seen_lo), hi.min(seen_hi));
+        if cut_lo.cmplt(cut_hi).all() {
+            if inputs.snap_to_texels {
+                // The frustum's bounding sphere does not change as the camera turns or moves;
+                // its diameter is rounded up to steps of 2^(1/8) so a changing far plane
+                // changes the texel size rarely.
+                let centroid = corners.iter().sum::<Vec3>() / 8.0;
+                let r = corners.iter().map(|c| c.distance(centroid)).fold(0.0, f32::max);
+                let diameter = round_up_to_step(2.0 * (r + margin));
+                stable = stable.min(Vec2::splat(diameter));
+                center = (cut_lo + cut_hi) * 0.5;
+            } else {
+                (lo, hi) = (cut_lo, cut_hi);
+            }
+        }
+    }
+    if inputs.snap_to_texels {
+        // Two spare texels cover the at most one-texel shift of snapping on either side.
+        let texels = inputs.resolution.max(4) as f32;
+        let texel = stable / (texels - 2.0);
+        let size = texel * texels;
+        lo = ((center - size * 0.5) / texel).floor() * texel;
+        hi = lo + size;
+    }
+    (lo, hi)
+}
+
+/// `x` rounded up to the next power of 2^(1/8).
+fn round_up_to_step(x: f32) -> f32 {
+    if !(x > 0.0 && x.is_finite()) {
+        return x;
+    }
+    ((x.log2() * 8.0).ceil() / 8.0).exp2()
+}
+
+/// The eight world-space corners of the camera's frustum from its near plane to
+/// `max_distance` (0: its far plane).
+pub(crate) fn frustum_corners(camera: &Camera, aspect: f32, max_distance: f32) -> [Vec3; 8] {
+    let far = if max_distance > 0.0 {
+        camera.far.min(max_distance)
+    } else {
+        camera.far
+    }
+    .max(camera.near);
+    let tan_y = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let tan_x = tan_y * aspect.max(1e-6);
+    let to_world = camera.view().inverse();
+    let mut corners = [Vec3::ZERO; 8];
+    for (i, c) in corners.iter_mut().enumerate() {
+        let d = if i & 4 == 0 { camera.near } else { far };
+        let sx = if i & 1 == 0 { -1.0 } else { 1.0 };
+        let sy = if i & 2 == 0 { -1.0 } else { 1.0 };
+        *c = to_world.transform_point3(Vec3::new(sx * tan_x * d, sy * tan_y * d, -d));
+    }
+    corners
+}
+
+/// Depth range (distance along the view's -z) of the parts of `parts` (world boxes; empty:
+/// `bounds` alone) on the inner side of every plane (view space, inside where
+/// `dot(plane.xyz, p) + plane.w >= 0`). When nothing is inside, the range of `bounds`' corners.
+/// Each box's faces are clipped one plane at a time (Sutherland-Hodgman); the extremes of a
+/// clipped box lie on its clipped faces.
+fn clipped_depth_range(view: &Mat4, bounds: &Aabb, parts: &[Aabb], planes: &[Vec4]) -> (f32, f32) {
+    const FACES: [[usize; 4]; 6] = [
+        [0, 2, 6, 4],
+        [1, 3, 7, 5],
+        [0, 1, 5, 4],
+        [2, 3, 7, 6],
+        [0, 1, 3, 2],
+        [4, 5, 7, 6],
+    ];
+    let parts = if parts.is_empty() {
+        std::slice::from_ref(bounds)
+    } else {
+        parts
+    };
+    let (mut near, mut far) = (f32::MAX, f32::MIN);
+    for part in parts {
+        let corners = part.corners().map(|c| view.transform_point3(c));
+        for face in FACES {
+            let mut polygon: Vec<Vec3> = face.iter().map(|&i| corners[i]).collect();
+            for plane in planes {
+                polygon = clip_polygon(&polygon, *plane);
+                if polygon.is_empty() {
+                    break;
+                }
+            }
+            for p in &polygon {
+                near = near.min(-p.z);
+                far = far.max(-p.z);
+            }
+        }
+    }
+    if near <= far {
+        return (near, far);
+    }
+    let depths = bounds.corners().map(|c| -view.transform_point3(c).z);
+    (
+        depths.iter().cloned().fold(f32::MAX, f32::min),
+        depths.iter().cloned().fold(f32::MIN, f32::max),
+    )
+}
+
+/// The part of a convex polygon on the inner side of `plane`.
+fn clip_polygon(polygon: &[Vec3], plane: Vec4) -> Vec<Vec3> {
+    let side = |p: Vec3| plane.truncate().dot(p) + plane.w;
+    let mut out = Vec::with_capacity(polygon.len() + 1);
+    for (i, &a) in polygon.iter().enumerate() {
+        let b = polygon[(i + 1) % polygon.len()];
+        let (da, db) = (side(a), side(b));
+        if da >= 0.0 {
+            out.push(a);
+        }
+        if (da >= 0.0) != (db >= 0.0) {
+            out.push(a + (b - a) * (da / (da - db)));
+        }
+    }
+    out
 }
 
 #[cfg(test)]
@@ -139,10 +327,17 @@ mod tests {
         for c in casters.corners() {
             assert!(inside(&tight.view_projection, c));
         }
-        // Every receiver depth is inside [0, 1], even outside the sides.
-        for c in all.corners() {
-            let clip = tight.view_projection * c.extend(1.0);
-            assert!((0.0..=1.0).contains(&clip.z), "{c}");
+        // Every receiver point inside the sides has its depth inside [0, 1].
+        for x in -9..=9 {
+            for z in -9..=9 {
+                for y in [0.0, 2.0] {
+                    let p = Vec3::new(x as f32, y, z as f32);
+                    let clip = tight.view_projection * p.extend(1.0);
+                    if clip.x.abs() <= 1.0 && clip.y.abs() <= 1.0 {
+                        assert!((0.0..=1.0).contains(&clip.z), "{p}");
+                    }
+                }
+            }
         }
     }
 
@@ -166,6 +361,131 @@ mod tests {
             }
             assert!(lv.far - lv.near <= b.size().length() * 1.05);
         }
+    }
+
+    fn sun(direction: Vec3) -> Light {
+        Light::Directional(DirectionalLight {
+            direction,
+            angular_diameter_deg: 1.0,
+            color: Vec3::ONE,
+            intensity: 1.0,
+        })
+    }
+
+    /// A 100-unit floor with a caster layer 2 units thick over all of it, seen from close up.
+    fn big_floor() -> (Aabb, Aabb) {
+        let casters = Aabb::new(Vec3::new(-50.0, 0.0, -50.0), Vec3::new(50.0, 2.0, 50.0));
+        (casters, casters)
+    }
+
+    fn close_camera(x: f32) -> Camera {
+        let mut camera = Camera::look_at(Vec3::new(x, 6.0, 8.0), Vec3::new(x, 0.0, 0.0));
+        camera.far = 300.0;
+        camera
+    }
+
+    fn camera_inputs<'a>(light: &'a Light, camera: &'a Camera, snap: bool) -> FitInputs<'a> {
+        let (casters, all) = big_floor();
+        FitInputs {
+            light,
+            casters,
+            casters_and_receivers: all,
+            parts: &[],
+            margin: 0.1,
+            fit: LightFit::CameraFrustum { max_distance: 20.0 },
+            camera: Some((camera, 1.5)),
+            resolution: 1024,
+            snap_to_texels: snap,
+        }
+    }
+
+    #[test]
+    fn camera_fit_is_tighter_and_covers_what_the_camera_sees() {
+        let light = sun(Vec3::new(0.3, -1.0, 0.2));
+        let camera = close_camera(3.0);
+        let scene_fit = LightView::fit(&light, &big_floor().1);
+        for snap in [false, true] {
+            let lv = LightView::fit_with(&camera_inputs(&light, &camera, snap));
+            assert!(
+                lv.extent.max_element() < scene_fit.extent.max_element() * 0.5,
+                "snap {snap}: {} vs {}",
+                lv.extent,
+                scene_fit.extent
+            );
+            // Every floor point the camera sees within 20 units is inside the map.
+            for c in frustum_corners(&camera, 1.5, 20.0) {
+                let ray = (c - camera.eye).normalize();
+                if ray.y < -1e-3 {
+                    let p = camera.eye + ray * (-camera.eye.y / ray.y);
+                    if p.distance(camera.eye) <= 20.0 {
+                        assert!(inside(&lv.view_projection, p), "snap {snap}: {p} outside");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn near_and_far_come_from_the_clipped_scene() {
+        // A tall column far off to the side is outside the window, so it must not widen the
+        // depth range.
+        let light = sun(Vec3::NEG_Y);
+        let casters = Aabb::new(Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 1.0, 1.0));
+        let column = Aabb::new(Vec3::new(40.0, 0.0, 0.0), Vec3::new(41.0, 100.0, 1.0));
+        let all = casters.union(&column);
+        let lv = LightView::fit_with(&FitInputs {
+            light: &light,
+            casters,
+            casters_and_receivers: all,
+            parts: &[casters, column],
+            margin: 0.0,
+            fit: LightFit::Scene,
+            camera: None,
+            resolution: 1024,
+            snap_to_texels: false,
+        });
+        assert!(lv.far - lv.near < 1.5, "near {} far {}", lv.near, lv.far);
+        let loose = LightView::fit(&light, &all);
+        assert!(loose.far - loose.near > 99.0);
+    }
+
+    #[test]
+    fn snapping_keeps_the_texel_grid_while_the_camera_moves() {
+        let light = sun(Vec3::new(0.3, -1.0, 0.2));
+        let base = LightView::fit_with(&camera_inputs(&light, &close_camera(0.0), true));
+        let texel = base.extent / 1024.0;
+        let origin = |lv: &LightView| {
+            lv.view_projection
+                .inverse()
+                .transform_point3(Vec3::new(-1.0, 1.0, 0.0))
+        };
+        let mut moved_unsnapped = 0;
+        for step in 1..40 {
+            let x = step as f32 * 0.0137;
+            let snapped = LightView::fit_with(&camera_inputs(&light, &close_camera(x), true));
+            assert_eq!(snapped.view, base.view);
+            assert!((snapped.extent - base.extent).abs().max_element() < 1e-4 * base.extent.x);
+            // The window's corner moved by whole texels.
+            let shift =
+                base.view.transform_point3(origin(&snapped)) - base.view.transform_point3(origin(&base));
+            let in_texels = shift.truncate() / texel;
+            assert!(
+                (in_texels - in_texels.round()).abs().max_element() < 0.02,
+                "camera x {x}: shift {in_texels} texels"
+            );
+            let free = LightView::fit_with(&camera_inputs(&light, &close_camera(x), false));
+            let free_base = LightView::fit_with(&camera_inputs(&light, &close_camera(0.0), false));
+            let free_shift =
+                free.view.transform_point3(origin(&free)) - free.view.transform_point3(origin(&free_base));
+            let free_texels = free_shift.truncate() / (free_base.extent / 1024.0);
+            if (free_texels - free_texels.round()).abs().max_element() > 0.05 {
+                moved_unsnapped += 1;
+            }
+        }
+        assert!(
+            moved_unsnapped > 20,
+            "without snapping the grid moved off-texel only {moved_unsnapped} times"
+        );
     }
 
     #[test]

@@ -3,7 +3,7 @@
 use crate::error::Result;
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, derive_spreads, is_point_light};
 use crate::gpu_scene::{GpuScene, SceneLayouts};
-use crate::light_space::LightView;
+use crate::light_space::{FitInputs, LightView};
 use crate::passes::{
     BlurPass, CompositePass, DistanceMapPass, FattenedShadowMapPass, ForwardPass, PcfPass, PcssPass,
     ReferencePass, ShadowMapPass, screen_target,
@@ -506,12 +506,18 @@ impl Renderer {
         // to the casters widened by that penumbra.
         let loose = LightView::fit(&light, &scene.shadow_bounds());
         let spreads = self.spreads(&light, &loose, scene);
-        let light_view = LightView::fit_casters(
-            &light,
-            &scene.caster_bounds(),
-            &scene.shadow_bounds(),
-            spreads.fatten_distance * 2.0,
-        );
+        let sm = &self.settings.shadow_map;
+        let light_view = LightView::fit_with(&FitInputs {
+            light: &light,
+            casters: scene.caster_bounds(),
+            casters_and_receivers: scene.shadow_bounds(),
+            parts: scene.shadow_parts(),
+            margin: spreads.fatten_distance * 2.0,
+            fit: sm.fit,
+            camera: Some((camera, self.size.0 as f32 / self.size.1 as f32)),
+            resolution: sm.resolution,
+            snap_to_texels: sm.snap_to_texels,
+        });
         self.write_frame_uniform(queue, scene, camera, &light_view);
 
         // The shadow maps depend on the light and the casters, not on the camera.

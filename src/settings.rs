@@ -311,6 +311,34 @@ fn default_normal_offset() -> f32 {
     1.5
 }
 
+fn default_true() -> bool {
+    true
+}
+
+/// Where a directional light's shadow map is placed. (A spot light's map always covers its
+/// cone; only its near and far planes are fitted.)
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum LightFit {
+    /// Around every caster's shadow in the scene, wherever the camera looks. The map does not
+    /// move with the camera, so its texels are wasted on what the camera does not see.
+    Scene,
+    /// Around what the camera sees: the light-space bounds of the camera frustum up to
+    /// `max_distance` world units from the eye (0: up to the camera's far plane), clipped to
+    /// where casters can throw shadows. Sharper than [`LightFit::Scene`] when the camera is
+    /// close to a large scene; the map follows the camera (see
+    /// [`ShadowMapSettings::snap_to_texels`]).
+    CameraFrustum {
+        /// World units, >= 0 and finite; 0 means the camera's far plane.
+        max_distance: f32,
+    },
+}
+
+impl Default for LightFit {
+    fn default() -> Self {
+        LightFit::CameraFrustum { max_distance: 0.0 }
+    }
+}
+
 /// The shadow map: its size, format, bias and culling.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ShadowMapSettings {
@@ -333,6 +361,17 @@ pub struct ShadowMapSettings {
     pub normal_offset: f32,
     /// Which faces the shadow pass culls. Default [`CullMode::None`].
     pub cull_mode: CullMode,
+    /// Where the shadow map is placed. Default: fitted to the camera frustum
+    /// ([`LightFit::CameraFrustum`] up to the far plane). Either fit computes the near and far
+    /// planes by clipping the scene's bounds against the four sides of the light's frustum, so
+    /// no depth precision is spent outside them.
+    #[serde(default)]
+    pub fit: LightFit,
+    /// Keep the directional light's texel size fixed while the camera moves and move its map
+    /// in whole texels, so shadow edges do not shimmer. Costs up to a few percent of the
+    /// resolution. Default true.
+    #[serde(default = "default_true")]
+    pub snap_to_texels: bool,
 }
 
 impl Default for ShadowMapSettings {
@@ -344,6 +383,8 @@ impl Default for ShadowMapSettings {
             slope_bias: 2.0,
             normal_offset: default_normal_offset(),
             cull_mode: CullMode::default(),
+            fit: LightFit::default(),
+            snap_to_texels: true,
         }
     }
 }
@@ -377,6 +418,14 @@ impl ShadowSettings {
             return Err(PenumbraError::setting(
                 "shadow_map.resolution",
                 format!("{} exceeds this device's limit of {limit}", sm.resolution),
+            ));
+        }
+        if let LightFit::CameraFrustum { max_distance } = sm.fit
+            && !(max_distance >= 0.0 && max_distance.is_finite())
+        {
+            return Err(PenumbraError::setting(
+                "shadow_map.fit.max_distance",
+                format!("{max_distance} must be finite and >= 0"),
             ));
         }
         if !(0.0..=8.0).contains(&sm.normal_offset) {
