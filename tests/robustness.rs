@@ -6,7 +6,7 @@ mod common;
 use glam::{Mat4, Vec3};
 use penumbra::metrics::measure_visibility;
 use penumbra::scene::primitives;
-use penumbra::{Camera, DirectionalLight, Light, Material, Scene, ShadowMethod, ShadowSettings};
+use penumbra::{Camera, DepthFormat, DirectionalLight, Light, Material, Scene, ShadowMethod, ShadowSettings};
 
 /// A unit cube standing on a 40-unit floor that casts shadows too (so it could shadow itself:
 /// acne), lit by a sun `elevation_deg` above the horizon from +X.
@@ -119,24 +119,29 @@ fn grazing_light_without_bias_shows_acne() {
     );
 }
 
+/// The 16-bit map is tested too: the near and far planes fitted to the clipped scene keep its
+/// 65536 depth steps on what the map covers.
 #[test]
 fn grazing_light_gives_no_acne_and_the_shadow_touches_its_caster() {
     let gpu = common::gpu();
-    for method in [
+    let methods = [
         ShadowMethod::Hard,
         ShadowMethod::Hardware2x2,
         ShadowMethod::Ours,
         ShadowMethod::Traditional,
         ShadowMethod::Pcss,
-    ] {
-        let settings = ShadowSettings {
+    ];
+    let formats = [DepthFormat::Depth32, DepthFormat::Depth16];
+    for (method, format) in formats.iter().flat_map(|f| methods.map(|m| (m, *f))) {
+        let mut settings = ShadowSettings {
             method,
             ..Default::default()
         };
+        settings.shadow_map.depth_format = format;
         let (share, lit, contact) = grazing_acne(&gpu, settings);
         let wrong = (share * lit as f32).round();
         eprintln!(
-            "{}: {wrong} of {lit} lit floor points wrongly shadowed ({:.3}%), contact visibility {contact:?}",
+            "{} {format:?}: {wrong} of {lit} lit floor points wrongly shadowed ({:.3}%), contact visibility {contact:?}",
             method.name(),
             share * 100.0
         );
@@ -150,6 +155,122 @@ fn grazing_light_gives_no_acne_and_the_shadow_touches_its_caster() {
         assert!(
             contact.len() == 3 && contact.iter().all(|v| *v < 0.5),
             "{}: the shadow does not touch the cube: {contact:?}",
+            method.name()
+        );
+    }
+}
+
+/// A 60-unit floor and, out of the camera's view, a fence of thin posts whose striped shadow
+/// falls across the part of the floor the camera sees.
+fn fence_scene() -> Scene {
+    let mut scene = Scene::default();
+    let floor = scene.add_mesh(primitives::plane(60.0, 1.0));
+    let post = scene.add_mesh(primitives::cuboid(Vec3::new(0.23, 5.0, 0.23)));
+    let gray = scene.add_material(Material::colored("floor", [0.8, 0.8, 0.8]));
+    let wood = scene.add_material(Material::colored("post", [0.5, 0.4, 0.3]));
+    scene.add_instance(floor, gray, Mat4::IDENTITY);
+    for k in -25..=25 {
+        let x = k as f32 * 0.61;
+        scene.add_instance(post, wood, Mat4::from_translation(Vec3::new(x, 2.5, 5.5)));
+    }
+    scene.light = Light::Directional(DirectionalLight {
+        direction: Vec3::new(0.15, -1.0, -1.0),
+        angular_diameter_deg: 0.5,
+        color: Vec3::ONE,
+        intensity: 1.0,
+    });
+    scene.ambient = Vec3::splat(0.05);
+    scene
+}
+
+/// A camera 10 units above the floor looking straight down, moved `dx` along x.
+fn top_down(dx: f32) -> Camera {
+    Camera {
+        eye: Vec3::new(dx, 10.0, 0.0),
+        target: Vec3::new(dx, 0.0, 0.0),
+        up: Vec3::NEG_Z,
+        fov_y_deg: 40.0,
+        near: 1.0,
+        far: 12.0,
+    }
+}
+
+/// Renders the fence from `top_down(0)` and from `top_down` one pixel further along x, and
+/// counts the floor pixels whose visibility differs after undoing the one-pixel shift.
+fn shimmer(gpu: &penumbra::HeadlessGpu, settings: ShadowSettings) -> (usize, usize) {
+    let (w, h) = (320, 240);
+    let scene = fence_scene();
+    let pixel = 10.0 * 2.0 * (20.0f32).to_radians().tan() / h as f32;
+    let a = measure_visibility(gpu, &scene, &top_down(0.0), settings, (w, h)).unwrap();
+    let b = measure_visibility(gpu, &scene, &top_down(pixel), settings, (w, h)).unwrap();
+    let name = format!(
+        "shimmer_{}_{}.png",
+        settings.method.name(),
+        if settings.shadow_map.snap_to_texels {
+            "snapped"
+        } else {
+            "free"
+        }
+    );
+    let gray = image::GrayImage::from_fn(w, h, |x, y| {
+        image::Luma([(a.visibility[(y * w + x) as usize].unwrap_or(0.0) * 255.0) as u8])
+    });
+    gray.save(common::output_dir().join(name)).unwrap();
+    let (mut compared, mut changed) = (0, 0);
+    // Leave a border where screen-space filters see the image's edge.
+    for y in 16..h - 16 {
+        for x in 16..w - 16 {
+            let (Some(va), Some(vb)) = (
+                a.visibility[(y * w + x) as usize],
+                b.visibility[(y * w + x - 1) as usize],
+            ) else {
+                continue;
+            };
+            compared += 1;
+            if (va - vb).abs() > 0.02 {
+                changed += 1;
+            }
+        }
+    }
+    (compared, changed)
+}
+
+/// A camera move of one pixel (0.43 shadow-map texels here) leaves a static shadow where it
+/// was when the light's map moves in whole texels, and makes its edges crawl when it does not.
+/// (PCSS and, by default, ours rotate their taps by a per-pixel noise that is anchored to the
+/// screen, so a one-pixel move changes their noise whatever the map does: ours is tested with
+/// the rotation off.)
+#[test]
+fn sub_texel_camera_moves_do_not_make_shadows_shimmer() {
+    let gpu = common::gpu();
+    for method in [
+        ShadowMethod::Hard,
+        ShadowMethod::Hardware2x2,
+        ShadowMethod::Traditional,
+        ShadowMethod::Ours,
+    ] {
+        let mut settings = ShadowSettings {
+            method,
+            ..Default::default()
+        };
+        settings.penumbra.rotate_taps = false;
+        settings.shadow_map.resolution = 256;
+        let (compared, snapped) = shimmer(&gpu, settings);
+        settings.shadow_map.snap_to_texels = false;
+        let (_, free) = shimmer(&gpu, settings);
+        eprintln!(
+            "{}: {snapped} of {compared} floor pixels changed with snapping, {free} without",
+            method.name()
+        );
+        assert!(compared > 40_000, "{compared} floor pixels compared");
+        assert!(
+            snapped as f32 <= compared as f32 * 1e-4,
+            "{}: {snapped} pixels changed with snapping",
+            method.name()
+        );
+        assert!(
+            free as f32 > compared as f32 * 5e-3,
+            "{}: only {free} pixels changed without snapping: the test cannot see shimmer",
             method.name()
         );
     }
