@@ -14,7 +14,7 @@
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
     let depth = textureLoad(camera_depth, pixel, 0).x;
-    if depth >= 1.0 {
+    if is_background(depth) {
         return vec4<f32>(1.0);
     }
     let r = receiver(pixel, depth, frame.pcss.z);

@@ -22,7 +22,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let depth = textureLoad(camera_depth, pixel, 0).x;
     let count = sample.params.x;
     let before = select(textureLoad(previous, pixel, 0).x, 1.0, count < 0.5);
-    if depth >= 1.0 {
+    if is_background(depth) {
         return vec4<f32>(1.0);
     }
     let clip = sample.light_view_proj * vec4<f32>(world_position(frag.xy, depth), 1.0);

@@ -117,6 +117,18 @@ pub enum DebugTexture {
     BlurredVisibility,
 }
 
+impl DebugTexture {
+    /// Every intermediate texture, in the order the passes make them.
+    pub const ALL: [DebugTexture; 6] = [
+        DebugTexture::ShadowMap,
+        DebugTexture::FattenedMap,
+        DebugTexture::CameraDepth,
+        DebugTexture::DistanceMap,
+        DebugTexture::Visibility,
+        DebugTexture::BlurredVisibility,
+    ];
+}
+
 /// How far a progressive reference has come.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ReferenceProgress {

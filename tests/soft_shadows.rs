@@ -26,23 +26,7 @@ fn sun(direction: Vec3, degrees: f32) -> Light {
     })
 }
 
-/// Renders one frame and keeps the renderer so its intermediate textures can be read.
-fn render_frame(
-    gpu: &HeadlessGpu,
-    scene: &Scene,
-    camera: &Camera,
-    settings: ShadowSettings,
-    (w, h): (u32, u32),
-) -> (image::RgbaImage, Renderer) {
-    let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
-    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), scene).unwrap();
-    let image = penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, camera, w, h).unwrap();
-    (image, renderer)
-}
-
-fn read(gpu: &HeadlessGpu, texture: &wgpu::Texture) -> (Vec<f32>, u32) {
-    penumbra::read_texture_f32(&gpu.device, &gpu.queue, texture).unwrap()
-}
+use common::{read_f32 as read, render_frame};
 
 /// A floor with a long bar lying tilted above it: touching the floor at x = -2, 1.5 units up
 /// at x = +2, 0.6 wide (|z| < 0.3). The sun shines down and toward +z (0.8 units sideways per
@@ -481,9 +465,10 @@ fn bleeding(gpu: &HeadlessGpu, scene: &Scene, camera: &Camera, depth_aware: bool
             // Within 8 pixels of a jump in camera depth.
             let near_edge = [(8i32, 0i32), (-8, 0), (0, 8), (0, -8)].iter().any(|(dx, dy)| {
                 let j = ((y as i32 + dy) * w as i32 + x as i32 + dx) as usize;
-                (depth[j] - depth[i]).abs() > 0.05 * (1.0 - depth[i]).max(1e-6)
+                // Reversed depth is proportional to 1 / view distance: a 5% change.
+                (depth[j] - depth[i]).abs() > 0.05 * depth[i].max(1e-9)
             });
-            if near_edge && depth[i] < 1.0 && blurred[i] < raw[i] - 0.1 {
+            if near_edge && depth[i] > 0.0 && blurred[i] < raw[i] - 0.1 {
                 count += 1;
             }
         }

@@ -15,11 +15,16 @@ fn world_position(pixel: vec2<f32>, depth: f32) -> vec3<f32> {
     return world.xyz / world.w;
 }
 
-// Distance from the camera along its view, for a camera depth in [0, 1].
+// Distance from the camera along its view, for a reversed camera depth (1 near, 0 far).
 fn view_depth(depth: f32) -> f32 {
     let near = frame.camera_depth.x;
     let far = frame.camera_depth.y;
-    return near * far / max(far - depth * (far - near), 1e-20);
+    return near * far / max(near + depth * (far - near), 1e-20);
+}
+
+// True where the camera depth buffer holds its clear value: nothing was drawn.
+fn is_background(depth: f32) -> bool {
+    return depth <= 0.0;
 }
 
 // A stable per-pixel noise value in [0, 1) (interleaved gradient noise, Jimenez 2014).

@@ -54,7 +54,7 @@ impl CompositePass {
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: super::DistanceMapPass::DEPTH_FORMAT,
                 depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
                 stencil: Default::default(),
                 bias: Default::default(),
             }),

@@ -5,7 +5,9 @@ use serde::{Deserialize, Serialize};
 
 use super::bounds::Aabb;
 
-/// A perspective camera looking from `eye` at `target`. Right-handed, y up, depth in [0, 1].
+/// A perspective camera looking from `eye` at `target`. Right-handed, y up, reversed depth:
+/// 1 at the near plane, 0 at the far plane, so a float depth buffer keeps its precision at
+/// near/far ratios of 1e6 and more.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Camera {
     pub eye: Vec3,
@@ -52,13 +54,14 @@ impl Camera {
         glam::camera::rh::view::look_to_mat4(self.eye, forward, up)
     }
 
-    /// The view-to-clip matrix for a target of the given width / height.
+    /// The view-to-clip matrix for a target of the given width / height, with reversed depth
+    /// (near plane at depth 1, far plane at 0: depth tests use `Greater`, buffers clear to 0).
     pub fn projection(&self, aspect: f32) -> Mat4 {
         glam::camera::rh::proj::directx::perspective(
             self.fov_y_deg.to_radians(),
             aspect.max(1e-6),
-            self.near,
             self.far,
+            self.near,
         )
     }
 

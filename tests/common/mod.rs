@@ -74,6 +74,25 @@ pub fn render(
     penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, camera, width, height).unwrap()
 }
 
+/// Renders one frame and keeps the renderer so its intermediate textures can be read.
+pub fn render_frame(
+    gpu: &HeadlessGpu,
+    scene: &Scene,
+    camera: &Camera,
+    settings: ShadowSettings,
+    (w, h): (u32, u32),
+) -> (image::RgbaImage, Renderer) {
+    let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), scene).unwrap();
+    let image = penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, camera, w, h).unwrap();
+    (image, renderer)
+}
+
+/// A texture's texels as f32 (first channel) and its width.
+pub fn read_f32(gpu: &HeadlessGpu, texture: &wgpu::Texture) -> (Vec<f32>, u32) {
+    penumbra::read_texture_f32(&gpu.device, &gpu.queue, texture).unwrap()
+}
+
 /// Renders `scene` as it is and with no casters (every pixel as if fully lit), so a test can
 /// ask of any pixel whether a shadow darkened it.
 pub fn render_with_and_without_casters(
