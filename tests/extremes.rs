@@ -90,10 +90,24 @@ fn scaled_scenes_render_the_same_image() {
     );
 }
 
-/// Renders one frame and checks every intermediate texture the method made: finite values,
-/// visibility in [0, 1], and a final image that is not one flat color. Returns the image and
-/// the (blurred, where there is one) visibility.
+/// Renders one frame and checks every intermediate texture the method made (finite values,
+/// visibility in [0, 1]) and that the final image is not flat. Returns the image and the
+/// (blurred, where there is one) visibility.
 fn check_frame(
+    gpu: &penumbra::HeadlessGpu,
+    scene: &Scene,
+    camera: &Camera,
+    settings: ShadowSettings,
+    size: (u32, u32),
+    what: &str,
+) -> (image::RgbaImage, Option<Vec<f32>>) {
+    let (image, visibility) = finite_frame(gpu, scene, camera, settings, size, what);
+    assert_not_flat(&image, what);
+    (image, visibility)
+}
+
+/// As [`check_frame`], asking nothing of the final image.
+fn finite_frame(
     gpu: &penumbra::HeadlessGpu,
     scene: &Scene,
     camera: &Camera,
@@ -119,6 +133,11 @@ fn check_frame(
             visibility = Some(values);
         }
     }
+    (image, visibility)
+}
+
+/// Neither one color nor all dark or all bright.
+fn assert_not_flat(image: &image::RgbaImage, what: &str) {
     let first = *image.get_pixel(0, 0);
     assert!(
         image.pixels().any(|p| *p != first),
@@ -132,7 +151,6 @@ fn check_frame(
         bright > 40 && dark < 220,
         "{what}: luma only in [{dark}, {bright}]"
     );
-    (image, visibility)
 }
 
 /// Shares of the visibility texels that are shadowed (< 0.1) and lit (> 0.9).
@@ -291,4 +309,114 @@ fn extreme_light_sizes_depth_ranges_and_caster_heights() {
             "near {near} far {far}: {differ} of {both} pixels differ"
         );
     }
+}
+
+/// A mesh with degenerate triangles (a repeated index, three collinear points), duplicated
+/// vertices and NaN and zero normals, a one-triangle mesh, an empty scene and a camera inside
+/// a caster all render with finite values everywhere; a NaN position is rejected by name.
+#[test]
+fn odd_geometry_renders_or_is_rejected() {
+    let gpu = common::gpu();
+    let methods = [
+        ShadowMethod::Ours,
+        ShadowMethod::Traditional,
+        ShadowMethod::Pcss,
+        ShadowMethod::Hardware2x2,
+    ];
+    let top = Camera::look_at(Vec3::new(0.0, 8.0, 6.0), Vec3::ZERO);
+
+    // Two quads' worth of a tent, every vertex listed twice, plus a repeated-index triangle and
+    // a collinear one; normals: some NaN, some zero.
+    let p = [
+        Vec3::new(-1.0, 0.0, -1.0),
+        Vec3::new(1.0, 0.0, -1.0),
+        Vec3::new(0.0, 1.5, 0.0),
+        Vec3::new(-1.0, 0.0, 1.0),
+        Vec3::new(1.0, 0.0, 1.0),
+    ];
+    let mut positions: Vec<Vec3> = p.iter().chain(p.iter()).copied().collect();
+    positions.extend([Vec3::ZERO, Vec3::new(0.5, 0.5, 0.5), Vec3::ONE]);
+    let mut normals = vec![Vec3::Y; positions.len()];
+    normals[0] = Vec3::NAN;
+    normals[3] = Vec3::ZERO;
+    normals[7] = Vec3::new(f32::INFINITY, 0.0, 0.0);
+    let indices = vec![0, 2, 1, 3, 4, 7, 5, 8, 6, 1, 2, 4, 0, 0, 2, 10, 11, 12];
+    let (tent, repairs) =
+        penumbra::Mesh::new_with_report("tent", positions, Some(normals), None, indices).unwrap();
+    assert_eq!(repairs.repaired_normals, 3, "{repairs:?}");
+    assert!(
+        tent.normals
+            .iter()
+            .all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-3)
+    );
+
+    let mut scene = standing_and_floating(1.0);
+    let mesh = scene.add_mesh(tent);
+    let material = scene.add_material(Material::colored("tent", [0.3, 0.6, 0.3]));
+    scene.add_instance(mesh, material, Mat4::from_translation(Vec3::new(2.0, 0.0, 1.0)));
+    let one = scene.add_mesh(
+        penumbra::Mesh::new(
+            "one triangle",
+            vec![
+                Vec3::new(-1.0, 1.0, 2.0),
+                Vec3::new(0.0, 1.0, 2.0),
+                Vec3::new(-0.5, 1.0, 3.0),
+            ],
+            None,
+            None,
+            vec![0, 1, 2],
+        )
+        .unwrap(),
+    );
+    scene.add_instance(one, material, Mat4::IDENTITY);
+    for method in methods {
+        let settings = ShadowSettings {
+            method,
+            ..Default::default()
+        };
+        check_frame(
+            &gpu,
+            &scene,
+            &top,
+            settings,
+            (160, 120),
+            &format!("{} with odd meshes", method.name()),
+        );
+        // From inside the standing cube (its faces are drawn from both sides).
+        let inside = Camera::look_at(Vec3::new(-2.0, 0.5, 0.0), Vec3::new(3.0, 0.0, 0.0));
+        finite_frame(
+            &gpu,
+            &scene,
+            &inside,
+            settings,
+            (160, 120),
+            &format!("{} inside a caster", method.name()),
+        );
+        // An empty scene: only the background.
+        let (image, _) = finite_frame(
+            &gpu,
+            &Scene::default(),
+            &top,
+            settings,
+            (64, 48),
+            &format!("{} empty scene", method.name()),
+        );
+        let first = *image.get_pixel(0, 0);
+        assert!(
+            image.pixels().all(|p| *p == first),
+            "{}: an empty scene drew something",
+            method.name()
+        );
+    }
+
+    let err = penumbra::Mesh::new(
+        "broken",
+        vec![Vec3::ZERO, Vec3::new(f32::NAN, 0.0, 0.0), Vec3::ONE],
+        None,
+        None,
+        vec![0, 1, 2],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("broken") && err.contains("not finite"), "{err}");
 }
