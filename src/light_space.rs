@@ -46,7 +46,8 @@ pub struct FitInputs<'a> {
     /// The boxes of the instances that cast or receive: the near and far planes enclose the
     /// parts of these inside the light's frustum. Empty: `casters_and_receivers` stands in.
     pub parts: &'a [Aabb],
-    /// World units added around the casters (and the camera's view) for penumbrae and filter taps.
+    /// World units added around the casters (and the camera's view) for penumbrae and filter
+    /// taps, and before and after the depth range for the fattened casters.
     pub margin: f32,
     /// Placement of a directional light's map.
     pub fit: LightFit,
@@ -123,7 +124,9 @@ impl LightView {
                     Vec4::new(0.0, -1.0, 0.0, max.y),
                 ];
                 let (near, far) = clipped_depth_range(&view, &bounds, inputs.parts, &planes);
-                let pad_z = ((far - near) * 0.01).max(radius * 1e-4);
+                // The margin also pads the depth range: the fattened casters reach that far
+                // toward the light.
+                let pad_z = ((far - near) * 0.01).max(radius * 1e-4) + inputs.margin.max(0.0);
                 let (near, far) = (near - pad_z, far + pad_z);
                 let projection =
                     glam::camera::rh::proj::directx::orthographic(min.x, max.x, min.y, max.y, near, far);
@@ -149,8 +152,9 @@ impl LightView {
                     Vec4::new(0.0, -1.0, -t, 0.0),
                 ];
                 let (min_depth, max_depth) = clipped_depth_range(&view, &bounds, inputs.parts, &planes);
-                let far = (max_depth * 1.01).max(1e-3);
-                let near = (min_depth * 0.99).max(far * 1e-3);
+                let margin = inputs.margin.max(0.0);
+                let far = (max_depth * 1.01 + margin).max(1e-3);
+                let near = (min_depth * 0.99 - margin).max(far * 1e-3);
                 let projection = glam::camera::rh::proj::directx::perspective(fov, 1.0, near, far);
                 LightView {
                     view,
