@@ -265,7 +265,10 @@ impl Scene {
         let footprint = size.x.max(size.z).max(size.y * 0.5).max(1e-6);
         let floor_material = scene.add_material(Material::colored("floor", [0.75, 0.75, 0.72]));
         let floor = scene.add_mesh(primitives::plane(footprint * 4.0, 1.0));
-        scene.add_instance(floor, floor_material, Mat4::IDENTITY).caster = false;
+        // A hair below the model, so a flat-bottomed model's base and the floor do not fight
+        // for the same depth (stripes in the screen-space methods' composite).
+        let below = Mat4::from_translation(Vec3::new(0.0, -footprint * 1e-3, 0.0));
+        scene.add_instance(floor, floor_material, below).caster = false;
         let framed = Aabb::new(
             Vec3::new(-size.x * 0.5, 0.0, -size.z * 0.5),
             Vec3::new(size.x * 0.5, size.y, size.z * 0.5),
@@ -279,5 +282,33 @@ impl Scene {
             });
         }
         Ok(scene)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn showcase_floor_lies_just_below_a_flat_bottomed_model() {
+        let mut model = Model::default();
+        model.meshes.push(primitives::cuboid(Vec3::new(2.0, 1.0, 2.0)));
+        model.materials.push(Material::colored("box", [0.5, 0.5, 0.5]));
+        model.parts.push(Instance {
+            mesh: 0,
+            material: 0,
+            transform: Mat4::from_translation(Vec3::new(5.0, 3.0, 0.0)),
+            caster: true,
+            receiver: true,
+        });
+        let scene = Scene::showcase(&model).unwrap();
+        let model_bottom = scene.bounds_where(|i| i.caster).min.y;
+        let floor_top = scene.bounds_where(|i| !i.caster).max.y;
+        assert!(model_bottom.abs() < 1e-6, "model placed at {model_bottom}");
+        // Below, so the two do not fight for depth, but by a hair: no visible gap.
+        assert!(
+            floor_top < model_bottom && floor_top > -0.01,
+            "floor at {floor_top}"
+        );
     }
 }
