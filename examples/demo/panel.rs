@@ -4,8 +4,8 @@
 use eframe::egui;
 use penumbra::debug::DebugView;
 use penumbra::{
-    CullMode, DepthFormat, DirectionalLight, Light, PcfKernel, Quality, ShadowMethod, ShadowSettings,
-    SpotLight, SpreadMode,
+    CullMode, DepthFormat, DirectionalLight, Light, LightFit, PcfKernel, Quality, ShadowMethod,
+    ShadowSettings, SpotLight, SpreadMode,
 };
 
 use crate::app::{BUILT_IN, DemoApp, LightAngles, MapView, built_in_path};
@@ -314,6 +314,23 @@ impl DemoApp {
                             ui.selectable_value(&mut m.cull_mode, c, format!("{c:?}"));
                         }
                     });
+                let mut camera_fit = matches!(m.fit, LightFit::CameraFrustum { .. });
+                ui.checkbox(&mut camera_fit, "fit the light to the camera's view");
+                if camera_fit {
+                    let mut max_distance = match m.fit {
+                        LightFit::CameraFrustum { max_distance } => max_distance,
+                        LightFit::Scene => 0.0,
+                    };
+                    ui.add(
+                        egui::Slider::new(&mut max_distance, 0.0..=500.0)
+                            .logarithmic(true)
+                            .text("shadow distance (0: far plane)"),
+                    );
+                    m.fit = LightFit::CameraFrustum { max_distance };
+                } else {
+                    m.fit = LightFit::Scene;
+                }
+                ui.checkbox(&mut m.snap_to_texels, "snap to texels (no shimmer)");
             });
     }
 
