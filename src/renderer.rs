@@ -530,9 +530,10 @@ impl Renderer {
             resolution: sm.resolution,
             snap_to_texels: sm.snap_to_texels,
         });
-        self.write_frame_uniform(queue, scene, camera, &light_view);
+        self.write_frame_uniform(queue, scene, camera, &light_view, spreads);
 
-        // The shadow maps depend on the light and the casters, not on the camera.
+        // The shadow maps depend on the light, the casters and the light's window, which
+        // follows the camera only with the camera fit (and then in whole texels).
         let key = ShadowKey {
             scene: scene.revision(),
             light,
@@ -718,12 +719,9 @@ impl Renderer {
             settings: self.settings,
         };
         let restart = self.reference_key.as_ref() != Some(&key);
-        self.write_frame_uniform(
-            queue,
-            scene,
-            camera,
-            &LightView::fit(&light, &scene.shadow_bounds()),
-        );
+        let loose = LightView::fit(&light, &scene.shadow_bounds());
+        let spreads = self.spreads(&light, &loose, scene);
+        self.write_frame_uniform(queue, scene, camera, &loose, spreads);
         let (Some(distance), Some(reference)) = (&self.distance_map, &mut self.reference) else {
             return Ok(false);
         };
@@ -792,10 +790,9 @@ impl Renderer {
         scene: &GpuScene,
         camera: &Camera,
         light_view: &LightView,
+        spreads: DerivedSpreads,
     ) {
         let light = *scene.light();
-        let loose = LightView::fit(&light, &scene.shadow_bounds());
-        let spreads = self.spreads(&light, &loose, scene);
         queue.write_buffer(
             &self.frame_buffer,
             0,

@@ -324,6 +324,7 @@ impl DemoApp {
                     ui.add(
                         egui::Slider::new(&mut max_distance, 0.0..=500.0)
                             .logarithmic(true)
+                            .max_decimals(1)
                             .text("shadow distance (0: far plane)"),
                     );
                     m.fit = LightFit::CameraFrustum { max_distance };
