@@ -171,7 +171,7 @@ fn time_frames(
         gpu_scene.set_light(nudged(&scene.light, i))?;
         let start = Instant::now();
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        renderer.render(&gpu.queue, &mut encoder, &gpu_scene, camera, &view);
+        renderer.render(&gpu.queue, &mut encoder, &gpu_scene, camera, &view)?;
         gpu.queue.submit([encoder.finish()]);
         gpu.device.poll(wgpu::PollType::Wait {
             submission_index: None,

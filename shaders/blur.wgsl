@@ -33,7 +33,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         if frame.penumbra.y > 0.5 {
             let world = world_position(frag.xy, depth);
             let sigma_world = frame.blur.z * penumbra_width(d, world);
-            let sigma_px = sigma_world * frame.camera_position.w / z;
+            let sigma_px = sigma_world * frame.view_params.x / clip_w(z);
             step = sigma_px / max(frame.blur.x / 4.0, 0.5);
         } else {
             step = d * frame.blur.y;

@@ -1,11 +1,9 @@
-// Composite pass: the lit scene from the camera. Direct light (Lambert, spot cone) times the
-// screen-space visibility, on top of the base color (texture x factor), plus ambient. Shadows
-// far from their occluder receive bounced light: with indirect weight k and distance d,
-// visibility' = mix(visibility, 1, k d / (d + h)), h = half the casters' bounding radius.
+// Composite pass of the convenience renderer: the lit scene from the camera. Direct light
+// (Lambert, spot cone) times the screen-space visibility (resolved: the indirect-light
+// attenuation is already in it), on top of the base color (texture x factor), plus ambient.
 // Depth is tested against the prepass (equal geometry, `@invariant` positions).
 
 @group(0) @binding(1) var visibility: texture_2d<f32>;
-@group(0) @binding(2) var distance_map: texture_2d<f32>;
 @group(1) @binding(0) var<uniform> instance: Instance;
 @group(2) @binding(0) var<uniform> material: Material;
 @group(2) @binding(1) var base_color_texture: texture_2d<f32>;
@@ -34,14 +32,11 @@ fn vs_main(
 }
 
 @fragment
-fn fs_main(in: VsOut, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
+fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
+    let n = camera_side_normal(in.normal, in.world, to_camera(in.world));
     let base = material.base_color * textureSample(base_color_texture, base_color_sampler, in.uv);
     if material.alpha.x >= 0.0 && base.a < material.alpha.x {
         discard;
-    }
-    var n = normalize(in.normal);
-    if !front_facing {
-        n = -n;
     }
     var to_light = -frame.light_direction.xyz;
     var cone = 1.0;
@@ -54,9 +49,6 @@ fn fs_main(in: VsOut, @builtin(front_facing) front_facing: bool) -> @location(0)
     var v = 1.0;
     if instance.flags.x > 0.5 {
         v = textureLoad(visibility, pixel, 0).x;
-        let d = textureLoad(distance_map, pixel, 0).x;
-        let k = frame.ambient.w;
-        v = mix(v, 1.0, k * d / (d + frame.penumbra.z));
     }
     let light = frame.light_radiance.rgb * (n_dot_l * cone * v) + frame.ambient.rgb;
     return vec4<f32>(base.rgb * light, 1.0);

@@ -62,15 +62,12 @@ fn shadow_visibility(world: vec3<f32>) -> f32 {
 }
 
 @fragment
-fn fs_main(in: VsOut, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
+fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
+    let n = camera_side_normal(in.normal, in.world, frame.camera_position.xyz - in.world);
     // Sample before any discard so the implicit derivatives stay in uniform control flow.
     let base = material.base_color * textureSample(base_color_texture, base_color_sampler, in.uv);
     if material.alpha.x >= 0.0 && base.a < material.alpha.x {
         discard;
-    }
-    var n = normalize(in.normal);
-    if !front_facing {
-        n = -n;
     }
     var to_light = -frame.light_direction.xyz;
     var cone = 1.0;

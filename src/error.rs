@@ -48,6 +48,11 @@ pub enum PenumbraError {
     #[error("invalid setting `{name}`: {reason}")]
     InvalidSetting { name: &'static str, reason: String },
 
+    /// An argument given to the library does not fit what it must be: a texture of the wrong
+    /// size or format, a buffer too short for its declared count, an unknown id.
+    #[error("invalid {what}: {reason}")]
+    InvalidInput { what: String, reason: String },
+
     /// The GPU reported an error (validation or out of memory) while doing `during`.
     #[error("GPU error while {during}: {reason}")]
     Gpu { during: String, reason: String },
@@ -60,6 +65,13 @@ impl PenumbraError {
     pub(crate) fn model(path: impl Into<PathBuf>, reason: impl Into<String>) -> Self {
         Self::Model {
             path: path.into(),
+            reason: reason.into(),
+        }
+    }
+
+    pub(crate) fn input(what: impl Into<String>, reason: impl Into<String>) -> Self {
+        Self::InvalidInput {
+            what: what.into(),
             reason: reason.into(),
         }
     }

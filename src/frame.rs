@@ -10,8 +10,9 @@ use glam::Vec3;
 
 use crate::gpu_scene::vec4;
 use crate::light_space::{LightView, ProjectionKind};
-use crate::scene::{Aabb, Camera, Light};
+use crate::scene::{Aabb, Light};
 use crate::settings::{ShadowMethod, ShadowSettings, SpreadMode};
+use crate::view::{CameraMatrices, DepthConvention};
 
 /// Mirrors `struct Frame` in the WGSL files (a test checks the sizes agree).
 #[repr(C)]
@@ -20,10 +21,13 @@ pub(crate) struct FrameUniform {
     pub view_proj: [[f32; 4]; 4],
     pub inv_view_proj: [[f32; 4]; 4],
     pub light_view_proj: [[f32; 4]; 4],
-    /// xyz: eye; w: pixels per world unit at view distance 1 (`height / (2 tan(fov / 2))`).
+    /// xyz: eye (w = 1, perspective) or the direction toward the camera (w = 0, orthographic).
     pub camera_position: [f32; 4],
-    /// x: near, y: far (camera).
+    /// (a, b, c, e): a camera depth `d` lies at view distance `|(a d + b) / (c d + e)|`.
     pub camera_depth: [f32; 4],
+    /// x: pixels per world unit at clip w = 1; y: 1 reversed depth (clears to 0), 0 standard
+    /// (clears to 1).
+    pub view_params: [f32; 4],
     /// xyz: direction the light travels; w: 0 directional, 1 spot.
     pub light_direction: [f32; 4],
     /// xyz: spot position; w: cosine of the cone's outer angle.
@@ -110,7 +114,7 @@ pub(crate) fn derive_spreads(
 }
 
 pub(crate) struct FrameInputs<'a> {
-    pub camera: &'a Camera,
+    pub camera: &'a CameraMatrices,
     pub width: u32,
     pub height: u32,
     pub light: &'a Light,
@@ -119,12 +123,15 @@ pub(crate) struct FrameInputs<'a> {
     pub settings: &'a ShadowSettings,
     pub spreads: DerivedSpreads,
     pub caster_radius: f32,
+    /// A receiver mask is bound.
+    pub receiver_mask: bool,
+    /// A distance map is bound (the resolve applies the indirect term).
+    pub distance_map: bool,
 }
 
 impl FrameUniform {
     pub fn new(f: &FrameInputs) -> Self {
-        let aspect = f.width as f32 / f.height.max(1) as f32;
-        let view_proj = f.camera.view_projection(aspect);
+        let view_proj = f.camera.view_projection();
         let light = f.light;
         let (kind, position, cos_outer, cos_inner) = match light {
             Light::Directional(_) => (0.0, Vec3::ZERO, -1.0, -1.0),
@@ -157,7 +164,11 @@ impl FrameUniform {
         let share = if fast { 0.0 } else { p.pcf_variance_share };
         let pcf_width_fraction = (12.0 * share).sqrt() / 4.0;
         let blur_sigma_fraction = (1.0 - share).sqrt() / 4.0;
-        let (pcf, blur) = if traditional {
+        let hard = matches!(s.method, ShadowMethod::Hard | ShadowMethod::Hardware2x2);
+        let (pcf, blur) = if hard {
+            // One fixed tap, no blur: the screen-space hard shadow of the embedding path.
+            ([1.0, 0.0, 0.0, 1.0], [1.0, 0.0, 0.0, 1.0])
+        } else if traditional {
             let t = &s.traditional;
             (
                 [t.pcf_kernel.side() as f32, 0.0, t.pcf_spacing, 1.0],
@@ -170,13 +181,18 @@ impl FrameUniform {
                 [p.blur_taps as f32, blur_spread, blur_sigma_fraction, 0.0],
             )
         };
-        let pixels_per_unit = f.height as f32 / (2.0 * (f.camera.fov_y_deg.to_radians() * 0.5).tan());
         FrameUniform {
             view_proj: view_proj.to_cols_array_2d(),
             inv_view_proj: view_proj.inverse().to_cols_array_2d(),
             light_view_proj: lv.view_projection.to_cols_array_2d(),
-            camera_position: vec4(f.camera.eye, pixels_per_unit),
-            camera_depth: [f.camera.near, f.camera.far, 0.0, 0.0],
+            camera_position: f.camera.toward_camera(),
+            camera_depth: f.camera.depth_to_view(),
+            view_params: [
+                f.camera.pixels_per_unit(f.height),
+                (f.camera.depth == DepthConvention::Reversed) as u32 as f32,
+                f.receiver_mask as u32 as f32,
+                f.distance_map as u32 as f32,
+            ],
             light_direction: vec4(light.direction(), kind),
             light_position: vec4(position, cos_outer),
             light_radiance: vec4(light.radiance(), cos_inner),

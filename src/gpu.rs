@@ -290,7 +290,7 @@ pub fn render_to_image_with_progress(
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("penumbra::render_to_image"),
             });
-        renderer.render(&gpu.queue, &mut encoder, scene, camera, &view);
+        renderer.render(&gpu.queue, &mut encoder, scene, camera, &view)?;
         gpu.queue.submit([encoder.finish()]);
     }
     let pixels = read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;

@@ -79,12 +79,12 @@ pub struct GpuMesh {
     pub index_count: u32,
 }
 
-/// A drawable instance: which mesh and material, its dynamic offset, and its flags.
+/// A drawable instance: which mesh and material, its place among the casters, and its flags.
 #[derive(Debug, Clone, Copy)]
 pub struct GpuInstance {
     pub mesh: usize,
     pub material: usize,
-    pub uniform_offset: u32,
+    pub id: crate::casters::InstanceId,
     pub caster: bool,
     pub receiver: bool,
     pub masked: bool,
@@ -92,21 +92,27 @@ pub struct GpuInstance {
 
 /// A scene on the GPU. Made once per scene; the light can be changed with [`GpuScene::set_light`].
 pub struct GpuScene {
-    /// Unique per scene, and bumped when the light changes: what shadow-map caching keys on.
-    revision: (u64, u64),
+    /// Bumped when the light changes.
+    light_revision: u64,
     pub meshes: Vec<GpuMesh>,
     pub materials: Vec<wgpu::BindGroup>,
     pub instances: Vec<GpuInstance>,
-    pub instance_bind_group: wgpu::BindGroup,
+    /// The instances' transforms and flags, and the casters drawn from the light: the same
+    /// registry an engine fills through [`crate::Casters`].
+    casters: crate::casters::Casters,
     light: Light,
     ambient: Vec3,
-    /// Union of caster and receiver bounds: what the light's projection must cover.
-    shadow_bounds: Aabb,
-    /// World bounds of each instance that casts or receives shadows.
-    shadow_parts: Vec<Aabb>,
     bounds: Aabb,
-    caster_bounds: Aabb,
     triangle_count: usize,
+}
+
+/// The vertex streams a camera pass of [`GpuScene::draw`] binds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum CameraStreams {
+    /// Positions (slot 0) and uvs (slot 1): depth passes that alpha-test.
+    PositionUv,
+    /// Positions, shading normals and uvs (slots 0, 1, 2): lit passes.
+    PositionNormalUv,
 }
 
 impl GpuScene {
@@ -118,7 +124,7 @@ impl GpuScene {
         scene: &Scene,
     ) -> Result<Self> {
         scene.validate()?;
-        let meshes = scene
+        let meshes: Vec<GpuMesh> = scene
             .meshes
             .iter()
             .map(|mesh| {
@@ -234,66 +240,68 @@ impl GpuScene {
             })
             .collect();
 
-        let stride = (size_of::<InstanceUniform>() as u32)
-            .next_multiple_of(device.limits().min_uniform_buffer_offset_alignment);
-        let mut instance_bytes = vec![0u8; (stride as usize) * scene.instances.len().max(1)];
+        let mut casters = crate::casters::Casters::with_layouts(device, layouts.clone());
+        let mesh_ids: Vec<crate::casters::MeshId> = scene
+            .meshes
+            .iter()
+            .zip(&meshes)
+            .map(|(mesh, gpu): (&crate::scene::Mesh, &GpuMesh)| {
+                casters.add_prepared_mesh(
+                    &mesh.name,
+                    &gpu.positions,
+                    &gpu.smoothed_normals,
+                    &gpu.indices,
+                    gpu.index_count,
+                    mesh.vertex_count() as u32,
+                    mesh.bounds,
+                )
+            })
+            .collect();
         let mut instances = Vec::with_capacity(scene.instances.len());
-        for (k, inst) in scene.instances.iter().enumerate() {
-            let uniform = InstanceUniform {
-                model: inst.transform.to_cols_array_2d(),
-                normal: normal_matrix(&inst.transform).to_cols_array_2d(),
-                flags: [if inst.receiver { 1.0 } else { 0.0 }, 0.0, 0.0, 0.0],
+        for inst in &scene.instances {
+            let placed = crate::casters::CasterInstance {
+                mesh: mesh_ids[inst.mesh],
+                transform: inst.transform,
+                caster: inst.caster,
+                receiver: inst.receiver,
             };
-            let offset = k * stride as usize;
-            instance_bytes[offset..offset + size_of::<InstanceUniform>()]
-                .copy_from_slice(bytemuck::bytes_of(&uniform));
+            let material = &scene.materials[inst.material];
+            let id = match material.alpha_mode {
+                AlphaMode::Mask { cutoff } => {
+                    let mesh: &GpuMesh = &meshes[inst.mesh];
+                    let mask = crate::casters::AlphaMask {
+                        uvs: crate::casters::VertexStream {
+                            buffer: &mesh.uvs,
+                            offset: 0,
+                            stride: 8,
+                            format: wgpu::VertexFormat::Float32x2,
+                        },
+                        texture: material.base_color_texture.map_or(&white, |t| &textures[t]),
+                        alpha_factor: material.base_color.w,
+                        cutoff,
+                    };
+                    casters.add_masked_instance(device, queue, placed, &mask)?
+                }
+                AlphaMode::Opaque => casters.add_instance(device, queue, placed)?,
+            };
             instances.push(GpuInstance {
                 mesh: inst.mesh,
                 material: inst.material,
-                uniform_offset: offset as u32,
+                id,
                 caster: inst.caster,
                 receiver: inst.receiver,
-                masked: scene.materials[inst.material].is_masked(),
+                masked: material.is_masked(),
             });
         }
-        let instance_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("GpuScene::instances"),
-            contents: &instance_bytes,
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let instance_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("GpuScene::instances"),
-            layout: &layouts.instance,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &instance_buffer,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(size_of::<InstanceUniform>() as u64),
-                }),
-            }],
-        });
-        let caster_bounds = scene.caster_bounds();
-        static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
-        let id = NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         Ok(Self {
-            revision: (id, 0),
+            light_revision: 0,
             meshes,
             materials,
             instances,
-            instance_bind_group,
+            casters,
             light: scene.light,
             ambient: scene.ambient,
-            shadow_bounds: caster_bounds.union(&scene.receiver_bounds()),
-            shadow_parts: scene
-                .instances
-                .iter()
-                .filter(|i| i.caster || i.receiver)
-                .map(|i| scene.meshes[i.mesh].bounds.transformed(&i.transform))
-                .filter(|b| !b.is_empty())
-                .collect(),
             bounds: scene.bounds(),
-            caster_bounds,
             triangle_count: scene
                 .instances
                 .iter()
@@ -311,14 +319,58 @@ impl GpuScene {
         light.validate()?;
         if light != self.light {
             self.light = light;
-            self.revision.1 += 1;
+            self.light_revision += 1;
         }
         Ok(())
     }
 
-    /// (scene id, revision): changes whenever anything the shadow maps depend on changes.
-    pub fn revision(&self) -> (u64, u64) {
-        self.revision
+    /// Moves instance `index` (in the scene's order): only its instance data is uploaded, and
+    /// the shadow maps are re-rendered only by lights that see the change.
+    pub fn set_transform(&mut self, queue: &wgpu::Queue, index: usize, transform: Mat4) -> Result<()> {
+        let instance = self.instances.get(index).ok_or_else(|| {
+            PenumbraError::input(
+                format!("instance {index}"),
+                format!("the scene has {} instances", self.instances.len()),
+            )
+        })?;
+        self.casters.set_transform(queue, instance.id, transform)
+    }
+
+    /// (casters id, casters revision, light revision): changes whenever anything the shadow
+    /// maps or the reference depend on changes.
+    pub fn revision(&self) -> (u64, u64, u64) {
+        (self.casters.id(), self.casters.revision(), self.light_revision)
+    }
+
+    /// The instances as shadow casters and receivers.
+    pub fn casters(&self) -> &crate::casters::Casters {
+        &self.casters
+    }
+
+    /// Draws every instance with `streams` into `pass`, whose group 0 is set: instance data at
+    /// group 1, material at group 2.
+    pub(crate) fn draw(&self, pass: &mut wgpu::RenderPass<'_>, streams: CameraStreams) {
+        for inst in &self.instances {
+            let mesh = &self.meshes[inst.mesh];
+            let Some(offset) = self.casters.offset(inst.id) else {
+                continue;
+            };
+            if mesh.index_count == 0 {
+                continue;
+            }
+            pass.set_bind_group(1, self.casters.bind_group(), &[offset]);
+            pass.set_bind_group(2, &self.materials[inst.material], &[]);
+            pass.set_vertex_buffer(0, mesh.positions.slice(..));
+            match streams {
+                CameraStreams::PositionUv => pass.set_vertex_buffer(1, mesh.uvs.slice(..)),
+                CameraStreams::PositionNormalUv => {
+                    pass.set_vertex_buffer(1, mesh.normals.slice(..));
+                    pass.set_vertex_buffer(2, mesh.uvs.slice(..));
+                }
+            }
+            pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..mesh.index_count, 0, 0..1);
+        }
     }
 
     pub fn ambient(&self) -> Vec3 {
@@ -327,35 +379,27 @@ impl GpuScene {
 
     /// What the light's projection is fitted around: casters and receivers.
     pub fn shadow_bounds(&self) -> Aabb {
-        self.shadow_bounds
+        self.casters.shadow_bounds()
     }
 
     /// World bounds of each instance that casts or receives shadows: the light's near and far
     /// planes enclose the parts of these inside its frustum.
-    pub fn shadow_parts(&self) -> &[Aabb] {
-        &self.shadow_parts
+    pub fn shadow_parts(&self) -> Vec<Aabb> {
+        self.casters.shadow_parts()
     }
 
+    /// The scene's bounds as loaded (for framing cameras).
     pub fn bounds(&self) -> Aabb {
         self.bounds
     }
 
     pub fn caster_bounds(&self) -> Aabb {
-        self.caster_bounds
+        self.casters.caster_bounds()
     }
 
     /// Triangles drawn per camera pass.
     pub fn triangle_count(&self) -> usize {
         self.triangle_count
-    }
-}
-
-fn normal_matrix(m: &Mat4) -> Mat4 {
-    let n = glam::Mat3::from_mat4(*m).inverse().transpose();
-    if n.is_finite() {
-        Mat4::from_mat3(n)
-    } else {
-        Mat4::IDENTITY
     }
 }
 

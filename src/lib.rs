@@ -27,6 +27,7 @@
 //! # Ok(()) }
 //! ```
 
+pub mod casters;
 pub mod debug;
 pub mod error;
 mod frame;
@@ -36,13 +37,19 @@ pub mod light_samples;
 pub mod light_space;
 pub mod loaders;
 pub mod metrics;
-pub mod passes;
+pub(crate) mod passes;
 mod renderer;
 pub mod scene;
 pub mod settings;
 pub mod shaders;
+pub mod shadows;
 pub mod timing;
+pub mod view;
 
+pub use casters::{
+    AlphaMask, CasterInstance, CasterMeshDesc, Casters, IndexStream, InstanceId, MeshGeometry, MeshId,
+    VertexStream,
+};
 pub use error::{PenumbraError, Result};
 pub use frame::DerivedSpreads;
 pub use gpu::{
@@ -62,3 +69,5 @@ pub use settings::{
     CullMode, DepthFormat, LightFit, PcfKernel, PcssSettings, PenumbraSettings, Quality, ShadowMapSettings,
     ShadowMethod, ShadowSettings, SpreadMode, TraditionalSettings,
 };
+pub use shadows::{Chain, LightId, LightReport, LightTexture, MAX_LIGHTS, Shadows, ViewInputs};
+pub use view::{CameraMatrices, DepthConvention};

@@ -11,8 +11,11 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-use crate::scene::{Aabb, Camera, Light};
+#[cfg(test)]
+use crate::scene::Camera;
+use crate::scene::{Aabb, Light};
 use crate::settings::LightFit;
+use crate::view::CameraMatrices;
 
 /// Whether the light's projection is orthographic or perspective.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -51,8 +54,8 @@ pub struct FitInputs<'a> {
     pub margin: f32,
     /// Placement of a directional light's map.
     pub fit: LightFit,
-    /// The camera and its width / height, for [`LightFit::CameraFrustum`].
-    pub camera: Option<(&'a Camera, f32)>,
+    /// The camera's matrices, for [`LightFit::CameraFrustum`].
+    pub camera: Option<CameraMatrices>,
     /// Shadow-map texels per side, for snapping.
     pub resolution: u32,
     /// Fixed texel size and whole-texel moves (directional lights).
@@ -180,8 +183,16 @@ fn directional_window(inputs: &FitInputs, view: &Mat4, casters: &Aabb, radius: f
     // The size the window keeps while the camera moves (snapping).
     let mut stable = hi - lo;
     let mut center = (lo + hi) * 0.5;
-    if let (LightFit::CameraFrustum { max_distance }, Some((camera, aspect))) = (inputs.fit, inputs.camera) {
-        let corners = frustum_corners(camera, aspect, max_distance);
+    if let (LightFit::CameraFrustum { max_distance }, Some(camera)) = (inputs.fit, inputs.camera) {
+        // An infinite far plane with no distance set ends behind the farthest shadow part.
+        let eye = camera.eye();
+        let fallback = inputs
+            .casters_and_receivers
+            .corners()
+            .iter()
+            .map(|c| c.distance(eye))
+            .fold(1e-3, f32::max);
+        let corners = camera.frustum_corners(max_distance, fallback);
         let seen = Aabb::from_points(corners.map(|c| view.transform_point3(c)).iter());
         let (seen_lo, seen_hi) = (seen.min.truncate() - margin, seen.max.truncate() + margin);
         let (cut_lo, cut_hi) = (lo.max(seen_lo), hi.min(seen_hi));
@@ -220,6 +231,7 @@ fn round_up_to_step(x: f32) -> f32 {
 }
 
 /// The eight world-space corners of the camera's frustum from its near plane to
+#[cfg(test)]
 /// `max_distance` (0: its far plane).
 pub(crate) fn frustum_corners(camera: &Camera, aspect: f32, max_distance: f32) -> [Vec3; 8] {
     let far = if max_distance > 0.0 {
@@ -397,7 +409,7 @@ mod tests {
             parts: &[],
             margin: 0.1,
             fit: LightFit::CameraFrustum { max_distance: 20.0 },
-            camera: Some((camera, 1.5)),
+            camera: Some(CameraMatrices::from_camera(camera, 1.5)),
             resolution: 1024,
             snap_to_texels: snap,
         }

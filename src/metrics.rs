@@ -71,7 +71,7 @@ fn render_linear(
         renderer.render_reference(device, queue, &gpu_scene, camera, &view, |_, _| {})?;
     } else {
         let mut encoder = device.create_command_encoder(&Default::default());
-        renderer.render(queue, &mut encoder, &gpu_scene, camera, &view);
+        renderer.render(queue, &mut encoder, &gpu_scene, camera, &view)?;
         queue.submit([encoder.finish()]);
     }
     let (values, _) = read_texture_f32(device, queue, &target)?;

@@ -1,15 +1,20 @@
-//! The top-level renderer: runs the method's passes in order for one frame.
+//! The convenience renderer: a whole lit frame of a [`GpuScene`], built on the embedding API.
+//!
+//! It does what an engine would: a depth prepass of its own (with a receiver mask), then
+//! [`Shadows`] for the scene's light on that depth, then a lit composite that multiplies the
+//! light by the resolved visibility. Hard shadows and hardware 2x2 PCF shade in one forward pass
+//! with the light's shadow map instead, and the ground truth accumulates one hard shadow map
+//! per light sample ([`Renderer::render_reference`]).
 
-use crate::error::Result;
-use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, derive_spreads, is_point_light};
+use crate::error::{PenumbraError, Result};
+use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform};
 use crate::gpu_scene::{GpuScene, SceneLayouts};
-use crate::light_space::{FitInputs, LightView};
-use crate::passes::{
-    BlurPass, CompositePass, DistanceMapPass, FattenedShadowMapPass, ForwardPass, PcfPass, PcssPass,
-    ReferencePass, ShadowMapPass, screen_target,
-};
+use crate::light_space::LightView;
+use crate::passes::{CompositePass, DepthPrepass, ForwardPass, ReferencePass};
 use crate::scene::{Camera, Light};
-use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
+use crate::settings::{ShadowMethod, ShadowSettings};
+use crate::shadows::{Chain, LightId, LightTexture, Shadows, ViewInputs};
+use crate::view::CameraMatrices;
 
 /// Which passes a frame runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -17,11 +22,11 @@ pub struct PassPlan {
     /// The method actually drawn: a method that needs a light size falls back to
     /// [`ShadowMethod::Hard`] when the light has none.
     pub method: ShadowMethod,
-    pub shadow_map: bool,
-    pub fattened_map: bool,
     /// The camera depth prepass (every screen-space method).
     pub depth_prepass: bool,
-    /// The prepass also writes the distance map and mask.
+    pub shadow_map: bool,
+    pub fattened_map: bool,
+    /// The full-screen distance map over the prepass depth.
     pub distance_map: bool,
     pub pcf: bool,
     pub pcss: bool,
@@ -29,63 +34,78 @@ pub struct PassPlan {
     /// [`Renderer::render_reference`]).
     pub reference: bool,
     pub blur: bool,
+    /// The visibility written into the light's layer, indirect attenuation applied.
+    pub resolve: bool,
     pub composite: bool,
     /// The one-pass lit forward pass (hard and hw2x2).
     pub forward: bool,
 }
 
 impl PassPlan {
-    /// The passes `settings.method` needs under `light`.
+    /// The passes `settings.method` needs under `light`: the method's [`Chain`] plus the
+    /// renderer's own prepass and composite, or the forward pass.
     pub fn new(settings: &ShadowSettings, light: &Light) -> Self {
-        let method = match settings.method {
-            ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Pcss if is_point_light(light) => {
-                ShadowMethod::Hard
-            }
-            m => m,
-        };
-        let blur_taps = match method {
-            ShadowMethod::Traditional => settings.traditional.blur_taps,
-            _ => settings.penumbra.blur_taps,
-        };
-        let screen = method.is_screen_space();
-        PassPlan {
-            method,
-            shadow_map: true,
-            fattened_map: method.uses_distance_map(),
-            depth_prepass: screen,
-            distance_map: method.uses_distance_map(),
-            pcf: matches!(
+        let chain = Chain::new(settings, light);
+        let method = chain.method;
+        match method {
+            ShadowMethod::Hard | ShadowMethod::Hardware2x2 => PassPlan {
                 method,
-                ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Traditional
-            ),
-            pcss: method == ShadowMethod::Pcss,
-            reference: method == ShadowMethod::Reference,
-            blur: matches!(
+                shadow_map: true,
+                forward: true,
+                ..Default::default()
+            },
+            ShadowMethod::Reference => PassPlan {
                 method,
-                ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Traditional
-            ) && blur_taps > 1,
-            composite: screen,
-            forward: !screen,
+                depth_prepass: true,
+                reference: true,
+                composite: true,
+                ..Default::default()
+            },
+            _ => PassPlan {
+                method,
+                depth_prepass: true,
+                shadow_map: true,
+                fattened_map: chain.fattened_map,
+                distance_map: chain.distance_map,
+                pcf: chain.pcf,
+                pcss: chain.pcss,
+                reference: false,
+                blur: chain.blur,
+                resolve: true,
+                composite: true,
+                forward: false,
+            },
         }
     }
 
     /// The names of the passes, in the order they run.
     pub fn names(&self) -> Vec<&'static str> {
         [
+            (self.depth_prepass, "depth prepass"),
             (self.shadow_map, "shadow map"),
             (self.fattened_map, "fattened shadow map"),
-            (self.depth_prepass && self.distance_map, "distance map"),
-            (self.depth_prepass && !self.distance_map, "depth prepass"),
+            (self.distance_map, "distance map"),
             (self.pcf, "pcf"),
             (self.pcss, "pcss"),
-            (self.reference, "reference"),
             (self.blur, "blur"),
+            (self.resolve, "resolve"),
             (self.composite, "composite"),
             (self.forward, "forward"),
         ]
         .into_iter()
         .filter_map(|(on, name)| on.then_some(name))
         .collect()
+    }
+
+    /// How many times the frame draws the scene's geometry: the light-space maps (when they
+    /// are re-rendered), the prepass, the composite or the forward pass.
+    pub fn geometry_passes(&self, shadow_maps_rendered: bool) -> u32 {
+        let maps = if shadow_maps_rendered {
+            self.shadow_map as u32 + self.fattened_map as u32
+        } else {
+            0
+        };
+        maps + self.depth_prepass as u32 + self.composite as u32 + self.forward as u32
     }
 }
 
@@ -149,42 +169,33 @@ impl ReferenceProgress {
 struct ReferenceKey {
     camera: Camera,
     light: Light,
-    scene: (u64, u64),
+    scene: (u64, u64, u64),
     size: (u32, u32),
     settings: ShadowSettings,
 }
 
-/// What decides whether the shadow maps can be reused.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct ShadowKey {
-    scene: (u64, u64),
-    light: Light,
-    light_view: [f32; 16],
-    shadow_map: ShadowMapSettings,
-    fatten_distance: Option<f32>,
-}
-
-/// Owns the passes and their targets. Made once per output format; [`Renderer::resize`] when
-/// the output size changes, [`Renderer::set_settings`] when settings change. Passes the
-/// current method does not use are not allocated.
+/// Owns a [`Shadows`] for the scene's light and the passes around it. Made once per output
+/// format; [`Renderer::resize`] when the output size changes, [`Renderer::set_settings`] when
+/// settings change. Passes are allocated on the first frame that needs them and dropped when
+/// the method no longer does.
 pub struct Renderer {
+    device: wgpu::Device,
     settings: ShadowSettings,
     color_format: wgpu::TextureFormat,
     layouts: SceneLayouts,
+    /// The camera's frame uniform (prepass, composite, reference).
     frame_buffer: wgpu::Buffer,
-    /// A 1x1 zero distance map for methods without one.
-    no_distance: (wgpu::Texture, wgpu::TextureView),
-    shadow_map: ShadowMapPass,
-    fattened_map: Option<FattenedShadowMapPass>,
-    forward: Option<ForwardPass>,
-    distance_map: Option<DistanceMapPass>,
-    pcf: Option<PcfPass>,
-    pcss: Option<PcssPass>,
-    reference: Option<ReferencePass>,
-    blur: Option<BlurPass>,
+    shadows: Shadows,
+    light: LightId,
+    prepass: Option<DepthPrepass>,
     composite: Option<CompositePass>,
+    /// The visibility texture the composite is bound to.
+    composite_source: Option<wgpu::TextureView>,
+    forward: Option<ForwardPass>,
+    /// The shadow map the forward pass is bound to.
+    forward_source: Option<wgpu::Texture>,
+    reference: Option<ReferencePass>,
     size: (u32, u32),
-    shadow_key: Option<ShadowKey>,
     reference_key: Option<ReferenceKey>,
     last_report: Option<FrameReport>,
     timer: Option<crate::timing::Timer>,
@@ -193,7 +204,7 @@ pub struct Renderer {
 const FRAME_SIZE: usize = size_of::<FrameUniform>();
 
 impl Renderer {
-    /// Creates the passes `settings.method` needs for drawing into targets of `color_format`.
+    /// Creates a renderer drawing into targets of `color_format` with `settings`.
     pub fn new(
         device: &wgpu::Device,
         color_format: wgpu::TextureFormat,
@@ -211,42 +222,34 @@ impl Renderer {
         layouts: SceneLayouts,
     ) -> Result<Self> {
         settings.validate(Some(device.limits().max_texture_dimension_2d))?;
-        let shadow_map = ShadowMapPass::new(device, &layouts, &settings.shadow_map);
+        let mut shadows = Shadows::new(device, shadows_settings(&settings))?;
+        let light = shadows.add_light(device, Light::default())?;
         let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("Renderer::frame"),
             size: FRAME_SIZE as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let no_distance = screen_target(
-            device,
-            "Renderer::no_distance_map",
-            1,
-            1,
-            DistanceMapPass::DISTANCE_FORMAT,
-        );
         let mut renderer = Self {
+            device: device.clone(),
             settings,
             color_format,
             layouts,
             frame_buffer,
-            no_distance,
-            shadow_map,
-            fattened_map: None,
-            forward: None,
-            distance_map: None,
-            pcf: None,
-            pcss: None,
-            reference: None,
-            blur: None,
+            shadows,
+            light,
+            prepass: None,
             composite: None,
+            composite_source: None,
+            forward: None,
+            forward_source: None,
+            reference: None,
             size: (0, 0),
-            shadow_key: None,
             reference_key: None,
             last_report: None,
             timer: None,
         };
-        renderer.allocate_checked(device)?;
+        renderer.allocate_checked()?;
         Ok(renderer)
     }
 
@@ -263,18 +266,18 @@ impl Renderer {
         self.color_format
     }
 
-    /// Applies new settings: recreates the shadow maps when their resolution, format, bias or
-    /// culling change, allocates the passes a new method needs and drops the others.
+    /// Applies new settings: the light's maps are recreated when their resolution, format,
+    /// bias or culling change; a new method's passes are allocated on its first frame and the
+    /// old method's dropped.
     pub fn set_settings(&mut self, device: &wgpu::Device, settings: ShadowSettings) -> Result<()> {
         settings.validate(Some(device.limits().max_texture_dimension_2d))?;
-        if settings.shadow_map != *self.shadow_map.settings() {
-            self.shadow_map = ShadowMapPass::new(device, &self.layouts, &settings.shadow_map);
-            self.fattened_map = None;
+        self.shadows.set_settings(device, shadows_settings(&settings))?;
+        if settings.shadow_map != self.settings.shadow_map {
             self.forward = None;
-            self.shadow_key = None;
+            self.forward_source = None;
         }
         self.settings = settings;
-        self.allocate_checked(device)
+        self.allocate_checked()
     }
 
     /// Sets the output size. A zero width or height (a minimized window) is accepted: frames
@@ -285,7 +288,17 @@ impl Renderer {
         }
         self.size = (width, height);
         if width > 0 && height > 0 {
-            self.resize_targets(device);
+            if let Some(p) = &mut self.prepass {
+                p.resize(device, width, height);
+            }
+            if let Some(p) = &mut self.reference {
+                p.resize(device, width, height);
+            }
+            if let Some(p) = &mut self.forward {
+                p.resize(device, width, height);
+            }
+            self.composite_source = None;
+            self.reference_key = None;
         }
     }
 
@@ -322,48 +335,55 @@ impl Renderer {
         self.last_report.as_ref()
     }
 
+    /// The [`Shadows`] this renderer drives (one light, on its own prepass depth).
+    pub fn shadows(&self) -> &Shadows {
+        &self.shadows
+    }
+
     /// An intermediate texture of the last frame, if the current method has it.
     pub fn debug_texture(&self, which: DebugTexture) -> Option<&wgpu::Texture> {
+        let method = self.settings.method;
+        let light = |t| self.shadows.light_texture(self.light, t);
         match which {
-            DebugTexture::ShadowMap => Some(self.shadow_map.texture()),
-            DebugTexture::FattenedMap => self.fattened_map.as_ref().map(|p| p.texture()),
-            DebugTexture::CameraDepth => self.distance_map.as_ref().map(|p| p.depth_texture()),
-            DebugTexture::DistanceMap => self
-                .distance_map
-                .as_ref()
-                .filter(|_| self.settings.method.uses_distance_map())
-                .map(|p| p.distance_texture()),
-            DebugTexture::Visibility => self
-                .pcf
-                .as_ref()
-                .map(|p| p.visibility_texture())
-                .or_else(|| self.pcss.as_ref().map(|p| p.visibility_texture()))
-                .or_else(|| self.reference.as_ref().map(|p| p.visibility_texture())),
-            DebugTexture::BlurredVisibility => self.blur.as_ref().map(|p| p.blurred_texture()),
+            DebugTexture::ShadowMap => light(LightTexture::ShadowMap),
+            DebugTexture::FattenedMap => {
+                light(LightTexture::FattenedMap).filter(|_| method.uses_distance_map())
+            }
+            DebugTexture::CameraDepth => self.prepass.as_ref().map(|p| p.depth_texture()),
+            DebugTexture::DistanceMap => {
+                light(LightTexture::DistanceMap).filter(|_| method.uses_distance_map())
+            }
+            DebugTexture::Visibility => match method {
+                ShadowMethod::Reference => self.reference.as_ref().map(|p| p.visibility_texture()),
+                m if m.is_screen_space() => light(LightTexture::Visibility),
+                _ => None,
+            },
+            DebugTexture::BlurredVisibility => light(LightTexture::BlurredVisibility).filter(|_| {
+                matches!(
+                    method,
+                    ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Traditional
+                )
+            }),
         }
     }
 
-    /// The visibility texture the last frame composited (blurred if the method blurs), or
-    /// `None` for the methods that shade in one forward pass.
+    /// The visibility texture the last frame composited (resolved: blurred if the method
+    /// blurs, indirect attenuation applied; the reference's mean), or `None` for the methods
+    /// that shade in one forward pass.
     pub fn composited_visibility(&self) -> Option<&wgpu::Texture> {
         let plan = self.last_report.as_ref()?.plan;
         if !plan.composite {
-            return None;
-        }
-        if plan.blur {
-            self.debug_texture(DebugTexture::BlurredVisibility)
-        } else {
+            None
+        } else if plan.reference {
             self.debug_texture(DebugTexture::Visibility)
+        } else {
+            self.shadows.visibility_texture()
         }
     }
 
-    /// The depth shadow map.
-    pub fn shadow_map(&self) -> &wgpu::TextureView {
-        self.shadow_map.view()
-    }
-
-    pub fn shadow_map_texture(&self) -> &wgpu::Texture {
-        self.shadow_map.texture()
+    /// The depth shadow map of the last frame.
+    pub fn shadow_map_texture(&self) -> Option<&wgpu::Texture> {
+        self.shadows.light_texture(self.light, LightTexture::ShadowMap)
     }
 
     /// The light's view used by the last frame.
@@ -373,134 +393,86 @@ impl Renderer {
 
     /// [`Self::allocate`], turning a device's refusal (a format it cannot render to, say) into
     /// an error that names the method instead of a panic.
-    fn allocate_checked(&mut self, device: &wgpu::Device) -> Result<()> {
+    fn allocate_checked(&mut self) -> Result<()> {
+        let device = self.device.clone();
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        self.allocate(device);
-        match pollster::block_on(scope.pop()) {
+        self.allocate(&device);
+        match crate::shadows::block_on_now(scope.pop()).flatten() {
             None => Ok(()),
-            Some(error) => Err(crate::PenumbraError::Gpu {
+            Some(error) => Err(PenumbraError::Gpu {
                 during: format!("creating the passes of method `{}`", self.settings.method.name()),
                 reason: format!("this device cannot run it: {error}"),
             }),
         }
     }
 
-    /// Creates the passes the method needs (for any light size) and drops the rest, then
-    /// re-points every pass at its inputs.
+    /// Creates the renderer's own passes the method may need and drops the rest. The
+    /// shadow chain's passes are [`Shadows`]' to allocate.
     fn allocate(&mut self, device: &wgpu::Device) {
         let method = self.settings.method;
         let screen = method.is_screen_space();
-        let distance = method.uses_distance_map();
-        let uses_pcf = matches!(
-            method,
-            ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Traditional
-        );
         // Methods that need a light size fall back to the forward pass when it is zero.
         let forward = !screen
             || matches!(
                 method,
                 ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Pcss
             );
+        let (w, h) = (self.size.0.max(1), self.size.1.max(1));
         let layouts = &self.layouts;
-        let settings = self.settings.shadow_map;
-        keep(&mut self.fattened_map, distance, || {
-            FattenedShadowMapPass::new(device, layouts, &settings)
+        keep(&mut self.prepass, screen, || {
+            let mut p = DepthPrepass::new(device, layouts, FRAME_SIZE);
+            p.resize(device, w, h);
+            p
         });
-        keep(&mut self.distance_map, screen, || {
-            DistanceMapPass::new(device, layouts, FRAME_SIZE)
-        });
-        keep(&mut self.pcf, uses_pcf, || PcfPass::new(device, FRAME_SIZE));
-        keep(&mut self.pcss, method == ShadowMethod::Pcss, || {
-            PcssPass::new(device, FRAME_SIZE)
-        });
-        keep(&mut self.reference, method == ShadowMethod::Reference, || {
-            ReferencePass::new(device, FRAME_SIZE)
-        });
-        let blur_taps = match method {
-            ShadowMethod::Traditional => self.settings.traditional.blur_taps,
-            _ => self.settings.penumbra.blur_taps,
-        };
-        keep(&mut self.blur, uses_pcf && blur_taps > 1, || {
-            BlurPass::new(device, FRAME_SIZE)
-        });
+        if let Some(p) = &mut self.prepass {
+            p.bind(device, &self.frame_buffer);
+        }
         keep(&mut self.composite, screen, || {
             CompositePass::new(device, layouts, self.color_format, FRAME_SIZE)
         });
-        let shadow_view = self.shadow_map.view();
-        keep(&mut self.forward, forward, || {
-            ForwardPass::new(device, layouts, self.color_format, shadow_view)
+        self.composite_source = None;
+        keep(&mut self.reference, method == ShadowMethod::Reference, || {
+            let mut p = ReferencePass::new(device, FRAME_SIZE);
+            p.resize(device, w, h);
+            p
         });
-        self.resize_targets(device);
+        if !forward {
+            self.forward = None;
+            self.forward_source = None;
+        }
     }
 
-    /// Recreates screen-sized targets and rebuilds every bind group.
-    fn resize_targets(&mut self, device: &wgpu::Device) {
-        let (w, h) = (self.size.0.max(1), self.size.1.max(1));
-        for_each_pass_mut(self, |pass| match pass {
-            AnyPass::Distance(p) => p.resize(device, w, h),
-            AnyPass::Pcf(p) => p.resize(device, w, h),
-            AnyPass::Pcss(p) => p.resize(device, w, h),
-            AnyPass::Reference(p) => p.resize(device, w, h),
-            AnyPass::Blur(p) => p.resize(device, w, h),
-            AnyPass::Forward(p) => p.resize(device, w, h),
-        });
-        self.rebind(device);
-    }
-
-    fn rebind(&mut self, device: &wgpu::Device) {
-        let frame = &self.frame_buffer;
-        let shadow_map = self.shadow_map.view();
-        let fattened = self.fattened_map.as_ref().map_or(shadow_map, |f| f.view());
-        if let Some(d) = &mut self.distance_map {
-            d.bind(device, frame, fattened);
+    /// Errors unless `target` is a view of a texture of the renderer's size and format that
+    /// can be rendered to.
+    fn check_target(&self, target: &wgpu::TextureView) -> Result<()> {
+        let texture = target.texture();
+        let fail = |reason: String| Err(PenumbraError::input("render target", reason));
+        if (texture.width(), texture.height()) != self.size {
+            return fail(format!(
+                "it is {}x{}, the renderer {}x{} (call Renderer::resize)",
+                texture.width(),
+                texture.height(),
+                self.size.0,
+                self.size.1
+            ));
         }
-        let distance_view = match (&self.distance_map, self.settings.method.uses_distance_map()) {
-            (Some(d), true) => d.distance_map(),
-            _ => &self.no_distance.1,
-        };
-        let Some(depth) = self.distance_map.as_ref().map(|d| d.depth()) else {
-            if let Some(f) = &mut self.forward {
-                f.set_shadow_map(device, shadow_map);
-            }
-            return;
-        };
-        if let Some(p) = &mut self.pcf {
-            p.bind(device, frame, depth, distance_view, shadow_map);
+        if texture.format() != self.color_format {
+            return fail(format!(
+                "its format is {:?}, the renderer's {:?} (make the renderer with the target's format)",
+                texture.format(),
+                self.color_format
+            ));
         }
-        if let Some(p) = &mut self.pcss {
-            p.bind(device, frame, depth, shadow_map);
+        if !texture.usage().contains(wgpu::TextureUsages::RENDER_ATTACHMENT) || texture.sample_count() != 1 {
+            return fail("it needs RENDER_ATTACHMENT usage and one sample".into());
         }
-        if let Some(p) = &mut self.reference {
-            p.bind(device, frame, depth, shadow_map);
-        }
-        let raw = self
-            .pcf
-            .as_ref()
-            .map(|p| p.visibility())
-            .or_else(|| self.pcss.as_ref().map(|p| p.visibility()))
-            .or_else(|| self.reference.as_ref().map(|p| p.visibility()));
-        if let (Some(b), Some(raw)) = (&mut self.blur, raw) {
-            b.bind(device, frame, depth, distance_view, raw);
-        }
-        let blur_taps = match self.settings.method {
-            ShadowMethod::Traditional => self.settings.traditional.blur_taps,
-            _ => self.settings.penumbra.blur_taps,
-        };
-        let composited = match &self.blur {
-            Some(b) if blur_taps > 1 => Some(b.blurred()),
-            _ => raw,
-        };
-        if let (Some(c), Some(v)) = (&mut self.composite, composited) {
-            c.bind(device, frame, v, distance_view);
-        }
-        if let Some(f) = &mut self.forward {
-            f.set_shadow_map(device, shadow_map);
-        }
+        Ok(())
     }
 
     /// Records one frame into `target` (a view of a texture of the renderer's color format and
-    /// size) and says what it did. Reads like the method: shadow map, fattened map, distance
-    /// map, PCF, blur, composite; the other methods run the subset they need.
+    /// size) and says what it did: the prepass, the light's [`Shadows`] chain on its depth, the
+    /// composite; hard shadows in one forward pass. `Ok(None)` while the size is zero; an error
+    /// for a target of another size or format.
     pub fn render(
         &mut self,
         queue: &wgpu::Queue,
@@ -508,40 +480,19 @@ impl Renderer {
         scene: &GpuScene,
         camera: &Camera,
         target: &wgpu::TextureView,
-    ) -> Option<FrameReport> {
+    ) -> Result<Option<FrameReport>> {
         if self.size.0 == 0 || self.size.1 == 0 {
-            return None;
+            return Ok(None);
         }
+        self.check_target(target)?;
+        let device = self.device.clone();
         let light = *scene.light();
         let plan = PassPlan::new(&self.settings, &light);
-        // Fit once to find the depth range (and so the widest penumbra), then fit the sides
-        // to the casters widened by that penumbra.
-        let loose = LightView::fit(&light, &scene.shadow_bounds());
-        let spreads = self.spreads(&light, &loose, scene);
-        let sm = &self.settings.shadow_map;
-        let light_view = LightView::fit_with(&FitInputs {
-            light: &light,
-            casters: scene.caster_bounds(),
-            casters_and_receivers: scene.shadow_bounds(),
-            parts: scene.shadow_parts(),
-            margin: spreads.fatten_distance * 2.0,
-            fit: sm.fit,
-            camera: Some((camera, self.size.0 as f32 / self.size.1 as f32)),
-            resolution: sm.resolution,
-            snap_to_texels: sm.snap_to_texels,
-        });
-        self.write_frame_uniform(queue, scene, camera, &light_view, spreads);
+        let matrices = CameraMatrices::from_camera(camera, self.size.0 as f32 / self.size.1 as f32);
+        let casters = scene.casters();
+        self.shadows.set_light(self.light, light)?;
+        self.shadows.set_screen_space(!plan.forward);
 
-        // The shadow maps depend on the light, the casters and the light's window, which
-        // follows the camera only with the camera fit (and then in whole texels).
-        let key = ShadowKey {
-            scene: scene.revision(),
-            light,
-            light_view: light_view.view_projection.to_cols_array(),
-            shadow_map: self.settings.shadow_map,
-            fatten_distance: plan.fattened_map.then_some(spreads.fatten_distance),
-        };
-        let shadow_maps_rendered = self.shadow_key != Some(key);
         let mut timer = self.timer.take();
         if let Some(t) = &mut timer {
             t.begin(encoder);
@@ -551,77 +502,13 @@ impl Renderer {
                 t.mark(encoder, label);
             }
         };
-        if shadow_maps_rendered {
-            encoder.push_debug_group("shadow map");
-            self.shadow_map.encode(encoder, queue, scene, &light_view);
-            encoder.pop_debug_group();
-            mark(encoder, "shadow map");
-            if let (true, Some(fattened)) = (plan.fattened_map, &self.fattened_map) {
-                encoder.push_debug_group("fattened shadow map");
-                fattened.encode(encoder, queue, scene, &light_view, spreads.fatten_distance);
-                encoder.pop_debug_group();
-                mark(encoder, "fattened shadow map");
-            }
-            self.shadow_key = Some(key);
-        }
-        if let (true, Some(distance)) = (plan.depth_prepass, &self.distance_map) {
-            encoder.push_debug_group(if plan.distance_map {
-                "distance map"
-            } else {
-                "depth prepass"
-            });
-            distance.encode(encoder, scene, plan.distance_map);
-            encoder.pop_debug_group();
-            mark(encoder, "distance map");
-        }
-        if let (true, Some(pcf)) = (plan.pcf, &self.pcf) {
-            encoder.push_debug_group("pcf");
-            pcf.encode(encoder);
-            encoder.pop_debug_group();
-            mark(encoder, "pcf");
-        }
-        if let (true, Some(pcss)) = (plan.pcss, &self.pcss) {
-            encoder.push_debug_group("pcss");
-            pcss.encode(encoder);
-            encoder.pop_debug_group();
-            mark(encoder, "pcss");
-        }
-        if let (true, Some(blur)) = (plan.blur, &self.blur) {
-            encoder.push_debug_group("blur");
-            let taps = match plan.method {
-                ShadowMethod::Traditional => self.settings.traditional.blur_taps,
-                _ => self.settings.penumbra.blur_taps,
-            };
-            blur.encode(encoder, queue, taps);
-            encoder.pop_debug_group();
-            mark(encoder, "blur");
-        }
-        if let (true, Some(composite), Some(distance)) = (plan.composite, &self.composite, &self.distance_map)
-        {
-            encoder.push_debug_group("composite");
-            composite.encode(encoder, scene, distance.depth(), target);
-            encoder.pop_debug_group();
-            mark(encoder, "composite");
-        }
-        if let (true, Some(forward)) = (plan.forward, &self.forward) {
-            encoder.push_debug_group("forward");
-            forward.encode(
-                encoder,
-                queue,
-                scene,
-                camera,
-                &light_view,
-                plan.method,
-                &self.settings.shadow_map,
-                target,
-            );
-            encoder.pop_debug_group();
-            mark(encoder, "forward");
-        }
+        let result = self.encode_frame(&device, queue, encoder, scene, &matrices, target, plan, &mut mark);
         if let Some(t) = &mut timer {
             t.finish(encoder);
         }
         self.timer = timer;
+        let (shadow_maps_rendered, spreads, light_view) = result?;
+        let _ = casters;
         let report = FrameReport {
             plan,
             shadow_maps_rendered,
@@ -629,7 +516,132 @@ impl Renderer {
             light_view,
         };
         self.last_report = Some(report);
-        Some(report)
+        Ok(Some(report))
+    }
+
+    /// The frame's passes in order; returns whether the maps were rendered, the spreads and
+    /// the light's view.
+    #[allow(clippy::too_many_arguments)]
+    fn encode_frame(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        camera: &CameraMatrices,
+        target: &wgpu::TextureView,
+        plan: PassPlan,
+        mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str),
+    ) -> Result<(bool, DerivedSpreads, LightView)> {
+        let light = *scene.light();
+        let casters = scene.casters();
+        // The camera's uniform: what the prepass, the composite and the reference read.
+        let loose = LightView::fit(&light, &scene.shadow_bounds());
+        let spreads = crate::shadows::spreads(&self.settings, &light, &loose, &scene.shadow_bounds());
+        self.write_frame_uniform(queue, scene, camera, &loose, spreads);
+
+        if plan.depth_prepass
+            && let Some(prepass) = &self.prepass
+        {
+            encoder.push_debug_group("depth prepass");
+            prepass.encode(encoder, scene);
+            encoder.pop_debug_group();
+            mark(encoder, "depth prepass");
+        }
+        let mut result = (false, spreads, loose);
+        if plan.shadow_map {
+            let forward_depth;
+            let (depth, mask) = match &self.prepass {
+                Some(p) => (p.depth_texture(), Some(p.receiver_mask_texture())),
+                None => {
+                    // The forward path reads no depth; the maps only need the camera for the fit.
+                    forward_depth = self.forward_depth_stand_in(device);
+                    (&forward_depth, None)
+                }
+            };
+            let view = ViewInputs {
+                camera: *camera,
+                depth,
+                receiver_mask: mask,
+            };
+            self.shadows.prepare(device, queue, casters, &view)?;
+            let reports = self.shadows.encode_marked(encoder, casters, mark)?;
+            if let Some(r) = reports.first() {
+                result = (r.shadow_maps_rendered, r.spreads, r.light_view);
+            }
+        }
+        if plan.composite {
+            let source = if plan.reference {
+                self.reference.as_ref().map(|r| r.visibility().clone())
+            } else {
+                self.shadows.visibility_layer(self.light).cloned()
+            };
+            if let (Some(composite), Some(source)) = (&mut self.composite, source) {
+                if self.composite_source.as_ref() != Some(&source) {
+                    composite.bind(device, &self.frame_buffer, &source);
+                    self.composite_source = Some(source);
+                }
+            }
+            if let (Some(composite), Some(prepass)) = (&self.composite, &self.prepass) {
+                encoder.push_debug_group("composite");
+                composite.encode(encoder, scene, prepass.depth(), target);
+                encoder.pop_debug_group();
+                mark(encoder, "composite");
+            }
+        }
+        if plan.forward {
+            let shadow_map = self
+                .shadows
+                .shadow_map(self.light)
+                .map(|m| (m.texture().clone(), m.view().clone()));
+            if let Some((texture, view)) = shadow_map {
+                let forward = match &mut self.forward {
+                    Some(f) => f,
+                    None => {
+                        let mut f = ForwardPass::new(device, &self.layouts, self.color_format, &view);
+                        f.resize(device, self.size.0, self.size.1);
+                        self.forward_source = Some(texture.clone());
+                        self.forward.insert(f)
+                    }
+                };
+                if self.forward_source.as_ref() != Some(&texture) {
+                    forward.set_shadow_map(device, &view);
+                    self.forward_source = Some(texture);
+                }
+                encoder.push_debug_group("forward");
+                forward.encode(
+                    encoder,
+                    queue,
+                    scene,
+                    camera,
+                    &result.2,
+                    plan.method,
+                    &self.settings.shadow_map,
+                    target,
+                );
+                encoder.pop_debug_group();
+                mark(encoder, "forward");
+            }
+        }
+        Ok(result)
+    }
+
+    /// A 1x1 depth texture standing in for the prepass where the forward pass runs alone.
+    fn forward_depth_stand_in(&self, device: &wgpu::Device) -> wgpu::Texture {
+        device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("Renderer::no_depth"),
+            size: wgpu::Extent3d {
+                width: self.size.0,
+                height: self.size.1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DepthPrepass::DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        })
     }
 
     /// Renders the ground truth ([`ShadowMethod::Reference`], which must be the current
@@ -653,7 +665,7 @@ impl Renderer {
         if !self.accumulate_reference(device, queue, scene, camera, total, &mut progress)? {
             return Ok(None);
         }
-        Ok(self.composite_reference(device, queue, scene, camera, target))
+        self.composite_reference(device, queue, scene, camera, target)
     }
 
     /// Adds up to `max_samples` more light samples to the reference and composites the mean
@@ -674,7 +686,7 @@ impl Renderer {
         if !self.accumulate_reference(device, queue, scene, camera, max_samples, &mut |_, _| {})? {
             return Ok(None);
         }
-        self.composite_reference(device, queue, scene, camera, target);
+        self.composite_reference(device, queue, scene, camera, target)?;
         Ok(self.reference_progress())
     }
 
@@ -719,17 +731,23 @@ impl Renderer {
             settings: self.settings,
         };
         let restart = self.reference_key.as_ref() != Some(&key);
+        let matrices = CameraMatrices::from_camera(camera, self.size.0 as f32 / self.size.1 as f32);
         let loose = LightView::fit(&light, &scene.shadow_bounds());
-        let spreads = self.spreads(&light, &loose, scene);
-        self.write_frame_uniform(queue, scene, camera, &loose, spreads);
-        let (Some(distance), Some(reference)) = (&self.distance_map, &mut self.reference) else {
+        let spreads = crate::shadows::spreads(&self.settings, &light, &loose, &scene.shadow_bounds());
+        self.write_frame_uniform(queue, scene, &matrices, &loose, spreads);
+        let casters = scene.casters();
+        let (Some(prepass), Some(reference)) = (&self.prepass, &mut self.reference) else {
             return Ok(false);
         };
+        let Some(shadow_map) = self.shadows.reference_shadow_map(device, self.light, casters) else {
+            return Ok(false);
+        };
+        reference.bind(device, &self.frame_buffer, prepass.depth(), shadow_map.view());
         if restart {
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("reference: depth prepass"),
             });
-            distance.encode(&mut encoder, scene, false);
+            prepass.encode(&mut encoder, scene);
             queue.submit([encoder.finish()]);
             reference.reset();
             self.reference_key = Some(key);
@@ -742,7 +760,8 @@ impl Renderer {
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("reference: sample"),
             });
-            self.shadow_map.encode(&mut encoder, queue, scene, &view);
+            shadow_map.prepare(device, queue, casters, &view);
+            shadow_map.encode(&mut encoder, casters);
             reference.accumulate(&mut encoder, queue, &view);
             queue.submit([encoder.finish()]);
             if k % 16 == 15 {
@@ -758,11 +777,6 @@ impl Renderer {
             }
             progress(k + 1, total);
         }
-        if last > first {
-            // The shadow map now holds the last sample's, and the mean sits in the other target.
-            self.shadow_key = None;
-            self.rebind(device);
-        }
         Ok(true)
     }
 
@@ -774,7 +788,7 @@ impl Renderer {
         scene: &GpuScene,
         camera: &Camera,
         target: &wgpu::TextureView,
-    ) -> Option<FrameReport> {
+    ) -> Result<Option<FrameReport>> {
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("reference: composite"),
         });
@@ -783,12 +797,12 @@ impl Renderer {
         report
     }
 
-    /// Writes the uniform every screen-space pass reads.
+    /// Writes the uniform the prepass, composite and reference read.
     fn write_frame_uniform(
         &self,
         queue: &wgpu::Queue,
         scene: &GpuScene,
-        camera: &Camera,
+        camera: &CameraMatrices,
         light_view: &LightView,
         spreads: DerivedSpreads,
     ) {
@@ -806,26 +820,22 @@ impl Renderer {
                 settings: &self.settings,
                 spreads,
                 caster_radius: scene.caster_bounds().radius(),
+                receiver_mask: false,
+                distance_map: false,
             })),
         );
     }
+}
 
-    /// The fatten distance and penumbra scale for this frame: derived from the light in
-    /// physical mode, the user's in manual mode.
-    fn spreads(&self, light: &Light, light_view: &LightView, scene: &GpuScene) -> DerivedSpreads {
-        let derived = derive_spreads(
-            light,
-            light_view,
-            &scene.shadow_bounds(),
-            self.settings.shadow_map.resolution,
-        );
-        match self.settings.penumbra.spreads {
-            SpreadMode::Physical => derived,
-            SpreadMode::Manual { fatten_distance, .. } => DerivedSpreads {
-                fatten_distance,
-                ..derived
-            },
-        }
+/// The settings the renderer's [`Shadows`] runs: the reference accumulates its own maps, so
+/// its light is given hard-shadow settings.
+fn shadows_settings(settings: &ShadowSettings) -> ShadowSettings {
+    match settings.method {
+        ShadowMethod::Reference => ShadowSettings {
+            method: ShadowMethod::Hard,
+            ..*settings
+        },
+        _ => *settings,
     }
 }
 
@@ -835,36 +845,5 @@ fn keep<T>(slot: &mut Option<T>, wanted: bool, make: impl FnOnce() -> T) {
         *slot = None;
     } else if slot.is_none() {
         *slot = Some(make());
-    }
-}
-
-enum AnyPass<'a> {
-    Distance(&'a mut DistanceMapPass),
-    Pcf(&'a mut PcfPass),
-    Pcss(&'a mut PcssPass),
-    Reference(&'a mut ReferencePass),
-    Blur(&'a mut BlurPass),
-    Forward(&'a mut ForwardPass),
-}
-
-/// Calls `f` on every allocated pass with screen-sized targets.
-fn for_each_pass_mut(r: &mut Renderer, mut f: impl FnMut(AnyPass)) {
-    if let Some(p) = &mut r.distance_map {
-        f(AnyPass::Distance(p));
-    }
-    if let Some(p) = &mut r.pcf {
-        f(AnyPass::Pcf(p));
-    }
-    if let Some(p) = &mut r.pcss {
-        f(AnyPass::Pcss(p));
-    }
-    if let Some(p) = &mut r.reference {
-        f(AnyPass::Reference(p));
-    }
-    if let Some(p) = &mut r.blur {
-        f(AnyPass::Blur(p));
-    }
-    if let Some(p) = &mut r.forward {
-        f(AnyPass::Forward(p));
     }
 }

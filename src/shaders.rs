@@ -11,7 +11,8 @@ macro_rules! wgsl {
 
 pub const SHADOW_MAP: &str = wgsl!("common/scene.wgsl", "shadow_map.wgsl");
 pub const FATTENED_SHADOW_MAP: &str = wgsl!("common/scene.wgsl", "fattened_shadow_map.wgsl");
-pub const DISTANCE_MAP: &str = wgsl!("common/frame.wgsl", "common/scene.wgsl", "distance_map.wgsl");
+pub const DEPTH_PREPASS: &str = wgsl!("common/frame.wgsl", "common/scene.wgsl", "depth_prepass.wgsl");
+pub const DISTANCE_MAP: &str = wgsl!("common/frame.wgsl", "common/fullscreen.wgsl", "distance_map.wgsl");
 pub const PCF: &str = wgsl!(
     "common/frame.wgsl",
     "common/fullscreen.wgsl",
@@ -25,18 +26,21 @@ pub const PCSS: &str = wgsl!(
     "pcss.wgsl"
 );
 pub const BLUR: &str = wgsl!("common/frame.wgsl", "common/fullscreen.wgsl", "blur.wgsl");
+pub const RESOLVE: &str = wgsl!("common/frame.wgsl", "common/fullscreen.wgsl", "resolve.wgsl");
 pub const COMPOSITE: &str = wgsl!("common/frame.wgsl", "common/scene.wgsl", "composite.wgsl");
 pub const REFERENCE: &str = wgsl!("common/frame.wgsl", "common/fullscreen.wgsl", "reference.wgsl");
 pub const FORWARD: &str = wgsl!("common/scene.wgsl", "forward.wgsl");
 
 /// Every pass's composed source, by the name of its file in `shaders/`.
-pub const ALL: [(&str, &str); 9] = [
+pub const ALL: [(&str, &str); 11] = [
     ("shadow_map", SHADOW_MAP),
     ("fattened_shadow_map", FATTENED_SHADOW_MAP),
+    ("depth_prepass", DEPTH_PREPASS),
     ("distance_map", DISTANCE_MAP),
     ("pcf", PCF),
     ("pcss", PCSS),
     ("blur", BLUR),
+    ("resolve", RESOLVE),
     ("composite", COMPOSITE),
     ("reference", REFERENCE),
     ("forward", FORWARD),

@@ -59,6 +59,10 @@ fn compare_with_reference(name: &str, actual: &image::RgbaImage) {
     let errors = error_map.to_vec();
     let mean = errors.iter().sum::<f32>() / errors.len() as f32;
     let bad = errors.iter().filter(|&&e| e > BAD_PIXEL_FLIP).count() as f32 / errors.len() as f32;
+    eprintln!(
+        "{name}: mean FLIP {mean:.5}, {:.3}% of pixels above {BAD_PIXEL_FLIP}",
+        bad * 100.0
+    );
     if mean > MEAN_FLIP_TOLERANCE || bad > BAD_PIXEL_SHARE {
         let out = common::output_dir();
         actual.save(out.join(format!("{name}.actual.png"))).unwrap();

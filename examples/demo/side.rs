@@ -21,7 +21,7 @@ struct FrameKey {
     light: Light,
     settings: ShadowSettings,
     size: (u32, u32),
-    scene: (u64, u64),
+    scene: (u64, u64, u64),
 }
 
 struct Target {
@@ -175,7 +175,7 @@ impl Side {
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("demo side"),
             });
-            renderer.render(queue, &mut encoder, scene, camera, &target.view);
+            renderer.render(queue, &mut encoder, scene, camera, &target.view)?;
             queue.submit([encoder.finish()]);
             self.stats.reference = None;
             if let Some(times) = renderer.pass_times(device) {

@@ -5,10 +5,12 @@ struct Frame {
     view_proj: mat4x4<f32>,
     inv_view_proj: mat4x4<f32>,
     light_view_proj: mat4x4<f32>,
-    // xyz: eye; w: pixels per world unit at view distance 1
+    // xyz: eye (w = 1, perspective) or direction toward the camera (w = 0, orthographic)
     camera_position: vec4<f32>,
-    // x: near, y: far
+    // (a, b, c, e): camera depth d lies at view distance |(a d + b) / (c d + e)|
     camera_depth: vec4<f32>,
+    // x: pixels per world unit at clip w = 1; y: 1 reversed depth (clears to 0), 0 standard
+    view_params: vec4<f32>,
     // xyz: direction the light travels; w: 0 directional, 1 spot
     light_direction: vec4<f32>,
     // xyz: spot position; w: cos(outer cone angle)
@@ -36,6 +38,14 @@ struct Frame {
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
+
+// The direction from `world` toward the camera (not normalized).
+fn to_camera(world: vec3<f32>) -> vec3<f32> {
+    if frame.camera_position.w > 0.5 {
+        return frame.camera_position.xyz - world;
+    }
+    return frame.camera_position.xyz;
+}
 
 // Light-space position: xy texture coordinates, z depth in [0, 1].
 fn to_shadow_map(world: vec3<f32>) -> vec3<f32> {

@@ -15,16 +15,24 @@ fn world_position(pixel: vec2<f32>, depth: f32) -> vec3<f32> {
     return world.xyz / world.w;
 }
 
-// Distance from the camera along its view, for a reversed camera depth (1 near, 0 far).
+// Distance from the camera along its view for a camera depth (any projection the inverse of
+// which keeps x and y out of its z and w rows: perspective, orthographic, off-centre, jittered).
 fn view_depth(depth: f32) -> f32 {
-    let near = frame.camera_depth.x;
-    let far = frame.camera_depth.y;
-    return near * far / max(near + depth * (far - near), 1e-20);
+    let c = frame.camera_depth;
+    return abs((c.x * depth + c.y) / (c.z * depth + c.w + 1e-30));
+}
+
+// Clip w at a view distance: the distance in perspective, 1 in orthographic.
+fn clip_w(view_distance: f32) -> f32 {
+    return select(1.0, view_distance, frame.camera_position.w > 0.5);
 }
 
 // True where the camera depth buffer holds its clear value: nothing was drawn.
 fn is_background(depth: f32) -> bool {
-    return depth <= 0.0;
+    if frame.view_params.y > 0.5 {
+        return depth <= 0.0;
+    }
+    return depth >= 1.0;
 }
 
 // A stable per-pixel noise value in [0, 1) (interleaved gradient noise, Jimenez 2014).

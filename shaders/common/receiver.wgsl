@@ -36,7 +36,7 @@ fn receiver(pixel: vec2<i32>, depth: f32, texels: f32) -> Receiver {
     let n = cross(dx, dy);
     let len = length(n);
     if len > 1e-30 {
-        let facing = select(-1.0, 1.0, dot(n, frame.camera_position.xyz - center) >= 0.0);
+        let facing = select(-1.0, 1.0, dot(n, to_camera(center)) >= 0.0);
         let texel_world = shadow_map_world_size(center).x / frame.light_depth.w;
         out.world = center + n / len * facing * texel_world * texels;
     }

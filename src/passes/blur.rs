@@ -134,11 +134,8 @@ impl BlurPass {
         &self.output.0
     }
 
-    /// Records both directions for a blur of `taps` taps.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, queue: &wgpu::Queue, taps: u32) {
-        let Some(groups) = &self.bind_groups else {
-            return;
-        };
+    /// Uploads the Gaussian weights of a blur of `taps` taps.
+    pub fn prepare(&self, queue: &wgpu::Queue, taps: u32) {
         let weights = gaussian_weights(taps);
         for (i, axis) in [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]]
             .into_iter()
@@ -150,6 +147,13 @@ impl BlurPass {
                 bytemuck::bytes_of(&BlurUniform { axis, weights }),
             );
         }
+    }
+
+    /// Records both directions ([`Self::prepare`] first).
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
+        let Some(groups) = &self.bind_groups else {
+            return;
+        };
         draw_fullscreen(
             encoder,
             "BlurPass::horizontal",

@@ -1,14 +1,15 @@
-//! Composite pass: the lit scene from the camera, its direct light multiplied by a screen-space
-//! visibility texture, lightened far from occluders by the indirect-light term.
+//! Composite pass of the convenience [`crate::Renderer`]: the lit scene from the camera, its
+//! direct light multiplied by a screen-space visibility (an engine does this in its own lit
+//! shader).
 //!
-//! Input: every instance, the frame uniform, the (blurred) visibility, the distance map and the
-//! prepass's camera depth (tested, not written). Output: the lit color in the caller's target.
+//! Input: every instance, the frame uniform, the resolved visibility (indirect attenuation
+//! already applied; or the reference's mean) and the prepass's camera depth (tested, not
+//! written). Output: the lit color in the caller's target.
 
 use super::{POSITION, entries, entry, stream, vertex_layout};
 use crate::gpu_scene::{GpuScene, SceneLayouts};
 
 pub struct CompositePass {
-    color_format: wgpu::TextureFormat,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     bind_group: Option<wgpu::BindGroup>,
@@ -27,7 +28,6 @@ impl CompositePass {
             entries: &[
                 entry::uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT, frame_size, false),
                 entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
-                entry::texture_2d(2, wgpu::TextureSampleType::Float { filterable: false }),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -52,7 +52,7 @@ impl CompositePass {
             },
             primitive: wgpu::PrimitiveState::default(),
             depth_stencil: Some(wgpu::DepthStencilState {
-                format: super::DistanceMapPass::DEPTH_FORMAT,
+                format: super::DepthPrepass::DEPTH_FORMAT,
                 depth_write_enabled: Some(false),
                 depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
                 stencil: Default::default(),
@@ -69,31 +69,19 @@ impl CompositePass {
             cache: None,
         });
         Self {
-            color_format,
             layout,
             pipeline,
             bind_group: None,
         }
     }
 
-    pub fn color_format(&self) -> wgpu::TextureFormat {
-        self.color_format
-    }
-
-    pub fn bind(
-        &mut self,
-        device: &wgpu::Device,
-        frame: &wgpu::Buffer,
-        visibility: &wgpu::TextureView,
-        distance_map: &wgpu::TextureView,
-    ) {
+    pub fn bind(&mut self, device: &wgpu::Device, frame: &wgpu::Buffer, visibility: &wgpu::TextureView) {
         self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("CompositePass::bind_group"),
             layout: &self.layout,
             entries: &entries(&[
                 frame.as_entire_binding(),
                 wgpu::BindingResource::TextureView(visibility),
-                wgpu::BindingResource::TextureView(distance_map),
             ]),
         }));
     }
@@ -133,18 +121,6 @@ impl CompositePass {
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
-        for inst in &scene.instances {
-            let mesh = &scene.meshes[inst.mesh];
-            if mesh.index_count == 0 {
-                continue;
-            }
-            pass.set_bind_group(1, &scene.instance_bind_group, &[inst.uniform_offset]);
-            pass.set_bind_group(2, &scene.materials[inst.material], &[]);
-            pass.set_vertex_buffer(0, mesh.positions.slice(..));
-            pass.set_vertex_buffer(1, mesh.normals.slice(..));
-            pass.set_vertex_buffer(2, mesh.uvs.slice(..));
-            pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..mesh.index_count, 0, 0..1);
-        }
+        scene.draw(&mut pass, crate::gpu_scene::CameraStreams::PositionNormalUv);
     }
 }

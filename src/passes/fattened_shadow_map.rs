@@ -1,7 +1,7 @@
 //! Fattened shadow map pass: the casters from the light, each vertex pushed outward along its
 //! smoothed normal by `fatten_distance` world units.
 //!
-//! Input: the [`GpuScene`]'s casters (positions and smoothed normals), the [`LightView`] and the
+//! Input: the casters ([`crate::Casters`]) (positions and smoothed normals), the [`LightView`] and the
 //! fatten distance. Output: a depth texture like the shadow map's (same projection, resolution
 //! and format). Because every vertex at one position shares one smoothed normal, meshes with
 //! hard edges fatten into closed shapes. Alpha-masked casters are fattened whole (a superset of
@@ -10,8 +10,9 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::shadow_map::{begin_depth_pass, depth_state, light_depth_target};
-use super::{POSITION, entry, stream, vertex_layout};
-use crate::gpu_scene::{GpuScene, SceneLayouts};
+use super::{CasterPipelines, SecondStream, entry};
+use crate::casters::{Casters, Streams};
+use crate::gpu_scene::SceneLayouts;
 use crate::light_space::LightView;
 use crate::settings::ShadowMapSettings;
 
@@ -23,12 +24,11 @@ struct FattenUniform {
 }
 
 pub struct FattenedShadowMapPass {
-    settings: ShadowMapSettings,
     texture: wgpu::Texture,
     view: wgpu::TextureView,
     uniform: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
-    pipeline: wgpu::RenderPipeline,
+    pipelines: CasterPipelines,
 }
 
 impl FattenedShadowMapPass {
@@ -61,45 +61,26 @@ impl FattenedShadowMapPass {
                 resource: uniform.as_entire_binding(),
             }],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("FattenedShadowMapPass::pipeline_layout"),
-            bind_group_layouts: &[Some(&bind_layout), Some(&layouts.instance)],
-            immediate_size: 0,
-        });
-        const SMOOTHED_NORMAL: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x3);
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("FattenedShadowMapPass::pipeline"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[
-                    Some(vertex_layout(&POSITION)),
-                    Some(vertex_layout(&SMOOTHED_NORMAL)),
-                ],
-            },
+        let pipelines = CasterPipelines::new(
+            device,
+            "FattenedShadowMapPass::pipeline",
+            &shader,
+            &[Some(&bind_layout), Some(&layouts.instance)],
+            "vs_main",
+            None,
+            SecondStream::SmoothedNormals,
             // Fattened shapes are drawn from both sides: inflating can turn thin parts inside out.
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(depth_state(settings)),
-            multisample: Default::default(),
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
+            wgpu::PrimitiveState::default(),
+            depth_state(settings),
+        );
         let (texture, view) = light_depth_target(device, settings, "FattenedShadowMapPass::fattened_map");
         Self {
-            settings: *settings,
             texture,
             view,
             uniform,
             bind_group,
-            pipeline,
+            pipelines,
         }
-    }
-
-    pub fn settings(&self) -> &ShadowMapSettings {
-        &self.settings
     }
 
     /// The fattened depth map.
@@ -111,33 +92,29 @@ impl FattenedShadowMapPass {
         &self.texture
     }
 
-    /// Records the pass: every caster, inflated by `fatten_distance` world units.
-    pub fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
+    /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view and
+    /// the fatten distance (world units).
+    pub(crate) fn prepare(
+        &mut self,
+        device: &wgpu::Device,
         queue: &wgpu::Queue,
-        scene: &GpuScene,
+        casters: &Casters,
         light: &LightView,
         fatten_distance: f32,
     ) {
+        self.pipelines
+            .prepare(device, &casters.draw_layouts(Streams::Fattened));
         let uniform = FattenUniform {
             view_proj: light.view_projection.to_cols_array_2d(),
             params: [fatten_distance, 0.0, 0.0, 0.0],
         };
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
+    }
+
+    /// Records the pass: every caster, inflated ([`Self::prepare`] first).
+    pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
         let mut pass = begin_depth_pass(encoder, "FattenedShadowMapPass", &self.view);
-        pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.bind_group, &[]);
-        for inst in scene.instances.iter().filter(|i| i.caster) {
-            let mesh = &scene.meshes[inst.mesh];
-            if mesh.index_count == 0 {
-                continue;
-            }
-            pass.set_bind_group(1, &scene.instance_bind_group, &[inst.uniform_offset]);
-            pass.set_vertex_buffer(0, mesh.positions.slice(..));
-            pass.set_vertex_buffer(1, mesh.smoothed_normals.slice(..));
-            pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..mesh.index_count, 0, 0..1);
-        }
+        casters.draw(&mut pass, Streams::Fattened, |l| self.pipelines.get(l));
     }
 }

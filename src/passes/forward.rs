@@ -1,7 +1,7 @@
 //! Forward lit pass: draws every instance from the camera with Lambert diffuse plus ambient,
 //! shadowing the direct light with one comparison lookup into the shadow map.
 //!
-//! Inputs: the [`GpuScene`], the [`Camera`], the [`LightView`] and the shadow map. Output: the
+//! Inputs: the [`GpuScene`], the camera's matrices, the [`LightView`] and the shadow map. Output: the
 //! lit color in the caller's target (any color format given at creation) and the pass's own
 //! camera depth buffer. [`ShadowMethod::Hard`] binds a nearest-filtering comparison sampler (one
 //! tap), [`ShadowMethod::Hardware2x2`] a linear one (the hardware's 2x2 PCF); the pipeline is
@@ -12,8 +12,9 @@ use bytemuck::{Pod, Zeroable};
 use super::{POSITION, entry, stream, vertex_layout};
 use crate::gpu_scene::{GpuScene, SceneLayouts, vec4};
 use crate::light_space::LightView;
-use crate::scene::{Camera, Light};
+use crate::scene::Light;
 use crate::settings::ShadowMethod;
+use crate::view::CameraMatrices;
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -36,7 +37,6 @@ pub(crate) const BACKGROUND: wgpu::Color = wgpu::Color {
 };
 
 pub struct ForwardPass {
-    color_format: wgpu::TextureFormat,
     frame_layout: wgpu::BindGroupLayout,
     frame_buffer: wgpu::Buffer,
     hard_sampler: wgpu::Sampler,
@@ -141,7 +141,6 @@ impl ForwardPass {
         let pcf_bind_group = make_bind_group(&pcf_sampler, "ForwardPass::frame_pcf");
         let depth = depth_target(device, 1, 1);
         Self {
-            color_format,
             frame_layout,
             frame_buffer,
             hard_sampler,
@@ -152,10 +151,6 @@ impl ForwardPass {
             depth,
             size: (1, 1),
         }
-    }
-
-    pub fn color_format(&self) -> wgpu::TextureFormat {
-        self.color_format
     }
 
     /// Points the pass at a new shadow map (after the shadow map was recreated).
@@ -194,13 +189,12 @@ impl ForwardPass {
         encoder: &mut wgpu::CommandEncoder,
         queue: &wgpu::Queue,
         scene: &GpuScene,
-        camera: &Camera,
+        camera: &CameraMatrices,
         light_view: &LightView,
         method: ShadowMethod,
         shadow_map: &crate::ShadowMapSettings,
         target: &wgpu::TextureView,
     ) {
-        let aspect = self.size.0 as f32 / self.size.1 as f32;
         let light = scene.light();
         let direction = light.direction();
         let (kind, position, cos_outer, cos_inner) = match light {
@@ -211,9 +205,9 @@ impl ForwardPass {
             }
         };
         let frame = FrameUniform {
-            view_proj: camera.view_projection(aspect).to_cols_array_2d(),
+            view_proj: camera.view_projection().to_cols_array_2d(),
             light_view_proj: light_view.view_projection.to_cols_array_2d(),
-            camera_position: vec4(camera.eye, normal_offset_scale(light_view, shadow_map)),
+            camera_position: vec4(camera.eye(), normal_offset_scale(light_view, shadow_map)),
             light_direction: vec4(direction, kind),
             light_position: vec4(position, cos_outer),
             light_radiance: vec4(light.radiance(), cos_inner),
@@ -249,19 +243,7 @@ impl ForwardPass {
             _ => &self.pcf_bind_group,
         };
         pass.set_bind_group(0, frame_group, &[]);
-        for inst in &scene.instances {
-            let mesh = &scene.meshes[inst.mesh];
-            if mesh.index_count == 0 {
-                continue;
-            }
-            pass.set_bind_group(1, &scene.instance_bind_group, &[inst.uniform_offset]);
-            pass.set_bind_group(2, &scene.materials[inst.material], &[]);
-            pass.set_vertex_buffer(0, mesh.positions.slice(..));
-            pass.set_vertex_buffer(1, mesh.normals.slice(..));
-            pass.set_vertex_buffer(2, mesh.uvs.slice(..));
-            pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..mesh.index_count, 0, 0..1);
-        }
+        scene.draw(&mut pass, crate::gpu_scene::CameraStreams::PositionNormalUv);
     }
 }
 

@@ -4,32 +4,38 @@
 //! |---|---|---|---|
 //! | [`ShadowMapPass`] | `shaders/shadow_map.wgsl` | casters, light view | depth shadow map |
 //! | [`FattenedShadowMapPass`] | `shaders/fattened_shadow_map.wgsl` | casters, smoothed normals, light view | fattened depth map |
-//! | [`DistanceMapPass`] | `shaders/distance_map.wgsl` | all instances, camera, fattened map | camera depth; distance + mask (RG16F) |
+//! | [`DepthPrepass`] | `shaders/depth_prepass.wgsl` | all instances, camera | camera depth, receiver mask (the convenience renderer's; an engine has its own) |
+//! | [`DistanceMapPass`] | `shaders/distance_map.wgsl` | camera depth, receiver mask, fattened map | distance + mask (RG16F), full screen |
 //! | [`PcfPass`] | `shaders/pcf.wgsl` | camera depth, distance map, shadow map | visibility (R16F) |
 //! | [`PcssPass`] | `shaders/pcss.wgsl` | camera depth, shadow map | visibility (R16F) |
 //! | [`BlurPass`] | `shaders/blur.wgsl` | visibility, distance map, camera depth | blurred visibility (R16F) |
-//! | [`CompositePass`] | `shaders/composite.wgsl` | all instances, visibility, distance map, camera depth | lit color |
+//! | [`ResolvePass`] | `shaders/resolve.wgsl` | visibility, distance map, camera depth, receiver mask | one layer of the visibility array, indirect attenuation applied |
+//! | [`CompositePass`] | `shaders/composite.wgsl` | all instances, resolved visibility, camera depth | lit color |
 //! | [`ReferencePass`] | `shaders/reference.wgsl` | camera depth, one hard shadow map per light sample | mean visibility (R32F) |
 //! | [`ForwardPass`] | `shaders/forward.wgsl` | all instances, camera, shadow map | lit color + camera depth (hard, hw2x2) |
 
 mod blur;
 mod composite;
+mod depth_prepass;
 mod distance_map;
 mod fattened_shadow_map;
 mod forward;
 mod pcf;
 mod pcss;
 mod reference;
+mod resolve;
 mod shadow_map;
 
 pub use blur::BlurPass;
 pub use composite::CompositePass;
+pub use depth_prepass::DepthPrepass;
 pub use distance_map::DistanceMapPass;
 pub use fattened_shadow_map::FattenedShadowMapPass;
 pub use forward::ForwardPass;
 pub use pcf::PcfPass;
 pub use pcss::PcssPass;
 pub use reference::ReferencePass;
+pub use resolve::ResolvePass;
 pub use shadow_map::ShadowMapPass;
 
 /// Vertex buffer layout of one tightly packed attribute stream.
@@ -208,4 +214,108 @@ pub(crate) fn entries<'a>(resources: &[wgpu::BindingResource<'a>]) -> Vec<wgpu::
             resource: r.clone(),
         })
         .collect()
+}
+
+/// The second vertex stream of a caster pipeline, after the positions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum SecondStream {
+    None,
+    /// The draw's texture coordinates (alpha-masked casters).
+    Uv,
+    /// penumbra's tightly packed smoothed normals.
+    SmoothedNormals,
+}
+
+/// The pipelines of one light-space pass for every vertex layout its casters come in: the
+/// engine's buffers have their own strides and formats, and a pipeline is made for each
+/// layout the first time it is seen ([`CasterPipelines::prepare`]).
+pub(crate) struct CasterPipelines {
+    label: &'static str,
+    shader: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    vertex_entry: &'static str,
+    fragment_entry: Option<&'static str>,
+    second: SecondStream,
+    primitive: wgpu::PrimitiveState,
+    depth: wgpu::DepthStencilState,
+    pipelines: std::collections::HashMap<crate::casters::DrawLayout, wgpu::RenderPipeline>,
+}
+
+impl CasterPipelines {
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        label: &'static str,
+        shader: &wgpu::ShaderModule,
+        bind_group_layouts: &[Option<&wgpu::BindGroupLayout>],
+        vertex_entry: &'static str,
+        fragment_entry: Option<&'static str>,
+        second: SecondStream,
+        primitive: wgpu::PrimitiveState,
+        depth: wgpu::DepthStencilState,
+    ) -> Self {
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts,
+            immediate_size: 0,
+        });
+        Self {
+            label,
+            shader: shader.clone(),
+            layout,
+            vertex_entry,
+            fragment_entry,
+            second,
+            primitive,
+            depth,
+            pipelines: Default::default(),
+        }
+    }
+
+    /// Makes the pipelines `layouts` need that do not exist yet.
+    pub(crate) fn prepare(&mut self, device: &wgpu::Device, layouts: &[crate::casters::DrawLayout]) {
+        use crate::casters::StreamLayout;
+        for layout in layouts {
+            if self.pipelines.contains_key(layout) {
+                continue;
+            }
+            let position = layout.position.attributes(0);
+            let second_layout = match self.second {
+                SecondStream::None => None,
+                SecondStream::Uv => layout.uv,
+                SecondStream::SmoothedNormals => Some(StreamLayout::FLOAT3),
+            };
+            let second_attributes = second_layout.map(|l| l.attributes(1));
+            let mut buffers = vec![Some(layout.position.buffer_layout(&position))];
+            if let (Some(l), Some(a)) = (second_layout, &second_attributes) {
+                buffers.push(Some(l.buffer_layout(a)));
+            }
+            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(self.label),
+                layout: Some(&self.layout),
+                vertex: wgpu::VertexState {
+                    module: &self.shader,
+                    entry_point: Some(self.vertex_entry),
+                    compilation_options: Default::default(),
+                    buffers: &buffers,
+                },
+                primitive: self.primitive,
+                depth_stencil: Some(self.depth.clone()),
+                multisample: Default::default(),
+                fragment: self.fragment_entry.map(|entry| wgpu::FragmentState {
+                    module: &self.shader,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    targets: &[],
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+            self.pipelines.insert(*layout, pipeline);
+        }
+    }
+
+    pub(crate) fn get(&self, layout: crate::casters::DrawLayout) -> Option<&wgpu::RenderPipeline> {
+        self.pipelines.get(&layout)
+    }
 }

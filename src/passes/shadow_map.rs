@@ -1,6 +1,6 @@
 //! Shadow map pass: renders the casters' depth from the light.
 //!
-//! Input: the [`GpuScene`]'s casters and the [`LightView`]. Output: a square depth texture
+//! Input: the casters ([`crate::Casters`]) and the [`LightView`]. Output: a square depth texture
 //! ([`ShadowMapPass::view`]) of the configured resolution and format, cleared to the far plane.
 //! Opaque casters use one position-only pipeline whatever their material; alpha-masked casters
 //! use a second minimal pipeline that reads alpha. Constant and slope-scaled depth bias are
@@ -8,8 +8,9 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{POSITION, entry, stream, vertex_layout};
-use crate::gpu_scene::{GpuScene, SceneLayouts};
+use super::{CasterPipelines, SecondStream, entry};
+use crate::casters::{Casters, Streams};
+use crate::gpu_scene::SceneLayouts;
 use crate::light_space::LightView;
 use crate::settings::ShadowMapSettings;
 
@@ -20,13 +21,12 @@ struct LightUniform {
 }
 
 pub struct ShadowMapPass {
-    settings: ShadowMapSettings,
     texture: wgpu::Texture,
     view: wgpu::TextureView,
     light_buffer: wgpu::Buffer,
     light_bind_group: wgpu::BindGroup,
-    opaque_pipeline: wgpu::RenderPipeline,
-    masked_pipeline: wgpu::RenderPipeline,
+    opaque: CasterPipelines,
+    masked: CasterPipelines,
 }
 
 impl ShadowMapPass {
@@ -56,80 +56,45 @@ impl ShadowMapPass {
                 resource: light_buffer.as_entire_binding(),
             }],
         });
-        let depth_stencil = depth_state(settings);
         let primitive = wgpu::PrimitiveState {
             cull_mode: settings.cull_mode.face(),
             ..Default::default()
         };
-
-        let opaque_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("ShadowMapPass::opaque_layout"),
-            bind_group_layouts: &[Some(&light_layout), Some(&layouts.instance)],
-            immediate_size: 0,
-        });
-        let opaque_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("ShadowMapPass::opaque"),
-            layout: Some(&opaque_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_opaque"),
-                compilation_options: Default::default(),
-                buffers: &[Some(vertex_layout(&POSITION))],
-            },
+        let opaque = CasterPipelines::new(
+            device,
+            "ShadowMapPass::opaque",
+            &shader,
+            &[Some(&light_layout), Some(&layouts.instance)],
+            "vs_opaque",
+            None,
+            SecondStream::None,
             primitive,
-            depth_stencil: Some(depth_stencil.clone()),
-            multisample: Default::default(),
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
-
-        let masked_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("ShadowMapPass::masked_layout"),
-            bind_group_layouts: &[
+            depth_state(settings),
+        );
+        let masked = CasterPipelines::new(
+            device,
+            "ShadowMapPass::masked",
+            &shader,
+            &[
                 Some(&light_layout),
                 Some(&layouts.instance),
                 Some(&layouts.material),
             ],
-            immediate_size: 0,
-        });
-        const UV: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x2);
-        let masked_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("ShadowMapPass::masked"),
-            layout: Some(&masked_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_masked"),
-                compilation_options: Default::default(),
-                buffers: &[Some(vertex_layout(&POSITION)), Some(vertex_layout(&UV))],
-            },
+            "vs_masked",
+            Some("fs_masked"),
+            SecondStream::Uv,
             primitive,
-            depth_stencil: Some(depth_stencil),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some("fs_masked"),
-                compilation_options: Default::default(),
-                targets: &[],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-
+            depth_state(settings),
+        );
         let (texture, view) = light_depth_target(device, settings, "ShadowMapPass::shadow_map");
         Self {
-            settings: *settings,
             texture,
             view,
             light_buffer,
             light_bind_group,
-            opaque_pipeline,
-            masked_pipeline,
+            opaque,
+            masked,
         }
-    }
-
-    pub fn settings(&self) -> &ShadowMapSettings {
-        &self.settings
     }
 
     /// The depth shadow map.
@@ -141,14 +106,18 @@ impl ShadowMapPass {
         &self.texture
     }
 
-    /// Records the pass: clears the map and draws every caster.
-    pub fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
+    /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view.
+    pub(crate) fn prepare(
+        &mut self,
+        device: &wgpu::Device,
         queue: &wgpu::Queue,
-        scene: &GpuScene,
+        casters: &Casters,
         light: &LightView,
     ) {
+        self.opaque
+            .prepare(device, &casters.draw_layouts(Streams::OpaqueDepth));
+        self.masked
+            .prepare(device, &casters.draw_layouts(Streams::MaskedDepth));
         queue.write_buffer(
             &self.light_buffer,
             0,
@@ -156,29 +125,14 @@ impl ShadowMapPass {
                 view_proj: light.view_projection.to_cols_array_2d(),
             }),
         );
+    }
+
+    /// Records the pass: clears the map and draws every caster ([`Self::prepare`] first).
+    pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
         let mut pass = begin_depth_pass(encoder, "ShadowMapPass", &self.view);
         pass.set_bind_group(0, &self.light_bind_group, &[]);
-        for masked in [false, true] {
-            pass.set_pipeline(if masked {
-                &self.masked_pipeline
-            } else {
-                &self.opaque_pipeline
-            });
-            for inst in scene.instances.iter().filter(|i| i.caster && i.masked == masked) {
-                let mesh = &scene.meshes[inst.mesh];
-                if mesh.index_count == 0 {
-                    continue;
-                }
-                pass.set_bind_group(1, &scene.instance_bind_group, &[inst.uniform_offset]);
-                pass.set_vertex_buffer(0, mesh.positions.slice(..));
-                if masked {
-                    pass.set_bind_group(2, &scene.materials[inst.material], &[]);
-                    pass.set_vertex_buffer(1, mesh.uvs.slice(..));
-                }
-                pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..mesh.index_count, 0, 0..1);
-            }
-        }
+        casters.draw(&mut pass, Streams::OpaqueDepth, |l| self.opaque.get(l));
+        casters.draw(&mut pass, Streams::MaskedDepth, |l| self.masked.get(l));
     }
 }
 

@@ -96,7 +96,7 @@ impl Mesh {
         }
 
         let bounds = Aabb::from_points(positions.iter());
-        let smoothed_normals = smoothed_normals(&positions, &indices, bounds);
+        let smoothed_normals = smoothed_normals(&positions, &indices, bounds, normals.as_deref());
         let mut repairs = MeshRepairs::default();
         let normals = match normals {
             Some(mut ns) => {
@@ -193,6 +193,18 @@ fn face_normal(a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
     (b - a).cross(c - a).normalize_or_zero()
 }
 
+/// Six times the volume the triangles enclose, signed by their winding (positive when
+/// counter-clockwise seen from outside).
+fn signed_volume(positions: &[Vec3], indices: &[u32]) -> f32 {
+    indices
+        .chunks_exact(3)
+        .map(|t| {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| positions[i as usize]);
+            a.dot(b.cross(c))
+        })
+        .sum()
+}
+
 /// Angle at `a` between edges to `b` and `c` (0 for degenerate edges).
 fn corner_angle(a: Vec3, b: Vec3, c: Vec3) -> f32 {
     let (u, v) = ((b - a).normalize_or_zero(), (c - a).normalize_or_zero());
@@ -244,14 +256,38 @@ fn weld_groups(positions: &[Vec3], bounds: Aabb) -> (Vec<u32>, usize) {
 /// Angle-weighted average of the face normals around each welded position, given to every
 /// vertex at that position. Independent of how faces are triangulated; a position with no
 /// usable triangle (or whose normals cancel out) gets +Y.
-fn smoothed_normals(positions: &[Vec3], indices: &[u32], bounds: Aabb) -> Vec<Vec3> {
+///
+/// Independent of the triangles' winding too: each face normal is turned to the side its
+/// vertices' shading `normals` point to; without normals, all faces are turned so the mesh
+/// encloses a positive volume (outward for a closed mesh, whichever way it is wound).
+pub(crate) fn smoothed_normals(
+    positions: &[Vec3],
+    indices: &[u32],
+    bounds: Aabb,
+    normals: Option<&[Vec3]>,
+) -> Vec<Vec3> {
     let (group_of, group_count) = weld_groups(positions, bounds);
     let mut sums = vec![Vec3::ZERO; group_count];
+    let global_flip = normals.is_none() && signed_volume(positions, indices) < 0.0;
     for tri in indices.chunks_exact(3) {
         let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| positions[i as usize]);
-        let n = face_normal(a, b, c);
+        let mut n = face_normal(a, b, c);
         if n == Vec3::ZERO {
             continue;
+        }
+        let flip = match normals {
+            Some(ns) => {
+                let shading: Vec3 = tri
+                    .iter()
+                    .map(|&i| ns[i as usize])
+                    .filter(|v| v.is_finite())
+                    .sum();
+                n.dot(shading) < 0.0
+            }
+            None => global_flip,
+        };
+        if flip {
+            n = -n;
         }
         let weights = [
             corner_angle(a, b, c),

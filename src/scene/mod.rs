@@ -8,7 +8,7 @@ pub mod character;
 pub mod file;
 mod light;
 mod material;
-mod mesh;
+pub(crate) mod mesh;
 pub mod primitives;
 pub mod teapot;
 mod teapot_data;

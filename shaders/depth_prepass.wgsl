@@ -1,0 +1,32 @@
+// Depth prepass of the convenience renderer: every instance from the camera into the camera
+// depth buffer (reversed: cleared to 0, `Greater` test), alpha-masked fragments discarded, and a
+// receiver mask beside it (1 on instances that receive shadows, 0 on the others). An engine has
+// its own; the screen-space passes read either the same way.
+
+@group(1) @binding(0) var<uniform> instance: Instance;
+@group(2) @binding(0) var<uniform> material: Material;
+@group(2) @binding(1) var base_color_texture: texture_2d<f32>;
+@group(2) @binding(2) var base_color_sampler: sampler;
+
+struct VsOut {
+    @builtin(position) @invariant clip: vec4<f32>,
+    @location(0) uv: vec2<f32>,
+}
+
+@vertex
+fn vs_main(@location(0) position: vec3<f32>, @location(1) uv: vec2<f32>) -> VsOut {
+    let world = instance.model * vec4<f32>(position, 1.0);
+    var out: VsOut;
+    out.clip = frame.view_proj * world;
+    out.uv = uv;
+    return out;
+}
+
+@fragment
+fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
+    let alpha = material.base_color.a * textureSample(base_color_texture, base_color_sampler, in.uv).a;
+    if material.alpha.x >= 0.0 && alpha < material.alpha.x {
+        discard;
+    }
+    return vec4<f32>(select(0.0, 1.0, instance.flags.x > 0.5));
+}

@@ -1,0 +1,1165 @@
+//! Shadow casters drawn from the engine's own vertex and index buffers.
+//!
+//! An engine registers each mesh once, pointing at where its positions already are (buffer,
+//! offset, stride, format; interleaved layouts are fine) and at its index buffer. penumbra
+//! keeps one extra stream per mesh: the *smoothed normals* the fattened shadow map pushes the
+//! casters out along, computed once on the CPU and oriented by the mesh's shading normals (or
+//! by the volume it encloses), so the triangles' winding never matters.
+//!
+//! Instances place a mesh in the world with a transform and two flags (casts, receives).
+//! Moving one uploads only its 144 bytes of instance data. Every change is logged with the
+//! world boxes it touched, so each light re-renders its maps exactly when a change falls inside
+//! its frustum ([`Casters::changed_inside`]).
+
+use glam::{Mat3, Mat4, Vec3};
+
+use crate::error::{PenumbraError, Result};
+use crate::gpu_scene::{InstanceUniform, MaterialUniform, SceneLayouts};
+use crate::scene::Aabb;
+
+/// One vertex attribute inside an engine's buffer: where the first vertex's value starts,
+/// the bytes from one vertex to the next, and its format.
+#[derive(Debug, Clone, Copy)]
+pub struct VertexStream<'a> {
+    pub buffer: &'a wgpu::Buffer,
+    /// Byte offset of the first vertex's attribute (the attribute's offset inside an
+    /// interleaved vertex included).
+    pub offset: u64,
+    /// Bytes between consecutive vertices (a multiple of 4).
+    pub stride: u64,
+    pub format: wgpu::VertexFormat,
+}
+
+/// An engine's index buffer range.
+#[derive(Debug, Clone, Copy)]
+pub struct IndexStream<'a> {
+    pub buffer: &'a wgpu::Buffer,
+    /// Byte offset of the first index.
+    pub offset: u64,
+    pub format: wgpu::IndexFormat,
+    /// Number of indices (a multiple of 3: triangle lists).
+    pub count: u32,
+}
+
+/// Where penumbra reads a mesh's geometry once, to compute its bounds and smoothed normals.
+#[derive(Debug, Clone, Copy)]
+pub enum MeshGeometry<'a> {
+    /// Copies the buffers back from the GPU once (they need `COPY_SRC` usage).
+    ReadBack,
+    /// The same data the buffers hold, from the CPU: no read-back, no `COPY_SRC`.
+    Cpu {
+        positions: &'a [Vec3],
+        /// Shading normals, one per vertex, to orient the smoothed normals.
+        normals: Option<&'a [Vec3]>,
+        /// `None` when the mesh is not indexed.
+        indices: Option<&'a [u32]>,
+    },
+}
+
+/// A mesh in the engine's buffers, as [`Casters::add_mesh`] takes it.
+#[derive(Debug, Clone, Copy)]
+pub struct CasterMeshDesc<'a> {
+    /// Named in errors.
+    pub label: &'a str,
+    /// `Float32x3`, `Float32x4` (w ignored) or `Float16x4` (w ignored).
+    pub positions: VertexStream<'a>,
+    pub vertex_count: u32,
+    /// `None`: a non-indexed triangle list.
+    pub indices: Option<IndexStream<'a>>,
+    /// The shading normals (`Float32x3`, `Float32x4`, `Float16x4`, `Snorm8x4`, `Snorm16x4`),
+    /// read back with [`MeshGeometry::ReadBack`] to orient the smoothed normals. Without them
+    /// the faces are oriented so the mesh encloses a positive volume.
+    pub normals: Option<VertexStream<'a>>,
+    pub geometry: MeshGeometry<'a>,
+}
+
+/// Alpha-tested casters: texels whose alpha (texture x factor) is below `cutoff` cast nothing.
+#[derive(Debug, Clone, Copy)]
+pub struct AlphaMask<'a> {
+    /// Texture coordinates (`Float32x2`) in the engine's buffer, for the mesh's vertices.
+    pub uvs: VertexStream<'a>,
+    /// A filterable float 2D texture whose alpha is tested.
+    pub texture: &'a wgpu::TextureView,
+    pub alpha_factor: f32,
+    pub cutoff: f32,
+}
+
+/// A registered mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct MeshId(u32);
+
+/// A placed mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct InstanceId(u32);
+
+/// Where an instance is and what it does.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CasterInstance {
+    pub mesh: MeshId,
+    /// Model to world.
+    pub transform: Mat4,
+    /// Drawn into the shadow maps.
+    pub caster: bool,
+    /// Its surfaces take shadows (counts for fitting the lights' maps; the receiver mask of a
+    /// frame says which pixels do).
+    pub receiver: bool,
+}
+
+/// A vertex stream kept by penumbra: buffer and offset, with the layout that pipelines key on.
+#[derive(Debug, Clone)]
+pub(crate) struct OwnedStream {
+    pub buffer: wgpu::Buffer,
+    pub offset: u64,
+    pub layout: StreamLayout,
+}
+
+/// What a pipeline must know of a vertex stream: its stride and format (the offset is given
+/// when the buffer is bound).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) struct StreamLayout {
+    pub stride: u64,
+    pub format: wgpu::VertexFormat,
+}
+
+impl StreamLayout {
+    pub(crate) const FLOAT3: StreamLayout = StreamLayout {
+        stride: 12,
+        format: wgpu::VertexFormat::Float32x3,
+    };
+
+    pub(crate) fn attributes(&self, location: u32) -> [wgpu::VertexAttribute; 1] {
+        [wgpu::VertexAttribute {
+            format: self.format,
+            offset: 0,
+            shader_location: location,
+        }]
+    }
+
+    pub(crate) fn buffer_layout<'a>(
+        &self,
+        attributes: &'a [wgpu::VertexAttribute],
+    ) -> wgpu::VertexBufferLayout<'a> {
+        wgpu::VertexBufferLayout {
+            array_stride: self.stride,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes,
+        }
+    }
+}
+
+/// The vertex layouts of one draw: what a pass's pipeline is made for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) struct DrawLayout {
+    pub position: StreamLayout,
+    /// Set for alpha-masked instances in the depth passes.
+    pub uv: Option<StreamLayout>,
+}
+
+/// Which vertex streams a pass draws with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Streams {
+    /// Positions of the opaque casters (slot 0).
+    OpaqueDepth,
+    /// Positions and uvs of the alpha-masked casters (slots 0, 1; material at group 2).
+    MaskedDepth,
+    /// Positions and smoothed normals of every caster (slots 0, 1).
+    Fattened,
+}
+
+struct CasterMesh {
+    label: String,
+    positions: OwnedStream,
+    smoothed_normals: OwnedStream,
+    indices: Option<(wgpu::Buffer, u64, wgpu::IndexFormat)>,
+    /// Indices, or vertices when not indexed.
+    element_count: u32,
+    vertex_count: u32,
+    bounds: Aabb,
+}
+
+struct InstanceAlpha {
+    uvs: OwnedStream,
+    bind_group: wgpu::BindGroup,
+}
+
+struct InstanceRecord {
+    instance: CasterInstance,
+    offset: u32,
+    world_bounds: Aabb,
+    alpha: Option<InstanceAlpha>,
+}
+
+/// How many changes the log keeps; a light that last looked further back re-renders.
+const CHANGE_LOG: usize = 4096;
+
+/// The shadow casters (and receivers) of a scene, drawn from the engine's buffers. Shared by
+/// every light: pass it to [`crate::Shadows::prepare`] each frame.
+pub struct Casters {
+    id: u64,
+    layouts: SceneLayouts,
+    meshes: Vec<Option<CasterMesh>>,
+    instances: Vec<Option<InstanceRecord>>,
+    free_slots: Vec<u32>,
+    stride: u32,
+    capacity: u32,
+    buffer: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    sampler: wgpu::Sampler,
+    revision: u64,
+    /// (revision, world box touched), oldest first.
+    changes: std::collections::VecDeque<(u64, Aabb)>,
+}
+
+static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
+impl Casters {
+    /// An empty set of casters with bind group layouts of its own.
+    pub fn new(device: &wgpu::Device) -> Self {
+        Self::with_layouts(device, SceneLayouts::new(device))
+    }
+
+    /// As [`Casters::new`], with shared layouts (a [`crate::GpuScene`]'s).
+    pub fn with_layouts(device: &wgpu::Device, layouts: SceneLayouts) -> Self {
+        let stride = (size_of::<InstanceUniform>() as u32)
+            .next_multiple_of(device.limits().min_uniform_buffer_offset_alignment);
+        let capacity = 16;
+        let (buffer, bind_group) = instance_buffer(device, &layouts, stride, capacity);
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("Casters::alpha_sampler"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        });
+        Self {
+            id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
+            layouts,
+            meshes: Vec::new(),
+            instances: Vec::new(),
+            free_slots: Vec::new(),
+            stride,
+            capacity,
+            buffer,
+            bind_group,
+            sampler,
+            revision: 0,
+            changes: std::collections::VecDeque::new(),
+        }
+    }
+
+    /// Registers a mesh that lives in the engine's buffers (see [`CasterMeshDesc`]). Its
+    /// smoothed normals are computed here, once.
+    pub fn add_mesh(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        desc: &CasterMeshDesc,
+    ) -> Result<MeshId> {
+        let what = || format!("caster mesh `{}`", desc.label);
+        check_stream(
+            &what(),
+            "positions",
+            &desc.positions,
+            desc.vertex_count,
+            POSITION_FORMATS,
+        )?;
+        if let Some(n) = &desc.normals {
+            check_stream(&what(), "normals", n, desc.vertex_count, NORMAL_FORMATS)?;
+        }
+        if let Some(ix) = &desc.indices {
+            check_indices(&what(), ix)?;
+        } else if !desc.vertex_count.is_multiple_of(3) {
+            return Err(PenumbraError::input(
+                what(),
+                format!(
+                    "{} vertices without indices is not a triangle list",
+                    desc.vertex_count
+                ),
+            ));
+        }
+        let (positions, normals, indices) = match desc.geometry {
+            MeshGeometry::Cpu {
+                positions,
+                normals,
+                indices,
+            } => (
+                positions.to_vec(),
+                normals.map(<[Vec3]>::to_vec),
+                indices.map(<[u32]>::to_vec),
+            ),
+            MeshGeometry::ReadBack => {
+                let positions = decode_vec3(
+                    &read_stream(
+                        device,
+                        queue,
+                        &what(),
+                        "positions",
+                        &desc.positions,
+                        desc.vertex_count,
+                    )?,
+                    &desc.positions,
+                );
+                let normals = match &desc.normals {
+                    Some(n) => Some(decode_vec3(
+                        &read_stream(device, queue, &what(), "normals", n, desc.vertex_count)?,
+                        n,
+                    )),
+                    None => None,
+                };
+                let indices = match &desc.indices {
+                    Some(ix) => Some(read_indices(device, queue, &what(), ix)?),
+                    None => None,
+                };
+                (positions, normals, indices)
+            }
+        };
+        if positions.len() != desc.vertex_count as usize {
+            return Err(PenumbraError::input(
+                what(),
+                format!(
+                    "{} CPU positions for vertex_count {}",
+                    positions.len(),
+                    desc.vertex_count
+                ),
+            ));
+        }
+        if let Some(n) = &normals
+            && n.len() != positions.len()
+        {
+            return Err(PenumbraError::input(
+                what(),
+                format!("{} normals for {} positions", n.len(), positions.len()),
+            ));
+        }
+        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(PenumbraError::input(
+                what(),
+                format!("position {i} is not finite"),
+            ));
+        }
+        let indices = match indices {
+            Some(ix) => {
+                if desc.indices.is_none_or(|gpu| gpu.count as usize != ix.len()) {
+                    return Err(PenumbraError::input(
+                        what(),
+                        format!(
+                            "{} CPU indices for {:?} in the index buffer",
+                            ix.len(),
+                            desc.indices.map(|gpu| gpu.count)
+                        ),
+                    ));
+                }
+                if let Some(bad) = ix.iter().find(|&&i| i >= desc.vertex_count) {
+                    return Err(PenumbraError::input(
+                        what(),
+                        format!("index {bad} is out of range (vertex_count {})", desc.vertex_count),
+                    ));
+                }
+                ix
+            }
+            None if desc.indices.is_some() => {
+                return Err(PenumbraError::input(
+                    what(),
+                    "the mesh is indexed but its CPU geometry has no indices",
+                ));
+            }
+            None => (0..desc.vertex_count).collect(),
+        };
+        let bounds = Aabb::from_points(positions.iter());
+        let smoothed = crate::scene::mesh::smoothed_normals(&positions, &indices, bounds, normals.as_deref());
+        let smoothed_buffer = vertex_buffer(
+            device,
+            "Casters::smoothed_normals",
+            bytemuck::cast_slice(&smoothed),
+        );
+        Ok(self.push_mesh(CasterMesh {
+            label: desc.label.to_string(),
+            positions: owned(&desc.positions),
+            smoothed_normals: OwnedStream {
+                buffer: smoothed_buffer,
+                offset: 0,
+                layout: StreamLayout::FLOAT3,
+            },
+            indices: desc.indices.map(|ix| (ix.buffer.clone(), ix.offset, ix.format)),
+            element_count: desc.indices.map_or(desc.vertex_count, |ix| ix.count),
+            vertex_count: desc.vertex_count,
+            bounds,
+        }))
+    }
+
+    /// A mesh whose smoothed normals are already on the GPU (tightly packed `Float32x3`).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn add_prepared_mesh(
+        &mut self,
+        label: &str,
+        positions: &wgpu::Buffer,
+        smoothed_normals: &wgpu::Buffer,
+        indices: &wgpu::Buffer,
+        index_count: u32,
+        vertex_count: u32,
+        bounds: Aabb,
+    ) -> MeshId {
+        self.push_mesh(CasterMesh {
+            label: label.to_string(),
+            positions: OwnedStream {
+                buffer: positions.clone(),
+                offset: 0,
+                layout: StreamLayout::FLOAT3,
+            },
+            smoothed_normals: OwnedStream {
+                buffer: smoothed_normals.clone(),
+                offset: 0,
+                layout: StreamLayout::FLOAT3,
+            },
+            indices: Some((indices.clone(), 0, wgpu::IndexFormat::Uint32)),
+            element_count: index_count,
+            vertex_count,
+            bounds,
+        })
+    }
+
+    fn push_mesh(&mut self, mesh: CasterMesh) -> MeshId {
+        self.meshes.push(Some(mesh));
+        MeshId(self.meshes.len() as u32 - 1)
+    }
+
+    /// Forgets a mesh. Errors while an instance still uses it.
+    pub fn remove_mesh(&mut self, id: MeshId) -> Result<()> {
+        self.mesh(id)?;
+        if self.instances.iter().flatten().any(|r| r.instance.mesh == id) {
+            return Err(PenumbraError::input(
+                format!("mesh {}", id.0),
+                "instances still use it; remove them first",
+            ));
+        }
+        self.meshes[id.0 as usize] = None;
+        Ok(())
+    }
+
+    /// Places a mesh.
+    pub fn add_instance(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        instance: CasterInstance,
+    ) -> Result<InstanceId> {
+        self.insert(device, queue, instance, None)
+    }
+
+    /// Places a mesh whose shadow is alpha-tested (foliage, fences).
+    pub fn add_masked_instance(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        instance: CasterInstance,
+        mask: &AlphaMask,
+    ) -> Result<InstanceId> {
+        let vertex_count = self.mesh(instance.mesh)?.vertex_count;
+        check_stream(
+            "alpha mask",
+            "uvs",
+            &mask.uvs,
+            vertex_count,
+            &[wgpu::VertexFormat::Float32x2],
+        )?;
+        if !(mask.cutoff.is_finite() && mask.alpha_factor.is_finite()) {
+            return Err(PenumbraError::input(
+                "alpha mask",
+                "cutoff and alpha_factor must be finite",
+            ));
+        }
+        let uniform = MaterialUniform {
+            base_color: [1.0, 1.0, 1.0, mask.alpha_factor],
+            alpha: [mask.cutoff, 0.0, 0.0, 0.0],
+        };
+        let buffer = wgpu::util::DeviceExt::create_buffer_init(
+            device,
+            &wgpu::util::BufferInitDescriptor {
+                label: Some("Casters::alpha_mask"),
+                contents: bytemuck::bytes_of(&uniform),
+                usage: wgpu::BufferUsages::UNIFORM,
+            },
+        );
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("Casters::alpha_mask"),
+            layout: &self.layouts.material,
+            entries: &crate::passes::entries(&[
+                buffer.as_entire_binding(),
+                wgpu::BindingResource::TextureView(mask.texture),
+                wgpu::BindingResource::Sampler(&self.sampler),
+            ]),
+        });
+        let alpha = InstanceAlpha {
+            uvs: owned(&mask.uvs),
+            bind_group,
+        };
+        self.insert(device, queue, instance, Some(alpha))
+    }
+
+    fn insert(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        instance: CasterInstance,
+        alpha: Option<InstanceAlpha>,
+    ) -> Result<InstanceId> {
+        let local = self.mesh(instance.mesh)?.bounds;
+        check_transform(&instance.transform, "new instance")?;
+        let slot = match self.free_slots.pop() {
+            Some(slot) => slot,
+            None => {
+                self.instances.push(None);
+                self.instances.len() as u32 - 1
+            }
+        };
+        if slot >= self.capacity {
+            self.grow(device, queue, slot + 1);
+        }
+        let record = InstanceRecord {
+            instance,
+            offset: slot * self.stride,
+            world_bounds: local.transformed(&instance.transform),
+            alpha,
+        };
+        self.log_change(record.world_bounds);
+        self.write(queue, &record);
+        self.instances[slot as usize] = Some(record);
+        Ok(InstanceId(slot))
+    }
+
+    /// Moves an instance: uploads its instance data alone.
+    pub fn set_transform(&mut self, queue: &wgpu::Queue, id: InstanceId, transform: Mat4) -> Result<()> {
+        check_transform(&transform, &format!("instance {}", id.0))?;
+        let record = self.record_mut(id)?;
+        if record.instance.transform == transform {
+            return Ok(());
+        }
+        let old = record.world_bounds;
+        record.instance.transform = transform;
+        let local = self.mesh(self.record(id)?.instance.mesh)?.bounds;
+        let record = self.record_mut(id)?;
+        record.world_bounds = local.transformed(&transform);
+        let new = record.world_bounds;
+        self.log_change(old.union(&new));
+        let record = self.record(id)?;
+        self.write(queue, record);
+        Ok(())
+    }
+
+    /// Changes whether an instance casts and receives shadows.
+    pub fn set_flags(
+        &mut self,
+        queue: &wgpu::Queue,
+        id: InstanceId,
+        caster: bool,
+        receiver: bool,
+    ) -> Result<()> {
+        let record = self.record_mut(id)?;
+        if (record.instance.caster, record.instance.receiver) == (caster, receiver) {
+            return Ok(());
+        }
+        record.instance.caster = caster;
+        record.instance.receiver = receiver;
+        let bounds = record.world_bounds;
+        self.log_change(bounds);
+        self.write(queue, self.record(id)?);
+        Ok(())
+    }
+
+    /// Removes an instance.
+    pub fn remove_instance(&mut self, id: InstanceId) -> Result<()> {
+        let bounds = self.record(id)?.world_bounds;
+        self.instances[id.0 as usize] = None;
+        self.free_slots.push(id.0);
+        self.log_change(bounds);
+        Ok(())
+    }
+
+    /// An instance as it is now.
+    pub fn instance(&self, id: InstanceId) -> Result<CasterInstance> {
+        self.record(id).map(|r| r.instance)
+    }
+
+    /// Unique per `Casters`.
+    pub fn id(&self) -> u64 {
+        self.id
+    }
+
+    /// Bumped by every change to instances.
+    pub fn revision(&self) -> u64 {
+        self.revision
+    }
+
+    /// True when a change after `revision` touched a world box for which `inside` holds (or
+    /// when the log no longer reaches back that far).
+    pub fn changed_inside(&self, revision: u64, inside: impl Fn(&Aabb) -> bool) -> bool {
+        if revision >= self.revision {
+            return false;
+        }
+        match self.changes.front() {
+            Some(&(oldest, _)) if oldest <= revision + 1 => self
+                .changes
+                .iter()
+                .filter(|(r, _)| *r > revision)
+                .any(|(_, b)| inside(b)),
+            _ => true,
+        }
+    }
+
+    /// World bounds of every caster.
+    pub fn caster_bounds(&self) -> Aabb {
+        self.records()
+            .filter(|r| r.instance.caster)
+            .fold(Aabb::EMPTY, |a, r| a.union(&r.world_bounds))
+    }
+
+    /// World bounds of everything that casts or receives.
+    pub fn shadow_bounds(&self) -> Aabb {
+        self.shadow_parts().iter().fold(Aabb::EMPTY, |a, b| a.union(b))
+    }
+
+    /// World bounds of each instance that casts or receives.
+    pub fn shadow_parts(&self) -> Vec<Aabb> {
+        self.records()
+            .filter(|r| r.instance.caster || r.instance.receiver)
+            .map(|r| r.world_bounds)
+            .filter(|b| !b.is_empty())
+            .collect()
+    }
+
+    /// Triangles drawn per shadow-map pass.
+    pub fn caster_triangle_count(&self) -> usize {
+        self.records()
+            .filter(|r| r.instance.caster)
+            .filter_map(|r| self.meshes[r.instance.mesh.0 as usize].as_ref())
+            .map(|m| m.element_count as usize / 3)
+            .sum()
+    }
+
+    pub(crate) fn layouts(&self) -> &SceneLayouts {
+        &self.layouts
+    }
+
+    /// The instance-data bind group (dynamic offset [`Casters::offset`]).
+    pub(crate) fn bind_group(&self) -> &wgpu::BindGroup {
+        &self.bind_group
+    }
+
+    /// The dynamic offset of an instance's data.
+    pub(crate) fn offset(&self, id: InstanceId) -> Option<u32> {
+        self.record(id).ok().map(|r| r.offset)
+    }
+
+    /// The layouts the draws of `streams` use: a pass makes a pipeline for each before drawing.
+    pub(crate) fn draw_layouts(&self, streams: Streams) -> Vec<DrawLayout> {
+        let mut out: Vec<DrawLayout> = Vec::new();
+        for (mesh, record) in self.draws(streams) {
+            let layout = draw_layout(mesh, record, streams);
+            if !out.contains(&layout) {
+                out.push(layout);
+            }
+        }
+        out
+    }
+
+    /// Draws every caster of `streams` into `pass`, whose group 0 is set. `pipeline` gives
+    /// the pass's pipeline for a draw layout (made beforehand from [`Casters::draw_layouts`]).
+    pub(crate) fn draw<'p>(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        streams: Streams,
+        pipeline: impl Fn(DrawLayout) -> Option<&'p wgpu::RenderPipeline>,
+    ) {
+        let mut current: Option<DrawLayout> = None;
+        for (mesh, record) in self.draws(streams) {
+            let layout = draw_layout(mesh, record, streams);
+            if current != Some(layout) {
+                let Some(p) = pipeline(layout) else { continue };
+                pass.set_pipeline(p);
+                current = Some(layout);
+            }
+            pass.set_bind_group(1, &self.bind_group, &[record.offset]);
+            bind_stream(pass, 0, &mesh.positions, mesh.vertex_count);
+            match streams {
+                Streams::Fattened => bind_stream(pass, 1, &mesh.smoothed_normals, mesh.vertex_count),
+                Streams::MaskedDepth => {
+                    if let Some(alpha) = &record.alpha {
+                        bind_stream(pass, 1, &alpha.uvs, mesh.vertex_count);
+                        pass.set_bind_group(2, &alpha.bind_group, &[]);
+                    }
+                }
+                Streams::OpaqueDepth => {}
+            }
+            match &mesh.indices {
+                Some((buffer, offset, format)) => {
+                    let end = offset + mesh.element_count as u64 * index_size(*format);
+                    pass.set_index_buffer(buffer.slice(*offset..end), *format);
+                    pass.draw_indexed(0..mesh.element_count, 0, 0..1);
+                }
+                None => pass.draw(0..mesh.element_count, 0..1),
+            }
+        }
+    }
+
+    fn draws(&self, streams: Streams) -> impl Iterator<Item = (&CasterMesh, &InstanceRecord)> {
+        self.records()
+            .filter(move |r| {
+                r.instance.caster
+                    && match streams {
+                        Streams::OpaqueDepth => r.alpha.is_none(),
+                        Streams::MaskedDepth => r.alpha.is_some(),
+                        Streams::Fattened => true,
+                    }
+            })
+            .filter_map(|r| {
+                self.meshes[r.instance.mesh.0 as usize]
+                    .as_ref()
+                    .filter(|m| m.element_count > 0)
+                    .map(|m| (m, r))
+            })
+    }
+
+    fn records(&self) -> impl Iterator<Item = &InstanceRecord> {
+        self.instances.iter().flatten()
+    }
+
+    fn mesh(&self, id: MeshId) -> Result<&CasterMesh> {
+        self.meshes
+            .get(id.0 as usize)
+            .and_then(Option::as_ref)
+            .ok_or_else(|| {
+                PenumbraError::input(format!("mesh {}", id.0), "no such mesh (removed or never added)")
+            })
+    }
+
+    /// The name a mesh was registered with.
+    pub fn mesh_label(&self, id: MeshId) -> Result<&str> {
+        self.mesh(id).map(|m| m.label.as_str())
+    }
+
+    fn record(&self, id: InstanceId) -> Result<&InstanceRecord> {
+        self.instances
+            .get(id.0 as usize)
+            .and_then(Option::as_ref)
+            .ok_or_else(|| {
+                PenumbraError::input(
+                    format!("instance {}", id.0),
+                    "no such instance (removed or never added)",
+                )
+            })
+    }
+
+    fn record_mut(&mut self, id: InstanceId) -> Result<&mut InstanceRecord> {
+        self.instances
+            .get_mut(id.0 as usize)
+            .and_then(Option::as_mut)
+            .ok_or_else(|| {
+                PenumbraError::input(
+                    format!("instance {}", id.0),
+                    "no such instance (removed or never added)",
+                )
+            })
+    }
+
+    fn log_change(&mut self, bounds: Aabb) {
+        self.revision += 1;
+        self.changes.push_back((self.revision, bounds));
+        while self.changes.len() > CHANGE_LOG {
+            self.changes.pop_front();
+        }
+    }
+
+    fn write(&self, queue: &wgpu::Queue, record: &InstanceRecord) {
+        queue.write_buffer(
+            &self.buffer,
+            record.offset as u64,
+            bytemuck::bytes_of(&instance_uniform(&record.instance)),
+        );
+    }
+
+    /// Makes room for `needed` instances: a larger buffer, every instance written again.
+    fn grow(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, needed: u32) {
+        self.capacity = needed.next_power_of_two().max(self.capacity * 2);
+        (self.buffer, self.bind_group) = instance_buffer(device, &self.layouts, self.stride, self.capacity);
+        for record in self.instances.iter().flatten() {
+            self.write(queue, record);
+        }
+    }
+}
+
+fn draw_layout(mesh: &CasterMesh, record: &InstanceRecord, streams: Streams) -> DrawLayout {
+    DrawLayout {
+        position: mesh.positions.layout,
+        uv: match streams {
+            Streams::MaskedDepth => record.alpha.as_ref().map(|a| a.uvs.layout),
+            _ => None,
+        },
+    }
+}
+
+fn bind_stream(pass: &mut wgpu::RenderPass<'_>, slot: u32, stream: &OwnedStream, vertex_count: u32) {
+    let end = stream.offset
+        + stream.layout.stride * vertex_count.saturating_sub(1) as u64
+        + stream.layout.format.size();
+    let end = end.min(stream.buffer.size());
+    pass.set_vertex_buffer(
+        slot,
+        stream
+            .buffer
+            .slice(stream.offset..end.max(stream.offset + 1).min(stream.buffer.size())),
+    );
+}
+
+pub(crate) fn instance_uniform(instance: &CasterInstance) -> InstanceUniform {
+    InstanceUniform {
+        model: instance.transform.to_cols_array_2d(),
+        normal: normal_matrix(&instance.transform).to_cols_array_2d(),
+        flags: [if instance.receiver { 1.0 } else { 0.0 }, 0.0, 0.0, 0.0],
+    }
+}
+
+pub(crate) fn normal_matrix(m: &Mat4) -> Mat4 {
+    let n = Mat3::from_mat4(*m).inverse().transpose();
+    if n.is_finite() {
+        Mat4::from_mat3(n)
+    } else {
+        Mat4::IDENTITY
+    }
+}
+
+fn instance_buffer(
+    device: &wgpu::Device,
+    layouts: &SceneLayouts,
+    stride: u32,
+    capacity: u32,
+) -> (wgpu::Buffer, wgpu::BindGroup) {
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("Casters::instances"),
+        size: stride as u64 * capacity as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("Casters::instances"),
+        layout: &layouts.instance,
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: &buffer,
+                offset: 0,
+                size: wgpu::BufferSize::new(size_of::<InstanceUniform>() as u64),
+            }),
+        }],
+    });
+    (buffer, bind_group)
+}
+
+fn vertex_buffer(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+    // wgpu rejects zero-sized vertex buffers being bound; pad empty ones.
+    let padded;
+    let contents = if bytes.is_empty() {
+        padded = [0u8; 16];
+        &padded[..]
+    } else {
+        bytes
+    };
+    wgpu::util::DeviceExt::create_buffer_init(
+        device,
+        &wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents,
+            usage: wgpu::BufferUsages::VERTEX,
+        },
+    )
+}
+
+fn owned(stream: &VertexStream) -> OwnedStream {
+    OwnedStream {
+        buffer: stream.buffer.clone(),
+        offset: stream.offset,
+        layout: StreamLayout {
+            stride: stream.stride,
+            format: stream.format,
+        },
+    }
+}
+
+const POSITION_FORMATS: &[wgpu::VertexFormat] = &[
+    wgpu::VertexFormat::Float32x3,
+    wgpu::VertexFormat::Float32x4,
+    wgpu::VertexFormat::Float16x4,
+];
+
+const NORMAL_FORMATS: &[wgpu::VertexFormat] = &[
+    wgpu::VertexFormat::Float32x3,
+    wgpu::VertexFormat::Float32x4,
+    wgpu::VertexFormat::Float16x4,
+    wgpu::VertexFormat::Snorm8x4,
+    wgpu::VertexFormat::Snorm16x4,
+];
+
+/// Errors unless the stream's format is one of `formats`, it is a vertex buffer, its layout is
+/// one wgpu accepts, and `count` vertices fit in the buffer.
+fn check_stream(
+    what: &str,
+    name: &str,
+    s: &VertexStream,
+    count: u32,
+    formats: &[wgpu::VertexFormat],
+) -> Result<()> {
+    let fail = |reason: String| Err(PenumbraError::input(format!("{what} {name}"), reason));
+    if !formats.contains(&s.format) {
+        return fail(format!(
+            "format {:?} is not supported; use one of {formats:?}",
+            s.format
+        ));
+    }
+    if !s.buffer.usage().contains(wgpu::BufferUsages::VERTEX) {
+        return fail("the buffer lacks VERTEX usage".into());
+    }
+    if s.stride < s.format.size() || !s.stride.is_multiple_of(4) || s.stride > 2048 {
+        return fail(format!(
+            "stride {} must be a multiple of 4, at least the format's {} bytes and at most 2048",
+            s.stride,
+            s.format.size()
+        ));
+    }
+    if !s.offset.is_multiple_of(4) {
+        return fail(format!("offset {} is not a multiple of 4", s.offset));
+    }
+    let needed = if count == 0 {
+        s.offset
+    } else {
+        s.offset + s.stride * (count as u64 - 1) + s.format.size()
+    };
+    if needed > s.buffer.size() {
+        return fail(format!(
+            "{count} vertices from offset {} with stride {} need {needed} bytes; the buffer has {}",
+            s.offset,
+            s.stride,
+            s.buffer.size()
+        ));
+    }
+    Ok(())
+}
+
+fn index_size(format: wgpu::IndexFormat) -> u64 {
+    match format {
+        wgpu::IndexFormat::Uint16 => 2,
+        wgpu::IndexFormat::Uint32 => 4,
+    }
+}
+
+fn check_indices(what: &str, ix: &IndexStream) -> Result<()> {
+    let fail = |reason: String| Err(PenumbraError::input(format!("{what} indices"), reason));
+    if !ix.buffer.usage().contains(wgpu::BufferUsages::INDEX) {
+        return fail("the buffer lacks INDEX usage".into());
+    }
+    if !ix.count.is_multiple_of(3) {
+        return fail(format!("count {} is not a multiple of 3", ix.count));
+    }
+    let size = index_size(ix.format);
+    if !ix.offset.is_multiple_of(size) {
+        return fail(format!(
+            "offset {} is not a multiple of the index size {size}",
+            ix.offset
+        ));
+    }
+    let needed = ix.offset + ix.count as u64 * size;
+    if needed > ix.buffer.size() {
+        return fail(format!(
+            "{} indices from offset {} need {needed} bytes; the buffer has {}",
+            ix.count,
+            ix.offset,
+            ix.buffer.size()
+        ));
+    }
+    Ok(())
+}
+
+fn check_transform(m: &Mat4, what: &str) -> Result<()> {
+    if m.is_finite() {
+        Ok(())
+    } else {
+        Err(PenumbraError::input(
+            what.to_string(),
+            "the transform is not finite",
+        ))
+    }
+}
+
+/// Copies `len` bytes at `offset` of `buffer` back to the CPU.
+fn read_buffer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    what: &str,
+    buffer: &wgpu::Buffer,
+    offset: u64,
+    len: u64,
+) -> Result<Vec<u8>> {
+    if !buffer.usage().contains(wgpu::BufferUsages::COPY_SRC) {
+        return Err(PenumbraError::input(
+            what.to_string(),
+            "reading the mesh back needs COPY_SRC usage on its buffers; give the data with MeshGeometry::Cpu instead",
+        ));
+    }
+    let start = offset / 4 * 4;
+    let size = (offset + len - start)
+        .next_multiple_of(4)
+        .min(buffer.size() - start);
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("Casters::read_back"),
+        size: size.next_multiple_of(4),
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("Casters::read_back"),
+    });
+    encoder.copy_buffer_to_buffer(buffer, start, &staging, 0, size);
+    queue.submit([encoder.finish()]);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    staging.map_async(wgpu::MapMode::Read, .., move |r| {
+        let _ = sender.send(r);
+    });
+    let gpu = |e: String| PenumbraError::Gpu {
+        during: format!("reading back {what}"),
+        reason: e,
+    };
+    device
+        .poll(wgpu::PollType::Wait {
+            submission_index: None,
+            timeout: None,
+        })
+        .map_err(|e| gpu(e.to_string()))?;
+    receiver
+        .recv()
+        .map_err(|e| gpu(e.to_string()))?
+        .map_err(|e| gpu(e.to_string()))?;
+    let data = staging.get_mapped_range(..).map_err(|e| gpu(e.to_string()))?;
+    let skip = (offset - start) as usize;
+    Ok(data[skip..skip + len as usize].to_vec())
+}
+
+/// The bytes of `count` vertices of a stream, stride included.
+fn read_stream(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    what: &str,
+    name: &str,
+    s: &VertexStream,
+    count: u32,
+) -> Result<Vec<u8>> {
+    if count == 0 {
+        return Ok(Vec::new());
+    }
+    let len = s.stride * (count as u64 - 1) + s.format.size();
+    read_buffer(device, queue, &format!("{what} {name}"), s.buffer, s.offset, len)
+}
+
+fn read_indices(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    what: &str,
+    ix: &IndexStream,
+) -> Result<Vec<u32>> {
+    let size = index_size(ix.format);
+    let bytes = read_buffer(
+        device,
+        queue,
+        &format!("{what} indices"),
+        ix.buffer,
+        ix.offset,
+        ix.count as u64 * size,
+    )?;
+    Ok(match ix.format {
+        wgpu::IndexFormat::Uint16 => bytes
+            .chunks_exact(2)
+            .map(|c| u16::from_le_bytes([c[0], c[1]]) as u32)
+            .collect(),
+        wgpu::IndexFormat::Uint32 => bytes
+            .chunks_exact(4)
+            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect(),
+    })
+}
+
+/// Decodes the first three components of each vertex of a stream read back with its stride.
+fn decode_vec3(bytes: &[u8], s: &VertexStream) -> Vec<Vec3> {
+    let stride = s.stride as usize;
+    let count = if bytes.is_empty() {
+        0
+    } else {
+        (bytes.len() - s.format.size() as usize) / stride + 1
+    };
+    (0..count)
+        .map(|i| {
+            let b = &bytes[i * stride..];
+            let f32_at = |k: usize| f32::from_le_bytes([b[4 * k], b[4 * k + 1], b[4 * k + 2], b[4 * k + 3]]);
+            let u16_at = |k: usize| u16::from_le_bytes([b[2 * k], b[2 * k + 1]]);
+            match s.format {
+                wgpu::VertexFormat::Float16x4 => Vec3::new(
+                    f16_to_f32(u16_at(0)),
+                    f16_to_f32(u16_at(1)),
+                    f16_to_f32(u16_at(2)),
+                ),
+                wgpu::VertexFormat::Snorm8x4 => Vec3::new(snorm8(b[0]), snorm8(b[1]), snorm8(b[2])),
+                wgpu::VertexFormat::Snorm16x4 => {
+                    Vec3::new(snorm16(u16_at(0)), snorm16(u16_at(1)), snorm16(u16_at(2)))
+                }
+                _ => Vec3::new(f32_at(0), f32_at(1), f32_at(2)),
+            }
+        })
+        .collect()
+}
+
+fn snorm8(b: u8) -> f32 {
+    (b as i8 as f32 / 127.0).max(-1.0)
+}
+
+fn snorm16(v: u16) -> f32 {
+    (v as i16 as f32 / 32767.0).max(-1.0)
+}
+
+/// IEEE half to single precision.
+fn f16_to_f32(h: u16) -> f32 {
+    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
+    let exponent = ((h >> 10) & 0x1f) as i32;
+    let mantissa = (h & 0x3ff) as f32;
+    sign * match exponent {
+        0 => mantissa * 2f32.powi(-24),
+        31 => {
+            if mantissa == 0.0 {
+                f32::INFINITY
+            } else {
+                f32::NAN
+            }
+        }
+        e => (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn half_floats_decode() {
+        assert_eq!(f16_to_f32(0x3c00), 1.0);
+        assert_eq!(f16_to_f32(0xc000), -2.0);
+        assert_eq!(f16_to_f32(0x3800), 0.5);
+        assert_eq!(f16_to_f32(0x0000), 0.0);
+        assert!(f16_to_f32(0x7c00).is_infinite());
+        assert!((f16_to_f32(0x0001) - 5.96e-8).abs() < 1e-9);
+    }
+
+    #[test]
+    fn snorm_decodes_to_unit_range() {
+        assert_eq!(snorm8(127), 1.0);
+        assert_eq!(snorm8(0x81), -1.0);
+        assert_eq!(snorm8(0x80), -1.0);
+        assert_eq!(snorm16(0), 0.0);
+    }
+}

@@ -1,0 +1,175 @@
+//! Depth prepass of the convenience [`crate::Renderer`]: what an engine's own depth prepass
+//! gives [`crate::Shadows`].
+//!
+//! Input: every instance of a [`GpuScene`] and the frame uniform (camera). Output: the camera
+//! depth (Depth32Float, reversed: cleared to 0, `Greater` test; tested `Equal` by the
+//! composite) and a receiver mask (R8Unorm: 1 on instances that receive shadows).
+
+use super::{POSITION, entry, stream, vertex_layout};
+use crate::gpu_scene::{GpuScene, SceneLayouts};
+
+pub struct DepthPrepass {
+    frame_layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+    depth: (wgpu::Texture, wgpu::TextureView),
+    receiver_mask: (wgpu::Texture, wgpu::TextureView),
+    bind_group: Option<wgpu::BindGroup>,
+}
+
+impl DepthPrepass {
+    pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+    pub const RECEIVER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+
+    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, frame_size: usize) -> Self {
+        let shader = crate::shaders::module(device, "depth_prepass.wgsl", crate::shaders::DEPTH_PREPASS);
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("DepthPrepass::frame_layout"),
+            entries: &[entry::uniform(
+                0,
+                wgpu::ShaderStages::VERTEX_FRAGMENT,
+                frame_size,
+                false,
+            )],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("DepthPrepass::pipeline_layout"),
+            bind_group_layouts: &[
+                Some(&frame_layout),
+                Some(&layouts.instance),
+                Some(&layouts.material),
+            ],
+            immediate_size: 0,
+        });
+        const UV: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x2);
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("DepthPrepass::pipeline"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(vertex_layout(&POSITION)), Some(vertex_layout(&UV))],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: Self::DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Greater),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(Self::RECEIVER_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        Self {
+            frame_layout,
+            pipeline,
+            depth: depth_target(device, 1, 1),
+            receiver_mask: super::screen_target(
+                device,
+                "DepthPrepass::receiver_mask",
+                1,
+                1,
+                Self::RECEIVER_FORMAT,
+            ),
+            bind_group: None,
+        }
+    }
+
+    /// Recreates the screen-sized targets.
+    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.depth = depth_target(device, width, height);
+        self.receiver_mask = super::screen_target(
+            device,
+            "DepthPrepass::receiver_mask",
+            width,
+            height,
+            Self::RECEIVER_FORMAT,
+        );
+    }
+
+    /// Points the pass at the frame uniform.
+    pub fn bind(&mut self, device: &wgpu::Device, frame: &wgpu::Buffer) {
+        self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("DepthPrepass::bind_group"),
+            layout: &self.frame_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: frame.as_entire_binding(),
+            }],
+        }));
+    }
+
+    /// Camera depth (Depth32Float).
+    pub fn depth(&self) -> &wgpu::TextureView {
+        &self.depth.1
+    }
+
+    pub fn depth_texture(&self) -> &wgpu::Texture {
+        &self.depth.0
+    }
+
+    pub fn receiver_mask_texture(&self) -> &wgpu::Texture {
+        &self.receiver_mask.0
+    }
+
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, scene: &GpuScene) {
+        let Some(bind_group) = &self.bind_group else {
+            return;
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("DepthPrepass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.receiver_mask.1,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth.1,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        scene.draw(&mut pass, crate::gpu_scene::CameraStreams::PositionUv);
+    }
+}
+
+fn depth_target(device: &wgpu::Device, width: u32, height: u32) -> (wgpu::Texture, wgpu::TextureView) {
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("DepthPrepass::camera_depth"),
+        size: wgpu::Extent3d {
+            width: width.max(1),
+            height: height.max(1),
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: DepthPrepass::DEPTH_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    (texture, view)
+}

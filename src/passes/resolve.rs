@@ -1,0 +1,74 @@
+//! Resolve pass: one light's final visibility, as an engine samples it.
+//!
+//! Input: the frame uniform, the camera depth, the distance map (when the method has one), the
+//! raw or blurred visibility and the receiver mask (when given). Output: one layer of the
+//! visibility array ([`crate::Shadows::visibility`], R16F), in [0, 1], with the indirect-light
+//! attenuation already applied and 1 where nothing was drawn or the pixel receives no shadow.
+
+use super::{VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline};
+
+pub struct ResolvePass {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+    bind_group: Option<wgpu::BindGroup>,
+}
+
+impl ResolvePass {
+    pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
+        let shader = crate::shaders::module(device, "resolve.wgsl", crate::shaders::RESOLVE);
+        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("ResolvePass::layout"),
+            entries: &[
+                entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
+                entry::texture_2d(1, unfilterable),
+                entry::texture_2d(2, unfilterable),
+                entry::texture_2d(3, unfilterable),
+                entry::texture_2d(4, unfilterable),
+            ],
+        });
+        let pipeline = fullscreen_pipeline(
+            device,
+            "ResolvePass::pipeline",
+            &shader,
+            &[Some(&layout)],
+            VISIBILITY_FORMAT,
+        );
+        Self {
+            layout,
+            pipeline,
+            bind_group: None,
+        }
+    }
+
+    /// Points the pass at its inputs (`distance_map` and `receiver_mask` are read only where
+    /// the frame uniform says they are real).
+    pub fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        frame: &wgpu::Buffer,
+        camera_depth: &wgpu::TextureView,
+        distance_map: &wgpu::TextureView,
+        visibility: &wgpu::TextureView,
+        receiver_mask: &wgpu::TextureView,
+    ) {
+        self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("ResolvePass::bind_group"),
+            layout: &self.layout,
+            entries: &entries(&[
+                frame.as_entire_binding(),
+                wgpu::BindingResource::TextureView(camera_depth),
+                wgpu::BindingResource::TextureView(distance_map),
+                wgpu::BindingResource::TextureView(visibility),
+                wgpu::BindingResource::TextureView(receiver_mask),
+            ]),
+        }));
+    }
+
+    /// Writes the visibility into `output` (a single-layer view of the visibility array).
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, output: &wgpu::TextureView) {
+        if let Some(group) = &self.bind_group {
+            draw_fullscreen(encoder, "ResolvePass", &self.pipeline, &[group], output);
+        }
+    }
+}

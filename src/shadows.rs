@@ -1,0 +1,925 @@
+//! Soft shadows inside an engine's frame: [`Shadows`] takes the engine's camera matrices, its
+//! depth buffer, its casters ([`Casters`]) and a list of lights, and writes one visibility per
+//! light into a texture array the engine samples in its own lit shader.
+//!
+//! Per light and frame: the shadow map and the fattened map (only when the light, its fit or a
+//! caster it sees changed), then full-screen passes over the engine's depth: the distance map,
+//! PCF or PCSS, the blur, and a resolve into the light's layer. No camera geometry is drawn.
+
+use crate::casters::Casters;
+use crate::error::{PenumbraError, Result};
+use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, derive_spreads, is_point_light};
+use crate::light_space::{FitInputs, LightView};
+use crate::passes::{
+    BlurPass, DistanceMapPass, FattenedShadowMapPass, PcfPass, PcssPass, ResolvePass, ShadowMapPass,
+    VISIBILITY_FORMAT, screen_target,
+};
+use crate::scene::{Aabb, Light};
+use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
+use crate::view::CameraMatrices;
+
+/// The most lights one [`Shadows`] holds (layers of the visibility array).
+pub const MAX_LIGHTS: usize = 8;
+
+/// What the engine gives each frame.
+#[derive(Debug, Clone, Copy)]
+pub struct ViewInputs<'a> {
+    /// The matrices the engine drew its depth with.
+    pub camera: CameraMatrices,
+    /// The engine's depth buffer: a 2D, single-sampled depth texture (`Depth32Float`,
+    /// `Depth24Plus`, `Depth24PlusStencil8` or `Depth32FloatStencil8`) with `TEXTURE_BINDING`
+    /// usage. Its size is the size of the visibility; its convention is `camera.depth`.
+    pub depth: &'a wgpu::Texture,
+    /// Optional: which pixels receive shadows, a float-sampled 2D texture of the depth's size
+    /// (`R8Unorm` for instance) holding at least 0.5 where they do. Without it every pixel with
+    /// depth does, and the blur mixes receivers and non-receivers.
+    pub receiver_mask: Option<&'a wgpu::Texture>,
+}
+
+/// A light added to [`Shadows`]; also its layer in [`Shadows::visibility`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct LightId(u32);
+
+impl LightId {
+    /// The layer of the visibility array that holds this light's visibility.
+    pub fn layer(self) -> u32 {
+        self.0
+    }
+}
+
+/// Which passes one light's chain runs: the method's chain, written once.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Chain {
+    /// The method drawn: a method that needs a light size falls back to
+    /// [`ShadowMethod::Hard`] when the light has none.
+    pub method: ShadowMethod,
+    pub fattened_map: bool,
+    pub distance_map: bool,
+    pub pcf: bool,
+    pub pcss: bool,
+    pub blur: bool,
+}
+
+impl Chain {
+    /// The passes `settings.method` runs for `light`.
+    pub fn new(settings: &ShadowSettings, light: &Light) -> Self {
+        let method = match settings.method {
+            ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Pcss if is_point_light(light) => {
+                ShadowMethod::Hard
+            }
+            m => m,
+        };
+        let none = Chain {
+            method,
+            ..Default::default()
+        };
+        match method {
+            ShadowMethod::Ours | ShadowMethod::OursFast => Chain {
+                fattened_map: true,
+                distance_map: true,
+                pcf: true,
+                blur: settings.penumbra.blur_taps > 1,
+                ..none
+            },
+            ShadowMethod::Traditional => Chain {
+                pcf: true,
+                blur: settings.traditional.blur_taps > 1,
+                ..none
+            },
+            ShadowMethod::Pcss => Chain { pcss: true, ..none },
+            // Screen-space hard shadows: one PCF tap (a bilinear 2x2 comparison).
+            ShadowMethod::Hard | ShadowMethod::Hardware2x2 => Chain { pcf: true, ..none },
+            ShadowMethod::Reference => none,
+        }
+    }
+
+    /// The blur's tap count.
+    fn blur_taps(&self, settings: &ShadowSettings) -> u32 {
+        match self.method {
+            ShadowMethod::Traditional => settings.traditional.blur_taps,
+            _ => settings.penumbra.blur_taps,
+        }
+    }
+
+    /// The names of the passes, in the order they run.
+    pub fn names(&self) -> Vec<&'static str> {
+        [
+            (true, "shadow map"),
+            (self.fattened_map, "fattened shadow map"),
+            (self.distance_map, "distance map"),
+            (self.pcf, "pcf"),
+            (self.pcss, "pcss"),
+            (self.blur, "blur"),
+            (true, "resolve"),
+        ]
+        .into_iter()
+        .filter_map(|(on, name)| on.then_some(name))
+        .collect()
+    }
+}
+
+/// What one light did in the last frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LightReport {
+    pub light: LightId,
+    pub chain: Chain,
+    /// False when the shadow map and fattened map were reused from an earlier frame.
+    pub shadow_maps_rendered: bool,
+    pub spreads: DerivedSpreads,
+    pub light_view: LightView,
+}
+
+/// An intermediate texture of one light, for debug views.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum LightTexture {
+    ShadowMap,
+    FattenedMap,
+    /// RG16F: R = distance to the fattened occluder (world units), G = mask.
+    DistanceMap,
+    /// Raw PCF or PCSS visibility (R16F).
+    Visibility,
+    /// Blurred visibility (R16F).
+    BlurredVisibility,
+}
+
+/// What decides whether a light's shadow maps can be reused.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct ShadowKey {
+    casters: u64,
+    light: Light,
+    light_view: [f32; 16],
+    shadow_map: ShadowMapSettings,
+    fatten_distance: Option<f32>,
+}
+
+/// What [`Shadows::prepare`] decided for one light, for [`Shadows::encode`].
+#[derive(Debug, Clone, Copy)]
+struct Planned {
+    chain: Chain,
+    key: ShadowKey,
+    render_maps: bool,
+    spreads: DerivedSpreads,
+    light_view: LightView,
+}
+
+/// One light: its maps, its screen-space passes and its cache.
+struct LightState {
+    light: Light,
+    frame: wgpu::Buffer,
+    /// Made in [`Shadows::prepare`] with the casters' layouts.
+    shadow_map: Option<ShadowMapPass>,
+    fattened: Option<FattenedShadowMapPass>,
+    distance: Option<DistanceMapPass>,
+    pcf: Option<PcfPass>,
+    pcss: Option<PcssPass>,
+    blur: Option<BlurPass>,
+    resolve: ResolvePass,
+    /// The chain the passes are bound for (rebinding when it changes).
+    bound: Option<Chain>,
+    key: Option<ShadowKey>,
+    seen_revision: u64,
+    planned: Option<Planned>,
+    report: Option<LightReport>,
+}
+
+/// The engine's depth and receiver mask as bound.
+struct Inputs {
+    depth: wgpu::Texture,
+    depth_view: wgpu::TextureView,
+    mask: Option<(wgpu::Texture, wgpu::TextureView)>,
+}
+
+/// Soft shadows for several lights on an engine's depth buffer. See the module docs and the
+/// README's "Embedding in your engine".
+pub struct Shadows {
+    settings: ShadowSettings,
+    lights: Vec<Option<LightState>>,
+    size: (u32, u32),
+    inputs: Option<Inputs>,
+    /// R16F, one layer per light slot.
+    visibility: Option<(wgpu::Texture, wgpu::TextureView, Vec<wgpu::TextureView>)>,
+    /// 1x1 stand-ins for inputs a chain does not have.
+    dummy: (wgpu::Texture, wgpu::TextureView),
+    /// Whose casters the pipelines were made for.
+    casters_id: Option<u64>,
+    /// False: only the light-space maps are rendered (the convenience renderer's forward
+    /// and reference paths).
+    screen_space: bool,
+    prepared: bool,
+}
+
+const FRAME_SIZE: usize = size_of::<FrameUniform>();
+
+impl Shadows {
+    /// Soft shadows with `settings` (validated; [`ShadowMethod::Reference`] is refused: it
+    /// is an offline renderer, see [`crate::Renderer`]).
+    pub fn new(device: &wgpu::Device, settings: ShadowSettings) -> Result<Self> {
+        Self::check_settings(device, &settings)?;
+        Ok(Self {
+            settings,
+            lights: Vec::new(),
+            size: (0, 0),
+            inputs: None,
+            visibility: None,
+            dummy: screen_target(device, "Shadows::dummy", 1, 1, wgpu::TextureFormat::R16Float),
+            casters_id: None,
+            screen_space: true,
+            prepared: false,
+        })
+    }
+
+    fn check_settings(device: &wgpu::Device, settings: &ShadowSettings) -> Result<()> {
+        settings.validate(Some(device.limits().max_texture_dimension_2d))?;
+        if settings.method == ShadowMethod::Reference {
+            return Err(PenumbraError::setting(
+                "method",
+                "`reference` is an offline renderer; Shadows runs the real-time methods (use Renderer::render_reference)",
+            ));
+        }
+        Ok(())
+    }
+
+    pub fn settings(&self) -> &ShadowSettings {
+        &self.settings
+    }
+
+    /// Applies new settings to every light. Maps are recreated when their resolution, format,
+    /// bias or culling change; passes a method no longer uses are dropped.
+    pub fn set_settings(&mut self, device: &wgpu::Device, settings: ShadowSettings) -> Result<()> {
+        Self::check_settings(device, &settings)?;
+        let maps_changed = settings.shadow_map != self.settings.shadow_map;
+        self.settings = settings;
+        for state in self.lights.iter_mut().flatten() {
+            if maps_changed {
+                *state = LightState::new(device, state.light);
+            } else {
+                state.bound = None;
+            }
+        }
+        if maps_changed {
+            self.casters_id = None;
+        }
+        Ok(())
+    }
+
+    pub(crate) fn set_screen_space(&mut self, on: bool) {
+        self.screen_space = on;
+    }
+
+    /// Adds a shadowed light (validated). At most [`MAX_LIGHTS`].
+    pub fn add_light(&mut self, device: &wgpu::Device, light: Light) -> Result<LightId> {
+        light.validate()?;
+        let slot = match self.lights.iter().position(Option::is_none) {
+            Some(slot) => slot,
+            None if self.lights.len() < MAX_LIGHTS => {
+                self.lights.push(None);
+                self.lights.len() - 1
+            }
+            None => {
+                return Err(PenumbraError::input(
+                    "light",
+                    format!("a Shadows holds at most {MAX_LIGHTS} lights"),
+                ));
+            }
+        };
+        self.lights[slot] = Some(LightState::new(device, light));
+        self.casters_id = None;
+        if self
+            .visibility
+            .as_ref()
+            .is_some_and(|v| v.2.len() < self.lights.len())
+        {
+            self.visibility = None;
+        }
+        Ok(LightId(slot as u32))
+    }
+
+    /// Changes a light (validated). Its maps are re-rendered next frame.
+    pub fn set_light(&mut self, id: LightId, light: Light) -> Result<()> {
+        light.validate()?;
+        self.state_mut(id)?.light = light;
+        Ok(())
+    }
+
+    /// Removes a light; its layer keeps its last content until the slot is reused.
+    pub fn remove_light(&mut self, id: LightId) -> Result<()> {
+        self.state_mut(id)?;
+        self.lights[id.0 as usize] = None;
+        Ok(())
+    }
+
+    pub fn light(&self, id: LightId) -> Result<Light> {
+        self.state(id).map(|s| s.light)
+    }
+
+    /// The lights, in layer order.
+    pub fn light_ids(&self) -> Vec<LightId> {
+        (0..self.lights.len())
+            .filter(|&i| self.lights[i].is_some())
+            .map(|i| LightId(i as u32))
+            .collect()
+    }
+
+    /// Decides this frame's work (CPU only, plus uniform uploads): validates the engine's
+    /// inputs, fits each light's map to the casters and the camera, derives the spreads, and
+    /// decides which lights' maps must be re-rendered. Call [`Shadows::encode`] next, with the
+    /// same casters.
+    pub fn prepare(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        casters: &Casters,
+        view: &ViewInputs,
+    ) -> Result<()> {
+        self.prepared = false;
+        view.camera.validate()?;
+        let (width, height) = check_depth(view.depth)?;
+        if let Some(mask) = view.receiver_mask {
+            check_mask(mask, (width, height))?;
+        }
+        let device_scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let resized = self.size != (width, height);
+        self.size = (width, height);
+        let inputs_changed = match &self.inputs {
+            Some(inputs) => {
+                inputs.depth != *view.depth || inputs.mask.as_ref().map(|m| &m.0) != view.receiver_mask
+            }
+            None => true,
+        };
+        if inputs_changed {
+            self.inputs = Some(Inputs {
+                depth: view.depth.clone(),
+                depth_view: view.depth.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some("Shadows::depth"),
+                    aspect: wgpu::TextureAspect::DepthOnly,
+                    ..Default::default()
+                }),
+                mask: view
+                    .receiver_mask
+                    .map(|m| (m.clone(), m.create_view(&Default::default()))),
+            });
+        }
+        if resized || self.visibility.is_none() {
+            self.visibility = Some(visibility_array(
+                device,
+                width,
+                height,
+                self.lights.len().max(1) as u32,
+            ));
+        }
+        let rebind_all = resized || inputs_changed;
+        let new_casters = self.casters_id != Some(casters.id());
+        self.casters_id = Some(casters.id());
+
+        let shadow_bounds = casters.shadow_bounds();
+        let caster_bounds = casters.caster_bounds();
+        let parts = casters.shadow_parts();
+        let has_mask = view.receiver_mask.is_some();
+        for state in self.lights.iter_mut().flatten() {
+            let chain = Chain::new(&self.settings, &state.light);
+            let sm = self.settings.shadow_map;
+            if state.allocate(
+                device,
+                casters,
+                new_casters,
+                &sm,
+                &chain,
+                (width, height),
+                resized,
+            ) || rebind_all
+            {
+                state.bound = None;
+            }
+            let light = state.light;
+            // Fit once to find the depth range (and so the widest penumbra), then fit the sides
+            // to the casters widened by that penumbra.
+            let loose = LightView::fit(&light, &shadow_bounds);
+            let spreads = spreads(&self.settings, &light, &loose, &shadow_bounds);
+            let sm = &self.settings.shadow_map;
+            let light_view = LightView::fit_with(&FitInputs {
+                light: &light,
+                casters: caster_bounds,
+                casters_and_receivers: shadow_bounds,
+                parts: &parts,
+                margin: spreads.fatten_distance * 2.0,
+                fit: sm.fit,
+                camera: Some(view.camera),
+                resolution: sm.resolution,
+                snap_to_texels: sm.snap_to_texels,
+            });
+            let effective = ShadowSettings {
+                method: chain.method,
+                ..self.settings
+            };
+            queue.write_buffer(
+                &state.frame,
+                0,
+                bytemuck::bytes_of(&FrameUniform::new(&FrameInputs {
+                    camera: &view.camera,
+                    width,
+                    height,
+                    light: &light,
+                    ambient: glam::Vec3::ZERO,
+                    light_view: &light_view,
+                    settings: &effective,
+                    spreads,
+                    caster_radius: caster_bounds.radius(),
+                    receiver_mask: has_mask,
+                    distance_map: chain.distance_map,
+                })),
+            );
+            let key = ShadowKey {
+                casters: casters.id(),
+                light,
+                light_view: light_view.view_projection.to_cols_array(),
+                shadow_map: self.settings.shadow_map,
+                fatten_distance: chain.fattened_map.then_some(spreads.fatten_distance),
+            };
+            let margin = spreads.fatten_distance * 2.0;
+            let render_maps = new_casters
+                || state.key != Some(key)
+                || casters.changed_inside(state.seen_revision, |b| sees(&light_view, b, margin));
+            if render_maps {
+                if let Some(m) = &mut state.shadow_map {
+                    m.prepare(device, queue, casters, &light_view);
+                }
+                if let Some(f) = &mut state.fattened {
+                    f.prepare(device, queue, casters, &light_view, spreads.fatten_distance);
+                }
+            }
+            if let Some(blur) = &state.blur {
+                blur.prepare(queue, chain.blur_taps(&self.settings));
+            }
+            state.planned = Some(Planned {
+                chain,
+                key,
+                render_maps,
+                spreads,
+                light_view,
+            });
+        }
+        let inputs = self.inputs.as_ref().expect("set above");
+        let mask_view = inputs.mask.as_ref().map_or(&self.dummy.1, |m| &m.1);
+        for state in self.lights.iter_mut().flatten() {
+            let chain = state.planned.expect("planned above").chain;
+            if state.bound != Some(chain) {
+                state.bind(device, &inputs.depth_view, mask_view, &self.dummy.1);
+                state.bound = Some(chain);
+            }
+        }
+        if let Some(error) = block_on_now(device_scope.pop()).flatten() {
+            return Err(PenumbraError::Gpu {
+                during: "preparing the shadows".into(),
+                reason: error.to_string(),
+            });
+        }
+        self.prepared = true;
+        Ok(())
+    }
+
+    /// Records the frame [`Shadows::prepare`] planned: per light, the maps when they must be
+    /// re-rendered, then the screen-space chain into the light's layer of
+    /// [`Shadows::visibility`].
+    pub fn encode(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        casters: &Casters,
+    ) -> Result<Vec<LightReport>> {
+        self.encode_marked(encoder, casters, &mut |_, _| {})
+    }
+
+    /// [`Shadows::encode`], calling `mark(encoder, pass)` after each pass (timing).
+    pub(crate) fn encode_marked(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        casters: &Casters,
+        mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str),
+    ) -> Result<Vec<LightReport>> {
+        if !self.prepared || self.casters_id != Some(casters.id()) {
+            return Err(PenumbraError::input(
+                "Shadows::encode",
+                "call prepare with the same casters first",
+            ));
+        }
+        self.prepared = false;
+        let layers = &self.visibility.as_ref().expect("prepared").2;
+        let mut reports = Vec::new();
+        for (slot, state) in self.lights.iter_mut().enumerate() {
+            let Some(state) = state else { continue };
+            let Some(plan) = state.planned.take() else {
+                continue;
+            };
+            let chain = plan.chain;
+            if plan.render_maps {
+                encoder.push_debug_group("shadow map");
+                if let Some(m) = &state.shadow_map {
+                    m.encode(encoder, casters);
+                }
+                encoder.pop_debug_group();
+                mark(encoder, "shadow map");
+                if let (true, Some(f)) = (chain.fattened_map, &state.fattened) {
+                    encoder.push_debug_group("fattened shadow map");
+                    f.encode(encoder, casters);
+                    encoder.pop_debug_group();
+                    mark(encoder, "fattened shadow map");
+                }
+                state.key = Some(plan.key);
+                state.seen_revision = casters.revision();
+            }
+            if self.screen_space {
+                let mut run = |encoder: &mut wgpu::CommandEncoder,
+                               name: &'static str,
+                               f: &dyn Fn(&mut wgpu::CommandEncoder)| {
+                    encoder.push_debug_group(name);
+                    f(encoder);
+                    encoder.pop_debug_group();
+                    mark(encoder, name);
+                };
+                if let (true, Some(p)) = (chain.distance_map, &state.distance) {
+                    run(encoder, "distance map", &|e| p.encode(e));
+                }
+                if let (true, Some(p)) = (chain.pcf, &state.pcf) {
+                    run(encoder, "pcf", &|e| p.encode(e));
+                }
+                if let (true, Some(p)) = (chain.pcss, &state.pcss) {
+                    run(encoder, "pcss", &|e| p.encode(e));
+                }
+                if let (true, Some(p)) = (chain.blur, &state.blur) {
+                    run(encoder, "blur", &|e| p.encode(e));
+                }
+                let resolve = &state.resolve;
+                run(encoder, "resolve", &|e| resolve.encode(e, &layers[slot]));
+            }
+            let report = LightReport {
+                light: LightId(slot as u32),
+                chain,
+                shadow_maps_rendered: plan.render_maps,
+                spreads: plan.spreads,
+                light_view: plan.light_view,
+            };
+            state.report = Some(report);
+            reports.push(report);
+        }
+        Ok(reports)
+    }
+
+    /// [`Shadows::prepare`] then [`Shadows::encode`].
+    pub fn render(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        casters: &Casters,
+        view: &ViewInputs,
+    ) -> Result<Vec<LightReport>> {
+        self.prepare(device, queue, casters, view)?;
+        self.encode(encoder, casters)
+    }
+
+    /// The visibility of every light: an `R16Float` 2D array texture of the depth's size, one
+    /// layer per light ([`LightId::layer`]), 1 lit and 0 shadowed, indirect attenuation
+    /// applied. Sample it with `textureLoad(visibility, pixel, layer, 0)` (bound as
+    /// `texture_2d_array<f32>`, filterable). `None` before the first frame.
+    pub fn visibility(&self) -> Option<&wgpu::TextureView> {
+        self.visibility.as_ref().map(|v| &v.1)
+    }
+
+    pub fn visibility_texture(&self) -> Option<&wgpu::Texture> {
+        self.visibility.as_ref().map(|v| &v.0)
+    }
+
+    /// One light's layer as a 2D view.
+    pub fn visibility_layer(&self, id: LightId) -> Option<&wgpu::TextureView> {
+        self.visibility.as_ref().and_then(|v| v.2.get(id.0 as usize))
+    }
+
+    /// What each light did in its last frame.
+    pub fn report(&self, id: LightId) -> Option<&LightReport> {
+        self.state(id).ok().and_then(|s| s.report.as_ref())
+    }
+
+    /// An intermediate texture of a light's last frame, if its chain has it.
+    pub fn light_texture(&self, id: LightId, which: LightTexture) -> Option<&wgpu::Texture> {
+        let s = self.state(id).ok()?;
+        match which {
+            LightTexture::ShadowMap => s.shadow_map.as_ref().map(|p| p.texture()),
+            LightTexture::FattenedMap => s.fattened.as_ref().map(|p| p.texture()),
+            LightTexture::DistanceMap => s.distance.as_ref().map(|p| p.distance_texture()),
+            LightTexture::Visibility => s
+                .pcf
+                .as_ref()
+                .map(|p| p.visibility_texture())
+                .or_else(|| s.pcss.as_ref().map(|p| p.visibility_texture())),
+            LightTexture::BlurredVisibility => s.blur.as_ref().map(|p| p.blurred_texture()),
+        }
+    }
+
+    /// The light's shadow map pass, for the reference's per-sample maps (made for `casters`
+    /// if it is not yet). Marks its maps stale.
+    pub(crate) fn reference_shadow_map(
+        &mut self,
+        device: &wgpu::Device,
+        id: LightId,
+        casters: &Casters,
+    ) -> Option<&mut ShadowMapPass> {
+        let settings = self.settings.shadow_map;
+        let new_casters = self.casters_id != Some(casters.id());
+        let state = self.lights.get_mut(id.0 as usize)?.as_mut()?;
+        if new_casters || state.shadow_map.is_none() {
+            state.shadow_map = Some(ShadowMapPass::new(device, casters.layouts(), &settings));
+            state.fattened = None;
+            state.bound = None;
+        }
+        self.casters_id = Some(casters.id());
+        state.key = None;
+        state.shadow_map.as_mut()
+    }
+
+    pub(crate) fn shadow_map(&self, id: LightId) -> Option<&ShadowMapPass> {
+        self.state(id).ok().and_then(|s| s.shadow_map.as_ref())
+    }
+
+    fn state(&self, id: LightId) -> Result<&LightState> {
+        self.lights
+            .get(id.0 as usize)
+            .and_then(Option::as_ref)
+            .ok_or_else(|| {
+                PenumbraError::input(
+                    format!("light {}", id.0),
+                    "no such light (removed or never added)",
+                )
+            })
+    }
+
+    fn state_mut(&mut self, id: LightId) -> Result<&mut LightState> {
+        self.lights
+            .get_mut(id.0 as usize)
+            .and_then(Option::as_mut)
+            .ok_or_else(|| {
+                PenumbraError::input(
+                    format!("light {}", id.0),
+                    "no such light (removed or never added)",
+                )
+            })
+    }
+}
+
+impl LightState {
+    fn new(device: &wgpu::Device, light: Light) -> Self {
+        Self {
+            light,
+            frame: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("Shadows::frame"),
+                size: FRAME_SIZE as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            shadow_map: None,
+            fattened: None,
+            distance: None,
+            pcf: None,
+            pcss: None,
+            blur: None,
+            resolve: ResolvePass::new(device, FRAME_SIZE),
+            bound: None,
+            key: None,
+            seen_revision: 0,
+            planned: None,
+            report: None,
+        }
+    }
+
+    /// Creates the passes `chain` needs and sizes their targets; returns true when anything
+    /// was created or resized (the bind groups must then be rebuilt). The light-space maps are
+    /// made with `casters`' layouts (again when the casters are new).
+    #[allow(clippy::too_many_arguments)]
+    fn allocate(
+        &mut self,
+        device: &wgpu::Device,
+        casters: &Casters,
+        new_casters: bool,
+        settings: &ShadowMapSettings,
+        chain: &Chain,
+        (w, h): (u32, u32),
+        resized: bool,
+    ) -> bool {
+        let mut changed = false;
+        if new_casters || self.shadow_map.is_none() {
+            self.shadow_map = Some(ShadowMapPass::new(device, casters.layouts(), settings));
+            self.fattened = None;
+            self.key = None;
+            changed = true;
+        }
+        if chain.fattened_map && self.fattened.is_none() {
+            self.fattened = Some(FattenedShadowMapPass::new(device, casters.layouts(), settings));
+            self.key = None;
+            changed = true;
+        }
+        macro_rules! screen {
+            ($slot:expr, $wanted:expr, $make:expr) => {
+                if $wanted && $slot.is_none() {
+                    let mut pass = $make;
+                    pass.resize(device, w, h);
+                    $slot = Some(pass);
+                    changed = true;
+                } else if resized && let Some(pass) = &mut $slot {
+                    pass.resize(device, w, h);
+                    changed = true;
+                }
+            };
+        }
+        screen!(
+            self.distance,
+            chain.distance_map,
+            DistanceMapPass::new(device, FRAME_SIZE)
+        );
+        screen!(self.pcf, chain.pcf, PcfPass::new(device, FRAME_SIZE));
+        screen!(self.pcss, chain.pcss, PcssPass::new(device, FRAME_SIZE));
+        screen!(self.blur, chain.blur, BlurPass::new(device, FRAME_SIZE));
+        changed
+    }
+
+    /// Points every pass of the chain at its inputs.
+    fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        depth: &wgpu::TextureView,
+        mask: &wgpu::TextureView,
+        dummy: &wgpu::TextureView,
+    ) {
+        let frame = &self.frame;
+        let Some(shadow_map) = self.shadow_map.as_ref().map(|m| m.view()) else {
+            return;
+        };
+        let chain = self.planned.map(|p| p.chain).unwrap_or_default();
+        if let (true, Some(d), Some(f)) = (chain.distance_map, &mut self.distance, &self.fattened) {
+            d.bind(device, frame, f.view(), depth, mask);
+        }
+        let distance = match (chain.distance_map, &self.distance) {
+            (true, Some(d)) => d.distance_map(),
+            _ => dummy,
+        };
+        if let Some(p) = &mut self.pcf {
+            p.bind(device, frame, depth, distance, shadow_map);
+        }
+        if let Some(p) = &mut self.pcss {
+            p.bind(device, frame, depth, shadow_map);
+        }
+        let raw = if chain.pcss {
+            self.pcss.as_ref().map(|p| p.visibility())
+        } else {
+            self.pcf.as_ref().map(|p| p.visibility())
+        };
+        let Some(raw) = raw else { return };
+        if let Some(b) = &mut self.blur {
+            b.bind(device, frame, depth, distance, raw);
+        }
+        let visibility = match (&self.blur, chain.blur) {
+            (Some(b), true) => b.blurred(),
+            _ => raw,
+        };
+        self.resolve
+            .bind(device, frame, depth, distance, visibility, mask);
+    }
+}
+
+/// The fatten distance and penumbra scale for a frame: derived from the light in physical
+/// mode, the user's fatten distance in manual mode.
+pub(crate) fn spreads(
+    settings: &ShadowSettings,
+    light: &Light,
+    light_view: &LightView,
+    shadow_bounds: &Aabb,
+) -> DerivedSpreads {
+    let derived = derive_spreads(light, light_view, shadow_bounds, settings.shadow_map.resolution);
+    match settings.penumbra.spreads {
+        SpreadMode::Physical => derived,
+        SpreadMode::Manual { fatten_distance, .. } => DerivedSpreads {
+            fatten_distance,
+            ..derived
+        },
+    }
+}
+
+/// True unless `b` (grown by `margin`) lies wholly outside one side of the light's frustum.
+fn sees(light_view: &LightView, b: &Aabb, margin: f32) -> bool {
+    if b.is_empty() {
+        return false;
+    }
+    let grown = Aabb::new(
+        b.min - glam::Vec3::splat(margin),
+        b.max + glam::Vec3::splat(margin),
+    );
+    let clip: Vec<glam::Vec4> = grown
+        .corners()
+        .iter()
+        .map(|c| light_view.view_projection * c.extend(1.0))
+        .collect();
+    let outside = |f: &dyn Fn(&glam::Vec4) -> bool| clip.iter().all(f);
+    !(outside(&|c| c.x < -c.w)
+        || outside(&|c| c.x > c.w)
+        || outside(&|c| c.y < -c.w)
+        || outside(&|c| c.y > c.w)
+        || outside(&|c| c.z < 0.0)
+        || outside(&|c| c.z > c.w))
+}
+
+/// The size of a valid engine depth texture.
+fn check_depth(depth: &wgpu::Texture) -> Result<(u32, u32)> {
+    let fail = |reason: String| Err(PenumbraError::input("depth texture", reason));
+    let format = depth.format();
+    if !format.has_depth_aspect() {
+        return fail(format!("{format:?} has no depth aspect"));
+    }
+    if matches!(format, wgpu::TextureFormat::Depth16Unorm) {
+        return fail("Depth16Unorm is not supported; use Depth32Float or Depth24Plus".into());
+    }
+    if !depth.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING) {
+        return fail("it needs TEXTURE_BINDING usage so the screen-space passes can read it".into());
+    }
+    if depth.sample_count() != 1 {
+        return fail(format!(
+            "it has {} samples; resolve it or give a single-sampled copy",
+            depth.sample_count()
+        ));
+    }
+    if depth.dimension() != wgpu::TextureDimension::D2 || depth.depth_or_array_layers() != 1 {
+        return fail("it must be a single-layer 2D texture".into());
+    }
+    Ok((depth.width(), depth.height()))
+}
+
+fn check_mask(mask: &wgpu::Texture, size: (u32, u32)) -> Result<()> {
+    let fail = |reason: String| Err(PenumbraError::input("receiver mask", reason));
+    if (mask.width(), mask.height()) != size {
+        return fail(format!(
+            "it is {}x{}, the depth texture {}x{}",
+            mask.width(),
+            mask.height(),
+            size.0,
+            size.1
+        ));
+    }
+    if !matches!(
+        mask.format().sample_type(None, None),
+        Some(wgpu::TextureSampleType::Float { .. })
+    ) {
+        return fail(format!("{:?} is not sampled as float", mask.format()));
+    }
+    if !mask.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING) || mask.sample_count() != 1 {
+        return fail("it needs TEXTURE_BINDING usage and one sample".into());
+    }
+    Ok(())
+}
+
+fn visibility_array(
+    device: &wgpu::Device,
+    width: u32,
+    height: u32,
+    layers: u32,
+) -> (wgpu::Texture, wgpu::TextureView, Vec<wgpu::TextureView>) {
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("Shadows::visibility"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: VISIBILITY_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let array = texture.create_view(&wgpu::TextureViewDescriptor {
+        label: Some("Shadows::visibility"),
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    let layer_views = (0..layers)
+        .map(|layer| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                label: Some("Shadows::visibility_layer"),
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: layer,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        })
+        .collect();
+    (texture, array, layer_views)
+}
+
+/// Polls a future once: wgpu's error scopes resolve at once on native backends. A future that
+/// is not ready counts as no error.
+pub(crate) fn block_on_now<F: std::future::Future>(future: F) -> Option<F::Output> {
+    let mut future = std::pin::pin!(future);
+    let mut context = std::task::Context::from_waker(std::task::Waker::noop());
+    match future.as_mut().poll(&mut context) {
+        std::task::Poll::Ready(value) => Some(value),
+        std::task::Poll::Pending => None,
+    }
+}
