@@ -346,24 +346,14 @@ impl Renderer {
         let light = |t| self.shadows.light_texture(self.light, t);
         match which {
             DebugTexture::ShadowMap => light(LightTexture::ShadowMap),
-            DebugTexture::FattenedMap => {
-                light(LightTexture::FattenedMap).filter(|_| method.uses_distance_map())
-            }
+            DebugTexture::FattenedMap => light(LightTexture::FattenedMap),
             DebugTexture::CameraDepth => self.prepass.as_ref().map(|p| p.depth_texture()),
-            DebugTexture::DistanceMap => {
-                light(LightTexture::DistanceMap).filter(|_| method.uses_distance_map())
-            }
+            DebugTexture::DistanceMap => light(LightTexture::DistanceMap),
             DebugTexture::Visibility => match method {
                 ShadowMethod::Reference => self.reference.as_ref().map(|p| p.visibility_texture()),
-                m if m.is_screen_space() => light(LightTexture::Visibility),
-                _ => None,
+                _ => light(LightTexture::Visibility),
             },
-            DebugTexture::BlurredVisibility => light(LightTexture::BlurredVisibility).filter(|_| {
-                matches!(
-                    method,
-                    ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Traditional
-                )
-            }),
+            DebugTexture::BlurredVisibility => light(LightTexture::BlurredVisibility),
         }
     }
 
@@ -439,6 +429,9 @@ impl Renderer {
         if !forward {
             self.forward = None;
             self.forward_source = None;
+        }
+        if !screen || method == ShadowMethod::Reference {
+            self.shadows.drop_screen_passes();
         }
     }
 

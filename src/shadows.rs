@@ -266,6 +266,19 @@ impl Shadows {
         self.screen_space = on;
     }
 
+    /// Frees every light's passes but its shadow map (the convenience renderer's forward and
+    /// reference paths).
+    pub(crate) fn drop_screen_passes(&mut self) {
+        for state in self.lights.iter_mut().flatten() {
+            state.fattened = None;
+            state.distance = None;
+            state.pcf = None;
+            state.pcss = None;
+            state.blur = None;
+            state.bound = None;
+        }
+    }
+
     /// Adds a shadowed light (validated). At most [`MAX_LIGHTS`].
     pub fn add_light(&mut self, device: &wgpu::Device, light: Light) -> Result<LightId> {
         light.validate()?;
@@ -376,7 +389,14 @@ impl Shadows {
         let parts = casters.shadow_parts();
         let has_mask = view.receiver_mask.is_some();
         for state in self.lights.iter_mut().flatten() {
-            let chain = Chain::new(&self.settings, &state.light);
+            let mut chain = Chain::new(&self.settings, &state.light);
+            if !self.screen_space {
+                // Only the light-space map: the renderer shades in its forward pass.
+                chain = Chain {
+                    method: chain.method,
+                    ..Default::default()
+                };
+            }
             let sm = self.settings.shadow_map;
             if state.allocate(
                 device,
@@ -714,10 +734,16 @@ impl LightState {
             self.fattened = Some(FattenedShadowMapPass::new(device, casters.layouts(), settings));
             self.key = None;
             changed = true;
+        } else if !chain.fattened_map && self.fattened.is_some() {
+            self.fattened = None;
+            changed = true;
         }
+        // Passes the chain does not run are dropped, the others made or resized.
         macro_rules! screen {
             ($slot:expr, $wanted:expr, $make:expr) => {
-                if $wanted && $slot.is_none() {
+                if !$wanted {
+                    changed |= $slot.take().is_some();
+                } else if $slot.is_none() {
                     let mut pass = $make;
                     pass.resize(device, w, h);
                     $slot = Some(pass);

@@ -389,14 +389,20 @@ fn camera_moves_reuse_the_shadow_maps() {
     assert_eq!(
         second.plan.names(),
         [
+            "depth prepass",
             "shadow map",
             "fattened shadow map",
             "distance map",
             "pcf",
             "blur",
+            "resolve",
             "composite"
         ]
     );
+    // Geometry is drawn twice on a camera move (prepass and composite), four times when the
+    // maps are re-rendered too.
+    assert_eq!(second.plan.geometry_passes(second.shadow_maps_rendered), 2);
+    assert_eq!(second.plan.geometry_passes(true), 4);
     let mut light = scene.light;
     if let Light::Directional(l) = &mut light {
         l.direction.x += 0.1;
@@ -410,36 +416,40 @@ fn camera_moves_reuse_the_shadow_maps() {
 
 #[test]
 fn passes_the_method_does_not_use_are_not_allocated() {
+    // Passes are made on the first frame that needs them and dropped on the first frame that
+    // no longer does.
     let gpu = common::gpu();
+    let scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
     let mut renderer = Renderer::new(
         &gpu.device,
         wgpu::TextureFormat::Rgba8UnormSrgb,
         settings(ShadowMethod::Hardware2x2),
     )
     .unwrap();
+    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
+    let camera = scene.view(0).unwrap();
+    let frame = |renderer: &mut Renderer, method| {
+        renderer.set_settings(&gpu.device, settings(method)).unwrap();
+        penumbra::render_to_image(&gpu, renderer, &gpu_scene, &camera, 96, 64).unwrap();
+    };
+    frame(&mut renderer, ShadowMethod::Hardware2x2);
+    assert!(renderer.debug_texture(DebugTexture::ShadowMap).is_some());
     for t in [
         DebugTexture::FattenedMap,
+        DebugTexture::CameraDepth,
         DebugTexture::DistanceMap,
         DebugTexture::Visibility,
         DebugTexture::BlurredVisibility,
     ] {
         assert!(renderer.debug_texture(t).is_none(), "hw2x2 allocated {t:?}");
     }
-    renderer
-        .set_settings(&gpu.device, settings(ShadowMethod::Ours))
-        .unwrap();
-    for t in [
-        DebugTexture::FattenedMap,
-        DebugTexture::DistanceMap,
-        DebugTexture::Visibility,
-        DebugTexture::BlurredVisibility,
-    ] {
+    frame(&mut renderer, ShadowMethod::Ours);
+    for t in DebugTexture::ALL {
         assert!(renderer.debug_texture(t).is_some(), "ours lacks {t:?}");
     }
-    renderer
-        .set_settings(&gpu.device, settings(ShadowMethod::Pcss))
-        .unwrap();
+    frame(&mut renderer, ShadowMethod::Pcss);
     assert!(renderer.debug_texture(DebugTexture::FattenedMap).is_none());
+    assert!(renderer.debug_texture(DebugTexture::DistanceMap).is_none());
     assert!(renderer.debug_texture(DebugTexture::BlurredVisibility).is_none());
     assert!(renderer.debug_texture(DebugTexture::Visibility).is_some());
 }

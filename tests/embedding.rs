@@ -1,0 +1,900 @@
+//! The embedding API on its own: casters from raw wgpu buffers, several lights on one depth
+//! buffer drawn by the test (orthographic, standard depth), the per-light cache, winding
+//! independence, and misuse answered with errors.
+
+mod common;
+
+use glam::{Mat4, Vec3, Vec4};
+use penumbra::{
+    CameraMatrices, CasterInstance, CasterMeshDesc, Casters, DebugTexture, DepthConvention, DirectionalLight,
+    IndexStream, Light, LightTexture, MeshGeometry, PenumbraError, ShadowMethod, ShadowSettings, Shadows,
+    SpotLight, VertexStream, ViewInputs,
+};
+use wgpu::util::DeviceExt;
+
+const SIZE: u32 = 256;
+
+/// A mesh in buffers of the test's own: positions (stride 12) and u32 indices.
+struct RawMesh {
+    positions: Vec<Vec3>,
+    indices: Vec<u32>,
+    vertex_buffer: wgpu::Buffer,
+    index_buffer: wgpu::Buffer,
+}
+
+impl RawMesh {
+    fn new(device: &wgpu::Device, mesh: &penumbra::Mesh) -> Self {
+        let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("test vertices"),
+            contents: bytemuck::cast_slice(&mesh.positions),
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_SRC,
+        });
+        let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("test indices"),
+            contents: bytemuck::cast_slice(&mesh.indices),
+            usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_SRC,
+        });
+        Self {
+            positions: mesh.positions.clone(),
+            indices: mesh.indices.clone(),
+            vertex_buffer,
+            index_buffer,
+        }
+    }
+
+    fn desc(&self) -> CasterMeshDesc<'_> {
+        CasterMeshDesc {
+            label: "test mesh",
+            positions: VertexStream {
+                buffer: &self.vertex_buffer,
+                offset: 0,
+                stride: 12,
+                format: wgpu::VertexFormat::Float32x3,
+            },
+            vertex_count: self.positions.len() as u32,
+            indices: Some(IndexStream {
+                buffer: &self.index_buffer,
+                offset: 0,
+                format: wgpu::IndexFormat::Uint32,
+                count: self.indices.len() as u32,
+            }),
+            normals: None,
+            geometry: MeshGeometry::Cpu {
+                positions: &self.positions,
+                normals: None,
+                indices: Some(&self.indices),
+            },
+        }
+    }
+}
+
+/// The test's own depth prepass: positions only, one transform per draw.
+struct DepthPass {
+    pipeline_standard: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    depth: wgpu::Texture,
+}
+
+const DEPTH_SHADER: &str = r#"
+@group(0) @binding(0) var<uniform> view_proj_model: mat4x4<f32>;
+@vertex
+fn vs_main(@location(0) position: vec3<f32>) -> @builtin(position) vec4<f32> {
+    return view_proj_model * vec4<f32>(position, 1.0);
+}
+"#;
+
+impl DepthPass {
+    fn new(device: &wgpu::Device) -> Self {
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("test depth"),
+            source: wgpu::ShaderSource::Wgsl(DEPTH_SHADER.into()),
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("test depth"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("test depth"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline_standard = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("test depth"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: 12,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+                })],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: wgpu::TextureFormat::Depth32Float,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        });
+        let depth = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("test depth"),
+            size: wgpu::Extent3d {
+                width: SIZE,
+                height: SIZE,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Depth32Float,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        Self {
+            pipeline_standard,
+            layout,
+            depth,
+        }
+    }
+
+    /// Draws `draws` (mesh, model matrix) with standard depth (cleared to 1).
+    fn draw(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        view_proj: Mat4,
+        draws: &[(&RawMesh, Mat4)],
+    ) {
+        let groups: Vec<wgpu::BindGroup> = draws
+            .iter()
+            .map(|(_, model)| {
+                let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("test depth transform"),
+                    contents: bytemuck::bytes_of(&(view_proj * *model).to_cols_array()),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                });
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("test depth"),
+                    layout: &self.layout,
+                    entries: &[wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: buffer.as_entire_binding(),
+                    }],
+                })
+            })
+            .collect();
+        let view = self.depth.create_view(&Default::default());
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("test depth"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline_standard);
+        for ((mesh, _), group) in draws.iter().zip(&groups) {
+            pass.set_bind_group(0, group, &[]);
+            pass.set_vertex_buffer(0, mesh.vertex_buffer.slice(..));
+            pass.set_index_buffer(mesh.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..mesh.indices.len() as u32, 0, 0..1);
+        }
+    }
+}
+
+fn sun(azimuth_deg: f32) -> Light {
+    let a = azimuth_deg.to_radians();
+    Light::Directional(DirectionalLight {
+        direction: Vec3::new(a.cos(), -1.2, a.sin()).normalize(),
+        angular_diameter_deg: 2.0,
+        color: Vec3::ONE,
+        intensity: 1.0,
+    })
+}
+
+/// A top-down orthographic camera over [-4, 4]^2 with standard depth.
+fn top_camera() -> CameraMatrices {
+    CameraMatrices {
+        view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 10.0, 0.0), Vec3::ZERO, Vec3::NEG_Z),
+        projection: glam::camera::rh::proj::directx::orthographic(-4.0, 4.0, -4.0, 4.0, 1.0, 20.0),
+        depth: DepthConvention::Standard,
+    }
+}
+
+/// The pixel of world point `p` under the top camera.
+fn top_pixel(p: Vec3) -> usize {
+    let camera = top_camera();
+    let clip = camera.view_projection() * Vec4::new(p.x, p.y, p.z, 1.0);
+    let x = ((clip.x * 0.5 + 0.5) * SIZE as f32) as usize;
+    let y = ((0.5 - clip.y * 0.5) * SIZE as f32) as usize;
+    y * SIZE as usize + x
+}
+
+fn read_layer(gpu: &penumbra::HeadlessGpu, shadows: &Shadows, layer: u32) -> Vec<f32> {
+    let source = shadows.visibility_texture().unwrap();
+    let copy = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("layer copy"),
+        size: wgpu::Extent3d {
+            width: source.width(),
+            height: source.height(),
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: source.format(),
+        usage: wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    encoder.copy_texture_to_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture: source,
+            mip_level: 0,
+            origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
+            aspect: wgpu::TextureAspect::All,
+        },
+        copy.as_image_copy(),
+        copy.size(),
+    );
+    gpu.queue.submit([encoder.finish()]);
+    penumbra::read_texture_f32(&gpu.device, &gpu.queue, &copy)
+        .unwrap()
+        .0
+}
+
+/// A unit-ish box standing on a floor, both in the test's own buffers.
+struct World {
+    box_mesh: RawMesh,
+    floor_mesh: RawMesh,
+    casters: Casters,
+    box_instance: penumbra::InstanceId,
+}
+
+fn world(gpu: &penumbra::HeadlessGpu) -> World {
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let box_mesh = RawMesh::new(
+        device,
+        &penumbra::scene::primitives::cuboid(Vec3::new(1.0, 2.0, 1.0)),
+    );
+    let floor_mesh = RawMesh::new(device, &penumbra::scene::primitives::plane(8.0, 1.0));
+    let mut casters = Casters::new(device);
+    let box_id = casters.add_mesh(device, queue, &box_mesh.desc()).unwrap();
+    let floor_id = casters.add_mesh(device, queue, &floor_mesh.desc()).unwrap();
+    let box_instance = casters
+        .add_instance(
+            device,
+            queue,
+            CasterInstance {
+                mesh: box_id,
+                transform: Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0)),
+                caster: true,
+                receiver: true,
+            },
+        )
+        .unwrap();
+    casters
+        .add_instance(
+            device,
+            queue,
+            CasterInstance {
+                mesh: floor_id,
+                transform: Mat4::IDENTITY,
+                caster: false,
+                receiver: true,
+            },
+        )
+        .unwrap();
+    World {
+        box_mesh,
+        floor_mesh,
+        casters,
+        box_instance,
+    }
+}
+
+#[test]
+fn four_lights_share_one_orthographic_depth_and_each_shadows_its_own_layer() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let w = world(&gpu);
+    let depth = DepthPass::new(device);
+    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+    let azimuths = [0.0, 90.0, 180.0, 270.0];
+    let ids: Vec<_> = azimuths
+        .iter()
+        .map(|a| shadows.add_light(device, sun(*a)).unwrap())
+        .collect();
+    let camera = top_camera();
+    let mut encoder = device.create_command_encoder(&Default::default());
+    depth.draw(
+        device,
+        &mut encoder,
+        camera.view_projection(),
+        &[
+            (&w.box_mesh, Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0))),
+            (&w.floor_mesh, Mat4::IDENTITY),
+        ],
+    );
+    let view = ViewInputs {
+        camera,
+        depth: &depth.depth,
+        receiver_mask: None,
+    };
+    let reports = shadows
+        .render(device, queue, &mut encoder, &w.casters, &view)
+        .unwrap();
+    gpu.queue.submit([encoder.finish()]);
+    assert_eq!(reports.len(), 4);
+    assert!(
+        reports
+            .iter()
+            .all(|r| r.shadow_maps_rendered && r.chain.method == ShadowMethod::Ours)
+    );
+    // Each sun throws the box's shadow away from itself, 1.5 units out on the floor.
+    let shadow_point = |azimuth: f32| {
+        let a = azimuth.to_radians();
+        Vec3::new(a.cos(), 0.0, a.sin()) * 1.5
+    };
+    for (k, id) in ids.iter().enumerate() {
+        let layer = read_layer(&gpu, &shadows, id.layer());
+        for (j, azimuth) in azimuths.iter().enumerate() {
+            let v = layer[top_pixel(shadow_point(*azimuth))];
+            if j == k {
+                assert!(v < 0.2, "light {k}: visibility {v} in its own shadow");
+            } else {
+                assert!(v > 0.95, "light {k}: visibility {v} in light {j}'s shadow");
+            }
+        }
+        // The box's top sees every sun; the floor far from it too.
+        assert!(layer[top_pixel(Vec3::new(0.0, 2.0, 0.0))] > 0.95);
+        assert!(layer[top_pixel(Vec3::new(3.0, 0.0, 3.0))] > 0.95);
+    }
+}
+
+#[test]
+fn a_lights_maps_are_re_rendered_exactly_when_a_caster_it_sees_changes() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let mut w = world(&gpu);
+    let depth = DepthPass::new(device);
+    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+    // Two narrow spots, one over each side of the floor.
+    let spot = |x: f32| {
+        Light::Spot(SpotLight {
+            position: Vec3::new(x, 6.0, 0.0),
+            direction: Vec3::NEG_Y,
+            cone_angle_deg: 12.0,
+            radius: 0.2,
+            color: Vec3::ONE,
+            intensity: 1.0,
+        })
+    };
+    let left = shadows.add_light(device, spot(-3.0)).unwrap();
+    let right = shadows.add_light(device, spot(3.0)).unwrap();
+    let frame = |w: &World, shadows: &mut Shadows| -> (bool, bool) {
+        let mut encoder = device.create_command_encoder(&Default::default());
+        depth.draw(
+            device,
+            &mut encoder,
+            top_camera().view_projection(),
+            &[(&w.floor_mesh, Mat4::IDENTITY)],
+        );
+        let view = ViewInputs {
+            camera: top_camera(),
+            depth: &depth.depth,
+            receiver_mask: None,
+        };
+        shadows
+            .render(device, queue, &mut encoder, &w.casters, &view)
+            .unwrap();
+        queue.submit([encoder.finish()]);
+        let rendered = |id| shadows.report(id).unwrap().shadow_maps_rendered;
+        (rendered(left), rendered(right))
+    };
+    let place = |w: &mut World, x: f32| {
+        w.casters
+            .set_transform(
+                queue,
+                w.box_instance,
+                Mat4::from_translation(Vec3::new(x, 0.5, 0.0)) * Mat4::from_scale(Vec3::splat(0.3)),
+            )
+            .unwrap();
+    };
+    place(&mut w, -3.0);
+    assert_eq!(frame(&w, &mut shadows), (true, true), "first frame");
+    assert_eq!(frame(&w, &mut shadows), (false, false), "nothing changed");
+    place(&mut w, -2.9);
+    assert_eq!(
+        frame(&w, &mut shadows),
+        (true, false),
+        "moved under the left spot"
+    );
+    place(&mut w, 3.0);
+    assert_eq!(
+        frame(&w, &mut shadows),
+        (true, true),
+        "left the left spot for the right one"
+    );
+    place(&mut w, 3.1);
+    assert_eq!(
+        frame(&w, &mut shadows),
+        (false, true),
+        "moved under the right spot"
+    );
+    // An instance added and removed under the left spot.
+    let box_id = w.casters.instance(w.box_instance).unwrap().mesh;
+    let extra = w
+        .casters
+        .add_instance(
+            device,
+            queue,
+            CasterInstance {
+                mesh: box_id,
+                transform: Mat4::from_translation(Vec3::new(-3.0, 0.5, 0.0))
+                    * Mat4::from_scale(Vec3::splat(0.2)),
+                caster: true,
+                receiver: true,
+            },
+        )
+        .unwrap();
+    assert_eq!(
+        frame(&w, &mut shadows),
+        (true, false),
+        "added under the left spot"
+    );
+    w.casters.remove_instance(extra).unwrap();
+    assert_eq!(
+        frame(&w, &mut shadows),
+        (true, false),
+        "removed under the left spot"
+    );
+    assert_eq!(frame(&w, &mut shadows), (false, false), "nothing changed");
+    shadows.set_light(right, spot(3.5)).unwrap();
+    assert_eq!(frame(&w, &mut shadows), (false, true), "the right spot moved");
+}
+
+#[test]
+fn a_light_of_size_zero_still_gives_a_hard_visibility() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let w = world(&gpu);
+    let depth = DepthPass::new(device);
+    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+    let Light::Directional(mut point_sun) = sun(0.0) else {
+        unreachable!()
+    };
+    point_sun.angular_diameter_deg = 0.0;
+    let id = shadows.add_light(device, Light::Directional(point_sun)).unwrap();
+    let mut encoder = device.create_command_encoder(&Default::default());
+    depth.draw(
+        device,
+        &mut encoder,
+        top_camera().view_projection(),
+        &[
+            (&w.box_mesh, Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0))),
+            (&w.floor_mesh, Mat4::IDENTITY),
+        ],
+    );
+    let view = ViewInputs {
+        camera: top_camera(),
+        depth: &depth.depth,
+        receiver_mask: None,
+    };
+    let reports = shadows
+        .render(device, queue, &mut encoder, &w.casters, &view)
+        .unwrap();
+    queue.submit([encoder.finish()]);
+    assert_eq!(reports[0].chain.method, ShadowMethod::Hard);
+    let layer = read_layer(&gpu, &shadows, id.layer());
+    assert!(layer[top_pixel(Vec3::new(1.5, 0.0, 0.0))] < 0.05, "no shadow");
+    let shadowed = layer.iter().filter(|v| **v < 0.5).count();
+    let partial = layer.iter().filter(|v| **v > 0.05 && **v < 0.95).count();
+    assert!(shadowed > 500, "{shadowed} shadowed pixels");
+    assert!(
+        (partial as f32) < 0.2 * shadowed as f32,
+        "{partial} partly lit pixels: not hard"
+    );
+}
+
+/// A mesh and its copy with every triangle wound the other way, with the same normals.
+fn both_windings() -> (penumbra::Mesh, penumbra::Mesh) {
+    let model = penumbra::load_model(&common::shared_models().join("spot.obj")).unwrap();
+    let mesh = model.meshes[model.parts[0].mesh].clone();
+    let mut indices = mesh.indices.clone();
+    for t in indices.chunks_exact_mut(3) {
+        t.swap(1, 2);
+    }
+    let flipped = penumbra::Mesh::new(
+        "clockwise",
+        mesh.positions.clone(),
+        Some(mesh.normals.clone()),
+        Some(mesh.uvs.clone()),
+        indices,
+    )
+    .unwrap();
+    (mesh, flipped)
+}
+
+#[test]
+fn winding_changes_neither_the_fattened_map_nor_the_shadows_nor_the_shading() {
+    let gpu = common::gpu();
+    let (ccw, cw) = both_windings();
+    for (a, b) in ccw.smoothed_normals.iter().zip(&cw.smoothed_normals) {
+        assert!(a.distance(*b) < 1e-5, "smoothed normals differ: {a} vs {b}");
+    }
+    let mut results = Vec::new();
+    for mesh in [ccw, cw] {
+        let model = penumbra::Model {
+            meshes: vec![mesh],
+            materials: vec![penumbra::Material::default()],
+            textures: Vec::new(),
+            parts: vec![penumbra::Instance {
+                mesh: 0,
+                material: 0,
+                transform: Mat4::IDENTITY,
+                caster: true,
+                receiver: true,
+            }],
+            warnings: Vec::new(),
+        };
+        let scene = penumbra::Scene::showcase(&model).unwrap();
+        let (image, renderer) = common::render_frame(
+            &gpu,
+            &scene,
+            &scene.view(0).unwrap(),
+            ShadowSettings::default(),
+            (320, 240),
+        );
+        let fattened = penumbra::read_texture_f32(
+            &gpu.device,
+            &gpu.queue,
+            renderer.debug_texture(DebugTexture::FattenedMap).unwrap(),
+        )
+        .unwrap()
+        .0;
+        let mask = penumbra::read_texture_f32(
+            &gpu.device,
+            &gpu.queue,
+            renderer.debug_texture(DebugTexture::DistanceMap).unwrap(),
+        )
+        .unwrap()
+        .0
+        .chunks_exact(2)
+        .filter(|px| px[1] > 0.5)
+        .count();
+        results.push((image, fattened, mask));
+    }
+    let (ccw, cw) = (&results[0], &results[1]);
+    assert_eq!(differing_texels(&ccw.1, &cw.1), 0, "the fattened maps differ");
+    assert_eq!(ccw.2, cw.2, "the masks differ: {} vs {} pixels", ccw.2, cw.2);
+    assert!(ccw.2 > 1000, "the mask is nearly empty");
+    let differing = ccw
+        .0
+        .pixels()
+        .zip(cw.0.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0.iter()).any(|(x, y)| x.abs_diff(*y) > 2))
+        .count();
+    assert!(
+        differing < 50,
+        "{differing} pixels of the frame differ between the windings"
+    );
+}
+
+#[test]
+fn casters_from_buffers_read_back_orient_by_volume_whatever_the_winding() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let (ccw, cw) = both_windings();
+    let mut maps = Vec::new();
+    for mesh in [&ccw, &cw] {
+        let raw = RawMesh::new(device, mesh);
+        let mut casters = Casters::new(device);
+        // Read back from the buffers, without normals: oriented by the enclosed volume.
+        let id = casters
+            .add_mesh(
+                device,
+                queue,
+                &CasterMeshDesc {
+                    geometry: MeshGeometry::ReadBack,
+                    ..raw.desc()
+                },
+            )
+            .unwrap();
+        casters
+            .add_instance(
+                device,
+                queue,
+                CasterInstance {
+                    mesh: id,
+                    transform: Mat4::IDENTITY,
+                    caster: true,
+                    receiver: true,
+                },
+            )
+            .unwrap();
+        let depth = DepthPass::new(device);
+        let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+        let light = shadows.add_light(device, sun(30.0)).unwrap();
+        let mut encoder = device.create_command_encoder(&Default::default());
+        depth.draw(
+            device,
+            &mut encoder,
+            top_camera().view_projection(),
+            &[(&raw, Mat4::IDENTITY)],
+        );
+        let view = ViewInputs {
+            camera: top_camera(),
+            depth: &depth.depth,
+            receiver_mask: None,
+        };
+        shadows
+            .render(device, queue, &mut encoder, &casters, &view)
+            .unwrap();
+        queue.submit([encoder.finish()]);
+        let fattened = shadows.light_texture(light, LightTexture::FattenedMap).unwrap();
+        maps.push(penumbra::read_texture_f32(device, queue, fattened).unwrap().0);
+    }
+    assert_eq!(
+        differing_texels(&maps[0], &maps[1]),
+        0,
+        "the fattened maps differ between windings"
+    );
+    assert!(maps[0].iter().any(|d| *d < 1.0), "the fattened map is empty");
+}
+
+/// Texels of two depth maps more than 1e-6 apart.
+fn differing_texels(a: &[f32], b: &[f32]) -> usize {
+    assert_eq!(a.len(), b.len());
+    a.iter().zip(b).filter(|(x, y)| (*x - *y).abs() > 1e-6).count()
+}
+
+fn expect_input_error<T: std::fmt::Debug>(result: penumbra::Result<T>, what: &str, reason: &str) {
+    match result {
+        Err(PenumbraError::InvalidInput { what: w, reason: r }) => {
+            assert!(w.contains(what), "error names `{w}`, expected `{what}`");
+            assert!(r.contains(reason), "reason `{r}` lacks `{reason}`");
+        }
+        other => panic!("expected an error about {what}, got {other:?}"),
+    }
+}
+
+#[test]
+fn misuse_is_an_error_naming_what_is_wrong() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let w = world(&gpu);
+    let mut casters = Casters::new(device);
+
+    // A buffer too short for its declared count.
+    let short = CasterMeshDesc {
+        vertex_count: w.box_mesh.positions.len() as u32 + 1,
+        ..w.box_mesh.desc()
+    };
+    expect_input_error(casters.add_mesh(device, queue, &short), "positions", "need");
+    // An index past the vertices.
+    let mut bad_indices = w.box_mesh.indices.clone();
+    bad_indices[4] = 999;
+    let out_of_range = CasterMeshDesc {
+        geometry: MeshGeometry::Cpu {
+            positions: &w.box_mesh.positions,
+            normals: None,
+            indices: Some(&bad_indices),
+        },
+        ..w.box_mesh.desc()
+    };
+    expect_input_error(
+        casters.add_mesh(device, queue, &out_of_range),
+        "test mesh",
+        "out of range",
+    );
+    // A position format penumbra cannot read.
+    let mut wrong_format = w.box_mesh.desc();
+    wrong_format.positions.format = wgpu::VertexFormat::Uint32x3;
+    expect_input_error(
+        casters.add_mesh(device, queue, &wrong_format),
+        "positions",
+        "not supported",
+    );
+    // Reading back a buffer that cannot be copied.
+    let no_copy = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("no copy"),
+        contents: bytemuck::cast_slice(&w.box_mesh.positions),
+        usage: wgpu::BufferUsages::VERTEX,
+    });
+    let mut read_back = w.box_mesh.desc();
+    read_back.positions.buffer = &no_copy;
+    read_back.geometry = MeshGeometry::ReadBack;
+    expect_input_error(
+        casters.add_mesh(device, queue, &read_back),
+        "positions",
+        "COPY_SRC",
+    );
+    // Ids that do not exist (any more), and a transform that is not finite.
+    let id = casters.add_mesh(device, queue, &w.box_mesh.desc()).unwrap();
+    let instance = casters
+        .add_instance(
+            device,
+            queue,
+            CasterInstance {
+                mesh: id,
+                transform: Mat4::IDENTITY,
+                caster: true,
+                receiver: true,
+            },
+        )
+        .unwrap();
+    expect_input_error(
+        casters.set_transform(queue, instance, Mat4::from_scale(Vec3::splat(f32::NAN))),
+        "instance",
+        "not finite",
+    );
+    expect_input_error(casters.remove_mesh(id), "mesh", "instances still use it");
+    casters.remove_instance(instance).unwrap();
+    expect_input_error(casters.remove_instance(instance), "instance", "no such instance");
+    expect_input_error(
+        casters.set_transform(queue, instance, Mat4::IDENTITY),
+        "instance",
+        "no such instance",
+    );
+
+    // Lights: at most eight; removed ones are gone.
+    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+    let ids: Vec<_> = (0..8)
+        .map(|k| shadows.add_light(device, sun(k as f32 * 45.0)).unwrap())
+        .collect();
+    expect_input_error(shadows.add_light(device, sun(1.0)), "light", "at most 8");
+    shadows.remove_light(ids[3]).unwrap();
+    expect_input_error(shadows.remove_light(ids[3]), "light 3", "no such light");
+    assert_eq!(
+        shadows.add_light(device, sun(1.0)).unwrap().layer(),
+        3,
+        "the free layer is reused"
+    );
+    // The reference is not a real-time method.
+    let reference = ShadowSettings {
+        method: ShadowMethod::Reference,
+        ..Default::default()
+    };
+    assert!(matches!(
+        Shadows::new(device, reference),
+        Err(PenumbraError::InvalidSetting { name: "method", .. })
+    ));
+
+    // The engine's inputs: a colour texture as depth, a depth that cannot be sampled, a mask
+    // of another size, and encoding without preparing.
+    let texture = |format, usage, size: u32| {
+        device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("misuse"),
+            size: wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    };
+    let sampled = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT;
+    let color = texture(wgpu::TextureFormat::Rgba8Unorm, sampled, 64);
+    let unsampled = texture(
+        wgpu::TextureFormat::Depth32Float,
+        wgpu::TextureUsages::RENDER_ATTACHMENT,
+        64,
+    );
+    let depth = texture(wgpu::TextureFormat::Depth32Float, sampled, 64);
+    let small_mask = texture(wgpu::TextureFormat::R8Unorm, sampled, 32);
+    let inputs = |depth, receiver_mask| ViewInputs {
+        camera: top_camera(),
+        depth,
+        receiver_mask,
+    };
+    expect_input_error(
+        shadows.prepare(device, queue, &w.casters, &inputs(&color, None)),
+        "depth texture",
+        "no depth aspect",
+    );
+    expect_input_error(
+        shadows.prepare(device, queue, &w.casters, &inputs(&unsampled, None)),
+        "depth texture",
+        "TEXTURE_BINDING",
+    );
+    expect_input_error(
+        shadows.prepare(device, queue, &w.casters, &inputs(&depth, Some(&small_mask))),
+        "receiver mask",
+        "32x32",
+    );
+    let mut encoder = device.create_command_encoder(&Default::default());
+    expect_input_error(
+        shadows.encode(&mut encoder, &w.casters),
+        "Shadows::encode",
+        "prepare",
+    );
+    let singular = ViewInputs {
+        camera: CameraMatrices {
+            projection: Mat4::ZERO,
+            ..top_camera()
+        },
+        ..inputs(&depth, None)
+    };
+    expect_input_error(
+        shadows.prepare(device, queue, &w.casters, &singular),
+        "camera projection",
+        "invertible",
+    );
+}
+
+#[test]
+fn the_renderer_refuses_a_target_of_another_size_or_format() {
+    let gpu = common::gpu();
+    let scene = penumbra::load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let format = wgpu::TextureFormat::Rgba8UnormSrgb;
+    let mut renderer = penumbra::Renderer::new(&gpu.device, format, ShadowSettings::default()).unwrap();
+    let gpu_scene = penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
+    renderer.resize(&gpu.device, 64, 48);
+    let target = |format, width| {
+        gpu.device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("target"),
+                size: wgpu::Extent3d {
+                    width,
+                    height: 48,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                view_formats: &[],
+            })
+            .create_view(&Default::default())
+    };
+    let camera = scene.view(0).unwrap();
+    for (view, reason) in [
+        (target(format, 80), "80x48"),
+        (target(wgpu::TextureFormat::Bgra8Unorm, 64), "Bgra8Unorm"),
+    ] {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let result = renderer.render(&gpu.queue, &mut encoder, &gpu_scene, &camera, &view);
+        expect_input_error(result, "render target", reason);
+        // Nothing half-recorded: the encoder still finishes and submits.
+        gpu.queue.submit([encoder.finish()]);
+    }
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    assert!(
+        renderer
+            .render(&gpu.queue, &mut encoder, &gpu_scene, &camera, &target(format, 64))
+            .unwrap()
+            .is_some()
+    );
+    gpu.queue.submit([encoder.finish()]);
+}
