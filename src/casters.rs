@@ -14,7 +14,7 @@
 use glam::{Mat3, Mat4, Vec3};
 
 use crate::error::{PenumbraError, Result};
-use crate::gpu_scene::{InstanceUniform, MaterialUniform, SceneLayouts};
+use crate::layouts::{InstanceUniform, MaterialUniform, SceneLayouts};
 use crate::scene::Aabb;
 
 /// One vertex attribute inside an engine's buffer: where the first vertex's value starts,

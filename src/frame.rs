@@ -8,7 +8,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-use crate::gpu_scene::vec4;
+use crate::layouts::vec4;
 use crate::light_space::{LightView, ProjectionKind};
 use crate::scene::{Aabb, Light};
 use crate::settings::{ShadowMethod, ShadowSettings, SpreadMode};

@@ -27,17 +27,29 @@
 //! # Ok(()) }
 //! ```
 
+// Without the convenience layer (feature `renderer`) some crate-private helpers it shares with
+// the core go unused.
+#![cfg_attr(not(feature = "renderer"), allow(dead_code))]
+
 pub mod casters;
+#[cfg(feature = "renderer")]
 pub mod debug;
+pub mod device;
 pub mod error;
 mod frame;
+#[cfg(feature = "renderer")]
 pub mod gpu;
+#[cfg(feature = "renderer")]
 mod gpu_scene;
+mod layouts;
 pub mod light_samples;
 pub mod light_space;
+#[cfg(feature = "renderer")]
 pub mod loaders;
+#[cfg(feature = "renderer")]
 pub mod metrics;
 pub(crate) mod passes;
+#[cfg(feature = "renderer")]
 mod renderer;
 pub mod scene;
 pub mod settings;
@@ -50,20 +62,30 @@ pub use casters::{
     AlphaMask, CasterInstance, CasterMeshDesc, Casters, IndexStream, InstanceId, MeshGeometry, MeshId,
     VertexStream,
 };
+pub use device::{device_descriptor, instance_flags};
 pub use error::{PenumbraError, Result};
 pub use frame::DerivedSpreads;
+#[cfg(feature = "renderer")]
 pub use gpu::{
-    HeadlessGpu, device_descriptor, instance_flags, read_texture_bytes, read_texture_f32, read_texture_rgba8,
-    render_to_image, render_to_image_with_progress,
+    HeadlessGpu, read_texture_bytes, read_texture_f32, read_texture_rgba8, render_to_image,
+    render_to_image_with_progress,
 };
-pub use gpu_scene::{GpuScene, SceneLayouts};
+#[cfg(feature = "renderer")]
+pub use gpu_scene::GpuScene;
+pub use layouts::SceneLayouts;
 pub use light_space::LightView;
+#[cfg(feature = "renderer")]
 pub use loaders::load_model;
+pub use passes::VISIBILITY_FORMAT;
+#[cfg(feature = "renderer")]
 pub use renderer::{DebugTexture, FrameReport, PassPlan, ReferenceProgress, Renderer};
+#[cfg(feature = "renderer")]
+pub use scene::SceneFile;
+#[cfg(feature = "renderer")]
 pub use scene::file::load_scene;
 pub use scene::{
     Aabb, AlphaMode, Camera, DirectionalLight, Instance, Light, Material, Mesh, Model, OrbitCamera, Scene,
-    SceneFile, SpotLight, TextureImage, Viewpoint,
+    SpotLight, TextureImage, Viewpoint,
 };
 pub use settings::{
     CullMode, DepthFormat, LightFit, PcfKernel, PcssSettings, PenumbraSettings, Quality, ShadowMapSettings,

@@ -1,11 +1,10 @@
 //! Public shadow settings: plain structs with defaults, units and ranges.
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{PenumbraError, Result};
 
 /// How shadows are filtered.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum ShadowMethod {
     /// The distance-map method: a fattened shadow map bounds where penumbrae can fall, a
     /// screen-space distance map stores each pixel's distance to its occluder, PCF taps spread
@@ -94,7 +93,8 @@ impl ShadowMethod {
 }
 
 /// Quality presets: more taps cost more time and give smoother penumbrae.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Quality {
     Low,
     #[default]
@@ -126,7 +126,8 @@ impl Quality {
 }
 
 /// How the distance-map method's spreads are chosen.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum SpreadMode {
     /// Derived from the light's size (directional: angular diameter; spot: radius), the shadow
     /// map's texel size and the camera's projection, so the penumbra width matches
@@ -146,7 +147,8 @@ pub enum SpreadMode {
 }
 
 /// PCF kernel: N x N taps.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum PcfKernel {
     #[default]
     Pcf3x3,
@@ -166,7 +168,8 @@ impl PcfKernel {
 }
 
 /// Settings of the distance-map method ([`ShadowMethod::Ours`] and [`ShadowMethod::OursFast`]).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PenumbraSettings {
     /// Default [`SpreadMode::Physical`].
     pub spreads: SpreadMode,
@@ -208,7 +211,8 @@ impl Default for PenumbraSettings {
 }
 
 /// Settings of the baseline: fixed PCF + fixed Gaussian blur.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct TraditionalSettings {
     /// Default 3x3.
     pub pcf_kernel: PcfKernel,
@@ -232,7 +236,8 @@ impl Default for TraditionalSettings {
 }
 
 /// Settings of the ground-truth reference.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ReferenceSettings {
     /// Points sampled on the light, each one hard shadow map, in [1, 4096]. Default 256.
     pub samples: u32,
@@ -245,7 +250,8 @@ impl Default for ReferenceSettings {
 }
 
 /// Settings of PCSS.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PcssSettings {
     /// Blocker-search taps, in [1, 64]. Default 16.
     pub blocker_samples: u32,
@@ -263,7 +269,8 @@ impl Default for PcssSettings {
 }
 
 /// Depth format of the shadow map.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum DepthFormat {
     /// 16-bit normalized: half the memory, needs a tight near/far fit.
     Depth16,
@@ -285,7 +292,8 @@ impl DepthFormat {
 }
 
 /// Which triangles the shadow pass skips.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum CullMode {
     /// Draw both sides: works for open meshes and single-sided planes (the default).
     #[default]
@@ -317,7 +325,8 @@ fn default_true() -> bool {
 
 /// Where a directional light's shadow map is placed. (A spot light's map always covers its
 /// cone; only its near and far planes are fitted.)
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum LightFit {
     /// Around every caster's shadow in the scene, wherever the camera looks. The map does not
     /// move with the camera, so its texels are wasted on what the camera does not see.
@@ -340,7 +349,8 @@ impl Default for LightFit {
 }
 
 /// The shadow map: its size, format, bias and culling.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ShadowMapSettings {
     /// Width and height in texels, a power of two in [64, 8192] and within the device's limit.
     /// Default 2048.
@@ -357,7 +367,7 @@ pub struct ShadowMapSettings {
     /// normal before the shadow-map lookup, in [0, 8]. It removes acne on surfaces nearly
     /// parallel to the light, where depth biases would have to be large; too much detaches
     /// thin contact shadows. Default 1.5. (The reference takes no offset.)
-    #[serde(default = "default_normal_offset")]
+    #[cfg_attr(feature = "serde", serde(default = "default_normal_offset"))]
     pub normal_offset: f32,
     /// Which faces the shadow pass culls. Default [`CullMode::None`].
     pub cull_mode: CullMode,
@@ -365,12 +375,12 @@ pub struct ShadowMapSettings {
     /// ([`LightFit::CameraFrustum`] up to the far plane). Either fit computes the near and far
     /// planes by clipping the scene's bounds against the four sides of the light's frustum, so
     /// no depth precision is spent outside them.
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub fit: LightFit,
     /// Keep the directional light's texel size fixed while the camera moves and move its map
     /// in whole texels, so shadow edges do not shimmer. Costs up to a few percent of the
     /// resolution. Default true.
-    #[serde(default = "default_true")]
+    #[cfg_attr(feature = "serde", serde(default = "default_true"))]
     pub snap_to_texels: bool,
 }
 
@@ -391,7 +401,8 @@ impl Default for ShadowMapSettings {
 
 /// All shadow settings. `Default` is the distance-map method in physical mode on a 2048^2
 /// 32-bit shadow map.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ShadowSettings {
     pub method: ShadowMethod,
     pub shadow_map: ShadowMapSettings,

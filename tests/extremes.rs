@@ -259,7 +259,9 @@ fn extreme_light_sizes_depth_ranges_and_caster_heights() {
                     "{what}: visibility {contact:?} at the standing cube's base"
                 );
             }
-            assert!(visibility.is_some(), "{what}: no visibility texture");
+            // At size 0 the renderer shades hard shadows in its forward pass: no visibility.
+            let forward = penumbra::PassPlan::new(&settings, &scene.light).forward;
+            assert!(visibility.is_some() || forward, "{what}: no visibility texture");
         }
     }
     // The standing cube alone: the depth range is short, so the fattened casters are close to

@@ -12,7 +12,7 @@ use bytemuck::{Pod, Zeroable};
 use super::shadow_map::{begin_depth_pass, depth_state, light_depth_target};
 use super::{CasterPipelines, SecondStream, entry};
 use crate::casters::{Casters, Streams};
-use crate::gpu_scene::SceneLayouts;
+use crate::layouts::SceneLayouts;
 use crate::light_space::LightView;
 use crate::settings::ShadowMapSettings;
 

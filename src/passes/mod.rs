@@ -15,25 +15,33 @@
 //! | [`ForwardPass`] | `shaders/forward.wgsl` | all instances, camera, shadow map | lit color + camera depth (hard, hw2x2) |
 
 mod blur;
+#[cfg(feature = "renderer")]
 mod composite;
+#[cfg(feature = "renderer")]
 mod depth_prepass;
 mod distance_map;
 mod fattened_shadow_map;
+#[cfg(feature = "renderer")]
 mod forward;
 mod pcf;
 mod pcss;
+#[cfg(feature = "renderer")]
 mod reference;
 mod resolve;
 mod shadow_map;
 
 pub use blur::BlurPass;
+#[cfg(feature = "renderer")]
 pub use composite::CompositePass;
+#[cfg(feature = "renderer")]
 pub use depth_prepass::DepthPrepass;
 pub use distance_map::DistanceMapPass;
 pub use fattened_shadow_map::FattenedShadowMapPass;
+#[cfg(feature = "renderer")]
 pub use forward::ForwardPass;
 pub use pcf::PcfPass;
 pub use pcss::PcssPass;
+#[cfg(feature = "renderer")]
 pub use reference::ReferencePass;
 pub use resolve::ResolvePass;
 pub use shadow_map::ShadowMapPass;

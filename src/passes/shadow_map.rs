@@ -10,7 +10,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::{CasterPipelines, SecondStream, entry};
 use crate::casters::{Casters, Streams};
-use crate::gpu_scene::SceneLayouts;
+use crate::layouts::SceneLayouts;
 use crate::light_space::LightView;
 use crate::settings::ShadowMapSettings;
 

@@ -1,14 +1,14 @@
 //! Perspective cameras and an orbit helper.
 
 use glam::{Mat4, Vec3};
-use serde::{Deserialize, Serialize};
 
 use super::bounds::Aabb;
 
 /// A perspective camera looking from `eye` at `target`. Right-handed, y up, reversed depth:
 /// 1 at the near plane, 0 at the far plane, so a float depth buffer keeps its precision at
 /// near/far ratios of 1e6 and more.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Camera {
     pub eye: Vec3,
     pub target: Vec3,
@@ -91,7 +91,8 @@ impl Camera {
 }
 
 /// A camera that orbits a target: yaw about +Y, pitch above the horizon, and a distance.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct OrbitCamera {
     pub target: Vec3,
     pub distance: f32,

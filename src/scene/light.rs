@@ -1,34 +1,36 @@
 //! Lights: a directional light of some angular size, or a spot light of some radius.
 
 use glam::Vec3;
-use serde::{Deserialize, Serialize};
 
 /// A light that casts shadows. Its size sets how soft the shadows are.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Light {
     Directional(DirectionalLight),
     Spot(SpotLight),
 }
 
 /// A light infinitely far away, like the sun.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DirectionalLight {
     /// The direction the light travels (from the light toward the scene); need not be unit length.
     pub direction: Vec3,
     /// Angular diameter of the light's disk in degrees, in [0, 90). 0 is a point-like light
     /// (hard shadows); the sun is about 0.53.
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub angular_diameter_deg: f32,
     /// Linear RGB color.
-    #[serde(default = "white")]
+    #[cfg_attr(feature = "serde", serde(default = "white"))]
     pub color: Vec3,
     /// Multiplier on `color` (irradiance on a surface facing the light).
-    #[serde(default = "one")]
+    #[cfg_attr(feature = "serde", serde(default = "one"))]
     pub intensity: f32,
 }
 
 /// A spot light: a disk of `radius` at `position` shining along `direction` inside a cone.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SpotLight {
     pub position: Vec3,
     /// The cone's axis; need not be unit length.
@@ -36,11 +38,11 @@ pub struct SpotLight {
     /// Angle between the axis and the cone's edge in degrees, in (0, 89].
     pub cone_angle_deg: f32,
     /// Radius of the emitting disk in world units, >= 0. 0 is a point source (hard shadows).
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub radius: f32,
-    #[serde(default = "white")]
+    #[cfg_attr(feature = "serde", serde(default = "white"))]
     pub color: Vec3,
-    #[serde(default = "one")]
+    #[cfg_attr(feature = "serde", serde(default = "one"))]
     pub intensity: f32,
 }
 

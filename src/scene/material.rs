@@ -1,10 +1,10 @@
 //! Surface materials and their textures.
 
 use glam::Vec4;
-use serde::{Deserialize, Serialize};
 
 /// How a material's alpha is used.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum AlphaMode {
     /// Alpha is ignored; the surface is fully opaque.
     #[default]
@@ -63,6 +63,7 @@ pub struct TextureImage {
 
 impl TextureImage {
     /// Decodes a PNG or JPEG image from memory. `name` is used in error messages.
+    #[cfg(feature = "renderer")]
     pub fn decode(name: &str, bytes: &[u8]) -> crate::Result<Self> {
         let img = image::load_from_memory(bytes).map_err(|e| crate::PenumbraError::Texture {
             name: name.to_string(),

@@ -5,6 +5,7 @@
 mod bounds;
 mod camera;
 pub mod character;
+#[cfg(feature = "renderer")]
 pub mod file;
 mod light;
 mod material;
@@ -15,6 +16,7 @@ mod teapot_data;
 
 pub use bounds::Aabb;
 pub use camera::{Camera, OrbitCamera};
+#[cfg(feature = "renderer")]
 pub use file::{MeshSource, SceneFile, TextureSource};
 pub use light::{DirectionalLight, Light, SpotLight};
 pub use material::{AlphaMode, Material, TextureImage};

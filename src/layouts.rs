@@ -1,0 +1,71 @@
+//! The bind group layouts and uniforms of instances and materials, shared by every pass that
+//! draws geometry ([`crate::Casters`] and the convenience [`crate::GpuScene`]).
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Vec3, Vec4};
+
+use crate::passes::entry;
+
+/// Bind group layouts shared by every pass that draws scene geometry. Cloning shares the
+/// layouts, so several [`crate::Renderer`]s made with [`crate::Renderer::with_layouts`] can
+/// draw one [`GpuScene`].
+#[derive(Clone)]
+pub struct SceneLayouts {
+    /// Group with one dynamic-offset uniform: [`InstanceUniform`].
+    pub instance: wgpu::BindGroupLayout,
+    /// Group with the material uniform, its base color texture and sampler.
+    pub material: wgpu::BindGroupLayout,
+}
+
+impl SceneLayouts {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let instance = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("SceneLayouts::instance"),
+            entries: &[entry::uniform(
+                0,
+                wgpu::ShaderStages::VERTEX_FRAGMENT,
+                size_of::<InstanceUniform>(),
+                true,
+            )],
+        });
+        let material = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("SceneLayouts::material"),
+            entries: &[
+                entry::uniform(
+                    0,
+                    wgpu::ShaderStages::FRAGMENT,
+                    size_of::<MaterialUniform>(),
+                    false,
+                ),
+                entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: true }),
+                entry::sampler(2, wgpu::SamplerBindingType::Filtering),
+            ],
+        });
+        Self { instance, material }
+    }
+}
+
+/// Per-instance data, as the shaders see it.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct InstanceUniform {
+    pub model: [[f32; 4]; 4],
+    /// Inverse transpose of the model matrix (upper 3x3 used).
+    pub normal: [[f32; 4]; 4],
+    /// x: 1 when the instance receives shadows.
+    pub flags: [f32; 4],
+}
+
+/// Per-material data, as the shaders see it.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct MaterialUniform {
+    pub base_color: [f32; 4],
+    /// x: alpha cutoff (negative when the material is opaque).
+    pub alpha: [f32; 4],
+}
+
+/// Linear RGBA from a color, for uniforms.
+pub(crate) fn vec4(v: Vec3, w: f32) -> [f32; 4] {
+    Vec4::new(v.x, v.y, v.z, w).to_array()
+}
