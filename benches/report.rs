@@ -7,7 +7,9 @@
 //! taps the mask saved (distance-map methods) and the error against the reference. The error
 //! is measured once per scene, viewpoint and method at `metric_size` against a reference of
 //! `reference_samples` light samples. A light-size sweep times `ours` and `pcss` at several
-//! light sizes. Writes report.md, report.json and tradeoff.png into `out_dir`.
+//! light sizes. The embedding path ([`penumbra::Shadows`] on a given depth buffer) is timed
+//! with one to four lights, and the geometry passes of both paths are counted. Writes
+//! report.md, report.json, embedding.json and tradeoff.png into `out_dir`.
 
 #![allow(dead_code)]
 
@@ -110,6 +112,33 @@ pub struct Run {
     pub penumbra_rmse: Option<f32>,
     pub max_error: Option<f32>,
     pub flip: Option<f32>,
+}
+
+/// The embedding path with `lights` lights: frame time and what the last light added.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct LightCost {
+    pub lights: usize,
+    pub frame_ms: f64,
+    pub added_ms: f64,
+}
+
+/// How many times per frame each path draws the scene's geometry.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct GeometryPasses {
+    pub path: String,
+    /// Frames where the light moves (its maps re-rendered).
+    pub light_moving: u32,
+    /// Frames where only the camera moves.
+    pub light_still: u32,
+}
+
+/// What the embedding measurements found.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Embedding {
+    pub width: u32,
+    pub height: u32,
+    pub costs: Vec<LightCost>,
+    pub geometry_passes: Vec<GeometryPasses>,
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -288,8 +317,119 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
             });
         }
     }
-    write_report(config, &device_name, &runs)?;
+    let embedding = measure_embedding(&gpu, &teapot, &camera, size, config)?;
+    write_report(config, &device_name, &runs, &embedding)?;
     Ok(runs)
+}
+
+/// The embedding path on the teapot scene: [`penumbra::Shadows`] with one to four suns (the
+/// scene's, turned 90 degrees about the vertical each) on the depth of a [`Renderer`] frame, the
+/// lights turning every frame; and the geometry passes per frame of both paths.
+fn measure_embedding(
+    gpu: &HeadlessGpu,
+    scene: &penumbra::Scene,
+    camera: &penumbra::Camera,
+    (width, height): (u32, u32),
+    config: &Config,
+) -> Result<Embedding> {
+    let settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+    let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings)?;
+    let mut gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), scene)?;
+    // The renderer's path: a frame with the light moving, then one with only the camera.
+    penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, camera, width, height)?;
+    gpu_scene.set_light(nudged(&scene.light, 1))?;
+    penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, camera, width, height)?;
+    let moving = renderer.last_report().context("a frame")?;
+    let moving = moving.plan.geometry_passes(moving.shadow_maps_rendered);
+    let mut moved = *camera;
+    moved.eye.x += 0.01;
+    penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, &moved, width, height)?;
+    let still = renderer.last_report().context("a frame")?;
+    let still = still.plan.geometry_passes(still.shadow_maps_rendered);
+    let mut geometry_passes = vec![GeometryPasses {
+        path: "Renderer (ours)".into(),
+        light_moving: moving,
+        light_still: still,
+    }];
+    // The embedding path on the renderer's depth.
+    let depth = renderer
+        .debug_texture(penumbra::DebugTexture::CameraDepth)
+        .context("the renderer's depth")?
+        .clone();
+    let view = penumbra::ViewInputs {
+        camera: penumbra::CameraMatrices::from_camera(&moved, width as f32 / height as f32),
+        depth: &depth,
+        receiver_mask: None,
+    };
+    let casters = gpu_scene.casters();
+    let turned = |k: usize| {
+        let turn = glam::Quat::from_rotation_y((k as f32 * 90.0).to_radians());
+        match scene.light {
+            Light::Directional(l) => Light::Directional(penumbra::DirectionalLight {
+                direction: turn * l.direction,
+                ..l
+            }),
+            other => other,
+        }
+    };
+    let mut costs: Vec<LightCost> = Vec::new();
+    for count in 1..=4usize {
+        let mut shadows = penumbra::Shadows::new(&gpu.device, settings)?;
+        let ids = (0..count)
+            .map(|k| shadows.add_light(&gpu.device, turned(k)))
+            .collect::<penumbra::Result<Vec<_>>>()?;
+        let mut times = Vec::new();
+        let mut passes = (0, 0);
+        for i in 0..config.warmup + config.frames + 1 {
+            // The last frame keeps the lights still.
+            let still = i == config.warmup + config.frames;
+            if !still {
+                for (k, id) in ids.iter().enumerate() {
+                    shadows.set_light(*id, nudged(&turned(k), i))?;
+                }
+            }
+            let start = Instant::now();
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            let reports = shadows.render(&gpu.device, &gpu.queue, &mut encoder, casters, &view)?;
+            gpu.queue.submit([encoder.finish()]);
+            gpu.device.poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: None,
+            })?;
+            let drawn: u32 = reports
+                .iter()
+                .filter(|r| r.shadow_maps_rendered)
+                .map(|r| 1 + r.chain.fattened_map as u32)
+                .sum();
+            if still {
+                passes.1 = drawn;
+            } else {
+                passes.0 = drawn;
+                if i >= config.warmup {
+                    times.push(start.elapsed().as_secs_f64() * 1e3);
+                }
+            }
+        }
+        let frame_ms = median(times);
+        let added_ms = frame_ms - costs.last().map_or(0.0, |c| c.frame_ms);
+        println!("embedding: {count} light(s) {frame_ms:.2} ms (+{added_ms:.2})");
+        costs.push(LightCost {
+            lights: count,
+            frame_ms,
+            added_ms,
+        });
+        geometry_passes.push(GeometryPasses {
+            path: format!("Shadows, {count} light(s) (the engine's own passes not counted)"),
+            light_moving: passes.0,
+            light_still: passes.1,
+        });
+    }
+    Ok(Embedding {
+        width,
+        height,
+        costs,
+        geometry_passes,
+    })
 }
 
 fn render_image(
@@ -333,7 +473,7 @@ fn verdict(met: bool) -> &'static str {
     if met { "**met**" } else { "**missed**" }
 }
 
-fn write_report(config: &Config, device: &str, runs: &[Run]) -> Result<()> {
+fn write_report(config: &Config, device: &str, runs: &[Run], embedding: &Embedding) -> Result<()> {
     use std::fmt::Write;
     let mut md = String::new();
     let preset = "medium";
@@ -496,7 +636,28 @@ fn write_report(config: &Config, device: &str, runs: &[Run]) -> Result<()> {
         };
         writeln!(md, "| {d} | {:.2} | {:.2} |", ms("ours"), ms("pcss"))?;
     }
+    writeln!(
+        md,
+        "\n## Embedding: cost of each added light (teapot, view 0, {}x{}, ours medium, suns 90 degrees apart)\n",
+        embedding.width, embedding.height
+    )?;
+    writeln!(
+        md,
+        "| lights | frame ms | added by the last light ms |\n|---|---|---|"
+    )?;
+    for c in &embedding.costs {
+        writeln!(md, "| {} | {:.2} | {:.2} |", c.lights, c.frame_ms, c.added_ms)?;
+    }
+    writeln!(md, "\n## Geometry passes per frame\n")?;
+    writeln!(md, "| path | light moving | light still |\n|---|---|---|")?;
+    for g in &embedding.geometry_passes {
+        writeln!(md, "| {} | {} | {} |", g.path, g.light_moving, g.light_still)?;
+    }
     std::fs::write(config.out_dir.join("report.md"), &md)?;
+    std::fs::write(
+        config.out_dir.join("embedding.json"),
+        serde_json::to_string_pretty(embedding)?,
+    )?;
     std::fs::write(
         config.out_dir.join("report.json"),
         serde_json::to_string_pretty(runs)?,

@@ -8,7 +8,8 @@
 
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform};
-use crate::gpu_scene::{GpuScene, SceneLayouts};
+use crate::gpu_scene::GpuScene;
+use crate::layouts::SceneLayouts;
 use crate::light_space::LightView;
 use crate::passes::{CompositePass, DepthPrepass, ForwardPass, ReferencePass};
 use crate::scene::{Camera, Light};

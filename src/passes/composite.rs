@@ -7,7 +7,8 @@
 //! written). Output: the lit color in the caller's target.
 
 use super::{POSITION, entries, entry, stream, vertex_layout};
-use crate::gpu_scene::{GpuScene, SceneLayouts};
+use crate::gpu_scene::GpuScene;
+use crate::layouts::SceneLayouts;
 
 pub struct CompositePass {
     layout: wgpu::BindGroupLayout,

@@ -6,7 +6,8 @@
 //! composite) and a receiver mask (R8Unorm: 1 on instances that receive shadows).
 
 use super::{POSITION, entry, stream, vertex_layout};
-use crate::gpu_scene::{GpuScene, SceneLayouts};
+use crate::gpu_scene::GpuScene;
+use crate::layouts::SceneLayouts;
 
 pub struct DepthPrepass {
     frame_layout: wgpu::BindGroupLayout,

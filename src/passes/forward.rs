@@ -10,7 +10,8 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::{POSITION, entry, stream, vertex_layout};
-use crate::gpu_scene::{GpuScene, SceneLayouts};
+use crate::gpu_scene::GpuScene;
+use crate::layouts::SceneLayouts;
 use crate::layouts::vec4;
 use crate::light_space::LightView;
 use crate::scene::Light;
