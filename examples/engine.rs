@@ -105,7 +105,7 @@ struct Object {
 }
 @group(0) @binding(0) var<uniform> globals: Globals;
 @group(1) @binding(0) var<uniform> object: Object;
-// penumbra's visibility: one layer per light (0: sun, 1: spot).
+// penumbra glue: the visibility, one layer per light (0: sun, 1: spot).
 @group(2) @binding(0) var shadows: texture_2d_array<f32>;
 
 struct VsOut {
@@ -131,8 +131,8 @@ fn fs_depth() {}
 fn fs_lit(in: VsOut) -> @location(0) vec4<f32> {
     let n = normalize(in.normal);
     let pixel = vec2<i32>(in.clip.xy);
-    let sun_visibility = textureLoad(shadows, pixel, 0, 0).x;
-    let spot_visibility = textureLoad(shadows, pixel, 1, 0).x;
+    let sun_visibility = textureLoad(shadows, pixel, 0, 0).x; // penumbra glue
+    let spot_visibility = textureLoad(shadows, pixel, 1, 0).x; // penumbra glue
     let sun = max(dot(n, -globals.sun_direction.xyz), 0.0) * sun_visibility * globals.sun_radiance.rgb;
     let to_spot = globals.spot_position.xyz - in.world;
     let l = normalize(to_spot);
@@ -222,74 +222,37 @@ fn main() -> Result<()> {
 
     // penumbra glue begin: casters from the engine's buffers, lights, shadows.
     let mut casters = penumbra::Casters::new(device);
-    let stream = |buffer| penumbra::VertexStream {
-        buffer,
-        offset: 0,
-        stride: size_of::<Vertex>() as u64,
-        format: wgpu::VertexFormat::Float32x3,
-    };
-    let normals = |buffer| penumbra::VertexStream {
-        offset: 12,
-        ..stream(buffer)
-    };
-    fn indices(mesh: &EngineMesh) -> penumbra::IndexStream<'_> {
-        penumbra::IndexStream {
-            buffer: &mesh.indices,
-            offset: 0,
-            format: wgpu::IndexFormat::Uint32,
-            count: mesh.index_count,
-        }
-    }
+    let stride = size_of::<Vertex>() as u64;
+    let positions = |b| penumbra::VertexStream::new(b, 0, stride, wgpu::VertexFormat::Float32x3);
+    let normals = |b| penumbra::VertexStream::new(b, 12, stride, wgpu::VertexFormat::Float32x3);
     // The model is read back once for its smoothed normals; the floor's data is at hand.
-    let model_id = casters.add_mesh(
-        device,
-        queue,
-        &penumbra::CasterMeshDesc {
-            label: "model",
-            positions: stream(&model_mesh.vertices),
-            vertex_count: model_mesh.vertex_count,
-            indices: Some(indices(&model_mesh)),
-            normals: Some(normals(&model_mesh.vertices)),
-            geometry: penumbra::MeshGeometry::ReadBack,
-        },
-    )?;
+    let model_desc =
+        penumbra::CasterMeshDesc::new("model", positions(&model_mesh.vertices), model_mesh.vertex_count)
+            .indices(penumbra::IndexStream::u32(
+                &model_mesh.indices,
+                model_mesh.index_count,
+            ))
+            .normals(normals(&model_mesh.vertices));
+    let model_id = casters.add_mesh(device, queue, &model_desc)?;
     let floor_positions: Vec<Vec3> = floor_vertices.iter().map(|v| Vec3::from(v.position)).collect();
-    let floor_id = casters.add_mesh(
-        device,
-        queue,
-        &penumbra::CasterMeshDesc {
-            label: "floor",
-            positions: stream(&floor_mesh.vertices),
-            vertex_count: floor_mesh.vertex_count,
-            indices: Some(indices(&floor_mesh)),
-            normals: None,
-            geometry: penumbra::MeshGeometry::Cpu {
-                positions: &floor_positions,
-                normals: None,
-                indices: Some(&floor_indices),
-            },
-        },
-    )?;
+    let floor_desc =
+        penumbra::CasterMeshDesc::new("floor", positions(&floor_mesh.vertices), floor_mesh.vertex_count)
+            .indices(penumbra::IndexStream::u32(
+                &floor_mesh.indices,
+                floor_mesh.index_count,
+            ))
+            .cpu(&floor_positions, None, Some(&floor_indices));
+    let floor_id = casters.add_mesh(device, queue, &floor_desc)?;
     let model_instance = casters.add_instance(
         device,
         queue,
-        penumbra::CasterInstance {
-            mesh: model_id,
-            transform: placement(0),
-            caster: true,
-            receiver: true,
-        },
+        penumbra::CasterInstance::new(model_id, placement(0)),
     )?;
-    casters.add_instance(
-        device,
-        queue,
-        penumbra::CasterInstance {
-            mesh: floor_id,
-            transform: Mat4::IDENTITY,
-            caster: false,
-            receiver: true,
-        },
-    )?;
+    let floor = penumbra::CasterInstance {
+        caster: false,
+        ..penumbra::CasterInstance::new(floor_id, Mat4::IDENTITY)
+    };
+    casters.add_instance(device, queue, floor)?;
     let mut shadows = penumbra::Shadows::new(device, penumbra::ShadowSettings::default())?;
     let sun_id = shadows.add_light(device, sun)?;
     let spot_id = shadows.add_light(device, spot)?;
@@ -346,20 +309,12 @@ fn main() -> Result<()> {
             resource: globals_buffer.as_entire_binding(),
         }],
     });
-    // penumbra glue: the lit shader reads the visibility array.
+    // penumbra glue begin: the lit shader reads the visibility array.
     let shadows_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("engine shadows"),
-        entries: &[wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                view_dimension: wgpu::TextureViewDimension::D2Array,
-                multisampled: false,
-            },
-            count: None,
-        }],
+        entries: &[penumbra::Shadows::visibility_layout_entry(0)],
     });
+    // penumbra glue end
     let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("engine object"),
         entries: &[uniform_entry(0)],
@@ -452,15 +407,12 @@ fn main() -> Result<()> {
         }
         // penumbra glue begin: move the caster, then the shadows on the engine's depth.
         casters.set_transform(queue, model_instance, transform)?;
-        let inputs = penumbra::ViewInputs {
-            camera: penumbra::CameraMatrices {
-                view,
-                projection,
-                depth: penumbra::DepthConvention::Standard,
-            },
-            depth: &depth,
-            receiver_mask: None,
+        let camera = penumbra::CameraMatrices {
+            view,
+            projection,
+            depth: penumbra::DepthConvention::Standard,
         };
+        let inputs = penumbra::ViewInputs::new(camera, &depth);
         shadows.render(device, queue, &mut encoder, &casters, &inputs)?;
         // The visibility array is made on the first frame (and again on a resize).
         let visibility = shadows.visibility().context("the shadows made no visibility")?;

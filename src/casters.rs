@@ -30,6 +30,18 @@ pub struct VertexStream<'a> {
     pub format: wgpu::VertexFormat,
 }
 
+impl<'a> VertexStream<'a> {
+    /// `format` values `stride` bytes apart from byte `offset` of `buffer`.
+    pub fn new(buffer: &'a wgpu::Buffer, offset: u64, stride: u64, format: wgpu::VertexFormat) -> Self {
+        Self {
+            buffer,
+            offset,
+            stride,
+            format,
+        }
+    }
+}
+
 /// An engine's index buffer range.
 #[derive(Debug, Clone, Copy)]
 pub struct IndexStream<'a> {
@@ -39,6 +51,26 @@ pub struct IndexStream<'a> {
     pub format: wgpu::IndexFormat,
     /// Number of indices (a multiple of 3: triangle lists).
     pub count: u32,
+}
+
+impl<'a> IndexStream<'a> {
+    /// The first `count` 32-bit indices of `buffer`.
+    pub fn u32(buffer: &'a wgpu::Buffer, count: u32) -> Self {
+        Self {
+            buffer,
+            offset: 0,
+            format: wgpu::IndexFormat::Uint32,
+            count,
+        }
+    }
+
+    /// The first `count` 16-bit indices of `buffer`.
+    pub fn u16(buffer: &'a wgpu::Buffer, count: u32) -> Self {
+        Self {
+            format: wgpu::IndexFormat::Uint16,
+            ..Self::u32(buffer, count)
+        }
+    }
 }
 
 /// Where penumbra reads a mesh's geometry once, to compute its bounds and smoothed normals.
@@ -73,6 +105,47 @@ pub struct CasterMeshDesc<'a> {
     pub geometry: MeshGeometry<'a>,
 }
 
+impl<'a> CasterMeshDesc<'a> {
+    /// A non-indexed mesh of `vertex_count` positions, read back once
+    /// ([`MeshGeometry::ReadBack`]); add indices and normals with the methods below.
+    pub fn new(label: &'a str, positions: VertexStream<'a>, vertex_count: u32) -> Self {
+        Self {
+            label,
+            positions,
+            vertex_count,
+            indices: None,
+            normals: None,
+            geometry: MeshGeometry::ReadBack,
+        }
+    }
+
+    pub fn indices(self, indices: IndexStream<'a>) -> Self {
+        Self {
+            indices: Some(indices),
+            ..self
+        }
+    }
+
+    pub fn normals(self, normals: VertexStream<'a>) -> Self {
+        Self {
+            normals: Some(normals),
+            ..self
+        }
+    }
+
+    /// The same data as the buffers, from the CPU (no read-back).
+    pub fn cpu(self, positions: &'a [Vec3], normals: Option<&'a [Vec3]>, indices: Option<&'a [u32]>) -> Self {
+        Self {
+            geometry: MeshGeometry::Cpu {
+                positions,
+                normals,
+                indices,
+            },
+            ..self
+        }
+    }
+}
+
 /// Alpha-tested casters: texels whose alpha (texture x factor) is below `cutoff` cast nothing.
 #[derive(Debug, Clone, Copy)]
 pub struct AlphaMask<'a> {
@@ -103,6 +176,18 @@ pub struct CasterInstance {
     /// Its surfaces take shadows (counts for fitting the lights' maps; the receiver mask of a
     /// frame says which pixels do).
     pub receiver: bool,
+}
+
+impl CasterInstance {
+    /// `mesh` at `transform`, casting and receiving shadows.
+    pub fn new(mesh: MeshId, transform: Mat4) -> Self {
+        Self {
+            mesh,
+            transform,
+            caster: true,
+            receiver: true,
+        }
+    }
 }
 
 /// A vertex stream kept by penumbra: buffer and offset, with the layout that pipelines key on.

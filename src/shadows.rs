@@ -36,6 +36,17 @@ pub struct ViewInputs<'a> {
     pub receiver_mask: Option<&'a wgpu::Texture>,
 }
 
+impl<'a> ViewInputs<'a> {
+    /// The engine's camera and depth buffer, no receiver mask.
+    pub fn new(camera: CameraMatrices, depth: &'a wgpu::Texture) -> Self {
+        Self {
+            camera,
+            depth,
+            receiver_mask: None,
+        }
+    }
+}
+
 /// A light added to [`Shadows`]; also its layer in [`Shadows::visibility`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct LightId(u32);
@@ -602,6 +613,21 @@ impl Shadows {
     /// `texture_2d_array<f32>`, filterable). `None` before the first frame.
     pub fn visibility(&self) -> Option<&wgpu::TextureView> {
         self.visibility.as_ref().map(|v| &v.1)
+    }
+
+    /// The bind group layout entry an engine's lit shader declares for [`Shadows::visibility`]:
+    /// a filterable float 2D array texture read in the fragment stage.
+    pub fn visibility_layout_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+        wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                view_dimension: wgpu::TextureViewDimension::D2Array,
+                multisampled: false,
+            },
+            count: None,
+        }
     }
 
     pub fn visibility_texture(&self) -> Option<&wgpu::Texture> {
