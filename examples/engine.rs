@@ -177,7 +177,10 @@ fn main() -> Result<()> {
     let scale = 1.5 / (highest - lowest).max(1e-6);
     let placement = |frame: u32| {
         let x = -1.0 + 0.25 * frame as f32;
-        Mat4::from_translation(Vec3::new(x, -lowest * scale, 0.0)) * Mat4::from_scale(Vec3::splat(scale))
+        // Turned three quarters toward the camera.
+        Mat4::from_translation(Vec3::new(x, -lowest * scale, 0.0))
+            * Mat4::from_rotation_y(150f32.to_radians())
+            * Mat4::from_scale(Vec3::splat(scale))
     };
     let h = FLOOR_SIZE * 0.5;
     let floor_vertices: Vec<Vertex> = [[-h, 0.0, h], [h, 0.0, h], [h, 0.0, -h], [-h, 0.0, -h]]

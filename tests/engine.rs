@@ -186,9 +186,11 @@ fn each_light_shadows_where_it_must_and_the_moving_mesh_moves_its_shadows() {
     let d = &first.description;
     let p = pixel_of(d, shadow_of_centre(d, &d.lights[0]));
     assert!(at(&first.layers[0], p) < 0.2 && at(&last.layers[0], p) > 0.95);
+    // (The spot may light it more in the last run, never less: both terms brighten the frame.)
+    let (spot_before, spot_after) = (at(&first.layers[1], p), at(&last.layers[1], p));
     assert!(
-        (at(&first.layers[1], p) - at(&last.layers[1], p)).abs() < 0.05,
-        "the spot's shadow moved onto it"
+        spot_after > spot_before - 0.05,
+        "the spot's shadow moved onto it: {spot_before} -> {spot_after}"
     );
     let (before, after) = (luminance(&first, p), luminance(&last, p));
     assert!(

@@ -81,29 +81,73 @@ fn compare_with_reference(name: &str, actual: &image::RgbaImage) {
     }
 }
 
-#[test]
-fn scenes_match_their_reference_images() {
+/// Renders one golden case and compares it with its reference image.
+fn golden(scene: &str, view: usize, method: ShadowMethod) {
     let gpu = common::gpu();
-    for name in ["teapot", "character"] {
-        let scene = load_scene(&common::asset(&format!("scenes/{name}.ron"))).unwrap();
-        for view in 0..3 {
-            let camera = scene.view(view).unwrap();
-            // Every viewpoint for the method and its baseline; the others from the first.
-            let methods: &[ShadowMethod] = if view == 0 {
-                &ShadowMethod::REAL_TIME
-            } else {
-                &[
-                    ShadowMethod::Ours,
-                    ShadowMethod::Traditional,
-                    ShadowMethod::Hardware2x2,
-                ]
-            };
-            for &method in methods {
-                let image = common::render(&gpu, &scene, &camera, settings(method), 320, 256);
-                compare_with_reference(&format!("{name}_view{view}_{}", method.name()), &image);
+    let loaded = load_scene(&common::asset(&format!("scenes/{scene}.ron"))).unwrap();
+    let camera = loaded.view(view).unwrap();
+    let image = common::render(&gpu, &loaded, &camera, settings(method), 320, 256);
+    compare_with_reference(&format!("{scene}_view{view}_{}", method.name()), &image);
+}
+
+/// One test per golden image, so one failure does not hide the others: every method from the
+/// first viewpoint, the method, its baseline and hw2x2 from the other two.
+macro_rules! golden_images {
+    ($($test:ident: $scene:literal, $view:literal, $method:ident;)*) => {
+        $(
+            #[test]
+            fn $test() {
+                golden($scene, $view, ShadowMethod::$method);
             }
-        }
-    }
+        )*
+        /// The reference images the cases above compare with.
+        const GOLDEN: &[(&str, usize, ShadowMethod)] = &[$(($scene, $view, ShadowMethod::$method)),*];
+    };
+}
+
+golden_images! {
+    teapot_view0_ours: "teapot", 0, Ours;
+    teapot_view0_ours_fast: "teapot", 0, OursFast;
+    teapot_view0_traditional: "teapot", 0, Traditional;
+    teapot_view0_pcss: "teapot", 0, Pcss;
+    teapot_view0_hard: "teapot", 0, Hard;
+    teapot_view0_hw2x2: "teapot", 0, Hardware2x2;
+    teapot_view1_ours: "teapot", 1, Ours;
+    teapot_view1_traditional: "teapot", 1, Traditional;
+    teapot_view1_hw2x2: "teapot", 1, Hardware2x2;
+    teapot_view2_ours: "teapot", 2, Ours;
+    teapot_view2_traditional: "teapot", 2, Traditional;
+    teapot_view2_hw2x2: "teapot", 2, Hardware2x2;
+    character_view0_ours: "character", 0, Ours;
+    character_view0_ours_fast: "character", 0, OursFast;
+    character_view0_traditional: "character", 0, Traditional;
+    character_view0_pcss: "character", 0, Pcss;
+    character_view0_hard: "character", 0, Hard;
+    character_view0_hw2x2: "character", 0, Hardware2x2;
+    character_view1_ours: "character", 1, Ours;
+    character_view1_traditional: "character", 1, Traditional;
+    character_view1_hw2x2: "character", 1, Hardware2x2;
+    character_view2_ours: "character", 2, Ours;
+    character_view2_traditional: "character", 2, Traditional;
+    character_view2_hw2x2: "character", 2, Hardware2x2;
+}
+
+#[test]
+fn every_reference_image_has_its_case() {
+    let names: Vec<String> = GOLDEN
+        .iter()
+        .map(|(scene, view, method)| format!("{scene}_view{view}_{}.png", method.name()))
+        .collect();
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/reference");
+    let mut on_disk: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".png"))
+        .collect();
+    on_disk.sort();
+    let mut expected = names.clone();
+    expected.sort();
+    assert_eq!(on_disk, expected);
 }
 
 fn directional(direction: Vec3) -> Light {
