@@ -24,7 +24,7 @@ fn vs_main(
 ) -> VsOut {
     let world = instance.model * vec4<f32>(position, 1.0);
     var out: VsOut;
-    out.clip = frame.view_proj * world;
+    out.clip = frame.view.view_proj * world;
     out.world = world.xyz;
     out.normal = (instance.normal * vec4<f32>(normal, 0.0)).xyz;
     out.uv = uv;
@@ -38,11 +38,11 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     if material.alpha.x >= 0.0 && base.a < material.alpha.x {
         discard;
     }
-    var to_light = -frame.light_direction.xyz;
+    var to_light = -frame.light.direction;
     var cone = 1.0;
-    if frame.light_direction.w > 0.5 {
-        to_light = normalize(frame.light_position.xyz - in.world);
-        cone = smoothstep(frame.light_position.w, frame.light_radiance.w, dot(-to_light, frame.light_direction.xyz));
+    if frame.light.spot != 0u {
+        to_light = normalize(frame.light.position - in.world);
+        cone = smoothstep(frame.light.cos_outer, frame.light.cos_inner, dot(-to_light, frame.light.direction));
     }
     let n_dot_l = max(dot(n, to_light), 0.0);
     let pixel = vec2<i32>(in.clip.xy);
@@ -50,6 +50,6 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     if instance.flags.x > 0.5 {
         v = textureLoad(visibility, pixel, 0).x;
     }
-    let light = frame.light_radiance.rgb * (n_dot_l * cone * v) + frame.ambient.rgb;
+    let light = frame.light.radiance * (n_dot_l * cone * v) + frame.ambient.rgb;
     return vec4<f32>(base.rgb * light, 1.0);
 }

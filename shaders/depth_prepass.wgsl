@@ -17,7 +17,7 @@ struct VsOut {
 fn vs_main(@location(0) position: vec3<f32>, @location(1) uv: vec2<f32>) -> VsOut {
     let world = instance.model * vec4<f32>(position, 1.0);
     var out: VsOut;
-    out.clip = frame.view_proj * world;
+    out.clip = frame.view.view_proj * world;
     out.uv = uv;
     return out;
 }

@@ -17,7 +17,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         return vec4<f32>(0.0, -2.0, 0.0, 0.0);
     }
     // Non-receivers are marked -1 so the blur can leave them out.
-    if frame.view_params.z > 0.5 && textureLoad(receiver_mask, pixel, 0).x < 0.5 {
+    if frame.view.has_receiver_mask != 0u && textureLoad(receiver_mask, pixel, 0).x < 0.5 {
         return vec4<f32>(0.0, -1.0, 0.0, 0.0);
     }
     let world = world_position(frag.xy, depth);

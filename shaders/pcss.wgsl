@@ -8,6 +8,13 @@
 @group(0) @binding(3) var shadow_sampler: sampler_comparison;
 // The same shadow map, read as plain depths for the blocker search.
 @group(0) @binding(4) var shadow_depths: texture_2d<f32>;
+@group(0) @binding(5) var<uniform> pcss: Pcss;
+
+struct Pcss {
+    blocker_samples: u32,
+    pcf_samples: u32,
+    _pad: vec2<f32>,
+}
 
 // Point k of n on a Vogel (golden-angle) disk of radius 1, rotated by `angle`.
 fn vogel(k: i32, n: i32, angle: f32) -> vec2<f32> {
@@ -23,7 +30,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     if is_background(depth) {
         return vec4<f32>(1.0);
     }
-    let r = receiver(pixel, depth, frame.pcss.z);
+    let r = receiver(pixel, depth, frame.penumbra.normal_offset);
     let world = r.world;
     let p = r.p;
     let slope = r.slope;
@@ -35,10 +42,10 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let angle = pixel_noise(frag.xy) * 6.2831853;
     // Blocker search: occluders can lie anywhere between the light's near plane and the
     // receiver; the light's footprint there is the widest penumbra possible.
-    let search_world = max(penumbra_width(receiver - frame.light_depth.x, world), 0.0);
+    let search_world = max(penumbra_width(receiver - frame.light.near, world), 0.0);
     let search_uv = min(search_world / world_size, 0.25) * 0.5;
     let size = vec2<i32>(textureDimensions(shadow_depths));
-    let blockers = i32(frame.flags.w);
+    let blockers = i32(pcss.blocker_samples);
     var blocker_sum = 0.0;
     var blocker_count = 0.0;
     for (var k = 0; k < blockers; k++) {
@@ -54,8 +61,8 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         return vec4<f32>(1.0);
     }
     let d = max(receiver - light_linear_depth(blocker_sum / blocker_count), 0.0);
-    let filter_uv = penumbra_width(d, world) / world_size * 0.5 + 0.5 / frame.light_depth.w;
-    let samples = i32(frame.pcss.x);
+    let filter_uv = penumbra_width(d, world) / world_size * 0.5 + 0.5 / frame.light.resolution;
+    let samples = i32(pcss.pcf_samples);
     var sum = 0.0;
     for (var k = 0; k < samples; k++) {
         let offset = vogel(k, samples, angle) * filter_uv;

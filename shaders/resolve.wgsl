@@ -16,13 +16,13 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     if is_background(depth) {
         return vec4<f32>(1.0);
     }
-    if frame.view_params.z > 0.5 && textureLoad(receiver_mask, pixel, 0).x < 0.5 {
+    if frame.view.has_receiver_mask != 0u && textureLoad(receiver_mask, pixel, 0).x < 0.5 {
         return vec4<f32>(1.0);
     }
     var v = textureLoad(visibility, pixel, 0).x;
-    if frame.view_params.w > 0.5 {
+    if frame.view.has_distance_map != 0u {
         let d = textureLoad(distance_map, pixel, 0).x;
-        v = mix(v, 1.0, frame.ambient.w * d / (d + frame.penumbra.z));
+        v = mix(v, 1.0, frame.penumbra.indirect_weight * d / (d + frame.penumbra.indirect_half_distance));
     }
     return vec4<f32>(clamp(v, 0.0, 1.0));
 }

@@ -1,63 +1,208 @@
-//! The per-frame uniform shared by the camera and screen-space passes: cameras, light, and the
-//! method's parameters, as every shader's `Frame` struct sees them.
+//! The per-frame uniform shared by the camera and screen-space passes (the camera, the light
+//! and what the method's passes share, as named structs), and each pass's own parameters.
 //!
 //! The physical mode is evaluated per pixel in the shaders from these numbers: the penumbra
-//! width is `light_frustum.w * d` for a directional light (`2 tan(theta / 2) d`) and
-//! `light_frustum.w * d / (D - d)` for a spot light (`2 R d / D_occluder`).
+//! width is `size_term * d` for a directional light (`2 tan(theta / 2) d`) and
+//! `size_term * d / (D - d)` for a spot light (`2 R d / D_occluder`).
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-use crate::layouts::vec4;
 use crate::light_space::{LightView, ProjectionKind};
 use crate::scene::{Aabb, Light};
 use crate::settings::{ShadowMethod, ShadowSettings, SpreadMode};
 use crate::view::{CameraMatrices, DepthConvention};
 
-/// Mirrors `struct Frame` in the WGSL files (a test checks the sizes agree).
+/// Mirrors `struct View` in `shaders/common/frame.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug)]
+pub(crate) struct ViewUniform {
+    pub view_proj: [[f32; 4]; 4],
+    pub inv_view_proj: [[f32; 4]; 4],
+    pub toward_camera: [f32; 4],
+    pub depth_to_view: [f32; 4],
+    pub size: [f32; 2],
+    pub inv_size: [f32; 2],
+    pub pixels_per_unit: f32,
+    pub reversed_depth: u32,
+    pub has_receiver_mask: u32,
+    pub has_distance_map: u32,
+}
+
+/// Mirrors `struct ShadowLight`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug)]
+pub(crate) struct ShadowLightUniform {
+    pub view_proj: [[f32; 4]; 4],
+    pub direction: [f32; 3],
+    pub spot: u32,
+    pub position: [f32; 3],
+    pub cos_outer: f32,
+    pub radiance: [f32; 3],
+    pub cos_inner: f32,
+    pub near: f32,
+    pub far: f32,
+    pub perspective: u32,
+    pub resolution: f32,
+    pub extent: [f32; 2],
+    pub tan_half_fov: f32,
+    pub size_term: f32,
+}
+
+/// Mirrors `struct Penumbra`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug)]
+pub(crate) struct PenumbraUniform {
+    pub fatten_distance: f32,
+    pub physical: u32,
+    pub indirect_weight: f32,
+    pub indirect_half_distance: f32,
+    pub pcf_width_fraction: f32,
+    pub blur_sigma_fraction: f32,
+    pub normal_offset: f32,
+    pub _pad: f32,
+}
+
+/// Mirrors `struct Frame` (a test compares every field's offset with the WGSL layout).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable, Debug)]
 pub(crate) struct FrameUniform {
-    pub view_proj: [[f32; 4]; 4],
-    pub inv_view_proj: [[f32; 4]; 4],
-    pub light_view_proj: [[f32; 4]; 4],
-    /// xyz: eye (w = 1, perspective) or the direction toward the camera (w = 0, orthographic).
-    pub camera_position: [f32; 4],
-    /// (a, b, c, e): a camera depth `d` lies at view distance `|(a d + b) / (c d + e)|`.
-    pub camera_depth: [f32; 4],
-    /// x: pixels per world unit at clip w = 1; y: 1 reversed depth (clears to 0), 0 standard
-    /// (clears to 1).
-    pub view_params: [f32; 4],
-    /// xyz: direction the light travels; w: 0 directional, 1 spot.
-    pub light_direction: [f32; 4],
-    /// xyz: spot position; w: cosine of the cone's outer angle.
-    pub light_position: [f32; 4],
-    /// rgb: color x intensity; w: cosine of the cone's inner angle.
-    pub light_radiance: [f32; 4],
-    /// rgb: ambient; w: indirect weight.
+    pub view: ViewUniform,
+    pub light: ShadowLightUniform,
+    pub penumbra: PenumbraUniform,
     pub ambient: [f32; 4],
-    /// x: near, y: far, z: 0 orthographic / 1 perspective, w: shadow-map resolution.
-    pub light_depth: [f32; 4],
-    /// xy: orthographic extent (world units); z: tan(half fov) when perspective;
-    /// w: light size term (directional `2 tan(theta / 2)`, spot `2 R`).
-    pub light_frustum: [f32; 4],
-    /// x: fatten distance; y: 1 physical / 0 manual; z: indirect half distance (half the
-    /// casters' bounding radius, world units);
-    /// w: PCF kernel width as a fraction of the penumbra width (physical).
-    pub penumbra: [f32; 4],
-    /// x: taps per side; y: base spacing (texels); z: spread (texels per world unit) or the
-    /// fixed spacing; w: 1 when the spacing is fixed (traditional).
-    pub pcf: [f32; 4],
-    /// x: taps; y: spread (pixels per world unit) or the fixed step; z: blur sigma as a fraction
-    /// of the penumbra width (physical); w: 1 when the step is fixed (traditional).
-    pub blur: [f32; 4],
-    /// x: rotate taps; y: mask early-out; z: depth-aware blur; w: PCSS blocker samples.
-    pub flags: [f32; 4],
-    /// width, height, 1 / width, 1 / height.
-    pub screen: [f32; 4],
-    /// x: PCSS PCF samples; y: PCSS blocker search width (world units per unit of depth);
-    /// z: normal offset (shadow-map texels).
-    pub pcss: [f32; 4],
+}
+
+/// Mirrors `struct Pcf` in `shaders/pcf.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug, PartialEq)]
+pub(crate) struct PcfUniform {
+    pub taps_per_side: u32,
+    pub base_spacing: f32,
+    pub spread: f32,
+    pub _pad: f32,
+}
+
+/// Mirrors `struct Pcss` in `shaders/pcss.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug, PartialEq)]
+pub(crate) struct PcssUniform {
+    pub blocker_samples: u32,
+    pub pcf_samples: u32,
+    pub _pad: [f32; 2],
+}
+
+/// The PCF pass's compile-time switches (WGSL override constants): changing one makes a new
+/// pipeline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct PcfSwitches {
+    pub fixed_spacing: bool,
+    pub rotate_taps: bool,
+    pub mask_early_out: bool,
+}
+
+/// The blur's compile-time switches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct BlurSwitches {
+    pub fixed_step: bool,
+    pub depth_aware: bool,
+}
+
+/// The blur's parameters besides its axis and weights.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct BlurParams {
+    pub taps: u32,
+    /// Fixed step: pixels between taps; manual mode: pixels per world unit of distance.
+    pub step: f32,
+}
+
+/// Each screen-space pass's parameters for `settings` (whose method is the one drawn).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct PassParams {
+    pub pcf: PcfUniform,
+    pub pcf_switches: PcfSwitches,
+    pub blur: BlurParams,
+    pub blur_switches: BlurSwitches,
+    pub pcss: PcssUniform,
+}
+
+impl PassParams {
+    pub fn new(s: &ShadowSettings) -> Self {
+        let p = &s.penumbra;
+        let manual = match p.spreads {
+            SpreadMode::Physical => None,
+            SpreadMode::Manual {
+                pcf_spread,
+                blur_spread,
+                ..
+            } => Some((pcf_spread, blur_spread)),
+        };
+        let (pcf, fixed, blur) = match s.method {
+            // One fixed tap, no blur: the screen-space hard shadow of the embedding path.
+            ShadowMethod::Hard | ShadowMethod::Hardware2x2 => (
+                PcfUniform {
+                    taps_per_side: 1,
+                    base_spacing: 0.0,
+                    spread: 0.0,
+                    _pad: 0.0,
+                },
+                true,
+                BlurParams { taps: 1, step: 0.0 },
+            ),
+            ShadowMethod::Traditional => {
+                let t = &s.traditional;
+                (
+                    PcfUniform {
+                        taps_per_side: t.pcf_kernel.side(),
+                        base_spacing: 0.0,
+                        spread: t.pcf_spacing,
+                        _pad: 0.0,
+                    },
+                    true,
+                    BlurParams {
+                        taps: t.blur_taps,
+                        step: t.blur_step,
+                    },
+                )
+            }
+            method => (
+                PcfUniform {
+                    taps_per_side: if method == ShadowMethod::OursFast {
+                        1
+                    } else {
+                        p.pcf_kernel.side()
+                    },
+                    base_spacing: p.pcf_base_spacing,
+                    spread: manual.map_or(0.0, |m| m.0),
+                    _pad: 0.0,
+                },
+                false,
+                BlurParams {
+                    taps: p.blur_taps,
+                    step: manual.map_or(0.0, |m| m.1),
+                },
+            ),
+        };
+        PassParams {
+            pcf,
+            pcf_switches: PcfSwitches {
+                fixed_spacing: fixed,
+                rotate_taps: p.rotate_taps,
+                mask_early_out: p.mask_early_out,
+            },
+            blur,
+            blur_switches: BlurSwitches {
+                fixed_step: fixed,
+                // The baseline is the paper's plain fixed Gaussian.
+                depth_aware: p.depth_aware_blur && !fixed,
+            },
+            pcss: PcssUniform {
+                blocker_samples: s.pcss.blocker_samples,
+                pcf_samples: s.pcss.pcf_samples,
+                _pad: [0.0; 2],
+            },
+        }
+    }
 }
 
 /// The physical spreads for a frame, as derived on the CPU (reported to users; the shaders
@@ -133,11 +278,11 @@ impl FrameUniform {
     pub fn new(f: &FrameInputs) -> Self {
         let view_proj = f.camera.view_projection();
         let light = f.light;
-        let (kind, position, cos_outer, cos_inner) = match light {
-            Light::Directional(_) => (0.0, Vec3::ZERO, -1.0, -1.0),
+        let (spot, position, cos_outer, cos_inner) = match light {
+            Light::Directional(_) => (0, Vec3::ZERO, -1.0, -1.0),
             Light::Spot(spot) => {
                 let outer = spot.cone_angle_deg.to_radians();
-                (1.0, spot.position, outer.cos(), (outer * 0.85).cos())
+                (1, spot.position, outer.cos(), (outer * 0.85).cos())
             }
         };
         let lv = f.light_view;
@@ -150,82 +295,53 @@ impl FrameUniform {
         let s = f.settings;
         let p = &s.penumbra;
         let fast = s.method == ShadowMethod::OursFast;
-        let traditional = s.method == ShadowMethod::Traditional;
-        let (physical, fatten, pcf_spread, blur_spread) = match p.spreads {
-            SpreadMode::Physical => (1.0, f.spreads.fatten_distance, 0.0, 0.0),
-            SpreadMode::Manual {
-                fatten_distance,
-                pcf_spread,
-                blur_spread,
-            } => (0.0, fatten_distance, pcf_spread, blur_spread),
+        let (physical, fatten) = match p.spreads {
+            SpreadMode::Physical => (1, f.spreads.fatten_distance),
+            SpreadMode::Manual { fatten_distance, .. } => (0, fatten_distance),
         };
         // Physical mode: the total filter's standard deviation matches a disk light's edge
         // profile, sigma = w / 4, split between the PCF box (variance a^2 / 12) and the blur.
         let share = if fast { 0.0 } else { p.pcf_variance_share };
-        let pcf_width_fraction = (12.0 * share).sqrt() / 4.0;
-        let blur_sigma_fraction = (1.0 - share).sqrt() / 4.0;
-        let hard = matches!(s.method, ShadowMethod::Hard | ShadowMethod::Hardware2x2);
-        let (pcf, blur) = if hard {
-            // One fixed tap, no blur: the screen-space hard shadow of the embedding path.
-            ([1.0, 0.0, 0.0, 1.0], [1.0, 0.0, 0.0, 1.0])
-        } else if traditional {
-            let t = &s.traditional;
-            (
-                [t.pcf_kernel.side() as f32, 0.0, t.pcf_spacing, 1.0],
-                [t.blur_taps as f32, t.blur_step, 0.0, 1.0],
-            )
-        } else {
-            let side = if fast { 1.0 } else { p.pcf_kernel.side() as f32 };
-            (
-                [side, p.pcf_base_spacing, pcf_spread, 0.0],
-                [p.blur_taps as f32, blur_spread, blur_sigma_fraction, 0.0],
-            )
-        };
         FrameUniform {
-            view_proj: view_proj.to_cols_array_2d(),
-            inv_view_proj: view_proj.inverse().to_cols_array_2d(),
-            light_view_proj: lv.view_projection.to_cols_array_2d(),
-            camera_position: f.camera.toward_camera(),
-            camera_depth: f.camera.depth_to_view(),
-            view_params: [
-                f.camera.pixels_per_unit(f.height),
-                (f.camera.depth == DepthConvention::Reversed) as u32 as f32,
-                f.receiver_mask as u32 as f32,
-                f.distance_map as u32 as f32,
-            ],
-            light_direction: vec4(light.direction(), kind),
-            light_position: vec4(position, cos_outer),
-            light_radiance: vec4(light.radiance(), cos_inner),
-            ambient: vec4(f.ambient, p.indirect_weight),
-            light_depth: [
-                lv.near,
-                lv.far,
-                if perspective { 1.0 } else { 0.0 },
-                s.shadow_map.resolution as f32,
-            ],
-            light_frustum: [lv.extent.x, lv.extent.y, tan_half_fov, light_size_term(light)],
-            penumbra: [
-                fatten,
+            view: ViewUniform {
+                view_proj: view_proj.to_cols_array_2d(),
+                inv_view_proj: view_proj.inverse().to_cols_array_2d(),
+                toward_camera: f.camera.toward_camera(),
+                depth_to_view: f.camera.depth_to_view(),
+                size: [f.width as f32, f.height as f32],
+                inv_size: [1.0 / f.width as f32, 1.0 / f.height as f32],
+                pixels_per_unit: f.camera.pixels_per_unit(f.height),
+                reversed_depth: (f.camera.depth == DepthConvention::Reversed) as u32,
+                has_receiver_mask: f.receiver_mask as u32,
+                has_distance_map: f.distance_map as u32,
+            },
+            light: ShadowLightUniform {
+                view_proj: lv.view_projection.to_cols_array_2d(),
+                direction: light.direction().to_array(),
+                spot,
+                position: position.to_array(),
+                cos_outer,
+                radiance: light.radiance().to_array(),
+                cos_inner,
+                near: lv.near,
+                far: lv.far,
+                perspective: perspective as u32,
+                resolution: s.shadow_map.resolution as f32,
+                extent: lv.extent.to_array(),
+                tan_half_fov,
+                size_term: light_size_term(light),
+            },
+            penumbra: PenumbraUniform {
+                fatten_distance: fatten,
                 physical,
-                f.caster_radius.max(1e-6) * 0.5,
-                pcf_width_fraction,
-            ],
-            pcf,
-            blur,
-            flags: [
-                p.rotate_taps as u32 as f32,
-                p.mask_early_out as u32 as f32,
-                // The baseline is the paper's plain fixed Gaussian.
-                (p.depth_aware_blur && !traditional) as u32 as f32,
-                s.pcss.blocker_samples as f32,
-            ],
-            screen: [
-                f.width as f32,
-                f.height as f32,
-                1.0 / f.width as f32,
-                1.0 / f.height as f32,
-            ],
-            pcss: [s.pcss.pcf_samples as f32, 0.0, s.shadow_map.normal_offset, 0.0],
+                indirect_weight: p.indirect_weight,
+                indirect_half_distance: f.caster_radius.max(1e-6) * 0.5,
+                pcf_width_fraction: (12.0 * share).sqrt() / 4.0,
+                blur_sigma_fraction: (1.0 - share).sqrt() / 4.0,
+                normal_offset: s.shadow_map.normal_offset,
+                _pad: 0.0,
+            },
+            ambient: f.ambient.extend(0.0).to_array(),
         }
     }
 }
@@ -244,27 +360,155 @@ pub(crate) fn gaussian_weights(taps: u32) -> [[f32; 4]; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use core::mem::{offset_of, size_of};
 
-    /// Every shader that declares `struct Frame` declares it with the Rust struct's size.
+    /// A WGSL struct's fields and their offsets in the Rust mirror, and the mirror's size.
+    type Layout = (&'static str, Vec<(&'static str, usize)>, usize);
+
+    fn layouts() -> Vec<Layout> {
+        vec![
+            (
+                "Frame",
+                vec![
+                    ("view", offset_of!(FrameUniform, view)),
+                    ("light", offset_of!(FrameUniform, light)),
+                    ("penumbra", offset_of!(FrameUniform, penumbra)),
+                    ("ambient", offset_of!(FrameUniform, ambient)),
+                ],
+                size_of::<FrameUniform>(),
+            ),
+            (
+                "View",
+                vec![
+                    ("view_proj", offset_of!(ViewUniform, view_proj)),
+                    ("inv_view_proj", offset_of!(ViewUniform, inv_view_proj)),
+                    ("toward_camera", offset_of!(ViewUniform, toward_camera)),
+                    ("depth_to_view", offset_of!(ViewUniform, depth_to_view)),
+                    ("size", offset_of!(ViewUniform, size)),
+                    ("inv_size", offset_of!(ViewUniform, inv_size)),
+                    ("pixels_per_unit", offset_of!(ViewUniform, pixels_per_unit)),
+                    ("reversed_depth", offset_of!(ViewUniform, reversed_depth)),
+                    ("has_receiver_mask", offset_of!(ViewUniform, has_receiver_mask)),
+                    ("has_distance_map", offset_of!(ViewUniform, has_distance_map)),
+                ],
+                size_of::<ViewUniform>(),
+            ),
+            (
+                "ShadowLight",
+                vec![
+                    ("view_proj", offset_of!(ShadowLightUniform, view_proj)),
+                    ("direction", offset_of!(ShadowLightUniform, direction)),
+                    ("spot", offset_of!(ShadowLightUniform, spot)),
+                    ("position", offset_of!(ShadowLightUniform, position)),
+                    ("cos_outer", offset_of!(ShadowLightUniform, cos_outer)),
+                    ("radiance", offset_of!(ShadowLightUniform, radiance)),
+                    ("cos_inner", offset_of!(ShadowLightUniform, cos_inner)),
+                    ("near", offset_of!(ShadowLightUniform, near)),
+                    ("far", offset_of!(ShadowLightUniform, far)),
+                    ("perspective", offset_of!(ShadowLightUniform, perspective)),
+                    ("resolution", offset_of!(ShadowLightUniform, resolution)),
+                    ("extent", offset_of!(ShadowLightUniform, extent)),
+                    ("tan_half_fov", offset_of!(ShadowLightUniform, tan_half_fov)),
+                    ("size_term", offset_of!(ShadowLightUniform, size_term)),
+                ],
+                size_of::<ShadowLightUniform>(),
+            ),
+            (
+                "Penumbra",
+                vec![
+                    ("fatten_distance", offset_of!(PenumbraUniform, fatten_distance)),
+                    ("physical", offset_of!(PenumbraUniform, physical)),
+                    ("indirect_weight", offset_of!(PenumbraUniform, indirect_weight)),
+                    (
+                        "indirect_half_distance",
+                        offset_of!(PenumbraUniform, indirect_half_distance),
+                    ),
+                    (
+                        "pcf_width_fraction",
+                        offset_of!(PenumbraUniform, pcf_width_fraction),
+                    ),
+                    (
+                        "blur_sigma_fraction",
+                        offset_of!(PenumbraUniform, blur_sigma_fraction),
+                    ),
+                    ("normal_offset", offset_of!(PenumbraUniform, normal_offset)),
+                ],
+                size_of::<PenumbraUniform>(),
+            ),
+            (
+                "Pcf",
+                vec![
+                    ("taps_per_side", offset_of!(PcfUniform, taps_per_side)),
+                    ("base_spacing", offset_of!(PcfUniform, base_spacing)),
+                    ("spread", offset_of!(PcfUniform, spread)),
+                ],
+                size_of::<PcfUniform>(),
+            ),
+            (
+                "Pcss",
+                vec![
+                    ("blocker_samples", offset_of!(PcssUniform, blocker_samples)),
+                    ("pcf_samples", offset_of!(PcssUniform, pcf_samples)),
+                ],
+                size_of::<PcssUniform>(),
+            ),
+            (
+                "Blur",
+                vec![
+                    ("axis", offset_of!(crate::passes::BlurUniform, axis)),
+                    ("weights", offset_of!(crate::passes::BlurUniform, weights)),
+                    ("taps", offset_of!(crate::passes::BlurUniform, taps)),
+                    ("step", offset_of!(crate::passes::BlurUniform, step)),
+                ],
+                size_of::<crate::passes::BlurUniform>(),
+            ),
+        ]
+    }
+
+    /// Every shader that declares one of the uniform structs declares each named field at the
+    /// Rust mirror's offset, with the mirror's size.
     #[test]
-    fn wgsl_frame_structs_match_the_rust_layout() {
-        let mut checked = 0;
-        for (name, source) in crate::shaders::ALL {
+    fn wgsl_uniform_structs_match_their_rust_mirrors_field_by_field() {
+        let mut checked = std::collections::BTreeMap::new();
+        for (shader, source) in crate::shaders::ALL {
             let module = naga::front::wgsl::parse_str(source).unwrap();
             let mut layouter = naga::proc::Layouter::default();
             layouter.update(module.to_ctx()).unwrap();
             for (handle, ty) in module.types.iter() {
-                if ty.name.as_deref() == Some("Frame") {
+                let Some((name, fields, size)) = layouts()
+                    .into_iter()
+                    .find(|(n, _, _)| ty.name.as_deref() == Some(*n))
+                else {
+                    continue;
+                };
+                let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+                    panic!("{shader}: {name} is not a struct");
+                };
+                assert_eq!(layouter[handle].size as usize, size, "{shader}: size of {name}");
+                for (field, offset) in fields {
+                    let member = members
+                        .iter()
+                        .find(|m| m.name.as_deref() == Some(field))
+                        .unwrap_or_else(|| panic!("{shader}: {name} has no field {field}"));
                     assert_eq!(
-                        layouter[handle].size as usize,
-                        size_of::<FrameUniform>(),
-                        "{name}: struct Frame size differs from FrameUniform"
+                        member.offset as usize, offset,
+                        "{shader}: offset of {name}.{field}"
                     );
-                    checked += 1;
                 }
+                *checked.entry(name).or_insert(0) += 1;
             }
         }
-        assert!(checked >= 6, "only {checked} shaders declare Frame");
+        for (name, _, _) in layouts() {
+            assert!(
+                checked.get(name).is_some_and(|n| *n > 0),
+                "no shader declares {name}"
+            );
+        }
+        assert!(
+            checked["Frame"] >= 7,
+            "only {} shaders declare Frame",
+            checked["Frame"]
+        );
     }
 
     #[test]

@@ -8,7 +8,7 @@
 
 use crate::casters::Casters;
 use crate::error::{PenumbraError, Result};
-use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, derive_spreads, is_point_light};
+use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, is_point_light};
 use crate::light_space::{FitInputs, LightView};
 use crate::passes::{
     BlurPass, DistanceMapPass, FattenedShadowMapPass, PcfPass, PcssPass, ResolvePass, ShadowMapPass,
@@ -101,14 +101,6 @@ impl Chain {
             // Screen-space hard shadows: one PCF tap (a bilinear 2x2 comparison).
             ShadowMethod::Hard | ShadowMethod::Hardware2x2 => Chain { pcf: true, ..none },
             ShadowMethod::Reference => none,
-        }
-    }
-
-    /// The blur's tap count.
-    fn blur_taps(&self, settings: &ShadowSettings) -> u32 {
-        match self.method {
-            ShadowMethod::Traditional => settings.traditional.blur_taps,
-            _ => settings.penumbra.blur_taps,
         }
     }
 
@@ -408,6 +400,11 @@ impl Shadows {
                     ..Default::default()
                 };
             }
+            let effective = ShadowSettings {
+                method: chain.method,
+                ..self.settings
+            };
+            let params = PassParams::new(&effective);
             let sm = self.settings.shadow_map;
             if state.allocate(
                 device,
@@ -415,6 +412,7 @@ impl Shadows {
                 new_casters,
                 &sm,
                 &chain,
+                &params,
                 (width, height),
                 resized,
             ) || rebind_all
@@ -438,10 +436,6 @@ impl Shadows {
                 resolution: sm.resolution,
                 snap_to_texels: sm.snap_to_texels,
             });
-            let effective = ShadowSettings {
-                method: chain.method,
-                ..self.settings
-            };
             queue.write_buffer(
                 &state.frame,
                 0,
@@ -478,8 +472,14 @@ impl Shadows {
                     f.prepare(device, queue, casters, &light_view, spreads.fatten_distance);
                 }
             }
-            if let Some(blur) = &state.blur {
-                blur.prepare(queue, chain.blur_taps(&self.settings));
+            if let Some(p) = &state.pcf {
+                p.prepare(queue, &params.pcf);
+            }
+            if let Some(p) = &state.pcss {
+                p.prepare(queue, &params.pcss);
+            }
+            if let Some(p) = &state.blur {
+                p.prepare(queue, &params.blur);
             }
             state.planned = Some(Planned {
                 chain,
@@ -746,10 +746,26 @@ impl LightState {
         new_casters: bool,
         settings: &ShadowMapSettings,
         chain: &Chain,
+        params: &PassParams,
         (w, h): (u32, u32),
         resized: bool,
     ) -> bool {
         let mut changed = false;
+        // Passes made with other compile-time switches are made again.
+        if self
+            .pcf
+            .as_ref()
+            .is_some_and(|p| p.switches() != params.pcf_switches)
+        {
+            self.pcf = None;
+        }
+        if self
+            .blur
+            .as_ref()
+            .is_some_and(|p| p.switches() != params.blur_switches)
+        {
+            self.blur = None;
+        }
         if new_casters || self.shadow_map.is_none() {
             self.shadow_map = Some(ShadowMapPass::new(device, casters.layouts(), settings));
             self.fattened = None;
@@ -785,9 +801,17 @@ impl LightState {
             chain.distance_map,
             DistanceMapPass::new(device, FRAME_SIZE)
         );
-        screen!(self.pcf, chain.pcf, PcfPass::new(device, FRAME_SIZE));
+        screen!(
+            self.pcf,
+            chain.pcf,
+            PcfPass::new(device, FRAME_SIZE, params.pcf_switches)
+        );
         screen!(self.pcss, chain.pcss, PcssPass::new(device, FRAME_SIZE));
-        screen!(self.blur, chain.blur, BlurPass::new(device, FRAME_SIZE));
+        screen!(
+            self.blur,
+            chain.blur,
+            BlurPass::new(device, FRAME_SIZE, params.blur_switches)
+        );
         changed
     }
 

@@ -10,26 +10,26 @@ fn vs_fullscreen(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f
 
 // World position of pixel `pixel` with camera depth `depth`.
 fn world_position(pixel: vec2<f32>, depth: f32) -> vec3<f32> {
-    let ndc = vec2<f32>(pixel.x * frame.screen.z * 2.0 - 1.0, 1.0 - pixel.y * frame.screen.w * 2.0);
-    let world = frame.inv_view_proj * vec4<f32>(ndc, depth, 1.0);
+    let ndc = vec2<f32>(pixel.x * frame.view.inv_size.x * 2.0 - 1.0, 1.0 - pixel.y * frame.view.inv_size.y * 2.0);
+    let world = frame.view.inv_view_proj * vec4<f32>(ndc, depth, 1.0);
     return world.xyz / world.w;
 }
 
 // Distance from the camera along its view for a camera depth (any projection the inverse of
 // which keeps x and y out of its z and w rows: perspective, orthographic, off-centre, jittered).
 fn view_depth(depth: f32) -> f32 {
-    let c = frame.camera_depth;
+    let c = frame.view.depth_to_view;
     return abs((c.x * depth + c.y) / (c.z * depth + c.w + 1e-30));
 }
 
 // Clip w at a view distance: the distance in perspective, 1 in orthographic.
 fn clip_w(view_distance: f32) -> f32 {
-    return select(1.0, view_distance, frame.camera_position.w > 0.5);
+    return select(1.0, view_distance, frame.view.toward_camera.w > 0.5);
 }
 
 // True where the camera depth buffer holds its clear value: nothing was drawn.
 fn is_background(depth: f32) -> bool {
-    if frame.view_params.y > 0.5 {
+    if frame.view.reversed_depth != 0u {
         return depth <= 0.0;
     }
     return depth >= 1.0;

@@ -13,7 +13,7 @@ struct Receiver {
 // The difference to the neighbor pixel along `axis` on the side whose depth is closer, so a
 // pixel next to a silhouette never mixes two surfaces.
 fn neighbor_delta(pixel: vec2<i32>, world: vec3<f32>, depth: f32, axis: vec2<i32>) -> vec3<f32> {
-    let size = vec2<i32>(frame.screen.xy);
+    let size = vec2<i32>(frame.view.size);
     let a = clamp(pixel + axis, vec2<i32>(0), size - 1);
     let b = clamp(pixel - axis, vec2<i32>(0), size - 1);
     let depth_a = textureLoad(camera_depth, a, 0).x;
@@ -37,7 +37,7 @@ fn receiver(pixel: vec2<i32>, depth: f32, texels: f32) -> Receiver {
     let len = length(n);
     if len > 1e-30 {
         let facing = select(-1.0, 1.0, dot(n, to_camera(center)) >= 0.0);
-        let texel_world = shadow_map_world_size(center).x / frame.light_depth.w;
+        let texel_world = shadow_map_world_size(center).x / frame.light.resolution;
         out.world = center + n / len * facing * texel_world * texels;
     }
     out.p = to_shadow_map(out.world);

@@ -7,17 +7,22 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target};
-use crate::frame::gaussian_weights;
+use super::{VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline_with, screen_target};
+use crate::frame::{BlurParams, BlurSwitches, gaussian_weights};
 
+/// Mirrors `struct Blur` in `shaders/blur.wgsl`: one per axis.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-struct BlurUniform {
-    axis: [f32; 4],
-    weights: [[f32; 4]; 4],
+pub(crate) struct BlurUniform {
+    pub axis: [f32; 4],
+    pub weights: [[f32; 4]; 4],
+    pub taps: u32,
+    pub step: f32,
+    pub _pad: [f32; 2],
 }
 
 pub struct BlurPass {
+    switches: BlurSwitches,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     sampler: wgpu::Sampler,
@@ -29,7 +34,8 @@ pub struct BlurPass {
 }
 
 impl BlurPass {
-    pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
+    /// The pass for `switches` (compile-time: other switches need a new pass).
+    pub(crate) fn new(device: &wgpu::Device, frame_size: usize, switches: BlurSwitches) -> Self {
         let shader = crate::shaders::module(device, "blur.wgsl", crate::shaders::BLUR);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("BlurPass::layout"),
@@ -50,12 +56,17 @@ impl BlurPass {
                 false,
             )],
         });
-        let pipeline = fullscreen_pipeline(
+        let flag = |on: bool| if on { 1.0 } else { 0.0 };
+        let pipeline = fullscreen_pipeline_with(
             device,
             "BlurPass::pipeline",
             &shader,
             &[Some(&layout), Some(&axis_layout)],
             VISIBILITY_FORMAT,
+            &[
+                ("FIXED_STEP", flag(switches.fixed_step)),
+                ("DEPTH_AWARE", flag(switches.depth_aware)),
+            ],
         );
         let axis_buffers = ["BlurPass::horizontal", "BlurPass::vertical"].map(|label| {
             device.create_buffer(&wgpu::BufferDescriptor {
@@ -79,6 +90,7 @@ impl BlurPass {
             ..Default::default()
         });
         Self {
+            switches,
             layout,
             pipeline,
             sampler,
@@ -134,9 +146,14 @@ impl BlurPass {
         &self.output.0
     }
 
-    /// Uploads the Gaussian weights of a blur of `taps` taps.
-    pub fn prepare(&self, queue: &wgpu::Queue, taps: u32) {
-        let weights = gaussian_weights(taps);
+    /// The switches the pipeline was made with.
+    pub(crate) fn switches(&self) -> BlurSwitches {
+        self.switches
+    }
+
+    /// Uploads the frame's tap count, step and Gaussian weights.
+    pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &BlurParams) {
+        let weights = gaussian_weights(params.taps);
         for (i, axis) in [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]]
             .into_iter()
             .enumerate()
@@ -144,7 +161,13 @@ impl BlurPass {
             queue.write_buffer(
                 &self.axis_buffers[i],
                 0,
-                bytemuck::bytes_of(&BlurUniform { axis, weights }),
+                bytemuck::bytes_of(&BlurUniform {
+                    axis,
+                    weights,
+                    taps: params.taps,
+                    step: params.step,
+                    _pad: [0.0; 2],
+                }),
             );
         }
     }

@@ -31,6 +31,8 @@ mod resolve;
 mod shadow_map;
 
 pub use blur::BlurPass;
+#[cfg(test)]
+pub(crate) use blur::BlurUniform;
 #[cfg(feature = "renderer")]
 pub use composite::CompositePass;
 #[cfg(feature = "renderer")]
@@ -153,6 +155,18 @@ pub(crate) fn fullscreen_pipeline(
     bind_group_layouts: &[Option<&wgpu::BindGroupLayout>],
     format: wgpu::TextureFormat,
 ) -> wgpu::RenderPipeline {
+    fullscreen_pipeline_with(device, label, shader, bind_group_layouts, format, &[])
+}
+
+/// [`fullscreen_pipeline`] with values for the fragment shader's override constants.
+pub(crate) fn fullscreen_pipeline_with(
+    device: &wgpu::Device,
+    label: &str,
+    shader: &wgpu::ShaderModule,
+    bind_group_layouts: &[Option<&wgpu::BindGroupLayout>],
+    format: wgpu::TextureFormat,
+    constants: &[(&str, f64)],
+) -> wgpu::RenderPipeline {
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(label),
         bind_group_layouts,
@@ -173,7 +187,10 @@ pub(crate) fn fullscreen_pipeline(
         fragment: Some(wgpu::FragmentState {
             module: shader,
             entry_point: Some("fs_main"),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants,
+                ..Default::default()
+            },
             targets: &[Some(format.into())],
         }),
         multiview_mask: None,

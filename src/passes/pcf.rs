@@ -6,18 +6,22 @@
 //! spacing grows with the distance and pixels outside the mask take no shadow-map tap at all;
 //! the baseline uses a fixed spacing everywhere. The fast mode runs this pass with one tap.
 
-use super::{VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target};
+use super::{VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline_with, screen_target};
+use crate::frame::{PcfSwitches, PcfUniform};
 
 pub struct PcfPass {
+    switches: PcfSwitches,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
+    params: wgpu::Buffer,
     sampler: wgpu::Sampler,
     output: (wgpu::Texture, wgpu::TextureView),
     bind_group: Option<wgpu::BindGroup>,
 }
 
 impl PcfPass {
-    pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
+    /// The pass for `switches` (compile-time: other switches need a new pass).
+    pub(crate) fn new(device: &wgpu::Device, frame_size: usize, switches: PcfSwitches) -> Self {
         let shader = crate::shaders::module(device, "pcf.wgsl", crate::shaders::PCF);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("PcfPass::layout"),
@@ -27,18 +31,33 @@ impl PcfPass {
                 entry::texture_2d(2, wgpu::TextureSampleType::Float { filterable: false }),
                 entry::texture_2d(3, wgpu::TextureSampleType::Depth),
                 entry::sampler(4, wgpu::SamplerBindingType::Comparison),
+                entry::uniform(5, wgpu::ShaderStages::FRAGMENT, size_of::<PcfUniform>(), false),
             ],
         });
-        let pipeline = fullscreen_pipeline(
+        let flag = |on: bool| if on { 1.0 } else { 0.0 };
+        let pipeline = fullscreen_pipeline_with(
             device,
             "PcfPass::pipeline",
             &shader,
             &[Some(&layout)],
             VISIBILITY_FORMAT,
+            &[
+                ("FIXED_SPACING", flag(switches.fixed_spacing)),
+                ("ROTATE_TAPS", flag(switches.rotate_taps)),
+                ("MASK_EARLY_OUT", flag(switches.mask_early_out)),
+            ],
         );
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("PcfPass::params"),
+            size: size_of::<PcfUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         Self {
+            switches,
             layout,
             pipeline,
+            params,
             sampler: comparison_sampler(device, "PcfPass::comparison_sampler"),
             output: screen_target(device, "PcfPass::visibility", 1, 1, VISIBILITY_FORMAT),
             bind_group: None,
@@ -66,8 +85,19 @@ impl PcfPass {
                 wgpu::BindingResource::TextureView(distance_map),
                 wgpu::BindingResource::TextureView(shadow_map),
                 wgpu::BindingResource::Sampler(&self.sampler),
+                self.params.as_entire_binding(),
             ]),
         }));
+    }
+
+    /// The switches the pipeline was made with.
+    pub(crate) fn switches(&self) -> PcfSwitches {
+        self.switches
+    }
+
+    /// Uploads the frame's tap count and spacing.
+    pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &PcfUniform) {
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
     }
 
     /// The raw PCF visibility.

@@ -6,10 +6,12 @@
 
 use super::pcf::comparison_sampler;
 use super::{VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target};
+use crate::frame::PcssUniform;
 
 pub struct PcssPass {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
+    params: wgpu::Buffer,
     sampler: wgpu::Sampler,
     output: (wgpu::Texture, wgpu::TextureView),
     bind_group: Option<wgpu::BindGroup>,
@@ -26,6 +28,7 @@ impl PcssPass {
                 entry::texture_2d(2, wgpu::TextureSampleType::Depth),
                 entry::sampler(3, wgpu::SamplerBindingType::Comparison),
                 entry::texture_2d(4, wgpu::TextureSampleType::Float { filterable: false }),
+                entry::uniform(5, wgpu::ShaderStages::FRAGMENT, size_of::<PcssUniform>(), false),
             ],
         });
         let pipeline = fullscreen_pipeline(
@@ -35,9 +38,16 @@ impl PcssPass {
             &[Some(&layout)],
             VISIBILITY_FORMAT,
         );
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("PcssPass::params"),
+            size: size_of::<PcssUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         Self {
             layout,
             pipeline,
+            params,
             sampler: comparison_sampler(device, "PcssPass::comparison_sampler"),
             output: screen_target(device, "PcssPass::visibility", 1, 1, VISIBILITY_FORMAT),
             bind_group: None,
@@ -64,6 +74,7 @@ impl PcssPass {
                 wgpu::BindingResource::TextureView(shadow_map),
                 wgpu::BindingResource::Sampler(&self.sampler),
                 wgpu::BindingResource::TextureView(shadow_map),
+                self.params.as_entire_binding(),
             ]),
         }));
     }
@@ -74,6 +85,11 @@ impl PcssPass {
 
     pub fn visibility_texture(&self) -> &wgpu::Texture {
         &self.output.0
+    }
+
+    /// Uploads the frame's sample counts.
+    pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &PcssUniform) {
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
     }
 
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
