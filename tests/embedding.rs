@@ -898,3 +898,42 @@ fn the_renderer_refuses_a_target_of_another_size_or_format() {
     );
     gpu.queue.submit([encoder.finish()]);
 }
+
+#[test]
+fn moving_a_gpu_scene_instance_re_renders_the_maps_and_moves_the_shadow() {
+    let gpu = common::gpu();
+    let scene = penumbra::load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let format = wgpu::TextureFormat::Rgba8UnormSrgb;
+    let mut renderer = penumbra::Renderer::new(&gpu.device, format, ShadowSettings::default()).unwrap();
+    let mut gpu_scene = penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
+    let camera = scene.view(0).unwrap();
+    let mut frame =
+        |renderer: &mut penumbra::Renderer, gpu_scene: &penumbra::GpuScene, camera: &penumbra::Camera| {
+            let image = penumbra::render_to_image(&gpu, renderer, gpu_scene, camera, 160, 120).unwrap();
+            (image, *renderer.last_report().unwrap())
+        };
+    let (before, first) = frame(&mut renderer, &gpu_scene, &camera);
+    assert!(first.shadow_maps_rendered);
+    let mut moved_camera = camera;
+    moved_camera.eye.x += 0.01;
+    let (_, camera_move) = frame(&mut renderer, &gpu_scene, &moved_camera);
+    assert!(
+        !camera_move.shadow_maps_rendered,
+        "a camera move re-rendered the maps"
+    );
+    let caster = scene.instances.iter().position(|i| i.caster).unwrap();
+    let transform = Mat4::from_translation(Vec3::new(0.5, 0.0, 0.0)) * scene.instances[caster].transform;
+    gpu_scene.set_transform(&gpu.queue, caster, transform).unwrap();
+    let (after, moved) = frame(&mut renderer, &gpu_scene, &camera);
+    assert!(moved.shadow_maps_rendered, "moving a caster kept the old maps");
+    let changed = before
+        .pixels()
+        .zip(after.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(changed > 500, "only {changed} pixels changed");
+    assert!(matches!(
+        gpu_scene.set_transform(&gpu.queue, 99, Mat4::IDENTITY),
+        Err(PenumbraError::InvalidInput { .. })
+    ));
+}

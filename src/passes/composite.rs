@@ -6,8 +6,8 @@
 //! already applied; or the reference's mean) and the prepass's camera depth (tested, not
 //! written). Output: the lit color in the caller's target.
 
-use super::{POSITION, entries, entry, stream, vertex_layout};
-use crate::gpu_scene::GpuScene;
+use super::{entries, entry};
+use crate::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
 
 pub struct CompositePass {
@@ -31,44 +31,16 @@ impl CompositePass {
                 entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
             ],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("CompositePass::pipeline_layout"),
-            bind_group_layouts: &[Some(&layout), Some(&layouts.instance), Some(&layouts.material)],
-            immediate_size: 0,
-        });
-        const NORMAL: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x3);
-        const UV: [wgpu::VertexAttribute; 1] = stream(2, wgpu::VertexFormat::Float32x2);
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("CompositePass::pipeline"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[
-                    Some(vertex_layout(&POSITION)),
-                    Some(vertex_layout(&NORMAL)),
-                    Some(vertex_layout(&UV)),
-                ],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: super::DepthPrepass::DEPTH_FORMAT,
-                depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(color_format.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = super::camera_pipeline(
+            device,
+            "CompositePass::pipeline",
+            &shader,
+            &layout,
+            layouts,
+            CameraStreams::PositionNormalUv,
+            false,
+            color_format.into(),
+        );
         Self {
             layout,
             pipeline,
@@ -122,6 +94,6 @@ impl CompositePass {
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
-        scene.draw(&mut pass, crate::gpu_scene::CameraStreams::PositionNormalUv);
+        scene.draw(&mut pass, CameraStreams::PositionNormalUv);
     }
 }

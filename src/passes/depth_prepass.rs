@@ -5,8 +5,8 @@
 //! depth (Depth32Float, reversed: cleared to 0, `Greater` test; tested `Equal` by the
 //! composite) and a receiver mask (R8Unorm: 1 on instances that receive shadows).
 
-use super::{POSITION, entry, stream, vertex_layout};
-use crate::gpu_scene::GpuScene;
+use super::{entry, screen_target};
+use crate::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
 
 pub struct DepthPrepass {
@@ -18,7 +18,7 @@ pub struct DepthPrepass {
 }
 
 impl DepthPrepass {
-    pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+    pub const DEPTH_FORMAT: wgpu::TextureFormat = super::CAMERA_DEPTH_FORMAT;
     pub const RECEIVER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, frame_size: usize) -> Self {
@@ -32,62 +32,35 @@ impl DepthPrepass {
                 false,
             )],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("DepthPrepass::pipeline_layout"),
-            bind_group_layouts: &[
-                Some(&frame_layout),
-                Some(&layouts.instance),
-                Some(&layouts.material),
-            ],
-            immediate_size: 0,
-        });
-        const UV: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x2);
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("DepthPrepass::pipeline"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(vertex_layout(&POSITION)), Some(vertex_layout(&UV))],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: Self::DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Greater),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(Self::RECEIVER_FORMAT.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = super::camera_pipeline(
+            device,
+            "DepthPrepass::pipeline",
+            &shader,
+            &frame_layout,
+            layouts,
+            CameraStreams::PositionUv,
+            true,
+            Self::RECEIVER_FORMAT.into(),
+        );
         Self {
             frame_layout,
             pipeline,
-            depth: depth_target(device, 1, 1),
-            receiver_mask: super::screen_target(
-                device,
-                "DepthPrepass::receiver_mask",
-                1,
-                1,
-                Self::RECEIVER_FORMAT,
-            ),
+            depth: screen_target(device, "DepthPrepass::camera_depth", 1, 1, Self::DEPTH_FORMAT),
+            receiver_mask: screen_target(device, "DepthPrepass::receiver_mask", 1, 1, Self::RECEIVER_FORMAT),
             bind_group: None,
         }
     }
 
     /// Recreates the screen-sized targets.
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.depth = depth_target(device, width, height);
-        self.receiver_mask = super::screen_target(
+        self.depth = screen_target(
+            device,
+            "DepthPrepass::camera_depth",
+            width,
+            height,
+            Self::DEPTH_FORMAT,
+        );
+        self.receiver_mask = screen_target(
             device,
             "DepthPrepass::receiver_mask",
             width,
@@ -150,27 +123,6 @@ impl DepthPrepass {
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
-        scene.draw(&mut pass, crate::gpu_scene::CameraStreams::PositionUv);
+        scene.draw(&mut pass, CameraStreams::PositionUv);
     }
-}
-
-fn depth_target(device: &wgpu::Device, width: u32, height: u32) -> (wgpu::Texture, wgpu::TextureView) {
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("DepthPrepass::camera_depth"),
-        size: wgpu::Extent3d {
-            width: width.max(1),
-            height: height.max(1),
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: DepthPrepass::DEPTH_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
-    let view = texture.create_view(&Default::default());
-    (texture, view)
 }

@@ -9,8 +9,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{POSITION, entry, stream, vertex_layout};
-use crate::gpu_scene::GpuScene;
+use super::{entry, screen_target};
+use crate::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
 use crate::layouts::vec4;
 use crate::light_space::LightView;
@@ -52,7 +52,7 @@ pub struct ForwardPass {
 
 impl ForwardPass {
     /// Camera depth buffer format.
-    pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+    pub const DEPTH_FORMAT: wgpu::TextureFormat = super::CAMERA_DEPTH_FORMAT;
 
     pub fn new(
         device: &wgpu::Device,
@@ -93,55 +93,22 @@ impl ForwardPass {
         };
         let hard_sampler = comparison_sampler("ForwardPass::hard_sampler", wgpu::FilterMode::Nearest);
         let pcf_sampler = comparison_sampler("ForwardPass::pcf_sampler", wgpu::FilterMode::Linear);
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("ForwardPass::layout"),
-            bind_group_layouts: &[
-                Some(&frame_layout),
-                Some(&layouts.instance),
-                Some(&layouts.material),
-            ],
-            immediate_size: 0,
-        });
-        const NORMAL: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x3);
-        const UV: [wgpu::VertexAttribute; 1] = stream(2, wgpu::VertexFormat::Float32x2);
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("ForwardPass::pipeline"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[
-                    Some(vertex_layout(&POSITION)),
-                    Some(vertex_layout(&NORMAL)),
-                    Some(vertex_layout(&UV)),
-                ],
-            },
-            // Both sides are drawn: imported models are often open or single-sided.
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: Self::DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Greater),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(color_format.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = super::camera_pipeline(
+            device,
+            "ForwardPass::pipeline",
+            &shader,
+            &frame_layout,
+            layouts,
+            CameraStreams::PositionNormalUv,
+            true,
+            color_format.into(),
+        );
         let make_bind_group = |sampler: &wgpu::Sampler, label| {
             frame_bind_group(device, &frame_layout, &frame_buffer, shadow_map, sampler, label)
         };
         let hard_bind_group = make_bind_group(&hard_sampler, "ForwardPass::frame_hard");
         let pcf_bind_group = make_bind_group(&pcf_sampler, "ForwardPass::frame_pcf");
-        let depth = depth_target(device, 1, 1);
+        let depth = screen_target(device, "ForwardPass::camera_depth", 1, 1, Self::DEPTH_FORMAT).1;
         Self {
             frame_layout,
             frame_buffer,
@@ -179,7 +146,14 @@ impl ForwardPass {
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
         let (width, height) = (width.max(1), height.max(1));
         if self.size != (width, height) {
-            self.depth = depth_target(device, width, height);
+            self.depth = screen_target(
+                device,
+                "ForwardPass::camera_depth",
+                width,
+                height,
+                Self::DEPTH_FORMAT,
+            )
+            .1;
             self.size = (width, height);
         }
     }
@@ -245,7 +219,7 @@ impl ForwardPass {
             _ => &self.pcf_bind_group,
         };
         pass.set_bind_group(0, frame_group, &[]);
-        scene.draw(&mut pass, crate::gpu_scene::CameraStreams::PositionNormalUv);
+        scene.draw(&mut pass, CameraStreams::PositionNormalUv);
     }
 }
 
@@ -275,25 +249,6 @@ fn frame_bind_group(
             },
         ],
     })
-}
-
-fn depth_target(device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureView {
-    device
-        .create_texture(&wgpu::TextureDescriptor {
-            label: Some("ForwardPass::camera_depth"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: ForwardPass::DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        })
-        .create_view(&Default::default())
 }
 
 /// The normal offset in world units for an orthographic light view, or in world units per unit

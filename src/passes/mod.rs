@@ -344,3 +344,81 @@ impl CasterPipelines {
         self.pipelines.get(&layout)
     }
 }
+
+/// A pipeline that draws a [`crate::GpuScene`]'s instances from the camera with `streams`:
+/// group 0 is the pass's own, group 1 the instance data, group 2 the material. Both sides are
+/// drawn (imported models are often open or single-sided); depth is reversed (`Greater`
+/// passes), written or only tested (`GreaterEqual`) as `write_depth` says.
+#[cfg(feature = "renderer")]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn camera_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    shader: &wgpu::ShaderModule,
+    pass_layout: &wgpu::BindGroupLayout,
+    layouts: &crate::layouts::SceneLayouts,
+    streams: crate::gpu_scene::CameraStreams,
+    write_depth: bool,
+    target: wgpu::ColorTargetState,
+) -> wgpu::RenderPipeline {
+    use crate::gpu_scene::CameraStreams;
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: &[
+            Some(pass_layout),
+            Some(&layouts.instance),
+            Some(&layouts.material),
+        ],
+        immediate_size: 0,
+    });
+    const NORMAL: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x3);
+    const UV_AFTER_POSITION: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x2);
+    const UV_AFTER_NORMAL: [wgpu::VertexAttribute; 1] = stream(2, wgpu::VertexFormat::Float32x2);
+    let position_uv = [
+        Some(vertex_layout(&POSITION)),
+        Some(vertex_layout(&UV_AFTER_POSITION)),
+    ];
+    let position_normal_uv = [
+        Some(vertex_layout(&POSITION)),
+        Some(vertex_layout(&NORMAL)),
+        Some(vertex_layout(&UV_AFTER_NORMAL)),
+    ];
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: shader,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: match streams {
+                CameraStreams::PositionUv => &position_uv,
+                CameraStreams::PositionNormalUv => &position_normal_uv,
+            },
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: CAMERA_DEPTH_FORMAT,
+            depth_write_enabled: Some(write_depth),
+            depth_compare: Some(if write_depth {
+                wgpu::CompareFunction::Greater
+            } else {
+                wgpu::CompareFunction::GreaterEqual
+            }),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: shader,
+            entry_point: Some("fs_main"),
+            compilation_options: Default::default(),
+            targets: &[Some(target)],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// The convenience renderer's camera depth format (reversed: cleared to 0).
+#[cfg(feature = "renderer")]
+pub(crate) const CAMERA_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
