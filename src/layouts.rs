@@ -8,10 +8,10 @@ use crate::passes::entry;
 
 /// Bind group layouts shared by every pass that draws scene geometry. Cloning shares the
 /// layouts, so several [`crate::Renderer`]s made with [`crate::Renderer::with_layouts`] can
-/// draw one [`GpuScene`].
+/// draw one `GpuScene`.
 #[derive(Clone)]
 pub struct SceneLayouts {
-    /// Group with one dynamic-offset uniform: [`InstanceUniform`].
+    /// Group with one dynamic-offset uniform: the instance data (model and normal matrices, flags).
     pub instance: wgpu::BindGroupLayout,
     /// Group with the material uniform, its base color texture and sampler.
     pub material: wgpu::BindGroupLayout,

@@ -1,19 +1,25 @@
 //! # penumbra
 //!
-//! Real-time soft shadows as wgpu render passes, built to be embedded: every GPU type takes a
-//! `&wgpu::Device`, a `&wgpu::Queue` and the format it draws into, and the library never owns a
-//! window or an event loop.
+//! Real-time soft shadows as wgpu render passes, built to be embedded: penumbra works on an
+//! engine's own depth buffer, camera matrices and vertex buffers, hands back one visibility per
+//! light for the engine's lit shader, and never owns a window or an event loop.
 //!
+//! * **Embedding** (no feature needed): [`Casters`] registers meshes from the engine's buffers
+//!   and places instances; [`Shadows`] takes up to [`MAX_LIGHTS`] lights and, each frame, the
+//!   engine's [`CameraMatrices`] and depth ([`ViewInputs`]), and writes each light's
+//!   visibility into a layer of [`Shadows::visibility`]. `examples/engine.rs` is a worked engine.
 //! * [`ShadowMethod::Ours`]: the distance-map method. A depth shadow map, a fattened shadow
-//!   map, a screen-space distance map, PCF whose spacing grows with the receiver-to-occluder
-//!   distance, a distance-driven separable blur, indirect-light attenuation and a composite
-//!   (see [`passes`]).
+//!   map, a full-screen distance map over the camera depth, PCF whose spacing grows with the
+//!   receiver-to-occluder distance, a distance-driven separable blur and indirect-light
+//!   attenuation; each method's chain of passes is written once in [`Chain::new`].
 //! * Beside it: the PCF + Gaussian baseline ([`ShadowMethod::Traditional`]), PCSS, hard shadows
-//!   and hardware 2x2 PCF, all driven by [`Renderer`] and configured by [`ShadowSettings`]
-//!   (physical mode by default: only the light's size is set).
-//! * The scene model ([`Scene`]): meshes carry a per-position *smoothed normal*. Loaders for
-//!   OBJ and glTF 2.0 ([`load_model`]) and a RON scene format ([`SceneFile`], [`load_scene`]).
-//! * Debug access to every intermediate texture ([`Renderer::debug_texture`], [`debug`]).
+//!   and hardware 2x2 PCF, configured by [`ShadowSettings`] (physical mode by default: only the
+//!   light's size is set).
+//! * The convenience layer (feature `renderer`, on by default): [`Renderer`] draws a whole lit
+//!   frame of a [`GpuScene`] on top of [`Shadows`]; the scene model ([`Scene`]) with loaders
+//!   for OBJ and glTF 2.0 ([`load_model`]) and a RON scene format ([`SceneFile`],
+//!   [`load_scene`]); the ground truth; debug access to every intermediate texture
+//!   ([`Renderer::debug_texture`], [`debug`]).
 //!
 //! ```no_run
 //! # fn main() -> penumbra::Result<()> {

@@ -640,7 +640,7 @@ impl Renderer {
 
     /// Renders the ground truth ([`ShadowMethod::Reference`], which must be the current
     /// method) into `target` from start to end: the camera depth, then for each of the
-    /// [`crate::ReferenceSettings::samples`] points on the light a hard shadow map and one
+    /// `ShadowSettings::reference.samples` points on the light a hard shadow map and one
     /// accumulation step, each submitted on its own so memory does not grow with the count,
     /// then the composite. `progress(done, total)` is called after every sample. Blocks until
     /// all samples are in; interactive programs call [`Renderer::render_reference_step`].

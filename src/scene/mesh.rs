@@ -20,7 +20,7 @@ pub struct Mesh {
     pub normals: Vec<Vec3>,
     pub uvs: Vec<Vec2>,
     /// One averaged normal per *position*: all vertices that share a position (within
-    /// [`Mesh::weld_tolerance`]) have the same smoothed normal, so displacing along it never
+    /// [`Mesh::WELD_TOLERANCE`]) have the same smoothed normal, so displacing along it never
     /// tears the mesh open at hard edges.
     pub smoothed_normals: Vec<Vec3>,
     pub indices: Vec<u32>,
