@@ -47,6 +47,8 @@ mod frame;
 pub mod gpu;
 #[cfg(feature = "renderer")]
 mod gpu_scene;
+#[cfg(feature = "renderer")]
+mod ground_truth;
 mod layouts;
 pub mod light_samples;
 pub mod light_space;
@@ -78,13 +80,15 @@ pub use gpu::{
 };
 #[cfg(feature = "renderer")]
 pub use gpu_scene::GpuScene;
+#[cfg(feature = "renderer")]
+pub use ground_truth::ReferenceProgress;
 pub use layouts::SceneLayouts;
 pub use light_space::LightView;
 #[cfg(feature = "renderer")]
 pub use loaders::load_model;
 pub use passes::VISIBILITY_FORMAT;
 #[cfg(feature = "renderer")]
-pub use renderer::{DebugTexture, FrameReport, PassPlan, ReferenceProgress, Renderer};
+pub use renderer::{DebugTexture, FrameReport, PassPlan, Renderer};
 #[cfg(feature = "renderer")]
 pub use scene::SceneFile;
 #[cfg(feature = "renderer")]

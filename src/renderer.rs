@@ -9,9 +9,10 @@
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform};
 use crate::gpu_scene::GpuScene;
+use crate::ground_truth::{GroundTruth, ReferenceProgress, SampleInputs};
 use crate::layouts::SceneLayouts;
 use crate::light_space::LightView;
-use crate::passes::{CompositePass, DepthPrepass, ForwardPass, ReferencePass};
+use crate::passes::{CompositePass, DepthPrepass, ForwardPass};
 use crate::scene::{Camera, Light};
 use crate::settings::{ShadowMethod, ShadowSettings};
 use crate::shadows::{Chain, LightId, LightTexture, Shadows, ViewInputs};
@@ -150,31 +151,6 @@ impl DebugTexture {
     ];
 }
 
-/// How far a progressive reference has come.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ReferenceProgress {
-    /// Light samples averaged so far.
-    pub done: u32,
-    /// Light samples the settings ask for.
-    pub total: u32,
-}
-
-impl ReferenceProgress {
-    pub fn is_complete(&self) -> bool {
-        self.done >= self.total
-    }
-}
-
-/// What a progressive reference's average depends on.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct ReferenceKey {
-    camera: Camera,
-    light: Light,
-    scene: (u64, u64, u64),
-    size: (u32, u32),
-    settings: ShadowSettings,
-}
-
 /// Owns a [`Shadows`] for the scene's light and the passes around it. Made once per output
 /// format; [`Renderer::resize`] when the output size changes, [`Renderer::set_settings`] when
 /// settings change. Passes are allocated on the first frame that needs them and dropped when
@@ -195,9 +171,9 @@ pub struct Renderer {
     forward: Option<ForwardPass>,
     /// The shadow map the forward pass is bound to.
     forward_source: Option<wgpu::Texture>,
-    reference: Option<ReferencePass>,
+    /// The ground truth's running mean (method `reference` only).
+    reference: Option<GroundTruth>,
     size: (u32, u32),
-    reference_key: Option<ReferenceKey>,
     last_report: Option<FrameReport>,
     timer: Option<crate::timing::Timer>,
 }
@@ -246,7 +222,6 @@ impl Renderer {
             forward_source: None,
             reference: None,
             size: (0, 0),
-            reference_key: None,
             last_report: None,
             timer: None,
         };
@@ -299,7 +274,6 @@ impl Renderer {
                 p.resize(device, width, height);
             }
             self.composite_source = None;
-            self.reference_key = None;
         }
     }
 
@@ -423,9 +397,7 @@ impl Renderer {
         });
         self.composite_source = None;
         keep(&mut self.reference, method == ShadowMethod::Reference, || {
-            let mut p = ReferencePass::new(device, FRAME_SIZE);
-            p.resize(device, w, h);
-            p
+            GroundTruth::new(device, FRAME_SIZE, (w, h))
         });
         if !forward {
             self.forward = None;
@@ -654,7 +626,9 @@ impl Renderer {
         target: &wgpu::TextureView,
         mut progress: impl FnMut(u32, u32),
     ) -> Result<Option<FrameReport>> {
-        self.reference_key = None;
+        if let Some(r) = &mut self.reference {
+            r.restart();
+        }
         let total = self.settings.reference.samples;
         if !self.accumulate_reference(device, queue, scene, camera, total, &mut progress)? {
             return Ok(None);
@@ -686,10 +660,9 @@ impl Renderer {
 
     /// How far the reference average has come, when the method is the reference.
     pub fn reference_progress(&self) -> Option<ReferenceProgress> {
-        self.reference.as_ref().map(|r| ReferenceProgress {
-            done: r.accumulated(),
-            total: self.settings.reference.samples,
-        })
+        self.reference
+            .as_ref()
+            .map(|r| r.progress(self.settings.reference.samples))
     }
 
     /// Accumulates up to `max_samples` samples (restarting the average when its inputs
@@ -716,61 +689,31 @@ impl Renderer {
             return Ok(false);
         }
         let light = *scene.light();
-        let total = self.settings.reference.samples;
-        let key = ReferenceKey {
-            camera: *camera,
-            light,
-            scene: scene.revision(),
-            size: self.size,
-            settings: self.settings,
-        };
-        let restart = self.reference_key.as_ref() != Some(&key);
         let matrices = CameraMatrices::from_camera(camera, self.size.0 as f32 / self.size.1 as f32);
         let loose = LightView::fit(&light, &scene.shadow_bounds());
         let spreads = crate::shadows::spreads(&self.settings, &light, &loose, &scene.shadow_bounds());
         self.write_frame_uniform(queue, scene, &matrices, &loose, spreads);
-        let casters = scene.casters();
         let (Some(prepass), Some(reference)) = (&self.prepass, &mut self.reference) else {
             return Ok(false);
         };
-        let Some(shadow_map) = self.shadows.reference_shadow_map(device, self.light, casters) else {
+        let Some(shadow_map) = self
+            .shadows
+            .reference_shadow_map(device, self.light, scene.casters())
+        else {
             return Ok(false);
         };
-        reference.bind(device, &self.frame_buffer, prepass.depth(), shadow_map.view());
-        if restart {
-            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("reference: depth prepass"),
-            });
-            prepass.encode(&mut encoder, scene);
-            queue.submit([encoder.finish()]);
-            reference.reset();
-            self.reference_key = Some(key);
-        }
-        let first = reference.accumulated();
-        let last = first.saturating_add(max_samples).min(total);
-        for k in first..last {
-            let sample = crate::light_samples::light_sample(&light, k, total);
-            let view = LightView::fit_casters(&sample, &scene.caster_bounds(), &scene.shadow_bounds(), 0.0);
-            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("reference: sample"),
-            });
-            shadow_map.prepare(device, queue, casters, &view);
-            shadow_map.encode(&mut encoder, casters);
-            reference.accumulate(&mut encoder, queue, &view);
-            queue.submit([encoder.finish()]);
-            if k % 16 == 15 {
-                device
-                    .poll(wgpu::PollType::Wait {
-                        submission_index: None,
-                        timeout: None,
-                    })
-                    .map_err(|e| crate::PenumbraError::Gpu {
-                        during: "rendering the reference".into(),
-                        reason: e.to_string(),
-                    })?;
-            }
-            progress(k + 1, total);
-        }
+        let inputs = SampleInputs {
+            device,
+            queue,
+            scene,
+            camera,
+            settings: &self.settings,
+            size: self.size,
+            frame: &self.frame_buffer,
+            prepass,
+            shadow_map,
+        };
+        reference.accumulate(inputs, max_samples, progress)?;
         Ok(true)
     }
 

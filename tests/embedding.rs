@@ -907,7 +907,7 @@ fn moving_a_gpu_scene_instance_re_renders_the_maps_and_moves_the_shadow() {
     let mut renderer = penumbra::Renderer::new(&gpu.device, format, ShadowSettings::default()).unwrap();
     let mut gpu_scene = penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
     let camera = scene.view(0).unwrap();
-    let mut frame =
+    let frame =
         |renderer: &mut penumbra::Renderer, gpu_scene: &penumbra::GpuScene, camera: &penumbra::Camera| {
             let image = penumbra::render_to_image(&gpu, renderer, gpu_scene, camera, 160, 120).unwrap();
             (image, *renderer.last_report().unwrap())
