@@ -542,11 +542,11 @@ impl Renderer {
             } else {
                 self.shadows.visibility_layer(self.light).cloned()
             };
-            if let (Some(composite), Some(source)) = (&mut self.composite, source) {
-                if self.composite_source.as_ref() != Some(&source) {
-                    composite.bind(device, &self.frame_buffer, &source);
-                    self.composite_source = Some(source);
-                }
+            if let (Some(composite), Some(source)) = (&mut self.composite, source)
+                && self.composite_source.as_ref() != Some(&source)
+            {
+                composite.bind(device, &self.frame_buffer, &source);
+                self.composite_source = Some(source);
             }
             if let (Some(composite), Some(prepass)) = (&self.composite, &self.prepass) {
                 encoder.push_debug_group("composite");
