@@ -937,3 +937,191 @@ fn moving_a_gpu_scene_instance_re_renders_the_maps_and_moves_the_shadow() {
         Err(PenumbraError::InvalidInput { .. })
     ));
 }
+
+/// `f32` to IEEE half, for the test's own half-float buffers (normal numbers only).
+fn half(x: f32) -> u16 {
+    if x == 0.0 {
+        return 0;
+    }
+    let bits = x.to_bits();
+    let sign = ((bits >> 16) & 0x8000) as u16;
+    let exponent = ((bits >> 23) & 0xff) as i32 - 127 + 15;
+    let mantissa = ((bits >> 13) & 0x3ff) as u16;
+    sign | ((exponent as u16) << 10) | mantissa
+}
+
+#[test]
+fn many_instances_of_a_half_float_mesh_with_16_bit_indices_all_cast() {
+    // A box in an engine's compact layout: Float16x4 positions in a 16-byte interleaved vertex
+    // (the other 8 bytes hold something else), Uint16 indices; 36 instances, past the initial
+    // instance capacity, on a grid under a sun straight above.
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let cube = penumbra::scene::primitives::cuboid(Vec3::splat(0.3));
+    let mut bytes = Vec::new();
+    for p in &cube.positions {
+        for c in [p.x, p.y, p.z, 1.0] {
+            bytes.extend_from_slice(&half(c).to_le_bytes());
+        }
+        bytes.extend_from_slice(&[0xAB; 8]);
+    }
+    let indices: Vec<u16> = cube.indices.iter().map(|&i| i as u16).collect();
+    let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("half vertices"),
+        contents: &bytes,
+        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_SRC,
+    });
+    let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("u16 indices"),
+        contents: bytemuck::cast_slice(&indices),
+        usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_SRC,
+    });
+    let w = world(&gpu);
+    let mut casters = Casters::new(device);
+    let desc = CasterMeshDesc::new(
+        "half box",
+        VertexStream::new(&vertex_buffer, 0, 16, wgpu::VertexFormat::Float16x4),
+        cube.positions.len() as u32,
+    )
+    .indices(IndexStream::u16(&index_buffer, indices.len() as u32));
+    let box_id = casters.add_mesh(device, queue, &desc).unwrap();
+    let floor_id = casters.add_mesh(device, queue, &w.floor_mesh.desc()).unwrap();
+    casters
+        .add_instance(
+            device,
+            queue,
+            CasterInstance {
+                caster: false,
+                ..CasterInstance::new(floor_id, Mat4::IDENTITY)
+            },
+        )
+        .unwrap();
+    let centres: Vec<Vec3> = (0..36)
+        .map(|k| Vec3::new(-3.0 + (k % 6) as f32 * 1.2, 1.0, -3.0 + (k / 6) as f32 * 1.2))
+        .collect();
+    let ids: Vec<_> = centres
+        .iter()
+        .map(|c| {
+            casters
+                .add_instance(
+                    device,
+                    queue,
+                    CasterInstance::new(box_id, Mat4::from_translation(*c)),
+                )
+                .unwrap()
+        })
+        .collect();
+    // A moved one after the buffer grew, and one removed.
+    let moved = Vec3::new(3.4, 1.0, 3.4);
+    casters
+        .set_transform(queue, ids[35], Mat4::from_translation(moved))
+        .unwrap();
+    casters.remove_instance(ids[0]).unwrap();
+    let depth = DepthPass::new(device);
+    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+    let light = shadows
+        .add_light(
+            device,
+            Light::Directional(DirectionalLight {
+                direction: Vec3::new(0.0, -1.0, 0.001).normalize(),
+                angular_diameter_deg: 1.0,
+                color: Vec3::ONE,
+                intensity: 1.0,
+            }),
+        )
+        .unwrap();
+    let mut encoder = device.create_command_encoder(&Default::default());
+    depth.draw(
+        device,
+        &mut encoder,
+        top_camera().view_projection(),
+        &[(&w.floor_mesh, Mat4::IDENTITY)],
+    );
+    shadows
+        .render(
+            device,
+            queue,
+            &mut encoder,
+            &casters,
+            &ViewInputs::new(top_camera(), &depth.depth),
+        )
+        .unwrap();
+    queue.submit([encoder.finish()]);
+    let layer = read_layer(&gpu, &shadows, light.layer());
+    let under = |c: Vec3| layer[top_pixel(Vec3::new(c.x, 0.0, c.z))];
+    for (k, c) in centres.iter().enumerate().skip(1).take(34) {
+        assert!(under(*c) < 0.1, "box {k}: visibility {} under it", under(*c));
+    }
+    assert!(under(moved) < 0.1, "the moved box casts nothing");
+    assert!(under(centres[35]) > 0.9, "the moved box still casts where it was");
+    assert!(under(centres[0]) > 0.9, "the removed box still casts");
+    // Between the boxes the floor is lit.
+    assert!(under(Vec3::new(-2.4, 0.0, -2.4)) > 0.9);
+}
+
+#[test]
+fn a_receiver_mask_keeps_shadow_off_the_pixels_it_excludes() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let w = world(&gpu);
+    let depth = DepthPass::new(device);
+    // The mask excludes the left half of the frame.
+    let mask = device.create_texture_with_data(
+        queue,
+        &wgpu::TextureDescriptor {
+            label: Some("receiver mask"),
+            size: wgpu::Extent3d {
+                width: SIZE,
+                height: SIZE,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R8Unorm,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        &(0..SIZE * SIZE)
+            .map(|i| if i % SIZE < SIZE / 2 { 0 } else { 255 })
+            .collect::<Vec<u8>>(),
+    );
+    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+    // Two suns throwing the box's shadow left (-x) and right (+x).
+    let left = shadows.add_light(device, sun(180.0)).unwrap();
+    let right = shadows.add_light(device, sun(0.0)).unwrap();
+    let mut encoder = device.create_command_encoder(&Default::default());
+    depth.draw(
+        device,
+        &mut encoder,
+        top_camera().view_projection(),
+        &[
+            (&w.box_mesh, Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0))),
+            (&w.floor_mesh, Mat4::IDENTITY),
+        ],
+    );
+    let view = ViewInputs {
+        receiver_mask: Some(&mask),
+        ..ViewInputs::new(top_camera(), &depth.depth)
+    };
+    shadows
+        .render(device, queue, &mut encoder, &w.casters, &view)
+        .unwrap();
+    queue.submit([encoder.finish()]);
+    let left_layer = read_layer(&gpu, &shadows, left.layer());
+    let right_layer = read_layer(&gpu, &shadows, right.layer());
+    // Screen left is world -x under the top camera.
+    let on_left = top_pixel(Vec3::new(-1.5, 0.0, 0.0));
+    let on_right = top_pixel(Vec3::new(1.5, 0.0, 0.0));
+    assert!(
+        left_layer[on_left] > 0.999,
+        "masked-out pixels were shadowed: {}",
+        left_layer[on_left]
+    );
+    assert!(
+        right_layer[on_right] < 0.2,
+        "the receiving half lost its shadow: {}",
+        right_layer[on_right]
+    );
+}
