@@ -173,6 +173,9 @@ pub struct Renderer {
     forward_source: Option<wgpu::Texture>,
     /// The ground truth's running mean (method `reference` only).
     reference: Option<GroundTruth>,
+    /// A 1x1 depth standing in for the prepass where the forward pass runs alone: the light's
+    /// map needs only the camera's matrices.
+    no_depth: wgpu::Texture,
     size: (u32, u32),
     last_report: Option<FrameReport>,
     timer: Option<crate::timing::Timer>,
@@ -221,6 +224,20 @@ impl Renderer {
             forward: None,
             forward_source: None,
             reference: None,
+            no_depth: device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("Renderer::no_depth"),
+                size: wgpu::Extent3d {
+                    width: 1,
+                    height: 1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: DepthPrepass::DEPTH_FORMAT,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            }),
             size: (0, 0),
             last_report: None,
             timer: None,
@@ -499,12 +516,34 @@ impl Renderer {
         plan: PassPlan,
         mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str),
     ) -> Result<(bool, DerivedSpreads, LightView)> {
-        let light = *scene.light();
         let casters = scene.casters();
-        // The camera's uniform: what the prepass, the composite and the reference read.
-        let loose = LightView::fit(&light, &scene.shadow_bounds());
-        let spreads = crate::shadows::spreads(&self.settings, &light, &loose, &scene.shadow_bounds());
-        self.write_frame_uniform(queue, scene, camera, &loose, spreads);
+        // Decide the light's frame first (CPU and uniform writes only), so the camera's uniform
+        // (prepass, composite, reference) is written before anything is encoded: the
+        // wall-clock timer submits after every pass. Without a chain (the reference) the light
+        // gets a loose fit.
+        if plan.shadow_map {
+            let (depth, mask) = match &self.prepass {
+                Some(p) => (p.depth_texture(), Some(p.receiver_mask_texture())),
+                // The forward path reads no depth; the maps only need the camera for the fit.
+                None => (&self.no_depth, None),
+            };
+            let view = ViewInputs {
+                camera: *camera,
+                depth,
+                receiver_mask: mask,
+            };
+            self.shadows.prepare(device, queue, casters, &view)?;
+        }
+        let (light_view, spreads) = match self.shadows.planned(self.light).filter(|_| plan.shadow_map) {
+            Some(planned) => planned,
+            None => {
+                let light = *scene.light();
+                let loose = LightView::fit(&light, &scene.shadow_bounds());
+                let spreads = crate::shadows::spreads(&self.settings, &light, &loose, &scene.shadow_bounds());
+                (loose, spreads)
+            }
+        };
+        self.write_frame_uniform(queue, scene, camera, &light_view, spreads);
 
         if plan.depth_prepass
             && let Some(prepass) = &self.prepass
@@ -514,28 +553,12 @@ impl Renderer {
             encoder.pop_debug_group();
             mark(encoder, "depth prepass");
         }
-        let mut result = (false, spreads, loose);
+        let mut maps_rendered = false;
         if plan.shadow_map {
-            let forward_depth;
-            let (depth, mask) = match &self.prepass {
-                Some(p) => (p.depth_texture(), Some(p.receiver_mask_texture())),
-                None => {
-                    // The forward path reads no depth; the maps only need the camera for the fit.
-                    forward_depth = self.forward_depth_stand_in(device);
-                    (&forward_depth, None)
-                }
-            };
-            let view = ViewInputs {
-                camera: *camera,
-                depth,
-                receiver_mask: mask,
-            };
-            self.shadows.prepare(device, queue, casters, &view)?;
             let reports = self.shadows.encode_marked(encoder, casters, mark)?;
-            if let Some(r) = reports.first() {
-                result = (r.shadow_maps_rendered, r.spreads, r.light_view);
-            }
+            maps_rendered = reports.first().is_some_and(|r| r.shadow_maps_rendered);
         }
+        let result = (maps_rendered, spreads, light_view);
         if plan.composite {
             let source = if plan.reference {
                 self.reference.as_ref().map(|r| r.visibility().clone())
@@ -590,24 +613,6 @@ impl Renderer {
             }
         }
         Ok(result)
-    }
-
-    /// A 1x1 depth texture standing in for the prepass where the forward pass runs alone.
-    fn forward_depth_stand_in(&self, device: &wgpu::Device) -> wgpu::Texture {
-        device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("Renderer::no_depth"),
-            size: wgpu::Extent3d {
-                width: self.size.0,
-                height: self.size.1,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DepthPrepass::DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        })
     }
 
     /// Renders the ground truth ([`ShadowMethod::Reference`], which must be the current

@@ -660,6 +660,12 @@ impl Shadows {
         }
     }
 
+    /// What [`Shadows::prepare`] planned for a light: its map's fit and the frame's spreads.
+    pub(crate) fn planned(&self, id: LightId) -> Option<(LightView, DerivedSpreads)> {
+        let plan = self.state(id).ok()?.planned?;
+        Some((plan.light_view, plan.spreads))
+    }
+
     /// The light's shadow map pass, for the reference's per-sample maps (made for `casters`
     /// if it is not yet). Marks its maps stale.
     pub(crate) fn reference_shadow_map(

@@ -275,6 +275,37 @@ struct World {
     box_instance: penumbra::InstanceId,
 }
 
+/// The box (where [`world`] puts it) and the floor drawn into the test's depth under the top
+/// camera, and `shadows` rendered on that depth.
+fn render_on_box_and_floor(
+    gpu: &penumbra::HeadlessGpu,
+    w: &World,
+    depth: &DepthPass,
+    shadows: &mut Shadows,
+    receiver_mask: Option<&wgpu::Texture>,
+) -> Vec<penumbra::LightReport> {
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let mut encoder = device.create_command_encoder(&Default::default());
+    depth.draw(
+        device,
+        &mut encoder,
+        top_camera().view_projection(),
+        &[
+            (&w.box_mesh, Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0))),
+            (&w.floor_mesh, Mat4::IDENTITY),
+        ],
+    );
+    let view = ViewInputs {
+        receiver_mask,
+        ..ViewInputs::new(top_camera(), &depth.depth)
+    };
+    let reports = shadows
+        .render(device, queue, &mut encoder, &w.casters, &view)
+        .unwrap();
+    queue.submit([encoder.finish()]);
+    reports
+}
+
 fn world(gpu: &penumbra::HeadlessGpu) -> World {
     let (device, queue) = (&gpu.device, &gpu.queue);
     let box_mesh = RawMesh::new(
@@ -320,7 +351,7 @@ fn world(gpu: &penumbra::HeadlessGpu) -> World {
 #[test]
 fn four_lights_share_one_orthographic_depth_and_each_shadows_its_own_layer() {
     let gpu = common::gpu();
-    let (device, queue) = (&gpu.device, &gpu.queue);
+    let device = &gpu.device;
     let w = world(&gpu);
     let depth = DepthPass::new(device);
     let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
@@ -329,26 +360,7 @@ fn four_lights_share_one_orthographic_depth_and_each_shadows_its_own_layer() {
         .iter()
         .map(|a| shadows.add_light(device, sun(*a)).unwrap())
         .collect();
-    let camera = top_camera();
-    let mut encoder = device.create_command_encoder(&Default::default());
-    depth.draw(
-        device,
-        &mut encoder,
-        camera.view_projection(),
-        &[
-            (&w.box_mesh, Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0))),
-            (&w.floor_mesh, Mat4::IDENTITY),
-        ],
-    );
-    let view = ViewInputs {
-        camera,
-        depth: &depth.depth,
-        receiver_mask: None,
-    };
-    let reports = shadows
-        .render(device, queue, &mut encoder, &w.casters, &view)
-        .unwrap();
-    gpu.queue.submit([encoder.finish()]);
+    let reports = render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
     assert_eq!(reports.len(), 4);
     assert!(
         reports
@@ -481,7 +493,7 @@ fn a_lights_maps_are_re_rendered_exactly_when_a_caster_it_sees_changes() {
 #[test]
 fn a_light_of_size_zero_still_gives_a_hard_visibility() {
     let gpu = common::gpu();
-    let (device, queue) = (&gpu.device, &gpu.queue);
+    let device = &gpu.device;
     let w = world(&gpu);
     let depth = DepthPass::new(device);
     let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
@@ -490,25 +502,7 @@ fn a_light_of_size_zero_still_gives_a_hard_visibility() {
     };
     point_sun.angular_diameter_deg = 0.0;
     let id = shadows.add_light(device, Light::Directional(point_sun)).unwrap();
-    let mut encoder = device.create_command_encoder(&Default::default());
-    depth.draw(
-        device,
-        &mut encoder,
-        top_camera().view_projection(),
-        &[
-            (&w.box_mesh, Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0))),
-            (&w.floor_mesh, Mat4::IDENTITY),
-        ],
-    );
-    let view = ViewInputs {
-        camera: top_camera(),
-        depth: &depth.depth,
-        receiver_mask: None,
-    };
-    let reports = shadows
-        .render(device, queue, &mut encoder, &w.casters, &view)
-        .unwrap();
-    queue.submit([encoder.finish()]);
+    let reports = render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
     assert_eq!(reports[0].chain.method, ShadowMethod::Hard);
     let layer = read_layer(&gpu, &shadows, id.layer());
     assert!(layer[top_pixel(Vec3::new(1.5, 0.0, 0.0))] < 0.05, "no shadow");
@@ -1091,24 +1085,7 @@ fn a_receiver_mask_keeps_shadow_off_the_pixels_it_excludes() {
     // Two suns throwing the box's shadow left (-x) and right (+x).
     let left = shadows.add_light(device, sun(180.0)).unwrap();
     let right = shadows.add_light(device, sun(0.0)).unwrap();
-    let mut encoder = device.create_command_encoder(&Default::default());
-    depth.draw(
-        device,
-        &mut encoder,
-        top_camera().view_projection(),
-        &[
-            (&w.box_mesh, Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0))),
-            (&w.floor_mesh, Mat4::IDENTITY),
-        ],
-    );
-    let view = ViewInputs {
-        receiver_mask: Some(&mask),
-        ..ViewInputs::new(top_camera(), &depth.depth)
-    };
-    shadows
-        .render(device, queue, &mut encoder, &w.casters, &view)
-        .unwrap();
-    queue.submit([encoder.finish()]);
+    render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, Some(&mask));
     let left_layer = read_layer(&gpu, &shadows, left.layer());
     let right_layer = read_layer(&gpu, &shadows, right.layer());
     // Screen left is world -x under the top camera.
