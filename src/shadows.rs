@@ -171,6 +171,8 @@ struct LightState {
     frame: wgpu::Buffer,
     /// Made in [`Shadows::prepare`] with the casters' layouts.
     shadow_map: Option<ShadowMapPass>,
+    /// The casters (id) the map passes were made for.
+    maps_for: Option<u64>,
     fattened: Option<FattenedShadowMapPass>,
     distance: Option<DistanceMapPass>,
     pcf: Option<PcfPass>,
@@ -259,9 +261,6 @@ impl Shadows {
                 state.bound = None;
             }
         }
-        if maps_changed {
-            self.casters_id = None;
-        }
         Ok(())
     }
 
@@ -299,7 +298,6 @@ impl Shadows {
             }
         };
         self.lights[slot] = Some(LightState::new(device, light));
-        self.casters_id = None;
         if self
             .visibility
             .as_ref()
@@ -384,7 +382,6 @@ impl Shadows {
             ));
         }
         let rebind_all = resized || inputs_changed;
-        let new_casters = self.casters_id != Some(casters.id());
         self.casters_id = Some(casters.id());
 
         let shadow_bounds = casters.shadow_bounds();
@@ -406,17 +403,7 @@ impl Shadows {
             };
             let params = PassParams::new(&effective);
             let sm = self.settings.shadow_map;
-            if state.allocate(
-                device,
-                casters,
-                new_casters,
-                &sm,
-                &chain,
-                &params,
-                (width, height),
-                resized,
-            ) || rebind_all
-            {
+            if state.allocate(device, casters, &sm, &chain, &params, (width, height), resized) || rebind_all {
                 state.bound = None;
             }
             let light = state.light;
@@ -461,8 +448,8 @@ impl Shadows {
                 fatten_distance: chain.fattened_map.then_some(spreads.fatten_distance),
             };
             let margin = spreads.fatten_distance * 2.0;
-            let render_maps = new_casters
-                || state.key != Some(key)
+            // The key holds the casters' id: other casters re-render too.
+            let render_maps = state.key != Some(key)
                 || casters.changed_inside(state.seen_revision, |b| sees(&light_view, b, margin));
             if render_maps {
                 if let Some(m) = &mut state.shadow_map {
@@ -675,14 +662,13 @@ impl Shadows {
         casters: &Casters,
     ) -> Option<&mut ShadowMapPass> {
         let settings = self.settings.shadow_map;
-        let new_casters = self.casters_id != Some(casters.id());
         let state = self.lights.get_mut(id.0 as usize)?.as_mut()?;
-        if new_casters || state.shadow_map.is_none() {
+        if state.maps_for != Some(casters.id()) || state.shadow_map.is_none() {
             state.shadow_map = Some(ShadowMapPass::new(device, casters.layouts(), &settings));
+            state.maps_for = Some(casters.id());
             state.fattened = None;
             state.bound = None;
         }
-        self.casters_id = Some(casters.id());
         state.key = None;
         state.shadow_map.as_mut()
     }
@@ -727,6 +713,7 @@ impl LightState {
                 mapped_at_creation: false,
             }),
             shadow_map: None,
+            maps_for: None,
             fattened: None,
             distance: None,
             pcf: None,
@@ -749,7 +736,6 @@ impl LightState {
         &mut self,
         device: &wgpu::Device,
         casters: &Casters,
-        new_casters: bool,
         settings: &ShadowMapSettings,
         chain: &Chain,
         params: &PassParams,
@@ -772,8 +758,9 @@ impl LightState {
         {
             self.blur = None;
         }
-        if new_casters || self.shadow_map.is_none() {
+        if self.maps_for != Some(casters.id()) || self.shadow_map.is_none() {
             self.shadow_map = Some(ShadowMapPass::new(device, casters.layouts(), settings));
+            self.maps_for = Some(casters.id());
             self.fattened = None;
             self.key = None;
             changed = true;

@@ -488,6 +488,14 @@ fn a_lights_maps_are_re_rendered_exactly_when_a_caster_it_sees_changes() {
     assert_eq!(frame(&w, &mut shadows), (false, false), "nothing changed");
     shadows.set_light(right, spot(3.5)).unwrap();
     assert_eq!(frame(&w, &mut shadows), (false, true), "the right spot moved");
+    // A light added later renders its own maps and leaves the others' alone.
+    let middle = shadows.add_light(device, spot(0.0)).unwrap();
+    assert_eq!(
+        frame(&w, &mut shadows),
+        (false, false),
+        "a new light re-rendered the others"
+    );
+    assert!(shadows.report(middle).unwrap().shadow_maps_rendered);
 }
 
 #[test]
