@@ -1,9 +1,13 @@
 // Separable Gaussian blur of the visibility texture, one axis per draw (horizontal, then
 // vertical). The step between taps is fixed (the baseline) or grows with the pixel's distance
-// to its occluder: distance x spread pixels (manual), or a Gaussian whose width is a share of
-// the true penumbra width projected to the screen (physical). Near contact the blur vanishes;
-// far away it is wide. With depth-aware weighting, taps at a different depth count less, so the
-// blur does not bleed across depth discontinuities.
+// to its occluder: distance x spread pixels (manual), or the standard deviation the distance-map
+// pass worked out for this pixel and axis (physical). Near contact the blur vanishes; far away
+// it is wide. With depth-aware weighting, taps at a different depth count less, so the blur
+// does not bleed across depth discontinuities.
+//
+// After the distance-map pass, a depth test skips the pixels where that pass found nothing to
+// blur (their output keeps the clear value, 1), and the vertical draw can write the light's
+// layer of the output directly, with the indirect-light attenuation applied (the resolve).
 
 // Compile-time switches (pipeline override constants).
 override FIXED_STEP: bool = false;
@@ -17,7 +21,10 @@ struct Blur {
     taps: u32,
     // fixed step: pixels between taps; manual mode: pixels per world unit of distance
     step: f32,
-    _pad: vec2<f32>,
+    // 1: this draw writes the light's output layer (indirect attenuation applied)
+    resolve: u32,
+    // the standard deviation of the weights, in taps (the kernel is cut at +-taps / 2)
+    kernel_sigma: f32,
 }
 
 @group(0) @binding(1) var camera_depth: texture_2d<f32>;
@@ -26,30 +33,38 @@ struct Blur {
 @group(0) @binding(4) var linear_sampler: sampler;
 @group(1) @binding(0) var<uniform> blur: Blur;
 
+fn finish(v: f32, d: f32) -> vec4<f32> {
+    if blur.resolve == 0u {
+        return vec4<f32>(v);
+    }
+    let k = frame.penumbra.indirect_weight * d / (d + frame.penumbra.indirect_half_distance);
+    return vec4<f32>(clamp(mix(v, 1.0, k), 0.0, 1.0));
+}
+
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
     let center = textureLoad(visibility, pixel, 0).x;
     let depth = textureLoad(camera_depth, pixel, 0).x;
     if is_background(depth) {
-        return vec4<f32>(center);
+        return vec4<f32>(select(center, 1.0, blur.resolve != 0u));
     }
     let z = view_depth(depth);
     var step = blur.step;
+    var d = 0.0;
     if !FIXED_STEP {
-        let d = textureLoad(distance_map, pixel, 0).x;
+        let distance = textureLoad(distance_map, pixel, 0);
+        d = distance.x;
         if frame.penumbra.physical != 0u {
-            let world = world_position(frag.xy, depth);
-            let sigma_world = frame.penumbra.blur_sigma_fraction * penumbra_width(d, world);
-            let sigma_px = sigma_world * frame.view.pixels_per_unit / clip_w(z);
-            step = sigma_px / max(f32(blur.taps) / 4.0, 0.5);
+            let sigma_px = select(distance.z, distance.w, blur.axis.y > 0.5);
+            step = sigma_px / blur.kernel_sigma;
         } else {
             step = d * blur.step;
         }
     }
     let radius = i32(blur.taps) / 2;
     if step < 1e-3 || radius == 0 {
-        return vec4<f32>(center);
+        return finish(center, d);
     }
     let direction = blur.axis.xy * step * frame.view.inv_size;
     let uv = frag.xy * frame.view.inv_size;
@@ -74,5 +89,5 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
             total += weight;
         }
     }
-    return vec4<f32>(sum / total);
+    return finish(sum / total, d);
 }

@@ -57,8 +57,8 @@ pub(crate) struct PenumbraUniform {
     pub physical: u32,
     pub indirect_weight: f32,
     pub indirect_half_distance: f32,
-    pub pcf_width_fraction: f32,
-    pub blur_sigma_fraction: f32,
+    pub pcf_share: f32,
+    pub sigma_per_width: f32,
     pub normal_offset: f32,
     pub _pad: f32,
 }
@@ -73,7 +73,7 @@ pub(crate) struct FrameUniform {
     pub ambient: [f32; 4],
 }
 
-/// Mirrors `struct Pcf` in `shaders/pcf.wgsl`.
+/// Mirrors `struct Pcf` in `shaders/common/pcf_taps.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable, Debug, PartialEq)]
 pub(crate) struct PcfUniform {
@@ -96,7 +96,6 @@ pub(crate) struct PcssUniform {
 /// pipeline.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub(crate) struct PcfSwitches {
-    pub fixed_spacing: bool,
     pub rotate_taps: bool,
     pub mask_early_out: bool,
 }
@@ -106,6 +105,9 @@ pub(crate) struct PcfSwitches {
 pub(crate) struct BlurSwitches {
     pub fixed_step: bool,
     pub depth_aware: bool,
+    /// After the distance-map pass: skip the pixels it found nothing to blur at (depth test)
+    /// and write the light's output layer from the vertical draw (the resolve).
+    pub after_distance_map: bool,
 }
 
 /// The blur's parameters besides its axis and weights.
@@ -186,7 +188,6 @@ impl PassParams {
         PassParams {
             pcf,
             pcf_switches: PcfSwitches {
-                fixed_spacing: fixed,
                 rotate_taps: p.rotate_taps,
                 mask_early_out: p.mask_early_out,
             },
@@ -195,6 +196,7 @@ impl PassParams {
                 fixed_step: fixed,
                 // The baseline is the paper's plain fixed Gaussian.
                 depth_aware: p.depth_aware_blur && !fixed,
+                after_distance_map: !fixed,
             },
             pcss: PcssUniform {
                 blocker_samples: s.pcss.blocker_samples,
@@ -300,7 +302,8 @@ impl FrameUniform {
             SpreadMode::Manual { fatten_distance, .. } => (0, fatten_distance),
         };
         // Physical mode: the total filter's standard deviation matches a disk light's edge
-        // profile, sigma = w / 4, split between the PCF box (variance a^2 / 12) and the blur.
+        // profile, sigma = w / 4, split between the PCF taps and the blur (in the
+        // distance-map pass).
         let share = if fast { 0.0 } else { p.pcf_variance_share };
         FrameUniform {
             view: ViewUniform {
@@ -336,8 +339,8 @@ impl FrameUniform {
                 physical,
                 indirect_weight: p.indirect_weight,
                 indirect_half_distance: f.caster_radius.max(1e-6) * 0.5,
-                pcf_width_fraction: (12.0 * share).sqrt() / 4.0,
-                blur_sigma_fraction: (1.0 - share).sqrt() / 4.0,
+                pcf_share: share,
+                sigma_per_width: SIGMA_PER_WIDTH,
                 normal_offset: s.shadow_map.normal_offset,
                 _pad: 0.0,
             },
@@ -345,6 +348,10 @@ impl FrameUniform {
         }
     }
 }
+
+/// The standard deviation of a disk light's edge profile as a fraction of the penumbra's
+/// full width: the disk's radius over 2, so w / 4.
+pub(crate) const SIGMA_PER_WIDTH: f32 = 0.25;
 
 /// Gaussian weights for taps 0..=radius (tap k weight, unnormalized), sigma = taps / 4 in tap units.
 pub(crate) fn gaussian_weights(taps: u32) -> [[f32; 4]; 4] {
@@ -424,12 +431,12 @@ mod tests {
                         offset_of!(PenumbraUniform, indirect_half_distance),
                     ),
                     (
-                        "pcf_width_fraction",
-                        offset_of!(PenumbraUniform, pcf_width_fraction),
+                        "pcf_share",
+                        offset_of!(PenumbraUniform, pcf_share),
                     ),
                     (
-                        "blur_sigma_fraction",
-                        offset_of!(PenumbraUniform, blur_sigma_fraction),
+                        "sigma_per_width",
+                        offset_of!(PenumbraUniform, sigma_per_width),
                     ),
                     ("normal_offset", offset_of!(PenumbraUniform, normal_offset)),
                 ],
@@ -459,6 +466,8 @@ mod tests {
                     ("weights", offset_of!(crate::passes::BlurUniform, weights)),
                     ("taps", offset_of!(crate::passes::BlurUniform, taps)),
                     ("step", offset_of!(crate::passes::BlurUniform, step)),
+                    ("resolve", offset_of!(crate::passes::BlurUniform, resolve)),
+                    ("kernel_sigma", offset_of!(crate::passes::BlurUniform, kernel_sigma)),
                 ],
                 size_of::<crate::passes::BlurUniform>(),
             ),

@@ -28,15 +28,17 @@ pub struct PassPlan {
     pub depth_prepass: bool,
     pub shadow_map: bool,
     pub fattened_map: bool,
-    /// The full-screen distance map over the prepass depth.
+    /// The full-screen distance map over the prepass depth, which takes the method's PCF taps.
     pub distance_map: bool,
+    /// The fixed-spacing PCF pass (the baseline).
     pub pcf: bool,
     pub pcss: bool,
     /// The reference's accumulated visibility is composited (accumulated by
     /// [`Renderer::render_reference`]).
     pub reference: bool,
     pub blur: bool,
-    /// The visibility written into the light's layer, indirect attenuation applied.
+    /// A resolve pass writes the visibility into the light's layer, indirect attenuation
+    /// applied (after the distance map, the blur's vertical draw does that).
     pub resolve: bool,
     pub composite: bool,
     /// The one-pass lit forward pass (hard and hw2x2).
@@ -73,7 +75,7 @@ impl PassPlan {
                 pcss: chain.pcss,
                 reference: false,
                 blur: chain.blur,
-                resolve: true,
+                resolve: chain.resolve,
                 composite: true,
                 forward: false,
             },
@@ -86,7 +88,7 @@ impl PassPlan {
             (self.depth_prepass, "depth prepass"),
             (self.shadow_map, "shadow map"),
             (self.fattened_map, "fattened shadow map"),
-            (self.distance_map, "distance map"),
+            (self.distance_map, "distance map + pcf"),
             (self.pcf, "pcf"),
             (self.pcss, "pcss"),
             (self.blur, "blur"),

@@ -12,11 +12,18 @@ macro_rules! wgsl {
 pub const SHADOW_MAP: &str = wgsl!("common/scene.wgsl", "shadow_map.wgsl");
 pub const FATTENED_SHADOW_MAP: &str = wgsl!("common/scene.wgsl", "fattened_shadow_map.wgsl");
 pub const DEPTH_PREPASS: &str = wgsl!("common/frame.wgsl", "common/scene.wgsl", "depth_prepass.wgsl");
-pub const DISTANCE_MAP: &str = wgsl!("common/frame.wgsl", "common/fullscreen.wgsl", "distance_map.wgsl");
+pub const DISTANCE_MAP: &str = wgsl!(
+    "common/frame.wgsl",
+    "common/fullscreen.wgsl",
+    "common/receiver.wgsl",
+    "common/pcf_taps.wgsl",
+    "distance_map.wgsl"
+);
 pub const PCF: &str = wgsl!(
     "common/frame.wgsl",
     "common/fullscreen.wgsl",
     "common/receiver.wgsl",
+    "common/pcf_taps.wgsl",
     "pcf.wgsl"
 );
 pub const PCSS: &str = wgsl!(

@@ -3,8 +3,10 @@
 //! light into a texture array the engine samples in its own lit shader.
 //!
 //! Per light and frame: the shadow map and the fattened map (only when the light, its fit or a
-//! caster it sees changed), then full-screen passes over the engine's depth: the distance map,
-//! PCF or PCSS, the blur, and a resolve into the light's layer. No camera geometry is drawn.
+//! caster it sees changed), then full-screen passes over the engine's depth. The distance-map
+//! method runs the distance map (which takes its PCF taps too) and the blur, whose vertical
+//! draw writes the light's layer; the other methods run PCF or PCSS, the blur, and a resolve
+//! into the layer. No camera geometry is drawn.
 
 use crate::casters::Casters;
 use crate::error::{PenumbraError, Result};
@@ -65,10 +67,14 @@ pub struct Chain {
     /// [`ShadowMethod::Hard`] when the light has none.
     pub method: ShadowMethod,
     pub fattened_map: bool,
+    /// The distance map, with the method's PCF taps.
     pub distance_map: bool,
+    /// The fixed-spacing PCF pass (the baseline, hard shadows).
     pub pcf: bool,
     pub pcss: bool,
     pub blur: bool,
+    /// A resolve pass writes the light's layer (otherwise the blur's vertical draw does).
+    pub resolve: bool,
 }
 
 impl Chain {
@@ -85,21 +91,33 @@ impl Chain {
             ..Default::default()
         };
         match method {
-            ShadowMethod::Ours | ShadowMethod::OursFast => Chain {
-                fattened_map: true,
-                distance_map: true,
-                pcf: true,
-                blur: settings.penumbra.blur_taps > 1,
-                ..none
-            },
+            ShadowMethod::Ours | ShadowMethod::OursFast => {
+                let blur = settings.penumbra.blur_taps > 1;
+                Chain {
+                    fattened_map: true,
+                    distance_map: true,
+                    blur,
+                    resolve: !blur,
+                    ..none
+                }
+            }
             ShadowMethod::Traditional => Chain {
                 pcf: true,
                 blur: settings.traditional.blur_taps > 1,
+                resolve: true,
                 ..none
             },
-            ShadowMethod::Pcss => Chain { pcss: true, ..none },
+            ShadowMethod::Pcss => Chain {
+                pcss: true,
+                resolve: true,
+                ..none
+            },
             // Screen-space hard shadows: one PCF tap (a bilinear 2x2 comparison).
-            ShadowMethod::Hard | ShadowMethod::Hardware2x2 => Chain { pcf: true, ..none },
+            ShadowMethod::Hard | ShadowMethod::Hardware2x2 => Chain {
+                pcf: true,
+                resolve: true,
+                ..none
+            },
             ShadowMethod::Reference => none,
         }
     }
@@ -109,11 +127,11 @@ impl Chain {
         [
             (true, "shadow map"),
             (self.fattened_map, "fattened shadow map"),
-            (self.distance_map, "distance map"),
+            (self.distance_map, "distance map + pcf"),
             (self.pcf, "pcf"),
             (self.pcss, "pcss"),
             (self.blur, "blur"),
-            (true, "resolve"),
+            (self.resolve, "resolve"),
         ]
         .into_iter()
         .filter_map(|(on, name)| on.then_some(name))
@@ -137,11 +155,13 @@ pub struct LightReport {
 pub enum LightTexture {
     ShadowMap,
     FattenedMap,
-    /// RG16F: R = distance to the fattened occluder (world units), G = mask.
+    /// RGBA16F: R = distance to the occluder (world units), G = mask, B and A = the blur's
+    /// standard deviation in pixels along x and y (physical mode).
     DistanceMap,
     /// Raw PCF or PCSS visibility (R16F).
     Visibility,
-    /// Blurred visibility (R16F).
+    /// Blurred visibility (R16F). After the distance map, the blur writes the light's layer
+    /// directly: this is then the whole visibility array ([`Shadows::visibility_texture`]).
     BlurredVisibility,
 }
 
@@ -462,6 +482,9 @@ impl Shadows {
             if let Some(p) = &state.pcf {
                 p.prepare(queue, &params.pcf);
             }
+            if let Some(p) = &state.distance {
+                p.prepare(queue, &params.pcf);
+            }
             if let Some(p) = &state.pcss {
                 p.prepare(queue, &params.pcss);
             }
@@ -554,7 +577,7 @@ impl Shadows {
                     mark(encoder, name);
                 };
                 if let (true, Some(p)) = (chain.distance_map, &state.distance) {
-                    run(encoder, "distance map", &|e| p.encode(e));
+                    run(encoder, "distance map + pcf", &|e| p.encode(e));
                 }
                 if let (true, Some(p)) = (chain.pcf, &state.pcf) {
                     run(encoder, "pcf", &|e| p.encode(e));
@@ -562,11 +585,14 @@ impl Shadows {
                 if let (true, Some(p)) = (chain.pcss, &state.pcss) {
                     run(encoder, "pcss", &|e| p.encode(e));
                 }
+                let classification = state.distance.as_ref().map(|d| d.classification());
                 if let (true, Some(p)) = (chain.blur, &state.blur) {
-                    run(encoder, "blur", &|e| p.encode(e));
+                    run(encoder, "blur", &|e| p.encode(e, classification, &layers[slot]));
                 }
-                let resolve = &state.resolve;
-                run(encoder, "resolve", &|e| resolve.encode(e, &layers[slot]));
+                if chain.resolve {
+                    let resolve = &state.resolve;
+                    run(encoder, "resolve", &|e| resolve.encode(e, &layers[slot]));
+                }
             }
             let report = LightReport {
                 light: LightId(slot as u32),
@@ -642,8 +668,12 @@ impl Shadows {
                 .pcf
                 .as_ref()
                 .map(|p| p.visibility_texture())
+                .or_else(|| s.distance.as_ref().map(|p| p.visibility_texture()))
                 .or_else(|| s.pcss.as_ref().map(|p| p.visibility_texture())),
-            LightTexture::BlurredVisibility => s.blur.as_ref().map(|p| p.blurred_texture()),
+            LightTexture::BlurredVisibility => s.blur.as_ref().and_then(|p| {
+                p.blurred_texture()
+                    .or_else(|| self.visibility.as_ref().map(|v| &v.0))
+            }),
         }
     }
 
@@ -752,6 +782,13 @@ impl LightState {
             self.pcf = None;
         }
         if self
+            .distance
+            .as_ref()
+            .is_some_and(|p| p.switches() != params.pcf_switches)
+        {
+            self.distance = None;
+        }
+        if self
             .blur
             .as_ref()
             .is_some_and(|p| p.switches() != params.blur_switches)
@@ -792,7 +829,7 @@ impl LightState {
         screen!(
             self.distance,
             chain.distance_map,
-            DistanceMapPass::new(device, FRAME_SIZE)
+            DistanceMapPass::new(device, FRAME_SIZE, params.pcf_switches)
         );
         screen!(
             self.pcf,
@@ -822,20 +859,22 @@ impl LightState {
         };
         let chain = self.planned.map(|p| p.chain).unwrap_or_default();
         if let (true, Some(d), Some(f)) = (chain.distance_map, &mut self.distance, &self.fattened) {
-            d.bind(device, frame, f.view(), depth, mask);
+            d.bind(device, frame, f.view(), f.occluder_offset(), depth, mask, shadow_map);
         }
         let distance = match (chain.distance_map, &self.distance) {
             (true, Some(d)) => d.distance_map(),
             _ => dummy,
         };
         if let Some(p) = &mut self.pcf {
-            p.bind(device, frame, depth, distance, shadow_map);
+            p.bind(device, frame, depth, shadow_map);
         }
         if let Some(p) = &mut self.pcss {
             p.bind(device, frame, depth, shadow_map);
         }
         let raw = if chain.pcss {
             self.pcss.as_ref().map(|p| p.visibility())
+        } else if chain.distance_map {
+            self.distance.as_ref().map(|p| p.visibility())
         } else {
             self.pcf.as_ref().map(|p| p.visibility())
         };
@@ -844,7 +883,7 @@ impl LightState {
             b.bind(device, frame, depth, distance, raw);
         }
         let visibility = match (&self.blur, chain.blur) {
-            (Some(b), true) => b.blurred(),
+            (Some(b), true) => b.blurred().unwrap_or(raw),
             _ => raw,
         };
         self.resolve

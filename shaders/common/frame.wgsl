@@ -55,9 +55,10 @@ struct Penumbra {
     indirect_weight: f32,
     // h: half the casters' bounding radius (world units)
     indirect_half_distance: f32,
-    // physical mode: PCF kernel width and blur sigma as fractions of the penumbra width
-    pcf_width_fraction: f32,
-    blur_sigma_fraction: f32,
+    // physical mode: the share of the penumbra's variance PCF makes (the blur makes the rest)
+    pcf_share: f32,
+    // physical mode: the penumbra's standard deviation as a fraction of its width
+    sigma_per_width: f32,
     // shadow-map texels the receiver is pushed along its normal
     normal_offset: f32,
     _pad: f32,
@@ -98,14 +99,26 @@ fn light_linear_depth(z: f32) -> f32 {
     return near + z * (far - near);
 }
 
-// The true penumbra width at a receiver `d` behind its occluder: 2 d tan(theta/2) for a
-// directional light, 2 R d / (D - d) for a spot light at distance D from the receiver.
+// The true penumbra width at a receiver `d` behind its occluder along the light's axis (what the
+// distance map holds): 2 d tan(theta/2) for a directional light, 2 R d' / (D - d') for a spot
+// light at distance D from the receiver, d' = d along the ray through the receiver.
 fn penumbra_width(d: f32, world: vec3<f32>) -> f32 {
     if frame.light.spot == 0u {
         return frame.light.size_term * d;
     }
-    let receiver_distance = length(world - frame.light.position);
-    return frame.light.size_term * d / max(receiver_distance - d, 1e-4 * receiver_distance + 1e-20);
+    let to_receiver = world - frame.light.position;
+    let receiver_distance = length(to_receiver);
+    let along_axis = dot(to_receiver, normalize(frame.light.direction)) / max(receiver_distance, 1e-20);
+    let d_ray = d / max(along_axis, 0.1);
+    return frame.light.size_term * d_ray / max(receiver_distance - d_ray, 1e-4 * receiver_distance + 1e-20);
+}
+
+// The unit direction the light travels at `world`.
+fn light_ray(world: vec3<f32>) -> vec3<f32> {
+    if frame.light.spot != 0u {
+        return normalize(world - frame.light.position);
+    }
+    return normalize(frame.light.direction);
 }
 
 // World units covered by the whole shadow map at the receiver (perpendicular to the light).

@@ -8,6 +8,9 @@ struct Receiver {
     p: vec3<f32>,
     // Light-space depth change per unit of shadow-map uv across the receiver's plane.
     slope: vec2<f32>,
+    // World offsets to the next pixel along screen x and y, on the receiver's plane.
+    dx: vec3<f32>,
+    dy: vec3<f32>,
 }
 
 // The difference to the neighbor pixel along `axis` on the side whose depth is closer, so a
@@ -25,14 +28,17 @@ fn neighbor_delta(pixel: vec2<i32>, world: vec3<f32>, depth: f32, axis: vec2<i32
 }
 
 // The receiver at `pixel`: its plane from neighbor pixels, pushed `texels` shadow-map texels
-// along its normal (turned toward the camera), and the plane's slope in shadow-map space for
-// receiver-plane depth bias.
+// along its normal (turned toward the camera) for the depth bias that gives, looked up at its
+// own shadow-map position, and the plane's slope in shadow-map space for receiver-plane depth
+// bias.
 fn receiver(pixel: vec2<i32>, depth: f32, texels: f32) -> Receiver {
     let center = world_position(vec2<f32>(pixel) + 0.5, depth);
     let dx = neighbor_delta(pixel, center, depth, vec2<i32>(1, 0));
     let dy = neighbor_delta(pixel, center, depth, vec2<i32>(0, 1));
     var out: Receiver;
     out.world = center;
+    out.dx = dx;
+    out.dy = dy;
     let n = cross(dx, dy);
     let len = length(n);
     if len > 1e-30 {
@@ -49,5 +55,10 @@ fn receiver(pixel: vec2<i32>, depth: f32, texels: f32) -> Receiver {
         let slope = vec2<f32>(py.y * px.z - px.y * py.z, px.x * py.z - py.x * px.z) / det;
         out.slope = clamp(slope, vec2<f32>(-8.0), vec2<f32>(8.0));
     }
+    // The push keeps its bias but not its sideways shift, which would move every shadow edge
+    // by a fraction of a texel: look up at the surface's own map position, with the reference
+    // depth the pushed point has relative to the receiver's plane there.
+    let own = to_shadow_map(center);
+    out.p = vec3<f32>(own.xy, out.p.z - dot(out.slope, out.p.xy - own.xy));
     return out;
 }

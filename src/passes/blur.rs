@@ -4,11 +4,28 @@
 //! Input: the frame uniform, the camera depth, the distance map and the visibility to blur.
 //! Output: an R16F blurred visibility. Gaussian weights are computed on the CPU
 //! ([`crate::frame`]); the step between taps is per pixel (distance-driven) or fixed.
+//!
+//! After the distance-map pass (the distance-map method), both draws test the classification
+//! depth that pass wrote, so only pixels with something to blur run the shader, and the
+//! vertical draw writes the light's layer of the output array directly, with the indirect
+//! attenuation applied: no separate resolve.
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline_with, screen_target};
+use super::{
+    CLASSIFICATION_FORMAT, Fullscreen, VISIBILITY_FORMAT, draw_fullscreen_tested, entries, entry, screen_target,
+};
 use crate::frame::{BlurParams, BlurSwitches, gaussian_weights};
+
+/// The standard deviation, in taps, of the discrete kernel `weights` makes with `taps` taps:
+/// less than the Gaussian's own, which is cut at +-taps / 2.
+fn kernel_sigma(taps: u32, weights: &[[f32; 4]; 4]) -> f32 {
+    let radius = (taps / 2).min(15) as usize;
+    let w = |k: usize| weights[k / 4][k % 4];
+    let total: f32 = w(0) + 2.0 * (1..=radius).map(w).sum::<f32>();
+    let moment: f32 = 2.0 * (1..=radius).map(|k| w(k) * (k * k) as f32).sum::<f32>();
+    (moment / total).sqrt().max(1e-3)
+}
 
 /// Mirrors `struct Blur` in `shaders/blur.wgsl`: one per axis.
 #[repr(C)]
@@ -18,7 +35,8 @@ pub(crate) struct BlurUniform {
     pub weights: [[f32; 4]; 4],
     pub taps: u32,
     pub step: f32,
-    pub _pad: [f32; 2],
+    pub resolve: u32,
+    pub kernel_sigma: f32,
 }
 
 pub struct BlurPass {
@@ -29,7 +47,8 @@ pub struct BlurPass {
     axis_buffers: [wgpu::Buffer; 2],
     axis_groups: [wgpu::BindGroup; 2],
     temp: (wgpu::Texture, wgpu::TextureView),
-    output: (wgpu::Texture, wgpu::TextureView),
+    /// The vertical draw's target, unless it writes the light's output layer.
+    output: Option<(wgpu::Texture, wgpu::TextureView)>,
     bind_groups: Option<[wgpu::BindGroup; 2]>,
 }
 
@@ -57,17 +76,25 @@ impl BlurPass {
             )],
         });
         let flag = |on: bool| if on { 1.0 } else { 0.0 };
-        let pipeline = fullscreen_pipeline_with(
-            device,
-            "BlurPass::pipeline",
-            &shader,
-            &[Some(&layout), Some(&axis_layout)],
-            VISIBILITY_FORMAT,
-            &[
+        let pipeline = Fullscreen {
+            label: "BlurPass::pipeline",
+            shader: &shader,
+            bind_group_layouts: &[Some(&layout), Some(&axis_layout)],
+            targets: &[Some(VISIBILITY_FORMAT.into())],
+            // Only where the distance-map pass wrote 1 (the triangle lies at depth 0).
+            depth: switches.after_distance_map.then_some(wgpu::DepthStencilState {
+                format: CLASSIFICATION_FORMAT,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            constants: &[
                 ("FIXED_STEP", flag(switches.fixed_step)),
                 ("DEPTH_AWARE", flag(switches.depth_aware)),
             ],
-        );
+        }
+        .pipeline(device);
         let axis_buffers = ["BlurPass::horizontal", "BlurPass::vertical"].map(|label| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -97,20 +124,22 @@ impl BlurPass {
             axis_buffers,
             axis_groups,
             temp: screen_target(device, "BlurPass::horizontal", 1, 1, VISIBILITY_FORMAT),
-            output: screen_target(device, "BlurPass::blurred_visibility", 1, 1, VISIBILITY_FORMAT),
+            output: None,
             bind_groups: None,
         }
     }
 
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
         self.temp = screen_target(device, "BlurPass::horizontal", width, height, VISIBILITY_FORMAT);
-        self.output = screen_target(
-            device,
-            "BlurPass::blurred_visibility",
-            width,
-            height,
-            VISIBILITY_FORMAT,
-        );
+        self.output = (!self.switches.after_distance_map).then(|| {
+            screen_target(
+                device,
+                "BlurPass::blurred_visibility",
+                width,
+                height,
+                VISIBILITY_FORMAT,
+            )
+        });
     }
 
     /// Points the pass at its inputs; `visibility` is the texture to blur.
@@ -138,13 +167,15 @@ impl BlurPass {
         self.bind_groups = Some([group(visibility), group(&self.temp.1)]);
     }
 
-    pub fn blurred(&self) -> &wgpu::TextureView {
-        &self.output.1
+    /// The blurred visibility, unless the vertical draw writes the light's output layer.
+    pub fn blurred(&self) -> Option<&wgpu::TextureView> {
+        self.output.as_ref().map(|o| &o.1)
     }
 
-    pub fn blurred_texture(&self) -> &wgpu::Texture {
-        &self.output.0
+    pub fn blurred_texture(&self) -> Option<&wgpu::Texture> {
+        self.output.as_ref().map(|o| &o.0)
     }
+
 
     /// The switches the pipeline was made with.
     pub(crate) fn switches(&self) -> BlurSwitches {
@@ -166,30 +197,41 @@ impl BlurPass {
                     weights,
                     taps: params.taps,
                     step: params.step,
-                    _pad: [0.0; 2],
+                    resolve: (i == 1 && self.switches.after_distance_map) as u32,
+                    kernel_sigma: kernel_sigma(params.taps, &weights),
                 }),
             );
         }
     }
 
-    /// Records both directions ([`Self::prepare`] first).
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
+    /// Records both directions ([`Self::prepare`] first). After the distance-map pass,
+    /// `classification` is its depth and `layer` the light's output layer, which the vertical
+    /// draw writes.
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        classification: Option<&wgpu::TextureView>,
+        layer: &wgpu::TextureView,
+    ) {
         let Some(groups) = &self.bind_groups else {
             return;
         };
-        draw_fullscreen(
+        let classification = classification.filter(|_| self.switches.after_distance_map);
+        draw_fullscreen_tested(
             encoder,
             "BlurPass::horizontal",
             &self.pipeline,
             &[&groups[0], &self.axis_groups[0]],
             &self.temp.1,
+            classification,
         );
-        draw_fullscreen(
+        draw_fullscreen_tested(
             encoder,
             "BlurPass::vertical",
             &self.pipeline,
             &[&groups[1], &self.axis_groups[1]],
-            &self.output.1,
+            self.output.as_ref().map_or(layer, |o| &o.1),
+            classification,
         );
     }
 }

@@ -3,29 +3,37 @@
 //!
 //! Input: the casters ([`crate::Casters`]) (positions and smoothed normals), the [`LightView`] and the
 //! fatten distance. Output: a depth texture like the shadow map's (same projection, resolution
-//! and format). Because every vertex at one position shares one smoothed normal, meshes with
-//! hard edges fatten into closed shapes. Alpha-masked casters are fattened whole (a superset of
-//! their real shadow, so the mask stays conservative).
+//! and format) and, in the same pass, an R16F texture that says how far behind the fattened
+//! surface the caster itself lies there (world units along the light's axis): each fragment
+//! meets the ray from the light with the plane of its unfattened triangle, so the distance map
+//! can measure the distance to the true occluder, not to the inflated one, at no extra pass. Because every vertex at one position
+//! shares one smoothed normal, meshes with hard edges fatten into closed shapes. Alpha-masked
+//! casters are fattened whole (a superset of their real shadow, so the mask stays
+//! conservative).
 
 use bytemuck::{Pod, Zeroable};
 
-use super::shadow_map::{begin_depth_pass, depth_state, light_depth_target};
+use super::shadow_map::{depth_pass_descriptor, depth_state, light_depth_target};
 use super::{CasterPipelines, SecondStream, entry};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
-use crate::light_space::LightView;
+use crate::light_space::{LightView, ProjectionKind};
 use crate::settings::ShadowMapSettings;
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct FattenUniform {
     view_proj: [[f32; 4]; 4],
+    view: [[f32; 4]; 4],
+    light: [f32; 4],
     params: [f32; 4],
 }
 
 pub struct FattenedShadowMapPass {
     texture: wgpu::Texture,
     view: wgpu::TextureView,
+    /// World units from the fattened surface back to the caster's own surface, along the light.
+    occluder_offset: (wgpu::Texture, wgpu::TextureView),
     uniform: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
     pipelines: CasterPipelines,
@@ -42,7 +50,7 @@ impl FattenedShadowMapPass {
             label: Some("FattenedShadowMapPass::layout"),
             entries: &[entry::uniform(
                 0,
-                wgpu::ShaderStages::VERTEX,
+                wgpu::ShaderStages::VERTEX_FRAGMENT,
                 size_of::<FattenUniform>(),
                 false,
             )],
@@ -67,25 +75,50 @@ impl FattenedShadowMapPass {
             &shader,
             &[Some(&bind_layout), Some(&layouts.instance)],
             "vs_main",
-            None,
+            Some(("fs_main", Some(Self::OFFSET_FORMAT))),
             SecondStream::SmoothedNormals,
             // Fattened shapes are drawn from both sides: inflating can turn thin parts inside out.
             wgpu::PrimitiveState::default(),
             depth_state(settings),
         );
         let (texture, view) = light_depth_target(device, settings, "FattenedShadowMapPass::fattened_map");
+        let offset = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("FattenedShadowMapPass::occluder_offset"),
+            format: Self::OFFSET_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            size: texture.size(),
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            view_formats: &[],
+        });
+        let offset_view = offset.create_view(&Default::default());
         Self {
             texture,
             view,
+            occluder_offset: (offset, offset_view),
             uniform,
             bind_group,
             pipelines,
         }
     }
 
+    /// World units along the light from the fattened surface back to the caster's own surface,
+    /// where the fattened map has a caster; R16F; half-float precision is far finer than a
+    /// fatten distance needs (a relative 1e-3).
+    pub const OFFSET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+
     /// The fattened depth map.
     pub fn view(&self) -> &wgpu::TextureView {
         &self.view
+    }
+
+    /// The occluder offset ([`Self::OFFSET_FORMAT`]): how far behind the fattened surface the
+    /// true caster lies, texel by texel of the fattened map.
+    pub fn occluder_offset(&self) -> &wgpu::TextureView {
+        &self.occluder_offset.1
     }
 
     pub fn texture(&self) -> &wgpu::Texture {
@@ -104,8 +137,15 @@ impl FattenedShadowMapPass {
     ) {
         self.pipelines
             .prepare(device, &casters.draw_layouts(Streams::Fattened));
+        let to_world = light.view.inverse();
+        let light_position = match light.kind {
+            ProjectionKind::Perspective => to_world.transform_point3(glam::Vec3::ZERO).extend(1.0),
+            ProjectionKind::Orthographic => to_world.transform_vector3(glam::Vec3::NEG_Z).extend(0.0),
+        };
         let uniform = FattenUniform {
             view_proj: light.view_projection.to_cols_array_2d(),
+            view: light.view.to_cols_array_2d(),
+            light: light_position.to_array(),
             params: [fatten_distance, 0.0, 0.0, 0.0],
         };
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
@@ -113,7 +153,19 @@ impl FattenedShadowMapPass {
 
     /// Records the pass: every caster, inflated ([`Self::prepare`] first).
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
-        let mut pass = begin_depth_pass(encoder, "FattenedShadowMapPass", &self.view);
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("FattenedShadowMapPass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.occluder_offset.1,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            ..depth_pass_descriptor(&self.view)
+        });
         pass.set_bind_group(0, &self.bind_group, &[]);
         casters.draw(&mut pass, Streams::Fattened, |l| self.pipelines.get(l));
     }

@@ -5,10 +5,10 @@
 //! | [`ShadowMapPass`] | `shaders/shadow_map.wgsl` | casters, light view | depth shadow map |
 //! | [`FattenedShadowMapPass`] | `shaders/fattened_shadow_map.wgsl` | casters, smoothed normals, light view | fattened depth map |
 //! | [`DepthPrepass`] | `shaders/depth_prepass.wgsl` | all instances, camera | camera depth, receiver mask (the convenience renderer's; an engine has its own) |
-//! | [`DistanceMapPass`] | `shaders/distance_map.wgsl` | camera depth, receiver mask, fattened map | distance + mask (RG16F), full screen |
-//! | [`PcfPass`] | `shaders/pcf.wgsl` | camera depth, distance map, shadow map | visibility (R16F) |
+//! | [`DistanceMapPass`] | `shaders/distance_map.wgsl` | camera depth, receiver mask, fattened map and occluder offset, shadow map | the method's PCF visibility (R16F), distance + mask + blur sigmas (RGBA16F), where the blur runs (depth), full screen |
+//! | [`PcfPass`] | `shaders/pcf.wgsl` | camera depth, shadow map | fixed-spacing visibility (R16F): the baseline and hard shadows |
 //! | [`PcssPass`] | `shaders/pcss.wgsl` | camera depth, shadow map | visibility (R16F) |
-//! | [`BlurPass`] | `shaders/blur.wgsl` | visibility, distance map, camera depth | blurred visibility (R16F) |
+//! | [`BlurPass`] | `shaders/blur.wgsl` | visibility, distance map, camera depth | blurred visibility (R16F), or the light's output layer with the indirect attenuation applied |
 //! | [`ResolvePass`] | `shaders/resolve.wgsl` | visibility, distance map, camera depth, receiver mask | one layer of the visibility array, indirect attenuation applied |
 //! | [`CompositePass`] | `shaders/composite.wgsl` | all instances, resolved visibility, camera depth | lit color |
 //! | [`ReferencePass`] | `shaders/reference.wgsl` | camera depth, one hard shadow map per light sample | mean visibility (R32F) |
@@ -167,44 +167,87 @@ pub(crate) fn fullscreen_pipeline_with(
     format: wgpu::TextureFormat,
     constants: &[(&str, f64)],
 ) -> wgpu::RenderPipeline {
-    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(label),
+    Fullscreen {
+        label,
+        shader,
         bind_group_layouts,
-        immediate_size: 0,
-    });
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(label),
-        layout: Some(&layout),
-        vertex: wgpu::VertexState {
-            module: shader,
-            entry_point: Some("vs_fullscreen"),
-            compilation_options: Default::default(),
-            buffers: &[],
-        },
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: None,
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: shader,
-            entry_point: Some("fs_main"),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants,
-                ..Default::default()
-            },
-            targets: &[Some(format.into())],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+        targets: &[Some(format.into())],
+        depth: None,
+        constants,
+    }
+    .pipeline(device)
 }
 
-/// Draws the fullscreen triangle of `pipeline` with `bind_groups` into `target`.
+/// A full-screen pipeline with any color targets, an optional depth attachment and override
+/// constants.
+pub(crate) struct Fullscreen<'a> {
+    pub label: &'a str,
+    pub shader: &'a wgpu::ShaderModule,
+    pub bind_group_layouts: &'a [Option<&'a wgpu::BindGroupLayout>],
+    pub targets: &'a [Option<wgpu::ColorTargetState>],
+    pub depth: Option<wgpu::DepthStencilState>,
+    pub constants: &'a [(&'a str, f64)],
+}
+
+impl Fullscreen<'_> {
+    pub(crate) fn pipeline(&self, device: &wgpu::Device) -> wgpu::RenderPipeline {
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(self.label),
+            bind_group_layouts: self.bind_group_layouts,
+            immediate_size: 0,
+        });
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(self.label),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: self.shader,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: self.depth.clone(),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: self.shader,
+                entry_point: Some("fs_main"),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: self.constants,
+                    ..Default::default()
+                },
+                targets: self.targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+}
+
+/// The screen-space classification the distance-map pass writes as depth: 1 where the blur
+/// has work, 0 elsewhere. The blur tests its full-screen triangle (depth 0) with `Less`
+/// against it, so the rasterizer skips every other pixel before its shader runs.
+pub(crate) const CLASSIFICATION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth16Unorm;
+
+/// Draws the fullscreen triangle of `pipeline` with `bind_groups` into `target` (cleared to
+/// white first), testing against `classification` (read-only) when given.
 pub(crate) fn draw_fullscreen(
     encoder: &mut wgpu::CommandEncoder,
     label: &str,
     pipeline: &wgpu::RenderPipeline,
     bind_groups: &[&wgpu::BindGroup],
     target: &wgpu::TextureView,
+) {
+    draw_fullscreen_tested(encoder, label, pipeline, bind_groups, target, None);
+}
+
+/// [`draw_fullscreen`] with an optional read-only classification depth to test against.
+pub(crate) fn draw_fullscreen_tested(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    pipeline: &wgpu::RenderPipeline,
+    bind_groups: &[&wgpu::BindGroup],
+    target: &wgpu::TextureView,
+    classification: Option<&wgpu::TextureView>,
 ) {
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
@@ -217,7 +260,11 @@ pub(crate) fn draw_fullscreen(
                 store: wgpu::StoreOp::Store,
             },
         })],
-        depth_stencil_attachment: None,
+        depth_stencil_attachment: classification.map(|view| wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: None,
+            stencil_ops: None,
+        }),
         timestamp_writes: None,
         occlusion_query_set: None,
         multiview_mask: None,
@@ -260,6 +307,7 @@ pub(crate) struct CasterPipelines {
     layout: wgpu::PipelineLayout,
     vertex_entry: &'static str,
     fragment_entry: Option<&'static str>,
+    color: Option<wgpu::TextureFormat>,
     second: SecondStream,
     primitive: wgpu::PrimitiveState,
     depth: wgpu::DepthStencilState,
@@ -274,7 +322,7 @@ impl CasterPipelines {
         shader: &wgpu::ShaderModule,
         bind_group_layouts: &[Option<&wgpu::BindGroupLayout>],
         vertex_entry: &'static str,
-        fragment_entry: Option<&'static str>,
+        fragment: Option<(&'static str, Option<wgpu::TextureFormat>)>,
         second: SecondStream,
         primitive: wgpu::PrimitiveState,
         depth: wgpu::DepthStencilState,
@@ -289,7 +337,8 @@ impl CasterPipelines {
             shader: shader.clone(),
             layout,
             vertex_entry,
-            fragment_entry,
+            fragment_entry: fragment.map(|(entry, _)| entry),
+            color: fragment.and_then(|(_, color)| color),
             second,
             primitive,
             depth,
@@ -315,6 +364,7 @@ impl CasterPipelines {
             if let (Some(l), Some(a)) = (second_layout, &second_attributes) {
                 buffers.push(Some(l.buffer_layout(a)));
             }
+            let color = [self.color.map(|format| wgpu::ColorTargetState::from(format))];
             let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(self.label),
                 layout: Some(&self.layout),
@@ -331,7 +381,7 @@ impl CasterPipelines {
                     module: &self.shader,
                     entry_point: Some(entry),
                     compilation_options: Default::default(),
-                    targets: &[],
+                    targets: if self.color.is_some() { &color } else { &[] },
                 }),
                 multiview_mask: None,
                 cache: None,

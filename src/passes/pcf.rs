@@ -1,10 +1,10 @@
-//! PCF pass: screen-space visibility from N x N comparison taps on the real shadow map.
+//! PCF pass: screen-space visibility from N x N comparison taps on the real shadow map at a
+//! fixed spacing: the baseline's PCF, and screen-space hard shadows with one tap.
 //!
-//! Input: the frame uniform, the camera depth (world positions are reconstructed from it), the
-//! distance map (distance and mask; unused by the fixed-spacing baseline) and the shadow map.
-//! Output: an R16F visibility texture (1 lit, 0 shadowed). With the distance-map method the
-//! spacing grows with the distance and pixels outside the mask take no shadow-map tap at all;
-//! the baseline uses a fixed spacing everywhere. The fast mode runs this pass with one tap.
+//! Input: the frame uniform, the camera depth (world positions are reconstructed from it) and
+//! the shadow map. Output: an R16F visibility texture (1 lit, 0 shadowed). The distance-map
+//! method takes its distance-driven taps in [`super::DistanceMapPass`], with the same tap code
+//! (`shaders/common/pcf_taps.wgsl`).
 
 use super::{VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline_with, screen_target};
 use crate::frame::{PcfSwitches, PcfUniform};
@@ -28,10 +28,9 @@ impl PcfPass {
             entries: &[
                 entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
                 entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
-                entry::texture_2d(2, wgpu::TextureSampleType::Float { filterable: false }),
-                entry::texture_2d(3, wgpu::TextureSampleType::Depth),
-                entry::sampler(4, wgpu::SamplerBindingType::Comparison),
-                entry::uniform(5, wgpu::ShaderStages::FRAGMENT, size_of::<PcfUniform>(), false),
+                entry::texture_2d(2, wgpu::TextureSampleType::Depth),
+                entry::sampler(3, wgpu::SamplerBindingType::Comparison),
+                entry::uniform(4, wgpu::ShaderStages::FRAGMENT, size_of::<PcfUniform>(), false),
             ],
         });
         let flag = |on: bool| if on { 1.0 } else { 0.0 };
@@ -41,11 +40,7 @@ impl PcfPass {
             &shader,
             &[Some(&layout)],
             VISIBILITY_FORMAT,
-            &[
-                ("FIXED_SPACING", flag(switches.fixed_spacing)),
-                ("ROTATE_TAPS", flag(switches.rotate_taps)),
-                ("MASK_EARLY_OUT", flag(switches.mask_early_out)),
-            ],
+            &[("ROTATE_TAPS", flag(switches.rotate_taps))],
         );
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("PcfPass::params"),
@@ -73,7 +68,6 @@ impl PcfPass {
         device: &wgpu::Device,
         frame: &wgpu::Buffer,
         camera_depth: &wgpu::TextureView,
-        distance_map: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
     ) {
         self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -82,7 +76,6 @@ impl PcfPass {
             entries: &entries(&[
                 frame.as_entire_binding(),
                 wgpu::BindingResource::TextureView(camera_depth),
-                wgpu::BindingResource::TextureView(distance_map),
                 wgpu::BindingResource::TextureView(shadow_map),
                 wgpu::BindingResource::Sampler(&self.sampler),
                 self.params.as_entire_binding(),

@@ -81,7 +81,7 @@ impl ShadowMapPass {
                 Some(&layouts.material),
             ],
             "vs_masked",
-            Some("fs_masked"),
+            Some(("fs_masked", None)),
             SecondStream::Uv,
             primitive,
             depth_state(settings),
@@ -177,14 +177,10 @@ pub(super) fn light_depth_target(
     (texture, view)
 }
 
-/// Begins a depth-only pass that clears `view` to the far plane.
-pub(super) fn begin_depth_pass<'e>(
-    encoder: &'e mut wgpu::CommandEncoder,
-    label: &str,
-    view: &wgpu::TextureView,
-) -> wgpu::RenderPass<'e> {
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(label),
+/// A depth-only pass that clears `view` to the far plane.
+pub(super) fn depth_pass_descriptor(view: &wgpu::TextureView) -> wgpu::RenderPassDescriptor<'_> {
+    wgpu::RenderPassDescriptor {
+        label: None,
         color_attachments: &[],
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view,
@@ -197,5 +193,17 @@ pub(super) fn begin_depth_pass<'e>(
         timestamp_writes: None,
         occlusion_query_set: None,
         multiview_mask: None,
+    }
+}
+
+/// Begins a depth-only pass that clears `view` to the far plane.
+pub(super) fn begin_depth_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    view: &wgpu::TextureView,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        ..depth_pass_descriptor(view)
     })
 }

@@ -1,0 +1,30 @@
+// Shared by the PCF pass and the distance-map pass (which takes the method's PCF taps itself):
+// N x N comparison taps on the shadow map. Needs `shadow_map` and `shadow_sampler` bound by the
+// including pass.
+
+struct Pcf {
+    taps_per_side: u32,
+    // texels between taps at distance 0 (the distance-map method: the least spacing)
+    base_spacing: f32,
+    // manual mode: texels per world unit of distance; fixed spacing: the spacing (texels)
+    spread: f32,
+    _pad: f32,
+}
+
+// The mean of `side` x `side` comparison taps around the receiver at shadow-map position `p`,
+// `spacing` uv apart, turned by `angle` radians; each tap compares against the receiver's
+// plane (`slope`: depth per uv) at its own position, so wide kernels do not shadow the
+// receiver itself.
+fn pcf_taps(p: vec3<f32>, slope: vec2<f32>, spacing: f32, side: i32, angle: f32) -> f32 {
+    let rotation = mat2x2<f32>(cos(angle), sin(angle), -sin(angle), cos(angle));
+    let center = f32(side - 1) * 0.5;
+    var sum = 0.0;
+    for (var j = 0; j < side; j++) {
+        for (var i = 0; i < side; i++) {
+            let offset = rotation * (vec2<f32>(f32(i) - center, f32(j) - center) * spacing);
+            let reference = p.z + dot(slope, offset);
+            sum += textureSampleCompareLevel(shadow_map, shadow_sampler, p.xy + offset, reference);
+        }
+    }
+    return sum / f32(side * side);
+}

@@ -1,0 +1,478 @@
+//! Penumbrae against the ground truth: on a scene of the kind an independent renderer checked
+//! (a floor; a thin plate touching it at one end and rising to 1.5 units; a box floating 1 unit
+//! up; a pillar and a scanned mesh standing on the floor), under a spot light of disk radius
+//! 0.25 and under a 4-degree sun, `ours`' 10-90% penumbra widths must be within 15% of the
+//! reference's at contact and far from it, and its mean signed error in each half of the
+//! penumbra within +-0.03.
+//!
+//! Widths are measured along a line on the floor that crosses one shadow edge, from the umbra
+//! into full light, with a camera looking straight down at that edge. The visibility is the
+//! one `penumbra::metrics` measures, read bilinearly, averaged over five parallel lines.
+//!
+//! `PENUMBRA_TRUTH_METHODS=ours,pcss,traditional` prints the same table for other methods
+//! (nothing is asserted on them).
+
+mod common;
+
+use glam::{Mat4, Quat, Vec3};
+use penumbra::{
+    Camera, DirectionalLight, Light, Material, Scene, ShadowMethod, ShadowSettings, SpotLight,
+    metrics::{VisibilityImage, measure_visibility},
+    scene::primitives,
+};
+
+/// The direction the sun's light travels: down and toward +z, 0.8 units sideways per unit of
+/// drop, so shadows fall on the +z side of their casters.
+const SUN: Vec3 = Vec3::new(0.0, -1.0, 0.8);
+
+/// Where the plate's lower face touches the floor and how it rises: along x from -3.5 (height
+/// 0) to +0.5 (height 1.5), |z + 2| < 0.4.
+const PLATE_X: (f32, f32) = (-3.5, 0.5);
+const PLATE_Z: f32 = -2.0;
+const PLATE_HALF_WIDTH: f32 = 0.4;
+/// The floating box: a unit cube whose bottom is 1 unit up.
+const BOX_CENTER: Vec3 = Vec3::new(2.5, 1.5, -2.5);
+/// The pillar standing on the floor: 0.4 x 2.5 x 0.4.
+const PILLAR_CENTER: Vec3 = Vec3::new(-1.0, 1.25, 1.0);
+const PILLAR_HALF: f32 = 0.2;
+
+#[derive(Clone, Copy)]
+enum Lamp {
+    Spot,
+    Sun,
+}
+
+impl Lamp {
+    fn name(self) -> &'static str {
+        match self {
+            Lamp::Spot => "spot r=0.25",
+            Lamp::Sun => "sun 4deg",
+        }
+    }
+
+    fn light(self) -> Light {
+        match self {
+            Lamp::Sun => Light::Directional(DirectionalLight {
+                direction: SUN,
+                angular_diameter_deg: 4.0,
+                color: Vec3::ONE,
+                intensity: 1.0,
+            }),
+            Lamp::Spot => Light::Spot(SpotLight {
+                position: self.spot_position(),
+                direction: -self.spot_position() + Vec3::new(0.0, 0.0, 0.5),
+                cone_angle_deg: 50.0,
+                radius: 0.25,
+                color: Vec3::ONE,
+                intensity: 1.0,
+            }),
+        }
+    }
+
+    fn spot_position(self) -> Vec3 {
+        Vec3::new(0.0, 6.0, -4.8)
+    }
+
+    /// Where the ray from the light's center through `p` meets the floor.
+    fn shadow_of(self, p: Vec3) -> Vec3 {
+        let d = match self {
+            Lamp::Sun => SUN,
+            Lamp::Spot => p - self.spot_position(),
+        };
+        common::shadow_on_floor(p, d)
+    }
+}
+
+fn truth_scene(lamp: Lamp) -> Scene {
+    let mut scene = Scene {
+        light: lamp.light(),
+        ..Default::default()
+    };
+    let grey = scene.add_material(Material::colored("floor", [0.8, 0.8, 0.8]));
+    let blue = scene.add_material(Material::colored("casters", [0.3, 0.5, 0.8]));
+    let floor = scene.add_mesh(primitives::plane(16.0, 1.0));
+    scene.add_instance(floor, grey, Mat4::IDENTITY).caster = false;
+
+    let (x0, x1) = PLATE_X;
+    let rise = 1.5f32;
+    let thickness = 0.04;
+    let length = ((x1 - x0).powi(2) + rise * rise).sqrt();
+    let plate = scene.add_mesh(primitives::cuboid(Vec3::new(length, thickness, 2.0 * PLATE_HALF_WIDTH)));
+    let tilt = (rise / (x1 - x0)).atan();
+    // Rotate about z, then place so the lower face's -x end rests on the floor at x0.
+    let rotation = Quat::from_rotation_z(tilt);
+    let lower_end = rotation * Vec3::new(-length / 2.0, -thickness / 2.0, 0.0);
+    let center = Vec3::new(x0, 0.0, PLATE_Z) - lower_end;
+    scene
+        .add_instance(plate, blue, Mat4::from_rotation_translation(rotation, center))
+        .receiver = false;
+
+    let cube = scene.add_mesh(primitives::cuboid(Vec3::ONE));
+    scene
+        .add_instance(cube, blue, Mat4::from_translation(BOX_CENTER))
+        .receiver = false;
+
+    let pillar = scene.add_mesh(primitives::cuboid(Vec3::new(
+        2.0 * PILLAR_HALF,
+        2.0 * PILLAR_CENTER.y,
+        2.0 * PILLAR_HALF,
+    )));
+    scene
+        .add_instance(pillar, blue, Mat4::from_translation(PILLAR_CENTER))
+        .receiver = false;
+
+    // The scanned cow, about 1.5 units long, standing on the floor.
+    let model = penumbra::load_model(&common::shared_models().join("spot.obj")).unwrap();
+    let bounds = model.bounds();
+    let scale = 1.5 / bounds.size().max_element();
+    let place = Mat4::from_translation(Vec3::new(2.0, -bounds.min.y * scale, 1.5))
+        * Mat4::from_rotation_y(std::f32::consts::FRAC_PI_2)
+        * Mat4::from_scale(Vec3::splat(scale));
+    scene.add_model(&model, place, Some(blue), true, false);
+    scene
+}
+
+/// The height of the plate's lower face above the floor at `x`.
+fn plate_height(x: f32) -> f32 {
+    1.5 * (x - PLATE_X.0) / (PLATE_X.1 - PLATE_X.0)
+}
+
+/// One shadow edge to measure: the occluder's edge point that casts it, the direction on the
+/// floor toward the lit side, and how far either side of the hard edge the profile reaches.
+struct Edge {
+    name: &'static str,
+    /// `true` where the distance to the occluder is small.
+    contact: bool,
+    occluder: Vec3,
+    toward_light: Vec3,
+    reach: f32,
+}
+
+fn edges(lamp: Lamp) -> Vec<Edge> {
+    let plate_edge = |x: f32| {
+        // The +z long edge of the plate's lower face.
+        Vec3::new(x, plate_height(x), PLATE_Z + PLATE_HALF_WIDTH)
+    };
+    let pillar_edge = |h: f32| {
+        // The pillar's +x, +z vertical edge.
+        Vec3::new(PILLAR_CENTER.x + PILLAR_HALF, h, PILLAR_CENTER.z + PILLAR_HALF)
+    };
+    // Where the shadow lies beside its caster (the plate and the box), the profile stays off
+    // the caster's own image: at most 0.7 of the way from the hard edge back to the point
+    // under the occluder's edge. (The pillar's profiles run across its shadow's side.)
+    let clear = |mut edge: Edge| {
+        let under = Vec3::new(edge.occluder.x, 0.0, edge.occluder.z);
+        let gap = (lamp.shadow_of(edge.occluder) - under).dot(edge.toward_light);
+        if gap > 1e-3 {
+            edge.reach = edge.reach.min(0.7 * gap);
+        }
+        edge
+    };
+    let edges = vec![
+        Edge {
+            name: "plate, contact end",
+            contact: true,
+            occluder: plate_edge(-3.0),
+            toward_light: Vec3::Z,
+            reach: 0.12,
+        },
+        Edge {
+            name: "plate, far end",
+            contact: false,
+            occluder: plate_edge(0.2),
+            toward_light: Vec3::Z,
+            reach: 0.5,
+        },
+        Edge {
+            name: "box, far edge",
+            contact: false,
+            occluder: BOX_CENTER + Vec3::new(0.0, 0.5, 0.5),
+            toward_light: Vec3::Z,
+            reach: 0.6,
+        },
+        Edge {
+            name: "pillar, near its foot",
+            contact: true,
+            occluder: pillar_edge(0.35),
+            toward_light: Vec3::X,
+            reach: 0.12,
+        },
+        Edge {
+            name: "pillar, top",
+            contact: false,
+            occluder: pillar_edge(2.2),
+            toward_light: Vec3::X,
+            reach: 0.18,
+        },
+    ];
+    edges.into_iter().map(clear).collect()
+}
+
+/// A camera straight above `center`, `span` world units across vertically.
+fn camera_above(center: Vec3, span: f32) -> Camera {
+    let height = 4.0;
+    Camera {
+        eye: center + Vec3::Y * height,
+        target: center,
+        up: Vec3::NEG_Z,
+        fov_y_deg: 2.0 * (span / 2.0 / height).atan().to_degrees(),
+        near: 1.0,
+        far: 8.0,
+    }
+}
+
+const SIZE: (u32, u32) = (320, 240);
+
+/// Bilinear visibility at a world point on the floor.
+fn sample(image: &VisibilityImage, camera: &Camera, p: Vec3) -> f32 {
+    let (w, h) = (image.width, image.height);
+    let clip = camera.view_projection(w as f32 / h as f32) * p.extend(1.0);
+    let ndc = clip.truncate() / clip.w;
+    let x = (ndc.x * 0.5 + 0.5) * w as f32 - 0.5;
+    let y = (0.5 - ndc.y * 0.5) * h as f32 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let at = |dx: f32, dy: f32| {
+        let (px, py) = ((x0 + dx) as i64, (y0 + dy) as i64);
+        assert!(
+            px >= 0 && py >= 0 && px < w as i64 && py < h as i64,
+            "profile leaves the image at {p}"
+        );
+        image.visibility[(py as u32 * w + px as u32) as usize]
+            .unwrap_or_else(|| panic!("no direct light measured at {p}"))
+    };
+    let top = at(0.0, 0.0) * (1.0 - fx) + at(1.0, 0.0) * fx;
+    let bottom = at(0.0, 1.0) * (1.0 - fx) + at(1.0, 1.0) * fx;
+    top * (1.0 - fy) + bottom * fy
+}
+
+/// The visibility profile across `edge`, averaged over five parallel lines, as (offset from the
+/// hard edge toward the light, visibility).
+fn profile(image: &VisibilityImage, camera: &Camera, hard_edge: Vec3, edge: &Edge) -> Vec<(f32, f32)> {
+    let along = Vec3::Y.cross(edge.toward_light).normalize() * (edge.reach * 0.08);
+    (0..=400)
+        .map(|i| {
+            let t = edge.reach * (i as f32 / 200.0 - 1.0);
+            let p = hard_edge + edge.toward_light * t;
+            let v = (-2..=2)
+                .map(|k| sample(image, camera, p + along * k as f32))
+                .sum::<f32>()
+                / 5.0;
+            (t, v)
+        })
+        .collect()
+}
+
+/// The 10-90% width of a rising profile: from the last point at or below 0.1 before the first
+/// point at or above 0.9, linearly interpolated.
+fn width_10_90(profile: &[(f32, f32)]) -> Option<f32> {
+    let crossing = |level: f32, i: usize| {
+        let ((t0, v0), (t1, v1)) = (profile[i - 1], profile[i]);
+        t0 + (t1 - t0) * ((level - v0) / (v1 - v0)).clamp(0.0, 1.0)
+    };
+    let high = profile.iter().position(|&(_, v)| v >= 0.9)?;
+    let low = profile[..high].iter().rposition(|&(_, v)| v <= 0.1)?;
+    Some(crossing(0.9, high) - crossing(0.1, low + 1))
+}
+
+struct Measured {
+    /// (edge name, contact, reference width, method width)
+    widths: Vec<(&'static str, bool, f32, Option<f32>)>,
+    /// Mean signed error (method - reference) where the reference is in (0.02, 0.5] and in
+    /// (0.5, 0.98), over every edge's view and the overview.
+    inner: f32,
+    outer: f32,
+}
+
+fn settings(method: ShadowMethod) -> ShadowSettings {
+    ShadowSettings::preset(method, penumbra::Quality::Medium)
+}
+
+fn measure(gpu: &penumbra::HeadlessGpu, lamp: Lamp, methods: &[ShadowMethod]) -> Vec<(ShadowMethod, Measured)> {
+    let scene = truth_scene(lamp);
+    let mut results: Vec<(ShadowMethod, Measured)> = methods
+        .iter()
+        .map(|&m| {
+            (
+                m,
+                Measured {
+                    widths: vec![],
+                    inner: 0.0,
+                    outer: 0.0,
+                },
+            )
+        })
+        .collect();
+    let mut sums = vec![[0.0f64; 4]; methods.len()];
+    let mut accumulate = |reference: &VisibilityImage, index: usize, image: &VisibilityImage| {
+        for (r, t) in reference.visibility.iter().zip(&image.visibility) {
+            let (Some(r), Some(t)) = (r, t) else { continue };
+            let half = if *r > 0.02 && *r <= 0.5 {
+                0
+            } else if *r > 0.5 && *r < 0.98 {
+                2
+            } else {
+                continue;
+            };
+            sums[index][half] += (t - r) as f64;
+            sums[index][half + 1] += 1.0;
+        }
+    };
+    let save = std::env::var_os("PENUMBRA_SAVE_RENDERS").is_some();
+    let mut views: Vec<(Camera, Option<&Edge>)> = vec![];
+    let all_edges = edges(lamp);
+    for edge in &all_edges {
+        let hard = lamp.shadow_of(edge.occluder);
+        views.push((camera_above(hard, edge.reach * 3.0), Some(edge)));
+    }
+    views.push((
+        Camera {
+            eye: Vec3::new(0.0, 9.0, 7.0),
+            target: Vec3::new(0.0, 0.0, -0.5),
+            up: Vec3::Y,
+            fov_y_deg: 45.0,
+            near: 1.0,
+            far: 30.0,
+        },
+        None,
+    ));
+    for (view, (camera, edge)) in views.iter().enumerate() {
+        let reference = measure_visibility(gpu, &scene, camera, settings(ShadowMethod::Reference), SIZE).unwrap();
+        let ref_profile = edge.map(|e| profile(&reference, camera, lamp.shadow_of(e.occluder), e));
+        let ref_width = ref_profile.as_ref().map(|p| {
+            width_10_90(p).unwrap_or_else(|| {
+                panic!(
+                    "{}: the reference profile across {} does not go from umbra to light: {:?}",
+                    lamp.name(),
+                    edge.unwrap().name,
+                    p.iter().step_by(40).collect::<Vec<_>>()
+                )
+            })
+        });
+        for (index, &method) in methods.iter().enumerate() {
+            let image = measure_visibility(gpu, &scene, camera, settings(method), SIZE).unwrap();
+            if save {
+                let dump = |img: &VisibilityImage, name: &str| {
+                    let pixels = img
+                        .visibility
+                        .iter()
+                        .map(|v| v.map_or(0, |v| (v * 255.0) as u8))
+                        .collect();
+                    image::GrayImage::from_raw(img.width, img.height, pixels)
+                        .unwrap()
+                        .save(common::output_dir().join(format!(
+                            "truth_{}_{view}_{name}.png",
+                            matches!(lamp, Lamp::Sun) as u8
+                        )))
+                        .unwrap();
+                };
+                dump(&image, method.name());
+                dump(&reference, "reference");
+            }
+            accumulate(&reference, index, &image);
+            if let (Some(edge), Some(ref_width)) = (edge, ref_width) {
+                let prof = profile(&image, camera, lamp.shadow_of(edge.occluder), edge);
+                if std::env::var_os("PENUMBRA_TRUTH_PROFILES").is_some() {
+                    let r = ref_profile.as_ref().unwrap();
+                    eprintln!("{} {}: {}", method.name(), edge.name, r.iter().zip(&prof).step_by(20).map(|((t, a), (_, b))| format!("{t:+.3}:{a:.2}/{b:.2}")).collect::<Vec<_>>().join(" "));
+                }
+                let width = width_10_90(&prof);
+                results[index].1.widths.push((edge.name, edge.contact, ref_width, width));
+            }
+        }
+    }
+    for (index, (_, m)) in results.iter_mut().enumerate() {
+        let s = sums[index];
+        m.inner = (s[0] / s[1].max(1.0)) as f32;
+        m.outer = (s[2] / s[3].max(1.0)) as f32;
+    }
+    results
+}
+
+fn methods_to_print() -> Vec<ShadowMethod> {
+    let mut methods = vec![ShadowMethod::Ours];
+    if let Ok(list) = std::env::var("PENUMBRA_TRUTH_METHODS") {
+        methods = list
+            .split(',')
+            .map(|name| ShadowMethod::from_name(name.trim()).unwrap())
+            .collect();
+        if !methods.contains(&ShadowMethod::Ours) {
+            methods.insert(0, ShadowMethod::Ours);
+        }
+    }
+    methods
+}
+
+fn check(lamp: Lamp) {
+    let gpu = common::gpu();
+    let results = measure(&gpu, lamp, &methods_to_print());
+    let mut failures = vec![];
+    for (method, m) in &results {
+        for (edge, contact, reference, width) in &m.widths {
+            let ratio = width.map(|w| w / reference);
+            eprintln!(
+                "{} {:<12} {:<22} reference {:.4}  method {}  ratio {}",
+                lamp.name(),
+                method.name(),
+                edge,
+                reference,
+                width.map_or("none".into(), |w| format!("{w:.4}")),
+                ratio.map_or("-".into(), |r| format!("{r:.3}")),
+            );
+            if *method == ShadowMethod::Ours && !ratio.is_some_and(|r| (r - 1.0).abs() <= 0.15) {
+                failures.push(format!(
+                    "{edge} ({}): width {width:?} against the reference's {reference:.4}",
+                    if *contact { "contact" } else { "far" }
+                ));
+            }
+        }
+        eprintln!(
+            "{} {:<12} mean signed error: inner half {:+.4}, outer half {:+.4}",
+            lamp.name(),
+            method.name(),
+            m.inner,
+            m.outer
+        );
+        if *method == ShadowMethod::Ours {
+            for (half, e) in [("inner", m.inner), ("outer", m.outer)] {
+                if e.abs() > 0.03 {
+                    failures.push(format!("mean signed error in the {half} half {e:+.4}"));
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}: {}", lamp.name(), failures.join("; "));
+}
+
+#[test]
+fn ours_matches_the_reference_under_a_spot_light() {
+    check(Lamp::Spot);
+}
+
+#[test]
+fn ours_matches_the_reference_under_a_sun() {
+    check(Lamp::Sun);
+}
+
+#[test]
+fn debug_distance() {
+    let gpu = common::gpu();
+    for lamp in [Lamp::Spot, Lamp::Sun] {
+        let scene = truth_scene(lamp);
+        for edge in edges(lamp) {
+            let hard = lamp.shadow_of(edge.occluder);
+            let camera = camera_above(hard, edge.reach * 3.0);
+            let (_, renderer) = common::render_frame(&gpu, &scene, &camera, settings(ShadowMethod::Ours), SIZE);
+            let (d, ch) = common::read_f32(&gpu, renderer.debug_texture(penumbra::DebugTexture::DistanceMap).unwrap());
+            let mut line = String::new();
+            for i in 0..=8 {
+                let t = edge.reach * (i as f32 / 4.0 - 1.0);
+                let (px, py) = common::project(&camera, SIZE.0, SIZE.1, hard + edge.toward_light * t).unwrap();
+                let k = ((py * SIZE.0 + px) * ch) as usize;
+                line += &format!(" {:.3}/{:.0}", d[k], d[k + 1]);
+            }
+            let lv = renderer.light_view().unwrap();
+            eprintln!("{} {}: {line}  (occluder height {:.3}, light near {:.2} far {:.2} extent {:?})", lamp.name(), edge.name, edge.occluder.y, lv.near, lv.far, lv.extent);
+        }
+    }
+}
