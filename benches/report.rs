@@ -399,7 +399,7 @@ fn measure_embedding(
             let drawn: u32 = reports
                 .iter()
                 .filter(|r| r.shadow_maps_rendered)
-                .map(|r| 1 + r.chain.fattened_map as u32)
+                .map(|r| 1 + r.chain.fattened_map as u32 + r.chain.exit_map as u32)
                 .sum();
             if still {
                 passes.1 = drawn;

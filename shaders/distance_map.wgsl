@@ -31,6 +31,8 @@ override MASK_EARLY_OUT: bool = true;
 @group(0) @binding(5) var shadow_map: texture_depth_2d;
 @group(0) @binding(6) var shadow_sampler: sampler_comparison;
 @group(0) @binding(7) var<uniform> pcf: Pcf;
+// The casters' back faces from the light: where along the light an occluder ends.
+@group(0) @binding(8) var exit_map: texture_2d<f32>;
 
 struct Out {
     @location(0) visibility: vec4<f32>,
@@ -74,7 +76,13 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     // The fattened map says where a shadow can fall; the distance is to the caster itself,
     // which lies `occluder_offset` behind the fattened surface.
     let occluder = light_linear_depth(fattened_depth) + textureLoad(occluder_offset, texel, 0).x;
-    let d = select(0.0, max(light_linear_depth(p.z) - occluder, 0.0), inside);
+    var d = select(0.0, max(light_linear_depth(p.z) - occluder, 0.0), inside);
+    // Inside a shadow, the penumbra's inner half is shaped by where the occluder ends nearest
+    // the receiver (a thick caster's near side): its back face, when one lies in front.
+    let exit = textureLoad(exit_map, texel, 0).x;
+    if inside && exit < p.z {
+        d = min(d, max(light_linear_depth(p.z) - light_linear_depth(exit), 0.0));
+    }
     if (MASK_EARLY_OUT && !inside) || p.z > 1.0 {
         var out = no_shadow(select(0.0, 1.0, inside));
         out.distance.x = d;

@@ -64,6 +64,6 @@ fn fs_main(in: Fattened) -> @location(0) vec4<f32> {
     }
     // Beyond the caster's silhouette the plane can run far off: never more than a few fatten
     // distances, never in front of the fattened surface.
-    let offset = clamp(axis_depth(behind) - axis_depth(in.fattened), 0.0, 4.0 * fatten.params.x);
+    let offset = clamp(axis_depth(behind) - axis_depth(in.fattened), 0.0, 2.0 * fatten.params.x);
     return vec4<f32>(offset, 0.0, 0.0, 0.0);
 }

@@ -232,11 +232,14 @@ pub(crate) fn is_point_light(light: &Light) -> bool {
 }
 
 /// Derives the fatten distance: half the widest penumbra the scene allows (the deepest
-/// receiver behind the nearest occluder along the light), plus two shadow-map texels.
+/// receiver behind the nearest occluder along the light), plus two shadow-map texels. For a
+/// spot light the nearest occluder is the casters' box's nearest point (at least the map's near
+/// plane): the width `2 R d / D` grows without bound as `D` shrinks.
 pub(crate) fn derive_spreads(
     light: &Light,
     light_view: &LightView,
     shadow_bounds: &Aabb,
+    caster_bounds: &Aabb,
     resolution: u32,
 ) -> DerivedSpreads {
     let size = light_size_term(light);
@@ -244,9 +247,16 @@ pub(crate) fn derive_spreads(
     let texel = light_view.extent.max_element() / resolution as f32;
     let (per_distance, widest) = match light {
         Light::Directional(_) => (size, size * depth_range),
-        Light::Spot(_) => {
-            let nearest = light_view.near.max(1e-6);
-            (size / nearest, size * depth_range / nearest)
+        Light::Spot(spot) => {
+            let mut nearest = light_view.near.max(1e-6);
+            if !caster_bounds.is_empty() {
+                let closest = spot.position.clamp(caster_bounds.min, caster_bounds.max);
+                nearest = nearest.max(closest.distance(spot.position));
+            }
+            (
+                size / nearest,
+                size * (light_view.far - nearest).max(0.0) / nearest,
+            )
         }
     };
     let fatten = if size > 0.0 {
@@ -351,7 +361,7 @@ impl FrameUniform {
 
 /// The standard deviation of a disk light's edge profile as a fraction of the penumbra's
 /// full width: the disk's radius over 2, so w / 4.
-pub(crate) const SIGMA_PER_WIDTH: f32 = 0.25;
+pub(crate) const SIGMA_PER_WIDTH: f32 = 0.268;
 
 /// Gaussian weights for taps 0..=radius (tap k weight, unnormalized), sigma = taps / 4 in tap units.
 pub(crate) fn gaussian_weights(taps: u32) -> [[f32; 4]; 4] {
@@ -430,14 +440,8 @@ mod tests {
                         "indirect_half_distance",
                         offset_of!(PenumbraUniform, indirect_half_distance),
                     ),
-                    (
-                        "pcf_share",
-                        offset_of!(PenumbraUniform, pcf_share),
-                    ),
-                    (
-                        "sigma_per_width",
-                        offset_of!(PenumbraUniform, sigma_per_width),
-                    ),
+                    ("pcf_share", offset_of!(PenumbraUniform, pcf_share)),
+                    ("sigma_per_width", offset_of!(PenumbraUniform, sigma_per_width)),
                     ("normal_offset", offset_of!(PenumbraUniform, normal_offset)),
                 ],
                 size_of::<PenumbraUniform>(),
@@ -467,7 +471,10 @@ mod tests {
                     ("taps", offset_of!(crate::passes::BlurUniform, taps)),
                     ("step", offset_of!(crate::passes::BlurUniform, step)),
                     ("resolve", offset_of!(crate::passes::BlurUniform, resolve)),
-                    ("kernel_sigma", offset_of!(crate::passes::BlurUniform, kernel_sigma)),
+                    (
+                        "kernel_sigma",
+                        offset_of!(crate::passes::BlurUniform, kernel_sigma),
+                    ),
                 ],
                 size_of::<crate::passes::BlurUniform>(),
             ),

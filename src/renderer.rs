@@ -28,6 +28,8 @@ pub struct PassPlan {
     pub depth_prepass: bool,
     pub shadow_map: bool,
     pub fattened_map: bool,
+    /// The casters' back faces from the light (the distance-map method).
+    pub exit_map: bool,
     /// The full-screen distance map over the prepass depth, which takes the method's PCF taps.
     pub distance_map: bool,
     /// The fixed-spacing PCF pass (the baseline).
@@ -70,6 +72,7 @@ impl PassPlan {
                 depth_prepass: true,
                 shadow_map: true,
                 fattened_map: chain.fattened_map,
+                exit_map: chain.exit_map,
                 distance_map: chain.distance_map,
                 pcf: chain.pcf,
                 pcss: chain.pcss,
@@ -88,6 +91,7 @@ impl PassPlan {
             (self.depth_prepass, "depth prepass"),
             (self.shadow_map, "shadow map"),
             (self.fattened_map, "fattened shadow map"),
+            (self.exit_map, "exit map"),
             (self.distance_map, "distance map + pcf"),
             (self.pcf, "pcf"),
             (self.pcss, "pcss"),
@@ -105,7 +109,7 @@ impl PassPlan {
     /// are re-rendered), the prepass, the composite or the forward pass.
     pub fn geometry_passes(&self, shadow_maps_rendered: bool) -> u32 {
         let maps = if shadow_maps_rendered {
-            self.shadow_map as u32 + self.fattened_map as u32
+            self.shadow_map as u32 + self.fattened_map as u32 + self.exit_map as u32
         } else {
             0
         };
@@ -541,7 +545,13 @@ impl Renderer {
             None => {
                 let light = *scene.light();
                 let loose = LightView::fit(&light, &scene.shadow_bounds());
-                let spreads = crate::shadows::spreads(&self.settings, &light, &loose, &scene.shadow_bounds());
+                let spreads = crate::shadows::spreads(
+                    &self.settings,
+                    &light,
+                    &loose,
+                    &scene.shadow_bounds(),
+                    &scene.caster_bounds(),
+                );
                 (loose, spreads)
             }
         };
@@ -698,7 +708,13 @@ impl Renderer {
         let light = *scene.light();
         let matrices = CameraMatrices::from_camera(camera, self.size.0 as f32 / self.size.1 as f32);
         let loose = LightView::fit(&light, &scene.shadow_bounds());
-        let spreads = crate::shadows::spreads(&self.settings, &light, &loose, &scene.shadow_bounds());
+        let spreads = crate::shadows::spreads(
+            &self.settings,
+            &light,
+            &loose,
+            &scene.shadow_bounds(),
+            &scene.caster_bounds(),
+        );
         self.write_frame_uniform(queue, scene, &matrices, &loose, spreads);
         let (Some(prepass), Some(reference)) = (&self.prepass, &mut self.reference) else {
             return Ok(false);

@@ -175,7 +175,8 @@ pub struct PenumbraSettings {
     pub spreads: SpreadMode,
     /// PCF taps (the fast mode uses one hard tap whatever this says). Default 3x3.
     pub pcf_kernel: PcfKernel,
-    /// Tap spacing at zero distance, shadow-map texels, in [0, 16]. Default 1.
+    /// Tap spacing at zero distance, shadow-map texels, in [0, 16]: in physical mode the least
+    /// spacing, which smooths the map's texels at contact. Default 0.5.
     pub pcf_base_spacing: f32,
     /// In physical mode, the share of the penumbra's variance made by PCF (the rest by the
     /// blur), in [0, 1]. Default 0.5. The fast mode uses 0.
@@ -199,7 +200,7 @@ impl Default for PenumbraSettings {
         Self {
             spreads: SpreadMode::Physical,
             pcf_kernel: PcfKernel::Pcf3x3,
-            pcf_base_spacing: 1.0,
+            pcf_base_spacing: 0.5,
             pcf_variance_share: 0.5,
             rotate_taps: true,
             mask_early_out: true,

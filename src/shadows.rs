@@ -13,8 +13,8 @@ use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, is_point_light};
 use crate::light_space::{FitInputs, LightView};
 use crate::passes::{
-    BlurPass, DistanceMapPass, FattenedShadowMapPass, PcfPass, PcssPass, ResolvePass, ShadowMapPass,
-    VISIBILITY_FORMAT, screen_target,
+    BlurPass, DistanceMapPass, ExitMapPass, FattenedShadowMapPass, PcfPass, PcssPass, ResolvePass,
+    ShadowMapPass, VISIBILITY_FORMAT, screen_target,
 };
 use crate::scene::{Aabb, Light};
 use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
@@ -67,6 +67,9 @@ pub struct Chain {
     /// [`ShadowMethod::Hard`] when the light has none.
     pub method: ShadowMethod,
     pub fattened_map: bool,
+    /// The casters' back faces from the light: how near the receiver an occluder ends, for
+    /// the distance inside thick occluders' shadows.
+    pub exit_map: bool,
     /// The distance map, with the method's PCF taps.
     pub distance_map: bool,
     /// The fixed-spacing PCF pass (the baseline, hard shadows).
@@ -95,6 +98,7 @@ impl Chain {
                 let blur = settings.penumbra.blur_taps > 1;
                 Chain {
                     fattened_map: true,
+                    exit_map: true,
                     distance_map: true,
                     blur,
                     resolve: !blur,
@@ -127,6 +131,7 @@ impl Chain {
         [
             (true, "shadow map"),
             (self.fattened_map, "fattened shadow map"),
+            (self.exit_map, "exit map"),
             (self.distance_map, "distance map + pcf"),
             (self.pcf, "pcf"),
             (self.pcss, "pcss"),
@@ -155,6 +160,8 @@ pub struct LightReport {
 pub enum LightTexture {
     ShadowMap,
     FattenedMap,
+    /// Depth of the casters' back faces (the distance-map method).
+    ExitMap,
     /// RGBA16F: R = distance to the occluder (world units), G = mask, B and A = the blur's
     /// standard deviation in pixels along x and y (physical mode).
     DistanceMap,
@@ -194,6 +201,8 @@ struct LightState {
     /// The casters (id) the map passes were made for.
     maps_for: Option<u64>,
     fattened: Option<FattenedShadowMapPass>,
+    /// The back-face depth map ([`Chain::exit_map`]).
+    exit: Option<ExitMapPass>,
     distance: Option<DistanceMapPass>,
     pcf: Option<PcfPass>,
     pcss: Option<PcssPass>,
@@ -293,6 +302,7 @@ impl Shadows {
     pub(crate) fn drop_screen_passes(&mut self) {
         for state in self.lights.iter_mut().flatten() {
             state.fattened = None;
+            state.exit = None;
             state.distance = None;
             state.pcf = None;
             state.pcss = None;
@@ -430,7 +440,7 @@ impl Shadows {
             // Fit once to find the depth range (and so the widest penumbra), then fit the sides
             // to the casters widened by that penumbra.
             let loose = LightView::fit(&light, &shadow_bounds);
-            let spreads = spreads(&self.settings, &light, &loose, &shadow_bounds);
+            let spreads = spreads(&self.settings, &light, &loose, &shadow_bounds, &caster_bounds);
             let sm = &self.settings.shadow_map;
             let light_view = LightView::fit_with(&FitInputs {
                 light: &light,
@@ -477,6 +487,9 @@ impl Shadows {
                 }
                 if let Some(f) = &mut state.fattened {
                     f.prepare(device, queue, casters, &light_view, spreads.fatten_distance);
+                }
+                if let Some(e) = &mut state.exit {
+                    e.prepare(device, queue, casters, &light_view);
                 }
             }
             if let Some(p) = &state.pcf {
@@ -563,6 +576,12 @@ impl Shadows {
                     f.encode(encoder, casters);
                     encoder.pop_debug_group();
                     mark(encoder, "fattened shadow map");
+                }
+                if let (true, Some(e)) = (chain.exit_map, &state.exit) {
+                    encoder.push_debug_group("exit map");
+                    e.encode(encoder, casters);
+                    encoder.pop_debug_group();
+                    mark(encoder, "exit map");
                 }
                 state.key = Some(plan.key);
                 state.seen_revision = casters.revision();
@@ -663,6 +682,7 @@ impl Shadows {
         match which {
             LightTexture::ShadowMap => s.shadow_map.as_ref().map(|p| p.texture()),
             LightTexture::FattenedMap => s.fattened.as_ref().map(|p| p.texture()),
+            LightTexture::ExitMap => s.exit.as_ref().map(|p| p.texture()),
             LightTexture::DistanceMap => s.distance.as_ref().map(|p| p.distance_texture()),
             LightTexture::Visibility => s
                 .pcf
@@ -697,6 +717,7 @@ impl Shadows {
             state.shadow_map = Some(ShadowMapPass::new(device, casters.layouts(), &settings));
             state.maps_for = Some(casters.id());
             state.fattened = None;
+            state.exit = None;
             state.bound = None;
         }
         state.key = None;
@@ -745,6 +766,7 @@ impl LightState {
             shadow_map: None,
             maps_for: None,
             fattened: None,
+            exit: None,
             distance: None,
             pcf: None,
             pcss: None,
@@ -799,7 +821,16 @@ impl LightState {
             self.shadow_map = Some(ShadowMapPass::new(device, casters.layouts(), settings));
             self.maps_for = Some(casters.id());
             self.fattened = None;
+            self.exit = None;
             self.key = None;
+            changed = true;
+        }
+        if chain.exit_map && self.exit.is_none() {
+            self.exit = Some(ExitMapPass::new(device, casters.layouts(), settings));
+            self.key = None;
+            changed = true;
+        } else if !chain.exit_map && self.exit.is_some() {
+            self.exit = None;
             changed = true;
         }
         if chain.fattened_map && self.fattened.is_none() {
@@ -858,8 +889,19 @@ impl LightState {
             return;
         };
         let chain = self.planned.map(|p| p.chain).unwrap_or_default();
-        if let (true, Some(d), Some(f)) = (chain.distance_map, &mut self.distance, &self.fattened) {
-            d.bind(device, frame, f.view(), f.occluder_offset(), depth, mask, shadow_map);
+        if let (true, Some(d), Some(f), Some(e)) =
+            (chain.distance_map, &mut self.distance, &self.fattened, &self.exit)
+        {
+            d.bind(
+                device,
+                frame,
+                f.view(),
+                f.occluder_offset(),
+                e.view(),
+                depth,
+                mask,
+                shadow_map,
+            );
         }
         let distance = match (chain.distance_map, &self.distance) {
             (true, Some(d)) => d.distance_map(),
@@ -898,8 +940,15 @@ pub(crate) fn spreads(
     light: &Light,
     light_view: &LightView,
     shadow_bounds: &Aabb,
+    caster_bounds: &Aabb,
 ) -> DerivedSpreads {
-    let derived = derive_spreads(light, light_view, shadow_bounds, settings.shadow_map.resolution);
+    let derived = derive_spreads(
+        light,
+        light_view,
+        shadow_bounds,
+        caster_bounds,
+        settings.shadow_map.resolution,
+    );
     match settings.penumbra.spreads {
         SpreadMode::Physical => derived,
         SpreadMode::Manual { fatten_distance, .. } => DerivedSpreads {

@@ -579,16 +579,16 @@ fn winding_changes_neither_the_fattened_map_nor_the_shadows_nor_the_shading() {
         )
         .unwrap()
         .0;
-        let mask = penumbra::read_texture_f32(
+        let (distance, channels) = penumbra::read_texture_f32(
             &gpu.device,
             &gpu.queue,
             renderer.debug_texture(DebugTexture::DistanceMap).unwrap(),
         )
-        .unwrap()
-        .0
-        .chunks_exact(2)
-        .filter(|px| px[1] > 0.5)
-        .count();
+        .unwrap();
+        let mask = distance
+            .chunks_exact(channels as usize)
+            .filter(|px| px[1] > 0.5)
+            .count();
         results.push((image, fattened, mask));
     }
     let (ccw, cw) = (&results[0], &results[1]);

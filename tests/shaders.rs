@@ -42,7 +42,8 @@ fn passes_find_their_entry_points() {
     for (name, entry_points) in [
         ("shadow_map", &["vs_opaque", "vs_masked", "fs_masked"][..]),
         ("forward", &["vs_main", "fs_main"][..]),
-        ("fattened_shadow_map", &["vs_main"][..]),
+        ("fattened_shadow_map", &["vs_main", "fs_main"][..]),
+        ("exit_map", &["vs_main", "fs_main"][..]),
         ("depth_prepass", &["vs_main", "fs_main"][..]),
         ("distance_map", &["vs_fullscreen", "fs_main"][..]),
         ("resolve", &["vs_fullscreen", "fs_main"][..]),

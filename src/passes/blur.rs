@@ -13,7 +13,8 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::{
-    CLASSIFICATION_FORMAT, Fullscreen, VISIBILITY_FORMAT, draw_fullscreen_tested, entries, entry, screen_target,
+    CLASSIFICATION_FORMAT, Fullscreen, VISIBILITY_FORMAT, draw_fullscreen_tested, entries, entry,
+    screen_target,
 };
 use crate::frame::{BlurParams, BlurSwitches, gaussian_weights};
 
@@ -175,7 +176,6 @@ impl BlurPass {
     pub fn blurred_texture(&self) -> Option<&wgpu::Texture> {
         self.output.as_ref().map(|o| &o.0)
     }
-
 
     /// The switches the pipeline was made with.
     pub(crate) fn switches(&self) -> BlurSwitches {

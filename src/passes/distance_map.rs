@@ -2,14 +2,15 @@
 //! over a camera depth buffer (the paper's passes 3 and 4 in one).
 //!
 //! Input: the frame uniform (camera matrices, light), the fattened shadow map and its occluder
-//! offset, the camera depth (the engine's, or [`super::DepthPrepass`]'s), optionally a receiver
+//! offset, the exit map (the casters' back faces), the camera depth (the engine's, or [`super::DepthPrepass`]'s), optionally a receiver
 //! mask, and the shadow map. Outputs, all screen-sized:
 //! * the raw visibility (R16F): N x N comparison taps spaced by the pixel's distance, none
 //!   outside the mask;
 //! * the distance map (RGBA16F): R = distance along the light from the occluder to the
 //!   receiver (world units, >= 0; to the caster's own surface, found through the fattened
 //!   pass's occluder offset, so a receiver touching its caster gets 0 and not the fatten
-//!   distance), G = mask (1 inside the fattened shadow, 0 outside it, -1 where the receiver
+//!   distance; inside a shadow, to where the occluder ends, from the exit map, so a thick
+//!   occluder standing on the floor gives the distance to its near side), G = mask (1 inside the fattened shadow, 0 outside it, -1 where the receiver
 //!   mask excludes the pixel, -2 where nothing was drawn), B and A = in physical mode, the
 //!   blur's standard deviation in pixels along screen x and y;
 //! * a classification depth ([`super::CLASSIFICATION_FORMAT`]): 1 where the blur has work to
@@ -24,9 +25,7 @@
 //! show.
 
 use super::pcf::comparison_sampler;
-use super::{
-    CLASSIFICATION_FORMAT, Fullscreen, VISIBILITY_FORMAT, entries, entry, screen_target,
-};
+use super::{CLASSIFICATION_FORMAT, Fullscreen, VISIBILITY_FORMAT, entries, entry, screen_target};
 use crate::frame::{PcfSwitches, PcfUniform};
 
 pub struct DistanceMapPass {
@@ -60,6 +59,7 @@ impl DistanceMapPass {
                 entry::texture_2d(5, wgpu::TextureSampleType::Depth),
                 entry::sampler(6, wgpu::SamplerBindingType::Comparison),
                 entry::uniform(7, wgpu::ShaderStages::FRAGMENT, size_of::<PcfUniform>(), false),
+                entry::texture_2d(8, unfilterable),
             ],
         });
         let flag = |on: bool| if on { 1.0 } else { 0.0 };
@@ -67,10 +67,7 @@ impl DistanceMapPass {
             label: "DistanceMapPass::pipeline",
             shader: &shader,
             bind_group_layouts: &[Some(&layout)],
-            targets: &[
-                Some(VISIBILITY_FORMAT.into()),
-                Some(Self::DISTANCE_FORMAT.into()),
-            ],
+            targets: &[Some(VISIBILITY_FORMAT.into()), Some(Self::DISTANCE_FORMAT.into())],
             depth: Some(wgpu::DepthStencilState {
                 format: CLASSIFICATION_FORMAT,
                 depth_write_enabled: Some(true),
@@ -97,8 +94,20 @@ impl DistanceMapPass {
             params,
             sampler: comparison_sampler(device, "DistanceMapPass::comparison_sampler"),
             visibility: screen_target(device, "DistanceMapPass::visibility", 1, 1, VISIBILITY_FORMAT),
-            distance: screen_target(device, "DistanceMapPass::distance_map", 1, 1, Self::DISTANCE_FORMAT),
-            classification: screen_target(device, "DistanceMapPass::classification", 1, 1, CLASSIFICATION_FORMAT),
+            distance: screen_target(
+                device,
+                "DistanceMapPass::distance_map",
+                1,
+                1,
+                Self::DISTANCE_FORMAT,
+            ),
+            classification: screen_target(
+                device,
+                "DistanceMapPass::classification",
+                1,
+                1,
+                CLASSIFICATION_FORMAT,
+            ),
             bind_group: None,
         };
         pass.resize(device, 1, 1);
@@ -140,6 +149,7 @@ impl DistanceMapPass {
         frame: &wgpu::Buffer,
         fattened_map: &wgpu::TextureView,
         occluder_offset: &wgpu::TextureView,
+        exit_map: &wgpu::TextureView,
         camera_depth: &wgpu::TextureView,
         receiver_mask: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
@@ -156,6 +166,7 @@ impl DistanceMapPass {
                 wgpu::BindingResource::TextureView(shadow_map),
                 wgpu::BindingResource::Sampler(&self.sampler),
                 self.params.as_entire_binding(),
+                wgpu::BindingResource::TextureView(exit_map),
             ]),
         }));
     }

@@ -4,6 +4,7 @@
 //! |---|---|---|---|
 //! | [`ShadowMapPass`] | `shaders/shadow_map.wgsl` | casters, light view | depth shadow map |
 //! | [`FattenedShadowMapPass`] | `shaders/fattened_shadow_map.wgsl` | casters, smoothed normals, light view | fattened depth map |
+//! | [`ExitMapPass`] | `shaders/exit_map.wgsl` | casters, smoothed normals, light view | depth of the casters' back faces (where rays leave the first occluder) |
 //! | [`DepthPrepass`] | `shaders/depth_prepass.wgsl` | all instances, camera | camera depth, receiver mask (the convenience renderer's; an engine has its own) |
 //! | [`DistanceMapPass`] | `shaders/distance_map.wgsl` | camera depth, receiver mask, fattened map and occluder offset, shadow map | the method's PCF visibility (R16F), distance + mask + blur sigmas (RGBA16F), where the blur runs (depth), full screen |
 //! | [`PcfPass`] | `shaders/pcf.wgsl` | camera depth, shadow map | fixed-spacing visibility (R16F): the baseline and hard shadows |
@@ -20,6 +21,7 @@ mod composite;
 #[cfg(feature = "renderer")]
 mod depth_prepass;
 mod distance_map;
+mod exit_map;
 mod fattened_shadow_map;
 #[cfg(feature = "renderer")]
 mod forward;
@@ -38,6 +40,7 @@ pub use composite::CompositePass;
 #[cfg(feature = "renderer")]
 pub use depth_prepass::DepthPrepass;
 pub use distance_map::DistanceMapPass;
+pub use exit_map::ExitMapPass;
 pub use fattened_shadow_map::FattenedShadowMapPass;
 #[cfg(feature = "renderer")]
 pub use forward::ForwardPass;
@@ -364,7 +367,7 @@ impl CasterPipelines {
             if let (Some(l), Some(a)) = (second_layout, &second_attributes) {
                 buffers.push(Some(l.buffer_layout(a)));
             }
-            let color = [self.color.map(|format| wgpu::ColorTargetState::from(format))];
+            let color = [self.color.map(wgpu::ColorTargetState::from)];
             let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(self.label),
                 layout: Some(&self.layout),

@@ -1,0 +1,120 @@
+//! Exit map pass: the casters' back faces from the light, the nearest kept: where a light ray
+//! leaves the first occluder it meets.
+//!
+//! Input: the casters ([`crate::Casters`]) (positions and smoothed normals) and the
+//! [`LightView`]. Output: a depth texture like the shadow map's. The distance-map pass reads it
+//! inside shadows: a thick caster standing on the floor shapes the inner half of its penumbra
+//! with its near side, not with the light-facing side the shadow map holds. A triangle counts
+//! as a back face by its geometry turned outward by the smoothed normal, so the winding never
+//! matters. Alpha-masked casters are drawn whole.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::shadow_map::{begin_depth_pass, depth_state, light_depth_target};
+use super::{CasterPipelines, SecondStream, entry};
+use crate::casters::{Casters, Streams};
+use crate::layouts::SceneLayouts;
+use crate::light_space::{LightView, ProjectionKind};
+use crate::settings::ShadowMapSettings;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct ExitLightUniform {
+    view_proj: [[f32; 4]; 4],
+    light: [f32; 4],
+}
+
+pub struct ExitMapPass {
+    texture: wgpu::Texture,
+    view: wgpu::TextureView,
+    uniform: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    pipelines: CasterPipelines,
+}
+
+impl ExitMapPass {
+    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, settings: &ShadowMapSettings) -> Self {
+        let shader = crate::shaders::module(device, "exit_map.wgsl", crate::shaders::EXIT_MAP);
+        let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("ExitMapPass::layout"),
+            entries: &[entry::uniform(
+                0,
+                wgpu::ShaderStages::VERTEX_FRAGMENT,
+                size_of::<ExitLightUniform>(),
+                false,
+            )],
+        });
+        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ExitMapPass::uniform"),
+            size: size_of::<ExitLightUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("ExitMapPass::bind_group"),
+            layout: &bind_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            }],
+        });
+        let pipelines = CasterPipelines::new(
+            device,
+            "ExitMapPass::pipeline",
+            &shader,
+            &[Some(&bind_layout), Some(&layouts.instance)],
+            "vs_main",
+            Some(("fs_main", None)),
+            SecondStream::SmoothedNormals,
+            // The shader keeps the back faces, whatever the winding.
+            wgpu::PrimitiveState::default(),
+            depth_state(settings),
+        );
+        let (texture, view) = light_depth_target(device, settings, "ExitMapPass::exit_map");
+        Self {
+            texture,
+            view,
+            uniform,
+            bind_group,
+            pipelines,
+        }
+    }
+
+    /// The exit depth map.
+    pub fn view(&self) -> &wgpu::TextureView {
+        &self.view
+    }
+
+    pub fn texture(&self) -> &wgpu::Texture {
+        &self.texture
+    }
+
+    /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view.
+    pub(crate) fn prepare(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        casters: &Casters,
+        light: &LightView,
+    ) {
+        self.pipelines
+            .prepare(device, &casters.draw_layouts(Streams::Fattened));
+        let to_world = light.view.inverse();
+        let position = match light.kind {
+            ProjectionKind::Perspective => to_world.transform_point3(glam::Vec3::ZERO).extend(1.0),
+            ProjectionKind::Orthographic => to_world.transform_vector3(glam::Vec3::NEG_Z).extend(0.0),
+        };
+        let uniform = ExitLightUniform {
+            view_proj: light.view_projection.to_cols_array_2d(),
+            light: position.to_array(),
+        };
+        queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
+    }
+
+    /// Records the pass: every caster's back faces ([`Self::prepare`] first).
+    pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
+        let mut pass = begin_depth_pass(encoder, "ExitMapPass", &self.view);
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        casters.draw(&mut pass, Streams::Fattened, |l| self.pipelines.get(l));
+    }
+}
