@@ -1,13 +1,13 @@
 // Separable Gaussian blur of the visibility texture, one axis per draw (horizontal, then
 // vertical). The step between taps is fixed (the baseline) or grows with the pixel's distance
-// to its occluder: distance x spread pixels (manual), or the standard deviation the distance-map
+// to its occluder: distance x spread pixels (manual), or the standard deviation the variable PCF
 // pass worked out for this pixel and axis (physical). Near contact the blur vanishes; far away
 // it is wide. With depth-aware weighting, taps at a different depth count less, so the blur
 // does not bleed across depth discontinuities.
 //
-// After the distance-map pass, a depth test skips the pixels where that pass found nothing to
-// blur (their output keeps the clear value, 1), and the vertical draw can write the light's
-// layer of the output directly, with the indirect-light attenuation applied (the resolve).
+// After the distance map, a depth test skips the pixels where no shadow can fall (their output
+// keeps the clear value, 1), and the vertical draw writes the light's layer of the output
+// directly, with the indirect-light attenuation applied (the resolve).
 
 // Compile-time switches (pipeline override constants).
 override FIXED_STEP: bool = false;
@@ -31,6 +31,8 @@ struct Blur {
 @group(0) @binding(2) var distance_map: texture_2d<f32>;
 @group(0) @binding(3) var visibility: texture_2d<f32>;
 @group(0) @binding(4) var linear_sampler: sampler;
+// physical mode: the standard deviation to add in pixels, along screen x (R) and y (G)
+@group(0) @binding(5) var blur_sigma: texture_2d<f32>;
 @group(1) @binding(0) var<uniform> blur: Blur;
 
 fn finish(v: f32, d: f32) -> vec4<f32> {
@@ -53,11 +55,10 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     var step = blur.step;
     var d = 0.0;
     if !FIXED_STEP {
-        let distance = textureLoad(distance_map, pixel, 0);
-        d = distance.x;
+        d = textureLoad(distance_map, pixel, 0).x;
         if frame.penumbra.physical != 0u {
-            let sigma_px = select(distance.z, distance.w, blur.axis.y > 0.5);
-            step = sigma_px / blur.kernel_sigma;
+            let sigma = textureLoad(blur_sigma, pixel, 0).xy;
+            step = select(sigma.x, sigma.y, blur.axis.y > 0.5) / blur.kernel_sigma;
         } else {
             step = d * blur.step;
         }

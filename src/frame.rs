@@ -232,7 +232,8 @@ pub(crate) fn is_point_light(light: &Light) -> bool {
 }
 
 /// Derives the fatten distance: half the widest penumbra the scene allows (the deepest
-/// receiver behind the nearest occluder along the light), plus two shadow-map texels. For a
+/// receiver behind the nearest occluder along the light), plus two texels of the fattened map
+/// (four of the shadow map: the fattened map has half its resolution). For a
 /// spot light the nearest occluder is the casters' box's nearest point (at least the map's near
 /// plane): the width `2 R d / D` grows without bound as `D` shrinks.
 pub(crate) fn derive_spreads(
@@ -260,7 +261,8 @@ pub(crate) fn derive_spreads(
         }
     };
     let fatten = if size > 0.0 {
-        (widest * 0.5 + 2.0 * texel).min(shadow_bounds.radius().max(1e-6))
+        // Two texels of the half-resolution fattened map.
+        (widest * 0.5 + 4.0 * texel).min(shadow_bounds.radius().max(1e-6))
     } else {
         0.0
     };

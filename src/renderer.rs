@@ -30,9 +30,9 @@ pub struct PassPlan {
     pub fattened_map: bool,
     /// The casters' back faces from the light (the distance-map method).
     pub exit_map: bool,
-    /// The full-screen distance map over the prepass depth, which takes the method's PCF taps.
+    /// The full-screen distance map over the prepass depth.
     pub distance_map: bool,
-    /// The fixed-spacing PCF pass (the baseline).
+    /// PCF (variable spacing after the distance map, fixed otherwise).
     pub pcf: bool,
     pub pcss: bool,
     /// The reference's accumulated visibility is composited (accumulated by
@@ -92,7 +92,7 @@ impl PassPlan {
             (self.shadow_map, "shadow map"),
             (self.fattened_map, "fattened shadow map"),
             (self.exit_map, "exit map"),
-            (self.distance_map, "distance map + pcf"),
+            (self.distance_map, "distance map"),
             (self.pcf, "pcf"),
             (self.pcss, "pcss"),
             (self.blur, "blur"),

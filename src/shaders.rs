@@ -13,12 +13,13 @@ pub const SHADOW_MAP: &str = wgsl!("common/scene.wgsl", "shadow_map.wgsl");
 pub const FATTENED_SHADOW_MAP: &str = wgsl!("common/scene.wgsl", "fattened_shadow_map.wgsl");
 pub const EXIT_MAP: &str = wgsl!("common/scene.wgsl", "exit_map.wgsl");
 pub const DEPTH_PREPASS: &str = wgsl!("common/frame.wgsl", "common/scene.wgsl", "depth_prepass.wgsl");
-pub const DISTANCE_MAP: &str = wgsl!(
+pub const DISTANCE_MAP: &str = wgsl!("common/frame.wgsl", "common/fullscreen.wgsl", "distance_map.wgsl");
+pub const VARIABLE_PCF: &str = wgsl!(
     "common/frame.wgsl",
     "common/fullscreen.wgsl",
     "common/receiver.wgsl",
     "common/pcf_taps.wgsl",
-    "distance_map.wgsl"
+    "variable_pcf.wgsl"
 );
 pub const PCF: &str = wgsl!(
     "common/frame.wgsl",
@@ -40,13 +41,14 @@ pub const REFERENCE: &str = wgsl!("common/frame.wgsl", "common/fullscreen.wgsl",
 pub const FORWARD: &str = wgsl!("common/scene.wgsl", "forward.wgsl");
 
 /// Every pass's composed source, by the name of its file in `shaders/`.
-pub const ALL: [(&str, &str); 12] = [
+pub const ALL: [(&str, &str); 13] = [
     ("shadow_map", SHADOW_MAP),
     ("fattened_shadow_map", FATTENED_SHADOW_MAP),
     ("exit_map", EXIT_MAP),
     ("depth_prepass", DEPTH_PREPASS),
     ("distance_map", DISTANCE_MAP),
     ("pcf", PCF),
+    ("variable_pcf", VARIABLE_PCF),
     ("pcss", PCSS),
     ("blur", BLUR),
     ("resolve", RESOLVE),

@@ -4,9 +4,9 @@
 //!
 //! Per light and frame: the shadow map and the fattened map (only when the light, its fit or a
 //! caster it sees changed), then full-screen passes over the engine's depth. The distance-map
-//! method runs the distance map (which takes its PCF taps too) and the blur, whose vertical
-//! draw writes the light's layer; the other methods run PCF or PCSS, the blur, and a resolve
-//! into the layer. No camera geometry is drawn.
+//! method runs the distance map, then its PCF and blur only where the distance map says a
+//! shadow can fall; the blur's vertical draw writes the light's layer. The other methods run
+//! PCF or PCSS, the blur, and a resolve into the layer. No camera geometry is drawn.
 
 use crate::casters::Casters;
 use crate::error::{PenumbraError, Result};
@@ -14,7 +14,7 @@ use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive
 use crate::light_space::{FitInputs, LightView};
 use crate::passes::{
     BlurPass, DistanceMapPass, ExitMapPass, FattenedShadowMapPass, PcfPass, PcssPass, ResolvePass,
-    ShadowMapPass, VISIBILITY_FORMAT, screen_target,
+    ShadowMapPass, VISIBILITY_FORMAT, VariablePcfPass, screen_target,
 };
 use crate::scene::{Aabb, Light};
 use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
@@ -70,9 +70,9 @@ pub struct Chain {
     /// The casters' back faces from the light: how near the receiver an occluder ends, for
     /// the distance inside thick occluders' shadows.
     pub exit_map: bool,
-    /// The distance map, with the method's PCF taps.
     pub distance_map: bool,
-    /// The fixed-spacing PCF pass (the baseline, hard shadows).
+    /// PCF: after the distance map its spacing follows the distance (variable-spacing PCF),
+    /// otherwise it is fixed (the baseline, hard shadows).
     pub pcf: bool,
     pub pcss: bool,
     pub blur: bool,
@@ -100,6 +100,7 @@ impl Chain {
                     fattened_map: true,
                     exit_map: true,
                     distance_map: true,
+                    pcf: true,
                     blur,
                     resolve: !blur,
                     ..none
@@ -132,7 +133,7 @@ impl Chain {
             (true, "shadow map"),
             (self.fattened_map, "fattened shadow map"),
             (self.exit_map, "exit map"),
-            (self.distance_map, "distance map + pcf"),
+            (self.distance_map, "distance map"),
             (self.pcf, "pcf"),
             (self.pcss, "pcss"),
             (self.blur, "blur"),
@@ -205,6 +206,7 @@ struct LightState {
     exit: Option<ExitMapPass>,
     distance: Option<DistanceMapPass>,
     pcf: Option<PcfPass>,
+    variable_pcf: Option<VariablePcfPass>,
     pcss: Option<PcssPass>,
     blur: Option<BlurPass>,
     resolve: ResolvePass,
@@ -305,6 +307,7 @@ impl Shadows {
             state.exit = None;
             state.distance = None;
             state.pcf = None;
+            state.variable_pcf = None;
             state.pcss = None;
             state.blur = None;
             state.bound = None;
@@ -495,7 +498,7 @@ impl Shadows {
             if let Some(p) = &state.pcf {
                 p.prepare(queue, &params.pcf);
             }
-            if let Some(p) = &state.distance {
+            if let Some(p) = &state.variable_pcf {
                 p.prepare(queue, &params.pcf);
             }
             if let Some(p) = &state.pcss {
@@ -595,8 +598,12 @@ impl Shadows {
                     encoder.pop_debug_group();
                     mark(encoder, name);
                 };
+                let classification = state.distance.as_ref().map(|d| d.classification());
                 if let (true, Some(p)) = (chain.distance_map, &state.distance) {
-                    run(encoder, "distance map + pcf", &|e| p.encode(e));
+                    run(encoder, "distance map", &|e| p.encode(e));
+                }
+                if let (true, Some(p), Some(c)) = (chain.pcf, &state.variable_pcf, classification) {
+                    run(encoder, "pcf", &|e| p.encode(e, c));
                 }
                 if let (true, Some(p)) = (chain.pcf, &state.pcf) {
                     run(encoder, "pcf", &|e| p.encode(e));
@@ -604,7 +611,6 @@ impl Shadows {
                 if let (true, Some(p)) = (chain.pcss, &state.pcss) {
                     run(encoder, "pcss", &|e| p.encode(e));
                 }
-                let classification = state.distance.as_ref().map(|d| d.classification());
                 if let (true, Some(p)) = (chain.blur, &state.blur) {
                     run(encoder, "blur", &|e| p.encode(e, classification, &layers[slot]));
                 }
@@ -688,7 +694,7 @@ impl Shadows {
                 .pcf
                 .as_ref()
                 .map(|p| p.visibility_texture())
-                .or_else(|| s.distance.as_ref().map(|p| p.visibility_texture()))
+                .or_else(|| s.variable_pcf.as_ref().map(|p| p.visibility_texture()))
                 .or_else(|| s.pcss.as_ref().map(|p| p.visibility_texture())),
             LightTexture::BlurredVisibility => s.blur.as_ref().and_then(|p| {
                 p.blurred_texture()
@@ -769,6 +775,7 @@ impl LightState {
             exit: None,
             distance: None,
             pcf: None,
+            variable_pcf: None,
             pcss: None,
             blur: None,
             resolve: ResolvePass::new(device, FRAME_SIZE),
@@ -804,9 +811,16 @@ impl LightState {
             self.pcf = None;
         }
         if self
-            .distance
+            .variable_pcf
             .as_ref()
             .is_some_and(|p| p.switches() != params.pcf_switches)
+        {
+            self.variable_pcf = None;
+        }
+        if self
+            .distance
+            .as_ref()
+            .is_some_and(|p| p.mask_early_out() != params.pcf_switches.mask_early_out)
         {
             self.distance = None;
         }
@@ -860,12 +874,17 @@ impl LightState {
         screen!(
             self.distance,
             chain.distance_map,
-            DistanceMapPass::new(device, FRAME_SIZE, params.pcf_switches)
+            DistanceMapPass::new(device, FRAME_SIZE, params.pcf_switches.mask_early_out)
         );
         screen!(
             self.pcf,
-            chain.pcf,
+            chain.pcf && !chain.distance_map,
             PcfPass::new(device, FRAME_SIZE, params.pcf_switches)
+        );
+        screen!(
+            self.variable_pcf,
+            chain.pcf && chain.distance_map,
+            VariablePcfPass::new(device, FRAME_SIZE, params.pcf_switches)
         );
         screen!(self.pcss, chain.pcss, PcssPass::new(device, FRAME_SIZE));
         screen!(
@@ -900,7 +919,6 @@ impl LightState {
                 e.view(),
                 depth,
                 mask,
-                shadow_map,
             );
         }
         let distance = match (chain.distance_map, &self.distance) {
@@ -910,19 +928,23 @@ impl LightState {
         if let Some(p) = &mut self.pcf {
             p.bind(device, frame, depth, shadow_map);
         }
+        if let Some(p) = &mut self.variable_pcf {
+            p.bind(device, frame, depth, distance, shadow_map);
+        }
         if let Some(p) = &mut self.pcss {
             p.bind(device, frame, depth, shadow_map);
         }
         let raw = if chain.pcss {
             self.pcss.as_ref().map(|p| p.visibility())
         } else if chain.distance_map {
-            self.distance.as_ref().map(|p| p.visibility())
+            self.variable_pcf.as_ref().map(|p| p.visibility())
         } else {
             self.pcf.as_ref().map(|p| p.visibility())
         };
         let Some(raw) = raw else { return };
+        let blur_sigma = self.variable_pcf.as_ref().map_or(dummy, |p| p.blur_sigma());
         if let Some(b) = &mut self.blur {
-            b.bind(device, frame, depth, distance, raw);
+            b.bind(device, frame, depth, distance, raw, blur_sigma);
         }
         let visibility = match (&self.blur, chain.blur) {
             (Some(b), true) => b.blurred().unwrap_or(raw),

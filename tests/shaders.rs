@@ -48,6 +48,7 @@ fn passes_find_their_entry_points() {
         ("distance_map", &["vs_fullscreen", "fs_main"][..]),
         ("resolve", &["vs_fullscreen", "fs_main"][..]),
         ("pcf", &["vs_fullscreen", "fs_main"][..]),
+        ("variable_pcf", &["vs_fullscreen", "fs_main"][..]),
         ("blur", &["vs_fullscreen", "fs_main"][..]),
         ("pcss", &["vs_fullscreen", "fs_main"][..]),
         ("composite", &["vs_main", "fs_main"][..]),

@@ -1,21 +1,20 @@
 //! Separable Gaussian blur of the visibility texture: one pass object, two draws (horizontal
 //! into a temporary texture, then vertical into the output) that differ by an axis uniform.
 //!
-//! Input: the frame uniform, the camera depth, the distance map and the visibility to blur.
+//! Input: the frame uniform, the camera depth, the distance map, the visibility to blur and, in
+//! physical mode, the standard deviations the variable PCF pass wrote.
 //! Output: an R16F blurred visibility. Gaussian weights are computed on the CPU
 //! ([`crate::frame`]); the step between taps is per pixel (distance-driven) or fixed.
 //!
-//! After the distance-map pass (the distance-map method), both draws test the classification
-//! depth that pass wrote, so only pixels with something to blur run the shader, and the
+//! After the distance map (the distance-map method), both draws test the classification depth
+//! it wrote, so only pixels a shadow can reach run the shader, and the
 //! vertical draw writes the light's layer of the output array directly, with the indirect
 //! attenuation applied: no separate resolve.
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{
-    CLASSIFICATION_FORMAT, Fullscreen, VISIBILITY_FORMAT, draw_fullscreen_tested, entries, entry,
-    screen_target,
-};
+use super::variable_pcf::classified_test;
+use super::{Fullscreen, VISIBILITY_FORMAT, draw_fullscreen_tested, entries, entry, screen_target};
 use crate::frame::{BlurParams, BlurSwitches, gaussian_weights};
 
 /// The standard deviation, in taps, of the discrete kernel `weights` makes with `taps` taps:
@@ -65,6 +64,7 @@ impl BlurPass {
                 entry::texture_2d(2, wgpu::TextureSampleType::Float { filterable: false }),
                 entry::texture_2d(3, wgpu::TextureSampleType::Float { filterable: true }),
                 entry::sampler(4, wgpu::SamplerBindingType::Filtering),
+                entry::texture_2d(5, wgpu::TextureSampleType::Float { filterable: false }),
             ],
         });
         let axis_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -82,14 +82,8 @@ impl BlurPass {
             shader: &shader,
             bind_group_layouts: &[Some(&layout), Some(&axis_layout)],
             targets: &[Some(VISIBILITY_FORMAT.into())],
-            // Only where the distance-map pass wrote 1 (the triangle lies at depth 0).
-            depth: switches.after_distance_map.then_some(wgpu::DepthStencilState {
-                format: CLASSIFICATION_FORMAT,
-                depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
+            // Only where the distance map says a shadow can fall.
+            depth: switches.after_distance_map.then(classified_test),
             constants: &[
                 ("FIXED_STEP", flag(switches.fixed_step)),
                 ("DEPTH_AWARE", flag(switches.depth_aware)),
@@ -151,6 +145,7 @@ impl BlurPass {
         camera_depth: &wgpu::TextureView,
         distance_map: &wgpu::TextureView,
         visibility: &wgpu::TextureView,
+        blur_sigma: &wgpu::TextureView,
     ) {
         let group = |input: &wgpu::TextureView| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -162,6 +157,7 @@ impl BlurPass {
                     wgpu::BindingResource::TextureView(distance_map),
                     wgpu::BindingResource::TextureView(input),
                     wgpu::BindingResource::Sampler(&self.sampler),
+                    wgpu::BindingResource::TextureView(blur_sigma),
                 ]),
             })
         };

@@ -1,51 +1,43 @@
-//! Distance map pass, which also takes the distance-map method's PCF taps: a full-screen pass
-//! over a camera depth buffer (the paper's passes 3 and 4 in one).
+//! Distance map pass: a full-screen pass over a camera depth buffer.
 //!
 //! Input: the frame uniform (camera matrices, light), the fattened shadow map and its occluder
-//! offset, the exit map (the casters' back faces), the camera depth (the engine's, or [`super::DepthPrepass`]'s), optionally a receiver
-//! mask, and the shadow map. Outputs, all screen-sized:
-//! * the raw visibility (R16F): N x N comparison taps spaced by the pixel's distance, none
-//!   outside the mask;
-//! * the distance map (RGBA16F): R = distance along the light from the occluder to the
-//!   receiver (world units, >= 0; to the caster's own surface, found through the fattened
-//!   pass's occluder offset, so a receiver touching its caster gets 0 and not the fatten
-//!   distance; inside a shadow, to where the occluder ends, from the exit map, so a thick
-//!   occluder standing on the floor gives the distance to its near side), G = mask (1 inside the fattened shadow, 0 outside it, -1 where the receiver
-//!   mask excludes the pixel, -2 where nothing was drawn), B and A = in physical mode, the
-//!   blur's standard deviation in pixels along screen x and y;
-//! * a classification depth ([`super::CLASSIFICATION_FORMAT`]): 1 where the blur has work to
-//!   do, which the blur's depth test reads so the rest of the screen never runs its shader.
+//! offset, the exit map (the casters' back faces), the camera depth (the engine's, or
+//! [`super::DepthPrepass`]'s) and optionally a receiver mask. Outputs, screen-sized:
+//! * the distance map (RG16F): R = distance along the light from the occluder to the receiver
+//!   (world units, >= 0; to the caster's own surface, found through the fattened pass's
+//!   occluder offset, so a receiver touching its caster gets 0 and not the fatten distance;
+//!   inside a shadow, to where the occluder ends, from the exit map, so a thick occluder
+//!   standing on the floor gives the distance to its near side), G = mask (1 inside the
+//!   fattened shadow, 0 outside it, -1 where the receiver mask excludes the pixel, -2 where
+//!   nothing was drawn);
+//! * a classification depth ([`super::CLASSIFICATION_FORMAT`]): 1 where a shadow can fall (the
+//!   mask), 0 elsewhere. The PCF and blur passes test against it, so the rasterizer skips every
+//!   other pixel before their shaders run (on GPUs and on CPU rasterizers alike, where a
+//!   branch in the shader would not).
 //!
 //! No geometry is drawn: world positions come from the depth and the camera's inverse
-//! view-projection. Fusing the distance and the PCF taps saves a full-screen pass and a
-//! texture round trip; the distance is needed at the pixel itself only.
+//! view-projection.
 //!
-//! Half floats were chosen by a precision test (this module's tests): distances from 1e-4 to
-//! 1e4 come back with a relative error below 1e-3, far below what a blur or kernel width can
-//! show.
+//! RG16F was chosen by a precision test (this module's tests): distances from 1e-4 to 1e4 come
+//! back with a relative error below 1e-3, far below what a blur or kernel width can show.
 
-use super::pcf::comparison_sampler;
-use super::{CLASSIFICATION_FORMAT, Fullscreen, VISIBILITY_FORMAT, entries, entry, screen_target};
-use crate::frame::{PcfSwitches, PcfUniform};
+use super::{CLASSIFICATION_FORMAT, Fullscreen, entries, entry, screen_target};
 
 pub struct DistanceMapPass {
-    switches: PcfSwitches,
+    mask_early_out: bool,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
-    params: wgpu::Buffer,
-    sampler: wgpu::Sampler,
-    visibility: (wgpu::Texture, wgpu::TextureView),
     distance: (wgpu::Texture, wgpu::TextureView),
     classification: (wgpu::Texture, wgpu::TextureView),
     bind_group: Option<wgpu::BindGroup>,
 }
 
 impl DistanceMapPass {
-    pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+    pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
-    /// The pass for `switches` (tap rotation, mask early-out; compile-time: other switches
-    /// need a new pass).
-    pub(crate) fn new(device: &wgpu::Device, frame_size: usize, switches: PcfSwitches) -> Self {
+    /// The pass; with `mask_early_out` false every receiver pixel is classified as shadowed
+    /// (compile-time: the other choice needs a new pass).
+    pub(crate) fn new(device: &wgpu::Device, frame_size: usize, mask_early_out: bool) -> Self {
         let shader = crate::shaders::module(device, "distance_map.wgsl", crate::shaders::DISTANCE_MAP);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -56,18 +48,14 @@ impl DistanceMapPass {
                 entry::texture_2d(2, unfilterable),
                 entry::texture_2d(3, unfilterable),
                 entry::texture_2d(4, unfilterable),
-                entry::texture_2d(5, wgpu::TextureSampleType::Depth),
-                entry::sampler(6, wgpu::SamplerBindingType::Comparison),
-                entry::uniform(7, wgpu::ShaderStages::FRAGMENT, size_of::<PcfUniform>(), false),
-                entry::texture_2d(8, unfilterable),
+                entry::texture_2d(5, unfilterable),
             ],
         });
-        let flag = |on: bool| if on { 1.0 } else { 0.0 };
         let pipeline = Fullscreen {
             label: "DistanceMapPass::pipeline",
             shader: &shader,
             bind_group_layouts: &[Some(&layout)],
-            targets: &[Some(VISIBILITY_FORMAT.into()), Some(Self::DISTANCE_FORMAT.into())],
+            targets: &[Some(Self::DISTANCE_FORMAT.into())],
             depth: Some(wgpu::DepthStencilState {
                 format: CLASSIFICATION_FORMAT,
                 depth_write_enabled: Some(true),
@@ -75,25 +63,13 @@ impl DistanceMapPass {
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
-            constants: &[
-                ("ROTATE_TAPS", flag(switches.rotate_taps)),
-                ("MASK_EARLY_OUT", flag(switches.mask_early_out)),
-            ],
+            constants: &[("MASK_EARLY_OUT", if mask_early_out { 1.0 } else { 0.0 })],
         }
         .pipeline(device);
-        let params = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("DistanceMapPass::params"),
-            size: size_of::<PcfUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         let mut pass = Self {
-            switches,
+            mask_early_out,
             layout,
             pipeline,
-            params,
-            sampler: comparison_sampler(device, "DistanceMapPass::comparison_sampler"),
-            visibility: screen_target(device, "DistanceMapPass::visibility", 1, 1, VISIBILITY_FORMAT),
             distance: screen_target(
                 device,
                 "DistanceMapPass::distance_map",
@@ -116,13 +92,6 @@ impl DistanceMapPass {
 
     /// Recreates the screen-sized targets. The bind group must then be rebuilt with [`Self::bind`].
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.visibility = screen_target(
-            device,
-            "DistanceMapPass::visibility",
-            width,
-            height,
-            VISIBILITY_FORMAT,
-        );
         self.distance = screen_target(
             device,
             "DistanceMapPass::distance_map",
@@ -152,7 +121,6 @@ impl DistanceMapPass {
         exit_map: &wgpu::TextureView,
         camera_depth: &wgpu::TextureView,
         receiver_mask: &wgpu::TextureView,
-        shadow_map: &wgpu::TextureView,
     ) {
         self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("DistanceMapPass::bind_group"),
@@ -163,25 +131,17 @@ impl DistanceMapPass {
                 wgpu::BindingResource::TextureView(camera_depth),
                 wgpu::BindingResource::TextureView(receiver_mask),
                 wgpu::BindingResource::TextureView(occluder_offset),
-                wgpu::BindingResource::TextureView(shadow_map),
-                wgpu::BindingResource::Sampler(&self.sampler),
-                self.params.as_entire_binding(),
                 wgpu::BindingResource::TextureView(exit_map),
             ]),
         }));
     }
 
-    /// The switches the pipeline was made with.
-    pub(crate) fn switches(&self) -> PcfSwitches {
-        self.switches
+    /// Whether the pass was made to classify only the mask (see [`Self::new`]).
+    pub(crate) fn mask_early_out(&self) -> bool {
+        self.mask_early_out
     }
 
-    /// Uploads the frame's tap count and spacings.
-    pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &PcfUniform) {
-        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
-    }
-
-    /// Distance (R), mask (G), blur sigmas in pixels (B, A).
+    /// Distance (R) and mask (G).
     pub fn distance_map(&self) -> &wgpu::TextureView {
         &self.distance.1
     }
@@ -190,16 +150,7 @@ impl DistanceMapPass {
         &self.distance.0
     }
 
-    /// The raw PCF visibility.
-    pub fn visibility(&self) -> &wgpu::TextureView {
-        &self.visibility.1
-    }
-
-    pub fn visibility_texture(&self) -> &wgpu::Texture {
-        &self.visibility.0
-    }
-
-    /// Where the blur has work (depth 1), for its depth test.
+    /// Where a shadow can fall (depth 1), for the later passes' depth test.
     pub fn classification(&self) -> &wgpu::TextureView {
         &self.classification.1
     }
@@ -208,20 +159,17 @@ impl DistanceMapPass {
         let Some(group) = &self.bind_group else {
             return;
         };
-        let target = |view| {
-            Some(wgpu::RenderPassColorAttachment {
-                view,
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("DistanceMapPass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.distance.1,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
                     store: wgpu::StoreOp::Store,
                 },
-            })
-        };
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("DistanceMapPass"),
-            color_attachments: &[target(&self.visibility.1), target(&self.distance.1)],
+            })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &self.classification.1,
                 depth_ops: Some(wgpu::Operations {
@@ -248,7 +196,7 @@ mod tests {
     fn half_floats_hold_distances_from_1e_minus_4_to_1e4() {
         assert_eq!(
             super::DistanceMapPass::DISTANCE_FORMAT,
-            wgpu::TextureFormat::Rgba16Float
+            wgpu::TextureFormat::Rg16Float
         );
         let mut worst: f32 = 0.0;
         for i in 0..=800 {

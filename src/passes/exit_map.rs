@@ -10,7 +10,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::shadow_map::{begin_depth_pass, depth_state, light_depth_target};
+use super::shadow_map::{begin_depth_pass, depth_state, light_depth_target, support_map_resolution};
 use super::{CasterPipelines, SecondStream, entry};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
@@ -70,7 +70,12 @@ impl ExitMapPass {
             wgpu::PrimitiveState::default(),
             depth_state(settings),
         );
-        let (texture, view) = light_depth_target(device, settings, "ExitMapPass::exit_map");
+        let (texture, view) = light_depth_target(
+            device,
+            settings,
+            support_map_resolution(settings),
+            "ExitMapPass::exit_map",
+        );
         Self {
             texture,
             view,

@@ -13,7 +13,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::shadow_map::{depth_pass_descriptor, depth_state, light_depth_target};
+use super::shadow_map::{depth_pass_descriptor, depth_state, light_depth_target, support_map_resolution};
 use super::{CasterPipelines, SecondStream, entry};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
@@ -81,7 +81,12 @@ impl FattenedShadowMapPass {
             wgpu::PrimitiveState::default(),
             depth_state(settings),
         );
-        let (texture, view) = light_depth_target(device, settings, "FattenedShadowMapPass::fattened_map");
+        let (texture, view) = light_depth_target(
+            device,
+            settings,
+            support_map_resolution(settings),
+            "FattenedShadowMapPass::fattened_map",
+        );
         let offset = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("FattenedShadowMapPass::occluder_offset"),
             format: Self::OFFSET_FORMAT,

@@ -6,7 +6,8 @@
 //! | [`FattenedShadowMapPass`] | `shaders/fattened_shadow_map.wgsl` | casters, smoothed normals, light view | fattened depth map |
 //! | [`ExitMapPass`] | `shaders/exit_map.wgsl` | casters, smoothed normals, light view | depth of the casters' back faces (where rays leave the first occluder) |
 //! | [`DepthPrepass`] | `shaders/depth_prepass.wgsl` | all instances, camera | camera depth, receiver mask (the convenience renderer's; an engine has its own) |
-//! | [`DistanceMapPass`] | `shaders/distance_map.wgsl` | camera depth, receiver mask, fattened map and occluder offset, shadow map | the method's PCF visibility (R16F), distance + mask + blur sigmas (RGBA16F), where the blur runs (depth), full screen |
+//! | [`DistanceMapPass`] | `shaders/distance_map.wgsl` | camera depth, receiver mask, fattened map and occluder offset, exit map | distance + mask (RG16F) and where a shadow can fall (depth), full screen |
+//! | [`VariablePcfPass`] | `shaders/variable_pcf.wgsl` | camera depth, distance map and its classification, shadow map | visibility (R16F) and the blur's standard deviations (RG16F), where a shadow can fall |
 //! | [`PcfPass`] | `shaders/pcf.wgsl` | camera depth, shadow map | fixed-spacing visibility (R16F): the baseline and hard shadows |
 //! | [`PcssPass`] | `shaders/pcss.wgsl` | camera depth, shadow map | visibility (R16F) |
 //! | [`BlurPass`] | `shaders/blur.wgsl` | visibility, distance map, camera depth | blurred visibility (R16F), or the light's output layer with the indirect attenuation applied |
@@ -31,6 +32,7 @@ mod pcss;
 mod reference;
 mod resolve;
 mod shadow_map;
+mod variable_pcf;
 
 pub use blur::BlurPass;
 #[cfg(test)]
@@ -50,6 +52,7 @@ pub use pcss::PcssPass;
 pub use reference::ReferencePass;
 pub use resolve::ResolvePass;
 pub use shadow_map::ShadowMapPass;
+pub use variable_pcf::VariablePcfPass;
 
 /// Vertex buffer layout of one tightly packed attribute stream.
 pub(crate) const fn stream(location: u32, format: wgpu::VertexFormat) -> [wgpu::VertexAttribute; 1] {
@@ -226,9 +229,9 @@ impl Fullscreen<'_> {
     }
 }
 
-/// The screen-space classification the distance-map pass writes as depth: 1 where the blur
-/// has work, 0 elsewhere. The blur tests its full-screen triangle (depth 0) with `Less`
-/// against it, so the rasterizer skips every other pixel before its shader runs.
+/// The screen-space classification the distance-map pass writes as depth: 1 where a shadow can
+/// fall, 0 elsewhere. The variable PCF and the blur test their full-screen triangle (depth 0)
+/// with `Less` against it, so the rasterizer skips every other pixel before their shaders run.
 pub(crate) const CLASSIFICATION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth16Unorm;
 
 /// Draws the fullscreen triangle of `pipeline` with `bind_groups` into `target` (cleared to

@@ -86,7 +86,8 @@ impl ShadowMapPass {
             primitive,
             depth_state(settings),
         );
-        let (texture, view) = light_depth_target(device, settings, "ShadowMapPass::shadow_map");
+        let (texture, view) =
+            light_depth_target(device, settings, settings.resolution, "ShadowMapPass::shadow_map");
         Self {
             texture,
             view,
@@ -136,6 +137,13 @@ impl ShadowMapPass {
     }
 }
 
+/// The side of the fattened and exit maps: half the shadow map's. They bound where a penumbra
+/// can fall and give distances, both smooth; a quarter of the texels to rasterize. The fatten
+/// distance's margin covers their coarser silhouette.
+pub(crate) fn support_map_resolution(settings: &ShadowMapSettings) -> u32 {
+    (settings.resolution / 2).max(1)
+}
+
 /// Depth state of the passes that render from the light: write, less-equal, the configured bias.
 pub(super) fn depth_state(settings: &ShadowMapSettings) -> wgpu::DepthStencilState {
     wgpu::DepthStencilState {
@@ -151,17 +159,19 @@ pub(super) fn depth_state(settings: &ShadowMapSettings) -> wgpu::DepthStencilSta
     }
 }
 
-/// A square depth texture of the shadow map's resolution and format, readable by shaders.
+/// A square depth texture of the shadow map's format, `resolution` texels a side, readable by
+/// shaders.
 pub(super) fn light_depth_target(
     device: &wgpu::Device,
     settings: &ShadowMapSettings,
+    resolution: u32,
     label: &str,
 ) -> (wgpu::Texture, wgpu::TextureView) {
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
-            width: settings.resolution,
-            height: settings.resolution,
+            width: resolution,
+            height: resolution,
             depth_or_array_layers: 1,
         },
         mip_level_count: 1,

@@ -1,0 +1,93 @@
+// Variable-spacing PCF pass (the distance-map method): N x N comparison taps on the real shadow
+// map whose spacing grows with the pixel's distance to its occluder: base + distance x spread
+// texels (manual), or, in physical mode, a share of the penumbra's variance. It runs only where
+// the distance map says a shadow can fall (a depth test against the distance map's
+// classification; elsewhere the visibility keeps its clear value, 1).
+//
+// Physical mode: the visibility of a disk light's edge has standard deviation
+// sigma = sigma_per_width x w, w the true penumbra width. PCF makes a share of that variance
+// with N x N taps s apart (variance s^2 (N^2 - 1) / 12, plus the comparison sampler's bilinear
+// texel, texel^2 / 6; s at least the base spacing); the blur makes what is left, which this
+// pass writes, projected from the plane across the light onto the receiver and into pixels
+// along screen x and y. First, five probe taps (the centre and the corners of a square reaching
+// a little over half the penumbra's width to each side) find wholly lit and wholly shadowed
+// pixels, which need no more taps and no blur.
+
+// Compile-time switch (pipeline override constant).
+override ROTATE_TAPS: bool = true;
+
+@group(0) @binding(1) var camera_depth: texture_2d<f32>;
+@group(0) @binding(2) var distance_map: texture_2d<f32>;
+@group(0) @binding(3) var shadow_map: texture_depth_2d;
+@group(0) @binding(4) var shadow_sampler: sampler_comparison;
+@group(0) @binding(5) var<uniform> pcf: Pcf;
+
+struct Out {
+    @location(0) visibility: vec4<f32>,
+    // xy: the blur's standard deviation in pixels along screen x and y (physical mode)
+    @location(1) blur_sigma: vec4<f32>,
+}
+
+// World units one pixel step along `delta` (a world offset on the receiver) spans across the
+// light's rays.
+fn across_light(delta: vec3<f32>, ray: vec3<f32>) -> f32 {
+    return length(delta - ray * dot(delta, ray));
+}
+
+fn unblurred(visibility: f32) -> Out {
+    var out: Out;
+    out.visibility = vec4<f32>(visibility);
+    out.blur_sigma = vec4<f32>(0.0);
+    return out;
+}
+
+@fragment
+fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
+    let pixel = vec2<i32>(frag.xy);
+    let depth = textureLoad(camera_depth, pixel, 0).x;
+    let d = textureLoad(distance_map, pixel, 0).x;
+    let world = world_position(frag.xy, depth);
+    let r = receiver(pixel, depth, frame.penumbra.normal_offset);
+    if r.p.z > 1.0 {
+        return unblurred(1.0);
+    }
+    let side = i32(pcf.taps_per_side);
+    let map_world = shadow_map_world_size(world).x;
+    let texel_world = map_world / frame.light.resolution;
+    var spacing_world = (pcf.base_spacing + d * pcf.spread) * texel_world;
+    var blur_sigma = 0.0;
+    if frame.penumbra.physical != 0u {
+        let width = penumbra_width(d, world);
+        // Probes: past the Gaussian's reach (2.2 standard deviations) on every side.
+        let reach = (0.6 * width + texel_world) / map_world;
+        let center = textureSampleCompareLevel(shadow_map, shadow_sampler, r.p.xy, r.p.z);
+        var same = center == 0.0 || center == 1.0;
+        for (var k = 0; k < 4 && same; k++) {
+            let offset = vec2<f32>(select(-reach, reach, (k & 1) == 1), select(-reach, reach, (k & 2) == 2));
+            let probe = textureSampleCompareLevel(shadow_map, shadow_sampler, r.p.xy + offset, r.p.z + dot(r.slope, offset));
+            same = probe == center;
+        }
+        if same {
+            return unblurred(center);
+        }
+        let sigma = frame.penumbra.sigma_per_width * width;
+        let variance = sigma * sigma;
+        let taps_variance = f32(side * side - 1) / 12.0;
+        spacing_world = 0.0;
+        if side > 1 {
+            spacing_world = max(
+                sqrt(frame.penumbra.pcf_share * variance / taps_variance),
+                pcf.base_spacing * texel_world,
+            );
+        }
+        let pcf_variance = spacing_world * spacing_world * taps_variance + texel_world * texel_world / 6.0;
+        blur_sigma = sqrt(max(variance - pcf_variance, 0.0));
+    }
+    let angle = select(0.0, pixel_noise(frag.xy) * 6.2831853, ROTATE_TAPS);
+    var out: Out;
+    out.visibility = vec4<f32>(pcf_taps(r.p, r.slope, spacing_world / map_world, side, angle));
+    let ray = light_ray(world);
+    let sigma_px = blur_sigma / max(vec2<f32>(across_light(r.dx, ray), across_light(r.dy, ray)), vec2<f32>(1e-6));
+    out.blur_sigma = vec4<f32>(sigma_px, 0.0, 0.0);
+    return out;
+}

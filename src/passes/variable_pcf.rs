@@ -1,0 +1,183 @@
+//! Variable-spacing PCF pass (the distance-map method's PCF): screen-space visibility from N x N
+//! comparison taps whose spacing grows with the pixel's distance to its occluder.
+//!
+//! Input: the frame uniform, the camera depth, the distance map and its classification, the
+//! shadow map. Outputs, screen-sized: the visibility (R16F, 1 lit, 0 shadowed; 1 where the
+//! classification says no shadow falls, since the pass never runs there) and, in physical
+//! mode, the standard deviation the blur must add, in pixels along screen x and y (RG16F).
+//! The tap code is shared with the fixed-spacing [`super::PcfPass`]
+//! (`shaders/common/pcf_taps.wgsl`); the fast mode runs this pass with one tap.
+
+use super::pcf::comparison_sampler;
+use super::{CLASSIFICATION_FORMAT, Fullscreen, VISIBILITY_FORMAT, entries, entry, screen_target};
+use crate::frame::{PcfSwitches, PcfUniform};
+
+pub struct VariablePcfPass {
+    switches: PcfSwitches,
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+    params: wgpu::Buffer,
+    sampler: wgpu::Sampler,
+    visibility: (wgpu::Texture, wgpu::TextureView),
+    blur_sigma: (wgpu::Texture, wgpu::TextureView),
+    bind_group: Option<wgpu::BindGroup>,
+}
+
+impl VariablePcfPass {
+    /// Format of the blur's standard deviations.
+    pub const SIGMA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
+
+    /// The pass for `switches` (compile-time: other switches need a new pass).
+    pub(crate) fn new(device: &wgpu::Device, frame_size: usize, switches: PcfSwitches) -> Self {
+        let shader = crate::shaders::module(device, "variable_pcf.wgsl", crate::shaders::VARIABLE_PCF);
+        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("VariablePcfPass::layout"),
+            entries: &[
+                entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
+                entry::texture_2d(1, unfilterable),
+                entry::texture_2d(2, unfilterable),
+                entry::texture_2d(3, wgpu::TextureSampleType::Depth),
+                entry::sampler(4, wgpu::SamplerBindingType::Comparison),
+                entry::uniform(5, wgpu::ShaderStages::FRAGMENT, size_of::<PcfUniform>(), false),
+            ],
+        });
+        let pipeline = Fullscreen {
+            label: "VariablePcfPass::pipeline",
+            shader: &shader,
+            bind_group_layouts: &[Some(&layout)],
+            targets: &[Some(VISIBILITY_FORMAT.into()), Some(Self::SIGMA_FORMAT.into())],
+            depth: Some(classified_test()),
+            constants: &[("ROTATE_TAPS", if switches.rotate_taps { 1.0 } else { 0.0 })],
+        }
+        .pipeline(device);
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("VariablePcfPass::params"),
+            size: size_of::<PcfUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            switches,
+            layout,
+            pipeline,
+            params,
+            sampler: comparison_sampler(device, "VariablePcfPass::comparison_sampler"),
+            visibility: screen_target(device, "VariablePcfPass::visibility", 1, 1, VISIBILITY_FORMAT),
+            blur_sigma: screen_target(device, "VariablePcfPass::blur_sigma", 1, 1, Self::SIGMA_FORMAT),
+            bind_group: None,
+        }
+    }
+
+    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.visibility = screen_target(
+            device,
+            "VariablePcfPass::visibility",
+            width,
+            height,
+            VISIBILITY_FORMAT,
+        );
+        self.blur_sigma = screen_target(
+            device,
+            "VariablePcfPass::blur_sigma",
+            width,
+            height,
+            Self::SIGMA_FORMAT,
+        );
+        self.bind_group = None;
+    }
+
+    pub fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        frame: &wgpu::Buffer,
+        camera_depth: &wgpu::TextureView,
+        distance_map: &wgpu::TextureView,
+        shadow_map: &wgpu::TextureView,
+    ) {
+        self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("VariablePcfPass::bind_group"),
+            layout: &self.layout,
+            entries: &entries(&[
+                frame.as_entire_binding(),
+                wgpu::BindingResource::TextureView(camera_depth),
+                wgpu::BindingResource::TextureView(distance_map),
+                wgpu::BindingResource::TextureView(shadow_map),
+                wgpu::BindingResource::Sampler(&self.sampler),
+                self.params.as_entire_binding(),
+            ]),
+        }));
+    }
+
+    /// The switches the pipeline was made with.
+    pub(crate) fn switches(&self) -> PcfSwitches {
+        self.switches
+    }
+
+    /// Uploads the frame's tap count and spacings.
+    pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &PcfUniform) {
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
+    }
+
+    /// The raw PCF visibility.
+    pub fn visibility(&self) -> &wgpu::TextureView {
+        &self.visibility.1
+    }
+
+    pub fn visibility_texture(&self) -> &wgpu::Texture {
+        &self.visibility.0
+    }
+
+    /// The blur's standard deviations in pixels (R along x, G along y).
+    pub fn blur_sigma(&self) -> &wgpu::TextureView {
+        &self.blur_sigma.1
+    }
+
+    /// Records the pass where `classification` (the distance map's) says a shadow can fall.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, classification: &wgpu::TextureView) {
+        let Some(group) = &self.bind_group else {
+            return;
+        };
+        let target = |view, clear| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(clear),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("VariablePcfPass"),
+            color_attachments: &[
+                target(&self.visibility.1, wgpu::Color::WHITE),
+                target(&self.blur_sigma.1, wgpu::Color::TRANSPARENT),
+            ],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: classification,
+                depth_ops: None,
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
+
+/// The depth test of the passes that run only where the distance map's classification says a
+/// shadow can fall: their full-screen triangle lies at depth 0 and passes where 1 was written.
+pub(crate) fn classified_test() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: CLASSIFICATION_FORMAT,
+        depth_write_enabled: Some(false),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}
