@@ -9,12 +9,11 @@
 // with N x N taps s apart (variance s^2 (N^2 - 1) / 12, plus the comparison sampler's bilinear
 // texel, texel^2 / 6; s at least the base spacing); the blur makes what is left, which this
 // pass writes, projected from the plane across the light onto the receiver and into pixels
-// along screen x and y. First, five probe taps (the centre and the corners of a square reaching
-// a little over half the penumbra's width to each side) find wholly lit and wholly shadowed
-// pixels, which need no more taps and no blur.
+// along screen x and y.
 
 // Compile-time switch (pipeline override constant).
 override ROTATE_TAPS: bool = true;
+const UMBRA_REACH: f32 = 1.5;
 
 @group(0) @binding(1) var camera_depth: texture_2d<f32>;
 @group(0) @binding(2) var distance_map: texture_2d<f32>;
@@ -58,18 +57,6 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     var blur_sigma = 0.0;
     if frame.penumbra.physical != 0u {
         let width = penumbra_width(d, world);
-        // Probes: past the Gaussian's reach (2.2 standard deviations) on every side.
-        let reach = (0.6 * width + texel_world) / map_world;
-        let center = textureSampleCompareLevel(shadow_map, shadow_sampler, r.p.xy, r.p.z);
-        var same = center == 0.0 || center == 1.0;
-        for (var k = 0; k < 4 && same; k++) {
-            let offset = vec2<f32>(select(-reach, reach, (k & 1) == 1), select(-reach, reach, (k & 2) == 2));
-            let probe = textureSampleCompareLevel(shadow_map, shadow_sampler, r.p.xy + offset, r.p.z + dot(r.slope, offset));
-            same = probe == center;
-        }
-        if same {
-            return unblurred(center);
-        }
         let sigma = frame.penumbra.sigma_per_width * width;
         let variance = sigma * sigma;
         let taps_variance = f32(side * side - 1) / 12.0;
