@@ -13,7 +13,6 @@
 
 // Compile-time switch (pipeline override constant).
 override ROTATE_TAPS: bool = true;
-const UMBRA_REACH: f32 = 1.5;
 
 @group(0) @binding(1) var camera_depth: texture_2d<f32>;
 @group(0) @binding(2) var distance_map: texture_2d<f32>;

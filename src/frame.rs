@@ -232,7 +232,7 @@ pub(crate) fn is_point_light(light: &Light) -> bool {
 }
 
 /// Derives the fatten distance: half the widest penumbra the scene allows (the deepest
-/// receiver behind the nearest occluder along the light), plus two texels of the fattened map
+/// receiver behind the casters' nearest point along the light), plus two texels of the fattened map
 /// (four of the shadow map: the fattened map has half its resolution). For a
 /// spot light the nearest occluder is the casters' box's nearest point (at least the map's near
 /// plane): the width `2 R d / D` grows without bound as `D` shrinks.
@@ -247,7 +247,20 @@ pub(crate) fn derive_spreads(
     let depth_range = (light_view.far - light_view.near).max(0.0);
     let texel = light_view.extent.max_element() / resolution as f32;
     let (per_distance, widest) = match light {
-        Light::Directional(_) => (size, size * depth_range),
+        Light::Directional(_) => {
+            // The deepest receiver lies at most `far`, the nearest caster no nearer than the
+            // casters' box.
+            let mut range = depth_range;
+            if !caster_bounds.is_empty() {
+                let nearest_caster = caster_bounds
+                    .corners()
+                    .iter()
+                    .map(|c| -light_view.view.transform_point3(*c).z)
+                    .fold(f32::INFINITY, f32::min);
+                range = range.min((light_view.far - nearest_caster).max(0.0));
+            }
+            (size, size * range)
+        }
         Light::Spot(spot) => {
             let mut nearest = light_view.near.max(1e-6);
             if !caster_bounds.is_empty() {
