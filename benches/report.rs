@@ -286,18 +286,50 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
             }
         }
     }
-    // Light-size sweep: does the cost stay flat as the light grows?
+    // Light-size sweep: does the cost stay flat as the light grows? Each size is timed twice,
+    // in the order small to large and back (a slow drift of the machine cancels), each time
+    // the median of at least 9 frames.
     let teapot = penumbra::load_scene(&assets.join("teapot.ron"))?;
     let camera = teapot.view(0)?;
     let size = *config.sizes.last().expect("a size");
-    for &degrees in &config.light_sizes {
+    let sweep_config = Config {
+        frames: config.frames.max(9),
+        warmup: config.warmup.max(2),
+        ..config.clone()
+    };
+    let order: Vec<f32> = config
+        .light_sizes
+        .iter()
+        .chain(config.light_sizes.iter().rev())
+        .copied()
+        .collect();
+    let mut sums: BTreeMap<(u32, &'static str), (f64, BTreeMap<String, f64>, Option<f32>, u32)> =
+        BTreeMap::new();
+    for &degrees in &order {
         let mut scene = teapot.clone();
         if let Light::Directional(l) = &mut scene.light {
             l.angular_diameter_deg = degrees;
         }
         for method in [ShadowMethod::Ours, ShadowMethod::Pcss] {
             let settings = ShadowSettings::preset(method, Quality::Medium);
-            let t = time_frames(&gpu, &scene, &camera, settings, size, config)?;
+            let t = time_frames(&gpu, &scene, &camera, settings, size, &sweep_config)?;
+            let e = sums.entry((degrees.to_bits(), method.name())).or_insert((
+                0.0,
+                BTreeMap::new(),
+                t.mask_saved_share,
+                0,
+            ));
+            e.0 += t.frame_ms;
+            for (pass, ms) in t.pass_ms {
+                *e.1.entry(pass).or_insert(0.0) += ms;
+            }
+            e.3 += 1;
+        }
+    }
+    for &degrees in &config.light_sizes {
+        for method in [ShadowMethod::Ours, ShadowMethod::Pcss] {
+            let (total, passes, mask_saved_share, n) = &sums[&(degrees.to_bits(), method.name())];
+            let n = *n as f64;
             runs.push(Run {
                 scene: "teapot".into(),
                 view: 0,
@@ -306,10 +338,10 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
                 method: method.name().into(),
                 preset: "medium".into(),
                 light_size_deg: Some(degrees),
-                frame_ms: t.frame_ms,
-                fps: 1e3 / t.frame_ms,
-                pass_ms: t.pass_ms,
-                mask_saved_share: t.mask_saved_share,
+                frame_ms: total / n,
+                fps: n * 1e3 / total,
+                pass_ms: passes.iter().map(|(k, v)| (k.clone(), v / n)).collect(),
+                mask_saved_share: *mask_saved_share,
                 rmse: None,
                 penumbra_rmse: None,
                 max_error: None,
@@ -691,7 +723,7 @@ fn write_report(config: &Config, device: &str, runs: &[Run], embedding: &Embeddi
     // Light-size sweep.
     writeln!(
         md,
-        "\n## Cost against light size (teapot, view 0, {}x{}, medium)\n",
+        "\n## Cost against light size (teapot, view 0, {}x{}, medium; each size timed twice, small to large and back, median of at least 9 frames each)\n",
         largest.0, largest.1
     )?;
     writeln!(md, "| light (degrees) | ours ms | pcss ms |\n|---|---|---|")?;

@@ -11,7 +11,7 @@ pub enum DebugView {
     ShadowMap,
     /// The fattened map's depth, gray.
     FattenedMap,
-    /// Distance to the fattened occluder in false color (blue near, red far; outside the mask dark gray).
+    /// Distance to the occluder in false color (blue near, red far; outside the mask dark gray).
     Distance,
     /// The mask: white where a shadow can fall.
     Mask,
@@ -209,11 +209,11 @@ pub fn mask_savings(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Rende
             format!("`{}` has no mask to measure", renderer.settings().method.name()),
         )
     })?;
-    let (values, _) = read_texture_f32(device, queue, distance)?;
+    let (values, channels) = read_texture_f32(device, queue, distance)?;
     let mut receiver_pixels = 0;
     let mut skipped_pixels = 0;
     // Mask: 1 inside, 0 outside, -1 on non-receivers, -2 where nothing is drawn.
-    for mask in values.chunks_exact(2).map(|px| px[1]) {
+    for mask in values.chunks_exact(channels.max(2) as usize).map(|px| px[1]) {
         if mask > -0.5 {
             receiver_pixels += 1;
             if mask < 0.5 {

@@ -137,7 +137,7 @@ pub enum DebugTexture {
     FattenedMap,
     /// Camera depth.
     CameraDepth,
-    /// RG16F: R = distance to the fattened occluder (world units), G = mask.
+    /// RG16F: R = distance to the occluder (world units), G = mask.
     DistanceMap,
     /// Raw PCF or PCSS visibility (R16F).
     Visibility,
