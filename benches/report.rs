@@ -303,8 +303,10 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
         .chain(config.light_sizes.iter().rev())
         .copied()
         .collect();
-    let mut sums: BTreeMap<(u32, &'static str), (f64, BTreeMap<String, f64>, Option<f32>, u32)> =
-        BTreeMap::new();
+    // Per light size (its bits) and method: summed frame and pass times, the mask's savings,
+    // and how many timings were summed.
+    type Sums = (f64, BTreeMap<String, f64>, Option<f32>, u32);
+    let mut sums: BTreeMap<(u32, &'static str), Sums> = BTreeMap::new();
     for &degrees in &order {
         let mut scene = teapot.clone();
         if let Light::Directional(l) = &mut scene.light {
