@@ -91,6 +91,16 @@ impl LightView {
         })
     }
 
+    /// Where the light comes from, for shaders: xyz the light's position and w 1 (perspective),
+    /// or xyz the direction its light travels and w 0 (orthographic).
+    pub fn source(&self) -> glam::Vec4 {
+        let to_world = self.view.inverse();
+        match self.kind {
+            ProjectionKind::Perspective => to_world.transform_point3(Vec3::ZERO).extend(1.0),
+            ProjectionKind::Orthographic => to_world.transform_vector3(Vec3::NEG_Z).extend(0.0),
+        }
+    }
+
     /// Fits the light as `inputs` say (see the module documentation).
     pub fn fit_with(inputs: &FitInputs) -> LightView {
         let empty_to_unit = |b: &Aabb| {

@@ -542,18 +542,7 @@ impl Renderer {
         }
         let (light_view, spreads) = match self.shadows.planned(self.light).filter(|_| plan.shadow_map) {
             Some(planned) => planned,
-            None => {
-                let light = *scene.light();
-                let loose = LightView::fit(&light, &scene.shadow_bounds());
-                let spreads = crate::shadows::spreads(
-                    &self.settings,
-                    &light,
-                    &loose,
-                    &scene.shadow_bounds(),
-                    &scene.caster_bounds(),
-                );
-                (loose, spreads)
-            }
+            None => self.loose_fit(scene),
         };
         self.write_frame_uniform(queue, scene, camera, &light_view, spreads);
 
@@ -705,16 +694,8 @@ impl Renderer {
         if self.size.0 == 0 || self.size.1 == 0 {
             return Ok(false);
         }
-        let light = *scene.light();
         let matrices = CameraMatrices::from_camera(camera, self.size.0 as f32 / self.size.1 as f32);
-        let loose = LightView::fit(&light, &scene.shadow_bounds());
-        let spreads = crate::shadows::spreads(
-            &self.settings,
-            &light,
-            &loose,
-            &scene.shadow_bounds(),
-            &scene.caster_bounds(),
-        );
+        let (loose, spreads) = self.loose_fit(scene);
         self.write_frame_uniform(queue, scene, &matrices, &loose, spreads);
         let (Some(prepass), Some(reference)) = (&self.prepass, &mut self.reference) else {
             return Ok(false);
@@ -758,6 +739,21 @@ impl Renderer {
     }
 
     /// Writes the uniform the prepass, composite and reference read.
+    /// The light fitted to the scene's bounds alone and the spreads it gives: for the frames
+    /// `Shadows` did not plan (the forward path and the reference).
+    fn loose_fit(&self, scene: &GpuScene) -> (LightView, DerivedSpreads) {
+        let light = *scene.light();
+        let loose = LightView::fit(&light, &scene.shadow_bounds());
+        let spreads = crate::shadows::spreads(
+            &self.settings,
+            &light,
+            &loose,
+            &scene.shadow_bounds(),
+            &scene.caster_bounds(),
+        );
+        (loose, spreads)
+    }
+
     fn write_frame_uniform(
         &self,
         queue: &wgpu::Queue,

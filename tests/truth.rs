@@ -288,6 +288,25 @@ struct Measured {
     outer: f32,
 }
 
+/// Summed signed error (method - reference) and pixel counts where the reference is in
+/// (0.02, 0.5] (the inner half of the penumbra) and in (0.5, 0.98) (the outer half).
+fn signed_error_halves(reference: &VisibilityImage, image: &VisibilityImage) -> [f64; 4] {
+    let mut sums = [0.0f64; 4];
+    for (r, t) in reference.visibility.iter().zip(&image.visibility) {
+        let (Some(r), Some(t)) = (r, t) else { continue };
+        let half = if *r > 0.02 && *r <= 0.5 {
+            0
+        } else if *r > 0.5 && *r < 0.98 {
+            2
+        } else {
+            continue;
+        };
+        sums[half] += (t - r) as f64;
+        sums[half + 1] += 1.0;
+    }
+    sums
+}
+
 fn settings(method: ShadowMethod) -> ShadowSettings {
     ShadowSettings::preset(method, penumbra::Quality::Medium)
 }
@@ -312,20 +331,6 @@ fn measure(
         })
         .collect();
     let mut sums = vec![[0.0f64; 4]; methods.len()];
-    let mut accumulate = |reference: &VisibilityImage, index: usize, image: &VisibilityImage| {
-        for (r, t) in reference.visibility.iter().zip(&image.visibility) {
-            let (Some(r), Some(t)) = (r, t) else { continue };
-            let half = if *r > 0.02 && *r <= 0.5 {
-                0
-            } else if *r > 0.5 && *r < 0.98 {
-                2
-            } else {
-                continue;
-            };
-            sums[index][half] += (t - r) as f64;
-            sums[index][half + 1] += 1.0;
-        }
-    };
     let save = std::env::var_os("PENUMBRA_SAVE_RENDERS").is_some();
     let mut views: Vec<(Camera, Option<&Edge>)> = vec![];
     let all_edges = edges(lamp);
@@ -378,30 +383,20 @@ fn measure(
                 dump(&image, method.name());
                 dump(&reference, "reference");
             }
+            let halves = signed_error_halves(&reference, &image);
             if std::env::var_os("PENUMBRA_TRUTH_PROFILES").is_some() {
-                let mut one = [0.0f64; 4];
-                for (r, t) in reference.visibility.iter().zip(&image.visibility) {
-                    let (Some(r), Some(t)) = (r, t) else { continue };
-                    let half = if *r > 0.02 && *r <= 0.5 {
-                        0
-                    } else if *r > 0.5 && *r < 0.98 {
-                        2
-                    } else {
-                        continue;
-                    };
-                    one[half] += (t - r) as f64;
-                    one[half + 1] += 1.0;
-                }
                 eprintln!(
                     "{} view {view}: inner {:+.4} ({} px) outer {:+.4} ({} px)",
                     method.name(),
-                    one[0] / one[1].max(1.0),
-                    one[1],
-                    one[2] / one[3].max(1.0),
-                    one[3]
+                    halves[0] / halves[1].max(1.0),
+                    halves[1],
+                    halves[2] / halves[3].max(1.0),
+                    halves[3]
                 );
             }
-            accumulate(&reference, index, &image);
+            for (sum, h) in sums[index].iter_mut().zip(halves) {
+                *sum += h;
+            }
             if let (Some(edge), Some(ref_width)) = (edge, ref_width) {
                 let prof = profile(&image, camera, lamp.shadow_of(edge.occluder), edge);
                 if std::env::var_os("PENUMBRA_TRUTH_PROFILES").is_some() {

@@ -21,7 +21,7 @@
 //! RG16F was chosen by a precision test (this module's tests): distances from 1e-4 to 1e4 come
 //! back with a relative error below 1e-3, far below what a blur or kernel width can show.
 
-use super::{CLASSIFICATION_FORMAT, Fullscreen, entries, entry, screen_target};
+use super::{CLASSIFICATION_FORMAT, Fullscreen, cleared, entries, entry, screen_target};
 
 pub struct DistanceMapPass {
     mask_early_out: bool,
@@ -161,15 +161,7 @@ impl DistanceMapPass {
         };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("DistanceMapPass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &self.distance.1,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
+            color_attachments: &[cleared(&self.distance.1, wgpu::Color::TRANSPARENT)],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &self.classification.1,
                 depth_ops: Some(wgpu::Operations {

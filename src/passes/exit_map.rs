@@ -11,10 +11,10 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::shadow_map::{begin_depth_pass, depth_state, light_depth_target, support_map_resolution};
-use super::{CasterPipelines, SecondStream, entry};
+use super::{CasterPipelines, SecondStream, uniform_group};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
-use crate::light_space::{LightView, ProjectionKind};
+use crate::light_space::LightView;
 use crate::settings::ShadowMapSettings;
 
 #[repr(C)]
@@ -35,29 +35,12 @@ pub struct ExitMapPass {
 impl ExitMapPass {
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, settings: &ShadowMapSettings) -> Self {
         let shader = crate::shaders::module(device, "exit_map.wgsl", crate::shaders::EXIT_MAP);
-        let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("ExitMapPass::layout"),
-            entries: &[entry::uniform(
-                0,
-                wgpu::ShaderStages::VERTEX_FRAGMENT,
-                size_of::<ExitLightUniform>(),
-                false,
-            )],
-        });
-        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("ExitMapPass::uniform"),
-            size: size_of::<ExitLightUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("ExitMapPass::bind_group"),
-            layout: &bind_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniform.as_entire_binding(),
-            }],
-        });
+        let (bind_layout, uniform, bind_group) = uniform_group(
+            device,
+            "ExitMapPass::uniform",
+            wgpu::ShaderStages::VERTEX_FRAGMENT,
+            size_of::<ExitLightUniform>(),
+        );
         let pipelines = CasterPipelines::new(
             device,
             "ExitMapPass::pipeline",
@@ -104,11 +87,7 @@ impl ExitMapPass {
     ) {
         self.pipelines
             .prepare(device, &casters.draw_layouts(Streams::Fattened));
-        let to_world = light.view.inverse();
-        let position = match light.kind {
-            ProjectionKind::Perspective => to_world.transform_point3(glam::Vec3::ZERO).extend(1.0),
-            ProjectionKind::Orthographic => to_world.transform_vector3(glam::Vec3::NEG_Z).extend(0.0),
-        };
+        let position = light.source();
         let uniform = ExitLightUniform {
             view_proj: light.view_projection.to_cols_array_2d(),
             light: position.to_array(),

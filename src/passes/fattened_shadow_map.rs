@@ -14,10 +14,10 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::shadow_map::{depth_pass_descriptor, depth_state, light_depth_target, support_map_resolution};
-use super::{CasterPipelines, SecondStream, entry};
+use super::{CasterPipelines, SecondStream, cleared, uniform_group};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
-use crate::light_space::{LightView, ProjectionKind};
+use crate::light_space::LightView;
 use crate::settings::ShadowMapSettings;
 
 #[repr(C)]
@@ -46,29 +46,12 @@ impl FattenedShadowMapPass {
             "fattened_shadow_map.wgsl",
             crate::shaders::FATTENED_SHADOW_MAP,
         );
-        let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("FattenedShadowMapPass::layout"),
-            entries: &[entry::uniform(
-                0,
-                wgpu::ShaderStages::VERTEX_FRAGMENT,
-                size_of::<FattenUniform>(),
-                false,
-            )],
-        });
-        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("FattenedShadowMapPass::uniform"),
-            size: size_of::<FattenUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("FattenedShadowMapPass::bind_group"),
-            layout: &bind_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniform.as_entire_binding(),
-            }],
-        });
+        let (bind_layout, uniform, bind_group) = uniform_group(
+            device,
+            "FattenedShadowMapPass::uniform",
+            wgpu::ShaderStages::VERTEX_FRAGMENT,
+            size_of::<FattenUniform>(),
+        );
         let pipelines = CasterPipelines::new(
             device,
             "FattenedShadowMapPass::pipeline",
@@ -142,11 +125,7 @@ impl FattenedShadowMapPass {
     ) {
         self.pipelines
             .prepare(device, &casters.draw_layouts(Streams::Fattened));
-        let to_world = light.view.inverse();
-        let light_position = match light.kind {
-            ProjectionKind::Perspective => to_world.transform_point3(glam::Vec3::ZERO).extend(1.0),
-            ProjectionKind::Orthographic => to_world.transform_vector3(glam::Vec3::NEG_Z).extend(0.0),
-        };
+        let light_position = light.source();
         let uniform = FattenUniform {
             view_proj: light.view_projection.to_cols_array_2d(),
             view: light.view.to_cols_array_2d(),
@@ -160,15 +139,7 @@ impl FattenedShadowMapPass {
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("FattenedShadowMapPass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &self.occluder_offset.1,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
+            color_attachments: &[cleared(&self.occluder_offset.1, wgpu::Color::TRANSPARENT)],
             ..depth_pass_descriptor(&self.view)
         });
         pass.set_bind_group(0, &self.bind_group, &[]);

@@ -257,15 +257,7 @@ pub(crate) fn draw_fullscreen_tested(
 ) {
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: target,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
-                store: wgpu::StoreOp::Store,
-            },
-        })],
+        color_attachments: &[cleared(target, wgpu::Color::WHITE)],
         depth_stencil_attachment: classification.map(|view| wgpu::RenderPassDepthStencilAttachment {
             view,
             depth_ops: None,
@@ -280,6 +272,48 @@ pub(crate) fn draw_fullscreen_tested(
         pass.set_bind_group(i as u32, *group, &[]);
     }
     pass.draw(0..3, 0..1);
+}
+
+/// A uniform buffer of `size` bytes alone in a bind group (binding 0), for the light-space
+/// passes' per-light data: its layout, the buffer and the bind group.
+pub(crate) fn uniform_group(
+    device: &wgpu::Device,
+    label: &str,
+    visibility: wgpu::ShaderStages,
+    size: usize,
+) -> (wgpu::BindGroupLayout, wgpu::Buffer, wgpu::BindGroup) {
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &[entry::uniform(0, visibility, size, false)],
+    });
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout: &layout,
+        entries: &entries(&[buffer.as_entire_binding()]),
+    });
+    (layout, buffer, group)
+}
+
+/// A color attachment cleared to `clear` and stored.
+pub(crate) fn cleared(
+    view: &wgpu::TextureView,
+    clear: wgpu::Color,
+) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Clear(clear),
+            store: wgpu::StoreOp::Store,
+        },
+    })
 }
 
 /// Bind group entries for a list of resources, numbered from 0.

@@ -8,7 +8,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{CasterPipelines, SecondStream, entry};
+use super::{CasterPipelines, SecondStream, uniform_group};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
 use crate::light_space::LightView;
@@ -33,29 +33,12 @@ impl ShadowMapPass {
     /// Creates the pipelines and the shadow map texture. `settings` must have been validated.
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, settings: &ShadowMapSettings) -> Self {
         let shader = crate::shaders::module(device, "shadow_map.wgsl", crate::shaders::SHADOW_MAP);
-        let light_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("ShadowMapPass::light_layout"),
-            entries: &[entry::uniform(
-                0,
-                wgpu::ShaderStages::VERTEX,
-                size_of::<LightUniform>(),
-                false,
-            )],
-        });
-        let light_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("ShadowMapPass::light"),
-            size: size_of::<LightUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let light_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("ShadowMapPass::light"),
-            layout: &light_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: light_buffer.as_entire_binding(),
-            }],
-        });
+        let (light_layout, light_buffer, light_bind_group) = uniform_group(
+            device,
+            "ShadowMapPass::light",
+            wgpu::ShaderStages::VERTEX,
+            size_of::<LightUniform>(),
+        );
         let primitive = wgpu::PrimitiveState {
             cull_mode: settings.cull_mode.face(),
             ..Default::default()

@@ -9,7 +9,7 @@
 //! (`shaders/common/pcf_taps.wgsl`); the fast mode runs this pass with one tap.
 
 use super::pcf::comparison_sampler;
-use super::{CLASSIFICATION_FORMAT, Fullscreen, VISIBILITY_FORMAT, entries, entry, screen_target};
+use super::{CLASSIFICATION_FORMAT, Fullscreen, VISIBILITY_FORMAT, cleared, entries, entry, screen_target};
 use crate::frame::{PcfSwitches, PcfUniform};
 
 pub struct VariablePcfPass {
@@ -138,22 +138,11 @@ impl VariablePcfPass {
         let Some(group) = &self.bind_group else {
             return;
         };
-        let target = |view, clear| {
-            Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(clear),
-                    store: wgpu::StoreOp::Store,
-                },
-            })
-        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("VariablePcfPass"),
             color_attachments: &[
-                target(&self.visibility.1, wgpu::Color::WHITE),
-                target(&self.blur_sigma.1, wgpu::Color::TRANSPARENT),
+                cleared(&self.visibility.1, wgpu::Color::WHITE),
+                cleared(&self.blur_sigma.1, wgpu::Color::TRANSPARENT),
             ],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: classification,
