@@ -6,7 +6,7 @@
 //
 // Physical mode: the visibility of a disk light's edge has standard deviation
 // sigma = sigma_per_width x w, w the true penumbra width. PCF makes a share of that variance
-// with N x N taps s apart (variance s^2 (N^2 - 1) / 12, plus the comparison sampler's bilinear
+// with N x N taps s apart (N adapted to the width: as few as keep the taps a texel apart) (variance s^2 (N^2 - 1) / 12, plus the comparison sampler's bilinear
 // texel, texel^2 / 6; s at least the base spacing); the blur makes what is left, which this
 // pass writes, projected from the plane across the light onto the receiver and into pixels
 // along screen x and y.
@@ -49,7 +49,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     if r.p.z > 1.0 {
         return unblurred(1.0);
     }
-    let side = i32(pcf.taps_per_side);
+    var side = i32(pcf.taps_per_side);
     let map_world = shadow_map_world_size(world).x;
     let texel_world = map_world / frame.light.resolution;
     var spacing_world = (pcf.base_spacing + d * pcf.spread) * texel_world;
@@ -58,8 +58,15 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
         let width = penumbra_width(d, world);
         let sigma = frame.penumbra.sigma_per_width * width;
         let variance = sigma * sigma;
-        let taps_variance = f32(side * side - 1) / 12.0;
         spacing_world = 0.0;
+        if side > 1 {
+            // As few taps per side as keep them at least a texel apart (the comparison
+            // sampler's bilinear filter covers what lies between), at least two: a narrow
+            // penumbra near contact takes 2 x 2 taps, a wide one the setting's N x N.
+            let texels_variance = frame.penumbra.pcf_share * variance / (texel_world * texel_world);
+            side = clamp(i32(floor(sqrt(1.0 + 12.0 * texels_variance))), 2, side);
+        }
+        let taps_variance = f32(side * side - 1) / 12.0;
         if side > 1 {
             spacing_world = max(
                 sqrt(frame.penumbra.pcf_share * variance / taps_variance),
