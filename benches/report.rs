@@ -255,7 +255,11 @@ fn time_frames(
 /// when the benchmark runs as a copied executable (on another machine, say).
 fn assets_dir() -> PathBuf {
     let built = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
-    if built.is_dir() { built } else { PathBuf::from("assets/scenes") }
+    if built.is_dir() {
+        built
+    } else {
+        PathBuf::from("assets/scenes")
+    }
 }
 
 /// Runs the benchmark and writes the report. Returns every run.
@@ -542,7 +546,13 @@ fn verdict(met: bool) -> &'static str {
     if met { "**met**" } else { "**missed**" }
 }
 
-fn write_report(config: &Config, device: &str, on_gpu: bool, runs: &[Run], embedding: &Embedding) -> Result<()> {
+fn write_report(
+    config: &Config,
+    device: &str,
+    on_gpu: bool,
+    runs: &[Run],
+    embedding: &Embedding,
+) -> Result<()> {
     use std::fmt::Write;
     let mut md = String::new();
     let preset = "medium";

@@ -155,20 +155,33 @@ impl LightView {
             }
             Light::Spot(spot) => {
                 let view = glam::camera::rh::view::look_to_mat4(spot.position, direction, up);
-                let fov = (spot.cone_angle_deg * 2.0 + 2.0).clamp(1.0, 178.0).to_radians();
-                let t = (fov * 0.5).tan();
-                // Inside when |x| <= t * depth and |y| <= t * depth, depth = -z.
+                let cone = (spot.cone_angle_deg + 1.0).clamp(0.5, 89.0).to_radians().tan();
+                // The window on the plane one unit in front of the light (tangents of the angle
+                // off the axis): the cone's square, or the part of it the camera sees.
+                let (center, half) = spot_window(inputs, &view, cone);
+                let (lo, hi) = (center - Vec2::splat(half), center + Vec2::splat(half));
+                // Inside when lo <= x / depth <= hi (and the same for y), depth = -z.
                 let planes = [
-                    Vec4::new(1.0, 0.0, -t, 0.0),
-                    Vec4::new(-1.0, 0.0, -t, 0.0),
-                    Vec4::new(0.0, 1.0, -t, 0.0),
-                    Vec4::new(0.0, -1.0, -t, 0.0),
+                    Vec4::new(1.0, 0.0, lo.x, 0.0),
+                    Vec4::new(-1.0, 0.0, -hi.x, 0.0),
+                    Vec4::new(0.0, 1.0, lo.y, 0.0),
+                    Vec4::new(0.0, -1.0, -hi.y, 0.0),
                 ];
                 let (min_depth, max_depth) = clipped_depth_range(&view, &bounds, inputs.parts, &planes);
                 let margin = inputs.margin.max(0.0);
                 let far = (max_depth * 1.01 + margin).max(1e-3);
                 let near = (min_depth * 0.99 - margin).max(far * 1e-3);
-                let projection = glam::camera::rh::proj::directx::perspective(fov, 1.0, near, far);
+                // A 90-degree projection, then the window scaled and moved to fill clip space:
+                // x' = (x - center.x w) / half (and y), an off-centre frustum.
+                let square =
+                    glam::camera::rh::proj::directx::perspective(std::f32::consts::FRAC_PI_2, 1.0, near, far);
+                let to_window = Mat4::from_cols(
+                    Vec4::new(1.0 / half, 0.0, 0.0, 0.0),
+                    Vec4::new(0.0, 1.0 / half, 0.0, 0.0),
+                    Vec4::Z,
+                    Vec4::new(-center.x / half, -center.y / half, 0.0, 1.0),
+                );
+                let projection = to_window * square;
                 LightView {
                     view,
                     projection,
@@ -176,11 +189,72 @@ impl LightView {
                     kind: ProjectionKind::Perspective,
                     near,
                     far,
-                    extent: Vec2::splat(2.0 * near * t),
+                    extent: Vec2::splat(2.0 * near * half),
                 }
             }
         }
     }
+}
+
+/// The window of a spot light's map on the plane one unit in front of it (its centre and half
+/// side, in tangents of the angle off the axis): the square around the cone (`cone`, the
+/// tangent of its half angle plus a degree), or with [`LightFit::CameraFrustum`] the part of
+/// it where the camera sees the scene. A spot's shadow lies at its caster's own window
+/// position (both on one ray from the light), so that part holds every shadow the camera
+/// sees, widened by `margin` for penumbrae and filter taps. With snapping the half side is
+/// rounded up to steps of 2^(1/8) and the centre moves in whole texels, so a static shadow
+/// samples the same rays while the camera moves.
+fn spot_window(inputs: &FitInputs, view: &Mat4, cone: f32) -> (Vec2, f32) {
+    let whole = (Vec2::ZERO, cone);
+    let (LightFit::CameraFrustum { max_distance }, Some(camera)) = (inputs.fit, inputs.camera) else {
+        return whole;
+    };
+    let scene = if inputs.casters_and_receivers.is_empty() {
+        return whole;
+    } else {
+        inputs.casters_and_receivers
+    };
+    let eye = camera.eye();
+    let fallback = scene
+        .corners()
+        .iter()
+        .map(|c| c.distance(eye))
+        .fold(1e-3, f32::max);
+    let seen = Aabb::from_points(camera.frustum_corners(max_distance, fallback).iter());
+    let region = seen.intersection(&scene);
+    if region.is_empty() {
+        return whole;
+    }
+    let corners = region.corners().map(|c| view.transform_point3(c));
+    let nearest = corners.iter().map(|c| -c.z).fold(f32::INFINITY, f32::min);
+    // Part of the region beside or behind the light: its window is unbounded.
+    if nearest.is_nan() || nearest <= 1e-4 * scene.radius().max(1e-6) {
+        return whole;
+    }
+    let pad = inputs.margin.max(0.0) / nearest;
+    let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
+    for c in &corners {
+        let t = c.truncate() / -c.z;
+        lo = lo.min(t);
+        hi = hi.max(t);
+    }
+    let (lo, hi) = (
+        (lo - pad).max(Vec2::splat(-cone)),
+        (hi + pad).min(Vec2::splat(cone)),
+    );
+    if !lo.cmplt(hi).all() {
+        return whole;
+    }
+    let mut center = (lo + hi) * 0.5;
+    let mut half = (hi - lo).max_element() * 0.5;
+    if inputs.snap_to_texels {
+        // Two spare texels cover the at most one-texel shift of snapping on either side.
+        let texels = inputs.resolution.max(4) as f32;
+        half = round_up_to_step(half) * texels / (texels - 2.0);
+        let texel = 2.0 * half / texels;
+        center = (center / texel).round() * texel;
+    }
+    if half >= cone { whole } else { (center, half) }
 }
 
 /// The orthographic window (light-space x, y) of a directional light.
@@ -512,6 +586,98 @@ mod tests {
             moved_unsnapped > 20,
             "without snapping the grid moved off-texel only {moved_unsnapped} times"
         );
+    }
+
+    /// A wide spot high above the big floor, and the window corner's ray (light view space,
+    /// on the plane one unit in front) of a fit.
+    fn wide_spot() -> Light {
+        Light::Spot(SpotLight {
+            position: Vec3::new(0.0, 30.0, 0.0),
+            direction: Vec3::NEG_Y,
+            cone_angle_deg: 60.0,
+            radius: 0.2,
+            color: Vec3::ONE,
+            intensity: 1.0,
+        })
+    }
+
+    fn window_corner(lv: &LightView) -> Vec2 {
+        let corner = lv
+            .view_projection
+            .inverse()
+            .project_point3(Vec3::new(-1.0, 1.0, 0.5));
+        let v = lv.view.transform_point3(corner);
+        v.truncate() / -v.z
+    }
+
+    #[test]
+    fn spot_camera_fit_covers_what_the_camera_sees_with_fewer_texels() {
+        let light = wide_spot();
+        let whole = LightView::fit(&light, &big_floor().1);
+        for x in [0.0, 20.0] {
+            let camera = close_camera(x);
+            for snap in [false, true] {
+                let lv = LightView::fit_with(&camera_inputs(&light, &camera, snap));
+                assert_eq!(lv.kind, ProjectionKind::Perspective);
+                // The same light, a window a fraction of the cone's.
+                assert_eq!(lv.source(), whole.source());
+                let ratio = lv.extent.x / lv.near / (whole.extent.x / whole.near);
+                assert!(
+                    ratio < 0.5,
+                    "camera x {x}, snap {snap}: window {ratio} of the cone's"
+                );
+                // Every floor point the camera sees within 20 units is inside the map.
+                for i in 0..=8 {
+                    for j in 0..=8 {
+                        let ndc = Vec2::new(i as f32 / 4.0 - 1.0, j as f32 / 4.0 - 1.0);
+                        let to_world = CameraMatrices::from_camera(&camera, 1.5)
+                            .view_projection()
+                            .inverse();
+                        let far = to_world.project_point3(ndc.extend(1.0));
+                        let ray = (far - camera.eye).normalize();
+                        if ray.y < -1e-3 {
+                            let p = camera.eye + ray * (-camera.eye.y / ray.y);
+                            if p.distance(camera.eye) <= 20.0 {
+                                assert!(inside(&lv.view_projection, p), "x {x} snap {snap}: {p} outside");
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        // A camera that sees nothing of the scene keeps the whole cone.
+        let mut away = Camera::look_at(Vec3::new(0.0, 6.0, 80.0), Vec3::new(0.0, 6.0, 200.0));
+        away.far = 50.0;
+        let lv = LightView::fit_with(&camera_inputs(&light, &away, true));
+        assert!(
+            (lv.extent.x / lv.near - whole.extent.x / whole.near).abs() < 1e-4,
+            "{} vs {}",
+            lv.extent.x / lv.near,
+            whole.extent.x / whole.near
+        );
+    }
+
+    #[test]
+    fn spot_snapping_keeps_the_ray_grid_while_the_camera_moves() {
+        let light = wide_spot();
+        let base = LightView::fit_with(&camera_inputs(&light, &close_camera(0.0), true));
+        let texel = base.extent.x / base.near / 1024.0;
+        let mut moved = 0;
+        for step in 1..40 {
+            let x = step as f32 * 0.0137;
+            let lv = LightView::fit_with(&camera_inputs(&light, &close_camera(x), true));
+            assert_eq!(lv.view, base.view);
+            // The same texel size, on the plane one unit in front.
+            assert!(((lv.extent.x / lv.near) / (base.extent.x / base.near) - 1.0).abs() < 1e-4);
+            // The window moved by whole texels of rays.
+            let shift = (window_corner(&lv) - window_corner(&base)) / texel;
+            assert!(
+                (shift - shift.round()).abs().max_element() < 0.02,
+                "camera x {x}: shift {shift} texels"
+            );
+            moved += (shift.abs().max_element() > 0.5) as u32;
+        }
+        assert!(moved > 0, "the window never followed the camera");
     }
 
     #[test]

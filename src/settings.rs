@@ -324,19 +324,21 @@ fn default_true() -> bool {
     true
 }
 
-/// Where a directional light's shadow map is placed. (A spot light's map always covers its
-/// cone; only its near and far planes are fitted.)
+/// Where a light's shadow map is placed: a directional light's orthographic window, a spot
+/// light's window inside its cone (an off-centre perspective projection).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum LightFit {
-    /// Around every caster's shadow in the scene, wherever the camera looks. The map does not
-    /// move with the camera, so its texels are wasted on what the camera does not see.
+    /// Around every caster's shadow in the scene (a spot light: its whole cone), wherever the
+    /// camera looks. The map does not move with the camera, so its texels are wasted on what
+    /// the camera does not see.
     Scene,
     /// Around what the camera sees: the light-space bounds of the camera frustum up to
     /// `max_distance` world units from the eye (0: up to the camera's far plane), clipped to
-    /// where casters can throw shadows. Sharper than [`LightFit::Scene`] when the camera is
-    /// close to a large scene; the map follows the camera (see
-    /// [`ShadowMapSettings::snap_to_texels`]).
+    /// where casters can throw shadows (a spot light: the part of its cone in which the
+    /// camera sees the scene's bounds). Sharper than [`LightFit::Scene`] when the camera is
+    /// close to a large scene or sees a small part of a wide cone; the map follows the camera
+    /// (see [`ShadowMapSettings::snap_to_texels`]).
     CameraFrustum {
         /// World units, >= 0 and finite; 0 means the camera's far plane.
         max_distance: f32,
@@ -378,9 +380,9 @@ pub struct ShadowMapSettings {
     /// no depth precision is spent outside them.
     #[cfg_attr(feature = "serde", serde(default))]
     pub fit: LightFit,
-    /// Keep the directional light's texel size fixed while the camera moves and move its map
-    /// in whole texels, so shadow edges do not shimmer. Costs up to a few percent of the
-    /// resolution. Default true.
+    /// Keep the light's texel size fixed while the camera moves (it changes in steps of
+    /// 2^(1/8) when the camera's view grows or shrinks) and move its map in whole texels, so
+    /// shadow edges do not shimmer. Costs up to a few percent of the resolution. Default true.
     #[cfg_attr(feature = "serde", serde(default = "default_true"))]
     pub snap_to_texels: bool,
 }

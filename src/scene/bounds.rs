@@ -53,6 +53,14 @@ impl Aabb {
         }
     }
 
+    /// The part inside both boxes; empty ([`Aabb::is_empty`]) where they do not overlap.
+    pub fn intersection(&self, other: &Aabb) -> Aabb {
+        Aabb {
+            min: self.min.max(other.min),
+            max: self.max.min(other.max),
+        }
+    }
+
     /// The smallest box containing both.
     pub fn union(&self, other: &Aabb) -> Aabb {
         Aabb {
