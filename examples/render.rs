@@ -33,7 +33,7 @@ struct Args {
     /// Quality preset: low, medium, high or ultra.
     #[arg(long, default_value = "medium")]
     quality: String,
-    /// Light size: angular diameter in degrees (directional) or radius in world units (spot).
+    /// The key light's size: angular diameter in degrees (directional) or radius in world units (spot).
     /// Defaults to the scene's.
     #[arg(long)]
     light_size: Option<f32>,

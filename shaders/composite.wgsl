@@ -1,9 +1,37 @@
-// Composite pass of the convenience renderer: the lit scene from the camera. Direct light
-// (Lambert, spot cone) times the screen-space visibility (resolved: the indirect-light
-// attenuation is already in it), on top of the base color (texture x factor), plus ambient.
-// Depth is tested against the prepass (equal geometry, `@invariant` positions).
+// Composite pass of the convenience renderer: the lit scene from the camera. Each light's
+// direct light (Lambert, spot cone) times its screen-space visibility (its layer of the
+// visibility array, resolved: the indirect-light attenuation is already in it), summed, on top
+// of the base color (texture x factor), plus ambient. Depth is tested against the prepass
+// (equal geometry, `@invariant` positions).
 
-@group(0) @binding(1) var visibility: texture_2d<f32>;
+// One light as the composite shades it (mirrors `ShadedLight` in src/passes/composite.rs).
+struct ShadedLight {
+    // the direction the light travels
+    direction: vec3<f32>,
+    // 0 directional, 1 spot
+    spot: u32,
+    position: vec3<f32>,
+    cos_outer: f32,
+    // color x intensity
+    radiance: vec3<f32>,
+    cos_inner: f32,
+    // its layer of the visibility array
+    layer: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+struct ShadedLights {
+    count: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+    lights: array<ShadedLight, 8>,
+}
+
+@group(0) @binding(1) var visibility: texture_2d_array<f32>;
+@group(0) @binding(2) var<uniform> shaded: ShadedLights;
 @group(1) @binding(0) var<uniform> instance: Instance;
 @group(2) @binding(0) var<uniform> material: Material;
 @group(2) @binding(1) var base_color_texture: texture_2d<f32>;
@@ -38,18 +66,22 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     if material.alpha.x >= 0.0 && base.a < material.alpha.x {
         discard;
     }
-    var to_light = -frame.light.direction;
-    var cone = 1.0;
-    if frame.light.spot != 0u {
-        to_light = normalize(frame.light.position - in.world);
-        cone = smoothstep(frame.light.cos_outer, frame.light.cos_inner, dot(-to_light, frame.light.direction));
-    }
-    let n_dot_l = max(dot(n, to_light), 0.0);
     let pixel = vec2<i32>(in.clip.xy);
-    var v = 1.0;
-    if instance.flags.x > 0.5 {
-        v = textureLoad(visibility, pixel, 0).x;
+    var light = frame.ambient.rgb;
+    for (var k = 0u; k < min(shaded.count, 8u); k++) {
+        let l = shaded.lights[k];
+        var to_light = -l.direction;
+        var cone = 1.0;
+        if l.spot != 0u {
+            to_light = normalize(l.position - in.world);
+            cone = smoothstep(l.cos_outer, l.cos_inner, dot(-to_light, l.direction));
+        }
+        let n_dot_l = max(dot(n, to_light), 0.0);
+        var v = 1.0;
+        if instance.flags.x > 0.5 {
+            v = textureLoad(visibility, pixel, l.layer, 0).x;
+        }
+        light += l.radiance * (n_dot_l * cone * v);
     }
-    let light = frame.light.radiance * (n_dot_l * cone * v) + frame.ambient.rgb;
     return vec4<f32>(base.rgb * light, 1.0);
 }

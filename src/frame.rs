@@ -305,13 +305,8 @@ impl FrameUniform {
     pub fn new(f: &FrameInputs) -> Self {
         let view_proj = f.camera.view_projection();
         let light = f.light;
-        let (spot, position, cos_outer, cos_inner) = match light {
-            Light::Directional(_) => (0, Vec3::ZERO, -1.0, -1.0),
-            Light::Spot(spot) => {
-                let outer = spot.cone_angle_deg.to_radians();
-                (1, spot.position, outer.cos(), (outer * 0.85).cos())
-            }
-        };
+        let spot = matches!(light, Light::Spot(_)) as u32;
+        let (position, cos_outer, cos_inner) = light.cone();
         let lv = f.light_view;
         let perspective = lv.kind == ProjectionKind::Perspective;
         let tan_half_fov = if perspective {
@@ -389,6 +384,57 @@ pub(crate) fn gaussian_weights(taps: u32) -> [[f32; 4]; 4] {
     w
 }
 
+/// One light as the convenience renderer's composite shades it (mirrors `ShadedLight` in
+/// composite.wgsl).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, Pod, Zeroable)]
+pub(crate) struct ShadedLight {
+    pub direction: [f32; 3],
+    pub spot: u32,
+    pub position: [f32; 3],
+    pub cos_outer: f32,
+    pub radiance: [f32; 3],
+    pub cos_inner: f32,
+    /// Its layer of the visibility array.
+    pub layer: u32,
+    pub _pad: [u32; 3],
+}
+
+/// Every light the composite shades (mirrors `ShadedLights` in composite.wgsl).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub(crate) struct ShadedLights {
+    pub count: u32,
+    pub _pad: [u32; 3],
+    pub lights: [ShadedLight; crate::MAX_LIGHTS],
+}
+
+impl ShadedLights {
+    /// The lights, each with its visibility layer; past [`crate::MAX_LIGHTS`] they are not
+    /// shaded (the callers check the count).
+    pub fn new(lights: &[(Light, u32)]) -> Self {
+        let mut shaded = ShadedLights {
+            count: lights.len().min(crate::MAX_LIGHTS) as u32,
+            _pad: [0; 3],
+            lights: [ShadedLight::default(); crate::MAX_LIGHTS],
+        };
+        for (slot, (light, layer)) in shaded.lights.iter_mut().zip(lights) {
+            let (position, cos_outer, cos_inner) = light.cone();
+            *slot = ShadedLight {
+                direction: light.direction().to_array(),
+                spot: matches!(light, Light::Spot(_)) as u32,
+                position: position.to_array(),
+                cos_outer,
+                radiance: light.radiance().to_array(),
+                cos_inner,
+                layer: *layer,
+                _pad: [0; 3],
+            };
+        }
+        shaded
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -460,6 +506,27 @@ mod tests {
                     ("normal_offset", offset_of!(PenumbraUniform, normal_offset)),
                 ],
                 size_of::<PenumbraUniform>(),
+            ),
+            (
+                "ShadedLight",
+                vec![
+                    ("direction", offset_of!(ShadedLight, direction)),
+                    ("spot", offset_of!(ShadedLight, spot)),
+                    ("position", offset_of!(ShadedLight, position)),
+                    ("cos_outer", offset_of!(ShadedLight, cos_outer)),
+                    ("radiance", offset_of!(ShadedLight, radiance)),
+                    ("cos_inner", offset_of!(ShadedLight, cos_inner)),
+                    ("layer", offset_of!(ShadedLight, layer)),
+                ],
+                size_of::<ShadedLight>(),
+            ),
+            (
+                "ShadedLights",
+                vec![
+                    ("count", offset_of!(ShadedLights, count)),
+                    ("lights", offset_of!(ShadedLights, lights)),
+                ],
+                size_of::<ShadedLights>(),
             ),
             (
                 "Pcf",

@@ -41,6 +41,8 @@ pub struct GpuScene {
     /// registry an engine fills through [`crate::Casters`].
     casters: crate::casters::Casters,
     light: Light,
+    /// The scene's further lights.
+    more_lights: Vec<Light>,
     ambient: Vec3,
     bounds: Aabb,
     triangle_count: usize,
@@ -240,6 +242,7 @@ impl GpuScene {
             instances,
             casters,
             light: scene.light,
+            more_lights: scene.more_lights.clone(),
             ambient: scene.ambient,
             bounds: scene.bounds(),
             triangle_count: scene
@@ -259,6 +262,24 @@ impl GpuScene {
         light.validate()?;
         if light != self.light {
             self.light = light;
+            self.light_revision += 1;
+        }
+        Ok(())
+    }
+
+    /// The further lights beside the key light ([`GpuScene::light`]).
+    pub fn more_lights(&self) -> &[Light] {
+        &self.more_lights
+    }
+
+    /// Replaces the further lights (each validated; at most [`crate::MAX_LIGHTS`] lights in all).
+    pub fn set_more_lights(&mut self, lights: Vec<Light>) -> Result<()> {
+        crate::scene::check_light_count(1 + lights.len())?;
+        for light in &lights {
+            light.validate()?;
+        }
+        if lights != self.more_lights {
+            self.more_lights = lights;
             self.light_revision += 1;
         }
         Ok(())

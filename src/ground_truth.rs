@@ -73,9 +73,14 @@ impl GroundTruth {
         self.key = None;
     }
 
-    /// The mean visibility so far (R32F).
-    pub fn visibility(&self) -> &wgpu::TextureView {
-        self.pass.visibility()
+    /// The mean so far as a one-layer 2D-array view (how the composite binds visibility).
+    pub fn visibility_array(&self) -> wgpu::TextureView {
+        self.visibility_texture()
+            .create_view(&wgpu::TextureViewDescriptor {
+                label: Some("GroundTruth::visibility_array"),
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            })
     }
 
     pub fn visibility_texture(&self) -> &wgpu::Texture {

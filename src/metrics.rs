@@ -78,8 +78,21 @@ fn render_linear(
     Ok(values.chunks_exact(4).map(|px| px[1]).collect())
 }
 
+/// `scene` with its key light alone.
+fn key_light_alone(scene: &Scene) -> std::borrow::Cow<'_, Scene> {
+    if scene.more_lights.is_empty() {
+        std::borrow::Cow::Borrowed(scene)
+    } else {
+        std::borrow::Cow::Owned(Scene {
+            more_lights: Vec::new(),
+            ..scene.clone()
+        })
+    }
+}
+
 /// Measures the visibility `settings.method` gives `scene` from `camera` (three renders; see
-/// the module docs). `size` must be non-zero.
+/// the module docs). `size` must be non-zero. In a scene of several lights it is the key
+/// light's ([`Scene::light`]): the others are left out of the three renders.
 pub fn measure_visibility(
     gpu: &HeadlessGpu,
     scene: &Scene,
@@ -88,6 +101,7 @@ pub fn measure_visibility(
     size: (u32, u32),
 ) -> Result<VisibilityImage> {
     check_size(size)?;
+    let scene = &*key_light_alone(scene);
     let shaded = render_linear((&gpu.device, &gpu.queue), scene, camera, settings, size)?;
     let (unshadowed, ambient) =
         unshadowed_and_ambient((&gpu.device, &gpu.queue), scene, camera, settings, size)?;
@@ -120,6 +134,7 @@ pub fn direct_light_mask(
     size: (u32, u32),
 ) -> Result<Vec<bool>> {
     check_size(size)?;
+    let scene = &*key_light_alone(scene);
     let (unshadowed, ambient) = unshadowed_and_ambient((device, queue), scene, camera, settings, size)?;
     Ok(unshadowed
         .iter()

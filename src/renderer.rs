@@ -1,10 +1,12 @@
 //! The convenience renderer: a whole lit frame of a [`GpuScene`], built on the embedding API.
 //!
 //! It does what an engine would: a depth prepass of its own (with a receiver mask), then
-//! [`Shadows`] for the scene's light on that depth, then a lit composite that multiplies the
-//! light by the resolved visibility. Hard shadows and hardware 2x2 PCF shade in one forward pass
-//! with the light's shadow map instead, and the ground truth accumulates one hard shadow map
-//! per light sample ([`Renderer::render_reference`]).
+//! [`Shadows`] for the scene's lights on that depth (the key light and
+//! [`crate::Scene::more_lights`], up to [`crate::MAX_LIGHTS`]), then a lit composite that adds
+//! each light times its resolved visibility. With one light, hard shadows and hardware 2x2 PCF
+//! shade in one forward pass with the light's shadow map instead, and the ground truth
+//! accumulates one hard shadow map per light sample ([`Renderer::render_reference`]; one light
+//! only).
 
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform};
@@ -48,6 +50,26 @@ pub struct PassPlan {
 }
 
 impl PassPlan {
+    /// The passes of a frame with `count` lights, `light` the key light: as [`PassPlan::new`],
+    /// except that several lights are never shaded in the one-light forward pass: hard shadows
+    /// then run each light's screen-space chain (one PCF tap) and the composite shades them all.
+    pub fn for_lights(settings: &ShadowSettings, light: &Light, count: usize) -> Self {
+        let plan = Self::new(settings, light);
+        if count <= 1 || !plan.forward {
+            return plan;
+        }
+        let chain = Chain::new(settings, light);
+        PassPlan {
+            method: plan.method,
+            depth_prepass: true,
+            shadow_map: true,
+            pcf: chain.pcf,
+            resolve: chain.resolve,
+            composite: true,
+            ..Default::default()
+        }
+    }
+
     /// The passes `settings.method` needs under `light`: the method's [`Chain`] plus the
     /// renderer's own prepass and composite, or the forward pass.
     pub fn new(settings: &ShadowSettings, light: &Light) -> Self {
@@ -157,7 +179,7 @@ impl DebugTexture {
     ];
 }
 
-/// Owns a [`Shadows`] for the scene's light and the passes around it. Made once per output
+/// Owns a [`Shadows`] for the scene's lights and the passes around it. Made once per output
 /// format; [`Renderer::resize`] when the output size changes, [`Renderer::set_settings`] when
 /// settings change. Passes are allocated on the first frame that needs them and dropped when
 /// the method no longer does.
@@ -169,7 +191,10 @@ pub struct Renderer {
     /// The camera's frame uniform (prepass, composite, reference).
     frame_buffer: wgpu::Buffer,
     shadows: Shadows,
+    /// The key light's id in `shadows`.
     light: LightId,
+    /// The ids of the scene's further lights, in the scene's order.
+    more: Vec<LightId>,
     prepass: Option<DepthPrepass>,
     composite: Option<CompositePass>,
     /// The visibility texture the composite is bound to.
@@ -224,6 +249,7 @@ impl Renderer {
             frame_buffer,
             shadows,
             light,
+            more: Vec::new(),
             prepass: None,
             composite: None,
             composite_source: None,
@@ -333,7 +359,7 @@ impl Renderer {
         self.last_report.as_ref()
     }
 
-    /// The [`Shadows`] this renderer drives (one light, on its own prepass depth).
+    /// The [`Shadows`] this renderer drives (the scene's lights, on its own prepass depth).
     pub fn shadows(&self) -> &Shadows {
         &self.shadows
     }
@@ -398,7 +424,8 @@ impl Renderer {
     /// shadow chain's passes are [`Shadows`]' to allocate.
     fn allocate(&mut self, device: &wgpu::Device) {
         let method = self.settings.method;
-        let screen = method.is_screen_space();
+        // Several lights are composited, whatever the method.
+        let screen = method.is_screen_space() || !self.more.is_empty();
         // Methods that need a light size fall back to the forward pass when it is zero.
         let forward = !screen
             || matches!(
@@ -429,6 +456,31 @@ impl Renderer {
         if !screen || method == ShadowMethod::Reference {
             self.shadows.drop_screen_passes();
         }
+    }
+
+    /// Gives `shadows` the scene's further lights (added, changed or removed to match); when
+    /// the frame changes between one light and several, the renderer's own passes follow.
+    fn sync_lights(&mut self, device: &wgpu::Device, scene: &GpuScene) -> Result<()> {
+        let lights = scene.more_lights();
+        let was_single = self.more.is_empty();
+        while self.more.len() > lights.len() {
+            if let Some(id) = self.more.pop() {
+                self.shadows.remove_light(id)?;
+            }
+        }
+        for (k, light) in lights.iter().enumerate() {
+            match self.more.get(k) {
+                Some(&id) => self.shadows.set_light(id, *light)?,
+                None => {
+                    let id = self.shadows.add_light(device, *light)?;
+                    self.more.push(id);
+                }
+            }
+        }
+        if was_single != self.more.is_empty() {
+            self.allocate_checked()?;
+        }
+        Ok(())
     }
 
     /// Errors unless `target` is a view of a texture of the renderer's size and format that
@@ -476,7 +528,8 @@ impl Renderer {
         self.check_target(target)?;
         let device = self.device.clone();
         let light = *scene.light();
-        let plan = PassPlan::new(&self.settings, &light);
+        self.sync_lights(&device, scene)?;
+        let plan = PassPlan::for_lights(&self.settings, &light, 1 + self.more.len());
         let matrices = CameraMatrices::from_camera(camera, self.size.0 as f32 / self.size.1 as f32);
         let casters = scene.casters();
         self.shadows.set_light(self.light, light)?;
@@ -561,11 +614,25 @@ impl Renderer {
         }
         let result = (maps_rendered, spreads, light_view);
         if plan.composite {
+            // The key light's visibility is layer 0 of the reference's one-layer view.
             let source = if plan.reference {
-                self.reference.as_ref().map(|r| r.visibility().clone())
+                self.reference.as_ref().map(|r| r.visibility_array())
             } else {
-                self.shadows.visibility_layer(self.light).cloned()
+                self.shadows.visibility().cloned()
             };
+            if let Some(composite) = &self.composite {
+                let mut lights = vec![(*scene.light(), self.light.layer())];
+                if !plan.reference {
+                    lights.extend(
+                        scene
+                            .more_lights()
+                            .iter()
+                            .zip(&self.more)
+                            .map(|(l, id)| (*l, id.layer())),
+                    );
+                }
+                composite.set_lights(queue, &lights);
+            }
             if let (Some(composite), Some(source)) = (&mut self.composite, source)
                 && self.composite_source.as_ref() != Some(&source)
             {
@@ -688,6 +755,15 @@ impl Renderer {
                 format!(
                     "rendering the reference needs method `reference`, not `{}`",
                     self.settings.method.name()
+                ),
+            ));
+        }
+        if !scene.more_lights().is_empty() {
+            return Err(crate::PenumbraError::input(
+                "scene lights",
+                format!(
+                    "the reference renders one light and the scene has {}: give it the key light alone",
+                    1 + scene.more_lights().len()
                 ),
             ));
         }

@@ -656,16 +656,11 @@ impl Shadows {
     /// The bind group layout entry an engine's lit shader declares for [`Shadows::visibility`]:
     /// a filterable float 2D array texture read in the fragment stage.
     pub fn visibility_layout_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-        wgpu::BindGroupLayoutEntry {
+        crate::passes::entry::texture(
             binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                view_dimension: wgpu::TextureViewDimension::D2Array,
-                multisampled: false,
-            },
-            count: None,
-        }
+            wgpu::TextureSampleType::Float { filterable: true },
+            wgpu::TextureViewDimension::D2Array,
+        )
     }
 
     pub fn visibility_texture(&self) -> Option<&wgpu::Texture> {

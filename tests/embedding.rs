@@ -563,6 +563,7 @@ fn winding_changes_neither_the_fattened_map_nor_the_shadows_nor_the_shading() {
                 receiver: true,
             }],
             warnings: Vec::new(),
+            lights: Vec::new(),
         };
         let scene = penumbra::Scene::showcase(&model).unwrap();
         let (image, renderer) = common::render_frame(

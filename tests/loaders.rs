@@ -387,3 +387,93 @@ fn obj_material_library_gives_color_and_texture() {
     std::fs::remove_file(dir.join("green.png")).unwrap();
     expect_error(&dir.join("quad.obj"), "green.png");
 }
+
+/// The unit triangle (standing in the XY plane) lit by a glTF sun and spot, both turned -60
+/// degrees about X (shining down and toward -z), and a point light.
+fn gltf_with_lights(spot: &str) -> String {
+    let turned = r#""rotation":[-0.5,0,0,0.8660254]"#;
+    gltf_json("tri.bin", 36 + 12, 3).replace(
+        r#""scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}]"#,
+        &format!(
+            r#""scenes":[{{"nodes":[0,1,2,3]}}],
+                "nodes":[{{"mesh":0}},
+                  {{"extensions":{{"KHR_lights_punctual":{{"light":0}}}},{turned}}},
+                  {{"extensions":{{"KHR_lights_punctual":{{"light":1}}}},{turned},"translation":[0,3,3]}},
+                  {{"extensions":{{"KHR_lights_punctual":{{"light":2}}}},"translation":[2,2,2]}}],
+                "extensionsUsed":["KHR_lights_punctual"],"extensionsRequired":["KHR_lights_punctual"],
+                "extensions":{{"KHR_lights_punctual":{{"lights":[
+                  {{"type":"directional","name":"sun","color":[1,0.9,0.8],"intensity":3}},
+                  {{"type":"spot","name":"lamp","intensity":300{spot}}},
+                  {{"type":"point","name":"bulb","intensity":100}}]}}}}"#
+        ),
+    )
+}
+
+#[test]
+fn gltf_lights_are_read_and_light_the_showcase() {
+    let dir = common::scratch_dir("gltf_lights");
+    std::fs::write(dir.join("tri.bin"), triangle_bytes(&[0, 1, 2])).unwrap();
+    let path = dir.join("lit.gltf");
+    std::fs::write(&path, gltf_with_lights(r#","spot":{"outerConeAngle":0.6}"#)).unwrap();
+    let model = load_model(&path).unwrap();
+    assert_eq!(model.lights.len(), 3);
+    let down = Vec3::new(0.0, -0.8660254, -0.5);
+    let sun = &model.lights[0];
+    assert_eq!(sun.kind, penumbra::scene::ModelLightKind::Directional);
+    assert!((sun.direction - down).length() < 1e-4, "{}", sun.direction);
+    assert_eq!((sun.color, sun.intensity), (Vec3::new(1.0, 0.9, 0.8), 3.0));
+    let lamp = &model.lights[1];
+    let penumbra::scene::ModelLightKind::Spot { outer_cone_deg, .. } = lamp.kind else {
+        panic!("{:?}", lamp.kind)
+    };
+    assert!((outer_cone_deg - 0.6f32.to_degrees()).abs() < 1e-3);
+    assert!((lamp.position - Vec3::new(0.0, 3.0, 3.0)).length() < 1e-5);
+    assert!((lamp.direction - down).length() < 1e-4);
+
+    // The showcase takes the file's lights: the sun is the key light, the spot the second;
+    // the point light is left out with a warning. Intensities are illuminances at the model's
+    // centre relative to the brightest: the spot's 300 cd at a distance of sqrt(15.5) gives
+    // 19.35 lux against the sun's 3.
+    let scene = penumbra::Scene::showcase(&model).unwrap();
+    let penumbra::Light::Directional(key) = scene.light else {
+        panic!("{:?}", scene.light)
+    };
+    assert!((key.direction.normalize() - down).length() < 1e-4);
+    assert_eq!(key.angular_diameter_deg, penumbra::scene::MODEL_SUN_DIAMETER_DEG);
+    assert!(
+        (key.intensity - 3.0 / (300.0 / 15.5)).abs() < 1e-3,
+        "{}",
+        key.intensity
+    );
+    assert_eq!(scene.more_lights.len(), 1);
+    let penumbra::Light::Spot(spot) = scene.more_lights[0] else {
+        panic!("{:?}", scene.more_lights[0])
+    };
+    assert!((spot.intensity - 1.0).abs() < 1e-6);
+    assert!(
+        (spot.radius - 0.02 * 15.5f32.sqrt()).abs() < 1e-4,
+        "{}",
+        spot.radius
+    );
+    assert!(
+        scene.warnings.iter().any(|w| w.contains("point light `bulb`")),
+        "{:?}",
+        scene.warnings
+    );
+
+    // Both lights reach the picture: it differs from the key light alone.
+    let gpu = common::gpu();
+    let camera = scene.view(0).unwrap();
+    let settings = penumbra::ShadowSettings::default();
+    let both = common::render(&gpu, &scene, &camera, settings, 160, 120);
+    let alone = penumbra::Scene {
+        more_lights: vec![],
+        ..scene.clone()
+    };
+    assert_ne!(both, common::render(&gpu, &alone, &camera, settings, 160, 120));
+
+    // A spot without its cone is refused with the file's name, not a panic.
+    let broken = dir.join("broken.gltf");
+    std::fs::write(&broken, gltf_with_lights("")).unwrap();
+    expect_error(&broken, "");
+}

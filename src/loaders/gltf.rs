@@ -1,6 +1,7 @@
 //! glTF 2.0 through the `gltf` crate: `.gltf` with external or embedded (data URI) buffers,
 //! `.glb`, the node hierarchy's transforms, base-color factor and texture, alpha mode MASK,
-//! and skinned meshes posed in their bind pose (the joints' rest transforms).
+//! skinned meshes posed in their bind pose (the joints' rest transforms), and the lights of
+//! `KHR_lights_punctual` (see [`crate::scene::lights_from_model`]).
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -8,7 +9,32 @@ use std::path::Path;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::error::{PenumbraError, Result};
-use crate::scene::{AlphaMode, Instance, Material, Mesh, Model, TextureImage};
+use crate::scene::{AlphaMode, Instance, Material, Mesh, Model, ModelLight, ModelLightKind, TextureImage};
+
+/// A `KHR_lights_punctual` light at its node, in the model's space: it shines along the
+/// node's -Z.
+fn convert_light(light: &gltf::khr_lights_punctual::Light, global: &Mat4) -> ModelLight {
+    use gltf::khr_lights_punctual::Kind;
+    let kind = match light.kind() {
+        Kind::Directional => ModelLightKind::Directional,
+        Kind::Point => ModelLightKind::Point,
+        Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
+        } => ModelLightKind::Spot {
+            outer_cone_deg: outer_cone_angle.to_degrees(),
+            inner_cone_deg: inner_cone_angle.to_degrees(),
+        },
+    };
+    ModelLight {
+        name: light.name().unwrap_or("").to_string(),
+        kind,
+        color: Vec3::from(light.color()),
+        intensity: light.intensity(),
+        position: global.transform_point3(Vec3::ZERO),
+        direction: global.transform_vector3(Vec3::NEG_Z),
+    }
+}
 
 pub(super) fn load(path: &Path) -> Result<Model> {
     let fail = |reason: String| PenumbraError::model(path, reason);
@@ -71,6 +97,8 @@ pub(super) fn load(path: &Path) -> Result<Model> {
     let mut mesh_cache: HashMap<(usize, usize, Option<usize>), usize> = HashMap::new();
     let mut stack: Vec<gltf::Node> = scene.nodes().collect();
     let mut visited = vec![false; document.nodes().len()];
+    // The lights with their nodes' indices: they are listed in node order.
+    let mut lights = Vec::new();
     while let Some(node) = stack.pop() {
         if std::mem::replace(&mut visited[node.index()], true) {
             return Err(fail(format!(
@@ -79,6 +107,9 @@ pub(super) fn load(path: &Path) -> Result<Model> {
             )));
         }
         stack.extend(node.children());
+        if let Some(light) = node.light() {
+            lights.push((node.index(), convert_light(&light, &globals[node.index()])));
+        }
         let Some(mesh) = node.mesh() else { continue };
         let skin = node.skin();
         for primitive in mesh.primitives() {
@@ -117,6 +148,8 @@ pub(super) fn load(path: &Path) -> Result<Model> {
             });
         }
     }
+    lights.sort_by_key(|(node, _)| *node);
+    model.lights = lights.into_iter().map(|(_, light)| light).collect();
     Ok(model)
 }
 

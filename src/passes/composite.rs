@@ -2,15 +2,19 @@
 //! direct light multiplied by a screen-space visibility (an engine does this in its own lit
 //! shader).
 //!
-//! Input: every instance, the frame uniform, the resolved visibility (indirect attenuation
-//! already applied; or the reference's mean) and the prepass's camera depth (tested, not
-//! written). Output: the lit color in the caller's target.
+//! Input: every instance, the frame uniform, the lights and the resolved visibility array (one
+//! layer per light, indirect attenuation already applied; or the reference's mean) and the
+//! prepass's camera depth (tested, not written). Output: the lit color in the caller's target.
 
 use super::{entries, entry};
 use crate::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
 
+use crate::frame::ShadedLights;
+use crate::scene::Light;
+
 pub struct CompositePass {
+    lights: wgpu::Buffer,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     bind_group: Option<wgpu::BindGroup>,
@@ -28,8 +32,20 @@ impl CompositePass {
             label: Some("CompositePass::layout"),
             entries: &[
                 entry::uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT, frame_size, false),
-                entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
+                // Not filterable: the reference's mean is R32F.
+                entry::texture(
+                    1,
+                    wgpu::TextureSampleType::Float { filterable: false },
+                    wgpu::TextureViewDimension::D2Array,
+                ),
+                entry::uniform(2, wgpu::ShaderStages::FRAGMENT, size_of::<ShadedLights>(), false),
             ],
+        });
+        let lights = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("CompositePass::lights"),
+            size: size_of::<ShadedLights>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
         });
         let pipeline = super::camera_pipeline(
             device,
@@ -42,12 +58,20 @@ impl CompositePass {
             color_format.into(),
         );
         Self {
+            lights,
             layout,
             pipeline,
             bind_group: None,
         }
     }
 
+    /// Sets the lights to shade, each with its layer of the visibility array (at most
+    /// [`crate::MAX_LIGHTS`]; the caller checked).
+    pub fn set_lights(&self, queue: &wgpu::Queue, lights: &[(Light, u32)]) {
+        queue.write_buffer(&self.lights, 0, bytemuck::bytes_of(&ShadedLights::new(lights)));
+    }
+
+    /// Binds the frame uniform and the visibility array (a 2D-array view).
     pub fn bind(&mut self, device: &wgpu::Device, frame: &wgpu::Buffer, visibility: &wgpu::TextureView) {
         self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("CompositePass::bind_group"),
@@ -55,6 +79,7 @@ impl CompositePass {
             entries: &entries(&[
                 frame.as_entire_binding(),
                 wgpu::BindingResource::TextureView(visibility),
+                self.lights.as_entire_binding(),
             ]),
         }));
     }

@@ -173,13 +173,8 @@ impl ForwardPass {
     ) {
         let light = scene.light();
         let direction = light.direction();
-        let (kind, position, cos_outer, cos_inner) = match light {
-            Light::Directional(_) => (0.0, glam::Vec3::ZERO, -1.0, -1.0),
-            Light::Spot(spot) => {
-                let outer = spot.cone_angle_deg.to_radians();
-                (1.0, spot.position, outer.cos(), (outer * 0.85).cos())
-            }
-        };
+        let kind = if matches!(light, Light::Spot(_)) { 1.0 } else { 0.0 };
+        let (position, cos_outer, cos_inner) = light.cone();
         let frame = FrameUniform {
             view_proj: camera.view_projection().to_cols_array_2d(),
             light_view_proj: light_view.view_projection.to_cols_array_2d(),

@@ -91,12 +91,21 @@ pub(crate) mod entry {
         binding: u32,
         sample_type: wgpu::TextureSampleType,
     ) -> wgpu::BindGroupLayoutEntry {
+        texture(binding, sample_type, wgpu::TextureViewDimension::D2)
+    }
+
+    /// A texture of `dimension` read in the fragment stage.
+    pub(crate) fn texture(
+        binding: u32,
+        sample_type: wgpu::TextureSampleType,
+        view_dimension: wgpu::TextureViewDimension,
+    ) -> wgpu::BindGroupLayoutEntry {
         wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::FRAGMENT,
             ty: wgpu::BindingType::Texture {
                 sample_type,
-                view_dimension: wgpu::TextureViewDimension::D2,
+                view_dimension,
                 multisampled: false,
             },
             count: None,

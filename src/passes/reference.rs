@@ -135,11 +135,7 @@ impl ReferencePass {
         self.accumulated += 1;
     }
 
-    /// The mean visibility so far.
-    pub fn visibility(&self) -> &wgpu::TextureView {
-        &self.targets[(self.accumulated % 2) as usize].1
-    }
-
+    /// The mean visibility so far (R32F).
     pub fn visibility_texture(&self) -> &wgpu::Texture {
         &self.targets[(self.accumulated % 2) as usize].0
     }

@@ -13,6 +13,7 @@
 //!         (mesh: "floor", material: Some("porcelain"), caster: false),
 //!     ],
 //!     light: Directional((direction: (-0.4, -1.0, -0.3), angular_diameter_deg: 2.0)),
+//!     // or several: lights: [Directional((...)), Spot((...))], the first the key light
 //!     views: [(name: "front", eye: (0.0, 4.0, 9.0), target: (0.0, 1.0, 0.0))],
 //! )
 //! ```
@@ -118,7 +119,12 @@ pub struct SceneFile {
     #[serde(default)]
     pub materials: Vec<MaterialEntry>,
     pub instances: Vec<InstanceEntry>,
-    pub light: Light,
+    /// The one light, or the key light when `lights` lists more.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub light: Option<Light>,
+    /// The lights (at most 8), the first the key light; use either this or `light`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lights: Vec<Light>,
     #[serde(default = "default_ambient")]
     pub ambient: Vec3,
     pub views: Vec<ViewEntry>,
@@ -143,7 +149,10 @@ fn default_ambient() -> Vec3 {
 impl SceneFile {
     /// Parses RON text. `path` is only used in error messages.
     pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
-        ron::from_str(text).map_err(|e| PenumbraError::SceneFile {
+        // `light: Directional(...)` reads as `Some(...)` without the wrapper.
+        let options =
+            ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+        options.from_str(text).map_err(|e| PenumbraError::SceneFile {
             path: path.to_path_buf(),
             reason: e.to_string(),
         })
@@ -171,12 +180,24 @@ impl SceneFile {
             path: path.to_path_buf(),
             reason,
         };
+        let (light, more_lights) = match (self.light, self.lights.split_first()) {
+            (Some(light), None) => (light, Vec::new()),
+            (None, Some((key, more))) => (*key, more.to_vec()),
+            (Some(_), Some(_)) => {
+                return Err(bad("it has both `light` and `lights`: give one of them".into()));
+            }
+            (None, None) => return Err(bad("it has no light: give `light` or `lights`".into())),
+        };
         let mut scene = Scene {
-            light: self.light,
+            light,
+            more_lights,
             ambient: self.ambient,
             ..Scene::default()
         };
-        self.light.validate().map_err(|e| bad(e.to_string()))?;
+        super::check_light_count(1 + scene.more_lights.len()).map_err(|e| bad(e.to_string()))?;
+        for (k, light) in scene.lights().enumerate() {
+            light.validate().map_err(|e| bad(format!("light {k}: {e}")))?;
+        }
 
         // Materials by name.
         let mut material_index = std::collections::HashMap::new();
@@ -234,6 +255,7 @@ impl SceneFile {
                 materials: vec![Material::default()],
                 textures: vec![],
                 warnings: vec![],
+                lights: vec![],
                 parts: vec![super::Instance {
                     mesh: 0,
                     material: 0,
@@ -273,7 +295,17 @@ impl SceneFile {
                 MeshSource::Plane { size, uv_repeat } => {
                     builtin(primitives::plane(positive("plane size", *size)?, *uv_repeat))
                 }
-                MeshSource::File { path: rel } => crate::loaders::load_model(&base_dir.join(rel))?,
+                MeshSource::File { path: rel } => {
+                    let model = crate::loaders::load_model(&base_dir.join(rel))?;
+                    if !model.lights.is_empty() {
+                        scene.warnings.push(format!(
+                            "{}: its {} light(s) are not used; a scene file lists its own lights",
+                            rel,
+                            model.lights.len()
+                        ));
+                    }
+                    model
+                }
             };
             if models.insert(entry.name.clone(), model).is_some() {
                 return Err(bad(format!("mesh `{}` is defined twice", entry.name)));
@@ -392,6 +424,50 @@ mod tests {
         assert!((scene.caster_bounds().min.y - 0.5).abs() < 1e-4);
         let again = SceneFile::parse(&file.to_ron(), Path::new("x.ron")).unwrap();
         assert_eq!(again, file);
+    }
+
+    #[test]
+    fn a_list_of_lights_gives_the_key_light_and_the_rest() {
+        let sun = "Directional((direction: (0.0, -1.0, 0.0)))";
+        let spot = "Spot((position: (0.0, 5.0, 0.0), direction: (0.0, -1.0, 0.0), cone_angle_deg: 30.0, radius: 0.1))";
+        let text = MINI.replace(
+            &format!("light: {sun}"),
+            &format!("lights: [{spot}, {sun}, {sun}]"),
+        );
+        let file = SceneFile::parse(&text, Path::new("lights.ron")).unwrap();
+        let scene = file.build(Path::new("."), Path::new("lights.ron")).unwrap();
+        assert!(matches!(scene.light, Light::Spot(_)));
+        assert_eq!(scene.more_lights.len(), 2);
+        assert_eq!(scene.lights().count(), 3);
+        let again = SceneFile::parse(&file.to_ron(), Path::new("x.ron")).unwrap();
+        assert_eq!(again, file);
+        // Both, neither, too many and a bad one: errors that name the file and the field.
+        let both = MINI.replace(
+            &format!("light: {sun},"),
+            &format!("light: {sun}, lights: [{sun}],"),
+        );
+        let neither = MINI.replace(&format!("light: {sun},"), "");
+        let nine = MINI.replace(
+            &format!("light: {sun}"),
+            &format!("lights: [{}]", [sun; 9].join(", ")),
+        );
+        let bad = MINI.replace(
+            &format!("light: {sun}"),
+            &format!("lights: [{sun}, {}]", spot.replace("30.0", "95.0")),
+        );
+        for (text, expected) in [
+            (both, "both `light` and `lights`"),
+            (neither, "no light"),
+            (nine, "at most 8"),
+            (bad, "light 1"),
+        ] {
+            let file = SceneFile::parse(&text, Path::new("l.ron")).unwrap();
+            let err = file
+                .build(Path::new("."), Path::new("l.ron"))
+                .unwrap_err()
+                .to_string();
+            assert!(err.contains("l.ron") && err.contains(expected), "{err}");
+        }
     }
 
     #[test]

@@ -82,6 +82,19 @@ impl Light {
         }
     }
 
+    /// How a spot light's cone shades: the position (the origin for a directional light) and
+    /// the cosines of the outer edge and of where the falloff starts (0.85 of the cone
+    /// angle); a directional light gives -1 and -1 (no falloff).
+    pub fn cone(&self) -> (Vec3, f32, f32) {
+        match self {
+            Light::Directional(_) => (Vec3::ZERO, -1.0, -1.0),
+            Light::Spot(spot) => {
+                let outer = spot.cone_angle_deg.to_radians();
+                (spot.position, outer.cos(), (outer * 0.85).cos())
+            }
+        }
+    }
+
     /// Checks the documented ranges; the error names the field.
     pub fn validate(&self) -> crate::Result<()> {
         use crate::PenumbraError as E;
@@ -128,4 +141,117 @@ impl Light {
         }
         Ok(())
     }
+}
+
+/// The kind of light a model file names.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ModelLightKind {
+    Directional,
+    /// A cone: the angles between its axis and the outer edge and where the falloff starts.
+    Spot {
+        outer_cone_deg: f32,
+        inner_cone_deg: f32,
+    },
+    /// A light shining in every direction (not shadowed by penumbra yet).
+    Point,
+}
+
+/// A light as a model file gives it (glTF's `KHR_lights_punctual`): in the model's space and
+/// in physical units, without a size. [`lights_from_model`] makes penumbra lights of them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelLight {
+    pub name: String,
+    pub kind: ModelLightKind,
+    /// Linear RGB.
+    pub color: Vec3,
+    /// Lux (directional) or candela (spot, point).
+    pub intensity: f32,
+    pub position: Vec3,
+    /// The direction it shines (its node's -Z).
+    pub direction: Vec3,
+}
+
+/// The angular diameter given to a model file's directional light, which has no size: the
+/// sun's, in degrees.
+pub const MODEL_SUN_DIAMETER_DEG: f32 = 0.53;
+/// The radius given to a model file's spot light, which has no size: this fraction of its
+/// distance to the model's centre (so its penumbrae look alike at any scale).
+pub const MODEL_SPOT_RADIUS_PER_DISTANCE: f32 = 0.02;
+
+/// Penumbra lights of a model's lights, placed by `place`, `center` the placed model's centre.
+///
+/// penumbra's lights have no distance falloff and the renderer no exposure, so physical
+/// intensities become relative ones: each light's illuminance at `center` (a directional
+/// light's lux; a spot's candela over its squared distance), scaled so that the brightest
+/// gives intensity 1. Sizes: [`MODEL_SUN_DIAMETER_DEG`], [`MODEL_SPOT_RADIUS_PER_DISTANCE`].
+/// A spot's falloff starts at 0.85 of its cone whatever the file says; cones wider than 89
+/// degrees are narrowed to 89. Point lights are left out, each with a warning, as are lights
+/// past [`crate::MAX_LIGHTS`].
+pub fn lights_from_model(
+    lights: &[ModelLight],
+    place: glam::Mat4,
+    center: Vec3,
+    warnings: &mut Vec<String>,
+) -> Vec<Light> {
+    let mut placed: Vec<(Light, f32)> = Vec::new();
+    for l in lights {
+        let position = place.transform_point3(l.position);
+        let direction = place.transform_vector3(l.direction).normalize_or(Vec3::NEG_Y);
+        let name = if l.name.is_empty() { "(unnamed)" } else { &l.name };
+        let (light, illuminance) = match l.kind {
+            ModelLightKind::Point => {
+                warnings.push(format!(
+                    "point light `{name}` is left out: penumbra does not shadow point lights yet"
+                ));
+                continue;
+            }
+            ModelLightKind::Directional => (
+                Light::Directional(DirectionalLight {
+                    direction,
+                    angular_diameter_deg: MODEL_SUN_DIAMETER_DEG,
+                    color: l.color,
+                    intensity: 1.0,
+                }),
+                l.intensity,
+            ),
+            ModelLightKind::Spot { outer_cone_deg, .. } => {
+                let distance = position.distance(center).max(1e-6);
+                (
+                    Light::Spot(SpotLight {
+                        position,
+                        direction,
+                        cone_angle_deg: outer_cone_deg.clamp(0.1, 89.0),
+                        radius: MODEL_SPOT_RADIUS_PER_DISTANCE * distance,
+                        color: l.color,
+                        intensity: 1.0,
+                    }),
+                    l.intensity / (distance * distance),
+                )
+            }
+        };
+        if placed.len() == crate::MAX_LIGHTS {
+            warnings.push(format!(
+                "light `{name}` is left out: at most {} lights are shadowed",
+                crate::MAX_LIGHTS
+            ));
+            continue;
+        }
+        placed.push((light, illuminance.max(0.0)));
+    }
+    let brightest = placed.iter().map(|(_, e)| *e).fold(0.0, f32::max);
+    placed
+        .into_iter()
+        .map(|(mut light, e)| {
+            let intensity = if brightest > 0.0 && e.is_finite() {
+                e / brightest
+            } else {
+                1.0
+            };
+            match &mut light {
+                Light::Directional(d) => d.intensity = intensity,
+                Light::Spot(s) => s.intensity = intensity,
+            }
+            light
+        })
+        .collect()
 }

@@ -18,7 +18,10 @@ pub use bounds::Aabb;
 pub use camera::{Camera, OrbitCamera};
 #[cfg(feature = "renderer")]
 pub use file::{MeshSource, SceneFile, TextureSource};
-pub use light::{DirectionalLight, Light, SpotLight};
+pub use light::{
+    DirectionalLight, Light, MODEL_SPOT_RADIUS_PER_DISTANCE, MODEL_SUN_DIAMETER_DEG, ModelLight,
+    ModelLightKind, SpotLight, lights_from_model,
+};
 pub use material::{AlphaMode, Material, TextureImage};
 pub use mesh::{Mesh, MeshRepairs};
 
@@ -56,6 +59,9 @@ pub struct Model {
     pub materials: Vec<Material>,
     pub textures: Vec<TextureImage>,
     pub parts: Vec<Instance>,
+    /// The file's own lights (glTF `KHR_lights_punctual`), in the model's space, in the order
+    /// of their nodes.
+    pub lights: Vec<ModelLight>,
     /// Things in the file that could not be represented, in words (for the user to see).
     pub warnings: Vec<String>,
 }
@@ -69,6 +75,20 @@ impl Model {
     }
 }
 
+/// Errors unless `count` lights fit in one frame ([`crate::MAX_LIGHTS`]).
+pub(crate) fn check_light_count(count: usize) -> Result<()> {
+    if count > crate::MAX_LIGHTS {
+        return Err(PenumbraError::setting(
+            "lights",
+            format!(
+                "{count} lights, at most {} are shadowed in one frame",
+                crate::MAX_LIGHTS
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Everything needed to render a frame.
 #[derive(Debug, Clone)]
 pub struct Scene {
@@ -76,7 +96,11 @@ pub struct Scene {
     pub materials: Vec<Material>,
     pub textures: Vec<TextureImage>,
     pub instances: Vec<Instance>,
+    /// The key light: the one the reference, the error metrics and the debug views measure.
     pub light: Light,
+    /// Further shadowed lights, each drawn with the same method as the key light: at most
+    /// [`crate::MAX_LIGHTS`] lights in all. The convenience renderer shades them all.
+    pub more_lights: Vec<Light>,
     /// Constant light from everywhere (linear RGB), added to every surface unshadowed.
     pub ambient: Vec3,
     pub views: Vec<Viewpoint>,
@@ -92,6 +116,7 @@ impl Default for Scene {
             textures: Vec::new(),
             instances: Vec::new(),
             light: Light::default(),
+            more_lights: Vec::new(),
             ambient: Vec3::splat(0.12),
             views: Vec::new(),
             warnings: Vec::new(),
@@ -235,7 +260,13 @@ impl Scene {
         if !self.ambient.is_finite() || self.ambient.min_element() < 0.0 {
             return bad("ambient must be finite and non-negative".into());
         }
-        self.light.validate()
+        check_light_count(1 + self.more_lights.len())?;
+        self.lights().try_for_each(Light::validate)
+    }
+
+    /// The key light, then the others.
+    pub fn lights(&self) -> impl Iterator<Item = &Light> {
+        std::iter::once(&self.light).chain(&self.more_lights)
     }
 
     /// The camera of viewpoint `index`, or an error listing how many there are.
@@ -253,7 +284,8 @@ impl Scene {
 
     /// A scene that shows `model` standing on a floor: the model is moved so its bounds rest on
     /// y = 0 centered at the origin, a floor four times its footprint is added, three
-    /// viewpoints orbit it, and a default directional light shines from above at an angle.
+    /// viewpoints orbit it, and the model's own lights shine on it (see [`lights_from_model`]),
+    /// or, where it has none, a default directional light from above at an angle.
     pub fn showcase(model: &Model) -> Result<Scene> {
         let bounds = model.bounds();
         if bounds.is_empty() {
@@ -263,6 +295,17 @@ impl Scene {
         let center = bounds.center();
         let place = Mat4::from_translation(Vec3::new(-center.x, -bounds.min.y, -center.z));
         scene.add_model(model, place, None, true, true);
+        // The file's own lights where it has any (the first the key light), else the default.
+        let lights = lights_from_model(
+            &model.lights,
+            place,
+            place.transform_point3(center),
+            &mut scene.warnings,
+        );
+        if let Some((key, more)) = lights.split_first() {
+            scene.light = *key;
+            scene.more_lights = more.to_vec();
+        }
         let size = bounds.size();
         let footprint = size.x.max(size.z).max(size.y * 0.5).max(1e-6);
         let floor_material = scene.add_material(Material::colored("floor", [0.75, 0.75, 0.72]));
