@@ -120,6 +120,8 @@ pub struct Run {
 /// The embedding path with `lights` lights: frame time and what the last light added.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct LightCost {
+    /// `sun` or `spot`.
+    pub kind: String,
     pub lights: usize,
     pub frame_ms: f64,
     pub added_ms: f64,
@@ -435,67 +437,88 @@ fn measure_embedding(
         receiver_mask: None,
     };
     let casters = gpu_scene.casters();
-    let turned = |k: usize| {
+    // Lights of each type, 90 degrees apart around the scene: the scene's sun turned, and
+    // spots on a circle above the scene's centre, aimed at it.
+    let center = scene.bounds().center();
+    let reach = scene.bounds().radius().max(1e-3);
+    let light = |kind: &str, k: usize| {
         let turn = glam::Quat::from_rotation_y((k as f32 * 90.0).to_radians());
-        match scene.light {
-            Light::Directional(l) => Light::Directional(penumbra::DirectionalLight {
+        match (kind, scene.light) {
+            ("sun", Light::Directional(l)) => Light::Directional(penumbra::DirectionalLight {
                 direction: turn * l.direction,
                 ..l
             }),
-            other => other,
+            ("spot", _) => {
+                let position = center + turn * glam::Vec3::new(reach, 1.5 * reach, reach);
+                Light::Spot(penumbra::SpotLight {
+                    position,
+                    direction: center - position,
+                    cone_angle_deg: 45.0,
+                    radius: 0.02 * reach,
+                    color: glam::Vec3::ONE,
+                    intensity: 1.0,
+                })
+            }
+            (_, other) => other,
         }
     };
     let mut costs: Vec<LightCost> = Vec::new();
-    for count in 1..=4usize {
-        let mut shadows = penumbra::Shadows::new(&gpu.device, settings)?;
-        let ids = (0..count)
-            .map(|k| shadows.add_light(&gpu.device, turned(k)))
-            .collect::<penumbra::Result<Vec<_>>>()?;
-        let mut times = Vec::new();
-        let mut passes = (0, 0);
-        for i in 0..config.warmup + config.frames + 1 {
-            // The last frame keeps the lights still.
-            let still = i == config.warmup + config.frames;
-            if !still {
-                for (k, id) in ids.iter().enumerate() {
-                    shadows.set_light(*id, nudged(&turned(k), i))?;
+    for kind in ["sun", "spot"] {
+        for count in 1..=4usize {
+            let mut shadows = penumbra::Shadows::new(&gpu.device, settings)?;
+            let ids = (0..count)
+                .map(|k| shadows.add_light(&gpu.device, light(kind, k)))
+                .collect::<penumbra::Result<Vec<_>>>()?;
+            let mut times = Vec::new();
+            let mut passes = (0, 0);
+            for i in 0..config.warmup + config.frames + 1 {
+                // The last frame keeps the lights still.
+                let still = i == config.warmup + config.frames;
+                if !still {
+                    for (k, id) in ids.iter().enumerate() {
+                        shadows.set_light(*id, nudged(&light(kind, k), i))?;
+                    }
+                }
+                let start = Instant::now();
+                let mut encoder = gpu.device.create_command_encoder(&Default::default());
+                let reports = shadows.render(&gpu.device, &gpu.queue, &mut encoder, casters, &view)?;
+                gpu.queue.submit([encoder.finish()]);
+                gpu.device.poll(wgpu::PollType::Wait {
+                    submission_index: None,
+                    timeout: None,
+                })?;
+                let drawn: u32 = reports
+                    .iter()
+                    .filter(|r| r.shadow_maps_rendered)
+                    .map(|r| 1 + r.chain.fattened_map as u32 + r.chain.exit_map as u32)
+                    .sum();
+                if still {
+                    passes.1 = drawn;
+                } else {
+                    passes.0 = drawn;
+                    if i >= config.warmup {
+                        times.push(start.elapsed().as_secs_f64() * 1e3);
+                    }
                 }
             }
-            let start = Instant::now();
-            let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            let reports = shadows.render(&gpu.device, &gpu.queue, &mut encoder, casters, &view)?;
-            gpu.queue.submit([encoder.finish()]);
-            gpu.device.poll(wgpu::PollType::Wait {
-                submission_index: None,
-                timeout: None,
-            })?;
-            let drawn: u32 = reports
-                .iter()
-                .filter(|r| r.shadow_maps_rendered)
-                .map(|r| 1 + r.chain.fattened_map as u32 + r.chain.exit_map as u32)
-                .sum();
-            if still {
-                passes.1 = drawn;
-            } else {
-                passes.0 = drawn;
-                if i >= config.warmup {
-                    times.push(start.elapsed().as_secs_f64() * 1e3);
-                }
+            let frame_ms = median(times);
+            let previous = costs.iter().rev().find(|c| c.kind == kind).map_or(0.0, |c| c.frame_ms);
+            let added_ms = frame_ms - previous;
+            println!("embedding: {count} {kind}(s) {frame_ms:.2} ms (+{added_ms:.2})");
+            costs.push(LightCost {
+                kind: kind.to_string(),
+                lights: count,
+                frame_ms,
+                added_ms,
+            });
+            if kind == "sun" {
+                geometry_passes.push(GeometryPasses {
+                    path: format!("Shadows, {count} light(s) (the engine's own passes not counted)"),
+                    light_moving: passes.0,
+                    light_still: passes.1,
+                });
             }
         }
-        let frame_ms = median(times);
-        let added_ms = frame_ms - costs.last().map_or(0.0, |c| c.frame_ms);
-        println!("embedding: {count} light(s) {frame_ms:.2} ms (+{added_ms:.2})");
-        costs.push(LightCost {
-            lights: count,
-            frame_ms,
-            added_ms,
-        });
-        geometry_passes.push(GeometryPasses {
-            path: format!("Shadows, {count} light(s) (the engine's own passes not counted)"),
-            light_moving: passes.0,
-            light_still: passes.1,
-        });
     }
     Ok(Embedding {
         width,
@@ -794,15 +817,20 @@ fn write_report(
     }
     writeln!(
         md,
-        "\n## Embedding: cost of each added light (teapot, view 0, {}x{}, ours medium, suns 90 degrees apart)\n",
+        "\n## Embedding: cost of each added light, by type (teapot, view 0, {}x{}, ours medium; suns \
+         90 degrees apart, spots 90 degrees apart on a circle above the teapot; wall clock)\n",
         embedding.width, embedding.height
     )?;
     writeln!(
         md,
-        "| lights | frame ms | added by the last light ms |\n|---|---|---|"
+        "| type | lights | frame ms | added by the last light ms |\n|---|---|---|---|"
     )?;
     for c in &embedding.costs {
-        writeln!(md, "| {} | {:.2} | {:.2} |", c.lights, c.frame_ms, c.added_ms)?;
+        writeln!(
+            md,
+            "| {} | {} | {:.2} | {:.2} |",
+            c.kind, c.lights, c.frame_ms, c.added_ms
+        )?;
     }
     writeln!(md, "\n## Geometry passes per frame\n")?;
     writeln!(md, "| path | light moving | light still |\n|---|---|---|")?;

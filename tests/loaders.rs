@@ -477,3 +477,133 @@ fn gltf_lights_are_read_and_light_the_showcase() {
     std::fs::write(&broken, gltf_with_lights("")).unwrap();
     expect_error(&broken, "");
 }
+
+#[test]
+fn bevys_mixed_lighting_scene_loads_with_its_sun() {
+    // It requires KHR_lights_punctual and KHR_texture_transform, which were refused before.
+    let path = common::shared_models().join("MixedLightingExample/MixedLightingExample.gltf");
+    let model = load_model(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_mesh_sane(&model, "MixedLightingExample");
+    let suns: Vec<_> = model
+        .lights
+        .iter()
+        .filter(|l| l.kind == penumbra::scene::ModelLightKind::Directional)
+        .collect();
+    assert_eq!(suns.len(), 1, "{:?}", model.lights);
+    // The sun shines downward.
+    assert!(suns[0].direction.normalize().y < -0.3, "{}", suns[0].direction);
+    let scene = penumbra::Scene::showcase(&model).unwrap();
+    assert!(matches!(scene.light, penumbra::Light::Directional(_)));
+    // The picture has a shadow: some floor is darker than the brightest floor by the sun's share.
+    let gpu = common::gpu();
+    let camera = scene.view(0).unwrap();
+    let image = common::render(
+        &gpu,
+        &scene,
+        &camera,
+        penumbra::ShadowSettings::default(),
+        200,
+        150,
+    );
+    let lums: Vec<f32> = image
+        .pixels()
+        .map(|p| p.0[0] as f32 + p.0[1] as f32 + p.0[2] as f32)
+        .collect();
+    let max = lums.iter().cloned().fold(0.0, f32::max);
+    assert!(lums.iter().filter(|&&l| l < 0.5 * max).count() > 200);
+    image
+        .save(common::output_dir().join("mixed-lighting-showcase.png"))
+        .unwrap();
+}
+
+#[test]
+fn a_scene_file_takes_a_gltf_files_lights_with_lights_from() {
+    let dir = common::scratch_dir("gltf_lights_from");
+    std::fs::write(dir.join("tri.bin"), triangle_bytes(&[0, 1, 2])).unwrap();
+    std::fs::write(
+        dir.join("lit.gltf"),
+        gltf_with_lights(r#","spot":{"outerConeAngle":0.6}"#),
+    )
+    .unwrap();
+    let scene_text = |lights: &str, translation: &str| {
+        format!(
+            r#"(
+            meshes: [(name: "lit", source: File(path: "lit.gltf")), (name: "floor", source: Plane(size: 20.0))],
+            instances: [(mesh: "lit", translation: {translation}), (mesh: "floor", caster: false)],
+            {lights}
+            views: [(name: "a", eye: (10.0, 4.0, 8.0), target: (10.0, 0.0, 0.0))],
+        )"#
+        )
+    };
+    let path = dir.join("room.ron");
+    std::fs::write(
+        &path,
+        scene_text(
+            r#"lights_from: (mesh: "lit", sizes: (sun_diameter_deg: 1.5)),"#,
+            "(10.0, 0.0, 0.0)",
+        ),
+    )
+    .unwrap();
+    let scene = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let penumbra::Light::Directional(sun) = scene.light else {
+        panic!("{:?}", scene.light)
+    };
+    assert_eq!(sun.angular_diameter_deg, 1.5);
+    let penumbra::Light::Spot(spot) = scene.more_lights[0] else {
+        panic!("{:?}", scene.more_lights)
+    };
+    // Placed with the instance; the default spot size.
+    assert!(
+        (spot.position - Vec3::new(10.0, 3.0, 3.0)).length() < 1e-4,
+        "{}",
+        spot.position
+    );
+    let distance = spot.position.distance(Vec3::new(10.5, 0.5, 0.0));
+    assert!((spot.radius - 0.02 * distance).abs() < 1e-4);
+    assert!(
+        scene.warnings.iter().any(|w| w.contains("bulb")),
+        "{:?}",
+        scene.warnings
+    );
+    assert!(
+        !scene.warnings.iter().any(|w| w.contains("not used")),
+        "{:?}",
+        scene.warnings
+    );
+
+    // Without lights_from the file's lights are reported as unused.
+    std::fs::write(
+        &path,
+        scene_text(
+            "light: Directional((direction: (0.0, -1.0, 0.0))),",
+            "(0.0, 0.0, 0.0)",
+        ),
+    )
+    .unwrap();
+    let scene = load_scene(&path).unwrap();
+    assert!(
+        scene.warnings.iter().any(|w| w.contains("not used")),
+        "{:?}",
+        scene.warnings
+    );
+
+    for (lights, expected) in [
+        (r#"lights_from: (mesh: "floor"),"#, "no directional or spot light"),
+        (
+            r#"lights_from: (mesh: "lamp"),"#,
+            "`lamp`, which no instance places",
+        ),
+        (
+            r#"lights_from: (mesh: "lit"), light: Directional((direction: (0.0, -1.0, 0.0))),"#,
+            "more than one",
+        ),
+        (
+            r#"lights_from: (mesh: "lit", sizes: (sun_diameter_deg: 95.0)),"#,
+            "angular_diameter_deg",
+        ),
+    ] {
+        std::fs::write(&path, scene_text(lights, "(0.0, 0.0, 0.0)")).unwrap();
+        let err = load_scene(&path).unwrap_err().to_string();
+        assert!(err.contains("room.ron") && err.contains(expected), "{err}");
+    }
+}

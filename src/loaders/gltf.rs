@@ -1,7 +1,8 @@
 //! glTF 2.0 through the `gltf` crate: `.gltf` with external or embedded (data URI) buffers,
 //! `.glb`, the node hierarchy's transforms, base-color factor and texture, alpha mode MASK,
-//! skinned meshes posed in their bind pose (the joints' rest transforms), and the lights of
-//! `KHR_lights_punctual` (see [`crate::scene::lights_from_model`]).
+//! skinned meshes posed in their bind pose (the joints' rest transforms), the lights of
+//! `KHR_lights_punctual` (see [`crate::scene::lights_from_model`]) and the base-color texture's
+//! `KHR_texture_transform` (applied to the primitive's UVs).
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -75,6 +76,13 @@ pub(super) fn load(path: &Path) -> Result<Model> {
         .map_err(|e| fail(format!("cannot read its images: {e}")))?;
 
     let mut model = Model::default();
+    for extension in gltf.extensions_used() {
+        if !matches!(extension, "KHR_lights_punctual" | "KHR_texture_transform") {
+            model
+                .warnings
+                .push(format!("extension {extension} is not supported: ignored"));
+        }
+    }
     for (i, image) in images.into_iter().enumerate() {
         model
             .textures
@@ -206,10 +214,13 @@ fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Ma
         }
     };
     let texture = pbr.base_color_texture().map(|info| {
-        if info.tex_coord() != 0 {
+        let set = info
+            .texture_transform()
+            .and_then(|t| t.tex_coord())
+            .unwrap_or(info.tex_coord());
+        if set != 0 {
             warnings.push(format!(
-                "material `{name}`: base color texture uses UV set {}, read from set 0",
-                info.tex_coord()
+                "material `{name}`: base color texture uses UV set {set}, read from set 0"
             ));
         }
         info.texture().source().index()
@@ -271,10 +282,32 @@ fn read_primitive(
         ));
     }
     let normals = normals.filter(|n| n.len() == positions.len());
-    let uvs = uvs.filter(|t| t.len() == positions.len());
+    let mut uvs = uvs.filter(|t| t.len() == positions.len());
+    // KHR_texture_transform on the base-color texture: a primitive has one material, so its
+    // UVs take the transform (glTF: translation x rotation x scale).
+    let transform = primitive
+        .material()
+        .pbr_metallic_roughness()
+        .base_color_texture()
+        .and_then(|info| info.texture_transform());
+    if let (Some(t), Some(uvs)) = (transform, uvs.as_mut()) {
+        let matrix = uv_transform(t.offset(), t.rotation(), t.scale());
+        for uv in uvs.iter_mut() {
+            *uv = matrix.transform_point2(*uv);
+        }
+    }
     Mesh::new(label, positions, normals, uvs, indices)
         .map(Some)
         .map_err(|e| e.to_string())
+}
+
+/// `KHR_texture_transform`'s matrix: translation by `offset` times a rotation by `rotation`
+/// radians (counter-clockwise in UV space) times a scale.
+fn uv_transform(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> glam::Affine2 {
+    let (sin, cos) = rotation.sin_cos();
+    glam::Affine2::from_translation(Vec2::from_array(offset))
+        * glam::Affine2::from_mat2(glam::Mat2::from_cols(Vec2::new(cos, -sin), Vec2::new(sin, cos)))
+        * glam::Affine2::from_scale(Vec2::from_array(scale))
 }
 
 /// World transforms of every node from its local transform and its parents'.
@@ -387,4 +420,31 @@ fn to_rgba8(name: String, image: gltf::image::Data) -> Result<TextureImage, Stri
         return Err(format!("{name}: {w}x{h} image has {} bytes of pixels", px.len()));
     }
     Ok(TextureImage::from_rgba8(name, w, h, rgba))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn texture_transform_follows_the_extensions_example() {
+        // The extension's own example: the lower left quadrant of the image (v down), turned
+        // clockwise by 90 degrees.
+        let m = uv_transform([0.0, 1.0], std::f32::consts::FRAC_PI_2, [0.5, 0.5]);
+        for (uv, expected) in [
+            ((0.0, 0.0), (0.0, 1.0)),
+            ((1.0, 0.0), (0.0, 0.5)),
+            ((0.0, 1.0), (0.5, 1.0)),
+            ((1.0, 1.0), (0.5, 0.5)),
+        ] {
+            let got = m.transform_point2(Vec2::new(uv.0, uv.1));
+            assert!(
+                (got - Vec2::new(expected.0, expected.1)).length() < 1e-6,
+                "{uv:?} -> {got}"
+            );
+        }
+        // Flipping v: offset (0, 1), scale (1, -1).
+        let flip = uv_transform([0.0, 1.0], 0.0, [1.0, -1.0]);
+        assert!((flip.transform_point2(Vec2::new(0.25, 0.0)) - Vec2::new(0.25, 1.0)).length() < 1e-6);
+    }
 }

@@ -13,7 +13,8 @@
 //!         (mesh: "floor", material: Some("porcelain"), caster: false),
 //!     ],
 //!     light: Directional((direction: (-0.4, -1.0, -0.3), angular_diameter_deg: 2.0)),
-//!     // or several: lights: [Directional((...)), Spot((...))], the first the key light
+//!     // or several: lights: [Directional((...)), Spot((...))], the first the key light;
+//!     // or a glTF mesh's own: lights_from: (mesh: "room", sizes: (sun_diameter_deg: 1.0)),
 //!     views: [(name: "front", eye: (0.0, 4.0, 9.0), target: (0.0, 1.0, 0.0))],
 //! )
 //! ```
@@ -24,8 +25,8 @@ use glam::{EulerRot, Mat4, Quat, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 use super::{
-    AlphaMode, Camera, Light, Material, Mesh, Model, Scene, TextureImage, Viewpoint, character, primitives,
-    teapot,
+    AlphaMode, Camera, Light, Material, Mesh, Model, ModelLightSizes, Scene, TextureImage, Viewpoint,
+    character, primitives, teapot,
 };
 use crate::error::{PenumbraError, Result};
 
@@ -112,6 +113,18 @@ pub struct ViewEntry {
     pub far: Option<f32>,
 }
 
+/// Lights taken from a model file's own (glTF `KHR_lights_punctual`; see
+/// [`crate::scene::lights_from_model`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LightsFrom {
+    /// A mesh entry whose source is a glTF file.
+    pub mesh: String,
+    /// The sizes glTF does not give: default the sun's 0.53 degrees for suns, 2% of their
+    /// distance to the model's centre for spots.
+    #[serde(default)]
+    pub sizes: ModelLightSizes,
+}
+
 /// A scene description as stored on disk.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SceneFile {
@@ -122,9 +135,13 @@ pub struct SceneFile {
     /// The one light, or the key light when `lights` lists more.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub light: Option<Light>,
-    /// The lights (at most 8), the first the key light; use either this or `light`.
+    /// The lights (at most 8), the first the key light; use one of `light`, `lights` and
+    /// `lights_from`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub lights: Vec<Light>,
+    /// The lights of a glTF mesh entry's file, placed like that mesh's first instance.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lights_from: Option<LightsFrom>,
     #[serde(default = "default_ambient")]
     pub ambient: Vec3,
     pub views: Vec<ViewEntry>,
@@ -180,13 +197,21 @@ impl SceneFile {
             path: path.to_path_buf(),
             reason,
         };
-        let (light, more_lights) = match (self.light, self.lights.split_first()) {
-            (Some(light), None) => (light, Vec::new()),
-            (None, Some((key, more))) => (*key, more.to_vec()),
-            (Some(_), Some(_)) => {
-                return Err(bad("it has both `light` and `lights`: give one of them".into()));
+        let (light, more_lights) = match (self.light, self.lights.split_first(), &self.lights_from) {
+            (Some(light), None, None) => (light, Vec::new()),
+            (None, Some((key, more)), None) => (*key, more.to_vec()),
+            // Placed once the meshes are.
+            (None, None, Some(_)) => (Light::default(), Vec::new()),
+            (None, None, None) => {
+                return Err(bad(
+                    "it has no light: give `light`, `lights` or `lights_from`".into()
+                ));
             }
-            (None, None) => return Err(bad("it has no light: give `light` or `lights`".into())),
+            _ => {
+                return Err(bad(
+                    "it has more than one of `light`, `lights` and `lights_from`: give one of them".into(),
+                ));
+            }
         };
         let mut scene = Scene {
             light,
@@ -297,9 +322,10 @@ impl SceneFile {
                 }
                 MeshSource::File { path: rel } => {
                     let model = crate::loaders::load_model(&base_dir.join(rel))?;
-                    if !model.lights.is_empty() {
+                    let lights_used = self.lights_from.as_ref().is_some_and(|f| f.mesh == entry.name);
+                    if !model.lights.is_empty() && !lights_used {
                         scene.warnings.push(format!(
-                            "{}: its {} light(s) are not used; a scene file lists its own lights",
+                            "{}: its {} light(s) are not used (a scene file takes a file's lights with `lights_from`)",
                             rel,
                             model.lights.len()
                         ));
@@ -312,6 +338,8 @@ impl SceneFile {
             }
         }
 
+        // The model, transform and sizes `lights_from` takes its lights from.
+        let mut lights_placed = None;
         for (k, inst) in self.instances.iter().enumerate() {
             let model = models.get(&inst.mesh).ok_or_else(|| {
                 bad(format!(
@@ -344,6 +372,32 @@ impl SceneFile {
                 )));
             }
             scene.add_model(model, transform, material, inst.caster, inst.receiver);
+            if let Some(from) = self.lights_from.as_ref().filter(|f| f.mesh == inst.mesh) {
+                lights_placed.get_or_insert((model, transform, from.sizes));
+            }
+        }
+        if let Some(from) = &self.lights_from {
+            let Some((model, place, sizes)) = lights_placed else {
+                return Err(bad(format!(
+                    "`lights_from` names mesh `{}`, which no instance places",
+                    from.mesh
+                )));
+            };
+            let center = place.transform_point3(model.bounds().center());
+            let lights = super::lights_from_model(&model.lights, place, center, sizes, &mut scene.warnings);
+            let Some((key, more)) = lights.split_first() else {
+                return Err(bad(format!(
+                    "`lights_from`: mesh `{}`'s file has no directional or spot light",
+                    from.mesh
+                )));
+            };
+            scene.light = *key;
+            scene.more_lights = more.to_vec();
+            for (k, light) in scene.lights().enumerate() {
+                light
+                    .validate()
+                    .map_err(|e| bad(format!("`lights_from` light {k}: {e}")))?;
+            }
         }
 
         let bounds = scene.bounds();
@@ -456,7 +510,7 @@ mod tests {
             &format!("lights: [{sun}, {}]", spot.replace("30.0", "95.0")),
         );
         for (text, expected) in [
-            (both, "both `light` and `lights`"),
+            (both, "more than one of `light`, `lights`"),
             (neither, "no light"),
             (nine, "at most 8"),
             (bad, "light 1"),

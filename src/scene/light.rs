@@ -178,19 +178,52 @@ pub const MODEL_SUN_DIAMETER_DEG: f32 = 0.53;
 /// distance to the model's centre (so its penumbrae look alike at any scale).
 pub const MODEL_SPOT_RADIUS_PER_DISTANCE: f32 = 0.02;
 
+/// The sizes given to a model file's lights, which have none (glTF's do not).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct ModelLightSizes {
+    /// Directional lights' angular diameter in degrees, in [0, 90). Default
+    /// [`MODEL_SUN_DIAMETER_DEG`].
+    #[cfg_attr(feature = "serde", serde(default = "sun_diameter"))]
+    pub sun_diameter_deg: f32,
+    /// Spot lights' radius as a fraction of their distance to the model's centre, >= 0.
+    /// Default [`MODEL_SPOT_RADIUS_PER_DISTANCE`].
+    #[cfg_attr(feature = "serde", serde(default = "spot_radius"))]
+    pub spot_radius_per_distance: f32,
+}
+
+#[cfg(feature = "serde")]
+fn sun_diameter() -> f32 {
+    MODEL_SUN_DIAMETER_DEG
+}
+#[cfg(feature = "serde")]
+fn spot_radius() -> f32 {
+    MODEL_SPOT_RADIUS_PER_DISTANCE
+}
+
+impl Default for ModelLightSizes {
+    fn default() -> Self {
+        Self {
+            sun_diameter_deg: MODEL_SUN_DIAMETER_DEG,
+            spot_radius_per_distance: MODEL_SPOT_RADIUS_PER_DISTANCE,
+        }
+    }
+}
+
 /// Penumbra lights of a model's lights, placed by `place`, `center` the placed model's centre.
 ///
 /// penumbra's lights have no distance falloff and the renderer no exposure, so physical
 /// intensities become relative ones: each light's illuminance at `center` (a directional
 /// light's lux; a spot's candela over its squared distance), scaled so that the brightest
-/// gives intensity 1. Sizes: [`MODEL_SUN_DIAMETER_DEG`], [`MODEL_SPOT_RADIUS_PER_DISTANCE`].
-/// A spot's falloff starts at 0.85 of its cone whatever the file says; cones wider than 89
-/// degrees are narrowed to 89. Point lights are left out, each with a warning, as are lights
-/// past [`crate::MAX_LIGHTS`].
+/// gives intensity 1. Sizes from `sizes` ([`ModelLightSizes::default`]: the sun's 0.53 degrees,
+/// spots 2% of their distance). A spot's falloff starts at 0.85 of its cone whatever the file
+/// says; cones wider than 89 degrees are narrowed to 89. Point lights are left out, each with a
+/// warning, as are lights past [`crate::MAX_LIGHTS`].
 pub fn lights_from_model(
     lights: &[ModelLight],
     place: glam::Mat4,
     center: Vec3,
+    sizes: ModelLightSizes,
     warnings: &mut Vec<String>,
 ) -> Vec<Light> {
     let mut placed: Vec<(Light, f32)> = Vec::new();
@@ -208,7 +241,7 @@ pub fn lights_from_model(
             ModelLightKind::Directional => (
                 Light::Directional(DirectionalLight {
                     direction,
-                    angular_diameter_deg: MODEL_SUN_DIAMETER_DEG,
+                    angular_diameter_deg: sizes.sun_diameter_deg,
                     color: l.color,
                     intensity: 1.0,
                 }),
@@ -221,7 +254,7 @@ pub fn lights_from_model(
                         position,
                         direction,
                         cone_angle_deg: outer_cone_deg.clamp(0.1, 89.0),
-                        radius: MODEL_SPOT_RADIUS_PER_DISTANCE * distance,
+                        radius: sizes.spot_radius_per_distance * distance,
                         color: l.color,
                         intensity: 1.0,
                     }),

@@ -17,10 +17,10 @@ mod teapot_data;
 pub use bounds::Aabb;
 pub use camera::{Camera, OrbitCamera};
 #[cfg(feature = "renderer")]
-pub use file::{MeshSource, SceneFile, TextureSource};
+pub use file::{LightsFrom, MeshSource, SceneFile, TextureSource};
 pub use light::{
     DirectionalLight, Light, MODEL_SPOT_RADIUS_PER_DISTANCE, MODEL_SUN_DIAMETER_DEG, ModelLight,
-    ModelLightKind, SpotLight, lights_from_model,
+    ModelLightKind, ModelLightSizes, SpotLight, lights_from_model,
 };
 pub use material::{AlphaMode, Material, TextureImage};
 pub use mesh::{Mesh, MeshRepairs};
@@ -300,6 +300,7 @@ impl Scene {
             &model.lights,
             place,
             place.transform_point3(center),
+            ModelLightSizes::default(),
             &mut scene.warnings,
         );
         if let Some((key, more)) = lights.split_first() {
