@@ -502,7 +502,11 @@ fn measure_embedding(
                 }
             }
             let frame_ms = median(times);
-            let previous = costs.iter().rev().find(|c| c.kind == kind).map_or(0.0, |c| c.frame_ms);
+            let previous = costs
+                .iter()
+                .rev()
+                .find(|c| c.kind == kind)
+                .map_or(0.0, |c| c.frame_ms);
             let added_ms = frame_ms - previous;
             println!("embedding: {count} {kind}(s) {frame_ms:.2} ms (+{added_ms:.2})");
             costs.push(LightCost {

@@ -238,6 +238,41 @@ fn settings_saved_by_one_run_load_in_the_next() {
     assert_eq!(layout["split"], false);
 }
 
+/// Further lights saved in the settings come back: the layout counts them, and the picture
+/// changes where the second light's shadow falls.
+#[test]
+fn saved_settings_bring_further_lights() {
+    if !have_xvfb() {
+        return;
+    }
+    let dir = common::scratch_dir("demo_lights");
+    let one = screenshot(&dir, "one", &["--single"]);
+    let saved = std::fs::read_to_string(dir.join("one.settings.ron")).unwrap();
+    assert!(saved.contains("more_lights: []"), "{saved}");
+    let two_lights = saved.replace(
+        "more_lights: []",
+        "more_lights: [Directional((direction: (0.8, -1.0, 0.3), angular_diameter_deg: 2.0, \
+         color: (1.0, 1.0, 1.0), intensity: 0.8))]",
+    );
+    let path = dir.join("two.ron");
+    std::fs::write(&path, two_lights).unwrap();
+    let two = screenshot(&dir, "two", &["--single", "--settings", path.to_str().unwrap()]);
+    let layout: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("two.json")).unwrap()).unwrap();
+    assert_eq!(layout["lights"], 2);
+    let [x, y, w, h] = two.view;
+    let changed = (y..y + h)
+        .flat_map(|py| (x..x + w).map(move |px| (px, py)))
+        .filter(|&(px, py)| {
+            (luma(one.image.get_pixel(px, py)) - luma(two.image.get_pixel(px, py))).abs() > 3.0
+        })
+        .count();
+    assert!(
+        changed > 1000,
+        "only {changed} pixels changed with a second light"
+    );
+}
+
 #[test]
 fn without_a_display_the_demo_says_so() {
     let out = Command::new(demo_example())

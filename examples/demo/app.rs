@@ -109,7 +109,11 @@ pub struct SavedSettings {
     pub left: ShadowMethod,
     pub right: ShadowMethod,
     pub split: bool,
+    /// The key light.
     pub light: Light,
+    /// The lights beside the key light.
+    #[serde(default)]
+    pub more_lights: Vec<Light>,
 }
 
 /// An intermediate map shown in the view, with its legend.
@@ -142,7 +146,10 @@ pub struct DemoApp {
     pub(crate) gpu_scene: GpuScene,
     pub(crate) bounds: Aabb,
     pub(crate) orbit: OrbitCamera,
+    /// The light the controls edit: the key light, or one of the scene's further lights.
     pub(crate) light: Light,
+    /// Which: 0 the key light, k the scene's further light k - 1.
+    pub(crate) selected_light: usize,
     pub(crate) angles: LightAngles,
     pub(crate) animate_light: bool,
     pub(crate) animation_speed: f32,
@@ -216,11 +223,13 @@ impl DemoApp {
         let mut split = !args.single;
         let mut methods = startup.methods;
         let mut light = scene.light;
+        let mut more_lights = scene.more_lights.clone();
         if let Some(saved) = startup.saved.clone() {
             shared = saved.shadows;
             methods = [saved.left, saved.right];
             split = saved.split;
             light = saved.light;
+            more_lights = saved.more_lights;
         }
         shared.method = methods[0];
         shared
@@ -236,6 +245,7 @@ impl DemoApp {
             bounds,
             orbit: OrbitCamera::from_camera(&camera),
             light,
+            selected_light: 0,
             angles,
             animate_light: args.animate_light,
             animation_speed: 1.0,
@@ -290,6 +300,9 @@ impl DemoApp {
             render_state,
         };
         app.gpu_scene.set_light(light)?;
+        app.gpu_scene
+            .set_more_lights(more_lights)
+            .context("saved settings' lights")?;
         Ok(app)
     }
 
@@ -327,6 +340,7 @@ impl DemoApp {
                 self.bounds = gpu_scene.bounds();
                 self.orbit = OrbitCamera::from_camera(&camera);
                 self.light = scene.light;
+                self.selected_light = 0;
                 self.angles = LightAngles::of(&self.light, self.bounds.center());
                 self.animation_base = self.angles;
                 self.scene_name = path.display().to_string();
@@ -363,10 +377,76 @@ impl DemoApp {
         }
     }
 
-    /// Sets the light (validated) on the scene.
+    /// Sets the selected light (validated) on the scene.
     pub(crate) fn set_light(&mut self, light: Light) {
-        match self.gpu_scene.set_light(light) {
+        let result = match self.selected_light {
+            0 => self.gpu_scene.set_light(light),
+            k => {
+                let mut more = self.gpu_scene.more_lights().to_vec();
+                if let Some(slot) = more.get_mut(k - 1) {
+                    *slot = light;
+                }
+                self.gpu_scene.set_more_lights(more)
+            }
+        };
+        match result {
             Ok(()) => self.light = light,
+            Err(e) => self.complain(format!("light: {e}")),
+        }
+    }
+
+    /// Every light of the scene, the key light first.
+    pub(crate) fn lights(&self) -> Vec<Light> {
+        std::iter::once(*self.gpu_scene.light())
+            .chain(self.gpu_scene.more_lights().iter().copied())
+            .collect()
+    }
+
+    /// Makes light `index` (0: the key light) the one the controls edit.
+    pub(crate) fn select_light(&mut self, index: usize) {
+        let lights = self.lights();
+        let Some(light) = lights.get(index) else { return };
+        self.selected_light = index;
+        self.light = *light;
+        self.angles = LightAngles::of(light, self.bounds.center());
+        self.animation_base = self.angles;
+    }
+
+    /// Adds a light like the selected one (a sun or a spot), a quarter turn around the scene,
+    /// and selects it.
+    pub(crate) fn add_light(&mut self, spot: bool) {
+        let center = self.bounds.center();
+        let radius = self.bounds.radius().max(1e-3);
+        let like = if spot {
+            crate::panel::to_spot(&self.light, center, radius)
+        } else {
+            crate::panel::to_directional(&self.light)
+        };
+        let mut angles = LightAngles::of(&like, center);
+        angles.azimuth_deg = (angles.azimuth_deg + 90.0 + 180.0).rem_euclid(360.0) - 180.0;
+        let mut more = self.gpu_scene.more_lights().to_vec();
+        more.push(angles.apply(&like, center));
+        match self.gpu_scene.set_more_lights(more) {
+            Ok(()) => {
+                let last = self.gpu_scene.more_lights().len();
+                self.select_light(last);
+            }
+            Err(e) => self.complain(format!("light: {e}")),
+        }
+    }
+
+    /// Removes the selected light (not the key light) and selects the one before it.
+    pub(crate) fn remove_light(&mut self) {
+        let k = self.selected_light;
+        if k == 0 {
+            return;
+        }
+        let mut more = self.gpu_scene.more_lights().to_vec();
+        if k - 1 < more.len() {
+            more.remove(k - 1);
+        }
+        match self.gpu_scene.set_more_lights(more) {
+            Ok(()) => self.select_light(k - 1),
             Err(e) => self.complain(format!("light: {e}")),
         }
     }
@@ -385,6 +465,10 @@ impl DemoApp {
         self.split = true;
         self.divider = 0.5;
         self.animate_light = false;
+        if let Err(e) = self.gpu_scene.set_more_lights(self.scene.more_lights.clone()) {
+            self.complain(format!("light: {e}"));
+        }
+        self.selected_light = 0;
         self.light = self.scene.light;
         self.angles = LightAngles::of(&self.light, self.bounds.center());
         self.animation_base = self.angles;
@@ -401,7 +485,8 @@ impl DemoApp {
             left: self.sides[0].method,
             right: self.sides[1].method,
             split: self.split,
-            light: self.light,
+            light: *self.gpu_scene.light(),
+            more_lights: self.gpu_scene.more_lights().to_vec(),
         }
     }
 
@@ -440,9 +525,12 @@ impl DemoApp {
                 self.sides[0].method = saved.left;
                 self.sides[1].method = saved.right;
                 self.split = saved.split;
-                self.angles = LightAngles::of(&saved.light, self.bounds.center());
-                self.animation_base = self.angles;
+                if let Err(e) = self.gpu_scene.set_more_lights(saved.more_lights) {
+                    self.complain(format!("{}: {e}", path.display()));
+                }
+                self.select_light(0);
                 self.set_light(saved.light);
+                self.select_light(0);
                 self.say(format!("loaded settings from {}", path.display()));
             }
             Err(e) => self.complain(format!("{e:#}")),
@@ -493,6 +581,7 @@ impl DemoApp {
                 "right": self.sides[1].method.name(),
                 "map": self.map.name(),
                 "frames": self.frames,
+                "lights": self.lights().len(),
             });
             let json = path.with_extension("json");
             if let Err(e) = std::fs::write(&json, layout.to_string()) {
@@ -849,10 +938,11 @@ impl DemoApp {
         }
         // Measure only where direct light falls, as penumbra::metrics does: surfaces facing
         // away from the light are dark whatever their visibility.
-        let key = (self.camera(), self.light, (r.width, r.height));
+        // The key light's, as the metrics measure it.
+        let key = (self.camera(), *self.gpu_scene.light(), (r.width, r.height));
         if self.direct_mask.as_ref().is_none_or(|(k, _)| *k != key) {
             let mut scene = self.scene.clone();
-            scene.light = self.light;
+            scene.light = key.1;
             let mask = penumbra::metrics::direct_light_mask(
                 &self.render_state.device,
                 &self.render_state.queue,

@@ -116,6 +116,38 @@ impl DemoApp {
             .show(ui, |ui| {
                 let center = self.bounds.center();
                 let radius = self.bounds.radius().max(1e-3);
+                // Which light the controls below edit; lights added and removed.
+                let count = self.lights().len();
+                ui.horizontal_wrapped(|ui| {
+                    for k in 0..count {
+                        let name = if k == 0 {
+                            "key".to_string()
+                        } else {
+                            format!("{}", k + 1)
+                        };
+                        if ui.selectable_label(self.selected_light == k, name).clicked() {
+                            self.select_light(k);
+                        }
+                    }
+                });
+                ui.horizontal(|ui| {
+                    let room = count < penumbra::MAX_LIGHTS;
+                    if ui.add_enabled(room, egui::Button::new("+ sun")).clicked() {
+                        self.add_light(false);
+                    }
+                    if ui.add_enabled(room, egui::Button::new("+ spot")).clicked() {
+                        self.add_light(true);
+                    }
+                    if ui
+                        .add_enabled(self.selected_light > 0, egui::Button::new("remove"))
+                        .clicked()
+                    {
+                        self.remove_light();
+                    }
+                });
+                if count > 1 {
+                    ui.label("The reference, the error view and the maps show the key light.");
+                }
                 let mut light = self.light;
                 ui.horizontal(|ui| {
                     let directional = matches!(light, Light::Directional(_));
@@ -509,7 +541,7 @@ fn light_gizmo(ui: &mut egui::Ui, angles: &mut LightAngles) {
     painter.circle_filled(dot, 6.0, egui::Color32::from_rgb(255, 210, 80));
 }
 
-fn to_directional(light: &Light) -> Light {
+pub(crate) fn to_directional(light: &Light) -> Light {
     match *light {
         Light::Directional(_) => *light,
         Light::Spot(s) => {
@@ -524,7 +556,7 @@ fn to_directional(light: &Light) -> Light {
     }
 }
 
-fn to_spot(light: &Light, center: glam::Vec3, radius: f32) -> Light {
+pub(crate) fn to_spot(light: &Light, center: glam::Vec3, radius: f32) -> Light {
     match *light {
         Light::Spot(_) => *light,
         Light::Directional(d) => {
