@@ -195,6 +195,8 @@ pub struct Renderer {
     light: LightId,
     /// The ids of the scene's further lights, in the scene's order.
     more: Vec<LightId>,
+    /// Whose maps [`Renderer::debug_texture`] gives: 0 the key light, k further light k - 1.
+    debug_light: usize,
     prepass: Option<DepthPrepass>,
     composite: Option<CompositePass>,
     /// The visibility texture the composite is bound to.
@@ -250,6 +252,7 @@ impl Renderer {
             shadows,
             light,
             more: Vec::new(),
+            debug_light: 0,
             prepass: None,
             composite: None,
             composite_source: None,
@@ -364,10 +367,22 @@ impl Renderer {
         &self.shadows
     }
 
-    /// An intermediate texture of the last frame, if the current method has it.
+    /// Makes [`Renderer::debug_texture`] give the maps of light `index` of the last frame (0:
+    /// the key light, k: `Scene::more_lights[k - 1]`). Where that light is gone, the key
+    /// light's are given.
+    pub fn set_debug_light(&mut self, index: usize) {
+        self.debug_light = index;
+    }
+
+    /// An intermediate texture of the last frame, if the current method has it: of the light
+    /// [`Renderer::set_debug_light`] chose (default the key light).
     pub fn debug_texture(&self, which: DebugTexture) -> Option<&wgpu::Texture> {
         let method = self.settings.method;
-        let light = |t| self.shadows.light_texture(self.light, t);
+        let id = match self.debug_light {
+            0 => self.light,
+            k => self.more.get(k - 1).copied().unwrap_or(self.light),
+        };
+        let light = |t| self.shadows.light_texture(id, t);
         match which {
             DebugTexture::ShadowMap => light(LightTexture::ShadowMap),
             DebugTexture::FattenedMap => light(LightTexture::FattenedMap),

@@ -137,6 +137,21 @@ fn lights_are_added_and_removed_between_frames_and_metrics_measure_the_key_light
     let three = frame(&mut renderer, &gpu_scene);
     assert_ne!(alone, three, "the added lights changed nothing");
     assert_eq!(renderer.shadows().light_ids().len(), 3);
+    // The debug textures are the chosen light's: another sun, another shadow map; a light
+    // that is not there gives the key light's.
+    let map = |renderer: &mut Renderer, light: usize| {
+        renderer.set_debug_light(light);
+        let texture = renderer.debug_texture(penumbra::DebugTexture::ShadowMap).unwrap();
+        common::read_f32(&gpu, texture).0
+    };
+    let (key_map, second_map, missing_map) = (
+        map(&mut renderer, 0),
+        map(&mut renderer, 1),
+        map(&mut renderer, 9),
+    );
+    assert_ne!(key_map, second_map);
+    assert_eq!(key_map, missing_map);
+    renderer.set_debug_light(0);
     gpu_scene.set_more_lights(vec![]).unwrap();
     let again = frame(&mut renderer, &gpu_scene);
     assert_eq!(renderer.shadows().light_ids().len(), 1);

@@ -407,6 +407,8 @@ impl DemoApp {
         let lights = self.lights();
         let Some(light) = lights.get(index) else { return };
         self.selected_light = index;
+        // The maps follow the selected light.
+        self.map_stale = true;
         self.light = *light;
         self.angles = LightAngles::of(light, self.bounds.center());
         self.animation_base = self.angles;
@@ -707,6 +709,7 @@ impl DemoApp {
                 self.continuous,
                 measure_mask,
             );
+            self.sides[i].set_debug_light(self.selected_light);
             match result {
                 Ok(d) => drew |= d,
                 Err(e) => {

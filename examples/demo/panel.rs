@@ -146,7 +146,9 @@ impl DemoApp {
                     }
                 });
                 if count > 1 {
-                    ui.label("The reference, the error view and the maps show the key light.");
+                    ui.label(
+                        "The maps show the selected light; the reference and the error view the key light.",
+                    );
                 }
                 let mut light = self.light;
                 ui.horizontal(|ui| {

@@ -74,6 +74,13 @@ impl Side {
         self.renderer.as_ref()
     }
 
+    /// Whose intermediate maps the map views show: light `index` (0: the key light).
+    pub fn set_debug_light(&mut self, index: usize) {
+        if let Some(r) = &mut self.renderer {
+            r.set_debug_light(index);
+        }
+    }
+
     pub fn texture_id(&self) -> Option<egui::TextureId> {
         self.texture_id
     }
