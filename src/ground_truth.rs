@@ -1,6 +1,6 @@
-//! The ground truth, kept apart from the real-time chain: the area light replaced by N point
+//! The ground truth, kept apart from the real-time chain: each area light replaced by N point
 //! lights on it, one hard shadow map each, the hard visibilities averaged per pixel by
-//! [`crate::passes::ReferencePass`]. The convenience [`crate::Renderer`] drives it
+//! [`crate::passes::ReferencePass`], one average per light of the scene. The convenience [`crate::Renderer`] drives it
 //! ([`crate::Renderer::render_reference`]); [`crate::Shadows`] never does.
 
 use crate::error::{PenumbraError, Result};
@@ -26,10 +26,10 @@ impl ReferenceProgress {
 }
 
 /// What a progressive reference's average depends on.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 struct ReferenceKey {
     camera: Camera,
-    light: Light,
+    lights: Vec<Light>,
     scene: (u64, u64, u64),
     size: (u32, u32),
     settings: ShadowSettings,
@@ -50,21 +50,46 @@ pub(crate) struct SampleInputs<'a> {
     pub shadow_map: &'a mut ShadowMapPass,
 }
 
-/// The reference's running mean and what it was averaged for.
+/// The reference's running means, one per light (the key light first), and what they were
+/// averaged for.
 pub(crate) struct GroundTruth {
-    pass: ReferencePass,
+    passes: Vec<ReferencePass>,
+    frame_size: usize,
+    size: (u32, u32),
     key: Option<ReferenceKey>,
+    /// Every light's mean, one layer each, as the composite binds them (copied from the passes).
+    array: Option<(wgpu::Texture, wgpu::TextureView)>,
 }
 
 impl GroundTruth {
-    pub fn new(device: &wgpu::Device, frame_size: usize, (width, height): (u32, u32)) -> Self {
-        let mut pass = ReferencePass::new(device, frame_size);
-        pass.resize(device, width, height);
-        Self { pass, key: None }
+    pub fn new(device: &wgpu::Device, frame_size: usize, size: (u32, u32)) -> Self {
+        let mut truth = Self {
+            passes: Vec::new(),
+            frame_size,
+            size,
+            key: None,
+            array: None,
+        };
+        truth.ensure_lights(device, 1);
+        truth
+    }
+
+    /// One average per light.
+    fn ensure_lights(&mut self, device: &wgpu::Device, count: usize) {
+        self.passes.truncate(count.max(1));
+        while self.passes.len() < count {
+            let mut pass = ReferencePass::new(device, self.frame_size);
+            pass.resize(device, self.size.0, self.size.1);
+            self.passes.push(pass);
+        }
     }
 
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.pass.resize(device, width, height);
+        self.size = (width, height);
+        for pass in &mut self.passes {
+            pass.resize(device, width, height);
+        }
+        self.array = None;
         self.key = None;
     }
 
@@ -73,23 +98,70 @@ impl GroundTruth {
         self.key = None;
     }
 
-    /// The mean so far as a one-layer 2D-array view (how the composite binds visibility).
-    pub fn visibility_array(&self) -> wgpu::TextureView {
-        self.visibility_texture()
-            .create_view(&wgpu::TextureViewDescriptor {
+    /// Every light's mean so far, one layer each in the lights' order, as a 2D-array view (how
+    /// the composite binds visibility); the copies are recorded in `encoder`.
+    pub fn visibility_array(
+        &mut self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> wgpu::TextureView {
+        let layers = self.passes.len() as u32;
+        let size = wgpu::Extent3d {
+            width: self.size.0.max(1),
+            height: self.size.1.max(1),
+            depth_or_array_layers: layers,
+        };
+        if self.array.as_ref().is_none_or(|(t, _)| t.size() != size) {
+            let texture = device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("GroundTruth::visibility_array"),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: self.passes[0].visibility_texture().format(),
+                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                view_formats: &[],
+            });
+            let view = texture.create_view(&wgpu::TextureViewDescriptor {
                 label: Some("GroundTruth::visibility_array"),
                 dimension: Some(wgpu::TextureViewDimension::D2Array),
                 ..Default::default()
-            })
+            });
+            self.array = Some((texture, view));
+        }
+        let (array, view) = self.array.as_ref().expect("made above");
+        for (layer, pass) in self.passes.iter().enumerate() {
+            let source = pass.visibility_texture();
+            encoder.copy_texture_to_texture(
+                source.as_image_copy(),
+                wgpu::TexelCopyTextureInfo {
+                    texture: array,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d {
+                        x: 0,
+                        y: 0,
+                        z: layer as u32,
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::Extent3d {
+                    depth_or_array_layers: 1,
+                    ..size
+                },
+            );
+        }
+        view.clone()
     }
 
+    /// The key light's mean so far.
     pub fn visibility_texture(&self) -> &wgpu::Texture {
-        self.pass.visibility_texture()
+        self.passes[0].visibility_texture()
     }
 
+    /// Samples averaged so far, per light.
     pub fn progress(&self, total: u32) -> ReferenceProgress {
         ReferenceProgress {
-            done: self.pass.accumulated(),
+            done: self.passes[0].accumulated(),
             total,
         }
     }
@@ -114,38 +186,49 @@ impl GroundTruth {
             prepass,
             shadow_map,
         } = inputs;
-        let light = *scene.light();
+        let lights: Vec<Light> = std::iter::once(*scene.light())
+            .chain(scene.more_lights().iter().copied())
+            .collect();
         let total = settings.reference.samples;
         let key = ReferenceKey {
             camera: *camera,
-            light,
+            lights: lights.clone(),
             scene: scene.revision(),
             size,
             settings: *settings,
         };
-        self.pass.bind(device, frame, prepass.depth(), shadow_map.view());
+        self.ensure_lights(device, lights.len());
+        for pass in &mut self.passes {
+            pass.bind(device, frame, prepass.depth(), shadow_map.view());
+        }
         if self.key.as_ref() != Some(&key) {
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("reference: depth prepass"),
             });
             prepass.encode(&mut encoder, scene);
             queue.submit([encoder.finish()]);
-            self.pass.reset();
+            for pass in &mut self.passes {
+                pass.reset();
+            }
             self.key = Some(key);
         }
         let casters = scene.casters();
-        let first = self.pass.accumulated();
+        let first = self.passes[0].accumulated();
         let last = first.saturating_add(max_samples).min(total);
         for k in first..last {
-            let sample = crate::light_samples::light_sample(&light, k, total);
-            let view = LightView::fit_casters(&sample, &scene.caster_bounds(), &scene.shadow_bounds(), 0.0);
-            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("reference: sample"),
-            });
-            shadow_map.prepare(device, queue, casters, &view);
-            shadow_map.encode(&mut encoder, casters);
-            self.pass.accumulate(&mut encoder, queue, &view);
-            queue.submit([encoder.finish()]);
+            // Sample k of every light, so the averages stay in step.
+            for (light, pass) in lights.iter().zip(&mut self.passes) {
+                let sample = crate::light_samples::light_sample(light, k, total);
+                let view =
+                    LightView::fit_casters(&sample, &scene.caster_bounds(), &scene.shadow_bounds(), 0.0);
+                let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("reference: sample"),
+                });
+                shadow_map.prepare(device, queue, casters, &view);
+                shadow_map.encode(&mut encoder, casters);
+                pass.accumulate(&mut encoder, queue, &view);
+                queue.submit([encoder.finish()]);
+            }
             if k % 16 == 15 {
                 device
                     .poll(wgpu::PollType::Wait {

@@ -5,8 +5,7 @@
 //! [`crate::Scene::more_lights`], up to [`crate::MAX_LIGHTS`]), then a lit composite that adds
 //! each light times its resolved visibility. With one light, hard shadows and hardware 2x2 PCF
 //! shade in one forward pass with the light's shadow map instead, and the ground truth
-//! accumulates one hard shadow map per light sample ([`Renderer::render_reference`]; one light
-//! only).
+//! accumulates one hard shadow map per light sample and light ([`Renderer::render_reference`]).
 
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform};
@@ -630,14 +629,19 @@ impl Renderer {
         let result = (maps_rendered, spreads, light_view);
         if plan.composite {
             // The key light's visibility is layer 0 of the reference's one-layer view.
+            // The reference keeps its lights' means in its own array, in the lights' order.
             let source = if plan.reference {
-                self.reference.as_ref().map(|r| r.visibility_array())
+                self.reference
+                    .as_mut()
+                    .map(|r| r.visibility_array(device, encoder))
             } else {
                 self.shadows.visibility().cloned()
             };
             if let Some(composite) = &self.composite {
                 let mut lights = vec![(*scene.light(), self.light.layer())];
-                if !plan.reference {
+                if plan.reference {
+                    lights.extend(scene.more_lights().iter().zip(1..).map(|(l, layer)| (*l, layer)));
+                } else {
                     lights.extend(
                         scene
                             .more_lights()
@@ -770,15 +774,6 @@ impl Renderer {
                 format!(
                     "rendering the reference needs method `reference`, not `{}`",
                     self.settings.method.name()
-                ),
-            ));
-        }
-        if !scene.more_lights().is_empty() {
-            return Err(crate::PenumbraError::input(
-                "scene lights",
-                format!(
-                    "the reference renders one light and the scene has {}: give it the key light alone",
-                    1 + scene.more_lights().len()
                 ),
             ));
         }

@@ -146,9 +146,7 @@ impl DemoApp {
                     }
                 });
                 if count > 1 {
-                    ui.label(
-                        "The maps show the selected light; the reference and the error view the key light.",
-                    );
+                    ui.label("The maps show the selected light; the error view measures the key light.");
                 }
                 let mut light = self.light;
                 ui.horizontal(|ui| {
