@@ -40,6 +40,9 @@ struct Args {
     /// Shadow map resolution in texels (power of two, 64..=8192).
     #[arg(long, default_value_t = 2048)]
     shadow_map: u32,
+    /// Cascades of a directional light's map, 1..=4 (spot lights use one)
+    #[arg(long, default_value_t = 4)]
+    cascades: u32,
     /// Also render the ground-truth reference with this many light samples, print the
     /// visibility error (RMSE, penumbra RMSE, max) and FLIP, and write OUT.heat.png (the
     /// visibility error) next to the output.
@@ -73,6 +76,7 @@ fn main() -> Result<()> {
     let quality = Quality::from_name(&args.quality).context("--quality")?;
     let mut settings = ShadowSettings::preset(method, quality);
     settings.shadow_map.resolution = args.shadow_map;
+    settings.shadow_map.cascades.count = args.cascades;
     if let Some(samples) = args.samples {
         settings.reference.samples = samples;
     }

@@ -43,12 +43,14 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     if frame.view.has_receiver_mask != 0u && textureLoad(receiver_mask, pixel, 0).x < 0.5 {
         return classified(0.0, -1.0, false);
     }
+    use_pixel_cascade(frag.xy, depth);
     let world = world_position(frag.xy, depth);
     let p = to_shadow_map(world);
     let size = vec2<i32>(textureDimensions(fattened_map));
     let texel = clamp(vec2<i32>(p.xy * vec2<f32>(size)), vec2<i32>(0), size - 1);
     let fattened_depth = textureLoad(fattened_map, texel, 0).x;
-    let on_map = all(p.xy >= vec2<f32>(0.0)) && all(p.xy <= vec2<f32>(1.0)) && p.z <= 1.0;
+    let tile = frame.cascades.tile[cascade];
+    let on_map = all(p.xy >= tile.xy) && all(p.xy <= tile.zw) && p.z <= 1.0;
     let inside = on_map && fattened_depth < p.z;
     if !inside {
         return classified(0.0, 0.0, !MASK_EARLY_OUT && p.z <= 1.0);

@@ -7,9 +7,16 @@
 
 struct ForwardFrame {
     view_proj: mat4x4<f32>,
-    light_view_proj: mat4x4<f32>,
-    // xyz: eye; w: normal offset in world units (orthographic light) or world units per unit
+    // each cascade's light view-projection into its tile of the map atlas
+    light_view_proj: array<mat4x4<f32>, 4>,
+    // the camera view distance where each cascade ends
+    cascade_end: vec4<f32>,
+    // each cascade's normal offset in world units (orthographic light) or world units per unit
     // of distance from the light (spot light)
+    cascade_offset: vec4<f32>,
+    // x: cascades in use, y: tiles per side of the map atlas
+    cascade_count: vec4<u32>,
+    // xyz: eye
     camera_position: vec4<f32>,
     // xyz: direction the light travels; w: 0 directional, 1 spot
     light_direction: vec4<f32>,
@@ -50,13 +57,25 @@ fn vs_main(
     return out;
 }
 
+// The cascade for a point `view_distance` from the camera.
+fn cascade_at(view_distance: f32) -> u32 {
+    var k = 0u;
+    while k + 1u < min(frame.cascade_count.x, 4u) && view_distance >= frame.cascade_end[k] {
+        k += 1u;
+    }
+    return k;
+}
+
 // 1 where the light reaches `world`, 0 where a caster blocks it; outside the shadow map, 1.
-fn shadow_visibility(world: vec3<f32>) -> f32 {
-    let clip = frame.light_view_proj * vec4<f32>(world, 1.0);
+fn shadow_visibility(world: vec3<f32>, cascade: u32) -> f32 {
+    let clip = frame.light_view_proj[cascade] * vec4<f32>(world, 1.0);
     let w = max(clip.w, 1e-20);
     let ndc = clip.xyz / w;
     let uv = ndc.xy * vec2<f32>(0.5, -0.5) + vec2<f32>(0.5);
-    let inside = clip.w > 0.0 && all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0)) && ndc.z >= 0.0 && ndc.z <= 1.0;
+    // Inside the cascade's own tile of the atlas.
+    let grid = max(frame.cascade_count.y, 1u);
+    let tile = vec2<f32>(f32(cascade % grid), f32(cascade / grid)) / f32(grid);
+    let inside = clip.w > 0.0 && all(uv >= tile) && all(uv <= tile + 1.0 / f32(grid)) && ndc.z >= 0.0 && ndc.z <= 1.0;
     let visibility = textureSampleCompareLevel(shadow_map, shadow_sampler, uv, ndc.z);
     return select(1.0, visibility, inside);
 }
@@ -80,11 +99,12 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     var visibility = 1.0;
     if instance.flags.x > 0.5 && n_dot_l > 0.0 {
         // Normal-offset bias: look the shadow map up a little off the surface.
-        var offset = frame.camera_position.w;
+        let cascade = cascade_at((frame.view_proj * vec4<f32>(in.world, 1.0)).w);
+        var offset = frame.cascade_offset[cascade];
         if frame.light_direction.w > 0.5 {
             offset *= max(dot(in.world - frame.light_position.xyz, frame.light_direction.xyz), 0.0);
         }
-        visibility = shadow_visibility(in.world + n * offset);
+        visibility = shadow_visibility(in.world + n * offset, cascade);
     }
     let light = frame.light_radiance.rgb * (n_dot_l * cone * visibility) + frame.ambient.rgb;
     return vec4<f32>(base.rgb * light, 1.0);

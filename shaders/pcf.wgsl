@@ -18,6 +18,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     if is_background(depth) {
         return vec4<f32>(1.0);
     }
+    use_pixel_cascade(frag.xy, depth);
     let r = receiver(pixel, depth, frame.penumbra.normal_offset);
     if r.p.z > 1.0 {
         return vec4<f32>(1.0);

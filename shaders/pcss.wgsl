@@ -30,6 +30,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     if is_background(depth) {
         return vec4<f32>(1.0);
     }
+    use_pixel_cascade(frag.xy, depth);
     let r = receiver(pixel, depth, frame.penumbra.normal_offset);
     let world = r.world;
     let p = r.p;
@@ -50,7 +51,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     var blocker_count = 0.0;
     for (var k = 0; k < blockers; k++) {
         let offset = vogel(k, blockers, angle) * search_uv;
-        let texel = clamp(vec2<i32>((p.xy + offset) * vec2<f32>(size)), vec2<i32>(0), size - 1);
+        let texel = clamp(vec2<i32>(in_tile(p.xy + offset) * vec2<f32>(size)), vec2<i32>(0), size - 1);
         let occluder = textureLoad(shadow_depths, texel, 0).x;
         if occluder < p.z + dot(slope, offset) - 1e-5 {
             blocker_sum += occluder;
@@ -66,7 +67,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     var sum = 0.0;
     for (var k = 0; k < samples; k++) {
         let offset = vogel(k, samples, angle) * filter_uv;
-        sum += textureSampleCompareLevel(shadow_map, shadow_sampler, p.xy + offset, p.z + dot(slope, offset));
+        sum += textureSampleCompareLevel(shadow_map, shadow_sampler, in_tile(p.xy + offset), p.z + dot(slope, offset));
     }
     return vec4<f32>(sum / f32(samples));
 }

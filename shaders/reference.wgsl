@@ -5,8 +5,12 @@
 // two R32F targets, so memory does not grow with N.
 
 struct Sample {
-    light_view_proj: mat4x4<f32>,
-    // x: samples already accumulated (this one is number x + 1)
+    // each cascade's view-projection into its tile of the map atlas
+    light_view_proj: array<mat4x4<f32>, 4>,
+    // the camera view distance where each cascade ends
+    cascade_end: vec4<f32>,
+    // x: samples already accumulated (this one is number x + 1), y: cascades, z: tiles per
+    // side of the map atlas
     params: vec4<f32>,
 }
 
@@ -25,10 +29,20 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     if is_background(depth) {
         return vec4<f32>(1.0);
     }
-    let clip = sample.light_view_proj * vec4<f32>(world_position(frag.xy, depth), 1.0);
+    // The cascade the pixel's view distance falls in (no blend band: every cascade holds the
+    // same hard shadow, only its texels differ).
+    let distance = view_depth(depth);
+    var k = 0u;
+    while k + 1u < min(u32(sample.params.y), 4u) && distance >= sample.cascade_end[k] {
+        k += 1u;
+    }
+    let clip = sample.light_view_proj[k] * vec4<f32>(world_position(frag.xy, depth), 1.0);
     let ndc = clip.xyz / max(clip.w, 1e-20);
     let uv = ndc.xy * vec2<f32>(0.5, -0.5) + vec2<f32>(0.5);
-    let inside = clip.w > 0.0 && all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0)) && ndc.z >= 0.0 && ndc.z <= 1.0;
+    // Inside the cascade's own tile of the atlas.
+    let grid = max(sample.params.z, 1.0);
+    let tile = vec2<f32>(f32(k % u32(grid)), f32(k / u32(grid))) / grid;
+    let inside = clip.w > 0.0 && all(uv >= tile) && all(uv <= tile + 1.0 / grid) && ndc.z >= 0.0 && ndc.z <= 1.0;
     let visibility = select(1.0, textureSampleCompareLevel(shadow_map, shadow_sampler, uv, ndc.z), inside);
     return vec4<f32>(before + (visibility - before) / (count + 1.0));
 }

@@ -43,6 +43,7 @@ fn unblurred(visibility: f32) -> Out {
 fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     let pixel = vec2<i32>(frag.xy);
     let depth = textureLoad(camera_depth, pixel, 0).x;
+    use_pixel_cascade(frag.xy, depth);
     let d = textureLoad(distance_map, pixel, 0).x;
     let world = world_position(frag.xy, depth);
     let r = receiver(pixel, depth, frame.penumbra.normal_offset);

@@ -8,7 +8,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-use crate::light_space::{LightView, ProjectionKind};
+use crate::light_space::{LightView, MAX_CASCADES, ProjectionKind, tile_matrix, tile_viewport};
 use crate::scene::{Aabb, Light};
 use crate::settings::{ShadowMethod, ShadowSettings, SpreadMode};
 use crate::view::{CameraMatrices, DepthConvention};
@@ -63,6 +63,47 @@ pub(crate) struct PenumbraUniform {
     pub _pad: f32,
 }
 
+/// Mirrors `struct Cascades`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug)]
+pub(crate) struct CascadesUniform {
+    /// Each cascade's light view-projection into its own tile of the atlas.
+    pub view_proj: [[[f32; 4]; 4]; MAX_CASCADES],
+    /// xy: the window's size (world units), z: the view distance where it ends, w: where its
+    /// blend band begins.
+    pub extent_end: [[f32; 4]; MAX_CASCADES],
+    /// The tile's uv rectangle (min xy, max zw), half a texel inside its edges.
+    pub tile: [[f32; 4]; MAX_CASCADES],
+    pub count: u32,
+    /// Tiles per side of the atlas.
+    pub grid: f32,
+    pub _pad: [f32; 2],
+}
+
+impl CascadesUniform {
+    /// The cascades of `lv`, placed in the tiles of its atlas (`resolution` texels a tile).
+    pub fn new(lv: &LightView, resolution: u32) -> Self {
+        let grid = lv.grid.max(1);
+        let mut out = CascadesUniform::zeroed();
+        let cascades = lv.cascades();
+        out.count = cascades.len() as u32;
+        out.grid = grid as f32;
+        let side = (resolution * grid) as f32;
+        for (i, c) in cascades.iter().enumerate() {
+            out.view_proj[i] = (tile_matrix(grid, i as u32) * c.view_projection).to_cols_array_2d();
+            out.extent_end[i] = [c.extent.x, c.extent.y, c.end, c.blend_start];
+            let [x, y, w, h] = tile_viewport(grid, i as u32, resolution * grid);
+            out.tile[i] = [
+                (x as f32 + 0.5) / side,
+                (y as f32 + 0.5) / side,
+                ((x + w) as f32 - 0.5) / side,
+                ((y + h) as f32 - 0.5) / side,
+            ];
+        }
+        out
+    }
+}
+
 /// Mirrors `struct Frame` (a test compares every field's offset with the WGSL layout).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable, Debug)]
@@ -71,6 +112,7 @@ pub(crate) struct FrameUniform {
     pub light: ShadowLightUniform,
     pub penumbra: PenumbraUniform,
     pub ambient: [f32; 4],
+    pub cascades: CascadesUniform,
 }
 
 /// Mirrors `struct Pcf` in `shaders/common/pcf_taps.wgsl`.
@@ -349,7 +391,9 @@ impl FrameUniform {
                 near: lv.near,
                 far: lv.far,
                 perspective: perspective as u32,
-                resolution: s.shadow_map.resolution as f32,
+                // Texels per side of the whole atlas: with the extents times the grid
+                // (`shadow_map_world_size`), each cascade's own texel size.
+                resolution: (s.shadow_map.resolution * lv.grid.max(1)) as f32,
                 extent: lv.extent.to_array(),
                 tan_half_fov,
                 size_term: light_size_term(light),
@@ -365,6 +409,7 @@ impl FrameUniform {
                 _pad: 0.0,
             },
             ambient: f.ambient.extend(0.0).to_array(),
+            cascades: CascadesUniform::new(lv, s.shadow_map.resolution),
         }
     }
 }
@@ -452,8 +497,20 @@ mod tests {
                     ("light", offset_of!(FrameUniform, light)),
                     ("penumbra", offset_of!(FrameUniform, penumbra)),
                     ("ambient", offset_of!(FrameUniform, ambient)),
+                    ("cascades", offset_of!(FrameUniform, cascades)),
                 ],
                 size_of::<FrameUniform>(),
+            ),
+            (
+                "Cascades",
+                vec![
+                    ("view_proj", offset_of!(CascadesUniform, view_proj)),
+                    ("extent_end", offset_of!(CascadesUniform, extent_end)),
+                    ("tile", offset_of!(CascadesUniform, tile)),
+                    ("count", offset_of!(CascadesUniform, count)),
+                    ("grid", offset_of!(CascadesUniform, grid)),
+                ],
+                size_of::<CascadesUniform>(),
             ),
             (
                 "View",

@@ -5,10 +5,11 @@
 
 use crate::error::{PenumbraError, Result};
 use crate::gpu_scene::GpuScene;
-use crate::light_space::LightView;
+use crate::light_space::{FitInputs, LightView};
 use crate::passes::{DepthPrepass, ReferencePass, ShadowMapPass};
 use crate::scene::{Camera, Light};
-use crate::settings::ShadowSettings;
+use crate::settings::{CascadeSettings, ShadowSettings};
+use crate::view::CameraMatrices;
 
 /// How far a progressive reference has come.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -213,14 +214,38 @@ impl GroundTruth {
             self.key = Some(key);
         }
         let casters = scene.casters();
+        let matrices = CameraMatrices::from_camera(camera, size.0 as f32 / size.1.max(1) as f32);
         let first = self.passes[0].accumulated();
         let last = first.saturating_add(max_samples).min(total);
         for k in first..last {
             // Sample k of every light, so the averages stay in step.
             for (light, pass) in lights.iter().zip(&mut self.passes) {
                 let sample = crate::light_samples::light_sample(light, k, total);
-                let view =
-                    LightView::fit_casters(&sample, &scene.caster_bounds(), &scene.shadow_bounds(), 0.0);
+                // The map fitted to what the camera sees, in cascades like the real-time maps'
+                // (unsnapped: each sample is rendered once).
+                let sm = &settings.shadow_map;
+                // One map pass serves every light: its atlas decides whether there are cascades.
+                let cascades = if shadow_map.grid() > 1 {
+                    sm.cascades
+                } else {
+                    CascadeSettings {
+                        count: 1,
+                        ..sm.cascades
+                    }
+                };
+                let mut view = LightView::fit_with(&FitInputs {
+                    light: &sample,
+                    casters: scene.caster_bounds(),
+                    casters_and_receivers: scene.shadow_bounds(),
+                    parts: &[],
+                    margin: 0.0,
+                    fit: sm.fit,
+                    camera: Some(matrices),
+                    resolution: sm.resolution,
+                    snap_to_texels: false,
+                    cascades,
+                });
+                view.grid = shadow_map.grid();
                 let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("reference: sample"),
                 });

@@ -83,7 +83,7 @@ pub use gpu_scene::GpuScene;
 #[cfg(feature = "renderer")]
 pub use ground_truth::ReferenceProgress;
 pub use layouts::SceneLayouts;
-pub use light_space::LightView;
+pub use light_space::{Cascade, LightView, MAX_CASCADES};
 #[cfg(feature = "renderer")]
 pub use loaders::load_model;
 pub use passes::VISIBILITY_FORMAT;
@@ -98,8 +98,8 @@ pub use scene::{
     SpotLight, TextureImage, Viewpoint,
 };
 pub use settings::{
-    CullMode, DepthFormat, LightFit, PcfKernel, PcssSettings, PenumbraSettings, Quality, ShadowMapSettings,
-    ShadowMethod, ShadowSettings, SpreadMode, TraditionalSettings,
+    CascadeSettings, CullMode, DepthFormat, LightFit, PcfKernel, PcssSettings, PenumbraSettings, Quality,
+    ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode, TraditionalSettings,
 };
 pub use shadows::{Chain, LightId, LightReport, LightTexture, MAX_LIGHTS, Shadows, ViewInputs};
 pub use view::{CameraMatrices, DepthConvention};

@@ -14,7 +14,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 #[cfg(test)]
 use crate::scene::Camera;
 use crate::scene::{Aabb, Light};
-use crate::settings::LightFit;
+use crate::settings::{CascadeSettings, LightFit};
 use crate::view::CameraMatrices;
 
 /// Whether the light's projection is orthographic or perspective.
@@ -36,6 +36,136 @@ pub struct LightView {
     pub far: f32,
     /// Width and height of the projection at the near plane (orthographic: everywhere), world units.
     pub extent: Vec2,
+    /// The cascades' windows ([`LightView::cascades`]); one, the whole window, unless the
+    /// light is directional and fitted to a perspective camera with several cascades.
+    pub cascade_windows: [Cascade; MAX_CASCADES],
+    pub cascade_count: u32,
+    /// Tiles per side of the maps' atlas ([`atlas_grid`]).
+    pub grid: u32,
+}
+
+/// The most cascades a directional light's map has.
+pub const MAX_CASCADES: usize = 4;
+
+/// Texels a cascade's window keeps free on each side beyond snapping's one: how far (in its
+/// texels) the camera may move the window's content before the window must move too.
+const CASCADE_SLACK: f32 = 3.0;
+
+/// One cascade of a directional light's map: a window of the light's view (same view, same
+/// near and far planes), used for camera view distances up to `end`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cascade {
+    /// The window's orthographic projection times the light's view (clip space of the
+    /// cascade's own tile: the map passes draw it with the tile's viewport).
+    pub view_projection: Mat4,
+    /// Width and height of the window, world units.
+    pub extent: Vec2,
+    /// The window's lower corner in the light's view (x, y), world units.
+    pub window_min: Vec2,
+    /// The camera view distance where this cascade ends (`f32::MAX` for the last).
+    pub end: f32,
+    /// Where its blend band toward the next cascade begins (`end`: no band).
+    pub blend_start: f32,
+}
+
+/// Tiles per side of a light's map atlas: 2 for a directional light with two or more
+/// cascades (up to four tiles), 1 otherwise.
+pub fn atlas_grid(light: &Light, cascades: &CascadeSettings) -> u32 {
+    if matches!(light, Light::Directional(_)) && cascades.count > 1 {
+        2
+    } else {
+        1
+    }
+}
+
+/// Where tile `index` of a `grid` x `grid` atlas lies: clip space of the whole window mapped
+/// into the tile (row 0 at the top, like texture rows).
+pub fn tile_matrix(grid: u32, index: u32) -> Mat4 {
+    if grid <= 1 {
+        return Mat4::IDENTITY;
+    }
+    let scale = 1.0 / grid as f32;
+    let (col, row) = ((index % grid) as f32, (index / grid) as f32);
+    Mat4::from_cols(
+        Vec4::new(scale, 0.0, 0.0, 0.0),
+        Vec4::new(0.0, scale, 0.0, 0.0),
+        Vec4::Z,
+        Vec4::new(
+            -1.0 + scale * (2.0 * col + 1.0),
+            1.0 - scale * (2.0 * row + 1.0),
+            0.0,
+            1.0,
+        ),
+    )
+}
+
+/// The texel rectangle of tile `index` in an atlas `side` texels wide: x, y, width, height.
+pub fn tile_viewport(grid: u32, index: u32, side: u32) -> [u32; 4] {
+    let tile = side / grid.max(1);
+    let (col, row) = (index % grid.max(1), index / grid.max(1));
+    [col * tile, row * tile, tile, tile]
+}
+
+impl LightView {
+    /// The cascades in use, nearest first.
+    pub fn cascades(&self) -> &[Cascade] {
+        &self.cascade_windows[..self.cascade_count.clamp(1, MAX_CASCADES as u32) as usize]
+    }
+
+    /// These cascades, each replaced by `previous`' (the windows its maps were drawn with)
+    /// where that window still holds everything this one must: same view, depth range and
+    /// size, and its corner at most [`CASCADE_SLACK`] texels away. A camera that moves a
+    /// little then leaves the maps as they are. `resolution`: texels per cascade side.
+    pub fn keeping_windows_of(mut self, previous: &LightView, resolution: u32) -> LightView {
+        let count = self.cascade_count as usize;
+        if count <= 1
+            || previous.cascade_count != self.cascade_count
+            || previous.view != self.view
+            || previous.near != self.near
+            || previous.far != self.far
+            || previous.grid != self.grid
+        {
+            return self;
+        }
+        for (new, old) in self
+            .cascade_windows
+            .iter_mut()
+            .zip(&previous.cascade_windows)
+            .take(count)
+        {
+            let texel = new.extent / resolution.max(1) as f32;
+            let drift = ((new.window_min - old.window_min) / texel).abs().max_element();
+            let same_size = (new.extent - old.extent).abs().max_element() <= 1e-4 * old.extent.max_element();
+            if same_size && drift <= CASCADE_SLACK + 1e-3 {
+                new.extent = old.extent;
+                new.view_projection = old.view_projection;
+                new.window_min = old.window_min;
+            }
+        }
+        self
+    }
+
+    /// The matrices the maps are drawn with: the whole window's and each cascade's.
+    pub fn map_matrices(&self) -> [Mat4; MAX_CASCADES + 1] {
+        let mut out = [Mat4::ZERO; MAX_CASCADES + 1];
+        out[0] = self.view_projection;
+        for (o, c) in out[1..].iter_mut().zip(self.cascades()) {
+            *o = c.view_projection;
+        }
+        out
+    }
+
+    /// One cascade: the whole window.
+    fn single(view_projection: Mat4, extent: Vec2, grid: u32) -> ([Cascade; MAX_CASCADES], u32, u32) {
+        let whole = Cascade {
+            view_projection,
+            extent,
+            window_min: Vec2::ZERO,
+            end: f32::MAX,
+            blend_start: f32::MAX,
+        };
+        ([whole; MAX_CASCADES], 1, grid)
+    }
 }
 
 /// What [`LightView::fit_with`] fits the light to.
@@ -60,6 +190,8 @@ pub struct FitInputs<'a> {
     pub resolution: u32,
     /// Fixed texel size and whole-texel moves (directional lights).
     pub snap_to_texels: bool,
+    /// Cascades of a directional light fitted to a perspective camera.
+    pub cascades: CascadeSettings,
 }
 
 impl LightView {
@@ -88,6 +220,10 @@ impl LightView {
             camera: None,
             resolution: 2048,
             snap_to_texels: false,
+            cascades: CascadeSettings {
+                count: 1,
+                ..Default::default()
+            },
         })
     }
 
@@ -143,6 +279,12 @@ impl LightView {
                 let (near, far) = (near - pad_z, far + pad_z);
                 let projection =
                     glam::camera::rh::proj::directx::orthographic(min.x, max.x, min.y, max.y, near, far);
+                let grid = atlas_grid(light, &inputs.cascades);
+                let (cascade_windows, cascade_count, grid) =
+                    match directional_cascades(inputs, &view, &casters, radius, (near, far)) {
+                        Some((windows, count)) => (windows, count, grid),
+                        None => LightView::single(projection * view, max - min, grid),
+                    };
                 LightView {
                     view,
                     projection,
@@ -151,6 +293,9 @@ impl LightView {
                     near,
                     far,
                     extent: max - min,
+                    cascade_windows,
+                    cascade_count,
+                    grid,
                 }
             }
             Light::Spot(spot) => {
@@ -182,6 +327,8 @@ impl LightView {
                     Vec4::new(-center.x / half, -center.y / half, 0.0, 1.0),
                 );
                 let projection = to_window * square;
+                let extent = Vec2::splat(2.0 * near * half);
+                let (cascade_windows, cascade_count, grid) = LightView::single(projection * view, extent, 1);
                 LightView {
                     view,
                     projection,
@@ -189,7 +336,10 @@ impl LightView {
                     kind: ProjectionKind::Perspective,
                     near,
                     far,
-                    extent: Vec2::splat(2.0 * near * half),
+                    extent,
+                    cascade_windows,
+                    cascade_count,
+                    grid,
                 }
             }
         }
@@ -257,53 +407,182 @@ fn spot_window(inputs: &FitInputs, view: &Mat4, cone: f32) -> (Vec2, f32) {
     if half >= cone { whole } else { (center, half) }
 }
 
-/// The orthographic window (light-space x, y) of a directional light.
-fn directional_window(inputs: &FitInputs, view: &Mat4, casters: &Aabb, radius: f32) -> (Vec2, Vec2) {
+/// The light-space x, y window around the casters (widened by the margin): where a
+/// directional light's shadows can fall.
+fn casters_window(inputs: &FitInputs, view: &Mat4, casters: &Aabb, radius: f32) -> (Vec2, Vec2) {
     let sides = casters.transformed(view);
     let margin = inputs.margin.max(0.0);
     // Small margins so geometry on the boundary is not clipped.
     let pad = (sides.size().truncate() * 0.01).max(Vec2::splat(radius * 1e-4)) + margin;
-    let (mut lo, mut hi) = (sides.min.truncate() - pad, sides.max.truncate() + pad);
-    // The size the window keeps while the camera moves (snapping).
+    (sides.min.truncate() - pad, sides.max.truncate() + pad)
+}
+
+/// The view distance where the camera's view ends for the fit: its far plane or the fit's
+/// `max_distance`, an infinite far plane at the farthest corner of the scene.
+fn view_end(inputs: &FitInputs, camera: &CameraMatrices, max_distance: f32) -> (f32, f32) {
+    let eye = camera.eye();
+    let fallback = inputs
+        .casters_and_receivers
+        .corners()
+        .iter()
+        .map(|c| c.distance(eye))
+        .fold(1e-3, f32::max);
+    camera.distance_range(max_distance, fallback)
+}
+
+/// A window around `corners` (world points) in light space, cut to the casters' window
+/// `(lo, hi)`; with snapping its size is that of the corners' bounding sphere (which does not
+/// change as the camera turns), rounded up to steps of 2^(1/8), and it moves in whole texels.
+/// `spare`: texels kept free on each side (see [`snap_window`]).
+fn window_around(
+    inputs: &FitInputs,
+    view: &Mat4,
+    corners: &[Vec3],
+    (lo, hi): (Vec2, Vec2),
+    spare: f32,
+) -> (Vec2, Vec2) {
+    let margin = inputs.margin.max(0.0);
+    let seen = Aabb::from_points(
+        corners
+            .iter()
+            .map(|c| view.transform_point3(*c))
+            .collect::<Vec<_>>()
+            .iter(),
+    );
+    let (seen_lo, seen_hi) = (seen.min.truncate() - margin, seen.max.truncate() + margin);
+    let (cut_lo, cut_hi) = (lo.max(seen_lo), hi.min(seen_hi));
+    let (mut lo, mut hi) = (lo, hi);
     let mut stable = hi - lo;
     let mut center = (lo + hi) * 0.5;
-    if let (LightFit::CameraFrustum { max_distance }, Some(camera)) = (inputs.fit, inputs.camera) {
-        // An infinite far plane with no distance set ends behind the farthest shadow part.
-        let eye = camera.eye();
-        let fallback = inputs
-            .casters_and_receivers
-            .corners()
-            .iter()
-            .map(|c| c.distance(eye))
-            .fold(1e-3, f32::max);
-        let corners = camera.frustum_corners(max_distance, fallback);
-        let seen = Aabb::from_points(corners.map(|c| view.transform_point3(c)).iter());
-        let (seen_lo, seen_hi) = (seen.min.truncate() - margin, seen.max.truncate() + margin);
-        let (cut_lo, cut_hi) = (lo.max(seen_lo), hi.min(seen_hi));
-        if cut_lo.cmplt(cut_hi).all() {
-            if inputs.snap_to_texels {
-                // The frustum's bounding sphere does not change as the camera turns or moves;
-                // its diameter is rounded up to steps of 2^(1/8) so a changing far plane
-                // changes the texel size rarely.
-                let centroid = corners.iter().sum::<Vec3>() / 8.0;
-                let r = corners.iter().map(|c| c.distance(centroid)).fold(0.0, f32::max);
-                let diameter = round_up_to_step(2.0 * (r + margin));
-                stable = stable.min(Vec2::splat(diameter));
-                center = (cut_lo + cut_hi) * 0.5;
-            } else {
-                (lo, hi) = (cut_lo, cut_hi);
-            }
+    if cut_lo.cmplt(cut_hi).all() {
+        if inputs.snap_to_texels {
+            let centroid = corners.iter().sum::<Vec3>() / corners.len().max(1) as f32;
+            let r = corners.iter().map(|c| c.distance(centroid)).fold(0.0, f32::max);
+            let diameter = round_up_to_step(2.0 * (r + margin));
+            stable = stable.min(Vec2::splat(diameter));
+            center = (cut_lo + cut_hi) * 0.5;
+        } else {
+            (lo, hi) = (cut_lo, cut_hi);
         }
     }
     if inputs.snap_to_texels {
-        // Two spare texels cover the at most one-texel shift of snapping on either side.
-        let texels = inputs.resolution.max(4) as f32;
-        let texel = stable / (texels - 2.0);
-        let size = texel * texels;
-        lo = ((center - size * 0.5) / texel).floor() * texel;
-        hi = lo + size;
+        snap_window(center, stable, inputs.resolution, spare)
+    } else {
+        (lo, hi)
     }
-    (lo, hi)
+}
+
+/// A window of size `stable` around `center`, moved to whole texels, with `spare` texels free
+/// on each side: one covers the at most one-texel shift of snapping, more let a cascade's
+/// window stay where it was while the camera moves ([`LightView::keeping_windows_of`]).
+fn snap_window(center: Vec2, stable: Vec2, resolution: u32, spare: f32) -> (Vec2, Vec2) {
+    let texels = resolution.max(4) as f32;
+    let texel = stable / (texels - 2.0 * spare).max(1.0);
+    let size = texel * texels;
+    let lo = ((center - size * 0.5) / texel).floor() * texel;
+    (lo, lo + size)
+}
+
+/// The orthographic window (light-space x, y) of a directional light.
+fn directional_window(inputs: &FitInputs, view: &Mat4, casters: &Aabb, radius: f32) -> (Vec2, Vec2) {
+    let (lo, hi) = casters_window(inputs, view, casters, radius);
+    if let (LightFit::CameraFrustum { max_distance }, Some(camera)) = (inputs.fit, inputs.camera) {
+        let (near, far) = view_end(inputs, &camera, max_distance);
+        return window_around(inputs, view, &camera.frustum_slice(near, far), (lo, hi), 1.0);
+    }
+    if inputs.snap_to_texels {
+        snap_window((lo + hi) * 0.5, hi - lo, inputs.resolution, 1.0)
+    } else {
+        (lo, hi)
+    }
+}
+
+/// The cascades of a directional light fitted to a perspective camera: the view distances
+/// from the camera's near plane to where its view ends, split by the scheme of
+/// [`CascadeSettings::split`] over the part of that range the scene occupies; each cascade a
+/// window around its slice of the frustum (from the start of the previous cascade's blend
+/// band), cut to where shadows can fall. `None` when there is to be one map.
+fn directional_cascades(
+    inputs: &FitInputs,
+    view: &Mat4,
+    casters: &Aabb,
+    radius: f32,
+    (near, far): (f32, f32),
+) -> Option<([Cascade; MAX_CASCADES], u32)> {
+    let settings = inputs.cascades;
+    let (LightFit::CameraFrustum { max_distance }, Some(camera)) = (inputs.fit, inputs.camera) else {
+        return None;
+    };
+    if settings.count <= 1 || !camera.is_perspective() || inputs.casters_and_receivers.is_empty() {
+        return None;
+    }
+    let (view_near, view_far) = view_end(inputs, &camera, max_distance);
+    // The scene's own range of view distances, inside the camera's.
+    let eye = camera.eye();
+    let forward = -camera.backward();
+    let distances = inputs
+        .casters_and_receivers
+        .corners()
+        .map(|c| (c - eye).dot(forward));
+    let scene_near = distances
+        .iter()
+        .copied()
+        .fold(f32::INFINITY, f32::min)
+        .max(view_near);
+    let scene_far = distances
+        .iter()
+        .copied()
+        .fold(f32::NEG_INFINITY, f32::max)
+        .min(view_far);
+    if !(scene_far > scene_near && scene_near > 0.0) {
+        return None;
+    }
+    // In steps of 2^(1/8), so the splits (and with them the windows' sizes) change rarely as
+    // the camera moves.
+    let scene_far = round_up_to_step(scene_far).min(view_far);
+    let scene_near = ((scene_near.log2() * 8.0).floor() / 8.0).exp2().max(view_near);
+    let count = settings.count.min(MAX_CASCADES as u32);
+    let lambda = settings.split.clamp(0.0, 1.0);
+    let split = |i: u32| {
+        let t = i as f32 / count as f32;
+        lambda * scene_near * (scene_far / scene_near).powf(t)
+            + (1.0 - lambda) * (scene_near + (scene_far - scene_near) * t)
+    };
+    let window = casters_window(inputs, view, casters, radius);
+    let mut cascades = [Cascade {
+        view_projection: Mat4::IDENTITY,
+        extent: Vec2::ONE,
+        window_min: Vec2::ZERO,
+        end: f32::MAX,
+        blend_start: f32::MAX,
+    }; MAX_CASCADES];
+    let mut start = view_near;
+    for (i, cascade) in cascades.iter_mut().enumerate().take(count as usize) {
+        let last = i as u32 + 1 == count;
+        let end = if last { view_far } else { split(i as u32 + 1) };
+        let band = if last {
+            0.0
+        } else {
+            (end - start).max(0.0) * settings.blend
+        };
+        let (lo, hi) = window_around(
+            inputs,
+            view,
+            &camera.frustum_slice(start, end.max(start)),
+            window,
+            1.0 + CASCADE_SLACK,
+        );
+        let projection = glam::camera::rh::proj::directx::orthographic(lo.x, hi.x, lo.y, hi.y, near, far);
+        *cascade = Cascade {
+            view_projection: projection * *view,
+            extent: hi - lo,
+            window_min: lo,
+            end: if last { f32::MAX } else { end },
+            blend_start: if last { f32::MAX } else { end - band },
+        };
+        start = end - band;
+    }
+    Some((cascades, count))
 }
 
 /// `x` rounded up to the next power of 2^(1/8).
@@ -496,6 +775,10 @@ mod tests {
             camera: Some(CameraMatrices::from_camera(camera, 1.5)),
             resolution: 1024,
             snap_to_texels: snap,
+            cascades: CascadeSettings {
+                count: 1,
+                ..Default::default()
+            },
         }
     }
 
@@ -543,6 +826,10 @@ mod tests {
             camera: None,
             resolution: 1024,
             snap_to_texels: false,
+            cascades: CascadeSettings {
+                count: 1,
+                ..Default::default()
+            },
         });
         assert!(lv.far - lv.near < 1.5, "near {} far {}", lv.near, lv.far);
         let loose = LightView::fit(&light, &all);
@@ -695,5 +982,124 @@ mod tests {
         assert!(inside(&lv.view_projection, Vec3::new(1.0, 0.0, 1.0)));
         assert!(inside(&lv.view_projection, Vec3::new(0.0, 2.0, 0.0)));
         assert!(lv.near > 5.0 && lv.far < 8.5, "near {} far {}", lv.near, lv.far);
+    }
+
+    fn street_camera() -> CameraMatrices {
+        let camera = Camera {
+            near: 0.1,
+            far: 400.0,
+            ..Camera::look_at(Vec3::new(0.0, 2.0, 150.0), Vec3::new(0.0, 0.0, 100.0))
+        };
+        CameraMatrices::from_camera(&camera, 1.5)
+    }
+
+    fn cascaded_inputs<'a>(light: &'a Light, camera: CameraMatrices, count: u32) -> FitInputs<'a> {
+        let scene = Aabb::new(Vec3::new(-170.0, 0.0, -170.0), Vec3::new(170.0, 12.0, 170.0));
+        FitInputs {
+            light,
+            casters: scene,
+            casters_and_receivers: scene,
+            parts: &[],
+            margin: 0.5,
+            fit: LightFit::CameraFrustum { max_distance: 0.0 },
+            camera: Some(camera),
+            resolution: 2048,
+            snap_to_texels: true,
+            cascades: CascadeSettings {
+                count,
+                ..Default::default()
+            },
+        }
+    }
+
+    #[test]
+    fn cascades_split_the_view_and_cover_their_slices() {
+        let light = sun(Vec3::new(0.6, -0.6, -0.4));
+        let camera = street_camera();
+        let lv = LightView::fit_with(&cascaded_inputs(&light, camera, 4));
+        let cascades = lv.cascades();
+        assert_eq!(cascades.len(), 4);
+        assert_eq!(lv.grid, 2);
+        let mut start = camera.distance_range(0.0, 1.0).0;
+        for (i, c) in cascades.iter().enumerate() {
+            let last = i == 3;
+            assert!(last || (c.blend_start < c.end && c.end > start), "{c:?}");
+            assert!(last || (c.end - c.blend_start) <= 0.1 * (c.end - start) * 1.001);
+            // Every point of the cascade's slice of the frustum lands inside its window.
+            let end = if last { 400.0 } else { c.end };
+            // (Parts of the slice outside the scene need no map.)
+            let scene = Aabb::new(Vec3::new(-170.0, 0.0, -170.0), Vec3::new(170.0, 12.0, 170.0));
+            for corner in camera.frustum_slice(start, end) {
+                let corner = corner.clamp(scene.min, scene.max);
+                let clip = c.view_projection * corner.extend(1.0);
+                assert!(clip.x.abs() <= 1.0 && clip.y.abs() <= 1.0, "cascade {i}: {clip}");
+            }
+            if i > 0 {
+                assert!(
+                    c.extent.x > cascades[i - 1].extent.x,
+                    "farther cascades are larger"
+                );
+            }
+            start = c.blend_start;
+        }
+        // The nearest cascade's texels are far smaller than one map's.
+        let single = LightView::fit_with(&cascaded_inputs(&light, camera, 1));
+        assert_eq!((single.cascades().len(), single.grid), (1, 1));
+        assert!(
+            cascades[0].extent.x * 8.0 < single.extent.x,
+            "{} vs {}",
+            cascades[0].extent.x,
+            single.extent.x
+        );
+    }
+
+    #[test]
+    fn cascades_keep_their_texel_grid_while_the_camera_moves() {
+        let light = sun(Vec3::new(0.6, -0.6, -0.4));
+        let a = LightView::fit_with(&cascaded_inputs(&light, street_camera(), 4));
+        let moved = Camera {
+            near: 0.1,
+            far: 400.0,
+            ..Camera::look_at(Vec3::new(0.37, 2.0, 149.2), Vec3::new(0.37, 0.0, 99.2))
+        };
+        let b = LightView::fit_with(&cascaded_inputs(
+            &light,
+            CameraMatrices::from_camera(&moved, 1.5),
+            4,
+        ));
+        for (ca, cb) in a.cascades().iter().zip(b.cascades()) {
+            assert!(
+                (ca.extent - cb.extent).abs().max_element() < 1e-4 * ca.extent.x,
+                "the size stays"
+            );
+            // The windows' corners differ by whole texels.
+            let corner = |c: &Cascade| {
+                c.view_projection
+                    .inverse()
+                    .transform_point3(Vec3::new(-1.0, -1.0, 0.0))
+            };
+            let shift = a.view.transform_point3(corner(cb)) - a.view.transform_point3(corner(ca));
+            let texels = shift.truncate() / (ca.extent / 2048.0);
+            assert!((texels - texels.round()).abs().max_element() < 1e-2, "{texels}");
+        }
+    }
+
+    #[test]
+    fn spot_lights_and_orthographic_cameras_get_one_map() {
+        let spot = wide_spot();
+        let lv = LightView::fit_with(&cascaded_inputs(&spot, street_camera(), 4));
+        assert_eq!((lv.cascades().len(), lv.grid), (1, 1));
+        let sun = sun(Vec3::new(0.6, -0.6, -0.4));
+        let ortho = CameraMatrices {
+            projection: glam::camera::rh::proj::directx::orthographic(-20.0, 20.0, -15.0, 15.0, 0.1, 400.0),
+            ..street_camera()
+        };
+        let lv = LightView::fit_with(&cascaded_inputs(&sun, ortho, 4));
+        assert_eq!(lv.cascades().len(), 1);
+        // Its atlas still has the sun's 2 x 2 tiles; the one cascade sits in the first.
+        assert_eq!(lv.grid, 2);
+        let m = tile_matrix(2, 0) * Vec4::new(1.0, 1.0, 0.5, 1.0);
+        assert_eq!((m.x, m.y), (0.0, 1.0));
+        assert_eq!(tile_viewport(2, 3, 4096), [2048, 2048, 2048, 2048]);
     }
 }

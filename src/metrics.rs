@@ -27,6 +27,23 @@ pub struct VisibilityImage {
     pub visibility: Vec<Option<f32>>,
 }
 
+impl VisibilityImage {
+    /// Rows `rows` (top first, clamped to the image) as an image of their own: for errors
+    /// over a part of the view, say the ground nearest the camera.
+    pub fn rows(&self, rows: std::ops::Range<u32>) -> VisibilityImage {
+        let (start, end) = (rows.start.min(self.height), rows.end.min(self.height));
+        let (from, to) = (
+            (start * self.width) as usize,
+            (end.max(start) * self.width) as usize,
+        );
+        VisibilityImage {
+            width: self.width,
+            height: end.saturating_sub(start),
+            visibility: self.visibility[from..to].to_vec(),
+        }
+    }
+}
+
 /// Visibility error of one image against a reference.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VisibilityError {

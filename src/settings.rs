@@ -355,8 +355,8 @@ impl Default for LightFit {
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ShadowMapSettings {
-    /// Width and height in texels, a power of two in [64, 8192] and within the device's limit.
-    /// Default 2048.
+    /// Width and height in texels, a power of two in [64, 8192] and within the device's limit;
+    /// with cascades, each cascade's, at most [`MAX_CASCADE_RESOLUTION`]. Default 2048.
     pub resolution: u32,
     /// Default [`DepthFormat::Depth32`].
     pub depth_format: DepthFormat,
@@ -385,6 +385,47 @@ pub struct ShadowMapSettings {
     /// shadow edges do not shimmer. Costs up to a few percent of the resolution. Default true.
     #[cfg_attr(feature = "serde", serde(default = "default_true"))]
     pub snap_to_texels: bool,
+    /// Cascades of a directional light's map fitted to the camera
+    /// ([`LightFit::CameraFrustum`], perspective camera). Default: 4.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub cascades: CascadeSettings,
+}
+
+/// The largest [`ShadowMapSettings::resolution`] with two or more cascades: their 2 x 2 atlas
+/// is then 8192 texels a side.
+pub const MAX_CASCADE_RESOLUTION: u32 = 4096;
+
+/// Cascaded shadow maps: a directional light's map split along the camera's view distance
+/// into windows of the same resolution, the nearest smallest, so texels near the camera are
+/// small and far ones large. The cascades lie side by side in one atlas (2 x 2 tiles of
+/// [`ShadowMapSettings::resolution`] texels when there are two or more); every pixel reads the
+/// cascade its view distance falls in. Spot lights and orthographic cameras use one map.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct CascadeSettings {
+    /// Number of cascades, 1 to 4. Default 4. One is the single map of earlier versions.
+    pub count: u32,
+    /// The split scheme, in [0, 1]: cascade `i` of `N` ends at view distance
+    /// `split x n (f / n)^(i/N) + (1 - split) x (n + (f - n) i / N)`, where `n` and `f` are
+    /// the nearest and farthest view distances of the scene inside the camera's frustum.
+    /// 0 splits uniformly (equal depth ranges), 1 logarithmically (equal ratios: the texel
+    /// size grows in step with the distance). Default 0.8.
+    pub split: f32,
+    /// The blend band between cascades, as a fraction of a cascade's depth range, in [0, 0.5].
+    /// Inside it pixels pick the next cascade with a probability rising from 0 to 1 across the
+    /// band (an ordered dither the blur smooths over), so the boundary does not show as a
+    /// line. Default 0.1.
+    pub blend: f32,
+}
+
+impl Default for CascadeSettings {
+    fn default() -> Self {
+        Self {
+            count: 4,
+            split: 0.8,
+            blend: 0.1,
+        }
+    }
 }
 
 impl Default for ShadowMapSettings {
@@ -398,6 +439,7 @@ impl Default for ShadowMapSettings {
             cull_mode: CullMode::default(),
             fit: LightFit::default(),
             snap_to_texels: true,
+            cascades: CascadeSettings::default(),
         }
     }
 }
@@ -442,6 +484,37 @@ impl ShadowSettings {
                 format!("{max_distance} must be finite and >= 0"),
             ));
         }
+        if !(1..=4).contains(&sm.cascades.count) {
+            return Err(PenumbraError::setting(
+                "shadow_map.cascades.count",
+                format!("{} is outside [1, 4]", sm.cascades.count),
+            ));
+        }
+        if sm.cascades.count > 1 && sm.resolution > MAX_CASCADE_RESOLUTION {
+            return Err(PenumbraError::setting(
+                "shadow_map.resolution",
+                format!(
+                    "{} texels a cascade makes a {}-texel atlas of {} cascades; at most {MAX_CASCADE_RESOLUTION} with cascades (or set shadow_map.cascades.count to 1)",
+                    sm.resolution,
+                    2 * sm.resolution,
+                    sm.cascades.count
+                ),
+            ));
+        }
+        if let Some(limit) = max_texture_side
+            && sm.cascades.count > 1
+            && 2 * sm.resolution > limit
+        {
+            return Err(PenumbraError::setting(
+                "shadow_map.resolution",
+                format!(
+                    "the cascades' atlas of {} texels exceeds this device's limit of {limit}",
+                    2 * sm.resolution
+                ),
+            ));
+        }
+        check_range("shadow_map.cascades.split", sm.cascades.split, 0.0, 1.0)?;
+        check_range("shadow_map.cascades.blend", sm.cascades.blend, 0.0, 0.5)?;
         if !(0.0..=8.0).contains(&sm.normal_offset) {
             return Err(PenumbraError::setting(
                 "shadow_map.normal_offset",

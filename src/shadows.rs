@@ -11,7 +11,7 @@
 use crate::casters::Casters;
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, is_point_light};
-use crate::light_space::{FitInputs, LightView};
+use crate::light_space::{FitInputs, LightView, MAX_CASCADES, atlas_grid};
 use crate::passes::{
     BlurPass, DistanceMapPass, ExitMapPass, FattenedShadowMapPass, PcfPass, PcssPass, ResolvePass,
     ShadowMapPass, VISIBILITY_FORMAT, VariablePcfPass, screen_target,
@@ -178,7 +178,8 @@ pub enum LightTexture {
 struct ShadowKey {
     casters: u64,
     light: Light,
-    light_view: [f32; 16],
+    /// The whole window's and each cascade's matrices.
+    light_view: [glam::Mat4; MAX_CASCADES + 1],
     shadow_map: ShadowMapSettings,
     fatten_distance: Option<f32>,
 }
@@ -213,6 +214,8 @@ struct LightState {
     /// The chain the passes are bound for (rebinding when it changes).
     bound: Option<Chain>,
     key: Option<ShadowKey>,
+    /// The fit the maps were last drawn with (its cascades' windows are kept while they do).
+    drawn_with: Option<LightView>,
     seen_revision: u64,
     planned: Option<Planned>,
     report: Option<LightReport>,
@@ -455,7 +458,13 @@ impl Shadows {
                 camera: Some(view.camera),
                 resolution: sm.resolution,
                 snap_to_texels: sm.snap_to_texels,
+                cascades: sm.cascades,
             });
+            // Cascades whose maps still hold what they must stay as drawn.
+            let light_view = match &state.drawn_with {
+                Some(previous) => light_view.keeping_windows_of(previous, sm.resolution),
+                None => light_view,
+            };
             queue.write_buffer(
                 &state.frame,
                 0,
@@ -476,7 +485,7 @@ impl Shadows {
             let key = ShadowKey {
                 casters: casters.id(),
                 light,
-                light_view: light_view.view_projection.to_cols_array(),
+                light_view: light_view.map_matrices(),
                 shadow_map: self.settings.shadow_map,
                 fatten_distance: chain.fattened_map.then_some(spreads.fatten_distance),
             };
@@ -587,6 +596,7 @@ impl Shadows {
                     mark(encoder, "exit map");
                 }
                 state.key = Some(plan.key);
+                state.drawn_with = Some(plan.light_view);
                 state.seen_revision = casters.revision();
             }
             if self.screen_space {
@@ -715,7 +725,8 @@ impl Shadows {
         let settings = self.settings.shadow_map;
         let state = self.lights.get_mut(id.0 as usize)?.as_mut()?;
         if state.maps_for != Some(casters.id()) || state.shadow_map.is_none() {
-            state.shadow_map = Some(ShadowMapPass::new(device, casters.layouts(), &settings));
+            let grid = atlas_grid(&state.light, &settings.cascades);
+            state.shadow_map = Some(ShadowMapPass::new(device, casters.layouts(), &settings, grid));
             state.maps_for = Some(casters.id());
             state.fattened = None;
             state.exit = None;
@@ -776,6 +787,7 @@ impl LightState {
             resolve: ResolvePass::new(device, FRAME_SIZE),
             bound: None,
             key: None,
+            drawn_with: None,
             seen_revision: 0,
             planned: None,
             report: None,
@@ -826,8 +838,10 @@ impl LightState {
         {
             self.blur = None;
         }
-        if self.maps_for != Some(casters.id()) || self.shadow_map.is_none() {
-            self.shadow_map = Some(ShadowMapPass::new(device, casters.layouts(), settings));
+        // A light that changes type may need another atlas.
+        let grid = atlas_grid(&self.light, &settings.cascades);
+        if self.maps_for != Some(casters.id()) || self.shadow_map.as_ref().is_none_or(|m| m.grid() != grid) {
+            self.shadow_map = Some(ShadowMapPass::new(device, casters.layouts(), settings, grid));
             self.maps_for = Some(casters.id());
             self.fattened = None;
             self.exit = None;
@@ -835,7 +849,7 @@ impl LightState {
             changed = true;
         }
         if chain.exit_map && self.exit.is_none() {
-            self.exit = Some(ExitMapPass::new(device, casters.layouts(), settings));
+            self.exit = Some(ExitMapPass::new(device, casters.layouts(), settings, grid));
             self.key = None;
             changed = true;
         } else if !chain.exit_map && self.exit.is_some() {
@@ -843,7 +857,12 @@ impl LightState {
             changed = true;
         }
         if chain.fattened_map && self.fattened.is_none() {
-            self.fattened = Some(FattenedShadowMapPass::new(device, casters.layouts(), settings));
+            self.fattened = Some(FattenedShadowMapPass::new(
+                device,
+                casters.layouts(),
+                settings,
+                grid,
+            ));
             self.key = None;
             changed = true;
         } else if !chain.fattened_map && self.fattened.is_some() {

@@ -119,13 +119,15 @@ impl CameraMatrices {
     /// The eight world-space corners of the view frustum from the near plane to `max_distance`
     /// (0: the far plane). An infinite far plane with no `max_distance` ends at `fallback_far`.
     pub fn frustum_corners(&self, max_distance: f32, fallback_far: f32) -> [Vec3; 8] {
-        let (near_depth, far_depth) = match self.depth {
-            DepthConvention::Standard => (0.0, 1.0),
-            DepthConvention::Reversed => (1.0, 0.0),
-        };
-        let mid_depth = (near_depth + far_depth) * 0.5;
+        let (near, far) = self.distance_range(max_distance, fallback_far);
+        self.frustum_slice(near, far)
+    }
+
+    /// The view distances of the near plane and of the far plane, or `max_distance` when that
+    /// is nearer (0: no limit); an infinite far plane with no limit ends at `fallback_far`.
+    pub fn distance_range(&self, max_distance: f32, fallback_far: f32) -> (f32, f32) {
+        let (near_depth, far_depth) = self.depth_bounds();
         let near = self.distance_at_depth(near_depth);
-        let mid = self.distance_at_depth(mid_depth);
         let mut far = self.distance_at_depth(far_depth);
         if max_distance > 0.0 {
             far = far.min(max_distance);
@@ -133,7 +135,23 @@ impl CameraMatrices {
         if !far.is_finite() {
             far = fallback_far;
         }
-        let far = far.max(near);
+        (near, far.max(near))
+    }
+
+    fn depth_bounds(&self) -> (f32, f32) {
+        match self.depth {
+            DepthConvention::Standard => (0.0, 1.0),
+            DepthConvention::Reversed => (1.0, 0.0),
+        }
+    }
+
+    /// The eight world-space corners of the part of the view frustum between view distances
+    /// `near` and `far` (corner `i`: x side `i & 1`, y side `i & 2`, far end `i & 4`).
+    pub fn frustum_slice(&self, near: f32, far: f32) -> [Vec3; 8] {
+        let (near_depth, far_depth) = self.depth_bounds();
+        let mid_depth = (near_depth + far_depth) * 0.5;
+        let plane_near = self.distance_at_depth(near_depth);
+        let mid = self.distance_at_depth(mid_depth);
         let inv_proj = self.projection.inverse();
         let to_world = self.view.inverse();
         let unproject = |x: f32, y: f32, depth: f32| {
@@ -148,8 +166,8 @@ impl CameraMatrices {
             let a = unproject(sx, sy, near_depth);
             let b = unproject(sx, sy, mid_depth);
             let d = if i & 4 == 0 { near } else { far };
-            let t = if (mid - near).abs() > 1e-30 {
-                (d - near) / (mid - near)
+            let t = if (mid - plane_near).abs() > 1e-30 {
+                (d - plane_near) / (mid - plane_near)
             } else {
                 0.0
             };

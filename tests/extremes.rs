@@ -7,9 +7,9 @@ use glam::{Mat4, Vec3};
 use penumbra::metrics::measure_visibility;
 use penumbra::scene::primitives;
 use penumbra::{
-    Camera, CullMode, DebugTexture, DepthFormat, DirectionalLight, Light, LightFit, Material, PcfKernel,
-    PcssSettings, PenumbraSettings, Scene, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode,
-    TraditionalSettings, load_scene,
+    Camera, CascadeSettings, CullMode, DebugTexture, DepthFormat, DirectionalLight, Light, LightFit,
+    Material, PcfKernel, PcssSettings, PenumbraSettings, Scene, ShadowMapSettings, ShadowMethod,
+    ShadowSettings, SpreadMode, TraditionalSettings, load_scene,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config as ProptestConfig, TestRunner};
@@ -181,6 +181,12 @@ fn shadow_map_sizes_from_256_to_8192() {
             let mut settings = ShadowSettings::default();
             settings.shadow_map.resolution = resolution;
             settings.shadow_map.depth_format = format;
+            if resolution > penumbra::settings::MAX_CASCADE_RESOLUTION {
+                // Four 8192-texel cascades are refused, naming the setting; one map is not.
+                let refused = settings.validate(None).unwrap_err().to_string();
+                assert!(refused.contains("shadow_map.resolution"), "{refused}");
+                settings.shadow_map.cascades.count = 1;
+            }
             let what = format!("{resolution} texels, {format:?}");
             let (_, visibility) = check_frame(&gpu, &scene, &camera, settings, (200, 150), &what);
             let (shadowed, lit) = shadowed_and_lit(&visibility.unwrap());
@@ -490,10 +496,17 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
             Just(LightFit::Scene),
             (0.0f32..60.0).prop_map(|max_distance| LightFit::CameraFrustum { max_distance })
         ],
-        any::<bool>(),
+        (any::<bool>(), 1u32..=4, 0.0f32..=1.0, 0.0f32..=0.5),
     )
         .prop_map(
-            |(resolution, depth_format, (constant_bias, slope_bias, normal_offset), cull_mode, fit, snap)| {
+            |(
+                resolution,
+                depth_format,
+                (constant_bias, slope_bias, normal_offset),
+                cull_mode,
+                fit,
+                (snap, count, split, blend),
+            )| {
                 ShadowMapSettings {
                     resolution,
                     depth_format,
@@ -503,6 +516,7 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                     cull_mode,
                     fit,
                     snap_to_texels: snap,
+                    cascades: CascadeSettings { count, split, blend },
                 }
             },
         );

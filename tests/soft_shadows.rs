@@ -311,6 +311,8 @@ fn flat_shaded_cube_fattens_into_a_closed_shape() {
     scene.add_instance(floor, floor_material, Mat4::IDENTITY).caster = false;
     let mut s = settings(ShadowMethod::Ours);
     s.shadow_map.resolution = 512;
+    // One map (no cascade atlas), read texel by texel below.
+    s.shadow_map.cascades.count = 1;
     s.penumbra.spreads = SpreadMode::Manual {
         fatten_distance: 0.15,
         pcf_spread: 1.0,
@@ -379,12 +381,11 @@ fn flat_shaded_cube_fattens_into_a_closed_shape() {
 fn camera_moves_reuse_the_shadow_maps() {
     let gpu = common::gpu();
     let scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
-    let mut renderer = Renderer::new(
-        &gpu.device,
-        wgpu::TextureFormat::Rgba8UnormSrgb,
-        settings(ShadowMethod::Ours),
-    )
-    .unwrap();
+    // One map: the camera-fitted window covers every caster from both views. (Cascades
+    // follow the camera: tests/embedding.rs checks that a small move keeps them.)
+    let mut one_map = settings(ShadowMethod::Ours);
+    one_map.shadow_map.cascades.count = 1;
+    let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, one_map).unwrap();
     let mut gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
     let frame = |renderer: &mut Renderer, scene: &GpuScene, camera: &Camera| {
         penumbra::render_to_image(&gpu, renderer, scene, camera, 96, 64).unwrap();

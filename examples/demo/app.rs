@@ -188,7 +188,11 @@ pub struct DemoApp {
 }
 
 /// The built-in scenes, shipped in `assets/scenes`.
-pub const BUILT_IN: [(&str, &str); 2] = [("teapot", "teapot.ron"), ("character", "character.ron")];
+pub const BUILT_IN: [(&str, &str); 3] = [
+    ("teapot", "teapot.ron"),
+    ("character", "character.ron"),
+    ("outdoor", "outdoor.ron"),
+];
 
 pub fn built_in_path(file: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

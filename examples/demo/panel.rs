@@ -346,6 +346,21 @@ impl DemoApp {
                             ui.selectable_value(&mut m.cull_mode, c, format!("{c:?}"));
                         }
                     });
+                ui.add(egui::Slider::new(&mut m.cascades.count, 1..=4).text("sun cascades"));
+                if m.cascades.count > 1 {
+                    ui.add(
+                        egui::Slider::new(&mut m.cascades.split, 0.0..=1.0).text("split (0 uniform, 1 log)"),
+                    );
+                    ui.add(egui::Slider::new(&mut m.cascades.blend, 0.0..=0.5).text("blend band"));
+                    if m.resolution > penumbra::settings::MAX_CASCADE_RESOLUTION {
+                        m.resolution = penumbra::settings::MAX_CASCADE_RESOLUTION;
+                    }
+                    ui.label(format!(
+                        "each cascade {0}x{0} texels (at most {1} with cascades)",
+                        m.resolution,
+                        penumbra::settings::MAX_CASCADE_RESOLUTION
+                    ));
+                }
                 let mut camera_fit = matches!(m.fit, LightFit::CameraFrustum { .. });
                 ui.checkbox(&mut camera_fit, "fit the light to the camera's view");
                 if camera_fit {

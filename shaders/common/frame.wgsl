@@ -64,15 +64,59 @@ struct Penumbra {
     _pad: f32,
 }
 
+// A directional light's cascades (one for other lights: the whole map). The maps are atlases of
+// `grid` x `grid` tiles, one cascade per tile.
+struct Cascades {
+    // world to the cascade's tile of the atlas (clip space)
+    view_proj: array<mat4x4<f32>, 4>,
+    // xy: window size (world units), z: camera view distance where it ends, w: where its blend
+    // band toward the next begins
+    extent_end: array<vec4<f32>, 4>,
+    // the tile's uv rectangle, half a texel inside: taps stay in their cascade
+    tile: array<vec4<f32>, 4>,
+    count: u32,
+    grid: f32,
+    _pad: vec2<f32>,
+}
+
 struct Frame {
     view: View,
     light: ShadowLight,
     penumbra: Penumbra,
     // rgb: ambient light (the convenience renderer's composite)
     ambient: vec4<f32>,
+    cascades: Cascades,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
+
+// The cascade this pixel reads (`use_cascade` sets it; 0 for one map).
+var<private> cascade: u32 = 0u;
+
+// Picks the cascade of a pixel `view_distance` from the camera: the first that reaches past it,
+// or in the blend band toward the next one, the next with a probability rising across the band
+// (`noise` in [0, 1), the same in every pass for one pixel).
+fn use_cascade(view_distance: f32, noise: f32) {
+    var k = 0u;
+    let n = min(frame.cascades.count, 4u);
+    while k + 1u < n && view_distance >= frame.cascades.extent_end[k].z {
+        k += 1u;
+    }
+    if k + 1u < n {
+        let e = frame.cascades.extent_end[k];
+        let t = (view_distance - e.w) / max(e.z - e.w, 1e-20);
+        if t > 0.0 && noise < t {
+            k += 1u;
+        }
+    }
+    cascade = k;
+}
+
+// A shadow-map uv kept inside the pixel's cascade tile.
+fn in_tile(uv: vec2<f32>) -> vec2<f32> {
+    let tile = frame.cascades.tile[cascade];
+    return clamp(uv, tile.xy, tile.zw);
+}
 
 // The direction from `world` toward the camera (not normalized).
 fn to_camera(world: vec3<f32>) -> vec3<f32> {
@@ -84,7 +128,7 @@ fn to_camera(world: vec3<f32>) -> vec3<f32> {
 
 // Light-space position: xy texture coordinates, z depth in [0, 1].
 fn to_shadow_map(world: vec3<f32>) -> vec3<f32> {
-    let clip = frame.light.view_proj * vec4<f32>(world, 1.0);
+    let clip = frame.cascades.view_proj[cascade] * vec4<f32>(world, 1.0);
     let ndc = clip.xyz / max(clip.w, 1e-20);
     return vec3<f32>(ndc.xy * vec2<f32>(0.5, -0.5) + vec2<f32>(0.5), ndc.z);
 }
@@ -121,10 +165,11 @@ fn light_ray(world: vec3<f32>) -> vec3<f32> {
     return normalize(frame.light.direction);
 }
 
-// World units covered by the whole shadow map at the receiver (perpendicular to the light).
+// World units per unit of shadow-map uv at the receiver (perpendicular to the light): the whole
+// map's size, or with cascades the pixel's cascade's window times the tiles per side.
 fn shadow_map_world_size(world: vec3<f32>) -> vec2<f32> {
     if frame.light.perspective == 0u {
-        return frame.light.extent;
+        return frame.cascades.extent_end[cascade].xy * frame.cascades.grid;
     }
     let depth = max(dot(world - frame.light.position, frame.light.direction), 1e-6);
     return vec2<f32>(2.0 * depth * frame.light.tan_half_fov);

@@ -35,6 +35,11 @@ fn is_background(depth: f32) -> bool {
     return depth >= 1.0;
 }
 
+// Picks the cascade for the pixel at `pixel` with camera depth `depth`: the same in every pass.
+fn use_pixel_cascade(pixel: vec2<f32>, depth: f32) {
+    use_cascade(view_depth(depth), pixel_noise(pixel.yx + vec2<f32>(7.0, 13.0)));
+}
+
 // A stable per-pixel noise value in [0, 1) (interleaved gradient noise, Jimenez 2014).
 fn pixel_noise(pixel: vec2<f32>) -> f32 {
     return fract(52.9829189 * fract(dot(pixel, vec2<f32>(0.06711056, 0.00583715))));

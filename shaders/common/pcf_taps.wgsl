@@ -23,7 +23,7 @@ fn pcf_taps(p: vec3<f32>, slope: vec2<f32>, spacing: f32, side: i32, angle: f32)
         for (var i = 0; i < side; i++) {
             let offset = rotation * (vec2<f32>(f32(i) - center, f32(j) - center) * spacing);
             let reference = p.z + dot(slope, offset);
-            sum += textureSampleCompareLevel(shadow_map, shadow_sampler, p.xy + offset, reference);
+            sum += textureSampleCompareLevel(shadow_map, shadow_sampler, in_tile(p.xy + offset), reference);
         }
     }
     return sum / f32(side * side);

@@ -11,7 +11,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::shadow_map::{begin_depth_pass, depth_state, light_depth_target, support_map_resolution};
-use super::{CasterPipelines, SecondStream, uniform_group};
+use super::{CascadeUniforms, CasterPipelines, SecondStream};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
 use crate::light_space::LightView;
@@ -27,15 +27,24 @@ struct ExitLightUniform {
 pub struct ExitMapPass {
     texture: wgpu::Texture,
     view: wgpu::TextureView,
-    uniform: wgpu::Buffer,
-    bind_group: wgpu::BindGroup,
+    uniform: CascadeUniforms,
+    /// Tiles per side of the atlas, and the cascades drawn.
+    grid: u32,
+    cascades: u32,
     pipelines: CasterPipelines,
 }
 
 impl ExitMapPass {
-    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, settings: &ShadowMapSettings) -> Self {
+    /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
+    /// resolution.
+    pub fn new(
+        device: &wgpu::Device,
+        layouts: &SceneLayouts,
+        settings: &ShadowMapSettings,
+        grid: u32,
+    ) -> Self {
         let shader = crate::shaders::module(device, "exit_map.wgsl", crate::shaders::EXIT_MAP);
-        let (bind_layout, uniform, bind_group) = uniform_group(
+        let uniform = CascadeUniforms::new(
             device,
             "ExitMapPass::uniform",
             wgpu::ShaderStages::VERTEX_FRAGMENT,
@@ -45,7 +54,7 @@ impl ExitMapPass {
             device,
             "ExitMapPass::pipeline",
             &shader,
-            &[Some(&bind_layout), Some(&layouts.instance)],
+            &[Some(&uniform.layout), Some(&layouts.instance)],
             "vs_main",
             Some(("fs_main", None)),
             SecondStream::SmoothedNormals,
@@ -56,14 +65,15 @@ impl ExitMapPass {
         let (texture, view) = light_depth_target(
             device,
             settings,
-            support_map_resolution(settings),
+            support_map_resolution(settings) * grid.max(1),
             "ExitMapPass::exit_map",
         );
         Self {
             texture,
             view,
             uniform,
-            bind_group,
+            grid: grid.max(1),
+            cascades: 1,
             pipelines,
         }
     }
@@ -88,17 +98,22 @@ impl ExitMapPass {
         self.pipelines
             .prepare(device, &casters.draw_layouts(Streams::Fattened));
         let position = light.source();
-        let uniform = ExitLightUniform {
-            view_proj: light.view_projection.to_cols_array_2d(),
-            light: position.to_array(),
-        };
-        queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
+        for (i, cascade) in light.cascades().iter().enumerate() {
+            let uniform = ExitLightUniform {
+                view_proj: cascade.view_projection.to_cols_array_2d(),
+                light: position.to_array(),
+            };
+            self.uniform.write(queue, i, bytemuck::bytes_of(&uniform));
+        }
+        self.cascades = light.cascades().len() as u32;
     }
 
     /// Records the pass: every caster's back faces ([`Self::prepare`] first).
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
         let mut pass = begin_depth_pass(encoder, "ExitMapPass", &self.view);
-        pass.set_bind_group(0, &self.bind_group, &[]);
-        casters.draw(&mut pass, Streams::Fattened, |l| self.pipelines.get(l));
+        let tiles = (self.texture.width(), self.grid, self.cascades);
+        self.uniform.draw_tiles(&mut pass, tiles, |pass| {
+            casters.draw(pass, Streams::Fattened, |l| self.pipelines.get(l));
+        });
     }
 }

@@ -14,7 +14,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::shadow_map::{depth_pass_descriptor, depth_state, light_depth_target, support_map_resolution};
-use super::{CasterPipelines, SecondStream, cleared, uniform_group};
+use super::{CascadeUniforms, CasterPipelines, SecondStream, cleared};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
 use crate::light_space::LightView;
@@ -34,19 +34,28 @@ pub struct FattenedShadowMapPass {
     view: wgpu::TextureView,
     /// World units from the fattened surface back to the caster's own surface, along the light.
     occluder_offset: (wgpu::Texture, wgpu::TextureView),
-    uniform: wgpu::Buffer,
-    bind_group: wgpu::BindGroup,
+    uniform: CascadeUniforms,
+    /// Tiles per side of the atlas, and the cascades drawn.
+    grid: u32,
+    cascades: u32,
     pipelines: CasterPipelines,
 }
 
 impl FattenedShadowMapPass {
-    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, settings: &ShadowMapSettings) -> Self {
+    /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
+    /// resolution.
+    pub fn new(
+        device: &wgpu::Device,
+        layouts: &SceneLayouts,
+        settings: &ShadowMapSettings,
+        grid: u32,
+    ) -> Self {
         let shader = crate::shaders::module(
             device,
             "fattened_shadow_map.wgsl",
             crate::shaders::FATTENED_SHADOW_MAP,
         );
-        let (bind_layout, uniform, bind_group) = uniform_group(
+        let uniform = CascadeUniforms::new(
             device,
             "FattenedShadowMapPass::uniform",
             wgpu::ShaderStages::VERTEX_FRAGMENT,
@@ -56,7 +65,7 @@ impl FattenedShadowMapPass {
             device,
             "FattenedShadowMapPass::pipeline",
             &shader,
-            &[Some(&bind_layout), Some(&layouts.instance)],
+            &[Some(&uniform.layout), Some(&layouts.instance)],
             "vs_main",
             Some(("fs_main", Some(Self::OFFSET_FORMAT))),
             SecondStream::SmoothedNormals,
@@ -67,7 +76,7 @@ impl FattenedShadowMapPass {
         let (texture, view) = light_depth_target(
             device,
             settings,
-            support_map_resolution(settings),
+            support_map_resolution(settings) * grid.max(1),
             "FattenedShadowMapPass::fattened_map",
         );
         let offset = device.create_texture(&wgpu::TextureDescriptor {
@@ -88,7 +97,8 @@ impl FattenedShadowMapPass {
             view,
             occluder_offset: (offset, offset_view),
             uniform,
-            bind_group,
+            grid: grid.max(1),
+            cascades: 1,
             pipelines,
         }
     }
@@ -126,13 +136,16 @@ impl FattenedShadowMapPass {
         self.pipelines
             .prepare(device, &casters.draw_layouts(Streams::Fattened));
         let light_position = light.source();
-        let uniform = FattenUniform {
-            view_proj: light.view_projection.to_cols_array_2d(),
-            view: light.view.to_cols_array_2d(),
-            light: light_position.to_array(),
-            params: [fatten_distance, 0.0, 0.0, 0.0],
-        };
-        queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
+        for (i, cascade) in light.cascades().iter().enumerate() {
+            let uniform = FattenUniform {
+                view_proj: cascade.view_projection.to_cols_array_2d(),
+                view: light.view.to_cols_array_2d(),
+                light: light_position.to_array(),
+                params: [fatten_distance, 0.0, 0.0, 0.0],
+            };
+            self.uniform.write(queue, i, bytemuck::bytes_of(&uniform));
+        }
+        self.cascades = light.cascades().len() as u32;
     }
 
     /// Records the pass: every caster, inflated ([`Self::prepare`] first).
@@ -142,7 +155,9 @@ impl FattenedShadowMapPass {
             color_attachments: &[cleared(&self.occluder_offset.1, wgpu::Color::TRANSPARENT)],
             ..depth_pass_descriptor(&self.view)
         });
-        pass.set_bind_group(0, &self.bind_group, &[]);
-        casters.draw(&mut pass, Streams::Fattened, |l| self.pipelines.get(l));
+        let tiles = (self.texture.width(), self.grid, self.cascades);
+        self.uniform.draw_tiles(&mut pass, tiles, |pass| {
+            casters.draw(pass, Streams::Fattened, |l| self.pipelines.get(l));
+        });
     }
 }

@@ -283,30 +283,70 @@ pub(crate) fn draw_fullscreen_tested(
     pass.draw(0..3, 0..1);
 }
 
-/// A uniform buffer of `size` bytes alone in a bind group (binding 0), for the light-space
-/// passes' per-light data: its layout, the buffer and the bind group.
-pub(crate) fn uniform_group(
-    device: &wgpu::Device,
-    label: &str,
-    visibility: wgpu::ShaderStages,
-    size: usize,
-) -> (wgpu::BindGroupLayout, wgpu::Buffer, wgpu::BindGroup) {
-    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some(label),
-        entries: &[entry::uniform(0, visibility, size, false)],
-    });
-    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: size as u64,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout: &layout,
-        entries: &entries(&[buffer.as_entire_binding()]),
-    });
-    (layout, buffer, group)
+/// The light-space passes' per-light data: a uniform of `size` bytes alone in a bind group
+/// (binding 0), one slot per cascade picked by a dynamic offset. Each cascade is drawn into its
+/// tile of the map atlas ([`CascadeUniforms::draw_tiles`]).
+pub(crate) struct CascadeUniforms {
+    pub layout: wgpu::BindGroupLayout,
+    buffer: wgpu::Buffer,
+    group: wgpu::BindGroup,
+    stride: u64,
+}
+
+impl CascadeUniforms {
+    pub fn new(device: &wgpu::Device, label: &str, visibility: wgpu::ShaderStages, size: usize) -> Self {
+        let align = u64::from(device.limits().min_uniform_buffer_offset_alignment).max(1);
+        let stride = (size as u64).div_ceil(align) * align;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries: &[entry::uniform(0, visibility, size, true)],
+        });
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: stride * crate::light_space::MAX_CASCADES as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout: &layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &buffer,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(size as u64),
+                }),
+            }],
+        });
+        Self {
+            layout,
+            buffer,
+            group,
+            stride,
+        }
+    }
+
+    /// Uploads cascade `index`'s data.
+    pub fn write(&self, queue: &wgpu::Queue, index: usize, bytes: &[u8]) {
+        queue.write_buffer(&self.buffer, self.stride * index as u64, bytes);
+    }
+
+    /// For each of `count` cascades: the viewport of its tile in an atlas `side` texels wide
+    /// with `grid` tiles a side, its uniform at `group` index 0, then `draw`.
+    pub fn draw_tiles(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        (side, grid, count): (u32, u32, u32),
+        mut draw: impl FnMut(&mut wgpu::RenderPass<'_>),
+    ) {
+        for index in 0..count.max(1) {
+            let [x, y, w, h] = crate::light_space::tile_viewport(grid, index, side);
+            pass.set_viewport(x as f32, y as f32, w as f32, h as f32, 0.0, 1.0);
+            pass.set_bind_group(0, &self.group, &[(self.stride * u64::from(index)) as u32]);
+            draw(pass);
+        }
+    }
 }
 
 /// A color attachment cleared to `clear` and stored.

@@ -8,14 +8,17 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::{draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target};
-use crate::light_space::LightView;
+use crate::light_space::{LightView, MAX_CASCADES, tile_matrix};
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct SampleUniform {
-    light_view_proj: [[f32; 4]; 4],
+    /// Each cascade's view-projection into its tile of the map atlas.
+    light_view_proj: [[[f32; 4]; 4]; MAX_CASCADES],
+    /// The camera view distance where each cascade ends.
+    cascade_end: [f32; 4],
     params: [f32; 4],
 }
 
@@ -119,10 +122,21 @@ impl ReferencePass {
         let Some(groups) = &self.bind_groups else {
             return;
         };
-        let uniform = SampleUniform {
-            light_view_proj: light.view_projection.to_cols_array_2d(),
-            params: [self.accumulated as f32, 0.0, 0.0, 0.0],
+        let mut uniform = SampleUniform {
+            light_view_proj: [[[0.0; 4]; 4]; MAX_CASCADES],
+            cascade_end: [f32::MAX; 4],
+            params: [
+                self.accumulated as f32,
+                light.cascades().len() as f32,
+                light.grid.max(1) as f32,
+                0.0,
+            ],
         };
+        for (i, c) in light.cascades().iter().enumerate() {
+            uniform.light_view_proj[i] =
+                (tile_matrix(light.grid, i as u32) * c.view_projection).to_cols_array_2d();
+            uniform.cascade_end[i] = c.end;
+        }
         queue.write_buffer(&self.sample, 0, bytemuck::bytes_of(&uniform));
         let read = (self.accumulated % 2) as usize;
         draw_fullscreen(

@@ -1,14 +1,15 @@
 //! Shadow map pass: renders the casters' depth from the light.
 //!
 //! Input: the casters ([`crate::Casters`]) and the [`LightView`]. Output: a square depth texture
-//! ([`ShadowMapPass::view`]) of the configured resolution and format, cleared to the far plane.
+//! ([`ShadowMapPass::view`]) of the configured resolution and format, cleared to the far plane;
+//! with cascades an atlas of `grid` x `grid` such tiles, one cascade drawn into each.
 //! Opaque casters use one position-only pipeline whatever their material; alpha-masked casters
 //! use a second minimal pipeline that reads alpha. Constant and slope-scaled depth bias are
 //! applied by the rasterizer.
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{CasterPipelines, SecondStream, uniform_group};
+use super::{CascadeUniforms, CasterPipelines, SecondStream};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
 use crate::light_space::LightView;
@@ -23,22 +24,32 @@ struct LightUniform {
 pub struct ShadowMapPass {
     texture: wgpu::Texture,
     view: wgpu::TextureView,
-    light_buffer: wgpu::Buffer,
-    light_bind_group: wgpu::BindGroup,
+    light: CascadeUniforms,
+    /// Tiles per side of the atlas, and the cascades drawn.
+    grid: u32,
+    cascades: u32,
     opaque: CasterPipelines,
     masked: CasterPipelines,
 }
 
 impl ShadowMapPass {
-    /// Creates the pipelines and the shadow map texture. `settings` must have been validated.
-    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, settings: &ShadowMapSettings) -> Self {
+    /// Creates the pipelines and the shadow map texture, `grid` x `grid` tiles of the
+    /// configured resolution ([`crate::light_space::atlas_grid`]). `settings` must have been
+    /// validated.
+    pub fn new(
+        device: &wgpu::Device,
+        layouts: &SceneLayouts,
+        settings: &ShadowMapSettings,
+        grid: u32,
+    ) -> Self {
         let shader = crate::shaders::module(device, "shadow_map.wgsl", crate::shaders::SHADOW_MAP);
-        let (light_layout, light_buffer, light_bind_group) = uniform_group(
+        let light = CascadeUniforms::new(
             device,
             "ShadowMapPass::light",
             wgpu::ShaderStages::VERTEX,
             size_of::<LightUniform>(),
         );
+        let light_layout = &light.layout;
         let primitive = wgpu::PrimitiveState {
             cull_mode: settings.cull_mode.face(),
             ..Default::default()
@@ -47,7 +58,7 @@ impl ShadowMapPass {
             device,
             "ShadowMapPass::opaque",
             &shader,
-            &[Some(&light_layout), Some(&layouts.instance)],
+            &[Some(light_layout), Some(&layouts.instance)],
             "vs_opaque",
             None,
             SecondStream::None,
@@ -59,7 +70,7 @@ impl ShadowMapPass {
             "ShadowMapPass::masked",
             &shader,
             &[
-                Some(&light_layout),
+                Some(light_layout),
                 Some(&layouts.instance),
                 Some(&layouts.material),
             ],
@@ -69,16 +80,26 @@ impl ShadowMapPass {
             primitive,
             depth_state(settings),
         );
-        let (texture, view) =
-            light_depth_target(device, settings, settings.resolution, "ShadowMapPass::shadow_map");
+        let (texture, view) = light_depth_target(
+            device,
+            settings,
+            settings.resolution * grid.max(1),
+            "ShadowMapPass::shadow_map",
+        );
         Self {
             texture,
             view,
-            light_buffer,
-            light_bind_group,
+            light,
+            grid: grid.max(1),
+            cascades: 1,
             opaque,
             masked,
         }
+    }
+
+    /// Tiles per side of the atlas.
+    pub fn grid(&self) -> u32 {
+        self.grid
     }
 
     /// The depth shadow map.
@@ -102,21 +123,26 @@ impl ShadowMapPass {
             .prepare(device, &casters.draw_layouts(Streams::OpaqueDepth));
         self.masked
             .prepare(device, &casters.draw_layouts(Streams::MaskedDepth));
-        queue.write_buffer(
-            &self.light_buffer,
-            0,
-            bytemuck::bytes_of(&LightUniform {
-                view_proj: light.view_projection.to_cols_array_2d(),
-            }),
-        );
+        for (i, cascade) in light.cascades().iter().enumerate() {
+            self.light.write(
+                queue,
+                i,
+                bytemuck::bytes_of(&LightUniform {
+                    view_proj: cascade.view_projection.to_cols_array_2d(),
+                }),
+            );
+        }
+        self.cascades = light.cascades().len() as u32;
     }
 
     /// Records the pass: clears the map and draws every caster ([`Self::prepare`] first).
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
         let mut pass = begin_depth_pass(encoder, "ShadowMapPass", &self.view);
-        pass.set_bind_group(0, &self.light_bind_group, &[]);
-        casters.draw(&mut pass, Streams::OpaqueDepth, |l| self.opaque.get(l));
-        casters.draw(&mut pass, Streams::MaskedDepth, |l| self.masked.get(l));
+        let tiles = (self.texture.width(), self.grid, self.cascades);
+        self.light.draw_tiles(&mut pass, tiles, |pass| {
+            casters.draw(pass, Streams::OpaqueDepth, |l| self.opaque.get(l));
+            casters.draw(pass, Streams::MaskedDepth, |l| self.masked.get(l));
+        });
     }
 }
 

@@ -148,3 +148,38 @@ pub fn shadow_on_floor(p: Vec3, d: Vec3) -> Vec3 {
     let t = -p.y / d.y;
     p + d * t
 }
+
+/// Bilinear visibility at a world point on the floor.
+pub fn sample_visibility(image: &penumbra::metrics::VisibilityImage, camera: &Camera, p: Vec3) -> f32 {
+    let (w, h) = (image.width, image.height);
+    let clip = camera.view_projection(w as f32 / h as f32) * p.extend(1.0);
+    let ndc = clip.truncate() / clip.w;
+    let x = (ndc.x * 0.5 + 0.5) * w as f32 - 0.5;
+    let y = (0.5 - ndc.y * 0.5) * h as f32 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let at = |dx: f32, dy: f32| {
+        let (px, py) = ((x0 + dx) as i64, (y0 + dy) as i64);
+        assert!(
+            px >= 0 && py >= 0 && px < w as i64 && py < h as i64,
+            "profile leaves the image at {p}"
+        );
+        image.visibility[(py as u32 * w + px as u32) as usize]
+            .unwrap_or_else(|| panic!("no direct light measured at {p}"))
+    };
+    let top = at(0.0, 0.0) * (1.0 - fx) + at(1.0, 0.0) * fx;
+    let bottom = at(0.0, 1.0) * (1.0 - fx) + at(1.0, 1.0) * fx;
+    top * (1.0 - fy) + bottom * fy
+}
+
+/// The 10-90% width of a rising profile: from the last point at or below 0.1 before the first
+/// point at or above 0.9, linearly interpolated.
+pub fn width_10_90(profile: &[(f32, f32)]) -> Option<f32> {
+    let crossing = |level: f32, i: usize| {
+        let ((t0, v0), (t1, v1)) = (profile[i - 1], profile[i]);
+        t0 + (t1 - t0) * ((level - v0) / (v1 - v0)).clamp(0.0, 1.0)
+    };
+    let high = profile.iter().position(|&(_, v)| v >= 0.9)?;
+    let low = profile[..high].iter().rposition(|&(_, v)| v <= 0.1)?;
+    Some(crossing(0.9, high) - crossing(0.1, low + 1))
+}
