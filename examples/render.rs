@@ -33,7 +33,7 @@ struct Args {
     /// Quality preset: low, medium, high or ultra.
     #[arg(long, default_value = "medium")]
     quality: String,
-    /// The key light's size: angular diameter in degrees (directional) or radius in world units (spot).
+    /// The key light's size: angular diameter in degrees (directional) or radius in world units (spot, point).
     /// Defaults to the scene's.
     #[arg(long)]
     light_size: Option<f32>,
@@ -93,6 +93,7 @@ fn main() -> Result<()> {
         match &mut scene.light {
             Light::Directional(l) => l.angular_diameter_deg = size,
             Light::Spot(l) => l.radius = size,
+            Light::Point(l) => l.radius = size,
         }
         scene.light.validate().context("--light-size")?;
     }

@@ -8,7 +8,7 @@
 struct ShadedLight {
     // the direction the light travels
     direction: vec3<f32>,
-    // 0 directional, 1 spot
+    // 0 directional, 1 spot, 2 point
     spot: u32,
     position: vec3<f32>,
     cos_outer: f32,
@@ -74,6 +74,8 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         var cone = 1.0;
         if l.spot != 0u {
             to_light = normalize(l.position - in.world);
+        }
+        if l.spot == 1u {
             cone = smoothstep(l.cos_outer, l.cos_inner, dot(-to_light, l.direction));
         }
         let n_dot_l = max(dot(n, to_light), 0.0);

@@ -7,20 +7,20 @@
 
 struct ForwardFrame {
     view_proj: mat4x4<f32>,
-    // each cascade's light view-projection into its tile of the map atlas
-    light_view_proj: array<mat4x4<f32>, 4>,
+    // each cascade's (or cube face's) light view-projection into its tile of the map atlas
+    light_view_proj: array<mat4x4<f32>, 6>,
     // the camera view distance where each cascade ends
     cascade_end: vec4<f32>,
     // each cascade's normal offset in world units (orthographic light) or world units per unit
-    // of distance from the light (spot light)
+    // of distance from the light (spot and point lights: the first)
     cascade_offset: vec4<f32>,
     // x: cascades in use, y: tiles per side of the map atlas
     cascade_count: vec4<u32>,
     // xyz: eye
     camera_position: vec4<f32>,
-    // xyz: direction the light travels; w: 0 directional, 1 spot
+    // xyz: direction the light travels; w: 0 directional, 1 spot, 2 point
     light_direction: vec4<f32>,
-    // xyz: spot position; w: cosine of the cone's outer angle
+    // xyz: spot or point position; w: cosine of the cone's outer angle
     light_position: vec4<f32>,
     // rgb: color x intensity; w: cosine of the cone's inner (full-intensity) angle
     light_radiance: vec4<f32>,
@@ -55,6 +55,18 @@ fn vs_main(
     out.normal = (instance.normal * vec4<f32>(normal, 0.0)).xyz;
     out.uv = uv;
     return out;
+}
+
+// A point light's cube face for a point `v` away from it (+x, -x, +y, -y, +z, -z).
+fn cube_face(v: vec3<f32>) -> u32 {
+    let a = abs(v);
+    if a.x >= a.y && a.x >= a.z {
+        return select(1u, 0u, v.x >= 0.0);
+    }
+    if a.y >= a.z {
+        return select(3u, 2u, v.y >= 0.0);
+    }
+    return select(5u, 4u, v.z >= 0.0);
 }
 
 // The cascade for a point `view_distance` from the camera.
@@ -92,6 +104,8 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     var cone = 1.0;
     if frame.light_direction.w > 0.5 {
         to_light = normalize(frame.light_position.xyz - in.world);
+    }
+    if frame.light_direction.w > 0.5 && frame.light_direction.w < 1.5 {
         let cos_angle = dot(-to_light, frame.light_direction.xyz);
         cone = smoothstep(frame.light_position.w, frame.light_radiance.w, cos_angle);
     }
@@ -99,9 +113,13 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     var visibility = 1.0;
     if instance.flags.x > 0.5 && n_dot_l > 0.0 {
         // Normal-offset bias: look the shadow map up a little off the surface.
-        let cascade = cascade_at((frame.view_proj * vec4<f32>(in.world, 1.0)).w);
-        var offset = frame.cascade_offset[cascade];
-        if frame.light_direction.w > 0.5 {
+        var cascade = cascade_at((frame.view_proj * vec4<f32>(in.world, 1.0)).w);
+        var offset = frame.cascade_offset[min(cascade, 3u)];
+        if frame.light_direction.w > 1.5 {
+            // A point light: the cube face, and the distance from the light for the offset.
+            cascade = cube_face(in.world - frame.light_position.xyz);
+            offset = frame.cascade_offset[0] * length(in.world - frame.light_position.xyz);
+        } else if frame.light_direction.w > 0.5 {
             offset *= max(dot(in.world - frame.light_position.xyz, frame.light_direction.xyz), 0.0);
         }
         visibility = shadow_visibility(in.world + n * offset, cascade);

@@ -5,12 +5,14 @@
 // two R32F targets, so memory does not grow with N.
 
 struct Sample {
-    // each cascade's view-projection into its tile of the map atlas
-    light_view_proj: array<mat4x4<f32>, 4>,
+    // each cascade's (or cube face's) view-projection into its tile of the map atlas
+    light_view_proj: array<mat4x4<f32>, 6>,
     // the camera view distance where each cascade ends
     cascade_end: vec4<f32>,
+    // xyz: the sample light's position (a point light's), w: 1
+    source: vec4<f32>,
     // x: samples already accumulated (this one is number x + 1), y: cascades, z: tiles per
-    // side of the map atlas
+    // side of the map atlas, w: 2 for a point light (cube faces picked by direction)
     params: vec4<f32>,
 }
 
@@ -32,11 +34,31 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     // The cascade the pixel's view distance falls in (no blend band: every cascade holds the
     // same hard shadow, only its texels differ).
     let distance = view_depth(depth);
-    var k = 0u;
-    while k + 1u < min(u32(sample.params.y), 4u) && distance >= sample.cascade_end[k] {
-        k += 1u;
+    var world = world_position(frag.xy, depth);
+    if sample.source.w > 0.5 {
+        // A spot or point light's depth changes fast near its near plane: the position rebuilt
+        // from the camera depth (off by about 1e-6 of the view distance) is moved 2e-4 of the
+        // view distance toward the light, so a surface does not shadow itself.
+        world += normalize(sample.source.xyz - world) * (2e-4 * distance);
     }
-    let clip = sample.light_view_proj[k] * vec4<f32>(world_position(frag.xy, depth), 1.0);
+    var k = 0u;
+    if sample.params.w > 1.5 {
+        // The cube face the point lies in: +x, -x, +y, -y, +z, -z.
+        let v = world - sample.source.xyz;
+        let a = abs(v);
+        if a.x >= a.y && a.x >= a.z {
+            k = select(1u, 0u, v.x >= 0.0);
+        } else if a.y >= a.z {
+            k = select(3u, 2u, v.y >= 0.0);
+        } else {
+            k = select(5u, 4u, v.z >= 0.0);
+        }
+    } else {
+        while k + 1u < min(u32(sample.params.y), 4u) && distance >= sample.cascade_end[k] {
+            k += 1u;
+        }
+    }
+    let clip = sample.light_view_proj[k] * vec4<f32>(world, 1.0);
     let ndc = clip.xyz / max(clip.w, 1e-20);
     let uv = ndc.xy * vec2<f32>(0.5, -0.5) + vec2<f32>(0.5);
     // Inside the cascade's own tile of the atlas.

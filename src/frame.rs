@@ -8,7 +8,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-use crate::light_space::{LightView, MAX_CASCADES, ProjectionKind, tile_matrix, tile_viewport};
+use crate::light_space::{LightView, MAX_TILES, ProjectionKind, tile_matrix, tile_viewport};
 use crate::scene::{Aabb, Light};
 use crate::settings::{ShadowMethod, ShadowSettings, SpreadMode};
 use crate::view::{CameraMatrices, DepthConvention};
@@ -67,13 +67,15 @@ pub(crate) struct PenumbraUniform {
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable, Debug)]
 pub(crate) struct CascadesUniform {
-    /// Each cascade's light view-projection into its own tile of the atlas.
-    pub view_proj: [[[f32; 4]; 4]; MAX_CASCADES],
-    /// xy: the window's size (world units), z: the view distance where it ends, w: where its
-    /// blend band begins.
-    pub extent_end: [[f32; 4]; MAX_CASCADES],
+    /// Each cascade's (or cube face's) light view-projection into its own tile of the atlas.
+    pub view_proj: [[[f32; 4]; 4]; MAX_TILES],
+    /// xy: the window's size (world units; a face's at its near plane), z: the view distance
+    /// where it ends, w: where its blend band begins.
+    pub extent_end: [[f32; 4]; MAX_TILES],
     /// The tile's uv rectangle (min xy, max zw), half a texel inside its edges.
-    pub tile: [[f32; 4]; MAX_CASCADES],
+    pub tile: [[f32; 4]; MAX_TILES],
+    /// xyz: the unit direction the tile looks along.
+    pub axis: [[f32; 4]; MAX_TILES],
     pub count: u32,
     /// Tiles per side of the atlas.
     pub grid: f32,
@@ -92,6 +94,7 @@ impl CascadesUniform {
         for (i, c) in cascades.iter().enumerate() {
             out.view_proj[i] = (tile_matrix(grid, i as u32) * c.view_projection).to_cols_array_2d();
             out.extent_end[i] = [c.extent.x, c.extent.y, c.end, c.blend_start];
+            out.axis[i] = c.axis.normalize_or(glam::Vec3::NEG_Z).extend(0.0).to_array();
             let [x, y, w, h] = tile_viewport(grid, i as u32, resolution * grid);
             out.tile[i] = [
                 (x as f32 + 0.5) / side,
@@ -260,11 +263,21 @@ pub struct DerivedSpreads {
     pub penumbra_per_distance: f32,
 }
 
-/// Light size term: directional `2 tan(theta / 2)`, spot `2 R`.
+/// The light's kind as the shaders take it: 0 directional, 1 spot, 2 point.
+pub(crate) fn light_kind(light: &Light) -> u32 {
+    match light {
+        Light::Directional(_) => 0,
+        Light::Spot(_) => 1,
+        Light::Point(_) => 2,
+    }
+}
+
+/// Light size term: directional `2 tan(theta / 2)`, spot and point `2 R`.
 pub(crate) fn light_size_term(light: &Light) -> f32 {
     match light {
         Light::Directional(l) => 2.0 * (l.angular_diameter_deg.to_radians() * 0.5).tan(),
         Light::Spot(l) => 2.0 * l.radius,
+        Light::Point(l) => 2.0 * l.radius,
     }
 }
 
@@ -276,8 +289,10 @@ pub(crate) fn is_point_light(light: &Light) -> bool {
 /// Derives the fatten distance: half the widest penumbra the scene allows (the deepest
 /// receiver behind the casters' nearest point along the light), plus two texels of the fattened map
 /// (four of the shadow map: the fattened map has half its resolution). For a
-/// spot light the nearest occluder is the casters' box's nearest point (at least the map's near
-/// plane): the width `2 R d / D` grows without bound as `D` shrinks.
+/// spot or point light the nearest occluder is the casters' box's nearest point (at least the
+/// map's near plane): the width `2 R d / D` grows without bound as `D` shrinks; the fatten
+/// distance stays under half that nearest distance (more would swallow the light; wider
+/// penumbrae are cut at twice it). Never more than the scene's radius.
 pub(crate) fn derive_spreads(
     light: &Light,
     light_view: &LightView,
@@ -287,7 +302,11 @@ pub(crate) fn derive_spreads(
 ) -> DerivedSpreads {
     let size = light_size_term(light);
     let depth_range = (light_view.far - light_view.near).max(0.0);
-    let texel = light_view.extent.max_element() / resolution as f32;
+    let _ = resolution;
+    let mut texel = light_view.extent.max_element() / light_view.tile.max(1) as f32;
+    // A spot or point light's casters, pushed out past half their distance from it, would
+    // swallow the light itself.
+    let mut cap = shadow_bounds.radius().max(1e-6);
     let (per_distance, widest) = match light {
         Light::Directional(_) => {
             // The deepest receiver lies at most `far`, the nearest caster no nearer than the
@@ -303,21 +322,32 @@ pub(crate) fn derive_spreads(
             }
             (size, size * range)
         }
-        Light::Spot(spot) => {
+        Light::Spot(_) | Light::Point(_) => {
+            let position = light.position().unwrap_or_default();
             let mut nearest = light_view.near.max(1e-6);
             if !caster_bounds.is_empty() {
-                let closest = spot.position.clamp(caster_bounds.min, caster_bounds.max);
-                nearest = nearest.max(closest.distance(spot.position));
+                let closest = position.clamp(caster_bounds.min, caster_bounds.max);
+                nearest = nearest.max(closest.distance(position));
             }
-            (
-                size / nearest,
-                size * (light_view.far - nearest).max(0.0) / nearest,
-            )
+            // Down to steps of 2^(1/8), so a caster moving a little elsewhere does not change
+            // every light's fatten distance (and with it its maps).
+            let nearest = ((nearest.log2() * 8.0).floor() / 8.0).exp2();
+            cap = cap.min(0.5 * nearest);
+            // Where the fattened map marks it, at the caster's own distance from the light, a
+            // penumbra reaches only R (D - d) / D beside the caster (D the receiver's distance,
+            // d the caster's): never past the light's radius, however wide it grows on the
+            // receiver. Fattening further only makes nearer casters' fattened copies cover rays
+            // they do not shadow.
+            let radius = size * 0.5;
+            let far = light_view.far.max(nearest);
+            // A perspective map's texel grows with the distance: at the nearest caster.
+            texel *= nearest / light_view.near.max(1e-6);
+            (size / nearest, 2.0 * radius * (far - nearest) / far)
         }
     };
     let fatten = if size > 0.0 {
         // Two texels of the half-resolution fattened map.
-        (widest * 0.5 + 4.0 * texel).min(shadow_bounds.radius().max(1e-6))
+        (widest * 0.5 + 4.0 * texel).min(cap)
     } else {
         0.0
     };
@@ -347,7 +377,7 @@ impl FrameUniform {
     pub fn new(f: &FrameInputs) -> Self {
         let view_proj = f.camera.view_projection();
         let light = f.light;
-        let spot = matches!(light, Light::Spot(_)) as u32;
+        let spot = light_kind(light);
         let (position, cos_outer, cos_inner) = light.cone();
         let lv = f.light_view;
         let perspective = lv.kind == ProjectionKind::Perspective;
@@ -393,7 +423,7 @@ impl FrameUniform {
                 perspective: perspective as u32,
                 // Texels per side of the whole atlas: with the extents times the grid
                 // (`shadow_map_world_size`), each cascade's own texel size.
-                resolution: (s.shadow_map.resolution * lv.grid.max(1)) as f32,
+                resolution: (lv.tile * lv.grid.max(1)) as f32,
                 extent: lv.extent.to_array(),
                 tan_half_fov,
                 size_term: light_size_term(light),
@@ -409,7 +439,7 @@ impl FrameUniform {
                 _pad: 0.0,
             },
             ambient: f.ambient.extend(0.0).to_array(),
-            cascades: CascadesUniform::new(lv, s.shadow_map.resolution),
+            cascades: CascadesUniform::new(lv, lv.tile),
         }
     }
 }
@@ -467,7 +497,7 @@ impl ShadedLights {
             let (position, cos_outer, cos_inner) = light.cone();
             *slot = ShadedLight {
                 direction: light.direction().to_array(),
-                spot: matches!(light, Light::Spot(_)) as u32,
+                spot: light_kind(light),
                 position: position.to_array(),
                 cos_outer,
                 radiance: light.radiance().to_array(),
@@ -507,6 +537,7 @@ mod tests {
                     ("view_proj", offset_of!(CascadesUniform, view_proj)),
                     ("extent_end", offset_of!(CascadesUniform, extent_end)),
                     ("tile", offset_of!(CascadesUniform, tile)),
+                    ("axis", offset_of!(CascadesUniform, axis)),
                     ("count", offset_of!(CascadesUniform, count)),
                     ("grid", offset_of!(CascadesUniform, grid)),
                 ],

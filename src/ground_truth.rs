@@ -5,10 +5,10 @@
 
 use crate::error::{PenumbraError, Result};
 use crate::gpu_scene::GpuScene;
-use crate::light_space::{FitInputs, LightView};
+use crate::light_space::{FitInputs, LightView, atlas_grid, tile_resolution};
 use crate::passes::{DepthPrepass, ReferencePass, ShadowMapPass};
 use crate::scene::{Camera, Light};
-use crate::settings::{CascadeSettings, ShadowSettings};
+use crate::settings::{ShadowMapSettings, ShadowSettings};
 use crate::view::CameraMatrices;
 
 /// How far a progressive reference has come.
@@ -37,8 +37,7 @@ struct ReferenceKey {
 }
 
 /// What one accumulation step reads: the scene and view, the camera's frame uniform (already
-/// written), the prepass that gives the camera depth and the shadow map pass to render each
-/// sample's hard map with.
+/// written) and the prepass that gives the camera depth.
 pub(crate) struct SampleInputs<'a> {
     pub device: &'a wgpu::Device,
     pub queue: &'a wgpu::Queue,
@@ -48,13 +47,17 @@ pub(crate) struct SampleInputs<'a> {
     pub size: (u32, u32),
     pub frame: &'a wgpu::Buffer,
     pub prepass: &'a DepthPrepass,
-    pub shadow_map: &'a mut ShadowMapPass,
 }
+
+/// What a light's map pass was made for: its atlas, the casters and the map settings.
+type MapKey = (u32, u32, u64, ShadowMapSettings);
 
 /// The reference's running means, one per light (the key light first), and what they were
 /// averaged for.
 pub(crate) struct GroundTruth {
     passes: Vec<ReferencePass>,
+    /// Each light's map pass, its atlas made for the light's kind, rendered once per sample.
+    maps: Vec<(ShadowMapPass, MapKey)>,
     frame_size: usize,
     size: (u32, u32),
     key: Option<ReferenceKey>,
@@ -66,6 +69,7 @@ impl GroundTruth {
     pub fn new(device: &wgpu::Device, frame_size: usize, size: (u32, u32)) -> Self {
         let mut truth = Self {
             passes: Vec::new(),
+            maps: Vec::new(),
             frame_size,
             size,
             key: None,
@@ -185,7 +189,6 @@ impl GroundTruth {
             size,
             frame,
             prepass,
-            shadow_map,
         } = inputs;
         let lights: Vec<Light> = std::iter::once(*scene.light())
             .chain(scene.more_lights().iter().copied())
@@ -199,8 +202,29 @@ impl GroundTruth {
             settings: *settings,
         };
         self.ensure_lights(device, lights.len());
-        for pass in &mut self.passes {
-            pass.bind(device, frame, prepass.depth(), shadow_map.view());
+        let sm = settings.shadow_map;
+        self.maps.truncate(lights.len());
+        for (i, light) in lights.iter().enumerate() {
+            let (grid, tile) = (
+                atlas_grid(light, &sm.cascades),
+                tile_resolution(light, sm.resolution),
+            );
+            let wanted = (grid, tile, scene.casters().id(), sm);
+            if self.maps.get(i).is_some_and(|(_, key)| *key == wanted) {
+                continue;
+            }
+            let map = (
+                ShadowMapPass::new(device, scene.casters().layouts(), &sm, grid, tile),
+                wanted,
+            );
+            if i < self.maps.len() {
+                self.maps[i] = map;
+            } else {
+                self.maps.push(map);
+            }
+        }
+        for (pass, (map, _)) in self.passes.iter_mut().zip(&self.maps) {
+            pass.bind(device, frame, prepass.depth(), map.view());
         }
         if self.key.as_ref() != Some(&key) {
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -219,21 +243,13 @@ impl GroundTruth {
         let last = first.saturating_add(max_samples).min(total);
         for k in first..last {
             // Sample k of every light, so the averages stay in step.
-            for (light, pass) in lights.iter().zip(&mut self.passes) {
-                let sample = crate::light_samples::light_sample(light, k, total);
+            for ((light, pass), (shadow_map, _)) in lights.iter().zip(&mut self.passes).zip(&mut self.maps) {
+                // A point light's disk faces the middle of the view.
+                let toward = light.position().map_or(glam::Vec3::NEG_Y, |p| camera.target - p);
+                let sample = crate::light_samples::light_sample(light, k, total, toward);
                 // The map fitted to what the camera sees, in cascades like the real-time maps'
                 // (unsnapped: each sample is rendered once).
-                let sm = &settings.shadow_map;
-                // One map pass serves every light: its atlas decides whether there are cascades.
-                let cascades = if shadow_map.grid() > 1 {
-                    sm.cascades
-                } else {
-                    CascadeSettings {
-                        count: 1,
-                        ..sm.cascades
-                    }
-                };
-                let mut view = LightView::fit_with(&FitInputs {
+                let view = LightView::fit_with(&FitInputs {
                     light: &sample,
                     casters: scene.caster_bounds(),
                     casters_and_receivers: scene.shadow_bounds(),
@@ -243,9 +259,8 @@ impl GroundTruth {
                     camera: Some(matrices),
                     resolution: sm.resolution,
                     snap_to_texels: false,
-                    cascades,
+                    cascades: sm.cascades,
                 });
-                view.grid = shadow_map.grid();
                 let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("reference: sample"),
                 });

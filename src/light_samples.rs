@@ -4,11 +4,15 @@
 //! `sqrt((k + 0.5) / n)`, angle `k x 137.5 degrees`, which covers the disk evenly for any `n`.
 //! A spot light's disk of radius `R` faces along its direction; a directional light's disk is
 //! the cone of its angular diameter, sampled as directions through a disk of radius
-//! `tan(theta / 2)` one unit along the light.
+//! `tan(theta / 2)` one unit along the light. A point light's sphere of radius `R` looks like a
+//! disk of radius `R` from every receiver, each facing it; shared maps cannot face every
+//! receiver, so the reference samples the disk facing one direction (toward the middle of what
+//! the camera sees): exact for receivers that way, foreshortened by the cosine of the angle
+//! away from it elsewhere.
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 
-use crate::scene::{DirectionalLight, Light, SpotLight};
+use crate::scene::{DirectionalLight, Light, PointLight, SpotLight};
 
 /// Point `k` of `n` on the unit disk.
 pub fn disk_point(k: u32, n: u32) -> Vec2 {
@@ -17,8 +21,9 @@ pub fn disk_point(k: u32, n: u32) -> Vec2 {
     Vec2::new(angle.cos(), angle.sin()) * r
 }
 
-/// Sample `k` of `n` of `light`: a light of the same kind and color with no size.
-pub fn light_sample(light: &Light, k: u32, n: u32) -> Light {
+/// Sample `k` of `n` of `light`: a light of the same kind and color with no size. `toward`: for
+/// a point light, the direction from it toward the receivers that matter (the view's).
+pub fn light_sample(light: &Light, k: u32, n: u32, toward: Vec3) -> Light {
     let direction = light.direction();
     let e1 = direction.any_orthonormal_vector();
     let e2 = direction.cross(e1);
@@ -38,6 +43,17 @@ pub fn light_sample(light: &Light, k: u32, n: u32) -> Light {
             radius: 0.0,
             ..l
         }),
+        Light::Point(l) => {
+            // The disk the sphere shows toward `toward` (see the module docs).
+            let axis = toward.normalize_or(Vec3::NEG_Y);
+            let e1 = axis.any_orthonormal_vector();
+            let e2 = axis.cross(e1);
+            Light::Point(PointLight {
+                position: l.position + (e1 * p.x + e2 * p.y) * l.radius,
+                radius: 0.0,
+                ..l
+            })
+        }
     }
 }
 
@@ -69,7 +85,7 @@ mod tests {
         let axis = light.direction();
         let mut widest: f32 = 0.0;
         for k in 0..256 {
-            let s = light_sample(&light, k, 256);
+            let s = light_sample(&light, k, 256, Vec3::NEG_Y);
             widest = widest.max(s.direction().angle_between(axis).to_degrees());
         }
         assert!(

@@ -38,14 +38,28 @@ pub struct LightView {
     pub extent: Vec2,
     /// The cascades' windows ([`LightView::cascades`]); one, the whole window, unless the
     /// light is directional and fitted to a perspective camera with several cascades.
-    pub cascade_windows: [Cascade; MAX_CASCADES],
+    pub cascade_windows: [Cascade; MAX_TILES],
     pub cascade_count: u32,
     /// Tiles per side of the maps' atlas ([`atlas_grid`]).
     pub grid: u32,
+    /// Texels per side of one tile ([`tile_resolution`]).
+    pub tile: u32,
 }
 
 /// The most cascades a directional light's map has.
 pub const MAX_CASCADES: usize = 4;
+
+/// The most tiles a light's map atlas holds: a sun's cascades, or a point light's six cube
+/// faces.
+pub const MAX_TILES: usize = 6;
+
+/// Texels of guard band around each cube face of a point light: the faces see a little past
+/// 90 degrees, so filter taps near a face's edge still read that face.
+const FACE_GUARD: f32 = 4.0;
+
+/// The axes of a point light's cube faces, in tile order: +x, -x, +y, -y, +z, -z (the shaders
+/// pick a face by the same order).
+pub const CUBE_AXES: [Vec3; 6] = [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z];
 
 /// Texels a cascade's window keeps free on each side beyond snapping's one: how far (in its
 /// texels) the camera may move the window's content before the window must move too.
@@ -66,15 +80,30 @@ pub struct Cascade {
     pub end: f32,
     /// Where its blend band toward the next cascade begins (`end`: no band).
     pub blend_start: f32,
+    /// The unit direction the tile looks along (a cube face's axis; the light's direction
+    /// otherwise).
+    pub axis: Vec3,
+    /// The tile's view matrix (-z along `axis`): the light's view, or a cube face's.
+    pub view: Mat4,
 }
 
 /// Tiles per side of a light's map atlas: 2 for a directional light with two or more
 /// cascades (up to four tiles), 1 otherwise.
 pub fn atlas_grid(light: &Light, cascades: &CascadeSettings) -> u32 {
-    if matches!(light, Light::Directional(_)) && cascades.count > 1 {
-        2
-    } else {
-        1
+    match light {
+        Light::Directional(_) if cascades.count > 1 => 2,
+        // Six cube faces in a 3 x 3 atlas (three tiles unused).
+        Light::Point(_) => 3,
+        _ => 1,
+    }
+}
+
+/// Texels per side of one tile of a light's atlas, for a shadow-map `resolution`: a point
+/// light's cube faces take half of it (six of them cost 1.5 maps' texels), other tiles all.
+pub fn tile_resolution(light: &Light, resolution: u32) -> u32 {
+    match light {
+        Light::Point(_) => (resolution / 2).max(32),
+        _ => resolution,
     }
 }
 
@@ -109,7 +138,7 @@ pub fn tile_viewport(grid: u32, index: u32, side: u32) -> [u32; 4] {
 impl LightView {
     /// The cascades in use, nearest first.
     pub fn cascades(&self) -> &[Cascade] {
-        &self.cascade_windows[..self.cascade_count.clamp(1, MAX_CASCADES as u32) as usize]
+        &self.cascade_windows[..self.cascade_count.clamp(1, MAX_TILES as u32) as usize]
     }
 
     /// These cascades, each replaced by `previous`' (the windows its maps were drawn with)
@@ -146,8 +175,8 @@ impl LightView {
     }
 
     /// The matrices the maps are drawn with: the whole window's and each cascade's.
-    pub fn map_matrices(&self) -> [Mat4; MAX_CASCADES + 1] {
-        let mut out = [Mat4::ZERO; MAX_CASCADES + 1];
+    pub fn map_matrices(&self) -> [Mat4; MAX_TILES + 1] {
+        let mut out = [Mat4::ZERO; MAX_TILES + 1];
         out[0] = self.view_projection;
         for (o, c) in out[1..].iter_mut().zip(self.cascades()) {
             *o = c.view_projection;
@@ -156,15 +185,23 @@ impl LightView {
     }
 
     /// One cascade: the whole window.
-    fn single(view_projection: Mat4, extent: Vec2, grid: u32) -> ([Cascade; MAX_CASCADES], u32, u32) {
+    fn single(
+        view: Mat4,
+        view_projection: Mat4,
+        extent: Vec2,
+        grid: u32,
+        axis: Vec3,
+    ) -> ([Cascade; MAX_TILES], u32, u32) {
         let whole = Cascade {
             view_projection,
             extent,
             window_min: Vec2::ZERO,
             end: f32::MAX,
             blend_start: f32::MAX,
+            axis,
+            view,
         };
-        ([whole; MAX_CASCADES], 1, grid)
+        ([whole; MAX_TILES], 1, grid)
     }
 }
 
@@ -283,7 +320,7 @@ impl LightView {
                 let (cascade_windows, cascade_count, grid) =
                     match directional_cascades(inputs, &view, &casters, radius, (near, far)) {
                         Some((windows, count)) => (windows, count, grid),
-                        None => LightView::single(projection * view, max - min, grid),
+                        None => LightView::single(view, projection * view, max - min, grid, direction),
                     };
                 LightView {
                     view,
@@ -296,8 +333,10 @@ impl LightView {
                     cascade_windows,
                     cascade_count,
                     grid,
+                    tile: inputs.resolution,
                 }
             }
+            Light::Point(point) => point_faces(inputs, point.position, &bounds),
             Light::Spot(spot) => {
                 let view = glam::camera::rh::view::look_to_mat4(spot.position, direction, up);
                 let cone = (spot.cone_angle_deg + 1.0).clamp(0.5, 89.0).to_radians().tan();
@@ -328,7 +367,8 @@ impl LightView {
                 );
                 let projection = to_window * square;
                 let extent = Vec2::splat(2.0 * near * half);
-                let (cascade_windows, cascade_count, grid) = LightView::single(projection * view, extent, 1);
+                let (cascade_windows, cascade_count, grid) =
+                    LightView::single(view, projection * view, extent, 1, direction);
                 LightView {
                     view,
                     projection,
@@ -340,9 +380,72 @@ impl LightView {
                     cascade_windows,
                     cascade_count,
                     grid,
+                    tile: inputs.resolution,
                 }
             }
         }
+    }
+}
+
+/// A point light's six cube faces: perspective views along [`CUBE_AXES`] from the light, each
+/// seeing [`FACE_GUARD`] texels past 90 degrees on every side, sharing one near and far plane:
+/// far behind the farthest corner of the scene, near before the nearest part (at least a
+/// thousandth of far). The light view itself is the first face's.
+fn point_faces(inputs: &FitInputs, position: Vec3, bounds: &Aabb) -> LightView {
+    let tile = tile_resolution(inputs.light, inputs.resolution);
+    let margin = inputs.margin.max(0.0);
+    let far = bounds
+        .corners()
+        .iter()
+        .map(|c| c.distance(position))
+        .fold(0.0, f32::max)
+        * 1.01
+        + margin;
+    let far = far.max(1e-3);
+    let parts: Vec<Aabb> = if inputs.parts.is_empty() {
+        vec![*bounds]
+    } else {
+        inputs.parts.to_vec()
+    };
+    let nearest = parts
+        .iter()
+        .filter(|b| !b.is_empty())
+        .map(|b| position.clamp(b.min, b.max).distance(position))
+        .fold(f32::INFINITY, f32::min);
+    let near = (nearest * 0.9 - margin).clamp(far * 1e-3, far * 0.5);
+    let guard = tile as f32 / (tile as f32 - 2.0 * FACE_GUARD).max(1.0);
+    let projection = glam::camera::rh::proj::directx::perspective(2.0 * guard.atan(), 1.0, near, far);
+    let extent = Vec2::splat(2.0 * near * guard);
+    let mut faces = [Cascade {
+        view_projection: Mat4::IDENTITY,
+        extent,
+        window_min: Vec2::ZERO,
+        end: f32::MAX,
+        blend_start: f32::MAX,
+        axis: Vec3::X,
+        view: Mat4::IDENTITY,
+    }; MAX_TILES];
+    let views = CUBE_AXES.map(|axis| {
+        let up = if axis.y.abs() > 0.5 { Vec3::Z } else { Vec3::Y };
+        glam::camera::rh::view::look_to_mat4(position, axis, up)
+    });
+    for ((face, view), axis) in faces.iter_mut().zip(&views).zip(CUBE_AXES) {
+        face.view_projection = projection * *view;
+        face.axis = axis;
+        face.view = *view;
+    }
+    LightView {
+        view: views[0],
+        projection,
+        view_projection: projection * views[0],
+        kind: ProjectionKind::Perspective,
+        near,
+        far,
+        extent,
+        cascade_windows: faces,
+        cascade_count: 6,
+        grid: 3,
+        tile,
     }
 }
 
@@ -508,7 +611,7 @@ fn directional_cascades(
     casters: &Aabb,
     radius: f32,
     (near, far): (f32, f32),
-) -> Option<([Cascade; MAX_CASCADES], u32)> {
+) -> Option<([Cascade; MAX_TILES], u32)> {
     let settings = inputs.cascades;
     let (LightFit::CameraFrustum { max_distance }, Some(camera)) = (inputs.fit, inputs.camera) else {
         return None;
@@ -555,7 +658,9 @@ fn directional_cascades(
         window_min: Vec2::ZERO,
         end: f32::MAX,
         blend_start: f32::MAX,
-    }; MAX_CASCADES];
+        axis: inputs.light.direction(),
+        view: *view,
+    }; MAX_TILES];
     let mut start = view_near;
     for (i, cascade) in cascades.iter_mut().enumerate().take(count as usize) {
         let last = i as u32 + 1 == count;
@@ -579,6 +684,8 @@ fn directional_cascades(
             window_min: lo,
             end: if last { f32::MAX } else { end },
             blend_start: if last { f32::MAX } else { end - band },
+            axis: inputs.light.direction(),
+            view: *view,
         };
         start = end - band;
     }

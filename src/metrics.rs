@@ -192,6 +192,7 @@ fn unshadowed_and_ambient(
     match &mut dark_scene.light {
         Light::Directional(l) => l.intensity = 0.0,
         Light::Spot(l) => l.intensity = 0.0,
+        Light::Point(l) => l.intensity = 0.0,
     }
     let ambient = render_linear(gpu, &dark_scene, camera, plain, size)?;
     Ok((unshadowed, ambient))

@@ -786,12 +786,6 @@ impl Renderer {
         let (Some(prepass), Some(reference)) = (&self.prepass, &mut self.reference) else {
             return Ok(false);
         };
-        let Some(shadow_map) = self
-            .shadows
-            .reference_shadow_map(device, self.light, scene.casters())
-        else {
-            return Ok(false);
-        };
         let inputs = SampleInputs {
             device,
             queue,
@@ -801,7 +795,6 @@ impl Renderer {
             size: self.size,
             frame: &self.frame_buffer,
             prepass,
-            shadow_map,
         };
         reference.accumulate(inputs, max_samples, progress)?;
         Ok(true)

@@ -11,7 +11,7 @@
 use crate::casters::Casters;
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, is_point_light};
-use crate::light_space::{FitInputs, LightView, MAX_CASCADES, atlas_grid};
+use crate::light_space::{FitInputs, LightView, MAX_TILES, atlas_grid, tile_resolution};
 use crate::passes::{
     BlurPass, DistanceMapPass, ExitMapPass, FattenedShadowMapPass, PcfPass, PcssPass, ResolvePass,
     ShadowMapPass, VISIBILITY_FORMAT, VariablePcfPass, screen_target,
@@ -179,7 +179,7 @@ struct ShadowKey {
     casters: u64,
     light: Light,
     /// The whole window's and each cascade's matrices.
-    light_view: [glam::Mat4; MAX_CASCADES + 1],
+    light_view: [glam::Mat4; MAX_TILES + 1],
     shadow_map: ShadowMapSettings,
     fatten_distance: Option<f32>,
 }
@@ -714,28 +714,6 @@ impl Shadows {
         Some((plan.light_view, plan.spreads))
     }
 
-    /// The light's shadow map pass, for the reference's per-sample maps (made for `casters`
-    /// if it is not yet). Marks its maps stale.
-    pub(crate) fn reference_shadow_map(
-        &mut self,
-        device: &wgpu::Device,
-        id: LightId,
-        casters: &Casters,
-    ) -> Option<&mut ShadowMapPass> {
-        let settings = self.settings.shadow_map;
-        let state = self.lights.get_mut(id.0 as usize)?.as_mut()?;
-        if state.maps_for != Some(casters.id()) || state.shadow_map.is_none() {
-            let grid = atlas_grid(&state.light, &settings.cascades);
-            state.shadow_map = Some(ShadowMapPass::new(device, casters.layouts(), &settings, grid));
-            state.maps_for = Some(casters.id());
-            state.fattened = None;
-            state.exit = None;
-            state.bound = None;
-        }
-        state.key = None;
-        state.shadow_map.as_mut()
-    }
-
     pub(crate) fn shadow_map(&self, id: LightId) -> Option<&ShadowMapPass> {
         self.state(id).ok().and_then(|s| s.shadow_map.as_ref())
     }
@@ -840,8 +818,20 @@ impl LightState {
         }
         // A light that changes type may need another atlas.
         let grid = atlas_grid(&self.light, &settings.cascades);
-        if self.maps_for != Some(casters.id()) || self.shadow_map.as_ref().is_none_or(|m| m.grid() != grid) {
-            self.shadow_map = Some(ShadowMapPass::new(device, casters.layouts(), settings, grid));
+        let tile = tile_resolution(&self.light, settings.resolution);
+        if self.maps_for != Some(casters.id())
+            || self
+                .shadow_map
+                .as_ref()
+                .is_none_or(|m| (m.grid(), m.tile()) != (grid, tile))
+        {
+            self.shadow_map = Some(ShadowMapPass::new(
+                device,
+                casters.layouts(),
+                settings,
+                grid,
+                tile,
+            ));
             self.maps_for = Some(casters.id());
             self.fattened = None;
             self.exit = None;
@@ -849,7 +839,7 @@ impl LightState {
             changed = true;
         }
         if chain.exit_map && self.exit.is_none() {
-            self.exit = Some(ExitMapPass::new(device, casters.layouts(), settings, grid));
+            self.exit = Some(ExitMapPass::new(device, casters.layouts(), settings, grid, tile));
             self.key = None;
             changed = true;
         } else if !chain.exit_map && self.exit.is_some() {
@@ -862,6 +852,7 @@ impl LightState {
                 casters.layouts(),
                 settings,
                 grid,
+                tile,
             ));
             self.key = None;
             changed = true;
@@ -998,6 +989,11 @@ pub(crate) fn spreads(
 fn sees(light_view: &LightView, b: &Aabb, margin: f32) -> bool {
     if b.is_empty() {
         return false;
+    }
+    if light_view.cascades().len() == 6 {
+        // A point light's cube sees every way, as far as its far plane.
+        let position = light_view.source().truncate();
+        return position.clamp(b.min, b.max).distance(position) <= light_view.far + margin;
     }
     let grown = Aabb::new(
         b.min - glam::Vec3::splat(margin),

@@ -51,6 +51,7 @@ fn the_bench_writes_its_report() {
         "| Shadows, 1 light(s) (the engine's own passes not counted) | 3 | 0 |",
         "| Shadows, 4 light(s) (the engine's own passes not counted) | 12 | 0 |",
         "| spot | 4 |",
+        "| point | 4 |",
         "## Cascades: the outdoor scene's street view",
         "| 4 |",
     ] {

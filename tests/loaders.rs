@@ -430,8 +430,8 @@ fn gltf_lights_are_read_and_light_the_showcase() {
     assert!((lamp.position - Vec3::new(0.0, 3.0, 3.0)).length() < 1e-5);
     assert!((lamp.direction - down).length() < 1e-4);
 
-    // The showcase takes the file's lights: the sun is the key light, the spot the second;
-    // the point light is left out with a warning. Intensities are illuminances at the model's
+    // The showcase takes the file's lights: the sun is the key light, the spot the second,
+    // the point light the third. Intensities are illuminances at the model's
     // centre relative to the brightest: the spot's 300 cd at a distance of sqrt(15.5) gives
     // 19.35 lux against the sun's 3.
     let scene = penumbra::Scene::showcase(&model).unwrap();
@@ -445,7 +445,7 @@ fn gltf_lights_are_read_and_light_the_showcase() {
         "{}",
         key.intensity
     );
-    assert_eq!(scene.more_lights.len(), 1);
+    assert_eq!(scene.more_lights.len(), 2);
     let penumbra::Light::Spot(spot) = scene.more_lights[0] else {
         panic!("{:?}", scene.more_lights[0])
     };
@@ -455,8 +455,20 @@ fn gltf_lights_are_read_and_light_the_showcase() {
         "{}",
         spot.radius
     );
+    // The bulb: 100 cd, its size 2% of its distance to the model's centre like a spot's.
+    let penumbra::Light::Point(bulb) = scene.more_lights[1] else {
+        panic!("{:?}", scene.more_lights[1])
+    };
+    let spot_distance = 15.5f32.sqrt();
+    let bulb_distance = bulb.radius / 0.02;
+    let expected = (100.0 / (bulb_distance * bulb_distance)) / (300.0 / (spot_distance * spot_distance));
     assert!(
-        scene.warnings.iter().any(|w| w.contains("point light `bulb`")),
+        (bulb.intensity - expected).abs() < 1e-3 * expected.max(1.0),
+        "{} vs {expected}",
+        bulb.intensity
+    );
+    assert!(
+        !scene.warnings.iter().any(|w| w.contains("bulb")),
         "{:?}",
         scene.warnings
     );
@@ -560,10 +572,14 @@ fn a_scene_file_takes_a_gltf_files_lights_with_lights_from() {
     );
     let distance = spot.position.distance(Vec3::new(10.5, 0.5, 0.0));
     assert!((spot.radius - 0.02 * distance).abs() < 1e-4);
+    // The bulb, a point light, placed with the instance too.
+    let penumbra::Light::Point(bulb) = scene.more_lights[1] else {
+        panic!("{:?}", scene.more_lights)
+    };
     assert!(
-        scene.warnings.iter().any(|w| w.contains("bulb")),
-        "{:?}",
-        scene.warnings
+        (bulb.position - Vec3::new(12.0, 2.0, 2.0)).length() < 1e-4,
+        "{}",
+        bulb.position
     );
     assert!(
         !scene.warnings.iter().any(|w| w.contains("not used")),

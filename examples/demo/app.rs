@@ -71,6 +71,7 @@ impl LightAngles {
         let toward = match light {
             Light::Directional(_) => -light.direction(),
             Light::Spot(s) => (s.position - center).normalize_or(Vec3::Y),
+            Light::Point(p) => (p.position - center).normalize_or(Vec3::Y),
         };
         Self {
             azimuth_deg: toward.x.atan2(toward.z).to_degrees(),
@@ -84,7 +85,7 @@ impl LightAngles {
         Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos())
     }
 
-    /// `light` turned to these angles (a spot light keeps its distance from `center`).
+    /// `light` turned to these angles (a spot or point light keeps its distance from `center`).
     pub fn apply(self, light: &Light, center: Vec3) -> Light {
         let toward = self.toward();
         match *light {
@@ -97,6 +98,11 @@ impl LightAngles {
                 s.position = center + toward * distance;
                 s.direction = -toward;
                 Light::Spot(s)
+            }
+            Light::Point(mut p) => {
+                let distance = (p.position - center).length().max(1e-3);
+                p.position = center + toward * distance;
+                Light::Point(p)
             }
         }
     }
@@ -188,10 +194,11 @@ pub struct DemoApp {
 }
 
 /// The built-in scenes, shipped in `assets/scenes`.
-pub const BUILT_IN: [(&str, &str); 3] = [
+pub const BUILT_IN: [(&str, &str); 4] = [
     ("teapot", "teapot.ron"),
     ("character", "character.ron"),
     ("outdoor", "outdoor.ron"),
+    ("room", "room.ron"),
 ];
 
 pub fn built_in_path(file: &str) -> PathBuf {
@@ -420,13 +427,15 @@ impl DemoApp {
 
     /// Adds a light like the selected one (a sun or a spot), a quarter turn around the scene,
     /// and selects it.
-    pub(crate) fn add_light(&mut self, spot: bool) {
+    /// Adds a light of `kind` ("sun", "spot" or "point") like the key light, a quarter turn
+    /// around the scene.
+    pub(crate) fn add_light(&mut self, kind: &str) {
         let center = self.bounds.center();
         let radius = self.bounds.radius().max(1e-3);
-        let like = if spot {
-            crate::panel::to_spot(&self.light, center, radius)
-        } else {
-            crate::panel::to_directional(&self.light)
+        let like = match kind {
+            "spot" => crate::panel::to_spot(&self.light, center, radius),
+            "point" => crate::panel::to_point(&self.light, center, radius),
+            _ => crate::panel::to_directional(&self.light),
         };
         let mut angles = LightAngles::of(&like, center);
         angles.azimuth_deg = (angles.azimuth_deg + 90.0 + 180.0).rem_euclid(360.0) - 180.0;

@@ -4,7 +4,7 @@
 use eframe::egui;
 use penumbra::debug::DebugView;
 use penumbra::{
-    CullMode, DepthFormat, DirectionalLight, Light, LightFit, PcfKernel, Quality, ShadowMethod,
+    CullMode, DepthFormat, DirectionalLight, Light, LightFit, PcfKernel, PointLight, Quality, ShadowMethod,
     ShadowSettings, SpotLight, SpreadMode,
 };
 
@@ -132,11 +132,13 @@ impl DemoApp {
                 });
                 ui.horizontal(|ui| {
                     let room = count < penumbra::MAX_LIGHTS;
-                    if ui.add_enabled(room, egui::Button::new("+ sun")).clicked() {
-                        self.add_light(false);
-                    }
-                    if ui.add_enabled(room, egui::Button::new("+ spot")).clicked() {
-                        self.add_light(true);
+                    for kind in ["sun", "spot", "point"] {
+                        if ui
+                            .add_enabled(room, egui::Button::new(format!("+ {kind}")))
+                            .clicked()
+                        {
+                            self.add_light(kind);
+                        }
                     }
                     if ui
                         .add_enabled(self.selected_light > 0, egui::Button::new("remove"))
@@ -150,12 +152,19 @@ impl DemoApp {
                 }
                 let mut light = self.light;
                 ui.horizontal(|ui| {
-                    let directional = matches!(light, Light::Directional(_));
+                    let (directional, spot, point) = (
+                        matches!(light, Light::Directional(_)),
+                        matches!(light, Light::Spot(_)),
+                        matches!(light, Light::Point(_)),
+                    );
                     if ui.selectable_label(directional, "directional").clicked() && !directional {
                         light = to_directional(&light);
                     }
-                    if ui.selectable_label(!directional, "spot").clicked() && directional {
+                    if ui.selectable_label(spot, "spot").clicked() && !spot {
                         light = to_spot(&light, center, radius);
+                    }
+                    if ui.selectable_label(point, "point").clicked() && !point {
+                        light = to_point(&light, center, radius);
                     }
                 });
                 match &mut light {
@@ -179,6 +188,14 @@ impl DemoApp {
                                 .text("cone half-angle"),
                         );
                         ui.add(egui::Slider::new(&mut s.intensity, 0.0..=4.0).text("intensity"));
+                    }
+                    Light::Point(p) => {
+                        ui.add(
+                            egui::Slider::new(&mut p.radius, 0.0..=radius * 0.5)
+                                .suffix(" units")
+                                .text("size (sphere radius)"),
+                        );
+                        ui.add(egui::Slider::new(&mut p.intensity, 0.0..=4.0).text("intensity"));
                     }
                 }
                 if light != self.light {
@@ -557,15 +574,43 @@ fn light_gizmo(ui: &mut egui::Ui, angles: &mut LightAngles) {
 }
 
 pub(crate) fn to_directional(light: &Light) -> Light {
+    let (direction, radius, color, intensity) = match *light {
+        Light::Directional(_) => return *light,
+        Light::Spot(s) => (s.direction, s.radius, s.color, s.intensity),
+        Light::Point(p) => (
+            -p.position.normalize_or(glam::Vec3::Y),
+            p.radius,
+            p.color,
+            p.intensity,
+        ),
+    };
+    let distance = 10.0f32.max(radius);
+    Light::Directional(DirectionalLight {
+        direction,
+        angular_diameter_deg: (2.0 * (radius / distance).atan()).to_degrees().min(20.0),
+        color,
+        intensity,
+    })
+}
+
+/// A point light where `light` shines from: a spot's place, or above the scene toward a sun
+/// (its size kept as the radius a sun's angle gives at that distance).
+pub(crate) fn to_point(light: &Light, center: glam::Vec3, radius: f32) -> Light {
     match *light {
-        Light::Directional(_) => *light,
-        Light::Spot(s) => {
-            let distance = 10.0f32.max(s.radius);
-            Light::Directional(DirectionalLight {
-                direction: s.direction,
-                angular_diameter_deg: (2.0 * (s.radius / distance).atan()).to_degrees().min(20.0),
-                color: s.color,
-                intensity: s.intensity,
+        Light::Point(_) => *light,
+        Light::Spot(s) => Light::Point(PointLight {
+            position: s.position,
+            radius: s.radius,
+            color: s.color,
+            intensity: s.intensity,
+        }),
+        Light::Directional(d) => {
+            let distance = radius * 1.5;
+            Light::Point(PointLight {
+                position: center - light.direction() * distance,
+                radius: distance * (d.angular_diameter_deg.to_radians() * 0.5).tan(),
+                color: d.color,
+                intensity: d.intensity,
             })
         }
     }
@@ -574,6 +619,14 @@ pub(crate) fn to_directional(light: &Light) -> Light {
 pub(crate) fn to_spot(light: &Light, center: glam::Vec3, radius: f32) -> Light {
     match *light {
         Light::Spot(_) => *light,
+        Light::Point(p) => Light::Spot(SpotLight {
+            position: p.position,
+            direction: center - p.position,
+            cone_angle_deg: 60.0,
+            radius: p.radius,
+            color: p.color,
+            intensity: p.intensity,
+        }),
         Light::Directional(d) => {
             let distance = radius * 2.5;
             let toward = -light.direction();

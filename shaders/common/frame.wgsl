@@ -23,9 +23,9 @@ struct View {
 // The light and its shadow map.
 struct ShadowLight {
     view_proj: mat4x4<f32>,
-    // the direction the light travels
+    // the direction the light travels (a point light: none, see the cascades' axes)
     direction: vec3<f32>,
-    // 0 directional, 1 spot
+    // 0 directional, 1 spot, 2 point
     spot: u32,
     position: vec3<f32>,
     cos_outer: f32,
@@ -64,16 +64,18 @@ struct Penumbra {
     _pad: f32,
 }
 
-// A directional light's cascades (one for other lights: the whole map). The maps are atlases of
-// `grid` x `grid` tiles, one cascade per tile.
+// A directional light's cascades or a point light's six cube faces (one tile for other lights:
+// the whole map). The maps are atlases of `grid` x `grid` tiles, one cascade or face per tile.
 struct Cascades {
-    // world to the cascade's tile of the atlas (clip space)
-    view_proj: array<mat4x4<f32>, 4>,
-    // xy: window size (world units), z: camera view distance where it ends, w: where its blend
-    // band toward the next begins
-    extent_end: array<vec4<f32>, 4>,
-    // the tile's uv rectangle, half a texel inside: taps stay in their cascade
-    tile: array<vec4<f32>, 4>,
+    // world to the tile of the atlas (clip space)
+    view_proj: array<mat4x4<f32>, 6>,
+    // xy: window size (world units; a face's at its near plane), z: camera view distance where
+    // it ends, w: where its blend band toward the next begins
+    extent_end: array<vec4<f32>, 6>,
+    // the tile's uv rectangle, half a texel inside: taps stay in their tile
+    tile: array<vec4<f32>, 6>,
+    // xyz: the unit direction the tile looks along
+    axis: array<vec4<f32>, 6>,
     count: u32,
     grid: f32,
     _pad: vec2<f32>,
@@ -90,15 +92,35 @@ struct Frame {
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 
-// The cascade this pixel reads (`use_cascade` sets it; 0 for one map).
+// The cascade or cube face this pixel reads (`use_cascade` or `use_face` sets it; 0 for one
+// map).
 var<private> cascade: u32 = 0u;
+
+// Picks a point light's cube face for `world`: the axis along which it lies farthest from the
+// light, in the order +x, -x, +y, -y, +z, -z.
+fn use_face(world: vec3<f32>) {
+    let v = world - frame.light.position;
+    let a = abs(v);
+    if a.x >= a.y && a.x >= a.z {
+        cascade = select(1u, 0u, v.x >= 0.0);
+    } else if a.y >= a.z {
+        cascade = select(3u, 2u, v.y >= 0.0);
+    } else {
+        cascade = select(5u, 4u, v.z >= 0.0);
+    }
+}
+
+// The unit direction the pixel's tile looks along (the light's direction for a sun or spot).
+fn light_axis() -> vec3<f32> {
+    return frame.cascades.axis[cascade].xyz;
+}
 
 // Picks the cascade of a pixel `view_distance` from the camera: the first that reaches past it,
 // or in the blend band toward the next one, the next with a probability rising across the band
 // (`noise` in [0, 1), the same in every pass for one pixel).
 fn use_cascade(view_distance: f32, noise: f32) {
     var k = 0u;
-    let n = min(frame.cascades.count, 4u);
+    let n = min(frame.cascades.count, 6u);
     while k + 1u < n && view_distance >= frame.cascades.extent_end[k].z {
         k += 1u;
     }
@@ -152,7 +174,7 @@ fn penumbra_width(d: f32, world: vec3<f32>) -> f32 {
     }
     let to_receiver = world - frame.light.position;
     let receiver_distance = length(to_receiver);
-    let along_axis = dot(to_receiver, normalize(frame.light.direction)) / max(receiver_distance, 1e-20);
+    let along_axis = dot(to_receiver, light_axis()) / max(receiver_distance, 1e-20);
     let d_ray = d / max(along_axis, 0.1);
     return frame.light.size_term * d_ray / max(receiver_distance - d_ray, 1e-4 * receiver_distance + 1e-20);
 }
@@ -171,6 +193,6 @@ fn shadow_map_world_size(world: vec3<f32>) -> vec2<f32> {
     if frame.light.perspective == 0u {
         return frame.cascades.extent_end[cascade].xy * frame.cascades.grid;
     }
-    let depth = max(dot(world - frame.light.position, frame.light.direction), 1e-6);
-    return vec2<f32>(2.0 * depth * frame.light.tan_half_fov);
+    let depth = max(dot(world - frame.light.position, light_axis()), 1e-6);
+    return vec2<f32>(2.0 * depth * frame.light.tan_half_fov * frame.cascades.grid);
 }

@@ -35,8 +35,13 @@ fn is_background(depth: f32) -> bool {
     return depth >= 1.0;
 }
 
-// Picks the cascade for the pixel at `pixel` with camera depth `depth`: the same in every pass.
+// Picks the cascade (a point light: the cube face) for the pixel at `pixel` with camera depth
+// `depth`: the same in every pass.
 fn use_pixel_cascade(pixel: vec2<f32>, depth: f32) {
+    if frame.light.spot == 2u {
+        use_face(world_position(pixel, depth));
+        return;
+    }
     use_cascade(view_depth(depth), pixel_noise(pixel.yx + vec2<f32>(7.0, 13.0)));
 }
 

@@ -42,6 +42,7 @@ impl ExitMapPass {
         layouts: &SceneLayouts,
         settings: &ShadowMapSettings,
         grid: u32,
+        tile: u32,
     ) -> Self {
         let shader = crate::shaders::module(device, "exit_map.wgsl", crate::shaders::EXIT_MAP);
         let uniform = CascadeUniforms::new(
@@ -65,7 +66,7 @@ impl ExitMapPass {
         let (texture, view) = light_depth_target(
             device,
             settings,
-            support_map_resolution(settings) * grid.max(1),
+            support_map_resolution(tile) * grid.max(1),
             "ExitMapPass::exit_map",
         );
         Self {

@@ -49,6 +49,7 @@ impl FattenedShadowMapPass {
         layouts: &SceneLayouts,
         settings: &ShadowMapSettings,
         grid: u32,
+        tile: u32,
     ) -> Self {
         let shader = crate::shaders::module(
             device,
@@ -76,7 +77,7 @@ impl FattenedShadowMapPass {
         let (texture, view) = light_depth_target(
             device,
             settings,
-            support_map_resolution(settings) * grid.max(1),
+            support_map_resolution(tile) * grid.max(1),
             "FattenedShadowMapPass::fattened_map",
         );
         let offset = device.create_texture(&wgpu::TextureDescriptor {
@@ -139,7 +140,7 @@ impl FattenedShadowMapPass {
         for (i, cascade) in light.cascades().iter().enumerate() {
             let uniform = FattenUniform {
                 view_proj: cascade.view_projection.to_cols_array_2d(),
-                view: light.view.to_cols_array_2d(),
+                view: cascade.view.to_cols_array_2d(),
                 light: light_position.to_array(),
                 params: [fatten_distance, 0.0, 0.0, 0.0],
             };

@@ -13,8 +13,7 @@ use super::{entry, screen_target};
 use crate::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
 use crate::layouts::vec4;
-use crate::light_space::{LightView, MAX_CASCADES, tile_matrix};
-use crate::scene::Light;
+use crate::light_space::{LightView, MAX_TILES, tile_matrix};
 use crate::settings::ShadowMethod;
 use crate::view::CameraMatrices;
 
@@ -23,7 +22,7 @@ use crate::view::CameraMatrices;
 struct FrameUniform {
     view_proj: [[f32; 4]; 4],
     /// Each cascade's view-projection into its tile of the map atlas.
-    light_view_proj: [[[f32; 4]; 4]; MAX_CASCADES],
+    light_view_proj: [[[f32; 4]; 4]; MAX_TILES],
     /// The view distance where each cascade ends.
     cascade_end: [f32; 4],
     /// Each cascade's normal offset, world units (orthographic) or world units per unit of
@@ -181,17 +180,20 @@ impl ForwardPass {
     ) {
         let light = scene.light();
         let direction = light.direction();
-        let kind = if matches!(light, Light::Spot(_)) { 1.0 } else { 0.0 };
+        let kind = crate::frame::light_kind(light) as f32;
         let (position, cos_outer, cos_inner) = light.cone();
-        let mut light_view_proj = [[[0.0; 4]; 4]; MAX_CASCADES];
+        let mut light_view_proj = [[[0.0; 4]; 4]; MAX_TILES];
         let mut cascade_end = [f32::MAX; 4];
         let mut cascade_offset = [0.0; 4];
         let cascades = light_view.cascades();
         for (i, c) in cascades.iter().enumerate() {
             light_view_proj[i] =
                 (tile_matrix(light_view.grid, i as u32) * c.view_projection).to_cols_array_2d();
-            cascade_end[i] = c.end;
-            cascade_offset[i] = normal_offset_scale(light_view, c.extent.x, shadow_map);
+            // A sun's cascades (a point light's faces share the first's offset).
+            if i < 4 {
+                cascade_end[i] = c.end;
+                cascade_offset[i] = normal_offset_scale(light_view, c.extent.x, shadow_map);
+            }
         }
         let frame = FrameUniform {
             view_proj: camera.view_projection().to_cols_array_2d(),
@@ -270,7 +272,7 @@ fn frame_bind_group(
 /// The normal offset in world units for an orthographic light view, or in world units per unit
 /// of distance from the light for a perspective one (one texel's footprint grows with it).
 fn normal_offset_scale(light_view: &LightView, extent: f32, shadow_map: &crate::ShadowMapSettings) -> f32 {
-    let texel = extent / shadow_map.resolution.max(1) as f32;
+    let texel = extent / light_view.tile.max(1) as f32;
     let per_texel = match light_view.kind {
         crate::light_space::ProjectionKind::Orthographic => texel,
         crate::light_space::ProjectionKind::Perspective => texel / light_view.near.max(1e-12),

@@ -303,7 +303,7 @@ impl CascadeUniforms {
         });
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
-            size: stride * crate::light_space::MAX_CASCADES as u64,
+            size: stride * crate::light_space::MAX_TILES as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });

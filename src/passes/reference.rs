@@ -8,7 +8,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::{draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target};
-use crate::light_space::{LightView, MAX_CASCADES, tile_matrix};
+use crate::light_space::{LightView, MAX_TILES, tile_matrix};
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
@@ -16,9 +16,11 @@ const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct SampleUniform {
     /// Each cascade's view-projection into its tile of the map atlas.
-    light_view_proj: [[[f32; 4]; 4]; MAX_CASCADES],
+    light_view_proj: [[[f32; 4]; 4]; MAX_TILES],
     /// The camera view distance where each cascade ends.
     cascade_end: [f32; 4],
+    /// xyz: the sample light's position (w 1), for a point light's cube faces.
+    source: [f32; 4],
     params: [f32; 4],
 }
 
@@ -123,19 +125,23 @@ impl ReferencePass {
             return;
         };
         let mut uniform = SampleUniform {
-            light_view_proj: [[[0.0; 4]; 4]; MAX_CASCADES],
+            light_view_proj: [[[0.0; 4]; 4]; MAX_TILES],
             cascade_end: [f32::MAX; 4],
+            source: light.source().to_array(),
             params: [
                 self.accumulated as f32,
                 light.cascades().len() as f32,
                 light.grid.max(1) as f32,
-                0.0,
+                // a point light: its faces are picked by direction
+                if light.cascades().len() == 6 { 2.0 } else { 0.0 },
             ],
         };
         for (i, c) in light.cascades().iter().enumerate() {
             uniform.light_view_proj[i] =
                 (tile_matrix(light.grid, i as u32) * c.view_projection).to_cols_array_2d();
-            uniform.cascade_end[i] = c.end;
+            if i < 4 {
+                uniform.cascade_end[i] = c.end;
+            }
         }
         queue.write_buffer(&self.sample, 0, bytemuck::bytes_of(&uniform));
         let read = (self.accumulated % 2) as usize;

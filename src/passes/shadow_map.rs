@@ -41,6 +41,7 @@ impl ShadowMapPass {
         layouts: &SceneLayouts,
         settings: &ShadowMapSettings,
         grid: u32,
+        tile: u32,
     ) -> Self {
         let shader = crate::shaders::module(device, "shadow_map.wgsl", crate::shaders::SHADOW_MAP);
         let light = CascadeUniforms::new(
@@ -80,12 +81,8 @@ impl ShadowMapPass {
             primitive,
             depth_state(settings),
         );
-        let (texture, view) = light_depth_target(
-            device,
-            settings,
-            settings.resolution * grid.max(1),
-            "ShadowMapPass::shadow_map",
-        );
+        let (texture, view) =
+            light_depth_target(device, settings, tile * grid.max(1), "ShadowMapPass::shadow_map");
         Self {
             texture,
             view,
@@ -100,6 +97,11 @@ impl ShadowMapPass {
     /// Tiles per side of the atlas.
     pub fn grid(&self) -> u32 {
         self.grid
+    }
+
+    /// Texels per side of one tile.
+    pub fn tile(&self) -> u32 {
+        self.texture.width() / self.grid
     }
 
     /// The depth shadow map.
@@ -149,8 +151,8 @@ impl ShadowMapPass {
 /// The side of the fattened and exit maps: half the shadow map's. They bound where a penumbra
 /// can fall and give distances, both smooth; a quarter of the texels to rasterize. The fatten
 /// distance's margin covers their coarser silhouette.
-pub(crate) fn support_map_resolution(settings: &ShadowMapSettings) -> u32 {
-    (settings.resolution / 2).max(1)
+pub(crate) fn support_map_resolution(tile: u32) -> u32 {
+    (tile / 2).max(1)
 }
 
 /// Depth state of the passes that render from the light: write, less-equal, the configured bias.

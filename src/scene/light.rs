@@ -1,4 +1,5 @@
-//! Lights: a directional light of some angular size, or a spot light of some radius.
+//! Lights: a directional light of some angular size, a spot light of some radius, or a point
+//! light: a sphere of some radius shining every way.
 
 use glam::Vec3;
 
@@ -8,6 +9,7 @@ use glam::Vec3;
 pub enum Light {
     Directional(DirectionalLight),
     Spot(SpotLight),
+    Point(PointLight),
 }
 
 /// A light infinitely far away, like the sun.
@@ -46,6 +48,21 @@ pub struct SpotLight {
     pub intensity: f32,
 }
 
+/// A point light: a sphere of `radius` at `position` shining in every direction. Its shadows
+/// come from a cube of six maps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct PointLight {
+    pub position: Vec3,
+    /// Radius of the emitting sphere in world units, >= 0. 0 is a point source (hard shadows).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub radius: f32,
+    #[cfg_attr(feature = "serde", serde(default = "white"))]
+    pub color: Vec3,
+    #[cfg_attr(feature = "serde", serde(default = "one"))]
+    pub intensity: f32,
+}
+
 fn white() -> Vec3 {
     Vec3::ONE
 }
@@ -70,8 +87,19 @@ impl Light {
         let d = match self {
             Light::Directional(l) => l.direction,
             Light::Spot(l) => l.direction,
+            // Every way: down stands for it where one direction is asked for.
+            Light::Point(_) => Vec3::NEG_Y,
         };
         d.normalize_or(Vec3::NEG_Y)
+    }
+
+    /// Where the light is: `None` for a directional light.
+    pub fn position(&self) -> Option<Vec3> {
+        match self {
+            Light::Directional(_) => None,
+            Light::Spot(l) => Some(l.position),
+            Light::Point(l) => Some(l.position),
+        }
     }
 
     /// Color times intensity.
@@ -79,15 +107,18 @@ impl Light {
         match self {
             Light::Directional(l) => l.color * l.intensity,
             Light::Spot(l) => l.color * l.intensity,
+            Light::Point(l) => l.color * l.intensity,
         }
     }
 
     /// How a spot light's cone shades: the position (the origin for a directional light) and
     /// the cosines of the outer edge and of where the falloff starts (0.85 of the cone
-    /// angle); a directional light gives -1 and -1 (no falloff).
+    /// angle); a directional light gives -1 and -1 (no falloff), a point light its position
+    /// and -1 and -1.
     pub fn cone(&self) -> (Vec3, f32, f32) {
         match self {
             Light::Directional(_) => (Vec3::ZERO, -1.0, -1.0),
+            Light::Point(point) => (point.position, -1.0, -1.0),
             Light::Spot(spot) => {
                 let outer = spot.cone_angle_deg.to_radians();
                 (spot.position, outer.cos(), (outer * 0.85).cos())
@@ -128,10 +159,19 @@ impl Light {
                     return Err(E::setting("light.radius", format!("{} must be >= 0", l.radius)));
                 }
             }
+            Light::Point(l) => {
+                if !finite(l.position) {
+                    return Err(E::setting("light.position", "must be finite"));
+                }
+                if !(l.radius >= 0.0 && l.radius.is_finite()) {
+                    return Err(E::setting("light.radius", format!("{} must be >= 0", l.radius)));
+                }
+            }
         }
         let (color, intensity) = match self {
             Light::Directional(l) => (l.color, l.intensity),
             Light::Spot(l) => (l.color, l.intensity),
+            Light::Point(l) => (l.color, l.intensity),
         };
         if !finite(color) || color.min_element() < 0.0 {
             return Err(E::setting("light.color", "must be finite and non-negative"));
@@ -186,8 +226,8 @@ pub struct ModelLightSizes {
     /// [`MODEL_SUN_DIAMETER_DEG`].
     #[cfg_attr(feature = "serde", serde(default = "sun_diameter"))]
     pub sun_diameter_deg: f32,
-    /// Spot lights' radius as a fraction of their distance to the model's centre, >= 0.
-    /// Default [`MODEL_SPOT_RADIUS_PER_DISTANCE`].
+    /// Spot and point lights' radius as a fraction of their distance to the model's centre,
+    /// >= 0. Default [`MODEL_SPOT_RADIUS_PER_DISTANCE`].
     #[cfg_attr(feature = "serde", serde(default = "spot_radius"))]
     pub spot_radius_per_distance: f32,
 }
@@ -215,10 +255,11 @@ impl Default for ModelLightSizes {
 /// penumbra's lights have no distance falloff and the renderer no exposure, so physical
 /// intensities become relative ones: each light's illuminance at `center` (a directional
 /// light's lux; a spot's candela over its squared distance), scaled so that the brightest
-/// gives intensity 1. Sizes from `sizes` ([`ModelLightSizes::default`]: the sun's 0.53 degrees,
-/// spots 2% of their distance). A spot's falloff starts at 0.85 of its cone whatever the file
-/// says; cones wider than 89 degrees are narrowed to 89. Point lights are left out, each with a
-/// warning, as are lights past [`crate::MAX_LIGHTS`].
+/// gives intensity 1 (a point light's like a spot's). Sizes from `sizes`
+/// ([`ModelLightSizes::default`]: the sun's 0.53 degrees, spots and points 2% of their
+/// distance). A spot's falloff starts at 0.85 of its cone whatever the file says; cones wider
+/// than 89 degrees are narrowed to 89. Lights past [`crate::MAX_LIGHTS`] are left out with a
+/// warning.
 pub fn lights_from_model(
     lights: &[ModelLight],
     place: glam::Mat4,
@@ -233,10 +274,16 @@ pub fn lights_from_model(
         let name = if l.name.is_empty() { "(unnamed)" } else { &l.name };
         let (light, illuminance) = match l.kind {
             ModelLightKind::Point => {
-                warnings.push(format!(
-                    "point light `{name}` is left out: penumbra does not shadow point lights yet"
-                ));
-                continue;
+                let distance = position.distance(center).max(1e-6);
+                (
+                    Light::Point(PointLight {
+                        position,
+                        radius: sizes.spot_radius_per_distance * distance,
+                        color: l.color,
+                        intensity: 1.0,
+                    }),
+                    l.intensity / (distance * distance),
+                )
             }
             ModelLightKind::Directional => (
                 Light::Directional(DirectionalLight {
@@ -283,6 +330,7 @@ pub fn lights_from_model(
             match &mut light {
                 Light::Directional(d) => d.intensity = intensity,
                 Light::Spot(s) => s.intensity = intensity,
+                Light::Point(p) => p.intensity = intensity,
             }
             light
         })

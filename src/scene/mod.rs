@@ -20,7 +20,7 @@ pub use camera::{Camera, OrbitCamera};
 pub use file::{LightsFrom, MeshSource, SceneFile, TextureSource};
 pub use light::{
     DirectionalLight, Light, MODEL_SPOT_RADIUS_PER_DISTANCE, MODEL_SUN_DIAMETER_DEG, ModelLight,
-    ModelLightKind, ModelLightSizes, SpotLight, lights_from_model,
+    ModelLightKind, ModelLightSizes, PointLight, SpotLight, lights_from_model,
 };
 pub use material::{AlphaMode, Material, TextureImage};
 pub use mesh::{Mesh, MeshRepairs};
