@@ -43,16 +43,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     }
     var k = 0u;
     if sample.params.w > 1.5 {
-        // The cube face the point lies in: +x, -x, +y, -y, +z, -z.
-        let v = world - sample.source.xyz;
-        let a = abs(v);
-        if a.x >= a.y && a.x >= a.z {
-            k = select(1u, 0u, v.x >= 0.0);
-        } else if a.y >= a.z {
-            k = select(3u, 2u, v.y >= 0.0);
-        } else {
-            k = select(5u, 4u, v.z >= 0.0);
-        }
+        k = cube_face(world - sample.source.xyz);
     } else {
         while k + 1u < min(u32(sample.params.y), 4u) && distance >= sample.cascade_end[k] {
             k += 1u;
