@@ -120,11 +120,18 @@ pub struct Run {
 /// The embedding path with `lights` lights: frame time and what the last light added.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct LightCost {
-    /// `sun` or `spot`.
+    /// `sun`, `spot` or `point`.
     pub kind: String,
     pub lights: usize,
+    /// Lights nudged every frame: their maps re-rendered.
     pub frame_ms: f64,
     pub added_ms: f64,
+    /// Lights still: their maps kept, only the screen-space passes run (blur batched).
+    pub still_ms: f64,
+    pub still_added_ms: f64,
+    /// Lights still, one blur pass per light.
+    pub still_unbatched_ms: f64,
+    pub still_unbatched_added_ms: f64,
 }
 
 /// How many times per frame each path draws the scene's geometry.
@@ -148,6 +155,20 @@ pub struct Embedding {
     pub camera_moved: u32,
     /// The outdoor scene's street view with one to four cascades.
     pub cascades: Vec<CascadeRun>,
+    /// The room's desk view, per method.
+    pub room: Vec<RoomRun>,
+}
+
+/// One method (medium) on the room's desk view: a point light (the lamp) and a spot (the
+/// monitor).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct RoomRun {
+    pub method: String,
+    /// Both lights turning a little every frame (their maps drawn every frame).
+    pub frame_ms: f64,
+    /// The lamp's visibility against the reference's, at the metric size.
+    pub rmse: f32,
+    pub penumbra_rmse: f32,
 }
 
 /// `ours` (medium) on the outdoor scene's street view with a number of cascades.
@@ -412,7 +433,40 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
     }
     let mut embedding = measure_embedding(&gpu, &teapot, &camera, size, config)?;
     embedding.cascades = measure_cascades(&gpu, &assets, size, config)?;
+    embedding.room = measure_room(&gpu, &assets, size, config)?;
     write_report(config, &device_name, times_on_gpu(&gpu), &runs, &embedding)?;
+    Ok(runs)
+}
+
+/// The room's desk view (a point light and a spot) with `ours`, `pcss` and `hard` (medium):
+/// frame time with both lights turning, and the key light's (the lamp's) error against the
+/// reference.
+fn measure_room(gpu: &HeadlessGpu, assets: &Path, size: (u32, u32), config: &Config) -> Result<Vec<RoomRun>> {
+    let scene = penumbra::load_scene(&assets.join("room.ron"))?;
+    let camera = scene.view(0)?;
+    let mut reference = ShadowSettings::preset(ShadowMethod::Reference, Quality::Medium);
+    reference.reference.samples = config.reference_samples;
+    let reference = metrics::measure_visibility(gpu, &scene, &camera, reference, config.metric_size)?;
+    let mut runs = Vec::new();
+    for method in [ShadowMethod::Ours, ShadowMethod::Pcss, ShadowMethod::Hard] {
+        let settings = ShadowSettings::preset(method, Quality::Medium);
+        let timing = time_frames(gpu, &scene, &camera, settings, size, config)?;
+        let image = metrics::measure_visibility(gpu, &scene, &camera, settings, config.metric_size)?;
+        let error = metrics::visibility_error(&reference, &image)?;
+        println!(
+            "room: {}: {:.2} ms, RMSE {:.4}, penumbra RMSE {:.4}",
+            method.name(),
+            timing.frame_ms,
+            error.rmse,
+            error.penumbra_rmse
+        );
+        runs.push(RoomRun {
+            method: method.name().into(),
+            frame_ms: timing.frame_ms,
+            rmse: error.rmse,
+            penumbra_rmse: error.penumbra_rmse,
+        });
+    }
     Ok(runs)
 }
 
@@ -527,59 +581,81 @@ fn measure_embedding(
             (_, other) => other,
         }
     };
+    // One run of `frames` timed frames with `count` lights of `kind`: lights nudged every frame
+    // (their maps re-rendered) or still (only the screen-space passes run), the blur batched
+    // or one per light. Returns the median frame time and the geometry passes of a moving
+    // frame and of the still frame that ends the run.
+    let time_lights = |kind: &str, count: usize, moving: bool, batch: bool| -> Result<(f64, (u32, u32))> {
+        let mut settings = settings;
+        settings.penumbra.batch_lights = batch;
+        let mut shadows = penumbra::Shadows::new(&gpu.device, settings)?;
+        let ids = (0..count)
+            .map(|k| shadows.add_light(&gpu.device, light(kind, k)))
+            .collect::<penumbra::Result<Vec<_>>>()?;
+        let mut times = Vec::new();
+        let mut passes = (0, 0);
+        for i in 0..config.warmup + config.frames + 1 {
+            // The last frame keeps the lights still.
+            let last = i == config.warmup + config.frames;
+            if moving && !last {
+                for (k, id) in ids.iter().enumerate() {
+                    shadows.set_light(*id, nudged(&light(kind, k), i))?;
+                }
+            }
+            let start = Instant::now();
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            let reports = shadows.render(&gpu.device, &gpu.queue, &mut encoder, casters, &view)?;
+            gpu.queue.submit([encoder.finish()]);
+            gpu.device.poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: None,
+            })?;
+            let drawn: u32 = reports
+                .iter()
+                .filter(|r| r.shadow_maps_rendered)
+                .map(|r| 1 + r.chain.fattened_map as u32 + r.chain.exit_map as u32)
+                .sum();
+            // Still lights: the first frame draws their maps and is not timed.
+            let first_timed = if moving {
+                config.warmup
+            } else {
+                config.warmup.max(1)
+            };
+            if last {
+                passes.1 = drawn;
+            } else {
+                passes.0 = drawn;
+                if i >= first_timed {
+                    times.push(start.elapsed().as_secs_f64() * 1e3);
+                }
+            }
+        }
+        Ok((median(times), passes))
+    };
     let mut costs: Vec<LightCost> = Vec::new();
     for kind in ["sun", "spot", "point"] {
         for count in 1..=4usize {
-            let mut shadows = penumbra::Shadows::new(&gpu.device, settings)?;
-            let ids = (0..count)
-                .map(|k| shadows.add_light(&gpu.device, light(kind, k)))
-                .collect::<penumbra::Result<Vec<_>>>()?;
-            let mut times = Vec::new();
-            let mut passes = (0, 0);
-            for i in 0..config.warmup + config.frames + 1 {
-                // The last frame keeps the lights still.
-                let still = i == config.warmup + config.frames;
-                if !still {
-                    for (k, id) in ids.iter().enumerate() {
-                        shadows.set_light(*id, nudged(&light(kind, k), i))?;
-                    }
-                }
-                let start = Instant::now();
-                let mut encoder = gpu.device.create_command_encoder(&Default::default());
-                let reports = shadows.render(&gpu.device, &gpu.queue, &mut encoder, casters, &view)?;
-                gpu.queue.submit([encoder.finish()]);
-                gpu.device.poll(wgpu::PollType::Wait {
-                    submission_index: None,
-                    timeout: None,
-                })?;
-                let drawn: u32 = reports
-                    .iter()
-                    .filter(|r| r.shadow_maps_rendered)
-                    .map(|r| 1 + r.chain.fattened_map as u32 + r.chain.exit_map as u32)
-                    .sum();
-                if still {
-                    passes.1 = drawn;
-                } else {
-                    passes.0 = drawn;
-                    if i >= config.warmup {
-                        times.push(start.elapsed().as_secs_f64() * 1e3);
-                    }
-                }
-            }
-            let frame_ms = median(times);
-            let previous = costs
-                .iter()
-                .rev()
-                .find(|c| c.kind == kind)
-                .map_or(0.0, |c| c.frame_ms);
-            let added_ms = frame_ms - previous;
-            println!("embedding: {count} {kind}(s) {frame_ms:.2} ms (+{added_ms:.2})");
-            costs.push(LightCost {
+            let (frame_ms, passes) = time_lights(kind, count, true, settings.penumbra.batch_lights)?;
+            let (still_ms, _) = time_lights(kind, count, false, true)?;
+            let (still_unbatched_ms, _) = time_lights(kind, count, false, false)?;
+            let previous = costs.iter().rev().find(|c| c.kind == kind);
+            let added = |now: f64, then: fn(&LightCost) -> f64| now - previous.map_or(0.0, then);
+            let cost = LightCost {
                 kind: kind.to_string(),
                 lights: count,
                 frame_ms,
-                added_ms,
-            });
+                added_ms: added(frame_ms, |c| c.frame_ms),
+                still_ms,
+                still_added_ms: added(still_ms, |c| c.still_ms),
+                still_unbatched_ms,
+                still_unbatched_added_ms: added(still_unbatched_ms, |c| c.still_unbatched_ms),
+            };
+            println!(
+                "embedding: {count} {kind}(s) {frame_ms:.2} ms (+{:.2}) moving; still {still_ms:.2} ms \
+                 (+{:.2}) batched, {still_unbatched_ms:.2} ms (+{:.2}) one blur per light",
+                cost.added_ms, cost.still_added_ms, cost.still_unbatched_added_ms
+            );
+            costs.push(cost);
             if kind == "sun" {
                 geometry_passes.push(GeometryPasses {
                     path: format!("Shadows, {count} light(s) (the engine's own passes not counted)"),
@@ -595,6 +671,7 @@ fn measure_embedding(
         costs,
         camera_moved,
         cascades: Vec::new(),
+        room: Vec::new(),
         geometry_passes,
     })
 }
@@ -894,14 +971,46 @@ fn write_report(
     )?;
     writeln!(
         md,
-        "| type | lights | frame ms | added by the last light ms |\n|---|---|---|---|"
+        "Lights moving: every light's maps re-rendered each frame (default settings). Lights still: \
+         maps kept, only the screen-space passes run, with up to four lights blurred in one pass \
+         (batched, `PenumbraSettings::batch_lights`) or one blur pass per light (the default).\n"
+    )?;
+    writeln!(
+        md,
+        "| type | lights | moving: frame ms | added ms | still, batched: frame ms | added ms | \
+         still, one blur per light: frame ms | added ms |\n|---|---|---|---|---|---|---|---|"
     )?;
     for c in &embedding.costs {
         writeln!(
             md,
-            "| {} | {} | {:.2} | {:.2} |",
-            c.kind, c.lights, c.frame_ms, c.added_ms
+            "| {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
+            c.kind,
+            c.lights,
+            c.frame_ms,
+            c.added_ms,
+            c.still_ms,
+            c.still_added_ms,
+            c.still_unbatched_ms,
+            c.still_unbatched_added_ms
         )?;
+    }
+    let at = |kind: &str, lights: usize| {
+        embedding
+            .costs
+            .iter()
+            .find(|c| c.kind == kind && c.lights == lights)
+    };
+    for kind in ["sun", "spot", "point"] {
+        if let (Some(one), Some(four)) = (at(kind, 1), at(kind, 4)) {
+            writeln!(
+                md,
+                "\n{kind}: lights two to four add {:.2} ms each when still and batched ({:.2} ms one \
+                 blur per light), against {:.2} ms for the first.",
+                (four.still_ms - one.still_ms) / 3.0,
+                (four.still_unbatched_ms - one.still_unbatched_ms) / 3.0,
+                one.still_ms
+            )?;
+        }
     }
     writeln!(md, "\n## Geometry passes per frame\n")?;
     writeln!(md, "| path | light moving | light still |\n|---|---|---|")?;
@@ -925,6 +1034,22 @@ fn write_report(
     )?;
     for c in &embedding.cascades {
         writeln!(md, "| {} | {:.2} | {:.4} |", c.cascades, c.frame_ms, c.near_rmse)?;
+    }
+    writeln!(
+        md,
+        "\n## Room: a point light and a spot\n\n\
+         The room's desk view, {}x{}, medium preset: the desk lamp (a point light of 3 cm radius, \
+         six cube faces) and the monitor (a spot of the screen's size), both moving a little every \
+         frame. The errors are the lamp's visibility against the reference at {}x{}.\n\n\
+         | method | frame ms | RMSE | penumbra RMSE |\n|---|---|---|---|",
+        embedding.width, embedding.height, config.metric_size.0, config.metric_size.1
+    )?;
+    for r in &embedding.room {
+        writeln!(
+            md,
+            "| {} | {:.2} | {:.4} | {:.4} |",
+            r.method, r.frame_ms, r.rmse, r.penumbra_rmse
+        )?;
     }
     std::fs::write(config.out_dir.join("report.md"), &md)?;
     std::fs::write(

@@ -57,18 +57,6 @@ fn vs_main(
     return out;
 }
 
-// A point light's cube face for a point `v` away from it (+x, -x, +y, -y, +z, -z).
-fn cube_face(v: vec3<f32>) -> u32 {
-    let a = abs(v);
-    if a.x >= a.y && a.x >= a.z {
-        return select(1u, 0u, v.x >= 0.0);
-    }
-    if a.y >= a.z {
-        return select(3u, 2u, v.y >= 0.0);
-    }
-    return select(5u, 4u, v.z >= 0.0);
-}
-
 // The cascade for a point `view_distance` from the camera.
 fn cascade_at(view_distance: f32) -> u32 {
     var k = 0u;

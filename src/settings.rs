@@ -190,6 +190,14 @@ pub struct PenumbraSettings {
     /// Weight blur taps by depth similarity so the blur does not bleed across depth
     /// discontinuities. Default true.
     pub depth_aware_blur: bool,
+    /// Blur up to four lights' visibility in one pass (each light keeps its own taps; the
+    /// lights share the draws, the depth reads and the early-outs, and the pass runs where
+    /// any of their shadows can fall). Off: one blur pass per light. The result is the same
+    /// either way. Default false: on Mesa's software rasterizer, which runs every light's
+    /// branch for a block of pixels where any pixel needs it, the batched blur measured
+    /// slower unless the lights' shadows coincide (README, "Lights").
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub batch_lights: bool,
     /// How much shadows far from their occluder are lightened by bounced light, in [0, 1];
     /// 0 turns it off. Default 0.
     pub indirect_weight: f32,
@@ -206,6 +214,7 @@ impl Default for PenumbraSettings {
             mask_early_out: true,
             blur_taps: 11,
             depth_aware_blur: true,
+            batch_lights: false,
             indirect_weight: 0.0,
         }
     }

@@ -1,6 +1,6 @@
 //! The passes' WGSL sources. Each pass has one file in `shaders/`; the pieces several passes
-//! share (the frame uniform and light-space helpers, the full-screen triangle, the receiver
-//! plane, the instance and material uniforms) live in `shaders/common/` and are joined to the
+//! share (the frame uniform and light-space helpers, a point light's cube faces, the
+//! full-screen triangle, the receiver plane, the instance and material uniforms) live in `shaders/common/` and are joined to the
 //! pass's file at compile time, so there is one copy of each.
 
 macro_rules! wgsl {
@@ -12,10 +12,21 @@ macro_rules! wgsl {
 pub const SHADOW_MAP: &str = wgsl!("common/scene.wgsl", "shadow_map.wgsl");
 pub const FATTENED_SHADOW_MAP: &str = wgsl!("common/scene.wgsl", "fattened_shadow_map.wgsl");
 pub const EXIT_MAP: &str = wgsl!("common/scene.wgsl", "exit_map.wgsl");
-pub const DEPTH_PREPASS: &str = wgsl!("common/frame.wgsl", "common/scene.wgsl", "depth_prepass.wgsl");
-pub const DISTANCE_MAP: &str = wgsl!("common/frame.wgsl", "common/fullscreen.wgsl", "distance_map.wgsl");
+pub const DEPTH_PREPASS: &str = wgsl!(
+    "common/frame.wgsl",
+    "common/cube.wgsl",
+    "common/scene.wgsl",
+    "depth_prepass.wgsl"
+);
+pub const DISTANCE_MAP: &str = wgsl!(
+    "common/frame.wgsl",
+    "common/cube.wgsl",
+    "common/fullscreen.wgsl",
+    "distance_map.wgsl"
+);
 pub const VARIABLE_PCF: &str = wgsl!(
     "common/frame.wgsl",
+    "common/cube.wgsl",
     "common/fullscreen.wgsl",
     "common/receiver.wgsl",
     "common/pcf_taps.wgsl",
@@ -23,6 +34,7 @@ pub const VARIABLE_PCF: &str = wgsl!(
 );
 pub const PCF: &str = wgsl!(
     "common/frame.wgsl",
+    "common/cube.wgsl",
     "common/fullscreen.wgsl",
     "common/receiver.wgsl",
     "common/pcf_taps.wgsl",
@@ -30,15 +42,36 @@ pub const PCF: &str = wgsl!(
 );
 pub const PCSS: &str = wgsl!(
     "common/frame.wgsl",
+    "common/cube.wgsl",
     "common/fullscreen.wgsl",
     "common/receiver.wgsl",
     "pcss.wgsl"
 );
-pub const BLUR: &str = wgsl!("common/frame.wgsl", "common/fullscreen.wgsl", "blur.wgsl");
-pub const RESOLVE: &str = wgsl!("common/frame.wgsl", "common/fullscreen.wgsl", "resolve.wgsl");
-pub const COMPOSITE: &str = wgsl!("common/frame.wgsl", "common/scene.wgsl", "composite.wgsl");
-pub const REFERENCE: &str = wgsl!("common/frame.wgsl", "common/fullscreen.wgsl", "reference.wgsl");
-pub const FORWARD: &str = wgsl!("common/scene.wgsl", "forward.wgsl");
+pub const BLUR: &str = wgsl!(
+    "common/frame.wgsl",
+    "common/cube.wgsl",
+    "common/fullscreen.wgsl",
+    "blur.wgsl"
+);
+pub const RESOLVE: &str = wgsl!(
+    "common/frame.wgsl",
+    "common/cube.wgsl",
+    "common/fullscreen.wgsl",
+    "resolve.wgsl"
+);
+pub const COMPOSITE: &str = wgsl!(
+    "common/frame.wgsl",
+    "common/cube.wgsl",
+    "common/scene.wgsl",
+    "composite.wgsl"
+);
+pub const REFERENCE: &str = wgsl!(
+    "common/frame.wgsl",
+    "common/cube.wgsl",
+    "common/fullscreen.wgsl",
+    "reference.wgsl"
+);
+pub const FORWARD: &str = wgsl!("common/scene.wgsl", "common/cube.wgsl", "forward.wgsl");
 
 /// Every pass's composed source, by the name of its file in `shaders/`.
 pub const ALL: [(&str, &str); 13] = [

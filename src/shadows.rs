@@ -5,7 +5,9 @@
 //! Per light and frame: the shadow map and the fattened map (only when the light, its fit or a
 //! caster it sees changed), then full-screen passes over the engine's depth. The distance-map
 //! method runs the distance map, then its PCF and blur only where the distance map says a
-//! shadow can fall; the blur's vertical draw writes the light's layer. The other methods run
+//! shadow can fall; the blur's vertical draw writes the light's layer (with
+//! `PenumbraSettings::batch_lights`, one blur pass serves up to four lights, each with its own
+//! target and taps). The other methods run
 //! PCF or PCSS, the blur, and a resolve into the layer. No camera geometry is drawn.
 
 use crate::casters::Casters;
@@ -13,8 +15,8 @@ use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, is_point_light};
 use crate::light_space::{FitInputs, LightView, MAX_TILES, atlas_grid, tile_resolution};
 use crate::passes::{
-    BlurPass, DistanceMapPass, ExitMapPass, FattenedShadowMapPass, PcfPass, PcssPass, ResolvePass,
-    ShadowMapPass, VISIBILITY_FORMAT, VariablePcfPass, screen_target,
+    BlurInput, BlurPass, DistanceMapPass, ExitMapPass, FattenedShadowMapPass, MAX_BATCHED_LIGHTS, PcfPass,
+    PcssPass, ResolvePass, ShadowMapPass, VISIBILITY_FORMAT, VariablePcfPass, screen_target,
 };
 use crate::scene::{Aabb, Light};
 use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
@@ -237,6 +239,10 @@ pub struct Shadows {
     inputs: Option<Inputs>,
     /// R16F, one layer per light slot.
     visibility: Option<(wgpu::Texture, wgpu::TextureView, Vec<wgpu::TextureView>)>,
+    /// The distance-map method's blurs: up to four lights each (one each when
+    /// [`PenumbraSettings::batch_lights`](crate::PenumbraSettings::batch_lights) is off),
+    /// with the slots of the lights they blur.
+    blurs: Vec<(Vec<usize>, BlurPass)>,
     /// 1x1 stand-ins for inputs a chain does not have.
     dummy: (wgpu::Texture, wgpu::TextureView),
     /// Whose casters the pipelines were made for.
@@ -260,6 +266,7 @@ impl Shadows {
             size: (0, 0),
             inputs: None,
             visibility: None,
+            blurs: Vec::new(),
             dummy: screen_target(device, "Shadows::dummy", 1, 1, wgpu::TextureFormat::R16Float),
             casters_id: None,
             screen_space: true,
@@ -315,6 +322,7 @@ impl Shadows {
             state.blur = None;
             state.bound = None;
         }
+        self.blurs.clear();
     }
 
     /// Adds a shadowed light (validated). At most [`MAX_LIGHTS`].
@@ -533,6 +541,7 @@ impl Shadows {
                 state.bound = Some(chain);
             }
         }
+        self.plan_blurs(device, queue, resized);
         if let Some(error) = block_on_now(device_scope.pop()).flatten() {
             return Err(PenumbraError::Gpu {
                 during: "preparing the shadows".into(),
@@ -541,6 +550,83 @@ impl Shadows {
         }
         self.prepared = true;
         Ok(())
+    }
+
+    /// Groups the lights whose chain blurs after the distance map (up to four per pass, in
+    /// slot order), makes or keeps a blur pass per group and points it at the lights' inputs.
+    fn plan_blurs(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, resized: bool) {
+        let (width, height) = self.size;
+        let blurred: Vec<usize> = self
+            .lights
+            .iter()
+            .enumerate()
+            .filter_map(|(slot, s)| {
+                let chain = s.as_ref()?.planned?.chain;
+                (chain.blur && chain.distance_map).then_some(slot)
+            })
+            .collect();
+        let per_pass = if self.settings.penumbra.batch_lights {
+            MAX_BATCHED_LIGHTS
+        } else {
+            1
+        };
+        let groups: Vec<Vec<usize>> = blurred.chunks(per_pass).map(<[usize]>::to_vec).collect();
+        let Some(&first) = blurred.first() else {
+            self.blurs.clear();
+            return;
+        };
+        let effective = ShadowSettings {
+            method: self.lights[first]
+                .as_ref()
+                .and_then(|s| s.planned)
+                .expect("planned")
+                .chain
+                .method,
+            ..self.settings
+        };
+        let params = PassParams::new(&effective);
+        let mut old = std::mem::take(&mut self.blurs);
+        for slots in groups {
+            // A pass made for as many lights with the same switches is kept.
+            let reuse = old
+                .iter()
+                .position(|(_, p)| p.lights() == slots.len() && p.switches() == params.blur_switches);
+            let mut pass = match reuse {
+                Some(i) => {
+                    let (_, mut pass) = old.swap_remove(i);
+                    if resized {
+                        pass.resize(device, width, height);
+                    }
+                    pass
+                }
+                None => {
+                    let mut pass = BlurPass::new(device, FRAME_SIZE, params.blur_switches, slots.len());
+                    pass.resize(device, width, height);
+                    pass
+                }
+            };
+            let states: Vec<&LightState> = slots
+                .iter()
+                .filter_map(|&slot| self.lights[slot].as_ref())
+                .collect();
+            let lights: Vec<BlurInput> = states
+                .iter()
+                .filter_map(|s| {
+                    let pcf = s.variable_pcf.as_ref()?;
+                    Some(BlurInput {
+                        visibility: pcf.visibility(),
+                        distance_map: s.distance.as_ref()?.distance_map(),
+                        blur_sigma: pcf.blur_sigma(),
+                    })
+                })
+                .collect();
+            let depth = &self.inputs.as_ref().expect("set in prepare").depth_view;
+            // The camera and penumbra settings the blur reads are the same in every light's
+            // frame uniform: the first light's serves.
+            pass.bind(device, &states[0].frame, depth, &lights, &self.dummy.1);
+            pass.prepare(queue, &params.blur);
+            self.blurs.push((slots, pass));
+        }
     }
 
     /// Records the frame [`Shadows::prepare`] planned: per light, the maps when they must be
@@ -621,8 +707,10 @@ impl Shadows {
                 if let (true, Some(p)) = (chain.pcss, &state.pcss) {
                     run(encoder, "pcss", &|e| p.encode(e));
                 }
-                if let (true, Some(p)) = (chain.blur, &state.blur) {
-                    run(encoder, "blur", &|e| p.encode(e, classification, &layers[slot]));
+                if let (true, false, Some(p)) = (chain.blur, chain.distance_map, &state.blur) {
+                    run(encoder, "blur", &|e| {
+                        p.encode(e, classification, &[&layers[slot]])
+                    });
                 }
                 if chain.resolve {
                     let resolve = &state.resolve;
@@ -638,6 +726,23 @@ impl Shadows {
             };
             state.report = Some(report);
             reports.push(report);
+        }
+        if self.screen_space {
+            // The distance-map method's blurs, each over its group of lights.
+            for (slots, pass) in &self.blurs {
+                let targets: Vec<&wgpu::TextureView> = slots.iter().map(|&slot| &layers[slot]).collect();
+                let classification = match slots.as_slice() {
+                    [slot] => self.lights[*slot]
+                        .as_ref()
+                        .and_then(|s| s.distance.as_ref())
+                        .map(|d| d.classification()),
+                    _ => None,
+                };
+                encoder.push_debug_group("blur");
+                pass.encode(encoder, classification, &targets);
+                encoder.pop_debug_group();
+                mark(encoder, "blur");
+            }
         }
         Ok(reports)
     }
@@ -701,10 +806,13 @@ impl Shadows {
                 .map(|p| p.visibility_texture())
                 .or_else(|| s.variable_pcf.as_ref().map(|p| p.visibility_texture()))
                 .or_else(|| s.pcss.as_ref().map(|p| p.visibility_texture())),
-            LightTexture::BlurredVisibility => s.blur.as_ref().and_then(|p| {
-                p.blurred_texture()
-                    .or_else(|| self.visibility.as_ref().map(|v| &v.0))
-            }),
+            LightTexture::BlurredVisibility => match (s.report.map(|r| r.chain), &s.blur) {
+                (_, Some(p)) => p.blurred_texture(),
+                (Some(chain), None) if chain.blur && chain.distance_map => {
+                    self.visibility.as_ref().map(|v| &v.0)
+                }
+                _ => None,
+            },
         }
     }
 
@@ -892,10 +1000,11 @@ impl LightState {
             VariablePcfPass::new(device, FRAME_SIZE, params.pcf_switches)
         );
         screen!(self.pcss, chain.pcss, PcssPass::new(device, FRAME_SIZE));
+        // The distance-map method's blur batches lights ([`Shadows::blurs`]).
         screen!(
             self.blur,
-            chain.blur,
-            BlurPass::new(device, FRAME_SIZE, params.blur_switches)
+            chain.blur && !chain.distance_map,
+            BlurPass::new(device, FRAME_SIZE, params.blur_switches, 1)
         );
         changed
     }
@@ -949,7 +1058,12 @@ impl LightState {
         let Some(raw) = raw else { return };
         let blur_sigma = self.variable_pcf.as_ref().map_or(dummy, |p| p.blur_sigma());
         if let Some(b) = &mut self.blur {
-            b.bind(device, frame, depth, distance, raw, blur_sigma);
+            let input = BlurInput {
+                visibility: raw,
+                distance_map: distance,
+                blur_sigma,
+            };
+            b.bind(device, frame, depth, &[input], dummy);
         }
         let visibility = match (&self.blur, chain.blur) {
             (Some(b), true) => b.blurred().unwrap_or(raw),

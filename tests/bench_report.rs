@@ -53,6 +53,9 @@ fn the_bench_writes_its_report() {
         "| spot | 4 |",
         "| point | 4 |",
         "## Cascades: the outdoor scene's street view",
+        "## Room: a point light and a spot",
+        "| pcss |",
+        "still, one blur per light",
         "| 4 |",
     ] {
         assert!(md.contains(needle), "report.md lacks `{needle}`");

@@ -7,8 +7,8 @@ mod common;
 use glam::{Mat4, Vec3, Vec4};
 use penumbra::{
     CameraMatrices, CasterInstance, CasterMeshDesc, Casters, DebugTexture, DepthConvention, DirectionalLight,
-    IndexStream, Light, LightTexture, MeshGeometry, PenumbraError, ShadowMethod, ShadowSettings, Shadows,
-    SpotLight, VertexStream, ViewInputs,
+    IndexStream, Light, LightTexture, MeshGeometry, PenumbraError, PointLight, ShadowMethod, ShadowSettings,
+    Shadows, SpotLight, VertexStream, ViewInputs,
 };
 use wgpu::util::DeviceExt;
 
@@ -385,6 +385,65 @@ fn four_lights_share_one_orthographic_depth_and_each_shadows_its_own_layer() {
         // The box's top sees every sun; the floor far from it too.
         assert!(layer[top_pixel(Vec3::new(0.0, 2.0, 0.0))] > 0.95);
         assert!(layer[top_pixel(Vec3::new(3.0, 0.0, 3.0))] > 0.95);
+    }
+}
+
+/// Four suns, a spot and a point light: with batching, one blur pass takes the first four and
+/// another the last two (which then share a classification union); without, each light has
+/// its own. Every light's visibility must be the same either way, penumbra included.
+#[test]
+fn lights_blurred_in_batches_get_what_a_blur_of_their_own_gives() {
+    let gpu = common::gpu();
+    let device = &gpu.device;
+    let w = world(&gpu);
+    let depth = DepthPass::new(device);
+    let mut lights: Vec<Light> = [20.0, 110.0, 200.0, 290.0].map(sun).to_vec();
+    lights.push(Light::Spot(SpotLight {
+        position: Vec3::new(-2.0, 6.0, 1.0),
+        direction: Vec3::new(0.3, -1.0, -0.15).normalize(),
+        cone_angle_deg: 40.0,
+        radius: 0.3,
+        color: Vec3::ONE,
+        intensity: 1.0,
+    }));
+    lights.push(Light::Point(PointLight {
+        position: Vec3::new(2.5, 4.0, -2.0),
+        radius: 0.3,
+        color: Vec3::ONE,
+        intensity: 1.0,
+    }));
+    let layers = |batch: bool| -> Vec<Vec<f32>> {
+        let mut settings = ShadowSettings::default();
+        settings.penumbra.batch_lights = batch;
+        let mut shadows = Shadows::new(device, settings).unwrap();
+        let ids: Vec<_> = lights
+            .iter()
+            .map(|l| shadows.add_light(device, *l).unwrap())
+            .collect();
+        let reports = render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+        assert!(
+            reports
+                .iter()
+                .all(|r| r.chain.method == ShadowMethod::Ours && r.chain.blur)
+        );
+        ids.iter()
+            .map(|id| read_layer(&gpu, &shadows, id.layer()))
+            .collect()
+    };
+    let batched = layers(true);
+    let alone = layers(false);
+    for (k, (b, a)) in batched.iter().zip(&alone).enumerate() {
+        let worst = b.iter().zip(a).map(|(x, y)| (x - y).abs()).fold(0.0, f32::max);
+        let penumbra = a.iter().filter(|v| (0.1..0.9).contains(*v)).count();
+        let umbra = a.iter().filter(|v| **v < 0.1).count();
+        eprintln!("light {k}: {penumbra} penumbra and {umbra} umbra pixels, largest difference {worst:.5}");
+        // Each light shadows the floor with a soft edge, so the comparison has something to see.
+        assert!(
+            penumbra > 100 && umbra > 100,
+            "light {k}: {penumbra} penumbra, {umbra} umbra pixels"
+        );
+        // R16F holds 11 bits: both ways round the same taps give the same value.
+        assert!(worst < 2e-3, "light {k}: batched and alone differ by {worst}");
     }
 }
 

@@ -558,6 +558,7 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                     mask_early_out: mask,
                     blur_taps,
                     depth_aware_blur: aware,
+                    batch_lights: true,
                     indirect_weight: indirect,
                 }
             },

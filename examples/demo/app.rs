@@ -425,10 +425,8 @@ impl DemoApp {
         self.animation_base = self.angles;
     }
 
-    /// Adds a light like the selected one (a sun or a spot), a quarter turn around the scene,
-    /// and selects it.
     /// Adds a light of `kind` ("sun", "spot" or "point") like the key light, a quarter turn
-    /// around the scene.
+    /// around the scene, and selects it.
     pub(crate) fn add_light(&mut self, kind: &str) {
         let center = self.bounds.center();
         let radius = self.bounds.radius().max(1e-3);

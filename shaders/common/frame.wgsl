@@ -96,19 +96,6 @@ struct Frame {
 // map).
 var<private> cascade: u32 = 0u;
 
-// The cube face a point `v` away from a point light lies in: the axis along which it is
-// farthest, in the order +x, -x, +y, -y, +z, -z.
-fn cube_face(v: vec3<f32>) -> u32 {
-    let a = abs(v);
-    if a.x >= a.y && a.x >= a.z {
-        return select(1u, 0u, v.x >= 0.0);
-    }
-    if a.y >= a.z {
-        return select(3u, 2u, v.y >= 0.0);
-    }
-    return select(5u, 4u, v.z >= 0.0);
-}
-
 // Picks a point light's cube face for `world`.
 fn use_face(world: vec3<f32>) {
     cascade = cube_face(world - frame.light.position);

@@ -1,21 +1,31 @@
-//! Separable Gaussian blur of the visibility texture: one pass object, two draws (horizontal
-//! into a temporary texture, then vertical into the output) that differ by an axis uniform.
+//! Separable Gaussian blur of up to four lights' visibility at once: one pass object, two draws
+//! (horizontal into temporary textures, then vertical into the output) that differ by an axis
+//! uniform. Light `c` of the pass is read from its own inputs and written to its own target.
 //!
-//! Input: the frame uniform, the camera depth, the distance map, the visibility to blur and, in
-//! physical mode, the standard deviations the variable PCF pass wrote.
-//! Output: an R16F blurred visibility. Gaussian weights are computed on the CPU
+//! Input: the frame uniform, the camera depth and, per light, the visibility to blur, its
+//! distance map and, in physical mode, the standard deviations the variable PCF pass wrote.
+//! Output: R16F blurred visibility per light. Gaussian weights are computed on the CPU
 //! ([`crate::frame`]); the step between taps is per pixel (distance-driven) or fixed.
 //!
-//! After the distance map (the distance-map method), both draws test the classification depth
-//! it wrote, so only pixels a shadow can reach run the shader, and the
-//! vertical draw writes the light's layer of the output array directly, with the indirect
-//! attenuation applied: no separate resolve.
+//! After the distance map (the distance-map method), both draws test a classification depth so
+//! only pixels a shadow can reach run the shader: one light's own, or for several lights the
+//! union of theirs, which a first, cheap draw writes from their distance maps. The vertical draw writes each
+//! light's layer of the output array directly, with the indirect attenuation applied: no
+//! separate resolve. Batching lights shares the draws, the pixel's depth and the early-outs;
+//! each light keeps its own taps, so its result is the one a pass of its own gives (a test
+//! compares them).
 
 use bytemuck::{Pod, Zeroable};
 
 use super::variable_pcf::classified_test;
-use super::{Fullscreen, VISIBILITY_FORMAT, draw_fullscreen_tested, entries, entry, screen_target};
+use super::{
+    CLASSIFICATION_FORMAT, DepthUse, Fullscreen, VISIBILITY_FORMAT, draw_fullscreen_into, entries, entry,
+    screen_target,
+};
 use crate::frame::{BlurParams, BlurSwitches, gaussian_weights};
+
+/// The most lights one blur pass takes (one colour target each).
+pub const MAX_BATCHED_LIGHTS: usize = 4;
 
 /// The standard deviation, in taps, of the discrete kernel `weights` makes with `taps` taps:
 /// less than the Gaussian's own, which is cut at +-taps / 2.
@@ -39,33 +49,66 @@ pub(crate) struct BlurUniform {
     pub kernel_sigma: f32,
 }
 
+/// One light's inputs to the blur.
+pub(crate) struct BlurInput<'a> {
+    /// The visibility to blur.
+    pub visibility: &'a wgpu::TextureView,
+    /// Its distance map (a stand-in for the fixed blur).
+    pub distance_map: &'a wgpu::TextureView,
+    /// The standard deviations the variable PCF pass wrote (a stand-in otherwise).
+    pub blur_sigma: &'a wgpu::TextureView,
+}
+
 pub struct BlurPass {
     switches: BlurSwitches,
+    lights: usize,
     layout: wgpu::BindGroupLayout,
+    /// Tested against the classification (after the distance map), untested otherwise.
     pipeline: wgpu::RenderPipeline,
+    /// Several lights: a draw that writes the union of their classifications.
+    classify_pipeline: Option<wgpu::RenderPipeline>,
     sampler: wgpu::Sampler,
     axis_buffers: [wgpu::Buffer; 2],
     axis_groups: [wgpu::BindGroup; 2],
-    temp: (wgpu::Texture, wgpu::TextureView),
+    /// The horizontal draw's targets, one per light.
+    temps: Vec<(wgpu::Texture, wgpu::TextureView)>,
+    /// Several lights: where any of them can be shadowed.
+    union: Option<(wgpu::Texture, wgpu::TextureView)>,
     /// The vertical draw's target, unless it writes the light's output layer.
     output: Option<(wgpu::Texture, wgpu::TextureView)>,
     bind_groups: Option<[wgpu::BindGroup; 2]>,
 }
 
 impl BlurPass {
-    /// The pass for `switches` (compile-time: other switches need a new pass).
-    pub(crate) fn new(device: &wgpu::Device, frame_size: usize, switches: BlurSwitches) -> Self {
+    /// The pass for `lights` lights (1 to [`MAX_BATCHED_LIGHTS`]; several only after the
+    /// distance map) and `switches` (compile-time: other switches need a new pass).
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        frame_size: usize,
+        switches: BlurSwitches,
+        lights: usize,
+    ) -> Self {
+        let lights = if switches.after_distance_map {
+            lights.clamp(1, MAX_BATCHED_LIGHTS)
+        } else {
+            1
+        };
         let shader = crate::shaders::module(device, "blur.wgsl", crate::shaders::BLUR);
+        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let filterable = wgpu::TextureSampleType::Float { filterable: true };
+        let mut layout_entries = vec![
+            entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
+            entry::texture_2d(1, unfilterable),
+            entry::sampler(2, wgpu::SamplerBindingType::Filtering),
+        ];
+        for c in 0..MAX_BATCHED_LIGHTS as u32 {
+            layout_entries.push(entry::texture_2d(3 + c, filterable));
+            layout_entries.push(entry::texture_2d(7 + c, unfilterable));
+            layout_entries.push(entry::texture_2d(11 + c, unfilterable));
+        }
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("BlurPass::layout"),
-            entries: &[
-                entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
-                entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
-                entry::texture_2d(2, wgpu::TextureSampleType::Float { filterable: false }),
-                entry::texture_2d(3, wgpu::TextureSampleType::Float { filterable: true }),
-                entry::sampler(4, wgpu::SamplerBindingType::Filtering),
-                entry::texture_2d(5, wgpu::TextureSampleType::Float { filterable: false }),
-            ],
+            entries: &layout_entries,
         });
         let axis_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("BlurPass::axis_layout"),
@@ -77,19 +120,40 @@ impl BlurPass {
             )],
         });
         let flag = |on: bool| if on { 1.0 } else { 0.0 };
-        let pipeline = Fullscreen {
-            label: "BlurPass::pipeline",
-            shader: &shader,
-            bind_group_layouts: &[Some(&layout), Some(&axis_layout)],
-            targets: &[Some(VISIBILITY_FORMAT.into())],
-            // Only where the distance map says a shadow can fall.
-            depth: switches.after_distance_map.then(classified_test),
-            constants: &[
-                ("FIXED_STEP", flag(switches.fixed_step)),
-                ("DEPTH_AWARE", flag(switches.depth_aware)),
-            ],
-        }
-        .pipeline(device);
+        let targets = vec![Some(wgpu::ColorTargetState::from(VISIBILITY_FORMAT)); lights];
+        let constants = [
+            ("FIXED_STEP", flag(switches.fixed_step)),
+            ("DEPTH_AWARE", flag(switches.depth_aware)),
+            ("LIGHTS", lights as f64),
+        ];
+        let layouts = [Some(&layout), Some(&axis_layout)];
+        let fullscreen = |targets, depth, entry| {
+            Fullscreen {
+                label: "BlurPass::pipeline",
+                shader: &shader,
+                bind_group_layouts: &layouts,
+                targets,
+                depth,
+                constants: &constants,
+            }
+            .pipeline_at(device, entry)
+        };
+        // Only where the distance map says a shadow can fall.
+        let pipeline = fullscreen(
+            &targets,
+            switches.after_distance_map.then(classified_test),
+            "fs_main",
+        );
+        let classify_pipeline = (lights > 1).then(|| {
+            let write = wgpu::DepthStencilState {
+                format: CLASSIFICATION_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: Default::default(),
+                bias: Default::default(),
+            };
+            fullscreen(&[], Some(write), "fs_classify")
+        });
         let axis_buffers = ["BlurPass::horizontal", "BlurPass::vertical"].map(|label| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -111,21 +175,35 @@ impl BlurPass {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
-        Self {
+        let mut pass = Self {
             switches,
+            lights,
             layout,
             pipeline,
+            classify_pipeline,
             sampler,
             axis_buffers,
             axis_groups,
-            temp: screen_target(device, "BlurPass::horizontal", 1, 1, VISIBILITY_FORMAT),
+            temps: Vec::new(),
+            union: None,
             output: None,
             bind_groups: None,
-        }
+        };
+        pass.resize(device, 1, 1);
+        pass
+    }
+
+    /// How many lights the pass blurs.
+    pub(crate) fn lights(&self) -> usize {
+        self.lights
     }
 
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.temp = screen_target(device, "BlurPass::horizontal", width, height, VISIBILITY_FORMAT);
+        self.temps = (0..self.lights)
+            .map(|_| screen_target(device, "BlurPass::horizontal", width, height, VISIBILITY_FORMAT))
+            .collect();
+        self.union = (self.lights > 1)
+            .then(|| screen_target(device, "BlurPass::union", width, height, CLASSIFICATION_FORMAT));
         self.output = (!self.switches.after_distance_map).then(|| {
             screen_target(
                 device,
@@ -135,33 +213,45 @@ impl BlurPass {
                 VISIBILITY_FORMAT,
             )
         });
+        self.bind_groups = None;
     }
 
-    /// Points the pass at its inputs; `visibility` is the texture to blur.
-    pub fn bind(
+    /// Points the pass at its inputs, one per light (as many as the pass was made for; lights
+    /// past `lights` are left out); `dummy` stands in for the slots no light fills.
+    pub(crate) fn bind(
         &mut self,
         device: &wgpu::Device,
         frame: &wgpu::Buffer,
         camera_depth: &wgpu::TextureView,
-        distance_map: &wgpu::TextureView,
-        visibility: &wgpu::TextureView,
-        blur_sigma: &wgpu::TextureView,
+        lights: &[BlurInput],
+        dummy: &wgpu::TextureView,
     ) {
-        let group = |input: &wgpu::TextureView| {
+        let group = |sources: &[&wgpu::TextureView]| {
+            let distance = |c: usize| {
+                wgpu::BindingResource::TextureView(lights.get(c).map_or(dummy, |l| l.distance_map))
+            };
+            let sigma =
+                |c: usize| wgpu::BindingResource::TextureView(lights.get(c).map_or(dummy, |l| l.blur_sigma));
+            let mut resources = vec![
+                frame.as_entire_binding(),
+                wgpu::BindingResource::TextureView(camera_depth),
+                wgpu::BindingResource::Sampler(&self.sampler),
+            ];
+            resources.extend(
+                (0..MAX_BATCHED_LIGHTS)
+                    .map(|c| wgpu::BindingResource::TextureView(sources.get(c).copied().unwrap_or(dummy))),
+            );
+            resources.extend((0..MAX_BATCHED_LIGHTS).map(distance));
+            resources.extend((0..MAX_BATCHED_LIGHTS).map(sigma));
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("BlurPass::bind_group"),
                 layout: &self.layout,
-                entries: &entries(&[
-                    frame.as_entire_binding(),
-                    wgpu::BindingResource::TextureView(camera_depth),
-                    wgpu::BindingResource::TextureView(distance_map),
-                    wgpu::BindingResource::TextureView(input),
-                    wgpu::BindingResource::Sampler(&self.sampler),
-                    wgpu::BindingResource::TextureView(blur_sigma),
-                ]),
+                entries: &entries(&resources),
             })
         };
-        self.bind_groups = Some([group(visibility), group(&self.temp.1)]);
+        let inputs: Vec<_> = lights.iter().take(self.lights).map(|l| l.visibility).collect();
+        let temps: Vec<_> = self.temps.iter().map(|t| &t.1).collect();
+        self.bind_groups = Some([group(&inputs), group(&temps)]);
     }
 
     /// The blurred visibility, unless the vertical draw writes the light's output layer.
@@ -200,34 +290,54 @@ impl BlurPass {
         }
     }
 
-    /// Records both directions ([`Self::prepare`] first). After the distance-map pass,
-    /// `classification` is its depth and `layer` the light's output layer, which the vertical
-    /// draw writes.
+    /// Records both directions ([`Self::prepare`] and [`Self::bind`] first). After the
+    /// distance-map pass, `classification` is a single light's distance-map depth (several
+    /// lights use the union the horizontal draw writes) and `layers` are the lights' output
+    /// layers, which the vertical draw writes.
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         classification: Option<&wgpu::TextureView>,
-        layer: &wgpu::TextureView,
+        layers: &[&wgpu::TextureView],
     ) {
         let Some(groups) = &self.bind_groups else {
             return;
         };
-        let classification = classification.filter(|_| self.switches.after_distance_map);
-        draw_fullscreen_tested(
+        let temps: Vec<_> = self.temps.iter().map(|t| &t.1).collect();
+        let tested = match (&self.classify_pipeline, &self.union) {
+            (Some(classify), Some(union)) => {
+                draw_fullscreen_into(
+                    encoder,
+                    "BlurPass::classify",
+                    classify,
+                    &[&groups[0], &self.axis_groups[0]],
+                    &[],
+                    DepthUse::Write(&union.1),
+                );
+                Some(&union.1)
+            }
+            _ => classification.filter(|_| self.switches.after_distance_map),
+        };
+        let depth = tested.map_or(DepthUse::None, DepthUse::Test);
+        draw_fullscreen_into(
             encoder,
             "BlurPass::horizontal",
             &self.pipeline,
             &[&groups[0], &self.axis_groups[0]],
-            &self.temp.1,
-            classification,
+            &temps,
+            depth,
         );
-        draw_fullscreen_tested(
+        let outputs: Vec<&wgpu::TextureView> = match &self.output {
+            Some(o) => vec![&o.1],
+            None => layers.iter().take(self.lights).copied().collect(),
+        };
+        draw_fullscreen_into(
             encoder,
             "BlurPass::vertical",
             &self.pipeline,
             &[&groups[1], &self.axis_groups[1]],
-            self.output.as_ref().map_or(layer, |o| &o.1),
-            classification,
+            &outputs,
+            depth,
         );
     }
 }

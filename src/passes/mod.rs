@@ -34,9 +34,10 @@ mod resolve;
 mod shadow_map;
 mod variable_pcf;
 
-pub use blur::BlurPass;
+pub(crate) use blur::BlurInput;
 #[cfg(test)]
 pub(crate) use blur::BlurUniform;
+pub use blur::{BlurPass, MAX_BATCHED_LIGHTS};
 #[cfg(feature = "renderer")]
 pub use composite::CompositePass;
 #[cfg(feature = "renderer")]
@@ -206,6 +207,11 @@ pub(crate) struct Fullscreen<'a> {
 
 impl Fullscreen<'_> {
     pub(crate) fn pipeline(&self, device: &wgpu::Device) -> wgpu::RenderPipeline {
+        self.pipeline_at(device, "fs_main")
+    }
+
+    /// The pipeline with fragment entry point `entry`.
+    pub(crate) fn pipeline_at(&self, device: &wgpu::Device, entry: &str) -> wgpu::RenderPipeline {
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(self.label),
             bind_group_layouts: self.bind_group_layouts,
@@ -225,7 +231,7 @@ impl Fullscreen<'_> {
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
                 module: self.shader,
-                entry_point: Some("fs_main"),
+                entry_point: Some(entry),
                 compilation_options: wgpu::PipelineCompilationOptions {
                     constants: self.constants,
                     ..Default::default()
@@ -264,14 +270,51 @@ pub(crate) fn draw_fullscreen_tested(
     target: &wgpu::TextureView,
     classification: Option<&wgpu::TextureView>,
 ) {
-    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(label),
-        color_attachments: &[cleared(target, wgpu::Color::WHITE)],
-        depth_stencil_attachment: classification.map(|view| wgpu::RenderPassDepthStencilAttachment {
+    let depth = classification.map_or(DepthUse::None, DepthUse::Test);
+    draw_fullscreen_into(encoder, label, pipeline, bind_groups, &[target], depth);
+}
+
+/// What a full-screen draw does with a classification depth.
+#[derive(Clone, Copy)]
+pub(crate) enum DepthUse<'a> {
+    None,
+    /// Read-only: the pipeline's test skips the pixels it leaves out.
+    Test(&'a wgpu::TextureView),
+    /// Cleared to 0, then written by the pipeline.
+    Write(&'a wgpu::TextureView),
+}
+
+/// Draws the fullscreen triangle of `pipeline` into `targets` (each cleared to white first),
+/// with a classification depth used as `depth` says.
+pub(crate) fn draw_fullscreen_into(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    pipeline: &wgpu::RenderPipeline,
+    bind_groups: &[&wgpu::BindGroup],
+    targets: &[&wgpu::TextureView],
+    depth: DepthUse,
+) {
+    let color_attachments: Vec<_> = targets.iter().map(|t| cleared(t, wgpu::Color::WHITE)).collect();
+    let depth_stencil_attachment = match depth {
+        DepthUse::None => None,
+        DepthUse::Test(view) => Some(wgpu::RenderPassDepthStencilAttachment {
             view,
             depth_ops: None,
             stencil_ops: None,
         }),
+        DepthUse::Write(view) => Some(wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(0.0),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+    };
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &color_attachments,
+        depth_stencil_attachment,
         timestamp_writes: None,
         occlusion_query_set: None,
         multiview_mask: None,
