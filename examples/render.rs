@@ -52,6 +52,12 @@ struct Args {
     /// distance, mask, pcf or blur (false color where it helps).
     #[arg(long)]
     debug_view: Option<String>,
+    /// Lighting mode: dynamic, mixed or baked (default: the scene file's)
+    #[arg(long)]
+    lighting: Option<String>,
+    /// Lightmap exposure (default: the scene file's)
+    #[arg(long)]
+    exposure: Option<f32>,
     /// Output PNG.
     #[arg(long, default_value = "out.png")]
     out: PathBuf,
@@ -100,6 +106,16 @@ fn main() -> Result<()> {
     for warning in &scene.warnings {
         eprintln!("warning: {}: {warning}", args.scene.display());
     }
+    if let Some(name) = &args.lighting {
+        scene.lighting = penumbra::LightingMode::ALL
+            .into_iter()
+            .find(|m| m.name() == name)
+            .with_context(|| format!("--lighting {name}: expected dynamic, mixed or baked"))?;
+    }
+    if let Some(exposure) = args.exposure {
+        scene.lightmap_exposure = exposure;
+    }
+    scene.validate_lightmaps().context("--exposure")?;
     let camera = scene.view(args.view).context("--view")?;
     let gpu = HeadlessGpu::new()?;
     eprintln!("adapter: {}", gpu.describe());

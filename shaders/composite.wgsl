@@ -1,7 +1,8 @@
 // Composite pass of the convenience renderer: the lit scene from the camera. Each light's
 // direct light (Lambert, spot cone) times its screen-space visibility (its layer of the
 // visibility array, resolved: the indirect-light attenuation is already in it), summed, on top
-// of the base color (texture x factor), plus ambient. Depth is tested against the prepass
+// of the base color (texture x factor), plus ambient, or the instance's lightmap in its place
+// (mixed lighting); with baked lighting a lightmapped instance shows its lightmap alone. Depth is tested against the prepass
 // (equal geometry, `@invariant` positions).
 
 // One light as the composite shades it (mirrors `ShadedLight` in src/passes/composite.rs).
@@ -42,6 +43,7 @@ struct VsOut {
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
+    @location(3) uv1: vec2<f32>,
 }
 
 @vertex
@@ -49,6 +51,7 @@ fn vs_main(
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
+    @location(3) uv1: vec2<f32>,
 ) -> VsOut {
     let world = instance.model * vec4<f32>(position, 1.0);
     var out: VsOut;
@@ -56,6 +59,7 @@ fn vs_main(
     out.world = world.xyz;
     out.normal = (instance.normal * vec4<f32>(normal, 0.0)).xyz;
     out.uv = uv;
+    out.uv1 = uv1;
     return out;
 }
 
@@ -63,11 +67,16 @@ fn vs_main(
 fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let n = camera_side_normal(in.normal, in.world, to_camera(in.world));
     let base = material.base_color * textureSample(base_color_texture, base_color_sampler, in.uv);
+    let baked = baked_light(in.uv1);
     if material.alpha.x >= 0.0 && base.a < material.alpha.x {
         discard;
     }
+    // Lightmapped (mixed or baked): the lightmap in place of the ambient light; baked: alone.
+    var light = select(frame.ambient.rgb, baked.rgb, baked.w > 0.5);
+    if baked.w > 1.5 {
+        return vec4<f32>(base.rgb * light, 1.0);
+    }
     let pixel = vec2<i32>(in.clip.xy);
-    var light = frame.ambient.rgb;
     for (var k = 0u; k < min(shaded.count, 8u); k++) {
         let l = shaded.lights[k];
         var to_light = -l.direction;

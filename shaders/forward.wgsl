@@ -40,6 +40,7 @@ struct VsOut {
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
+    @location(3) uv1: vec2<f32>,
 }
 
 @vertex
@@ -47,6 +48,7 @@ fn vs_main(
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
+    @location(3) uv1: vec2<f32>,
 ) -> VsOut {
     let world = instance.model * vec4<f32>(position, 1.0);
     var out: VsOut;
@@ -54,6 +56,7 @@ fn vs_main(
     out.world = world.xyz;
     out.normal = (instance.normal * vec4<f32>(normal, 0.0)).xyz;
     out.uv = uv;
+    out.uv1 = uv1;
     return out;
 }
 
@@ -85,8 +88,14 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let n = camera_side_normal(in.normal, in.world, frame.camera_position.xyz - in.world);
     // Sample before any discard so the implicit derivatives stay in uniform control flow.
     let base = material.base_color * textureSample(base_color_texture, base_color_sampler, in.uv);
+    let baked = baked_light(in.uv1);
     if material.alpha.x >= 0.0 && base.a < material.alpha.x {
         discard;
+    }
+    // Lightmapped (mixed or baked): the lightmap in place of the ambient light; baked: alone.
+    let indirect = select(frame.ambient.rgb, baked.rgb, baked.w > 0.5);
+    if baked.w > 1.5 {
+        return vec4<f32>(base.rgb * indirect, 1.0);
     }
     var to_light = -frame.light_direction.xyz;
     var cone = 1.0;
@@ -112,6 +121,6 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         }
         visibility = shadow_visibility(in.world + n * offset, cascade);
     }
-    let light = frame.light_radiance.rgb * (n_dot_l * cone * visibility) + frame.ambient.rgb;
+    let light = frame.light_radiance.rgb * (n_dot_l * cone * visibility) + indirect;
     return vec4<f32>(base.rgb * light, 1.0);
 }

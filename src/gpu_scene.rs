@@ -6,14 +6,16 @@ use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
 
 use crate::error::{PenumbraError, Result};
-use crate::layouts::{MaterialUniform, SceneLayouts};
-use crate::scene::{Aabb, AlphaMode, Light, Scene};
+use crate::layouts::{LightmapUniform, MaterialUniform, SceneLayouts};
+use crate::scene::{Aabb, AlphaMode, Light, LightingMode, LightmapImage, Scene};
 
 /// One mesh's vertex streams.
 pub struct GpuMesh {
     pub positions: wgpu::Buffer,
     pub normals: wgpu::Buffer,
     pub uvs: wgpu::Buffer,
+    /// The second UV set (zeros when the mesh has none).
+    pub lightmap_uvs: wgpu::Buffer,
     pub smoothed_normals: wgpu::Buffer,
     pub indices: wgpu::Buffer,
     pub index_count: u32,
@@ -46,6 +48,25 @@ pub struct GpuScene {
     ambient: Vec3,
     bounds: Aabb,
     triangle_count: usize,
+    lightmaps: GpuLightmaps,
+    /// Per instance: its lightmap in the current lighting mode (group 3 of the lit passes).
+    lightmap_groups: Vec<wgpu::BindGroup>,
+    lighting: LightingMode,
+    lightmap_exposure: f32,
+}
+
+/// A scene's lightmap atlases on the GPU and which instance samples which, per mode.
+struct GpuLightmaps {
+    layout: wgpu::BindGroupLayout,
+    /// RGBA16F, one per atlas.
+    atlases: Vec<wgpu::TextureView>,
+    /// What instances without a lightmap bind.
+    black: wgpu::TextureView,
+    sampler: wgpu::Sampler,
+    /// Per instance, for mixed and for baked lighting: the atlas and its rectangle (min, max).
+    assigned: Vec<[Option<(usize, [f32; 4])>; 2]>,
+    /// Per instance.
+    uniforms: Vec<wgpu::Buffer>,
 }
 
 /// The vertex streams a camera pass of [`GpuScene::draw`] binds.
@@ -53,8 +74,9 @@ pub struct GpuScene {
 pub(crate) enum CameraStreams {
     /// Positions (slot 0) and uvs (slot 1): depth passes that alpha-test.
     PositionUv,
-    /// Positions, shading normals and uvs (slots 0, 1, 2): lit passes.
-    PositionNormalUv,
+    /// Positions, shading normals, uvs and lightmap uvs (slots 0 to 3), and the instance's
+    /// lightmap at group 3: lit passes.
+    Lit,
 }
 
 impl GpuScene {
@@ -98,6 +120,18 @@ impl GpuScene {
                         vertex,
                     ),
                     uvs: make("GpuMesh::uvs", &pad(bytemuck::cast_slice(&mesh.uvs)), vertex),
+                    lightmap_uvs: match mesh.lightmap_uvs.len() == mesh.positions.len() {
+                        true => make(
+                            "GpuMesh::lightmap_uvs",
+                            &pad(bytemuck::cast_slice(&mesh.lightmap_uvs)),
+                            vertex,
+                        ),
+                        false => make(
+                            "GpuMesh::lightmap_uvs",
+                            &pad(&vec![0u8; mesh.positions.len() * 8]),
+                            vertex,
+                        ),
+                    },
                     smoothed_normals: make(
                         "GpuMesh::smoothed_normals",
                         &pad(bytemuck::cast_slice(&mesh.smoothed_normals)),
@@ -235,7 +269,54 @@ impl GpuScene {
                 masked: material.is_masked(),
             });
         }
-        Ok(Self {
+        let lightmaps = GpuLightmaps {
+            layout: layouts.lightmap.clone(),
+            atlases: scene
+                .lightmaps
+                .iter()
+                .map(|l| upload_lightmap(device, queue, &l.image))
+                .collect::<Result<_>>()?,
+            black: upload_lightmap(
+                device,
+                queue,
+                &LightmapImage {
+                    name: "no lightmap".into(),
+                    width: 1,
+                    height: 1,
+                    rgb: vec![[0.0; 3]],
+                },
+            )?,
+            sampler: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("GpuScene::lightmap_sampler"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            }),
+            assigned: (0..scene.instances.len())
+                .map(|k| {
+                    [LightingMode::Mixed, LightingMode::Baked].map(|mode| {
+                        scene
+                            .lightmap_of(k, mode)
+                            .map(|(atlas, r)| (atlas, [r.min.x, r.min.y, r.max.x, r.max.y]))
+                    })
+                })
+                .collect(),
+            uniforms: (0..scene.instances.len())
+                .map(|_| {
+                    device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some("GpuScene::lightmap"),
+                        size: size_of::<LightmapUniform>() as u64,
+                        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                        mapped_at_creation: false,
+                    })
+                })
+                .collect(),
+        };
+        let mut gpu_scene = Self {
+            lightmaps,
+            lightmap_groups: Vec::new(),
+            lighting: LightingMode::Dynamic,
+            lightmap_exposure: 1.0,
             light_revision: 0,
             meshes,
             materials,
@@ -250,7 +331,83 @@ impl GpuScene {
                 .iter()
                 .map(|i| scene.meshes[i.mesh].triangle_count())
                 .sum(),
-        })
+        };
+        gpu_scene.set_lighting(device, queue, scene.lighting, scene.lightmap_exposure)?;
+        Ok(gpu_scene)
+    }
+
+    /// How the scene is lit now, and the lightmaps' exposure.
+    pub fn lighting(&self) -> (LightingMode, f32) {
+        (self.lighting, self.lightmap_exposure)
+    }
+
+    /// True when some instance has a lightmap for `mode`.
+    pub fn has_lightmaps(&self, mode: LightingMode) -> bool {
+        let slot = match mode {
+            LightingMode::Dynamic => return false,
+            LightingMode::Mixed => 0,
+            LightingMode::Baked => 1,
+        };
+        self.lightmaps.assigned.iter().any(|a| a[slot].is_some())
+    }
+
+    /// Switches the lighting mode and the lightmaps' exposure (finite, >= 0). Instances with no
+    /// lightmap for the mode are lit dynamically.
+    pub fn set_lighting(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        mode: LightingMode,
+        exposure: f32,
+    ) -> Result<()> {
+        if !(exposure >= 0.0 && exposure.is_finite()) {
+            return Err(PenumbraError::Scene(format!(
+                "lightmap exposure {exposure} must be finite and >= 0"
+            )));
+        }
+        let l = &self.lightmaps;
+        self.lightmap_groups = l
+            .assigned
+            .iter()
+            .zip(&l.uniforms)
+            .map(|(assigned, buffer)| {
+                let (code, slot) = match mode {
+                    LightingMode::Dynamic => (0.0, None),
+                    LightingMode::Mixed => (1.0, assigned[0]),
+                    LightingMode::Baked => (2.0, assigned[1]),
+                };
+                let uniform = match slot {
+                    Some((_, rect)) => LightmapUniform {
+                        rect,
+                        params: [exposure, code, 0.0, 0.0],
+                    },
+                    None => LightmapUniform::default(),
+                };
+                queue.write_buffer(buffer, 0, bytemuck::bytes_of(&uniform));
+                let view = slot.map_or(&l.black, |(atlas, _)| &l.atlases[atlas]);
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("GpuScene::lightmap"),
+                    layout: &l.layout,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: buffer.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: wgpu::BindingResource::TextureView(view),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: wgpu::BindingResource::Sampler(&l.sampler),
+                        },
+                    ],
+                })
+            })
+            .collect();
+        self.lighting = mode;
+        self.lightmap_exposure = exposure;
+        Ok(())
     }
 
     pub fn light(&self) -> &Light {
@@ -311,7 +468,7 @@ impl GpuScene {
     /// Draws every instance with `streams` into `pass`, whose group 0 is set: instance data at
     /// group 1, material at group 2.
     pub(crate) fn draw(&self, pass: &mut wgpu::RenderPass<'_>, streams: CameraStreams) {
-        for inst in &self.instances {
+        for (index, inst) in self.instances.iter().enumerate() {
             let mesh = &self.meshes[inst.mesh];
             let Some(offset) = self.casters.offset(inst.id) else {
                 continue;
@@ -324,9 +481,11 @@ impl GpuScene {
             pass.set_vertex_buffer(0, mesh.positions.slice(..));
             match streams {
                 CameraStreams::PositionUv => pass.set_vertex_buffer(1, mesh.uvs.slice(..)),
-                CameraStreams::PositionNormalUv => {
+                CameraStreams::Lit => {
                     pass.set_vertex_buffer(1, mesh.normals.slice(..));
                     pass.set_vertex_buffer(2, mesh.uvs.slice(..));
+                    pass.set_vertex_buffer(3, mesh.lightmap_uvs.slice(..));
+                    pass.set_bind_group(3, &self.lightmap_groups[index], &[]);
                 }
             }
             pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -365,6 +524,54 @@ impl GpuScene {
 }
 
 /// Uploads an sRGB RGBA8 image with a full mip chain (box-filtered on the CPU).
+/// A lightmap as an RGBA16F texture (one level), checked against the device's size limit.
+fn upload_lightmap(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    image: &LightmapImage,
+) -> Result<wgpu::TextureView> {
+    let max_side = device.limits().max_texture_dimension_2d;
+    if image.width > max_side || image.height > max_side || image.width == 0 || image.height == 0 {
+        return Err(PenumbraError::Texture {
+            name: image.name.clone(),
+            reason: format!(
+                "{}x{} is empty or exceeds the device limit of {max_side}",
+                image.width, image.height
+            ),
+        });
+    }
+    let texels: Vec<u16> = image
+        .rgb
+        .iter()
+        .flat_map(|t| [t[0], t[1], t[2], 1.0].map(|c| half::f16::from_f32(c).to_bits()))
+        .collect();
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(&image.name),
+        size: wgpu::Extent3d {
+            width: image.width,
+            height: image.height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba16Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    queue.write_texture(
+        texture.as_image_copy(),
+        bytemuck::cast_slice(&texels),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(image.width * 8),
+            rows_per_image: Some(image.height),
+        },
+        texture.size(),
+    );
+    Ok(texture.create_view(&Default::default()))
+}
+
 fn upload_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,

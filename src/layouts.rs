@@ -15,6 +15,8 @@ pub struct SceneLayouts {
     pub instance: wgpu::BindGroupLayout,
     /// Group with the material uniform, its base color texture and sampler.
     pub material: wgpu::BindGroupLayout,
+    /// The convenience renderer's lit passes: an instance's lightmap (uniform, atlas, sampler).
+    pub lightmap: wgpu::BindGroupLayout,
 }
 
 impl SceneLayouts {
@@ -41,8 +43,36 @@ impl SceneLayouts {
                 entry::sampler(2, wgpu::SamplerBindingType::Filtering),
             ],
         });
-        Self { instance, material }
+        let lightmap = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("SceneLayouts::lightmap"),
+            entries: &[
+                entry::uniform(
+                    0,
+                    wgpu::ShaderStages::FRAGMENT,
+                    size_of::<LightmapUniform>(),
+                    false,
+                ),
+                entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: true }),
+                entry::sampler(2, wgpu::SamplerBindingType::Filtering),
+            ],
+        });
+        Self {
+            instance,
+            material,
+            lightmap,
+        }
     }
+}
+
+/// An instance's lightmap, as the lit shaders see it (mirrors `Lightmap` in
+/// `shaders/common/lightmap.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Default)]
+pub struct LightmapUniform {
+    /// The atlas rectangle: xy min, zw max (texture space).
+    pub rect: [f32; 4],
+    /// x: exposure; y: 0 none (dynamic lighting or no lightmap), 1 mixed, 2 baked.
+    pub params: [f32; 4],
 }
 
 /// Per-instance data, as the shaders see it.

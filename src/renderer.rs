@@ -541,6 +541,10 @@ impl Renderer {
         }
         self.check_target(target)?;
         let device = self.device.clone();
+        let lit = shadows_settings_lit(&self.settings, scene.lighting().0);
+        if *self.shadows.settings() != lit {
+            self.shadows.set_settings(&device, lit)?;
+        }
         let light = *scene.light();
         self.sync_lights(&device, scene)?;
         let plan = PassPlan::for_lights(&self.settings, &light, 1 + self.more.len());
@@ -872,6 +876,16 @@ fn shadows_settings(settings: &ShadowSettings) -> ShadowSettings {
         },
         _ => *settings,
     }
+}
+
+/// [`shadows_settings`] for a scene lit in `lighting`: with mixed lighting the lightmap holds
+/// the indirect light, so the method's indirect-light attenuation is off.
+fn shadows_settings_lit(settings: &ShadowSettings, lighting: crate::scene::LightingMode) -> ShadowSettings {
+    let mut s = shadows_settings(settings);
+    if lighting == crate::scene::LightingMode::Mixed {
+        s.penumbra.indirect_weight = 0.0;
+    }
+    s
 }
 
 /// Makes `slot` hold a pass exactly when `wanted`.

@@ -63,6 +63,7 @@ pub const COMPOSITE: &str = wgsl!(
     "common/frame.wgsl",
     "common/cube.wgsl",
     "common/scene.wgsl",
+    "common/lightmap.wgsl",
     "composite.wgsl"
 );
 pub const REFERENCE: &str = wgsl!(
@@ -71,7 +72,12 @@ pub const REFERENCE: &str = wgsl!(
     "common/fullscreen.wgsl",
     "reference.wgsl"
 );
-pub const FORWARD: &str = wgsl!("common/scene.wgsl", "common/cube.wgsl", "forward.wgsl");
+pub const FORWARD: &str = wgsl!(
+    "common/scene.wgsl",
+    "common/cube.wgsl",
+    "common/lightmap.wgsl",
+    "forward.wgsl"
+);
 
 /// Every pass's composed source, by the name of its file in `shaders/`.
 pub const ALL: [(&str, &str); 13] = [

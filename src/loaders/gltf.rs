@@ -132,6 +132,10 @@ pub(super) fn load(path: &Path) -> Result<Model> {
             else {
                 continue;
             };
+            // The glTF mesh's own name: what scene files assign lightmaps by.
+            built.name = mesh
+                .name()
+                .map_or_else(|| format!("mesh {}", mesh.index()), str::to_string);
             // A skinned mesh is placed by its joints, not by its node (glTF spec 3.7.3).
             let transform = match &skin {
                 Some(skin) => {
@@ -296,9 +300,17 @@ fn read_primitive(
             *uv = matrix.transform_point2(*uv);
         }
     }
-    Mesh::new(label, positions, normals, uvs, indices)
-        .map(Some)
-        .map_err(|e| e.to_string())
+    let lightmap_uvs = reader
+        .read_tex_coords(1)
+        .map(|it| it.into_f32().map(Vec2::from_array).collect::<Vec<_>>())
+        .filter(|t| t.len() == positions.len());
+    let mesh = Mesh::new(label, positions, normals, uvs, indices).map_err(|e| e.to_string())?;
+    match lightmap_uvs {
+        Some(uv1) => mesh.with_lightmap_uvs(uv1),
+        None => Ok(mesh),
+    }
+    .map(Some)
+    .map_err(|e| e.to_string())
 }
 
 /// `KHR_texture_transform`'s matrix: translation by `offset` times a rotation by `rotation`
@@ -393,7 +405,13 @@ fn pose_skinned(
         positions.push(m.transform_point3(mesh.positions[v]));
         normals.push(m.transform_vector3(mesh.normals[v]));
     }
-    Mesh::new(mesh.name, positions, Some(normals), Some(mesh.uvs), mesh.indices).map_err(|e| e.to_string())
+    let lightmap_uvs = mesh.lightmap_uvs;
+    Mesh::new(mesh.name, positions, Some(normals), Some(mesh.uvs), mesh.indices)
+        .map(|posed| Mesh {
+            lightmap_uvs,
+            ..posed
+        })
+        .map_err(|e| e.to_string())
 }
 
 fn to_rgba8(name: String, image: gltf::image::Data) -> Result<TextureImage, String> {

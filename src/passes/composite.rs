@@ -53,7 +53,7 @@ impl CompositePass {
             &shader,
             &layout,
             layouts,
-            CameraStreams::PositionNormalUv,
+            CameraStreams::Lit,
             false,
             color_format.into(),
         );
@@ -119,6 +119,6 @@ impl CompositePass {
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
-        scene.draw(&mut pass, CameraStreams::PositionNormalUv);
+        scene.draw(&mut pass, CameraStreams::Lit);
     }
 }

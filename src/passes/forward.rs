@@ -106,7 +106,7 @@ impl ForwardPass {
             &shader,
             &frame_layout,
             layouts,
-            CameraStreams::PositionNormalUv,
+            CameraStreams::Lit,
             true,
             color_format.into(),
         );
@@ -237,7 +237,7 @@ impl ForwardPass {
             _ => &self.pcf_bind_group,
         };
         pass.set_bind_group(0, frame_group, &[]);
-        scene.draw(&mut pass, CameraStreams::PositionNormalUv);
+        scene.draw(&mut pass, CameraStreams::Lit);
     }
 }
 

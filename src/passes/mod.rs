@@ -544,26 +544,34 @@ pub(crate) fn camera_pipeline(
     target: wgpu::ColorTargetState,
 ) -> wgpu::RenderPipeline {
     use crate::gpu_scene::CameraStreams;
+    // Lit passes also take the instance's lightmap (group 3).
+    let groups = [
+        Some(pass_layout),
+        Some(&layouts.instance),
+        Some(&layouts.material),
+        Some(&layouts.lightmap),
+    ];
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(label),
-        bind_group_layouts: &[
-            Some(pass_layout),
-            Some(&layouts.instance),
-            Some(&layouts.material),
-        ],
+        bind_group_layouts: match streams {
+            CameraStreams::PositionUv => &groups[..3],
+            CameraStreams::Lit => &groups,
+        },
         immediate_size: 0,
     });
     const NORMAL: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x3);
+    const LIGHTMAP_UV: [wgpu::VertexAttribute; 1] = stream(3, wgpu::VertexFormat::Float32x2);
     const UV_AFTER_POSITION: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x2);
     const UV_AFTER_NORMAL: [wgpu::VertexAttribute; 1] = stream(2, wgpu::VertexFormat::Float32x2);
     let position_uv = [
         Some(vertex_layout(&POSITION)),
         Some(vertex_layout(&UV_AFTER_POSITION)),
     ];
-    let position_normal_uv = [
+    let lit = [
         Some(vertex_layout(&POSITION)),
         Some(vertex_layout(&NORMAL)),
         Some(vertex_layout(&UV_AFTER_NORMAL)),
+        Some(vertex_layout(&LIGHTMAP_UV)),
     ];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
@@ -574,7 +582,7 @@ pub(crate) fn camera_pipeline(
             compilation_options: Default::default(),
             buffers: match streams {
                 CameraStreams::PositionUv => &position_uv,
-                CameraStreams::PositionNormalUv => &position_normal_uv,
+                CameraStreams::Lit => &lit,
             },
         },
         primitive: wgpu::PrimitiveState::default(),

@@ -21,12 +21,12 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::{EulerRot, Mat4, Quat, Vec3, Vec4};
+use glam::{EulerRot, Mat4, Quat, Vec2, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 use super::{
-    AlphaMode, Camera, Light, Material, Mesh, Model, ModelLightSizes, Scene, TextureImage, Viewpoint,
-    character, primitives, teapot,
+    AlphaMode, Camera, Light, LightingMode, LightmapImage, LightmapRect, Lightmaps, Material, Mesh, Model,
+    ModelLightSizes, Scene, TextureImage, Viewpoint, character, primitives, teapot,
 };
 use crate::error::{PenumbraError, Result};
 
@@ -125,6 +125,29 @@ pub struct LightsFrom {
     pub sizes: ModelLightSizes,
 }
 
+/// Where one mesh's second UV set lands in a lightmap atlas: `min` and `size` in texture space
+/// (v down), or in OpenGL-style UV space (v up) when the atlas entry says `v_up`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LightmapRectEntry {
+    /// A mesh's name: a built-in mesh entry's, or a glTF mesh's own name inside a file.
+    pub mesh: String,
+    pub min: Vec2,
+    pub size: Vec2,
+}
+
+/// A lightmap atlas baked for one lighting mode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LightmapEntry {
+    /// `Mixed` (indirect light only) or `Baked` (direct and indirect).
+    pub mode: LightingMode,
+    /// A .ktx2, .hdr, .png or .jpg file, relative to the scene file.
+    pub path: String,
+    /// The rectangles are given with v up (as Bevy and OpenGL tools list them).
+    #[serde(default)]
+    pub v_up: bool,
+    pub meshes: Vec<LightmapRectEntry>,
+}
+
 /// A scene description as stored on disk.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SceneFile {
@@ -145,6 +168,15 @@ pub struct SceneFile {
     #[serde(default = "default_ambient")]
     pub ambient: Vec3,
     pub views: Vec<ViewEntry>,
+    /// Lightmap atlases, each for one lighting mode.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lightmaps: Vec<LightmapEntry>,
+    /// How the scene is lit at first (default `Dynamic`).
+    #[serde(default)]
+    pub lighting: LightingMode,
+    /// What lightmap texels are multiplied by (default 1).
+    #[serde(default = "one")]
+    pub lightmap_exposure: f32,
 }
 
 fn one() -> f32 {
@@ -275,8 +307,12 @@ impl SceneFile {
         // Meshes by name: built-ins become one-part models.
         let mut models = std::collections::HashMap::new();
         for entry in &self.meshes {
+            // A built-in mesh takes its entry's name (what lightmaps are assigned by).
             let builtin = |mesh: Mesh| Model {
-                meshes: vec![mesh],
+                meshes: vec![Mesh {
+                    name: entry.name.clone(),
+                    ..mesh
+                }],
                 materials: vec![Material::default()],
                 textures: vec![],
                 warnings: vec![],
@@ -399,6 +435,45 @@ impl SceneFile {
                     .map_err(|e| bad(format!("`lights_from` light {k}: {e}")))?;
             }
         }
+
+        for atlas in &self.lightmaps {
+            if atlas.mode == LightingMode::Dynamic {
+                return Err(bad(format!(
+                    "lightmap `{}`: its mode must be `Mixed` or `Baked` (dynamic lighting uses no lightmap)",
+                    atlas.path
+                )));
+            }
+            let image = LightmapImage::load(&base_dir.join(&atlas.path))?;
+            let rects = atlas
+                .meshes
+                .iter()
+                .map(|r| {
+                    if !(r.min.is_finite() && r.size.is_finite()) {
+                        return Err(bad(format!(
+                            "lightmap `{}`: mesh `{}`'s rectangle is not finite",
+                            atlas.path, r.mesh
+                        )));
+                    }
+                    Ok(if atlas.v_up {
+                        LightmapRect::from_v_up(&r.mesh, r.min, r.size)
+                    } else {
+                        LightmapRect {
+                            mesh: r.mesh.clone(),
+                            min: r.min,
+                            max: r.min + r.size,
+                        }
+                    })
+                })
+                .collect::<Result<Vec<_>>>()?;
+            scene.lightmaps.push(Lightmaps {
+                mode: atlas.mode,
+                image,
+                rects,
+            });
+        }
+        scene.lighting = self.lighting;
+        scene.lightmap_exposure = self.lightmap_exposure;
+        scene.validate_lightmaps().map_err(|e| bad(e.to_string()))?;
 
         let bounds = scene.bounds();
         for v in &self.views {

@@ -19,6 +19,9 @@ pub struct Mesh {
     /// Shading normals, one per vertex (may differ between vertices at one position: hard edges).
     pub normals: Vec<Vec3>,
     pub uvs: Vec<Vec2>,
+    /// The second UV set (glTF `TEXCOORD_1`), which lightmaps are sampled with: one per vertex,
+    /// or empty when the mesh has none (see [`Mesh::with_lightmap_uvs`]).
+    pub lightmap_uvs: Vec<Vec2>,
     /// One averaged normal per *position*: all vertices that share a position (within
     /// [`Mesh::WELD_TOLERANCE`]) have the same smoothed normal, so displacing along it never
     /// tears the mesh open at hard edges.
@@ -129,12 +132,31 @@ impl Mesh {
                 positions,
                 normals,
                 uvs,
+                lightmap_uvs: Vec::new(),
                 smoothed_normals,
                 indices,
                 bounds,
             },
             repairs,
         ))
+    }
+
+    /// The mesh with a second UV set for lightmaps, one per vertex (non-finite entries become
+    /// zero). Errors when the count differs from the vertex count.
+    pub fn with_lightmap_uvs(mut self, uvs: Vec<Vec2>) -> Result<Mesh> {
+        if uvs.len() != self.positions.len() {
+            return Err(PenumbraError::Scene(format!(
+                "mesh `{}`: {} lightmap uvs for {} positions",
+                self.name,
+                uvs.len(),
+                self.positions.len()
+            )));
+        }
+        self.lightmap_uvs = uvs
+            .into_iter()
+            .map(|t| if t.is_finite() { t } else { Vec2::ZERO })
+            .collect();
+        Ok(self)
     }
 
     pub fn vertex_count(&self) -> usize {

@@ -8,6 +8,7 @@ pub mod character;
 #[cfg(feature = "renderer")]
 pub mod file;
 mod light;
+mod lightmap;
 mod material;
 pub(crate) mod mesh;
 pub mod primitives;
@@ -22,6 +23,7 @@ pub use light::{
     DirectionalLight, Light, MODEL_SPOT_RADIUS_PER_DISTANCE, MODEL_SUN_DIAMETER_DEG, ModelLight,
     ModelLightKind, ModelLightSizes, PointLight, SpotLight, lights_from_model,
 };
+pub use lightmap::{LightingMode, LightmapImage, LightmapRect, Lightmaps, rg11b10, rgb9e5};
 pub use material::{AlphaMode, Material, TextureImage};
 pub use mesh::{Mesh, MeshRepairs};
 
@@ -106,6 +108,12 @@ pub struct Scene {
     pub views: Vec<Viewpoint>,
     /// What the loaders could not represent (from [`Model::warnings`]), for the user to see.
     pub warnings: Vec<String>,
+    /// Baked light: atlases, each for one lighting mode, with the meshes that use it (by name).
+    pub lightmaps: Vec<Lightmaps>,
+    /// How the scene is lit ([`LightingMode::Dynamic`] ignores the lightmaps).
+    pub lighting: LightingMode,
+    /// What a lightmap's texels are multiplied by (the lights' units against the baker's).
+    pub lightmap_exposure: f32,
 }
 
 impl Default for Scene {
@@ -120,6 +128,9 @@ impl Default for Scene {
             ambient: Vec3::splat(0.12),
             views: Vec::new(),
             warnings: Vec::new(),
+            lightmaps: Vec::new(),
+            lighting: LightingMode::Dynamic,
+            lightmap_exposure: 1.0,
         }
     }
 }
@@ -211,7 +222,69 @@ impl Scene {
     }
 
     /// Checks that every index is in range and every transform and setting is valid.
+    /// The atlas and rectangle instance `k` samples in `mode`, if any.
+    pub fn lightmap_of(&self, k: usize, mode: LightingMode) -> Option<(usize, &LightmapRect)> {
+        let mesh = &self.meshes.get(self.instances.get(k)?.mesh)?.name;
+        self.lightmaps.iter().enumerate().find_map(|(atlas, l)| {
+            (l.mode == mode)
+                .then(|| l.rects.iter().find(|r| &r.mesh == mesh))
+                .flatten()
+                .map(|r| (atlas, r))
+        })
+    }
+
+    /// Checks the lightmaps: a lighting mode of its own per atlas, every rectangle naming a
+    /// mesh that exists and has lightmap UVs, a finite exposure >= 0.
+    pub fn validate_lightmaps(&self) -> Result<()> {
+        let bad = |s: String| Err(PenumbraError::Scene(s));
+        if !(self.lightmap_exposure >= 0.0 && self.lightmap_exposure.is_finite()) {
+            return bad(format!(
+                "lightmap_exposure {} must be finite and >= 0",
+                self.lightmap_exposure
+            ));
+        }
+        for (k, atlas) in self.lightmaps.iter().enumerate() {
+            let name = &atlas.image.name;
+            if atlas.mode == LightingMode::Dynamic {
+                return bad(format!("lightmap `{name}`: dynamic lighting uses no lightmap"));
+            }
+            if self.lightmaps[..k].iter().any(|other| other.mode == atlas.mode) {
+                return bad(format!(
+                    "lightmap `{name}`: a second atlas for {} lighting (one per mode)",
+                    atlas.mode.name()
+                ));
+            }
+            if atlas.image.rgb.len() != atlas.image.width as usize * atlas.image.height as usize
+                || atlas.image.width == 0
+            {
+                return bad(format!("lightmap `{name}`: its size does not match its texels"));
+            }
+            for rect in &atlas.rects {
+                let meshes: Vec<&Mesh> = self.meshes.iter().filter(|m| m.name == rect.mesh).collect();
+                if meshes.is_empty() {
+                    return bad(format!(
+                        "lightmap `{name}`: no mesh is named `{}` (mesh names: {})",
+                        rect.mesh,
+                        self.meshes
+                            .iter()
+                            .map(|m| m.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ));
+                }
+                if let Some(m) = meshes.iter().find(|m| m.lightmap_uvs.len() != m.positions.len()) {
+                    return bad(format!(
+                        "lightmap `{name}`: mesh `{}` has no second UV set (TEXCOORD_1) to sample it with",
+                        m.name
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
     pub fn validate(&self) -> Result<()> {
+        self.validate_lightmaps()?;
         let bad = |s: String| Err(PenumbraError::Scene(s));
         for (k, inst) in self.instances.iter().enumerate() {
             if inst.mesh >= self.meshes.len() {

@@ -1,0 +1,347 @@
+//! Lightmaps: baked light in a texture atlas, sampled with a mesh's second UV set.
+//!
+//! A [`LightmapImage`] is linear RGB radiance decoded from a file:
+//! * KTX2 (one level, 2D), uncompressed or zstd-supercompressed, in the float formats bakers
+//!   write: `E5B9G9R9_UFLOAT_PACK32` (RGB9E5), `B10G11R11_UFLOAT_PACK32` (RG11B10),
+//!   `R16G16B16A16_SFLOAT`, `R32G32B32A32_SFLOAT`, and 8-bit `R8G8B8A8_UNORM` / `_SRGB`;
+//! * Radiance HDR (`.hdr`);
+//! * PNG or JPEG (sRGB, turned linear).
+//!
+//! A [`Lightmaps`] entry of a [`crate::Scene`] pairs one atlas with the lighting mode it was
+//! baked for and the rectangle of the atlas each mesh (by name) uses.
+
+use glam::Vec2;
+#[cfg(feature = "renderer")]
+use std::path::Path;
+
+#[cfg(feature = "renderer")]
+use crate::error::{PenumbraError, Result};
+
+/// Linear RGB radiance, row-major, top row first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LightmapImage {
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+    /// `width * height` texels.
+    pub rgb: Vec<[f32; 3]>,
+}
+
+/// How a scene's light is made (engines' "lighting modes").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum LightingMode {
+    /// Every light and shadow computed each frame; lightmaps are not used.
+    #[default]
+    Dynamic,
+    /// The lightmap carries the static scene's indirect light (in place of the ambient term);
+    /// the lights' direct light and soft shadows are computed each frame, and the method's
+    /// indirect-light attenuation is off (the lightmap holds that light).
+    Mixed,
+    /// Lightmapped surfaces show the lightmap alone (direct and indirect light baked); other
+    /// surfaces are lit dynamically.
+    Baked,
+}
+
+impl LightingMode {
+    pub const ALL: [LightingMode; 3] = [LightingMode::Dynamic, LightingMode::Mixed, LightingMode::Baked];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            LightingMode::Dynamic => "dynamic",
+            LightingMode::Mixed => "mixed",
+            LightingMode::Baked => "baked",
+        }
+    }
+}
+
+/// The part of an atlas one mesh's second UV set maps into: `atlas_uv = mix(min, max, uv1)`, in
+/// texture space (v down, as wgpu samples). A negative extent mirrors.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LightmapRect {
+    /// The mesh's name ([`crate::Mesh::name`]; for a glTF file, the glTF mesh's name).
+    pub mesh: String,
+    pub min: Vec2,
+    pub max: Vec2,
+}
+
+impl LightmapRect {
+    /// A rectangle given as engines often list it: its `min` corner and `size` in OpenGL-style
+    /// UV space (v up), turned into texture space.
+    pub fn from_v_up(mesh: impl Into<String>, min: Vec2, size: Vec2) -> Self {
+        let min = Vec2::new(min.x, 1.0 - min.y - size.y);
+        LightmapRect {
+            mesh: mesh.into(),
+            min,
+            max: min + size,
+        }
+    }
+}
+
+/// One lightmap atlas of a scene: the mode it was baked for and the meshes that use it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lightmaps {
+    pub mode: LightingMode,
+    pub image: LightmapImage,
+    pub rects: Vec<LightmapRect>,
+}
+
+#[cfg(feature = "renderer")]
+impl LightmapImage {
+    /// Reads a lightmap file, choosing the decoder by extension (`.ktx2`, `.hdr`, `.png`,
+    /// `.jpg` / `.jpeg`).
+    pub fn load(path: &Path) -> Result<Self> {
+        let bytes = std::fs::read(path).map_err(|source| PenumbraError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let name = path.display().to_string();
+        let extension = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .unwrap_or_default();
+        match extension.as_str() {
+            "ktx2" => Self::decode_ktx2(&name, &bytes),
+            "hdr" => Self::decode_image(&name, &bytes, image::ImageFormat::Hdr),
+            "png" => Self::decode_image(&name, &bytes, image::ImageFormat::Png),
+            "jpg" | "jpeg" => Self::decode_image(&name, &bytes, image::ImageFormat::Jpeg),
+            other => Err(PenumbraError::Texture {
+                name,
+                reason: format!("lightmaps are read from .ktx2, .hdr, .png or .jpg files, not `.{other}`"),
+            }),
+        }
+    }
+
+    /// Decodes a Radiance HDR (linear) or an 8-bit PNG / JPEG (sRGB, made linear).
+    fn decode_image(name: &str, bytes: &[u8], format: image::ImageFormat) -> Result<Self> {
+        let bad = |reason: String| PenumbraError::Texture {
+            name: name.to_string(),
+            reason,
+        };
+        let decoded = image::load_from_memory_with_format(bytes, format).map_err(|e| bad(e.to_string()))?;
+        let (width, height) = (decoded.width(), decoded.height());
+        let rgb = if format == image::ImageFormat::Hdr {
+            decoded.to_rgb32f().pixels().map(|p| p.0).collect()
+        } else {
+            decoded
+                .to_rgb8()
+                .pixels()
+                .map(|p| p.0.map(|c| srgb_to_linear(c as f32 / 255.0)))
+                .collect()
+        };
+        Ok(LightmapImage {
+            name: name.to_string(),
+            width,
+            height,
+            rgb,
+        })
+    }
+
+    /// Decodes a KTX2 container's first level (see the module docs for the formats).
+    pub fn decode_ktx2(name: &str, bytes: &[u8]) -> Result<Self> {
+        let bad = |reason: String| PenumbraError::Texture {
+            name: name.to_string(),
+            reason,
+        };
+        let reader = ktx2::Reader::new(bytes).map_err(|e| bad(format!("not a KTX2 file: {e}")))?;
+        let header = reader.header();
+        if header.pixel_depth > 1 || header.layer_count > 1 || header.face_count != 1 {
+            return Err(bad(
+                "a lightmap must be one 2D image (no layers, faces or depth)".into()
+            ));
+        }
+        let (width, height) = (header.pixel_width, header.pixel_height.max(1));
+        let level = reader
+            .levels()
+            .next()
+            .ok_or_else(|| bad("it has no image data".into()))?;
+        let data: Vec<u8> = match header.supercompression_scheme {
+            None => level.data.to_vec(),
+            Some(ktx2::SupercompressionScheme::Zstandard) => {
+                use std::io::Read;
+                let mut source = level.data;
+                let mut decoder = ruzstd::decoding::StreamingDecoder::new(&mut source)
+                    .map_err(|e| bad(format!("its zstd data is corrupt: {e}")))?;
+                let mut out = Vec::with_capacity(level.uncompressed_byte_length as usize);
+                decoder
+                    .read_to_end(&mut out)
+                    .map_err(|e| bad(format!("its zstd data is corrupt: {e}")))?;
+                out
+            }
+            Some(other) => {
+                return Err(bad(format!(
+                    "supercompression {other:?} is not supported (zstd or none)"
+                )));
+            }
+        };
+        let texels = width as usize * height as usize;
+        let format = header.format.ok_or_else(|| {
+            bad("its format is undefined (Basis Universal); lightmaps need a float or 8-bit format".into())
+        })?;
+        let bytes_per_texel = match format {
+            ktx2::Format::E5B9G9R9_UFLOAT_PACK32
+            | ktx2::Format::B10G11R11_UFLOAT_PACK32
+            | ktx2::Format::R8G8B8A8_UNORM
+            | ktx2::Format::R8G8B8A8_SRGB => 4,
+            ktx2::Format::R16G16B16A16_SFLOAT => 8,
+            ktx2::Format::R32G32B32A32_SFLOAT => 16,
+            other => {
+                return Err(bad(format!(
+                    "format {other:?} is not supported (RGB9E5, RG11B10, RGBA16F, RGBA32F, RGBA8)"
+                )));
+            }
+        };
+        if data.len() < texels * bytes_per_texel {
+            return Err(bad(format!(
+                "its image data holds {} bytes, {width}x{height} texels need {}",
+                data.len(),
+                texels * bytes_per_texel
+            )));
+        }
+        let word = |i: usize| u32::from_le_bytes(data[i * 4..i * 4 + 4].try_into().expect("4 bytes"));
+        let half = |i: usize| half::f16::from_le_bytes([data[i * 2], data[i * 2 + 1]]).to_f32();
+        let float = |i: usize| f32::from_le_bytes(data[i * 4..i * 4 + 4].try_into().expect("4 bytes"));
+        let rgb: Vec<[f32; 3]> = (0..texels)
+            .map(|i| match format {
+                ktx2::Format::E5B9G9R9_UFLOAT_PACK32 => rgb9e5(word(i)),
+                ktx2::Format::B10G11R11_UFLOAT_PACK32 => rg11b10(word(i)),
+                ktx2::Format::R16G16B16A16_SFLOAT => [half(i * 4), half(i * 4 + 1), half(i * 4 + 2)],
+                ktx2::Format::R32G32B32A32_SFLOAT => [float(i * 4), float(i * 4 + 1), float(i * 4 + 2)],
+                ktx2::Format::R8G8B8A8_SRGB => {
+                    [0, 1, 2].map(|c| srgb_to_linear(data[i * 4 + c] as f32 / 255.0))
+                }
+                _ => [0, 1, 2].map(|c| data[i * 4 + c] as f32 / 255.0),
+            })
+            .collect();
+        if let Some(i) = rgb.iter().position(|t| t.iter().any(|c| !c.is_finite())) {
+            return Err(bad(format!("texel {i} is not finite")));
+        }
+        Ok(LightmapImage {
+            name: name.to_string(),
+            width,
+            height,
+            rgb,
+        })
+    }
+}
+
+impl LightmapImage {
+    /// The texel at (x, y), clamped to the image.
+    pub fn texel(&self, x: i64, y: i64) -> [f32; 3] {
+        let x = x.clamp(0, self.width as i64 - 1) as usize;
+        let y = y.clamp(0, self.height as i64 - 1) as usize;
+        self.rgb[y * self.width as usize + x]
+    }
+
+    /// The mean radiance over a rectangle of texture space (`uv` in [0, 1], v down).
+    pub fn mean(&self, min: Vec2, max: Vec2) -> [f32; 3] {
+        let (w, h) = (self.width as f32, self.height as f32);
+        let (x0, x1) = (
+            (min.x.min(max.x) * w) as i64,
+            (min.x.max(max.x) * w).ceil() as i64,
+        );
+        let (y0, y1) = (
+            (min.y.min(max.y) * h) as i64,
+            (min.y.max(max.y) * h).ceil() as i64,
+        );
+        let mut sum = [0.0f64; 3];
+        let mut n = 0.0;
+        for y in y0..y1.max(y0 + 1) {
+            for x in x0..x1.max(x0 + 1) {
+                let t = self.texel(x, y);
+                for c in 0..3 {
+                    sum[c] += t[c] as f64;
+                }
+                n += 1.0;
+            }
+        }
+        sum.map(|s| (s / n) as f32)
+    }
+}
+
+#[cfg(feature = "renderer")]
+fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// `E5B9G9R9_UFLOAT_PACK32`: three 9-bit mantissas (R in the low bits) sharing a 5-bit exponent
+/// (bias 15), no implicit leading one.
+pub fn rgb9e5(packed: u32) -> [f32; 3] {
+    let exponent = (packed >> 27) as i32 - 15 - 9;
+    let scale = 2f32.powi(exponent);
+    [0, 9, 18].map(|shift| ((packed >> shift) & 0x1ff) as f32 * scale)
+}
+
+/// `B10G11R11_UFLOAT_PACK32`: R and G are 11-bit (6-bit mantissa, 5-bit exponent), B 10-bit
+/// (5-bit mantissa), unsigned small floats with exponent bias 15, R in the low bits.
+pub fn rg11b10(packed: u32) -> [f32; 3] {
+    let small = |bits: u32, mantissa_bits: u32| -> f32 {
+        let mantissa = bits & ((1 << mantissa_bits) - 1);
+        let exponent = bits >> mantissa_bits;
+        let m = mantissa as f32 / (1u32 << mantissa_bits) as f32;
+        match exponent {
+            0 => m * 2f32.powi(-14),
+            31 => {
+                if mantissa == 0 {
+                    f32::INFINITY
+                } else {
+                    f32::NAN
+                }
+            }
+            e => (1.0 + m) * 2f32.powi(e as i32 - 15),
+        }
+    };
+    [
+        small(packed & 0x7ff, 6),
+        small((packed >> 11) & 0x7ff, 6),
+        small(packed >> 22, 5),
+    ]
+}
+
+#[cfg(all(test, feature = "renderer"))]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    #[test]
+    fn rgb9e5_decodes_known_values() {
+        // Exponent 15 (scale 2^-9): mantissa 256 is 0.5; exponent 16 makes mantissa 256 one.
+        let pack = |r: u32, g: u32, b: u32, e: u32| r | (g << 9) | (b << 18) | (e << 27);
+        assert_eq!(rgb9e5(pack(256, 0, 511, 15)), [0.5, 0.0, 511.0 / 512.0]);
+        assert_eq!(rgb9e5(pack(256, 128, 64, 16)), [1.0, 0.5, 0.25]);
+        assert_eq!(rgb9e5(0), [0.0; 3]);
+    }
+
+    #[test]
+    fn rg11b10_decodes_known_values() {
+        // 1.0: exponent 15, mantissa 0; 2.0: exponent 16; 0.5 in the 10-bit blue: exponent 14.
+        let r = 15 << 6;
+        let g = 16 << 6;
+        let b = 14 << 5;
+        assert_eq!(rg11b10(r | (g << 11) | (b << 22)), [1.0, 2.0, 0.5]);
+        // 1.5: mantissa half full.
+        assert_eq!(rg11b10((15 << 6) | 32)[0], 1.5);
+    }
+
+    #[test]
+    fn rects_given_v_up_become_texture_space() {
+        let r = LightmapRect::from_v_up("Plane", Vec2::new(0.026, 0.026), Vec2::new(0.71, 0.71));
+        assert!((r.min - Vec2::new(0.026, 0.264)).length() < 1e-6);
+        assert!((r.max - Vec2::new(0.736, 0.974)).length() < 1e-6);
+    }
+
+    #[test]
+    fn bad_files_are_errors_naming_them() {
+        let e = LightmapImage::decode_ktx2("broken.ktx2", b"not a ktx2 file").unwrap_err();
+        assert!(e.to_string().contains("broken.ktx2"), "{e}");
+        let e = LightmapImage::load(Path::new("missing/lightmap.ktx2")).unwrap_err();
+        assert!(e.to_string().contains("missing/lightmap.ktx2"), "{e}");
+        let e = LightmapImage::load(Path::new("Cargo.toml")).unwrap_err();
+        assert!(e.to_string().contains(".toml"), "{e}");
+    }
+}

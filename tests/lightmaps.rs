@@ -1,0 +1,264 @@
+//! Lightmaps and lighting modes on a real baked scene: Bevy's mixed-lighting example
+//! (`assets/scenes/mixed_lighting.ron`, which reads `../shared/models/MixedLightingExample/`):
+//! its KTX2 atlases (zstd, RGB9E5) decode, the baked light lands where the bake put it, the
+//! three modes differ as documented, and the dynamic sphere's soft shadow moves over the
+//! lightmapped floor. Misuse is an error naming what is wrong. Frames are written to
+//! `target/penumbra-test-output/lightmaps-*.png`.
+
+mod common;
+
+use glam::{Mat4, Vec3};
+use penumbra::{Camera, LightingMode, Scene, ShadowMethod, ShadowSettings, scene::SceneFile};
+
+const SIZE: (u32, u32) = (320, 240);
+
+fn scene() -> Scene {
+    penumbra::load_scene(&common::asset("scenes/mixed_lighting.ron")).unwrap()
+}
+
+fn settings() -> ShadowSettings {
+    ShadowSettings::preset(ShadowMethod::Ours, penumbra::Quality::Medium)
+}
+
+/// `scene` lit in `mode` with the sun at `intensity`.
+fn lit(mut scene: Scene, mode: LightingMode, intensity: f32) -> Scene {
+    scene.lighting = mode;
+    if let penumbra::Light::Directional(l) = &mut scene.light {
+        l.intensity = intensity;
+    }
+    scene
+}
+
+fn render(scene: &Scene, camera: &Camera, name: &str) -> image::RgbaImage {
+    let gpu = common::gpu();
+    let image = common::render(&gpu, scene, camera, settings(), SIZE.0, SIZE.1);
+    image
+        .save(common::output_dir().join(format!("lightmaps-{name}.png")))
+        .unwrap();
+    image
+}
+
+/// The sphere (the example's dynamic object) moved to stand 0.2 above the floor at (x, z).
+fn sphere_at(mut scene: Scene, x: f32, z: f32) -> Scene {
+    let sphere = scene
+        .instances
+        .iter()
+        .position(|i| scene.meshes[i.mesh].name == "Sphere")
+        .expect("the example has a sphere");
+    let radius = 0.1322;
+    scene.instances[sphere].transform = Mat4::from_scale_rotation_translation(
+        Vec3::splat(radius),
+        glam::Quat::IDENTITY,
+        Vec3::new(x, 0.2 + radius, z),
+    );
+    scene
+}
+
+fn pixel(camera: &Camera, p: Vec3) -> (u32, u32) {
+    common::project(camera, SIZE.0, SIZE.1, p).unwrap_or_else(|| panic!("{p} is off screen"))
+}
+
+#[test]
+fn the_example_s_atlases_decode_and_every_mesh_finds_its_rectangle() {
+    let scene = scene();
+    assert_eq!(scene.lightmaps.len(), 2);
+    for atlas in &scene.lightmaps {
+        assert_eq!((atlas.image.width, atlas.image.height), (1024, 1024));
+        assert!(
+            atlas
+                .image
+                .rgb
+                .iter()
+                .flatten()
+                .all(|c| c.is_finite() && *c >= 0.0)
+        );
+    }
+    let baked = scene
+        .lightmaps
+        .iter()
+        .find(|l| l.mode == LightingMode::Baked)
+        .unwrap();
+    let mixed = scene
+        .lightmaps
+        .iter()
+        .find(|l| l.mode == LightingMode::Mixed)
+        .unwrap();
+    // The floor's rectangle: all light baked is bright, indirect light alone is dim.
+    let floor = |atlas: &penumbra::Lightmaps| {
+        let r = atlas.rects.iter().find(|r| r.mesh == "Plane").unwrap();
+        atlas.image.mean(r.min, r.max)[1]
+    };
+    eprintln!(
+        "floor mean: baked {:.4}, indirect {:.4}",
+        floor(baked),
+        floor(mixed)
+    );
+    assert!(floor(baked) > 0.5 && floor(mixed) < 0.1);
+    // Every instance's mesh with a rectangle gets it; the sphere only in baked lighting.
+    let sphere = scene
+        .instances
+        .iter()
+        .position(|i| scene.meshes[i.mesh].name == "Sphere")
+        .unwrap();
+    assert!(scene.lightmap_of(sphere, LightingMode::Baked).is_some());
+    assert!(scene.lightmap_of(sphere, LightingMode::Mixed).is_none());
+    for (k, inst) in scene.instances.iter().enumerate() {
+        if scene.meshes[inst.mesh].name != "Sphere" {
+            assert!(
+                scene.lightmap_of(k, LightingMode::Mixed).is_some(),
+                "instance {k}"
+            );
+        }
+    }
+}
+
+#[test]
+fn baked_light_lands_where_the_bake_put_it_and_ignores_the_dynamic_sun() {
+    let base = sphere_at(scene(), 0.55, 0.35);
+    let camera = base.view(0).unwrap();
+    let baked_lit = render(&lit(base.clone(), LightingMode::Baked, 1.0), &camera, "baked");
+    let baked_dark = render(
+        &lit(base.clone(), LightingMode::Baked, 0.0),
+        &camera,
+        "baked-no-sun",
+    );
+    let dynamic_dark = render(
+        &lit(base.clone(), LightingMode::Dynamic, 0.0),
+        &camera,
+        "dynamic-no-sun",
+    );
+    // Under the seat (the bake's sun shadowed it) and in the open.
+    let under = pixel(&camera, Vec3::new(-0.1, 0.0, 0.05));
+    let open = pixel(&camera, Vec3::new(0.2, 0.0, 0.5));
+    let (u, o) = (
+        common::luminance(&baked_dark, under),
+        common::luminance(&baked_dark, open),
+    );
+    eprintln!("baked, no dynamic light: under the chair {u:.3}, in the open {o:.3}");
+    assert!(
+        o > 0.5 && u < 0.6 * o,
+        "the baked floor must be darker under the chair: {u} vs {o}"
+    );
+    // Baked surfaces ignore the dynamic light: the frames with and without the sun agree on
+    // every floor and chair pixel (all lightmapped in baked lighting).
+    let differing = baked_lit
+        .pixels()
+        .zip(baked_dark.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0).any(|(x, y)| x.abs_diff(y) > 2))
+        .count();
+    assert_eq!(
+        differing, 0,
+        "{differing} pixels of a baked frame follow the dynamic sun"
+    );
+    // Without the lightmap (dynamic lighting, no sun) the floor is the flat ambient light: the
+    // lightmap made the difference, most of all in the open.
+    let flat_open = common::luminance(&dynamic_dark, open);
+    let flat_under = common::luminance(&dynamic_dark, under);
+    eprintln!("dynamic, no sun: under {flat_under:.3}, open {flat_open:.3}");
+    assert!((flat_open - flat_under).abs() < 0.03 && o > flat_open + 0.3);
+    // The background (no geometry) is the same in every frame.
+    let sky = (SIZE.0 - 3, 3);
+    assert_eq!(
+        baked_lit.get_pixel(sky.0, sky.1),
+        dynamic_dark.get_pixel(sky.0, sky.1)
+    );
+}
+
+#[test]
+fn the_three_modes_differ_as_documented() {
+    let base = sphere_at(scene(), 0.55, 0.35);
+    let camera = base.view(0).unwrap();
+    let frame = |mode, intensity| {
+        render(
+            &lit(base.clone(), mode, intensity),
+            &camera,
+            &format!("{}-{intensity}", mode.name()),
+        )
+    };
+    let open = pixel(&camera, Vec3::new(0.2, 0.0, 0.5));
+    let sphere_top = pixel(&camera, Vec3::new(0.55, 0.2 + 2.0 * 0.1322 - 0.03, 0.35));
+    let l = common::luminance;
+    let (mixed, mixed_dark) = (frame(LightingMode::Mixed, 1.0), frame(LightingMode::Mixed, 0.0));
+    let (dynamic, dynamic_dark) = (
+        frame(LightingMode::Dynamic, 1.0),
+        frame(LightingMode::Dynamic, 0.0),
+    );
+    eprintln!(
+        "open floor: mixed {:.3} / {:.3} without sun, dynamic {:.3} / {:.3}",
+        l(&mixed, open),
+        l(&mixed_dark, open),
+        l(&dynamic, open),
+        l(&dynamic_dark, open)
+    );
+    // Mixed: the direct light is dynamic (the sun lights the open floor), the indirect is the
+    // lightmap's (dimmer than the flat ambient here: without the sun the open floor is darker
+    // than dynamic lighting's ambient).
+    assert!(l(&mixed, open) > l(&mixed_dark, open) + 0.3);
+    assert!(l(&mixed_dark, open) < l(&dynamic_dark, open) - 0.05);
+    // The sphere has no lightmap in mixed lighting: it is lit as in dynamic lighting.
+    assert!((l(&mixed, sphere_top) - l(&dynamic, sphere_top)).abs() < 0.02);
+}
+
+#[test]
+fn the_dynamic_sphere_moves_its_soft_shadow_over_the_lightmapped_floor() {
+    let sun = Vec3::new(-0.392, -0.775, -0.495).normalize();
+    let spots = [(0.55, 0.35), (0.15, 0.55)];
+    let frames: Vec<(image::RgbaImage, Vec3)> = spots
+        .iter()
+        .map(|&(x, z)| {
+            let s = lit(sphere_at(scene(), x, z), LightingMode::Mixed, 1.0);
+            let camera = s.view(0).unwrap();
+            let shadow = common::shadow_on_floor(Vec3::new(x, 0.2 + 0.1322, z), sun);
+            (render(&s, &camera, &format!("sphere-{x}")), shadow)
+        })
+        .collect();
+    let camera = scene().view(0).unwrap();
+    for (k, (image, shadow)) in frames.iter().enumerate() {
+        let other = &frames[1 - k].0;
+        let at = pixel(&camera, *shadow);
+        let (here, there) = (common::luminance(image, at), common::luminance(other, at));
+        eprintln!("sphere {k}: its shadow's centre {here:.3}, lit when the sphere is elsewhere {there:.3}");
+        assert!(here < 0.6 * there, "sphere {k}: {here} vs {there}");
+    }
+}
+
+#[test]
+fn lightmap_misuse_is_an_error_naming_what_is_wrong() {
+    let dir = common::asset("scenes");
+    let base = std::fs::read_to_string(dir.join("mixed_lighting.ron")).unwrap();
+    let build = |text: &str| {
+        let file = SceneFile::parse(text, &dir.join("broken.ron"))?;
+        file.build(&dir, &dir.join("broken.ron"))
+    };
+    let expect = |text: String, needle: &str| {
+        let e = build(&text).expect_err(needle).to_string();
+        assert!(e.contains(needle), "`{e}` lacks `{needle}`");
+    };
+    expect(
+        base.replacen("(mesh: \"Plane\"", "(mesh: \"Floor\"", 1),
+        "no mesh is named `Floor`",
+    );
+    expect(
+        base.replacen("Baked.zstd.ktx2", "Missing.ktx2", 1),
+        "Missing.ktx2",
+    );
+    expect(
+        base.replacen("mode: Baked", "mode: Dynamic", 1),
+        "must be `Mixed` or `Baked`",
+    );
+    expect(base.replacen("mode: Baked", "mode: Mixed", 1), "one per mode");
+    expect(
+        base.replacen("lightmap_exposure: 1.0", "lightmap_exposure: -1.0", 1),
+        "lightmap_exposure -1",
+    );
+    // A mesh with no second UV set cannot take a lightmap.
+    let built_in = r#"(
+        meshes: [(name: "floor", source: Plane(size: 4.0))],
+        instances: [(mesh: "floor")],
+        light: Directional((direction: (0.0, -1.0, 0.0))),
+        views: [],
+        lightmaps: [(mode: Baked, path: "../../../shared/models/MixedLightingExample/lightmaps/MixedLightingExample-Baked.zstd.ktx2",
+                     meshes: [(mesh: "floor", min: (0.0, 0.0), size: (1.0, 1.0))])],
+    )"#;
+    expect(built_in.to_string(), "no second UV set");
+}
