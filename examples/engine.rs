@@ -138,6 +138,8 @@ fn fs_lit(in: VsOut) -> @location(0) vec4<f32> {
     let l = normalize(to_spot);
     let cone = smoothstep(globals.spot_position.w, globals.spot_position.w + 0.05, dot(-l, globals.spot_direction.xyz));
     let spot = max(dot(n, l), 0.0) * cone * spot_visibility * globals.spot_radiance.rgb;
+    // An engine with lightmaps (mixed lighting) adds its lightmap's indirect light here in
+    // place of the ambient term; penumbra's visibility only ever multiplies direct light.
     return vec4<f32>(object.albedo.rgb * (globals.ambient.rgb + sun + spot), 1.0);
 }
 "#;

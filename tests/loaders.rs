@@ -211,13 +211,32 @@ fn obj_with_out_of_range_face_index_is_rejected() {
     let path = dir.join("bad_face.obj");
     std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n").unwrap();
     expect_error(&path, "");
+}
+
+#[test]
+fn obj_with_a_missing_mtl_loads_with_a_warning_and_the_default_material() {
+    let dir = common::scratch_dir("obj_missing_mtl");
     let path = dir.join("missing_mtl.obj");
     std::fs::write(
         &path,
         "mtllib nothere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n",
     )
     .unwrap();
-    expect_error(&path, "material");
+    let model = penumbra::loaders::load_model(&path).unwrap();
+    assert_eq!(model.meshes.len(), 1);
+    assert_eq!(model.meshes[0].triangle_count(), 1);
+    assert_eq!(
+        model.materials[model.parts[0].material],
+        penumbra::Material::default()
+    );
+    assert!(
+        model
+            .warnings
+            .iter()
+            .any(|w| w.contains("missing_mtl.obj") && w.contains(".mtl")),
+        "{:?}",
+        model.warnings
+    );
 }
 
 /// A minimal glTF with one triangle, its buffer given by `uri`.
@@ -383,9 +402,16 @@ fn obj_material_library_gives_color_and_texture() {
     let plain = &model.materials[model.parts[1].material];
     assert_eq!(plain.base_color, glam::Vec4::new(0.2, 0.3, 0.4, 1.0));
     assert_eq!(plain.base_color_texture, None);
-    // A texture the .mtl names but that does not exist is an error naming it.
+    // A texture the .mtl names but that does not exist: a warning naming it, and the material
+    // without its texture (its colour kept).
     std::fs::remove_file(dir.join("green.png")).unwrap();
-    expect_error(&dir.join("quad.obj"), "green.png");
+    let model = penumbra::loaders::load_model(&dir.join("quad.obj")).unwrap();
+    assert!(model.materials.iter().all(|m| m.base_color_texture.is_none()));
+    assert!(
+        model.warnings.iter().any(|w| w.contains("green.png")),
+        "{:?}",
+        model.warnings
+    );
 }
 
 /// The unit triangle (standing in the XY plane) lit by a glTF sun and spot, both turned -60

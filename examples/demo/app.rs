@@ -156,6 +156,9 @@ pub struct DemoApp {
     pub(crate) light: Light,
     /// Which: 0 the key light, k the scene's further light k - 1.
     pub(crate) selected_light: usize,
+    /// The instance the "move" sliders move, and by how much (world units).
+    pub(crate) moved_object: usize,
+    pub(crate) object_offset: glam::Vec3,
     pub(crate) angles: LightAngles,
     pub(crate) animate_light: bool,
     pub(crate) animation_speed: f32,
@@ -220,9 +223,15 @@ impl DemoApp {
         );
         let args = &startup.args;
         let scene_path = args.scene.clone().unwrap_or_else(|| built_in_path(BUILT_IN[0].1));
-        let scene = penumbra::load_scene(&scene_path)?;
+        let mut scene = penumbra::load_scene(&scene_path)?;
         for warning in &scene.warnings {
             eprintln!("warning: {}: {warning}", scene_path.display());
+        }
+        if let Some(name) = &args.lighting {
+            scene.lighting = penumbra::LightingMode::ALL
+                .into_iter()
+                .find(|m| m.name() == name)
+                .with_context(|| format!("--lighting {name}: expected dynamic, mixed or baked"))?;
         }
         let layouts = SceneLayouts::new(&render_state.device);
         let gpu_scene = GpuScene::new(&render_state.device, &render_state.queue, &layouts, &scene)?;
@@ -257,6 +266,8 @@ impl DemoApp {
             orbit: OrbitCamera::from_camera(&camera),
             light,
             selected_light: 0,
+            moved_object: 0,
+            object_offset: glam::Vec3::ZERO,
             angles,
             animate_light: args.animate_light,
             animation_speed: 1.0,
@@ -352,6 +363,8 @@ impl DemoApp {
                 self.orbit = OrbitCamera::from_camera(&camera);
                 self.light = scene.light;
                 self.selected_light = 0;
+                self.moved_object = 0;
+                self.object_offset = glam::Vec3::ZERO;
                 self.angles = LightAngles::of(&self.light, self.bounds.center());
                 self.animation_base = self.angles;
                 self.scene_name = path.display().to_string();

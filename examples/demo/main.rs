@@ -48,6 +48,10 @@ pub struct Args {
     /// Start with the light animation on.
     #[arg(long)]
     pub animate_light: bool,
+    /// Lighting mode of a scene with lightmaps: dynamic, mixed or baked (default: the scene
+    /// file's).
+    #[arg(long)]
+    pub lighting: Option<String>,
     /// Start with these settings (a file written by the demo's "Save settings").
     #[arg(long)]
     pub settings: Option<PathBuf>,

@@ -474,7 +474,76 @@ impl DemoApp {
                     }
                 });
                 ui.label("drag: orbit · right drag: pan · wheel: zoom");
+                self.lighting_controls(ui);
+                self.object_controls(ui);
             });
+    }
+
+    /// The lighting mode and the lightmaps' exposure, for scenes that have lightmaps.
+    fn lighting_controls(&mut self, ui: &mut egui::Ui) {
+        use penumbra::LightingMode;
+        let modes: Vec<LightingMode> = LightingMode::ALL
+            .into_iter()
+            .filter(|m| *m == LightingMode::Dynamic || self.gpu_scene.has_lightmaps(*m))
+            .collect();
+        if modes.len() < 2 {
+            return;
+        }
+        let (mut mode, mut exposure) = self.gpu_scene.lighting();
+        let before = (mode, exposure);
+        ui.horizontal(|ui| {
+            ui.label("lighting:");
+            for m in &modes {
+                ui.radio_value(&mut mode, *m, m.name());
+            }
+        });
+        ui.label("dynamic: lightmaps off · mixed: lightmap as indirect light · baked: lightmap only");
+        ui.add(egui::Slider::new(&mut exposure, 0.0..=4.0).text("lightmap exposure"));
+        if (mode, exposure) != before {
+            let rs = &self.render_state;
+            if let Err(e) = self.gpu_scene.set_lighting(&rs.device, &rs.queue, mode, exposure) {
+                self.complain(format!("lighting: {e}"));
+            }
+        }
+    }
+
+    /// Moves one of the scene's objects (a dynamic object over baked scenery, for example).
+    fn object_controls(&mut self, ui: &mut egui::Ui) {
+        if self.scene.instances.is_empty() {
+            return;
+        }
+        let name = |app: &Self, k: usize| {
+            let inst = &app.scene.instances[k];
+            format!("{k}: {}", app.scene.meshes[inst.mesh].name)
+        };
+        let k = self.moved_object.min(self.scene.instances.len() - 1);
+        let mut chosen = k;
+        egui::ComboBox::from_label("object to move")
+            .selected_text(name(self, k))
+            .show_ui(ui, |ui| {
+                for i in 0..self.scene.instances.len() {
+                    ui.selectable_value(&mut chosen, i, name(self, i));
+                }
+            });
+        if chosen != k {
+            self.moved_object = chosen;
+            self.object_offset = glam::Vec3::ZERO;
+        }
+        let reach = self.bounds.radius().max(1e-3);
+        let before = self.object_offset;
+        for (axis, value) in ["x", "y", "z"].iter().zip(self.object_offset.as_mut()) {
+            ui.add(egui::Slider::new(value, -reach..=reach).text(format!("move {axis}")));
+        }
+        if self.object_offset != before {
+            let original = self.scene.instances[self.moved_object].transform;
+            let moved = glam::Mat4::from_translation(self.object_offset) * original;
+            if let Err(e) = self
+                .gpu_scene
+                .set_transform(&self.render_state.queue, self.moved_object, moved)
+            {
+                self.complain(format!("move: {e}"));
+            }
+        }
     }
 
     fn measure_section(&mut self, ui: &mut egui::Ui) {

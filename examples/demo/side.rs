@@ -22,6 +22,7 @@ struct FrameKey {
     settings: ShadowSettings,
     size: (u32, u32),
     scene: (u64, u64, u64),
+    lighting: (penumbra::LightingMode, f32),
 }
 
 struct Target {
@@ -137,6 +138,7 @@ impl Side {
             settings,
             size,
             scene: scene.revision(),
+            lighting: scene.lighting(),
         };
         let reference_pending = self.stats.reference.is_some_and(|p| !p.is_complete());
         let unchanged = self.key == Some(key);

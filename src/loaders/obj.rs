@@ -1,5 +1,7 @@
 //! Wavefront OBJ through `tobj`: faces triangulated, one mesh per OBJ object/group, `.mtl`
-//! diffuse color (`Kd`), diffuse texture (`map_Kd`) and dissolve (`d`, as alpha).
+//! diffuse color (`Kd`), diffuse texture (`map_Kd`) and dissolve (`d`, as alpha). A missing or
+//! unreadable `.mtl` or texture is a warning ([`Model::warnings`]): the geometry loads with the
+//! default material, or the material without its texture, as other viewers do.
 
 use std::path::Path;
 
@@ -17,27 +19,38 @@ pub(super) fn load(path: &Path) -> Result<Model> {
     };
     let (objects, materials) =
         tobj::load_obj(path, &options).map_err(|e| PenumbraError::model(path, e.to_string()))?;
-    let obj_materials = materials.map_err(|e| {
-        PenumbraError::model(path, format!("its material library (.mtl) cannot be loaded: {e}"))
-    })?;
+    let mut model = Model::default();
+    let obj_materials = materials.unwrap_or_else(|e| {
+        model.warnings.push(format!(
+            "{}: its material library (.mtl) cannot be loaded ({e}): the default material is used",
+            path.display()
+        ));
+        Vec::new()
+    });
     let base_dir = path.parent().unwrap_or(Path::new(""));
 
-    let mut model = Model::default();
     for m in &obj_materials {
         let texture = match &m.diffuse_texture {
             Some(name) if !name.trim().is_empty() => {
                 let file = base_dir.join(name.trim());
-                let bytes = std::fs::read(&file).map_err(|e| {
-                    PenumbraError::model(
-                        path,
-                        format!("texture {} of material `{}`: {e}", file.display(), m.name),
-                    )
-                })?;
-                model.textures.push(
-                    TextureImage::decode(&file.display().to_string(), &bytes)
-                        .map_err(|e| PenumbraError::model(path, e.to_string()))?,
-                );
-                Some(model.textures.len() - 1)
+                let decoded = std::fs::read(&file).map_err(|e| e.to_string()).and_then(|bytes| {
+                    TextureImage::decode(&file.display().to_string(), &bytes).map_err(|e| e.to_string())
+                });
+                match decoded {
+                    Ok(image) => {
+                        model.textures.push(image);
+                        Some(model.textures.len() - 1)
+                    }
+                    Err(e) => {
+                        model.warnings.push(format!(
+                            "{}: texture {} of material `{}` cannot be loaded ({e}): the material is drawn without it",
+                            path.display(),
+                            file.display(),
+                            m.name
+                        ));
+                        None
+                    }
+                }
             }
             _ => None,
         };
@@ -80,6 +93,8 @@ pub(super) fn load(path: &Path) -> Result<Model> {
             .map_err(|e| PenumbraError::model(path, e.to_string()))?;
         let material = match mesh.material_id {
             Some(id) if id < obj_materials.len() => id,
+            // Only when the library could not be read (warned above).
+            Some(_) if obj_materials.is_empty() => default_material,
             Some(id) => {
                 return Err(PenumbraError::model(
                     path,
