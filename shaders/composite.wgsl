@@ -68,14 +68,16 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let n = camera_side_normal(in.normal, in.world, to_camera(in.world));
     let base = material.base_color * textureSample(base_color_texture, base_color_sampler, in.uv);
     let baked = baked_light(in.uv1);
+    let occlusion = ambient_occlusion(in.uv, in.uv1);
     if material.alpha.x >= 0.0 && base.a < material.alpha.x {
         discard;
     }
-    // Lightmapped (mixed or baked): the lightmap in place of the ambient light; baked: alone.
-    var light = select(frame.ambient.rgb, baked.rgb, baked.w > 0.5);
+    // Lightmapped (mixed or baked): the lightmap in place of the ambient light; baked: alone
+    // (a bake holds its own occlusion). The occlusion darkens the indirect light only.
     if baked.w > 1.5 {
-        return vec4<f32>(base.rgb * light, 1.0);
+        return vec4<f32>(base.rgb * baked.rgb, 1.0);
     }
+    var light = select(frame.ambient.rgb, baked.rgb, baked.w > 0.5) * occlusion;
     let pixel = vec2<i32>(in.clip.xy);
     for (var k = 0u; k < min(shaded.count, 8u); k++) {
         let l = shaded.lights[k];

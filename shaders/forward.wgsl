@@ -89,14 +89,16 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     // Sample before any discard so the implicit derivatives stay in uniform control flow.
     let base = material.base_color * textureSample(base_color_texture, base_color_sampler, in.uv);
     let baked = baked_light(in.uv1);
+    let occlusion = ambient_occlusion(in.uv, in.uv1);
     if material.alpha.x >= 0.0 && base.a < material.alpha.x {
         discard;
     }
-    // Lightmapped (mixed or baked): the lightmap in place of the ambient light; baked: alone.
-    let indirect = select(frame.ambient.rgb, baked.rgb, baked.w > 0.5);
+    // Lightmapped (mixed or baked): the lightmap in place of the ambient light; baked: alone
+    // (a bake holds its own occlusion). The occlusion darkens the indirect light only.
     if baked.w > 1.5 {
-        return vec4<f32>(base.rgb * indirect, 1.0);
+        return vec4<f32>(base.rgb * baked.rgb, 1.0);
     }
+    let indirect = select(frame.ambient.rgb, baked.rgb, baked.w > 0.5) * occlusion;
     var to_light = -frame.light_direction.xyz;
     var cone = 1.0;
     if frame.light_direction.w > 0.5 {

@@ -648,6 +648,15 @@ mod tests {
                 ],
                 size_of::<crate::passes::BlurUniform>(),
             ),
+            (
+                "Surface",
+                vec![
+                    ("rect", offset_of!(crate::layouts::SurfaceUniform, rect)),
+                    ("params", offset_of!(crate::layouts::SurfaceUniform, params)),
+                    ("occlusion", offset_of!(crate::layouts::SurfaceUniform, occlusion)),
+                ],
+                size_of::<crate::layouts::SurfaceUniform>(),
+            ),
         ]
     }
 

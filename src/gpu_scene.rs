@@ -6,8 +6,10 @@ use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
 
 use crate::error::{PenumbraError, Result};
-use crate::layouts::{LightmapUniform, MaterialUniform, SceneLayouts};
-use crate::scene::{Aabb, AlphaMode, Light, LightingMode, LightmapImage, Scene};
+use crate::layouts::{MaterialUniform, SceneLayouts, SurfaceUniform};
+use crate::scene::{
+    Aabb, AlphaMode, FilterMode, Light, LightingMode, LightmapImage, Scene, TextureSampler, WrapMode,
+};
 
 /// One mesh's vertex streams.
 pub struct GpuMesh {
@@ -55,7 +57,8 @@ pub struct GpuScene {
     lightmap_exposure: f32,
 }
 
-/// A scene's lightmap atlases on the GPU and which instance samples which, per mode.
+/// What the lit passes add to each instance: the scene's lightmap atlases on the GPU, which
+/// instance samples which, per mode, and each instance's occlusion texture.
 struct GpuLightmaps {
     layout: wgpu::BindGroupLayout,
     /// RGBA16F, one per atlas.
@@ -67,6 +70,9 @@ struct GpuLightmaps {
     assigned: Vec<[Option<(usize, [f32; 4])>; 2]>,
     /// Per instance.
     uniforms: Vec<wgpu::Buffer>,
+    /// Per instance: its material's occlusion texture (a linear view; white when none), the
+    /// material's sampler, and the uniform's occlusion row.
+    occlusion: Vec<(wgpu::TextureView, wgpu::Sampler, [f32; 4])>,
 }
 
 /// The vertex streams a camera pass of [`GpuScene::draw`] binds.
@@ -147,17 +153,16 @@ impl GpuScene {
             })
             .collect();
 
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("GpuScene::base_color_sampler"),
-            address_mode_u: wgpu::AddressMode::Repeat,
-            address_mode_v: wgpu::AddressMode::Repeat,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            mipmap_filter: wgpu::MipmapFilterMode::Linear,
-            ..Default::default()
-        });
+        // One sampler per distinct setting (glTF's samplers).
+        let mut samplers: std::collections::HashMap<TextureSampler, wgpu::Sampler> = Default::default();
+        for m in &scene.materials {
+            samplers
+                .entry(m.sampler)
+                .or_insert_with(|| make_sampler(device, &m.sampler));
+        }
         let max_side = device.limits().max_texture_dimension_2d;
-        let textures: Vec<wgpu::TextureView> = scene
+        // Each texture has an sRGB view (base colour) and a linear one (occlusion).
+        let textures: Vec<(wgpu::TextureView, wgpu::TextureView)> = scene
             .textures
             .iter()
             .map(|t| {
@@ -194,7 +199,8 @@ impl GpuScene {
                     contents: bytemuck::bytes_of(&uniform),
                     usage: wgpu::BufferUsages::UNIFORM,
                 });
-                let view = m.base_color_texture.map_or(&white, |t| &textures[t]);
+                let view = m.base_color_texture.map_or(&white.0, |t| &textures[t].0);
+                let sampler = &samplers[&m.sampler];
                 device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("GpuScene::material"),
                     layout: &layouts.material,
@@ -209,7 +215,7 @@ impl GpuScene {
                         },
                         wgpu::BindGroupEntry {
                             binding: 2,
-                            resource: wgpu::BindingResource::Sampler(&sampler),
+                            resource: wgpu::BindingResource::Sampler(sampler),
                         },
                     ],
                 })
@@ -252,7 +258,7 @@ impl GpuScene {
                             stride: 8,
                             format: wgpu::VertexFormat::Float32x2,
                         },
-                        texture: material.base_color_texture.map_or(&white, |t| &textures[t]),
+                        texture: material.base_color_texture.map_or(&white.0, |t| &textures[t].0),
                         alpha_factor: material.base_color.w,
                         cutoff,
                     };
@@ -270,7 +276,7 @@ impl GpuScene {
             });
         }
         let lightmaps = GpuLightmaps {
-            layout: layouts.lightmap.clone(),
+            layout: layouts.surface.clone(),
             atlases: scene
                 .lightmaps
                 .iter()
@@ -301,11 +307,29 @@ impl GpuScene {
                     })
                 })
                 .collect(),
+            occlusion: scene
+                .instances
+                .iter()
+                .map(|inst| {
+                    let m = &scene.materials[inst.material];
+                    let view = m.occlusion_texture.map_or(&white.1, |t| &textures[t].1);
+                    let strength = if m.occlusion_texture.is_some() {
+                        m.occlusion_strength
+                    } else {
+                        0.0
+                    };
+                    (
+                        view.clone(),
+                        samplers[&m.sampler].clone(),
+                        [strength, m.occlusion_uv_set as f32, 0.0, 0.0],
+                    )
+                })
+                .collect(),
             uniforms: (0..scene.instances.len())
                 .map(|_| {
                     device.create_buffer(&wgpu::BufferDescriptor {
                         label: Some("GpuScene::lightmap"),
-                        size: size_of::<LightmapUniform>() as u64,
+                        size: size_of::<SurfaceUniform>() as u64,
                         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                         mapped_at_creation: false,
                     })
@@ -370,40 +394,55 @@ impl GpuScene {
             .assigned
             .iter()
             .zip(&l.uniforms)
-            .map(|(assigned, buffer)| {
-                let (code, slot) = match mode {
-                    LightingMode::Dynamic => (0.0, None),
-                    LightingMode::Mixed => (1.0, assigned[0]),
-                    LightingMode::Baked => (2.0, assigned[1]),
-                };
-                let uniform = match slot {
-                    Some((_, rect)) => LightmapUniform {
-                        rect,
-                        params: [exposure, code, 0.0, 0.0],
-                    },
-                    None => LightmapUniform::default(),
-                };
-                queue.write_buffer(buffer, 0, bytemuck::bytes_of(&uniform));
-                let view = slot.map_or(&l.black, |(atlas, _)| &l.atlases[atlas]);
-                device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("GpuScene::lightmap"),
-                    layout: &l.layout,
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: buffer.as_entire_binding(),
+            .zip(&l.occlusion)
+            .map(
+                |((assigned, buffer), (occlusion_view, occlusion_sampler, occlusion))| {
+                    let (code, slot) = match mode {
+                        LightingMode::Dynamic => (0.0, None),
+                        LightingMode::Mixed => (1.0, assigned[0]),
+                        LightingMode::Baked => (2.0, assigned[1]),
+                    };
+                    let uniform = match slot {
+                        Some((_, rect)) => SurfaceUniform {
+                            rect,
+                            params: [exposure, code, 0.0, 0.0],
+                            occlusion: *occlusion,
                         },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: wgpu::BindingResource::TextureView(view),
+                        None => SurfaceUniform {
+                            occlusion: *occlusion,
+                            ..Default::default()
                         },
-                        wgpu::BindGroupEntry {
-                            binding: 2,
-                            resource: wgpu::BindingResource::Sampler(&l.sampler),
-                        },
-                    ],
-                })
-            })
+                    };
+                    queue.write_buffer(buffer, 0, bytemuck::bytes_of(&uniform));
+                    let view = slot.map_or(&l.black, |(atlas, _)| &l.atlases[atlas]);
+                    device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("GpuScene::lightmap"),
+                        layout: &l.layout,
+                        entries: &[
+                            wgpu::BindGroupEntry {
+                                binding: 0,
+                                resource: buffer.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 1,
+                                resource: wgpu::BindingResource::TextureView(view),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 2,
+                                resource: wgpu::BindingResource::Sampler(&l.sampler),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 3,
+                                resource: wgpu::BindingResource::TextureView(occlusion_view),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 4,
+                                resource: wgpu::BindingResource::Sampler(occlusion_sampler),
+                            },
+                        ],
+                    })
+                },
+            )
             .collect();
         self.lighting = mode;
         self.lightmap_exposure = exposure;
@@ -572,6 +611,34 @@ fn upload_lightmap(
     Ok(texture.create_view(&Default::default()))
 }
 
+/// The wgpu sampler for `s`.
+fn make_sampler(device: &wgpu::Device, s: &TextureSampler) -> wgpu::Sampler {
+    let wrap = |w: WrapMode| match w {
+        WrapMode::Repeat => wgpu::AddressMode::Repeat,
+        WrapMode::MirroredRepeat => wgpu::AddressMode::MirrorRepeat,
+        WrapMode::ClampToEdge => wgpu::AddressMode::ClampToEdge,
+    };
+    let filter = |f: FilterMode| match f {
+        FilterMode::Nearest => wgpu::FilterMode::Nearest,
+        FilterMode::Linear => wgpu::FilterMode::Linear,
+    };
+    device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("GpuScene::material_sampler"),
+        address_mode_u: wrap(s.wrap_u),
+        address_mode_v: wrap(s.wrap_v),
+        mag_filter: filter(s.mag_filter),
+        min_filter: filter(s.min_filter),
+        mipmap_filter: match s.mipmap_filter {
+            FilterMode::Nearest => wgpu::MipmapFilterMode::Nearest,
+            FilterMode::Linear => wgpu::MipmapFilterMode::Linear,
+        },
+        lod_max_clamp: if s.mipmaps { 32.0 } else { 0.0 },
+        ..Default::default()
+    })
+}
+
+/// Uploads an 8-bit RGBA image with its mip chain; returns an sRGB view (colour) and a linear
+/// one (data such as occlusion).
 fn upload_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -579,7 +646,7 @@ fn upload_texture(
     width: u32,
     height: u32,
     rgba8: &[u8],
-) -> wgpu::TextureView {
+) -> (wgpu::TextureView, wgpu::TextureView) {
     let levels = 32 - width.max(height).leading_zeros();
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(name),
@@ -593,7 +660,7 @@ fn upload_texture(
         dimension: wgpu::TextureDimension::D2,
         format: wgpu::TextureFormat::Rgba8UnormSrgb,
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
+        view_formats: &[wgpu::TextureFormat::Rgba8Unorm],
     });
     let mut level_image = image::RgbaImage::from_raw(width, height, rgba8.to_vec()).expect("validated size");
     for level in 0..levels {
@@ -626,5 +693,10 @@ fn upload_texture(
             );
         }
     }
-    texture.create_view(&Default::default())
+    let linear = texture.create_view(&wgpu::TextureViewDescriptor {
+        label: Some("GpuScene::texture_linear"),
+        format: Some(wgpu::TextureFormat::Rgba8Unorm),
+        ..Default::default()
+    });
+    (texture.create_view(&Default::default()), linear)
 }

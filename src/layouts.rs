@@ -15,8 +15,9 @@ pub struct SceneLayouts {
     pub instance: wgpu::BindGroupLayout,
     /// Group with the material uniform, its base color texture and sampler.
     pub material: wgpu::BindGroupLayout,
-    /// The convenience renderer's lit passes: an instance's lightmap (uniform, atlas, sampler).
-    pub lightmap: wgpu::BindGroupLayout,
+    /// The convenience renderer's lit passes: what an instance adds to its material there,
+    /// its lightmap (uniform, atlas, sampler) and its material's occlusion texture and sampler.
+    pub surface: wgpu::BindGroupLayout,
 }
 
 impl SceneLayouts {
@@ -43,36 +44,41 @@ impl SceneLayouts {
                 entry::sampler(2, wgpu::SamplerBindingType::Filtering),
             ],
         });
-        let lightmap = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("SceneLayouts::lightmap"),
+        let surface = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("SceneLayouts::surface"),
             entries: &[
                 entry::uniform(
                     0,
                     wgpu::ShaderStages::FRAGMENT,
-                    size_of::<LightmapUniform>(),
+                    size_of::<SurfaceUniform>(),
                     false,
                 ),
                 entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: true }),
                 entry::sampler(2, wgpu::SamplerBindingType::Filtering),
+                entry::texture_2d(3, wgpu::TextureSampleType::Float { filterable: true }),
+                entry::sampler(4, wgpu::SamplerBindingType::Filtering),
             ],
         });
         Self {
             instance,
             material,
-            lightmap,
+            surface,
         }
     }
 }
 
-/// An instance's lightmap, as the lit shaders see it (mirrors `Lightmap` in
-/// `shaders/common/lightmap.wgsl`).
+/// What the lit shaders add to an instance's material (mirrors `Surface` in
+/// `shaders/common/surface.wgsl`).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable, Default)]
-pub struct LightmapUniform {
-    /// The atlas rectangle: xy min, zw max (texture space).
+pub struct SurfaceUniform {
+    /// The lightmap's atlas rectangle: xy min, zw max (texture space).
     pub rect: [f32; 4],
-    /// x: exposure; y: 0 none (dynamic lighting or no lightmap), 1 mixed, 2 baked.
+    /// x: lightmap exposure; y: 0 no lightmap (dynamic lighting or none for the instance),
+    /// 1 mixed, 2 baked.
     pub params: [f32; 4],
+    /// x: occlusion strength (0: no occlusion texture); y: its UV set (0 or 1).
+    pub occlusion: [f32; 4],
 }
 
 /// Per-instance data, as the shaders see it.

@@ -63,7 +63,7 @@ pub const COMPOSITE: &str = wgsl!(
     "common/frame.wgsl",
     "common/cube.wgsl",
     "common/scene.wgsl",
-    "common/lightmap.wgsl",
+    "common/surface.wgsl",
     "composite.wgsl"
 );
 pub const REFERENCE: &str = wgsl!(
@@ -75,7 +75,7 @@ pub const REFERENCE: &str = wgsl!(
 pub const FORWARD: &str = wgsl!(
     "common/scene.wgsl",
     "common/cube.wgsl",
-    "common/lightmap.wgsl",
+    "common/surface.wgsl",
     "forward.wgsl"
 );
 

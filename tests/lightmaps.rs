@@ -262,3 +262,61 @@ fn lightmap_misuse_is_an_error_naming_what_is_wrong() {
     )"#;
     expect(built_in.to_string(), "no second UV set");
 }
+
+/// The chair's occlusion textures (glTF `occlusionTexture` on `TEXCOORD_1`) darken the
+/// indirect light and leave the direct light alone.
+#[test]
+fn occlusion_darkens_the_indirect_light_only() {
+    let scene = scene();
+    let fabric = scene
+        .materials
+        .iter()
+        .find(|m| m.name.starts_with("fabric"))
+        .expect("the chair's fabric");
+    assert!(fabric.occlusion_texture.is_some() && fabric.occlusion_uv_set == 1);
+    let camera = scene.view(0).unwrap();
+    let without_occlusion = |mut s: Scene| {
+        for m in &mut s.materials {
+            m.occlusion_strength = 0.0;
+        }
+        s
+    };
+    // Indirect light alone: a strong ambient, no sun.
+    let mut ambient_only = lit(scene.clone(), LightingMode::Dynamic, 0.0);
+    ambient_only.ambient = Vec3::splat(0.8);
+    // Direct light alone: the sun, no ambient.
+    let mut sun_only = lit(scene.clone(), LightingMode::Dynamic, 1.0);
+    sun_only.ambient = Vec3::ZERO;
+    // The frame's mean brightness (the chair and the floor; the background is the same).
+    let chair = |image: &image::RgbaImage| -> f64 {
+        let sum: f64 = image
+            .pixels()
+            .map(|p| p.0[..3].iter().map(|c| *c as f64).sum::<f64>())
+            .sum();
+        sum / (3.0 * image.pixels().len() as f64)
+    };
+    let ao = render(&ambient_only, &camera, "ambient-occluded");
+    let plain = render(&without_occlusion(ambient_only.clone()), &camera, "ambient-plain");
+    let darkened = ao
+        .pixels()
+        .zip(plain.pixels())
+        .filter(|(a, b)| a.0[..3].iter().zip(&b.0[..3]).any(|(x, y)| x + 8 < *y))
+        .count();
+    eprintln!(
+        "ambient light: mean {:.2} occluded, {:.2} not; {darkened} pixels darker by more than 8 levels",
+        chair(&ao),
+        chair(&plain)
+    );
+    assert!(chair(&ao) < chair(&plain) && darkened > 500);
+    let sun_ao = render(&sun_only, &camera, "sun-occluded");
+    let sun_plain = render(&without_occlusion(sun_only), &camera, "sun-plain");
+    let differing = sun_ao
+        .pixels()
+        .zip(sun_plain.pixels())
+        .filter(|(a, b)| a.0 != b.0)
+        .count();
+    assert_eq!(
+        differing, 0,
+        "occlusion changed {differing} pixels of direct light"
+    );
+}

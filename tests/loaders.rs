@@ -649,3 +649,40 @@ fn a_scene_file_takes_a_gltf_files_lights_with_lights_from() {
         assert!(err.contains("room.ron") && err.contains(expected), "{err}");
     }
 }
+
+/// glTF samplers (wrap and filter modes) and occlusion textures (UV set, strength) are read.
+#[test]
+fn gltf_samplers_and_occlusion_textures_are_read() {
+    use penumbra::scene::{FilterMode, WrapMode};
+    let dir = common::scratch_dir("gltf_sampler");
+    std::fs::write(dir.join("tri.bin"), triangle_bytes(&[0, 1, 2])).unwrap();
+    image::RgbaImage::from_pixel(2, 2, image::Rgba([200, 100, 50, 255]))
+        .save(dir.join("tex.png"))
+        .unwrap();
+    let json = gltf_json("tri.bin", 36 + 12, 3)
+        .replace(r#""indices":1}"#, r#""indices":1,"material":0}"#)
+        .replace(
+            r#""buffers":"#,
+            r#""samplers":[{"wrapS":33071,"wrapT":33648,"magFilter":9728,"minFilter":9729}],
+               "images":[{"uri":"tex.png"}],
+               "textures":[{"sampler":0,"source":0}],
+               "materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}},
+                             "occlusionTexture":{"index":0,"texCoord":1,"strength":0.5}}],
+               "buffers":"#,
+        );
+    let path = dir.join("sampled.gltf");
+    std::fs::write(&path, json).unwrap();
+    let model = penumbra::loaders::load_model(&path).unwrap();
+    let m = &model.materials[model.parts[0].material];
+    assert_eq!(m.sampler.wrap_u, WrapMode::ClampToEdge);
+    assert_eq!(m.sampler.wrap_v, WrapMode::MirroredRepeat);
+    assert_eq!(m.sampler.mag_filter, FilterMode::Nearest);
+    assert_eq!(m.sampler.min_filter, FilterMode::Linear);
+    assert!(
+        !m.sampler.mipmaps,
+        "LINEAR minification samples the full level only"
+    );
+    assert_eq!(m.occlusion_texture, m.base_color_texture);
+    assert!(m.occlusion_texture.is_some());
+    assert_eq!((m.occlusion_uv_set, m.occlusion_strength), (1, 0.5));
+}

@@ -351,6 +351,7 @@ fn alpha_masked_casters_cast_only_where_opaque() {
         base_color: Vec4::ONE,
         base_color_texture: Some(0),
         alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
+        ..Default::default()
     });
     let floor_material = scene.add_material(Material::colored("floor", [0.8, 0.8, 0.8]));
     let card = scene.add_mesh(primitives::cuboid(Vec3::new(2.0, 0.02, 2.0)));

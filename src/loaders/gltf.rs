@@ -229,11 +229,63 @@ fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Ma
         }
         info.texture().source().index()
     });
+    // Occlusion: its own UV set (0 or 1); glTF's strength.
+    let occlusion = material.occlusion_texture();
+    let occlusion_uv_set = occlusion.as_ref().map_or(0, |o| o.tex_coord());
+    if occlusion_uv_set > 1 {
+        warnings.push(format!(
+            "material `{name}`: occlusion texture uses UV set {occlusion_uv_set}, read from set 1"
+        ));
+    }
+    // The base-color texture's sampler serves the material's textures.
+    let sampler = pbr
+        .base_color_texture()
+        .map(|info| convert_sampler(&info.texture().sampler()))
+        .or_else(|| {
+            material
+                .occlusion_texture()
+                .map(|o| convert_sampler(&o.texture().sampler()))
+        })
+        .unwrap_or_default();
     Material {
         name,
         base_color: Vec4::from_array(pbr.base_color_factor()),
         base_color_texture: texture,
         alpha_mode,
+        occlusion_texture: occlusion.as_ref().map(|o| o.texture().source().index()),
+        occlusion_uv_set: occlusion_uv_set.min(1),
+        occlusion_strength: occlusion.as_ref().map_or(1.0, |o| o.strength().clamp(0.0, 1.0)),
+        sampler,
+    }
+}
+
+/// glTF's sampler as this crate's (its default: repeat, linear filtering).
+fn convert_sampler(sampler: &gltf::texture::Sampler) -> crate::scene::TextureSampler {
+    use crate::scene::{FilterMode, TextureSampler, WrapMode};
+    use gltf::texture::{MagFilter, MinFilter, WrappingMode};
+    let wrap = |w: WrappingMode| match w {
+        WrappingMode::ClampToEdge => WrapMode::ClampToEdge,
+        WrappingMode::MirroredRepeat => WrapMode::MirroredRepeat,
+        WrappingMode::Repeat => WrapMode::Repeat,
+    };
+    let (min_filter, mipmap_filter, mipmaps) = match sampler.min_filter() {
+        Some(MinFilter::Nearest) => (FilterMode::Nearest, FilterMode::Nearest, false),
+        Some(MinFilter::Linear) => (FilterMode::Linear, FilterMode::Nearest, false),
+        Some(MinFilter::NearestMipmapNearest) => (FilterMode::Nearest, FilterMode::Nearest, true),
+        Some(MinFilter::NearestMipmapLinear) => (FilterMode::Nearest, FilterMode::Linear, true),
+        Some(MinFilter::LinearMipmapNearest) => (FilterMode::Linear, FilterMode::Nearest, true),
+        Some(MinFilter::LinearMipmapLinear) | None => (FilterMode::Linear, FilterMode::Linear, true),
+    };
+    TextureSampler {
+        wrap_u: wrap(sampler.wrap_s()),
+        wrap_v: wrap(sampler.wrap_t()),
+        mag_filter: match sampler.mag_filter() {
+            Some(MagFilter::Nearest) => FilterMode::Nearest,
+            _ => FilterMode::Linear,
+        },
+        min_filter,
+        mipmap_filter,
+        mipmaps,
     }
 }
 

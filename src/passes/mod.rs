@@ -549,7 +549,7 @@ pub(crate) fn camera_pipeline(
         Some(pass_layout),
         Some(&layouts.instance),
         Some(&layouts.material),
-        Some(&layouts.lightmap),
+        Some(&layouts.surface),
     ];
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(label),

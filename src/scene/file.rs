@@ -298,6 +298,7 @@ impl SceneFile {
                 base_color: entry.base_color,
                 base_color_texture: texture,
                 alpha_mode: entry.alpha_mode,
+                ..Default::default()
             });
             if material_index.insert(entry.name.clone(), index).is_some() {
                 return Err(bad(format!("material `{}` is defined twice", entry.name)));

@@ -14,7 +14,57 @@ pub enum AlphaMode {
     Mask { cutoff: f32 },
 }
 
-/// A material: base color factor times an optional base color texture.
+/// How a texture coordinate outside [0, 1] is wrapped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum WrapMode {
+    #[default]
+    Repeat,
+    MirroredRepeat,
+    ClampToEdge,
+}
+
+/// How texels are filtered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum FilterMode {
+    Nearest,
+    #[default]
+    Linear,
+}
+
+/// How a material's textures are sampled (glTF's sampler of its base-color texture).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct TextureSampler {
+    pub wrap_u: WrapMode,
+    pub wrap_v: WrapMode,
+    /// Magnification.
+    pub mag_filter: FilterMode,
+    /// Minification within a mip level.
+    pub min_filter: FilterMode,
+    /// Between mip levels.
+    pub mipmap_filter: FilterMode,
+    /// False: only the full-resolution level is sampled (glTF's `NEAREST` and `LINEAR`
+    /// minification).
+    pub mipmaps: bool,
+}
+
+impl Default for TextureSampler {
+    fn default() -> Self {
+        Self {
+            wrap_u: WrapMode::Repeat,
+            wrap_v: WrapMode::Repeat,
+            mag_filter: FilterMode::Linear,
+            min_filter: FilterMode::Linear,
+            mipmap_filter: FilterMode::Linear,
+            mipmaps: true,
+        }
+    }
+}
+
+/// A material: base color factor times an optional base color texture, and an optional
+/// ambient-occlusion texture.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
     pub name: String,
@@ -23,6 +73,16 @@ pub struct Material {
     /// Index into [`crate::Scene::textures`].
     pub base_color_texture: Option<usize>,
     pub alpha_mode: AlphaMode,
+    /// Ambient occlusion (glTF `occlusionTexture`: its red channel, linear), index into
+    /// [`crate::Scene::textures`]. It darkens the indirect light (the ambient term, or the
+    /// lightmap in mixed lighting), never the lights' direct light, and is not applied to
+    /// baked lighting (a bake holds its own occlusion).
+    pub occlusion_texture: Option<usize>,
+    /// The UV set the occlusion texture reads: 0, or 1 (the lightmap UVs, glTF `TEXCOORD_1`).
+    pub occlusion_uv_set: u32,
+    /// glTF `strength` in [0, 1]: `ao = mix(1, texel, strength)`.
+    pub occlusion_strength: f32,
+    pub sampler: TextureSampler,
 }
 
 impl Default for Material {
@@ -32,6 +92,10 @@ impl Default for Material {
             base_color: Vec4::new(0.8, 0.8, 0.8, 1.0),
             base_color_texture: None,
             alpha_mode: AlphaMode::Opaque,
+            occlusion_texture: None,
+            occlusion_uv_set: 0,
+            occlusion_strength: 1.0,
+            sampler: TextureSampler::default(),
         }
     }
 }

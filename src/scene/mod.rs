@@ -24,7 +24,7 @@ pub use light::{
     ModelLightKind, ModelLightSizes, PointLight, SpotLight, lights_from_model,
 };
 pub use lightmap::{LightingMode, LightmapImage, LightmapRect, Lightmaps, rg11b10, rgb9e5};
-pub use material::{AlphaMode, Material, TextureImage};
+pub use material::{AlphaMode, FilterMode, Material, TextureImage, TextureSampler, WrapMode};
 pub use mesh::{Mesh, MeshRepairs};
 
 use glam::{Mat4, Vec3};
@@ -178,6 +178,7 @@ impl Scene {
         self.textures.extend(model.textures.iter().cloned());
         self.materials.extend(model.materials.iter().map(|m| Material {
             base_color_texture: m.base_color_texture.map(|t| t + texture_base),
+            occlusion_texture: m.occlusion_texture.map(|t| t + texture_base),
             ..m.clone()
         }));
         let first = self.instances.len();
@@ -306,6 +307,21 @@ impl Scene {
             }
         }
         for m in &self.materials {
+            if let Some(t) = m.occlusion_texture
+                && t >= self.textures.len()
+            {
+                return bad(format!(
+                    "material `{}` uses occlusion texture {t} of {}",
+                    m.name,
+                    self.textures.len()
+                ));
+            }
+            if !(0.0..=1.0).contains(&m.occlusion_strength) || m.occlusion_uv_set > 1 {
+                return bad(format!(
+                    "material `{}`: occlusion strength {} must be in [0, 1] and its UV set 0 or 1",
+                    m.name, m.occlusion_strength
+                ));
+            }
             if let Some(t) = m.base_color_texture
                 && t >= self.textures.len()
             {

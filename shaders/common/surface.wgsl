@@ -1,0 +1,34 @@
+// Shared by the convenience renderer's lit passes (composite, forward): what an instance adds
+// to its material there (mirrors `SurfaceUniform` in src/layouts.rs): its lightmap, sampled
+// with the mesh's second UV set, and its material's ambient-occlusion texture.
+
+struct Surface {
+    // the lightmap's atlas rectangle: xy min, zw max (texture space)
+    rect: vec4<f32>,
+    // x: exposure; y: 0 no lightmap, 1 mixed (indirect light baked), 2 baked (all light baked)
+    params: vec4<f32>,
+    // x: occlusion strength (0: none); y: the UV set it reads
+    occlusion: vec4<f32>,
+}
+
+@group(3) @binding(0) var<uniform> surface: Surface;
+@group(3) @binding(1) var lightmap_atlas: texture_2d<f32>;
+@group(3) @binding(2) var lightmap_sampler: sampler;
+@group(3) @binding(3) var occlusion_texture: texture_2d<f32>;
+@group(3) @binding(4) var occlusion_sampler: sampler;
+
+// The baked light at `uv1` times the exposure (rgb) and the mode (w: 0 none, 1 mixed,
+// 2 baked). Samples in every case: call it in uniform control flow.
+fn baked_light(uv1: vec2<f32>) -> vec4<f32> {
+    let uv = mix(surface.rect.xy, surface.rect.zw, uv1);
+    let texel = textureSample(lightmap_atlas, lightmap_sampler, uv).rgb;
+    return vec4<f32>(texel * surface.params.x, surface.params.y);
+}
+
+// The ambient occlusion at this point, for the indirect light: mix(1, texel, strength). Samples
+// in every case: call it in uniform control flow.
+fn ambient_occlusion(uv0: vec2<f32>, uv1: vec2<f32>) -> f32 {
+    let uv = select(uv0, uv1, surface.occlusion.y > 0.5);
+    let texel = textureSample(occlusion_texture, occlusion_sampler, uv).r;
+    return mix(1.0, texel, surface.occlusion.x);
+}
