@@ -335,6 +335,103 @@ mod tests {
         assert!((r.max - Vec2::new(0.736, 0.974)).length() < 1e-6);
     }
 
+    /// A KTX2 container of one `width` x `height` level in Vulkan format `format`, its data
+    /// zstd-supercompressed when `zstd`.
+    fn ktx2(format: u32, width: u32, height: u32, texels: &[u8], zstd: bool) -> Vec<u8> {
+        let data = if zstd {
+            ruzstd::encoding::compress_to_vec(texels, ruzstd::encoding::CompressionLevel::Fastest)
+        } else {
+            texels.to_vec()
+        };
+        let mut out = b"\xABKTX 20\xBB\r\n\x1A\n".to_vec();
+        let type_size = if format == 97 { 2 } else { 4 };
+        for v in [
+            format,
+            type_size,
+            width,
+            height,
+            0,
+            0,
+            1,
+            1,
+            if zstd { 2 } else { 0 },
+        ] {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        // Index: an empty data format descriptor (its length word alone) after the level
+        // index, no key/value or global data.
+        let dfd_offset = 80 + 24;
+        for v in [dfd_offset, 4, 0, 0] {
+            out.extend_from_slice(&(v as u32).to_le_bytes());
+        }
+        out.extend_from_slice(&0u64.to_le_bytes());
+        out.extend_from_slice(&0u64.to_le_bytes());
+        let level_offset = 112u64;
+        for v in [level_offset, data.len() as u64, texels.len() as u64] {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        out.extend_from_slice(&4u32.to_le_bytes());
+        out.resize(level_offset as usize, 0);
+        out.extend_from_slice(&data);
+        out
+    }
+
+    #[test]
+    fn ktx2_float_formats_decode_plain_and_zstd() {
+        // Two texels: RGBA16F (1, 0.5, 0.25) and (2, 4, 8).
+        let halfs: Vec<u8> = [1.0f32, 0.5, 0.25, 1.0, 2.0, 4.0, 8.0, 1.0]
+            .iter()
+            .flat_map(|v| half::f16::from_f32(*v).to_le_bytes())
+            .collect();
+        // RG11B10: (1, 2, 0.5) twice.
+        let packed = ((15u32 << 6) | ((16 << 6) << 11) | ((14 << 5) << 22)).to_le_bytes();
+        let rg11b10: Vec<u8> = [packed, packed].concat();
+        // RGB9E5: (1, 0.5, 0.25) and zero.
+        let e5 = (256u32 | (128 << 9) | (64 << 18) | (16 << 27)).to_le_bytes();
+        let rgb9e5: Vec<u8> = [e5, [0; 4]].concat();
+        for zstd in [false, true] {
+            let image = |format, texels: &[u8]| {
+                LightmapImage::decode_ktx2("test.ktx2", &ktx2(format, 2, 1, texels, zstd)).unwrap()
+            };
+            let a = image(97, &halfs);
+            assert_eq!((a.width, a.height), (2, 1));
+            assert_eq!(a.rgb, vec![[1.0, 0.5, 0.25], [2.0, 4.0, 8.0]]);
+            assert_eq!(image(122, &rg11b10).rgb, vec![[1.0, 2.0, 0.5]; 2]);
+            assert_eq!(image(123, &rgb9e5).rgb, vec![[1.0, 0.5, 0.25], [0.0; 3]]);
+        }
+        // Too little data, an unsupported format: errors naming the file and the reason.
+        let short = LightmapImage::decode_ktx2("short.ktx2", &ktx2(97, 4, 4, &halfs, false)).unwrap_err();
+        assert!(short.to_string().contains("short.ktx2"), "{short}");
+        let bc7 = LightmapImage::decode_ktx2("bc7.ktx2", &ktx2(145, 2, 1, &halfs, false)).unwrap_err();
+        assert!(bc7.to_string().contains("not supported"), "{bc7}");
+    }
+
+    #[test]
+    fn hdr_and_png_lightmaps_decode_linear() {
+        let dir = std::env::temp_dir().join(format!("penumbra-lightmap-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let hdr = dir.join("light.hdr");
+        let pixels = vec![image::Rgb([2.5f32, 0.5, 0.125]); 4];
+        image::Rgb32FImage::from_raw(2, 2, pixels.into_iter().flat_map(|p| p.0).collect())
+            .unwrap()
+            .save(&hdr)
+            .unwrap();
+        let h = LightmapImage::load(&hdr).unwrap();
+        assert_eq!((h.width, h.height), (2, 2));
+        // Radiance's shared exponent keeps about 8 bits of mantissa.
+        for (got, want) in h.rgb[0].iter().zip([2.5, 0.5, 0.125]) {
+            assert!((got - want).abs() < want * 0.01, "{got} vs {want}");
+        }
+        let png = dir.join("light.png");
+        image::RgbImage::from_pixel(1, 1, image::Rgb([255, 188, 0]))
+            .save(&png)
+            .unwrap();
+        let p = LightmapImage::load(&png).unwrap();
+        // sRGB 188 is about 0.5 linear.
+        assert!((p.rgb[0][0] - 1.0).abs() < 1e-6 && (p.rgb[0][1] - 0.5).abs() < 0.01 && p.rgb[0][2] == 0.0);
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
     #[test]
     fn bad_files_are_errors_naming_them() {
         let e = LightmapImage::decode_ktx2("broken.ktx2", b"not a ktx2 file").unwrap_err();
