@@ -161,23 +161,44 @@ impl GpuScene {
                 .or_insert_with(|| make_sampler(device, &m.sampler));
         }
         let max_side = device.limits().max_texture_dimension_2d;
-        // Each texture has an sRGB view (base colour) and a linear one (occlusion).
-        let textures: Vec<(wgpu::TextureView, wgpu::TextureView)> = scene
+        // Each texture as sRGB (base colour) and, when a material reads occlusion from it, as
+        // linear data too (a second upload: view formats are not on every backend).
+        let data_textures: std::collections::HashSet<usize> = scene
+            .materials
+            .iter()
+            .filter_map(|m| m.occlusion_texture)
+            .collect();
+        let textures: Vec<(wgpu::TextureView, Option<wgpu::TextureView>)> = scene
             .textures
             .iter()
-            .map(|t| {
+            .enumerate()
+            .map(|(k, t)| {
                 if t.width > max_side || t.height > max_side {
                     return Err(PenumbraError::Texture {
                         name: t.name.clone(),
                         reason: format!("{}x{} exceeds the device limit of {max_side}", t.width, t.height),
                     });
                 }
-                Ok(upload_texture(
-                    device, queue, &t.name, t.width, t.height, &t.rgba8,
+                let upload =
+                    |format| upload_texture(device, queue, &t.name, t.width, t.height, &t.rgba8, format);
+                Ok((
+                    upload(wgpu::TextureFormat::Rgba8UnormSrgb),
+                    data_textures
+                        .contains(&k)
+                        .then(|| upload(wgpu::TextureFormat::Rgba8Unorm)),
                 ))
             })
             .collect::<Result<_>>()?;
-        let white = upload_texture(device, queue, "white", 1, 1, &[255; 4]);
+        let white = upload_texture(
+            device,
+            queue,
+            "white",
+            1,
+            1,
+            &[255; 4],
+            wgpu::TextureFormat::Rgba8Unorm,
+        );
+        let white = (white.clone(), Some(white));
         let materials = scene
             .materials
             .iter()
@@ -204,20 +225,11 @@ impl GpuScene {
                 device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("GpuScene::material"),
                     layout: &layouts.material,
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: buffer.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: wgpu::BindingResource::TextureView(view),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 2,
-                            resource: wgpu::BindingResource::Sampler(sampler),
-                        },
-                    ],
+                    entries: &crate::passes::entries(&[
+                        buffer.as_entire_binding(),
+                        wgpu::BindingResource::TextureView(view),
+                        wgpu::BindingResource::Sampler(sampler),
+                    ]),
                 })
             })
             .collect();
@@ -312,7 +324,11 @@ impl GpuScene {
                 .iter()
                 .map(|inst| {
                     let m = &scene.materials[inst.material];
-                    let view = m.occlusion_texture.map_or(&white.1, |t| &textures[t].1);
+                    let view = m
+                        .occlusion_texture
+                        .and_then(|t| textures[t].1.as_ref())
+                        .or(white.1.as_ref())
+                        .expect("white has a linear view");
                     let strength = if m.occlusion_texture.is_some() {
                         m.occlusion_strength
                     } else {
@@ -418,28 +434,13 @@ impl GpuScene {
                     device.create_bind_group(&wgpu::BindGroupDescriptor {
                         label: Some("GpuScene::lightmap"),
                         layout: &l.layout,
-                        entries: &[
-                            wgpu::BindGroupEntry {
-                                binding: 0,
-                                resource: buffer.as_entire_binding(),
-                            },
-                            wgpu::BindGroupEntry {
-                                binding: 1,
-                                resource: wgpu::BindingResource::TextureView(view),
-                            },
-                            wgpu::BindGroupEntry {
-                                binding: 2,
-                                resource: wgpu::BindingResource::Sampler(&l.sampler),
-                            },
-                            wgpu::BindGroupEntry {
-                                binding: 3,
-                                resource: wgpu::BindingResource::TextureView(occlusion_view),
-                            },
-                            wgpu::BindGroupEntry {
-                                binding: 4,
-                                resource: wgpu::BindingResource::Sampler(occlusion_sampler),
-                            },
-                        ],
+                        entries: &crate::passes::entries(&[
+                            buffer.as_entire_binding(),
+                            wgpu::BindingResource::TextureView(view),
+                            wgpu::BindingResource::Sampler(&l.sampler),
+                            wgpu::BindingResource::TextureView(occlusion_view),
+                            wgpu::BindingResource::Sampler(occlusion_sampler),
+                        ]),
                     })
                 },
             )
@@ -637,8 +638,8 @@ fn make_sampler(device: &wgpu::Device, s: &TextureSampler) -> wgpu::Sampler {
     })
 }
 
-/// Uploads an 8-bit RGBA image with its mip chain; returns an sRGB view (colour) and a linear
-/// one (data such as occlusion).
+/// Uploads an 8-bit RGBA image with its mip chain as `format` (sRGB for colour, linear for data
+/// such as occlusion).
 fn upload_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -646,7 +647,8 @@ fn upload_texture(
     width: u32,
     height: u32,
     rgba8: &[u8],
-) -> (wgpu::TextureView, wgpu::TextureView) {
+    format: wgpu::TextureFormat,
+) -> wgpu::TextureView {
     let levels = 32 - width.max(height).leading_zeros();
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(name),
@@ -658,9 +660,9 @@ fn upload_texture(
         mip_level_count: levels,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8UnormSrgb,
+        format,
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[wgpu::TextureFormat::Rgba8Unorm],
+        view_formats: &[],
     });
     let mut level_image = image::RgbaImage::from_raw(width, height, rgba8.to_vec()).expect("validated size");
     for level in 0..levels {
@@ -693,10 +695,5 @@ fn upload_texture(
             );
         }
     }
-    let linear = texture.create_view(&wgpu::TextureViewDescriptor {
-        label: Some("GpuScene::texture_linear"),
-        format: Some(wgpu::TextureFormat::Rgba8Unorm),
-        ..Default::default()
-    });
-    (texture.create_view(&Default::default()), linear)
+    texture.create_view(&Default::default())
 }

@@ -229,6 +229,20 @@ fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Ma
         }
         info.texture().source().index()
     });
+    let unused: Vec<&str> = [
+        (material.normal_texture().is_some(), "normal"),
+        (pbr.metallic_roughness_texture().is_some(), "metallic-roughness"),
+        (material.emissive_texture().is_some(), "emissive"),
+    ]
+    .into_iter()
+    .filter_map(|(has, what)| has.then_some(what))
+    .collect();
+    if !unused.is_empty() {
+        warnings.push(format!(
+            "material `{name}`: its {} texture(s) are not used (base colour and occlusion are)",
+            unused.join(", ")
+        ));
+    }
     // Occlusion: its own UV set (0 or 1); glTF's strength.
     let occlusion = material.occlusion_texture();
     let occlusion_uv_set = occlusion.as_ref().map_or(0, |o| o.tex_coord());
