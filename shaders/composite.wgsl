@@ -74,8 +74,10 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     }
     // Lightmapped (mixed or baked): the lightmap in place of the ambient light; baked: alone
     // (a bake holds its own occlusion). The occlusion darkens the indirect light only.
+    // Blended materials (alpha.y = 1) keep their alpha for the blend.
+    let alpha = select(1.0, base.a, material.alpha.y > 0.5);
     if baked.w > 1.5 {
-        return vec4<f32>(base.rgb * baked.rgb, 1.0);
+        return vec4<f32>(base.rgb * baked.rgb, alpha);
     }
     var light = select(frame.ambient.rgb, baked.rgb, baked.w > 0.5) * occlusion;
     let pixel = vec2<i32>(in.clip.xy);
@@ -91,10 +93,11 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         }
         let n_dot_l = max(dot(n, to_light), 0.0);
         var v = 1.0;
-        if instance.flags.x > 0.5 {
+        // The screen-space visibility belongs to the opaque surface behind a blended one.
+        if instance.flags.x > 0.5 && material.alpha.y < 0.5 {
             v = textureLoad(visibility, pixel, l.layer, 0).x;
         }
         light += l.radiance * (n_dot_l * cone * v);
     }
-    return vec4<f32>(base.rgb * light, 1.0);
+    return vec4<f32>(base.rgb * light, alpha);
 }

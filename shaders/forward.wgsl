@@ -95,8 +95,10 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     }
     // Lightmapped (mixed or baked): the lightmap in place of the ambient light; baked: alone
     // (a bake holds its own occlusion). The occlusion darkens the indirect light only.
+    // Blended materials (alpha.y = 1) keep their alpha for the blend.
+    let alpha = select(1.0, base.a, material.alpha.y > 0.5);
     if baked.w > 1.5 {
-        return vec4<f32>(base.rgb * baked.rgb, 1.0);
+        return vec4<f32>(base.rgb * baked.rgb, alpha);
     }
     let indirect = select(frame.ambient.rgb, baked.rgb, baked.w > 0.5) * occlusion;
     var to_light = -frame.light_direction.xyz;
@@ -124,5 +126,5 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         visibility = shadow_visibility(in.world + n * offset, cascade);
     }
     let light = frame.light_radiance.rgb * (n_dot_l * cone * visibility) + indirect;
-    return vec4<f32>(base.rgb * light, 1.0);
+    return vec4<f32>(base.rgb * light, alpha);
 }

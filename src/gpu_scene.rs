@@ -32,6 +32,12 @@ pub struct GpuInstance {
     pub caster: bool,
     pub receiver: bool,
     pub masked: bool,
+    /// Drawn blended, after the opaque instances ([`GpuScene::draw_blended`]).
+    pub blended: bool,
+    /// The mesh's bounding-box centre, in its own frame (for sorting blended instances).
+    pub center: Vec3,
+    /// Where it is now.
+    pub transform: Mat4,
 }
 
 /// A scene on the GPU. Made once per scene; the light can be changed with [`GpuScene::set_light`].
@@ -57,6 +63,9 @@ pub struct GpuScene {
     lightmap_exposure: f32,
 }
 
+/// An atlas and a rectangle of it (min xy, max xy).
+type AtlasRect = (usize, [f32; 4]);
+
 /// What the lit passes add to each instance: the scene's lightmap atlases on the GPU, which
 /// instance samples which, per mode, and each instance's occlusion texture.
 struct GpuLightmaps {
@@ -67,7 +76,7 @@ struct GpuLightmaps {
     black: wgpu::TextureView,
     sampler: wgpu::Sampler,
     /// Per instance, for mixed and for baked lighting: the atlas and its rectangle (min, max).
-    assigned: Vec<[Option<(usize, [f32; 4])>; 2]>,
+    assigned: Vec<[Option<AtlasRect>; 2]>,
     /// Per instance.
     uniforms: Vec<wgpu::Buffer>,
     /// Per instance: its material's occlusion texture (a linear view; white when none), the
@@ -207,10 +216,14 @@ impl GpuScene {
                     base_color: m.base_color.to_array(),
                     alpha: [
                         match m.alpha_mode {
-                            AlphaMode::Opaque => -1.0,
+                            AlphaMode::Opaque | AlphaMode::Blend => -1.0,
                             AlphaMode::Mask { cutoff } => cutoff,
                         },
-                        0.0,
+                        if m.alpha_mode == AlphaMode::Blend {
+                            1.0
+                        } else {
+                            0.0
+                        },
                         0.0,
                         0.0,
                     ],
@@ -260,8 +273,8 @@ impl GpuScene {
                 receiver: inst.receiver,
             };
             let material = &scene.materials[inst.material];
-            let id = match material.alpha_mode {
-                AlphaMode::Mask { cutoff } => {
+            let id = match material.alpha_mode.shadow_cutoff() {
+                Some(cutoff) => {
                     let mesh: &GpuMesh = &meshes[inst.mesh];
                     let mask = crate::casters::AlphaMask {
                         uvs: crate::casters::VertexStream {
@@ -276,7 +289,7 @@ impl GpuScene {
                     };
                     casters.add_masked_instance(device, queue, placed, &mask)?
                 }
-                AlphaMode::Opaque => casters.add_instance(device, queue, placed)?,
+                None => casters.add_instance(device, queue, placed)?,
             };
             instances.push(GpuInstance {
                 mesh: inst.mesh,
@@ -285,6 +298,9 @@ impl GpuScene {
                 caster: inst.caster,
                 receiver: inst.receiver,
                 masked: material.is_masked(),
+                blended: material.alpha_mode == AlphaMode::Blend,
+                center: scene.meshes[inst.mesh].bounds.center(),
+                transform: inst.transform,
             });
         }
         let lightmaps = GpuLightmaps {
@@ -491,7 +507,9 @@ impl GpuScene {
                 format!("the scene has {} instances", self.instances.len()),
             )
         })?;
-        self.casters.set_transform(queue, instance.id, transform)
+        self.casters.set_transform(queue, instance.id, transform)?;
+        self.instances[index].transform = transform;
+        Ok(())
     }
 
     /// (casters id, casters revision, light revision): changes whenever anything the shadow
@@ -508,7 +526,33 @@ impl GpuScene {
     /// Draws every instance with `streams` into `pass`, whose group 0 is set: instance data at
     /// group 1, material at group 2.
     pub(crate) fn draw(&self, pass: &mut wgpu::RenderPass<'_>, streams: CameraStreams) {
-        for (index, inst) in self.instances.iter().enumerate() {
+        let opaque: Vec<usize> = (0..self.instances.len())
+            .filter(|&k| !self.instances[k].blended)
+            .collect();
+        self.draw_instances(pass, streams, &opaque);
+    }
+
+    /// True when some instance is drawn blended.
+    pub(crate) fn has_blended(&self) -> bool {
+        self.instances.iter().any(|i| i.blended)
+    }
+
+    /// Draws the blended instances with the lit streams, farthest from `eye` first.
+    pub(crate) fn draw_blended(&self, pass: &mut wgpu::RenderPass<'_>, eye: Vec3) {
+        let distance = |k: usize| {
+            let inst = &self.instances[k];
+            inst.transform.transform_point3(inst.center).distance_squared(eye)
+        };
+        let mut blended: Vec<usize> = (0..self.instances.len())
+            .filter(|&k| self.instances[k].blended)
+            .collect();
+        blended.sort_by(|&a, &b| distance(b).total_cmp(&distance(a)));
+        self.draw_instances(pass, CameraStreams::Lit, &blended);
+    }
+
+    fn draw_instances(&self, pass: &mut wgpu::RenderPass<'_>, streams: CameraStreams, order: &[usize]) {
+        for &index in order {
+            let inst = &self.instances[index];
             let mesh = &self.meshes[inst.mesh];
             let Some(offset) = self.casters.offset(inst.id) else {
                 continue;

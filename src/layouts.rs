@@ -97,7 +97,7 @@ pub struct InstanceUniform {
 #[derive(Clone, Copy, Pod, Zeroable)]
 pub struct MaterialUniform {
     pub base_color: [f32; 4],
-    /// x: alpha cutoff (negative when the material is opaque).
+    /// x: alpha cutoff (negative when there is none); y: 1 when the material is blended.
     pub alpha: [f32; 4],
 }
 

@@ -664,7 +664,7 @@ impl Renderer {
             }
             if let (Some(composite), Some(prepass)) = (&self.composite, &self.prepass) {
                 encoder.push_debug_group("composite");
-                composite.encode(encoder, scene, prepass.depth(), target);
+                composite.encode(encoder, scene, camera.eye(), prepass.depth(), target);
                 encoder.pop_debug_group();
                 mark(encoder, "composite");
             }

@@ -372,6 +372,77 @@ fn alpha_masked_casters_cast_only_where_opaque() {
     assert_point("floor under the opaque half", true, &with, &without, right);
 }
 
+/// Blended materials (glTF `BLEND`): drawn over the floor with their alpha, casting where their
+/// alpha is at least 0.5, for the screen-space method and the forward path alike.
+#[test]
+fn blended_surfaces_show_what_lies_behind_and_cast_only_where_alpha_is_half_or_more() {
+    let gpu = common::gpu();
+    let mut scene = Scene {
+        light: directional(Vec3::NEG_Y),
+        ambient: Vec3::splat(0.1),
+        ..Default::default()
+    };
+    let glass = |name: &str, rgb: [f32; 3], alpha: f32| Material {
+        name: name.into(),
+        base_color: Vec4::new(rgb[0], rgb[1], rgb[2], alpha),
+        alpha_mode: AlphaMode::Blend,
+        ..Default::default()
+    };
+    let faint = scene.add_material(glass("faint red", [1.0, 0.1, 0.1], 0.3));
+    let dense = scene.add_material(glass("dense blue", [0.1, 0.1, 1.0], 0.8));
+    let floor_material = scene.add_material(Material::colored("floor", [0.8, 0.8, 0.8]));
+    let card = scene.add_mesh(primitives::cuboid(Vec3::new(1.5, 0.02, 1.5)));
+    let floor = scene.add_mesh(primitives::plane(12.0, 1.0));
+    scene.add_instance(card, faint, Mat4::from_translation(Vec3::new(-1.2, 1.0, 0.0)));
+    scene.add_instance(card, dense, Mat4::from_translation(Vec3::new(1.2, 1.0, 0.0)));
+    scene.add_instance(floor, floor_material, Mat4::IDENTITY).caster = false;
+    let camera = penumbra::Camera::look_at(Vec3::new(0.0, 5.0, 5.0), Vec3::ZERO);
+    let (w, h) = (320, 256);
+    for method in [ShadowMethod::Ours, ShadowMethod::Hard] {
+        let (with, without) =
+            common::render_with_and_without_casters(&gpu, &scene, &camera, settings(method), w, h);
+        with.save(common::output_dir().join(format!("blended-{}.png", method.name())))
+            .unwrap();
+        let at = |x: f32, y: f32, z: f32| common::project(&camera, w, h, Vec3::new(x, y, z)).unwrap();
+        // On the cards, seen from above: their colour over the lit floor's grey.
+        let red = with.get_pixel(at(-1.2, 1.02, 0.0).0, at(-1.2, 1.02, 0.0).1).0;
+        let blue = with.get_pixel(at(1.2, 1.02, 0.0).0, at(1.2, 1.02, 0.0).1).0;
+        let floor = with.get_pixel(at(0.0, 0.0, 2.5).0, at(0.0, 0.0, 2.5).1).0;
+        eprintln!(
+            "{}: faint red card {red:?}, dense blue card {blue:?}, open floor {floor:?}",
+            method.name()
+        );
+        assert!(
+            red[0] > red[2] + 40 && red[2] > 60,
+            "{}: the faint card hides the floor: {red:?}",
+            method.name()
+        );
+        assert!(blue[2] > blue[0] + 50, "{}: {blue:?}", method.name());
+        // Beside the cards (seen past their edges) the floor under the faint card is lit, under
+        // the dense one shadowed.
+        let under = |x: f32| {
+            let p = at(x, 0.0, 0.6);
+            (common::luminance(&with, p), common::luminance(&without, p))
+        };
+        let (faint_with, faint_without) = under(-1.2);
+        let (dense_with, dense_without) = under(1.2);
+        eprintln!(
+            "{}: floor under the faint card {faint_with:.3} ({faint_without:.3} without casters), under the dense one {dense_with:.3} ({dense_without:.3})",
+            method.name()
+        );
+        assert!(
+            (faint_with - faint_without).abs() < 0.02,
+            "{}: the faint card casts",
+            method.name()
+        );
+        assert!(
+            dense_with < 0.6 * dense_without,
+            "{}: the dense card casts no shadow",
+            method.name()
+        );
+    }
+}
+
 #[test]
 fn real_models_render_with_shadows() {
     let gpu = common::gpu();

@@ -10,7 +10,7 @@ struct Instance {
 
 struct Material {
     base_color: vec4<f32>,
-    // x: alpha cutoff (negative: opaque)
+    // x: alpha cutoff (negative: none); y: 1 when blended
     alpha: vec4<f32>,
 }
 

@@ -212,10 +212,7 @@ fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Ma
         gltf::material::AlphaMode::Mask => AlphaMode::Mask {
             cutoff: material.alpha_cutoff().unwrap_or(0.5),
         },
-        gltf::material::AlphaMode::Blend => {
-            warnings.push(format!("material `{name}`: alpha mode BLEND is drawn as opaque"));
-            AlphaMode::Opaque
-        }
+        gltf::material::AlphaMode::Blend => AlphaMode::Blend,
     };
     let texture = pbr.base_color_texture().map(|info| {
         let set = info

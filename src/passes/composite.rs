@@ -17,6 +17,8 @@ pub struct CompositePass {
     lights: wgpu::Buffer,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
+    /// Blended instances, after the opaque ones.
+    blend_pipeline: wgpu::RenderPipeline,
     bind_group: Option<wgpu::BindGroup>,
 }
 
@@ -57,10 +59,22 @@ impl CompositePass {
             false,
             color_format.into(),
         );
+        // Blended surfaces: over the opaque ones, depth tested and not written.
+        let blend_pipeline = super::camera_pipeline(
+            device,
+            "CompositePass::blend_pipeline",
+            &shader,
+            &layout,
+            layouts,
+            CameraStreams::Lit,
+            false,
+            super::blended_target(color_format),
+        );
         Self {
             lights,
             layout,
             pipeline,
+            blend_pipeline,
             bind_group: None,
         }
     }
@@ -88,6 +102,7 @@ impl CompositePass {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
+        eye: glam::Vec3,
         camera_depth: &wgpu::TextureView,
         target: &wgpu::TextureView,
     ) {
@@ -120,5 +135,9 @@ impl CompositePass {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
         scene.draw(&mut pass, CameraStreams::Lit);
+        if scene.has_blended() {
+            pass.set_pipeline(&self.blend_pipeline);
+            scene.draw_blended(&mut pass, eye);
+        }
     }
 }

@@ -53,6 +53,8 @@ pub struct ForwardPass {
     hard_bind_group: wgpu::BindGroup,
     pcf_bind_group: wgpu::BindGroup,
     pipeline: wgpu::RenderPipeline,
+    /// Blended instances, after the opaque ones.
+    blend_pipeline: wgpu::RenderPipeline,
     depth: wgpu::TextureView,
     size: (u32, u32),
 }
@@ -110,6 +112,17 @@ impl ForwardPass {
             true,
             color_format.into(),
         );
+        // Blended surfaces: over the opaque ones, depth tested and not written.
+        let blend_pipeline = super::camera_pipeline(
+            device,
+            "ForwardPass::blend_pipeline",
+            &shader,
+            &frame_layout,
+            layouts,
+            CameraStreams::Lit,
+            false,
+            super::blended_target(color_format),
+        );
         let make_bind_group = |sampler: &wgpu::Sampler, label| {
             frame_bind_group(device, &frame_layout, &frame_buffer, shadow_map, sampler, label)
         };
@@ -124,6 +137,7 @@ impl ForwardPass {
             hard_bind_group,
             pcf_bind_group,
             pipeline,
+            blend_pipeline,
             depth,
             size: (1, 1),
         }
@@ -238,6 +252,10 @@ impl ForwardPass {
         };
         pass.set_bind_group(0, frame_group, &[]);
         scene.draw(&mut pass, CameraStreams::Lit);
+        if scene.has_blended() {
+            pass.set_pipeline(&self.blend_pipeline);
+            scene.draw_blended(&mut pass, camera.eye());
+        }
     }
 }
 

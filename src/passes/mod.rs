@@ -609,6 +609,16 @@ pub(crate) fn camera_pipeline(
     })
 }
 
+/// A colour target that blends by the source's alpha (blended materials).
+#[cfg(feature = "renderer")]
+pub(crate) fn blended_target(format: wgpu::TextureFormat) -> wgpu::ColorTargetState {
+    wgpu::ColorTargetState {
+        format,
+        blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+        write_mask: wgpu::ColorWrites::ALL,
+    }
+}
+
 /// The convenience renderer's camera depth format (reversed: cleared to 0).
 #[cfg(feature = "renderer")]
 pub(crate) const CAMERA_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;

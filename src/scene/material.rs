@@ -12,6 +12,23 @@ pub enum AlphaMode {
     /// Fragments whose alpha (texture x factor) is below `cutoff` are discarded, in the lit pass
     /// and in the shadow map (glTF's `MASK`). `cutoff` is in [0, 1]; glTF's default is 0.5.
     Mask { cutoff: f32 },
+    /// Blended over what lies behind (glTF's `BLEND`): drawn after the opaque surfaces, back to
+    /// front, without writing depth. It casts shadows where its alpha is at least 0.5 (as
+    /// `Mask { cutoff: 0.5 }` in the shadow map), and receives none from the screen-space
+    /// methods (their visibility belongs to the opaque surface behind; the forward path of
+    /// `hard` and `hw2x2` looks the shadow map up for it).
+    Blend,
+}
+
+impl AlphaMode {
+    /// The alpha below which the surface casts no shadow, if any.
+    pub fn shadow_cutoff(self) -> Option<f32> {
+        match self {
+            AlphaMode::Opaque => None,
+            AlphaMode::Mask { cutoff } => Some(cutoff),
+            AlphaMode::Blend => Some(0.5),
+        }
+    }
 }
 
 /// How a texture coordinate outside [0, 1] is wrapped.
