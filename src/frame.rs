@@ -654,6 +654,10 @@ mod tests {
                     ("rect", offset_of!(crate::layouts::SurfaceUniform, rect)),
                     ("params", offset_of!(crate::layouts::SurfaceUniform, params)),
                     ("occlusion", offset_of!(crate::layouts::SurfaceUniform, occlusion)),
+                    (
+                        "occlusion_transform",
+                        offset_of!(crate::layouts::SurfaceUniform, occlusion_transform),
+                    ),
                 ],
                 size_of::<crate::layouts::SurfaceUniform>(),
             ),

@@ -80,8 +80,8 @@ struct GpuLightmaps {
     /// Per instance.
     uniforms: Vec<wgpu::Buffer>,
     /// Per instance: its material's occlusion texture (a linear view; white when none), the
-    /// material's sampler, and the uniform's occlusion row.
-    occlusion: Vec<(wgpu::TextureView, wgpu::Sampler, [f32; 4])>,
+    /// material's sampler, and the uniform's occlusion row and UV transform.
+    occlusion: Vec<(wgpu::TextureView, wgpu::Sampler, [f32; 4], [[f32; 4]; 2])>,
 }
 
 /// The vertex streams a camera pass of [`GpuScene::draw`] binds.
@@ -354,13 +354,20 @@ impl GpuScene {
                         view.clone(),
                         samplers[&m.sampler].clone(),
                         [strength, m.occlusion_uv_set as f32, 0.0, 0.0],
+                        {
+                            let t = m.occlusion_uv_transform;
+                            [
+                                [t.matrix2.x_axis.x, t.matrix2.y_axis.x, t.translation.x, 0.0],
+                                [t.matrix2.x_axis.y, t.matrix2.y_axis.y, t.translation.y, 0.0],
+                            ]
+                        },
                     )
                 })
                 .collect(),
             uniforms: (0..scene.instances.len())
                 .map(|_| {
                     device.create_buffer(&wgpu::BufferDescriptor {
-                        label: Some("GpuScene::lightmap"),
+                        label: Some("GpuScene::surface"),
                         size: size_of::<SurfaceUniform>() as u64,
                         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                         mapped_at_creation: false,
@@ -428,7 +435,7 @@ impl GpuScene {
             .zip(&l.uniforms)
             .zip(&l.occlusion)
             .map(
-                |((assigned, buffer), (occlusion_view, occlusion_sampler, occlusion))| {
+                |((assigned, buffer), (occlusion_view, occlusion_sampler, occlusion, transform))| {
                     let (code, slot) = match mode {
                         LightingMode::Dynamic => (0.0, None),
                         LightingMode::Mixed => (1.0, assigned[0]),
@@ -439,16 +446,18 @@ impl GpuScene {
                             rect,
                             params: [exposure, code, 0.0, 0.0],
                             occlusion: *occlusion,
+                            occlusion_transform: *transform,
                         },
                         None => SurfaceUniform {
                             occlusion: *occlusion,
+                            occlusion_transform: *transform,
                             ..Default::default()
                         },
                     };
                     queue.write_buffer(buffer, 0, bytemuck::bytes_of(&uniform));
                     let view = slot.map_or(&l.black, |(atlas, _)| &l.atlases[atlas]);
                     device.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some("GpuScene::lightmap"),
+                        label: Some("GpuScene::surface"),
                         layout: &l.layout,
                         entries: &crate::passes::entries(&[
                             buffer.as_entire_binding(),

@@ -79,6 +79,8 @@ pub struct SurfaceUniform {
     pub params: [f32; 4],
     /// x: occlusion strength (0: no occlusion texture); y: its UV set (0 or 1).
     pub occlusion: [f32; 4],
+    /// The occlusion UVs' affine transform, two rows: `u' = dot(row0.xyz, (u, v, 1))`.
+    pub occlusion_transform: [[f32; 4]; 2],
 }
 
 /// Per-instance data, as the shaders see it.

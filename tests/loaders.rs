@@ -650,7 +650,8 @@ fn a_scene_file_takes_a_gltf_files_lights_with_lights_from() {
     }
 }
 
-/// glTF samplers (wrap and filter modes) and occlusion textures (UV set, strength) are read.
+/// glTF samplers (wrap and filter modes) and occlusion textures (UV set, strength, their
+/// KHR_texture_transform) are read.
 #[test]
 fn gltf_samplers_and_occlusion_textures_are_read() {
     use penumbra::scene::{FilterMode, WrapMode};
@@ -667,7 +668,8 @@ fn gltf_samplers_and_occlusion_textures_are_read() {
                "images":[{"uri":"tex.png"}],
                "textures":[{"sampler":0,"source":0}],
                "materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}},
-                             "occlusionTexture":{"index":0,"texCoord":1,"strength":0.5}}],
+                             "occlusionTexture":{"index":0,"texCoord":0,"strength":0.5,
+                               "extensions":{"KHR_texture_transform":{"offset":[0.5,0],"scale":[2,3],"texCoord":1}}}}],
                "buffers":"#,
         );
     let path = dir.join("sampled.gltf");
@@ -684,5 +686,9 @@ fn gltf_samplers_and_occlusion_textures_are_read() {
     );
     assert_eq!(m.occlusion_texture, m.base_color_texture);
     assert!(m.occlusion_texture.is_some());
+    // The occlusion texture's own KHR_texture_transform: its texCoord (1) and its matrix.
     assert_eq!((m.occlusion_uv_set, m.occlusion_strength), (1, 0.5));
+    let t = m.occlusion_uv_transform;
+    assert_eq!(t.transform_point2(glam::Vec2::ZERO), glam::Vec2::new(0.5, 0.0));
+    assert_eq!(t.transform_point2(glam::Vec2::ONE), glam::Vec2::new(2.5, 3.0));
 }

@@ -9,6 +9,8 @@ struct Surface {
     params: vec4<f32>,
     // x: occlusion strength (0: none); y: the UV set it reads
     occlusion: vec4<f32>,
+    // the occlusion UVs' affine transform: u' = dot(row 0 .xyz, (u, v, 1)), v' likewise
+    occlusion_transform: array<vec4<f32>, 2>,
 }
 
 @group(3) @binding(0) var<uniform> surface: Surface;
@@ -28,7 +30,8 @@ fn baked_light(uv1: vec2<f32>) -> vec4<f32> {
 // The ambient occlusion at this point, for the indirect light: mix(1, texel, strength). Samples
 // in every case: call it in uniform control flow.
 fn ambient_occlusion(uv0: vec2<f32>, uv1: vec2<f32>) -> f32 {
-    let uv = select(uv0, uv1, surface.occlusion.y > 0.5);
-    let texel = textureSample(occlusion_texture, occlusion_sampler, uv).r;
+    let uv = vec3<f32>(select(uv0, uv1, surface.occlusion.y > 0.5), 1.0);
+    let t = surface.occlusion_transform;
+    let texel = textureSample(occlusion_texture, occlusion_sampler, vec2<f32>(dot(t[0].xyz, uv), dot(t[1].xyz, uv))).r;
     return mix(1.0, texel, surface.occlusion.x);
 }

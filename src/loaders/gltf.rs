@@ -242,7 +242,35 @@ fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Ma
     }
     // Occlusion: its own UV set (0 or 1); glTF's strength.
     let occlusion = material.occlusion_texture();
-    let occlusion_uv_set = occlusion.as_ref().map_or(0, |o| o.tex_coord());
+    // Its KHR_texture_transform (the crate reads it for plain texture infos only).
+    let transform = occlusion
+        .as_ref()
+        .and_then(|o| o.extension_value("KHR_texture_transform"))
+        .cloned();
+    let number = |key: &str, i: usize, default: f32| {
+        transform
+            .as_ref()
+            .and_then(|t| t.get(key))
+            .and_then(|v| {
+                if i == usize::MAX {
+                    v.as_f64()
+                } else {
+                    v.get(i)?.as_f64()
+                }
+            })
+            .map_or(default, |v| v as f32)
+    };
+    let occlusion_uv_transform = uv_transform(
+        [number("offset", 0, 0.0), number("offset", 1, 0.0)],
+        number("rotation", usize::MAX, 0.0),
+        [number("scale", 0, 1.0), number("scale", 1, 1.0)],
+    );
+    let occlusion_uv_set = transform
+        .as_ref()
+        .and_then(|t| t.get("texCoord")?.as_u64())
+        .map(|t| t as u32)
+        .or(occlusion.as_ref().map(|o| o.tex_coord()))
+        .unwrap_or(0);
     if occlusion_uv_set > 1 {
         warnings.push(format!(
             "material `{name}`: occlusion texture uses UV set {occlusion_uv_set}, read from set 1"
@@ -266,6 +294,7 @@ fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Ma
         occlusion_texture: occlusion.as_ref().map(|o| o.texture().source().index()),
         occlusion_uv_set: occlusion_uv_set.min(1),
         occlusion_strength: occlusion.as_ref().map_or(1.0, |o| o.strength().clamp(0.0, 1.0)),
+        occlusion_uv_transform,
         sampler,
     }
 }

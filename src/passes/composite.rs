@@ -17,8 +17,8 @@ pub struct CompositePass {
     lights: wgpu::Buffer,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
-    /// Blended instances, after the opaque ones.
-    blend_pipeline: wgpu::RenderPipeline,
+    /// Blended instances, after the opaque ones (none for a target that cannot blend).
+    blend_pipeline: Option<wgpu::RenderPipeline>,
     bind_group: Option<wgpu::BindGroup>,
 }
 
@@ -60,16 +60,18 @@ impl CompositePass {
             color_format.into(),
         );
         // Blended surfaces: over the opaque ones, depth tested and not written.
-        let blend_pipeline = super::camera_pipeline(
-            device,
-            "CompositePass::blend_pipeline",
-            &shader,
-            &layout,
-            layouts,
-            CameraStreams::Lit,
-            false,
-            super::blended_target(color_format),
-        );
+        let blend_pipeline = super::blended_target(device, color_format).map(|target| {
+            super::camera_pipeline(
+                device,
+                "CompositePass::blend_pipeline",
+                &shader,
+                &layout,
+                layouts,
+                CameraStreams::Lit,
+                false,
+                target,
+            )
+        });
         Self {
             lights,
             layout,
@@ -136,7 +138,7 @@ impl CompositePass {
         pass.set_bind_group(0, bind_group, &[]);
         scene.draw(&mut pass, CameraStreams::Lit);
         if scene.has_blended() {
-            pass.set_pipeline(&self.blend_pipeline);
+            pass.set_pipeline(self.blend_pipeline.as_ref().unwrap_or(&self.pipeline));
             scene.draw_blended(&mut pass, eye);
         }
     }

@@ -53,8 +53,8 @@ pub struct ForwardPass {
     hard_bind_group: wgpu::BindGroup,
     pcf_bind_group: wgpu::BindGroup,
     pipeline: wgpu::RenderPipeline,
-    /// Blended instances, after the opaque ones.
-    blend_pipeline: wgpu::RenderPipeline,
+    /// Blended instances, after the opaque ones (none for a target that cannot blend).
+    blend_pipeline: Option<wgpu::RenderPipeline>,
     depth: wgpu::TextureView,
     size: (u32, u32),
 }
@@ -113,16 +113,18 @@ impl ForwardPass {
             color_format.into(),
         );
         // Blended surfaces: over the opaque ones, depth tested and not written.
-        let blend_pipeline = super::camera_pipeline(
-            device,
-            "ForwardPass::blend_pipeline",
-            &shader,
-            &frame_layout,
-            layouts,
-            CameraStreams::Lit,
-            false,
-            super::blended_target(color_format),
-        );
+        let blend_pipeline = super::blended_target(device, color_format).map(|target| {
+            super::camera_pipeline(
+                device,
+                "ForwardPass::blend_pipeline",
+                &shader,
+                &frame_layout,
+                layouts,
+                CameraStreams::Lit,
+                false,
+                target,
+            )
+        });
         let make_bind_group = |sampler: &wgpu::Sampler, label| {
             frame_bind_group(device, &frame_layout, &frame_buffer, shadow_map, sampler, label)
         };
@@ -253,7 +255,7 @@ impl ForwardPass {
         pass.set_bind_group(0, frame_group, &[]);
         scene.draw(&mut pass, CameraStreams::Lit);
         if scene.has_blended() {
-            pass.set_pipeline(&self.blend_pipeline);
+            pass.set_pipeline(self.blend_pipeline.as_ref().unwrap_or(&self.pipeline));
             scene.draw_blended(&mut pass, camera.eye());
         }
     }

@@ -609,14 +609,23 @@ pub(crate) fn camera_pipeline(
     })
 }
 
-/// A colour target that blends by the source's alpha (blended materials).
+/// A colour target that blends by the source's alpha (blended materials), or `None` for a
+/// format that cannot blend (the float targets metrics read: blended instances are then drawn
+/// opaque there).
 #[cfg(feature = "renderer")]
-pub(crate) fn blended_target(format: wgpu::TextureFormat) -> wgpu::ColorTargetState {
-    wgpu::ColorTargetState {
-        format,
-        blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-        write_mask: wgpu::ColorWrites::ALL,
-    }
+pub(crate) fn blended_target(
+    device: &wgpu::Device,
+    format: wgpu::TextureFormat,
+) -> Option<wgpu::ColorTargetState> {
+    let features = format.guaranteed_format_features(device.features());
+    features
+        .flags
+        .contains(wgpu::TextureFormatFeatureFlags::BLENDABLE)
+        .then_some(wgpu::ColorTargetState {
+            format,
+            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+            write_mask: wgpu::ColorWrites::ALL,
+        })
 }
 
 /// The convenience renderer's camera depth format (reversed: cleared to 0).

@@ -99,6 +99,8 @@ pub struct Material {
     pub occlusion_uv_set: u32,
     /// glTF `strength` in [0, 1]: `ao = mix(1, texel, strength)`.
     pub occlusion_strength: f32,
+    /// Applied to the occlusion texture's UVs (its `KHR_texture_transform`).
+    pub occlusion_uv_transform: glam::Affine2,
     pub sampler: TextureSampler,
 }
 
@@ -112,6 +114,7 @@ impl Default for Material {
             occlusion_texture: None,
             occlusion_uv_set: 0,
             occlusion_strength: 1.0,
+            occlusion_uv_transform: glam::Affine2::IDENTITY,
             sampler: TextureSampler::default(),
         }
     }
