@@ -63,6 +63,17 @@ pub struct GpuScene {
     lightmap_exposure: f32,
 }
 
+/// An instance's occlusion texture as the surface group binds it.
+struct InstanceOcclusion {
+    /// A linear view (white when the material has none).
+    view: wgpu::TextureView,
+    /// The material's sampler.
+    sampler: wgpu::Sampler,
+    /// [`SurfaceUniform::occlusion`] and [`SurfaceUniform::occlusion_transform`].
+    params: [f32; 4],
+    transform: [[f32; 4]; 2],
+}
+
 /// An atlas and a rectangle of it (min xy, max xy).
 type AtlasRect = (usize, [f32; 4]);
 
@@ -81,7 +92,7 @@ struct GpuLightmaps {
     uniforms: Vec<wgpu::Buffer>,
     /// Per instance: its material's occlusion texture (a linear view; white when none), the
     /// material's sampler, and the uniform's occlusion row and UV transform.
-    occlusion: Vec<(wgpu::TextureView, wgpu::Sampler, [f32; 4], [[f32; 4]; 2])>,
+    occlusion: Vec<InstanceOcclusion>,
 }
 
 /// The vertex streams a camera pass of [`GpuScene::draw`] binds.
@@ -350,18 +361,16 @@ impl GpuScene {
                     } else {
                         0.0
                     };
-                    (
-                        view.clone(),
-                        samplers[&m.sampler].clone(),
-                        [strength, m.occlusion_uv_set as f32, 0.0, 0.0],
-                        {
-                            let t = m.occlusion_uv_transform;
-                            [
-                                [t.matrix2.x_axis.x, t.matrix2.y_axis.x, t.translation.x, 0.0],
-                                [t.matrix2.x_axis.y, t.matrix2.y_axis.y, t.translation.y, 0.0],
-                            ]
-                        },
-                    )
+                    let t = m.occlusion_uv_transform;
+                    InstanceOcclusion {
+                        view: view.clone(),
+                        sampler: samplers[&m.sampler].clone(),
+                        params: [strength, m.occlusion_uv_set as f32, 0.0, 0.0],
+                        transform: [
+                            [t.matrix2.x_axis.x, t.matrix2.y_axis.x, t.translation.x, 0.0],
+                            [t.matrix2.x_axis.y, t.matrix2.y_axis.y, t.translation.y, 0.0],
+                        ],
+                    }
                 })
                 .collect(),
             uniforms: (0..scene.instances.len())
@@ -434,41 +443,39 @@ impl GpuScene {
             .iter()
             .zip(&l.uniforms)
             .zip(&l.occlusion)
-            .map(
-                |((assigned, buffer), (occlusion_view, occlusion_sampler, occlusion, transform))| {
-                    let (code, slot) = match mode {
-                        LightingMode::Dynamic => (0.0, None),
-                        LightingMode::Mixed => (1.0, assigned[0]),
-                        LightingMode::Baked => (2.0, assigned[1]),
-                    };
-                    let uniform = match slot {
-                        Some((_, rect)) => SurfaceUniform {
-                            rect,
-                            params: [exposure, code, 0.0, 0.0],
-                            occlusion: *occlusion,
-                            occlusion_transform: *transform,
-                        },
-                        None => SurfaceUniform {
-                            occlusion: *occlusion,
-                            occlusion_transform: *transform,
-                            ..Default::default()
-                        },
-                    };
-                    queue.write_buffer(buffer, 0, bytemuck::bytes_of(&uniform));
-                    let view = slot.map_or(&l.black, |(atlas, _)| &l.atlases[atlas]);
-                    device.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some("GpuScene::surface"),
-                        layout: &l.layout,
-                        entries: &crate::passes::entries(&[
-                            buffer.as_entire_binding(),
-                            wgpu::BindingResource::TextureView(view),
-                            wgpu::BindingResource::Sampler(&l.sampler),
-                            wgpu::BindingResource::TextureView(occlusion_view),
-                            wgpu::BindingResource::Sampler(occlusion_sampler),
-                        ]),
-                    })
-                },
-            )
+            .map(|((assigned, buffer), occlusion)| {
+                let (code, slot) = match mode {
+                    LightingMode::Dynamic => (0.0, None),
+                    LightingMode::Mixed => (1.0, assigned[0]),
+                    LightingMode::Baked => (2.0, assigned[1]),
+                };
+                let uniform = match slot {
+                    Some((_, rect)) => SurfaceUniform {
+                        rect,
+                        params: [exposure, code, 0.0, 0.0],
+                        occlusion: occlusion.params,
+                        occlusion_transform: occlusion.transform,
+                    },
+                    None => SurfaceUniform {
+                        occlusion: occlusion.params,
+                        occlusion_transform: occlusion.transform,
+                        ..Default::default()
+                    },
+                };
+                queue.write_buffer(buffer, 0, bytemuck::bytes_of(&uniform));
+                let view = slot.map_or(&l.black, |(atlas, _)| &l.atlases[atlas]);
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("GpuScene::surface"),
+                    layout: &l.layout,
+                    entries: &crate::passes::entries(&[
+                        buffer.as_entire_binding(),
+                        wgpu::BindingResource::TextureView(view),
+                        wgpu::BindingResource::Sampler(&l.sampler),
+                        wgpu::BindingResource::TextureView(&occlusion.view),
+                        wgpu::BindingResource::Sampler(&occlusion.sampler),
+                    ]),
+                })
+            })
             .collect();
         self.lighting = mode;
         self.lightmap_exposure = exposure;
@@ -535,10 +542,8 @@ impl GpuScene {
     /// Draws every instance with `streams` into `pass`, whose group 0 is set: instance data at
     /// group 1, material at group 2.
     pub(crate) fn draw(&self, pass: &mut wgpu::RenderPass<'_>, streams: CameraStreams) {
-        let opaque: Vec<usize> = (0..self.instances.len())
-            .filter(|&k| !self.instances[k].blended)
-            .collect();
-        self.draw_instances(pass, streams, &opaque);
+        let opaque = (0..self.instances.len()).filter(|&k| !self.instances[k].blended);
+        self.draw_instances(pass, streams, opaque);
     }
 
     /// True when some instance is drawn blended.
@@ -556,11 +561,16 @@ impl GpuScene {
             .filter(|&k| self.instances[k].blended)
             .collect();
         blended.sort_by(|&a, &b| distance(b).total_cmp(&distance(a)));
-        self.draw_instances(pass, CameraStreams::Lit, &blended);
+        self.draw_instances(pass, CameraStreams::Lit, blended.into_iter());
     }
 
-    fn draw_instances(&self, pass: &mut wgpu::RenderPass<'_>, streams: CameraStreams, order: &[usize]) {
-        for &index in order {
+    fn draw_instances(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        streams: CameraStreams,
+        order: impl Iterator<Item = usize>,
+    ) {
+        for index in order {
             let inst = &self.instances[index];
             let mesh = &self.meshes[inst.mesh];
             let Some(offset) = self.casters.offset(inst.id) else {

@@ -534,14 +534,16 @@ impl Shadows {
         }
         let inputs = self.inputs.as_ref().expect("set above");
         let mask_view = inputs.mask.as_ref().map_or(&self.dummy.1, |m| &m.1);
+        let mut rebound = false;
         for state in self.lights.iter_mut().flatten() {
             let chain = state.planned.expect("planned above").chain;
             if state.bound != Some(chain) {
                 state.bind(device, &inputs.depth_view, mask_view, &self.dummy.1);
                 state.bound = Some(chain);
+                rebound = true;
             }
         }
-        self.plan_blurs(device, queue, resized);
+        self.plan_blurs(device, queue, resized, rebound);
         if let Some(error) = block_on_now(device_scope.pop()).flatten() {
             return Err(PenumbraError::Gpu {
                 during: "preparing the shadows".into(),
@@ -553,8 +555,9 @@ impl Shadows {
     }
 
     /// Groups the lights whose chain blurs after the distance map (up to four per pass, in
-    /// slot order), makes or keeps a blur pass per group and points it at the lights' inputs.
-    fn plan_blurs(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, resized: bool) {
+    /// slot order), makes or keeps a blur pass per group and points it at the lights' inputs
+    /// when they changed (`rebound`: some light's passes were made or bound again this frame).
+    fn plan_blurs(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, resized: bool, rebound: bool) {
         let (width, height) = self.size;
         let blurred: Vec<usize> = self
             .lights
@@ -587,24 +590,32 @@ impl Shadows {
         let params = PassParams::new(&effective);
         let mut old = std::mem::take(&mut self.blurs);
         for slots in groups {
-            // A pass made for as many lights with the same switches is kept.
+            // A pass made for as many lights with the same switches is kept, the one that
+            // served the same lights first (it is still bound to them).
+            let fits = |p: &BlurPass| p.lights() == slots.len() && p.switches() == params.blur_switches;
             let reuse = old
                 .iter()
-                .position(|(_, p)| p.lights() == slots.len() && p.switches() == params.blur_switches);
-            let mut pass = match reuse {
+                .position(|(s, p)| *s == slots && fits(p))
+                .or_else(|| old.iter().position(|(_, p)| fits(p)));
+            let (mut pass, same_lights) = match reuse {
                 Some(i) => {
-                    let (_, mut pass) = old.swap_remove(i);
+                    let (was_for, mut pass) = old.swap_remove(i);
                     if resized {
                         pass.resize(device, width, height);
                     }
-                    pass
+                    (pass, was_for == slots)
                 }
                 None => {
                     let mut pass = BlurPass::new(device, FRAME_SIZE, params.blur_switches, slots.len());
                     pass.resize(device, width, height);
-                    pass
+                    (pass, false)
                 }
             };
+            pass.prepare(queue, &params.blur);
+            if same_lights && !rebound && pass.is_bound() {
+                self.blurs.push((slots, pass));
+                continue;
+            }
             let states: Vec<&LightState> = slots
                 .iter()
                 .filter_map(|&slot| self.lights[slot].as_ref())
@@ -624,7 +635,6 @@ impl Shadows {
             // The camera and penumbra settings the blur reads are the same in every light's
             // frame uniform: the first light's serves.
             pass.bind(device, &states[0].frame, depth, &lights, &self.dummy.1);
-            pass.prepare(queue, &params.blur);
             self.blurs.push((slots, pass));
         }
     }

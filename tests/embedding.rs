@@ -390,7 +390,8 @@ fn four_lights_share_one_orthographic_depth_and_each_shadows_its_own_layer() {
 
 /// Four suns, a spot and a point light: with batching, one blur pass takes the first four and
 /// another the last two (which then share a classification union); without, each light has
-/// its own. Every light's visibility must be the same either way, penumbra included.
+/// its own. Every light's visibility must be the same either way, penumbra included, and in a
+/// second frame (the passes kept as bound) the same as a first frame gives.
 #[test]
 fn lights_blurred_in_batches_get_what_a_blur_of_their_own_gives() {
     let gpu = common::gpu();
@@ -432,6 +433,55 @@ fn lights_blurred_in_batches_get_what_a_blur_of_their_own_gives() {
     };
     let batched = layers(true);
     let alone = layers(false);
+    // A second frame with every light turned a little (the blur passes stay as bound) gives
+    // what a fresh `Shadows` gives for the turned lights in its first frame.
+    let turn = glam::Quat::from_rotation_y(0.4);
+    let turned: Vec<Light> = lights
+        .iter()
+        .map(|l| match *l {
+            Light::Directional(d) => Light::Directional(DirectionalLight {
+                direction: turn * d.direction,
+                ..d
+            }),
+            Light::Spot(sp) => Light::Spot(SpotLight {
+                position: turn * sp.position,
+                direction: turn * sp.direction,
+                ..sp
+            }),
+            Light::Point(p) => Light::Point(PointLight {
+                position: turn * p.position,
+                ..p
+            }),
+        })
+        .collect();
+    let second_frame = |batch: bool, fresh: bool| -> Vec<Vec<f32>> {
+        let mut settings = ShadowSettings::default();
+        settings.penumbra.batch_lights = batch;
+        let mut shadows = Shadows::new(device, settings).unwrap();
+        let first = if fresh { &turned } else { &lights };
+        let ids: Vec<_> = first
+            .iter()
+            .map(|l| shadows.add_light(device, *l).unwrap())
+            .collect();
+        render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+        if !fresh {
+            for (id, l) in ids.iter().zip(&turned) {
+                shadows.set_light(*id, *l).unwrap();
+            }
+            render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+        }
+        ids.iter()
+            .map(|id| read_layer(&gpu, &shadows, id.layer()))
+            .collect()
+    };
+    let fresh = second_frame(false, true);
+    assert!(fresh != alone, "turning the lights must change the layers");
+    for batch in [true, false] {
+        assert!(
+            second_frame(batch, false) == fresh,
+            "batch {batch}: a second frame differs from a first frame of the same lights"
+        );
+    }
     for (k, (b, a)) in batched.iter().zip(&alone).enumerate() {
         let worst = b.iter().zip(a).map(|(x, y)| (x - y).abs()).fold(0.0, f32::max);
         let penumbra = a.iter().filter(|v| (0.1..0.9).contains(*v)).count();

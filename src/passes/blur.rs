@@ -193,6 +193,11 @@ impl BlurPass {
         pass
     }
 
+    /// True once [`Self::bind`] pointed the pass at its inputs (a resize forgets them).
+    pub(crate) fn is_bound(&self) -> bool {
+        self.bind_groups.is_some()
+    }
+
     /// How many lights the pass blurs.
     pub(crate) fn lights(&self) -> usize {
         self.lights
