@@ -12,7 +12,9 @@
 
 use crate::casters::Casters;
 use crate::error::{PenumbraError, Result};
-use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, is_point_light};
+use crate::frame::{
+    DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, is_point_light, light_kind,
+};
 use crate::light_space::{FitInputs, LightView, MAX_TILES, atlas_grid, tile_resolution};
 use crate::passes::{
     BlurInput, BlurPass, DistanceMapPass, ExitMapPass, FattenedShadowMapPass, MAX_BATCHED_LIGHTS, PcfPass,
@@ -927,6 +929,20 @@ impl LightState {
         {
             self.distance = None;
         }
+        // The light-dependent screen-space passes are made for one light kind.
+        let kind = light_kind(&self.light);
+        if self.distance.as_ref().is_some_and(|p| p.light_kind() != kind) {
+            self.distance = None;
+        }
+        if self.pcf.as_ref().is_some_and(|p| p.light_kind() != kind) {
+            self.pcf = None;
+        }
+        if self.variable_pcf.as_ref().is_some_and(|p| p.light_kind() != kind) {
+            self.variable_pcf = None;
+        }
+        if self.pcss.as_ref().is_some_and(|p| p.light_kind() != kind) {
+            self.pcss = None;
+        }
         if self
             .blur
             .as_ref()
@@ -997,19 +1013,19 @@ impl LightState {
         screen!(
             self.distance,
             chain.distance_map,
-            DistanceMapPass::new(device, FRAME_SIZE, params.pcf_switches.mask_early_out)
+            DistanceMapPass::new(device, FRAME_SIZE, params.pcf_switches.mask_early_out, kind)
         );
         screen!(
             self.pcf,
             chain.pcf && !chain.distance_map,
-            PcfPass::new(device, FRAME_SIZE, params.pcf_switches)
+            PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind)
         );
         screen!(
             self.variable_pcf,
             chain.pcf && chain.distance_map,
-            VariablePcfPass::new(device, FRAME_SIZE, params.pcf_switches)
+            VariablePcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind)
         );
-        screen!(self.pcss, chain.pcss, PcssPass::new(device, FRAME_SIZE));
+        screen!(self.pcss, chain.pcss, PcssPass::new(device, FRAME_SIZE, kind));
         // The distance-map method's blur batches lights ([`Shadows::blurs`]).
         screen!(
             self.blur,

@@ -497,6 +497,62 @@ fn lights_blurred_in_batches_get_what_a_blur_of_their_own_gives() {
     }
 }
 
+/// The light-dependent screen-space passes are compiled for one light kind (the others' code
+/// left out): a light that changes kind gets passes made for its new kind, so its layer is
+/// what a fresh `Shadows` gives for that light.
+#[test]
+fn a_light_that_changes_kind_shadows_as_a_fresh_light_of_that_kind() {
+    let gpu = common::gpu();
+    let device = &gpu.device;
+    let w = world(&gpu);
+    let depth = DepthPass::new(device);
+    let spot = Light::Spot(SpotLight {
+        position: Vec3::new(-2.0, 6.0, 1.0),
+        direction: Vec3::new(0.3, -1.0, -0.15).normalize(),
+        cone_angle_deg: 40.0,
+        radius: 0.3,
+        color: Vec3::ONE,
+        intensity: 1.0,
+    });
+    let point = Light::Point(PointLight {
+        position: Vec3::new(2.5, 4.0, -2.0),
+        radius: 0.3,
+        color: Vec3::ONE,
+        intensity: 1.0,
+    });
+    for method in [ShadowMethod::Ours, ShadowMethod::Pcss] {
+        let settings = ShadowSettings::preset(method, penumbra::Quality::Medium);
+        let fresh = |light: Light| {
+            let mut shadows = Shadows::new(device, settings).unwrap();
+            let id = shadows.add_light(device, light).unwrap();
+            render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+            read_layer(&gpu, &shadows, id.layer())
+        };
+        let mut shadows = Shadows::new(device, settings).unwrap();
+        let id = shadows.add_light(device, sun(20.0)).unwrap();
+        render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+        let mut previous = read_layer(&gpu, &shadows, id.layer());
+        for (name, light) in [("spot", spot), ("point", point), ("sun", sun(20.0))] {
+            shadows.set_light(id, light).unwrap();
+            render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+            let changed = read_layer(&gpu, &shadows, id.layer());
+            let expected = fresh(light);
+            let shadowed = expected.iter().filter(|v| **v < 0.5).count();
+            assert!(
+                shadowed > 100,
+                "{method:?} {name}: only {shadowed} shadowed pixels"
+            );
+            assert!(changed != previous, "{method:?} {name}: the layer did not change");
+            assert!(
+                changed == expected,
+                "{method:?}: a light turned into a {name} differs from a fresh {name} in {} pixels",
+                differing_texels(&changed, &expected)
+            );
+            previous = changed;
+        }
+    }
+}
+
 #[test]
 fn a_lights_maps_are_re_rendered_exactly_when_a_caster_it_sees_changes() {
     let gpu = common::gpu();

@@ -92,6 +92,26 @@ struct Frame {
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 
+// The light's kind, when the pipeline was made for one (0 directional, 1 spot, 2 point): its
+// branches are then compiled out. 3: read from the frame uniform.
+override LIGHT_KIND: u32 = 3u;
+
+// 0 directional, 1 spot, 2 point.
+fn light_kind() -> u32 {
+    if LIGHT_KIND < 3u {
+        return LIGHT_KIND;
+    }
+    return frame.light.spot;
+}
+
+// Whether the light's map is a perspective one (spot and point lights).
+fn light_perspective() -> bool {
+    if LIGHT_KIND < 3u {
+        return LIGHT_KIND > 0u;
+    }
+    return frame.light.perspective != 0u;
+}
+
 // The cascade or cube face this pixel reads (`use_cascade` or `use_face` sets it; 0 for one
 // map).
 var<private> cascade: u32 = 0u;
@@ -150,7 +170,7 @@ fn to_shadow_map(world: vec3<f32>) -> vec3<f32> {
 fn light_linear_depth(z: f32) -> f32 {
     let near = frame.light.near;
     let far = frame.light.far;
-    if frame.light.perspective != 0u {
+    if light_perspective() {
         return near * far / max(far - z * (far - near), 1e-20);
     }
     return near + z * (far - near);
@@ -160,7 +180,7 @@ fn light_linear_depth(z: f32) -> f32 {
 // distance map holds): 2 d tan(theta/2) for a directional light, 2 R d' / (D - d') for a spot
 // light at distance D from the receiver, d' = d along the ray through the receiver.
 fn penumbra_width(d: f32, world: vec3<f32>) -> f32 {
-    if frame.light.spot == 0u {
+    if light_kind() == 0u {
         return frame.light.size_term * d;
     }
     let to_receiver = world - frame.light.position;
@@ -172,7 +192,7 @@ fn penumbra_width(d: f32, world: vec3<f32>) -> f32 {
 
 // The unit direction the light travels at `world`.
 fn light_ray(world: vec3<f32>) -> vec3<f32> {
-    if frame.light.spot != 0u {
+    if light_kind() != 0u {
         return normalize(world - frame.light.position);
     }
     return normalize(frame.light.direction);
@@ -181,7 +201,7 @@ fn light_ray(world: vec3<f32>) -> vec3<f32> {
 // World units per unit of shadow-map uv at the receiver (perpendicular to the light): the whole
 // map's size, or with cascades the pixel's cascade's window times the tiles per side.
 fn shadow_map_world_size(world: vec3<f32>) -> vec2<f32> {
-    if frame.light.perspective == 0u {
+    if !light_perspective() {
         return frame.cascades.extent_end[cascade].xy * frame.cascades.grid;
     }
     let depth = max(dot(world - frame.light.position, light_axis()), 1e-6);

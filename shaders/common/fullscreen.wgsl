@@ -38,7 +38,7 @@ fn is_background(depth: f32) -> bool {
 // Picks the cascade (a point light: the cube face) for the pixel at `pixel` with camera depth
 // `depth`: the same in every pass.
 fn use_pixel_cascade(pixel: vec2<f32>, depth: f32) {
-    if frame.light.spot == 2u {
+    if light_kind() == 2u {
         use_face(world_position(pixel, depth));
         return;
     }

@@ -21,10 +21,11 @@
 //! RG16F was chosen by a precision test (this module's tests): distances from 1e-4 to 1e4 come
 //! back with a relative error below 1e-3, far below what a blur or kernel width can show.
 
-use super::{CLASSIFICATION_FORMAT, Fullscreen, cleared, entries, entry, screen_target};
+use super::{CLASSIFICATION_FORMAT, Fullscreen, LIGHT_KIND, cleared, entries, entry, screen_target};
 
 pub struct DistanceMapPass {
     mask_early_out: bool,
+    light_kind: u32,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     distance: (wgpu::Texture, wgpu::TextureView),
@@ -37,7 +38,14 @@ impl DistanceMapPass {
 
     /// The pass; with `mask_early_out` false every receiver pixel is classified as shadowed
     /// (compile-time: the other choice needs a new pass).
-    pub(crate) fn new(device: &wgpu::Device, frame_size: usize, mask_early_out: bool) -> Self {
+    /// It is made for one light kind ([`crate::frame::light_kind`]): the other kinds' code is
+    /// compiled out. Another switch or kind needs a new pass.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        frame_size: usize,
+        mask_early_out: bool,
+        light_kind: u32,
+    ) -> Self {
         let shader = crate::shaders::module(device, "distance_map.wgsl", crate::shaders::DISTANCE_MAP);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -63,11 +71,15 @@ impl DistanceMapPass {
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
-            constants: &[("MASK_EARLY_OUT", if mask_early_out { 1.0 } else { 0.0 })],
+            constants: &[
+                ("MASK_EARLY_OUT", if mask_early_out { 1.0 } else { 0.0 }),
+                (LIGHT_KIND, light_kind as f64),
+            ],
         }
         .pipeline(device);
         let mut pass = Self {
             mask_early_out,
+            light_kind,
             layout,
             pipeline,
             distance: screen_target(
@@ -134,6 +146,11 @@ impl DistanceMapPass {
                 wgpu::BindingResource::TextureView(exit_map),
             ]),
         }));
+    }
+
+    /// The light kind the pass was made for.
+    pub(crate) fn light_kind(&self) -> u32 {
+        self.light_kind
     }
 
     /// Whether the pass was made to classify only the mask (see [`Self::new`]).

@@ -249,6 +249,12 @@ impl Fullscreen<'_> {
 /// with `Less` against it, so the rasterizer skips every other pixel before their shaders run.
 pub(crate) const CLASSIFICATION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth16Unorm;
 
+/// The override constant (`shaders/common/frame.wgsl`) that makes a screen-space pipeline for
+/// one light kind ([`crate::frame::light_kind`]), its other kinds' branches compiled out: a
+/// SIMD rasterizer runs every branch some pixel of a block takes, so code for kinds a pass never
+/// sees still costs there. Unset (3), the kind is read from the frame uniform.
+pub(crate) const LIGHT_KIND: &str = "LIGHT_KIND";
+
 /// Draws the fullscreen triangle of `pipeline` with `bind_groups` into `target` (cleared to
 /// white first), testing against `classification` (read-only) when given.
 pub(crate) fn draw_fullscreen(

@@ -6,11 +6,14 @@
 //! method takes its distance-driven taps in [`super::DistanceMapPass`], with the same tap code
 //! (`shaders/common/pcf_taps.wgsl`).
 
-use super::{VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline_with, screen_target};
+use super::{
+    LIGHT_KIND, VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline_with, screen_target,
+};
 use crate::frame::{PcfSwitches, PcfUniform};
 
 pub struct PcfPass {
     switches: PcfSwitches,
+    light_kind: u32,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     params: wgpu::Buffer,
@@ -20,8 +23,14 @@ pub struct PcfPass {
 }
 
 impl PcfPass {
-    /// The pass for `switches` (compile-time: other switches need a new pass).
-    pub(crate) fn new(device: &wgpu::Device, frame_size: usize, switches: PcfSwitches) -> Self {
+    /// The pass for `switches` and one light kind ([`crate::frame::light_kind`]: the other
+    /// kinds' code is compiled out); other switches or another kind need a new pass.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        frame_size: usize,
+        switches: PcfSwitches,
+        light_kind: u32,
+    ) -> Self {
         let shader = crate::shaders::module(device, "pcf.wgsl", crate::shaders::PCF);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("PcfPass::layout"),
@@ -40,7 +49,10 @@ impl PcfPass {
             &shader,
             &[Some(&layout)],
             VISIBILITY_FORMAT,
-            &[("ROTATE_TAPS", flag(switches.rotate_taps))],
+            &[
+                ("ROTATE_TAPS", flag(switches.rotate_taps)),
+                (LIGHT_KIND, light_kind as f64),
+            ],
         );
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("PcfPass::params"),
@@ -50,6 +62,7 @@ impl PcfPass {
         });
         Self {
             switches,
+            light_kind,
             layout,
             pipeline,
             params,
@@ -86,6 +99,11 @@ impl PcfPass {
     /// The switches the pipeline was made with.
     pub(crate) fn switches(&self) -> PcfSwitches {
         self.switches
+    }
+
+    /// The light kind the pipeline was made for ([`crate::frame::light_kind`]).
+    pub(crate) fn light_kind(&self) -> u32 {
+        self.light_kind
     }
 
     /// Uploads the frame's tap count and spacing.

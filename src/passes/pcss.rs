@@ -5,10 +5,13 @@
 //! texture. Blocker and PCF tap counts come from [`crate::PcssSettings`].
 
 use super::pcf::comparison_sampler;
-use super::{VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target};
+use super::{
+    LIGHT_KIND, VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline_with, screen_target,
+};
 use crate::frame::PcssUniform;
 
 pub struct PcssPass {
+    light_kind: u32,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     params: wgpu::Buffer,
@@ -18,7 +21,9 @@ pub struct PcssPass {
 }
 
 impl PcssPass {
-    pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
+    /// The pass for one light kind ([`crate::frame::light_kind`]: the other kinds' code is
+    /// compiled out, as in the distance-map method's passes); another kind needs a new pass.
+    pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32) -> Self {
         let shader = crate::shaders::module(device, "pcss.wgsl", crate::shaders::PCSS);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("PcssPass::layout"),
@@ -31,12 +36,13 @@ impl PcssPass {
                 entry::uniform(5, wgpu::ShaderStages::FRAGMENT, size_of::<PcssUniform>(), false),
             ],
         });
-        let pipeline = fullscreen_pipeline(
+        let pipeline = fullscreen_pipeline_with(
             device,
             "PcssPass::pipeline",
             &shader,
             &[Some(&layout)],
             VISIBILITY_FORMAT,
+            &[(LIGHT_KIND, light_kind as f64)],
         );
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("PcssPass::params"),
@@ -45,6 +51,7 @@ impl PcssPass {
             mapped_at_creation: false,
         });
         Self {
+            light_kind,
             layout,
             pipeline,
             params,
@@ -52,6 +59,11 @@ impl PcssPass {
             output: screen_target(device, "PcssPass::visibility", 1, 1, VISIBILITY_FORMAT),
             bind_group: None,
         }
+    }
+
+    /// The light kind the pipeline was made for.
+    pub(crate) fn light_kind(&self) -> u32 {
+        self.light_kind
     }
 
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {

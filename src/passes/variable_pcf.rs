@@ -9,11 +9,14 @@
 //! (`shaders/common/pcf_taps.wgsl`); the fast mode runs this pass with one tap.
 
 use super::pcf::comparison_sampler;
-use super::{CLASSIFICATION_FORMAT, Fullscreen, VISIBILITY_FORMAT, cleared, entries, entry, screen_target};
+use super::{
+    CLASSIFICATION_FORMAT, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, entries, entry, screen_target,
+};
 use crate::frame::{PcfSwitches, PcfUniform};
 
 pub struct VariablePcfPass {
     switches: PcfSwitches,
+    light_kind: u32,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     params: wgpu::Buffer,
@@ -27,8 +30,14 @@ impl VariablePcfPass {
     /// Format of the blur's standard deviations.
     pub const SIGMA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
-    /// The pass for `switches` (compile-time: other switches need a new pass).
-    pub(crate) fn new(device: &wgpu::Device, frame_size: usize, switches: PcfSwitches) -> Self {
+    /// The pass for `switches` and one light kind ([`crate::frame::light_kind`]: the other
+    /// kinds' code is compiled out); other switches or another kind need a new pass.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        frame_size: usize,
+        switches: PcfSwitches,
+        light_kind: u32,
+    ) -> Self {
         let shader = crate::shaders::module(device, "variable_pcf.wgsl", crate::shaders::VARIABLE_PCF);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -48,7 +57,10 @@ impl VariablePcfPass {
             bind_group_layouts: &[Some(&layout)],
             targets: &[Some(VISIBILITY_FORMAT.into()), Some(Self::SIGMA_FORMAT.into())],
             depth: Some(classified_test()),
-            constants: &[("ROTATE_TAPS", if switches.rotate_taps { 1.0 } else { 0.0 })],
+            constants: &[
+                ("ROTATE_TAPS", if switches.rotate_taps { 1.0 } else { 0.0 }),
+                (LIGHT_KIND, light_kind as f64),
+            ],
         }
         .pipeline(device);
         let params = device.create_buffer(&wgpu::BufferDescriptor {
@@ -59,6 +71,7 @@ impl VariablePcfPass {
         });
         Self {
             switches,
+            light_kind,
             layout,
             pipeline,
             params,
@@ -112,6 +125,11 @@ impl VariablePcfPass {
     /// The switches the pipeline was made with.
     pub(crate) fn switches(&self) -> PcfSwitches {
         self.switches
+    }
+
+    /// The light kind the pipeline was made for ([`crate::frame::light_kind`]).
+    pub(crate) fn light_kind(&self) -> u32 {
+        self.light_kind
     }
 
     /// Uploads the frame's tap count and spacings.
