@@ -423,6 +423,13 @@ impl GpuScene {
         self.lightmaps.assigned.iter().any(|a| a[slot].is_some())
     }
 
+    /// True when the lit passes must sample lightmaps or occlusion textures: some instance has
+    /// a lightmap in the current mode, or a material an occlusion texture. Otherwise they use
+    /// pipelines that leave both out.
+    pub fn samples_surface_maps(&self) -> bool {
+        self.has_lightmaps(self.lighting) || self.lightmaps.occlusion.iter().any(|o| o.params[0] > 0.0)
+    }
+
     /// Switches the lighting mode and the lightmaps' exposure (finite, >= 0). Instances with no
     /// lightmap for the mode are lit dynamically.
     pub fn set_lighting(

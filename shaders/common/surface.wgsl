@@ -13,6 +13,10 @@ struct Surface {
     occlusion_transform: array<vec4<f32>, 2>,
 }
 
+// Whether the pipeline samples lightmaps and occlusion textures at all: one made for a scene
+// with neither leaves both out (a SIMD rasterizer pays for samples whatever they read).
+override SURFACE_MAPS: bool = true;
+
 @group(3) @binding(0) var<uniform> surface: Surface;
 @group(3) @binding(1) var lightmap_atlas: texture_2d<f32>;
 @group(3) @binding(2) var lightmap_sampler: sampler;
@@ -22,6 +26,9 @@ struct Surface {
 // The baked light at `uv1` times the exposure (rgb) and the mode (w: 0 none, 1 mixed,
 // 2 baked). Samples in every case: call it in uniform control flow.
 fn baked_light(uv1: vec2<f32>) -> vec4<f32> {
+    if !SURFACE_MAPS {
+        return vec4<f32>(0.0);
+    }
     let uv = mix(surface.rect.xy, surface.rect.zw, uv1);
     let texel = textureSample(lightmap_atlas, lightmap_sampler, uv).rgb;
     return vec4<f32>(texel * surface.params.x, surface.params.y);
@@ -30,6 +37,9 @@ fn baked_light(uv1: vec2<f32>) -> vec4<f32> {
 // The ambient occlusion at this point, for the indirect light: mix(1, texel, strength). Samples
 // in every case: call it in uniform control flow.
 fn ambient_occlusion(uv0: vec2<f32>, uv1: vec2<f32>) -> f32 {
+    if !SURFACE_MAPS {
+        return 1.0;
+    }
     let uv = vec3<f32>(select(uv0, uv1, surface.occlusion.y > 0.5), 1.0);
     let t = surface.occlusion_transform;
     let texel = textureSample(occlusion_texture, occlusion_sampler, vec2<f32>(dot(t[0].xyz, uv), dot(t[1].xyz, uv))).r;

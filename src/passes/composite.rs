@@ -16,9 +16,8 @@ use crate::scene::Light;
 pub struct CompositePass {
     lights: wgpu::Buffer,
     layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::RenderPipeline,
-    /// Blended instances, after the opaque ones (none for a target that cannot blend).
-    blend_pipeline: Option<wgpu::RenderPipeline>,
+    /// Opaque, then blended instances (drawn after the opaque ones).
+    pipelines: super::LitPipelines,
     bind_group: Option<wgpu::BindGroup>,
 }
 
@@ -49,34 +48,20 @@ impl CompositePass {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let pipeline = super::camera_pipeline(
+        // Depth tested against the prepass, not written; blended surfaces over the opaque ones.
+        let pipelines = super::LitPipelines::new(
             device,
             "CompositePass::pipeline",
             &shader,
             &layout,
             layouts,
-            CameraStreams::Lit,
             false,
-            color_format.into(),
+            color_format,
         );
-        // Blended surfaces: over the opaque ones, depth tested and not written.
-        let blend_pipeline = super::blended_target(device, color_format).map(|target| {
-            super::camera_pipeline(
-                device,
-                "CompositePass::blend_pipeline",
-                &shader,
-                &layout,
-                layouts,
-                CameraStreams::Lit,
-                false,
-                target,
-            )
-        });
         Self {
             lights,
             layout,
-            pipeline,
-            blend_pipeline,
+            pipelines,
             bind_group: None,
         }
     }
@@ -134,11 +119,11 @@ impl CompositePass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(self.pipelines.opaque(scene));
         pass.set_bind_group(0, bind_group, &[]);
         scene.draw(&mut pass, CameraStreams::Lit);
         if scene.has_blended() {
-            pass.set_pipeline(self.blend_pipeline.as_ref().unwrap_or(&self.pipeline));
+            pass.set_pipeline(self.pipelines.blended(scene));
             scene.draw_blended(&mut pass, eye);
         }
     }

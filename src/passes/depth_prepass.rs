@@ -41,6 +41,7 @@ impl DepthPrepass {
             CameraStreams::PositionUv,
             true,
             Self::RECEIVER_FORMAT.into(),
+            &[],
         );
         Self {
             frame_layout,

@@ -52,9 +52,8 @@ pub struct ForwardPass {
     pcf_sampler: wgpu::Sampler,
     hard_bind_group: wgpu::BindGroup,
     pcf_bind_group: wgpu::BindGroup,
-    pipeline: wgpu::RenderPipeline,
-    /// Blended instances, after the opaque ones (none for a target that cannot blend).
-    blend_pipeline: Option<wgpu::RenderPipeline>,
+    /// Opaque, then blended instances (drawn after the opaque ones).
+    pipelines: super::LitPipelines,
     depth: wgpu::TextureView,
     size: (u32, u32),
 }
@@ -102,29 +101,16 @@ impl ForwardPass {
         };
         let hard_sampler = comparison_sampler("ForwardPass::hard_sampler", wgpu::FilterMode::Nearest);
         let pcf_sampler = comparison_sampler("ForwardPass::pcf_sampler", wgpu::FilterMode::Linear);
-        let pipeline = super::camera_pipeline(
+        // Opaque surfaces write depth; blended ones over them are depth tested, not written.
+        let pipelines = super::LitPipelines::new(
             device,
             "ForwardPass::pipeline",
             &shader,
             &frame_layout,
             layouts,
-            CameraStreams::Lit,
             true,
-            color_format.into(),
+            color_format,
         );
-        // Blended surfaces: over the opaque ones, depth tested and not written.
-        let blend_pipeline = super::blended_target(device, color_format).map(|target| {
-            super::camera_pipeline(
-                device,
-                "ForwardPass::blend_pipeline",
-                &shader,
-                &frame_layout,
-                layouts,
-                CameraStreams::Lit,
-                false,
-                target,
-            )
-        });
         let make_bind_group = |sampler: &wgpu::Sampler, label| {
             frame_bind_group(device, &frame_layout, &frame_buffer, shadow_map, sampler, label)
         };
@@ -138,8 +124,7 @@ impl ForwardPass {
             pcf_sampler,
             hard_bind_group,
             pcf_bind_group,
-            pipeline,
-            blend_pipeline,
+            pipelines,
             depth,
             size: (1, 1),
         }
@@ -247,7 +232,7 @@ impl ForwardPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(self.pipelines.opaque(scene));
         let frame_group = match method {
             ShadowMethod::Hard => &self.hard_bind_group,
             _ => &self.pcf_bind_group,
@@ -255,7 +240,7 @@ impl ForwardPass {
         pass.set_bind_group(0, frame_group, &[]);
         scene.draw(&mut pass, CameraStreams::Lit);
         if scene.has_blended() {
-            pass.set_pipeline(self.blend_pipeline.as_ref().unwrap_or(&self.pipeline));
+            pass.set_pipeline(self.pipelines.blended(scene));
             scene.draw_blended(&mut pass, camera.eye());
         }
     }

@@ -548,6 +548,7 @@ pub(crate) fn camera_pipeline(
     streams: crate::gpu_scene::CameraStreams,
     write_depth: bool,
     target: wgpu::ColorTargetState,
+    constants: &[(&str, f64)],
 ) -> wgpu::RenderPipeline {
     use crate::gpu_scene::CameraStreams;
     // Lit passes also take the instance's lightmap (group 3).
@@ -607,12 +608,71 @@ pub(crate) fn camera_pipeline(
         fragment: Some(wgpu::FragmentState {
             module: shader,
             entry_point: Some("fs_main"),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants,
+                ..Default::default()
+            },
             targets: &[Some(target)],
         }),
         multiview_mask: None,
         cache: None,
     })
+}
+
+/// A lit pass's pipelines (the composite's, the forward pass's): opaque and, where the target
+/// can blend, blended; each made twice, with the surface maps (lightmaps, occlusion textures:
+/// `SURFACE_MAPS` in `shaders/common/surface.wgsl`) and without, for scenes that have neither.
+#[cfg(feature = "renderer")]
+pub(crate) struct LitPipelines {
+    /// [without, with] the surface maps.
+    opaque: [wgpu::RenderPipeline; 2],
+    blended: Option<[wgpu::RenderPipeline; 2]>,
+}
+
+#[cfg(feature = "renderer")]
+impl LitPipelines {
+    /// `write_depth`: whether the opaque pipelines write depth (blended ones never do).
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        label: &str,
+        shader: &wgpu::ShaderModule,
+        pass_layout: &wgpu::BindGroupLayout,
+        layouts: &crate::layouts::SceneLayouts,
+        write_depth: bool,
+        color_format: wgpu::TextureFormat,
+    ) -> Self {
+        use crate::gpu_scene::CameraStreams;
+        let make = |write: bool, target: wgpu::ColorTargetState| {
+            [false, true].map(|maps| {
+                camera_pipeline(
+                    device,
+                    label,
+                    shader,
+                    pass_layout,
+                    layouts,
+                    CameraStreams::Lit,
+                    write,
+                    target.clone(),
+                    &[("SURFACE_MAPS", if maps { 1.0 } else { 0.0 })],
+                )
+            })
+        };
+        Self {
+            opaque: make(write_depth, color_format.into()),
+            blended: blended_target(device, color_format).map(|target| make(false, target)),
+        }
+    }
+
+    /// The opaque pipeline for `scene`.
+    pub(crate) fn opaque(&self, scene: &crate::GpuScene) -> &wgpu::RenderPipeline {
+        &self.opaque[scene.samples_surface_maps() as usize]
+    }
+
+    /// The blended pipeline for `scene` (the opaque one where the target cannot blend).
+    pub(crate) fn blended(&self, scene: &crate::GpuScene) -> &wgpu::RenderPipeline {
+        let maps = scene.samples_surface_maps() as usize;
+        self.blended.as_ref().map_or(&self.opaque[maps], |b| &b[maps])
+    }
 }
 
 /// A colour target that blends by the source's alpha (blended materials), or `None` for a
