@@ -61,6 +61,15 @@ struct Args {
     /// Output PNG.
     #[arg(long, default_value = "out.png")]
     out: PathBuf,
+    /// Also time this many frames (after one warm-up) and print the median frame time and the
+    /// median of each pass (GPU timestamps where the adapter has them, else wall clock with a
+    /// submit per pass). The key light turns 0.01 degrees a frame, as in the benchmark, so every
+    /// pass runs; with --still-light it stays, and the light-space maps are kept.
+    #[arg(long)]
+    time: Option<usize>,
+    /// With --time: keep the light still (only the camera's screen-space passes run).
+    #[arg(long)]
+    still_light: bool,
 }
 
 fn parse_size(text: &str) -> Result<(u32, u32)> {
@@ -120,7 +129,7 @@ fn main() -> Result<()> {
     let gpu = HeadlessGpu::new()?;
     eprintln!("adapter: {}", gpu.describe());
     let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings)?;
-    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene)?;
+    let mut gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene)?;
     let mut image = if method == ShadowMethod::Reference {
         render_reference_with_progress(&gpu, &mut renderer, &gpu_scene, &camera, width, height)?
     } else {
@@ -145,12 +154,113 @@ fn main() -> Result<()> {
             saved.taps_saved
         );
     }
+    if let Some(frames) = args.time {
+        if frames == 0 || method == ShadowMethod::Reference {
+            bail!("--time {frames}: expected at least 1 frame of a real-time method");
+        }
+        let light = scene.light;
+        time_frames(
+            &gpu,
+            &mut renderer,
+            &mut gpu_scene,
+            &camera,
+            (width, height),
+            frames,
+            |i| (!args.still_light).then(|| turned(&light, i)),
+        )?;
+    }
     eprintln!(
         "wrote {} ({width}x{height}, {} triangles, method {}, view {})",
         args.out.display(),
         gpu_scene.triangle_count(),
         method.name(),
         args.view
+    );
+    Ok(())
+}
+
+/// `light` turned `frame` hundredths of a degree about the vertical.
+fn turned(light: &Light, frame: usize) -> Light {
+    let turn = glam::Quat::from_rotation_y((frame as f32 * 0.01).to_radians());
+    match *light {
+        Light::Directional(l) => Light::Directional(penumbra::DirectionalLight {
+            direction: turn * l.direction,
+            ..l
+        }),
+        Light::Spot(l) => Light::Spot(penumbra::SpotLight {
+            direction: turn * l.direction,
+            ..l
+        }),
+        Light::Point(l) => Light::Point(penumbra::PointLight {
+            position: turn * l.position,
+            ..l
+        }),
+    }
+}
+
+/// Times `frames` frames after one warm-up (`light(i)`, when some, is set before frame `i`) and
+/// prints the median frame time and each pass's median.
+fn time_frames(
+    gpu: &HeadlessGpu,
+    renderer: &mut Renderer,
+    scene: &mut GpuScene,
+    camera: &penumbra::Camera,
+    (width, height): (u32, u32),
+    frames: usize,
+    light: impl Fn(usize) -> Option<Light>,
+) -> Result<()> {
+    let format = wgpu::TextureFormat::Rgba8UnormSrgb;
+    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("render --time target"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    let view = target.create_view(&Default::default());
+    renderer.enable_timing(&gpu.device, &gpu.queue);
+    renderer.resize(&gpu.device, width, height);
+    let mut totals = Vec::new();
+    let mut passes: std::collections::BTreeMap<&'static str, Vec<f64>> = Default::default();
+    for i in 0..=frames {
+        if let Some(l) = light(i) {
+            scene.set_light(l)?;
+        }
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        renderer.render(&gpu.queue, &mut encoder, scene, camera, &view)?;
+        gpu.queue.submit([encoder.finish()]);
+        gpu.device.poll(wgpu::PollType::Wait {
+            submission_index: None,
+            timeout: None,
+        })?;
+        if i == 0 {
+            continue;
+        }
+        let times = renderer.pass_times(&gpu.device).context("timing is enabled")??;
+        totals.push(times.iter().map(|t| t.milliseconds).sum::<f64>());
+        for t in times {
+            passes.entry(t.pass).or_default().push(t.milliseconds);
+        }
+    }
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let per_pass: Vec<String> = passes
+        .into_iter()
+        .map(|(pass, v)| format!("{pass} {:.2}", median(v)))
+        .collect();
+    println!(
+        "time: {frames} frames, median {:.2} ms; per pass (ms): {}",
+        median(totals),
+        per_pass.join(", ")
     );
     Ok(())
 }

@@ -68,6 +68,10 @@ fn bad_arguments_get_plain_errors() {
             "viewpoint 7 does not exist",
         ),
         (vec!["--scene", scene, "--shadow-map", "1000"], "power of two"),
+        (
+            vec!["--scene", scene, "--size", "32x24", "--time", "0"],
+            "--time 0",
+        ),
     ] {
         let (ok, stderr) = run(&args);
         assert!(!ok, "{args:?} should fail");
@@ -231,4 +235,44 @@ fn the_gl_backend_renders_every_real_time_method_and_refuses_the_rest_in_words()
         out.to_str().unwrap(),
     ]);
     assert!(!ok && stderr.contains("cannot be read back"), "{stderr}");
+}
+
+/// `--time N` prints the median frame and per-pass times of N frames, the light turning (every
+/// pass runs) or, with `--still-light`, still (the light-space maps are kept).
+#[test]
+fn timing_prints_each_pass() {
+    let dir = common::scratch_dir("render_example_time");
+    let scene = common::asset("scenes/teapot.ron");
+    let out = dir.join("timed.png");
+    for still in [false, true] {
+        let mut args = vec![
+            "--scene",
+            scene.to_str().unwrap(),
+            "--size",
+            "96x72",
+            "--out",
+            out.to_str().unwrap(),
+            "--time",
+            "3",
+        ];
+        if still {
+            args.push("--still-light");
+        }
+        let output = Command::new(render_example()).args(&args).output().unwrap();
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with("time: 3 frames"))
+            .unwrap_or_else(|| panic!("no timing line in:\n{stdout}"));
+        for pass in ["distance map", "pcf", "blur", "composite"] {
+            assert!(line.contains(pass), "{pass} missing from: {line}");
+        }
+        // The maps are drawn only when the light moves.
+        assert_eq!(line.contains("fattened shadow map"), !still, "{line}");
+    }
 }
