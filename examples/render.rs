@@ -96,6 +96,11 @@ fn main() -> Result<()> {
         settings.reference.samples = samples;
     }
     settings.validate(None).context("--shadow-map")?;
+    if let Some(frames) = args.time
+        && (frames == 0 || method == ShadowMethod::Reference)
+    {
+        bail!("--time {frames}: expected at least 1 frame of a real-time method");
+    }
 
     let debug_view = args
         .debug_view
@@ -155,9 +160,6 @@ fn main() -> Result<()> {
         );
     }
     if let Some(frames) = args.time {
-        if frames == 0 || method == ShadowMethod::Reference {
-            bail!("--time {frames}: expected at least 1 frame of a real-time method");
-        }
         let light = scene.light;
         time_frames(
             &gpu,
