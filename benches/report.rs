@@ -186,22 +186,10 @@ fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() { f64::NAN } else { v[v.len() / 2] }
 }
 
+/// `light` turned `frame` hundredths of a degree about the vertical, so its maps are drawn
+/// again every frame.
 fn nudged(light: &Light, frame: usize) -> Light {
-    let turn = glam::Quat::from_rotation_y((frame as f32 * 0.01).to_radians());
-    match *light {
-        Light::Directional(l) => Light::Directional(penumbra::DirectionalLight {
-            direction: turn * l.direction,
-            ..l
-        }),
-        Light::Spot(l) => Light::Spot(penumbra::SpotLight {
-            direction: turn * l.direction,
-            ..l
-        }),
-        Light::Point(l) => Light::Point(penumbra::PointLight {
-            position: turn * l.position,
-            ..l
-        }),
-    }
+    light.turned(glam::Quat::from_rotation_y((frame as f32 * 0.01).to_radians()))
 }
 
 struct Timing {
@@ -230,64 +218,37 @@ fn time_frames(
     config: &Config,
 ) -> Result<Timing> {
     let format = wgpu::TextureFormat::Rgba8UnormSrgb;
-    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("bench target"),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    });
-    let view = target.create_view(&Default::default());
     let mut renderer = Renderer::new(&gpu.device, format, settings)?;
-    renderer.enable_timing(&gpu.device, &gpu.queue);
     let mut gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), scene)?;
-    renderer.resize(&gpu.device, width, height);
-    let mut times = Vec::new();
-    let mut gpu_times = Vec::new();
-    let mut passes: BTreeMap<String, Vec<f64>> = BTreeMap::new();
-    for i in 0..config.warmup + config.frames {
-        gpu_scene.set_light(nudged(&scene.light, i))?;
-        let start = Instant::now();
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        renderer.render(&gpu.queue, &mut encoder, &gpu_scene, camera, &view)?;
-        gpu.queue.submit([encoder.finish()]);
-        gpu.device.poll(wgpu::PollType::Wait {
-            submission_index: None,
-            timeout: None,
-        })?;
-        if i >= config.warmup {
-            times.push(start.elapsed().as_secs_f64() * 1e3);
-            if let Some(pass_times) = renderer.pass_times(&gpu.device) {
-                let pass_times = pass_times?;
-                gpu_times.push(pass_times.iter().map(|p| p.milliseconds).sum::<f64>());
-                for p in pass_times {
-                    passes.entry(p.pass.to_string()).or_default().push(p.milliseconds);
-                }
-            }
-        }
-    }
+    let timed = renderer.time_frames(
+        &gpu.device,
+        &gpu.queue,
+        &mut gpu_scene,
+        camera,
+        (width, height),
+        config.warmup,
+        config.frames,
+        |s, i| s.set_light(nudged(&scene.light, i)),
+    )?;
     let mask_saved_share = if renderer.last_report().is_some_and(|r| r.plan.distance_map) {
         Some(penumbra::debug::mask_savings(&gpu.device, &gpu.queue, &renderer)?.share)
     } else {
         None
     };
-    let wall_ms = median(times);
-    let frame_ms = if times_on_gpu(gpu) && gpu_times.len() == config.frames {
-        median(gpu_times)
+    let wall_ms = median(timed.wall_ms.clone());
+    let frame_ms = if times_on_gpu(gpu) && timed.pass_sum_ms.len() == config.frames {
+        median(timed.pass_sum_ms.clone())
     } else {
         wall_ms
     };
     Ok(Timing {
         frame_ms,
         wall_ms,
-        pass_ms: passes.into_iter().map(|(k, v)| (k, median(v))).collect(),
+        pass_ms: timed
+            .pass_medians()
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .collect(),
         mask_saved_share,
     })
 }

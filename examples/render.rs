@@ -10,6 +10,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use clap::Parser;
 use penumbra::debug::DebugView;
+use penumbra::timing::TimedFrames;
 use penumbra::{GpuScene, HeadlessGpu, Light, Quality, Renderer, ShadowMethod, ShadowSettings};
 
 #[derive(Parser)]
@@ -168,7 +169,10 @@ fn main() -> Result<()> {
             &camera,
             (width, height),
             frames,
-            |i| (!args.still_light).then(|| turned(&light, i)),
+            |i| {
+                (!args.still_light)
+                    .then(|| light.turned(glam::Quat::from_rotation_y((i as f32 * 0.01).to_radians())))
+            },
         )?;
     }
     eprintln!(
@@ -181,25 +185,6 @@ fn main() -> Result<()> {
     Ok(())
 }
 
-/// `light` turned `frame` hundredths of a degree about the vertical.
-fn turned(light: &Light, frame: usize) -> Light {
-    let turn = glam::Quat::from_rotation_y((frame as f32 * 0.01).to_radians());
-    match *light {
-        Light::Directional(l) => Light::Directional(penumbra::DirectionalLight {
-            direction: turn * l.direction,
-            ..l
-        }),
-        Light::Spot(l) => Light::Spot(penumbra::SpotLight {
-            direction: turn * l.direction,
-            ..l
-        }),
-        Light::Point(l) => Light::Point(penumbra::PointLight {
-            position: turn * l.position,
-            ..l
-        }),
-    }
-}
-
 /// Times `frames` frames after one warm-up (`light(i)`, when some, is set before frame `i`) and
 /// prints the median frame time and each pass's median.
 fn time_frames(
@@ -207,61 +192,31 @@ fn time_frames(
     renderer: &mut Renderer,
     scene: &mut GpuScene,
     camera: &penumbra::Camera,
-    (width, height): (u32, u32),
+    size: (u32, u32),
     frames: usize,
     light: impl Fn(usize) -> Option<Light>,
 ) -> Result<()> {
-    let format = wgpu::TextureFormat::Rgba8UnormSrgb;
-    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("render --time target"),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
+    let timed = renderer.time_frames(
+        &gpu.device,
+        &gpu.queue,
+        scene,
+        camera,
+        size,
+        1,
+        frames,
+        |scene, i| match light(i) {
+            Some(l) => scene.set_light(l),
+            None => Ok(()),
         },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    });
-    let view = target.create_view(&Default::default());
-    renderer.enable_timing(&gpu.device, &gpu.queue);
-    renderer.resize(&gpu.device, width, height);
-    let mut totals = Vec::new();
-    let mut passes: std::collections::BTreeMap<&'static str, Vec<f64>> = Default::default();
-    for i in 0..=frames {
-        if let Some(l) = light(i) {
-            scene.set_light(l)?;
-        }
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        renderer.render(&gpu.queue, &mut encoder, scene, camera, &view)?;
-        gpu.queue.submit([encoder.finish()]);
-        gpu.device.poll(wgpu::PollType::Wait {
-            submission_index: None,
-            timeout: None,
-        })?;
-        if i == 0 {
-            continue;
-        }
-        let times = renderer.pass_times(&gpu.device).context("timing is enabled")??;
-        totals.push(times.iter().map(|t| t.milliseconds).sum::<f64>());
-        for t in times {
-            passes.entry(t.pass).or_default().push(t.milliseconds);
-        }
-    }
-    let median = |mut v: Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
-    let per_pass: Vec<String> = passes
+    )?;
+    let per_pass: Vec<String> = timed
+        .pass_medians()
         .into_iter()
-        .map(|(pass, v)| format!("{pass} {:.2}", median(v)))
+        .map(|(pass, ms)| format!("{pass} {ms:.2}"))
         .collect();
     println!(
         "time: {frames} frames, median {:.2} ms; per pass (ms): {}",
-        median(totals),
+        TimedFrames::median(&timed.pass_sum_ms),
         per_pass.join(", ")
     );
     Ok(())

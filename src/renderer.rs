@@ -356,6 +356,76 @@ impl Renderer {
         self.timer.as_ref().map(|t| t.read(device))
     }
 
+    /// Renders `warmup + frames` frames of `scene` into a `width` x `height` target of this
+    /// renderer's format, timing every pass ([`Self::enable_timing`]), and returns the last
+    /// `frames` frames' times. `before_frame(scene, i)` runs before frame `i` (counting the
+    /// warm-up): a benchmark turns the light there so every pass runs.
+    #[allow(clippy::too_many_arguments)]
+    pub fn time_frames(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &mut GpuScene,
+        camera: &Camera,
+        (width, height): (u32, u32),
+        warmup: usize,
+        frames: usize,
+        mut before_frame: impl FnMut(&mut GpuScene, usize) -> Result<()>,
+    ) -> Result<crate::timing::TimedFrames> {
+        if width == 0 || height == 0 {
+            return Err(PenumbraError::setting(
+                "size",
+                format!("{width}x{height} has no pixels"),
+            ));
+        }
+        let target = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("Renderer::time_frames target"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: self.color_format(),
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        });
+        let view = target.create_view(&Default::default());
+        self.enable_timing(device, queue);
+        self.resize(device, width, height);
+        let mut timed = crate::timing::TimedFrames::default();
+        for i in 0..warmup + frames {
+            before_frame(scene, i)?;
+            let start = std::time::Instant::now();
+            let mut encoder = device.create_command_encoder(&Default::default());
+            self.render(queue, &mut encoder, scene, camera, &view)?;
+            queue.submit([encoder.finish()]);
+            device
+                .poll(wgpu::PollType::Wait {
+                    submission_index: None,
+                    timeout: None,
+                })
+                .map_err(|e| PenumbraError::Gpu {
+                    during: "waiting for a timed frame".into(),
+                    reason: e.to_string(),
+                })?;
+            if i < warmup {
+                continue;
+            }
+            timed.wall_ms.push(start.elapsed().as_secs_f64() * 1e3);
+            if let Some(times) = self.pass_times(device) {
+                let times = times?;
+                timed.pass_sum_ms.push(times.iter().map(|p| p.milliseconds).sum());
+                for p in times {
+                    timed.passes.entry(p.pass).or_default().push(p.milliseconds);
+                }
+            }
+        }
+        Ok(timed)
+    }
+
     /// What the last frame did.
     pub fn last_report(&self) -> Option<&FrameReport> {
         self.last_report.as_ref()

@@ -12,6 +12,31 @@ use crate::error::{PenumbraError, Result};
 /// The most timestamps one frame writes.
 const CAPACITY: u32 = 32;
 
+/// What [`crate::Renderer::time_frames`] measured, one entry per timed frame.
+#[derive(Debug, Clone, Default)]
+pub struct TimedFrames {
+    /// Submit to completion, CPU clock (ms).
+    pub wall_ms: Vec<f64>,
+    /// The frame's passes summed (ms): GPU time where timestamps exist.
+    pub pass_sum_ms: Vec<f64>,
+    /// Each pass's times (ms), by name.
+    pub passes: std::collections::BTreeMap<&'static str, Vec<f64>>,
+}
+
+impl TimedFrames {
+    /// The median of `values` (0 for none).
+    pub fn median(values: &[f64]) -> f64 {
+        let mut v = values.to_vec();
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(0.0)
+    }
+
+    /// Each pass's median (ms), by name.
+    pub fn pass_medians(&self) -> std::collections::BTreeMap<&'static str, f64> {
+        self.passes.iter().map(|(k, v)| (*k, Self::median(v))).collect()
+    }
+}
+
 /// One pass's GPU time.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PassTime {

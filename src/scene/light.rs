@@ -93,6 +93,26 @@ impl Light {
         d.normalize_or(Vec3::NEG_Y)
     }
 
+    /// The light turned by `rotation` about the world's origin: its direction (sun, spot) and
+    /// its position (spot, point); size, colour and intensity kept.
+    pub fn turned(&self, rotation: glam::Quat) -> Light {
+        match *self {
+            Light::Directional(l) => Light::Directional(DirectionalLight {
+                direction: rotation * l.direction,
+                ..l
+            }),
+            Light::Spot(l) => Light::Spot(SpotLight {
+                position: rotation * l.position,
+                direction: rotation * l.direction,
+                ..l
+            }),
+            Light::Point(l) => Light::Point(PointLight {
+                position: rotation * l.position,
+                ..l
+            }),
+        }
+    }
+
     /// Where the light is: `None` for a directional light.
     pub fn position(&self) -> Option<Vec3> {
         match self {
@@ -335,4 +355,56 @@ pub fn lights_from_model(
             light
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_turned_light_keeps_its_size_and_turns_its_direction_and_position() {
+        let quarter = glam::Quat::from_rotation_y(std::f32::consts::FRAC_PI_2);
+        let spot = Light::Spot(SpotLight {
+            position: Vec3::new(1.0, 4.0, 0.0),
+            direction: Vec3::new(0.0, -1.0, 1.0).normalize(),
+            cone_angle_deg: 30.0,
+            radius: 0.2,
+            color: Vec3::ONE,
+            intensity: 2.0,
+        });
+        let Light::Spot(turned) = spot.turned(quarter) else {
+            panic!("a spot stays a spot");
+        };
+        // A quarter turn about +y takes +x to -z and +z to +x.
+        assert!(turned.position.abs_diff_eq(Vec3::new(0.0, 4.0, -1.0), 1e-5));
+        assert!(
+            turned
+                .direction
+                .abs_diff_eq(Vec3::new(1.0, -1.0, 0.0).normalize(), 1e-5)
+        );
+        assert_eq!(
+            (turned.radius, turned.cone_angle_deg, turned.intensity),
+            (0.2, 30.0, 2.0)
+        );
+        let sun = Light::Directional(DirectionalLight {
+            direction: Vec3::X,
+            angular_diameter_deg: 0.53,
+            color: Vec3::ONE,
+            intensity: 1.0,
+        });
+        assert!(sun.turned(quarter).direction().abs_diff_eq(Vec3::NEG_Z, 1e-5));
+        let point = Light::Point(PointLight {
+            position: Vec3::Z,
+            radius: 0.1,
+            color: Vec3::ONE,
+            intensity: 1.0,
+        });
+        assert!(
+            point
+                .turned(quarter)
+                .position()
+                .unwrap()
+                .abs_diff_eq(Vec3::X, 1e-5)
+        );
+    }
 }
