@@ -207,6 +207,29 @@ pub fn read_texture_f32(
     })
 }
 
+/// A 2D colour target of `size` in `format` that can be rendered to and read back.
+pub(crate) fn color_target(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
 /// Renders one frame of `scene` from `camera` into a new `width` x `height` sRGB texture and
 /// returns it as an image. The renderer must have been made for `Rgba8UnormSrgb`.
 pub fn render_to_image(
@@ -244,20 +267,12 @@ pub fn render_to_image_with_progress(
             format!("{width}x{height} exceeds this device's limit of {limit} pixels per side"),
         ));
     }
-    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("penumbra::render_to_image target"),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: renderer.color_format(),
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    let target = color_target(
+        &gpu.device,
+        "penumbra::render_to_image target",
+        (width, height),
+        renderer.color_format(),
+    );
     let view = target.create_view(&Default::default());
     renderer.resize(&gpu.device, width, height);
     if renderer.settings().method == crate::ShadowMethod::Reference {

@@ -68,20 +68,7 @@ fn render_linear(
     let (device, queue) = gpu;
     let mut renderer = Renderer::new(device, format, settings)?;
     let gpu_scene = GpuScene::new(device, queue, renderer.layouts(), scene)?;
-    let target = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("metrics::target"),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    let target = crate::gpu::color_target(device, "metrics::target", (width, height), format);
     let view = target.create_view(&Default::default());
     renderer.resize(device, width, height);
     if settings.method == ShadowMethod::Reference {

@@ -378,20 +378,12 @@ impl Renderer {
                 format!("{width}x{height} has no pixels"),
             ));
         }
-        let target = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("Renderer::time_frames target"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: self.color_format(),
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            view_formats: &[],
-        });
+        let target = crate::gpu::color_target(
+            device,
+            "Renderer::time_frames target",
+            (width, height),
+            self.color_format(),
+        );
         let view = target.create_view(&Default::default());
         self.enable_timing(device, queue);
         self.resize(device, width, height);

@@ -436,24 +436,7 @@ fn lights_blurred_in_batches_get_what_a_blur_of_their_own_gives() {
     // A second frame with every light turned a little (the blur passes stay as bound) gives
     // what a fresh `Shadows` gives for the turned lights in its first frame.
     let turn = glam::Quat::from_rotation_y(0.4);
-    let turned: Vec<Light> = lights
-        .iter()
-        .map(|l| match *l {
-            Light::Directional(d) => Light::Directional(DirectionalLight {
-                direction: turn * d.direction,
-                ..d
-            }),
-            Light::Spot(sp) => Light::Spot(SpotLight {
-                position: turn * sp.position,
-                direction: turn * sp.direction,
-                ..sp
-            }),
-            Light::Point(p) => Light::Point(PointLight {
-                position: turn * p.position,
-                ..p
-            }),
-        })
-        .collect();
+    let turned: Vec<Light> = lights.iter().map(|l| l.turned(turn)).collect();
     let second_frame = |batch: bool, fresh: bool| -> Vec<Vec<f32>> {
         let mut settings = ShadowSettings::default();
         settings.penumbra.batch_lights = batch;
