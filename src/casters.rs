@@ -73,6 +73,28 @@ impl<'a> IndexStream<'a> {
     }
 }
 
+/// Which casters a light-space draw takes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Cull {
+    /// Every caster.
+    None,
+    /// Those whose world box, grown by `margin` (how far a pass pushes vertices out), reaches
+    /// into the clip volume of `view_projection`: one cascade or cube face.
+    Outside { view_projection: Mat4, margin: f32 },
+}
+
+impl Cull {
+    fn keeps(&self, bounds: &Aabb) -> bool {
+        match self {
+            Cull::None => true,
+            Cull::Outside {
+                view_projection,
+                margin,
+            } => crate::light_space::box_reaches_clip(view_projection, bounds, *margin),
+        }
+    }
+}
+
 /// Where penumbra reads a mesh's geometry once, to compute its bounds and smoothed normals.
 #[derive(Debug, Clone, Copy)]
 pub enum MeshGeometry<'a> {
@@ -749,16 +771,18 @@ impl Casters {
         out
     }
 
-    /// Draws every caster of `streams` into `pass`, whose group 0 is set. `pipeline` gives
-    /// the pass's pipeline for a draw layout (made beforehand from [`Casters::draw_layouts`]).
+    /// Draws every caster of `streams` that `cull` keeps into `pass`, whose group 0 is set.
+    /// `pipeline` gives the pass's pipeline for a draw layout (made beforehand from
+    /// [`Casters::draw_layouts`]).
     pub(crate) fn draw<'p>(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         streams: Streams,
+        cull: Cull,
         pipeline: impl Fn(DrawLayout) -> Option<&'p wgpu::RenderPipeline>,
     ) {
         let mut current: Option<DrawLayout> = None;
-        for (mesh, record) in self.draws(streams) {
+        for (mesh, record) in self.draws(streams).filter(|(_, r)| cull.keeps(&r.world_bounds)) {
             let layout = draw_layout(mesh, record, streams);
             if current != Some(layout) {
                 let Some(p) = pipeline(layout) else { continue };

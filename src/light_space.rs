@@ -786,10 +786,66 @@ fn clip_polygon(polygon: &[Vec3], plane: Vec4) -> Vec<Vec3> {
     out
 }
 
+/// Whether the box `b`, grown by `margin` on every side, reaches into the clip volume of
+/// `view_projection` (x and y in [-w, w], depth in [0, w]): false only when all its corners lie
+/// beyond one plane, so a draw culled by it can miss nothing.
+pub(crate) fn box_reaches_clip(view_projection: &glam::Mat4, b: &crate::scene::Aabb, margin: f32) -> bool {
+    if b.is_empty() {
+        return false;
+    }
+    let m = glam::Vec3::splat(margin);
+    let clip = crate::scene::Aabb::new(b.min - m, b.max + m)
+        .corners()
+        .map(|c| *view_projection * c.extend(1.0));
+    let beyond = |f: &dyn Fn(&glam::Vec4) -> bool| clip.iter().all(f);
+    !(beyond(&|c| c.x < -c.w)
+        || beyond(&|c| c.x > c.w)
+        || beyond(&|c| c.y < -c.w)
+        || beyond(&|c| c.y > c.w)
+        || beyond(&|c| c.z < 0.0)
+        || beyond(&|c| c.z > c.w))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::scene::{DirectionalLight, SpotLight};
+
+    /// The per-tile culling test keeps a box inside the clip volume, drops one wholly beyond a
+    /// side plane, behind the near plane or past the far one, and keeps it again when the
+    /// margin (a pass's push) reaches back in.
+    #[test]
+    fn boxes_beyond_a_clip_plane_are_culled_and_a_margin_brings_them_back() {
+        // Orthographic: x, y in [-2, 2], looking down -z from the origin, depth 1 to 11.
+        let projection = glam::camera::rh::proj::directx::orthographic(-2.0, 2.0, -2.0, 2.0, 1.0, 11.0);
+        let unit = |c: Vec3| Aabb::new(c - Vec3::splat(0.5), c + Vec3::splat(0.5));
+        assert!(box_reaches_clip(
+            &projection,
+            &unit(Vec3::new(0.0, 0.0, -5.0)),
+            0.0
+        ));
+        // Half in, half out.
+        assert!(box_reaches_clip(
+            &projection,
+            &unit(Vec3::new(2.2, 0.0, -5.0)),
+            0.0
+        ));
+        for outside in [
+            Vec3::new(3.0, 0.0, -5.0),
+            Vec3::new(-3.0, 0.0, -5.0),
+            Vec3::new(0.0, 3.0, -5.0),
+            Vec3::new(0.0, -3.0, -5.0),
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, -12.0),
+        ] {
+            assert!(!box_reaches_clip(&projection, &unit(outside), 0.0), "{outside}");
+            assert!(
+                box_reaches_clip(&projection, &unit(outside), 0.6),
+                "{outside} with a margin"
+            );
+        }
+        assert!(!box_reaches_clip(&projection, &Aabb::EMPTY, 1.0));
+    }
 
     fn inside(vp: &Mat4, p: Vec3) -> bool {
         let c = *vp * p.extend(1.0);

@@ -1135,22 +1135,7 @@ fn sees(light_view: &LightView, b: &Aabb, margin: f32) -> bool {
         let position = light_view.source().truncate();
         return position.clamp(b.min, b.max).distance(position) <= light_view.far + margin;
     }
-    let grown = Aabb::new(
-        b.min - glam::Vec3::splat(margin),
-        b.max + glam::Vec3::splat(margin),
-    );
-    let clip: Vec<glam::Vec4> = grown
-        .corners()
-        .iter()
-        .map(|c| light_view.view_projection * c.extend(1.0))
-        .collect();
-    let outside = |f: &dyn Fn(&glam::Vec4) -> bool| clip.iter().all(f);
-    !(outside(&|c| c.x < -c.w)
-        || outside(&|c| c.x > c.w)
-        || outside(&|c| c.y < -c.w)
-        || outside(&|c| c.y > c.w)
-        || outside(&|c| c.z < 0.0)
-        || outside(&|c| c.z > c.w))
+    crate::light_space::box_reaches_clip(&light_view.view_projection, b, margin)
 }
 
 /// The size of a valid engine depth texture.

@@ -106,6 +106,7 @@ impl ExitMapPass {
             };
             self.uniform.write(queue, i, bytemuck::bytes_of(&uniform));
         }
+        self.uniform.cull_to(light, 0.0);
         self.cascades = light.cascades().len() as u32;
     }
 
@@ -113,8 +114,8 @@ impl ExitMapPass {
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
         let mut pass = begin_depth_pass(encoder, "ExitMapPass", &self.view);
         let tiles = (self.texture.width(), self.grid, self.cascades);
-        self.uniform.draw_tiles(&mut pass, tiles, |pass| {
-            casters.draw(pass, Streams::Fattened, |l| self.pipelines.get(l));
+        self.uniform.draw_tiles(&mut pass, tiles, |pass, cull| {
+            casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));
         });
     }
 }

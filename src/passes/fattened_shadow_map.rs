@@ -146,6 +146,8 @@ impl FattenedShadowMapPass {
             };
             self.uniform.write(queue, i, bytemuck::bytes_of(&uniform));
         }
+        // Pushed out, a caster reaches `fatten_distance` past its box.
+        self.uniform.cull_to(light, fatten_distance);
         self.cascades = light.cascades().len() as u32;
     }
 
@@ -157,8 +159,8 @@ impl FattenedShadowMapPass {
             ..depth_pass_descriptor(&self.view)
         });
         let tiles = (self.texture.width(), self.grid, self.cascades);
-        self.uniform.draw_tiles(&mut pass, tiles, |pass| {
-            casters.draw(pass, Streams::Fattened, |l| self.pipelines.get(l));
+        self.uniform.draw_tiles(&mut pass, tiles, |pass, cull| {
+            casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));
         });
     }
 }

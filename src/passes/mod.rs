@@ -340,6 +340,8 @@ pub(crate) struct CascadeUniforms {
     buffer: wgpu::Buffer,
     group: wgpu::BindGroup,
     stride: u64,
+    /// Per tile, the casters it draws ([`CascadeUniforms::cull_to`]).
+    cull: Vec<crate::casters::Cull>,
 }
 
 impl CascadeUniforms {
@@ -373,7 +375,23 @@ impl CascadeUniforms {
             buffer,
             group,
             stride,
+            cull: Vec::new(),
         }
+    }
+
+    /// From now on each tile draws only the casters its cascade (or cube face) of `light` can
+    /// see, their boxes grown by `margin` (the fatten distance for a pass that pushes vertices
+    /// out). A cascade near the camera or one face of a point light's cube sees a part of the
+    /// scene; every tile drew every caster before.
+    pub fn cull_to(&mut self, light: &crate::light_space::LightView, margin: f32) {
+        self.cull = light
+            .cascades()
+            .iter()
+            .map(|c| crate::casters::Cull::Outside {
+                view_projection: c.view_projection,
+                margin,
+            })
+            .collect();
     }
 
     /// Uploads cascade `index`'s data.
@@ -387,13 +405,14 @@ impl CascadeUniforms {
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         (side, grid, count): (u32, u32, u32),
-        mut draw: impl FnMut(&mut wgpu::RenderPass<'_>),
+        mut draw: impl FnMut(&mut wgpu::RenderPass<'_>, crate::casters::Cull),
     ) {
         for index in 0..count.max(1) {
             let [x, y, w, h] = crate::light_space::tile_viewport(grid, index, side);
             pass.set_viewport(x as f32, y as f32, w as f32, h as f32, 0.0, 1.0);
             pass.set_bind_group(0, &self.group, &[(self.stride * u64::from(index)) as u32]);
-            draw(pass);
+            let cull = self.cull.get(index as usize).copied();
+            draw(pass, cull.unwrap_or(crate::casters::Cull::None));
         }
     }
 }

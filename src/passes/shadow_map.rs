@@ -134,6 +134,7 @@ impl ShadowMapPass {
                 }),
             );
         }
+        self.light.cull_to(light, 0.0);
         self.cascades = light.cascades().len() as u32;
     }
 
@@ -141,9 +142,9 @@ impl ShadowMapPass {
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
         let mut pass = begin_depth_pass(encoder, "ShadowMapPass", &self.view);
         let tiles = (self.texture.width(), self.grid, self.cascades);
-        self.light.draw_tiles(&mut pass, tiles, |pass| {
-            casters.draw(pass, Streams::OpaqueDepth, |l| self.opaque.get(l));
-            casters.draw(pass, Streams::MaskedDepth, |l| self.masked.get(l));
+        self.light.draw_tiles(&mut pass, tiles, |pass, cull| {
+            casters.draw(pass, Streams::OpaqueDepth, cull, |l| self.opaque.get(l));
+            casters.draw(pass, Streams::MaskedDepth, cull, |l| self.masked.get(l));
         });
     }
 }
