@@ -207,6 +207,25 @@ pub fn read_texture_f32(
     })
 }
 
+/// An error naming the size when a `width` x `height` target has no pixels or exceeds the
+/// device's texture limit.
+pub(crate) fn check_target_size(device: &wgpu::Device, (width, height): (u32, u32)) -> Result<()> {
+    if width == 0 || height == 0 {
+        return Err(PenumbraError::setting(
+            "size",
+            format!("{width}x{height} has no pixels"),
+        ));
+    }
+    let limit = device.limits().max_texture_dimension_2d;
+    if width > limit || height > limit {
+        return Err(PenumbraError::setting(
+            "size",
+            format!("{width}x{height} exceeds this device's limit of {limit} pixels per side"),
+        ));
+    }
+    Ok(())
+}
+
 /// A 2D colour target of `size` in `format` that can be rendered to and read back.
 pub(crate) fn color_target(
     device: &wgpu::Device,
@@ -254,19 +273,7 @@ pub fn render_to_image_with_progress(
     height: u32,
     progress: impl FnMut(u32, u32),
 ) -> Result<image::RgbaImage> {
-    if width == 0 || height == 0 {
-        return Err(PenumbraError::setting(
-            "size",
-            format!("{width}x{height} has no pixels"),
-        ));
-    }
-    let limit = gpu.device.limits().max_texture_dimension_2d;
-    if width > limit || height > limit {
-        return Err(PenumbraError::setting(
-            "size",
-            format!("{width}x{height} exceeds this device's limit of {limit} pixels per side"),
-        ));
-    }
+    check_target_size(&gpu.device, (width, height))?;
     let target = color_target(
         &gpu.device,
         "penumbra::render_to_image target",

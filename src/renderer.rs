@@ -372,12 +372,7 @@ impl Renderer {
         frames: usize,
         mut before_frame: impl FnMut(&mut GpuScene, usize) -> Result<()>,
     ) -> Result<crate::timing::TimedFrames> {
-        if width == 0 || height == 0 {
-            return Err(PenumbraError::setting(
-                "size",
-                format!("{width}x{height} has no pixels"),
-            ));
-        }
+        crate::gpu::check_target_size(device, (width, height))?;
         let target = crate::gpu::color_target(
             device,
             "Renderer::time_frames target",

@@ -43,3 +43,71 @@ fn both_timers_time_every_pass_the_frame_ran() {
     }
     assert_eq!(images[0], images[1], "timing must not change the frame");
 }
+
+/// `Renderer::time_frames` (the benchmark's loop): one entry per timed frame after the
+/// warm-up, every pass named, the maps drawn each frame when the light turns; a size with no
+/// pixels or past the device's limit is an error naming the size.
+#[test]
+fn time_frames_times_each_frame_and_refuses_impossible_sizes() {
+    let gpu = common::gpu();
+    let scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let camera = scene.view(0).unwrap();
+    let mut renderer = Renderer::new(
+        &gpu.device,
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        ShadowSettings::default(),
+    )
+    .unwrap();
+    let mut gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
+    let light = scene.light;
+    let mut calls = 0;
+    let timed = renderer
+        .time_frames(
+            &gpu.device,
+            &gpu.queue,
+            &mut gpu_scene,
+            &camera,
+            (96, 72),
+            2,
+            3,
+            |s, i| {
+                calls += 1;
+                s.set_light(light.turned(glam::Quat::from_rotation_y(i as f32 * 0.01)))
+            },
+        )
+        .unwrap();
+    assert_eq!(calls, 5, "before_frame runs before every frame, warm-up included");
+    assert_eq!((timed.wall_ms.len(), timed.pass_sum_ms.len()), (3, 3));
+    for pass in [
+        "shadow map",
+        "fattened shadow map",
+        "distance map",
+        "pcf",
+        "blur",
+        "composite",
+    ] {
+        let times = timed
+            .passes
+            .get(pass)
+            .unwrap_or_else(|| panic!("{pass} missing: {:?}", timed.passes.keys()));
+        assert_eq!(times.len(), 3, "{pass}");
+        assert!(times.iter().all(|t| *t > 0.0), "{pass}: {times:?}");
+    }
+    let limit = gpu.device.limits().max_texture_dimension_2d;
+    for size in [(0, 72), (limit + 1, 8)] {
+        let error = renderer
+            .time_frames(
+                &gpu.device,
+                &gpu.queue,
+                &mut gpu_scene,
+                &camera,
+                size,
+                0,
+                1,
+                |_, _| Ok(()),
+            )
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("size"), "{size:?}: {error}");
+    }
+}
