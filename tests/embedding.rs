@@ -216,6 +216,28 @@ fn sun(azimuth_deg: f32) -> Light {
     })
 }
 
+/// A spot light above the box, its cone over the box and the floor.
+fn spot_over_the_box() -> Light {
+    Light::Spot(SpotLight {
+        position: Vec3::new(-2.0, 6.0, 1.0),
+        direction: Vec3::new(0.3, -1.0, -0.15).normalize(),
+        cone_angle_deg: 40.0,
+        radius: 0.3,
+        color: Vec3::ONE,
+        intensity: 1.0,
+    })
+}
+
+/// A point light beside and above the box.
+fn point_beside_the_box() -> Light {
+    Light::Point(PointLight {
+        position: Vec3::new(2.5, 4.0, -2.0),
+        radius: 0.3,
+        color: Vec3::ONE,
+        intensity: 1.0,
+    })
+}
+
 /// A top-down orthographic camera over [-4, 4]^2 with standard depth.
 fn top_camera() -> CameraMatrices {
     CameraMatrices {
@@ -399,20 +421,8 @@ fn lights_blurred_in_batches_get_what_a_blur_of_their_own_gives() {
     let w = world(&gpu);
     let depth = DepthPass::new(device);
     let mut lights: Vec<Light> = [20.0, 110.0, 200.0, 290.0].map(sun).to_vec();
-    lights.push(Light::Spot(SpotLight {
-        position: Vec3::new(-2.0, 6.0, 1.0),
-        direction: Vec3::new(0.3, -1.0, -0.15).normalize(),
-        cone_angle_deg: 40.0,
-        radius: 0.3,
-        color: Vec3::ONE,
-        intensity: 1.0,
-    }));
-    lights.push(Light::Point(PointLight {
-        position: Vec3::new(2.5, 4.0, -2.0),
-        radius: 0.3,
-        color: Vec3::ONE,
-        intensity: 1.0,
-    }));
+    lights.push(spot_over_the_box());
+    lights.push(point_beside_the_box());
     let layers = |batch: bool| -> Vec<Vec<f32>> {
         let mut settings = ShadowSettings::default();
         settings.penumbra.batch_lights = batch;
@@ -489,20 +499,8 @@ fn a_light_that_changes_kind_shadows_as_a_fresh_light_of_that_kind() {
     let device = &gpu.device;
     let w = world(&gpu);
     let depth = DepthPass::new(device);
-    let spot = Light::Spot(SpotLight {
-        position: Vec3::new(-2.0, 6.0, 1.0),
-        direction: Vec3::new(0.3, -1.0, -0.15).normalize(),
-        cone_angle_deg: 40.0,
-        radius: 0.3,
-        color: Vec3::ONE,
-        intensity: 1.0,
-    });
-    let point = Light::Point(PointLight {
-        position: Vec3::new(2.5, 4.0, -2.0),
-        radius: 0.3,
-        color: Vec3::ONE,
-        intensity: 1.0,
-    });
+    let spot = spot_over_the_box();
+    let point = point_beside_the_box();
     for method in [ShadowMethod::Ours, ShadowMethod::Pcss] {
         let settings = ShadowSettings::preset(method, penumbra::Quality::Medium);
         let fresh = |light: Light| {
