@@ -18,6 +18,8 @@ override MASK_EARLY_OUT: bool = true;
 @group(0) @binding(4) var occluder_offset: texture_2d<f32>;
 // The casters' back faces from the light: where along the light an occluder ends.
 @group(0) @binding(5) var exit_map: texture_2d<f32>;
+// The real shadow map: beside a shadow, where its nearest caster is.
+@group(0) @binding(6) var shadow_map: texture_depth_2d;
 
 struct Out {
     @location(0) distance: vec4<f32>,
@@ -65,5 +67,68 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     if exit < p.z {
         d = min(d, max(light_linear_depth(p.z) - light_linear_depth(exit), 0.0));
     }
+    // Beside the shadow (the light's centre in sight), the penumbra's outer half is shaped by
+    // the caster point the receiver sees nearest the light's centre, which the fattened surface
+    // does not always stand for (beside a thick caster's foot it is a lower corner).
+    d = min(d, nearest_caster(world, p, d));
     return classified(d, 1.0, true);
+}
+
+// Sides of the ring search: taps per ring and rings.
+const RING_TAPS: i32 = 8;
+const RINGS: i32 = 3;
+
+// Beside a shadow: the distance to the caster texel of the real shadow map that the receiver at
+// `world` (shadow-map position `p`) sees nearest, in angle, to the light's centre, within the
+// light's own angular radius. Searched on rings out to where the penumbra the fattened
+// surface's distance `d` gives would reach; `d` itself where the receiver's centre ray is
+// blocked (the inner half) or no caster texel is found.
+fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
+    let size = vec2<f32>(textureDimensions(shadow_map));
+    let tile = frame.cascades.tile[cascade];
+    let center = clamp(vec2<i32>(p.xy * size), vec2<i32>(0), vec2<i32>(size) - 1);
+    if textureLoad(shadow_map, center, 0) < p.z {
+        return d;
+    }
+    let receiver_depth = light_linear_depth(p.z);
+    // World units across the light per unit of uv at a light depth: the receiver's scaled.
+    var uv_world_at_receiver = shadow_map_world_size(world).x;
+    // The light's angular radius seen from the receiver, and the widest the search reaches.
+    var half_angle = 0.5 * frame.light.size_term;
+    var reach_depth = receiver_depth;
+    if light_perspective() {
+        let to_light = length(world - frame.light.position);
+        half_angle = 0.5 * frame.light.size_term / max(to_light - d, 1e-4 * to_light + 1e-20);
+        reach_depth = max(receiver_depth - d, 1e-6);
+    }
+    let uv_world_at_reach = select(
+        uv_world_at_receiver,
+        uv_world_at_receiver * reach_depth / max(receiver_depth, 1e-20),
+        light_perspective(),
+    );
+    let radius = min(half_angle * d / max(uv_world_at_reach, 1e-20), 48.0 / size.x);
+    // A caster texel closer than two texels along the light is the receiver's own surface.
+    let texel_world = uv_world_at_receiver / frame.light.resolution;
+    var best_angle = 1e30;
+    var best = d;
+    for (var ring = 1; ring <= RINGS; ring += 1) {
+        let r = radius * f32(ring) / f32(RINGS);
+        for (var k = 0; k < RING_TAPS; k += 1) {
+            let a = 6.2831853 * (f32(k) + 0.5 * f32(ring & 1)) / f32(RING_TAPS);
+            let uv = clamp(p.xy + r * vec2<f32>(cos(a), sin(a)), tile.xy, tile.zw);
+            let z = textureLoad(shadow_map, vec2<i32>(uv * size), 0);
+            let caster_depth = light_linear_depth(z);
+            let dt = receiver_depth - caster_depth;
+            var uv_world = uv_world_at_receiver;
+            if light_perspective() {
+                uv_world = uv_world_at_receiver * caster_depth / max(receiver_depth, 1e-20);
+            }
+            let angle = length(uv - p.xy) * uv_world / max(dt, 1e-20);
+            if z < p.z && dt > 2.0 * texel_world && angle < best_angle {
+                best_angle = angle;
+                best = dt;
+            }
+        }
+    }
+    return best;
 }

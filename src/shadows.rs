@@ -1057,6 +1057,7 @@ impl LightState {
                 f.view(),
                 f.occluder_offset(),
                 e.view(),
+                shadow_map,
                 depth,
                 mask,
             );

@@ -57,6 +57,7 @@ impl DistanceMapPass {
                 entry::texture_2d(3, unfilterable),
                 entry::texture_2d(4, unfilterable),
                 entry::texture_2d(5, unfilterable),
+                entry::texture_2d(6, wgpu::TextureSampleType::Depth),
             ],
         });
         let pipeline = Fullscreen {
@@ -131,6 +132,7 @@ impl DistanceMapPass {
         fattened_map: &wgpu::TextureView,
         occluder_offset: &wgpu::TextureView,
         exit_map: &wgpu::TextureView,
+        shadow_map: &wgpu::TextureView,
         camera_depth: &wgpu::TextureView,
         receiver_mask: &wgpu::TextureView,
     ) {
@@ -144,6 +146,7 @@ impl DistanceMapPass {
                 wgpu::BindingResource::TextureView(receiver_mask),
                 wgpu::BindingResource::TextureView(occluder_offset),
                 wgpu::BindingResource::TextureView(exit_map),
+                wgpu::BindingResource::TextureView(shadow_map),
             ]),
         }));
     }
