@@ -5,11 +5,16 @@
 // For each receiver pixel it writes the distance along the light from the occluder to the
 // receiver (world units, >= 0) and a mask: 1 inside the fattened shadow, 0 outside it, -1 on
 // pixels the receiver mask excludes (distance 0), -2 where nothing was drawn. As depth it writes
-// 1 where a shadow can fall and 0 elsewhere: the later passes test their full-screen triangle
+// 1 beside a shadow (inside the fattened shadow, the light's centre in sight), 0.5 elsewhere a
+// shadow can fall and 0 where none can: the later passes test their full-screen triangle
 // against it, so the rasterizer skips every pixel no shadow reaches before their shaders run.
+// A second draw (`fs_nearest_caster`), tested to run only beside a shadow, takes the distance
+// there to the caster the receiver sees nearest the light's centre.
 
 // Compile-time switch (pipeline override constant): false classifies every receiver pixel.
 override MASK_EARLY_OUT: bool = true;
+// false: no second draw, the distance beside a shadow stays the fattened surface's
+override NEAREST_CASTER: bool = true;
 
 @group(0) @binding(1) var fattened_map: texture_2d<f32>;
 @group(0) @binding(2) var camera_depth: texture_2d<f32>;
@@ -23,40 +28,31 @@ override MASK_EARLY_OUT: bool = true;
 
 struct Out {
     @location(0) distance: vec4<f32>,
-    // 1: a shadow can fall here, the later passes run
+    // > 0: a shadow can fall here, the later passes run; 1: beside the shadow (the light's
+    // centre in sight), where `fs_nearest_caster` runs
     @builtin(frag_depth) shadow_here: f32,
 }
 
-fn classified(distance: f32, mask: f32, shadow_here: bool) -> Out {
+// The classification depth of a pixel beside a shadow; other pixels where a shadow can fall
+// get half of it.
+const BESIDE: f32 = 1.0;
+
+fn classified(distance: f32, mask: f32, shadow_here: f32) -> Out {
     var out: Out;
     out.distance = vec4<f32>(distance, mask, 0.0, 0.0);
-    out.shadow_here = select(0.0, 1.0, shadow_here);
+    out.shadow_here = shadow_here;
     return out;
 }
 
-@fragment
-fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
-    let pixel = vec2<i32>(frag.xy);
-    let depth = textureLoad(camera_depth, pixel, 0).x;
-    if is_background(depth) {
-        return classified(0.0, -2.0, false);
-    }
-    // Non-receivers are marked -1 so the blur can leave them out.
-    if frame.view.has_receiver_mask != 0u && textureLoad(receiver_mask, pixel, 0).x < 0.5 {
-        return classified(0.0, -1.0, false);
-    }
-    use_pixel_cascade(frag.xy, depth);
-    let world = world_position(frag.xy, depth);
-    let p = to_shadow_map(world);
+// The fattened map's texel for shadow-map position `p`.
+fn fattened_texel(p: vec3<f32>) -> vec2<i32> {
     let size = vec2<i32>(textureDimensions(fattened_map));
-    let texel = clamp(vec2<i32>(p.xy * vec2<f32>(size)), vec2<i32>(0), size - 1);
-    let fattened_depth = textureLoad(fattened_map, texel, 0).x;
-    let tile = frame.cascades.tile[cascade];
-    let on_map = all(p.xy >= tile.xy) && all(p.xy <= tile.zw) && p.z <= 1.0;
-    let inside = on_map && fattened_depth < p.z;
-    if !inside {
-        return classified(0.0, 0.0, !MASK_EARLY_OUT && p.z <= 1.0);
-    }
+    return clamp(vec2<i32>(p.xy * vec2<f32>(size)), vec2<i32>(0), size - 1);
+}
+
+// The distance from the caster to a receiver at shadow-map position `p` inside the fattened
+// shadow (`texel` its fattened-map texel, `fattened_depth` the depth there).
+fn fattened_distance(p: vec3<f32>, texel: vec2<i32>, fattened_depth: f32) -> f32 {
     // The fattened map says where a shadow can fall; the distance is to the caster itself,
     // which lies `occluder_offset` behind the fattened surface.
     let occluder = light_linear_depth(fattened_depth) + textureLoad(occluder_offset, texel, 0).x;
@@ -67,29 +63,76 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     if exit < p.z {
         d = min(d, max(light_linear_depth(p.z) - light_linear_depth(exit), 0.0));
     }
-    // Beside the shadow (the light's centre in sight), the penumbra's outer half is shaped by
-    // the caster point the receiver sees nearest the light's centre, which the fattened surface
-    // does not always stand for (beside a thick caster's foot it is a lower corner).
-    d = min(d, nearest_caster(world, p, d));
-    return classified(d, 1.0, true);
+    return d;
+}
+
+// The real shadow map's texel for shadow-map position `p`.
+fn shadow_texel(p: vec2<f32>) -> vec2<i32> {
+    let size = vec2<i32>(textureDimensions(shadow_map));
+    return clamp(vec2<i32>(p * vec2<f32>(size)), vec2<i32>(0), size - 1);
+}
+
+@fragment
+fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
+    let pixel = vec2<i32>(frag.xy);
+    let depth = textureLoad(camera_depth, pixel, 0).x;
+    if is_background(depth) {
+        return classified(0.0, -2.0, 0.0);
+    }
+    // Non-receivers are marked -1 so the blur can leave them out.
+    if frame.view.has_receiver_mask != 0u && textureLoad(receiver_mask, pixel, 0).x < 0.5 {
+        return classified(0.0, -1.0, 0.0);
+    }
+    use_pixel_cascade(frag.xy, depth);
+    let world = world_position(frag.xy, depth);
+    let p = to_shadow_map(world);
+    let texel = fattened_texel(p);
+    let fattened_depth = textureLoad(fattened_map, texel, 0).x;
+    let tile = frame.cascades.tile[cascade];
+    let on_map = all(p.xy >= tile.xy) && all(p.xy <= tile.zw) && p.z <= 1.0;
+    let inside = on_map && fattened_depth < p.z;
+    if !inside {
+        return classified(0.0, 0.0, select(0.0, 0.5 * BESIDE, !MASK_EARLY_OUT && p.z <= 1.0));
+    }
+    // Beside the shadow `fs_nearest_caster` takes the distance again.
+    let beside = NEAREST_CASTER && textureLoad(shadow_map, shadow_texel(p.xy), 0) >= p.z;
+    return classified(fattened_distance(p, texel, fattened_depth), 1.0, select(0.5 * BESIDE, BESIDE, beside));
+}
+
+// The full-screen triangle of the second draw, between the two classifications: tested with
+// `Less`, it runs only beside a shadow.
+@vertex
+fn vs_beside(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {
+    let uv = vec2<f32>(f32((index << 1u) & 2u), f32(index & 2u));
+    return vec4<f32>(uv * 2.0 - 1.0, 0.75 * BESIDE, 1.0);
+}
+
+// Beside a shadow (the light's centre in sight), the penumbra's outer half is shaped by the
+// caster point the receiver sees nearest the light's centre, which the fattened surface does
+// not always stand for (beside a thick caster's foot it is a lower corner): the distance to
+// the nearest caster texel of the real shadow map, when nearer.
+@fragment
+fn fs_nearest_caster(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let depth = textureLoad(camera_depth, vec2<i32>(frag.xy), 0).x;
+    use_pixel_cascade(frag.xy, depth);
+    let world = world_position(frag.xy, depth);
+    let p = to_shadow_map(world);
+    let texel = fattened_texel(p);
+    let d = fattened_distance(p, texel, textureLoad(fattened_map, texel, 0).x);
+    return vec4<f32>(min(d, nearest_caster(world, p, d)), 1.0, 0.0, 0.0);
 }
 
 // Sides of the ring search: taps per ring and rings.
 const RING_TAPS: i32 = 8;
-const RINGS: i32 = 3;
+const RINGS: i32 = 2;
 
 // Beside a shadow: the distance to the caster texel of the real shadow map that the receiver at
-// `world` (shadow-map position `p`) sees nearest, in angle, to the light's centre, within the
-// light's own angular radius. Searched on rings out to where the penumbra the fattened
-// surface's distance `d` gives would reach; `d` itself where the receiver's centre ray is
-// blocked (the inner half) or no caster texel is found.
+// `world` (shadow-map position `p`) sees nearest, in angle, to the light's centre. Searched on
+// rings out to where the penumbra the fattened surface's distance `d` gives would reach; `d`
+// itself where no caster texel is found.
 fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
     let size = vec2<f32>(textureDimensions(shadow_map));
     let tile = frame.cascades.tile[cascade];
-    let center = clamp(vec2<i32>(p.xy * size), vec2<i32>(0), vec2<i32>(size) - 1);
-    if textureLoad(shadow_map, center, 0) < p.z {
-        return d;
-    }
     let receiver_depth = light_linear_depth(p.z);
     // World units across the light per unit of uv at a light depth: the receiver's scaled.
     var uv_world_at_receiver = shadow_map_world_size(world).x;

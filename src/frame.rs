@@ -145,6 +145,14 @@ pub(crate) struct PcfSwitches {
     pub mask_early_out: bool,
 }
 
+/// The distance map's compile-time switches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct DistanceSwitches {
+    pub mask_early_out: bool,
+    /// Beside a shadow, the distance to the nearest caster (a second draw).
+    pub nearest_caster: bool,
+}
+
 /// The blur's compile-time switches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub(crate) struct BlurSwitches {
@@ -168,6 +176,7 @@ pub(crate) struct BlurParams {
 pub(crate) struct PassParams {
     pub pcf: PcfUniform,
     pub pcf_switches: PcfSwitches,
+    pub distance_switches: DistanceSwitches,
     pub blur: BlurParams,
     pub blur_switches: BlurSwitches,
     pub pcss: PcssUniform,
@@ -235,6 +244,10 @@ impl PassParams {
             pcf_switches: PcfSwitches {
                 rotate_taps: p.rotate_taps,
                 mask_early_out: p.mask_early_out,
+            },
+            distance_switches: DistanceSwitches {
+                mask_early_out: p.mask_early_out,
+                nearest_caster: p.nearest_caster,
             },
             blur,
             blur_switches: BlurSwitches {

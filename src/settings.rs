@@ -185,6 +185,14 @@ pub struct PenumbraSettings {
     pub rotate_taps: bool,
     /// Take no shadow-map taps where the mask says no shadow can fall. Default true.
     pub mask_early_out: bool,
+    /// Beside a shadow (inside the fattened shadow, the light's centre in sight), take the
+    /// distance to the caster the receiver sees nearest the light's centre: a search of 16 taps
+    /// of the real shadow map, only at those pixels. Without it the distance there is the
+    /// fattened surface's, which beside a thick caster's foot is too far (README, "Where ours
+    /// stands": penumbra RMSE 12-16% lower with it, at 10-15 ms of the distance map's 30 on
+    /// lavapipe). Default true.
+    #[cfg_attr(feature = "serde", serde(default = "default_true"))]
+    pub nearest_caster: bool,
     /// Taps of each blur direction, odd, in [1, 31]. Default 11.
     pub blur_taps: u32,
     /// Weight blur taps by depth similarity so the blur does not bleed across depth
@@ -212,6 +220,7 @@ impl Default for PenumbraSettings {
             pcf_variance_share: 0.5,
             rotate_taps: true,
             mask_early_out: true,
+            nearest_caster: true,
             blur_taps: 11,
             depth_aware_blur: true,
             batch_lights: false,

@@ -925,7 +925,7 @@ impl LightState {
         if self
             .distance
             .as_ref()
-            .is_some_and(|p| p.mask_early_out() != params.pcf_switches.mask_early_out)
+            .is_some_and(|p| p.switches() != params.distance_switches)
         {
             self.distance = None;
         }
@@ -1013,7 +1013,7 @@ impl LightState {
         screen!(
             self.distance,
             chain.distance_map,
-            DistanceMapPass::new(device, FRAME_SIZE, params.pcf_switches.mask_early_out, kind)
+            DistanceMapPass::new(device, FRAME_SIZE, params.distance_switches, kind)
         );
         screen!(
             self.pcf,

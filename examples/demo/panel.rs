@@ -286,6 +286,10 @@ impl DemoApp {
                 odd_taps(ui, &mut p.blur_taps, "blur taps");
                 ui.checkbox(&mut p.rotate_taps, "rotate PCF taps per pixel");
                 ui.checkbox(&mut p.mask_early_out, "mask early-out (no taps outside the mask)");
+                ui.checkbox(
+                    &mut p.nearest_caster,
+                    "beside a shadow, distance to the nearest caster",
+                );
                 ui.checkbox(&mut p.depth_aware_blur, "depth-aware blur");
                 ui.checkbox(&mut p.batch_lights, "blur lights in batches of four");
                 ui.add(egui::Slider::new(&mut p.indirect_weight, 0.0..=1.0).text("indirect_weight"));

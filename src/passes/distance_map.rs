@@ -1,7 +1,7 @@
 //! Distance map pass: a full-screen pass over a camera depth buffer.
 //!
 //! Input: the frame uniform (camera matrices, light), the fattened shadow map and its occluder
-//! offset, the exit map (the casters' back faces), the camera depth (the engine's, or
+//! offset, the exit map (the casters' back faces), the real shadow map, the camera depth (the engine's, or
 //! [`super::DepthPrepass`]'s) and optionally a receiver mask. Outputs, screen-sized:
 //! * the distance map (RG16F): R = distance along the light from the occluder to the receiver
 //!   (world units, >= 0; to the caster's own surface, found through the fattened pass's
@@ -9,11 +9,16 @@
 //!   inside a shadow, to where the occluder ends, from the exit map, so a thick occluder
 //!   standing on the floor gives the distance to its near side), G = mask (1 inside the
 //!   fattened shadow, 0 outside it, -1 where the receiver mask excludes the pixel, -2 where
-//!   nothing was drawn);
-//! * a classification depth ([`super::CLASSIFICATION_FORMAT`]): 1 where a shadow can fall (the
-//!   mask), 0 elsewhere. The PCF and blur passes test against it, so the rasterizer skips every
-//!   other pixel before their shaders run (on GPUs and on CPU rasterizers alike, where a
-//!   branch in the shader would not).
+//!   nothing was drawn); beside a shadow (inside the fattened shadow with the light's centre in
+//!   sight in the real shadow map), a second draw takes R again: the distance to the caster
+//!   texel of the real shadow map that the receiver sees nearest, in angle, to the light's
+//!   centre, where that is nearer (beside a thick caster's foot, a lower corner that the
+//!   fattened surface does not stand for);
+//! * a classification depth ([`super::CLASSIFICATION_FORMAT`]): above 0 where a shadow can fall
+//!   (the mask; 1 beside a shadow, which the second draw tests for, 0.5 elsewhere), 0
+//!   elsewhere. The PCF and blur passes test against it, so the rasterizer skips every other
+//!   pixel before their shaders run (on GPUs and on CPU rasterizers alike, where a branch in
+//!   the shader would not).
 //!
 //! No geometry is drawn: world positions come from the depth and the camera's inverse
 //! view-projection.
@@ -21,13 +26,17 @@
 //! RG16F was chosen by a precision test (this module's tests): distances from 1e-4 to 1e4 come
 //! back with a relative error below 1e-3, far below what a blur or kernel width can show.
 
+use crate::frame::DistanceSwitches;
+
 use super::{CLASSIFICATION_FORMAT, Fullscreen, LIGHT_KIND, cleared, entries, entry, screen_target};
 
 pub struct DistanceMapPass {
-    mask_early_out: bool,
+    switches: DistanceSwitches,
     light_kind: u32,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
+    /// The second draw: beside a shadow, the distance to the nearest caster (when switched on).
+    nearest_caster: Option<wgpu::RenderPipeline>,
     distance: (wgpu::Texture, wgpu::TextureView),
     classification: (wgpu::Texture, wgpu::TextureView),
     bind_group: Option<wgpu::BindGroup>,
@@ -36,14 +45,15 @@ pub struct DistanceMapPass {
 impl DistanceMapPass {
     pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
-    /// The pass; with `mask_early_out` false every receiver pixel is classified as shadowed
-    /// (compile-time: the other choice needs a new pass).
+    /// The pass; with `mask_early_out` false every receiver pixel is classified as shadowed,
+    /// with `nearest_caster` false the distance beside a shadow stays the fattened surface's
+    /// (compile-time: another choice needs a new pass).
     /// It is made for one light kind ([`crate::frame::light_kind`]): the other kinds' code is
     /// compiled out. Another switch or kind needs a new pass.
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
-        mask_early_out: bool,
+        switches: DistanceSwitches,
         light_kind: u32,
     ) -> Self {
         let shader = crate::shaders::module(device, "distance_map.wgsl", crate::shaders::DISTANCE_MAP);
@@ -60,29 +70,44 @@ impl DistanceMapPass {
                 entry::texture_2d(6, wgpu::TextureSampleType::Depth),
             ],
         });
-        let pipeline = Fullscreen {
-            label: "DistanceMapPass::pipeline",
+        let constants = [
+            ("MASK_EARLY_OUT", if switches.mask_early_out { 1.0 } else { 0.0 }),
+            ("NEAREST_CASTER", if switches.nearest_caster { 1.0 } else { 0.0 }),
+            (LIGHT_KIND, light_kind as f64),
+        ];
+        let layouts = [Some(&layout)];
+        let targets = [Some(Self::DISTANCE_FORMAT.into())];
+        let draw = |label, write: bool, compare| Fullscreen {
+            label,
             shader: &shader,
-            bind_group_layouts: &[Some(&layout)],
-            targets: &[Some(Self::DISTANCE_FORMAT.into())],
+            bind_group_layouts: &layouts,
+            targets: &targets,
             depth: Some(wgpu::DepthStencilState {
                 format: CLASSIFICATION_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Always),
+                depth_write_enabled: Some(write),
+                depth_compare: Some(compare),
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
-            constants: &[
-                ("MASK_EARLY_OUT", if mask_early_out { 1.0 } else { 0.0 }),
-                (LIGHT_KIND, light_kind as f64),
-            ],
-        }
-        .pipeline(device);
+            constants: &constants,
+        };
+        let pipeline =
+            draw("DistanceMapPass::pipeline", true, wgpu::CompareFunction::Always).pipeline(device);
+        // Its triangle lies between the two classifications: `Less` passes only beside a shadow.
+        let nearest_caster = switches.nearest_caster.then(|| {
+            draw(
+                "DistanceMapPass::nearest_caster",
+                false,
+                wgpu::CompareFunction::Less,
+            )
+            .pipeline_with(device, "vs_beside", "fs_nearest_caster")
+        });
         let mut pass = Self {
-            mask_early_out,
+            switches,
             light_kind,
             layout,
             pipeline,
+            nearest_caster,
             distance: screen_target(
                 device,
                 "DistanceMapPass::distance_map",
@@ -156,9 +181,9 @@ impl DistanceMapPass {
         self.light_kind
     }
 
-    /// Whether the pass was made to classify only the mask (see [`Self::new`]).
-    pub(crate) fn mask_early_out(&self) -> bool {
-        self.mask_early_out
+    /// The switches the pass was made with (see [`Self::new`]).
+    pub(crate) fn switches(&self) -> DistanceSwitches {
+        self.switches
     }
 
     /// Distance (R) and mask (G).
@@ -197,6 +222,10 @@ impl DistanceMapPass {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group, &[]);
         pass.draw(0..3, 0..1);
+        if let Some(nearest_caster) = &self.nearest_caster {
+            pass.set_pipeline(nearest_caster);
+            pass.draw(0..3, 0..1);
+        }
     }
 }
 

@@ -212,6 +212,17 @@ impl Fullscreen<'_> {
 
     /// The pipeline with fragment entry point `entry`.
     pub(crate) fn pipeline_at(&self, device: &wgpu::Device, entry: &str) -> wgpu::RenderPipeline {
+        self.pipeline_with(device, "vs_fullscreen", entry)
+    }
+
+    /// The pipeline with vertex entry point `vertex` (a screen-covering triangle) and fragment
+    /// entry point `entry`.
+    pub(crate) fn pipeline_with(
+        &self,
+        device: &wgpu::Device,
+        vertex: &str,
+        entry: &str,
+    ) -> wgpu::RenderPipeline {
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(self.label),
             bind_group_layouts: self.bind_group_layouts,
@@ -222,7 +233,7 @@ impl Fullscreen<'_> {
             layout: Some(&layout),
             vertex: wgpu::VertexState {
                 module: self.shader,
-                entry_point: Some("vs_fullscreen"),
+                entry_point: Some(vertex),
                 compilation_options: Default::default(),
                 buffers: &[],
             },
@@ -244,9 +255,10 @@ impl Fullscreen<'_> {
     }
 }
 
-/// The screen-space classification the distance-map pass writes as depth: 1 where a shadow can
-/// fall, 0 elsewhere. The variable PCF and the blur test their full-screen triangle (depth 0)
-/// with `Less` against it, so the rasterizer skips every other pixel before their shaders run.
+/// The screen-space classification the distance-map pass writes as depth: above 0 where a shadow
+/// can fall (1 beside a shadow, 0.5 elsewhere), 0 where none can. The variable PCF and the blur
+/// test their full-screen triangle (depth 0) with `Less` against it, so the rasterizer skips
+/// every other pixel before their shaders run.
 pub(crate) const CLASSIFICATION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth16Unorm;
 
 /// The override constant (`shaders/common/frame.wgsl`) that makes a screen-space pipeline for
