@@ -23,8 +23,8 @@ override NEAREST_CASTER: bool = true;
 @group(0) @binding(4) var occluder_offset: texture_2d<f32>;
 // The casters' back faces from the light: where along the light an occluder ends.
 @group(0) @binding(5) var exit_map: texture_2d<f32>;
-// The real shadow map: beside a shadow, where its nearest caster is.
-@group(0) @binding(6) var shadow_map: texture_depth_2d;
+// The real shadow map, read as plain depths: beside a shadow, where its nearest caster is.
+@group(0) @binding(6) var shadow_map: texture_2d<f32>;
 
 struct Out {
     @location(0) distance: vec4<f32>,
@@ -95,7 +95,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
         return classified(0.0, 0.0, select(0.0, 0.5 * BESIDE, !MASK_EARLY_OUT && p.z <= 1.0));
     }
     // Beside the shadow `fs_nearest_caster` takes the distance again.
-    let beside = NEAREST_CASTER && textureLoad(shadow_map, shadow_texel(p.xy), 0) >= p.z;
+    let beside = NEAREST_CASTER && textureLoad(shadow_map, shadow_texel(p.xy), 0).x >= p.z;
     return classified(fattened_distance(p, texel, fattened_depth), 1.0, select(0.5 * BESIDE, BESIDE, beside));
 }
 
@@ -159,7 +159,7 @@ fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
         for (var k = 0; k < RING_TAPS; k += 1) {
             let a = 6.2831853 * (f32(k) + 0.5 * f32(ring & 1)) / f32(RING_TAPS);
             let uv = clamp(p.xy + r * vec2<f32>(cos(a), sin(a)), tile.xy, tile.zw);
-            let z = textureLoad(shadow_map, vec2<i32>(uv * size), 0);
+            let z = textureLoad(shadow_map, vec2<i32>(uv * size), 0).x;
             let caster_depth = light_linear_depth(z);
             let dt = receiver_depth - caster_depth;
             var uv_world = uv_world_at_receiver;

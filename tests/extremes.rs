@@ -535,7 +535,7 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
         kernel(),
         0.0f32..=16.0,
         0.0f32..=1.0,
-        (any::<bool>(), any::<bool>(), any::<bool>()),
+        (any::<bool>(), any::<bool>(), any::<bool>(), any::<bool>()),
         odd_taps(),
         0.0f32..=1.0,
     )
@@ -545,7 +545,7 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                 pcf_kernel,
                 pcf_base_spacing,
                 pcf_variance_share,
-                (rotate, mask, aware),
+                (rotate, mask, aware, nearest),
                 blur_taps,
                 indirect,
             )| {
@@ -556,6 +556,7 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                     pcf_variance_share,
                     rotate_taps: rotate,
                     mask_early_out: mask,
+                    nearest_caster: nearest,
                     blur_taps,
                     depth_aware_blur: aware,
                     batch_lights: true,

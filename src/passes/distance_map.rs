@@ -67,7 +67,7 @@ impl DistanceMapPass {
                 entry::texture_2d(3, unfilterable),
                 entry::texture_2d(4, unfilterable),
                 entry::texture_2d(5, unfilterable),
-                entry::texture_2d(6, wgpu::TextureSampleType::Depth),
+                entry::texture_2d(6, unfilterable),
             ],
         });
         let constants = [
