@@ -44,6 +44,10 @@ struct Args {
     /// Cascades of a directional light's map, 1..=4 (spot lights use one)
     #[arg(long, default_value_t = 4)]
     cascades: u32,
+    /// `ours`: leave out the nearest-caster search beside a shadow
+    /// (`PenumbraSettings::nearest_caster`), to compare its cost and its error.
+    #[arg(long)]
+    no_nearest_caster: bool,
     /// Also render the ground-truth reference with this many light samples, print the
     /// visibility error (RMSE, penumbra RMSE, max) and FLIP, and write OUT.heat.png (the
     /// visibility error) next to the output.
@@ -93,6 +97,7 @@ fn main() -> Result<()> {
     let mut settings = ShadowSettings::preset(method, quality);
     settings.shadow_map.resolution = args.shadow_map;
     settings.shadow_map.cascades.count = args.cascades;
+    settings.penumbra.nearest_caster = !args.no_nearest_caster;
     if let Some(samples) = args.samples {
         settings.reference.samples = samples;
     }

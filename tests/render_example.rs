@@ -276,3 +276,39 @@ fn timing_prints_each_pass() {
         assert_eq!(line.contains("fattened shadow map"), !still, "{line}");
     }
 }
+
+/// `--no-nearest-caster` reaches the settings: `ours`' image changes beside the teapot's shadow
+/// (the search shortens the distance there), and only there.
+#[test]
+fn no_nearest_caster_turns_the_search_off() {
+    let dir = common::scratch_dir("render_example_nearest");
+    let scene = common::asset("scenes/teapot.ron");
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "--scene",
+            scene.to_str().unwrap(),
+            "--size",
+            "240x192",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let (ok, stderr) = run(&args);
+        assert!(ok, "{stderr}");
+        image::open(&out).unwrap().to_rgba8()
+    };
+    let with = render("with.png", &[]);
+    let without = render("without.png", &["--no-nearest-caster"]);
+    let differing = with
+        .pixels()
+        .zip(without.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0).any(|(x, y)| x.abs_diff(y) > 2))
+        .count();
+    let total = (with.width() * with.height()) as usize;
+    assert!(differing > 0, "the flag changed nothing");
+    assert!(
+        differing < total / 20,
+        "{differing} of {total} pixels differ: more than a penumbra's band"
+    );
+}
