@@ -25,5 +25,6 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     }
     let spacing = pcf.spread / frame.light.resolution;
     let angle = select(0.0, pixel_noise(frag.xy) * 6.2831853, ROTATE_TAPS);
-    return vec4<f32>(pcf_taps(r.p, r.slope, spacing, i32(pcf.taps_per_side), angle));
+    let to_uv = mat2x2<f32>(spacing, 0.0, 0.0, spacing);
+    return vec4<f32>(pcf_taps(r.p, r.slope, to_uv, i32(pcf.taps_per_side), angle));
 }

@@ -62,11 +62,14 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         return vec4<f32>(1.0);
     }
     let d = max(receiver - light_linear_depth(blocker_sum / blocker_count), 0.0);
-    let filter_uv = penumbra_width(d, world) / world_size * 0.5 + 0.5 / frame.light.resolution;
+    // The filter: the penumbra's half width across the light, into the map (an ellipse off a
+    // perspective map's axis), plus half a texel.
+    let texel = 0.5 / frame.light.resolution;
+    let filter_uv = across_light_to_uv(world) * (penumbra_width(d, world) * 0.5) + mat2x2<f32>(texel, 0.0, 0.0, texel);
     let samples = i32(pcss.pcf_samples);
     var sum = 0.0;
     for (var k = 0; k < samples; k++) {
-        let offset = vogel(k, samples, angle) * filter_uv;
+        let offset = filter_uv * vogel(k, samples, angle);
         sum += textureSampleCompareLevel(shadow_map, shadow_sampler, in_tile(p.xy + offset), p.z + dot(slope, offset));
     }
     return vec4<f32>(sum / f32(samples));

@@ -79,7 +79,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     }
     let angle = select(0.0, pixel_noise(frag.xy) * 6.2831853, ROTATE_TAPS);
     var out: Out;
-    out.visibility = vec4<f32>(pcf_taps(r.p, r.slope, spacing_world / map_world, side, angle));
+    out.visibility = vec4<f32>(pcf_taps(r.p, r.slope, across_light_to_uv(world) * spacing_world, side, angle));
     let ray = light_ray(world);
     let sigma_px = blur_sigma / max(vec2<f32>(across_light(r.dx, ray), across_light(r.dy, ray)), vec2<f32>(1e-6));
     out.blur_sigma = vec4<f32>(sigma_px, 0.0, 0.0);

@@ -190,6 +190,26 @@ fn penumbra_width(d: f32, world: vec3<f32>) -> f32 {
     return frame.light.size_term * d_ray / max(receiver_distance - d_ray, 1e-4 * receiver_distance + 1e-20);
 }
 
+// Shadow-map uv per world unit across the light at `world`, along two directions square to the
+// light's ray: a perspective map (spot, point) magnifies what lies off its axis along the
+// radius, by 1 / cos of the angle off the axis (up to 1.73 at a cube face's corner), so a
+// kernel of world units across the light is an ellipse in the map. An orthographic map: a
+// circle, 1 / `shadow_map_world_size`.
+fn across_light_to_uv(world: vec3<f32>) -> mat2x2<f32> {
+    if !light_perspective() {
+        let scale = 1.0 / shadow_map_world_size(world).x;
+        return mat2x2<f32>(scale, 0.0, 0.0, scale);
+    }
+    let ray = light_ray(world);
+    let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(ray.x) > 0.7);
+    let e1 = normalize(cross(ray, helper));
+    let e2 = cross(ray, e1);
+    // A step of a thousandth of the distance to the light: linear enough, far above rounding.
+    let h = 1e-3 * max(length(world - frame.light.position), 1e-20);
+    let p = to_shadow_map(world).xy;
+    return mat2x2<f32>((to_shadow_map(world + e1 * h).xy - p) / h, (to_shadow_map(world + e2 * h).xy - p) / h);
+}
+
 // The unit direction the light travels at `world`.
 fn light_ray(world: vec3<f32>) -> vec3<f32> {
     if light_kind() != 0u {

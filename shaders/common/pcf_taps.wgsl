@@ -12,16 +12,17 @@ struct Pcf {
 }
 
 // The mean of `side` x `side` comparison taps around the receiver at shadow-map position `p`,
-// `spacing` uv apart, turned by `angle` radians; each tap compares against the receiver's
-// plane (`slope`: depth per uv) at its own position, so wide kernels do not shadow the
-// receiver itself.
-fn pcf_taps(p: vec3<f32>, slope: vec2<f32>, spacing: f32, side: i32, angle: f32) -> f32 {
+// one unit apart before `to_uv` (a unit step's shadow-map uv: a spacing times the identity, or
+// world units across the light mapped into the map), turned by `angle` radians; each tap
+// compares against the receiver's plane (`slope`: depth per uv) at its own position, so wide
+// kernels do not shadow the receiver itself.
+fn pcf_taps(p: vec3<f32>, slope: vec2<f32>, to_uv: mat2x2<f32>, side: i32, angle: f32) -> f32 {
     let rotation = mat2x2<f32>(cos(angle), sin(angle), -sin(angle), cos(angle));
     let center = f32(side - 1) * 0.5;
     var sum = 0.0;
     for (var j = 0; j < side; j++) {
         for (var i = 0; i < side; i++) {
-            let offset = rotation * (vec2<f32>(f32(i) - center, f32(j) - center) * spacing);
+            let offset = to_uv * (rotation * vec2<f32>(f32(i) - center, f32(j) - center));
             let reference = p.z + dot(slope, offset);
             sum += textureSampleCompareLevel(shadow_map, shadow_sampler, in_tile(p.xy + offset), reference);
         }
