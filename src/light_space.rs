@@ -407,10 +407,15 @@ fn point_faces(inputs: &FitInputs, position: Vec3, bounds: &Aabb) -> LightView {
     } else {
         inputs.parts.to_vec()
     };
+    // Each face's near plane lies square to its axis: what counts is a caster's distance along
+    // the axis of the face it falls in, its largest coordinate from the light (the Chebyshev
+    // distance), up to sqrt(3) times shorter than the straight one off the axes. Taking the
+    // straight one clipped the near side of casters 40 degrees and more off a face's axis (the
+    // fattened map, pushed toward the light, first), so the maps held their far sides.
     let nearest = parts
         .iter()
         .filter(|b| !b.is_empty())
-        .map(|b| position.clamp(b.min, b.max).distance(position))
+        .map(|b| (position.clamp(b.min, b.max) - position).abs().max_element())
         .fold(f32::INFINITY, f32::min);
     let near = (nearest * 0.9 - margin).clamp(far * 1e-3, far * 0.5);
     let guard = tile as f32 / (tile as f32 - 2.0 * FACE_GUARD).max(1.0);
@@ -1264,5 +1269,52 @@ mod tests {
         let m = tile_matrix(2, 0) * Vec4::new(1.0, 1.0, 0.5, 1.0);
         assert_eq!((m.x, m.y), (0.0, 1.0));
         assert_eq!(tile_viewport(2, 3, 4096), [2048, 2048, 2048, 2048]);
+    }
+
+    /// A point light's cube: every corner of every caster lies beyond the near plane of the
+    /// face it falls in, however far off that face's axis (the truth scene's floating box, 40
+    /// degrees off the lower face's axis, once had its near side clipped).
+    #[test]
+    fn cube_faces_near_plane_lies_before_every_caster() {
+        let position = Vec3::new(0.0, 6.0, -4.8);
+        let light = Light::Point(crate::scene::PointLight {
+            position,
+            radius: 0.25,
+            color: Vec3::ONE,
+            intensity: 1.0,
+        });
+        let parts = [
+            Aabb::new(Vec3::new(2.0, 1.0, -3.0), Vec3::new(3.0, 2.0, -2.0)),
+            Aabb::new(Vec3::new(-1.2, 0.0, 0.8), Vec3::new(-0.8, 2.5, 1.2)),
+            Aabb::new(Vec3::new(-8.0, -0.01, -8.0), Vec3::new(8.0, 0.0, 8.0)),
+        ];
+        let scene = parts.iter().fold(Aabb::EMPTY, |a, b| a.union(b));
+        let margin = 0.4;
+        let lv = LightView::fit_with(&FitInputs {
+            light: &light,
+            casters: scene,
+            casters_and_receivers: scene,
+            parts: &parts,
+            margin,
+            fit: LightFit::Scene,
+            camera: None,
+            resolution: 2048,
+            snap_to_texels: false,
+            cascades: CascadeSettings::default(),
+        });
+        assert_eq!(lv.cascades().len(), 6);
+        for part in &parts {
+            for corner in part.corners() {
+                let v = corner - position;
+                // Along the axis of the face the corner falls in, less the margin the
+                // fattened casters are pushed toward the light.
+                let axial = v.abs().max_element() - margin;
+                assert!(
+                    axial >= lv.near,
+                    "corner {corner} at {axial} along its face's axis, near plane {}",
+                    lv.near
+                );
+            }
+        }
     }
 }
