@@ -286,13 +286,18 @@ fn settings(method: ShadowMethod) -> ShadowSettings {
     ShadowSettings::preset(method, penumbra::Quality::Medium)
 }
 
-/// The 10-90% width across `edge` in the reference and in `ours` with `settings`.
+/// The 10-90% width across the edge named `edge` in the reference and in `ours` with `settings`.
 fn widths_across(
     gpu: &penumbra::HeadlessGpu,
     lamp: Lamp,
-    edge: &Edge,
+    edge: &str,
     settings: &[ShadowSettings],
 ) -> (f32, Vec<Option<f32>>) {
+    let edge = edges(lamp)
+        .into_iter()
+        .find(|e| e.name == edge)
+        .expect("an edge of that name");
+    let edge = &edge;
     let scene = truth_scene(lamp);
     let hard = lamp.shadow_of(edge.occluder);
     let camera = camera_above(hard, edge.reach * 3.0);
@@ -508,14 +513,10 @@ fn ours_matches_the_reference_under_a_sphere_light() {
 #[test]
 fn beside_a_thick_casters_foot_the_distance_is_to_its_nearest_corner() {
     let gpu = common::gpu();
-    let edge = edges(Lamp::Spot)
-        .into_iter()
-        .find(|e| e.name == "pillar, near its foot")
-        .unwrap();
     let with = settings(ShadowMethod::Ours);
     let mut without = with;
     without.penumbra.nearest_caster = false;
-    let (reference, widths) = widths_across(&gpu, Lamp::Spot, &edge, &[with, without]);
+    let (reference, widths) = widths_across(&gpu, Lamp::Spot, "pillar, near its foot", &[with, without]);
     let ratios: Vec<f32> = widths
         .iter()
         .map(|w| w.expect("a penumbra") / reference)
@@ -541,13 +542,9 @@ fn beside_a_thick_casters_foot_the_distance_is_to_its_nearest_corner() {
 #[test]
 fn pcf_taps_follow_a_cube_face_off_its_axis() {
     let gpu = common::gpu();
-    let edge = edges(Lamp::Sphere)
-        .into_iter()
-        .find(|e| e.name == "plate, far end")
-        .unwrap();
     let mut pcf_only = settings(ShadowMethod::Ours);
     pcf_only.penumbra.pcf_variance_share = 1.0;
-    let (reference, widths) = widths_across(&gpu, Lamp::Sphere, &edge, &[pcf_only]);
+    let (reference, widths) = widths_across(&gpu, Lamp::Sphere, "plate, far end", &[pcf_only]);
     let ratio = widths[0].expect("a penumbra") / reference;
     eprintln!("plate's far end, sphere light, PCF alone: reference {reference:.4}, ratio {ratio:.3}");
     assert!((ratio - 1.0).abs() <= 0.1, "ratio {ratio:.3}");
