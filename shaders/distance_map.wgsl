@@ -122,7 +122,7 @@ fn fs_nearest_caster(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f3
     return vec4<f32>(min(d, nearest_caster(world, p, d)), 1.0, 0.0, 0.0);
 }
 
-// Sides of the ring search: taps per ring and rings.
+// The ring search: taps per ring, and rings.
 const RING_TAPS: i32 = 8;
 const RINGS: i32 = 2;
 
@@ -134,8 +134,9 @@ fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
     let size = vec2<f32>(textureDimensions(shadow_map));
     let tile = frame.cascades.tile[cascade];
     let receiver_depth = light_linear_depth(p.z);
-    // World units across the light per unit of uv at a light depth: the receiver's scaled.
-    var uv_world_at_receiver = shadow_map_world_size(world).x;
+    // World units across the light per unit of uv at the receiver (at a caster's depth, scaled
+    // by the depths for a perspective map).
+    let uv_world_at_receiver = shadow_map_world_size(world).x;
     // The light's angular radius seen from the receiver, and the widest the search reaches.
     var half_angle = 0.5 * frame.light.size_term;
     var reach_depth = receiver_depth;

@@ -6,7 +6,7 @@
 //! | [`FattenedShadowMapPass`] | `shaders/fattened_shadow_map.wgsl` | casters, smoothed normals, light view | fattened depth map |
 //! | [`ExitMapPass`] | `shaders/exit_map.wgsl` | casters, smoothed normals, light view | depth of the casters' back faces (where rays leave the first occluder) |
 //! | [`DepthPrepass`] | `shaders/depth_prepass.wgsl` | all instances, camera | camera depth, receiver mask (the convenience renderer's; an engine has its own) |
-//! | [`DistanceMapPass`] | `shaders/distance_map.wgsl` | camera depth, receiver mask, fattened map and occluder offset, exit map | distance + mask (RG16F) and where a shadow can fall (depth), full screen |
+//! | [`DistanceMapPass`] | `shaders/distance_map.wgsl` | camera depth, receiver mask, fattened map and occluder offset, exit map, shadow map | distance + mask (RG16F) and where a shadow can fall (depth), full screen |
 //! | [`VariablePcfPass`] | `shaders/variable_pcf.wgsl` | camera depth, distance map and its classification, shadow map | visibility (R16F) and the blur's standard deviations (RG16F), where a shadow can fall |
 //! | [`PcfPass`] | `shaders/pcf.wgsl` | camera depth, shadow map | fixed-spacing visibility (R16F): the baseline and hard shadows |
 //! | [`PcssPass`] | `shaders/pcss.wgsl` | camera depth, shadow map | visibility (R16F) |
