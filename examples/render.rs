@@ -48,6 +48,10 @@ struct Args {
     /// (`PenumbraSettings::nearest_caster`), to compare its cost and its error.
     #[arg(long)]
     no_nearest_caster: bool,
+    /// Blur up to four lights in one pass (`PenumbraSettings::batch_lights`; scenes with more
+    /// than one light).
+    #[arg(long)]
+    batch_lights: bool,
     /// Also render the ground-truth reference with this many light samples, print the
     /// visibility error (RMSE, penumbra RMSE, max) and FLIP, and write OUT.heat.png (the
     /// visibility error) next to the output.
@@ -98,6 +102,7 @@ fn main() -> Result<()> {
     settings.shadow_map.resolution = args.shadow_map;
     settings.shadow_map.cascades.count = args.cascades;
     settings.penumbra.nearest_caster = !args.no_nearest_caster;
+    settings.penumbra.batch_lights = args.batch_lights;
     if let Some(samples) = args.samples {
         settings.reference.samples = samples;
     }

@@ -1,24 +1,30 @@
 // Separable Gaussian blur of the visibility of up to four lights at once, one axis per draw
-// (horizontal, then vertical): light c is read from source c and written to target c. The step
-// between taps is fixed (the baseline) or grows with the pixel's distance to its occluder:
-// distance x spread pixels (manual), or the standard deviation the variable PCF pass worked out
-// for this pixel, light and axis (physical). Near contact the blur vanishes; far away it is
-// wide: as few taps as keep them at most a pixel apart, out to 2.5 standard deviations (at most
-// the setting's count), and none where the pixel and both ends of the kernel agree on wholly
-// lit or wholly shadowed. With depth-aware weighting, taps at a different depth count less, so
-// the blur does not bleed across depth discontinuities.
+// (horizontal, then vertical). The step between taps is fixed (the baseline) or grows with the
+// pixel's distance to its occluder: distance x spread pixels (manual), or the standard
+// deviation the variable PCF pass worked out for this pixel, light and axis (physical). Near
+// contact the blur vanishes; far away it is wide: as few taps as keep them at most a pixel
+// apart, out to 2.5 standard deviations (at most the setting's count), and none where the
+// pixel and both ends of the kernel agree on wholly lit or wholly shadowed. With depth-aware
+// weighting, taps at a different depth count less, so the blur does not bleed across depth
+// discontinuities.
 //
-// Batching: the lights of one draw share the draw itself, the pixel's depth, the background
-// test and the early-outs; each keeps its own taps, so every light's result is what a draw of
-// its own would give. After the distance map, a depth test skips the pixels where no shadow can
+// Batching (several lights, after the distance map): the lights' values come packed, light c
+// in channel c of one texture (the variable PCF passes write them so, and the horizontal draw
+// writes its result so for the vertical one), and their standard deviations along the draw's
+// axis likewise. The lights share the taps: each keeps its own Gaussian weights (its own
+// standard deviation), on the taps of the widest light that needs a blur at the pixel, so one
+// depth load, one depth weight and one fetch of every light's value serve them all. Where a
+// single light needs a blur at a pixel, which is most pixels, its result is what a draw of its
+// own gives; where two lights' penumbrae of different widths cross, the narrower is sampled on
+// the wider's taps. After the distance map, a depth test skips the pixels where no shadow can
 // fall: one light's classification, or, for several, the union a first draw writes
-// (`fs_classify`). The vertical draw writes each light's layer of the output directly, with the
-// indirect-light attenuation applied (the resolve).
+// (`fs_classify`). The vertical draw writes each light's layer of the output directly, with
+// the indirect-light attenuation applied (the resolve).
 
 // Compile-time switches (pipeline override constants).
 override FIXED_STEP: bool = false;
 override DEPTH_AWARE: bool = true;
-// how many lights this pass blurs (1 to 4): sources and targets 0 to LIGHTS - 1
+// how many lights this pass blurs (1 to 4): lights 0 to LIGHTS - 1; several are packed
 override LIGHTS: u32 = 1u;
 
 struct Blur {
@@ -37,145 +43,172 @@ struct Blur {
 
 @group(0) @binding(1) var camera_depth: texture_2d<f32>;
 @group(0) @binding(2) var linear_sampler: sampler;
-// the visibility to blur, one light each
-@group(0) @binding(3) var source0: texture_2d<f32>;
-@group(0) @binding(4) var source1: texture_2d<f32>;
-@group(0) @binding(5) var source2: texture_2d<f32>;
-@group(0) @binding(6) var source3: texture_2d<f32>;
+// the visibility to blur: one light's in R, or light c's in channel c
+@group(0) @binding(3) var source: texture_2d<f32>;
 // each light's distance map (R distance, G mask)
-@group(0) @binding(7) var distance0: texture_2d<f32>;
-@group(0) @binding(8) var distance1: texture_2d<f32>;
-@group(0) @binding(9) var distance2: texture_2d<f32>;
-@group(0) @binding(10) var distance3: texture_2d<f32>;
-// physical mode: each light's standard deviation to add in pixels, along screen x (R) and y (G)
-@group(0) @binding(11) var sigma0: texture_2d<f32>;
-@group(0) @binding(12) var sigma1: texture_2d<f32>;
-@group(0) @binding(13) var sigma2: texture_2d<f32>;
-@group(0) @binding(14) var sigma3: texture_2d<f32>;
+@group(0) @binding(4) var distance0: texture_2d<f32>;
+@group(0) @binding(5) var distance1: texture_2d<f32>;
+@group(0) @binding(6) var distance2: texture_2d<f32>;
+@group(0) @binding(7) var distance3: texture_2d<f32>;
+// physical mode: the standard deviation to add in pixels: one light's along screen x (R) and
+// y (G), or light c's along the draw's axis in channel c
+@group(0) @binding(8) var sigmas: texture_2d<f32>;
 @group(1) @binding(0) var<uniform> blur: Blur;
 
-fn finish(v: f32, d: f32) -> f32 {
+// Each light's distance map is named (not picked by an index), so the compiled shader knows
+// which texture every fetch reads; lights past LIGHTS read as 1 and are never blurred.
+
+// Every light's value at `uv` (filtered).
+fn values_at(uv: vec2<f32>) -> vec4<f32> {
+    let v = textureSampleLevel(source, linear_sampler, uv, 0.0);
+    if LIGHTS > 1u {
+        return v;
+    }
+    return vec4<f32>(v.x, 1.0, 1.0, 1.0);
+}
+
+// Every light's value at `pixel`.
+fn values_of(pixel: vec2<i32>) -> vec4<f32> {
+    let v = textureLoad(source, pixel, 0);
+    if LIGHTS > 1u {
+        return v;
+    }
+    return vec4<f32>(v.x, 1.0, 1.0, 1.0);
+}
+
+// Every light's distance (R) and mask (G) at `pixel`; lights past LIGHTS read (0, 0).
+fn distances_of(pixel: vec2<i32>) -> array<vec2<f32>, 4> {
+    var dm = array<vec2<f32>, 4>(textureLoad(distance0, pixel, 0).xy, vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0));
+    if LIGHTS > 1u {
+        dm[1] = textureLoad(distance1, pixel, 0).xy;
+    }
+    if LIGHTS > 2u {
+        dm[2] = textureLoad(distance2, pixel, 0).xy;
+    }
+    if LIGHTS > 3u {
+        dm[3] = textureLoad(distance3, pixel, 0).xy;
+    }
+    return dm;
+}
+
+// Every light's standard deviation along the draw's axis (physical mode), in pixels.
+fn sigmas_of(pixel: vec2<i32>) -> vec4<f32> {
+    let s = textureLoad(sigmas, pixel, 0);
+    if LIGHTS > 1u {
+        return s;
+    }
+    return vec4<f32>(select(s.x, s.y, blur.axis.y > 0.5), 0.0, 0.0, 0.0);
+}
+
+fn finish(v: vec4<f32>, d: vec4<f32>) -> vec4<f32> {
     if blur.resolve == 0u {
         return v;
     }
     let k = frame.penumbra.indirect_weight * d / (d + frame.penumbra.indirect_half_distance);
-    return clamp(mix(v, 1.0, k), 0.0, 1.0);
+    return clamp(mix(v, vec4<f32>(1.0), k), vec4<f32>(0.0), vec4<f32>(1.0));
 }
 
-// Each light's textures are passed by name (not picked by an index), so the compiled shader
-// knows which texture every fetch reads.
 // Every light's result at this pixel (1 past LIGHTS).
 fn blur_all(frag: vec2<f32>) -> vec4<f32> {
     let pixel = vec2<i32>(frag);
     let depth = textureLoad(camera_depth, pixel, 0).x;
+    let center = values_of(pixel);
     if is_background(depth) {
         if blur.resolve != 0u {
             return vec4<f32>(1.0);
         }
-        return vec4<f32>(
-            textureLoad(source0, pixel, 0).x,
-            textureLoad(source1, pixel, 0).x,
-            textureLoad(source2, pixel, 0).x,
-            textureLoad(source3, pixel, 0).x,
-        );
+        return center;
     }
     let z = view_depth(depth);
-    var v = vec4<f32>(1.0);
-    v.x = blur_light(source0, distance0, sigma0, frag, pixel, z);
-    if LIGHTS > 1u {
-        v.y = blur_light(source1, distance1, sigma1, frag, pixel, z);
-    }
-    if LIGHTS > 2u {
-        v.z = blur_light(source2, distance2, sigma2, frag, pixel, z);
-    }
-    if LIGHTS > 3u {
-        v.w = blur_light(source3, distance3, sigma3, frag, pixel, z);
-    }
-    return v;
-}
-
-// One light's blurred visibility.
-fn blur_light(
-    source: texture_2d<f32>,
-    distance_map: texture_2d<f32>,
-    sigmas: texture_2d<f32>,
-    frag: vec2<f32>,
-    pixel: vec2<i32>,
-    z: f32,
-) -> f32 {
-    // Several lights: one whose distance map leaves this pixel out keeps the clear value, as a
-    // depth test against its own classification would.
-    let dm = textureLoad(distance_map, pixel, 0).xy;
-    if LIGHTS > 1u && !FIXED_STEP && dm.y <= 0.0 {
-        return 1.0;
-    }
-    let center = textureLoad(source, pixel, 0).x;
     let radius = i32(blur.taps) / 2;
     if FIXED_STEP {
         if blur.step < 1e-3 || radius == 0 {
-            return finish(center, 0.0);
+            return finish(center, vec4<f32>(0.0));
         }
-        return finish(taps(source, frag, center, z, radius, blur.step, 0.0), 0.0);
+        return finish(taps(frag, center, z, radius, blur.step, vec4<f32>(0.0), vec4<bool>(false)), vec4<f32>(0.0));
     }
-    // The distance-driven blur: a Gaussian of standard deviation `sigma` pixels, sampled out to
-    // 2.5 sigma with as few taps as keep them at most a pixel apart (up to the setting's).
-    let d = dm.x;
+    // The distance-driven blur: per light, a Gaussian of standard deviation `sigma` pixels,
+    // sampled out to 2.5 sigma with as few taps as keep them at most a pixel apart (up to the
+    // setting's).
+    let dm = distances_of(pixel);
+    let d = vec4<f32>(dm[0].x, dm[1].x, dm[2].x, dm[3].x);
+    // Several lights: one whose distance map leaves this pixel out keeps the clear value, as a
+    // depth test against its own classification would.
+    let masks = vec4<f32>(dm[0].y, dm[1].y, dm[2].y, dm[3].y);
+    let left_out = vec4<bool>(LIGHTS > 1u) & (masks <= vec4<f32>(0.0));
     var sigma = d * blur.step * blur.kernel_sigma;
     if frame.penumbra.physical != 0u {
-        let s = textureLoad(sigmas, pixel, 0).xy;
-        sigma = select(s.x, s.y, blur.axis.y > 0.5);
+        sigma = sigmas_of(pixel);
     }
-    if sigma < 0.05 || radius == 0 {
-        return finish(center, d);
+    var blurred = vec4<bool>(true, LIGHTS > 1u, LIGHTS > 2u, LIGHTS > 3u) & !left_out
+        & (sigma >= vec4<f32>(0.05)) & vec4<bool>(radius > 0);
+    // A light wholly shadowed or wholly lit out to its kernel's ends on both sides has nothing
+    // to blur.
+    blurred.x = blurred.x && !ends_agree(0u, frag, center.x, sigma.x);
+    if LIGHTS > 1u {
+        blurred.y = blurred.y && !ends_agree(1u, frag, center.y, sigma.y);
     }
-    let n = clamp(i32(ceil(2.5 * sigma)), 1, radius);
-    let step = 2.5 * sigma / f32(n);
-    // Wholly shadowed or wholly lit out to the kernel's ends on both sides: nothing to blur.
-    if center == 0.0 || center == 1.0 {
-        let reach = blur.axis.xy * (2.5 * sigma) * frame.view.inv_size;
-        let uv = frag * frame.view.inv_size;
-        let a = textureSampleLevel(source, linear_sampler, uv - reach, 0.0).x;
-        let b = textureSampleLevel(source, linear_sampler, uv + reach, 0.0).x;
-        if a == center && b == center {
-            return finish(center, d);
-        }
+    if LIGHTS > 2u {
+        blurred.z = blurred.z && !ends_agree(2u, frag, center.z, sigma.z);
     }
+    if LIGHTS > 3u {
+        blurred.w = blurred.w && !ends_agree(3u, frag, center.w, sigma.w);
+    }
+    // The taps of the widest light that needs them; none where no light does.
+    let needed = select(vec4<f32>(0.0), sigma, blurred);
+    let widest = max(max(needed.x, needed.y), max(needed.z, needed.w));
+    let n = select(0, clamp(i32(ceil(2.5 * widest)), 1, radius), any(blurred));
     // Weights of a Gaussian 4% wider than sigma: cut at 2.5 sigma, the kernel's own spread is
     // then sigma.
-    return finish(taps(source, frag, center, z, n, step, 1.0 / (1.04 * sigma)), d);
+    let inv_sigma = select(vec4<f32>(0.0), 1.0 / (1.04 * sigma), blurred);
+    let result = taps(frag, center, z, n, 2.5 * widest / f32(max(n, 1)), inv_sigma, blurred);
+    return finish(select(result, vec4<f32>(1.0), left_out), d);
 }
 
-// The weighted mean of `center` and `radius` taps of `source` either side along the draw's
-// axis, `step` pixels apart. `inv_sigma` > 0: Gaussian weights of standard deviation 1 / inv_sigma
-// pixels; 0: the uniform's weights (the fixed blur).
-fn taps(source: texture_2d<f32>, frag: vec2<f32>, center: f32, z: f32, radius: i32, step: f32, inv_sigma: f32) -> f32 {
+// Light c (value `center`, standard deviation `sigma` pixels) is wholly shadowed or wholly lit
+// at the pixel and at both ends of its kernel.
+fn ends_agree(c: u32, frag: vec2<f32>, center: f32, sigma: f32) -> bool {
+    if center != 0.0 && center != 1.0 {
+        return false;
+    }
+    let reach = blur.axis.xy * (2.5 * sigma) * frame.view.inv_size;
+    let uv = frag * frame.view.inv_size;
+    return values_at(uv - reach)[c] == center && values_at(uv + reach)[c] == center;
+}
+
+// The weighted mean of `center` and `radius` taps either side along the draw's axis, `step`
+// pixels apart, per light. The fixed blur: the uniform's weights for the one light. Otherwise
+// Gaussian weights of standard deviation 1 / inv_sigma pixels for the lights in `blurred`; the
+// others keep `center`.
+fn taps(frag: vec2<f32>, center: vec4<f32>, z: f32, radius: i32, step: f32, inv_sigma: vec4<f32>, blurred: vec4<bool>) -> vec4<f32> {
     let direction = blur.axis.xy * step * frame.view.inv_size;
     let uv = frag * frame.view.inv_size;
-    let center_weight = select(1.0, blur.weights[0].x, inv_sigma == 0.0);
+    let center_weight = select(1.0, blur.weights[0].x, FIXED_STEP);
     var sum = center * center_weight;
-    var total = center_weight;
+    var total = vec4<f32>(center_weight);
     for (var k = 1; k <= radius; k++) {
-        var w = blur.weights[k / 4][k % 4];
-        if inv_sigma > 0.0 {
+        var w = vec4<f32>(blur.weights[k / 4][k % 4]);
+        if !FIXED_STEP {
             let x = f32(k) * step * inv_sigma;
-            w = exp(-0.5 * x * x);
+            w = select(vec4<f32>(0.0), exp(-0.5 * x * x), blurred);
         }
         for (var s = -1; s <= 1; s += 2) {
             let tap_uv = uv + direction * f32(k * s);
-            var weight = w;
+            var weight = 1.0;
             let tap_pixel = clamp(vec2<i32>(tap_uv * frame.view.size), vec2<i32>(0), vec2<i32>(frame.view.size) - 1);
             if DEPTH_AWARE {
                 let tap_z = view_depth(textureLoad(camera_depth, tap_pixel, 0).x);
                 let relative = (tap_z - z) / (z * 0.02);
-                weight *= exp(-relative * relative);
+                weight = exp(-relative * relative);
             }
             // Surfaces that receive no shadow (the receiver mask's and the background: the same
             // for every light) are not blurred into those that do.
             if !FIXED_STEP && textureLoad(distance0, tap_pixel, 0).y < -0.5 {
                 weight = 0.0;
             }
-            sum += textureSampleLevel(source, linear_sampler, tap_uv, 0.0).x * weight;
-            total += weight;
+            let tap_weight = w * weight;
+            sum += values_at(tap_uv) * tap_weight;
+            total += tap_weight;
         }
     }
     return sum / total;
@@ -188,11 +221,18 @@ struct Out {
     @location(3) v3: vec4<f32>,
 }
 
-// Both draws, tested against the classification.
+// Both draws of one light, and the vertical draw of several: light c's result to target c.
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     let v = blur_all(frag.xy);
     return Out(vec4<f32>(v.x), vec4<f32>(v.y), vec4<f32>(v.z), vec4<f32>(v.w));
+}
+
+// The horizontal draw of several lights: light c's result to channel c of one target, which
+// the vertical draw reads.
+@fragment
+fn fs_packed(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    return blur_all(frag.xy);
 }
 
 // Several lights: a draw before the blur's, into the pass's own classification depth: 1 where

@@ -41,11 +41,32 @@ fn unblurred(visibility: f32) -> Out {
 
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
-    let pixel = vec2<i32>(frag.xy);
+    return pcf_at(frag.xy);
+}
+
+// A light blurred with others in one pass: its visibility to its own target and, for the blur,
+// to the pass's packed textures (the pipeline writes only this light's channel of each), with
+// its standard deviations along screen x and y in two of them.
+struct PackedOut {
+    @location(0) visibility: vec4<f32>,
+    @location(1) packed_visibility: vec4<f32>,
+    @location(2) sigma_x: vec4<f32>,
+    @location(3) sigma_y: vec4<f32>,
+}
+
+@fragment
+fn fs_packed(@builtin(position) frag: vec4<f32>) -> PackedOut {
+    let out = pcf_at(frag.xy);
+    return PackedOut(out.visibility, out.visibility, vec4<f32>(out.blur_sigma.x), vec4<f32>(out.blur_sigma.y));
+}
+
+// The visibility and the blur's standard deviations at pixel centre `frag`.
+fn pcf_at(frag: vec2<f32>) -> Out {
+    let pixel = vec2<i32>(frag);
     let depth = textureLoad(camera_depth, pixel, 0).x;
-    use_pixel_cascade(frag.xy, depth);
+    use_pixel_cascade(frag, depth);
     let d = textureLoad(distance_map, pixel, 0).x;
-    let world = world_position(frag.xy, depth);
+    let world = world_position(frag, depth);
     let r = receiver(pixel, depth, frame.penumbra.normal_offset);
     if r.p.z > 1.0 {
         return unblurred(1.0);
@@ -77,7 +98,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
         let pcf_variance = spacing_world * spacing_world * taps_variance + texel_world * texel_world / 6.0;
         blur_sigma = sqrt(max(variance - pcf_variance, 0.0));
     }
-    let angle = select(0.0, pixel_noise(frag.xy) * 6.2831853, ROTATE_TAPS);
+    let angle = select(0.0, pixel_noise(frag) * 6.2831853, ROTATE_TAPS);
     var out: Out;
     out.visibility = vec4<f32>(pcf_taps(r.p, r.slope, across_light_to_uv(world) * spacing_world, side, angle));
     let ray = light_ray(world);

@@ -405,8 +405,13 @@ impl Renderer {
             if let Some(times) = self.pass_times(device) {
                 let times = times?;
                 timed.pass_sum_ms.push(times.iter().map(|p| p.milliseconds).sum());
+                // A pass run once per light counts once per frame, its lights summed.
+                let mut frame = std::collections::BTreeMap::<&'static str, f64>::new();
                 for p in times {
-                    timed.passes.entry(p.pass).or_default().push(p.milliseconds);
+                    *frame.entry(p.pass).or_default() += p.milliseconds;
+                }
+                for (pass, ms) in frame {
+                    timed.passes.entry(pass).or_default().push(ms);
                 }
             }
         }

@@ -576,6 +576,15 @@ impl Shadows {
             1
         };
         let groups: Vec<Vec<usize>> = blurred.chunks(per_pass).map(<[usize]>::to_vec).collect();
+        // In a batch, each light's variable PCF also writes its channel of the batch's packed
+        // textures.
+        for slots in &groups {
+            for (c, &slot) in slots.iter().enumerate() {
+                if let Some(p) = self.lights[slot].as_mut().and_then(|s| s.variable_pcf.as_mut()) {
+                    p.set_packed_channel(device, (slots.len() > 1).then_some(c));
+                }
+            }
+        }
         let Some(&first) = blurred.first() else {
             self.blurs.clear();
             return;
@@ -667,6 +676,16 @@ impl Shadows {
         }
         self.prepared = false;
         let layers = &self.visibility.as_ref().expect("prepared").2;
+        // The light in each slot that is blurred in a batch: its batch's packed inputs, and
+        // whether it comes first in the batch (lights run in slot order).
+        let mut packed_into = vec![None; self.lights.len()];
+        for (slots, pass) in &self.blurs {
+            if let Some(packed) = pass.packed() {
+                for (c, &slot) in slots.iter().enumerate() {
+                    packed_into[slot] = Some((packed, c == 0));
+                }
+            }
+        }
         let mut reports = Vec::new();
         for (slot, state) in self.lights.iter_mut().enumerate() {
             let Some(state) = state else { continue };
@@ -711,7 +730,12 @@ impl Shadows {
                     run(encoder, "distance map", &|e| p.encode(e));
                 }
                 if let (true, Some(p), Some(c)) = (chain.pcf, &state.variable_pcf, classification) {
-                    run(encoder, "pcf", &|e| p.encode(e, c));
+                    match packed_into[slot] {
+                        Some((packed, first)) => {
+                            run(encoder, "pcf", &|e| p.encode_packed(e, c, packed, first))
+                        }
+                        None => run(encoder, "pcf", &|e| p.encode(e, c)),
+                    }
                 }
                 if let (true, Some(p)) = (chain.pcf, &state.pcf) {
                     run(encoder, "pcf", &|e| p.encode(e));

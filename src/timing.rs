@@ -19,7 +19,7 @@ pub struct TimedFrames {
     pub wall_ms: Vec<f64>,
     /// The frame's passes summed (ms): GPU time where timestamps exist.
     pub pass_sum_ms: Vec<f64>,
-    /// Each pass's times (ms), by name.
+    /// Each pass's times (ms), by name: per frame, the sum over the lights that ran it.
     pub passes: std::collections::BTreeMap<&'static str, Vec<f64>>,
 }
 

@@ -1,6 +1,7 @@
 //! Separable Gaussian blur of up to four lights' visibility at once: one pass object, two draws
-//! (horizontal into temporary textures, then vertical into the output) that differ by an axis
-//! uniform. Light `c` of the pass is read from its own inputs and written to its own target.
+//! (horizontal into a temporary texture, then vertical into the output) that differ by an axis
+//! uniform. Light `c` of the pass is read from its own inputs, kept in channel `c` of the
+//! temporary texture between the draws, and written to its own target.
 //!
 //! Input: the frame uniform, the camera depth and, per light, the visibility to blur, its
 //! distance map and, in physical mode, the standard deviations the variable PCF pass wrote.
@@ -11,9 +12,12 @@
 //! only pixels a shadow can reach run the shader: one light's own, or for several lights the
 //! union of theirs, which a first, cheap draw writes from their distance maps. The vertical draw writes each
 //! light's layer of the output array directly, with the indirect attenuation applied: no
-//! separate resolve. Batching lights shares the draws, the pixel's depth and the early-outs;
-//! each light keeps its own taps, so its result is the one a pass of its own gives (a test
-//! compares them).
+//! separate resolve. Batching lights shares the draws, the pixel's depth, the early-outs and the
+//! taps: each light keeps its own Gaussian weights, on the taps of the widest light that needs a
+//! blur at the pixel, so one depth load and one depth weight per tap serve them all, and the
+//! vertical draw fetches every light's value at a tap at once. A light alone in its penumbra at
+//! a pixel gets what a pass of its own gives; where penumbrae of different widths cross, the
+//! narrower is sampled on the wider's taps (a test bounds the difference).
 
 use bytemuck::{Pod, Zeroable};
 
@@ -26,6 +30,28 @@ use crate::frame::{BlurParams, BlurSwitches, gaussian_weights};
 
 /// The most lights one blur pass takes (one colour target each).
 pub const MAX_BATCHED_LIGHTS: usize = 4;
+
+/// A batch's inputs, written by its lights' variable PCF passes, light `c` in channel `c` of
+/// each: the visibility and the blur's standard deviations along screen x and y (pixels).
+pub(crate) struct PackedVisibility {
+    pub visibility: (wgpu::Texture, wgpu::TextureView),
+    pub sigma_x: (wgpu::Texture, wgpu::TextureView),
+    pub sigma_y: (wgpu::Texture, wgpu::TextureView),
+}
+
+impl PackedVisibility {
+    /// Four lights' values, one a channel; also of the horizontal draw's result.
+    pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+    fn new(device: &wgpu::Device, width: u32, height: u32) -> Self {
+        let target = |label| screen_target(device, label, width, height, Self::FORMAT);
+        Self {
+            visibility: target("BlurPass::packed_visibility"),
+            sigma_x: target("BlurPass::packed_sigma_x"),
+            sigma_y: target("BlurPass::packed_sigma_y"),
+        }
+    }
+}
 
 /// The standard deviation, in taps, of the discrete kernel `weights` makes with `taps` taps:
 /// less than the Gaussian's own, which is cut at +-taps / 2.
@@ -63,15 +89,21 @@ pub struct BlurPass {
     switches: BlurSwitches,
     lights: usize,
     layout: wgpu::BindGroupLayout,
-    /// Tested against the classification (after the distance map), untested otherwise.
+    /// Tested against the classification (after the distance map), untested otherwise: both
+    /// draws of one light, the horizontal draw of several (into the packed temporary texture).
     pipeline: wgpu::RenderPipeline,
+    /// Several lights: the vertical draw, reading the packed texture.
+    vertical_pipeline: Option<wgpu::RenderPipeline>,
     /// Several lights: a draw that writes the union of their classifications.
     classify_pipeline: Option<wgpu::RenderPipeline>,
     sampler: wgpu::Sampler,
     axis_buffers: [wgpu::Buffer; 2],
     axis_groups: [wgpu::BindGroup; 2],
-    /// The horizontal draw's targets, one per light.
-    temps: Vec<(wgpu::Texture, wgpu::TextureView)>,
+    /// The horizontal draw's target: `VISIBILITY_FORMAT` for one light, packed (light `c` in
+    /// channel `c`) for several.
+    temp: (wgpu::Texture, wgpu::TextureView),
+    /// Several lights: their inputs, packed.
+    packed: Option<PackedVisibility>,
     /// Several lights: where any of them can be shadowed.
     union: Option<(wgpu::Texture, wgpu::TextureView)>,
     /// The vertical draw's target, unless it writes the light's output layer.
@@ -101,11 +133,11 @@ impl BlurPass {
             entry::texture_2d(1, unfilterable),
             entry::sampler(2, wgpu::SamplerBindingType::Filtering),
         ];
+        layout_entries.push(entry::texture_2d(3, filterable));
         for c in 0..MAX_BATCHED_LIGHTS as u32 {
-            layout_entries.push(entry::texture_2d(3 + c, filterable));
-            layout_entries.push(entry::texture_2d(7 + c, unfilterable));
-            layout_entries.push(entry::texture_2d(11 + c, unfilterable));
+            layout_entries.push(entry::texture_2d(4 + c, unfilterable));
         }
+        layout_entries.push(entry::texture_2d(8, unfilterable));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("BlurPass::layout"),
             entries: &layout_entries,
@@ -139,11 +171,14 @@ impl BlurPass {
             .pipeline_at(device, entry)
         };
         // Only where the distance map says a shadow can fall.
-        let pipeline = fullscreen(
-            &targets,
-            switches.after_distance_map.then(classified_test),
-            "fs_main",
-        );
+        let tested = || switches.after_distance_map.then(classified_test);
+        let packed = [Some(wgpu::ColorTargetState::from(PackedVisibility::FORMAT))];
+        let pipeline = if lights > 1 {
+            fullscreen(&packed, tested(), "fs_packed")
+        } else {
+            fullscreen(&targets, tested(), "fs_main")
+        };
+        let vertical_pipeline = (lights > 1).then(|| fullscreen(&targets, tested(), "fs_main"));
         let classify_pipeline = (lights > 1).then(|| {
             let write = wgpu::DepthStencilState {
                 format: CLASSIFICATION_FORMAT,
@@ -180,11 +215,13 @@ impl BlurPass {
             lights,
             layout,
             pipeline,
+            vertical_pipeline,
             classify_pipeline,
             sampler,
             axis_buffers,
             axis_groups,
-            temps: Vec::new(),
+            temp: screen_target(device, "BlurPass::horizontal", 1, 1, VISIBILITY_FORMAT),
+            packed: None,
             union: None,
             output: None,
             bind_groups: None,
@@ -204,9 +241,13 @@ impl BlurPass {
     }
 
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.temps = (0..self.lights)
-            .map(|_| screen_target(device, "BlurPass::horizontal", width, height, VISIBILITY_FORMAT))
-            .collect();
+        let temp_format = if self.lights > 1 {
+            PackedVisibility::FORMAT
+        } else {
+            VISIBILITY_FORMAT
+        };
+        self.packed = (self.lights > 1).then(|| PackedVisibility::new(device, width, height));
+        self.temp = screen_target(device, "BlurPass::horizontal", width, height, temp_format);
         self.union = (self.lights > 1)
             .then(|| screen_target(device, "BlurPass::union", width, height, CLASSIFICATION_FORMAT));
         self.output = (!self.switches.after_distance_map).then(|| {
@@ -222,7 +263,9 @@ impl BlurPass {
     }
 
     /// Points the pass at its inputs, one per light (as many as the pass was made for; lights
-    /// past `lights` are left out); `dummy` stands in for the slots no light fills.
+    /// past `lights` are left out); `dummy` stands in for the slots no light fills. Several
+    /// lights read their visibility and deviations from [`Self::packed`], which their variable
+    /// PCF passes write: only their distance maps are taken from `lights`.
     pub(crate) fn bind(
         &mut self,
         device: &wgpu::Device,
@@ -231,32 +274,40 @@ impl BlurPass {
         lights: &[BlurInput],
         dummy: &wgpu::TextureView,
     ) {
-        let group = |sources: &[&wgpu::TextureView]| {
+        let group = |source: &wgpu::TextureView, sigmas: &wgpu::TextureView| {
             let distance = |c: usize| {
                 wgpu::BindingResource::TextureView(lights.get(c).map_or(dummy, |l| l.distance_map))
             };
-            let sigma =
-                |c: usize| wgpu::BindingResource::TextureView(lights.get(c).map_or(dummy, |l| l.blur_sigma));
             let mut resources = vec![
                 frame.as_entire_binding(),
                 wgpu::BindingResource::TextureView(camera_depth),
                 wgpu::BindingResource::Sampler(&self.sampler),
+                wgpu::BindingResource::TextureView(source),
             ];
-            resources.extend(
-                (0..MAX_BATCHED_LIGHTS)
-                    .map(|c| wgpu::BindingResource::TextureView(sources.get(c).copied().unwrap_or(dummy))),
-            );
             resources.extend((0..MAX_BATCHED_LIGHTS).map(distance));
-            resources.extend((0..MAX_BATCHED_LIGHTS).map(sigma));
+            resources.push(wgpu::BindingResource::TextureView(sigmas));
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("BlurPass::bind_group"),
                 layout: &self.layout,
                 entries: &entries(&resources),
             })
         };
-        let inputs: Vec<_> = lights.iter().take(self.lights).map(|l| l.visibility).collect();
-        let temps: Vec<_> = self.temps.iter().map(|t| &t.1).collect();
-        self.bind_groups = Some([group(&inputs), group(&temps)]);
+        self.bind_groups = Some(match (&self.packed, lights.first()) {
+            (Some(packed), _) => [
+                group(&packed.visibility.1, &packed.sigma_x.1),
+                group(&self.temp.1, &packed.sigma_y.1),
+            ],
+            (None, Some(light)) => [
+                group(light.visibility, light.blur_sigma),
+                group(&self.temp.1, light.blur_sigma),
+            ],
+            (None, None) => [group(dummy, dummy), group(&self.temp.1, dummy)],
+        });
+    }
+
+    /// Several lights: the packed inputs their variable PCF passes write.
+    pub(crate) fn packed(&self) -> Option<&PackedVisibility> {
+        self.packed.as_ref()
     }
 
     /// The blurred visibility, unless the vertical draw writes the light's output layer.
@@ -308,7 +359,6 @@ impl BlurPass {
         let Some(groups) = &self.bind_groups else {
             return;
         };
-        let temps: Vec<_> = self.temps.iter().map(|t| &t.1).collect();
         let tested = match (&self.classify_pipeline, &self.union) {
             (Some(classify), Some(union)) => {
                 draw_fullscreen_into(
@@ -329,7 +379,7 @@ impl BlurPass {
             "BlurPass::horizontal",
             &self.pipeline,
             &[&groups[0], &self.axis_groups[0]],
-            &temps,
+            &[&self.temp.1],
             depth,
         );
         let outputs: Vec<&wgpu::TextureView> = match &self.output {
@@ -339,7 +389,7 @@ impl BlurPass {
         draw_fullscreen_into(
             encoder,
             "BlurPass::vertical",
-            &self.pipeline,
+            self.vertical_pipeline.as_ref().unwrap_or(&self.pipeline),
             &[&groups[1], &self.axis_groups[1]],
             &outputs,
             depth,

@@ -7,7 +7,12 @@
 //! mode, the standard deviation the blur must add, in pixels along screen x and y (RG16F).
 //! The tap code is shared with the fixed-spacing [`super::PcfPass`]
 //! (`shaders/common/pcf_taps.wgsl`); the fast mode runs this pass with one tap.
+//!
+//! A light blurred with others in one pass ([`super::BlurPass`] for several lights) also
+//! writes its channel of that pass's packed textures ([`PackedVisibility`]): its visibility and
+//! its standard deviations along x and y, which the blur then reads with one fetch for all.
 
+use super::blur::PackedVisibility;
 use super::pcf::comparison_sampler;
 use super::{
     CLASSIFICATION_FORMAT, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, entries, entry, screen_target,
@@ -18,7 +23,11 @@ pub struct VariablePcfPass {
     switches: PcfSwitches,
     light_kind: u32,
     layout: wgpu::BindGroupLayout,
+    shader: wgpu::ShaderModule,
     pipeline: wgpu::RenderPipeline,
+    /// In a batch of lights: the light's channel in the packed textures and the pipeline that
+    /// writes it.
+    packed: Option<(usize, wgpu::RenderPipeline)>,
     params: wgpu::Buffer,
     sampler: wgpu::Sampler,
     visibility: (wgpu::Texture, wgpu::TextureView),
@@ -51,18 +60,15 @@ impl VariablePcfPass {
                 entry::uniform(5, wgpu::ShaderStages::FRAGMENT, size_of::<PcfUniform>(), false),
             ],
         });
-        let pipeline = Fullscreen {
-            label: "VariablePcfPass::pipeline",
-            shader: &shader,
-            bind_group_layouts: &[Some(&layout)],
-            targets: &[Some(VISIBILITY_FORMAT.into()), Some(Self::SIGMA_FORMAT.into())],
-            depth: Some(classified_test()),
-            constants: &[
-                ("ROTATE_TAPS", if switches.rotate_taps { 1.0 } else { 0.0 }),
-                (LIGHT_KIND, light_kind as f64),
-            ],
-        }
-        .pipeline(device);
+        let pipeline = Self::make_pipeline(
+            device,
+            &shader,
+            &layout,
+            &[Some(VISIBILITY_FORMAT.into()), Some(Self::SIGMA_FORMAT.into())],
+            switches,
+            light_kind,
+            "fs_main",
+        );
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("VariablePcfPass::params"),
             size: size_of::<PcfUniform>() as u64,
@@ -73,13 +79,73 @@ impl VariablePcfPass {
             switches,
             light_kind,
             layout,
+            shader,
             pipeline,
+            packed: None,
             params,
             sampler: comparison_sampler(device, "VariablePcfPass::comparison_sampler"),
             visibility: screen_target(device, "VariablePcfPass::visibility", 1, 1, VISIBILITY_FORMAT),
             blur_sigma: screen_target(device, "VariablePcfPass::blur_sigma", 1, 1, Self::SIGMA_FORMAT),
             bind_group: None,
         }
+    }
+
+    /// The pass's pipeline into `targets` with fragment entry point `entry`.
+    fn make_pipeline(
+        device: &wgpu::Device,
+        shader: &wgpu::ShaderModule,
+        layout: &wgpu::BindGroupLayout,
+        targets: &[Option<wgpu::ColorTargetState>],
+        switches: PcfSwitches,
+        light_kind: u32,
+        entry: &str,
+    ) -> wgpu::RenderPipeline {
+        Fullscreen {
+            label: "VariablePcfPass::pipeline",
+            shader,
+            bind_group_layouts: &[Some(layout)],
+            targets,
+            depth: Some(classified_test()),
+            constants: &[
+                ("ROTATE_TAPS", if switches.rotate_taps { 1.0 } else { 0.0 }),
+                (LIGHT_KIND, light_kind as f64),
+            ],
+        }
+        .pipeline_at(device, entry)
+    }
+
+    /// Makes the pass write channel `channel` of a batch's packed textures besides its own
+    /// ([`Self::encode_packed`]); `None`: its own only.
+    pub(crate) fn set_packed_channel(&mut self, device: &wgpu::Device, channel: Option<usize>) {
+        if self.packed.as_ref().map(|p| p.0) == channel {
+            return;
+        }
+        self.packed = channel.map(|c| {
+            let only = wgpu::ColorWrites::from_bits_truncate(1 << c);
+            let packed = |format| {
+                Some(wgpu::ColorTargetState {
+                    format,
+                    blend: None,
+                    write_mask: only,
+                })
+            };
+            let targets = [
+                Some(VISIBILITY_FORMAT.into()),
+                packed(PackedVisibility::FORMAT),
+                packed(PackedVisibility::FORMAT),
+                packed(PackedVisibility::FORMAT),
+            ];
+            let pipeline = Self::make_pipeline(
+                device,
+                &self.shader,
+                &self.layout,
+                &targets,
+                self.switches,
+                self.light_kind,
+                "fs_packed",
+            );
+            (c, pipeline)
+        });
     }
 
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
@@ -153,15 +219,63 @@ impl VariablePcfPass {
 
     /// Records the pass where `classification` (the distance map's) says a shadow can fall.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, classification: &wgpu::TextureView) {
-        let Some(group) = &self.bind_group else {
-            return;
+        let attachments = [
+            cleared(&self.visibility.1, wgpu::Color::WHITE),
+            cleared(&self.blur_sigma.1, wgpu::Color::TRANSPARENT),
+        ];
+        self.record(encoder, classification, &self.pipeline, &attachments);
+    }
+
+    /// In a batch ([`Self::set_packed_channel`] first): records the pass into its own
+    /// visibility and its channel of `packed`. The batch's first light clears `packed`
+    /// (`first`: visibility 1, deviations 0, where no light of the batch runs), the others keep
+    /// what it holds.
+    pub(crate) fn encode_packed(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        classification: &wgpu::TextureView,
+        packed: &PackedVisibility,
+        first: bool,
+    ) {
+        let Some((_, pipeline)) = &self.packed else {
+            return self.encode(encoder, classification);
         };
+        let keep_or = |view, clear| {
+            if first {
+                cleared(view, clear)
+            } else {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            }
+        };
+        let attachments = [
+            cleared(&self.visibility.1, wgpu::Color::WHITE),
+            keep_or(&packed.visibility.1, wgpu::Color::WHITE),
+            keep_or(&packed.sigma_x.1, wgpu::Color::TRANSPARENT),
+            keep_or(&packed.sigma_y.1, wgpu::Color::TRANSPARENT),
+        ];
+        self.record(encoder, classification, pipeline, &attachments);
+    }
+
+    /// One draw into `attachments`, tested against `classification`; the attachments are
+    /// cleared or kept as they say even when the pass is not bound yet.
+    fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        classification: &wgpu::TextureView,
+        pipeline: &wgpu::RenderPipeline,
+        attachments: &[Option<wgpu::RenderPassColorAttachment>],
+    ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("VariablePcfPass"),
-            color_attachments: &[
-                cleared(&self.visibility.1, wgpu::Color::WHITE),
-                cleared(&self.blur_sigma.1, wgpu::Color::TRANSPARENT),
-            ],
+            color_attachments: attachments,
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: classification,
                 depth_ops: None,
@@ -171,7 +285,10 @@ impl VariablePcfPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipeline);
+        let Some(group) = &self.bind_group else {
+            return;
+        };
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, group, &[]);
         pass.draw(0..3, 0..1);
     }
