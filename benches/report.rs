@@ -134,6 +134,27 @@ pub struct LightCost {
     pub still_unbatched_added_ms: f64,
 }
 
+/// The screen-space passes of `lights` still suns, per-pass medians summed over the lights:
+/// the blur batched or one pass per light, the suns' shadows apart or overlapping.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct BatchRun {
+    /// Degrees between one sun and the next about the vertical: 90 (shadows apart) or 5
+    /// (shadows overlapping).
+    pub apart_deg: f32,
+    pub lights: usize,
+    pub batched: bool,
+    pub distance_map_ms: f64,
+    pub pcf_ms: f64,
+    pub blur_ms: f64,
+}
+
+impl BatchRun {
+    /// The light-dependent screen-space passes together.
+    pub fn screen_space_ms(&self) -> f64 {
+        self.distance_map_ms + self.pcf_ms + self.blur_ms
+    }
+}
+
 /// How many times per frame each path draws the scene's geometry.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct GeometryPasses {
@@ -157,6 +178,8 @@ pub struct Embedding {
     pub cascades: Vec<CascadeRun>,
     /// The room's desk view, per method.
     pub room: Vec<RoomRun>,
+    /// Batched against unbatched blurs.
+    pub batching: Vec<BatchRun>,
 }
 
 /// One method (medium) on the room's desk view: a point light (the lamp) and a spot (the
@@ -395,6 +418,7 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
     let mut embedding = measure_embedding(&gpu, &teapot, &camera, size, config)?;
     embedding.cascades = measure_cascades(&gpu, &assets, size, config)?;
     embedding.room = measure_room(&gpu, &assets, size, config)?;
+    embedding.batching = measure_batching(&gpu, &teapot, &camera, size, config)?;
     write_report(config, &device_name, times_on_gpu(&gpu), &runs, &embedding)?;
     Ok(runs)
 }
@@ -427,6 +451,72 @@ fn measure_room(gpu: &HeadlessGpu, assets: &Path, size: (u32, u32), config: &Con
             rmse: error.rmse,
             penumbra_rmse: error.penumbra_rmse,
         });
+    }
+    Ok(runs)
+}
+
+/// `ours` (medium) on the teapot with one, two and four still suns (the scene's sun turned by
+/// multiples of `apart_deg` about the vertical), 90 degrees apart and 5 apart, the blur batched
+/// and not: each pass's median time, summed over the lights.
+fn measure_batching(
+    gpu: &HeadlessGpu,
+    scene: &penumbra::Scene,
+    camera: &penumbra::Camera,
+    (width, height): (u32, u32),
+    config: &Config,
+) -> Result<Vec<BatchRun>> {
+    let Light::Directional(sun) = scene.light else {
+        anyhow::bail!("the teapot scene's light must be a sun");
+    };
+    let mut runs = Vec::new();
+    for apart_deg in [90.0f32, 5.0] {
+        for lights in [1usize, 2, 4] {
+            for batched in [false, true] {
+                let mut scene = scene.clone();
+                scene.more_lights = (1..lights)
+                    .map(|k| {
+                        let turn = glam::Quat::from_rotation_y((k as f32 * apart_deg).to_radians());
+                        Light::Directional(penumbra::DirectionalLight {
+                            direction: turn * sun.direction,
+                            ..sun
+                        })
+                    })
+                    .collect();
+                let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+                settings.penumbra.batch_lights = batched;
+                let format = wgpu::TextureFormat::Rgba8UnormSrgb;
+                let mut renderer = Renderer::new(&gpu.device, format, settings)?;
+                let mut gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene)?;
+                // The lights stay: the warm-up draws their maps, the timed frames only the
+                // screen-space passes.
+                let timed = renderer.time_frames(
+                    &gpu.device,
+                    &gpu.queue,
+                    &mut gpu_scene,
+                    camera,
+                    (width, height),
+                    config.warmup.max(1),
+                    config.frames,
+                    |_, _| Ok(()),
+                )?;
+                let ms = timed.pass_medians();
+                let pass = |name: &str| ms.get(name).copied().unwrap_or(0.0);
+                let run = BatchRun {
+                    apart_deg,
+                    lights,
+                    batched,
+                    distance_map_ms: pass("distance map"),
+                    pcf_ms: pass("pcf"),
+                    blur_ms: pass("blur"),
+                };
+                println!(
+                    "batching: {lights} sun(s) {apart_deg} degrees apart, batched {batched}: distance map \
+                     {:.2}, pcf {:.2}, blur {:.2} ms",
+                    run.distance_map_ms, run.pcf_ms, run.blur_ms
+                );
+                runs.push(run);
+            }
+        }
     }
     Ok(runs)
 }
@@ -633,6 +723,7 @@ fn measure_embedding(
         camera_moved,
         cascades: Vec::new(),
         room: Vec::new(),
+        batching: Vec::new(),
         geometry_passes,
     })
 }
@@ -972,6 +1063,45 @@ fn write_report(
                 one.still_ms
             )?;
         }
+    }
+    writeln!(
+        md,
+        "\n### Batching the blur: the screen-space passes (still suns, per-pass medians summed over \
+         the lights)\n\n\
+         Suns 90 degrees apart throw their shadows apart; suns 5 degrees apart throw them on top of \
+         each other. A batched blur reads the lights' values packed and shares its taps among them, \
+         so it pays where their penumbrae overlap; the variable PCF passes write the packed values \
+         besides their own. `added` is what the lights past the first add, each.\n\n\
+         | suns apart | lights | blur | distance map ms | pcf ms | blur ms | together ms | added ms |\n\
+         |---|---|---|---|---|---|---|---|"
+    )?;
+    for r in &embedding.batching {
+        let first = embedding
+            .batching
+            .iter()
+            .find(|o| o.apart_deg == r.apart_deg && o.batched == r.batched && o.lights == 1);
+        let added = match first {
+            Some(f) if r.lights > 1 => format!(
+                "{:.2}",
+                (r.screen_space_ms() - f.screen_space_ms()) / (r.lights - 1) as f64
+            ),
+            _ => "-".into(),
+        };
+        writeln!(
+            md,
+            "| {} deg | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {added} |",
+            r.apart_deg,
+            r.lights,
+            if r.batched {
+                "batched"
+            } else {
+                "one pass per light"
+            },
+            r.distance_map_ms,
+            r.pcf_ms,
+            r.blur_ms,
+            r.screen_space_ms()
+        )?;
     }
     writeln!(md, "\n## Geometry passes per frame\n")?;
     writeln!(md, "| path | light moving | light still |\n|---|---|---|")?;

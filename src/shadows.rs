@@ -6,8 +6,9 @@
 //! caster it sees changed), then full-screen passes over the engine's depth. The distance-map
 //! method runs the distance map, then its PCF and blur only where the distance map says a
 //! shadow can fall; the blur's vertical draw writes the light's layer (with
-//! `PenumbraSettings::batch_lights`, one blur pass serves up to four lights, each with its own
-//! target and taps). The other methods run
+//! `PenumbraSettings::batch_lights`, one blur pass serves up to four lights: their PCF passes
+//! write their values packed into the pass's textures, one channel each, and the lights share
+//! its taps). The other methods run
 //! PCF or PCSS, the blur, and a resolve into the layer. No camera geometry is drawn.
 
 use crate::casters::Casters;

@@ -57,6 +57,9 @@ fn the_bench_writes_its_report() {
         "| pcss |",
         "still, one blur per light",
         "| 4 |",
+        "### Batching the blur",
+        "| 90 deg | 4 | one pass per light |",
+        "| 5 deg | 4 | batched |",
     ] {
         assert!(md.contains(needle), "report.md lacks `{needle}`");
     }
@@ -64,6 +67,16 @@ fn the_bench_writes_its_report() {
         md.contains("**met**") || md.contains("**missed**"),
         "targets have verdicts"
     );
+    // Every batching run timed the three screen-space passes of its lights.
+    let embedding: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("embedding.json")).unwrap()).unwrap();
+    let batching = embedding["batching"].as_array().unwrap();
+    assert_eq!(batching.len(), 2 * 3 * 2);
+    for run in batching {
+        for pass in ["distance_map_ms", "pcf_ms", "blur_ms"] {
+            assert!(run[pass].as_f64().is_some_and(|t| t > 0.0), "{run}: no {pass}");
+        }
+    }
     let (w, h) = image::image_dimensions(out.join("tradeoff.png")).unwrap();
     assert_eq!((w, h), (1000, 700));
 }
