@@ -10,8 +10,7 @@
 //
 // Batching (several lights, after the distance map): the lights' values come packed, light c
 // in channel c of one texture (the variable PCF passes write them so, and the horizontal draw
-// writes its result so for the vertical one), and their standard deviations along the draw's
-// axis likewise. The lights share the taps: each keeps its own Gaussian weights (its own
+// writes its result so for the vertical one). The lights share the taps: each keeps its own Gaussian weights (its own
 // standard deviation), on the taps of the widest light that needs a blur at the pixel, so one
 // depth load, one depth weight and one fetch of every light's value serve them all. Where a
 // single light needs a blur at a pixel, which is most pixels, its result is what a draw of its
@@ -50,12 +49,14 @@ struct Blur {
 @group(0) @binding(5) var distance1: texture_2d<f32>;
 @group(0) @binding(6) var distance2: texture_2d<f32>;
 @group(0) @binding(7) var distance3: texture_2d<f32>;
-// physical mode: the standard deviation to add in pixels: one light's along screen x (R) and
-// y (G), or light c's along the draw's axis in channel c
-@group(0) @binding(8) var sigmas: texture_2d<f32>;
+// physical mode: each light's standard deviation to add in pixels, along screen x (R) and y (G)
+@group(0) @binding(8) var sigma0: texture_2d<f32>;
+@group(0) @binding(9) var sigma1: texture_2d<f32>;
+@group(0) @binding(10) var sigma2: texture_2d<f32>;
+@group(0) @binding(11) var sigma3: texture_2d<f32>;
 @group(1) @binding(0) var<uniform> blur: Blur;
 
-// Each light's distance map is named (not picked by an index), so the compiled shader knows
+// Each light's distance map and deviations are named (not picked by an index), so the compiled shader knows
 // which texture every fetch reads; lights past LIGHTS read as 1 and are never blurred.
 
 // Every light's value at `uv` (filtered).
@@ -93,11 +94,20 @@ fn distances_of(pixel: vec2<i32>) -> array<vec2<f32>, 4> {
 
 // Every light's standard deviation along the draw's axis (physical mode), in pixels.
 fn sigmas_of(pixel: vec2<i32>) -> vec4<f32> {
-    let s = textureLoad(sigmas, pixel, 0);
+    var s = array<vec2<f32>, 4>(textureLoad(sigma0, pixel, 0).xy, vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0));
     if LIGHTS > 1u {
-        return s;
+        s[1] = textureLoad(sigma1, pixel, 0).xy;
     }
-    return vec4<f32>(select(s.x, s.y, blur.axis.y > 0.5), 0.0, 0.0, 0.0);
+    if LIGHTS > 2u {
+        s[2] = textureLoad(sigma2, pixel, 0).xy;
+    }
+    if LIGHTS > 3u {
+        s[3] = textureLoad(sigma3, pixel, 0).xy;
+    }
+    if blur.axis.y > 0.5 {
+        return vec4<f32>(s[0].y, s[1].y, s[2].y, s[3].y);
+    }
+    return vec4<f32>(s[0].x, s[1].x, s[2].x, s[3].x);
 }
 
 fn finish(v: vec4<f32>, d: vec4<f32>) -> vec4<f32> {

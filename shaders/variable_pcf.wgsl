@@ -44,20 +44,18 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     return pcf_at(frag.xy);
 }
 
-// A light blurred with others in one pass: its visibility to its own target and, for the blur,
-// to the pass's packed textures (the pipeline writes only this light's channel of each), with
-// its standard deviations along screen x and y in two of them.
+// A light blurred with others in one pass: as `fs_main`, and its visibility to the pass's
+// packed texture too (the pipeline writes only this light's channel of it).
 struct PackedOut {
     @location(0) visibility: vec4<f32>,
-    @location(1) packed_visibility: vec4<f32>,
-    @location(2) sigma_x: vec4<f32>,
-    @location(3) sigma_y: vec4<f32>,
+    @location(1) blur_sigma: vec4<f32>,
+    @location(2) packed_visibility: vec4<f32>,
 }
 
 @fragment
 fn fs_packed(@builtin(position) frag: vec4<f32>) -> PackedOut {
     let out = pcf_at(frag.xy);
-    return PackedOut(out.visibility, out.visibility, vec4<f32>(out.blur_sigma.x), vec4<f32>(out.blur_sigma.y));
+    return PackedOut(out.visibility, out.blur_sigma, out.visibility);
 }
 
 // The visibility and the blur's standard deviations at pixel centre `frag`.

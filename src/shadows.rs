@@ -18,8 +18,9 @@ use crate::frame::{
 };
 use crate::light_space::{FitInputs, LightView, MAX_TILES, atlas_grid, tile_resolution};
 use crate::passes::{
-    BlurInput, BlurPass, DistanceMapPass, ExitMapPass, FattenedShadowMapPass, MAX_BATCHED_LIGHTS, PcfPass,
-    PcssPass, ResolvePass, ShadowMapPass, VISIBILITY_FORMAT, VariablePcfPass, screen_target,
+    BlurInput, BlurPass, DistanceMapPass, ExitMapPass, FattenedShadowMapPass, MAX_BATCHED_LIGHTS,
+    PackedVisibility, PcfPass, PcssPass, ResolvePass, ShadowMapPass, VISIBILITY_FORMAT, VariablePcfPass,
+    screen_target,
 };
 use crate::scene::{Aabb, Light};
 use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
@@ -168,8 +169,8 @@ pub enum LightTexture {
     FattenedMap,
     /// Depth of the casters' back faces (the distance-map method).
     ExitMap,
-    /// RGBA16F: R = distance to the occluder (world units), G = mask, B and A = the blur's
-    /// standard deviation in pixels along x and y (physical mode).
+    /// RG16F: R = distance to the occluder (world units), G = mask (1 inside the fattened
+    /// shadow, 0 outside, -1 on non-receivers, -2 where nothing was drawn).
     DistanceMap,
     /// Raw PCF or PCSS visibility (R16F).
     Visibility,
@@ -582,7 +583,8 @@ impl Shadows {
         for slots in &groups {
             for (c, &slot) in slots.iter().enumerate() {
                 if let Some(p) = self.lights[slot].as_mut().and_then(|s| s.variable_pcf.as_mut()) {
-                    p.set_packed_channel(device, (slots.len() > 1).then_some(c));
+                    let format = PackedVisibility::format(slots.len());
+                    p.set_packed_channel(device, (slots.len() > 1).then_some((c, format)));
                 }
             }
         }

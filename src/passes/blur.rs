@@ -1,10 +1,11 @@
 //! Separable Gaussian blur of up to four lights' visibility at once: one pass object, two draws
 //! (horizontal into a temporary texture, then vertical into the output) that differ by an axis
-//! uniform. Light `c` of the pass is read from its own inputs, kept in channel `c` of the
-//! temporary texture between the draws, and written to its own target.
+//! uniform. Several lights' visibility comes packed, light `c` in channel `c` of one texture
+//! their variable PCF passes write, stays so between the draws, and goes to its own target.
 //!
-//! Input: the frame uniform, the camera depth and, per light, the visibility to blur, its
-//! distance map and, in physical mode, the standard deviations the variable PCF pass wrote.
+//! Input: the frame uniform, the camera depth and, per light, the visibility to blur (one
+//! light's own, or the batch's packed texture), its distance map and, in physical mode, the
+//! standard deviations the variable PCF pass wrote.
 //! Output: R16F blurred visibility per light. Gaussian weights are computed on the CPU
 //! ([`crate::frame`]); the step between taps is per pixel (distance-driven) or fixed.
 //!
@@ -14,8 +15,7 @@
 //! light's layer of the output array directly, with the indirect attenuation applied: no
 //! separate resolve. Batching lights shares the draws, the pixel's depth, the early-outs and the
 //! taps: each light keeps its own Gaussian weights, on the taps of the widest light that needs a
-//! blur at the pixel, so one depth load and one depth weight per tap serve them all, and the
-//! vertical draw fetches every light's value at a tap at once. A light alone in its penumbra at
+//! blur at the pixel, so one depth load, one depth weight and one fetch per tap serve them all. A light alone in its penumbra at
 //! a pixel gets what a pass of its own gives; where penumbrae of different widths cross, the
 //! narrower is sampled on the wider's taps (a test bounds the difference).
 
@@ -31,24 +31,27 @@ use crate::frame::{BlurParams, BlurSwitches, gaussian_weights};
 /// The most lights one blur pass takes (one colour target each).
 pub const MAX_BATCHED_LIGHTS: usize = 4;
 
-/// A batch's inputs, written by its lights' variable PCF passes, light `c` in channel `c` of
-/// each: the visibility and the blur's standard deviations along screen x and y (pixels).
+/// A batch's visibility, written by its lights' variable PCF passes, light `c` in channel `c`.
 pub(crate) struct PackedVisibility {
     pub visibility: (wgpu::Texture, wgpu::TextureView),
-    pub sigma_x: (wgpu::Texture, wgpu::TextureView),
-    pub sigma_y: (wgpu::Texture, wgpu::TextureView),
 }
 
 impl PackedVisibility {
-    /// Four lights' values, one a channel; also of the horizontal draw's result.
-    pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+    /// The format that holds `lights` lights' values, one a channel (also of the horizontal
+    /// draw's result): two channels for two lights (a four-channel fetch costs a software
+    /// rasterizer about twice a two-channel one), four for three or four.
+    pub(crate) fn format(lights: usize) -> wgpu::TextureFormat {
+        if lights <= 2 {
+            wgpu::TextureFormat::Rg16Float
+        } else {
+            wgpu::TextureFormat::Rgba16Float
+        }
+    }
 
-    fn new(device: &wgpu::Device, width: u32, height: u32) -> Self {
-        let target = |label| screen_target(device, label, width, height, Self::FORMAT);
+    fn new(device: &wgpu::Device, width: u32, height: u32, lights: usize) -> Self {
+        let format = Self::format(lights);
         Self {
-            visibility: target("BlurPass::packed_visibility"),
-            sigma_x: target("BlurPass::packed_sigma_x"),
-            sigma_y: target("BlurPass::packed_sigma_y"),
+            visibility: screen_target(device, "BlurPass::packed_visibility", width, height, format),
         }
     }
 }
@@ -77,7 +80,7 @@ pub(crate) struct BlurUniform {
 
 /// One light's inputs to the blur.
 pub(crate) struct BlurInput<'a> {
-    /// The visibility to blur.
+    /// The visibility to blur (several lights read the pass's packed texture instead).
     pub visibility: &'a wgpu::TextureView,
     /// Its distance map (a stand-in for the fixed blur).
     pub distance_map: &'a wgpu::TextureView,
@@ -102,7 +105,7 @@ pub struct BlurPass {
     /// The horizontal draw's target: `VISIBILITY_FORMAT` for one light, packed (light `c` in
     /// channel `c`) for several.
     temp: (wgpu::Texture, wgpu::TextureView),
-    /// Several lights: their inputs, packed.
+    /// Several lights: their visibility, packed.
     packed: Option<PackedVisibility>,
     /// Several lights: where any of them can be shadowed.
     union: Option<(wgpu::Texture, wgpu::TextureView)>,
@@ -137,7 +140,9 @@ impl BlurPass {
         for c in 0..MAX_BATCHED_LIGHTS as u32 {
             layout_entries.push(entry::texture_2d(4 + c, unfilterable));
         }
-        layout_entries.push(entry::texture_2d(8, unfilterable));
+        for c in 0..MAX_BATCHED_LIGHTS as u32 {
+            layout_entries.push(entry::texture_2d(8 + c, unfilterable));
+        }
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("BlurPass::layout"),
             entries: &layout_entries,
@@ -172,7 +177,9 @@ impl BlurPass {
         };
         // Only where the distance map says a shadow can fall.
         let tested = || switches.after_distance_map.then(classified_test);
-        let packed = [Some(wgpu::ColorTargetState::from(PackedVisibility::FORMAT))];
+        let packed = [Some(wgpu::ColorTargetState::from(PackedVisibility::format(
+            lights,
+        )))];
         let pipeline = if lights > 1 {
             fullscreen(&packed, tested(), "fs_packed")
         } else {
@@ -242,11 +249,11 @@ impl BlurPass {
 
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
         let temp_format = if self.lights > 1 {
-            PackedVisibility::FORMAT
+            PackedVisibility::format(self.lights)
         } else {
             VISIBILITY_FORMAT
         };
-        self.packed = (self.lights > 1).then(|| PackedVisibility::new(device, width, height));
+        self.packed = (self.lights > 1).then(|| PackedVisibility::new(device, width, height, self.lights));
         self.temp = screen_target(device, "BlurPass::horizontal", width, height, temp_format);
         self.union = (self.lights > 1)
             .then(|| screen_target(device, "BlurPass::union", width, height, CLASSIFICATION_FORMAT));
@@ -264,8 +271,8 @@ impl BlurPass {
 
     /// Points the pass at its inputs, one per light (as many as the pass was made for; lights
     /// past `lights` are left out); `dummy` stands in for the slots no light fills. Several
-    /// lights read their visibility and deviations from [`Self::packed`], which their variable
-    /// PCF passes write: only their distance maps are taken from `lights`.
+    /// lights read their visibility from [`Self::packed`], which their variable PCF passes
+    /// write: their distance maps and deviations are taken from `lights`.
     pub(crate) fn bind(
         &mut self,
         device: &wgpu::Device,
@@ -274,10 +281,12 @@ impl BlurPass {
         lights: &[BlurInput],
         dummy: &wgpu::TextureView,
     ) {
-        let group = |source: &wgpu::TextureView, sigmas: &wgpu::TextureView| {
+        let group = |source: &wgpu::TextureView| {
             let distance = |c: usize| {
                 wgpu::BindingResource::TextureView(lights.get(c).map_or(dummy, |l| l.distance_map))
             };
+            let sigma =
+                |c: usize| wgpu::BindingResource::TextureView(lights.get(c).map_or(dummy, |l| l.blur_sigma));
             let mut resources = vec![
                 frame.as_entire_binding(),
                 wgpu::BindingResource::TextureView(camera_depth),
@@ -285,27 +294,22 @@ impl BlurPass {
                 wgpu::BindingResource::TextureView(source),
             ];
             resources.extend((0..MAX_BATCHED_LIGHTS).map(distance));
-            resources.push(wgpu::BindingResource::TextureView(sigmas));
+            resources.extend((0..MAX_BATCHED_LIGHTS).map(sigma));
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("BlurPass::bind_group"),
                 layout: &self.layout,
                 entries: &entries(&resources),
             })
         };
-        self.bind_groups = Some(match (&self.packed, lights.first()) {
-            (Some(packed), _) => [
-                group(&packed.visibility.1, &packed.sigma_x.1),
-                group(&self.temp.1, &packed.sigma_y.1),
-            ],
-            (None, Some(light)) => [
-                group(light.visibility, light.blur_sigma),
-                group(&self.temp.1, light.blur_sigma),
-            ],
-            (None, None) => [group(dummy, dummy), group(&self.temp.1, dummy)],
-        });
+        let source = match (&self.packed, lights.first()) {
+            (Some(packed), _) => &packed.visibility.1,
+            (None, Some(light)) => light.visibility,
+            (None, None) => dummy,
+        };
+        self.bind_groups = Some([group(source), group(&self.temp.1)]);
     }
 
-    /// Several lights: the packed inputs their variable PCF passes write.
+    /// Several lights: the packed visibility their variable PCF passes write.
     pub(crate) fn packed(&self) -> Option<&PackedVisibility> {
         self.packed.as_ref()
     }

@@ -34,9 +34,9 @@ mod resolve;
 mod shadow_map;
 mod variable_pcf;
 
-pub(crate) use blur::BlurInput;
 #[cfg(test)]
 pub(crate) use blur::BlurUniform;
+pub(crate) use blur::{BlurInput, PackedVisibility};
 pub use blur::{BlurPass, MAX_BATCHED_LIGHTS};
 #[cfg(feature = "renderer")]
 pub use composite::CompositePass;

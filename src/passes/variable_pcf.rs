@@ -9,8 +9,8 @@
 //! (`shaders/common/pcf_taps.wgsl`); the fast mode runs this pass with one tap.
 //!
 //! A light blurred with others in one pass ([`super::BlurPass`] for several lights) also
-//! writes its channel of that pass's packed textures ([`PackedVisibility`]): its visibility and
-//! its standard deviations along x and y, which the blur then reads with one fetch for all.
+//! writes its visibility into its channel of that pass's packed texture ([`PackedVisibility`]),
+//! which the blur then reads with one fetch a tap for all the lights.
 
 use super::blur::PackedVisibility;
 use super::pcf::comparison_sampler;
@@ -25,9 +25,9 @@ pub struct VariablePcfPass {
     layout: wgpu::BindGroupLayout,
     shader: wgpu::ShaderModule,
     pipeline: wgpu::RenderPipeline,
-    /// In a batch of lights: the light's channel in the packed textures and the pipeline that
-    /// writes it.
-    packed: Option<(usize, wgpu::RenderPipeline)>,
+    /// In a batch of lights: the light's channel, the packed texture's format and the pipeline
+    /// that writes it.
+    packed: Option<(usize, wgpu::TextureFormat, wgpu::RenderPipeline)>,
     params: wgpu::Buffer,
     sampler: wgpu::Sampler,
     visibility: (wgpu::Texture, wgpu::TextureView),
@@ -114,13 +114,17 @@ impl VariablePcfPass {
         .pipeline_at(device, entry)
     }
 
-    /// Makes the pass write channel `channel` of a batch's packed textures besides its own
-    /// ([`Self::encode_packed`]); `None`: its own only.
-    pub(crate) fn set_packed_channel(&mut self, device: &wgpu::Device, channel: Option<usize>) {
-        if self.packed.as_ref().map(|p| p.0) == channel {
+    /// Makes the pass write channel `channel` of a batch's packed texture (`format`) besides its
+    /// own ([`Self::encode_packed`]); `None`: its own only.
+    pub(crate) fn set_packed_channel(
+        &mut self,
+        device: &wgpu::Device,
+        channel: Option<(usize, wgpu::TextureFormat)>,
+    ) {
+        if self.packed.as_ref().map(|p| (p.0, p.1)) == channel {
             return;
         }
-        self.packed = channel.map(|c| {
+        self.packed = channel.map(|(c, format)| {
             let only = wgpu::ColorWrites::from_bits_truncate(1 << c);
             let packed = |format| {
                 Some(wgpu::ColorTargetState {
@@ -131,9 +135,8 @@ impl VariablePcfPass {
             };
             let targets = [
                 Some(VISIBILITY_FORMAT.into()),
-                packed(PackedVisibility::FORMAT),
-                packed(PackedVisibility::FORMAT),
-                packed(PackedVisibility::FORMAT),
+                Some(Self::SIGMA_FORMAT.into()),
+                packed(format),
             ];
             let pipeline = Self::make_pipeline(
                 device,
@@ -144,7 +147,7 @@ impl VariablePcfPass {
                 self.light_kind,
                 "fs_packed",
             );
-            (c, pipeline)
+            (c, format, pipeline)
         });
     }
 
@@ -226,10 +229,9 @@ impl VariablePcfPass {
         self.record(encoder, classification, &self.pipeline, &attachments);
     }
 
-    /// In a batch ([`Self::set_packed_channel`] first): records the pass into its own
-    /// visibility and its channel of `packed`. The batch's first light clears `packed`
-    /// (`first`: visibility 1, deviations 0, where no light of the batch runs), the others keep
-    /// what it holds.
+    /// In a batch ([`Self::set_packed_channel`] first): records the pass into its own targets
+    /// and its channel of `packed`. The batch's first light clears `packed` (`first`: 1 where
+    /// no light of the batch runs), the others keep what it holds.
     pub(crate) fn encode_packed(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -237,7 +239,7 @@ impl VariablePcfPass {
         packed: &PackedVisibility,
         first: bool,
     ) {
-        let Some((_, pipeline)) = &self.packed else {
+        let Some((_, _, pipeline)) = &self.packed else {
             return self.encode(encoder, classification);
         };
         let keep_or = |view, clear| {
@@ -257,9 +259,8 @@ impl VariablePcfPass {
         };
         let attachments = [
             cleared(&self.visibility.1, wgpu::Color::WHITE),
+            cleared(&self.blur_sigma.1, wgpu::Color::TRANSPARENT),
             keep_or(&packed.visibility.1, wgpu::Color::WHITE),
-            keep_or(&packed.sigma_x.1, wgpu::Color::TRANSPARENT),
-            keep_or(&packed.sigma_y.1, wgpu::Color::TRANSPARENT),
         ];
         self.record(encoder, classification, pipeline, &attachments);
     }
