@@ -77,33 +77,24 @@ fn values_of(pixel: vec2<i32>) -> vec4<f32> {
     return vec4<f32>(v.x, 1.0, 1.0, 1.0);
 }
 
-// Every light's distance (R) and mask (G) at `pixel`; lights past LIGHTS read (0, 0).
-fn distances_of(pixel: vec2<i32>) -> array<vec2<f32>, 4> {
-    var dm = array<vec2<f32>, 4>(textureLoad(distance0, pixel, 0).xy, vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0));
+// The RG of texel `pixel` of each light's texture (t0 to t3); lights past LIGHTS read (0, 0).
+fn each_light_rg(t0: texture_2d<f32>, t1: texture_2d<f32>, t2: texture_2d<f32>, t3: texture_2d<f32>, pixel: vec2<i32>) -> array<vec2<f32>, 4> {
+    var rg = array<vec2<f32>, 4>(textureLoad(t0, pixel, 0).xy, vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0));
     if LIGHTS > 1u {
-        dm[1] = textureLoad(distance1, pixel, 0).xy;
+        rg[1] = textureLoad(t1, pixel, 0).xy;
     }
     if LIGHTS > 2u {
-        dm[2] = textureLoad(distance2, pixel, 0).xy;
+        rg[2] = textureLoad(t2, pixel, 0).xy;
     }
     if LIGHTS > 3u {
-        dm[3] = textureLoad(distance3, pixel, 0).xy;
+        rg[3] = textureLoad(t3, pixel, 0).xy;
     }
-    return dm;
+    return rg;
 }
 
 // Every light's standard deviation along the draw's axis (physical mode), in pixels.
 fn sigmas_of(pixel: vec2<i32>) -> vec4<f32> {
-    var s = array<vec2<f32>, 4>(textureLoad(sigma0, pixel, 0).xy, vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0));
-    if LIGHTS > 1u {
-        s[1] = textureLoad(sigma1, pixel, 0).xy;
-    }
-    if LIGHTS > 2u {
-        s[2] = textureLoad(sigma2, pixel, 0).xy;
-    }
-    if LIGHTS > 3u {
-        s[3] = textureLoad(sigma3, pixel, 0).xy;
-    }
+    let s = each_light_rg(sigma0, sigma1, sigma2, sigma3, pixel);
     if blur.axis.y > 0.5 {
         return vec4<f32>(s[0].y, s[1].y, s[2].y, s[3].y);
     }
@@ -140,7 +131,8 @@ fn blur_all(frag: vec2<f32>) -> vec4<f32> {
     // The distance-driven blur: per light, a Gaussian of standard deviation `sigma` pixels,
     // sampled out to 2.5 sigma with as few taps as keep them at most a pixel apart (up to the
     // setting's).
-    let dm = distances_of(pixel);
+    // Every light's distance (R) and mask (G).
+    let dm = each_light_rg(distance0, distance1, distance2, distance3, pixel);
     let d = vec4<f32>(dm[0].x, dm[1].x, dm[2].x, dm[3].x);
     // Several lights: one whose distance map leaves this pixel out keeps the clear value, as a
     // depth test against its own classification would.
