@@ -134,12 +134,14 @@ pub struct LightCost {
     pub still_unbatched_added_ms: f64,
 }
 
-/// The screen-space passes of `lights` still suns, per-pass medians summed over the lights:
-/// the blur batched or one pass per light, the suns' shadows apart or overlapping.
+/// The screen-space passes of `lights` still lights of one type, per-pass medians summed over
+/// the lights: the blur batched or one pass per light.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct BatchRun {
-    /// Degrees between one sun and the next about the vertical: 90 (shadows apart) or 5
-    /// (shadows overlapping).
+    /// `sun`, `spot` or `point`.
+    pub kind: String,
+    /// Degrees between one light and the next about the vertical: 90 (shadows apart) or, for
+    /// suns, 5 (shadows overlapping).
     pub apart_deg: f32,
     pub lights: usize,
     pub batched: bool,
@@ -455,9 +457,42 @@ fn measure_room(gpu: &HeadlessGpu, assets: &Path, size: (u32, u32), config: &Con
     Ok(runs)
 }
 
-/// `ours` (medium) on the teapot with one, two and four still suns (the scene's sun turned by
-/// multiples of `apart_deg` about the vertical), 90 degrees apart and 5 apart, the blur batched
-/// and not: each pass's median time, summed over the lights.
+/// Light `k` of `kind` (`sun`, `spot` or `point`) added to `scene`, `k x apart_deg` degrees
+/// about the vertical from the first: the scene's sun turned; spots on a circle above the
+/// scene's centre, aimed at it; point lights on a circle above and beside it.
+fn added_light(scene: &penumbra::Scene, kind: &str, k: usize, apart_deg: f32) -> Light {
+    let center = scene.bounds().center();
+    let reach = scene.bounds().radius().max(1e-3);
+    let turn = glam::Quat::from_rotation_y((k as f32 * apart_deg).to_radians());
+    match (kind, scene.light) {
+        ("sun", Light::Directional(l)) => Light::Directional(penumbra::DirectionalLight {
+            direction: turn * l.direction,
+            ..l
+        }),
+        ("spot", _) => {
+            let position = center + turn * glam::Vec3::new(reach, 1.5 * reach, reach);
+            Light::Spot(penumbra::SpotLight {
+                position,
+                direction: center - position,
+                cone_angle_deg: 45.0,
+                radius: 0.02 * reach,
+                color: glam::Vec3::ONE,
+                intensity: 1.0,
+            })
+        }
+        ("point", _) => Light::Point(penumbra::PointLight {
+            position: center + turn * glam::Vec3::new(0.6 * reach, 1.2 * reach, 0.6 * reach),
+            radius: 0.02 * reach,
+            color: glam::Vec3::ONE,
+            intensity: 1.0,
+        }),
+        (_, other) => other,
+    }
+}
+
+/// `ours` (medium) on the teapot with one, two and four still lights of each type
+/// ([`added_light`]: suns 90 degrees apart and 5 apart, spots and point lights 90 apart), the
+/// blur batched and not: each screen-space pass's median time, summed over the lights.
 fn measure_batching(
     gpu: &HeadlessGpu,
     scene: &penumbra::Scene,
@@ -465,22 +500,14 @@ fn measure_batching(
     (width, height): (u32, u32),
     config: &Config,
 ) -> Result<Vec<BatchRun>> {
-    let Light::Directional(sun) = scene.light else {
-        anyhow::bail!("the teapot scene's light must be a sun");
-    };
     let mut runs = Vec::new();
-    for apart_deg in [90.0f32, 5.0] {
+    for (kind, apart_deg) in [("sun", 90.0f32), ("sun", 5.0), ("spot", 90.0), ("point", 90.0)] {
         for lights in [1usize, 2, 4] {
             for batched in [false, true] {
                 let mut scene = scene.clone();
+                scene.light = added_light(&scene, kind, 0, apart_deg);
                 scene.more_lights = (1..lights)
-                    .map(|k| {
-                        let turn = glam::Quat::from_rotation_y((k as f32 * apart_deg).to_radians());
-                        Light::Directional(penumbra::DirectionalLight {
-                            direction: turn * sun.direction,
-                            ..sun
-                        })
-                    })
+                    .map(|k| added_light(&scene, kind, k, apart_deg))
                     .collect();
                 let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
                 settings.penumbra.batch_lights = batched;
@@ -502,6 +529,7 @@ fn measure_batching(
                 let ms = timed.pass_medians();
                 let pass = |name: &str| ms.get(name).copied().unwrap_or(0.0);
                 let run = BatchRun {
+                    kind: kind.into(),
                     apart_deg,
                     lights,
                     batched,
@@ -510,8 +538,8 @@ fn measure_batching(
                     blur_ms: pass("blur"),
                 };
                 println!(
-                    "batching: {lights} sun(s) {apart_deg} degrees apart, batched {batched}: distance map \
-                     {:.2}, pcf {:.2}, blur {:.2} ms",
+                    "batching: {lights} {kind}(s) {apart_deg} degrees apart, batched {batched}: \
+                     distance map {:.2}, pcf {:.2}, blur {:.2} ms",
                     run.distance_map_ms, run.pcf_ms, run.blur_ms
                 );
                 runs.push(run);
@@ -601,37 +629,7 @@ fn measure_embedding(
         receiver_mask: None,
     };
     let casters = gpu_scene.casters();
-    // Lights of each type, 90 degrees apart around the scene: the scene's sun turned, and
-    // spots on a circle above the scene's centre, aimed at it.
-    let center = scene.bounds().center();
-    let reach = scene.bounds().radius().max(1e-3);
-    let light = |kind: &str, k: usize| {
-        let turn = glam::Quat::from_rotation_y((k as f32 * 90.0).to_radians());
-        match (kind, scene.light) {
-            ("sun", Light::Directional(l)) => Light::Directional(penumbra::DirectionalLight {
-                direction: turn * l.direction,
-                ..l
-            }),
-            ("spot", _) => {
-                let position = center + turn * glam::Vec3::new(reach, 1.5 * reach, reach);
-                Light::Spot(penumbra::SpotLight {
-                    position,
-                    direction: center - position,
-                    cone_angle_deg: 45.0,
-                    radius: 0.02 * reach,
-                    color: glam::Vec3::ONE,
-                    intensity: 1.0,
-                })
-            }
-            ("point", _) => Light::Point(penumbra::PointLight {
-                position: center + turn * glam::Vec3::new(0.6 * reach, 1.2 * reach, 0.6 * reach),
-                radius: 0.02 * reach,
-                color: glam::Vec3::ONE,
-                intensity: 1.0,
-            }),
-            (_, other) => other,
-        }
-    };
+    let light = |kind: &str, k: usize| added_light(scene, kind, k, 90.0);
     // One run of `frames` timed frames with `count` lights of `kind`: lights nudged every frame
     // (their maps re-rendered) or still (only the screen-space passes run), the blur batched
     // or one per light. Returns the median frame time and the geometry passes of a moving
@@ -1066,21 +1064,21 @@ fn write_report(
     }
     writeln!(
         md,
-        "\n### Batching the blur: the screen-space passes (still suns, per-pass medians summed over \
-         the lights)\n\n\
-         Suns 90 degrees apart throw their shadows apart; suns 5 degrees apart throw them on top of \
-         each other. A batched blur reads the lights' values packed and shares its taps among them, \
-         so it pays where their penumbrae overlap; the variable PCF passes write the packed values \
-         besides their own. `added` is what the lights past the first add, each.\n\n\
-         | suns apart | lights | blur | distance map ms | pcf ms | blur ms | together ms | added ms |\n\
-         |---|---|---|---|---|---|---|---|"
+        "\n### Batching the blur: the screen-space passes of each added light, by type (lights \
+         still, per-pass medians summed over the lights)\n\n\
+         The same lights as above through the renderer, timed pass by pass. Suns 90 degrees apart \
+         throw their shadows apart; suns 5 degrees apart throw them on top of each other. A \
+         batched blur reads the lights' values packed and shares its taps among them, so it pays \
+         where their penumbrae overlap; the variable PCF passes write the packed values besides \
+         their own. `added` is what each light past the first adds.\n\n\
+         | type | apart | lights | blur | distance map ms | pcf ms | blur ms | together ms | added ms |\n\
+         |---|---|---|---|---|---|---|---|---|"
     )?;
+    let same =
+        |a: &BatchRun, b: &BatchRun| a.kind == b.kind && a.apart_deg == b.apart_deg && a.batched == b.batched;
+    let first_of = |r: &BatchRun| embedding.batching.iter().find(|o| same(o, r) && o.lights == 1);
     for r in &embedding.batching {
-        let first = embedding
-            .batching
-            .iter()
-            .find(|o| o.apart_deg == r.apart_deg && o.batched == r.batched && o.lights == 1);
-        let added = match first {
+        let added = match first_of(r) {
             Some(f) if r.lights > 1 => format!(
                 "{:.2}",
                 (r.screen_space_ms() - f.screen_space_ms()) / (r.lights - 1) as f64
@@ -1089,7 +1087,8 @@ fn write_report(
         };
         writeln!(
             md,
-            "| {} deg | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {added} |",
+            "| {} | {} deg | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {added} |",
+            r.kind,
             r.apart_deg,
             r.lights,
             if r.batched {
@@ -1102,6 +1101,30 @@ fn write_report(
             r.blur_ms,
             r.screen_space_ms()
         )?;
+    }
+    // Lights two to four against the first, by type: the screen-space passes together, and the
+    // blur alone.
+    for r in embedding.batching.iter().filter(|r| r.lights == 4) {
+        if let Some(f) = first_of(r) {
+            writeln!(
+                md,
+                "\n{} {} degrees apart, {}: lights two to four add {:.2} ms each (blur {:.2}), against \
+                 {:.2} ms (blur {:.2}) for the first: {:.2}x ({:.2}x).",
+                r.kind,
+                r.apart_deg,
+                if r.batched {
+                    "batched"
+                } else {
+                    "one blur per light"
+                },
+                (r.screen_space_ms() - f.screen_space_ms()) / 3.0,
+                (r.blur_ms - f.blur_ms) / 3.0,
+                f.screen_space_ms(),
+                f.blur_ms,
+                (r.screen_space_ms() - f.screen_space_ms()) / 3.0 / f.screen_space_ms().max(1e-9),
+                (r.blur_ms - f.blur_ms) / 3.0 / f.blur_ms.max(1e-9),
+            )?;
+        }
     }
     writeln!(md, "\n## Geometry passes per frame\n")?;
     writeln!(md, "| path | light moving | light still |\n|---|---|---|")?;

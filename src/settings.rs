@@ -204,9 +204,8 @@ pub struct PenumbraSettings {
     /// pixel); the pass runs where any of their shadows can fall. Off: one blur pass per light.
     /// The result is the same except where two lights' penumbrae cross, where the narrower is
     /// sampled on the wider's taps. Default false: on Mesa's software rasterizer it saves blur
-    /// time only where the lights' shadows overlap (lights two to four 0.60x the first's), and
-    /// the packed writes cost PCF about as much as that saves where they do not (README,
-    /// "Lights").
+    /// time only where the lights' shadows overlap (lights two to four 0.60-0.66x the
+    /// first's), and the packed writes cost PCF about as much as that saves (README, "Lights").
     #[cfg_attr(feature = "serde", serde(default))]
     pub batch_lights: bool,
     /// How much shadows far from their occluder are lightened by bounced light, in [0, 1];

@@ -58,8 +58,11 @@ fn the_bench_writes_its_report() {
         "still, one blur per light",
         "| 4 |",
         "### Batching the blur",
-        "| 90 deg | 4 | one pass per light |",
-        "| 5 deg | 4 | batched |",
+        "| sun | 90 deg | 4 | one pass per light |",
+        "| sun | 5 deg | 4 | batched |",
+        "| spot | 90 deg | 4 | batched |",
+        "| point | 90 deg | 4 | one pass per light |",
+        "lights two to four add",
     ] {
         assert!(md.contains(needle), "report.md lacks `{needle}`");
     }
@@ -71,7 +74,8 @@ fn the_bench_writes_its_report() {
     let embedding: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("embedding.json")).unwrap()).unwrap();
     let batching = embedding["batching"].as_array().unwrap();
-    assert_eq!(batching.len(), 2 * 3 * 2);
+    // Suns apart and overlapping, spots, point lights; 1, 2 and 4 lights; batched or not.
+    assert_eq!(batching.len(), 4 * 3 * 2);
     for run in batching {
         for pass in ["distance_map_ms", "pcf_ms", "blur_ms"] {
             assert!(run[pass].as_f64().is_some_and(|t| t > 0.0), "{run}: no {pass}");
