@@ -10,9 +10,10 @@
 //
 // Batching (several lights, after the distance map): the lights' values come packed, light c
 // in channel c of one texture (the variable PCF passes write them so, and the horizontal draw
-// writes its result so for the vertical one). The lights share the taps: each keeps its own Gaussian weights (its own
-// standard deviation), on the taps of the widest light that needs a blur at the pixel, so one
-// depth load, one depth weight and one fetch of every light's value serve them all. Where a
+// writes its result so for the vertical one). The lights share the taps: each keeps its own
+// Gaussian weights (its own standard deviation), on the taps of the widest light that needs a
+// blur at the pixel, so one depth load, one depth weight and one fetch of every light's value
+// serve them all. Where a
 // single light needs a blur at a pixel, which is most pixels, its result is what a draw of its
 // own gives; where two lights' penumbrae of different widths cross, the narrower is sampled on
 // the wider's taps. After the distance map, a depth test skips the pixels where no shadow can
@@ -56,8 +57,9 @@ struct Blur {
 @group(0) @binding(11) var sigma3: texture_2d<f32>;
 @group(1) @binding(0) var<uniform> blur: Blur;
 
-// Each light's distance map and deviations are named (not picked by an index), so the compiled shader knows
-// which texture every fetch reads; lights past LIGHTS read as 1 and are never blurred.
+// Each light's distance map and deviations are named (not picked by an index), so the compiled
+// shader knows which texture every fetch reads; lights past LIGHTS are never blurred, and no
+// target takes their result.
 
 // Every light's value at `uv` (filtered).
 fn values_at(uv: vec2<f32>) -> vec4<f32> {

@@ -7,7 +7,7 @@
 //! method runs the distance map, then its PCF and blur only where the distance map says a
 //! shadow can fall; the blur's vertical draw writes the light's layer (with
 //! `PenumbraSettings::batch_lights`, one blur pass serves up to four lights: their PCF passes
-//! write their values packed into the pass's textures, one channel each, and the lights share
+//! write their values packed into the pass's texture, one channel each, and the lights share
 //! its taps). The other methods run
 //! PCF or PCSS, the blur, and a resolve into the layer. No camera geometry is drawn.
 
