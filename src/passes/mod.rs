@@ -445,6 +445,19 @@ pub(crate) fn cleared(
     })
 }
 
+/// A colour attachment that keeps what the view holds and stores what the pass writes.
+pub(crate) fn kept(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Load,
+            store: wgpu::StoreOp::Store,
+        },
+    })
+}
+
 /// Bind group entries for a list of resources, numbered from 0.
 pub(crate) fn entries<'a>(resources: &[wgpu::BindingResource<'a>]) -> Vec<wgpu::BindGroupEntry<'a>> {
     resources

@@ -15,7 +15,8 @@
 use super::blur::PackedVisibility;
 use super::pcf::comparison_sampler;
 use super::{
-    CLASSIFICATION_FORMAT, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, entries, entry, screen_target,
+    CLASSIFICATION_FORMAT, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, entries, entry, kept,
+    screen_target,
 };
 use crate::frame::{PcfSwitches, PcfUniform};
 
@@ -242,25 +243,14 @@ impl VariablePcfPass {
         let Some((_, _, pipeline)) = &self.packed else {
             return self.encode(encoder, classification);
         };
-        let keep_or = |view, clear| {
-            if first {
-                cleared(view, clear)
-            } else {
-                Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })
-            }
-        };
         let attachments = [
             cleared(&self.visibility.1, wgpu::Color::WHITE),
             cleared(&self.blur_sigma.1, wgpu::Color::TRANSPARENT),
-            keep_or(&packed.visibility.1, wgpu::Color::WHITE),
+            if first {
+                cleared(&packed.visibility.1, wgpu::Color::WHITE)
+            } else {
+                kept(&packed.visibility.1)
+            },
         ];
         self.record(encoder, classification, pipeline, &attachments);
     }
