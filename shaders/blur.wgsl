@@ -17,8 +17,8 @@
 // single light needs a blur at a pixel, which is most pixels, its result is what a draw of its
 // own gives; where two lights' penumbrae of different widths cross, the narrower is sampled on
 // the wider's taps. After the distance map, a depth test skips the pixels where no shadow can
-// fall: one light's classification, or, for several, the union of theirs that their batched
-// distance map writes. The vertical draw writes each light's layer of the output directly, with
+// fall: one light's classification, or, for several, the union a first draw writes
+// (`fs_classify`). The vertical draw writes each light's layer of the output directly, with
 // the indirect-light attenuation applied (the resolve).
 
 // Compile-time switches (pipeline override constants).
@@ -237,4 +237,23 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
 @fragment
 fn fs_packed(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     return blur_all(frag.xy);
+}
+
+// Several lights: a draw before the blur's, into the pass's own classification depth: 1 where
+// any light's distance map says a shadow can fall (its mask is 1), so both blur draws skip the
+// other pixels before their shaders run. Four loads a pixel.
+@fragment
+fn fs_classify(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
+    let pixel = vec2<i32>(frag.xy);
+    var mask = textureLoad(distance0, pixel, 0).y;
+    if LIGHTS > 1u {
+        mask = max(mask, textureLoad(distance1, pixel, 0).y);
+    }
+    if LIGHTS > 2u {
+        mask = max(mask, textureLoad(distance2, pixel, 0).y);
+    }
+    if LIGHTS > 3u {
+        mask = max(mask, textureLoad(distance3, pixel, 0).y);
+    }
+    return select(0.0, 1.0, mask > 0.0);
 }

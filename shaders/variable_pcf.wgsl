@@ -44,10 +44,8 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     return pcf_at(frag.xy);
 }
 
-// A light of a batch (its distance map measured with the others' in one pass): as `fs_main`,
-// and its visibility to the batch's packed texture too (the pipeline writes only this light's
-// channel of it). The batch's classification is the union of its lights', so the pixels where
-// this light's own mask says no shadow falls are left as they are.
+// A light blurred with others in one pass: as `fs_main`, and its visibility to the pass's
+// packed texture too (the pipeline writes only this light's channel of it).
 struct PackedOut {
     @location(0) visibility: vec4<f32>,
     @location(1) blur_sigma: vec4<f32>,
@@ -56,9 +54,6 @@ struct PackedOut {
 
 @fragment
 fn fs_packed(@builtin(position) frag: vec4<f32>) -> PackedOut {
-    if textureLoad(distance_map, vec2<i32>(frag.xy), 0).y < 0.5 {
-        discard;
-    }
     let out = pcf_at(frag.xy);
     return PackedOut(out.visibility, out.blur_sigma, out.visibility);
 }

@@ -10,9 +10,7 @@ pub fn instance_flags() -> wgpu::InstanceFlags {
 
 /// The device penumbra wants from `adapter`: the timestamp-query features where the adapter
 /// has them (for per-pass GPU times; without them timing falls back to wall clock), WebGL2-era
-/// limits with the adapter's own texture size limit (shadow maps up to 8192 texels) and, where
-/// it has more, up to 32 sampled textures per shader stage (a batch of four lights' distance
-/// maps reads 18; with the default 16 a batch holds three).
+/// limits with the adapter's own texture size limit (shadow maps up to 8192 texels).
 pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
     let optional = wgpu::Features::TIMESTAMP_QUERY
         | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
@@ -20,13 +18,7 @@ pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'sta
     wgpu::DeviceDescriptor {
         label: Some("penumbra device"),
         required_features: adapter.features() & optional,
-        required_limits: wgpu::Limits {
-            max_sampled_textures_per_shader_stage: adapter
-                .limits()
-                .max_sampled_textures_per_shader_stage
-                .clamp(16, 32),
-            ..wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits())
-        },
+        required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
         ..Default::default()
     }
 }

@@ -97,36 +97,9 @@ pub const ALL: [(&str, &str); 13] = [
 ];
 
 /// A shader module from one of the sources above.
-pub(crate) fn module(
-    device: &wgpu::Device,
-    label: &str,
-    source: impl Into<std::borrow::Cow<'static, str>>,
-) -> wgpu::ShaderModule {
+pub(crate) fn module(device: &wgpu::Device, label: &str, source: &'static str) -> wgpu::ShaderModule {
     device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(label),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
+        source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Borrowed(source)),
     })
-}
-
-/// The frame uniform's declaration in `common/frame.wgsl`.
-const FRAME_DECLARATION: &str = "@group(0) @binding(0) var<uniform> frame: Frame;";
-
-/// The most lights a batched module reads (the length of its frame array).
-pub const BATCH_FRAMES: usize = 4;
-
-/// A pass's module for a batch of lights: the frame uniform becomes an array of
-/// [`BATCH_FRAMES`] frames, one per light, and every read of it (`frame.`) reads the frame of
-/// the light the private `light` names (0 until the entry point sets it). The helpers of
-/// `shaders/common/` are thus written once and serve both.
-pub fn batched(source: &str) -> String {
-    assert!(
-        source.contains(FRAME_DECLARATION),
-        "a batched module needs the frame uniform"
-    );
-    source
-        .replace(
-            FRAME_DECLARATION,
-            &format!("@group(0) @binding(0) var<uniform> frames: array<Frame, {BATCH_FRAMES}>;"),
-        )
-        .replace("frame.", "frames[light].")
 }

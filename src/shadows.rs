@@ -18,7 +18,7 @@ use crate::frame::{
 };
 use crate::light_space::{FitInputs, LightView, MAX_TILES, atlas_grid, tile_resolution};
 use crate::passes::{
-    BlurInput, BlurPass, DistanceMapBatch, DistanceMapInput, DistanceMapPass, ExitMapPass, FattenedShadowMapPass,
+    BlurInput, BlurPass, DistanceMapPass, ExitMapPass, FattenedShadowMapPass, MAX_BATCHED_LIGHTS,
     PackedVisibility, PcfPass, PcssPass, ResolvePass, ShadowMapPass, VISIBILITY_FORMAT, VariablePcfPass,
     screen_target,
 };
@@ -227,19 +227,6 @@ struct LightState {
     report: Option<LightReport>,
 }
 
-/// A batch of the distance-map method's lights: up to four with
-/// [`PenumbraSettings::batch_lights`](crate::PenumbraSettings::batch_lights), one otherwise.
-/// Several lights' distance maps are measured in one pass, their PCF passes write their
-/// visibility packed into the blur's texture, and one blur serves them all; the PCF passes and
-/// the blur run where any of their shadows can fall.
-struct Batch {
-    /// The lights' slots, in the order they run.
-    slots: Vec<usize>,
-    /// Several lights: their distance maps in one pass.
-    distance: Option<DistanceMapBatch>,
-    blur: BlurPass,
-}
-
 /// The engine's depth and receiver mask as bound.
 struct Inputs {
     depth: wgpu::Texture,
@@ -256,8 +243,10 @@ pub struct Shadows {
     inputs: Option<Inputs>,
     /// R16F, one layer per light slot.
     visibility: Option<(wgpu::Texture, wgpu::TextureView, Vec<wgpu::TextureView>)>,
-    /// The distance-map method's lights in batches (see [`Batch`]).
-    batches: Vec<Batch>,
+    /// The distance-map method's blurs: up to four lights each (one each when
+    /// [`PenumbraSettings::batch_lights`](crate::PenumbraSettings::batch_lights) is off),
+    /// with the slots of the lights they blur.
+    blurs: Vec<(Vec<usize>, BlurPass)>,
     /// 1x1 stand-ins for inputs a chain does not have.
     dummy: (wgpu::Texture, wgpu::TextureView),
     /// Whose casters the pipelines were made for.
@@ -281,7 +270,7 @@ impl Shadows {
             size: (0, 0),
             inputs: None,
             visibility: None,
-            batches: Vec::new(),
+            blurs: Vec::new(),
             dummy: screen_target(device, "Shadows::dummy", 1, 1, wgpu::TextureFormat::R16Float),
             casters_id: None,
             screen_space: true,
@@ -337,7 +326,7 @@ impl Shadows {
             state.blur = None;
             state.bound = None;
         }
-        self.batches.clear();
+        self.blurs.clear();
     }
 
     /// Adds a shadowed light (validated). At most [`MAX_LIGHTS`].
@@ -558,7 +547,7 @@ impl Shadows {
                 rebound = true;
             }
         }
-        self.plan_batches(device, queue, resized, rebound);
+        self.plan_blurs(device, queue, resized, rebound);
         if let Some(error) = block_on_now(device_scope.pop()).flatten() {
             return Err(PenumbraError::Gpu {
                 during: "preparing the shadows".into(),
@@ -569,13 +558,10 @@ impl Shadows {
         Ok(())
     }
 
-    /// Groups the lights whose chain blurs after the distance map into batches (with
-    /// [`PenumbraSettings::batch_lights`](crate::PenumbraSettings::batch_lights), as many per
-    /// batch as [`DistanceMapBatch::most_lights`] allows, at most four, in slot order; one
-    /// each otherwise), makes or keeps each batch's passes and points them at the lights'
-    /// inputs when they changed (`rebound`: some light's passes were made or bound again this
-    /// frame).
-    fn plan_batches(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, resized: bool, rebound: bool) {
+    /// Groups the lights whose chain blurs after the distance map (up to four per pass, in
+    /// slot order), makes or keeps a blur pass per group and points it at the lights' inputs
+    /// when they changed (`rebound`: some light's passes were made or bound again this frame).
+    fn plan_blurs(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, resized: bool, rebound: bool) {
         let (width, height) = self.size;
         let blurred: Vec<usize> = self
             .lights
@@ -586,15 +572,12 @@ impl Shadows {
                 (chain.blur && chain.distance_map).then_some(slot)
             })
             .collect();
-        // A batch's PCF runs on the union of its lights' classifications and leaves out the
-        // pixels outside a light's own fattened shadow: the classification must be that mask.
-        let penumbra = &self.settings.penumbra;
-        let per_batch = if penumbra.batch_lights && penumbra.mask_early_out {
-            DistanceMapBatch::most_lights(device)
+        let per_pass = if self.settings.penumbra.batch_lights {
+            MAX_BATCHED_LIGHTS
         } else {
             1
         };
-        let groups: Vec<Vec<usize>> = blurred.chunks(per_batch).map(<[usize]>::to_vec).collect();
+        let groups: Vec<Vec<usize>> = blurred.chunks(per_pass).map(<[usize]>::to_vec).collect();
         // In a batch, each light's variable PCF also writes its channel of the batch's packed
         // textures.
         for slots in &groups {
@@ -606,7 +589,7 @@ impl Shadows {
             }
         }
         let Some(&first) = blurred.first() else {
-            self.batches.clear();
+            self.blurs.clear();
             return;
         };
         let effective = ShadowSettings {
@@ -619,70 +602,35 @@ impl Shadows {
             ..self.settings
         };
         let params = PassParams::new(&effective);
-        let mut old = std::mem::take(&mut self.batches);
+        let mut old = std::mem::take(&mut self.blurs);
         for slots in groups {
-            // A batch made for as many lights with the same switches is kept, the one that
+            // A pass made for as many lights with the same switches is kept, the one that
             // served the same lights first (it is still bound to them).
-            let fits = |b: &Batch| b.blur.lights() == slots.len() && b.blur.switches() == params.blur_switches;
+            let fits = |p: &BlurPass| p.lights() == slots.len() && p.switches() == params.blur_switches;
             let reuse = old
                 .iter()
-                .position(|b| b.slots == slots && fits(b))
-                .or_else(|| old.iter().position(|b| fits(b)));
-            let (mut batch, mut same_lights) = match reuse {
+                .position(|(s, p)| *s == slots && fits(p))
+                .or_else(|| old.iter().position(|(_, p)| fits(p)));
+            let (mut pass, same_lights) = match reuse {
                 Some(i) => {
-                    let mut batch = old.swap_remove(i);
+                    let (was_for, mut pass) = old.swap_remove(i);
                     if resized {
-                        batch.blur.resize(device, width, height);
-                        if let Some(d) = &mut batch.distance {
-                            d.resize(device, width, height);
-                        }
+                        pass.resize(device, width, height);
                     }
-                    let same = batch.slots == slots;
-                    (batch, same)
+                    (pass, was_for == slots)
                 }
                 None => {
-                    let mut blur = BlurPass::new(device, FRAME_SIZE, params.blur_switches, slots.len());
-                    blur.resize(device, width, height);
-                    let batch = Batch {
-                        slots: slots.clone(),
-                        distance: None,
-                        blur,
-                    };
-                    (batch, false)
+                    let mut pass = BlurPass::new(device, FRAME_SIZE, params.blur_switches, slots.len());
+                    pass.resize(device, width, height);
+                    (pass, false)
                 }
             };
-            // Several lights' distance maps in one pass, made for their kind when they share
-            // one.
-            let kinds: Vec<u32> = slots
-                .iter()
-                .filter_map(|&slot| Some(light_kind(&self.lights[slot].as_ref()?.light)))
-                .collect();
-            let kind = if kinds.windows(2).all(|k| k[0] == k[1]) {
-                kinds.first().copied().unwrap_or(3)
-            } else {
-                3
-            };
-            let made_for = (params.distance_switches, kind);
-            if slots.len() < 2 {
-                batch.distance = None;
-            } else if batch
-                .distance
-                .as_ref()
-                .is_none_or(|d| d.lights() != slots.len() || d.made_for() != made_for)
-            {
-                let mut d = DistanceMapBatch::new(device, FRAME_SIZE, params.distance_switches, kind, slots.len());
-                d.resize(device, width, height);
-                batch.distance = Some(d);
-                same_lights = false;
-            }
-            batch.slots = slots;
-            batch.blur.prepare(queue, &params.blur);
-            if same_lights && !rebound && batch.blur.is_bound() {
-                self.batches.push(batch);
+            pass.prepare(queue, &params.blur);
+            if same_lights && !rebound && pass.is_bound() {
+                self.blurs.push((slots, pass));
                 continue;
             }
-            let states: Vec<&LightState> = batch
-                .slots
+            let states: Vec<&LightState> = slots
                 .iter()
                 .filter_map(|&slot| self.lights[slot].as_ref())
                 .collect();
@@ -697,28 +645,11 @@ impl Shadows {
                     })
                 })
                 .collect();
-            let inputs = self.inputs.as_ref().expect("set in prepare");
+            let depth = &self.inputs.as_ref().expect("set in prepare").depth_view;
             // The camera and penumbra settings the blur reads are the same in every light's
             // frame uniform: the first light's serves.
-            batch.blur.bind(device, &states[0].frame, &inputs.depth_view, &lights, &self.dummy.1);
-            if let Some(d) = &mut batch.distance {
-                let maps: Vec<DistanceMapInput> = states
-                    .iter()
-                    .filter_map(|s| {
-                        let fattened = s.fattened.as_ref()?;
-                        Some(DistanceMapInput {
-                            fattened_map: fattened.view(),
-                            occluder_offset: fattened.occluder_offset(),
-                            exit_map: s.exit.as_ref()?.view(),
-                            shadow_map: s.shadow_map.as_ref()?.view(),
-                            frame: &s.frame,
-                        })
-                    })
-                    .collect();
-                let mask = inputs.mask.as_ref().map_or(&self.dummy.1, |m| &m.1);
-                d.bind(device, &maps, &inputs.depth_view, mask);
-            }
-            self.batches.push(batch);
+            pass.bind(device, &states[0].frame, depth, &lights, &self.dummy.1);
+            self.blurs.push((slots, pass));
         }
     }
 
@@ -747,73 +678,62 @@ impl Shadows {
             ));
         }
         self.prepared = false;
-        let mut run = |encoder: &mut wgpu::CommandEncoder, name: &'static str, f: &dyn Fn(&mut wgpu::CommandEncoder)| {
-            encoder.push_debug_group(name);
-            f(encoder);
-            encoder.pop_debug_group();
-            mark(encoder, name);
-        };
-        // The light-space maps of every light that needs them drawn.
-        let mut plans = vec![None; self.lights.len()];
+        let layers = &self.visibility.as_ref().expect("prepared").2;
+        // The light in each slot that is blurred in a batch: its batch's packed inputs, and
+        // whether it comes first in the batch (lights run in slot order).
+        let mut packed_into = vec![None; self.lights.len()];
+        for (slots, pass) in &self.blurs {
+            if let Some(packed) = pass.packed() {
+                for (c, &slot) in slots.iter().enumerate() {
+                    packed_into[slot] = Some((packed, c == 0));
+                }
+            }
+        }
+        let mut reports = Vec::new();
         for (slot, state) in self.lights.iter_mut().enumerate() {
             let Some(state) = state else { continue };
             let Some(plan) = state.planned.take() else {
                 continue;
             };
-            plans[slot] = Some(plan);
-            if !plan.render_maps {
-                continue;
-            }
             let chain = plan.chain;
-            if let Some(m) = &state.shadow_map {
-                run(encoder, "shadow map", &|e| m.encode(e, casters));
-            }
-            if let (true, Some(f)) = (chain.fattened_map, &state.fattened) {
-                run(encoder, "fattened shadow map", &|e| f.encode(e, casters));
-            }
-            if let (true, Some(e)) = (chain.exit_map, &state.exit) {
-                run(encoder, "exit map", &|enc| e.encode(enc, casters));
-            }
-            state.key = Some(plan.key);
-            state.drawn_with = Some(plan.light_view);
-            state.seen_revision = casters.revision();
-        }
-        let layers = &self.visibility.as_ref().expect("prepared").2;
-        // A light of a batch of several: its batch and its place in it (lights run in slot
-        // order). The batch's distance maps are measured in one pass, before any of its lights'
-        // PCF.
-        let mut batched = vec![None; self.lights.len()];
-        for batch in &self.batches {
-            let Some(distance) = &batch.distance else { continue };
-            for (c, &slot) in batch.slots.iter().enumerate() {
-                batched[slot] = Some((batch, c));
+            if plan.render_maps {
+                encoder.push_debug_group("shadow map");
+                if let Some(m) = &state.shadow_map {
+                    m.encode(encoder, casters);
+                }
+                encoder.pop_debug_group();
+                mark(encoder, "shadow map");
+                if let (true, Some(f)) = (chain.fattened_map, &state.fattened) {
+                    encoder.push_debug_group("fattened shadow map");
+                    f.encode(encoder, casters);
+                    encoder.pop_debug_group();
+                    mark(encoder, "fattened shadow map");
+                }
+                if let (true, Some(e)) = (chain.exit_map, &state.exit) {
+                    encoder.push_debug_group("exit map");
+                    e.encode(encoder, casters);
+                    encoder.pop_debug_group();
+                    mark(encoder, "exit map");
+                }
+                state.key = Some(plan.key);
+                state.drawn_with = Some(plan.light_view);
+                state.seen_revision = casters.revision();
             }
             if self.screen_space {
-                let targets: Vec<&wgpu::TextureView> = batch
-                    .slots
-                    .iter()
-                    .filter_map(|&slot| Some(self.lights[slot].as_ref()?.distance.as_ref()?.distance_map()))
-                    .collect();
-                run(encoder, "distance map", &|e| distance.encode(e, &targets));
-            }
-        }
-        let mut reports = Vec::new();
-        for (slot, state) in self.lights.iter().enumerate() {
-            let (Some(state), Some(plan)) = (state, plans[slot]) else {
-                continue;
-            };
-            let chain = plan.chain;
-            if self.screen_space {
-                let batch = batched[slot];
-                let classification = match batch {
-                    Some((batch, _)) => batch.distance.as_ref().map(|d| d.union()),
-                    None => state.distance.as_ref().map(|d| d.classification()),
+                let mut run = |encoder: &mut wgpu::CommandEncoder,
+                               name: &'static str,
+                               f: &dyn Fn(&mut wgpu::CommandEncoder)| {
+                    encoder.push_debug_group(name);
+                    f(encoder);
+                    encoder.pop_debug_group();
+                    mark(encoder, name);
                 };
-                if let (true, Some(p), None) = (chain.distance_map, &state.distance, batch) {
+                let classification = state.distance.as_ref().map(|d| d.classification());
+                if let (true, Some(p)) = (chain.distance_map, &state.distance) {
                     run(encoder, "distance map", &|e| p.encode(e));
                 }
                 if let (true, Some(p), Some(c)) = (chain.pcf, &state.variable_pcf, classification) {
-                    match batch.and_then(|(b, c)| Some((b.blur.packed()?, c == 0))) {
+                    match packed_into[slot] {
                         Some((packed, first)) => {
                             run(encoder, "pcf", &|e| p.encode_packed(e, c, packed, first))
                         }
@@ -836,30 +756,31 @@ impl Shadows {
                     run(encoder, "resolve", &|e| resolve.encode(e, &layers[slot]));
                 }
             }
-            reports.push(LightReport {
+            let report = LightReport {
                 light: LightId(slot as u32),
                 chain,
                 shadow_maps_rendered: plan.render_maps,
                 spreads: plan.spreads,
                 light_view: plan.light_view,
-            });
-        }
-        for report in &reports {
-            if let Some(state) = self.lights[report.light.0 as usize].as_mut() {
-                state.report = Some(*report);
-            }
+            };
+            state.report = Some(report);
+            reports.push(report);
         }
         if self.screen_space {
-            // The distance-map method's blurs, each over its batch of lights.
-            for batch in &self.batches {
-                let targets: Vec<&wgpu::TextureView> = batch.slots.iter().map(|&slot| &layers[slot]).collect();
-                let classification = match &batch.distance {
-                    Some(d) => Some(d.union()),
-                    None => batch.slots.first().and_then(|&slot| {
-                        Some(self.lights[slot].as_ref()?.distance.as_ref()?.classification())
-                    }),
+            // The distance-map method's blurs, each over its group of lights.
+            for (slots, pass) in &self.blurs {
+                let targets: Vec<&wgpu::TextureView> = slots.iter().map(|&slot| &layers[slot]).collect();
+                let classification = match slots.as_slice() {
+                    [slot] => self.lights[*slot]
+                        .as_ref()
+                        .and_then(|s| s.distance.as_ref())
+                        .map(|d| d.classification()),
+                    _ => None,
                 };
-                run(encoder, "blur", &|e| batch.blur.encode(e, classification, &targets));
+                encoder.push_debug_group("blur");
+                pass.encode(encoder, classification, &targets);
+                encoder.pop_debug_group();
+                mark(encoder, "blur");
             }
         }
         Ok(reports)
@@ -903,15 +824,6 @@ impl Shadows {
     /// One light's layer as a 2D view.
     pub fn visibility_layer(&self, id: LightId) -> Option<&wgpu::TextureView> {
         self.visibility.as_ref().and_then(|v| v.2.get(id.0 as usize))
-    }
-
-    /// How many lights one batch holds on `device` with
-    /// [`PenumbraSettings::batch_lights`](crate::PenumbraSettings::batch_lights): four where
-    /// the device allows 18 sampled textures per shader stage (the batched distance map reads
-    /// four maps a light, the camera's depth and the receiver mask), three with wgpu's default
-    /// 16 ([`crate::device_descriptor`] asks for up to 32).
-    pub fn lights_per_batch(device: &wgpu::Device) -> usize {
-        DistanceMapBatch::most_lights(device)
     }
 
     /// What each light did in its last frame.
@@ -985,8 +897,7 @@ impl LightState {
             frame: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("Shadows::frame"),
                 size: FRAME_SIZE as u64,
-                // COPY_SRC: a batch's distance map copies it into its array of frames.
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
             shadow_map: None,
@@ -1142,7 +1053,7 @@ impl LightState {
             VariablePcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind)
         );
         screen!(self.pcss, chain.pcss, PcssPass::new(device, FRAME_SIZE, kind));
-        // The distance-map method's blur batches lights ([`Shadows::batches`]).
+        // The distance-map method's blur batches lights ([`Shadows::blurs`]).
         screen!(
             self.blur,
             chain.blur && !chain.distance_map,

@@ -7,7 +7,7 @@ mod common;
 use glam::{Mat4, Vec3, Vec4};
 use penumbra::{
     CameraMatrices, CasterInstance, CasterMeshDesc, Casters, DebugTexture, DepthConvention, DirectionalLight,
-    IndexStream, Light, LightId, LightTexture, MeshGeometry, PenumbraError, PointLight, ShadowMethod, ShadowSettings,
+    IndexStream, Light, LightTexture, MeshGeometry, PenumbraError, PointLight, ShadowMethod, ShadowSettings,
     Shadows, SpotLight, VertexStream, ViewInputs,
 };
 use wgpu::util::DeviceExt;
@@ -425,8 +425,7 @@ fn lights_blurred_in_batches_get_their_own_blur_except_where_penumbrae_cross() {
     let mut lights: Vec<Light> = [20.0, 110.0, 200.0, 290.0].map(sun).to_vec();
     lights.push(spot_over_the_box());
     lights.push(point_beside_the_box());
-    // Each light's visibility layer and distance map.
-    let layers = |batch: bool| -> (Vec<Vec<f32>>, Vec<Vec<f32>>) {
+    let layers = |batch: bool| -> Vec<Vec<f32>> {
         let mut settings = ShadowSettings::default();
         settings.penumbra.batch_lights = batch;
         let mut shadows = Shadows::new(device, settings).unwrap();
@@ -440,23 +439,12 @@ fn lights_blurred_in_batches_get_their_own_blur_except_where_penumbrae_cross() {
                 .iter()
                 .all(|r| r.chain.method == ShadowMethod::Ours && r.chain.blur)
         );
-        let distance = |id: &LightId| {
-            let texture = shadows.light_texture(*id, LightTexture::DistanceMap).unwrap();
-            penumbra::read_texture_f32(device, &gpu.queue, texture).unwrap().0
-        };
-        (
-            ids.iter().map(|id| read_layer(&gpu, &shadows, id.layer())).collect(),
-            ids.iter().map(distance).collect(),
-        )
+        ids.iter()
+            .map(|id| read_layer(&gpu, &shadows, id.layer()))
+            .collect()
     };
-    let (batched, batched_distances) = layers(true);
-    let (alone, distances) = layers(false);
-    // A batch measures its lights' distance maps in one pass, each as its own pass would.
-    for (k, (b, a)) in batched_distances.iter().zip(&distances).enumerate() {
-        let inside = a.chunks_exact(2).filter(|t| t[1] == 1.0).count();
-        assert!(inside > 100, "light {k}: {inside} pixels inside its fattened shadow");
-        assert!(b == a, "light {k}: the batched distance map differs from its own pass's");
-    }
+    let batched = layers(true);
+    let alone = layers(false);
     // A second frame with every light turned a little (the blur passes stay as bound) gives
     // what a fresh `Shadows` gives for the turned lights in its first frame.
     let turn = glam::Quat::from_rotation_y(0.4);
@@ -503,9 +491,7 @@ fn lights_blurred_in_batches_get_their_own_blur_except_where_penumbrae_cross() {
             })
         })
     };
-    let per_batch = Shadows::lights_per_batch(device);
-    assert!(per_batch >= 3, "{per_batch} lights per batch");
-    let batch_of = |k: usize| k / per_batch;
+    let batch_of = |k: usize| k / 4;
     for (k, (b, a)) in batched.iter().zip(&alone).enumerate() {
         let differ: Vec<usize> = (0..a.len()).filter(|&i| (b[i] - a[i]).abs() > 2e-3).collect();
         let worst = differ.iter().map(|&i| (b[i] - a[i]).abs()).fold(0.0, f32::max);

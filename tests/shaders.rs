@@ -21,23 +21,6 @@ fn every_shader_validates() {
     }
 }
 
-/// The batched distance map (the frame uniform an array of the lights' frames) validates and
-/// has an entry point per batch size.
-#[test]
-fn the_batched_distance_map_validates() {
-    let source = penumbra::shaders::batched(penumbra::shaders::DISTANCE_MAP);
-    assert!(!source.contains("frame."), "a read of the single frame is left");
-    let module = validate("distance_map (batched)", &source);
-    for lights in 2..=4 {
-        for entry in [format!("fs_batched{lights}"), format!("fs_nearest_caster{lights}")] {
-            assert!(
-                module.entry_points.iter().any(|e| e.name == entry),
-                "no entry point {entry}"
-            );
-        }
-    }
-}
-
 #[test]
 fn every_shader_file_belongs_to_a_pass() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");

@@ -92,10 +92,6 @@ struct Frame {
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 
-// A pass that serves a batch of lights: the light whose frame uniform the helpers read (in its
-// batched module, `shaders::batched`, `frame` is an array of the lights' uniforms). 0 elsewhere.
-var<private> light: u32 = 0u;
-
 // The light's kind, when the pipeline was made for one (0 directional, 1 spot, 2 point): its
 // branches are then compiled out. 3: read from the frame uniform.
 override LIGHT_KIND: u32 = 3u;

@@ -11,7 +11,7 @@
 //!
 //! After the distance map (the distance-map method), both draws test a classification depth so
 //! only pixels a shadow can reach run the shader: one light's own, or for several lights the
-//! union of theirs, which their batched distance map writes. The vertical draw writes each
+//! union of theirs, which a first, cheap draw writes from their distance maps. The vertical draw writes each
 //! light's layer of the output array directly, with the indirect attenuation applied: no
 //! separate resolve. Batching lights shares the draws, the pixel's depth, the early-outs and the
 //! taps: each light keeps its own Gaussian weights, on the taps of the widest light that needs a
@@ -23,7 +23,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::variable_pcf::classified_test;
 use super::{
-    DepthUse, Fullscreen, VISIBILITY_FORMAT, draw_fullscreen_into, entries, entry,
+    CLASSIFICATION_FORMAT, DepthUse, Fullscreen, VISIBILITY_FORMAT, draw_fullscreen_into, entries, entry,
     screen_target,
 };
 use crate::frame::{BlurParams, BlurSwitches, gaussian_weights};
@@ -97,6 +97,8 @@ pub struct BlurPass {
     pipeline: wgpu::RenderPipeline,
     /// Several lights: the vertical draw, reading the packed texture.
     vertical_pipeline: Option<wgpu::RenderPipeline>,
+    /// Several lights: a draw that writes the union of their classifications.
+    classify_pipeline: Option<wgpu::RenderPipeline>,
     sampler: wgpu::Sampler,
     axis_buffers: [wgpu::Buffer; 2],
     axis_groups: [wgpu::BindGroup; 2],
@@ -105,6 +107,8 @@ pub struct BlurPass {
     temp: (wgpu::Texture, wgpu::TextureView),
     /// Several lights: their visibility, packed.
     packed: Option<PackedVisibility>,
+    /// Several lights: where any of them can be shadowed.
+    union: Option<(wgpu::Texture, wgpu::TextureView)>,
     /// The vertical draw's target, unless it writes the light's output layer.
     output: Option<(wgpu::Texture, wgpu::TextureView)>,
     bind_groups: Option<[wgpu::BindGroup; 2]>,
@@ -182,6 +186,16 @@ impl BlurPass {
             fullscreen(&targets, tested(), "fs_main")
         };
         let vertical_pipeline = (lights > 1).then(|| fullscreen(&targets, tested(), "fs_main"));
+        let classify_pipeline = (lights > 1).then(|| {
+            let write = wgpu::DepthStencilState {
+                format: CLASSIFICATION_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: Default::default(),
+                bias: Default::default(),
+            };
+            fullscreen(&[], Some(write), "fs_classify")
+        });
         let axis_buffers = ["BlurPass::horizontal", "BlurPass::vertical"].map(|label| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -209,11 +223,13 @@ impl BlurPass {
             layout,
             pipeline,
             vertical_pipeline,
+            classify_pipeline,
             sampler,
             axis_buffers,
             axis_groups,
             temp: screen_target(device, "BlurPass::horizontal", 1, 1, VISIBILITY_FORMAT),
             packed: None,
+            union: None,
             output: None,
             bind_groups: None,
         };
@@ -239,6 +255,8 @@ impl BlurPass {
         };
         self.packed = (self.lights > 1).then(|| PackedVisibility::new(device, width, height, self.lights));
         self.temp = screen_target(device, "BlurPass::horizontal", width, height, temp_format);
+        self.union = (self.lights > 1)
+            .then(|| screen_target(device, "BlurPass::union", width, height, CLASSIFICATION_FORMAT));
         self.output = (!self.switches.after_distance_map).then(|| {
             screen_target(
                 device,
@@ -333,8 +351,8 @@ impl BlurPass {
     }
 
     /// Records both directions ([`Self::prepare`] and [`Self::bind`] first). After the
-    /// distance-map pass, `classification` is a single light's distance-map depth (for several
-    /// lights, the union their batched distance map writes) and `layers` are the lights' output
+    /// distance-map pass, `classification` is a single light's distance-map depth (several
+    /// lights use the union the horizontal draw writes) and `layers` are the lights' output
     /// layers, which the vertical draw writes.
     pub fn encode(
         &self,
@@ -345,7 +363,20 @@ impl BlurPass {
         let Some(groups) = &self.bind_groups else {
             return;
         };
-        let tested = classification.filter(|_| self.switches.after_distance_map);
+        let tested = match (&self.classify_pipeline, &self.union) {
+            (Some(classify), Some(union)) => {
+                draw_fullscreen_into(
+                    encoder,
+                    "BlurPass::classify",
+                    classify,
+                    &[&groups[0], &self.axis_groups[0]],
+                    &[],
+                    DepthUse::Write(&union.1),
+                );
+                Some(&union.1)
+            }
+            _ => classification.filter(|_| self.switches.after_distance_map),
+        };
         let depth = tested.map_or(DepthUse::None, DepthUse::Test);
         draw_fullscreen_into(
             encoder,

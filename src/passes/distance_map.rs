@@ -28,9 +28,7 @@
 
 use crate::frame::DistanceSwitches;
 
-use super::{
-    CLASSIFICATION_FORMAT, Fullscreen, LIGHT_KIND, MAX_BATCHED_LIGHTS, cleared, entries, entry, screen_target,
-};
+use super::{CLASSIFICATION_FORMAT, Fullscreen, LIGHT_KIND, cleared, entries, entry, screen_target};
 
 pub struct DistanceMapPass {
     switches: DistanceSwitches,
@@ -206,252 +204,31 @@ impl DistanceMapPass {
         let Some(group) = &self.bind_group else {
             return;
         };
-        record(
-            encoder,
-            "DistanceMapPass",
-            &[cleared(&self.distance.1, wgpu::Color::TRANSPARENT)],
-            &self.classification.1,
-            [Some(&self.pipeline), self.nearest_caster.as_ref()],
-            group,
-        );
-    }
-}
-
-/// Records a distance-map pass: its draws (the first and, when made, the nearest-caster draw)
-/// into `colors`, writing the classification into `classification`.
-fn record(
-    encoder: &mut wgpu::CommandEncoder,
-    label: &str,
-    colors: &[Option<wgpu::RenderPassColorAttachment>],
-    classification: &wgpu::TextureView,
-    draws: [Option<&wgpu::RenderPipeline>; 2],
-    group: &wgpu::BindGroup,
-) {
-    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(label),
-        color_attachments: colors,
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: classification,
-            depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(0.0),
-                store: wgpu::StoreOp::Store,
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("DistanceMapPass"),
+            color_attachments: &[cleared(&self.distance.1, wgpu::Color::TRANSPARENT)],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.classification.1,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
             }),
-            stencil_ops: None,
-        }),
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
-    pass.set_bind_group(0, group, &[]);
-    for pipeline in draws.into_iter().flatten() {
-        pass.set_pipeline(pipeline);
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, group, &[]);
         pass.draw(0..3, 0..1);
+        if let Some(nearest_caster) = &self.nearest_caster {
+            pass.set_pipeline(nearest_caster);
+            pass.draw(0..3, 0..1);
+        }
     }
 }
 
-
-/// One light's maps, as a batch's distance map reads them.
-pub(crate) struct DistanceMapInput<'a> {
-    pub fattened_map: &'a wgpu::TextureView,
-    pub occluder_offset: &'a wgpu::TextureView,
-    pub exit_map: &'a wgpu::TextureView,
-    pub shadow_map: &'a wgpu::TextureView,
-    /// The light's frame uniform, copied into the batch's array each frame.
-    pub frame: &'a wgpu::Buffer,
-}
-
-/// The distance map of a batch of two to four lights in one pass (`shaders/distance_map.wgsl`'s
-/// batched entry points, [`crate::shaders::batched`]): the camera's side of the work (depth,
-/// receiver mask, world position, the rasterizer's) is done once, and each light's distance and
-/// mask go to its own [`DistanceMapPass`]'s distance map, as that pass would write them. The
-/// depth written is the union of the lights' classifications, which the batch's variable PCF
-/// passes and blur test against.
-pub(crate) struct DistanceMapBatch {
-    lights: usize,
-    switches: DistanceSwitches,
-    light_kind: u32,
-    layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::RenderPipeline,
-    nearest_caster: Option<wgpu::RenderPipeline>,
-    /// The lights' frame uniforms, one after another.
-    frames: wgpu::Buffer,
-    frame_size: u64,
-    union: (wgpu::Texture, wgpu::TextureView),
-    bind_group: Option<wgpu::BindGroup>,
-    /// The frame uniforms bound, in light order (copied from each frame).
-    sources: Vec<wgpu::Buffer>,
-}
-
-impl DistanceMapBatch {
-    /// The most lights one batch's pass reads on `device`: four maps a light and the camera's
-    /// depth and receiver mask must fit its sampled-texture limit (18 textures for four lights;
-    /// 16, the default limit, holds three).
-    pub(crate) fn most_lights(device: &wgpu::Device) -> usize {
-        let textures = device.limits().max_sampled_textures_per_shader_stage as usize;
-        (textures.saturating_sub(2) / 4).clamp(1, MAX_BATCHED_LIGHTS)
-    }
-
-    /// The pass for `lights` lights (2 to [`MAX_BATCHED_LIGHTS`], at most
-    /// [`Self::most_lights`]) made with `switches`, for `light_kind` (3: any kind, read from
-    /// each light's frame).
-    pub(crate) fn new(
-        device: &wgpu::Device,
-        frame_size: usize,
-        switches: DistanceSwitches,
-        light_kind: u32,
-        lights: usize,
-    ) -> Self {
-        let lights = lights.clamp(2, MAX_BATCHED_LIGHTS);
-        let source = crate::shaders::batched(crate::shaders::DISTANCE_MAP);
-        let shader = crate::shaders::module(device, "distance_map.wgsl (batched)", source);
-        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-        let mut layout_entries = vec![entry::uniform(
-            0,
-            wgpu::ShaderStages::FRAGMENT,
-            frame_size * crate::shaders::BATCH_FRAMES,
-            false,
-        )];
-        // Light 0's maps and the camera's textures (bindings 1 to 6), then four per light.
-        for binding in 1..(3 + 4 * lights as u32) {
-            layout_entries.push(entry::texture_2d(binding, unfilterable));
-        }
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("DistanceMapBatch::layout"),
-            entries: &layout_entries,
-        });
-        let constants = [
-            ("MASK_EARLY_OUT", if switches.mask_early_out { 1.0 } else { 0.0 }),
-            ("NEAREST_CASTER", if switches.nearest_caster { 1.0 } else { 0.0 }),
-            (LIGHT_KIND, light_kind as f64),
-        ];
-        let layouts = [Some(&layout)];
-        let targets = vec![Some(wgpu::ColorTargetState::from(DistanceMapPass::DISTANCE_FORMAT)); lights];
-        let draw = |label, write: bool, compare| Fullscreen {
-            label,
-            shader: &shader,
-            bind_group_layouts: &layouts,
-            targets: &targets,
-            depth: Some(wgpu::DepthStencilState {
-                format: CLASSIFICATION_FORMAT,
-                depth_write_enabled: Some(write),
-                depth_compare: Some(compare),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            constants: &constants,
-        };
-        let pipeline = draw("DistanceMapBatch::pipeline", true, wgpu::CompareFunction::Always)
-            .pipeline_at(device, &format!("fs_batched{lights}"));
-        let nearest_caster = switches.nearest_caster.then(|| {
-            draw("DistanceMapBatch::nearest_caster", false, wgpu::CompareFunction::Less).pipeline_with(
-                device,
-                "vs_beside",
-                &format!("fs_nearest_caster{lights}"),
-            )
-        });
-        let frames = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("DistanceMapBatch::frames"),
-            size: (frame_size * crate::shaders::BATCH_FRAMES) as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        Self {
-            lights,
-            switches,
-            light_kind,
-            layout,
-            pipeline,
-            nearest_caster,
-            frames,
-            frame_size: frame_size as u64,
-            union: screen_target(device, "DistanceMapBatch::union", 1, 1, CLASSIFICATION_FORMAT),
-            bind_group: None,
-            sources: Vec::new(),
-        }
-    }
-
-    /// How many lights the pass measures.
-    pub(crate) fn lights(&self) -> usize {
-        self.lights
-    }
-
-    /// The switches and light kind the pass was made for.
-    pub(crate) fn made_for(&self) -> (DistanceSwitches, u32) {
-        (self.switches, self.light_kind)
-    }
-
-    /// Recreates the union's screen-sized target. The bind group stays valid.
-    pub(crate) fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.union = screen_target(device, "DistanceMapBatch::union", width, height, CLASSIFICATION_FORMAT);
-    }
-
-    /// Points the pass at its lights' maps (as many as the pass was made for).
-    pub(crate) fn bind(
-        &mut self,
-        device: &wgpu::Device,
-        lights: &[DistanceMapInput],
-        camera_depth: &wgpu::TextureView,
-        receiver_mask: &wgpu::TextureView,
-    ) {
-        let Some(first) = lights.first() else {
-            self.bind_group = None;
-            return;
-        };
-        let view = wgpu::BindingResource::TextureView;
-        let mut resources = vec![
-            self.frames.as_entire_binding(),
-            view(first.fattened_map),
-            view(camera_depth),
-            view(receiver_mask),
-            view(first.occluder_offset),
-            view(first.exit_map),
-            view(first.shadow_map),
-        ];
-        for light in lights.iter().take(self.lights).skip(1) {
-            resources.extend([
-                view(light.fattened_map),
-                view(light.occluder_offset),
-                view(light.exit_map),
-                view(light.shadow_map),
-            ]);
-        }
-        self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("DistanceMapBatch::bind_group"),
-            layout: &self.layout,
-            entries: &entries(&resources),
-        }));
-        self.sources = lights.iter().take(self.lights).map(|l| l.frame.clone()).collect();
-    }
-
-    /// Where any light of the batch can be shadowed (the union of their classifications).
-    pub(crate) fn union(&self) -> &wgpu::TextureView {
-        &self.union.1
-    }
-
-    /// Copies the lights' frame uniforms into the batch's array and records the pass into
-    /// `targets`, the lights' distance maps in order.
-    pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, targets: &[&wgpu::TextureView]) {
-        let Some(group) = &self.bind_group else {
-            return;
-        };
-        for (c, source) in self.sources.iter().enumerate() {
-            encoder.copy_buffer_to_buffer(source, 0, &self.frames, c as u64 * self.frame_size, self.frame_size);
-        }
-        let colors: Vec<_> = targets
-            .iter()
-            .take(self.lights)
-            .map(|t| cleared(t, wgpu::Color::TRANSPARENT))
-            .collect();
-        record(
-            encoder,
-            "DistanceMapBatch",
-            &colors,
-            &self.union.1,
-            [Some(&self.pipeline), self.nearest_caster.as_ref()],
-            group,
-        );
-    }
-}
 #[cfg(test)]
 mod tests {
     /// The distance map's format keeps distances from 1e-4 to 1e4 scene units to a relative

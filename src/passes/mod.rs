@@ -43,7 +43,6 @@ pub use composite::CompositePass;
 #[cfg(feature = "renderer")]
 pub use depth_prepass::DepthPrepass;
 pub use distance_map::DistanceMapPass;
-pub(crate) use distance_map::{DistanceMapBatch, DistanceMapInput};
 pub use exit_map::ExitMapPass;
 pub use fattened_shadow_map::FattenedShadowMapPass;
 #[cfg(feature = "renderer")]
@@ -299,6 +298,8 @@ pub(crate) enum DepthUse<'a> {
     None,
     /// Read-only: the pipeline's test skips the pixels it leaves out.
     Test(&'a wgpu::TextureView),
+    /// Cleared to 0, then written by the pipeline.
+    Write(&'a wgpu::TextureView),
 }
 
 /// Draws the fullscreen triangle of `pipeline` into `targets` (each cleared to white first),
@@ -317,6 +318,14 @@ pub(crate) fn draw_fullscreen_into(
         DepthUse::Test(view) => Some(wgpu::RenderPassDepthStencilAttachment {
             view,
             depth_ops: None,
+            stencil_ops: None,
+        }),
+        DepthUse::Write(view) => Some(wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(0.0),
+                store: wgpu::StoreOp::Store,
+            }),
             stencil_ops: None,
         }),
     };
