@@ -63,6 +63,7 @@ fn the_bench_writes_its_report() {
         "| spot | 90 deg | 4 | batched |",
         "| point | 90 deg | 4 | one pass per light |",
         "lights two to four add",
+        "lights two to four each cost less than the first",
     ] {
         assert!(md.contains(needle), "report.md lacks `{needle}`");
     }
