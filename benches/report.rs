@@ -195,9 +195,9 @@ pub struct Embedding {
 impl Embedding {
     /// The one-light run of `r`'s type, spacing and batching.
     pub fn first_of(&self, r: &BatchRun) -> Option<&BatchRun> {
-        self.batching
-            .iter()
-            .find(|o| o.kind == r.kind && o.apart_deg == r.apart_deg && o.batched == r.batched && o.lights == 1)
+        self.batching.iter().find(|o| {
+            o.kind == r.kind && o.apart_deg == r.apart_deg && o.batched == r.batched && o.lights == 1
+        })
     }
 }
 
