@@ -1112,9 +1112,8 @@ fn write_report(
          | type | apart | lights | blur | distance map ms | pcf ms | blur ms | together ms | added ms |\n\
          |---|---|---|---|---|---|---|---|---|"
     )?;
-    let first_of = |r: &BatchRun| embedding.first_of(r);
     for r in &embedding.batching {
-        let added = match first_of(r) {
+        let added = match embedding.first_of(r) {
             Some(f) if r.lights > 1 => format!(
                 "{:.2}",
                 (r.screen_space_ms() - f.screen_space_ms()) / (r.lights - 1) as f64
@@ -1141,7 +1140,7 @@ fn write_report(
     // Lights two to four against the first, by type: the screen-space passes together, and the
     // blur alone.
     for r in embedding.batching.iter().filter(|r| r.lights == 4) {
-        if let Some(f) = first_of(r) {
+        if let Some(f) = embedding.first_of(r) {
             writeln!(
                 md,
                 "\n{} {} degrees apart, {}: lights two to four add {:.2} ms each (blur {:.2}), against \
