@@ -1,8 +1,11 @@
 // Reference pass: the ground truth for an area light. The light is replaced by N point lights
-// spread over it (stratified on its disk, or over the cone of a directional light's angular
-// diameter); for each, the caller renders a hard shadow map and this pass adds the pixel's hard
-// visibility (one nearest comparison, as `hard` does) to a running mean, ping-ponging between
-// two R32F targets, so memory does not grow with N.
+// spread over it (stratified on a spot's disk, a point light's sphere, or over the cone of a
+// directional light's angular diameter); for each, the caller renders a hard shadow map and this
+// pass adds the pixel's hard visibility (one nearest comparison, as `hard` does) to a running
+// weighted mean, ping-ponging between two pairs of R32F targets (the mean, the weights so far),
+// so memory does not grow with N. Each sample's weight at the pixel turns the samples' spacing
+// into the solid angle the light subtends there, times the receiver's cosine: the mean is the
+// light's unoccluded share of the pixel's irradiance (`src/light_samples.rs`, `docs/reference.md`).
 
 struct Sample {
     // each cascade's (or cube face's) view-projection into its tile of the map atlas
@@ -14,6 +17,11 @@ struct Sample {
     // x: samples already accumulated (this one is number x + 1), y: cascades, z: tiles per
     // side of the map atlas, w: 2 for a point light (cube faces picked by direction)
     params: vec4<f32>,
+    // The light's shape, for the sample's weight: xyz: a sun's axis (the direction it travels),
+    // a spot's disk centre or a point light's sphere centre; w: 0 sun, 1 spot disk, 2 sphere.
+    emitter: vec4<f32>,
+    // xyz: the direction a spot's disk faces.
+    facing: vec4<f32>,
 }
 
 @group(0) @binding(1) var camera_depth: texture_2d<f32>;
@@ -21,20 +29,80 @@ struct Sample {
 @group(0) @binding(3) var shadow_sampler: sampler_comparison;
 @group(0) @binding(4) var previous: texture_2d<f32>;
 @group(0) @binding(5) var<uniform> sample: Sample;
+@group(0) @binding(6) var previous_weight: texture_2d<f32>;
+
+struct Accumulated {
+    // The weighted mean visibility so far.
+    @location(0) mean: vec4<f32>,
+    // The sum of the weights so far.
+    @location(1) weight: vec4<f32>,
+}
+
+// The receiver's cosine toward `toward` (unit), with its normal `n` (zero where unknown). A
+// small floor keeps a receiver that faces away from the whole light (unlit whatever its
+// shadow) at the plain mean of its samples rather than at none.
+fn receiver_cosine(n: vec3<f32>, toward: vec3<f32>) -> f32 {
+    if dot(n, n) == 0.0 {
+        return 1.0;
+    }
+    return max(dot(n, toward), 0.0) + 1e-4;
+}
+
+// This sample's weight at the receiver `x` with unit normal `n` (see `src/light_samples.rs`).
+fn sample_weight(x: vec3<f32>, n: vec3<f32>) -> f32 {
+    if sample.emitter.w < 0.5 {
+        // A sun: evenly spaced over a disk one unit along its axis, `cos^3` of the angle off the
+        // axis to make that solid angle.
+        let travel = normalize(sample.source.xyz);
+        let cos_gamma = max(dot(travel, normalize(sample.emitter.xyz)), 0.0);
+        return cos_gamma * cos_gamma * cos_gamma * receiver_cosine(n, -travel);
+    }
+    // A point of a spot's disk or a point light's sphere: its surface element's solid angle
+    // from `x` (relative to the centre's distance, to keep the numbers near 1).
+    let s = sample.source.xyz;
+    let to_light = s - x;
+    let d2 = max(dot(to_light, to_light), 1e-30);
+    let w = to_light * inverseSqrt(d2);
+    var outward = sample.facing.xyz;
+    if sample.emitter.w > 1.5 {
+        outward = normalize(s - sample.emitter.xyz);
+    }
+    let centre = x - sample.emitter.xyz;
+    return max(dot(outward, -w), 0.0) * receiver_cosine(n, w) * dot(centre, centre) / d2;
+}
+
+// The receiver's unit normal from its neighbor pixels, turned toward the camera; zero where
+// the neighbors give none.
+fn receiver_normal(pixel: vec2<i32>, world: vec3<f32>, depth: f32) -> vec3<f32> {
+    let dx = neighbor_delta(pixel, world, depth, vec2<i32>(1, 0));
+    let dy = neighbor_delta(pixel, world, depth, vec2<i32>(0, 1));
+    let n = cross(dx, dy);
+    let len = length(n);
+    if len <= 1e-30 {
+        return vec3<f32>(0.0);
+    }
+    return n / len * select(-1.0, 1.0, dot(n, to_camera(world)) >= 0.0);
+}
 
 @fragment
-fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+fn fs_main(@builtin(position) frag: vec4<f32>) -> Accumulated {
     let pixel = vec2<i32>(frag.xy);
     let depth = textureLoad(camera_depth, pixel, 0).x;
     let count = sample.params.x;
     let before = select(textureLoad(previous, pixel, 0).x, 1.0, count < 0.5);
+    let weight_before = select(textureLoad(previous_weight, pixel, 0).x, 0.0, count < 0.5);
+    var out: Accumulated;
     if is_background(depth) {
-        return vec4<f32>(1.0);
+        out.mean = vec4<f32>(1.0);
+        out.weight = vec4<f32>(0.0);
+        return out;
     }
     // The cascade the pixel's view distance falls in (no blend band: every cascade holds the
     // same hard shadow, only its texels differ).
     let distance = view_depth(depth);
-    var world = world_position(frag.xy, depth);
+    let surface = world_position(frag.xy, depth);
+    let weight = sample_weight(surface, receiver_normal(pixel, surface, depth));
+    var world = surface;
     if sample.source.w > 0.5 {
         // A spot or point light's depth changes fast near its near plane: the position rebuilt
         // from the camera depth (off by about 1e-6 of the view distance) is moved 2e-4 of the
@@ -57,5 +125,8 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let tile = vec2<f32>(f32(k % u32(grid)), f32(k / u32(grid))) / grid;
     let inside = clip.w > 0.0 && all(uv >= tile) && all(uv <= tile + 1.0 / grid) && ndc.z >= 0.0 && ndc.z <= 1.0;
     let visibility = select(1.0, textureSampleCompareLevel(shadow_map, shadow_sampler, uv, ndc.z), inside);
-    return vec4<f32>(before + (visibility - before) / (count + 1.0));
+    let total = weight_before + weight;
+    out.mean = vec4<f32>(select(before, before + (visibility - before) * (weight / total), total > 0.0));
+    out.weight = vec4<f32>(total);
+    return out;
 }

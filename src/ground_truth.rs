@@ -1,10 +1,12 @@
 //! The ground truth, kept apart from the real-time chain: each area light replaced by N point
-//! lights on it, one hard shadow map each, the hard visibilities averaged per pixel by
+//! lights on it, one hard shadow map each, the hard visibilities averaged per pixel (weighted
+//! as [`crate::light_samples`] says) by
 //! [`crate::passes::ReferencePass`], one average per light of the scene. The convenience [`crate::Renderer`] drives it
 //! ([`crate::Renderer::render_reference`]); [`crate::Shadows`] never does.
 
 use crate::error::{PenumbraError, Result};
 use crate::gpu_scene::GpuScene;
+use crate::light_samples::{Emitter, light_sample};
 use crate::light_space::{FitInputs, LightView, atlas_grid, tile_resolution};
 use crate::passes::{DepthPrepass, ReferencePass, ShadowMapPass};
 use crate::scene::{Camera, Light};
@@ -244,9 +246,7 @@ impl GroundTruth {
         for k in first..last {
             // Sample k of every light, so the averages stay in step.
             for ((light, pass), (shadow_map, _)) in lights.iter().zip(&mut self.passes).zip(&mut self.maps) {
-                // A point light's disk faces the middle of the view.
-                let toward = light.position().map_or(glam::Vec3::NEG_Y, |p| camera.target - p);
-                let sample = crate::light_samples::light_sample(light, k, total, toward);
+                let sample = light_sample(light, k, total);
                 // The map fitted to what the camera sees, in cascades like the real-time maps'
                 // (unsnapped: each sample is rendered once).
                 let view = LightView::fit_with(&FitInputs {
@@ -266,7 +266,7 @@ impl GroundTruth {
                 });
                 shadow_map.prepare(device, queue, casters, &view);
                 shadow_map.encode(&mut encoder, casters);
-                pass.accumulate(&mut encoder, queue, &view);
+                pass.accumulate(&mut encoder, queue, &view, &Emitter::of(light));
                 queue.submit([encoder.finish()]);
             }
             if k % 16 == 15 {

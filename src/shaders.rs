@@ -70,6 +70,7 @@ pub const REFERENCE: &str = wgsl!(
     "common/frame.wgsl",
     "common/cube.wgsl",
     "common/fullscreen.wgsl",
+    "common/receiver.wgsl",
     "reference.wgsl"
 );
 pub const FORWARD: &str = wgsl!(

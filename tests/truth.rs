@@ -364,19 +364,22 @@ fn measure(
         for (index, &method) in methods.iter().enumerate() {
             let image = measure_visibility(gpu, &scene, camera, settings(method), SIZE).unwrap();
             if save {
+                // 16-bit, so an independent renderer's image can be compared with them
+                // (`tools/mitsuba_truth.py`; no direct light measured: 0).
                 let dump = |img: &VisibilityImage, name: &str| {
                     let pixels = img
                         .visibility
                         .iter()
-                        .map(|v| v.map_or(0, |v| (v * 255.0) as u8))
+                        .map(|v| v.map_or(0, |v| (v.clamp(0.0, 1.0) * 65535.0).round() as u16))
                         .collect();
-                    image::GrayImage::from_raw(img.width, img.height, pixels)
+                    image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_raw(img.width, img.height, pixels)
                         .unwrap()
                         .save(common::output_dir().join(format!("truth_{}_{view}_{name}.png", lamp as u8)))
                         .unwrap();
                 };
                 dump(&image, method.name());
                 dump(&reference, "reference");
+                save_view(lamp, view, camera);
             }
             let halves = signed_error_halves(&reference, &image);
             if std::env::var_os("PENUMBRA_TRUTH_PROFILES").is_some() {
@@ -422,6 +425,54 @@ fn measure(
         m.outer = (s[2] / s[3].max(1.0)) as f32;
     }
     results
+}
+
+/// With `PENUMBRA_SAVE_RENDERS`: the scene as two OBJ files (the floor, the casters) and the
+/// view and light as JSON, for `tools/mitsuba_truth.py` to render with the dumped images.
+fn save_view(lamp: Lamp, view: usize, camera: &Camera) {
+    let dir = common::output_dir();
+    let scene = truth_scene(lamp);
+    for (name, casters) in [("floor", false), ("casters", true)] {
+        let mut obj = String::new();
+        let mut base = 1;
+        for instance in scene.instances.iter().filter(|i| i.caster == casters) {
+            let mesh = &scene.meshes[instance.mesh];
+            for p in &mesh.positions {
+                let p = instance.transform.transform_point3(*p);
+                obj += &format!("v {} {} {}\n", p.x, p.y, p.z);
+            }
+            for t in mesh.indices.chunks_exact(3) {
+                obj += &format!("f {} {} {}\n", t[0] + base, t[1] + base, t[2] + base);
+            }
+            base += mesh.positions.len() as u32;
+        }
+        std::fs::write(dir.join(format!("truth_{}_{name}.obj", lamp as u8)), obj).unwrap();
+    }
+    let light = match scene.light {
+        Light::Directional(l) => serde_json::json!({
+            "kind": "sun", "direction": l.direction.to_array(), "angular_diameter_deg": l.angular_diameter_deg,
+        }),
+        Light::Spot(l) => serde_json::json!({
+            "kind": "spot", "position": l.position.to_array(), "direction": l.direction.to_array(), "radius": l.radius,
+        }),
+        Light::Point(l) => serde_json::json!({
+            "kind": "point", "position": l.position.to_array(), "radius": l.radius,
+        }),
+    };
+    let json = serde_json::json!({
+        "lamp": lamp.name(),
+        "size": [SIZE.0, SIZE.1],
+        "camera": {
+            "eye": camera.eye.to_array(), "target": camera.target.to_array(), "up": camera.up.to_array(),
+            "fov_y_deg": camera.fov_y_deg,
+        },
+        "light": light,
+    });
+    std::fs::write(
+        dir.join(format!("truth_{}_{view}.json", lamp as u8)),
+        serde_json::to_string_pretty(&json).unwrap(),
+    )
+    .unwrap();
 }
 
 fn methods_to_print() -> Vec<ShadowMethod> {

@@ -13,7 +13,7 @@
 //! | [`BlurPass`] | `shaders/blur.wgsl` | visibility, distance map, camera depth | blurred visibility (R16F), or the light's output layer with the indirect attenuation applied |
 //! | [`ResolvePass`] | `shaders/resolve.wgsl` | visibility, distance map, camera depth, receiver mask | one layer of the visibility array, indirect attenuation applied |
 //! | [`CompositePass`] | `shaders/composite.wgsl` | all instances, resolved visibility, camera depth | lit color |
-//! | [`ReferencePass`] | `shaders/reference.wgsl` | camera depth, one hard shadow map per light sample | mean visibility (R32F) |
+//! | [`ReferencePass`] | `shaders/reference.wgsl` | camera depth, one hard shadow map per light sample | mean visibility (R32F), weighted per pixel, beside the sum of the weights |
 //! | [`ForwardPass`] | `shaders/forward.wgsl` | all instances, camera, shadow map | lit color + camera depth (hard, hw2x2) |
 
 mod blur;

@@ -2,12 +2,14 @@
 //! shadows from N points stratified over the light.
 //!
 //! Input: the frame uniform, the camera depth, and for each sample a hard shadow map rendered
-//! by the caller from that sample's point light. Output: an R32F visibility, the running mean,
-//! kept in two ping-pong targets whatever N is.
+//! by the caller from that sample's point light. Output: an R32F visibility, the running mean
+//! weighted as [`crate::light_samples`] says, beside an R32F sum of the weights, each kept in two
+//! ping-pong targets whatever N is.
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{draw_fullscreen, entries, entry, fullscreen_pipeline, screen_target};
+use super::{DepthUse, Fullscreen, draw_fullscreen_into, entries, entry, screen_target};
+use crate::light_samples::Emitter;
 use crate::light_space::{LightView, MAX_TILES, tile_matrix};
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
@@ -22,6 +24,21 @@ struct SampleUniform {
     /// xyz: the sample light's position (w 1), for a point light's cube faces.
     source: [f32; 4],
     params: [f32; 4],
+    /// xyz: a sun's axis, a spot's disk centre or a point light's sphere centre; w: 0 sun, 1
+    /// spot disk, 2 sphere.
+    emitter: [f32; 4],
+    /// xyz: the direction a spot's disk faces.
+    facing: [f32; 4],
+}
+
+/// One ping-pong side: the mean and the weights so far.
+type Target = [(wgpu::Texture, wgpu::TextureView); 2];
+
+fn target(device: &wgpu::Device, width: u32, height: u32) -> Target {
+    [
+        screen_target(device, "ReferencePass::visibility", width, height, FORMAT),
+        screen_target(device, "ReferencePass::weight", width, height, FORMAT),
+    ]
 }
 
 pub struct ReferencePass {
@@ -29,7 +46,7 @@ pub struct ReferencePass {
     pipeline: wgpu::RenderPipeline,
     sampler: wgpu::Sampler,
     sample: wgpu::Buffer,
-    targets: [(wgpu::Texture, wgpu::TextureView); 2],
+    targets: [Target; 2],
     /// Bind group reading target i and writing the other.
     bind_groups: Option<[wgpu::BindGroup; 2]>,
     accumulated: u32,
@@ -47,15 +64,18 @@ impl ReferencePass {
                 entry::sampler(3, wgpu::SamplerBindingType::Comparison),
                 entry::texture_2d(4, wgpu::TextureSampleType::Float { filterable: false }),
                 entry::uniform(5, wgpu::ShaderStages::FRAGMENT, size_of::<SampleUniform>(), false),
+                entry::texture_2d(6, wgpu::TextureSampleType::Float { filterable: false }),
             ],
         });
-        let pipeline = fullscreen_pipeline(
-            device,
-            "ReferencePass::pipeline",
-            &shader,
-            &[Some(&layout)],
-            FORMAT,
-        );
+        let pipeline = Fullscreen {
+            label: "ReferencePass::pipeline",
+            shader: &shader,
+            bind_group_layouts: &[Some(&layout)],
+            targets: &[Some(FORMAT.into()), Some(FORMAT.into())],
+            depth: None,
+            constants: &[],
+        }
+        .pipeline(device);
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("ReferencePass::hard_sampler"),
             compare: Some(wgpu::CompareFunction::LessEqual),
@@ -72,15 +92,14 @@ impl ReferencePass {
             pipeline,
             sampler,
             sample,
-            targets: [0, 1].map(|_| screen_target(device, "ReferencePass::visibility", 1, 1, FORMAT)),
+            targets: [0, 1].map(|_| target(device, 1, 1)),
             bind_groups: None,
             accumulated: 0,
         }
     }
 
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.targets =
-            [0, 1].map(|_| screen_target(device, "ReferencePass::visibility", width, height, FORMAT));
+        self.targets = [0, 1].map(|_| target(device, width, height));
         self.accumulated = 0;
     }
 
@@ -91,7 +110,7 @@ impl ReferencePass {
         camera_depth: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
     ) {
-        let group = |previous: &wgpu::TextureView| {
+        let group = |previous: &Target| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("ReferencePass::bind_group"),
                 layout: &self.layout,
@@ -100,12 +119,13 @@ impl ReferencePass {
                     wgpu::BindingResource::TextureView(camera_depth),
                     wgpu::BindingResource::TextureView(shadow_map),
                     wgpu::BindingResource::Sampler(&self.sampler),
-                    wgpu::BindingResource::TextureView(previous),
+                    wgpu::BindingResource::TextureView(&previous[0].1),
                     self.sample.as_entire_binding(),
+                    wgpu::BindingResource::TextureView(&previous[1].1),
                 ]),
             })
         };
-        self.bind_groups = Some([group(&self.targets[0].1), group(&self.targets[1].1)]);
+        self.bind_groups = Some([group(&self.targets[0]), group(&self.targets[1])]);
     }
 
     /// Starts a new average.
@@ -119,8 +139,15 @@ impl ReferencePass {
     }
 
     /// Adds one sample whose hard shadow map (already recorded in `encoder`) was rendered from
-    /// `light`. The caller must submit before the next sample: the sample uniform is rewritten.
-    pub fn accumulate(&mut self, encoder: &mut wgpu::CommandEncoder, queue: &wgpu::Queue, light: &LightView) {
+    /// `light`, a point of `emitter`. The caller must submit before the next sample: the sample
+    /// uniform is rewritten.
+    pub fn accumulate(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        queue: &wgpu::Queue,
+        light: &LightView,
+        emitter: &Emitter,
+    ) {
         let Some(groups) = &self.bind_groups else {
             return;
         };
@@ -135,7 +162,17 @@ impl ReferencePass {
                 // a point light: its faces are picked by direction
                 if light.cascades().len() == 6 { 2.0 } else { 0.0 },
             ],
+            emitter: [0.0; 4],
+            facing: [0.0; 4],
         };
+        match *emitter {
+            Emitter::Cone { axis } => uniform.emitter = axis.extend(0.0).to_array(),
+            Emitter::Disk { center, facing } => {
+                uniform.emitter = center.extend(1.0).to_array();
+                uniform.facing = facing.extend(0.0).to_array();
+            }
+            Emitter::Sphere { center } => uniform.emitter = center.extend(2.0).to_array(),
+        }
         for (i, c) in light.cascades().iter().enumerate() {
             uniform.light_view_proj[i] =
                 (tile_matrix(light.grid, i as u32) * c.view_projection).to_cols_array_2d();
@@ -145,18 +182,20 @@ impl ReferencePass {
         }
         queue.write_buffer(&self.sample, 0, bytemuck::bytes_of(&uniform));
         let read = (self.accumulated % 2) as usize;
-        draw_fullscreen(
+        let [mean, weight] = &self.targets[1 - read];
+        draw_fullscreen_into(
             encoder,
             "ReferencePass",
             &self.pipeline,
             &[&groups[read]],
-            &self.targets[1 - read].1,
+            &[&mean.1, &weight.1],
+            DepthUse::None,
         );
         self.accumulated += 1;
     }
 
-    /// The mean visibility so far (R32F).
+    /// The weighted mean visibility so far (R32F).
     pub fn visibility_texture(&self) -> &wgpu::Texture {
-        &self.targets[(self.accumulated % 2) as usize].0
+        &self.targets[(self.accumulated % 2) as usize][0].0
     }
 }

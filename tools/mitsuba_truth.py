@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+"""The judge judged: renders the scene of `tests/truth.rs` in Mitsuba 3 (an independent, physically
+based renderer) and compares penumbra's visibility images with it.
+
+    PENUMBRA_SAVE_RENDERS=1 PENUMBRA_TRUTH_METHODS=ours,pcss \
+        cargo test --release --test truth -- sphere
+    python3 tools/mitsuba_truth.py [--spp 1024] [target/penumbra-test-output]
+
+The test writes, per lamp and view, the floor and the casters as OBJ files, the camera and light
+as JSON and every method's visibility (the reference's too) as 16-bit PNGs. This script renders
+the floor's direct light with and without the casters (Mitsuba's `direct` integrator: direct
+light only; a box pixel filter, so a pixel's value is the mean over its footprint), takes their
+ratio where the floor is what the pixel sees, and prints, per method, the RMSE and the mean
+signed error in each half of the penumbra (Mitsuba's visibility in (0.02, 0.5] and (0.5, 0.98)).
+
+The lights as Mitsuba has them: a point light is a `sphere` of the light's radius, a spot light
+a one-sided `disk` of its radius facing its direction (its cone leaves the visibility alone), a
+sun a disk 1000 units away subtending the sun's angular diameter; each an `area` emitter of
+uniform radiance. Needs `pip install mitsuba numpy`.
+"""
+import argparse
+import glob
+import json
+import os
+import re
+
+import numpy as np
+import mitsuba as mi
+
+mi.set_variant("scalar_rgb")
+T = mi.ScalarTransform4f
+
+
+def frame_to(direction):
+    """A transform taking +z to `direction` (unit)."""
+    d = np.asarray(direction, float)
+    d = d / np.linalg.norm(d)
+    up = [0.0, 1.0, 0.0] if abs(d[1]) < 0.9 else [1.0, 0.0, 0.0]
+    return T().look_at(origin=[0, 0, 0], target=d.tolist(), up=up)
+
+
+def emitter(light):
+    area = {"type": "area", "radiance": {"type": "rgb", "value": 1.0}}
+    if light["kind"] == "point":
+        return {"type": "sphere", "center": light["position"], "radius": light["radius"], "emitter": area}
+    if light["kind"] == "spot":
+        to_world = T().translate(light["position"]) @ frame_to(light["direction"]) @ T().scale(light["radius"])
+        return {"type": "disk", "to_world": to_world, "emitter": area}
+    d = np.asarray(light["direction"], float)
+    d /= np.linalg.norm(d)
+    far = 1000.0
+    radius = far * np.tan(np.radians(light["angular_diameter_deg"]) / 2)
+    to_world = T().translate((-d * far).tolist()) @ frame_to(d.tolist()) @ T().scale(float(radius))
+    return {"type": "disk", "to_world": to_world, "emitter": area}
+
+
+def render(view, meshes, light, spp):
+    width, height = view["size"]
+    cam = view["camera"]
+    scene = {
+        "type": "scene",
+        "integrator": {"type": "direct", "emitter_samples": 1, "bsdf_samples": 0},
+        "sensor": {
+            "type": "perspective",
+            "fov": cam["fov_y_deg"],
+            "fov_axis": "y",
+            "to_world": T().look_at(origin=cam["eye"], target=cam["target"], up=cam["up"]),
+            "film": {"type": "hdrfilm", "width": width, "height": height, "rfilter": {"type": "box"},
+                     "pixel_format": "rgb"},
+            "sampler": {"type": "multijitter", "sample_count": spp},
+        },
+        "light": emitter(light),
+    }
+    for name, path in meshes.items():
+        scene[name] = {"type": "obj", "filename": path, "face_normals": True,
+                       "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": 0.8}}}
+    radiance = np.array(mi.render(mi.load_dict(scene)))[..., 1]
+    depth_scene = dict(scene)
+    depth_scene["integrator"] = {"type": "aov", "aovs": "d:depth"}
+    depth_scene["sensor"] = dict(scene["sensor"], sampler={"type": "independent", "sample_count": 1})
+    depth = np.array(mi.render(mi.load_dict(depth_scene)))[..., 0]
+    return radiance, depth
+
+
+def compare(out, lamp, view_index, spp):
+    view = json.load(open(os.path.join(out, f"truth_{lamp}_{view_index}.json")))
+    floor = os.path.join(out, f"truth_{lamp}_floor.obj")
+    casters = os.path.join(out, f"truth_{lamp}_casters.obj")
+    lit, depth = render(view, {"floor": floor, "casters": casters}, view["light"], spp)
+    unshadowed, floor_depth = render(view, {"floor": floor}, view["light"], spp)
+    on_floor = (np.abs(depth - floor_depth) < 1e-3 * np.maximum(floor_depth, 1e-6)) & (unshadowed > 1e-4)
+    truth = np.where(on_floor, lit / np.maximum(unshadowed, 1e-12), np.nan)
+    rows = {}
+    for path in sorted(glob.glob(os.path.join(out, f"truth_{lamp}_{view_index}_*.png"))):
+        method = re.sub(r".*_\d+_(.*)\.png", r"\1", path)
+        image = np.array(mi.Bitmap(path)).astype(float)
+        if image.ndim == 3:
+            image = image[..., 0]
+        image /= 65535.0
+        half = [(truth > 0.02) & (truth <= 0.5), (truth > 0.5) & (truth < 0.98)]
+        both = half[0] | half[1]
+        rows[method] = (
+            float(np.sqrt(np.mean((image[both] - truth[both]) ** 2))),
+            float(np.mean(image[half[0]] - truth[half[0]])),
+            float(np.mean(image[half[1]] - truth[half[1]])),
+            int(both.sum()),
+        )
+    return view["lamp"], rows
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("out", nargs="?", default="target/penumbra-test-output")
+    parser.add_argument("--spp", type=int, default=1024)
+    parser.add_argument("--views", default=None, help="comma-separated view numbers (default: all dumped)")
+    args = parser.parse_args()
+    dumped = sorted(glob.glob(os.path.join(args.out, "truth_*_*.json")))
+    if not dumped:
+        raise SystemExit(f"no truth_*.json in {args.out}: run tests/truth.rs with PENUMBRA_SAVE_RENDERS=1 first")
+    print("| lamp | view | method | penumbra RMSE vs Mitsuba | inner half signed | outer half signed | pixels |")
+    print("|---|---|---|---|---|---|---|")
+    for path in dumped:
+        lamp, view_index = re.match(r".*truth_(\d+)_(\d+)\.json", path).groups()
+        if args.views and view_index not in args.views.split(","):
+            continue
+        name, rows = compare(args.out, lamp, view_index, args.spp)
+        for method, (rmse, inner, outer, n) in rows.items():
+            print(f"| {name} | {view_index} | {method} | {rmse:.4f} | {inner:+.4f} | {outer:+.4f} | {n} |")
+
+
+if __name__ == "__main__":
+    main()
