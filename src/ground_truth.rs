@@ -51,6 +51,25 @@ pub(crate) struct SampleInputs<'a> {
     pub prepass: &'a DepthPrepass,
 }
 
+/// The shadow-map resolution the reference renders `light`'s samples at, for the real-time
+/// maps' `resolution`. A point light's cube faces get twice the real-time faces' texels a side
+/// (the whole `resolution` a face) as far as their 3 x 3 atlas fits the device's `max_side`: a
+/// face spans 90 degrees, so at the real-time size a penumbra at contact is only a texel or two
+/// wide, and every sample's hard edge, quantized to those texels, widened the reference's
+/// (`docs/reference.md`). Suns' and spots' maps are fitted to the view and keep `resolution`.
+pub(crate) fn sample_resolution(light: &Light, resolution: u32, max_side: u32) -> u32 {
+    match light {
+        Light::Point(_) => {
+            // Six faces in a 3 x 3 atlas.
+            let face_limit = (max_side / 3).max(1);
+            // The largest power of two that fits, as the settings' resolutions are.
+            let face = resolution.min(1 << face_limit.ilog2());
+            (2 * face).max(resolution)
+        }
+        _ => resolution,
+    }
+}
+
 /// What a light's map pass was made for: its atlas, the casters and the map settings.
 type MapKey = (u32, u32, u64, ShadowMapSettings);
 
@@ -204,9 +223,17 @@ impl GroundTruth {
             settings: *settings,
         };
         self.ensure_lights(device, lights.len());
-        let sm = settings.shadow_map;
+        let max_side = device.limits().max_texture_dimension_2d;
+        let sample_maps: Vec<ShadowMapSettings> = lights
+            .iter()
+            .map(|light| ShadowMapSettings {
+                resolution: sample_resolution(light, settings.shadow_map.resolution, max_side),
+                ..settings.shadow_map
+            })
+            .collect();
         self.maps.truncate(lights.len());
-        for (i, light) in lights.iter().enumerate() {
+        for (i, (light, sm)) in lights.iter().zip(&sample_maps).enumerate() {
+            let sm = *sm;
             let (grid, tile) = (
                 atlas_grid(light, &sm.cascades),
                 tile_resolution(light, sm.resolution),
@@ -245,7 +272,9 @@ impl GroundTruth {
         let last = first.saturating_add(max_samples).min(total);
         for k in first..last {
             // Sample k of every light, so the averages stay in step.
-            for ((light, pass), (shadow_map, _)) in lights.iter().zip(&mut self.passes).zip(&mut self.maps) {
+            for (((light, sm), pass), (shadow_map, _)) in
+                lights.iter().zip(&sample_maps).zip(&mut self.passes).zip(&mut self.maps)
+            {
                 let sample = light_sample(light, k, total);
                 // The map fitted to what the camera sees, in cascades like the real-time maps'
                 // (unsnapped: each sample is rendered once).
@@ -283,5 +312,37 @@ impl GroundTruth {
             progress(k + 1, total);
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{PointLight, SpotLight};
+    use glam::Vec3;
+
+    #[test]
+    fn a_point_lights_samples_get_twice_the_faces_the_atlas_allowing() {
+        let point = Light::Point(PointLight {
+            position: Vec3::Y,
+            radius: 0.2,
+            color: Vec3::ONE,
+            intensity: 1.0,
+        });
+        // Faces of 1024 texels in real time, 2048 for the reference (its atlas 6144 a side).
+        assert_eq!(sample_resolution(&point, 2048, 8192), 4096);
+        assert_eq!(tile_resolution(&point, sample_resolution(&point, 2048, 8192)), 2048);
+        assert_eq!(sample_resolution(&point, 512, 8192), 1024);
+        // No face larger than a third of the device's limit.
+        assert_eq!(sample_resolution(&point, 2048, 4096), 2048);
+        let spot = Light::Spot(SpotLight {
+            position: Vec3::Y,
+            direction: Vec3::NEG_Y,
+            cone_angle_deg: 40.0,
+            radius: 0.2,
+            color: Vec3::ONE,
+            intensity: 1.0,
+        });
+        assert_eq!(sample_resolution(&spot, 2048, 8192), 2048);
     }
 }

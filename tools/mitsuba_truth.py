@@ -9,9 +9,14 @@ based renderer) and compares penumbra's visibility images with it.
 The test writes, per lamp and view, the floor and the casters as OBJ files, the camera and light
 as JSON and every method's visibility (the reference's too) as 16-bit PNGs. This script renders
 the floor's direct light with and without the casters (Mitsuba's `direct` integrator: direct
-light only; a box pixel filter, so a pixel's value is the mean over its footprint), takes their
-ratio where the floor is what the pixel sees, and prints, per method, the RMSE and the mean
-signed error in each half of the penumbra (Mitsuba's visibility in (0.02, 0.5] and (0.5, 0.98)).
+light only) and takes their ratio where the floor is what the pixel sees. penumbra's images hold
+each pixel's value at its centre; a renderer's pixel is the mean over its footprint, which in a
+penumbra a few pixels wide is not the same (it makes a penumbra look less steep), so Mitsuba
+renders at `--scale` (odd) times the size and the sub-pixel at each pixel's centre is kept. It
+renders twice with different seeds, and prints, per method, the penumbra RMSE against the mean
+of the two with Mitsuba's own noise taken out (the two renders' difference measures it), and the
+mean signed error in each half of the penumbra (Mitsuba's visibility in (0.02, 0.5] and
+(0.5, 0.98)).
 
 The lights as Mitsuba has them: a point light is a `sphere` of the light's radius, a spot light
 a one-sided `disk` of its radius facing its direction (its cone leaves the visibility alone), a
@@ -27,7 +32,8 @@ import re
 import numpy as np
 import mitsuba as mi
 
-mi.set_variant("scalar_rgb")
+mi.set_variant(os.environ.get("MITSUBA_VARIANT", "llvm_ad_rgb"))
+mi.set_log_level(mi.LogLevel.Error)
 T = mi.ScalarTransform4f
 
 
@@ -54,8 +60,8 @@ def emitter(light):
     return {"type": "disk", "to_world": to_world, "emitter": area}
 
 
-def render(view, meshes, light, spp):
-    width, height = view["size"]
+def render(view, meshes, light, spp, scale, seed):
+    width, height = (n * scale for n in view["size"])
     cam = view["camera"]
     scene = {
         "type": "scene",
@@ -67,7 +73,7 @@ def render(view, meshes, light, spp):
             "to_world": T().look_at(origin=cam["eye"], target=cam["target"], up=cam["up"]),
             "film": {"type": "hdrfilm", "width": width, "height": height, "rfilter": {"type": "box"},
                      "pixel_format": "rgb"},
-            "sampler": {"type": "multijitter", "sample_count": spp},
+            "sampler": {"type": "multijitter", "sample_count": spp, "seed": seed},
         },
         "light": emitter(light),
     }
@@ -82,14 +88,27 @@ def render(view, meshes, light, spp):
     return radiance, depth
 
 
-def compare(out, lamp, view_index, spp):
-    view = json.load(open(os.path.join(out, f"truth_{lamp}_{view_index}.json")))
+def visibility(view, out, lamp, spp, scale, seed):
+    """Mitsuba's visibility at each pixel's centre, NaN where the pixel does not see the floor."""
     floor = os.path.join(out, f"truth_{lamp}_floor.obj")
     casters = os.path.join(out, f"truth_{lamp}_casters.obj")
-    lit, depth = render(view, {"floor": floor, "casters": casters}, view["light"], spp)
-    unshadowed, floor_depth = render(view, {"floor": floor}, view["light"], spp)
-    on_floor = (np.abs(depth - floor_depth) < 1e-3 * np.maximum(floor_depth, 1e-6)) & (unshadowed > 1e-4)
-    truth = np.where(on_floor, lit / np.maximum(unshadowed, 1e-12), np.nan)
+    lit, depth = render(view, {"floor": floor, "casters": casters}, view["light"], spp, scale, seed)
+    unshadowed, floor_depth = render(view, {"floor": floor}, view["light"], spp, scale, seed)
+    on_floor = (np.abs(depth - floor_depth) < 1e-3 * np.maximum(floor_depth, 1e-6)) & (unshadowed > 0.0)
+    # Sub-pixels beside a caster's silhouette are left out: every one of the 3x3 block around
+    # the kept one must see the floor.
+    padded = np.pad(on_floor, 1, constant_values=False)
+    on_floor = np.all([padded[1 + dy:padded.shape[0] - 1 + dy, 1 + dx:padded.shape[1] - 1 + dx]
+                       for dy in (-1, 0, 1) for dx in (-1, 0, 1)], axis=0)
+    truth = np.where(on_floor, lit / np.maximum(unshadowed, 1e-30), np.nan)
+    return truth[scale // 2::scale, scale // 2::scale]
+
+
+def compare(out, lamp, view_index, spp, scale):
+    view = json.load(open(os.path.join(out, f"truth_{lamp}_{view_index}.json")))
+    a = visibility(view, out, lamp, spp, scale, 1)
+    b = visibility(view, out, lamp, spp, scale, 2)
+    truth = (a + b) / 2
     rows = {}
     for path in sorted(glob.glob(os.path.join(out, f"truth_{lamp}_{view_index}_*.png"))):
         method = re.sub(r".*_\d+_(.*)\.png", r"\1", path)
@@ -99,11 +118,15 @@ def compare(out, lamp, view_index, spp):
         image /= 65535.0
         half = [(truth > 0.02) & (truth <= 0.5), (truth > 0.5) & (truth < 0.98)]
         both = half[0] | half[1]
+        # The mean of two renders carries a quarter of their squared difference as noise.
+        noise = float(np.mean((a[both] - b[both]) ** 2) / 4)
+        mse = float(np.mean((image[both] - truth[both]) ** 2))
         rows[method] = (
-            float(np.sqrt(np.mean((image[both] - truth[both]) ** 2))),
+            float(np.sqrt(max(mse - noise, 0.0))),
             float(np.mean(image[half[0]] - truth[half[0]])),
             float(np.mean(image[half[1]] - truth[half[1]])),
             int(both.sum()),
+            float(np.sqrt(noise)),
         )
     return view["lamp"], rows
 
@@ -111,21 +134,24 @@ def compare(out, lamp, view_index, spp):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("out", nargs="?", default="target/penumbra-test-output")
-    parser.add_argument("--spp", type=int, default=1024)
+    parser.add_argument("--spp", type=int, default=1024, help="samples per sub-pixel (a square, for the multijitter sampler)")
+    parser.add_argument("--scale", type=int, default=5, help="Mitsuba's sub-pixels per pixel side (odd)")
     parser.add_argument("--views", default=None, help="comma-separated view numbers (default: all dumped)")
     args = parser.parse_args()
     dumped = sorted(glob.glob(os.path.join(args.out, "truth_*_*.json")))
     if not dumped:
         raise SystemExit(f"no truth_*.json in {args.out}: run tests/truth.rs with PENUMBRA_SAVE_RENDERS=1 first")
-    print("| lamp | view | method | penumbra RMSE vs Mitsuba | inner half signed | outer half signed | pixels |")
-    print("|---|---|---|---|---|---|---|")
+    if args.scale % 2 == 0:
+        raise SystemExit("--scale must be odd, so that a sub-pixel lies at each pixel's centre")
+    print("| lamp | view | method | penumbra RMSE vs Mitsuba | inner half signed | outer half signed | pixels | Mitsuba's noise |")
+    print("|---|---|---|---|---|---|---|---|")
     for path in dumped:
         lamp, view_index = re.match(r".*truth_(\d+)_(\d+)\.json", path).groups()
         if args.views and view_index not in args.views.split(","):
             continue
-        name, rows = compare(args.out, lamp, view_index, args.spp)
-        for method, (rmse, inner, outer, n) in rows.items():
-            print(f"| {name} | {view_index} | {method} | {rmse:.4f} | {inner:+.4f} | {outer:+.4f} | {n} |")
+        name, rows = compare(args.out, lamp, view_index, args.spp, args.scale)
+        for method, (rmse, inner, outer, n, noise) in rows.items():
+            print(f"| {name} | {view_index} | {method} | {rmse:.4f} | {inner:+.4f} | {outer:+.4f} | {n} | {noise:.4f} |")
 
 
 if __name__ == "__main__":
