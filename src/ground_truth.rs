@@ -272,8 +272,11 @@ impl GroundTruth {
         let last = first.saturating_add(max_samples).min(total);
         for k in first..last {
             // Sample k of every light, so the averages stay in step.
-            for (((light, sm), pass), (shadow_map, _)) in
-                lights.iter().zip(&sample_maps).zip(&mut self.passes).zip(&mut self.maps)
+            for (((light, sm), pass), (shadow_map, _)) in lights
+                .iter()
+                .zip(&sample_maps)
+                .zip(&mut self.passes)
+                .zip(&mut self.maps)
             {
                 let sample = light_sample(light, k, total);
                 // The map fitted to what the camera sees, in cascades like the real-time maps'
@@ -331,7 +334,10 @@ mod tests {
         });
         // Faces of 1024 texels in real time, 2048 for the reference (its atlas 6144 a side).
         assert_eq!(sample_resolution(&point, 2048, 8192), 4096);
-        assert_eq!(tile_resolution(&point, sample_resolution(&point, 2048, 8192)), 2048);
+        assert_eq!(
+            tile_resolution(&point, sample_resolution(&point, 2048, 8192)),
+            2048
+        );
         assert_eq!(sample_resolution(&point, 512, 8192), 1024);
         // No face larger than a third of the device's limit.
         assert_eq!(sample_resolution(&point, 2048, 4096), 2048);

@@ -66,6 +66,48 @@ fn doubling_the_samples_changes_less_than_any_method_errs() {
     }
 }
 
+/// A thin plate of `size` centred at `center` (a caster, not a receiver) over a floor `floor`
+/// units square (a receiver, not a caster), under `light`.
+fn plate_over_a_floor(light: Light, size: Vec3, center: Vec3, floor: f32) -> Scene {
+    let mut scene = Scene {
+        light,
+        ..Default::default()
+    };
+    let material = scene.add_material(Material::colored("grey", [0.8, 0.8, 0.8]));
+    let plate = scene.add_mesh(primitives::cuboid(size));
+    scene
+        .add_instance(plate, material, Mat4::from_translation(center))
+        .receiver = false;
+    let floor = scene.add_mesh(primitives::plane(floor, 1.0));
+    scene.add_instance(floor, material, Mat4::IDENTITY).caster = false;
+    scene
+}
+
+/// The reference's own visibility texture (values, channels per pixel) for `scene` from
+/// `camera` with `samples` light samples.
+fn reference_visibility(
+    gpu: &penumbra::HeadlessGpu,
+    scene: &Scene,
+    camera: &Camera,
+    size: (u32, u32),
+    samples: u32,
+) -> (Vec<f32>, u32) {
+    let mut renderer = Renderer::new(
+        &gpu.device,
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        settings(ShadowMethod::Reference, samples),
+    )
+    .unwrap();
+    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), scene).unwrap();
+    penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, camera, size.0, size.1).unwrap();
+    penumbra::read_texture_f32(
+        &gpu.device,
+        &gpu.queue,
+        renderer.debug_texture(DebugTexture::Visibility).unwrap(),
+    )
+    .unwrap()
+}
+
 /// Fraction of a uniform disk on the far side of a line at signed distance `t` radii from its
 /// center.
 fn disk_fraction(t: f32) -> f32 {
@@ -78,28 +120,20 @@ fn penumbra_under_a_square_plate_matches_2_r_d_over_d() {
     let gpu = common::gpu();
     // A 2 x 2 plate 1 unit above the floor, a spot light of radius 0.4 four units above it.
     let (plate_height, light_height, radius) = (1.0f32, 5.0f32, 0.4f32);
-    let mut scene = Scene {
-        light: Light::Spot(SpotLight {
-            position: Vec3::new(0.0, light_height, 0.0),
-            direction: Vec3::NEG_Y,
-            cone_angle_deg: 50.0,
-            radius,
-            color: Vec3::ONE,
-            intensity: 1.0,
-        }),
-        ..Default::default()
-    };
-    let material = scene.add_material(Material::colored("grey", [0.8, 0.8, 0.8]));
-    let plate = scene.add_mesh(primitives::cuboid(Vec3::new(2.0, 0.001, 2.0)));
-    scene
-        .add_instance(
-            plate,
-            material,
-            Mat4::from_translation(Vec3::new(0.0, plate_height, 0.0)),
-        )
-        .receiver = false;
-    let floor = scene.add_mesh(primitives::plane(12.0, 1.0));
-    scene.add_instance(floor, material, Mat4::IDENTITY).caster = false;
+    let light = Light::Spot(SpotLight {
+        position: Vec3::new(0.0, light_height, 0.0),
+        direction: Vec3::NEG_Y,
+        cone_angle_deg: 50.0,
+        radius,
+        color: Vec3::ONE,
+        intensity: 1.0,
+    });
+    let scene = plate_over_a_floor(
+        light,
+        Vec3::new(2.0, 0.001, 2.0),
+        Vec3::new(0.0, plate_height, 0.0),
+        12.0,
+    );
     // Looking up from under the floor would hide it; look down past the plate's edge instead.
     let camera = Camera {
         eye: Vec3::new(1.25, 6.0, 0.0),
@@ -110,25 +144,12 @@ fn penumbra_under_a_square_plate_matches_2_r_d_over_d() {
         far: 8.0,
     };
     let size = (800u32, 800u32);
-    let mut renderer = Renderer::new(
-        &gpu.device,
-        wgpu::TextureFormat::Rgba8UnormSrgb,
-        settings(ShadowMethod::Reference, 512),
-    )
-    .unwrap();
-    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
-    penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, size.0, size.1).unwrap();
-    let (visibility, _) = penumbra::read_texture_f32(
-        &gpu.device,
-        &gpu.queue,
-        renderer.debug_texture(DebugTexture::Visibility).unwrap(),
-    )
-    .unwrap();
+    let (visibility, channels) = reference_visibility(&gpu, &scene, &camera, size, 512);
     // Across the plate's edge at x = 1, along the floor's x axis at z = 0 (the plate hides
     // nothing there: it is seen edge-on from above at x > 1).
     let sample = |x: f32| {
         let (px, py) = common::project(&camera, size.0, size.1, Vec3::new(x, 0.0, 0.2)).expect("on screen");
-        visibility[(py * size.0 + px) as usize]
+        visibility[((py * size.0 + px) * channels) as usize]
     };
     let xs: Vec<f32> = (0..=1000).map(|i| 1.0 + i as f32 * 0.0005).collect();
     let first_above = |level: f32| xs.iter().copied().find(|&x| sample(x) >= level).unwrap();
@@ -203,28 +224,20 @@ fn a_sphere_lights_penumbra_is_the_share_of_its_disk_each_point_sees() {
     // floor, 34 degrees off the vertical from the light.
     let edge_x = 4.0 / 3.0;
     let center = Vec3::new(0.0, light_height, 0.0);
-    let mut scene = Scene {
-        light: Light::Point(penumbra::PointLight {
-            position: center,
-            radius,
-            color: Vec3::ONE,
-            intensity: 1.0,
-        }),
-        ..Default::default()
-    };
-    let material = scene.add_material(Material::colored("grey", [0.8, 0.8, 0.8]));
-    let plate = scene.add_mesh(primitives::cuboid(Vec3::new(6.0, 0.002, 8.0)));
-    scene
-        .add_instance(
-            plate,
-            material,
-            // Its top face at `plate_height`: the rays toward the light, up and to the left,
-            // pass the plate's top corner last.
-            Mat4::from_translation(Vec3::new(edge_x - 3.0, plate_height - 0.001, 0.0)),
-        )
-        .receiver = false;
-    let floor = scene.add_mesh(primitives::plane(30.0, 1.0));
-    scene.add_instance(floor, material, Mat4::IDENTITY).caster = false;
+    let light = Light::Point(penumbra::PointLight {
+        position: center,
+        radius,
+        color: Vec3::ONE,
+        intensity: 1.0,
+    });
+    // The plate's top face at `plate_height`: the rays toward the light, up and to the left,
+    // pass the plate's top corner last.
+    let scene = plate_over_a_floor(
+        light,
+        Vec3::new(6.0, 0.002, 8.0),
+        Vec3::new(edge_x - 3.0, plate_height - 0.001, 0.0),
+        30.0,
+    );
     // Straight down from above the light: the middle of the view lies under the light, the
     // edge's penumbra toward the right of the image, past the plate.
     let camera = Camera {
@@ -236,20 +249,7 @@ fn a_sphere_lights_penumbra_is_the_share_of_its_disk_each_point_sees() {
         far: 8.0,
     };
     let size = (480u32, 360u32);
-    let mut renderer = Renderer::new(
-        &gpu.device,
-        wgpu::TextureFormat::Rgba8UnormSrgb,
-        settings(ShadowMethod::Reference, 1024),
-    )
-    .unwrap();
-    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
-    penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, size.0, size.1).unwrap();
-    let (visibility, channels) = penumbra::read_texture_f32(
-        &gpu.device,
-        &gpu.queue,
-        renderer.debug_texture(DebugTexture::Visibility).unwrap(),
-    )
-    .unwrap();
+    let (visibility, channels) = reference_visibility(&gpu, &scene, &camera, size, 1024);
     // Each pixel's floor point, from its centre's ray.
     let to_world = camera
         .view_projection(size.0 as f32 / size.1 as f32)
