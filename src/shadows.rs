@@ -243,6 +243,10 @@ pub struct Shadows {
     inputs: Option<Inputs>,
     /// R16F, one layer per light slot.
     visibility: Option<(wgpu::Texture, wgpu::TextureView, Vec<wgpu::TextureView>)>,
+    /// The engine's texture the visibility is written into ([`Shadows::set_visibility_target`]).
+    target: Option<wgpu::Texture>,
+    /// Counts the visibility textures made or taken ([`Shadows::visibility_generation`]).
+    generation: u64,
     /// The distance-map method's blurs: up to four lights each (one each when
     /// [`PenumbraSettings::batch_lights`](crate::PenumbraSettings::batch_lights) is off),
     /// with the slots of the lights they blur.
@@ -270,6 +274,8 @@ impl Shadows {
             size: (0, 0),
             inputs: None,
             visibility: None,
+            target: None,
+            generation: 0,
             blurs: Vec::new(),
             dummy: screen_target(device, "Shadows::dummy", 1, 1, wgpu::TextureFormat::R16Float),
             casters_id: None,
@@ -346,10 +352,11 @@ impl Shadows {
             }
         };
         self.lights[slot] = Some(LightState::new(device, light));
-        if self
-            .visibility
-            .as_ref()
-            .is_some_and(|v| v.2.len() < self.lights.len())
+        if self.target.is_none()
+            && self
+                .visibility
+                .as_ref()
+                .is_some_and(|v| v.2.len() < self.lights.len())
         {
             self.visibility = None;
         }
@@ -421,13 +428,20 @@ impl Shadows {
                     .map(|m| (m.clone(), m.create_view(&Default::default()))),
             });
         }
+        if let Some(target) = &self.target {
+            check_target(target, Some(((width, height), self.lights.len())))?;
+        }
         if resized || self.visibility.is_none() {
-            self.visibility = Some(visibility_array(
-                device,
-                width,
-                height,
-                self.lights.len().max(1) as u32,
-            ));
+            self.visibility = Some(match &self.target {
+                Some(target) => layer_views(target.clone()),
+                None => layer_views(visibility_array(
+                    device,
+                    width,
+                    height,
+                    self.lights.len().max(1) as u32,
+                )),
+            });
+            self.generation += 1;
         }
         let rebind_all = resized || inputs_changed;
         self.casters_id = Some(casters.id());
@@ -803,8 +817,34 @@ impl Shadows {
     /// layer per light ([`LightId::layer`]), 1 lit and 0 shadowed, indirect attenuation
     /// applied. Sample it with `textureLoad(visibility, pixel, layer, 0)` (bound as
     /// `texture_2d_array<f32>`, filterable). `None` before the first frame.
+    ///
+    /// The texture is replaced (and an engine's bind group that holds it must be rebuilt) on
+    /// the first frame, when the depth's size changes and when a light is added beyond the
+    /// layers it has: [`Shadows::visibility_generation`] changes exactly then. An engine that
+    /// would rather own the texture gives it with [`Shadows::set_visibility_target`].
     pub fn visibility(&self) -> Option<&wgpu::TextureView> {
         self.visibility.as_ref().map(|v| &v.1)
+    }
+
+    /// A number that changes whenever [`Shadows::visibility`] starts returning another
+    /// texture (0 before the first frame): rebuild the bind groups that hold it when it does.
+    pub fn visibility_generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// Writes the visibility into the engine's own texture from the next frame on (`None`:
+    /// into one of penumbra's). It must be an `R16Float` 2D texture with `RENDER_ATTACHMENT`
+    /// usage; each frame, its size must be the depth's and it needs a layer for every light
+    /// slot ([`LightId::layer`]). Layers of slots with no light are left as they are.
+    pub fn set_visibility_target(&mut self, target: Option<wgpu::Texture>) -> Result<()> {
+        if let Some(t) = &target {
+            check_target(t, None)?;
+        }
+        if self.target != target {
+            self.target = target;
+            self.visibility = None;
+        }
+        Ok(())
     }
 
     /// The bind group layout entry an engine's lit shader declares for [`Shadows::visibility`]:
@@ -1214,28 +1254,40 @@ fn check_mask(mask: &wgpu::Texture, size: (u32, u32)) -> Result<()> {
     Ok(())
 }
 
-fn visibility_array(
-    device: &wgpu::Device,
-    width: u32,
-    height: u32,
-    layers: u32,
-) -> (wgpu::Texture, wgpu::TextureView, Vec<wgpu::TextureView>) {
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("Shadows::visibility"),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: layers,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: VISIBILITY_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+/// Checks an engine's visibility target: its format and usage, and with `frame` = (the depth's
+/// size, the light slots) its size and layers.
+fn check_target(target: &wgpu::Texture, frame: Option<((u32, u32), usize)>) -> Result<()> {
+    let fail = |reason: String| Err(PenumbraError::input("visibility target", reason));
+    if target.format() != VISIBILITY_FORMAT {
+        return fail(format!("it is {:?}; it must be {VISIBILITY_FORMAT:?}", target.format()));
+    }
+    if target.dimension() != wgpu::TextureDimension::D2 || target.sample_count() != 1 {
+        return fail("it must be a single-sampled 2D (array) texture".into());
+    }
+    if !target.usage().contains(wgpu::TextureUsages::RENDER_ATTACHMENT) {
+        return fail("it needs RENDER_ATTACHMENT usage: the passes draw into its layers".into());
+    }
+    if let Some(((width, height), slots)) = frame {
+        if (target.width(), target.height()) != (width, height) {
+            return fail(format!(
+                "it is {}x{}, the depth texture {width}x{height}",
+                target.width(),
+                target.height()
+            ));
+        }
+        if (target.depth_or_array_layers() as usize) < slots {
+            return fail(format!(
+                "it has {} layers for {slots} light slots",
+                target.depth_or_array_layers()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The visibility texture's array view and one 2D view per layer.
+fn layer_views(texture: wgpu::Texture) -> (wgpu::Texture, wgpu::TextureView, Vec<wgpu::TextureView>) {
+    let layers = texture.depth_or_array_layers();
     let array = texture.create_view(&wgpu::TextureViewDescriptor {
         label: Some("Shadows::visibility"),
         dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -1253,6 +1305,25 @@ fn visibility_array(
         })
         .collect();
     (texture, array, layer_views)
+}
+
+fn visibility_array(device: &wgpu::Device, width: u32, height: u32, layers: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("Shadows::visibility"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: VISIBILITY_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
 }
 
 /// Polls a future once: wgpu's error scopes resolve at once on native backends. A future that

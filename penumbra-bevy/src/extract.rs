@@ -1,0 +1,268 @@
+//! What the render world takes from the app each frame: the penumbra camera, the casters, the
+//! lights, and the CPU geometry of meshes it has not seen.
+
+use bevy::camera::visibility::InheritedVisibility;
+use bevy::light::{NotShadowCaster, NotShadowReceiver, SunDisk};
+use bevy::mesh::morph::MorphWeights;
+use bevy::mesh::skinning::SkinnedMesh;
+use bevy::mesh::{Indices, PrimitiveTopology, VertexAttributeValues};
+use bevy::platform::collections::HashSet;
+use bevy::prelude::*;
+use bevy::render::storage::ShaderBuffer;
+use bevy::render::sync_world::RenderEntity;
+use bevy::render::view::Msaa;
+use bevy::render::Extract;
+use penumbra::{DirectionalLight as Sun, Light, PointLight as Point, SpotLight as Spot};
+
+use crate::material::PenumbraTargets;
+use crate::{PenumbraCamera, PenumbraLightSize, vec3};
+
+/// The sun's angular diameter in radians, for a `DirectionalLight` with no size given.
+pub const SUN_ANGULAR_DIAMETER: f32 = 0.0093;
+
+/// The penumbra camera, as the render world sees it.
+#[derive(Clone, Debug)]
+pub(crate) struct ExtractedPenumbraCamera {
+    pub render_entity: Entity,
+    pub main_entity: Entity,
+    pub settings: penumbra::ShadowSettings,
+    /// Why penumbra cannot run on this camera (MSAA), logged once.
+    pub refused: Option<String>,
+}
+
+/// A caster: a mesh entity and where it is.
+#[derive(Clone, Debug)]
+pub(crate) struct ExtractedCaster {
+    pub entity: Entity,
+    pub mesh: AssetId<Mesh>,
+    pub transform: Mat4,
+    /// False for `NotShadowCaster`: still a receiver, which the lights' maps are fitted to.
+    pub casts: bool,
+    pub receives: bool,
+}
+
+/// A light penumbra shades.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ExtractedLight {
+    pub entity: Entity,
+    pub render_entity: Entity,
+    pub light: Light,
+}
+
+/// A mesh's triangles on the CPU: what penumbra computes its bounds and smoothed normals from.
+#[derive(Clone, Debug)]
+pub(crate) struct Geometry {
+    pub positions: Vec<glam::Vec3>,
+    pub normals: Option<Vec<glam::Vec3>>,
+    pub indices: Option<Vec<u32>>,
+}
+
+/// This frame's extraction.
+#[derive(Resource, Default)]
+pub(crate) struct Extracted {
+    pub camera: Option<ExtractedPenumbraCamera>,
+    pub casters: Vec<ExtractedCaster>,
+    pub lights: Vec<ExtractedLight>,
+    /// Shadow-mapped lights past penumbra's limit (they keep Bevy's shadows).
+    pub lights_over_limit: usize,
+    /// The render entities of the lights whose Bevy shadow maps the app asked for.
+    pub bevy_shadowed: Vec<Entity>,
+    /// Geometry of meshes new or changed since the last frame (or why it cannot be read).
+    pub geometry: Vec<(AssetId<Mesh>, Result<Geometry, String>)>,
+    /// Meshes removed or changed: their registration is dropped.
+    pub stale_meshes: Vec<AssetId<Mesh>>,
+    pub visibility: Handle<Image>,
+    pub lights_buffer: Handle<ShaderBuffer>,
+    /// Casters left out, with why (skinned, morphed), each logged once.
+    pub left_out: Vec<(Entity, &'static str)>,
+}
+
+/// Meshes whose geometry the render world holds (so it is not copied again).
+#[derive(Resource, Default)]
+pub(crate) struct KnownGeometry(pub HashSet<AssetId<Mesh>>);
+
+type CasterQuery<'w, 's> = Query<
+    'w,
+    's,
+    (
+        Entity,
+        &'static Mesh3d,
+        &'static GlobalTransform,
+        Option<&'static InheritedVisibility>,
+        Has<NotShadowCaster>,
+        Has<NotShadowReceiver>,
+        Has<SkinnedMesh>,
+        Has<MorphWeights>,
+    ),
+>;
+
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn extract_penumbra(
+    mut extracted: ResMut<Extracted>,
+    mut known: ResMut<KnownGeometry>,
+    cameras: Extract<Query<(Entity, RenderEntity, &Camera, &PenumbraCamera, Option<&Msaa>)>>,
+    casters: Extract<CasterQuery>,
+    suns: Extract<
+        Query<(
+            Entity,
+            RenderEntity,
+            &DirectionalLight,
+            &GlobalTransform,
+            Option<&SunDisk>,
+            Option<&PenumbraLightSize>,
+        )>,
+    >,
+    spots: Extract<Query<(Entity, RenderEntity, &SpotLight, &GlobalTransform, Option<&PenumbraLightSize>)>>,
+    points: Extract<Query<(Entity, RenderEntity, &PointLight, &GlobalTransform, Option<&PenumbraLightSize>)>>,
+    meshes: Extract<Res<Assets<Mesh>>>,
+    mut mesh_events: Extract<MessageReader<AssetEvent<Mesh>>>,
+    targets: Extract<Res<PenumbraTargets>>,
+) {
+    let extracted = &mut *extracted;
+    extracted.camera = cameras
+        .iter()
+        .find(|(_, _, camera, penumbra, _)| camera.is_active && penumbra.enabled)
+        .map(|(main_entity, render_entity, _, penumbra, msaa)| ExtractedPenumbraCamera {
+            render_entity,
+            main_entity,
+            settings: penumbra.settings,
+            refused: msaa.filter(|m| **m != Msaa::Off).map(|m| {
+                format!(
+                    "penumbra: camera {main_entity} has Msaa::{m:?}; penumbra reads the depth prepass \
+                     single-sampled, so it needs Msaa::Off on the camera. Bevy's own shadows are used meanwhile."
+                )
+            }),
+        });
+    extracted.visibility = targets.visibility.clone();
+    extracted.lights_buffer = targets.lights.clone();
+
+    extracted.stale_meshes.clear();
+    for event in mesh_events.read() {
+        match event {
+            AssetEvent::Modified { id } | AssetEvent::Removed { id } | AssetEvent::Unused { id } => {
+                if known.0.remove(id) {
+                    extracted.stale_meshes.push(*id);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    extracted.casters.clear();
+    extracted.geometry.clear();
+    extracted.left_out.clear();
+    for (entity, mesh, transform, visibility, not_caster, not_receiver, skinned, morphed) in &casters {
+        if visibility.is_some_and(|v| !v.get()) || (not_caster && not_receiver) {
+            continue;
+        }
+        if skinned || morphed {
+            let why = if skinned { "skinned" } else { "morphed" };
+            extracted.left_out.push((entity, why));
+            continue;
+        }
+        let id = mesh.id();
+        if !known.0.contains(&id) {
+            let Some(mesh) = meshes.get(id) else { continue };
+            extracted.geometry.push((id, geometry(mesh)));
+            known.0.insert(id);
+        }
+        extracted.casters.push(ExtractedCaster {
+            entity,
+            mesh: id,
+            transform: transform.to_matrix(),
+            casts: !not_caster,
+            receives: !not_receiver,
+        });
+    }
+
+    let mut lights: Vec<ExtractedLight> = Vec::new();
+    extracted.bevy_shadowed.clear();
+    for (entity, render_entity, sun, transform, disk, size) in &suns {
+        if !sun.shadow_maps_enabled {
+            continue;
+        }
+        extracted.bevy_shadowed.push(render_entity);
+        let diameter = size.map(|s| s.0).or(disk.map(|d| d.angular_size)).unwrap_or(SUN_ANGULAR_DIAMETER);
+        lights.push(ExtractedLight {
+            entity,
+            render_entity,
+            light: Light::Directional(Sun {
+                direction: vec3(transform.forward().as_vec3()),
+                angular_diameter_deg: diameter.max(0.0).to_degrees(),
+                color: glam::Vec3::from_array(sun.color.to_linear().to_f32_array_no_alpha()),
+                intensity: sun.illuminance,
+            }),
+        });
+    }
+    for (entity, render_entity, spot, transform, size) in &spots {
+        if !spot.shadow_maps_enabled {
+            continue;
+        }
+        extracted.bevy_shadowed.push(render_entity);
+        lights.push(ExtractedLight {
+            entity,
+            render_entity,
+            light: Light::Spot(Spot {
+                position: vec3(transform.translation()),
+                direction: vec3(transform.forward().as_vec3()),
+                cone_angle_deg: spot.outer_angle.to_degrees().clamp(0.5, 89.0),
+                radius: size.map_or(spot.radius, |s| s.0).max(0.0),
+                color: glam::Vec3::from_array(spot.color.to_linear().to_f32_array_no_alpha()),
+                intensity: spot.intensity,
+            }),
+        });
+    }
+    for (entity, render_entity, point, transform, size) in &points {
+        if !point.shadow_maps_enabled {
+            continue;
+        }
+        extracted.bevy_shadowed.push(render_entity);
+        lights.push(ExtractedLight {
+            entity,
+            render_entity,
+            light: Light::Point(Point {
+                position: vec3(transform.translation()),
+                radius: size.map_or(point.radius, |s| s.0).max(0.0),
+                color: glam::Vec3::from_array(point.color.to_linear().to_f32_array_no_alpha()),
+                intensity: point.intensity,
+            }),
+        });
+    }
+    // A stable order: the same lights keep the same layers while they live.
+    lights.sort_by_key(|l| l.entity);
+    extracted.lights_over_limit = lights.len().saturating_sub(penumbra::MAX_LIGHTS);
+    lights.truncate(penumbra::MAX_LIGHTS);
+    extracted.lights = lights;
+}
+
+/// A mesh's positions, normals and indices, or why penumbra cannot use it.
+fn geometry(mesh: &Mesh) -> Result<Geometry, String> {
+    if mesh.primitive_topology() != PrimitiveTopology::TriangleList {
+        return Err(format!(
+            "its topology is {:?}; penumbra casts triangle lists",
+            mesh.primitive_topology()
+        ));
+    }
+    let positions = match mesh.try_attribute(Mesh::ATTRIBUTE_POSITION) {
+        Ok(VertexAttributeValues::Float32x3(p)) => p.iter().map(|p| glam::Vec3::from_array(*p)).collect(),
+        Ok(_) => return Err("its positions are not Float32x3".to_string()),
+        Err(e) => {
+            return Err(format!(
+                "its positions are not on the CPU ({e}); keep RenderAssetUsages::MAIN_WORLD on meshes that cast"
+            ));
+        }
+    };
+    let normals = match mesh.try_attribute(Mesh::ATTRIBUTE_NORMAL) {
+        Ok(VertexAttributeValues::Float32x3(n)) => Some(n.iter().map(|n| glam::Vec3::from_array(*n)).collect()),
+        _ => None,
+    };
+    let indices = mesh.try_indices_option().ok().flatten().map(|ix| match ix {
+        Indices::U16(v) => v.iter().map(|&i| i as u32).collect(),
+        Indices::U32(v) => v.clone(),
+    });
+    Ok(Geometry {
+        positions,
+        normals,
+        indices,
+    })
+}

@@ -1,0 +1,113 @@
+//! penumbra's soft shadows in a Bevy 0.20 app, on Bevy's own data.
+//!
+//! ```no_run
+//! use bevy::prelude::*;
+//! use penumbra_bevy::{PenumbraCamera, PenumbraPlugin};
+//!
+//! App::new()
+//!     .add_plugins((DefaultPlugins, PenumbraPlugin))
+//!     .add_systems(Startup, |mut commands: Commands| {
+//!         commands.spawn((Camera3d::default(), Msaa::Off, PenumbraCamera::default()));
+//!     })
+//!     .run();
+//! ```
+//!
+//! What the plugin does each frame:
+//! - **Casters** are the app's `Mesh3d` entities, drawn from the vertex and index buffers Bevy's
+//!   mesh allocator already holds, at their `GlobalTransform`s. `NotShadowCaster` entities,
+//!   hidden ones and skinned or morphed meshes cast no penumbra shadow.
+//! - **Lights** are the `DirectionalLight`s, `SpotLight`s and `PointLight`s with
+//!   `shadow_maps_enabled`, up to [`penumbra::MAX_LIGHTS`]. Their size comes from Bevy's
+//!   fields: `SpotLight::radius`, `PointLight::radius`, a sun's `SunDisk::angular_size`
+//!   (or [`PenumbraLightSize`] to set it). Bevy renders no shadow map for these lights; lights
+//!   past the limit keep Bevy's own shadows.
+//! - **The view**: penumbra's passes run on the camera's depth prepass, after Bevy's prepass
+//!   and before its main pass, and write one visibility layer per light.
+//! - **Shading**: each `StandardMaterial` mesh is switched to [`PenumbraMaterial`] (Bevy's
+//!   PBR, with each penumbra light's direct term scaled by its visibility). Entities with
+//!   [`KeepStandardMaterial`] are left alone; they then get no shadow from penumbra's lights.
+//!
+//! See `docs/bevy.md` in the repository for what is supported and what it costs.
+
+mod extract;
+mod material;
+mod render;
+
+use bevy::asset::embedded_asset;
+use bevy::core_pipeline::prepass::DepthPrepass;
+use bevy::pbr::MaterialPlugin;
+use bevy::prelude::*;
+use bevy::render::RenderApp;
+
+pub use material::{KeepStandardMaterial, PenumbraMaterial, PenumbraShading};
+pub use penumbra::{Quality, ShadowMethod, ShadowSettings};
+
+/// Adds penumbra's soft shadows to every camera with a [`PenumbraCamera`].
+pub struct PenumbraPlugin;
+
+/// Turns penumbra on for a 3D camera. The camera needs `Msaa::Off` (penumbra reads the depth
+/// prepass single-sampled; with MSAA the plugin logs an error and Bevy's own shadows stay).
+/// One camera at a time: with several, the first active one is shaded.
+#[derive(Component, Clone, Debug)]
+#[require(DepthPrepass)]
+pub struct PenumbraCamera {
+    /// penumbra's method, quality and map settings.
+    pub settings: ShadowSettings,
+    /// False: Bevy's own shadow maps and filtering for every light, as without the plugin.
+    pub enabled: bool,
+}
+
+impl Default for PenumbraCamera {
+    /// penumbra's own method (distance-map PCF and blur) at medium quality.
+    fn default() -> Self {
+        Self::new(ShadowMethod::Ours, Quality::Medium)
+    }
+}
+
+impl PenumbraCamera {
+    /// One of penumbra's methods at one of its quality presets.
+    pub fn new(method: ShadowMethod, quality: Quality) -> Self {
+        Self {
+            settings: ShadowSettings::preset(method, quality),
+            enabled: true,
+        }
+    }
+}
+
+/// A light's physical size for penumbra, overriding what Bevy's fields say: for a
+/// `DirectionalLight`, the angular diameter of the sun's disk in radians (otherwise its
+/// `SunDisk::angular_size`, otherwise the sun's 0.0093); for a `SpotLight` or `PointLight`, the
+/// radius of its emitting disk or sphere in world units (otherwise its `radius`). 0 gives hard
+/// shadows.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct PenumbraLightSize(pub f32);
+
+impl Plugin for PenumbraPlugin {
+    fn build(&self, app: &mut App) {
+        embedded_asset!(app, "shaders/penumbra_material.wesl");
+        app.add_plugins(MaterialPlugin::<PenumbraMaterial>::default())
+            .init_resource::<material::PenumbraTargets>()
+            .add_systems(
+                PostUpdate,
+                (material::convert_standard_materials, material::fit_targets).chain(),
+            );
+        if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
+            render::build(render_app);
+        }
+    }
+
+    fn finish(&self, app: &mut App) {
+        if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
+            render::finish(render_app);
+        }
+    }
+}
+
+/// glam 0.33 (Bevy's) to glam 0.34 (penumbra's).
+pub(crate) fn mat4(m: Mat4) -> glam::Mat4 {
+    glam::Mat4::from_cols_array(&m.to_cols_array())
+}
+
+pub(crate) fn vec3(v: Vec3) -> glam::Vec3 {
+    glam::Vec3::from_array(v.to_array())
+}

@@ -1,0 +1,172 @@
+//! The material that shades with penumbra's visibility, and the switch of a scene's
+//! `StandardMaterial`s to it.
+
+use bevy::asset::RenderAssetUsages;
+use bevy::pbr::{ExtendedMaterial, MaterialExtension};
+use bevy::platform::collections::HashMap;
+use bevy::prelude::*;
+use bevy::render::render_resource::{
+    AsBindGroup, Extent3d, TextureDimension, TextureFormat, TextureUsages, TextureViewDescriptor,
+    TextureViewDimension,
+};
+use bevy::render::storage::ShaderBuffer;
+use bevy::shader::ShaderRef;
+
+use crate::PenumbraCamera;
+use crate::render::GpuLights;
+
+/// Bevy's `StandardMaterial` with penumbra's shadows: the same PBR shading, with the direct
+/// term of each light penumbra shades scaled by that light's visibility at the pixel.
+///
+/// The plugin switches every `MeshMaterial3d<StandardMaterial>` to one of these (one per
+/// `StandardMaterial` asset; later changes to that asset are followed). To make one yourself,
+/// take [`PenumbraShading`] from [`PenumbraTargets::shading`].
+pub type PenumbraMaterial = ExtendedMaterial<StandardMaterial, PenumbraShading>;
+
+/// The part of [`PenumbraMaterial`] that is penumbra's: the visibility of the penumbra camera's
+/// lights and which of Bevy's lights each layer belongs to. Managed by the plugin.
+#[derive(Asset, AsBindGroup, Reflect, Debug, Clone)]
+pub struct PenumbraShading {
+    #[texture(100, dimension = "2d_array", sample_type = "float", filterable = false)]
+    pub(crate) visibility: Handle<Image>,
+    #[storage(101, read_only)]
+    pub(crate) lights: Handle<ShaderBuffer>,
+}
+
+impl MaterialExtension for PenumbraShading {
+    fn fragment_shader() -> ShaderRef {
+        "embedded://penumbra_bevy/shaders/penumbra_material.wesl".into()
+    }
+}
+
+/// An entity whose `StandardMaterial` the plugin leaves as it is (it then gets Bevy's own
+/// shadows for the lights penumbra does not shade, and none from those it does).
+#[derive(Component, Clone, Copy, Debug, Default)]
+pub struct KeepStandardMaterial;
+
+/// The textures and buffers penumbra's shading reads: the visibility array (one layer per
+/// light, the penumbra camera's target size) and the light table.
+#[derive(Resource)]
+pub struct PenumbraTargets {
+    pub(crate) visibility: Handle<Image>,
+    pub(crate) lights: Handle<ShaderBuffer>,
+    pub(crate) size: UVec2,
+    converted: HashMap<AssetId<StandardMaterial>, Handle<PenumbraMaterial>>,
+}
+
+impl FromWorld for PenumbraTargets {
+    fn from_world(world: &mut World) -> Self {
+        let visibility = world.resource_mut::<Assets<Image>>().add(visibility_image(UVec2::ONE));
+        let lights = world.resource_mut::<Assets<ShaderBuffer>>().add(ShaderBuffer::new(
+            vec![GpuLights::default()],
+            RenderAssetUsages::RENDER_WORLD,
+        ));
+        Self {
+            visibility,
+            lights,
+            size: UVec2::ONE,
+            converted: HashMap::default(),
+        }
+    }
+}
+
+impl PenumbraTargets {
+    /// The extension a hand-made [`PenumbraMaterial`] needs.
+    pub fn shading(&self) -> PenumbraShading {
+        PenumbraShading {
+            visibility: self.visibility.clone(),
+            lights: self.lights.clone(),
+        }
+    }
+}
+
+/// The visibility array: `R16Float`, [`penumbra::MAX_LIGHTS`] layers, written by penumbra's
+/// passes (its content before the first frame is never read: the light table is empty).
+fn visibility_image(size: UVec2) -> Image {
+    let mut image = Image::new_target_texture(size.x, size.y, TextureFormat::R16Float, None);
+    image.data = None;
+    image.texture_descriptor.label = Some("penumbra visibility");
+    image.texture_descriptor.size = Extent3d {
+        width: size.x,
+        height: size.y,
+        depth_or_array_layers: penumbra::MAX_LIGHTS as u32,
+    };
+    image.texture_descriptor.dimension = TextureDimension::D2;
+    image.texture_descriptor.usage = TextureUsages::TEXTURE_BINDING
+        | TextureUsages::RENDER_ATTACHMENT
+        | TextureUsages::COPY_SRC
+        | TextureUsages::COPY_DST;
+    image.texture_view_descriptor = Some(TextureViewDescriptor {
+        dimension: Some(TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    image.asset_usage = RenderAssetUsages::RENDER_WORLD;
+    image.copy_on_resize = false;
+    image
+}
+
+/// Switches each `StandardMaterial` mesh to the [`PenumbraMaterial`] made from its material,
+/// and carries later edits of the `StandardMaterial` over.
+pub(crate) fn convert_standard_materials(
+    mut commands: Commands,
+    meshes: Query<(Entity, &MeshMaterial3d<StandardMaterial>), Without<KeepStandardMaterial>>,
+    standard: Res<Assets<StandardMaterial>>,
+    mut penumbra: ResMut<Assets<PenumbraMaterial>>,
+    mut targets: ResMut<PenumbraTargets>,
+    mut edits: MessageReader<AssetEvent<StandardMaterial>>,
+) {
+    for edit in edits.read() {
+        if let AssetEvent::Modified { id } = edit
+            && let (Some(handle), Some(base)) = (targets.converted.get(id), standard.get(*id))
+            && let Some(mut material) = penumbra.get_mut(handle)
+        {
+            material.base = base.clone();
+        }
+    }
+    for (entity, material) in &meshes {
+        let id = material.id();
+        let handle = match targets.converted.get(&id) {
+            Some(handle) => handle.clone(),
+            None => {
+                // Not loaded yet: switched once it is.
+                let Some(base) = standard.get(id) else { continue };
+                let handle = penumbra.add(ExtendedMaterial {
+                    base: base.clone(),
+                    extension: targets.shading(),
+                });
+                targets.converted.insert(id, handle.clone());
+                handle
+            }
+        };
+        commands
+            .entity(entity)
+            .remove::<MeshMaterial3d<StandardMaterial>>()
+            .insert(MeshMaterial3d(handle));
+    }
+}
+
+/// Keeps the visibility array the size of the penumbra camera's target. A new size makes a new
+/// image, which every [`PenumbraMaterial`] is pointed at.
+pub(crate) fn fit_targets(
+    cameras: Query<(&Camera, &PenumbraCamera)>,
+    mut images: ResMut<Assets<Image>>,
+    mut materials: ResMut<Assets<PenumbraMaterial>>,
+    mut targets: ResMut<PenumbraTargets>,
+) {
+    let Some(size) = cameras
+        .iter()
+        .find(|(camera, penumbra)| camera.is_active && penumbra.enabled)
+        .and_then(|(camera, _)| camera.physical_target_size())
+    else {
+        return;
+    };
+    if size == targets.size || size.x == 0 || size.y == 0 {
+        return;
+    }
+    let old = std::mem::replace(&mut targets.visibility, images.add(visibility_image(size)));
+    images.remove(&old);
+    targets.size = size;
+    for (_, material) in materials.iter_mut() {
+        material.extension.visibility = targets.visibility.clone();
+    }
+}

@@ -1,0 +1,549 @@
+//! The render world's side: penumbra's `Casters` and `Shadows` kept in step with the app, and
+//! penumbra's passes between Bevy's depth prepass and its main pass.
+
+use bevy::core_pipeline::prepass::ViewPrepassTextures;
+use bevy::core_pipeline::{Core3d, Core3dSystems};
+use bevy::pbr::{ExtractedDirectionalLight, ExtractedPointLight, GlobalClusterableObjectMeta};
+use bevy::platform::collections::{HashMap, HashSet};
+use bevy::prelude::*;
+use bevy::render::mesh::RenderMesh;
+use bevy::render::mesh::allocator::MeshAllocator;
+use bevy::render::render_asset::RenderAssets;
+use bevy::render::renderer::{RenderContext, RenderDevice, RenderQueue, ViewQuery};
+use bevy::render::storage::GpuShaderBuffer;
+use bevy::render::texture::GpuImage;
+use bevy::render::view::ExtractedView;
+use bevy::render::{ExtractSchedule, Render, RenderSystems};
+use penumbra::{
+    CameraMatrices, CasterInstance, CasterMeshDesc, Casters, DepthConvention, IndexStream, InstanceId, Light,
+    LightId, MeshGeometry, MeshId, Shadows, VertexStream, ViewInputs,
+};
+
+use crate::extract::{Extracted, ExtractedLight, Geometry, KnownGeometry, extract_penumbra};
+use crate::mat4;
+
+/// One light's row of the table the material reads (`PenumbraLight` in the shader).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct GpuLight {
+    kind: u32,
+    index: u32,
+    layer: u32,
+    _pad: u32,
+    direction_to_light: [f32; 4],
+}
+
+/// The table of penumbra's lights (`PenumbraLights` in the shader).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct GpuLights {
+    count: u32,
+    _pad: [u32; 3],
+    lights: [GpuLight; penumbra::MAX_LIGHTS],
+}
+
+const KIND_DIRECTIONAL: u32 = 0;
+const KIND_SPOT: u32 = 1;
+const KIND_POINT: u32 = 2;
+
+/// A mesh registered with penumbra, and where its data was in Bevy's buffers then.
+struct RegisteredMesh {
+    id: MeshId,
+    at: MeshPlace,
+}
+
+/// Where a mesh lies in the mesh allocator's slabs.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct MeshPlace {
+    vertex_buffer: bevy::render::render_resource::BufferId,
+    first_vertex: u32,
+    index_buffer: Option<(bevy::render::render_resource::BufferId, u32)>,
+}
+
+struct Instance {
+    id: InstanceId,
+    mesh: AssetId<Mesh>,
+    transform: Mat4,
+    flags: (bool, bool),
+}
+
+/// penumbra's state in the render world.
+#[derive(Resource, Default)]
+pub(crate) struct PenumbraState {
+    gpu: Option<(Casters, Shadows)>,
+    geometry: HashMap<AssetId<Mesh>, Geometry>,
+    meshes: HashMap<AssetId<Mesh>, RegisteredMesh>,
+    instances: HashMap<Entity, Instance>,
+    /// Main-world light entity -> its light id and the light as last given.
+    lights: HashMap<Entity, (LightId, Light)>,
+    table: GpuLights,
+    /// The light table's GPU buffer (the material's binding 101).
+    table_buffer: Option<wgpu::Buffer>,
+    /// Whether this frame's passes may run (the camera is usable and the table was written).
+    active: bool,
+    /// Messages already logged (each once).
+    logged: HashSet<String>,
+}
+
+impl PenumbraState {
+    fn log_once(&mut self, message: String) {
+        if self.logged.insert(message.clone()) {
+            error!("{message}");
+        }
+    }
+
+    fn warn_once(&mut self, message: String) {
+        if self.logged.insert(message.clone()) {
+            warn!("{message}");
+        }
+    }
+}
+
+pub(crate) fn build(render_app: &mut SubApp) {
+    render_app
+        .init_resource::<Extracted>()
+        .init_resource::<KnownGeometry>()
+        .init_resource::<PenumbraState>()
+        .add_systems(ExtractSchedule, extract_penumbra)
+        .add_systems(
+            Render,
+            (
+                hand_over_shadow_maps
+                    .after(RenderSystems::ExtractCommands)
+                    .before(RenderSystems::CreateViews),
+                prepare_penumbra.in_set(RenderSystems::PrepareResources),
+            ),
+        );
+}
+
+pub(crate) fn finish(render_app: &mut SubApp) {
+    render_app.add_systems(
+        Core3d,
+        penumbra_pass
+            .after(Core3dSystems::Prepass)
+            .before(Core3dSystems::MainPass),
+    );
+}
+
+/// Bevy renders no shadow map for the lights penumbra shades (every frame: Bevy re-extracts a
+/// light only when it changed, and a light penumbra lets go of gets its map back).
+fn hand_over_shadow_maps(
+    extracted: Res<Extracted>,
+    mut suns: Query<(Entity, &mut ExtractedDirectionalLight)>,
+    mut others: Query<(Entity, &mut ExtractedPointLight)>,
+) {
+    let usable = extracted.camera.as_ref().is_some_and(|c| c.refused.is_none());
+    let penumbra: HashSet<Entity> = if usable {
+        extracted.lights.iter().map(|l| l.render_entity).collect()
+    } else {
+        HashSet::default()
+    };
+    let wanted = |entity: Entity| extracted.bevy_shadowed.contains(&entity) && !penumbra.contains(&entity);
+    for (entity, mut light) in &mut suns {
+        let on = wanted(entity);
+        if light.shadow_maps_enabled != on {
+            light.shadow_maps_enabled = on;
+        }
+    }
+    for (entity, mut light) in &mut others {
+        let on = wanted(entity);
+        if light.shadow_maps_enabled != on {
+            light.shadow_maps_enabled = on;
+        }
+    }
+}
+
+/// Brings penumbra's casters and lights in step with this frame's extraction and writes the
+/// light table the material reads.
+#[allow(clippy::too_many_arguments)]
+fn prepare_penumbra(
+    extracted: Res<Extracted>,
+    mut state: ResMut<PenumbraState>,
+    device: Res<RenderDevice>,
+    queue: Res<RenderQueue>,
+    allocator: Res<MeshAllocator>,
+    render_meshes: Res<RenderAssets<RenderMesh>>,
+    buffers: Res<RenderAssets<GpuShaderBuffer>>,
+    images: Res<RenderAssets<GpuImage>>,
+    clustered: Option<Res<GlobalClusterableObjectMeta>>,
+) {
+    let state = &mut *state;
+    state.active = false;
+    let device = device.wgpu_device();
+    let queue: &wgpu::Queue = &queue;
+    let Some(table_buffer) = buffers.get(&extracted.lights_buffer) else {
+        return;
+    };
+    state.table_buffer = Some((*table_buffer.buffer).clone());
+    let write_table = |table: &GpuLights| queue.write_buffer(&table_buffer.buffer, 0, bytemuck::bytes_of(table));
+
+    let camera = match &extracted.camera {
+        Some(camera) => camera,
+        None => {
+            state.table = GpuLights::default();
+            write_table(&state.table);
+            return;
+        }
+    };
+    if let Some(reason) = &camera.refused {
+        state.log_once(reason.clone());
+        state.table = GpuLights::default();
+        write_table(&state.table);
+        return;
+    }
+    if extracted.lights_over_limit > 0 {
+        state.warn_once(format!(
+            "penumbra: {} shadow-mapped lights are past penumbra's limit of {}; they keep Bevy's own shadows",
+            extracted.lights_over_limit,
+            penumbra::MAX_LIGHTS
+        ));
+    }
+    for (entity, why) in &extracted.left_out {
+        state.warn_once(format!(
+            "penumbra: entity {entity} casts no penumbra shadow: its mesh is {why} (penumbra draws meshes in their rest pose)"
+        ));
+    }
+
+    if state.gpu.is_none() {
+        match Shadows::new(device, camera.settings) {
+            Ok(shadows) => state.gpu = Some((Casters::new(device), shadows)),
+            Err(e) => {
+                state.log_once(format!("penumbra: the camera's settings are refused: {e}"));
+                return;
+            }
+        }
+    }
+    if let Err(e) = state
+        .gpu
+        .as_mut()
+        .map_or(Ok(()), |(_, shadows)| {
+            if shadows.settings() != &camera.settings {
+                shadows.set_settings(device, camera.settings)
+            } else {
+                Ok(())
+            }
+        })
+    {
+        state.log_once(format!("penumbra: the camera's settings are refused: {e}"));
+        return;
+    }
+
+    sync_casters(state, &extracted, device, queue, &allocator, &render_meshes);
+    sync_lights(state, &extracted.lights, device, clustered.as_deref());
+
+    let Some(image) = images.get(&extracted.visibility) else {
+        return;
+    };
+    let (_, shadows) = state.gpu.as_mut().expect("made above");
+    if let Err(e) = shadows.set_visibility_target(Some((*image.texture).clone())) {
+        let message = format!("penumbra: {e}");
+        state.log_once(message);
+        return;
+    }
+    state.active = true;
+    write_table(&state.table);
+}
+
+/// Registers new meshes and places, moves and removes instances.
+fn sync_casters(
+    state: &mut PenumbraState,
+    extracted: &Extracted,
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    allocator: &MeshAllocator,
+    render_meshes: &RenderAssets<RenderMesh>,
+) {
+    for id in &extracted.stale_meshes {
+        state.geometry.remove(id);
+        drop_mesh(state, *id);
+    }
+    let mut messages = Vec::new();
+    for (id, geometry) in &extracted.geometry {
+        match geometry {
+            Ok(g) => {
+                state.geometry.insert(*id, g.clone());
+            }
+            Err(why) => messages.push(format!("penumbra: mesh {id} casts no shadow: {why}")),
+        }
+    }
+    let mut seen = HashSet::new();
+    for caster in &extracted.casters {
+        seen.insert(caster.entity);
+        // The mesh: registered, and where Bevy has it now.
+        let Some(place) = place_of(allocator, render_meshes, caster.mesh) else {
+            continue; // Not on the GPU yet.
+        };
+        if state.meshes.get(&caster.mesh).is_some_and(|m| m.at != place) {
+            drop_mesh(state, caster.mesh);
+        }
+        if !state.meshes.contains_key(&caster.mesh) {
+            let Some(geometry) = state.geometry.get(&caster.mesh) else {
+                continue;
+            };
+            let (casters, _) = state.gpu.as_mut().expect("made");
+            match register(casters, device, queue, allocator, render_meshes, caster.mesh, geometry) {
+                Ok(id) => {
+                    state.meshes.insert(caster.mesh, RegisteredMesh { id, at: place });
+                }
+                Err(why) => {
+                    messages.push(format!("penumbra: mesh {} casts no shadow: {why}", caster.mesh));
+                    state.geometry.remove(&caster.mesh);
+                    continue;
+                }
+            }
+        }
+        let mesh_id = state.meshes[&caster.mesh].id;
+        let (casters, _) = state.gpu.as_mut().expect("made");
+        let transform = mat4(caster.transform);
+        match state.instances.get_mut(&caster.entity) {
+            Some(instance) if instance.mesh == caster.mesh => {
+                if instance.transform != caster.transform {
+                    if let Err(e) = casters.set_transform(queue, instance.id, transform) {
+                        messages.push(format!("penumbra: entity {}: {e}", caster.entity));
+                    }
+                    instance.transform = caster.transform;
+                }
+                let flags = (caster.casts, caster.receives);
+                if instance.flags != flags {
+                    if let Err(e) = casters.set_flags(queue, instance.id, flags.0, flags.1) {
+                        messages.push(format!("penumbra: entity {}: {e}", caster.entity));
+                    }
+                    instance.flags = flags;
+                }
+            }
+            other => {
+                if let Some(old) = other {
+                    let _ = casters.remove_instance(old.id);
+                }
+                let mut instance = CasterInstance::new(mesh_id, transform);
+                instance.caster = caster.casts;
+                instance.receiver = caster.receives;
+                match casters.add_instance(device, queue, instance) {
+                    Ok(id) => {
+                        state.instances.insert(
+                            caster.entity,
+                            Instance {
+                                id,
+                                mesh: caster.mesh,
+                                transform: caster.transform,
+                                flags: (caster.casts, caster.receives),
+                            },
+                        );
+                    }
+                    Err(e) => messages.push(format!("penumbra: entity {}: {e}", caster.entity)),
+                }
+            }
+        }
+    }
+    // Despawned, hidden or no longer casting.
+    let gone: Vec<Entity> = state.instances.keys().filter(|e| !seen.contains(*e)).copied().collect();
+    for entity in gone {
+        if let Some(instance) = state.instances.remove(&entity)
+            && let Some((casters, _)) = state.gpu.as_mut()
+        {
+            let _ = casters.remove_instance(instance.id);
+        }
+    }
+    for message in messages {
+        state.log_once(message);
+    }
+}
+
+/// Where a mesh's vertices and indices lie now, `None` while it is not on the GPU.
+fn place_of(
+    allocator: &MeshAllocator,
+    render_meshes: &RenderAssets<RenderMesh>,
+    mesh: AssetId<Mesh>,
+) -> Option<MeshPlace> {
+    render_meshes.get(mesh)?;
+    let vertices = allocator.mesh_vertex_slice(&mesh)?;
+    let indices = allocator.mesh_index_slice(&mesh);
+    Some(MeshPlace {
+        vertex_buffer: vertices.buffer.id(),
+        first_vertex: vertices.range.start,
+        index_buffer: indices.map(|i| (i.buffer.id(), i.range.start)),
+    })
+}
+
+/// Registers a mesh at its place in Bevy's buffers.
+fn register(
+    casters: &mut Casters,
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    allocator: &MeshAllocator,
+    render_meshes: &RenderAssets<RenderMesh>,
+    mesh: AssetId<Mesh>,
+    geometry: &Geometry,
+) -> Result<MeshId, String> {
+    let render_mesh = render_meshes.get(mesh).ok_or("it is not on the GPU")?;
+    let vertices = allocator.mesh_vertex_slice(&mesh).ok_or("it is not on the GPU")?;
+    let layout = render_mesh.layout.0.layout();
+    let position = render_mesh
+        .layout
+        .0
+        .attribute_ids()
+        .iter()
+        .position(|id| *id == Mesh::ATTRIBUTE_POSITION.id)
+        .ok_or("it has no positions")?;
+    let attribute = layout.attributes[position];
+    if attribute.format != wgpu::VertexFormat::Float32x3 {
+        return Err(format!(
+            "its GPU positions are {:?} (compressed?); penumbra reads Float32x3",
+            attribute.format
+        ));
+    }
+    let stride = layout.array_stride;
+    let positions = VertexStream::new(
+        &vertices.buffer,
+        vertices.range.start as u64 * stride + attribute.offset,
+        stride,
+        attribute.format,
+    );
+    let label = format!("bevy mesh {mesh}");
+    let mut desc = CasterMeshDesc::new(&label, positions, render_mesh.vertex_count);
+    let index_slice;
+    if let bevy::render::mesh::RenderMeshBufferInfo::Indexed { count, index_format } = render_mesh.buffer_info {
+        index_slice = allocator.mesh_index_slice(&mesh).ok_or("its indices are not on the GPU")?;
+        let size = match index_format {
+            wgpu::IndexFormat::Uint16 => 2,
+            wgpu::IndexFormat::Uint32 => 4,
+        };
+        desc = desc.indices(IndexStream {
+            buffer: &index_slice.buffer,
+            offset: index_slice.range.start as u64 * size,
+            format: index_format,
+            count,
+        });
+    }
+    desc.geometry = MeshGeometry::Cpu {
+        positions: &geometry.positions,
+        normals: geometry.normals.as_deref(),
+        indices: geometry.indices.as_deref(),
+    };
+    casters.add_mesh(device, queue, &desc).map_err(|e| e.to_string())
+}
+
+/// Forgets a mesh and its instances (placed again when next seen).
+fn drop_mesh(state: &mut PenumbraState, mesh: AssetId<Mesh>) {
+    let Some(registered) = state.meshes.remove(&mesh) else { return };
+    let Some((casters, _)) = state.gpu.as_mut() else { return };
+    state.instances.retain(|_, instance| {
+        if instance.mesh == mesh {
+            let _ = casters.remove_instance(instance.id);
+            false
+        } else {
+            true
+        }
+    });
+    let _ = casters.remove_mesh(registered.id);
+}
+
+/// Adds, changes and removes penumbra's lights, and fills the light table.
+fn sync_lights(
+    state: &mut PenumbraState,
+    lights: &[ExtractedLight],
+    device: &wgpu::Device,
+    clustered: Option<&GlobalClusterableObjectMeta>,
+) {
+    let mut messages = Vec::new();
+    let (_, shadows) = state.gpu.as_mut().expect("made");
+    let alive: HashSet<Entity> = lights.iter().map(|l| l.entity).collect();
+    state.lights.retain(|entity, (id, _)| {
+        let keep = alive.contains(entity);
+        if !keep {
+            let _ = shadows.remove_light(*id);
+        }
+        keep
+    });
+    let mut table = GpuLights::default();
+    for extracted in lights {
+        let id = match state.lights.get_mut(&extracted.entity) {
+            Some((id, light)) => {
+                if *light != extracted.light {
+                    if let Err(e) = shadows.set_light(*id, extracted.light) {
+                        messages.push(format!("penumbra: light {}: {e}", extracted.entity));
+                        continue;
+                    }
+                    *light = extracted.light;
+                }
+                *id
+            }
+            None => match shadows.add_light(device, extracted.light) {
+                Ok(id) => {
+                    state.lights.insert(extracted.entity, (id, extracted.light));
+                    id
+                }
+                Err(e) => {
+                    messages.push(format!("penumbra: light {}: {e}", extracted.entity));
+                    continue;
+                }
+            },
+        };
+        let (kind, index, direction) = match extracted.light {
+            Light::Directional(sun) => (KIND_DIRECTIONAL, 0, -sun.direction.normalize()),
+            Light::Spot(_) | Light::Point(_) => {
+                let Some(index) = clustered.and_then(|c| c.entity_to_index.get(&extracted.render_entity)) else {
+                    continue; // Not in Bevy's light list this frame.
+                };
+                let kind = if matches!(extracted.light, Light::Spot(_)) { KIND_SPOT } else { KIND_POINT };
+                (kind, *index as u32, glam::Vec3::ZERO)
+            }
+        };
+        let row = &mut table.lights[table.count as usize];
+        *row = GpuLight {
+            kind,
+            index,
+            layer: id.layer(),
+            _pad: 0,
+            direction_to_light: direction.extend(0.0).to_array(),
+        };
+        table.count += 1;
+    }
+    state.table = table;
+    for message in messages {
+        state.log_once(message);
+    }
+}
+
+/// penumbra's passes on the view's depth prepass, before Bevy's main pass.
+fn penumbra_pass(
+    view: ViewQuery<(Entity, &ExtractedView, &ViewPrepassTextures)>,
+    extracted: Res<Extracted>,
+    mut state: ResMut<PenumbraState>,
+    device: Res<RenderDevice>,
+    queue: Res<RenderQueue>,
+    mut ctx: RenderContext,
+) {
+    let (entity, view, prepass) = view.into_inner();
+    let Some(camera) = &extracted.camera else { return };
+    if camera.render_entity != entity || !state.active {
+        return;
+    }
+    let Some(depth) = prepass.depth.as_ref() else {
+        state.log_once(format!(
+            "penumbra: camera {} has no depth prepass texture; add DepthPrepass to it",
+            camera.main_entity
+        ));
+        return;
+    };
+    let depth: &wgpu::Texture = &depth.texture.texture;
+    let camera_matrices = CameraMatrices {
+        view: mat4(view.world_from_view.to_matrix().inverse()),
+        projection: mat4(view.clip_from_view),
+        depth: DepthConvention::Reversed,
+    };
+    let inputs = ViewInputs::new(camera_matrices, depth);
+    let device = device.wgpu_device();
+    let queue: &wgpu::Queue = &queue;
+    let state = &mut *state;
+    let Some((casters, shadows)) = state.gpu.as_mut() else { return };
+    if let Err(e) = shadows.render(device, queue, ctx.command_encoder(), casters, &inputs) {
+        // Shade the lights unshadowed this frame rather than with stale visibility.
+        state.active = false;
+        if let Some(buffer) = &state.table_buffer {
+            queue.write_buffer(buffer, 0, bytemuck::bytes_of(&GpuLights::default()));
+        }
+        let message = format!("penumbra: {e}");
+        state.log_once(message);
+    }
+}
