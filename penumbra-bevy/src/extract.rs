@@ -2,6 +2,7 @@
 //! lights, and the CPU geometry of meshes it has not seen.
 
 use bevy::camera::visibility::InheritedVisibility;
+use bevy::core_pipeline::prepass::DepthPrepass;
 use bevy::light::{NotShadowCaster, NotShadowReceiver, SunDisk};
 use bevy::mesh::morph::MorphWeights;
 use bevy::mesh::skinning::SkinnedMesh;
@@ -100,7 +101,7 @@ type CasterQuery<'w, 's> = Query<
 pub(crate) fn extract_penumbra(
     mut extracted: ResMut<Extracted>,
     mut known: ResMut<KnownGeometry>,
-    cameras: Extract<Query<(Entity, RenderEntity, &Camera, &PenumbraCamera, Option<&Msaa>)>>,
+    cameras: Extract<Query<(Entity, RenderEntity, &Camera, &PenumbraCamera, Option<&Msaa>, Has<DepthPrepass>)>>,
     casters: Extract<CasterQuery>,
     suns: Extract<
         Query<(
@@ -121,17 +122,27 @@ pub(crate) fn extract_penumbra(
     let extracted = &mut *extracted;
     extracted.camera = cameras
         .iter()
-        .find(|(_, _, camera, penumbra, _)| camera.is_active && penumbra.enabled)
-        .map(|(main_entity, render_entity, _, penumbra, msaa)| ExtractedPenumbraCamera {
-            render_entity,
-            main_entity,
-            settings: penumbra.settings,
-            refused: msaa.filter(|m| **m != Msaa::Off).map(|m| {
-                format!(
-                    "penumbra: camera {main_entity} has Msaa::{m:?}; penumbra reads the depth prepass \
-                     single-sampled, so it needs Msaa::Off on the camera. Bevy's own shadows are used meanwhile."
-                )
-            }),
+        .find(|(_, _, camera, penumbra, _, _)| camera.is_active && penumbra.enabled)
+        .map(|(main_entity, render_entity, _, penumbra, msaa, depth_prepass)| {
+            let refused = if !depth_prepass {
+                Some(format!(
+                    "penumbra: camera {main_entity} has no DepthPrepass; penumbra's passes read it. \
+                     Bevy's own shadows are used meanwhile."
+                ))
+            } else {
+                msaa.filter(|m| **m != Msaa::Off).map(|m| {
+                    format!(
+                        "penumbra: camera {main_entity} has Msaa::{m:?}; penumbra reads the depth prepass \
+                         single-sampled, so it needs Msaa::Off on the camera. Bevy's own shadows are used meanwhile."
+                    )
+                })
+            };
+            ExtractedPenumbraCamera {
+                render_entity,
+                main_entity,
+                settings: penumbra.settings,
+                refused,
+            }
         });
     extracted.visibility = targets.visibility.clone();
     extracted.lights_buffer = targets.lights.clone();

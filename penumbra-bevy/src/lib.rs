@@ -33,6 +33,8 @@ mod extract;
 mod material;
 mod render;
 
+use std::sync::{Arc, Mutex};
+
 use bevy::asset::embedded_asset;
 use bevy::core_pipeline::prepass::DepthPrepass;
 use bevy::pbr::MaterialPlugin;
@@ -85,6 +87,8 @@ pub struct PenumbraLightSize(pub f32);
 impl Plugin for PenumbraPlugin {
     fn build(&self, app: &mut App) {
         embedded_asset!(app, "shaders/penumbra_material.wesl");
+        let diagnostics = PenumbraDiagnostics::default();
+        app.insert_resource(diagnostics.clone());
         app.add_plugins(MaterialPlugin::<PenumbraMaterial>::default())
             .init_resource::<material::PenumbraTargets>()
             .add_systems(
@@ -92,7 +96,7 @@ impl Plugin for PenumbraPlugin {
                 (material::convert_standard_materials, material::fit_targets).chain(),
             );
         if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
-            render::build(render_app);
+            render::build(render_app, diagnostics);
         }
     }
 
@@ -100,6 +104,28 @@ impl Plugin for PenumbraPlugin {
         if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
             render::finish(render_app);
         }
+    }
+}
+
+/// The errors and warnings the plugin logged (each once), for an app or a test to show or
+/// check: a camera penumbra cannot run on, a mesh it cannot cast, lights past its limit.
+#[derive(Resource, Clone, Default, Debug)]
+pub struct PenumbraDiagnostics(Arc<Mutex<Vec<String>>>);
+
+impl PenumbraDiagnostics {
+    /// Every message so far, oldest first.
+    pub fn messages(&self) -> Vec<String> {
+        self.0.lock().map(|m| m.clone()).unwrap_or_default()
+    }
+
+    /// Adds a message; false if it was already there.
+    pub(crate) fn push(&self, message: String) -> bool {
+        let Ok(mut messages) = self.0.lock() else { return false };
+        if messages.contains(&message) {
+            return false;
+        }
+        messages.push(message);
+        true
     }
 }
 

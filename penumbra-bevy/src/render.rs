@@ -20,7 +20,7 @@ use penumbra::{
 };
 
 use crate::extract::{Extracted, ExtractedLight, Geometry, KnownGeometry, extract_penumbra};
-use crate::mat4;
+use crate::{PenumbraDiagnostics, mat4};
 
 /// One light's row of the table the material reads (`PenumbraLight` in the shader).
 #[repr(C)]
@@ -81,29 +81,32 @@ pub(crate) struct PenumbraState {
     table_buffer: Option<wgpu::Buffer>,
     /// Whether this frame's passes may run (the camera is usable and the table was written).
     active: bool,
-    /// Messages already logged (each once).
-    logged: HashSet<String>,
+    /// Messages already logged (each once), shared with the app.
+    diagnostics: PenumbraDiagnostics,
 }
 
 impl PenumbraState {
     fn log_once(&mut self, message: String) {
-        if self.logged.insert(message.clone()) {
+        if self.diagnostics.push(message.clone()) {
             error!("{message}");
         }
     }
 
     fn warn_once(&mut self, message: String) {
-        if self.logged.insert(message.clone()) {
+        if self.diagnostics.push(message.clone()) {
             warn!("{message}");
         }
     }
 }
 
-pub(crate) fn build(render_app: &mut SubApp) {
+pub(crate) fn build(render_app: &mut SubApp, diagnostics: PenumbraDiagnostics) {
     render_app
         .init_resource::<Extracted>()
         .init_resource::<KnownGeometry>()
-        .init_resource::<PenumbraState>()
+        .insert_resource(PenumbraState {
+            diagnostics,
+            ..default()
+        })
         .add_systems(ExtractSchedule, extract_penumbra)
         .add_systems(
             Render,
@@ -175,20 +178,15 @@ fn prepare_penumbra(
         return;
     };
     state.table_buffer = Some((*table_buffer.buffer).clone());
-    let write_table = |table: &GpuLights| queue.write_buffer(&table_buffer.buffer, 0, bytemuck::bytes_of(table));
+    // An empty table unless penumbra's passes run this frame: they write the full one.
+    queue.write_buffer(&table_buffer.buffer, 0, bytemuck::bytes_of(&GpuLights::default()));
 
     let camera = match &extracted.camera {
         Some(camera) => camera,
-        None => {
-            state.table = GpuLights::default();
-            write_table(&state.table);
-            return;
-        }
+        None => return,
     };
     if let Some(reason) = &camera.refused {
         state.log_once(reason.clone());
-        state.table = GpuLights::default();
-        write_table(&state.table);
         return;
     }
     if extracted.lights_over_limit > 0 {
@@ -241,7 +239,6 @@ fn prepare_penumbra(
         return;
     }
     state.active = true;
-    write_table(&state.table);
 }
 
 /// Registers new meshes and places, moves and removes instances.
@@ -537,13 +534,18 @@ fn penumbra_pass(
     let queue: &wgpu::Queue = &queue;
     let state = &mut *state;
     let Some((casters, shadows)) = state.gpu.as_mut() else { return };
-    if let Err(e) = shadows.render(device, queue, ctx.command_encoder(), casters, &inputs) {
-        // Shade the lights unshadowed this frame rather than with stale visibility.
-        state.active = false;
-        if let Some(buffer) = &state.table_buffer {
-            queue.write_buffer(buffer, 0, bytemuck::bytes_of(&GpuLights::default()));
+    match shadows.render(device, queue, ctx.command_encoder(), casters, &inputs) {
+        // The material reads the visibility from now on (the write lands before the main pass).
+        Ok(_) => {
+            if let Some(buffer) = &state.table_buffer {
+                queue.write_buffer(buffer, 0, bytemuck::bytes_of(&state.table));
+            }
         }
-        let message = format!("penumbra: {e}");
-        state.log_once(message);
+        // The lights are shaded unshadowed this frame (the table stays empty).
+        Err(e) => {
+            state.active = false;
+            let message = format!("penumbra: {e}");
+            state.log_once(message);
+        }
     }
 }

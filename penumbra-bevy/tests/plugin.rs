@@ -5,10 +5,11 @@
 mod common;
 
 use bevy::light::NotShadowCaster;
+use bevy::mesh::VertexAttributeValues;
 use bevy::light::ShadowFilteringMethod;
 use bevy::prelude::*;
 use common::Headless;
-use penumbra_bevy::{PenumbraCamera, PenumbraLightSize, PenumbraPlugin};
+use penumbra_bevy::{PenumbraCamera, PenumbraDiagnostics, PenumbraLightSize, PenumbraPlugin};
 
 const SIZE: UVec2 = UVec2::new(256, 256);
 /// The camera looks straight down from this height at a plane of this half-size: world x
@@ -25,7 +26,9 @@ struct Scene {
 }
 
 /// A grey plane, a red box whose bottom is 1.5 above it, `light`, and a camera looking down.
-fn box_above_plane(light: impl Bundle) -> Scene {
+/// With `extra_attributes` the box's mesh also has vertex colours and a second UV set (a
+/// wider vertex layout than Bevy's primitives).
+fn box_above_plane(light: impl Bundle, extra_attributes: bool) -> Scene {
     let mut headless = Headless::new(SIZE, |app| {
         app.add_plugins(PenumbraPlugin);
     });
@@ -35,7 +38,13 @@ fn box_above_plane(light: impl Bundle) -> Scene {
         ..default()
     });
     let plane = world.resource_mut::<Assets<Mesh>>().add(Plane3d::default().mesh().size(16.0, 16.0));
-    let cube = world.resource_mut::<Assets<Mesh>>().add(Cuboid::new(1.0, 1.0, 1.0));
+    let mut cube = Mesh::from(Cuboid::new(1.0, 1.0, 1.0));
+    if extra_attributes {
+        let n = cube.count_vertices();
+        cube.insert_attribute(Mesh::ATTRIBUTE_COLOR, VertexAttributeValues::Float32x4(vec![[1.0; 4]; n]));
+        cube.insert_attribute(Mesh::ATTRIBUTE_UV_1, VertexAttributeValues::Float32x2(vec![[0.5; 2]; n]));
+    }
+    let cube = world.resource_mut::<Assets<Mesh>>().add(cube);
     let grey = world.resource_mut::<Assets<StandardMaterial>>().add(StandardMaterial {
         base_color: Color::srgb(0.7, 0.7, 0.7),
         perceptual_roughness: 1.0,
@@ -77,28 +86,38 @@ fn sun(angular_diameter_deg: f32) -> impl Bundle {
     )
 }
 
-/// How shadowed each plane pixel is, 0 lit to 1 as dark as the darkest plane pixel, `None` on
-/// the box (red).
-fn darkness(image: &image::RgbaImage) -> Vec<Option<f32>> {
-    let plane = |p: &image::Rgba<u8>| {
-        let [r, g, b, _] = p.0;
-        (r as i32 - g as i32).abs() < 24 && (g as i32 - b as i32).abs() < 24
-    };
-    let values: Vec<Option<f32>> = image
+/// The plane's pixels (grey ones; the box is red) as luminance, `None` on the box.
+fn plane(image: &image::RgbaImage) -> Vec<Option<f32>> {
+    image
         .pixels()
-        .map(|p| plane(p).then(|| p.0[1] as f32))
-        .collect();
-    let lit = values.iter().flatten().copied().fold(0.0, f32::max);
-    let dark = values.iter().flatten().copied().fold(255.0, f32::min);
-    assert!(lit - dark > 40.0, "no shadow on the plane: lit {lit}, darkest {dark}");
-    values
-        .into_iter()
-        .map(|v| v.map(|v| ((lit - v) / (lit - dark)).clamp(0.0, 1.0)))
+        .map(|p| {
+            let [r, g, b, _] = p.0.map(|c| c as i32);
+            ((r - g).abs() < 24 && (g - b).abs() < 24).then_some(g as f32)
+        })
         .collect()
 }
 
-/// The darkness-weighted centroid of the plane's shadow, in pixels, and its weight.
-fn centroid(darkness: &[Option<f32>]) -> (Vec2, f32) {
+/// How shadowed each plane pixel of `image` is against the same view with no shadow: 0
+/// unshadowed, 1 the umbra. The umbra (ambient light only) is the same everywhere, so each
+/// pixel's darkness is its drop from the unshadowed value over that value's height above the
+/// umbra, whatever the light's falloff.
+fn darkness(image: &image::RgbaImage, unshadowed: &image::RgbaImage) -> Vec<Option<f32>> {
+    let (shadowed, lit) = (plane(image), plane(unshadowed));
+    let umbra = shadowed.iter().flatten().copied().fold(255.0, f32::min);
+    let deepest = shadowed.iter().zip(&lit).filter_map(|(s, l)| Some(l.as_ref()? - s.as_ref()?)).fold(0.0, f32::max);
+    assert!(deepest > 40.0, "no shadow on the plane: the deepest darkening is {deepest}");
+    shadowed
+        .iter()
+        .zip(&lit)
+        .map(|(s, l)| {
+            let (s, l) = (s.as_ref()?, l.as_ref()?);
+            (l - umbra > 20.0).then(|| ((l - s) / (l - umbra)).clamp(0.0, 1.0))
+        })
+        .collect()
+}
+
+/// The darkness-weighted centroid of the plane's shadow, in pixels.
+fn centroid(darkness: &[Option<f32>]) -> Vec2 {
     let mut sum = Vec2::ZERO;
     let mut weight = 0.0;
     for (i, d) in darkness.iter().enumerate() {
@@ -108,12 +127,21 @@ fn centroid(darkness: &[Option<f32>]) -> (Vec2, f32) {
             weight += *d;
         }
     }
-    (sum / weight.max(1e-6), weight)
+    sum / weight.max(1e-6)
 }
 
-/// Pixels inside the penumbra (darkness between 0.1 and 0.9).
+/// Pixels inside a penumbra (darkness between 0.1 and 0.9).
 fn penumbra_pixels(darkness: &[Option<f32>]) -> usize {
     darkness.iter().flatten().filter(|d| **d > 0.1 && **d < 0.9).count()
+}
+
+/// The largest difference between two images' plane pixels.
+fn largest_difference(a: &image::RgbaImage, b: &image::RgbaImage) -> f32 {
+    plane(a)
+        .iter()
+        .zip(&plane(b))
+        .filter_map(|(a, b)| Some((a.as_ref()? - b.as_ref()?).abs()))
+        .fold(0.0, f32::max)
 }
 
 fn save(name: &str, image: &image::RgbaImage) {
@@ -122,32 +150,183 @@ fn save(name: &str, image: &image::RgbaImage) {
     image.save(dir.join(name)).unwrap();
 }
 
-#[test]
-fn a_suns_shadow_lies_where_bevys_does_and_is_soft() {
-    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
-    let mut scene = box_above_plane(sun(10.0));
-    let ours = scene.headless.render(12);
-    save("sun_penumbra.png", &ours);
-    scene
-        .headless
-        .app
-        .world_mut()
-        .get_mut::<PenumbraCamera>(scene.camera)
-        .unwrap()
-        .enabled = false;
-    let bevy = scene.headless.render(6);
-    save("sun_bevy.png", &bevy);
+/// World units per pixel on the plane (Bevy's default vertical field of view, pi/4).
+fn pixels_per_unit() -> f32 {
+    SIZE.y as f32 / (2.0 * EYE_HEIGHT * (std::f32::consts::FRAC_PI_8).tan())
+}
 
-    let (ours_dark, bevy_dark) = (darkness(&ours), darkness(&bevy));
-    let (ours_at, ours_weight) = centroid(&ours_dark);
-    let (bevy_at, bevy_weight) = centroid(&bevy_dark);
-    println!("centroids: penumbra {ours_at} ({ours_weight:.0}), bevy {bevy_at} ({bevy_weight:.0})");
-    assert!(ours_at.distance(bevy_at) < 2.0, "penumbra's shadow at {ours_at}, Bevy's at {bevy_at}");
-    // The shadow is right of the box (+x is right in the image) where the geometry puts it.
-    let px_per_unit = SIZE.x as f32 / (2.0 * EYE_HEIGHT * (std::f32::consts::FRAC_PI_4 / 2.0).tan());
-    let expected_x = SIZE.x as f32 / 2.0 + 1.6 * px_per_unit;
-    assert!((ours_at.x - expected_x).abs() < 0.5 * px_per_unit, "shadow centre at x {} px, expected about {expected_x}", ours_at.x);
+impl Scene {
+    fn set_penumbra(&mut self, on: bool) {
+        self.headless.app.world_mut().get_mut::<PenumbraCamera>(self.camera).unwrap().enabled = on;
+    }
+
+    fn messages(&self) -> Vec<String> {
+        self.headless.app.world().resource::<PenumbraDiagnostics>().messages()
+    }
+}
+
+/// Under `light`: penumbra's shadow lies where Bevy's hard shadow does (centroids within 2 px,
+/// near `expected_x` world units right of the middle), it is soft where Bevy's is hard, a
+/// `NotShadowCaster` box casts none and a despawned one leaves none. Returns penumbra's image
+/// and darkness.
+fn shadow_like_bevys(name: &str, light: impl Bundle, extra_attributes: bool, expected_x: f32) -> (Scene, Vec<Option<f32>>) {
+    let mut scene = box_above_plane(light, extra_attributes);
+    let ours = scene.headless.render(10);
+    save(&format!("{name}_penumbra.png"), &ours);
+    scene.set_penumbra(false);
+    let bevy = scene.headless.render(4);
+    save(&format!("{name}_bevy.png"), &bevy);
+    scene.set_penumbra(true);
+    scene.headless.app.world_mut().entity_mut(scene.box_entity).insert(NotShadowCaster);
+    let not_caster = scene.headless.render(4);
+    save(&format!("{name}_not_caster.png"), &not_caster);
+    scene.headless.app.world_mut().entity_mut(scene.box_entity).remove::<NotShadowCaster>();
+    let again = scene.headless.render(4);
+    scene.headless.app.world_mut().despawn(scene.box_entity);
+    let despawned = scene.headless.render(4);
+    save(&format!("{name}_despawned.png"), &despawned);
+
+    let not_caster_left = largest_difference(&not_caster, &despawned);
+    assert!(not_caster_left < 6.0, "{name}: a NotShadowCaster box darkens the plane by up to {not_caster_left}");
+    let (ours_dark, bevy_dark) = (darkness(&ours, &despawned), darkness(&bevy, &despawned));
+    let again_dark = darkness(&again, &despawned);
+    let (ours_at, bevy_at) = (centroid(&ours_dark), centroid(&bevy_dark));
+    println!("{name}: centroids penumbra {ours_at}, Bevy {bevy_at}");
+    assert!(ours_at.distance(bevy_at) < 2.0, "{name}: penumbra's shadow at {ours_at}, Bevy's at {bevy_at}");
+    assert!(centroid(&again_dark).distance(ours_at) < 0.5, "{name}: the shadow did not come back with the caster");
+    let expected = SIZE.x as f32 / 2.0 + expected_x * pixels_per_unit();
+    assert!(
+        (ours_at.x - expected).abs() < 0.5 * pixels_per_unit(),
+        "{name}: shadow centre at x {} px, the geometry puts it near {expected}",
+        ours_at.x
+    );
     let (ours_soft, bevy_soft) = (penumbra_pixels(&ours_dark), penumbra_pixels(&bevy_dark));
-    println!("penumbra pixels: penumbra {ours_soft}, bevy {bevy_soft}");
-    assert!(ours_soft > 2 * bevy_soft.max(20), "penumbra {ours_soft} penumbra pixels, Bevy's hard shadow {bevy_soft}");
+    println!("{name}: penumbra pixels: penumbra {ours_soft}, Bevy {bevy_soft}");
+    assert!(ours_soft > 2 * bevy_soft.max(20), "{name}: {ours_soft} penumbra pixels against Bevy's hard shadow's {bevy_soft}");
+    let messages = scene.messages();
+    assert!(messages.is_empty(), "{name}: the plugin reported {messages:?}");
+    (scene, ours_dark)
+}
+
+/// The width (in pixels) over which darkness climbs from 0.1 to 0.9 along the middle row,
+/// entering the shadow from the left and leaving it on the right.
+fn edge_widths(darkness: &[Option<f32>]) -> (f32, f32) {
+    let row = SIZE.y as usize / 2;
+    let line: Vec<f32> = (0..SIZE.x as usize).map(|x| darkness[row * SIZE.x as usize + x].unwrap_or(f32::NAN)).collect();
+    let peak = (0..line.len()).filter(|&x| line[x].is_finite()).max_by(|&a, &b| line[a].total_cmp(&line[b])).unwrap();
+    let crossing = |range: Box<dyn Iterator<Item = usize>>, level: f32| {
+        range.filter(|&x| line[x].is_finite()).find(|&x| line[x] >= level).map(|x| x as f32).unwrap_or(f32::NAN)
+    };
+    let left = crossing(Box::new(0..=peak), 0.9) - crossing(Box::new(0..=peak), 0.1);
+    let right = crossing(Box::new((peak..line.len()).rev()), 0.1) - crossing(Box::new((peak..line.len()).rev()), 0.9);
+    (left, right)
+}
+
+#[test]
+fn a_suns_shadow_lies_where_bevys_does_and_widens_away_from_the_box() {
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    // A 10-degree sun toward +x: the shadow spans x from 0.7 (the box's bottom edge, 1.5 above
+    // the plane) to 2.5 (its top edge, 2.5 above).
+    let (_, dark) = shadow_like_bevys("sun", sun(10.0), false, 1.6);
+    // The penumbra across an edge is (height above the plane) x (the sun's angular diameter)
+    // / cos^2 of the light's angle from the vertical, measured along x: the right edge is
+    // 2.5/1.5 as wide as the left. A straight edge crossing a uniform disk covers 10% to 90%
+    // of it over 0.687 of the disk's diameter.
+    let (left, right) = edge_widths(&dark);
+    let slant = 1.0 + 0.8f32.powi(2);
+    let width = |height: f32| 0.687 * height * 10f32.to_radians() * slant * pixels_per_unit();
+    println!("sun: edge widths {left:.1} px and {right:.1} px; geometry {:.1} and {:.1}", width(1.5), width(2.5));
+    assert!(right > left * 1.3, "the far edge ({right} px) is not wider than the near one ({left} px)");
+    assert!((left / width(1.5) - 1.0).abs() < 0.25, "near edge {left} px, geometry {}", width(1.5));
+    assert!((right / width(2.5) - 1.0).abs() < 0.25, "far edge {right} px, geometry {}", width(2.5));
+}
+
+#[test]
+fn a_moving_box_moves_its_shadow() {
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let mut scene = box_above_plane(sun(4.0), false);
+    let before = scene.headless.render(10);
+    scene.headless.app.world_mut().get_mut::<Transform>(scene.box_entity).unwrap().translation.z += 1.0;
+    let after = scene.headless.render(4);
+    scene.headless.app.world_mut().despawn(scene.box_entity);
+    let empty = scene.headless.render(4);
+    let moved = centroid(&darkness(&after, &empty)) - centroid(&darkness(&before, &empty));
+    println!("moved by {moved} px");
+    // +z is down in the image: one unit is pixels_per_unit() rows.
+    assert!((moved.y - pixels_per_unit()).abs() < 1.5 && moved.x.abs() < 1.0, "the shadow moved by {moved} px");
+}
+
+#[test]
+fn a_spot_lights_shadow_lies_where_bevys_does_even_from_a_wider_vertex_layout() {
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    // From (-3, 6, 0) through the box's middle (0, 2, 0): the shadow's middle is near x = 1.5.
+    let spot = (
+        SpotLight {
+            intensity: 3.0e6,
+            radius: 0.3,
+            range: 40.0,
+            outer_angle: 0.7,
+            inner_angle: 0.6,
+            shadow_maps_enabled: true,
+            ..default()
+        },
+        Transform::from_xyz(-3.0, 6.0, 0.0).looking_at(Vec3::new(0.0, 2.0, 0.0), Vec3::Y),
+    );
+    shadow_like_bevys("spot", spot, true, 1.5);
+}
+
+#[test]
+fn a_point_lights_shadow_lies_where_bevys_does() {
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let point = (
+        PointLight {
+            intensity: 3.0e6,
+            radius: 0.3,
+            range: 40.0,
+            shadow_maps_enabled: true,
+            ..default()
+        },
+        Transform::from_xyz(-3.0, 6.0, 0.0),
+    );
+    shadow_like_bevys("point", point, false, 1.5);
+}
+
+#[test]
+fn misuse_is_reported_and_leaves_bevys_shadows() {
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    // MSAA on the camera: refused with a message naming it; Bevy's shadows stay.
+    let mut scene = box_above_plane(sun(4.0), false);
+    scene.headless.app.world_mut().entity_mut(scene.camera).insert(Msaa::Sample4);
+    let frame = scene.headless.render(8);
+    let messages = scene.messages();
+    assert!(messages.iter().any(|m| m.contains("Msaa::Sample4") && m.contains("Msaa::Off")), "{messages:?}");
+    let lum = plane(&frame);
+    let darkest = lum.iter().flatten().copied().fold(255.0, f32::min);
+    let lightest = lum.iter().flatten().copied().fold(0.0, f32::max);
+    assert!(lightest > 60.0 && lightest - darkest > 40.0, "not a lit frame with a shadow: {darkest}..{lightest}");
+
+    // No depth prepass (removed after the camera was made): refused, named.
+    scene.headless.app.world_mut().entity_mut(scene.camera).insert(Msaa::Off);
+    scene.headless.app.world_mut().entity_mut(scene.camera).remove::<bevy::core_pipeline::prepass::DepthPrepass>();
+    scene.headless.render(4);
+    let messages = scene.messages();
+    assert!(messages.iter().any(|m| m.contains("no DepthPrepass")), "{messages:?}");
+
+    // More shadow-mapped lights than penumbra's limit: named, the rest keep Bevy's shadows.
+    scene.headless.app.world_mut().entity_mut(scene.camera).insert(bevy::core_pipeline::prepass::DepthPrepass);
+    for i in 0..penumbra::MAX_LIGHTS {
+        let direction = Vec3::new(0.3 + 0.05 * i as f32, -1.0, 0.1);
+        scene.headless.app.world_mut().spawn((
+            DirectionalLight {
+                illuminance: 50.0,
+                shadow_maps_enabled: true,
+                ..default()
+            },
+            Transform::default().looking_to(direction, Vec3::Y),
+        ));
+    }
+    let frame = scene.headless.render(6);
+    save("too_many_lights.png", &frame);
+    let messages = scene.messages();
+    assert!(messages.iter().any(|m| m.contains("past penumbra's limit of 8")), "{messages:?}");
 }
