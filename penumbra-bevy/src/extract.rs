@@ -188,62 +188,56 @@ pub(crate) fn extract_penumbra(
 
     let mut lights: Vec<ExtractedLight> = Vec::new();
     extracted.bevy_shadowed.clear();
-    for (entity, render_entity, sun, transform, disk, size) in &suns {
-        if !sun.shadow_maps_enabled {
-            continue;
+    let mut add = |entity: Entity, render_entity: Entity, shadow_maps_enabled: bool, light: Light| {
+        if shadow_maps_enabled {
+            extracted.bevy_shadowed.push(render_entity);
+            lights.push(ExtractedLight {
+                entity,
+                render_entity,
+                light,
+            });
         }
-        extracted.bevy_shadowed.push(render_entity);
+    };
+    for (entity, render_entity, sun, transform, disk, size) in &suns {
         let diameter = size.map(|s| s.0).or(disk.map(|d| d.angular_size)).unwrap_or(SUN_ANGULAR_DIAMETER);
-        lights.push(ExtractedLight {
-            entity,
-            render_entity,
-            light: Light::Directional(Sun {
-                direction: vec3(transform.forward().as_vec3()),
-                angular_diameter_deg: diameter.max(0.0).to_degrees(),
-                color: glam::Vec3::from_array(sun.color.to_linear().to_f32_array_no_alpha()),
-                intensity: sun.illuminance,
-            }),
+        let light = Light::Directional(Sun {
+            direction: vec3(transform.forward().as_vec3()),
+            angular_diameter_deg: diameter.max(0.0).to_degrees(),
+            color: linear(sun.color),
+            intensity: sun.illuminance,
         });
+        add(entity, render_entity, sun.shadow_maps_enabled, light);
     }
     for (entity, render_entity, spot, transform, size) in &spots {
-        if !spot.shadow_maps_enabled {
-            continue;
-        }
-        extracted.bevy_shadowed.push(render_entity);
-        lights.push(ExtractedLight {
-            entity,
-            render_entity,
-            light: Light::Spot(Spot {
-                position: vec3(transform.translation()),
-                direction: vec3(transform.forward().as_vec3()),
-                cone_angle_deg: spot.outer_angle.to_degrees().clamp(0.5, 89.0),
-                radius: size.map_or(spot.radius, |s| s.0).max(0.0),
-                color: glam::Vec3::from_array(spot.color.to_linear().to_f32_array_no_alpha()),
-                intensity: spot.intensity,
-            }),
+        let light = Light::Spot(Spot {
+            position: vec3(transform.translation()),
+            direction: vec3(transform.forward().as_vec3()),
+            cone_angle_deg: spot.outer_angle.to_degrees().clamp(0.5, 89.0),
+            radius: size.map_or(spot.radius, |s| s.0).max(0.0),
+            color: linear(spot.color),
+            intensity: spot.intensity,
         });
+        add(entity, render_entity, spot.shadow_maps_enabled, light);
     }
     for (entity, render_entity, point, transform, size) in &points {
-        if !point.shadow_maps_enabled {
-            continue;
-        }
-        extracted.bevy_shadowed.push(render_entity);
-        lights.push(ExtractedLight {
-            entity,
-            render_entity,
-            light: Light::Point(Point {
-                position: vec3(transform.translation()),
-                radius: size.map_or(point.radius, |s| s.0).max(0.0),
-                color: glam::Vec3::from_array(point.color.to_linear().to_f32_array_no_alpha()),
-                intensity: point.intensity,
-            }),
+        let light = Light::Point(Point {
+            position: vec3(transform.translation()),
+            radius: size.map_or(point.radius, |s| s.0).max(0.0),
+            color: linear(point.color),
+            intensity: point.intensity,
         });
+        add(entity, render_entity, point.shadow_maps_enabled, light);
     }
     // A stable order: the same lights keep the same layers while they live.
     lights.sort_by_key(|l| l.entity);
     extracted.lights_over_limit = lights.len().saturating_sub(penumbra::MAX_LIGHTS);
     lights.truncate(penumbra::MAX_LIGHTS);
     extracted.lights = lights;
+}
+
+/// A Bevy colour as penumbra's linear RGB.
+fn linear(color: Color) -> glam::Vec3 {
+    glam::Vec3::from_array(color.to_linear().to_f32_array_no_alpha())
 }
 
 /// A mesh's positions, normals and indices, or why penumbra cannot use it.
