@@ -124,17 +124,17 @@ fn spawn_scene(
     ));
     commands.spawn((
         DirectionalLight {
-            illuminance: 1200.0,
+            illuminance: 3000.0,
             shadow_maps_enabled: true,
             ..default()
         },
-        // A sun four times the real one's size, for soft shadows that read in a small window.
-        PenumbraLightSize(2.0_f32.to_radians()),
+        // A sun six times the real one's size, for soft shadows that read in a small window.
+        PenumbraLightSize(3.0_f32.to_radians()),
         Transform::default().looking_to(Vec3::new(0.5, -1.0, -0.35), Vec3::Y),
     ));
     commands.spawn((
         SpotLight {
-            intensity: 300_000.0,
+            intensity: 1_200_000.0,
             radius: 0.25,
             range: 30.0,
             outer_angle: 0.6,
@@ -147,7 +147,7 @@ fn spawn_scene(
     ));
     commands.spawn((
         PointLight {
-            intensity: 120_000.0,
+            intensity: 600_000.0,
             radius: 0.2,
             range: 20.0,
             shadow_maps_enabled: true,
