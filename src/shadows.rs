@@ -1259,7 +1259,10 @@ fn check_mask(mask: &wgpu::Texture, size: (u32, u32)) -> Result<()> {
 fn check_target(target: &wgpu::Texture, frame: Option<((u32, u32), usize)>) -> Result<()> {
     let fail = |reason: String| Err(PenumbraError::input("visibility target", reason));
     if target.format() != VISIBILITY_FORMAT {
-        return fail(format!("it is {:?}; it must be {VISIBILITY_FORMAT:?}", target.format()));
+        return fail(format!(
+            "it is {:?}; it must be {VISIBILITY_FORMAT:?}",
+            target.format()
+        ));
     }
     if target.dimension() != wgpu::TextureDimension::D2 || target.sample_count() != 1 {
         return fail("it must be a single-sampled 2D (array) texture".into());

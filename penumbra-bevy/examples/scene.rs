@@ -29,7 +29,9 @@ fn main() {
         .iter()
         .find(|a| a.starts_with("--") && !["--out", "--bevy"].contains(&a.as_str()))
     {
-        fail(&format!("unknown argument `{bad}` (expected --out FILE.png, --bevy)"));
+        fail(&format!(
+            "unknown argument `{bad}` (expected --out FILE.png, --bevy)"
+        ));
     }
     match out {
         Some(path) => headless(&path, !bevy_shadows),
@@ -183,7 +185,11 @@ fn toggle(keys: Res<ButtonInput<KeyCode>>, mut cameras: Query<&mut PenumbraCamer
             camera.enabled = !camera.enabled;
             info!(
                 "shadows: {}",
-                if camera.enabled { "penumbra" } else { "Bevy's own (Gaussian)" }
+                if camera.enabled {
+                    "penumbra"
+                } else {
+                    "Bevy's own (Gaussian)"
+                }
             );
         }
     }

@@ -9,10 +9,10 @@ use bevy::mesh::skinning::SkinnedMesh;
 use bevy::mesh::{Indices, PrimitiveTopology, VertexAttributeValues};
 use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
+use bevy::render::Extract;
 use bevy::render::storage::ShaderBuffer;
 use bevy::render::sync_world::RenderEntity;
 use bevy::render::view::Msaa;
-use bevy::render::Extract;
 use penumbra::{DirectionalLight as Sun, Light, PointLight as Point, SpotLight as Spot};
 
 use crate::material::PenumbraTargets;
@@ -101,7 +101,16 @@ type CasterQuery<'w, 's> = Query<
 pub(crate) fn extract_penumbra(
     mut extracted: ResMut<Extracted>,
     mut known: ResMut<KnownGeometry>,
-    cameras: Extract<Query<(Entity, RenderEntity, &Camera, &PenumbraCamera, Option<&Msaa>, Has<DepthPrepass>)>>,
+    cameras: Extract<
+        Query<(
+            Entity,
+            RenderEntity,
+            &Camera,
+            &PenumbraCamera,
+            Option<&Msaa>,
+            Has<DepthPrepass>,
+        )>,
+    >,
     casters: Extract<CasterQuery>,
     suns: Extract<
         Query<(
@@ -113,8 +122,24 @@ pub(crate) fn extract_penumbra(
             Option<&PenumbraLightSize>,
         )>,
     >,
-    spots: Extract<Query<(Entity, RenderEntity, &SpotLight, &GlobalTransform, Option<&PenumbraLightSize>)>>,
-    points: Extract<Query<(Entity, RenderEntity, &PointLight, &GlobalTransform, Option<&PenumbraLightSize>)>>,
+    spots: Extract<
+        Query<(
+            Entity,
+            RenderEntity,
+            &SpotLight,
+            &GlobalTransform,
+            Option<&PenumbraLightSize>,
+        )>,
+    >,
+    points: Extract<
+        Query<(
+            Entity,
+            RenderEntity,
+            &PointLight,
+            &GlobalTransform,
+            Option<&PenumbraLightSize>,
+        )>,
+    >,
     meshes: Extract<Res<Assets<Mesh>>>,
     mut mesh_events: Extract<MessageReader<AssetEvent<Mesh>>>,
     targets: Extract<Res<PenumbraTargets>>,
@@ -199,7 +224,10 @@ pub(crate) fn extract_penumbra(
         }
     };
     for (entity, render_entity, sun, transform, disk, size) in &suns {
-        let diameter = size.map(|s| s.0).or(disk.map(|d| d.angular_size)).unwrap_or(SUN_ANGULAR_DIAMETER);
+        let diameter = size
+            .map(|s| s.0)
+            .or(disk.map(|d| d.angular_size))
+            .unwrap_or(SUN_ANGULAR_DIAMETER);
         let light = Light::Directional(Sun {
             direction: vec3(transform.forward().as_vec3()),
             angular_diameter_deg: diameter.max(0.0).to_degrees(),
@@ -258,7 +286,9 @@ fn geometry(mesh: &Mesh) -> Result<Geometry, String> {
         }
     };
     let normals = match mesh.try_attribute(Mesh::ATTRIBUTE_NORMAL) {
-        Ok(VertexAttributeValues::Float32x3(n)) => Some(n.iter().map(|n| glam::Vec3::from_array(*n)).collect()),
+        Ok(VertexAttributeValues::Float32x3(n)) => {
+            Some(n.iter().map(|n| glam::Vec3::from_array(*n)).collect())
+        }
         _ => None,
     };
     let indices = mesh.try_indices_option().ok().flatten().map(|ix| match ix {

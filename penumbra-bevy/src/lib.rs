@@ -120,7 +120,9 @@ impl PenumbraDiagnostics {
 
     /// Adds a message; false if it was already there.
     pub(crate) fn push(&self, message: String) -> bool {
-        let Ok(mut messages) = self.0.lock() else { return false };
+        let Ok(mut messages) = self.0.lock() else {
+            return false;
+        };
         if messages.contains(&message) {
             return false;
         }

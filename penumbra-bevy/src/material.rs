@@ -56,11 +56,15 @@ pub struct PenumbraTargets {
 
 impl FromWorld for PenumbraTargets {
     fn from_world(world: &mut World) -> Self {
-        let visibility = world.resource_mut::<Assets<Image>>().add(visibility_image(UVec2::ONE));
-        let lights = world.resource_mut::<Assets<ShaderBuffer>>().add(ShaderBuffer::new(
-            vec![GpuLights::default()],
-            RenderAssetUsages::RENDER_WORLD,
-        ));
+        let visibility = world
+            .resource_mut::<Assets<Image>>()
+            .add(visibility_image(UVec2::ONE));
+        let lights = world
+            .resource_mut::<Assets<ShaderBuffer>>()
+            .add(ShaderBuffer::new(
+                vec![GpuLights::default()],
+                RenderAssetUsages::RENDER_WORLD,
+            ));
         Self {
             visibility,
             lights,

@@ -211,17 +211,13 @@ fn prepare_penumbra(
             }
         }
     }
-    if let Err(e) = state
-        .gpu
-        .as_mut()
-        .map_or(Ok(()), |(_, shadows)| {
-            if shadows.settings() != &camera.settings {
-                shadows.set_settings(device, camera.settings)
-            } else {
-                Ok(())
-            }
-        })
-    {
+    if let Err(e) = state.gpu.as_mut().map_or(Ok(()), |(_, shadows)| {
+        if shadows.settings() != &camera.settings {
+            shadows.set_settings(device, camera.settings)
+        } else {
+            Ok(())
+        }
+    }) {
         state.log_once(format!("penumbra: the camera's settings are refused: {e}"));
         return;
     }
@@ -278,7 +274,15 @@ fn sync_casters(
                 continue;
             };
             let (casters, _) = state.gpu.as_mut().expect("made");
-            match register(casters, device, queue, allocator, render_meshes, caster.mesh, geometry) {
+            match register(
+                casters,
+                device,
+                queue,
+                allocator,
+                render_meshes,
+                caster.mesh,
+                geometry,
+            ) {
                 Ok(id) => {
                     state.meshes.insert(caster.mesh, RegisteredMesh { id, at: place });
                 }
@@ -333,7 +337,12 @@ fn sync_casters(
         }
     }
     // Despawned, hidden or no longer casting.
-    let gone: Vec<Entity> = state.instances.keys().filter(|e| !seen.contains(*e)).copied().collect();
+    let gone: Vec<Entity> = state
+        .instances
+        .keys()
+        .filter(|e| !seen.contains(*e))
+        .copied()
+        .collect();
     for entity in gone {
         if let Some(instance) = state.instances.remove(&entity)
             && let Some((casters, _)) = state.gpu.as_mut()
@@ -399,8 +408,11 @@ fn register(
     let label = format!("bevy mesh {mesh}");
     let mut desc = CasterMeshDesc::new(&label, positions, render_mesh.vertex_count);
     let index_slice;
-    if let bevy::render::mesh::RenderMeshBufferInfo::Indexed { count, index_format } = render_mesh.buffer_info {
-        index_slice = allocator.mesh_index_slice(&mesh).ok_or("its indices are not on the GPU")?;
+    if let bevy::render::mesh::RenderMeshBufferInfo::Indexed { count, index_format } = render_mesh.buffer_info
+    {
+        index_slice = allocator
+            .mesh_index_slice(&mesh)
+            .ok_or("its indices are not on the GPU")?;
         let size = match index_format {
             wgpu::IndexFormat::Uint16 => 2,
             wgpu::IndexFormat::Uint32 => 4,
@@ -422,8 +434,12 @@ fn register(
 
 /// Forgets a mesh and its instances (placed again when next seen).
 fn drop_mesh(state: &mut PenumbraState, mesh: AssetId<Mesh>) {
-    let Some(registered) = state.meshes.remove(&mesh) else { return };
-    let Some((casters, _)) = state.gpu.as_mut() else { return };
+    let Some(registered) = state.meshes.remove(&mesh) else {
+        return;
+    };
+    let Some((casters, _)) = state.gpu.as_mut() else {
+        return;
+    };
     state.instances.retain(|_, instance| {
         if instance.mesh == mesh {
             let _ = casters.remove_instance(instance.id);
@@ -479,10 +495,15 @@ fn sync_lights(
         let (kind, index, direction) = match extracted.light {
             Light::Directional(sun) => (KIND_DIRECTIONAL, 0, -sun.direction.normalize()),
             Light::Spot(_) | Light::Point(_) => {
-                let Some(index) = clustered.and_then(|c| c.entity_to_index.get(&extracted.render_entity)) else {
+                let Some(index) = clustered.and_then(|c| c.entity_to_index.get(&extracted.render_entity))
+                else {
                     continue; // Not in Bevy's light list this frame.
                 };
-                let kind = if matches!(extracted.light, Light::Spot(_)) { KIND_SPOT } else { KIND_POINT };
+                let kind = if matches!(extracted.light, Light::Spot(_)) {
+                    KIND_SPOT
+                } else {
+                    KIND_POINT
+                };
                 (kind, *index as u32, glam::Vec3::ZERO)
             }
         };
@@ -533,7 +554,9 @@ fn penumbra_pass(
     let device = device.wgpu_device();
     let queue: &wgpu::Queue = &queue;
     let state = &mut *state;
-    let Some((casters, shadows)) = state.gpu.as_mut() else { return };
+    let Some((casters, shadows)) = state.gpu.as_mut() else {
+        return;
+    };
     match shadows.render(device, queue, ctx.command_encoder(), casters, &inputs) {
         // The material reads the visibility from now on (the write lands before the main pass).
         Ok(_) => {

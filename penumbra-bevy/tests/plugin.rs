@@ -5,8 +5,8 @@
 mod common;
 
 use bevy::light::NotShadowCaster;
-use bevy::mesh::VertexAttributeValues;
 use bevy::light::ShadowFilteringMethod;
+use bevy::mesh::VertexAttributeValues;
 use bevy::prelude::*;
 use common::Headless;
 use penumbra_bevy::{PenumbraCamera, PenumbraDiagnostics, PenumbraLightSize, PenumbraPlugin};
@@ -37,34 +37,54 @@ fn box_above_plane(light: impl Bundle, extra_attributes: bool) -> Scene {
         brightness: 80.0,
         ..default()
     });
-    let plane = world.resource_mut::<Assets<Mesh>>().add(Plane3d::default().mesh().size(16.0, 16.0));
+    let plane = world
+        .resource_mut::<Assets<Mesh>>()
+        .add(Plane3d::default().mesh().size(16.0, 16.0));
     let mut cube = Mesh::from(Cuboid::new(1.0, 1.0, 1.0));
     if extra_attributes {
         let n = cube.count_vertices();
-        cube.insert_attribute(Mesh::ATTRIBUTE_COLOR, VertexAttributeValues::Float32x4(vec![[1.0; 4]; n]));
-        cube.insert_attribute(Mesh::ATTRIBUTE_UV_1, VertexAttributeValues::Float32x2(vec![[0.5; 2]; n]));
+        cube.insert_attribute(
+            Mesh::ATTRIBUTE_COLOR,
+            VertexAttributeValues::Float32x4(vec![[1.0; 4]; n]),
+        );
+        cube.insert_attribute(
+            Mesh::ATTRIBUTE_UV_1,
+            VertexAttributeValues::Float32x2(vec![[0.5; 2]; n]),
+        );
     }
     let cube = world.resource_mut::<Assets<Mesh>>().add(cube);
-    let grey = world.resource_mut::<Assets<StandardMaterial>>().add(StandardMaterial {
-        base_color: Color::srgb(0.7, 0.7, 0.7),
-        perceptual_roughness: 1.0,
-        ..default()
-    });
-    let red = world.resource_mut::<Assets<StandardMaterial>>().add(StandardMaterial {
-        base_color: Color::srgb(0.8, 0.05, 0.05),
-        perceptual_roughness: 1.0,
-        ..default()
-    });
+    let grey = world
+        .resource_mut::<Assets<StandardMaterial>>()
+        .add(StandardMaterial {
+            base_color: Color::srgb(0.7, 0.7, 0.7),
+            perceptual_roughness: 1.0,
+            ..default()
+        });
+    let red = world
+        .resource_mut::<Assets<StandardMaterial>>()
+        .add(StandardMaterial {
+            base_color: Color::srgb(0.8, 0.05, 0.05),
+            perceptual_roughness: 1.0,
+            ..default()
+        });
     world.spawn((Mesh3d(plane), MeshMaterial3d(grey)));
     let box_entity = world
-        .spawn((Mesh3d(cube), MeshMaterial3d(red), Transform::from_xyz(0.0, 2.0, 0.0)))
+        .spawn((
+            Mesh3d(cube),
+            MeshMaterial3d(red),
+            Transform::from_xyz(0.0, 2.0, 0.0),
+        ))
         .id();
     world.spawn(light);
     let camera_bundle = headless.camera(Vec3::new(0.0, EYE_HEIGHT, 0.0), Vec3::ZERO);
     let camera = headless
         .app
         .world_mut()
-        .spawn((camera_bundle, PenumbraCamera::default(), ShadowFilteringMethod::Hardware2x2))
+        .spawn((
+            camera_bundle,
+            PenumbraCamera::default(),
+            ShadowFilteringMethod::Hardware2x2,
+        ))
         .id();
     Scene {
         headless,
@@ -104,8 +124,15 @@ fn plane(image: &image::RgbaImage) -> Vec<Option<f32>> {
 fn darkness(image: &image::RgbaImage, unshadowed: &image::RgbaImage) -> Vec<Option<f32>> {
     let (shadowed, lit) = (plane(image), plane(unshadowed));
     let umbra = shadowed.iter().flatten().copied().fold(255.0, f32::min);
-    let deepest = shadowed.iter().zip(&lit).filter_map(|(s, l)| Some(l.as_ref()? - s.as_ref()?)).fold(0.0, f32::max);
-    assert!(deepest > 40.0, "no shadow on the plane: the deepest darkening is {deepest}");
+    let deepest = shadowed
+        .iter()
+        .zip(&lit)
+        .filter_map(|(s, l)| Some(l.as_ref()? - s.as_ref()?))
+        .fold(0.0, f32::max);
+    assert!(
+        deepest > 40.0,
+        "no shadow on the plane: the deepest darkening is {deepest}"
+    );
     shadowed
         .iter()
         .zip(&lit)
@@ -132,7 +159,11 @@ fn centroid(darkness: &[Option<f32>]) -> Vec2 {
 
 /// Pixels inside a penumbra (darkness between 0.1 and 0.9).
 fn penumbra_pixels(darkness: &[Option<f32>]) -> usize {
-    darkness.iter().flatten().filter(|d| **d > 0.1 && **d < 0.9).count()
+    darkness
+        .iter()
+        .flatten()
+        .filter(|d| **d > 0.1 && **d < 0.9)
+        .count()
 }
 
 /// The largest difference between two images' plane pixels.
@@ -157,11 +188,20 @@ fn pixels_per_unit() -> f32 {
 
 impl Scene {
     fn set_penumbra(&mut self, on: bool) {
-        self.headless.app.world_mut().get_mut::<PenumbraCamera>(self.camera).unwrap().enabled = on;
+        self.headless
+            .app
+            .world_mut()
+            .get_mut::<PenumbraCamera>(self.camera)
+            .unwrap()
+            .enabled = on;
     }
 
     fn messages(&self) -> Vec<String> {
-        self.headless.app.world().resource::<PenumbraDiagnostics>().messages()
+        self.headless
+            .app
+            .world()
+            .resource::<PenumbraDiagnostics>()
+            .messages()
     }
 }
 
@@ -169,7 +209,12 @@ impl Scene {
 /// near `expected_x` world units right of the middle), it is soft where Bevy's is hard, a
 /// `NotShadowCaster` box casts none and a despawned one leaves none. Returns penumbra's image
 /// and darkness.
-fn shadow_like_bevys(name: &str, light: impl Bundle, extra_attributes: bool, expected_x: f32) -> (Scene, Vec<Option<f32>>) {
+fn shadow_like_bevys(
+    name: &str,
+    light: impl Bundle,
+    extra_attributes: bool,
+    expected_x: f32,
+) -> (Scene, Vec<Option<f32>>) {
     let mut scene = box_above_plane(light, extra_attributes);
     let ours = scene.headless.render(10);
     save(&format!("{name}_penumbra.png"), &ours);
@@ -177,23 +222,42 @@ fn shadow_like_bevys(name: &str, light: impl Bundle, extra_attributes: bool, exp
     let bevy = scene.headless.render(4);
     save(&format!("{name}_bevy.png"), &bevy);
     scene.set_penumbra(true);
-    scene.headless.app.world_mut().entity_mut(scene.box_entity).insert(NotShadowCaster);
+    scene
+        .headless
+        .app
+        .world_mut()
+        .entity_mut(scene.box_entity)
+        .insert(NotShadowCaster);
     let not_caster = scene.headless.render(4);
     save(&format!("{name}_not_caster.png"), &not_caster);
-    scene.headless.app.world_mut().entity_mut(scene.box_entity).remove::<NotShadowCaster>();
+    scene
+        .headless
+        .app
+        .world_mut()
+        .entity_mut(scene.box_entity)
+        .remove::<NotShadowCaster>();
     let again = scene.headless.render(4);
     scene.headless.app.world_mut().despawn(scene.box_entity);
     let despawned = scene.headless.render(4);
     save(&format!("{name}_despawned.png"), &despawned);
 
     let not_caster_left = largest_difference(&not_caster, &despawned);
-    assert!(not_caster_left < 6.0, "{name}: a NotShadowCaster box darkens the plane by up to {not_caster_left}");
+    assert!(
+        not_caster_left < 6.0,
+        "{name}: a NotShadowCaster box darkens the plane by up to {not_caster_left}"
+    );
     let (ours_dark, bevy_dark) = (darkness(&ours, &despawned), darkness(&bevy, &despawned));
     let again_dark = darkness(&again, &despawned);
     let (ours_at, bevy_at) = (centroid(&ours_dark), centroid(&bevy_dark));
     println!("{name}: centroids penumbra {ours_at}, Bevy {bevy_at}");
-    assert!(ours_at.distance(bevy_at) < 2.0, "{name}: penumbra's shadow at {ours_at}, Bevy's at {bevy_at}");
-    assert!(centroid(&again_dark).distance(ours_at) < 0.5, "{name}: the shadow did not come back with the caster");
+    assert!(
+        ours_at.distance(bevy_at) < 2.0,
+        "{name}: penumbra's shadow at {ours_at}, Bevy's at {bevy_at}"
+    );
+    assert!(
+        centroid(&again_dark).distance(ours_at) < 0.5,
+        "{name}: the shadow did not come back with the caster"
+    );
     let expected = SIZE.x as f32 / 2.0 + expected_x * pixels_per_unit();
     assert!(
         (ours_at.x - expected).abs() < 0.5 * pixels_per_unit(),
@@ -202,7 +266,10 @@ fn shadow_like_bevys(name: &str, light: impl Bundle, extra_attributes: bool, exp
     );
     let (ours_soft, bevy_soft) = (penumbra_pixels(&ours_dark), penumbra_pixels(&bevy_dark));
     println!("{name}: penumbra pixels: penumbra {ours_soft}, Bevy {bevy_soft}");
-    assert!(ours_soft > 2 * bevy_soft.max(20), "{name}: {ours_soft} penumbra pixels against Bevy's hard shadow's {bevy_soft}");
+    assert!(
+        ours_soft > 2 * bevy_soft.max(20),
+        "{name}: {ours_soft} penumbra pixels against Bevy's hard shadow's {bevy_soft}"
+    );
     let messages = scene.messages();
     assert!(messages.is_empty(), "{name}: the plugin reported {messages:?}");
     (scene, ours_dark)
@@ -212,13 +279,23 @@ fn shadow_like_bevys(name: &str, light: impl Bundle, extra_attributes: bool, exp
 /// entering the shadow from the left and leaving it on the right.
 fn edge_widths(darkness: &[Option<f32>]) -> (f32, f32) {
     let row = SIZE.y as usize / 2;
-    let line: Vec<f32> = (0..SIZE.x as usize).map(|x| darkness[row * SIZE.x as usize + x].unwrap_or(f32::NAN)).collect();
-    let peak = (0..line.len()).filter(|&x| line[x].is_finite()).max_by(|&a, &b| line[a].total_cmp(&line[b])).unwrap();
+    let line: Vec<f32> = (0..SIZE.x as usize)
+        .map(|x| darkness[row * SIZE.x as usize + x].unwrap_or(f32::NAN))
+        .collect();
+    let peak = (0..line.len())
+        .filter(|&x| line[x].is_finite())
+        .max_by(|&a, &b| line[a].total_cmp(&line[b]))
+        .unwrap();
     let crossing = |range: Box<dyn Iterator<Item = usize>>, level: f32| {
-        range.filter(|&x| line[x].is_finite()).find(|&x| line[x] >= level).map(|x| x as f32).unwrap_or(f32::NAN)
+        range
+            .filter(|&x| line[x].is_finite())
+            .find(|&x| line[x] >= level)
+            .map(|x| x as f32)
+            .unwrap_or(f32::NAN)
     };
     let left = crossing(Box::new(0..=peak), 0.9) - crossing(Box::new(0..=peak), 0.1);
-    let right = crossing(Box::new((peak..line.len()).rev()), 0.1) - crossing(Box::new((peak..line.len()).rev()), 0.9);
+    let right =
+        crossing(Box::new((peak..line.len()).rev()), 0.1) - crossing(Box::new((peak..line.len()).rev()), 0.9);
     (left, right)
 }
 
@@ -235,10 +312,25 @@ fn a_suns_shadow_lies_where_bevys_does_and_widens_away_from_the_box() {
     let (left, right) = edge_widths(&dark);
     let slant = 1.0 + 0.8f32.powi(2);
     let width = |height: f32| 0.687 * height * 10f32.to_radians() * slant * pixels_per_unit();
-    println!("sun: edge widths {left:.1} px and {right:.1} px; geometry {:.1} and {:.1}", width(1.5), width(2.5));
-    assert!(right > left * 1.3, "the far edge ({right} px) is not wider than the near one ({left} px)");
-    assert!((left / width(1.5) - 1.0).abs() < 0.25, "near edge {left} px, geometry {}", width(1.5));
-    assert!((right / width(2.5) - 1.0).abs() < 0.25, "far edge {right} px, geometry {}", width(2.5));
+    println!(
+        "sun: edge widths {left:.1} px and {right:.1} px; geometry {:.1} and {:.1}",
+        width(1.5),
+        width(2.5)
+    );
+    assert!(
+        right > left * 1.3,
+        "the far edge ({right} px) is not wider than the near one ({left} px)"
+    );
+    assert!(
+        (left / width(1.5) - 1.0).abs() < 0.25,
+        "near edge {left} px, geometry {}",
+        width(1.5)
+    );
+    assert!(
+        (right / width(2.5) - 1.0).abs() < 0.25,
+        "far edge {right} px, geometry {}",
+        width(2.5)
+    );
 }
 
 #[test]
@@ -246,14 +338,24 @@ fn a_moving_box_moves_its_shadow() {
     let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
     let mut scene = box_above_plane(sun(4.0), false);
     let before = scene.headless.render(10);
-    scene.headless.app.world_mut().get_mut::<Transform>(scene.box_entity).unwrap().translation.z += 1.0;
+    scene
+        .headless
+        .app
+        .world_mut()
+        .get_mut::<Transform>(scene.box_entity)
+        .unwrap()
+        .translation
+        .z += 1.0;
     let after = scene.headless.render(4);
     scene.headless.app.world_mut().despawn(scene.box_entity);
     let empty = scene.headless.render(4);
     let moved = centroid(&darkness(&after, &empty)) - centroid(&darkness(&before, &empty));
     println!("moved by {moved} px");
     // +z is down in the image: one unit is pixels_per_unit() rows.
-    assert!((moved.y - pixels_per_unit()).abs() < 1.5 && moved.x.abs() < 1.0, "the shadow moved by {moved} px");
+    assert!(
+        (moved.y - pixels_per_unit()).abs() < 1.5 && moved.x.abs() < 1.0,
+        "the shadow moved by {moved} px"
+    );
 }
 
 #[test]
@@ -296,24 +398,55 @@ fn misuse_is_reported_and_leaves_bevys_shadows() {
     let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
     // MSAA on the camera: refused with a message naming it; Bevy's shadows stay.
     let mut scene = box_above_plane(sun(4.0), false);
-    scene.headless.app.world_mut().entity_mut(scene.camera).insert(Msaa::Sample4);
+    scene
+        .headless
+        .app
+        .world_mut()
+        .entity_mut(scene.camera)
+        .insert(Msaa::Sample4);
     let frame = scene.headless.render(8);
     let messages = scene.messages();
-    assert!(messages.iter().any(|m| m.contains("Msaa::Sample4") && m.contains("Msaa::Off")), "{messages:?}");
+    assert!(
+        messages
+            .iter()
+            .any(|m| m.contains("Msaa::Sample4") && m.contains("Msaa::Off")),
+        "{messages:?}"
+    );
     let lum = plane(&frame);
     let darkest = lum.iter().flatten().copied().fold(255.0, f32::min);
     let lightest = lum.iter().flatten().copied().fold(0.0, f32::max);
-    assert!(lightest > 60.0 && lightest - darkest > 40.0, "not a lit frame with a shadow: {darkest}..{lightest}");
+    assert!(
+        lightest > 60.0 && lightest - darkest > 40.0,
+        "not a lit frame with a shadow: {darkest}..{lightest}"
+    );
 
     // No depth prepass (removed after the camera was made): refused, named.
-    scene.headless.app.world_mut().entity_mut(scene.camera).insert(Msaa::Off);
-    scene.headless.app.world_mut().entity_mut(scene.camera).remove::<bevy::core_pipeline::prepass::DepthPrepass>();
+    scene
+        .headless
+        .app
+        .world_mut()
+        .entity_mut(scene.camera)
+        .insert(Msaa::Off);
+    scene
+        .headless
+        .app
+        .world_mut()
+        .entity_mut(scene.camera)
+        .remove::<bevy::core_pipeline::prepass::DepthPrepass>();
     scene.headless.render(4);
     let messages = scene.messages();
-    assert!(messages.iter().any(|m| m.contains("no DepthPrepass")), "{messages:?}");
+    assert!(
+        messages.iter().any(|m| m.contains("no DepthPrepass")),
+        "{messages:?}"
+    );
 
     // More shadow-mapped lights than penumbra's limit: named, the rest keep Bevy's shadows.
-    scene.headless.app.world_mut().entity_mut(scene.camera).insert(bevy::core_pipeline::prepass::DepthPrepass);
+    scene
+        .headless
+        .app
+        .world_mut()
+        .entity_mut(scene.camera)
+        .insert(bevy::core_pipeline::prepass::DepthPrepass);
     for i in 0..penumbra::MAX_LIGHTS {
         let direction = Vec3::new(0.3 + 0.05 * i as f32, -1.0, 0.1);
         scene.headless.app.world_mut().spawn((
@@ -328,5 +461,8 @@ fn misuse_is_reported_and_leaves_bevys_shadows() {
     let frame = scene.headless.render(6);
     save("too_many_lights.png", &frame);
     let messages = scene.messages();
-    assert!(messages.iter().any(|m| m.contains("past penumbra's limit of 8")), "{messages:?}");
+    assert!(
+        messages.iter().any(|m| m.contains("past penumbra's limit of 8")),
+        "{messages:?}"
+    );
 }

@@ -57,7 +57,10 @@ pub struct Headless {
 impl Headless {
     /// An app with the default plugins (no window) and `plugins`, ready to update.
     pub fn new(size: UVec2, add: impl FnOnce(&mut App)) -> Self {
-        assert!(size.x % 64 == 0, "rows are read back padded to 256 bytes: use a width that is a multiple of 64");
+        assert!(
+            size.x % 64 == 0,
+            "rows are read back padded to 256 bytes: use a width that is a multiple of 64"
+        );
         let mut app = App::new();
         app.add_plugins(default_plugins(false));
         add(&mut app);
@@ -71,11 +74,11 @@ impl Headless {
         let target = app.world_mut().resource_mut::<Assets<Image>>().add(image);
         let captured = Captured::default();
         let sink = captured.clone();
-        app.world_mut()
-            .spawn(Readback::texture(target.clone()))
-            .observe(move |event: On<ReadbackComplete>| {
+        app.world_mut().spawn(Readback::texture(target.clone())).observe(
+            move |event: On<ReadbackComplete>| {
                 *sink.0.lock().unwrap() = Some(event.data.clone());
-            });
+            },
+        );
         Self {
             app,
             target,
@@ -93,7 +96,14 @@ impl Headless {
             bevy::camera::RenderTarget::Image(self.target.clone().into()),
             Tonemapping::None,
             Msaa::Off,
-            Transform::from_translation(eye).looking_at(at, if (at - eye).normalize().y.abs() > 0.99 { Vec3::NEG_Z } else { Vec3::Y }),
+            Transform::from_translation(eye).looking_at(
+                at,
+                if (at - eye).normalize().y.abs() > 0.99 {
+                    Vec3::NEG_Z
+                } else {
+                    Vec3::Y
+                },
+            ),
         )
     }
 
@@ -110,7 +120,13 @@ impl Headless {
             }
             self.app.update();
         }
-        let data = self.captured.0.lock().unwrap().take().expect("no frame was read back");
+        let data = self
+            .captured
+            .0
+            .lock()
+            .unwrap()
+            .take()
+            .expect("no frame was read back");
         image::RgbaImage::from_raw(self.size.x, self.size.y, data).expect("a frame of the target's size")
     }
 }
