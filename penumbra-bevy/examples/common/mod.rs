@@ -14,6 +14,7 @@ use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::render::settings::{Backends, RenderCreation, WgpuSettings};
 use bevy::window::ExitCondition;
 use bevy::winit::WinitPlugin;
+use penumbra_bevy::PenumbraLightSize;
 
 /// Bevy's default plugins set up for this machine: Vulkan (Mesa's lavapipe where there is no
 /// GPU) without wgpu's debug labels, which lavapipe crashes on; pipelines compiled at once.
@@ -31,7 +32,9 @@ pub fn default_plugins(window: bool) -> bevy::app::PluginGroupBuilder {
     if window {
         plugins
     } else {
+        // Headless: extraction and rendering in each update, so a frame is done when it returns.
         plugins
+            .disable::<bevy::render::pipelined_rendering::PipelinedRenderingPlugin>()
             .set(WindowPlugin {
                 primary_window: None,
                 exit_condition: ExitCondition::DontExit,
@@ -107,6 +110,16 @@ impl Headless {
         )
     }
 
+    /// Runs one update and waits until the GPU has finished its work.
+    pub fn frame(&mut self) {
+        self.app.update();
+        let device = self.app.sub_app(bevy::render::RenderApp).world().resource::<bevy::render::renderer::RenderDevice>();
+        let _ = device.wgpu_device().poll(wgpu::PollType::Wait {
+            submission_index: None,
+            timeout: None,
+        });
+    }
+
     /// Runs `frames` updates and returns the last frame read back.
     pub fn render(&mut self, frames: u32) -> image::RgbaImage {
         *self.captured.0.lock().unwrap() = None;
@@ -130,3 +143,108 @@ impl Headless {
         image::RgbaImage::from_raw(self.size.x, self.size.y, data).expect("a frame of the target's size")
     }
 }
+
+/// The box that moves.
+#[derive(Component)]
+pub struct Moving;
+
+/// The examples' scene: a floor, a column, an arch, a sphere and a moving box under a sun
+/// (3 degrees), a spot (radius 0.25) and a point light (radius 0.2).
+pub fn spawn_scene(
+    mut commands: Commands,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+) {
+    let matte = |color: Color| StandardMaterial {
+        base_color: color,
+        perceptual_roughness: 0.9,
+        ..default()
+    };
+    commands.insert_resource(GlobalAmbientLight {
+        brightness: 120.0,
+        ..default()
+    });
+    commands.spawn((
+        Mesh3d(meshes.add(Plane3d::default().mesh().size(20.0, 20.0))),
+        MeshMaterial3d(materials.add(matte(Color::srgb(0.75, 0.74, 0.70)))),
+    ));
+    commands.spawn((
+        Mesh3d(meshes.add(Cylinder::new(0.35, 3.0))),
+        MeshMaterial3d(materials.add(matte(Color::srgb(0.55, 0.6, 0.75)))),
+        Transform::from_xyz(-1.5, 1.5, -1.0),
+    ));
+    let stone = materials.add(matte(Color::srgb(0.8, 0.55, 0.4)));
+    let pillar = meshes.add(Cuboid::new(0.4, 2.0, 0.4));
+    for x in [1.0, 2.6] {
+        commands.spawn((
+            Mesh3d(pillar.clone()),
+            MeshMaterial3d(stone.clone()),
+            Transform::from_xyz(x, 1.0, 1.0),
+        ));
+    }
+    commands.spawn((
+        Mesh3d(meshes.add(Cuboid::new(2.2, 0.3, 0.5))),
+        MeshMaterial3d(stone),
+        Transform::from_xyz(1.8, 2.15, 1.0),
+    ));
+    commands.spawn((
+        Mesh3d(meshes.add(Sphere::new(0.5).mesh().uv(32, 18))),
+        MeshMaterial3d(materials.add(matte(Color::srgb(0.3, 0.7, 0.4)))),
+        Transform::from_xyz(0.0, 0.5, 2.8),
+    ));
+    commands.spawn((
+        Mesh3d(meshes.add(Cuboid::new(0.8, 0.8, 0.8))),
+        MeshMaterial3d(materials.add(matte(Color::srgb(0.85, 0.2, 0.2)))),
+        Transform::from_xyz(0.0, 1.6, -0.2),
+        Moving,
+    ));
+    commands.spawn((
+        DirectionalLight {
+            illuminance: 3000.0,
+            shadow_maps_enabled: true,
+            ..default()
+        },
+        // A sun six times the real one's size, for soft shadows that read in a small window.
+        PenumbraLightSize(3.0_f32.to_radians()),
+        Transform::default().looking_to(Vec3::new(0.5, -1.0, -0.35), Vec3::Y),
+    ));
+    commands.spawn((
+        SpotLight {
+            intensity: 1_200_000.0,
+            radius: 0.25,
+            range: 30.0,
+            outer_angle: 0.6,
+            inner_angle: 0.45,
+            shadow_maps_enabled: true,
+            color: Color::srgb(1.0, 0.85, 0.6),
+            ..default()
+        },
+        Transform::from_xyz(-4.0, 5.0, 3.0).looking_at(Vec3::new(0.0, 0.0, 0.5), Vec3::Y),
+    ));
+    commands.spawn((
+        PointLight {
+            intensity: 600_000.0,
+            radius: 0.2,
+            range: 20.0,
+            shadow_maps_enabled: true,
+            color: Color::srgb(0.6, 0.75, 1.0),
+            ..default()
+        },
+        Transform::from_xyz(3.5, 3.2, -2.0),
+    ));
+}
+
+/// Holds the [`Moving`] box at the pose it has at this time (seconds), for pictures of
+/// several modes from one view.
+#[derive(Resource, Clone, Copy)]
+pub struct BoxPoseAt(pub f32);
+
+/// Moves and turns the [`Moving`] box with time.
+pub fn move_box(time: Res<Time>, at: Option<Res<BoxPoseAt>>, mut boxes: Query<&mut Transform, With<Moving>>) {
+    let t = at.map_or(time.elapsed_secs(), |at| at.0);
+    for mut transform in &mut boxes {
+        transform.translation.x = 1.2 * (0.8 * t).sin();
+        transform.rotation = Quat::from_rotation_y(0.5 * t);
+    }
+}
+
