@@ -736,6 +736,26 @@ impl Casters {
             .collect()
     }
 
+    /// As [`Casters::caster_bounds`], [`Casters::shadow_bounds`] and [`Casters::shadow_parts`],
+    /// over the instances whose world box `inside` keeps (what one light can see).
+    pub(crate) fn seen_by(&self, inside: impl Fn(&Aabb) -> bool) -> (Aabb, Aabb, Vec<Aabb>) {
+        let mut casters = Aabb::EMPTY;
+        let mut parts = Vec::new();
+        for r in self.records() {
+            if (r.instance.caster || r.instance.receiver)
+                && !r.world_bounds.is_empty()
+                && inside(&r.world_bounds)
+            {
+                if r.instance.caster {
+                    casters = casters.union(&r.world_bounds);
+                }
+                parts.push(r.world_bounds);
+            }
+        }
+        let all = parts.iter().fold(Aabb::EMPTY, |a, b| a.union(b));
+        (casters, all, parts)
+    }
+
     /// Triangles drawn per shadow-map pass.
     pub fn caster_triangle_count(&self) -> usize {
         self.records()

@@ -22,7 +22,7 @@ use crate::passes::{
     PackedVisibility, PcfPass, PcssPass, ResolvePass, ShadowMapPass, VISIBILITY_FORMAT, VariablePcfPass,
     screen_target,
 };
-use crate::scene::{Aabb, Light};
+use crate::scene::{Aabb, Light, PointLight, SpotLight};
 use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
 use crate::view::CameraMatrices;
 
@@ -336,6 +336,15 @@ impl Shadows {
     }
 
     /// Adds a shadowed light (validated). At most [`MAX_LIGHTS`].
+    ///
+    /// What each field of the [`Light`] means here, where penumbra computes visibility only:
+    /// - the position, direction and size (angular diameter, radius) set where the shadows
+    ///   fall and how soft they are;
+    /// - a spot's `cone_angle_deg` bounds its shadow map; its layer does *not* include the
+    ///   cone's falloff (the engine applies its own), and outside the cone it holds no
+    ///   shadow worth reading;
+    /// - `color` and `intensity` are not used: the visibility is unitless (1 lit, 0 in the
+    ///   umbra), and the engine multiplies it into its own light's direct term.
     pub fn add_light(&mut self, device: &wgpu::Device, light: Light) -> Result<LightId> {
         light.validate()?;
         let slot = match self.lights.iter().position(Option::is_none) {
@@ -472,13 +481,33 @@ impl Shadows {
             // Fit once to find the depth range (and so the widest penumbra), then fit the sides
             // to the casters widened by that penumbra.
             let loose = LightView::fit(&light, &shadow_bounds);
+            // A spot's or point light's maps depend only on what lies in its reach (within its
+            // size of its frustum): a caster moving elsewhere changes neither its fit nor its
+            // penumbra widths. A sun sees the whole scene.
+            let own;
+            let (shadow_bounds, caster_bounds, parts) = match light {
+                Light::Directional(_) => (shadow_bounds, caster_bounds, &parts[..]),
+                Light::Spot(SpotLight { radius, .. }) | Light::Point(PointLight { radius, .. }) => {
+                    own = casters.seen_by(|b| sees(&loose, b, radius));
+                    if own.1.is_empty() {
+                        (shadow_bounds, caster_bounds, &parts[..])
+                    } else {
+                        (own.1, own.0, &own.2[..])
+                    }
+                }
+            };
+            // Fitted again to what it sees, so that nothing outside changes it.
+            let loose = match light {
+                Light::Directional(_) => loose,
+                _ => LightView::fit(&light, &shadow_bounds),
+            };
             let spreads = spreads(&self.settings, &light, &loose, &shadow_bounds, &caster_bounds);
             let sm = &self.settings.shadow_map;
             let light_view = LightView::fit_with(&FitInputs {
                 light: &light,
                 casters: caster_bounds,
                 casters_and_receivers: shadow_bounds,
-                parts: &parts,
+                parts,
                 margin: spreads.fatten_distance * 2.0,
                 fit: sm.fit,
                 camera: Some(view.camera),
@@ -517,8 +546,11 @@ impl Shadows {
             };
             let margin = spreads.fatten_distance * 2.0;
             // The key holds the casters' id: other casters re-render too.
+            // A light that sees no caster has empty maps: only a caster coming into its reach
+            // (which changes its key) re-renders them.
             let render_maps = state.key != Some(key)
-                || casters.changed_inside(state.seen_revision, |b| sees(&light_view, b, margin));
+                || (!caster_bounds.is_empty()
+                    && casters.changed_inside(state.seen_revision, |b| sees(&light_view, b, margin)));
             if render_maps {
                 if let Some(m) = &mut state.shadow_map {
                     m.prepare(device, queue, casters, &light_view);

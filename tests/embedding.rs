@@ -679,6 +679,28 @@ fn a_lights_maps_are_re_rendered_exactly_when_a_caster_it_sees_changes() {
         "a new light re-rendered the others"
     );
     assert!(shadows.report(middle).unwrap().shadow_maps_rendered);
+    // The box rising under the left spot raises the casters' overall box (and so the widest
+    // penumbra the scene allows), but nothing the right spot sees: its maps stay.
+    place(&mut w, -3.1);
+    assert_eq!(
+        frame(&w, &mut shadows),
+        (true, true),
+        "left the right spot for the left one"
+    );
+    for y in [1.0, 1.6, 2.2, 2.8] {
+        w.casters
+            .set_transform(
+                queue,
+                w.box_instance,
+                Mat4::from_translation(Vec3::new(-3.1, y, 0.0)) * Mat4::from_scale(Vec3::splat(0.3)),
+            )
+            .unwrap();
+        assert_eq!(
+            frame(&w, &mut shadows),
+            (true, false),
+            "the box rose to {y} under the left spot"
+        );
+    }
 }
 
 #[test]

@@ -139,7 +139,11 @@ fn parse_args() -> Result<Args, String> {
                     .ok_or(format!("--frames {v}: expected a positive number"))?;
             }
             "--pictures" => args.pictures = Some(PathBuf::from(value()?)),
-            _ => return Err(format!("unknown argument `{arg}` (expected --size, --frames, --pictures)")),
+            _ => {
+                return Err(format!(
+                    "unknown argument `{arg}` (expected --size, --frames, --pictures)"
+                ));
+            }
         }
     }
     Ok(args)
@@ -194,10 +198,16 @@ fn main() {
         headless.app.world_mut().remove_resource::<common::BoxPoseAt>();
         if let Some(dir) = &args.pictures {
             let path = dir.join(format!("{}.png", mode.name.replace([' ', ','], "_")));
-            frame.save(&path).unwrap_or_else(|e| eprintln!("bench: cannot write {}: {e}", path.display()));
+            frame
+                .save(&path)
+                .unwrap_or_else(|e| eprintln!("bench: cannot write {}: {e}", path.display()));
         }
         frames.push(frame);
-        let messages = headless.app.world().resource::<penumbra_bevy::PenumbraDiagnostics>().messages();
+        let messages = headless
+            .app
+            .world()
+            .resource::<penumbra_bevy::PenumbraDiagnostics>()
+            .messages();
         if !messages.is_empty() {
             eprintln!("bench: the plugin reported {messages:?}");
         }
@@ -217,7 +227,8 @@ fn main() {
             image::imageops::replace(&mut side, *part, (i as u32 * w) as i64, 0);
         }
         let path = dir.join("side_by_side.png");
-        side.save(&path).unwrap_or_else(|e| eprintln!("bench: cannot write {}: {e}", path.display()));
+        side.save(&path)
+            .unwrap_or_else(|e| eprintln!("bench: cannot write {}: {e}", path.display()));
         println!("pictures in {}", dir.display());
     }
 }

@@ -472,20 +472,18 @@ fn a_spot_and_a_point_light_each_cast_their_own_shadow() {
     let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
     // The spot from the left puts the box's shadow right of the middle, the point light from
     // the right puts one left of it; each must be where Bevy puts it.
-    let lights = (
-        (
-            SpotLight {
-                intensity: 0.8e6,
-                radius: 0.3,
-                range: 40.0,
-                outer_angle: 0.7,
-                inner_angle: 0.6,
-                shadow_maps_enabled: true,
-                ..default()
-            },
-            Transform::from_xyz(-3.0, 6.0, 0.0).looking_at(Vec3::new(0.0, 2.0, 0.0), Vec3::Y),
-        ),
-    );
+    let lights = ((
+        SpotLight {
+            intensity: 0.8e6,
+            radius: 0.3,
+            range: 40.0,
+            outer_angle: 0.7,
+            inner_angle: 0.6,
+            shadow_maps_enabled: true,
+            ..default()
+        },
+        Transform::from_xyz(-3.0, 6.0, 0.0).looking_at(Vec3::new(0.0, 2.0, 0.0), Vec3::Y),
+    ),);
     let mut scene = box_above_plane(lights, false);
     scene.headless.app.world_mut().spawn((
         PointLight {
@@ -508,7 +506,13 @@ fn a_spot_and_a_point_light_each_cast_their_own_shadow() {
     let half = |dark: &[Option<f32>], right: bool| -> Vec<Option<f32>> {
         dark.iter()
             .enumerate()
-            .map(|(i, d)| if ((i as u32 % SIZE.x) >= SIZE.x / 2) == right { *d } else { None })
+            .map(|(i, d)| {
+                if ((i as u32 % SIZE.x) >= SIZE.x / 2) == right {
+                    *d
+                } else {
+                    None
+                }
+            })
             .collect()
     };
     for (side, right) in [("the spot's (right)", true), ("the point light's (left)", false)] {
@@ -516,7 +520,10 @@ fn a_spot_and_a_point_light_each_cast_their_own_shadow() {
         let (o_at, b_at) = (centroid(&o), centroid(&b));
         let (o_sum, b_sum): (f32, f32) = (o.iter().flatten().sum(), b.iter().flatten().sum());
         println!("{side} shadow: penumbra at {o_at} ({o_sum:.0}), Bevy at {b_at} ({b_sum:.0})");
-        assert!(o_at.distance(b_at) < 2.0, "{side} shadow: penumbra at {o_at}, Bevy at {b_at}");
+        assert!(
+            o_at.distance(b_at) < 2.0,
+            "{side} shadow: penumbra at {o_at}, Bevy at {b_at}"
+        );
         assert!(
             (o_sum / b_sum - 1.0).abs() < 0.25,
             "{side} shadow: penumbra's darkness sums to {o_sum}, Bevy's to {b_sum}"

@@ -4,6 +4,9 @@
 use glam::Vec3;
 
 /// A light that casts shadows. Its size sets how soft the shadows are.
+///
+/// `color` and `intensity` light the convenience renderer's frames; [`crate::Shadows`] (the
+/// embedding path) ignores them and returns a unitless visibility per light.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Light {

@@ -113,7 +113,11 @@ impl Headless {
     /// Runs one update and waits until the GPU has finished its work.
     pub fn frame(&mut self) {
         self.app.update();
-        let device = self.app.sub_app(bevy::render::RenderApp).world().resource::<bevy::render::renderer::RenderDevice>();
+        let device = self
+            .app
+            .sub_app(bevy::render::RenderApp)
+            .world()
+            .resource::<bevy::render::renderer::RenderDevice>();
         let _ = device.wgpu_device().poll(wgpu::PollType::Wait {
             submission_index: None,
             timeout: None,
@@ -247,4 +251,3 @@ pub fn move_box(time: Res<Time>, at: Option<Res<BoxPoseAt>>, mut boxes: Query<&m
         transform.rotation = Quat::from_rotation_y(0.5 * t);
     }
 }
-
