@@ -1316,3 +1316,100 @@ fn a_receiver_mask_keeps_shadow_off_the_pixels_it_excludes() {
         right_layer[on_right]
     );
 }
+
+#[test]
+fn the_visibility_goes_into_an_engines_texture_and_each_replacement_is_counted() {
+    let gpu = common::gpu();
+    let device = &gpu.device;
+    let w = world(&gpu);
+    let depth = DepthPass::new(device);
+    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+    let id = shadows.add_light(device, sun(30.0)).unwrap();
+    assert_eq!(shadows.visibility_generation(), 0, "before the first frame");
+    render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+    assert_eq!(
+        shadows.visibility_generation(),
+        1,
+        "the first frame makes the texture"
+    );
+    let own = read_layer(&gpu, &shadows, id.layer());
+    assert!(own.iter().any(|v| *v < 0.5), "the sun shadows nothing");
+    render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+    assert_eq!(
+        shadows.visibility_generation(),
+        1,
+        "a frame like the last keeps the texture"
+    );
+
+    let (width, height) = (depth.depth.width(), depth.depth.height());
+    let texture = |format, usage, size: (u32, u32), layers| {
+        device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("engine visibility"),
+            size: wgpu::Extent3d {
+                width: size.0,
+                height: size.1,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    };
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+        | wgpu::TextureUsages::TEXTURE_BINDING
+        | wgpu::TextureUsages::COPY_SRC;
+    let r16 = wgpu::TextureFormat::R16Float;
+    expect_input_error(
+        shadows.set_visibility_target(Some(texture(
+            wgpu::TextureFormat::Rgba8Unorm,
+            usage,
+            (width, height),
+            2,
+        ))),
+        "visibility target",
+        "R16Float",
+    );
+    expect_input_error(
+        shadows.set_visibility_target(Some(texture(
+            r16,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+            (width, height),
+            2,
+        ))),
+        "visibility target",
+        "RENDER_ATTACHMENT",
+    );
+    // A size other than the depth's is refused when a frame is prepared.
+    shadows
+        .set_visibility_target(Some(texture(r16, usage, (width / 2, height), 2)))
+        .unwrap();
+    expect_input_error(
+        shadows.prepare(
+            device,
+            &gpu.queue,
+            &w.casters,
+            &ViewInputs::new(top_camera(), &depth.depth),
+        ),
+        "visibility target",
+        &format!("the depth texture {width}x{height}"),
+    );
+
+    let target = texture(r16, usage, (width, height), 3);
+    shadows.set_visibility_target(Some(target.clone())).unwrap();
+    render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+    assert_eq!(
+        shadows.visibility_generation(),
+        2,
+        "the engine's texture replaced penumbra's"
+    );
+    assert_eq!(shadows.visibility_texture(), Some(&target));
+    let written = read_layer(&gpu, &shadows, id.layer());
+    assert_eq!(
+        differing_texels(&own, &written),
+        0,
+        "the engine's texture holds another visibility"
+    );
+}
