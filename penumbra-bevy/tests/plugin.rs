@@ -106,6 +106,36 @@ fn sun(angular_diameter_deg: f32) -> impl Bundle {
     )
 }
 
+/// A spot light of radius 0.3 at (`x`, 6, 0) aimed at the box's middle (0, 2, 0).
+fn spot(x: f32, intensity: f32) -> impl Bundle {
+    (
+        SpotLight {
+            intensity,
+            radius: 0.3,
+            range: 40.0,
+            outer_angle: 0.7,
+            inner_angle: 0.6,
+            shadow_maps_enabled: true,
+            ..default()
+        },
+        Transform::from_xyz(x, 6.0, 0.0).looking_at(Vec3::new(0.0, 2.0, 0.0), Vec3::Y),
+    )
+}
+
+/// A point light of radius 0.3 at (`x`, 6, 0).
+fn point(x: f32, intensity: f32) -> impl Bundle {
+    (
+        PointLight {
+            intensity,
+            radius: 0.3,
+            range: 40.0,
+            shadow_maps_enabled: true,
+            ..default()
+        },
+        Transform::from_xyz(x, 6.0, 0.0),
+    )
+}
+
 /// The plane's pixels (grey ones; the box is red) as luminance, `None` on the box.
 fn plane(image: &image::RgbaImage) -> Vec<Option<f32>> {
     image
@@ -362,35 +392,13 @@ fn a_moving_box_moves_its_shadow() {
 fn a_spot_lights_shadow_lies_where_bevys_does_even_from_a_wider_vertex_layout() {
     let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
     // From (-3, 6, 0) through the box's middle (0, 2, 0): the shadow's middle is near x = 1.5.
-    let spot = (
-        SpotLight {
-            intensity: 3.0e6,
-            radius: 0.3,
-            range: 40.0,
-            outer_angle: 0.7,
-            inner_angle: 0.6,
-            shadow_maps_enabled: true,
-            ..default()
-        },
-        Transform::from_xyz(-3.0, 6.0, 0.0).looking_at(Vec3::new(0.0, 2.0, 0.0), Vec3::Y),
-    );
-    shadow_like_bevys("spot", spot, true, 1.5);
+    shadow_like_bevys("spot", spot(-3.0, 3.0e6), true, 1.5);
 }
 
 #[test]
 fn a_point_lights_shadow_lies_where_bevys_does() {
     let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
-    let point = (
-        PointLight {
-            intensity: 3.0e6,
-            radius: 0.3,
-            range: 40.0,
-            shadow_maps_enabled: true,
-            ..default()
-        },
-        Transform::from_xyz(-3.0, 6.0, 0.0),
-    );
-    shadow_like_bevys("point", point, false, 1.5);
+    shadow_like_bevys("point", point(-3.0, 3.0e6), false, 1.5);
 }
 
 #[test]
@@ -472,29 +480,8 @@ fn a_spot_and_a_point_light_each_cast_their_own_shadow() {
     let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
     // The spot from the left puts the box's shadow right of the middle, the point light from
     // the right puts one left of it; each must be where Bevy puts it.
-    let lights = ((
-        SpotLight {
-            intensity: 0.8e6,
-            radius: 0.3,
-            range: 40.0,
-            outer_angle: 0.7,
-            inner_angle: 0.6,
-            shadow_maps_enabled: true,
-            ..default()
-        },
-        Transform::from_xyz(-3.0, 6.0, 0.0).looking_at(Vec3::new(0.0, 2.0, 0.0), Vec3::Y),
-    ),);
-    let mut scene = box_above_plane(lights, false);
-    scene.headless.app.world_mut().spawn((
-        PointLight {
-            intensity: 0.8e6,
-            radius: 0.3,
-            range: 40.0,
-            shadow_maps_enabled: true,
-            ..default()
-        },
-        Transform::from_xyz(3.0, 6.0, 0.0),
-    ));
+    let mut scene = box_above_plane(spot(-3.0, 0.8e6), false);
+    scene.headless.app.world_mut().spawn(point(3.0, 0.8e6));
     let ours = scene.headless.render(10);
     save("two_lights_penumbra.png", &ours);
     scene.set_penumbra(false);
