@@ -60,7 +60,7 @@ fn fattened_distance(p: vec3<f32>, texel: vec2<i32>, fattened_depth: f32) -> f32
     // Inside a shadow, the penumbra's inner half is shaped by where the occluder ends nearest
     // the receiver (a thick caster's near side): its back face, when one lies in front.
     let exit = textureLoad(exit_map, texel, 0).x;
-    if exit < p.z {
+    if exit < map_depth(p.z) {
         d = min(d, max(light_linear_depth(p.z) - light_linear_depth(exit), 0.0));
     }
     return d;
@@ -89,13 +89,13 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     let texel = fattened_texel(p);
     let fattened_depth = textureLoad(fattened_map, texel, 0).x;
     let tile = frame.cascades.tile[cascade];
-    let on_map = all(p.xy >= tile.xy) && all(p.xy <= tile.zw) && p.z <= 1.0;
-    let inside = on_map && fattened_depth < p.z;
+    let on_map = all(p.xy >= tile.xy) && all(p.xy <= tile.zw);
+    let inside = on_map && fattened_depth < map_depth(p.z);
     if !inside {
-        return classified(0.0, 0.0, select(0.0, 0.5 * BESIDE, !MASK_EARLY_OUT && p.z <= 1.0));
+        return classified(0.0, 0.0, select(0.0, 0.5 * BESIDE, !MASK_EARLY_OUT));
     }
     // Beside the shadow `fs_nearest_caster` takes the distance again.
-    let beside = NEAREST_CASTER && textureLoad(shadow_map, shadow_texel(p.xy), 0).x >= p.z;
+    let beside = NEAREST_CASTER && textureLoad(shadow_map, shadow_texel(p.xy), 0).x >= map_depth(p.z);
     return classified(fattened_distance(p, texel, fattened_depth), 1.0, select(0.5 * BESIDE, BESIDE, beside));
 }
 
@@ -168,7 +168,7 @@ fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
                 uv_world = uv_world_at_receiver * caster_depth / max(receiver_depth, 1e-20);
             }
             let angle = length(uv - p.xy) * uv_world / max(dt, 1e-20);
-            if z < p.z && dt > 2.0 * texel_world && angle < best_angle {
+            if z < map_depth(p.z) && dt > 2.0 * texel_world && angle < best_angle {
                 best_angle = angle;
                 best = dt;
             }

@@ -69,7 +69,9 @@ fn cascade_at(view_distance: f32) -> u32 {
     return k;
 }
 
-// 1 where the light reaches `world`, 0 where a caster blocks it; outside the shadow map, 1.
+// 1 where the light reaches `world`, 0 where a caster blocks it; beside the shadow map or in
+// front of its near plane, 1. Beyond its far plane `world` lies behind every caster the map
+// holds: compared as on the far plane, where an empty texel (1) leaves it lit.
 fn shadow_visibility(world: vec3<f32>, cascade: u32) -> f32 {
     let clip = frame.light_view_proj[cascade] * vec4<f32>(world, 1.0);
     let w = max(clip.w, 1e-20);
@@ -78,8 +80,8 @@ fn shadow_visibility(world: vec3<f32>, cascade: u32) -> f32 {
     // Inside the cascade's own tile of the atlas.
     let grid = max(frame.cascade_count.y, 1u);
     let tile = vec2<f32>(f32(cascade % grid), f32(cascade / grid)) / f32(grid);
-    let inside = clip.w > 0.0 && all(uv >= tile) && all(uv <= tile + 1.0 / f32(grid)) && ndc.z >= 0.0 && ndc.z <= 1.0;
-    let visibility = textureSampleCompareLevel(shadow_map, shadow_sampler, uv, ndc.z);
+    let inside = clip.w > 0.0 && all(uv >= tile) && all(uv <= tile + 1.0 / f32(grid)) && ndc.z >= 0.0;
+    let visibility = textureSampleCompareLevel(shadow_map, shadow_sampler, uv, min(ndc.z, 1.0));
     return select(1.0, visibility, inside);
 }
 

@@ -20,9 +20,6 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     }
     use_pixel_cascade(frag.xy, depth);
     let r = receiver(pixel, depth, frame.penumbra.normal_offset);
-    if r.p.z > 1.0 {
-        return vec4<f32>(1.0);
-    }
     let spacing = pcf.spread / frame.light.resolution;
     let angle = select(0.0, pixel_noise(frag.xy) * 6.2831853, ROTATE_TAPS);
     let to_uv = mat2x2<f32>(spacing, 0.0, 0.0, spacing);

@@ -35,9 +35,6 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let world = r.world;
     let p = r.p;
     let slope = r.slope;
-    if p.z > 1.0 {
-        return vec4<f32>(1.0);
-    }
     let world_size = shadow_map_world_size(world).x;
     let receiver = light_linear_depth(p.z);
     let angle = pixel_noise(frag.xy) * 6.2831853;
@@ -53,7 +50,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         let offset = vogel(k, blockers, angle) * search_uv;
         let texel = clamp(vec2<i32>(in_tile(p.xy + offset) * vec2<f32>(size)), vec2<i32>(0), size - 1);
         let occluder = textureLoad(shadow_depths, texel, 0).x;
-        if occluder < p.z + dot(slope, offset) - 1e-5 {
+        if occluder < map_depth(p.z + dot(slope, offset)) - 1e-5 {
             blocker_sum += occluder;
             blocker_count += 1.0;
         }
@@ -70,7 +67,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     var sum = 0.0;
     for (var k = 0; k < samples; k++) {
         let offset = filter_uv * vogel(k, samples, angle);
-        sum += textureSampleCompareLevel(shadow_map, shadow_sampler, in_tile(p.xy + offset), p.z + dot(slope, offset));
+        sum += textureSampleCompareLevel(shadow_map, shadow_sampler, in_tile(p.xy + offset), map_depth(p.z + dot(slope, offset)));
     }
     return vec4<f32>(sum / f32(samples));
 }

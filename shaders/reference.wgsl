@@ -123,8 +123,9 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Accumulated {
     // Inside the cascade's own tile of the atlas.
     let grid = max(sample.params.z, 1.0);
     let tile = vec2<f32>(f32(k % u32(grid)), f32(k / u32(grid))) / grid;
-    let inside = clip.w > 0.0 && all(uv >= tile) && all(uv <= tile + 1.0 / grid) && ndc.z >= 0.0 && ndc.z <= 1.0;
-    let visibility = select(1.0, textureSampleCompareLevel(shadow_map, shadow_sampler, uv, ndc.z), inside);
+    let inside = clip.w > 0.0 && all(uv >= tile) && all(uv <= tile + 1.0 / grid) && ndc.z >= 0.0;
+    // Beyond the far plane: behind every caster in the map (compared as on the far plane).
+    let visibility = select(1.0, textureSampleCompareLevel(shadow_map, shadow_sampler, uv, min(ndc.z, 1.0)), inside);
     let total = weight_before + weight;
     out.mean = vec4<f32>(select(before, before + (visibility - before) * (weight / total), total > 0.0));
     out.weight = vec4<f32>(total);

@@ -66,9 +66,6 @@ fn pcf_at(frag: vec2<f32>) -> Out {
     let d = textureLoad(distance_map, pixel, 0).x;
     let world = world_position(frag, depth);
     let r = receiver(pixel, depth, frame.penumbra.normal_offset);
-    if r.p.z > 1.0 {
-        return unblurred(1.0);
-    }
     var side = i32(pcf.taps_per_side);
     let map_world = shadow_map_world_size(world).x;
     let texel_world = map_world / frame.light.resolution;

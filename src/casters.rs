@@ -195,8 +195,11 @@ pub struct CasterInstance {
     pub transform: Mat4,
     /// Drawn into the shadow maps.
     pub caster: bool,
-    /// Its surfaces take shadows (counts for fitting the lights' maps; the receiver mask of a
-    /// frame says which pixels do).
+    /// Its surfaces take shadows: counted when fitting the lights' maps (the receiver mask of
+    /// a frame says which pixels take shadows). Registering receivers is optional: a surface
+    /// the engine draws into the depth buffer but never registers (a floor, terrain) still
+    /// gets every registered caster's shadow, whatever its distance beyond them, since a
+    /// receiver beyond a map's far plane is treated as behind every caster in it.
     pub receiver: bool,
 }
 

@@ -306,12 +306,24 @@ fn render_on_box_and_floor(
     shadows: &mut Shadows,
     receiver_mask: Option<&wgpu::Texture>,
 ) -> Vec<penumbra::LightReport> {
+    render_seen_by(gpu, w, depth, shadows, receiver_mask, top_camera())
+}
+
+/// As [`render_on_box_and_floor`], seen by `camera` (standard depth).
+fn render_seen_by(
+    gpu: &penumbra::HeadlessGpu,
+    w: &World,
+    depth: &DepthPass,
+    shadows: &mut Shadows,
+    receiver_mask: Option<&wgpu::Texture>,
+    camera: CameraMatrices,
+) -> Vec<penumbra::LightReport> {
     let (device, queue) = (&gpu.device, &gpu.queue);
     let mut encoder = device.create_command_encoder(&Default::default());
     depth.draw(
         device,
         &mut encoder,
-        top_camera().view_projection(),
+        camera.view_projection(),
         &[
             (&w.box_mesh, Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0))),
             (&w.floor_mesh, Mat4::IDENTITY),
@@ -319,7 +331,7 @@ fn render_on_box_and_floor(
     );
     let view = ViewInputs {
         receiver_mask,
-        ..ViewInputs::new(top_camera(), &depth.depth)
+        ..ViewInputs::new(camera, &depth.depth)
     };
     let reports = shadows
         .render(device, queue, &mut encoder, &w.casters, &view)
@@ -329,6 +341,11 @@ fn render_on_box_and_floor(
 }
 
 fn world(gpu: &penumbra::HeadlessGpu) -> World {
+    world_with(gpu, true)
+}
+
+/// The box and the floor, the floor registered as a receiver or left to the depth buffer alone.
+fn world_with(gpu: &penumbra::HeadlessGpu, register_floor: bool) -> World {
     let (device, queue) = (&gpu.device, &gpu.queue);
     let box_mesh = RawMesh::new(
         device,
@@ -350,18 +367,20 @@ fn world(gpu: &penumbra::HeadlessGpu) -> World {
             },
         )
         .unwrap();
-    casters
-        .add_instance(
-            device,
-            queue,
-            CasterInstance {
-                mesh: floor_id,
-                transform: Mat4::IDENTITY,
-                caster: false,
-                receiver: true,
-            },
-        )
-        .unwrap();
+    if register_floor {
+        casters
+            .add_instance(
+                device,
+                queue,
+                CasterInstance {
+                    mesh: floor_id,
+                    transform: Mat4::IDENTITY,
+                    caster: false,
+                    receiver: true,
+                },
+            )
+            .unwrap();
+    }
     World {
         box_mesh,
         floor_mesh,
@@ -1265,6 +1284,75 @@ fn many_instances_of_a_half_float_mesh_with_16_bit_indices_all_cast() {
     assert!(under(centres[0]) > 0.9, "the removed box still casts");
     // Between the boxes the floor is lit.
     assert!(under(Vec3::new(-2.4, 0.0, -2.4)) > 0.9);
+}
+
+/// A receiver the engine draws but does not register (the floor) gets the whole shadow: the
+/// light's map is fitted to the registered box alone, so most of the box's shadow on the floor
+/// lies beyond the map's far plane, where every caster in the map is in front of it.
+#[test]
+fn a_receiver_that_is_not_registered_still_gets_the_whole_shadow() {
+    let gpu = common::gpu();
+    let device = &gpu.device;
+    let depth = DepthPass::new(device);
+    let lights = [
+        ("sun", sun(30.0)),
+        ("spot", spot_over_the_box()),
+        ("point", point_beside_the_box()),
+    ];
+    let darkness = |layer: &[f32]| {
+        let shadowed = layer.iter().filter(|v| **v < 0.5).count();
+        let sum: f32 = layer.iter().map(|v| 1.0 - v.clamp(0.0, 1.0)).sum();
+        (shadowed, sum)
+    };
+    // From above (one map per light), and in perspective from the side (the sun in cascades).
+    let side_camera = CameraMatrices {
+        view: glam::camera::rh::view::look_at_mat4(
+            Vec3::new(0.0, 5.0, 7.0),
+            Vec3::new(0.0, 0.0, -1.0),
+            Vec3::Y,
+        ),
+        projection: glam::camera::rh::proj::directx::perspective(60f32.to_radians(), 1.0, 0.1, 40.0),
+        depth: DepthConvention::Standard,
+    };
+    let cameras = [("from above", top_camera()), ("in perspective", side_camera)];
+    let mut measured = Vec::new();
+    for (_, camera) in cameras {
+        for register_floor in [true, false] {
+            let w = world_with(&gpu, register_floor);
+            let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+            let ids: Vec<_> = lights
+                .iter()
+                .map(|(_, l)| shadows.add_light(device, *l).unwrap())
+                .collect();
+            render_seen_by(&gpu, &w, &depth, &mut shadows, None, camera);
+            measured.push(
+                ids.iter()
+                    .map(|id| darkness(&read_layer(&gpu, &shadows, id.layer())))
+                    .collect::<Vec<_>>(),
+            );
+        }
+    }
+    for (c, (view, _)) in cameras.iter().enumerate() {
+        for (k, (light, _)) in lights.iter().enumerate() {
+            let name = format!("{light} {view}");
+            let (registered, alone) = (measured[2 * c][k], measured[2 * c + 1][k]);
+            println!(
+                "{name}: shadowed pixels {} registered, {} unregistered; darkness {:.0} and {:.0}",
+                registered.0, alone.0, registered.1, alone.1
+            );
+            assert!(
+                registered.0 > 500,
+                "{name}: the registered floor's shadow is too small to judge: {}",
+                registered.0
+            );
+            let count_ratio = alone.0 as f32 / registered.0 as f32;
+            let darkness_ratio = alone.1 / registered.1;
+            assert!(
+                (count_ratio - 1.0).abs() < 0.03 && (darkness_ratio - 1.0).abs() < 0.05,
+                "{name}: an unregistered floor got {count_ratio:.3}x the shadowed pixels and {darkness_ratio:.3}x the darkness"
+            );
+        }
+    }
 }
 
 #[test]

@@ -166,6 +166,14 @@ fn to_shadow_map(world: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(ndc.xy * vec2<f32>(0.5, -0.5) + vec2<f32>(0.5), ndc.z);
 }
 
+// A shadow-map depth `z` as compared with the map: a receiver beyond the far plane (z > 1) lies
+// behind every caster the map holds, and is compared as if on the far plane, where an empty
+// texel (cleared to 1) does not shadow it. The fit need not enclose every receiver: one the
+// engine draws but did not register keeps its shadow, and its true depth its distances.
+fn map_depth(z: f32) -> f32 {
+    return min(z, 1.0);
+}
+
 // Distance along the light from its near plane, world units, for a shadow-map depth.
 fn light_linear_depth(z: f32) -> f32 {
     let near = frame.light.near;

@@ -23,7 +23,7 @@ fn pcf_taps(p: vec3<f32>, slope: vec2<f32>, to_uv: mat2x2<f32>, side: i32, angle
     for (var j = 0; j < side; j++) {
         for (var i = 0; i < side; i++) {
             let offset = to_uv * (rotation * vec2<f32>(f32(i) - center, f32(j) - center));
-            let reference = p.z + dot(slope, offset);
+            let reference = map_depth(p.z + dot(slope, offset));
             sum += textureSampleCompareLevel(shadow_map, shadow_sampler, in_tile(p.xy + offset), reference);
         }
     }
