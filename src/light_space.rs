@@ -174,6 +174,61 @@ impl LightView {
         self
     }
 
+    /// Whether a caster inside box `b` can shadow what cascade `index` serves: the pixels of
+    /// `camera` at the view distances that use the cascade (from the previous cascade's blend
+    /// band to this one's end). In the light's view the caster's shadow is the box swept along
+    /// the light, `margin` world units wider (its penumbra) plus the farthest the filters look
+    /// (64 of the cascade's texels); it misses the cascade's slice of the camera's frustum
+    /// when their sides do not overlap or the whole slice lies before the box along the light.
+    /// True for a map that is not cut into cascades, and for the last cascade of a camera with
+    /// no far plane (its pixels reach any distance).
+    pub fn cascade_may_see_shadow_of(
+        &self,
+        index: usize,
+        camera: &CameraMatrices,
+        b: &Aabb,
+        margin: f32,
+    ) -> bool {
+        let cascades = self.cascades();
+        if b.is_empty() {
+            return false;
+        }
+        if self.kind != ProjectionKind::Orthographic || cascades.len() < 2 || index >= cascades.len() {
+            return true;
+        }
+        let cascade = &cascades[index];
+        let (camera_near, camera_far) = camera.distance_range(0.0, f32::INFINITY);
+        let start = if index == 0 {
+            camera_near
+        } else {
+            cascades[index - 1].blend_start.max(camera_near)
+        };
+        let end = if cascade.end == f32::MAX {
+            camera_far
+        } else {
+            cascade.end
+        };
+        if !end.is_finite() {
+            return true;
+        }
+        let slice = Aabb::from_points(
+            camera
+                .frustum_slice(start, end.max(start))
+                .iter()
+                .map(|c| cascade.view.transform_point3(*c))
+                .collect::<Vec<_>>()
+                .iter(),
+        );
+        let reach = margin.max(0.0) + cascade.extent.max_element() * 64.0 / self.tile.max(1) as f32;
+        let caster = b.transformed(&cascade.view);
+        let sides_overlap = (caster.min.truncate() - reach).cmple(slice.max.truncate()).all()
+            && (caster.max.truncate() + reach).cmpge(slice.min.truncate()).all();
+        // The light looks along -z: depth along it is -z, and the shadow lies beyond the caster.
+        let caster_nearest = -caster.max.z;
+        let slice_farthest = -slice.min.z;
+        sides_overlap && slice_farthest >= caster_nearest - reach
+    }
+
     /// The matrices the maps are drawn with: the whole window's and each cascade's.
     pub fn map_matrices(&self) -> [Mat4; MAX_TILES + 1] {
         let mut out = [Mat4::ZERO; MAX_TILES + 1];

@@ -80,8 +80,10 @@ pub const FORWARD: &str = wgsl!(
     "forward.wgsl"
 );
 
+pub const TILE_CLEAR: &str = wgsl!("tile_clear.wgsl");
+
 /// Every pass's composed source, by the name of its file in `shaders/`.
-pub const ALL: [(&str, &str); 13] = [
+pub const ALL: [(&str, &str); 14] = [
     ("shadow_map", SHADOW_MAP),
     ("fattened_shadow_map", FATTENED_SHADOW_MAP),
     ("exit_map", EXIT_MAP),
@@ -95,6 +97,7 @@ pub const ALL: [(&str, &str); 13] = [
     ("composite", COMPOSITE),
     ("reference", REFERENCE),
     ("forward", FORWARD),
+    ("tile_clear", TILE_CLEAR),
 ];
 
 /// A shader module from one of the sources above.

@@ -158,6 +158,10 @@ pub struct LightReport {
     pub chain: Chain,
     /// False when the shadow map and fattened map were reused from an earlier frame.
     pub shadow_maps_rendered: bool,
+    /// Which tiles of the maps were redrawn, one bit per cascade or cube face (bit 0 the
+    /// nearest cascade, or the first face); the others kept what an earlier frame drew. 0 when
+    /// nothing was redrawn.
+    pub tiles_rendered: u32,
     pub spreads: DerivedSpreads,
     pub light_view: LightView,
 }
@@ -196,6 +200,8 @@ struct Planned {
     chain: Chain,
     key: ShadowKey,
     render_maps: bool,
+    /// The map tiles (cascades, cube faces) redrawn, one bit each.
+    tiles: u32,
     spreads: DerivedSpreads,
     light_view: LightView,
 }
@@ -545,21 +551,28 @@ impl Shadows {
                 fatten_distance: chain.fattened_map.then_some(spreads.fatten_distance),
             };
             let margin = spreads.fatten_distance * 2.0;
-            // The key holds the casters' id: other casters re-render too.
-            // A light that sees no caster has empty maps: only a caster coming into its reach
-            // (which changes its key) re-renders them.
-            let render_maps = state.key != Some(key)
-                || (!caster_bounds.is_empty()
-                    && casters.changed_inside(state.seen_revision, |b| sees(&light_view, b, margin)));
+            let tiles = redrawn_tiles(
+                state,
+                &key,
+                &light_view,
+                &view.camera,
+                casters,
+                !caster_bounds.is_empty(),
+                margin,
+            );
+            let render_maps = tiles != 0;
             if render_maps {
                 if let Some(m) = &mut state.shadow_map {
                     m.prepare(device, queue, casters, &light_view);
+                    m.redraw_only(tiles);
                 }
                 if let Some(f) = &mut state.fattened {
                     f.prepare(device, queue, casters, &light_view, spreads.fatten_distance);
+                    f.redraw_only(tiles);
                 }
                 if let Some(e) = &mut state.exit {
                     e.prepare(device, queue, casters, &light_view);
+                    e.redraw_only(tiles);
                 }
             }
             if let Some(p) = &state.pcf {
@@ -578,6 +591,7 @@ impl Shadows {
                 chain,
                 key,
                 render_maps,
+                tiles,
                 spreads,
                 light_view,
             });
@@ -806,6 +820,7 @@ impl Shadows {
                 light: LightId(slot as u32),
                 chain,
                 shadow_maps_rendered: plan.render_maps,
+                tiles_rendered: plan.tiles,
                 spreads: plan.spreads,
                 light_view: plan.light_view,
             };
@@ -1226,6 +1241,54 @@ pub(crate) fn spreads(
 }
 
 /// True unless `b` (grown by `margin`) lies wholly outside one side of the light's frustum.
+/// The tiles of a light's maps (cascades, cube faces) to redraw this frame, one bit each: all
+/// of them when the maps were never drawn or anything but the cascades' windows changed (the
+/// casters' set, the light, the settings, the fatten distance); otherwise each tile whose window
+/// moved, and each tile a changed caster's box reaches where its shadow can fall on the pixels
+/// the tile serves (`any_caster`: the light sees a caster; one that sees none has empty maps,
+/// and only a caster coming into its reach, which changes its key, redraws them).
+fn redrawn_tiles(
+    state: &LightState,
+    key: &ShadowKey,
+    light_view: &LightView,
+    camera: &CameraMatrices,
+    casters: &Casters,
+    any_caster: bool,
+    margin: f32,
+) -> u32 {
+    let cascades = light_view.cascades();
+    let all = (1u32 << cascades.len()) - 1;
+    let Some(old) = &state.key else { return all };
+    let same_but_windows = old.casters == key.casters
+        && old.light == key.light
+        && old.shadow_map == key.shadow_map
+        && old.fatten_distance == key.fatten_distance;
+    if !same_but_windows {
+        eprintln!(
+            "DEBUG key: casters {} light {} sm {} fatten {:?} {:?}",
+            old.casters == key.casters,
+            old.light == key.light,
+            old.shadow_map == key.shadow_map,
+            old.fatten_distance,
+            key.fatten_distance
+        );
+        return all;
+    }
+    let mut tiles = 0;
+    for (i, cascade) in cascades.iter().enumerate() {
+        let moved = old.light_view[i + 1] != key.light_view[i + 1];
+        let touched = any_caster
+            && casters.changed_inside(state.seen_revision, |b| {
+                crate::light_space::box_reaches_clip(&cascade.view_projection, b, margin)
+                    && light_view.cascade_may_see_shadow_of(i, camera, b, margin)
+            });
+        if moved || touched {
+            tiles |= 1 << i;
+        }
+    }
+    tiles
+}
+
 fn sees(light_view: &LightView, b: &Aabb, margin: f32) -> bool {
     if b.is_empty() {
         return false;

@@ -247,6 +247,20 @@ fn top_camera() -> CameraMatrices {
     }
 }
 
+/// A perspective camera (standard depth) looking down at the floor from its +z side: a sun's
+/// map is cut into cascades along its view.
+fn side_camera() -> CameraMatrices {
+    CameraMatrices {
+        view: glam::camera::rh::view::look_at_mat4(
+            Vec3::new(0.0, 5.0, 7.0),
+            Vec3::new(0.0, 0.0, -1.0),
+            Vec3::Y,
+        ),
+        projection: glam::camera::rh::proj::directx::perspective(60f32.to_radians(), 1.0, 0.1, 40.0),
+        depth: DepthConvention::Standard,
+    }
+}
+
 /// The pixel of world point `p` under the top camera.
 fn top_pixel(p: Vec3) -> usize {
     let camera = top_camera();
@@ -1286,6 +1300,112 @@ fn many_instances_of_a_half_float_mesh_with_16_bit_indices_all_cast() {
     assert!(under(Vec3::new(-2.4, 0.0, -2.4)) > 0.9);
 }
 
+/// A sun in four cascades over a perspective view of a wide floor with boxes spread over it:
+/// moving a box near the camera redraws only the cascades it reaches, and what the kept
+/// cascades hold gives the same visibility as maps drawn whole by a fresh `Shadows`.
+#[test]
+fn a_caster_moving_in_one_cascade_redraws_only_the_cascades_it_reaches() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let depth = DepthPass::new(device);
+    let box_mesh = RawMesh::new(
+        device,
+        &penumbra::scene::primitives::cuboid(Vec3::new(1.0, 2.0, 1.0)),
+    );
+    let floor_mesh = RawMesh::new(device, &penumbra::scene::primitives::plane(60.0, 1.0));
+    let mut casters = Casters::new(device);
+    let box_id = casters.add_mesh(device, queue, &box_mesh.desc()).unwrap();
+    let floor_id = casters.add_mesh(device, queue, &floor_mesh.desc()).unwrap();
+    let mut place = |transform: Mat4, caster: bool| {
+        casters
+            .add_instance(
+                device,
+                queue,
+                CasterInstance {
+                    mesh: if caster { box_id } else { floor_id },
+                    transform,
+                    caster,
+                    receiver: true,
+                },
+            )
+            .unwrap()
+    };
+    place(Mat4::IDENTITY, false);
+    // Boxes that set the casters' extent, far and to the sides, and one near the camera.
+    let spread = [
+        Vec3::new(-12.0, 1.0, -20.0),
+        Vec3::new(12.0, 1.0, -20.0),
+        Vec3::new(-8.0, 1.0, 4.0),
+        Vec3::new(8.0, 1.0, 4.0),
+    ];
+    let mut draws: Vec<Mat4> = spread.iter().map(|p| Mat4::from_translation(*p)).collect();
+    for d in &draws {
+        place(*d, true);
+    }
+    let near_box =
+        |x: f32| Mat4::from_translation(Vec3::new(x, 0.25, 4.0)) * Mat4::from_scale(Vec3::splat(0.25));
+    let near = place(near_box(0.0), true);
+    draws.push(near_box(0.0));
+    let camera = CameraMatrices {
+        view: glam::camera::rh::view::look_at_mat4(
+            Vec3::new(0.0, 3.0, 8.0),
+            Vec3::new(0.0, 0.0, -6.0),
+            Vec3::Y,
+        ),
+        projection: glam::camera::rh::proj::directx::perspective(60f32.to_radians(), 1.0, 0.1, 100.0),
+        depth: DepthConvention::Standard,
+    };
+    let frame = |casters: &Casters, shadows: &mut Shadows, draws: &[Mat4]| -> (u32, Vec<f32>) {
+        let mut encoder = device.create_command_encoder(&Default::default());
+        let mut meshes: Vec<(&RawMesh, Mat4)> = draws.iter().map(|d| (&box_mesh, *d)).collect();
+        meshes.push((&floor_mesh, Mat4::IDENTITY));
+        depth.draw(device, &mut encoder, camera.view_projection(), &meshes);
+        let reports = shadows
+            .render(
+                device,
+                queue,
+                &mut encoder,
+                casters,
+                &ViewInputs::new(camera, &depth.depth),
+            )
+            .unwrap();
+        queue.submit([encoder.finish()]);
+        (reports[0].tiles_rendered, read_layer(&gpu, shadows, 0))
+    };
+    let light = sun(200.0);
+    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+    shadows.add_light(device, light).unwrap();
+    assert_eq!(
+        frame(&casters, &mut shadows, &draws).0,
+        0b1111,
+        "the first frame draws all four cascades"
+    );
+    assert_eq!(frame(&casters, &mut shadows, &draws).0, 0, "nothing changed");
+    casters.set_transform(queue, near, near_box(0.2)).unwrap();
+    *draws.last_mut().unwrap() = near_box(0.2);
+    let (moved, kept) = frame(&casters, &mut shadows, &draws);
+    println!("cascades redrawn after the near box moved: {moved:04b}");
+    assert!(moved != 0 && moved != 0b1111, "redrawn: {moved:04b}");
+    assert_eq!(
+        moved & 0b1000,
+        0,
+        "the farthest cascade does not reach the near box: {moved:04b}"
+    );
+    let mut fresh = Shadows::new(device, ShadowSettings::default()).unwrap();
+    fresh.add_light(device, light).unwrap();
+    let (all, whole) = frame(&casters, &mut fresh, &draws);
+    assert_eq!(all, 0b1111);
+    let differing = kept
+        .iter()
+        .zip(&whole)
+        .filter(|(a, b)| (*a - *b).abs() > 1e-3)
+        .count();
+    let shadowed = whole.iter().filter(|v| **v < 0.5).count();
+    println!("{differing} pixels differ from maps drawn whole; {shadowed} shadowed");
+    assert!(shadowed > 200, "too little shadow to judge: {shadowed}");
+    assert_eq!(differing, 0, "kept cascades changed the visibility");
+}
+
 /// A receiver the engine draws but does not register (the floor) gets the whole shadow: the
 /// light's map is fitted to the registered box alone, so most of the box's shadow on the floor
 /// lies beyond the map's far plane, where every caster in the map is in front of it.
@@ -1305,16 +1425,7 @@ fn a_receiver_that_is_not_registered_still_gets_the_whole_shadow() {
         (shadowed, sum)
     };
     // From above (one map per light), and in perspective from the side (the sun in cascades).
-    let side_camera = CameraMatrices {
-        view: glam::camera::rh::view::look_at_mat4(
-            Vec3::new(0.0, 5.0, 7.0),
-            Vec3::new(0.0, 0.0, -1.0),
-            Vec3::Y,
-        ),
-        projection: glam::camera::rh::proj::directx::perspective(60f32.to_radians(), 1.0, 0.1, 40.0),
-        depth: DepthConvention::Standard,
-    };
-    let cameras = [("from above", top_camera()), ("in perspective", side_camera)];
+    let cameras = [("from above", top_camera()), ("in perspective", side_camera())];
     let mut measured = Vec::new();
     for (_, camera) in cameras {
         for register_floor in [true, false] {

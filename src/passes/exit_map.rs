@@ -11,7 +11,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::shadow_map::{begin_depth_pass, depth_state, light_depth_target, support_map_resolution};
-use super::{CascadeUniforms, CasterPipelines, SecondStream};
+use super::{CascadeUniforms, CasterPipelines, SecondStream, TileClear};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
 use crate::light_space::LightView;
@@ -32,6 +32,7 @@ pub struct ExitMapPass {
     grid: u32,
     cascades: u32,
     pipelines: CasterPipelines,
+    clear: TileClear,
 }
 
 impl ExitMapPass {
@@ -76,6 +77,7 @@ impl ExitMapPass {
             grid: grid.max(1),
             cascades: 1,
             pipelines,
+            clear: TileClear::new(device, settings.depth_format.texture_format(), None),
         }
     }
 
@@ -110,12 +112,20 @@ impl ExitMapPass {
         self.cascades = light.cascades().len() as u32;
     }
 
+    /// The next [`Self::encode`] redraws only the tiles whose bit is set (see
+    /// [`super::ShadowMapPass::redraw_only`]).
+    pub(crate) fn redraw_only(&mut self, tiles: u32) {
+        self.uniform.redraw_only(tiles);
+    }
+
     /// Records the pass: every caster's back faces ([`Self::prepare`] first).
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
-        let mut pass = begin_depth_pass(encoder, "ExitMapPass", &self.view);
+        let keep = self.uniform.keeps_tiles(self.cascades);
+        let mut pass = begin_depth_pass(encoder, "ExitMapPass", &self.view, keep);
         let tiles = (self.texture.width(), self.grid, self.cascades);
-        self.uniform.draw_tiles(&mut pass, tiles, |pass, cull| {
-            casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));
-        });
+        self.uniform
+            .draw_tiles(&mut pass, tiles, &self.clear, |pass, cull| {
+                casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));
+            });
     }
 }

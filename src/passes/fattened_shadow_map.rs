@@ -14,7 +14,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::shadow_map::{depth_pass_descriptor, depth_state, light_depth_target, support_map_resolution};
-use super::{CascadeUniforms, CasterPipelines, SecondStream, cleared};
+use super::{CascadeUniforms, CasterPipelines, SecondStream, TileClear, cleared, kept};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
 use crate::light_space::LightView;
@@ -39,6 +39,7 @@ pub struct FattenedShadowMapPass {
     grid: u32,
     cascades: u32,
     pipelines: CasterPipelines,
+    clear: TileClear,
 }
 
 impl FattenedShadowMapPass {
@@ -101,6 +102,11 @@ impl FattenedShadowMapPass {
             grid: grid.max(1),
             cascades: 1,
             pipelines,
+            clear: TileClear::new(
+                device,
+                settings.depth_format.texture_format(),
+                Some(Self::OFFSET_FORMAT),
+            ),
         }
     }
 
@@ -151,16 +157,29 @@ impl FattenedShadowMapPass {
         self.cascades = light.cascades().len() as u32;
     }
 
+    /// The next [`Self::encode`] redraws only the tiles whose bit is set (see
+    /// [`super::ShadowMapPass::redraw_only`]).
+    pub(crate) fn redraw_only(&mut self, tiles: u32) {
+        self.uniform.redraw_only(tiles);
+    }
+
     /// Records the pass: every caster, inflated ([`Self::prepare`] first).
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
+        let keep = self.uniform.keeps_tiles(self.cascades);
+        let offset = &self.occluder_offset.1;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("FattenedShadowMapPass"),
-            color_attachments: &[cleared(&self.occluder_offset.1, wgpu::Color::TRANSPARENT)],
-            ..depth_pass_descriptor(&self.view)
+            color_attachments: &[if keep {
+                kept(offset)
+            } else {
+                cleared(offset, wgpu::Color::TRANSPARENT)
+            }],
+            ..depth_pass_descriptor(&self.view, keep)
         });
         let tiles = (self.texture.width(), self.grid, self.cascades);
-        self.uniform.draw_tiles(&mut pass, tiles, |pass, cull| {
-            casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));
-        });
+        self.uniform
+            .draw_tiles(&mut pass, tiles, &self.clear, |pass, cull| {
+                casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));
+            });
     }
 }

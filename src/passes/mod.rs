@@ -32,6 +32,7 @@ mod pcss;
 mod reference;
 mod resolve;
 mod shadow_map;
+mod tile_clear;
 mod variable_pcf;
 
 #[cfg(test)]
@@ -53,6 +54,7 @@ pub use pcss::PcssPass;
 pub use reference::ReferencePass;
 pub use resolve::ResolvePass;
 pub use shadow_map::ShadowMapPass;
+pub(crate) use tile_clear::TileClear;
 pub use variable_pcf::VariablePcfPass;
 
 /// Vertex buffer layout of one tightly packed attribute stream.
@@ -354,6 +356,8 @@ pub(crate) struct CascadeUniforms {
     stride: u64,
     /// Per tile, the casters it draws ([`CascadeUniforms::cull_to`]).
     cull: Vec<crate::casters::Cull>,
+    /// The tiles the next draw redraws, one bit each ([`CascadeUniforms::redraw_only`]).
+    redraw: u32,
 }
 
 impl CascadeUniforms {
@@ -388,6 +392,7 @@ impl CascadeUniforms {
             group,
             stride,
             cull: Vec::new(),
+            redraw: u32::MAX,
         }
     }
 
@@ -396,6 +401,7 @@ impl CascadeUniforms {
     /// out). A cascade near the camera or one face of a point light's cube sees a part of the
     /// scene; every tile drew every caster before.
     pub fn cull_to(&mut self, light: &crate::light_space::LightView, margin: f32) {
+        self.redraw = u32::MAX;
         self.cull = light
             .cascades()
             .iter()
@@ -411,17 +417,39 @@ impl CascadeUniforms {
         queue.write_buffer(&self.buffer, self.stride * index as u64, bytes);
     }
 
-    /// For each of `count` cascades: the viewport of its tile in an atlas `side` texels wide
-    /// with `grid` tiles a side, its uniform at `group` index 0, then `draw`.
+    /// From now on only the tiles whose bit is set in `tiles` are redrawn; the others keep
+    /// what the map holds (until the next [`CascadeUniforms::cull_to`], which redraws all).
+    pub fn redraw_only(&mut self, tiles: u32) {
+        self.redraw = tiles;
+    }
+
+    /// Whether a draw of `count` tiles keeps some of them: the pass must then load the map
+    /// rather than clear it, and each redrawn tile is cleared on its own.
+    pub fn keeps_tiles(&self, count: u32) -> bool {
+        let all = (1u32 << count.clamp(1, 31)) - 1;
+        self.redraw & all != all
+    }
+
+    /// For each of `count` cascades to redraw: the viewport of its tile in an atlas `side`
+    /// texels wide with `grid` tiles a side, the tile cleared by `clear` when others are kept,
+    /// its uniform at `group` index 0, then `draw`.
     pub fn draw_tiles(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         (side, grid, count): (u32, u32, u32),
+        clear: &TileClear,
         mut draw: impl FnMut(&mut wgpu::RenderPass<'_>, crate::casters::Cull),
     ) {
+        let keeps = self.keeps_tiles(count);
         for index in 0..count.max(1) {
+            if self.redraw & (1 << index) == 0 {
+                continue;
+            }
             let [x, y, w, h] = crate::light_space::tile_viewport(grid, index, side);
             pass.set_viewport(x as f32, y as f32, w as f32, h as f32, 0.0, 1.0);
+            if keeps {
+                clear.draw(pass);
+            }
             pass.set_bind_group(0, &self.group, &[(self.stride * u64::from(index)) as u32]);
             let cull = self.cull.get(index as usize).copied();
             draw(pass, cull.unwrap_or(crate::casters::Cull::None));

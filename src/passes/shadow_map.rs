@@ -9,7 +9,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{CascadeUniforms, CasterPipelines, SecondStream};
+use super::{CascadeUniforms, CasterPipelines, SecondStream, TileClear};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
 use crate::light_space::LightView;
@@ -30,6 +30,7 @@ pub struct ShadowMapPass {
     cascades: u32,
     opaque: CasterPipelines,
     masked: CasterPipelines,
+    clear: TileClear,
 }
 
 impl ShadowMapPass {
@@ -91,6 +92,7 @@ impl ShadowMapPass {
             cascades: 1,
             opaque,
             masked,
+            clear: TileClear::new(device, settings.depth_format.texture_format(), None),
         }
     }
 
@@ -138,14 +140,23 @@ impl ShadowMapPass {
         self.cascades = light.cascades().len() as u32;
     }
 
-    /// Records the pass: clears the map and draws every caster ([`Self::prepare`] first).
+    /// The next [`Self::encode`] redraws only the tiles (cascades, cube faces) whose bit is
+    /// set; the others keep what they hold. [`Self::prepare`] resets it to all.
+    pub(crate) fn redraw_only(&mut self, tiles: u32) {
+        self.light.redraw_only(tiles);
+    }
+
+    /// Records the pass: clears the map (or the tiles to redraw) and draws every caster
+    /// ([`Self::prepare`] first).
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
-        let mut pass = begin_depth_pass(encoder, "ShadowMapPass", &self.view);
+        let keep = self.light.keeps_tiles(self.cascades);
+        let mut pass = begin_depth_pass(encoder, "ShadowMapPass", &self.view, keep);
         let tiles = (self.texture.width(), self.grid, self.cascades);
-        self.light.draw_tiles(&mut pass, tiles, |pass, cull| {
-            casters.draw(pass, Streams::OpaqueDepth, cull, |l| self.opaque.get(l));
-            casters.draw(pass, Streams::MaskedDepth, cull, |l| self.masked.get(l));
-        });
+        self.light
+            .draw_tiles(&mut pass, tiles, &self.clear, |pass, cull| {
+                casters.draw(pass, Streams::OpaqueDepth, cull, |l| self.opaque.get(l));
+                casters.draw(pass, Streams::MaskedDepth, cull, |l| self.masked.get(l));
+            });
     }
 }
 
@@ -199,15 +210,19 @@ pub(super) fn light_depth_target(
     (texture, view)
 }
 
-/// A depth-only pass that clears `view` to the far plane.
-pub(super) fn depth_pass_descriptor(view: &wgpu::TextureView) -> wgpu::RenderPassDescriptor<'_> {
+/// A depth-only pass that clears `view` to the far plane, or with `keep` loads what it holds.
+pub(super) fn depth_pass_descriptor(view: &wgpu::TextureView, keep: bool) -> wgpu::RenderPassDescriptor<'_> {
     wgpu::RenderPassDescriptor {
         label: None,
         color_attachments: &[],
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view,
             depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(1.0),
+                load: if keep {
+                    wgpu::LoadOp::Load
+                } else {
+                    wgpu::LoadOp::Clear(1.0)
+                },
                 store: wgpu::StoreOp::Store,
             }),
             stencil_ops: None,
@@ -218,14 +233,15 @@ pub(super) fn depth_pass_descriptor(view: &wgpu::TextureView) -> wgpu::RenderPas
     }
 }
 
-/// Begins a depth-only pass that clears `view` to the far plane.
+/// Begins a depth-only pass that clears `view` to the far plane (or with `keep` loads it).
 pub(super) fn begin_depth_pass<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
     label: &str,
     view: &wgpu::TextureView,
+    keep: bool,
 ) -> wgpu::RenderPass<'e> {
     encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
-        ..depth_pass_descriptor(view)
+        ..depth_pass_descriptor(view, keep)
     })
 }
