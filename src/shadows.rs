@@ -1264,14 +1264,6 @@ fn redrawn_tiles(
         && old.shadow_map == key.shadow_map
         && old.fatten_distance == key.fatten_distance;
     if !same_but_windows {
-        eprintln!(
-            "DEBUG key: casters {} light {} sm {} fatten {:?} {:?}",
-            old.casters == key.casters,
-            old.light == key.light,
-            old.shadow_map == key.shadow_map,
-            old.fatten_distance,
-            key.fatten_distance
-        );
         return all;
     }
     let mut tiles = 0;
