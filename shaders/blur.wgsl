@@ -55,6 +55,8 @@ struct Blur {
 @group(0) @binding(9) var sigma1: texture_2d<f32>;
 @group(0) @binding(10) var sigma2: texture_2d<f32>;
 @group(0) @binding(11) var sigma3: texture_2d<f32>;
+// the engine's receiver mask (read where the frame uniform says one is bound)
+@group(0) @binding(12) var receiver_mask: texture_2d<f32>;
 @group(1) @binding(0) var<uniform> blur: Blur;
 
 // Each light's distance map and deviations are named (not picked by an index), so the compiled
@@ -182,6 +184,15 @@ fn ends_agree(c: u32, frag: vec2<f32>, center: f32, sigma: f32) -> bool {
 
 // The weighted mean of `center` and `radius` taps either side along the draw's axis, `step`
 // pixels apart, per light. The fixed blur: the uniform's weights for the one light. Otherwise
+// Whether the surface at `pixel` takes shadows: something was drawn there and the receiver
+// mask, when one is bound, keeps it.
+fn receives(pixel: vec2<i32>) -> bool {
+    if is_background(textureLoad(camera_depth, pixel, 0).x) {
+        return false;
+    }
+    return frame.view.has_receiver_mask == 0u || textureLoad(receiver_mask, pixel, 0).x >= 0.5;
+}
+
 // Gaussian weights of standard deviation 1 / inv_sigma pixels for the lights in `blurred`; the
 // others keep `center`.
 fn taps(frag: vec2<f32>, center: vec4<f32>, z: f32, radius: i32, step: f32, inv_sigma: vec4<f32>, blurred: vec4<bool>) -> vec4<f32> {
@@ -206,8 +217,9 @@ fn taps(frag: vec2<f32>, center: vec4<f32>, z: f32, radius: i32, step: f32, inv_
                 weight = exp(-relative * relative);
             }
             // Surfaces that receive no shadow (the receiver mask's and the background: the same
-            // for every light) are not blurred into those that do.
-            if !FIXED_STEP && textureLoad(distance0, tap_pixel, 0).y < -0.5 {
+            // for every light) are not blurred into those that do. Read from the depth and the
+            // mask themselves: the distance map marks them only on the tiles it drew.
+            if !FIXED_STEP && !receives(tap_pixel) {
                 weight = 0.0;
             }
             let tap_weight = w * weight;

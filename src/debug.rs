@@ -210,11 +210,24 @@ pub fn mask_savings(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Rende
         )
     })?;
     let (values, channels) = read_texture_f32(device, queue, distance)?;
+    // The receivers from the prepass's own mask: the distance map marks the others (-1, -2)
+    // only on the screen tiles it drew.
+    let receivers = match renderer.receiver_mask_texture() {
+        Some(mask) => read_texture_f32(device, queue, mask)?.0,
+        None => values
+            .chunks_exact(channels.max(2) as usize)
+            .map(|px| if px[1] > -0.5 { 1.0 } else { 0.0 })
+            .collect(),
+    };
     let mut receiver_pixels = 0;
     let mut skipped_pixels = 0;
-    // Mask: 1 inside, 0 outside, -1 on non-receivers, -2 where nothing is drawn.
-    for mask in values.chunks_exact(channels.max(2) as usize).map(|px| px[1]) {
-        if mask > -0.5 {
+    // Mask: 1 inside the fattened shadow, below 1 elsewhere.
+    for (mask, receiver) in values
+        .chunks_exact(channels.max(2) as usize)
+        .map(|px| px[1])
+        .zip(receivers)
+    {
+        if receiver >= 0.5 {
             receiver_pixels += 1;
             if mask < 0.5 {
                 skipped_pixels += 1;

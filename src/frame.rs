@@ -151,6 +151,8 @@ pub(crate) struct DistanceSwitches {
     pub mask_early_out: bool,
     /// Beside a shadow, the distance to the nearest caster (a second draw).
     pub nearest_caster: bool,
+    /// Draw only the screen tiles the tile classification keeps.
+    pub tiles: bool,
 }
 
 /// The blur's compile-time switches.
@@ -248,6 +250,8 @@ impl PassParams {
             distance_switches: DistanceSwitches {
                 mask_early_out: p.mask_early_out,
                 nearest_caster: p.nearest_caster,
+                // Without the early out every receiver pixel is classified: no tile is dropped.
+                tiles: p.tiles && p.mask_early_out,
             },
             blur,
             blur_switches: BlurSwitches {

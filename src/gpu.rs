@@ -193,6 +193,7 @@ pub fn read_texture_f32(
             1,
         ),
         F::Depth32Float | F::R32Float => (floats(&bytes), 1),
+        F::R8Unorm => (bytes.iter().map(|b| f32::from(*b) / 255.0).collect(), 1),
         F::Rg32Float => (floats(&bytes), 2),
         F::Rgba32Float => (floats(&bytes), 4),
         F::R16Float => (halves(&bytes), 1),

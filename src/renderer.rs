@@ -457,6 +457,12 @@ impl Renderer {
         }
     }
 
+    /// The receiver mask of the renderer's own depth prepass (R8: 1 where a receiver was
+    /// drawn), when it has run.
+    pub(crate) fn receiver_mask_texture(&self) -> Option<&wgpu::Texture> {
+        self.prepass.as_ref().map(|p| p.receiver_mask_texture())
+    }
+
     /// The visibility texture the last frame composited (resolved: blurred if the method
     /// blurs, indirect attenuation applied; the reference's mean), or `None` for the methods
     /// that shade in one forward pass.

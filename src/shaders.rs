@@ -81,9 +81,15 @@ pub const FORWARD: &str = wgsl!(
 );
 
 pub const TILE_CLEAR: &str = wgsl!("tile_clear.wgsl");
+pub const TILE_CLASSIFY: &str = wgsl!(
+    "common/frame.wgsl",
+    "common/cube.wgsl",
+    "common/fullscreen.wgsl",
+    "tile_classify.wgsl"
+);
 
 /// Every pass's composed source, by the name of its file in `shaders/`.
-pub const ALL: [(&str, &str); 14] = [
+pub const ALL: [(&str, &str); 15] = [
     ("shadow_map", SHADOW_MAP),
     ("fattened_shadow_map", FATTENED_SHADOW_MAP),
     ("exit_map", EXIT_MAP),
@@ -98,6 +104,7 @@ pub const ALL: [(&str, &str); 14] = [
     ("reference", REFERENCE),
     ("forward", FORWARD),
     ("tile_clear", TILE_CLEAR),
+    ("tile_classify", TILE_CLASSIFY),
 ];
 
 /// A shader module from one of the sources above.

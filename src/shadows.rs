@@ -705,10 +705,12 @@ impl Shadows {
                     })
                 })
                 .collect();
-            let depth = &self.inputs.as_ref().expect("set in prepare").depth_view;
+            let inputs = self.inputs.as_ref().expect("set in prepare");
+            let depth = &inputs.depth_view;
+            let mask = inputs.mask.as_ref().map_or(&self.dummy.1, |m| &m.1);
             // The camera and penumbra settings the blur reads are the same in every light's
             // frame uniform: the first light's serves.
-            pass.bind(device, &states[0].frame, depth, &lights, &self.dummy.1);
+            pass.bind(device, &states[0].frame, (depth, mask), &lights, &self.dummy.1);
             self.blurs.push((slots, pass));
         }
     }
@@ -790,7 +792,7 @@ impl Shadows {
                 };
                 let classification = state.distance.as_ref().map(|d| d.classification());
                 if let (true, Some(p)) = (chain.distance_map, &state.distance) {
-                    run(encoder, "distance map", &|e| p.encode(e));
+                    run(encoder, "distance map", &|e| p.encode(e, plan.render_maps));
                 }
                 if let (true, Some(p), Some(c)) = (chain.pcf, &state.variable_pcf, classification) {
                     match packed_into[slot] {
@@ -1168,7 +1170,7 @@ impl LightState {
             d.bind(
                 device,
                 frame,
-                f.view(),
+                (f.view(), f.texture().width()),
                 f.occluder_offset(),
                 e.view(),
                 shadow_map,
@@ -1204,7 +1206,7 @@ impl LightState {
                 distance_map: distance,
                 blur_sigma,
             };
-            b.bind(device, frame, depth, &[input], dummy);
+            b.bind(device, frame, (depth, mask), &[input], dummy);
         }
         let visibility = match (&self.blur, chain.blur) {
             (Some(b), true) => b.blurred().unwrap_or(raw),

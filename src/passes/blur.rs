@@ -143,6 +143,7 @@ impl BlurPass {
         for c in 0..MAX_BATCHED_LIGHTS as u32 {
             layout_entries.push(entry::texture_2d(8 + c, unfilterable));
         }
+        layout_entries.push(entry::texture_2d(12, unfilterable));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("BlurPass::layout"),
             entries: &layout_entries,
@@ -277,7 +278,7 @@ impl BlurPass {
         &mut self,
         device: &wgpu::Device,
         frame: &wgpu::Buffer,
-        camera_depth: &wgpu::TextureView,
+        (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
         lights: &[BlurInput],
         dummy: &wgpu::TextureView,
     ) {
@@ -295,6 +296,7 @@ impl BlurPass {
             ];
             resources.extend((0..MAX_BATCHED_LIGHTS).map(distance));
             resources.extend((0..MAX_BATCHED_LIGHTS).map(sigma));
+            resources.push(wgpu::BindingResource::TextureView(receiver_mask));
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("BlurPass::bind_group"),
                 layout: &self.layout,

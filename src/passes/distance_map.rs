@@ -28,6 +28,7 @@
 
 use crate::frame::DistanceSwitches;
 
+use super::tile_classify::TileClassifyPass;
 use super::{CLASSIFICATION_FORMAT, Fullscreen, LIGHT_KIND, cleared, entries, entry, screen_target};
 
 pub struct DistanceMapPass {
@@ -40,6 +41,14 @@ pub struct DistanceMapPass {
     distance: (wgpu::Texture, wgpu::TextureView),
     classification: (wgpu::Texture, wgpu::TextureView),
     bind_group: Option<wgpu::BindGroup>,
+    /// With `switches.tiles`: the screen tiles the first draw covers, and that draw.
+    tiles: TileClassifyPass,
+    tile_pipeline: Option<wgpu::RenderPipeline>,
+    /// Screen tiles across and down.
+    tile_count: (u32, u32),
+    /// The fattened map must be reduced again before the next classification (it was drawn
+    /// or bound anew).
+    reduce_pending: std::cell::Cell<bool>,
 }
 
 impl DistanceMapPass {
@@ -61,13 +70,17 @@ impl DistanceMapPass {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("DistanceMapPass::layout"),
             entries: &[
-                entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
+                entry::uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT, frame_size, false),
                 entry::texture_2d(1, unfilterable),
                 entry::texture_2d(2, unfilterable),
                 entry::texture_2d(3, unfilterable),
                 entry::texture_2d(4, unfilterable),
                 entry::texture_2d(5, unfilterable),
                 entry::texture_2d(6, unfilterable),
+                wgpu::BindGroupLayoutEntry {
+                    visibility: wgpu::ShaderStages::VERTEX,
+                    ..entry::texture_2d(7, unfilterable)
+                },
             ],
         });
         let constants = [
@@ -93,6 +106,10 @@ impl DistanceMapPass {
         };
         let pipeline =
             draw("DistanceMapPass::pipeline", true, wgpu::CompareFunction::Always).pipeline(device);
+        let tile_pipeline = switches.tiles.then(|| {
+            draw("DistanceMapPass::tiles", true, wgpu::CompareFunction::Always)
+                .pipeline_with(device, "vs_tile", "fs_main")
+        });
         // Its triangle lies between the two classifications: `Less` passes only beside a shadow.
         let nearest_caster = switches.nearest_caster.then(|| {
             draw(
@@ -123,6 +140,10 @@ impl DistanceMapPass {
                 CLASSIFICATION_FORMAT,
             ),
             bind_group: None,
+            tiles: TileClassifyPass::new(device, frame_size, light_kind),
+            tile_pipeline,
+            tile_count: (1, 1),
+            reduce_pending: std::cell::Cell::new(true),
         };
         pass.resize(device, 1, 1);
         pass
@@ -144,23 +165,29 @@ impl DistanceMapPass {
             height,
             CLASSIFICATION_FORMAT,
         );
+        self.tiles.resize(device, width, height);
+        self.tile_count = TileClassifyPass::tiles(width, height);
         self.bind_group = None;
     }
 
     /// Points the pass at its inputs. `receiver_mask` is read only where the frame uniform
-    /// says one is bound (any texture otherwise).
+    /// says one is bound (any texture otherwise); the fattened map is `fattened_side` texels a
+    /// side.
     #[allow(clippy::too_many_arguments)]
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
         frame: &wgpu::Buffer,
-        fattened_map: &wgpu::TextureView,
+        (fattened_map, fattened_side): (&wgpu::TextureView, u32),
         occluder_offset: &wgpu::TextureView,
         exit_map: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
         camera_depth: &wgpu::TextureView,
         receiver_mask: &wgpu::TextureView,
     ) {
+        self.tiles
+            .bind(device, frame, camera_depth, fattened_map, fattened_side);
+        self.reduce_pending.set(true);
         self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("DistanceMapPass::bind_group"),
             layout: &self.layout,
@@ -172,6 +199,7 @@ impl DistanceMapPass {
                 wgpu::BindingResource::TextureView(occluder_offset),
                 wgpu::BindingResource::TextureView(exit_map),
                 wgpu::BindingResource::TextureView(shadow_map),
+                wgpu::BindingResource::TextureView(self.tiles.classes()),
             ]),
         }));
     }
@@ -200,10 +228,16 @@ impl DistanceMapPass {
         &self.classification.1
     }
 
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
+    /// Records the pass (`maps_drawn`: the light's maps were drawn this frame): with the tile
+    /// classification, the classification first and then the kept tiles, else the whole screen.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, maps_drawn: bool) {
         let Some(group) = &self.bind_group else {
             return;
         };
+        if self.tile_pipeline.is_some() {
+            self.tiles
+                .encode(encoder, maps_drawn || self.reduce_pending.replace(false));
+        }
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("DistanceMapPass"),
             color_attachments: &[cleared(&self.distance.1, wgpu::Color::TRANSPARENT)],
@@ -219,9 +253,17 @@ impl DistanceMapPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group, &[]);
-        pass.draw(0..3, 0..1);
+        match &self.tile_pipeline {
+            Some(tiles) => {
+                pass.set_pipeline(tiles);
+                pass.draw(0..6, 0..self.tile_count.0 * self.tile_count.1);
+            }
+            None => {
+                pass.set_pipeline(&self.pipeline);
+                pass.draw(0..3, 0..1);
+            }
+        }
         if let Some(nearest_caster) = &self.nearest_caster {
             pass.set_pipeline(nearest_caster);
             pass.draw(0..3, 0..1);

@@ -32,6 +32,7 @@ mod pcss;
 mod reference;
 mod resolve;
 mod shadow_map;
+mod tile_classify;
 mod tile_clear;
 mod variable_pcf;
 

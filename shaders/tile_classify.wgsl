@@ -1,0 +1,173 @@
+// Tile classification: the 16 x 16 pixel tiles of the screen where the light's fattened shadow
+// can fall, so that the distance map (and with it PCF and the blur, which test its
+// classification depth) runs only there. Joined after the frame uniform, the cube faces and the
+// full-screen helpers.
+//
+// `fs_reduce`, when the light's maps were drawn: the fattened map reduced by REDUCE x REDUCE
+// texels to their least depth (a reduced texel holds the nearest the fattened casters come to
+// the light in its block).
+// `fs_classify`, once a frame: one fragment per screen tile. The tile's pixels lie in the part
+// of the view frustum between its nearest and farthest depth (background left out), a solid
+// with 8 corners. For each map tile (cascade, cube face) its pixels can use, the corners' shadow
+// map positions bound where the pixels look up the fattened map, and the tile is kept (1) when
+// the least fattened depth there lies in front of the farthest corner. Otherwise (0) no pixel
+// of it passes the distance map's test (fattened depth < its own), and no pass runs there.
+// Conservative: a kept tile may hold no shadow; a dropped one holds none.
+
+const TILE: i32 = 16;
+const REDUCE: i32 = 8;
+// The most reduced texels looked at for one map tile; a wider footprint keeps the screen tile.
+const MAX_FOOTPRINT: i32 = 64;
+
+@group(0) @binding(1) var camera_depth: texture_2d<f32>;
+@group(0) @binding(2) var reduced_map: texture_2d<f32>;
+// Nearest, clamped to the edge: each gather reads a 2 x 2 block of texels.
+@group(0) @binding(4) var gather_sampler: sampler;
+
+@group(0) @binding(3) var fattened_map: texture_2d<f32>;
+
+@fragment
+fn fs_reduce(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let inv_size = 1.0 / vec2<f32>(textureDimensions(fattened_map));
+    let first = floor(frag.xy) * f32(REDUCE);
+    var least = vec4<f32>(1.0);
+    for (var y = 0; y < REDUCE; y += 2) {
+        for (var x = 0; x < REDUCE; x += 2) {
+            let uv = (first + vec2<f32>(f32(x) + 1.0, f32(y) + 1.0)) * inv_size;
+            least = min(least, textureGather(0, fattened_map, gather_sampler, uv));
+        }
+    }
+    return vec4<f32>(min(min(least.x, least.y), min(least.z, least.w)));
+}
+
+// The least of two magnitudes a coordinate in [lo, hi] can have.
+fn least_magnitude(lo: f32, hi: f32) -> f32 {
+    if lo <= 0.0 && hi >= 0.0 {
+        return 0.0;
+    }
+    return min(abs(lo), abs(hi));
+}
+
+// Whether a point light's cube face `face` can be the face of some point whose offset from the
+// light lies in the box [lo, hi] (`cube_face` picks the axis of largest magnitude).
+fn face_reachable(face: u32, lo: vec3<f32>, hi: vec3<f32>) -> bool {
+    let axis = face / 2u;
+    let positive = face % 2u == 0u;
+    let reach = select(-lo[axis], hi[axis], positive);
+    if reach <= 0.0 {
+        return false;
+    }
+    for (var other = 0u; other < 3u; other++) {
+        if other != axis && reach < least_magnitude(lo[other], hi[other]) {
+            return false;
+        }
+    }
+    return true;
+}
+
+// Whether any point in the solid with `corners` can lie inside the fattened shadow of map tile
+// `k`.
+fn may_be_inside(k: u32, corners: array<vec3<f32>, 8>) -> bool {
+    var lo = vec3<f32>(1e30);
+    var hi = vec3<f32>(-1e30);
+    for (var c = 0; c < 8; c++) {
+        let clip = frame.cascades.view_proj[k] * vec4<f32>(corners[c], 1.0);
+        if clip.w <= 1e-6 {
+            // Behind a perspective light's eye: not bounded by the corners.
+            return true;
+        }
+        let ndc = clip.xyz / clip.w;
+        let p = vec3<f32>(ndc.xy * vec2<f32>(0.5, -0.5) + vec2<f32>(0.5), ndc.z);
+        lo = min(lo, p);
+        hi = max(hi, p);
+    }
+    // Outside the map tile's rectangle the distance map finds no shadow.
+    let rect = frame.cascades.tile[k];
+    if any(hi.xy < rect.xy) || any(lo.xy > rect.zw) {
+        return false;
+    }
+    let reduced = vec2<i32>(textureDimensions(reduced_map));
+    let size = vec2<f32>(reduced * REDUCE);
+    let texel_lo = clamp(vec2<i32>(floor(lo.xy * size)), vec2<i32>(0), reduced * REDUCE - 1);
+    let texel_hi = clamp(vec2<i32>(floor(hi.xy * size)), vec2<i32>(0), reduced * REDUCE - 1);
+    let first = texel_lo / REDUCE;
+    let last = texel_hi / REDUCE;
+    let count = last - first + 1;
+    if count.x * count.y > MAX_FOOTPRINT {
+        return true;
+    }
+    let farthest = map_depth(hi.z);
+    for (var y = first.y; y <= last.y; y++) {
+        for (var x = first.x; x <= last.x; x++) {
+            if textureLoad(reduced_map, vec2<i32>(x, y), 0).x < farthest {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
+@fragment
+fn fs_classify(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let size = vec2<i32>(frame.view.size);
+    let first = vec2<i32>(frag.xy) * TILE;
+    let last = min(first + TILE, size) - 1;
+    // The background's depth is the clear value, 0 or 1: left out of the range by mapping it
+    // past the other end.
+    let background = select(1.0, 0.0, frame.view.reversed_depth != 0u);
+    let past = select(-2.0, 3.0, frame.view.reversed_depth != 0u);
+    var lo = vec4<f32>(1e30);
+    var hi = vec4<f32>(-1e30);
+    for (var y = first.y; y <= last.y; y += 2) {
+        for (var x = first.x; x <= last.x; x += 2) {
+            // Past the screen's edge the sampler clamps: the edge's own texels.
+            let uv = vec2<f32>(f32(x) + 1.0, f32(y) + 1.0) * frame.view.inv_size;
+            let depths = textureGather(0, camera_depth, gather_sampler, uv);
+            let drawn = depths != vec4<f32>(background);
+            lo = min(lo, select(vec4<f32>(1e30), depths, drawn));
+            hi = max(hi, select(vec4<f32>(-1e30), depths, drawn));
+        }
+    }
+    let near = min(min(lo.x, lo.y), min(lo.z, lo.w));
+    let far = max(max(hi.x, hi.y), max(hi.z, hi.w));
+    if far < near {
+        return vec4<f32>(0.0);
+    }
+    // The tile's edges at its two depths.
+    let edge_lo = vec2<f32>(first);
+    let edge_hi = vec2<f32>(last + 1);
+    var corners: array<vec3<f32>, 8>;
+    var box_lo = vec3<f32>(1e30);
+    var box_hi = vec3<f32>(-1e30);
+    for (var c = 0; c < 8; c++) {
+        let pixel = vec2<f32>(select(edge_lo.x, edge_hi.x, (c & 1) != 0), select(edge_lo.y, edge_hi.y, (c & 2) != 0));
+        corners[c] = world_position(pixel, select(near, far, (c & 4) != 0));
+        box_lo = min(box_lo, corners[c]);
+        box_hi = max(box_hi, corners[c]);
+    }
+    let count = min(frame.cascades.count, 6u);
+    if light_kind() == 2u {
+        let offset_lo = box_lo - frame.light.position;
+        let offset_hi = box_hi - frame.light.position;
+        for (var k = 0u; k < count; k++) {
+            if face_reachable(k, offset_lo, offset_hi) && may_be_inside(k, corners) {
+                return vec4<f32>(1.0);
+            }
+        }
+        return vec4<f32>(0.0);
+    }
+    // Cascades: those serving a view distance in the tile's range (from the previous one's
+    // blend band to their own end).
+    let d0 = view_depth(near);
+    let d1 = view_depth(far);
+    let nearest = min(d0, d1);
+    let farthest = max(d0, d1);
+    for (var k = 0u; k < count; k++) {
+        let starts = select(frame.cascades.extent_end[max(k, 1u) - 1u].w, 0.0, k == 0u);
+        let ends = select(frame.cascades.extent_end[k].z, 1e30, k + 1u == count);
+        if farthest >= starts && nearest <= ends && may_be_inside(k, corners) {
+            return vec4<f32>(1.0);
+        }
+    }
+    return vec4<f32>(0.0);
+}
