@@ -174,7 +174,8 @@ pub enum LightTexture {
     /// Depth of the casters' back faces (the distance-map method).
     ExitMap,
     /// RG16F: R = distance to the occluder (world units), G = mask (1 inside the fattened
-    /// shadow, 0 outside, -1 on non-receivers, -2 where nothing was drawn).
+    /// shadow, 0 outside, -1 on non-receivers, -2 where nothing was drawn; with the tile
+    /// classification, -1 and -2 only on the tiles it kept, the others 0).
     DistanceMap,
     /// Raw PCF or PCSS visibility (R16F).
     Visibility,

@@ -1406,6 +1406,77 @@ fn a_caster_moving_in_one_cascade_redraws_only_the_cascades_it_reaches() {
     assert_eq!(differing, 0, "kept cascades changed the visibility");
 }
 
+/// The tile classification drops screen tiles, and the visibility is the same as with every
+/// tile drawn: a sun in cascades, a spot and a point over a perspective view, with a receiver
+/// mask that leaves out the left half.
+#[test]
+fn the_tile_classification_drops_tiles_and_keeps_every_shadow() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let w = world(&gpu);
+    let depth = DepthPass::new(device);
+    let mask = device.create_texture_with_data(
+        queue,
+        &wgpu::TextureDescriptor {
+            label: Some("receiver mask"),
+            size: wgpu::Extent3d {
+                width: SIZE,
+                height: SIZE,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R8Unorm,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        &(0..SIZE * SIZE)
+            .map(|i| if i % SIZE < SIZE / 3 { 0 } else { 255 })
+            .collect::<Vec<u8>>(),
+    );
+    let lights = [sun(30.0), spot_over_the_box(), point_beside_the_box()];
+    let mut runs = Vec::new();
+    for tiles in [false, true] {
+        let mut settings = ShadowSettings::default();
+        settings.penumbra.tiles = tiles;
+        let mut shadows = Shadows::new(device, settings).unwrap();
+        let ids: Vec<_> = lights
+            .iter()
+            .map(|l| shadows.add_light(device, *l).unwrap())
+            .collect();
+        render_seen_by(&gpu, &w, &depth, &mut shadows, Some(&mask), side_camera());
+        runs.push(
+            ids.iter()
+                .map(|id| {
+                    let distance = shadows.light_texture(*id, LightTexture::DistanceMap).unwrap();
+                    let (d, channels) = penumbra::read_texture_f32(device, queue, distance).unwrap();
+                    let drawn_background = d
+                        .chunks_exact(channels as usize)
+                        .filter(|px| px[1] < -1.5)
+                        .count();
+                    (read_layer(&gpu, &shadows, id.layer()), drawn_background)
+                })
+                .collect::<Vec<_>>(),
+        );
+    }
+    for (k, name) in ["sun", "spot", "point"].iter().enumerate() {
+        let ((all, background_all), (tiled, background_tiled)) = (&runs[0][k], &runs[1][k]);
+        let differing = all.iter().zip(tiled).filter(|(a, b)| a != b).count();
+        let shadowed = all.iter().filter(|v| **v < 0.5).count();
+        println!(
+            "{name}: {shadowed} shadowed pixels, {differing} differ; background pixels the distance map drew: {background_all} of every tile, {background_tiled} of the kept ones"
+        );
+        assert!(shadowed > 200, "{name}: too little shadow to judge ({shadowed})");
+        assert_eq!(differing, 0, "{name}: the tiles changed the visibility");
+        assert!(
+            *background_tiled < background_all / 2,
+            "{name}: the classification kept most of the background ({background_tiled} of {background_all})"
+        );
+    }
+}
+
 /// A receiver the engine draws but does not register (the floor) gets the whole shadow: the
 /// light's map is fitted to the registered box alone, so most of the box's shadow on the floor
 /// lies beyond the map's far plane, where every caster in the map is in front of it.

@@ -557,6 +557,8 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                     rotate_taps: rotate,
                     mask_early_out: mask,
                     nearest_caster: nearest,
+                    // Either way (the strategy has no boolean to spare).
+                    tiles: rotate,
                     blur_taps,
                     depth_aware_blur: aware,
                     batch_lights: true,

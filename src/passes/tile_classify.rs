@@ -5,7 +5,7 @@
 //! once, 54 ms with the whole test), so the work saved is the pixels not drawn at all.
 //!
 //! Input: the frame uniform, the camera depth and the fattened shadow map. Outputs: the
-//! fattened map reduced by [`REDUCE`] x [`REDUCE`] texels to their least depth (R32F, redrawn
+//! fattened map reduced by [`REDUCE`] x [`REDUCE`] texels to their least depth (R16F, redrawn
 //! when the light's maps are), and one texel per screen tile ([`TILE`] pixels a side, R8): 1
 //! where a pixel may lie inside the fattened shadow, from the tile's depth range and the least
 //! fattened depth under its footprint in each cascade or cube face it can use; 0 where none
@@ -18,7 +18,9 @@ pub const TILE: u32 = 16;
 /// Fattened-map texels per reduced texel side (`REDUCE` in the shader).
 pub const REDUCE: u32 = 8;
 
-const REDUCED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// Half floats render everywhere, GL included (R32F does not); the shader rounds the least
+/// depth down before storing it, so the stored value never lies behind the true one.
+const REDUCED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 const CLASS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 
 pub(crate) struct TileClassifyPass {
