@@ -190,6 +190,20 @@ pub struct Embedding {
     pub room: Vec<RoomRun>,
     /// Batched against unbatched blurs.
     pub batching: Vec<BatchRun>,
+    /// `ours`' screen-space time against its share of penumbra tiles, camera near to far.
+    pub tiles: Vec<TileRun>,
+}
+
+/// `ours` (medium) on the teapot's view 0 with the camera pulled back along its view: the share
+/// of screen tiles the tile classification kept, against the screen-space passes' time.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct TileRun {
+    /// The camera's distance from its target, as a multiple of view 0's.
+    pub distance: f32,
+    pub tile_share: f32,
+    /// Distance map (its classification included), PCF and blur, light turning.
+    pub screen_space_ms: f64,
+    pub frame_ms: f64,
 }
 
 impl Embedding {
@@ -241,6 +255,7 @@ struct Timing {
     wall_ms: f64,
     pass_ms: BTreeMap<String, f64>,
     mask_saved_share: Option<f32>,
+    tile_share: Option<f32>,
 }
 
 /// Whether frame times are the GPU's own (a hardware adapter with timestamp queries): there
@@ -277,6 +292,7 @@ fn time_frames(
     } else {
         None
     };
+    let tile_share = penumbra::debug::tile_share(&gpu.device, &gpu.queue, &renderer)?;
     let wall_ms = median(timed.wall_ms.clone());
     let frame_ms = if times_on_gpu(gpu) && timed.pass_sum_ms.len() == config.frames {
         median(timed.pass_sum_ms.clone())
@@ -292,6 +308,7 @@ fn time_frames(
             .map(|(k, v)| (k.to_string(), v))
             .collect(),
         mask_saved_share,
+        tile_share,
     })
 }
 
@@ -438,6 +455,7 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
     embedding.cascades = measure_cascades(&gpu, &assets, size, config)?;
     embedding.room = measure_room(&gpu, &assets, size, config)?;
     embedding.batching = measure_batching(&gpu, &teapot, &camera, size, config)?;
+    embedding.tiles = measure_tiles(&gpu, &teapot, &camera, size, config)?;
     write_report(config, &device_name, times_on_gpu(&gpu), &runs, &embedding)?;
     Ok(runs)
 }
@@ -568,6 +586,42 @@ fn measure_batching(
 
 /// `ours` on the outdoor scene's street view with 1, 2 and 4 cascades: frame time (the light
 /// turning, so every map is drawn every frame) and the error near the camera.
+/// `ours` (medium) on `scene` seen from `camera` pulled back to 1, 2, 4 and 8 times its
+/// distance from its target (the teapot and its shadow smaller on the screen each time), the
+/// light turning: the share of tiles kept and the screen-space passes' time.
+fn measure_tiles(
+    gpu: &HeadlessGpu,
+    scene: &penumbra::Scene,
+    camera: &penumbra::Camera,
+    size: (u32, u32),
+    config: &Config,
+) -> Result<Vec<TileRun>> {
+    let settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+    let mut runs = Vec::new();
+    for distance in [1.0f32, 2.0, 4.0, 8.0] {
+        let mut far = *camera;
+        far.eye = camera.target + (camera.eye - camera.target) * distance;
+        far.far = camera.far * distance;
+        let t = time_frames(gpu, scene, &far, settings, size, config)?;
+        let screen_space_ms = ["distance map", "pcf", "blur"]
+            .iter()
+            .map(|p| t.pass_ms.get(*p).copied().unwrap_or(0.0))
+            .sum();
+        let tile_share = t.tile_share.unwrap_or(1.0);
+        println!(
+            "tiles: camera at {distance}x: {:.1}% of tiles kept, screen-space passes {screen_space_ms:.2} ms",
+            tile_share * 100.0
+        );
+        runs.push(TileRun {
+            distance,
+            tile_share,
+            screen_space_ms,
+            frame_ms: t.frame_ms,
+        });
+    }
+    Ok(runs)
+}
+
 fn measure_cascades(
     gpu: &HeadlessGpu,
     assets: &Path,
@@ -739,6 +793,7 @@ fn measure_embedding(
         cascades: Vec::new(),
         room: Vec::new(),
         batching: Vec::new(),
+        tiles: Vec::new(),
         geometry_passes,
     })
 }
@@ -1173,6 +1228,7 @@ fn write_report(
          its window (each keeps 3 spare texels a side).",
         embedding.camera_moved
     )?;
+    write_tiles(&mut md, &embedding.tiles, (embedding.width, embedding.height))?;
     writeln!(
         md,
         "\n## Cascades: the outdoor scene's street view\n\n\
@@ -1228,6 +1284,56 @@ struct MeanPoint {
 }
 
 /// Every method and preset measured at `size`, averaged over scenes and viewpoints.
+/// The table of `ours`' screen-space time against its share of penumbra tiles, and the
+/// verdict: where the share is at most a tenth of the largest's, the time is at most 0.3x the
+/// largest's.
+fn write_tiles(md: &mut String, tiles: &[TileRun], (width, height): (u32, u32)) -> Result<()> {
+    use std::fmt::Write;
+    writeln!(
+        md,
+        "\n## Cost against the penumbra tiles (teapot, view 0 pulled back, {width}x{height}, ours medium, light turning)\n\n\
+         The tile classification keeps the 16 x 16 pixel tiles where the fattened shadow can fall; the distance \
+         map (its classification included), PCF and blur run there. Screen-space time: those three passes.\n\n\
+         | camera distance | tiles kept | screen-space ms | frame ms |\n|---|---|---|---|"
+    )?;
+    for t in tiles {
+        writeln!(
+            md,
+            "| {}x | {:.1}% | {:.2} | {:.2} |",
+            t.distance,
+            t.tile_share * 100.0,
+            t.screen_space_ms,
+            t.frame_ms
+        )?;
+    }
+    let Some(largest) = tiles.iter().max_by(|a, b| a.tile_share.total_cmp(&b.tile_share)) else {
+        return Ok(());
+    };
+    let small = tiles
+        .iter()
+        .filter(|t| t.tile_share <= 0.1 * largest.tile_share)
+        .max_by(|a, b| a.tile_share.total_cmp(&b.tile_share));
+    match small {
+        Some(t) => {
+            let ratio = t.screen_space_ms / largest.screen_space_ms.max(1e-9);
+            writeln!(
+                md,
+                "\nCost follows the shadows (where the share is a tenth of the largest, screen-space time at most 0.3x): \
+                 {:.1}% of tiles against {:.1}%, {ratio:.3}x the time: {}",
+                t.tile_share * 100.0,
+                largest.tile_share * 100.0,
+                verdict(ratio <= 0.3)
+            )?;
+        }
+        None => writeln!(
+            md,
+            "\nCost follows the shadows: not judged, no view kept a tenth of the largest share ({:.1}%).",
+            largest.tile_share * 100.0
+        )?,
+    }
+    Ok(())
+}
+
 fn mean_points(runs: &[Run], size: (u32, u32)) -> Vec<MeanPoint> {
     let mut sums: BTreeMap<(String, String), (f64, f64, usize)> = BTreeMap::new();
     for r in runs

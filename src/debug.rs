@@ -200,6 +200,18 @@ pub struct MaskSavings {
     pub share: f32,
 }
 
+/// The share of the screen's tiles where the last frame's distance map ran (the tile
+/// classification's kept tiles, [`crate::PenumbraSettings::tiles`]), or `None` where no
+/// classification ran.
+pub fn tile_share(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Renderer) -> Result<Option<f32>> {
+    let Some(classes) = renderer.light_texture(crate::LightTexture::TileClasses) else {
+        return Ok(None);
+    };
+    let (values, _) = read_texture_f32(device, queue, classes)?;
+    let kept = values.iter().filter(|v| **v >= 0.5).count();
+    Ok(Some(kept as f32 / values.len().max(1) as f32))
+}
+
 /// Measures [`MaskSavings`] by reading back the last frame's distance map. Errors when the
 /// renderer's method has no distance map.
 pub fn mask_savings(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Renderer) -> Result<MaskSavings> {

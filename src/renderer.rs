@@ -457,6 +457,15 @@ impl Renderer {
         }
     }
 
+    /// One of the shown light's textures ([`Renderer::debug_texture`]'s light).
+    pub(crate) fn light_texture(&self, which: LightTexture) -> Option<&wgpu::Texture> {
+        let id = match self.debug_light {
+            0 => self.light,
+            k => self.more.get(k - 1).copied().unwrap_or(self.light),
+        };
+        self.shadows.light_texture(id, which)
+    }
+
     /// The receiver mask of the renderer's own depth prepass (R8: 1 where a receiver was
     /// drawn), when it has run.
     pub(crate) fn receiver_mask_texture(&self) -> Option<&wgpu::Texture> {

@@ -182,6 +182,9 @@ pub enum LightTexture {
     /// Blurred visibility (R16F). After the distance map, the blur writes the light's layer
     /// directly: this is then the whole visibility array ([`Shadows::visibility_texture`]).
     BlurredVisibility,
+    /// The tile classification (R8, one texel per 16 x 16 pixel screen tile): 1 where the
+    /// distance map ran, 0 where no shadow can fall ([`crate::PenumbraSettings::tiles`]).
+    TileClasses,
 }
 
 /// What decides whether a light's shadow maps can be reused.
@@ -929,6 +932,7 @@ impl Shadows {
             LightTexture::FattenedMap => s.fattened.as_ref().map(|p| p.texture()),
             LightTexture::ExitMap => s.exit.as_ref().map(|p| p.texture()),
             LightTexture::DistanceMap => s.distance.as_ref().map(|p| p.distance_texture()),
+            LightTexture::TileClasses => s.distance.as_ref().and_then(|p| p.tile_classes_texture()),
             LightTexture::Visibility => s
                 .pcf
                 .as_ref()

@@ -223,6 +223,11 @@ impl DistanceMapPass {
         &self.distance.0
     }
 
+    /// The tile classification's result, when the pass draws only the tiles it keeps.
+    pub fn tile_classes_texture(&self) -> Option<&wgpu::Texture> {
+        self.tile_pipeline.as_ref().map(|_| self.tiles.classes_texture())
+    }
+
     /// Where a shadow can fall (depth 1), for the later passes' depth test.
     pub fn classification(&self) -> &wgpu::TextureView {
         &self.classification.1

@@ -154,6 +154,10 @@ impl TileClassifyPass {
         &self.classes.1
     }
 
+    pub fn classes_texture(&self) -> &wgpu::Texture {
+        &self.classes.0
+    }
+
     /// Records the reduction of the fattened map (`maps_drawn`: the light's maps were drawn
     /// since the last one) and the classification.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, maps_drawn: bool) {
