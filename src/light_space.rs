@@ -680,31 +680,57 @@ fn directional_cascades(
         return None;
     }
     let (view_near, view_far) = view_end(inputs, &camera, max_distance);
-    // The scene's own range of view distances, inside the camera's.
-    let eye = camera.eye();
-    let forward = -camera.backward();
-    let distances = inputs
-        .casters_and_receivers
-        .corners()
-        .map(|c| (c - eye).dot(forward));
-    let scene_near = distances
-        .iter()
-        .copied()
-        .fold(f32::INFINITY, f32::min)
-        .max(view_near);
-    let scene_far = distances
-        .iter()
-        .copied()
-        .fold(f32::NEG_INFINITY, f32::max)
-        .min(view_far);
+    // In steps of 2^(1/8), so the splits (and with them the windows' sizes) change rarely as
+    // the camera moves.
+    let rounded = |(near, far): (f32, f32)| {
+        (
+            ((near.log2() * 8.0).floor() / 8.0).exp2().max(view_near),
+            round_up_to_step(far).min(view_far),
+        )
+    };
+    // The range of view distances the scene's parts take inside the camera's frustum (a floor
+    // running under the camera starts where the view first meets it): as many cascades as it
+    // needs, one per factor CASCADE_RATIO, up to the setting's count. A small scene seen whole
+    // gets fewer maps to draw, split over that range.
+    let (seen_near, seen_far) = seen_distance_range(inputs, &camera, (view_near, view_far));
+    let needed = if seen_far > seen_near && seen_near > 0.0 {
+        let (near, far) = rounded((seen_near, seen_far));
+        ((far / near).ln() / CASCADE_RATIO.ln()).ceil().max(1.0) as u32
+    } else {
+        u32::MAX
+    };
+    let configured = settings.count.min(MAX_CASCADES as u32);
+    let count = configured.min(needed);
+    if count <= 1 {
+        return None;
+    }
+    // The configured count splits the range of the scene's box corners, as it always has.
+    let (scene_near, scene_far) = if count < configured {
+        (seen_near, seen_far)
+    } else {
+        let eye = camera.eye();
+        let forward = -camera.backward();
+        let distances = inputs
+            .casters_and_receivers
+            .corners()
+            .map(|c| (c - eye).dot(forward));
+        (
+            distances
+                .iter()
+                .copied()
+                .fold(f32::INFINITY, f32::min)
+                .max(view_near),
+            distances
+                .iter()
+                .copied()
+                .fold(f32::NEG_INFINITY, f32::max)
+                .min(view_far),
+        )
+    };
     if !(scene_far > scene_near && scene_near > 0.0) {
         return None;
     }
-    // In steps of 2^(1/8), so the splits (and with them the windows' sizes) change rarely as
-    // the camera moves.
-    let scene_far = round_up_to_step(scene_far).min(view_far);
-    let scene_near = ((scene_near.log2() * 8.0).floor() / 8.0).exp2().max(view_near);
-    let count = settings.count.min(MAX_CASCADES as u32);
+    let (scene_near, scene_far) = rounded((scene_near, scene_far));
     let lambda = settings.split.clamp(0.0, 1.0);
     let split = |i: u32| {
         let t = i as f32 / count as f32;
@@ -750,6 +776,30 @@ fn directional_cascades(
         start = end - band;
     }
     Some((cascades, count))
+}
+
+/// The view-distance ratio (far over near) one cascade covers at most: a range of view distances
+/// `r` wide gets `ceil(log r / log CASCADE_RATIO)` cascades, up to the configured count.
+pub const CASCADE_RATIO: f32 = 2.5;
+
+/// The nearest and farthest view distances (along the camera's forward axis) of the fit's
+/// parts (or its whole box) inside the camera's frustum between view distances `near` and
+/// `far`; `(near, far)` when nothing of the scene is inside.
+fn seen_distance_range(inputs: &FitInputs, camera: &CameraMatrices, (near, far): (f32, f32)) -> (f32, f32) {
+    let p = camera.projection;
+    let (r0, r1, r3) = (p.row(0), p.row(1), p.row(3));
+    // View space: inside where -w <= x, y <= w, and near <= -z <= far.
+    let planes = [
+        r3 + r0,
+        r3 - r0,
+        r3 + r1,
+        r3 - r1,
+        Vec4::new(0.0, 0.0, -1.0, -near),
+        Vec4::new(0.0, 0.0, 1.0, far),
+    ];
+    let bounds = inputs.casters_and_receivers;
+    let (lo, hi) = clipped_depth_range(&camera.view, &bounds, inputs.parts, &planes);
+    (lo.max(near), hi.min(far))
 }
 
 /// `x` rounded up to the next power of 2^(1/8).

@@ -1300,7 +1300,7 @@ fn many_instances_of_a_half_float_mesh_with_16_bit_indices_all_cast() {
     assert!(under(Vec3::new(-2.4, 0.0, -2.4)) > 0.9);
 }
 
-/// A sun in four cascades over a perspective view of a wide floor with boxes spread over it:
+/// A sun in cascades over a perspective view of a wide floor with boxes spread over it:
 /// moving a box near the camera redraws only the cascades it reaches, and what the kept
 /// cascades hold gives the same visibility as maps drawn whole by a fresh `Shadows`.
 #[test]
@@ -1355,7 +1355,7 @@ fn a_caster_moving_in_one_cascade_redraws_only_the_cascades_it_reaches() {
         projection: glam::camera::rh::proj::directx::perspective(60f32.to_radians(), 1.0, 0.1, 100.0),
         depth: DepthConvention::Standard,
     };
-    let frame = |casters: &Casters, shadows: &mut Shadows, draws: &[Mat4]| -> (u32, Vec<f32>) {
+    let frame = |casters: &Casters, shadows: &mut Shadows, draws: &[Mat4]| -> (u32, Vec<f32>, usize) {
         let mut encoder = device.create_command_encoder(&Default::default());
         let mut meshes: Vec<(&RawMesh, Mat4)> = draws.iter().map(|d| (&box_mesh, *d)).collect();
         meshes.push((&floor_mesh, Mat4::IDENTITY));
@@ -1370,31 +1370,33 @@ fn a_caster_moving_in_one_cascade_redraws_only_the_cascades_it_reaches() {
             )
             .unwrap();
         queue.submit([encoder.finish()]);
-        (reports[0].tiles_rendered, read_layer(&gpu, shadows, 0))
+        let cascades = reports[0].light_view.cascades().len();
+        (reports[0].tiles_rendered, read_layer(&gpu, shadows, 0), cascades)
     };
     let light = sun(200.0);
     let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
     shadows.add_light(device, light).unwrap();
-    assert_eq!(
-        frame(&casters, &mut shadows, &draws).0,
-        0b1111,
-        "the first frame draws all four cascades"
-    );
+    let (first, _, count) = frame(&casters, &mut shadows, &draws);
+    // The view sees the floor from 2 to about 40 units away: at least three cascades.
+    assert!(count >= 3, "{count} cascades");
+    let all = (1u32 << count) - 1;
+    let last = 1u32 << (count - 1);
+    assert_eq!(first, all, "the first frame draws every cascade");
     assert_eq!(frame(&casters, &mut shadows, &draws).0, 0, "nothing changed");
     casters.set_transform(queue, near, near_box(0.2)).unwrap();
     *draws.last_mut().unwrap() = near_box(0.2);
-    let (moved, kept) = frame(&casters, &mut shadows, &draws);
-    println!("cascades redrawn after the near box moved: {moved:04b}");
-    assert!(moved != 0 && moved != 0b1111, "redrawn: {moved:04b}");
+    let (moved, kept, _) = frame(&casters, &mut shadows, &draws);
+    println!("{count} cascades; redrawn after the near box moved: {moved:b}");
+    assert!(moved != 0 && moved != all, "redrawn: {moved:b}");
     assert_eq!(
-        moved & 0b1000,
+        moved & last,
         0,
-        "the farthest cascade does not reach the near box: {moved:04b}"
+        "the farthest cascade does not reach the near box: {moved:b}"
     );
     let mut fresh = Shadows::new(device, ShadowSettings::default()).unwrap();
     fresh.add_light(device, light).unwrap();
-    let (all, whole) = frame(&casters, &mut fresh, &draws);
-    assert_eq!(all, 0b1111);
+    let (drawn, whole, _) = frame(&casters, &mut fresh, &draws);
+    assert_eq!(drawn, all);
     let differing = kept
         .iter()
         .zip(&whole)
