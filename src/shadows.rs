@@ -1222,6 +1222,14 @@ impl LightState {
     }
 }
 
+// An engine keeps `Shadows` and `Casters` in state shared between threads (Bevy's render world
+// asks `Send + Sync` of a resource): checked when the crate builds.
+const _: () = {
+    const fn shared<T: Send + Sync>() {}
+    shared::<Shadows>();
+    shared::<Casters>();
+};
+
 /// The fatten distance and penumbra scale for a frame: derived from the light in physical
 /// mode, the user's fatten distance in manual mode.
 pub(crate) fn spreads(

@@ -1408,17 +1408,10 @@ fn a_caster_moving_in_one_cascade_redraws_only_the_cascades_it_reaches() {
     assert_eq!(differing, 0, "kept cascades changed the visibility");
 }
 
-/// The tile classification drops screen tiles, and the visibility is the same as with every
-/// tile drawn: a sun in cascades, a spot and a point over a perspective view, with a receiver
-/// mask that leaves out the left half.
-#[test]
-fn the_tile_classification_drops_tiles_and_keeps_every_shadow() {
-    let gpu = common::gpu();
-    let (device, queue) = (&gpu.device, &gpu.queue);
-    let w = world(&gpu);
-    let depth = DepthPass::new(device);
-    let mask = device.create_texture_with_data(
-        queue,
+/// A receiver mask (R8) that leaves out the screen's first `columns` columns.
+fn receiver_mask(gpu: &penumbra::HeadlessGpu, columns: u32) -> wgpu::Texture {
+    gpu.device.create_texture_with_data(
+        &gpu.queue,
         &wgpu::TextureDescriptor {
             label: Some("receiver mask"),
             size: wgpu::Extent3d {
@@ -1435,9 +1428,21 @@ fn the_tile_classification_drops_tiles_and_keeps_every_shadow() {
         },
         wgpu::util::TextureDataOrder::LayerMajor,
         &(0..SIZE * SIZE)
-            .map(|i| if i % SIZE < SIZE / 3 { 0 } else { 255 })
+            .map(|i| if i % SIZE < columns { 0 } else { 255 })
             .collect::<Vec<u8>>(),
-    );
+    )
+}
+
+/// The tile classification drops screen tiles, and the visibility is the same as with every
+/// tile drawn: a sun in cascades, a spot and a point over a perspective view, with a receiver
+/// mask that leaves out the left third.
+#[test]
+fn the_tile_classification_drops_tiles_and_keeps_every_shadow() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let w = world(&gpu);
+    let depth = DepthPass::new(device);
+    let mask = receiver_mask(&gpu, SIZE / 3);
     let lights = [sun(30.0), spot_over_the_box(), point_beside_the_box()];
     let mut runs = Vec::new();
     for tiles in [false, true] {
@@ -1546,27 +1551,7 @@ fn a_receiver_mask_keeps_shadow_off_the_pixels_it_excludes() {
     let w = world(&gpu);
     let depth = DepthPass::new(device);
     // The mask excludes the left half of the frame.
-    let mask = device.create_texture_with_data(
-        queue,
-        &wgpu::TextureDescriptor {
-            label: Some("receiver mask"),
-            size: wgpu::Extent3d {
-                width: SIZE,
-                height: SIZE,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R8Unorm,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        },
-        wgpu::util::TextureDataOrder::LayerMajor,
-        &(0..SIZE * SIZE)
-            .map(|i| if i % SIZE < SIZE / 2 { 0 } else { 255 })
-            .collect::<Vec<u8>>(),
-    );
+    let mask = receiver_mask(&gpu, SIZE / 2);
     let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
     // Two suns throwing the box's shadow left (-x) and right (+x).
     let left = shadows.add_light(device, sun(180.0)).unwrap();

@@ -48,7 +48,8 @@ pub struct DistanceMapPass {
     tile_count: (u32, u32),
     /// The fattened map must be reduced again before the next classification (it was drawn
     /// or bound anew).
-    reduce_pending: std::cell::Cell<bool>,
+    /// (Atomic so that the passes stay `Sync`: an engine keeps `Shadows` in shared state.)
+    reduce_pending: std::sync::atomic::AtomicBool,
 }
 
 impl DistanceMapPass {
@@ -143,7 +144,7 @@ impl DistanceMapPass {
             tiles: TileClassifyPass::new(device, frame_size, light_kind),
             tile_pipeline,
             tile_count: (1, 1),
-            reduce_pending: std::cell::Cell::new(true),
+            reduce_pending: std::sync::atomic::AtomicBool::new(true),
         };
         pass.resize(device, 1, 1);
         pass
@@ -187,7 +188,8 @@ impl DistanceMapPass {
     ) {
         self.tiles
             .bind(device, frame, camera_depth, fattened_map, fattened_side);
-        self.reduce_pending.set(true);
+        self.reduce_pending
+            .store(true, std::sync::atomic::Ordering::Relaxed);
         self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("DistanceMapPass::bind_group"),
             layout: &self.layout,
@@ -240,8 +242,12 @@ impl DistanceMapPass {
             return;
         };
         if self.tile_pipeline.is_some() {
-            self.tiles
-                .encode(encoder, maps_drawn || self.reduce_pending.replace(false));
+            self.tiles.encode(
+                encoder,
+                self.reduce_pending
+                    .swap(false, std::sync::atomic::Ordering::Relaxed)
+                    || maps_drawn,
+            );
         }
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("DistanceMapPass"),
