@@ -251,7 +251,8 @@ impl PassParams {
                 mask_early_out: p.mask_early_out,
                 nearest_caster: p.nearest_caster,
                 // Without the early out every receiver pixel is classified: no tile is dropped.
-                tiles: p.tiles && p.mask_early_out,
+                // Auto counts as on here; `Shadows` turns it off on a GPU.
+                tiles: p.tiles != crate::settings::TileClassification::Off && p.mask_early_out,
             },
             blur,
             blur_switches: BlurSwitches {

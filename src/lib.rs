@@ -99,7 +99,7 @@ pub use scene::{
 };
 pub use settings::{
     CascadeSettings, CullMode, DepthFormat, LightFit, PcfKernel, PcssSettings, PenumbraSettings, Quality,
-    ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode, TraditionalSettings,
+    ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode, TileClassification, TraditionalSettings,
 };
 pub use shadows::{Chain, LightId, LightReport, LightTexture, MAX_LIGHTS, Shadows, ViewInputs};
 pub use view::{CameraMatrices, DepthConvention};

@@ -257,6 +257,8 @@ pub struct Shadows {
     target: Option<wgpu::Texture>,
     /// Counts the visibility textures made or taken ([`Shadows::visibility_generation`]).
     generation: u64,
+    /// The device is a software rasterizer (for [`crate::TileClassification::Auto`]).
+    software: bool,
     /// The distance-map method's blurs: up to four lights each (one each when
     /// [`PenumbraSettings::batch_lights`](crate::PenumbraSettings::batch_lights) is off),
     /// with the slots of the lights they blur.
@@ -291,6 +293,7 @@ impl Shadows {
             casters_id: None,
             screen_space: true,
             prepared: false,
+            software: device.adapter_info().device_type == wgpu::DeviceType::Cpu,
         })
     }
 
@@ -469,6 +472,7 @@ impl Shadows {
         let caster_bounds = casters.caster_bounds();
         let parts = casters.shadow_parts();
         let has_mask = view.receiver_mask.is_some();
+        let software = self.software;
         for state in self.lights.iter_mut().flatten() {
             let mut chain = Chain::new(&self.settings, &state.light);
             if !self.screen_space {
@@ -482,7 +486,7 @@ impl Shadows {
                 method: chain.method,
                 ..self.settings
             };
-            let params = PassParams::new(&effective);
+            let params = pass_params(&effective, software);
             let sm = self.settings.shadow_map;
             if state.allocate(device, casters, &sm, &chain, &params, (width, height), resized) || rebind_all {
                 state.bound = None;
@@ -665,7 +669,7 @@ impl Shadows {
                 .method,
             ..self.settings
         };
-        let params = PassParams::new(&effective);
+        let params = pass_params(&effective, self.software);
         let mut old = std::mem::take(&mut self.blurs);
         for slots in groups {
             // A pass made for as many lights with the same switches is kept, the one that
@@ -1256,6 +1260,16 @@ pub(crate) fn spreads(
 }
 
 /// True unless `b` (grown by `margin`) lies wholly outside one side of the light's frustum.
+/// The passes' parameters for `settings`, the tile classification's `Auto` decided for the
+/// device (`software`: a CPU rasterizer).
+fn pass_params(settings: &ShadowSettings, software: bool) -> PassParams {
+    let mut params = PassParams::new(settings);
+    if settings.penumbra.tiles == crate::settings::TileClassification::Auto && !software {
+        params.distance_switches.tiles = false;
+    }
+    params
+}
+
 /// The tiles of a light's maps (cascades, cube faces) to redraw this frame, one bit each: all
 /// of them when the maps were never drawn or anything but the cascades' windows changed (the
 /// casters' set, the light, the settings, the fatten distance); otherwise each tile whose window

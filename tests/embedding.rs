@@ -1447,7 +1447,11 @@ fn the_tile_classification_drops_tiles_and_keeps_every_shadow() {
     let mut runs = Vec::new();
     for tiles in [false, true] {
         let mut settings = ShadowSettings::default();
-        settings.penumbra.tiles = tiles;
+        settings.penumbra.tiles = if tiles {
+            penumbra::TileClassification::On
+        } else {
+            penumbra::TileClassification::Off
+        };
         let mut shadows = Shadows::new(device, settings).unwrap();
         let ids: Vec<_> = lights
             .iter()
@@ -1547,7 +1551,7 @@ fn a_receiver_that_is_not_registered_still_gets_the_whole_shadow() {
 #[test]
 fn a_receiver_mask_keeps_shadow_off_the_pixels_it_excludes() {
     let gpu = common::gpu();
-    let (device, queue) = (&gpu.device, &gpu.queue);
+    let device = &gpu.device;
     let w = world(&gpu);
     let depth = DepthPass::new(device);
     // The mask excludes the left half of the frame.

@@ -558,7 +558,11 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                     mask_early_out: mask,
                     nearest_caster: nearest,
                     // Either way (the strategy has no boolean to spare).
-                    tiles: rotate,
+                    tiles: if rotate {
+                        penumbra::TileClassification::On
+                    } else {
+                        penumbra::TileClassification::Off
+                    },
                     blur_taps,
                     depth_aware_blur: aware,
                     batch_lights: true,
