@@ -25,36 +25,9 @@ override NEAREST_CASTER: bool = true;
 @group(0) @binding(5) var exit_map: texture_2d<f32>;
 // The real shadow map, read as plain depths: beside a shadow, where its nearest caster is.
 @group(0) @binding(6) var shadow_map: texture_2d<f32>;
-// The tile classification's result: one texel per screen tile, 1 where the fattened shadow
-// can fall (`tile_classify.wgsl`).
-@group(0) @binding(7) var tile_classes: texture_2d<f32>;
-
-// Screen pixels per tile side (`TILE` in `tile_classify.wgsl`).
-const CLASS_TILE: f32 = 16.0;
-
-// With the tile classification, the first draw covers only the tiles it kept: instance
-// `instance` is the tile (row by row), two triangles; a dropped tile's vertices all lie outside
-// clip space and nothing is drawn. The pixels of the other tiles keep the cleared values (no
-// distance, mask 0, classification 0), which is what the test would give them.
-@vertex
-fn vs_tile(@builtin(vertex_index) index: u32, @builtin(instance_index) instance: u32) -> @builtin(position) vec4<f32> {
-    let across = textureDimensions(tile_classes).x;
-    let tile = vec2<u32>(instance % across, instance / across);
-    if textureLoad(tile_classes, vec2<i32>(tile), 0).x < 0.5 {
-        return vec4<f32>(2.0, 2.0, 0.0, 1.0);
-    }
-    var corners = array<vec2<f32>, 6>(
-        vec2<f32>(0.0, 0.0),
-        vec2<f32>(1.0, 0.0),
-        vec2<f32>(0.0, 1.0),
-        vec2<f32>(0.0, 1.0),
-        vec2<f32>(1.0, 0.0),
-        vec2<f32>(1.0, 1.0),
-    );
-    let pixel = min((vec2<f32>(tile) + corners[index % 6u]) * CLASS_TILE, frame.view.size);
-    let ndc = vec2<f32>(pixel.x * frame.view.inv_size.x * 2.0 - 1.0, 1.0 - pixel.y * frame.view.inv_size.y * 2.0);
-    return vec4<f32>(ndc, 0.0, 1.0);
-}
+// With the tile classification, the first draw covers only the tiles it kept (`vs_tile`,
+// `common/tiles.wgsl`). The pixels of the other tiles keep the cleared values (no distance,
+// mask 0, classification 0), which is what the test would give them.
 
 struct Out {
     @location(0) distance: vec4<f32>,
@@ -135,6 +108,12 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
 fn vs_beside(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {
     let uv = vec2<f32>(f32((index << 1u) & 2u), f32(index & 2u));
     return vec4<f32>(uv * 2.0 - 1.0, 0.75 * BESIDE, 1.0);
+}
+
+// The same depth over the kept tiles only.
+@vertex
+fn vs_tile_beside(@builtin(vertex_index) index: u32, @builtin(instance_index) instance: u32) -> @builtin(position) vec4<f32> {
+    return tile_vertex(index, instance, 0.75 * BESIDE);
 }
 
 // Beside a shadow (the light's centre in sight), the penumbra's outer half is shaped by the

@@ -143,6 +143,8 @@ pub(crate) struct PcssUniform {
 pub(crate) struct PcfSwitches {
     pub rotate_taps: bool,
     pub mask_early_out: bool,
+    /// After the distance map: draw only the screen tiles its tile classification kept.
+    pub tiles: bool,
 }
 
 /// The distance map's compile-time switches.
@@ -163,6 +165,9 @@ pub(crate) struct BlurSwitches {
     /// After the distance-map pass: skip the pixels it found nothing to blur at (depth test)
     /// and write the light's output layer from the vertical draw (the resolve).
     pub after_distance_map: bool,
+    /// After the distance map: draw only the screen tiles its tile classification kept (one
+    /// light's blur; a batch of lights covers the screen).
+    pub tiles: bool,
 }
 
 /// The blur's parameters besides its axis and weights.
@@ -241,18 +246,20 @@ impl PassParams {
                 },
             ),
         };
+        // Without the early out every receiver pixel is classified: no tile is dropped. Auto
+        // counts as on here; `Shadows` turns it off on a GPU.
+        let tiles = p.tiles != crate::settings::TileClassification::Off && p.mask_early_out;
         PassParams {
             pcf,
             pcf_switches: PcfSwitches {
                 rotate_taps: p.rotate_taps,
                 mask_early_out: p.mask_early_out,
+                tiles,
             },
             distance_switches: DistanceSwitches {
                 mask_early_out: p.mask_early_out,
                 nearest_caster: p.nearest_caster,
-                // Without the early out every receiver pixel is classified: no tile is dropped.
-                // Auto counts as on here; `Shadows` turns it off on a GPU.
-                tiles: p.tiles != crate::settings::TileClassification::Off && p.mask_early_out,
+                tiles,
             },
             blur,
             blur_switches: BlurSwitches {
@@ -260,6 +267,7 @@ impl PassParams {
                 // The baseline is the paper's plain fixed Gaussian.
                 depth_aware: p.depth_aware_blur && !fixed,
                 after_distance_map: !fixed,
+                tiles: tiles && !fixed,
             },
             pcss: PcssUniform {
                 blocker_samples: s.pcss.blocker_samples,

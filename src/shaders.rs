@@ -1,6 +1,6 @@
 //! The passes' WGSL sources. Each pass has one file in `shaders/`; the pieces several passes
 //! share (the frame uniform and light-space helpers, a point light's cube faces, the
-//! full-screen triangle, the receiver plane, the instance and material uniforms) live in `shaders/common/` and are joined to the
+//! full-screen triangle, the screen tiles' quads, the receiver plane, the instance and material uniforms) live in `shaders/common/` and are joined to the
 //! pass's file at compile time, so there is one copy of each.
 
 macro_rules! wgsl {
@@ -22,12 +22,14 @@ pub const DISTANCE_MAP: &str = wgsl!(
     "common/frame.wgsl",
     "common/cube.wgsl",
     "common/fullscreen.wgsl",
+    "common/tiles.wgsl",
     "distance_map.wgsl"
 );
 pub const VARIABLE_PCF: &str = wgsl!(
     "common/frame.wgsl",
     "common/cube.wgsl",
     "common/fullscreen.wgsl",
+    "common/tiles.wgsl",
     "common/receiver.wgsl",
     "common/pcf_taps.wgsl",
     "variable_pcf.wgsl"
@@ -51,6 +53,7 @@ pub const BLUR: &str = wgsl!(
     "common/frame.wgsl",
     "common/cube.wgsl",
     "common/fullscreen.wgsl",
+    "common/tiles.wgsl",
     "blur.wgsl"
 );
 pub const RESOLVE: &str = wgsl!(

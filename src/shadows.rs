@@ -1266,6 +1266,8 @@ fn pass_params(settings: &ShadowSettings, software: bool) -> PassParams {
     let mut params = PassParams::new(settings);
     if settings.penumbra.tiles == crate::settings::TileClassification::Auto && !software {
         params.distance_switches.tiles = false;
+        params.pcf_switches.tiles = false;
+        params.blur_switches.tiles = false;
     }
     params
 }

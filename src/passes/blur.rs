@@ -21,10 +21,11 @@
 
 use bytemuck::{Pod, Zeroable};
 
+use super::tile_classify::tiles_layout;
 use super::variable_pcf::classified_test;
 use super::{
-    CLASSIFICATION_FORMAT, DepthUse, Fullscreen, VISIBILITY_FORMAT, draw_fullscreen_into, entries, entry,
-    screen_target,
+    CLASSIFICATION_FORMAT, Classification, DepthUse, Fullscreen, VISIBILITY_FORMAT, draw_fullscreen_into,
+    entries, entry, screen_target,
 };
 use crate::frame::{BlurParams, BlurSwitches, gaussian_weights};
 
@@ -90,6 +91,8 @@ pub(crate) struct BlurInput<'a> {
 
 pub struct BlurPass {
     switches: BlurSwitches,
+    /// The draws cover only the kept screen tiles (one light, with the tile classification).
+    tiled: bool,
     lights: usize,
     layout: wgpu::BindGroupLayout,
     /// Tested against the classification (after the distance map), untested otherwise: both
@@ -132,7 +135,7 @@ impl BlurPass {
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let filterable = wgpu::TextureSampleType::Float { filterable: true };
         let mut layout_entries = vec![
-            entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
+            entry::uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT, frame_size, false),
             entry::texture_2d(1, unfilterable),
             entry::sampler(2, wgpu::SamplerBindingType::Filtering),
         ];
@@ -164,7 +167,14 @@ impl BlurPass {
             ("DEPTH_AWARE", flag(switches.depth_aware)),
             ("LIGHTS", lights as f64),
         ];
-        let layouts = [Some(&layout), Some(&axis_layout)];
+        // One light's blur with the tile classification draws only the kept tiles (group 2).
+        let tiled = switches.tiles && switches.after_distance_map && lights == 1;
+        let tiles = tiles_layout(device);
+        let (layouts, vertex) = if tiled {
+            (vec![Some(&layout), Some(&axis_layout), Some(&tiles)], "vs_tile")
+        } else {
+            (vec![Some(&layout), Some(&axis_layout)], "vs_fullscreen")
+        };
         let fullscreen = |targets, depth, entry| {
             Fullscreen {
                 label: "BlurPass::pipeline",
@@ -174,7 +184,7 @@ impl BlurPass {
                 depth,
                 constants: &constants,
             }
-            .pipeline_at(device, entry)
+            .pipeline_with(device, vertex, entry)
         };
         // Only where the distance map says a shadow can fall.
         let tested = || switches.after_distance_map.then(classified_test);
@@ -220,6 +230,7 @@ impl BlurPass {
         });
         let mut pass = Self {
             switches,
+            tiled,
             lights,
             layout,
             pipeline,
@@ -356,15 +367,22 @@ impl BlurPass {
     /// distance-map pass, `classification` is a single light's distance-map depth (several
     /// lights use the union the horizontal draw writes) and `layers` are the lights' output
     /// layers, which the vertical draw writes.
-    pub fn encode(
+    pub(crate) fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        classification: Option<&wgpu::TextureView>,
+        classification: Option<Classification>,
         layers: &[&wgpu::TextureView],
     ) {
         let Some(groups) = &self.bind_groups else {
             return;
         };
+        let classification = classification.filter(|_| self.switches.after_distance_map);
+        let tiles = classification.and_then(|c| c.tiles).filter(|_| self.tiled);
+        // The distance map and this pass take the tile switch from the same settings.
+        debug_assert_eq!(self.tiled, tiles.is_some());
+        if self.tiled && tiles.is_none() {
+            return;
+        }
         let tested = match (&self.classify_pipeline, &self.union) {
             (Some(classify), Some(union)) => {
                 draw_fullscreen_into(
@@ -374,10 +392,11 @@ impl BlurPass {
                     &[&groups[0], &self.axis_groups[0]],
                     &[],
                     DepthUse::Write(&union.1),
+                    None,
                 );
                 Some(&union.1)
             }
-            _ => classification.filter(|_| self.switches.after_distance_map),
+            _ => classification.map(|c| c.depth),
         };
         let depth = tested.map_or(DepthUse::None, DepthUse::Test);
         draw_fullscreen_into(
@@ -387,6 +406,7 @@ impl BlurPass {
             &[&groups[0], &self.axis_groups[0]],
             &[&self.temp.1],
             depth,
+            tiles,
         );
         let outputs: Vec<&wgpu::TextureView> = match &self.output {
             Some(o) => vec![&o.1],
@@ -399,6 +419,7 @@ impl BlurPass {
             &[&groups[1], &self.axis_groups[1]],
             &outputs,
             depth,
+            tiles,
         );
     }
 }

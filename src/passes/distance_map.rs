@@ -28,8 +28,11 @@
 
 use crate::frame::DistanceSwitches;
 
-use super::tile_classify::TileClassifyPass;
-use super::{CLASSIFICATION_FORMAT, Fullscreen, LIGHT_KIND, cleared, entries, entry, screen_target};
+use super::tile_classify::{TileClassifyPass, tiles_layout};
+use super::{
+    CLASSIFICATION_FORMAT, Classification, Fullscreen, LIGHT_KIND, cleared, draw_area, entries, entry,
+    screen_target,
+};
 
 pub struct DistanceMapPass {
     switches: DistanceSwitches,
@@ -41,11 +44,8 @@ pub struct DistanceMapPass {
     distance: (wgpu::Texture, wgpu::TextureView),
     classification: (wgpu::Texture, wgpu::TextureView),
     bind_group: Option<wgpu::BindGroup>,
-    /// With `switches.tiles`: the screen tiles the first draw covers, and that draw.
+    /// With `switches.tiles`: which screen tiles the draws (and the later passes') cover.
     tiles: TileClassifyPass,
-    tile_pipeline: Option<wgpu::RenderPipeline>,
-    /// Screen tiles across and down.
-    tile_count: (u32, u32),
     /// The fattened map must be reduced again before the next classification (it was drawn
     /// or bound anew).
     /// (Atomic so that the passes stay `Sync`: an engine keeps `Shadows` in shared state.)
@@ -78,10 +78,6 @@ impl DistanceMapPass {
                 entry::texture_2d(4, unfilterable),
                 entry::texture_2d(5, unfilterable),
                 entry::texture_2d(6, unfilterable),
-                wgpu::BindGroupLayoutEntry {
-                    visibility: wgpu::ShaderStages::VERTEX,
-                    ..entry::texture_2d(7, unfilterable)
-                },
             ],
         });
         let constants = [
@@ -89,7 +85,13 @@ impl DistanceMapPass {
             ("NEAREST_CASTER", if switches.nearest_caster { 1.0 } else { 0.0 }),
             (LIGHT_KIND, light_kind as f64),
         ];
-        let layouts = [Some(&layout)];
+        // With the tile classification the draws cover only the kept tiles (group 2).
+        let tiles = tiles_layout(device);
+        let layouts = if switches.tiles {
+            vec![Some(&layout), None, Some(&tiles)]
+        } else {
+            vec![Some(&layout)]
+        };
         let targets = [Some(Self::DISTANCE_FORMAT.into())];
         let draw = |label, write: bool, compare| Fullscreen {
             label,
@@ -105,20 +107,21 @@ impl DistanceMapPass {
             }),
             constants: &constants,
         };
-        let pipeline =
-            draw("DistanceMapPass::pipeline", true, wgpu::CompareFunction::Always).pipeline(device);
-        let tile_pipeline = switches.tiles.then(|| {
-            draw("DistanceMapPass::tiles", true, wgpu::CompareFunction::Always)
-                .pipeline_with(device, "vs_tile", "fs_main")
-        });
-        // Its triangle lies between the two classifications: `Less` passes only beside a shadow.
+        let (vs_main, vs_beside) = if switches.tiles {
+            ("vs_tile", "vs_tile_beside")
+        } else {
+            ("vs_fullscreen", "vs_beside")
+        };
+        let pipeline = draw("DistanceMapPass::pipeline", true, wgpu::CompareFunction::Always)
+            .pipeline_with(device, vs_main, "fs_main");
+        // Its triangles lie between the two classifications: `Less` passes only beside a shadow.
         let nearest_caster = switches.nearest_caster.then(|| {
             draw(
                 "DistanceMapPass::nearest_caster",
                 false,
                 wgpu::CompareFunction::Less,
             )
-            .pipeline_with(device, "vs_beside", "fs_nearest_caster")
+            .pipeline_with(device, vs_beside, "fs_nearest_caster")
         });
         let mut pass = Self {
             switches,
@@ -142,8 +145,6 @@ impl DistanceMapPass {
             ),
             bind_group: None,
             tiles: TileClassifyPass::new(device, frame_size, light_kind),
-            tile_pipeline,
-            tile_count: (1, 1),
             reduce_pending: std::sync::atomic::AtomicBool::new(true),
         };
         pass.resize(device, 1, 1);
@@ -167,7 +168,6 @@ impl DistanceMapPass {
             CLASSIFICATION_FORMAT,
         );
         self.tiles.resize(device, width, height);
-        self.tile_count = TileClassifyPass::tiles(width, height);
         self.bind_group = None;
     }
 
@@ -201,7 +201,6 @@ impl DistanceMapPass {
                 wgpu::BindingResource::TextureView(occluder_offset),
                 wgpu::BindingResource::TextureView(exit_map),
                 wgpu::BindingResource::TextureView(shadow_map),
-                wgpu::BindingResource::TextureView(self.tiles.classes()),
             ]),
         }));
     }
@@ -227,12 +226,16 @@ impl DistanceMapPass {
 
     /// The tile classification's result, when the pass draws only the tiles it keeps.
     pub fn tile_classes_texture(&self) -> Option<&wgpu::Texture> {
-        self.tile_pipeline.as_ref().map(|_| self.tiles.classes_texture())
+        self.switches.tiles.then(|| self.tiles.classes_texture())
     }
 
-    /// Where a shadow can fall (depth 1), for the later passes' depth test.
-    pub fn classification(&self) -> &wgpu::TextureView {
-        &self.classification.1
+    /// Where a shadow can fall, for the later passes: the classification depth (above 0 there)
+    /// and, with the tile classification, the tiles kept.
+    pub(crate) fn classification(&self) -> Classification<'_> {
+        Classification {
+            depth: &self.classification.1,
+            tiles: self.switches.tiles.then(|| self.tiles.kept()),
+        }
     }
 
     /// Records the pass (`maps_drawn`: the light's maps were drawn this frame): with the tile
@@ -241,7 +244,7 @@ impl DistanceMapPass {
         let Some(group) = &self.bind_group else {
             return;
         };
-        if self.tile_pipeline.is_some() {
+        if self.switches.tiles {
             self.tiles.encode(
                 encoder,
                 self.reduce_pending
@@ -265,19 +268,12 @@ impl DistanceMapPass {
             multiview_mask: None,
         });
         pass.set_bind_group(0, group, &[]);
-        match &self.tile_pipeline {
-            Some(tiles) => {
-                pass.set_pipeline(tiles);
-                pass.draw(0..6, 0..self.tile_count.0 * self.tile_count.1);
-            }
-            None => {
-                pass.set_pipeline(&self.pipeline);
-                pass.draw(0..3, 0..1);
-            }
-        }
+        let tiles = self.classification().tiles;
+        pass.set_pipeline(&self.pipeline);
+        draw_area(&mut pass, tiles);
         if let Some(nearest_caster) = &self.nearest_caster {
             pass.set_pipeline(nearest_caster);
-            pass.draw(0..3, 0..1);
+            draw_area(&mut pass, tiles);
         }
     }
 }

@@ -292,7 +292,7 @@ pub(crate) fn draw_fullscreen_tested(
     classification: Option<&wgpu::TextureView>,
 ) {
     let depth = classification.map_or(DepthUse::None, DepthUse::Test);
-    draw_fullscreen_into(encoder, label, pipeline, bind_groups, &[target], depth);
+    draw_fullscreen_into(encoder, label, pipeline, bind_groups, &[target], depth, None);
 }
 
 /// What a full-screen draw does with a classification depth.
@@ -305,8 +305,40 @@ pub(crate) enum DepthUse<'a> {
     Write(&'a wgpu::TextureView),
 }
 
-/// Draws the fullscreen triangle of `pipeline` into `targets` (each cleared to white first),
-/// with a classification depth used as `depth` says.
+/// Where a light's screen-space passes run after its distance map: the classification depth
+/// the distance map wrote and, with the tile classification, the screen tiles it kept.
+#[derive(Clone, Copy)]
+pub(crate) struct Classification<'a> {
+    pub depth: &'a wgpu::TextureView,
+    pub tiles: Option<Tiles<'a>>,
+}
+
+/// The screen tiles a tile classification kept: the bind group of `shaders/common/tiles.wgsl`
+/// (group [`TILES_GROUP`]) and how many tiles the screen has, one quad instance each. A pass
+/// draws them with a pipeline whose vertex entry point is `vs_tile`.
+#[derive(Clone, Copy)]
+pub(crate) struct Tiles<'a> {
+    pub group: &'a wgpu::BindGroup,
+    pub count: u32,
+}
+
+/// The bind group index of the kept tiles (`shaders/common/tiles.wgsl`).
+pub(crate) const TILES_GROUP: u32 = 2;
+
+/// Draws the screen: the kept `tiles` when given (the pipeline's vertex stage is then
+/// `vs_tile`), else the full-screen triangle.
+pub(crate) fn draw_area(pass: &mut wgpu::RenderPass<'_>, tiles: Option<Tiles>) {
+    match tiles {
+        Some(tiles) => {
+            pass.set_bind_group(TILES_GROUP, tiles.group, &[]);
+            pass.draw(0..6, 0..tiles.count);
+        }
+        None => pass.draw(0..3, 0..1),
+    }
+}
+
+/// Draws `pipeline` over the screen (the kept `tiles` when given, see [`draw_area`]) into
+/// `targets` (each cleared to white first), with a classification depth used as `depth` says.
 pub(crate) fn draw_fullscreen_into(
     encoder: &mut wgpu::CommandEncoder,
     label: &str,
@@ -314,6 +346,7 @@ pub(crate) fn draw_fullscreen_into(
     bind_groups: &[&wgpu::BindGroup],
     targets: &[&wgpu::TextureView],
     depth: DepthUse,
+    tiles: Option<Tiles>,
 ) {
     let color_attachments: Vec<_> = targets.iter().map(|t| cleared(t, wgpu::Color::WHITE)).collect();
     let depth_stencil_attachment = match depth {
@@ -344,7 +377,7 @@ pub(crate) fn draw_fullscreen_into(
     for (i, group) in bind_groups.iter().enumerate() {
         pass.set_bind_group(i as u32, *group, &[]);
     }
-    pass.draw(0..3, 0..1);
+    draw_area(&mut pass, tiles);
 }
 
 /// The light-space passes' per-light data: a uniform of `size` bytes alone in a bind group

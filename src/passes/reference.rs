@@ -190,6 +190,7 @@ impl ReferencePass {
             &[&groups[read]],
             &[&mean.1, &weight.1],
             DepthUse::None,
+            None,
         );
         self.accumulated += 1;
     }

@@ -11,7 +11,7 @@
 //! fattened depth under its footprint in each cascade or cube face it can use; 0 where none
 //! can (conservative: see `shaders/tile_classify.wgsl`).
 
-use super::{Fullscreen, LIGHT_KIND, entry, screen_target};
+use super::{Fullscreen, LIGHT_KIND, Tiles, entry, screen_target};
 
 /// Screen pixels per tile side (`TILE` in the shader).
 pub const TILE: u32 = 16;
@@ -23,8 +23,24 @@ pub const REDUCE: u32 = 8;
 const REDUCED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 const CLASS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 
+/// The layout of the kept tiles' bind group ([`super::TILES_GROUP`], `shaders/common/tiles.wgsl`):
+/// the classes, read by the vertex stage. wgpu gives equal layouts one identity, so the passes
+/// that draw tiles make their own and use the group this pass makes.
+pub(crate) fn tiles_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("tiles_layout"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            visibility: wgpu::ShaderStages::VERTEX,
+            ..entry::texture_2d(0, wgpu::TextureSampleType::Float { filterable: false })
+        }],
+    })
+}
+
 pub(crate) struct TileClassifyPass {
     layout: wgpu::BindGroupLayout,
+    tiles_layout: wgpu::BindGroupLayout,
+    /// The classes as the kept tiles' bind group, and the number of tiles.
+    tiles: (wgpu::BindGroup, u32),
     reduce_layout: wgpu::BindGroupLayout,
     classify: wgpu::RenderPipeline,
     reduce: wgpu::RenderPipeline,
@@ -67,7 +83,11 @@ impl TileClassifyPass {
             }
             .pipeline_at(device, entry)
         };
+        let tiles_layout = tiles_layout(device);
+        let classes = screen_target(device, "TileClassifyPass::classes", 1, 1, CLASS_FORMAT);
         Self {
+            tiles: (Self::tiles_group(device, &tiles_layout, &classes.1), 1),
+            tiles_layout,
             classify: pipeline("TileClassifyPass::classify", &layout, CLASS_FORMAT, "fs_classify"),
             reduce: pipeline(
                 "TileClassifyPass::reduce",
@@ -78,7 +98,7 @@ impl TileClassifyPass {
             layout,
             reduce_layout,
             reduced: screen_target(device, "TileClassifyPass::reduced", 1, 1, REDUCED_FORMAT),
-            classes: screen_target(device, "TileClassifyPass::classes", 1, 1, CLASS_FORMAT),
+            classes,
             groups: None,
             gather: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("TileClassifyPass::gather"),
@@ -96,7 +116,34 @@ impl TileClassifyPass {
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
         let (x, y) = Self::tiles(width, height);
         self.classes = screen_target(device, "TileClassifyPass::classes", x, y, CLASS_FORMAT);
+        self.tiles = (
+            Self::tiles_group(device, &self.tiles_layout, &self.classes.1),
+            x * y,
+        );
         self.groups = None;
+    }
+
+    fn tiles_group(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        classes: &wgpu::TextureView,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("TileClassifyPass::tiles"),
+            layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(classes),
+            }],
+        })
+    }
+
+    /// The kept tiles, for the passes that draw only them.
+    pub fn kept(&self) -> Tiles<'_> {
+        Tiles {
+            group: &self.tiles.0,
+            count: self.tiles.1,
+        }
     }
 
     /// Points the pass at its inputs; `fattened_map` is `fattened_side` texels a side.
@@ -147,11 +194,6 @@ impl TileClassifyPass {
             ],
         });
         self.groups = Some((classify, reduce));
-    }
-
-    /// One texel per screen tile: 1 where the distance map must run.
-    pub fn classes(&self) -> &wgpu::TextureView {
-        &self.classes.1
     }
 
     pub fn classes_texture(&self) -> &wgpu::Texture {

@@ -14,9 +14,10 @@
 
 use super::blur::PackedVisibility;
 use super::pcf::comparison_sampler;
+use super::tile_classify::tiles_layout;
 use super::{
-    CLASSIFICATION_FORMAT, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, entries, entry, kept,
-    screen_target,
+    CLASSIFICATION_FORMAT, Classification, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, draw_area,
+    entries, entry, kept, screen_target,
 };
 use crate::frame::{PcfSwitches, PcfUniform};
 
@@ -53,7 +54,7 @@ impl VariablePcfPass {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("VariablePcfPass::layout"),
             entries: &[
-                entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
+                entry::uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT, frame_size, false),
                 entry::texture_2d(1, unfilterable),
                 entry::texture_2d(2, unfilterable),
                 entry::texture_2d(3, wgpu::TextureSampleType::Depth),
@@ -101,10 +102,17 @@ impl VariablePcfPass {
         light_kind: u32,
         entry: &str,
     ) -> wgpu::RenderPipeline {
+        // With the tile classification only the kept tiles are drawn (group 2).
+        let tiles = tiles_layout(device);
+        let (layouts, vertex) = if switches.tiles {
+            (vec![Some(layout), None, Some(&tiles)], "vs_tile")
+        } else {
+            (vec![Some(layout)], "vs_fullscreen")
+        };
         Fullscreen {
             label: "VariablePcfPass::pipeline",
             shader,
-            bind_group_layouts: &[Some(layout)],
+            bind_group_layouts: &layouts,
             targets,
             depth: Some(classified_test()),
             constants: &[
@@ -112,7 +120,7 @@ impl VariablePcfPass {
                 (LIGHT_KIND, light_kind as f64),
             ],
         }
-        .pipeline_at(device, entry)
+        .pipeline_with(device, vertex, entry)
     }
 
     /// Makes the pass write channel `channel` of a batch's packed texture (`format`) besides its
@@ -222,7 +230,7 @@ impl VariablePcfPass {
     }
 
     /// Records the pass where `classification` (the distance map's) says a shadow can fall.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, classification: &wgpu::TextureView) {
+    pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, classification: Classification) {
         let attachments = [
             cleared(&self.visibility.1, wgpu::Color::WHITE),
             cleared(&self.blur_sigma.1, wgpu::Color::TRANSPARENT),
@@ -236,7 +244,7 @@ impl VariablePcfPass {
     pub(crate) fn encode_packed(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        classification: &wgpu::TextureView,
+        classification: Classification,
         packed: &PackedVisibility,
         first: bool,
     ) {
@@ -255,12 +263,13 @@ impl VariablePcfPass {
         self.record(encoder, classification, pipeline, &attachments);
     }
 
-    /// One draw into `attachments`, tested against `classification`; the attachments are
-    /// cleared or kept as they say even when the pass is not bound yet.
+    /// One draw into `attachments`, tested against `classification` (over its kept tiles when
+    /// the pass was made for them); the attachments are cleared or kept as they say even when
+    /// the pass is not bound yet.
     fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        classification: &wgpu::TextureView,
+        classification: Classification,
         pipeline: &wgpu::RenderPipeline,
         attachments: &[Option<wgpu::RenderPassColorAttachment>],
     ) {
@@ -268,7 +277,7 @@ impl VariablePcfPass {
             label: Some("VariablePcfPass"),
             color_attachments: attachments,
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: classification,
+                view: classification.depth,
                 depth_ops: None,
                 stencil_ops: None,
             }),
@@ -279,9 +288,14 @@ impl VariablePcfPass {
         let Some(group) = &self.bind_group else {
             return;
         };
+        // The distance map and this pass take the tile switch from the same settings.
+        debug_assert_eq!(self.switches.tiles, classification.tiles.is_some());
+        if self.switches.tiles && classification.tiles.is_none() {
+            return;
+        }
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, group, &[]);
-        pass.draw(0..3, 0..1);
+        draw_area(&mut pass, classification.tiles.filter(|_| self.switches.tiles));
     }
 }
 
