@@ -595,7 +595,7 @@ impl Casters {
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("Casters::alpha_mask"),
             layout: &self.layouts.material,
-            entries: &crate::passes::entries(&[
+            entries: &crate::gpu_helpers::entries(&[
                 buffer.as_entire_binding(),
                 wgpu::BindingResource::TextureView(mask.texture),
                 wgpu::BindingResource::Sampler(&self.sampler),

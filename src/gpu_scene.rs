@@ -249,7 +249,7 @@ impl GpuScene {
                 device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("GpuScene::material"),
                     layout: &layouts.material,
-                    entries: &crate::passes::entries(&[
+                    entries: &crate::gpu_helpers::entries(&[
                         buffer.as_entire_binding(),
                         wgpu::BindingResource::TextureView(view),
                         wgpu::BindingResource::Sampler(sampler),
@@ -474,7 +474,7 @@ impl GpuScene {
                 device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("GpuScene::surface"),
                     layout: &l.layout,
-                    entries: &crate::passes::entries(&[
+                    entries: &crate::gpu_helpers::entries(&[
                         buffer.as_entire_binding(),
                         wgpu::BindingResource::TextureView(view),
                         wgpu::BindingResource::Sampler(&l.sampler),

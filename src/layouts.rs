@@ -4,7 +4,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec3, Vec4};
 
-use crate::passes::entry;
+use crate::gpu_helpers::entry;
 
 /// Bind group layouts shared by every pass that draws scene geometry. Cloning shares the
 /// layouts, so several [`crate::Renderer`]s made with [`crate::Renderer::with_layouts`] can

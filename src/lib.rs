@@ -45,6 +45,7 @@ pub mod error;
 mod frame;
 #[cfg(feature = "renderer")]
 pub mod gpu;
+mod gpu_helpers;
 #[cfg(feature = "renderer")]
 mod gpu_scene;
 #[cfg(feature = "renderer")]

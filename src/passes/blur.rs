@@ -22,10 +22,9 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::tile_classify::tiles_layout;
-use super::variable_pcf::classified_test;
 use super::{
-    CLASSIFICATION_FORMAT, Classification, DepthUse, Fullscreen, VISIBILITY_FORMAT, draw_fullscreen_into,
-    entries, entry, screen_target,
+    CLASSIFICATION_FORMAT, Classification, DepthUse, Fullscreen, VISIBILITY_FORMAT, classified_test,
+    draw_fullscreen_into, entries, entry, screen_target,
 };
 use crate::frame::{BlurParams, BlurSwitches, gaussian_weights};
 

@@ -88,19 +88,10 @@ impl ForwardPass {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let comparison_sampler = |label, filter| {
-            device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some(label),
-                address_mode_u: wgpu::AddressMode::ClampToEdge,
-                address_mode_v: wgpu::AddressMode::ClampToEdge,
-                mag_filter: filter,
-                min_filter: filter,
-                compare: Some(wgpu::CompareFunction::LessEqual),
-                ..Default::default()
-            })
-        };
-        let hard_sampler = comparison_sampler("ForwardPass::hard_sampler", wgpu::FilterMode::Nearest);
-        let pcf_sampler = comparison_sampler("ForwardPass::pcf_sampler", wgpu::FilterMode::Linear);
+        let hard_sampler =
+            super::comparison_sampler(device, "ForwardPass::hard_sampler", wgpu::FilterMode::Nearest);
+        let pcf_sampler =
+            super::comparison_sampler(device, "ForwardPass::pcf_sampler", wgpu::FilterMode::Linear);
         // Opaque surfaces write depth; blended ones over them are depth tested, not written.
         let pipelines = super::LitPipelines::new(
             device,

@@ -55,214 +55,36 @@ pub use pcss::PcssPass;
 pub use reference::ReferencePass;
 pub use resolve::ResolvePass;
 pub use shadow_map::ShadowMapPass;
+// The generic helpers the passes build on (a leaf module).
+pub(crate) use crate::gpu_helpers::{
+    Fullscreen, cleared, comparison_sampler, entries, entry, fullscreen_pipeline, fullscreen_pipeline_with,
+    kept, screen_target,
+};
+#[cfg(feature = "renderer")]
+pub(crate) use crate::gpu_helpers::{POSITION, blended_target, stream, vertex_layout};
 pub(crate) use tile_clear::TileClear;
 pub use variable_pcf::VariablePcfPass;
 
-/// Vertex buffer layout of one tightly packed attribute stream.
-pub(crate) const fn stream(location: u32, format: wgpu::VertexFormat) -> [wgpu::VertexAttribute; 1] {
-    [wgpu::VertexAttribute {
-        format,
-        offset: 0,
-        shader_location: location,
-    }]
-}
-
-pub(crate) const POSITION: [wgpu::VertexAttribute; 1] = stream(0, wgpu::VertexFormat::Float32x3);
-
-/// Bind group layout entries, so each pass states only what differs.
-pub(crate) mod entry {
-    /// A uniform buffer of at least `size` bytes (dynamic offset when `dynamic`).
-    pub(crate) fn uniform(
-        binding: u32,
-        visibility: wgpu::ShaderStages,
-        size: usize,
-        dynamic: bool,
-    ) -> wgpu::BindGroupLayoutEntry {
-        wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: dynamic,
-                min_binding_size: wgpu::BufferSize::new(size as u64),
-            },
-            count: None,
-        }
-    }
-
-    /// A 2D texture read in the fragment stage.
-    pub(crate) fn texture_2d(
-        binding: u32,
-        sample_type: wgpu::TextureSampleType,
-    ) -> wgpu::BindGroupLayoutEntry {
-        texture(binding, sample_type, wgpu::TextureViewDimension::D2)
-    }
-
-    /// A texture of `dimension` read in the fragment stage.
-    pub(crate) fn texture(
-        binding: u32,
-        sample_type: wgpu::TextureSampleType,
-        view_dimension: wgpu::TextureViewDimension,
-    ) -> wgpu::BindGroupLayoutEntry {
-        wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type,
-                view_dimension,
-                multisampled: false,
-            },
-            count: None,
-        }
-    }
-
-    /// A sampler used in the fragment stage.
-    pub(crate) fn sampler(binding: u32, kind: wgpu::SamplerBindingType) -> wgpu::BindGroupLayoutEntry {
-        wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Sampler(kind),
-            count: None,
-        }
-    }
-}
-
-pub(crate) fn vertex_layout(attributes: &[wgpu::VertexAttribute]) -> wgpu::VertexBufferLayout<'_> {
-    wgpu::VertexBufferLayout {
-        array_stride: attributes[0].format.size(),
-        step_mode: wgpu::VertexStepMode::Vertex,
-        attributes,
-    }
-}
-
 /// Format of the screen-space visibility textures (filterable, for the blur's bilinear taps).
 pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
-
-/// A screen-sized color target that later passes read.
-pub(crate) fn screen_target(
-    device: &wgpu::Device,
-    label: &str,
-    width: u32,
-    height: u32,
-    format: wgpu::TextureFormat,
-) -> (wgpu::Texture, wgpu::TextureView) {
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: width.max(1),
-            height: height.max(1),
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
-    let view = texture.create_view(&Default::default());
-    (texture, view)
-}
-
-/// A pipeline that draws one screen-covering triangle (`vs_fullscreen`) with `fs_main`.
-pub(crate) fn fullscreen_pipeline(
-    device: &wgpu::Device,
-    label: &str,
-    shader: &wgpu::ShaderModule,
-    bind_group_layouts: &[Option<&wgpu::BindGroupLayout>],
-    format: wgpu::TextureFormat,
-) -> wgpu::RenderPipeline {
-    fullscreen_pipeline_with(device, label, shader, bind_group_layouts, format, &[])
-}
-
-/// [`fullscreen_pipeline`] with values for the fragment shader's override constants.
-pub(crate) fn fullscreen_pipeline_with(
-    device: &wgpu::Device,
-    label: &str,
-    shader: &wgpu::ShaderModule,
-    bind_group_layouts: &[Option<&wgpu::BindGroupLayout>],
-    format: wgpu::TextureFormat,
-    constants: &[(&str, f64)],
-) -> wgpu::RenderPipeline {
-    Fullscreen {
-        label,
-        shader,
-        bind_group_layouts,
-        targets: &[Some(format.into())],
-        depth: None,
-        constants,
-    }
-    .pipeline(device)
-}
-
-/// A full-screen pipeline with any color targets, an optional depth attachment and override
-/// constants.
-pub(crate) struct Fullscreen<'a> {
-    pub label: &'a str,
-    pub shader: &'a wgpu::ShaderModule,
-    pub bind_group_layouts: &'a [Option<&'a wgpu::BindGroupLayout>],
-    pub targets: &'a [Option<wgpu::ColorTargetState>],
-    pub depth: Option<wgpu::DepthStencilState>,
-    pub constants: &'a [(&'a str, f64)],
-}
-
-impl Fullscreen<'_> {
-    pub(crate) fn pipeline(&self, device: &wgpu::Device) -> wgpu::RenderPipeline {
-        self.pipeline_at(device, "fs_main")
-    }
-
-    /// The pipeline with fragment entry point `entry`.
-    pub(crate) fn pipeline_at(&self, device: &wgpu::Device, entry: &str) -> wgpu::RenderPipeline {
-        self.pipeline_with(device, "vs_fullscreen", entry)
-    }
-
-    /// The pipeline with vertex entry point `vertex` (a screen-covering triangle) and fragment
-    /// entry point `entry`.
-    pub(crate) fn pipeline_with(
-        &self,
-        device: &wgpu::Device,
-        vertex: &str,
-        entry: &str,
-    ) -> wgpu::RenderPipeline {
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(self.label),
-            bind_group_layouts: self.bind_group_layouts,
-            immediate_size: 0,
-        });
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(self.label),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: self.shader,
-                entry_point: Some(vertex),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: self.depth.clone(),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: self.shader,
-                entry_point: Some(entry),
-                compilation_options: wgpu::PipelineCompilationOptions {
-                    constants: self.constants,
-                    ..Default::default()
-                },
-                targets: self.targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
-    }
-}
 
 /// The screen-space classification the distance-map pass writes as depth: above 0 where a shadow
 /// can fall (1 beside a shadow, 0.5 elsewhere), 0 where none can. The variable PCF and the blur
 /// test their full-screen triangle (depth 0) with `Less` against it, so the rasterizer skips
 /// every other pixel before their shaders run.
 pub(crate) const CLASSIFICATION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth16Unorm;
+
+/// The depth test of the passes that run only where the distance map's classification says a
+/// shadow can fall: their full-screen triangle lies at depth 0 and passes where 1 was written.
+pub(crate) fn classified_test() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: CLASSIFICATION_FORMAT,
+        depth_write_enabled: Some(false),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}
 
 /// The override constant (`shaders/common/frame.wgsl`) that makes a screen-space pipeline for
 /// one light kind ([`crate::frame::light_kind`]), its other kinds' branches compiled out: a
@@ -489,47 +311,6 @@ impl CascadeUniforms {
             draw(pass, cull.unwrap_or(crate::casters::Cull::None));
         }
     }
-}
-
-/// A color attachment cleared to `clear` and stored.
-pub(crate) fn cleared(
-    view: &wgpu::TextureView,
-    clear: wgpu::Color,
-) -> Option<wgpu::RenderPassColorAttachment<'_>> {
-    Some(wgpu::RenderPassColorAttachment {
-        view,
-        depth_slice: None,
-        resolve_target: None,
-        ops: wgpu::Operations {
-            load: wgpu::LoadOp::Clear(clear),
-            store: wgpu::StoreOp::Store,
-        },
-    })
-}
-
-/// A colour attachment that keeps what the view holds and stores what the pass writes.
-pub(crate) fn kept(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAttachment<'_>> {
-    Some(wgpu::RenderPassColorAttachment {
-        view,
-        depth_slice: None,
-        resolve_target: None,
-        ops: wgpu::Operations {
-            load: wgpu::LoadOp::Load,
-            store: wgpu::StoreOp::Store,
-        },
-    })
-}
-
-/// Bind group entries for a list of resources, numbered from 0.
-pub(crate) fn entries<'a>(resources: &[wgpu::BindingResource<'a>]) -> Vec<wgpu::BindGroupEntry<'a>> {
-    resources
-        .iter()
-        .enumerate()
-        .map(|(i, r)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource: r.clone(),
-        })
-        .collect()
 }
 
 /// The second vertex stream of a caster pipeline, after the positions.
@@ -779,25 +560,6 @@ impl LitPipelines {
         let maps = scene.samples_surface_maps() as usize;
         self.blended.as_ref().map_or(&self.opaque[maps], |b| &b[maps])
     }
-}
-
-/// A colour target that blends by the source's alpha (blended materials), or `None` for a
-/// format that cannot blend (the float targets metrics read: blended instances are then drawn
-/// opaque there).
-#[cfg(feature = "renderer")]
-pub(crate) fn blended_target(
-    device: &wgpu::Device,
-    format: wgpu::TextureFormat,
-) -> Option<wgpu::ColorTargetState> {
-    let features = format.guaranteed_format_features(device.features());
-    features
-        .flags
-        .contains(wgpu::TextureFormatFeatureFlags::BLENDABLE)
-        .then_some(wgpu::ColorTargetState {
-            format,
-            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-            write_mask: wgpu::ColorWrites::ALL,
-        })
 }
 
 /// The convenience renderer's camera depth format (reversed: cleared to 0).

@@ -66,7 +66,11 @@ impl PcfPass {
             layout,
             pipeline,
             params,
-            sampler: comparison_sampler(device, "PcfPass::comparison_sampler"),
+            sampler: super::comparison_sampler(
+                device,
+                "PcfPass::comparison_sampler",
+                wgpu::FilterMode::Linear,
+            ),
             output: screen_target(device, "PcfPass::visibility", 1, 1, VISIBILITY_FORMAT),
             bind_group: None,
         }
@@ -125,17 +129,4 @@ impl PcfPass {
             draw_fullscreen(encoder, "PcfPass", &self.pipeline, &[group], &self.output.1);
         }
     }
-}
-
-/// A bilinear comparison sampler (each tap is a hardware 2x2 PCF), clamped at the map's edges.
-pub(super) fn comparison_sampler(device: &wgpu::Device, label: &str) -> wgpu::Sampler {
-    device.create_sampler(&wgpu::SamplerDescriptor {
-        label: Some(label),
-        address_mode_u: wgpu::AddressMode::ClampToEdge,
-        address_mode_v: wgpu::AddressMode::ClampToEdge,
-        mag_filter: wgpu::FilterMode::Linear,
-        min_filter: wgpu::FilterMode::Linear,
-        compare: Some(wgpu::CompareFunction::LessEqual),
-        ..Default::default()
-    })
 }

@@ -4,7 +4,6 @@
 //! Input: the frame uniform, the camera depth and the shadow map. Output: an R16F visibility
 //! texture. Blocker and PCF tap counts come from [`crate::PcssSettings`].
 
-use super::pcf::comparison_sampler;
 use super::{
     LIGHT_KIND, VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline_with, screen_target,
 };
@@ -55,7 +54,11 @@ impl PcssPass {
             layout,
             pipeline,
             params,
-            sampler: comparison_sampler(device, "PcssPass::comparison_sampler"),
+            sampler: super::comparison_sampler(
+                device,
+                "PcssPass::comparison_sampler",
+                wgpu::FilterMode::Linear,
+            ),
             output: screen_target(device, "PcssPass::visibility", 1, 1, VISIBILITY_FORMAT),
             bind_group: None,
         }

@@ -76,11 +76,8 @@ impl ReferencePass {
             constants: &[],
         }
         .pipeline(device);
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("ReferencePass::hard_sampler"),
-            compare: Some(wgpu::CompareFunction::LessEqual),
-            ..Default::default()
-        });
+        let sampler =
+            super::comparison_sampler(device, "ReferencePass::hard_sampler", wgpu::FilterMode::Nearest);
         let sample = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("ReferencePass::sample"),
             size: size_of::<SampleUniform>() as u64,

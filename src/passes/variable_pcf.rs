@@ -13,11 +13,10 @@
 //! which the blur then reads with one fetch a tap for all the lights.
 
 use super::blur::PackedVisibility;
-use super::pcf::comparison_sampler;
 use super::tile_classify::tiles_layout;
 use super::{
-    CLASSIFICATION_FORMAT, Classification, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, draw_area,
-    entries, entry, kept, screen_target,
+    Classification, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, draw_area, entries, entry, kept,
+    screen_target,
 };
 use crate::frame::{PcfSwitches, PcfUniform};
 
@@ -85,7 +84,11 @@ impl VariablePcfPass {
             pipeline,
             packed: None,
             params,
-            sampler: comparison_sampler(device, "VariablePcfPass::comparison_sampler"),
+            sampler: super::comparison_sampler(
+                device,
+                "VariablePcfPass::comparison_sampler",
+                wgpu::FilterMode::Linear,
+            ),
             visibility: screen_target(device, "VariablePcfPass::visibility", 1, 1, VISIBILITY_FORMAT),
             blur_sigma: screen_target(device, "VariablePcfPass::blur_sigma", 1, 1, Self::SIGMA_FORMAT),
             bind_group: None,
@@ -114,7 +117,7 @@ impl VariablePcfPass {
             shader,
             bind_group_layouts: &layouts,
             targets,
-            depth: Some(classified_test()),
+            depth: Some(super::classified_test()),
             constants: &[
                 ("ROTATE_TAPS", if switches.rotate_taps { 1.0 } else { 0.0 }),
                 (LIGHT_KIND, light_kind as f64),
@@ -296,17 +299,5 @@ impl VariablePcfPass {
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, group, &[]);
         draw_area(&mut pass, classification.tiles.filter(|_| self.switches.tiles));
-    }
-}
-
-/// The depth test of the passes that run only where the distance map's classification says a
-/// shadow can fall: their full-screen triangle lies at depth 0 and passes where 1 was written.
-pub(crate) fn classified_test() -> wgpu::DepthStencilState {
-    wgpu::DepthStencilState {
-        format: CLASSIFICATION_FORMAT,
-        depth_write_enabled: Some(false),
-        depth_compare: Some(wgpu::CompareFunction::Less),
-        stencil: Default::default(),
-        bias: Default::default(),
     }
 }

@@ -1,0 +1,279 @@
+//! Generic GPU helpers every part of the crate uses (the passes, [`crate::Casters`], the
+//! convenience renderer's scene): bind-group layout entries and entries, vertex streams, render
+//! targets and attachments, the full-screen pipeline and the comparison sampler. A leaf: it
+//! imports nothing from the crate, so no module reaches another through it.
+
+/// Vertex buffer layout of one tightly packed attribute stream.
+pub(crate) const fn stream(location: u32, format: wgpu::VertexFormat) -> [wgpu::VertexAttribute; 1] {
+    [wgpu::VertexAttribute {
+        format,
+        offset: 0,
+        shader_location: location,
+    }]
+}
+
+pub(crate) const POSITION: [wgpu::VertexAttribute; 1] = stream(0, wgpu::VertexFormat::Float32x3);
+
+/// Bind group layout entries, so each pass states only what differs.
+pub(crate) mod entry {
+    /// A uniform buffer of at least `size` bytes (dynamic offset when `dynamic`).
+    pub(crate) fn uniform(
+        binding: u32,
+        visibility: wgpu::ShaderStages,
+        size: usize,
+        dynamic: bool,
+    ) -> wgpu::BindGroupLayoutEntry {
+        wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: dynamic,
+                min_binding_size: wgpu::BufferSize::new(size as u64),
+            },
+            count: None,
+        }
+    }
+
+    /// A 2D texture read in the fragment stage.
+    pub(crate) fn texture_2d(
+        binding: u32,
+        sample_type: wgpu::TextureSampleType,
+    ) -> wgpu::BindGroupLayoutEntry {
+        texture(binding, sample_type, wgpu::TextureViewDimension::D2)
+    }
+
+    /// A texture of `dimension` read in the fragment stage.
+    pub(crate) fn texture(
+        binding: u32,
+        sample_type: wgpu::TextureSampleType,
+        view_dimension: wgpu::TextureViewDimension,
+    ) -> wgpu::BindGroupLayoutEntry {
+        wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type,
+                view_dimension,
+                multisampled: false,
+            },
+            count: None,
+        }
+    }
+
+    /// A sampler used in the fragment stage.
+    pub(crate) fn sampler(binding: u32, kind: wgpu::SamplerBindingType) -> wgpu::BindGroupLayoutEntry {
+        wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Sampler(kind),
+            count: None,
+        }
+    }
+}
+
+pub(crate) fn vertex_layout(attributes: &[wgpu::VertexAttribute]) -> wgpu::VertexBufferLayout<'_> {
+    wgpu::VertexBufferLayout {
+        array_stride: attributes[0].format.size(),
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes,
+    }
+}
+
+/// A screen-sized color target that later passes read.
+pub(crate) fn screen_target(
+    device: &wgpu::Device,
+    label: &str,
+    width: u32,
+    height: u32,
+    format: wgpu::TextureFormat,
+) -> (wgpu::Texture, wgpu::TextureView) {
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: width.max(1),
+            height: height.max(1),
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    (texture, view)
+}
+
+/// A pipeline that draws one screen-covering triangle (`vs_fullscreen`) with `fs_main`.
+pub(crate) fn fullscreen_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    shader: &wgpu::ShaderModule,
+    bind_group_layouts: &[Option<&wgpu::BindGroupLayout>],
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
+    fullscreen_pipeline_with(device, label, shader, bind_group_layouts, format, &[])
+}
+
+/// [`fullscreen_pipeline`] with values for the fragment shader's override constants.
+pub(crate) fn fullscreen_pipeline_with(
+    device: &wgpu::Device,
+    label: &str,
+    shader: &wgpu::ShaderModule,
+    bind_group_layouts: &[Option<&wgpu::BindGroupLayout>],
+    format: wgpu::TextureFormat,
+    constants: &[(&str, f64)],
+) -> wgpu::RenderPipeline {
+    Fullscreen {
+        label,
+        shader,
+        bind_group_layouts,
+        targets: &[Some(format.into())],
+        depth: None,
+        constants,
+    }
+    .pipeline(device)
+}
+
+/// A full-screen pipeline with any color targets, an optional depth attachment and override
+/// constants.
+pub(crate) struct Fullscreen<'a> {
+    pub label: &'a str,
+    pub shader: &'a wgpu::ShaderModule,
+    pub bind_group_layouts: &'a [Option<&'a wgpu::BindGroupLayout>],
+    pub targets: &'a [Option<wgpu::ColorTargetState>],
+    pub depth: Option<wgpu::DepthStencilState>,
+    pub constants: &'a [(&'a str, f64)],
+}
+
+impl Fullscreen<'_> {
+    pub(crate) fn pipeline(&self, device: &wgpu::Device) -> wgpu::RenderPipeline {
+        self.pipeline_at(device, "fs_main")
+    }
+
+    /// The pipeline with fragment entry point `entry`.
+    pub(crate) fn pipeline_at(&self, device: &wgpu::Device, entry: &str) -> wgpu::RenderPipeline {
+        self.pipeline_with(device, "vs_fullscreen", entry)
+    }
+
+    /// The pipeline with vertex entry point `vertex` (a screen-covering triangle) and fragment
+    /// entry point `entry`.
+    pub(crate) fn pipeline_with(
+        &self,
+        device: &wgpu::Device,
+        vertex: &str,
+        entry: &str,
+    ) -> wgpu::RenderPipeline {
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(self.label),
+            bind_group_layouts: self.bind_group_layouts,
+            immediate_size: 0,
+        });
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(self.label),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: self.shader,
+                entry_point: Some(vertex),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: self.depth.clone(),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: self.shader,
+                entry_point: Some(entry),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: self.constants,
+                    ..Default::default()
+                },
+                targets: self.targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+}
+
+/// A color attachment cleared to `clear` and stored.
+pub(crate) fn cleared(
+    view: &wgpu::TextureView,
+    clear: wgpu::Color,
+) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Clear(clear),
+            store: wgpu::StoreOp::Store,
+        },
+    })
+}
+
+/// A colour attachment that keeps what the view holds and stores what the pass writes.
+pub(crate) fn kept(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Load,
+            store: wgpu::StoreOp::Store,
+        },
+    })
+}
+
+/// Bind group entries for a list of resources, numbered from 0.
+pub(crate) fn entries<'a>(resources: &[wgpu::BindingResource<'a>]) -> Vec<wgpu::BindGroupEntry<'a>> {
+    resources
+        .iter()
+        .enumerate()
+        .map(|(i, r)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: r.clone(),
+        })
+        .collect()
+}
+
+/// A colour target that blends by the source's alpha (blended materials), or `None` for a
+/// format that cannot blend (the float targets metrics read: blended instances are then drawn
+/// opaque there).
+#[cfg(feature = "renderer")]
+pub(crate) fn blended_target(
+    device: &wgpu::Device,
+    format: wgpu::TextureFormat,
+) -> Option<wgpu::ColorTargetState> {
+    let features = format.guaranteed_format_features(device.features());
+    features
+        .flags
+        .contains(wgpu::TextureFormatFeatureFlags::BLENDABLE)
+        .then_some(wgpu::ColorTargetState {
+            format,
+            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+            write_mask: wgpu::ColorWrites::ALL,
+        })
+}
+
+/// A comparison sampler clamped at the map's edges: `Linear` makes each tap a hardware 2 x 2
+/// PCF, `Nearest` a single comparison.
+pub(crate) fn comparison_sampler(
+    device: &wgpu::Device,
+    label: &str,
+    filter: wgpu::FilterMode,
+) -> wgpu::Sampler {
+    device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some(label),
+        address_mode_u: wgpu::AddressMode::ClampToEdge,
+        address_mode_v: wgpu::AddressMode::ClampToEdge,
+        mag_filter: filter,
+        min_filter: filter,
+        compare: Some(wgpu::CompareFunction::LessEqual),
+        ..Default::default()
+    })
+}
