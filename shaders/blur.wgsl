@@ -167,11 +167,7 @@ fn blur_all(frag: vec2<f32>) -> vec4<f32> {
     // Weights of a Gaussian 4% wider than sigma: cut at 2.5 sigma, the kernel's own spread is
     // then sigma.
     let inv_sigma = select(vec4<f32>(0.0), 1.0 / (1.04 * sigma), blurred);
-    let step = 2.5 * widest / f32(max(n, 1));
-    if LIGHTS == 1u {
-        return finish(vec4<f32>(taps_one(frag, center.x, z, n, step, inv_sigma.x), 1.0, 1.0, 1.0), d);
-    }
-    let result = taps(frag, center, z, n, step, inv_sigma, blurred);
+    let result = taps(frag, center, z, n, 2.5 * widest / f32(max(n, 1)), inv_sigma, blurred);
     return finish(select(result, vec4<f32>(1.0), left_out), d);
 }
 
@@ -228,39 +224,6 @@ fn taps(frag: vec2<f32>, center: vec4<f32>, z: f32, radius: i32, step: f32, inv_
             }
             let tap_weight = w * weight;
             sum += values_at(tap_uv) * tap_weight;
-            total += tap_weight;
-        }
-    }
-    return sum / total;
-}
-
-// One light's distance-driven blur: `taps` on scalars, one depth load and one exponential a
-// tap. A software rasterizer runs each lane of a vector as its own instruction over a block of
-// pixels, so the four-light form would cost one light several times over.
-fn taps_one(frag: vec2<f32>, center: f32, z: f32, radius: i32, step: f32, inv_sigma: f32) -> f32 {
-    let direction = blur.axis.xy * step * frame.view.inv_size;
-    let uv = frag * frame.view.inv_size;
-    var sum = center;
-    var total = 1.0;
-    for (var k = 1; k <= radius; k++) {
-        let x = f32(k) * step * inv_sigma;
-        let gaussian = -0.5 * x * x;
-        for (var s = -1; s <= 1; s += 2) {
-            let tap_uv = uv + direction * f32(k * s);
-            let tap_pixel = clamp(vec2<i32>(tap_uv * frame.view.size), vec2<i32>(0), vec2<i32>(frame.view.size) - 1);
-            let tap_depth = textureLoad(camera_depth, tap_pixel, 0).x;
-            // As `receives`, from the depth already loaded.
-            var receiver = !is_background(tap_depth);
-            if frame.view.has_receiver_mask != 0u {
-                receiver = receiver && textureLoad(receiver_mask, tap_pixel, 0).x >= 0.5;
-            }
-            var exponent = gaussian;
-            if DEPTH_AWARE {
-                let relative = (view_depth(tap_depth) - z) / (z * 0.02);
-                exponent -= relative * relative;
-            }
-            let tap_weight = select(0.0, exp(exponent), receiver);
-            sum += textureSampleLevel(source, linear_sampler, tap_uv, 0.0).x * tap_weight;
             total += tap_weight;
         }
     }
