@@ -735,7 +735,7 @@ fn measure_embedding(
             let drawn: u32 = reports
                 .iter()
                 .filter(|r| r.shadow_maps_rendered)
-                .map(|r| 1 + r.chain.fattened_map as u32 + r.chain.exit_map as u32)
+                .map(|r| r.chain.light_maps())
                 .sum();
             // Still lights: the first frame draws their maps and is not timed.
             let first_timed = if moving {

@@ -38,6 +38,7 @@
 #![cfg_attr(not(feature = "renderer"), allow(dead_code))]
 
 pub mod casters;
+mod chain;
 #[cfg(feature = "renderer")]
 pub mod debug;
 pub mod device;

@@ -62,8 +62,8 @@ impl PassPlan {
             method: plan.method,
             depth_prepass: true,
             shadow_map: true,
-            pcf: chain.pcf,
-            resolve: chain.resolve,
+            pcf: chain.pcf(),
+            resolve: chain.resolve(),
             composite: true,
             ..Default::default()
         }
@@ -73,7 +73,7 @@ impl PassPlan {
     /// renderer's own prepass and composite, or the forward pass.
     pub fn new(settings: &ShadowSettings, light: &Light) -> Self {
         let chain = Chain::new(settings, light);
-        let method = chain.method;
+        let method = chain.method();
         match method {
             ShadowMethod::Hard | ShadowMethod::Hardware2x2 => PassPlan {
                 method,
@@ -92,14 +92,14 @@ impl PassPlan {
                 method,
                 depth_prepass: true,
                 shadow_map: true,
-                fattened_map: chain.fattened_map,
-                exit_map: chain.exit_map,
-                distance_map: chain.distance_map,
-                pcf: chain.pcf,
-                pcss: chain.pcss,
+                fattened_map: chain.fattened_map(),
+                exit_map: chain.exit_map(),
+                distance_map: chain.distance_map(),
+                pcf: chain.pcf(),
+                pcss: chain.pcss(),
                 reference: false,
-                blur: chain.blur,
-                resolve: chain.resolve,
+                blur: chain.blur(),
+                resolve: chain.resolve(),
                 composite: true,
                 forward: false,
             },

@@ -12,14 +12,13 @@
 //! PCF or PCSS, the blur, and a resolve into the layer. No camera geometry is drawn.
 
 use crate::casters::Casters;
+pub use crate::chain::Chain;
+use crate::chain::{FRAME_SIZE, LightMaps, ScreenChain, ScreenInputs};
 use crate::error::{PenumbraError, Result};
-use crate::frame::{
-    DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, is_point_light, light_kind,
-};
-use crate::light_space::{FitInputs, LightView, MAX_TILES, atlas_grid, tile_resolution};
+use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, light_kind};
+use crate::light_space::{FitInputs, LightView, MAX_TILES};
 use crate::passes::{
-    BlurInput, BlurPass, DistanceMapPass, ExitMapPass, FattenedShadowMapPass, MAX_BATCHED_LIGHTS,
-    PackedVisibility, PcfPass, PcssPass, ResolvePass, ShadowMapPass, VISIBILITY_FORMAT, VariablePcfPass,
+    BlurInput, BlurPass, MAX_BATCHED_LIGHTS, PackedVisibility, ShadowMapPass, VISIBILITY_FORMAT,
     screen_target,
 };
 use crate::scene::{Aabb, Light, PointLight, SpotLight};
@@ -63,91 +62,6 @@ impl LightId {
     /// The layer of the visibility array that holds this light's visibility.
     pub fn layer(self) -> u32 {
         self.0
-    }
-}
-
-/// Which passes one light's chain runs: the method's chain, written once.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Chain {
-    /// The method drawn: a method that needs a light size falls back to
-    /// [`ShadowMethod::Hard`] when the light has none.
-    pub method: ShadowMethod,
-    pub fattened_map: bool,
-    /// The casters' back faces from the light: how near the receiver an occluder ends, for
-    /// the distance inside thick occluders' shadows.
-    pub exit_map: bool,
-    pub distance_map: bool,
-    /// PCF: after the distance map its spacing follows the distance (variable-spacing PCF),
-    /// otherwise it is fixed (the baseline, hard shadows).
-    pub pcf: bool,
-    pub pcss: bool,
-    pub blur: bool,
-    /// A resolve pass writes the light's layer (otherwise the blur's vertical draw does).
-    pub resolve: bool,
-}
-
-impl Chain {
-    /// The passes `settings.method` runs for `light`.
-    pub fn new(settings: &ShadowSettings, light: &Light) -> Self {
-        let method = match settings.method {
-            ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Pcss if is_point_light(light) => {
-                ShadowMethod::Hard
-            }
-            m => m,
-        };
-        let none = Chain {
-            method,
-            ..Default::default()
-        };
-        match method {
-            ShadowMethod::Ours | ShadowMethod::OursFast => {
-                let blur = settings.penumbra.blur_taps > 1;
-                Chain {
-                    fattened_map: true,
-                    exit_map: true,
-                    distance_map: true,
-                    pcf: true,
-                    blur,
-                    resolve: !blur,
-                    ..none
-                }
-            }
-            ShadowMethod::Traditional => Chain {
-                pcf: true,
-                blur: settings.traditional.blur_taps > 1,
-                resolve: true,
-                ..none
-            },
-            ShadowMethod::Pcss => Chain {
-                pcss: true,
-                resolve: true,
-                ..none
-            },
-            // Screen-space hard shadows: one PCF tap (a bilinear 2x2 comparison).
-            ShadowMethod::Hard | ShadowMethod::Hardware2x2 => Chain {
-                pcf: true,
-                resolve: true,
-                ..none
-            },
-            ShadowMethod::Reference => none,
-        }
-    }
-
-    /// The names of the passes, in the order they run.
-    pub fn names(&self) -> Vec<&'static str> {
-        [
-            (true, "shadow map"),
-            (self.fattened_map, "fattened shadow map"),
-            (self.exit_map, "exit map"),
-            (self.distance_map, "distance map"),
-            (self.pcf, "pcf"),
-            (self.pcss, "pcss"),
-            (self.blur, "blur"),
-            (self.resolve, "resolve"),
-        ]
-        .into_iter()
-        .filter_map(|(on, name)| on.then_some(name))
-        .collect()
     }
 }
 
@@ -214,19 +128,10 @@ struct Planned {
 struct LightState {
     light: Light,
     frame: wgpu::Buffer,
-    /// Made in [`Shadows::prepare`] with the casters' layouts.
-    shadow_map: Option<ShadowMapPass>,
-    /// The casters (id) the map passes were made for.
-    maps_for: Option<u64>,
-    fattened: Option<FattenedShadowMapPass>,
-    /// The back-face depth map ([`Chain::exit_map`]).
-    exit: Option<ExitMapPass>,
-    distance: Option<DistanceMapPass>,
-    pcf: Option<PcfPass>,
-    variable_pcf: Option<VariablePcfPass>,
-    pcss: Option<PcssPass>,
-    blur: Option<BlurPass>,
-    resolve: ResolvePass,
+    /// The maps drawn from the light, made in [`Shadows::prepare`] with the casters' layouts.
+    maps: Option<LightMaps>,
+    /// The chain's screen-space passes.
+    screen: ScreenChain,
     /// The chain the passes are bound for (rebinding when it changes).
     bound: Option<Chain>,
     key: Option<ShadowKey>,
@@ -272,8 +177,6 @@ pub struct Shadows {
     screen_space: bool,
     prepared: bool,
 }
-
-const FRAME_SIZE: usize = size_of::<FrameUniform>();
 
 impl Shadows {
     /// Soft shadows with `settings` (validated; [`ShadowMethod::Reference`] is refused: it
@@ -336,13 +239,10 @@ impl Shadows {
     /// reference paths).
     pub(crate) fn drop_screen_passes(&mut self) {
         for state in self.lights.iter_mut().flatten() {
-            state.fattened = None;
-            state.exit = None;
-            state.distance = None;
-            state.pcf = None;
-            state.variable_pcf = None;
-            state.pcss = None;
-            state.blur = None;
+            state.screen = ScreenChain::MapOnly;
+            if let Some(maps) = &mut state.maps {
+                maps.fattened = None;
+            }
             state.bound = None;
         }
         self.blurs.clear();
@@ -477,13 +377,10 @@ impl Shadows {
             let mut chain = Chain::new(&self.settings, &state.light);
             if !self.screen_space {
                 // Only the light-space map: the renderer shades in its forward pass.
-                chain = Chain {
-                    method: chain.method,
-                    ..Default::default()
-                };
+                chain = chain.map_only();
             }
             let effective = ShadowSettings {
-                method: chain.method,
+                method: chain.method(),
                 ..self.settings
             };
             let params = pass_params(&effective, software);
@@ -548,7 +445,7 @@ impl Shadows {
                     spreads,
                     caster_radius: caster_bounds.radius(),
                     receiver_mask: has_mask,
-                    distance_map: chain.distance_map,
+                    distance_map: chain.distance_map(),
                 })),
             );
             let key = ShadowKey {
@@ -556,7 +453,7 @@ impl Shadows {
                 light,
                 light_view: light_view.map_matrices(),
                 shadow_map: self.settings.shadow_map,
-                fatten_distance: chain.fattened_map.then_some(spreads.fatten_distance),
+                fatten_distance: chain.fattened_map().then_some(spreads.fatten_distance),
             };
             let margin = spreads.fatten_distance * 2.0;
             let tiles = redrawn_tiles(
@@ -569,32 +466,17 @@ impl Shadows {
                 margin,
             );
             let render_maps = tiles != 0;
-            if render_maps {
-                if let Some(m) = &mut state.shadow_map {
-                    m.prepare(device, queue, casters, &light_view);
-                    m.redraw_only(tiles);
-                }
-                if let Some(f) = &mut state.fattened {
-                    f.prepare(device, queue, casters, &light_view, spreads.fatten_distance);
-                    f.redraw_only(tiles);
-                }
-                if let Some(e) = &mut state.exit {
-                    e.prepare(device, queue, casters, &light_view);
-                    e.redraw_only(tiles);
-                }
+            if render_maps && let Some(maps) = &mut state.maps {
+                maps.prepare(
+                    device,
+                    queue,
+                    casters,
+                    &light_view,
+                    spreads.fatten_distance,
+                    tiles,
+                );
             }
-            if let Some(p) = &state.pcf {
-                p.prepare(queue, &params.pcf);
-            }
-            if let Some(p) = &state.variable_pcf {
-                p.prepare(queue, &params.pcf);
-            }
-            if let Some(p) = &state.pcss {
-                p.prepare(queue, &params.pcss);
-            }
-            if let Some(p) = &state.blur {
-                p.prepare(queue, &params.blur);
-            }
+            state.screen.prepare(queue, &params);
             state.planned = Some(Planned {
                 chain,
                 key,
@@ -637,7 +519,7 @@ impl Shadows {
             .enumerate()
             .filter_map(|(slot, s)| {
                 let chain = s.as_ref()?.planned?.chain;
-                (chain.blur && chain.distance_map).then_some(slot)
+                (chain.blur() && chain.distance_map()).then_some(slot)
             })
             .collect();
         let per_pass = if self.settings.penumbra.batch_lights {
@@ -650,7 +532,10 @@ impl Shadows {
         // textures.
         for slots in &groups {
             for (c, &slot) in slots.iter().enumerate() {
-                if let Some(p) = self.lights[slot].as_mut().and_then(|s| s.variable_pcf.as_mut()) {
+                if let Some(p) = self.lights[slot]
+                    .as_mut()
+                    .and_then(|s| s.screen.variable_pcf_mut())
+                {
                     let format = PackedVisibility::format(slots.len());
                     p.set_packed_channel(device, (slots.len() > 1).then_some((c, format)));
                 }
@@ -666,7 +551,7 @@ impl Shadows {
                 .and_then(|s| s.planned)
                 .expect("planned")
                 .chain
-                .method,
+                .method(),
             ..self.settings
         };
         let params = pass_params(&effective, self.software);
@@ -705,10 +590,10 @@ impl Shadows {
             let lights: Vec<BlurInput> = states
                 .iter()
                 .filter_map(|s| {
-                    let pcf = s.variable_pcf.as_ref()?;
+                    let (distance, pcf) = s.screen.distance_map()?;
                     Some(BlurInput {
                         visibility: pcf.visibility(),
-                        distance_map: s.distance.as_ref()?.distance_map(),
+                        distance_map: distance.distance_map(),
                         blur_sigma: pcf.blur_sigma(),
                     })
                 })
@@ -767,64 +652,22 @@ impl Shadows {
             };
             let chain = plan.chain;
             if plan.render_maps {
-                encoder.push_debug_group("shadow map");
-                if let Some(m) = &state.shadow_map {
-                    m.encode(encoder, casters);
-                }
-                encoder.pop_debug_group();
-                mark(encoder, "shadow map");
-                if let (true, Some(f)) = (chain.fattened_map, &state.fattened) {
-                    encoder.push_debug_group("fattened shadow map");
-                    f.encode(encoder, casters);
-                    encoder.pop_debug_group();
-                    mark(encoder, "fattened shadow map");
-                }
-                if let (true, Some(e)) = (chain.exit_map, &state.exit) {
-                    encoder.push_debug_group("exit map");
-                    e.encode(encoder, casters);
-                    encoder.pop_debug_group();
-                    mark(encoder, "exit map");
+                if let Some(maps) = &state.maps {
+                    maps.encode(encoder, casters, mark);
                 }
                 state.key = Some(plan.key);
                 state.drawn_with = Some(plan.light_view);
                 state.seen_revision = casters.revision();
             }
             if self.screen_space {
-                let mut run = |encoder: &mut wgpu::CommandEncoder,
-                               name: &'static str,
-                               f: &dyn Fn(&mut wgpu::CommandEncoder)| {
-                    encoder.push_debug_group(name);
-                    f(encoder);
-                    encoder.pop_debug_group();
-                    mark(encoder, name);
-                };
-                let classification = state.distance.as_ref().map(|d| d.classification());
-                if let (true, Some(p)) = (chain.distance_map, &state.distance) {
-                    run(encoder, "distance map", &|e| p.encode(e, plan.render_maps));
-                }
-                if let (true, Some(p), Some(c)) = (chain.pcf, &state.variable_pcf, classification) {
-                    match packed_into[slot] {
-                        Some((packed, first)) => {
-                            run(encoder, "pcf", &|e| p.encode_packed(e, c, packed, first))
-                        }
-                        None => run(encoder, "pcf", &|e| p.encode(e, c)),
-                    }
-                }
-                if let (true, Some(p)) = (chain.pcf, &state.pcf) {
-                    run(encoder, "pcf", &|e| p.encode(e));
-                }
-                if let (true, Some(p)) = (chain.pcss, &state.pcss) {
-                    run(encoder, "pcss", &|e| p.encode(e));
-                }
-                if let (true, false, Some(p)) = (chain.blur, chain.distance_map, &state.blur) {
-                    run(encoder, "blur", &|e| {
-                        p.encode(e, classification, &[&layers[slot]])
-                    });
-                }
-                if chain.resolve {
-                    let resolve = &state.resolve;
-                    run(encoder, "resolve", &|e| resolve.encode(e, &layers[slot]));
-                }
+                state.screen.encode(
+                    encoder,
+                    &chain,
+                    plan.render_maps,
+                    &layers[slot],
+                    packed_into[slot],
+                    mark,
+                );
             }
             let report = LightReport {
                 light: LightId(slot as u32),
@@ -844,8 +687,8 @@ impl Shadows {
                 let classification = match slots.as_slice() {
                     [slot] => self.lights[*slot]
                         .as_ref()
-                        .and_then(|s| s.distance.as_ref())
-                        .map(|d| d.classification()),
+                        .and_then(|s| s.screen.distance_map())
+                        .map(|(d, _)| d.classification()),
                     _ => None,
                 };
                 encoder.push_debug_group("blur");
@@ -931,24 +774,18 @@ impl Shadows {
     /// An intermediate texture of a light's last frame, if its chain has it.
     pub fn light_texture(&self, id: LightId, which: LightTexture) -> Option<&wgpu::Texture> {
         let s = self.state(id).ok()?;
+        let fattened = s.maps.as_ref().and_then(|m| m.fattened.as_ref());
+        let distance = s.screen.distance_map();
         match which {
-            LightTexture::ShadowMap => s.shadow_map.as_ref().map(|p| p.texture()),
-            LightTexture::FattenedMap => s.fattened.as_ref().map(|p| p.texture()),
-            LightTexture::ExitMap => s.exit.as_ref().map(|p| p.texture()),
-            LightTexture::DistanceMap => s.distance.as_ref().map(|p| p.distance_texture()),
-            LightTexture::TileClasses => s.distance.as_ref().and_then(|p| p.tile_classes_texture()),
-            LightTexture::Visibility => s
-                .pcf
-                .as_ref()
-                .map(|p| p.visibility_texture())
-                .or_else(|| s.variable_pcf.as_ref().map(|p| p.visibility_texture()))
-                .or_else(|| s.pcss.as_ref().map(|p| p.visibility_texture())),
-            LightTexture::BlurredVisibility => match (s.report.map(|r| r.chain), &s.blur) {
-                (_, Some(p)) => p.blurred_texture(),
-                (Some(chain), None) if chain.blur && chain.distance_map => {
-                    self.visibility.as_ref().map(|v| &v.0)
-                }
-                _ => None,
+            LightTexture::ShadowMap => s.maps.as_ref().map(|m| m.shadow.texture()),
+            LightTexture::FattenedMap => fattened.map(|(f, _)| f.texture()),
+            LightTexture::ExitMap => fattened.map(|(_, e)| e.texture()),
+            LightTexture::DistanceMap => distance.map(|(d, _)| d.distance_texture()),
+            LightTexture::TileClasses => distance.and_then(|(d, _)| d.tile_classes_texture()),
+            LightTexture::Visibility => s.screen.raw_visibility(),
+            LightTexture::BlurredVisibility => match s.report.map(|r| r.chain) {
+                Some(chain) if chain.blur() && chain.distance_map() => self.visibility.as_ref().map(|v| &v.0),
+                _ => s.screen.blurred_visibility(),
             },
         }
     }
@@ -960,7 +797,10 @@ impl Shadows {
     }
 
     pub(crate) fn shadow_map(&self, id: LightId) -> Option<&ShadowMapPass> {
-        self.state(id).ok().and_then(|s| s.shadow_map.as_ref())
+        self.state(id)
+            .ok()
+            .and_then(|s| s.maps.as_ref())
+            .map(|m| &m.shadow)
     }
 
     fn state(&self, id: LightId) -> Result<&LightState> {
@@ -998,16 +838,8 @@ impl LightState {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            shadow_map: None,
-            maps_for: None,
-            fattened: None,
-            exit: None,
-            distance: None,
-            pcf: None,
-            variable_pcf: None,
-            pcss: None,
-            blur: None,
-            resolve: ResolvePass::new(device, FRAME_SIZE),
+            maps: None,
+            screen: ScreenChain::MapOnly,
             bound: None,
             key: None,
             drawn_with: None,
@@ -1017,9 +849,10 @@ impl LightState {
         }
     }
 
-    /// Creates the passes `chain` needs and sizes their targets; returns true when anything
-    /// was created or resized (the bind groups must then be rebuilt). The light-space maps are
-    /// made with `casters`' layouts (again when the casters are new).
+    /// Makes the maps and passes `chain` needs, or keeps those that serve it, and sizes their
+    /// targets; returns true when anything was made or resized (the bind groups must then be
+    /// rebuilt). The light-space maps are made with `casters`' layouts (again when the casters
+    /// are new), and must then be drawn again.
     #[allow(clippy::too_many_arguments)]
     fn allocate(
         &mut self,
@@ -1028,135 +861,22 @@ impl LightState {
         settings: &ShadowMapSettings,
         chain: &Chain,
         params: &PassParams,
-        (w, h): (u32, u32),
+        size: (u32, u32),
         resized: bool,
     ) -> bool {
         let mut changed = false;
-        // Passes made with other compile-time switches are made again.
-        if self
-            .pcf
-            .as_ref()
-            .is_some_and(|p| p.switches() != params.pcf_switches)
-        {
-            self.pcf = None;
+        if LightMaps::allocate(&mut self.maps, device, casters, settings, &self.light, chain) {
+            self.key = None;
+            changed = true;
         }
-        if self
-            .variable_pcf
-            .as_ref()
-            .is_some_and(|p| p.switches() != params.pcf_switches)
-        {
-            self.variable_pcf = None;
-        }
-        if self
-            .distance
-            .as_ref()
-            .is_some_and(|p| p.switches() != params.distance_switches)
-        {
-            self.distance = None;
-        }
-        // The light-dependent screen-space passes are made for one light kind.
         let kind = light_kind(&self.light);
-        if self.distance.as_ref().is_some_and(|p| p.light_kind() != kind) {
-            self.distance = None;
-        }
-        if self.pcf.as_ref().is_some_and(|p| p.light_kind() != kind) {
-            self.pcf = None;
-        }
-        if self.variable_pcf.as_ref().is_some_and(|p| p.light_kind() != kind) {
-            self.variable_pcf = None;
-        }
-        if self.pcss.as_ref().is_some_and(|p| p.light_kind() != kind) {
-            self.pcss = None;
-        }
-        if self
-            .blur
-            .as_ref()
-            .is_some_and(|p| p.switches() != params.blur_switches)
-        {
-            self.blur = None;
-        }
-        // A light that changes type may need another atlas.
-        let grid = atlas_grid(&self.light, &settings.cascades);
-        let tile = tile_resolution(&self.light, settings.resolution);
-        if self.maps_for != Some(casters.id())
-            || self
-                .shadow_map
-                .as_ref()
-                .is_none_or(|m| (m.grid(), m.tile()) != (grid, tile))
-        {
-            self.shadow_map = Some(ShadowMapPass::new(
-                device,
-                casters.layouts(),
-                settings,
-                grid,
-                tile,
-            ));
-            self.maps_for = Some(casters.id());
-            self.fattened = None;
-            self.exit = None;
-            self.key = None;
+        if !self.screen.fits(chain, params, kind) {
+            self.screen = ScreenChain::new(device, chain, params, kind, size);
+            changed = true;
+        } else if resized {
+            self.screen.resize(device, size.0, size.1);
             changed = true;
         }
-        if chain.exit_map && self.exit.is_none() {
-            self.exit = Some(ExitMapPass::new(device, casters.layouts(), settings, grid, tile));
-            self.key = None;
-            changed = true;
-        } else if !chain.exit_map && self.exit.is_some() {
-            self.exit = None;
-            changed = true;
-        }
-        if chain.fattened_map && self.fattened.is_none() {
-            self.fattened = Some(FattenedShadowMapPass::new(
-                device,
-                casters.layouts(),
-                settings,
-                grid,
-                tile,
-            ));
-            self.key = None;
-            changed = true;
-        } else if !chain.fattened_map && self.fattened.is_some() {
-            self.fattened = None;
-            changed = true;
-        }
-        // Passes the chain does not run are dropped, the others made or resized.
-        macro_rules! screen {
-            ($slot:expr, $wanted:expr, $make:expr) => {
-                if !$wanted {
-                    changed |= $slot.take().is_some();
-                } else if $slot.is_none() {
-                    let mut pass = $make;
-                    pass.resize(device, w, h);
-                    $slot = Some(pass);
-                    changed = true;
-                } else if resized && let Some(pass) = &mut $slot {
-                    pass.resize(device, w, h);
-                    changed = true;
-                }
-            };
-        }
-        screen!(
-            self.distance,
-            chain.distance_map,
-            DistanceMapPass::new(device, FRAME_SIZE, params.distance_switches, kind)
-        );
-        screen!(
-            self.pcf,
-            chain.pcf && !chain.distance_map,
-            PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind)
-        );
-        screen!(
-            self.variable_pcf,
-            chain.pcf && chain.distance_map,
-            VariablePcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind)
-        );
-        screen!(self.pcss, chain.pcss, PcssPass::new(device, FRAME_SIZE, kind));
-        // The distance-map method's blur batches lights ([`Shadows::blurs`]).
-        screen!(
-            self.blur,
-            chain.blur && !chain.distance_map,
-            BlurPass::new(device, FRAME_SIZE, params.blur_switches, 1)
-        );
         changed
     }
 
@@ -1168,61 +888,15 @@ impl LightState {
         mask: &wgpu::TextureView,
         dummy: &wgpu::TextureView,
     ) {
-        let frame = &self.frame;
-        let Some(shadow_map) = self.shadow_map.as_ref().map(|m| m.view()) else {
-            return;
+        let Some(maps) = &self.maps else { return };
+        let inputs = ScreenInputs {
+            frame: &self.frame,
+            depth,
+            mask,
+            maps,
+            dummy,
         };
-        let chain = self.planned.map(|p| p.chain).unwrap_or_default();
-        if let (true, Some(d), Some(f), Some(e)) =
-            (chain.distance_map, &mut self.distance, &self.fattened, &self.exit)
-        {
-            d.bind(
-                device,
-                frame,
-                (f.view(), f.texture().width()),
-                f.occluder_offset(),
-                e.view(),
-                shadow_map,
-                depth,
-                mask,
-            );
-        }
-        let distance = match (chain.distance_map, &self.distance) {
-            (true, Some(d)) => d.distance_map(),
-            _ => dummy,
-        };
-        if let Some(p) = &mut self.pcf {
-            p.bind(device, frame, depth, shadow_map);
-        }
-        if let Some(p) = &mut self.variable_pcf {
-            p.bind(device, frame, depth, distance, shadow_map);
-        }
-        if let Some(p) = &mut self.pcss {
-            p.bind(device, frame, depth, shadow_map);
-        }
-        let raw = if chain.pcss {
-            self.pcss.as_ref().map(|p| p.visibility())
-        } else if chain.distance_map {
-            self.variable_pcf.as_ref().map(|p| p.visibility())
-        } else {
-            self.pcf.as_ref().map(|p| p.visibility())
-        };
-        let Some(raw) = raw else { return };
-        let blur_sigma = self.variable_pcf.as_ref().map_or(dummy, |p| p.blur_sigma());
-        if let Some(b) = &mut self.blur {
-            let input = BlurInput {
-                visibility: raw,
-                distance_map: distance,
-                blur_sigma,
-            };
-            b.bind(device, frame, (depth, mask), &[input], dummy);
-        }
-        let visibility = match (&self.blur, chain.blur) {
-            (Some(b), true) => b.blurred().unwrap_or(raw),
-            _ => raw,
-        };
-        self.resolve
-            .bind(device, frame, depth, distance, visibility, mask);
+        self.screen.bind(device, &inputs);
     }
 }
 

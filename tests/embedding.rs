@@ -420,7 +420,7 @@ fn four_lights_share_one_orthographic_depth_and_each_shadows_its_own_layer() {
     assert!(
         reports
             .iter()
-            .all(|r| r.shadow_maps_rendered && r.chain.method == ShadowMethod::Ours)
+            .all(|r| r.shadow_maps_rendered && r.chain.method() == ShadowMethod::Ours)
     );
     // Each sun throws the box's shadow away from itself, 1.5 units out on the floor.
     let shadow_point = |azimuth: f32| {
@@ -470,7 +470,7 @@ fn lights_blurred_in_batches_get_their_own_blur_except_where_penumbrae_cross() {
         assert!(
             reports
                 .iter()
-                .all(|r| r.chain.method == ShadowMethod::Ours && r.chain.blur)
+                .all(|r| r.chain.method() == ShadowMethod::Ours && r.chain.blur())
         );
         ids.iter()
             .map(|id| read_layer(&gpu, &shadows, id.layer()))
@@ -749,7 +749,7 @@ fn a_light_of_size_zero_still_gives_a_hard_visibility() {
     point_sun.angular_diameter_deg = 0.0;
     let id = shadows.add_light(device, Light::Directional(point_sun)).unwrap();
     let reports = render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
-    assert_eq!(reports[0].chain.method, ShadowMethod::Hard);
+    assert_eq!(reports[0].chain.method(), ShadowMethod::Hard);
     let layer = read_layer(&gpu, &shadows, id.layer());
     assert!(layer[top_pixel(Vec3::new(1.5, 0.0, 0.0))] < 0.05, "no shadow");
     let shadowed = layer.iter().filter(|v| **v < 0.5).count();

@@ -1,0 +1,536 @@
+//! Each method's chain of passes, written once: [`Chain`] names what a light's frame runs, and
+//! the crate-internal [`LightMaps`] and [`ScreenChain`] hold the passes of that chain, one
+//! variant per method, with how they connect ([`ScreenChain::bind`]) and the order they run in
+//! ([`ScreenChain::encode`]) side by side.
+
+use crate::casters::Casters;
+use crate::frame::{FrameUniform, PassParams, is_point_light};
+use crate::light_space::{LightView, atlas_grid, tile_resolution};
+use crate::passes::{
+    BlurInput, BlurPass, DistanceMapPass, ExitMapPass, FattenedShadowMapPass, PackedVisibility, PcfPass,
+    PcssPass, ResolvePass, ShadowMapPass, VariablePcfPass,
+};
+use crate::scene::Light;
+use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings};
+
+/// The size of the frame uniform every screen-space pass reads.
+pub(crate) const FRAME_SIZE: usize = size_of::<FrameUniform>();
+
+/// Which passes one light's frame runs: each method's chain ([`Chain::new`]). Every chain
+/// starts with the light's shadow map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Chain {
+    /// The distance-map method ([`ShadowMethod::Ours`], [`ShadowMethod::OursFast`]): from the
+    /// light the fattened map and the exit map (the casters' back faces) besides the shadow
+    /// map; on the screen the distance map, the variable-spacing PCF, then the blur, whose
+    /// vertical draw writes the light's layer (or a resolve, with `blur` false: a blur of one
+    /// tap).
+    DistanceMap { method: ShadowMethod, blur: bool },
+    /// The baseline ([`ShadowMethod::Traditional`]): fixed-spacing PCF, a fixed Gaussian
+    /// blur (`blur`: it has more than one tap), a resolve.
+    FixedPcf { blur: bool },
+    /// [`ShadowMethod::Pcss`]: PCSS, a resolve.
+    Pcss,
+    /// Screen-space hard shadows ([`ShadowMethod::Hard`], [`ShadowMethod::Hardware2x2`], and a
+    /// method that needs a light size under a light without one): one PCF tap (a bilinear
+    /// 2 x 2 comparison), a resolve.
+    Hard { method: ShadowMethod },
+    /// The shadow map alone: the convenience renderer shades with it in its forward pass (or
+    /// renders the reference).
+    MapOnly { method: ShadowMethod },
+}
+
+impl Chain {
+    /// The chain `settings.method` runs for `light`.
+    pub fn new(settings: &ShadowSettings, light: &Light) -> Self {
+        match settings.method {
+            // A point light's cube faces are shaded with hard shadows by these methods.
+            ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Pcss if is_point_light(light) => {
+                Chain::Hard {
+                    method: ShadowMethod::Hard,
+                }
+            }
+            method @ (ShadowMethod::Ours | ShadowMethod::OursFast) => Chain::DistanceMap {
+                method,
+                blur: settings.penumbra.blur_taps > 1,
+            },
+            ShadowMethod::Traditional => Chain::FixedPcf {
+                blur: settings.traditional.blur_taps > 1,
+            },
+            ShadowMethod::Pcss => Chain::Pcss,
+            method @ (ShadowMethod::Hard | ShadowMethod::Hardware2x2) => Chain::Hard { method },
+            ShadowMethod::Reference => Chain::MapOnly {
+                method: ShadowMethod::Reference,
+            },
+        }
+    }
+
+    /// This chain without its screen-space passes (the light's shadow map only).
+    pub(crate) fn map_only(self) -> Self {
+        Chain::MapOnly {
+            method: self.method(),
+        }
+    }
+
+    /// The method drawn: a method that needs a light size falls back to
+    /// [`ShadowMethod::Hard`] when the light has none.
+    pub fn method(&self) -> ShadowMethod {
+        match *self {
+            Chain::DistanceMap { method, .. } | Chain::Hard { method } | Chain::MapOnly { method } => method,
+            Chain::FixedPcf { .. } => ShadowMethod::Traditional,
+            Chain::Pcss => ShadowMethod::Pcss,
+        }
+    }
+
+    /// The fattened map and the exit map are drawn from the light (the distance-map method).
+    pub fn fattened_map(&self) -> bool {
+        matches!(self, Chain::DistanceMap { .. })
+    }
+
+    /// The casters' back faces from the light: how near the receiver an occluder ends, for
+    /// the distance inside thick occluders' shadows (the distance-map method).
+    pub fn exit_map(&self) -> bool {
+        self.fattened_map()
+    }
+
+    /// The screen-space distance map runs.
+    pub fn distance_map(&self) -> bool {
+        matches!(self, Chain::DistanceMap { .. })
+    }
+
+    /// PCF runs: after the distance map its spacing follows the distance (variable-spacing
+    /// PCF), otherwise it is fixed (the baseline, hard shadows).
+    pub fn pcf(&self) -> bool {
+        matches!(
+            self,
+            Chain::DistanceMap { .. } | Chain::FixedPcf { .. } | Chain::Hard { .. }
+        )
+    }
+
+    pub fn pcss(&self) -> bool {
+        matches!(self, Chain::Pcss)
+    }
+
+    pub fn blur(&self) -> bool {
+        matches!(
+            self,
+            Chain::DistanceMap { blur: true, .. } | Chain::FixedPcf { blur: true }
+        )
+    }
+
+    /// A resolve pass writes the light's layer (otherwise the blur's vertical draw does).
+    pub fn resolve(&self) -> bool {
+        match self {
+            Chain::DistanceMap { blur, .. } => !blur,
+            Chain::MapOnly { .. } => false,
+            _ => true,
+        }
+    }
+
+    /// How many maps are drawn from the light when they are redrawn.
+    pub fn light_maps(&self) -> u32 {
+        if self.fattened_map() { 3 } else { 1 }
+    }
+
+    /// The names of the passes, in the order they run.
+    pub fn names(&self) -> Vec<&'static str> {
+        let mut names = vec!["shadow map"];
+        names.extend(match self {
+            Chain::DistanceMap { blur, .. } => vec![
+                "fattened shadow map",
+                "exit map",
+                "distance map",
+                "pcf",
+                if *blur { "blur" } else { "resolve" },
+            ],
+            Chain::FixedPcf { blur: true } => vec!["pcf", "blur", "resolve"],
+            Chain::FixedPcf { blur: false } | Chain::Hard { .. } => vec!["pcf", "resolve"],
+            Chain::Pcss => vec!["pcss", "resolve"],
+            Chain::MapOnly { .. } => vec![],
+        });
+        names
+    }
+}
+
+/// A light's maps drawn from the light: the shadow map, and for the distance-map method the
+/// fattened map and the exit map, all made with one set of casters' vertex layouts and one
+/// atlas layout.
+pub(crate) struct LightMaps {
+    pub shadow: ShadowMapPass,
+    pub fattened: Option<(FattenedShadowMapPass, ExitMapPass)>,
+    /// The casters (id) the passes were made for.
+    casters: u64,
+}
+
+impl LightMaps {
+    /// Makes or keeps the maps `chain` needs for `light`; true when any was made (they must
+    /// then be drawn and bound again).
+    pub fn allocate(
+        maps: &mut Option<LightMaps>,
+        device: &wgpu::Device,
+        casters: &Casters,
+        settings: &ShadowMapSettings,
+        light: &Light,
+        chain: &Chain,
+    ) -> bool {
+        let grid = atlas_grid(light, &settings.cascades);
+        let tile = tile_resolution(light, settings.resolution);
+        let layouts = casters.layouts();
+        let mut made = false;
+        let same =
+            |m: &LightMaps| m.casters == casters.id() && (m.shadow.grid(), m.shadow.tile()) == (grid, tile);
+        let maps = match maps {
+            Some(m) if same(m) => m,
+            _ => {
+                made = true;
+                maps.insert(LightMaps {
+                    shadow: ShadowMapPass::new(device, layouts, settings, grid, tile),
+                    fattened: None,
+                    casters: casters.id(),
+                })
+            }
+        };
+        if chain.fattened_map() != maps.fattened.is_some() {
+            maps.fattened = chain.fattened_map().then(|| {
+                (
+                    FattenedShadowMapPass::new(device, layouts, settings, grid, tile),
+                    ExitMapPass::new(device, layouts, settings, grid, tile),
+                )
+            });
+            made = true;
+        }
+        made
+    }
+
+    /// Uploads the light's fit (and fatten distance) for the next draw, which redraws only the
+    /// tiles (cascades, cube faces) whose bit is set in `tiles`.
+    pub fn prepare(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        casters: &Casters,
+        light_view: &LightView,
+        fatten_distance: f32,
+        tiles: u32,
+    ) {
+        self.shadow.prepare(device, queue, casters, light_view);
+        self.shadow.redraw_only(tiles);
+        if let Some((fattened, exit)) = &mut self.fattened {
+            fattened.prepare(device, queue, casters, light_view, fatten_distance);
+            fattened.redraw_only(tiles);
+            exit.prepare(device, queue, casters, light_view);
+            exit.redraw_only(tiles);
+        }
+    }
+
+    /// Draws the maps, calling `mark(encoder, pass)` after each.
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        casters: &Casters,
+        mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str),
+    ) {
+        run(encoder, mark, "shadow map", &|e| self.shadow.encode(e, casters));
+        if let Some((fattened, exit)) = &self.fattened {
+            run(encoder, mark, "fattened shadow map", &|e| {
+                fattened.encode(e, casters)
+            });
+            run(encoder, mark, "exit map", &|e| exit.encode(e, casters));
+        }
+    }
+}
+
+/// Records one pass in a debug group of its name, then `mark`s it.
+fn run(
+    encoder: &mut wgpu::CommandEncoder,
+    mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str),
+    name: &'static str,
+    pass: &dyn Fn(&mut wgpu::CommandEncoder),
+) {
+    encoder.push_debug_group(name);
+    pass(encoder);
+    encoder.pop_debug_group();
+    mark(encoder, name);
+}
+
+/// What a light's screen-space passes read besides their own: the frame uniform, the engine's
+/// depth and receiver mask (or a stand-in), the light's maps, and a 1 x 1 stand-in for inputs
+/// a chain does not have.
+pub(crate) struct ScreenInputs<'a> {
+    pub frame: &'a wgpu::Buffer,
+    pub depth: &'a wgpu::TextureView,
+    pub mask: &'a wgpu::TextureView,
+    pub maps: &'a LightMaps,
+    pub dummy: &'a wgpu::TextureView,
+}
+
+/// A light's screen-space passes, one variant per [`Chain`]. The distance-map method's blur is
+/// not here: one blur pass serves up to four lights (`Shadows::blurs`).
+pub(crate) enum ScreenChain {
+    MapOnly,
+    DistanceMap {
+        distance: DistanceMapPass,
+        pcf: VariablePcfPass,
+        /// Writes the layer when the chain has no blur.
+        resolve: ResolvePass,
+    },
+    FixedPcf {
+        pcf: PcfPass,
+        blur: Option<BlurPass>,
+        resolve: ResolvePass,
+    },
+    Pcss {
+        pcss: PcssPass,
+        resolve: ResolvePass,
+    },
+    Hard {
+        pcf: PcfPass,
+        resolve: ResolvePass,
+    },
+}
+
+impl ScreenChain {
+    /// The passes of `chain` for a light of `kind` ([`crate::frame::light_kind`]), made with
+    /// `params`' compile-time switches and sized `width` x `height`.
+    pub fn new(
+        device: &wgpu::Device,
+        chain: &Chain,
+        params: &PassParams,
+        kind: u32,
+        (w, h): (u32, u32),
+    ) -> Self {
+        let resolve = || ResolvePass::new(device, FRAME_SIZE);
+        let mut passes = match chain {
+            Chain::MapOnly { .. } => ScreenChain::MapOnly,
+            Chain::DistanceMap { .. } => ScreenChain::DistanceMap {
+                distance: DistanceMapPass::new(device, FRAME_SIZE, params.distance_switches, kind),
+                pcf: VariablePcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind),
+                resolve: resolve(),
+            },
+            Chain::FixedPcf { blur } => ScreenChain::FixedPcf {
+                pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind),
+                blur: blur.then(|| BlurPass::new(device, FRAME_SIZE, params.blur_switches, 1)),
+                resolve: resolve(),
+            },
+            Chain::Pcss => ScreenChain::Pcss {
+                pcss: PcssPass::new(device, FRAME_SIZE, kind),
+                resolve: resolve(),
+            },
+            Chain::Hard { .. } => ScreenChain::Hard {
+                pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind),
+                resolve: resolve(),
+            },
+        };
+        passes.resize(device, w, h);
+        passes
+    }
+
+    /// These passes serve `chain` for a light of `kind` with `params`' switches (otherwise
+    /// they must be made again).
+    pub fn fits(&self, chain: &Chain, params: &PassParams, kind: u32) -> bool {
+        let pcf_fits = |p: &PcfPass| p.switches() == params.pcf_switches && p.light_kind() == kind;
+        match (self, chain) {
+            (ScreenChain::MapOnly, Chain::MapOnly { .. }) => true,
+            (ScreenChain::DistanceMap { distance, pcf, .. }, Chain::DistanceMap { .. }) => {
+                distance.switches() == params.distance_switches
+                    && distance.light_kind() == kind
+                    && pcf.switches() == params.pcf_switches
+                    && pcf.light_kind() == kind
+            }
+            (ScreenChain::FixedPcf { pcf, blur, .. }, Chain::FixedPcf { blur: wanted }) => {
+                pcf_fits(pcf)
+                    && blur.is_some() == *wanted
+                    && blur.as_ref().is_none_or(|b| b.switches() == params.blur_switches)
+            }
+            (ScreenChain::Pcss { pcss, .. }, Chain::Pcss) => pcss.light_kind() == kind,
+            (ScreenChain::Hard { pcf, .. }, Chain::Hard { .. }) => pcf_fits(pcf),
+            _ => false,
+        }
+    }
+
+    /// Sizes the screen-sized targets; the passes must then be bound again.
+    pub fn resize(&mut self, device: &wgpu::Device, w: u32, h: u32) {
+        match self {
+            ScreenChain::MapOnly => {}
+            ScreenChain::DistanceMap { distance, pcf, .. } => {
+                distance.resize(device, w, h);
+                pcf.resize(device, w, h);
+            }
+            ScreenChain::FixedPcf { pcf, blur, .. } => {
+                pcf.resize(device, w, h);
+                if let Some(blur) = blur {
+                    blur.resize(device, w, h);
+                }
+            }
+            ScreenChain::Pcss { pcss, .. } => pcss.resize(device, w, h),
+            ScreenChain::Hard { pcf, .. } => pcf.resize(device, w, h),
+        }
+    }
+
+    /// Uploads the frame's parameters of each pass.
+    pub fn prepare(&self, queue: &wgpu::Queue, params: &PassParams) {
+        match self {
+            ScreenChain::MapOnly => {}
+            ScreenChain::DistanceMap { pcf, .. } => pcf.prepare(queue, &params.pcf),
+            ScreenChain::FixedPcf { pcf, blur, .. } => {
+                pcf.prepare(queue, &params.pcf);
+                if let Some(blur) = blur {
+                    blur.prepare(queue, &params.blur);
+                }
+            }
+            ScreenChain::Pcss { pcss, .. } => pcss.prepare(queue, &params.pcss),
+            ScreenChain::Hard { pcf, .. } => pcf.prepare(queue, &params.pcf),
+        }
+    }
+
+    /// Points each pass at its inputs: the chain's wiring, pass by pass.
+    pub fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
+        let ScreenInputs {
+            frame,
+            depth,
+            mask,
+            maps,
+            dummy,
+        } = *inputs;
+        let shadow_map = maps.shadow.view();
+        match self {
+            ScreenChain::MapOnly => {}
+            ScreenChain::DistanceMap {
+                distance,
+                pcf,
+                resolve,
+            } => {
+                let Some((fattened, exit)) = &maps.fattened else {
+                    return;
+                };
+                distance.bind(
+                    device,
+                    frame,
+                    (fattened.view(), fattened.texture().width()),
+                    fattened.occluder_offset(),
+                    exit.view(),
+                    shadow_map,
+                    depth,
+                    mask,
+                );
+                pcf.bind(device, frame, depth, distance.distance_map(), shadow_map);
+                // The blur (batched over lights) is bound by `Shadows`.
+                resolve.bind(
+                    device,
+                    frame,
+                    depth,
+                    distance.distance_map(),
+                    pcf.visibility(),
+                    mask,
+                );
+            }
+            ScreenChain::FixedPcf { pcf, blur, resolve } => {
+                pcf.bind(device, frame, depth, shadow_map);
+                let mut visibility = pcf.visibility();
+                if let Some(blur) = blur {
+                    let input = BlurInput {
+                        visibility,
+                        distance_map: dummy,
+                        blur_sigma: dummy,
+                    };
+                    blur.bind(device, frame, (depth, mask), &[input], dummy);
+                    visibility = blur.blurred().unwrap_or(visibility);
+                }
+                resolve.bind(device, frame, depth, dummy, visibility, mask);
+            }
+            ScreenChain::Pcss { pcss, resolve } => {
+                pcss.bind(device, frame, depth, shadow_map);
+                resolve.bind(device, frame, depth, dummy, pcss.visibility(), mask);
+            }
+            ScreenChain::Hard { pcf, resolve } => {
+                pcf.bind(device, frame, depth, shadow_map);
+                resolve.bind(device, frame, depth, dummy, pcf.visibility(), mask);
+            }
+        }
+    }
+
+    /// Records `chain`'s passes in order into the light's `layer` (`maps_drawn`: the light's
+    /// maps were drawn this frame), calling `mark(encoder, pass)` after each. `packed`: the
+    /// light is blurred in a batch, whose packed visibility its PCF also writes (`.1`: it comes
+    /// first and clears it). The distance-map method's blur runs after every light's chain.
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        chain: &Chain,
+        maps_drawn: bool,
+        layer: &wgpu::TextureView,
+        packed: Option<(&PackedVisibility, bool)>,
+        mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str),
+    ) {
+        match self {
+            ScreenChain::MapOnly => {}
+            ScreenChain::DistanceMap {
+                distance,
+                pcf,
+                resolve,
+            } => {
+                run(encoder, mark, "distance map", &|e| distance.encode(e, maps_drawn));
+                let classification = distance.classification();
+                match packed {
+                    Some((packed, first)) => run(encoder, mark, "pcf", &|e| {
+                        pcf.encode_packed(e, classification, packed, first)
+                    }),
+                    None => run(encoder, mark, "pcf", &|e| pcf.encode(e, classification)),
+                }
+                if chain.resolve() {
+                    run(encoder, mark, "resolve", &|e| resolve.encode(e, layer));
+                }
+            }
+            ScreenChain::FixedPcf { pcf, blur, resolve } => {
+                run(encoder, mark, "pcf", &|e| pcf.encode(e));
+                if let Some(blur) = blur {
+                    run(encoder, mark, "blur", &|e| blur.encode(e, None, &[layer]));
+                }
+                run(encoder, mark, "resolve", &|e| resolve.encode(e, layer));
+            }
+            ScreenChain::Pcss { pcss, resolve } => {
+                run(encoder, mark, "pcss", &|e| pcss.encode(e));
+                run(encoder, mark, "resolve", &|e| resolve.encode(e, layer));
+            }
+            ScreenChain::Hard { pcf, resolve } => {
+                run(encoder, mark, "pcf", &|e| pcf.encode(e));
+                run(encoder, mark, "resolve", &|e| resolve.encode(e, layer));
+            }
+        }
+    }
+
+    /// The distance-map method's distance map and PCF (which its batched blur reads).
+    pub fn distance_map(&self) -> Option<(&DistanceMapPass, &VariablePcfPass)> {
+        match self {
+            ScreenChain::DistanceMap { distance, pcf, .. } => Some((distance, pcf)),
+            _ => None,
+        }
+    }
+
+    pub fn variable_pcf_mut(&mut self) -> Option<&mut VariablePcfPass> {
+        match self {
+            ScreenChain::DistanceMap { pcf, .. } => Some(pcf),
+            _ => None,
+        }
+    }
+
+    /// The raw visibility (PCF or PCSS), before any blur.
+    pub fn raw_visibility(&self) -> Option<&wgpu::Texture> {
+        match self {
+            ScreenChain::MapOnly => None,
+            ScreenChain::DistanceMap { pcf, .. } => Some(pcf.visibility_texture()),
+            ScreenChain::FixedPcf { pcf, .. } | ScreenChain::Hard { pcf, .. } => {
+                Some(pcf.visibility_texture())
+            }
+            ScreenChain::Pcss { pcss, .. } => Some(pcss.visibility_texture()),
+        }
+    }
+
+    /// The fixed blur's own output (the distance-map method's blur writes the layer).
+    pub fn blurred_visibility(&self) -> Option<&wgpu::Texture> {
+        match self {
+            ScreenChain::FixedPcf { blur: Some(blur), .. } => blur.blurred_texture(),
+            _ => None,
+        }
+    }
+}
