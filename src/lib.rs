@@ -55,7 +55,7 @@ mod layouts;
 pub mod light_samples;
 pub mod light_space;
 #[cfg(feature = "renderer")]
-pub mod loaders;
+pub use scene::loaders;
 #[cfg(feature = "renderer")]
 pub mod metrics;
 pub(crate) mod passes;
@@ -76,10 +76,7 @@ pub use device::{device_descriptor, instance_flags};
 pub use error::{PenumbraError, Result};
 pub use frame::DerivedSpreads;
 #[cfg(feature = "renderer")]
-pub use gpu::{
-    HeadlessGpu, read_texture_bytes, read_texture_f32, read_texture_rgba8, render_to_image,
-    render_to_image_with_progress,
-};
+pub use gpu::{HeadlessGpu, read_texture_bytes, read_texture_f32, read_texture_rgba8};
 #[cfg(feature = "renderer")]
 pub use gpu_scene::GpuScene;
 #[cfg(feature = "renderer")]
@@ -90,18 +87,21 @@ pub use light_space::{Cascade, LightView, MAX_CASCADES};
 pub use loaders::load_model;
 pub use passes::VISIBILITY_FORMAT;
 #[cfg(feature = "renderer")]
-pub use renderer::{DebugTexture, FrameReport, PassPlan, Renderer};
+pub use renderer::{
+    DebugTexture, FrameReport, PassPlan, Renderer, render_to_image, render_to_image_with_progress,
+};
 #[cfg(feature = "renderer")]
 pub use scene::SceneFile;
 #[cfg(feature = "renderer")]
 pub use scene::file::load_scene;
 pub use scene::{
     Aabb, AlphaMode, Camera, DirectionalLight, Instance, Light, LightingMode, LightmapImage, LightmapRect,
-    Lightmaps, Material, Mesh, Model, OrbitCamera, PointLight, Scene, SpotLight, TextureImage, Viewpoint,
+    Lightmaps, MAX_LIGHTS, Material, Mesh, Model, OrbitCamera, PointLight, Scene, SpotLight, TextureImage,
+    Viewpoint,
 };
 pub use settings::{
     CascadeSettings, CullMode, DepthFormat, LightFit, PcfKernel, PcssSettings, PenumbraSettings, Quality,
     ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode, TileClassification, TraditionalSettings,
 };
-pub use shadows::{Chain, LightId, LightReport, LightTexture, MAX_LIGHTS, Shadows, ViewInputs};
+pub use shadows::{Chain, LightId, LightReport, LightTexture, Shadows, ViewInputs};
 pub use view::{CameraMatrices, DepthConvention};

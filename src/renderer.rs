@@ -973,3 +973,54 @@ fn keep<T>(slot: &mut Option<T>, wanted: bool, make: impl FnOnce() -> T) {
         *slot = Some(make());
     }
 }
+
+/// Renders one frame of `scene` from `camera` into a new `width` x `height` sRGB texture and
+/// returns it as an image. The renderer must have been made for `Rgba8UnormSrgb`.
+pub fn render_to_image(
+    gpu: &crate::gpu::HeadlessGpu,
+    renderer: &mut Renderer,
+    scene: &GpuScene,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+) -> Result<image::RgbaImage> {
+    render_to_image_with_progress(gpu, renderer, scene, camera, width, height, |_, _| {})
+}
+
+/// As [`render_to_image`]; for the reference method `progress(done, total)` is called after
+/// every light sample.
+pub fn render_to_image_with_progress(
+    gpu: &crate::gpu::HeadlessGpu,
+    renderer: &mut Renderer,
+    scene: &GpuScene,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    progress: impl FnMut(u32, u32),
+) -> Result<image::RgbaImage> {
+    crate::gpu::check_target_size(&gpu.device, (width, height))?;
+    let target = crate::gpu::color_target(
+        &gpu.device,
+        "penumbra::render_to_image target",
+        (width, height),
+        renderer.color_format(),
+    );
+    let view = target.create_view(&Default::default());
+    renderer.resize(&gpu.device, width, height);
+    if renderer.settings().method == ShadowMethod::Reference {
+        renderer.render_reference(&gpu.device, &gpu.queue, scene, camera, &view, progress)?;
+    } else {
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("penumbra::render_to_image"),
+            });
+        renderer.render(&gpu.queue, &mut encoder, scene, camera, &view)?;
+        gpu.queue.submit([encoder.finish()]);
+    }
+    let pixels = crate::gpu::read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;
+    image::RgbaImage::from_raw(width, height, pixels).ok_or_else(|| PenumbraError::Gpu {
+        during: "reading back the frame".into(),
+        reason: "size mismatch".into(),
+    })
+}

@@ -21,12 +21,9 @@ use crate::passes::{
     BlurInput, BlurPass, MAX_BATCHED_LIGHTS, PackedVisibility, ShadowMapPass, VISIBILITY_FORMAT,
     screen_target,
 };
-use crate::scene::{Aabb, Light, PointLight, SpotLight};
+use crate::scene::{Aabb, Light, MAX_LIGHTS, PointLight, SpotLight};
 use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
 use crate::view::CameraMatrices;
-
-/// The most lights one [`Shadows`] holds (layers of the visibility array).
-pub const MAX_LIGHTS: usize = 8;
 
 /// What the engine gives each frame.
 #[derive(Debug, Clone, Copy)]

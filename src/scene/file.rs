@@ -358,7 +358,7 @@ impl SceneFile {
                     builtin(primitives::plane(positive("plane size", *size)?, *uv_repeat))
                 }
                 MeshSource::File { path: rel } => {
-                    let model = crate::loaders::load_model(&base_dir.join(rel))?;
+                    let model = super::loaders::load_model(&base_dir.join(rel))?;
                     let lights_used = self.lights_from.as_ref().is_some_and(|f| f.mesh == entry.name);
                     if !model.lights.is_empty() && !lights_used {
                         scene.warnings.push(format!(
@@ -526,7 +526,7 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
             file.build(&base, path)
         }
         _ => {
-            let model = crate::loaders::load_model(path)?;
+            let model = super::loaders::load_model(path)?;
             Scene::showcase(&model).map_err(|e| PenumbraError::model(path, e.to_string()))
         }
     }

@@ -3,6 +3,10 @@
 
 use glam::Vec3;
 
+/// The most lights one frame shades: the lights one [`crate::Shadows`] holds (layers of its
+/// visibility array), and the lights a scene may have.
+pub const MAX_LIGHTS: usize = 8;
+
 /// A light that casts shadows. Its size sets how soft the shadows are.
 ///
 /// `color` and `intensity` light the convenience renderer's frames; [`crate::Shadows`] (the

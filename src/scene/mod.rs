@@ -9,6 +9,8 @@ pub mod character;
 pub mod file;
 mod light;
 mod lightmap;
+#[cfg(feature = "renderer")]
+pub mod loaders;
 mod material;
 pub(crate) mod mesh;
 pub mod primitives;
@@ -20,7 +22,7 @@ pub use camera::{Camera, OrbitCamera};
 #[cfg(feature = "renderer")]
 pub use file::{LightsFrom, MeshSource, SceneFile, TextureSource};
 pub use light::{
-    DirectionalLight, Light, MODEL_SPOT_RADIUS_PER_DISTANCE, MODEL_SUN_DIAMETER_DEG, ModelLight,
+    DirectionalLight, Light, MAX_LIGHTS, MODEL_SPOT_RADIUS_PER_DISTANCE, MODEL_SUN_DIAMETER_DEG, ModelLight,
     ModelLightKind, ModelLightSizes, PointLight, SpotLight, lights_from_model,
 };
 pub use lightmap::{LightingMode, LightmapImage, LightmapRect, Lightmaps, rg11b10, rgb9e5};

@@ -1,0 +1,199 @@
+//! The crate's modules depend on each other one way: no module of `src` reaches another through
+//! `crate::` paths that reaches it back, and the generic GPU helpers (`src/gpu_helpers.rs`) are
+//! a leaf that reaches no other module. A module is a top-level file or folder of `src`; the
+//! unit tests at the end of a file (`#[cfg(test)] mod tests`) and comments are left out, since
+//! they may reach anywhere.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// Every `.rs` file under `dir`.
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
+        let path = entry.expect("directory entry").path();
+        if path.is_dir() {
+            rust_files(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+}
+
+/// The top-level module a file of `src` belongs to (`None` for the crate root).
+fn module_of(file: &Path, src: &Path) -> Option<String> {
+    let first = file.strip_prefix(src).ok()?.components().next()?;
+    let name = first.as_os_str().to_str()?.trim_end_matches(".rs").to_string();
+    (name != "lib").then_some(name)
+}
+
+/// The modules `text` names after `crate::`, each with the line it does so on (1-based).
+fn references(text: &str) -> Vec<(String, usize)> {
+    let code = match text.find("#[cfg(test)]\nmod tests") {
+        Some(end) => &text[..end],
+        None => text,
+    };
+    let mut found = Vec::new();
+    for (number, line) in code.lines().enumerate() {
+        let line = match line.find("//") {
+            Some(comment) => &line[..comment],
+            None => line,
+        };
+        for (at, _) in line.match_indices("crate::") {
+            let name: String = line[at + "crate::".len()..]
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                .collect();
+            if !name.is_empty() {
+                found.push((name, number + 1));
+            }
+        }
+    }
+    found
+}
+
+/// The names the crate root re-exports (`pub use module::{A, B};` in `lib.rs`), each with the
+/// name it comes from first (`crate::MAX_LIGHTS` reaches the module that defines it).
+fn root_exports(lib: &str) -> BTreeMap<String, String> {
+    let mut exports = BTreeMap::new();
+    for statement in lib.split(';') {
+        let Some(at) = statement.find("pub use ") else {
+            continue;
+        };
+        let path = &statement[at + "pub use ".len()..];
+        let Some((from, items)) = path.split_once("::") else {
+            continue;
+        };
+        for item in items.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_')) {
+            if !item.is_empty() && item != "self" {
+                exports.insert(item.to_string(), from.trim().to_string());
+            }
+        }
+    }
+    exports
+}
+
+/// Module -> the modules it reaches, each with one place that does so.
+fn module_graph() -> BTreeMap<String, BTreeMap<String, String>> {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let modules: BTreeSet<String> = files.iter().filter_map(|f| module_of(f, &src)).collect();
+    let lib = std::fs::read_to_string(src.join("lib.rs")).expect("src/lib.rs");
+    let exports = root_exports(&lib);
+    // A name at the crate root: the module it is, or the module it is re-exported from.
+    let resolve = |name: &str| {
+        let mut name = name.to_string();
+        for _ in 0..4 {
+            if modules.contains(&name) {
+                return Some(name);
+            }
+            name = exports.get(&name)?.clone();
+        }
+        None
+    };
+    let mut graph: BTreeMap<String, BTreeMap<String, String>> = BTreeMap::new();
+    for file in files {
+        let Some(module) = module_of(&file, &src) else {
+            continue;
+        };
+        let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        let edges = graph.entry(module.clone()).or_default();
+        for (name, line) in references(&text) {
+            let Some(target) = resolve(&name) else {
+                continue;
+            };
+            if target != module {
+                edges
+                    .entry(target)
+                    .or_insert_with(|| format!("{}:{line}", file.strip_prefix(&src).unwrap().display()));
+            }
+        }
+    }
+    graph
+}
+
+/// A circle through `graph`, as the modules on it, if there is one.
+fn find_circle(graph: &BTreeMap<String, BTreeMap<String, String>>) -> Option<Vec<String>> {
+    fn visit(
+        node: &str,
+        graph: &BTreeMap<String, BTreeMap<String, String>>,
+        path: &mut Vec<String>,
+        done: &mut BTreeSet<String>,
+    ) -> Option<Vec<String>> {
+        if let Some(at) = path.iter().position(|n| n == node) {
+            return Some(path[at..].to_vec());
+        }
+        if done.contains(node) {
+            return None;
+        }
+        path.push(node.to_string());
+        for next in graph.get(node).into_iter().flat_map(|edges| edges.keys()) {
+            if let Some(circle) = visit(next, graph, path, done) {
+                return Some(circle);
+            }
+        }
+        path.pop();
+        done.insert(node.to_string());
+        None
+    }
+    let mut done = BTreeSet::new();
+    graph
+        .keys()
+        .find_map(|start| visit(start, graph, &mut Vec::new(), &mut done))
+}
+
+#[test]
+fn no_module_reaches_back_a_module_that_reaches_it() {
+    let graph = module_graph();
+    assert!(
+        graph.len() > 10,
+        "too few modules found in src: {:?}",
+        graph.keys()
+    );
+    if let Some(circle) = find_circle(&graph) {
+        let steps: Vec<String> = circle
+            .iter()
+            .zip(circle.iter().cycle().skip(1))
+            .map(|(from, to)| format!("{from} -> {to} ({})", graph[from][to]))
+            .collect();
+        panic!("an import circle in src: {}", steps.join(", "));
+    }
+}
+
+#[test]
+fn the_gpu_helpers_reach_no_other_module() {
+    let graph = module_graph();
+    let helpers = graph.get("gpu_helpers").expect("src/gpu_helpers.rs");
+    assert!(helpers.is_empty(), "src/gpu_helpers.rs reaches {helpers:?}");
+}
+
+#[test]
+fn the_circle_finder_finds_a_circle() {
+    // The check itself can fail: a graph with a circle is reported.
+    let mut graph: BTreeMap<String, BTreeMap<String, String>> = BTreeMap::new();
+    graph
+        .entry("a".into())
+        .or_default()
+        .insert("b".into(), "a.rs:1".into());
+    graph
+        .entry("b".into())
+        .or_default()
+        .insert("c".into(), "b.rs:1".into());
+    graph
+        .entry("c".into())
+        .or_default()
+        .insert("a".into(), "c.rs:1".into());
+    assert_eq!(
+        find_circle(&graph),
+        Some(vec!["a".to_string(), "b".to_string(), "c".to_string()])
+    );
+    graph.get_mut("c").unwrap().clear();
+    assert_eq!(find_circle(&graph), None);
+    assert_eq!(
+        references("use crate::scene::Aabb; // crate::shadows\nlet x = crate::frame::f();"),
+        vec![("scene".to_string(), 1), ("frame".to_string(), 2)]
+    );
+    let exports = root_exports("pub use scene::{\n    Aabb, Light,\n};\npub use shadows::MAX_LIGHTS;");
+    assert_eq!(exports.get("Light").map(String::as_str), Some("scene"));
+    assert_eq!(exports.get("MAX_LIGHTS").map(String::as_str), Some("shadows"));
+}
