@@ -58,12 +58,14 @@ fn the_bench_writes_its_report() {
         "still, one blur per light",
         "| 4 |",
         "### Batching the blur",
-        "| sun | 90 deg | 4 | one pass per light |",
-        "| sun | 5 deg | 4 | batched |",
-        "| spot | 90 deg | 4 | batched |",
-        "| point | 90 deg | 4 | one pass per light |",
+        "| sun | 90 deg | x1 | 4 | one pass per light |",
+        "| sun | 5 deg | x1 | 4 | batched |",
+        "| spot | 90 deg | x1 | 4 | batched |",
+        "| point | 90 deg | x1 | 4 | one pass per light |",
+        "| sun | 90 deg | x0.25 | 4 | batched |",
+        "| point | 90 deg | x0.25 | 4 | batched |",
         "lights two to four add",
-        "lights two to four each cost less than the first",
+        "lights two to four, with penumbrae smaller than the first's",
     ] {
         assert!(md.contains(needle), "report.md lacks `{needle}`");
     }
@@ -75,8 +77,13 @@ fn the_bench_writes_its_report() {
     let embedding: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("embedding.json")).unwrap()).unwrap();
     let batching = embedding["batching"].as_array().unwrap();
-    // Suns apart and overlapping, spots, point lights; 1, 2 and 4 lights; batched or not.
-    assert_eq!(batching.len(), 4 * 3 * 2);
+    // Suns apart and overlapping, spots, point lights; 1, 2 and 4 lights; batched or not; and
+    // four batched lights of each type whose lights two to four are a quarter of the first's size.
+    assert_eq!(batching.len(), 4 * 3 * 2 + 3);
+    assert_eq!(
+        batching.iter().filter(|r| r["size_ratio"].as_f64() == Some(0.25)).count(),
+        3
+    );
     for run in batching {
         for pass in ["distance_map_ms", "pcf_ms", "blur_ms"] {
             assert!(run[pass].as_f64().is_some_and(|t| t > 0.0), "{run}: no {pass}");
