@@ -324,12 +324,7 @@ impl GpuScene {
             black: upload_lightmap(
                 device,
                 queue,
-                &LightmapImage {
-                    name: "no lightmap".into(),
-                    width: 1,
-                    height: 1,
-                    rgb: vec![[0.0; 3]],
-                },
+                &LightmapImage::with_finite_texels("no lightmap", 1, 1, vec![[0.0; 3]]),
             )?,
             sampler: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("GpuScene::lightmap_sampler"),

@@ -81,7 +81,10 @@ fn the_bench_writes_its_report() {
     // four batched lights of each type whose lights two to four are a quarter of the first's size.
     assert_eq!(batching.len(), 4 * 3 * 2 + 3);
     assert_eq!(
-        batching.iter().filter(|r| r["size_ratio"].as_f64() == Some(0.25)).count(),
+        batching
+            .iter()
+            .filter(|r| r["size_ratio"].as_f64() == Some(0.25))
+            .count(),
         3
     );
     for run in batching {

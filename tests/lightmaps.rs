@@ -246,7 +246,18 @@ fn lightmap_misuse_is_an_error_naming_what_is_wrong() {
         base.replacen("mode: Baked", "mode: Dynamic", 1),
         "must be `Mixed` or `Baked`",
     );
-    expect(base.replacen("mode: Baked", "mode: Mixed", 1), "one per mode");
+    // Two atlases for one mode may not both light one mesh: the error names both files.
+    let twice = build(&base.replacen("mode: Baked", "mode: Mixed", 1))
+        .expect_err("a mesh in two atlases of one mode")
+        .to_string();
+    for needle in [
+        "one atlas per mesh and mode",
+        "mesh `Plane`",
+        "MixedLightingExample-Baked",
+        "MixedLightingExample-MixedIndirect",
+    ] {
+        assert!(twice.contains(needle), "`{twice}` lacks `{needle}`");
+    }
     expect(
         base.replacen("lightmap_exposure: 1.0", "lightmap_exposure: -1.0", 1),
         "lightmap_exposure -1",
@@ -261,6 +272,65 @@ fn lightmap_misuse_is_an_error_naming_what_is_wrong() {
                      meshes: [(mesh: "floor", min: (0.0, 0.0), size: (1.0, 1.0))])],
     )"#;
     expect(built_in.to_string(), "no second UV set");
+}
+
+/// Engines give meshes their own lightmap images: two atlases serve baked lighting, the
+/// example's for the floor and a plain green one for the chair, and each mesh shows its own.
+#[test]
+fn several_atlases_in_one_mode_each_light_their_own_meshes() {
+    let base = lit(sphere_at(scene(), 0.55, 0.35), LightingMode::Baked, 0.0);
+    let camera = base.view(0).unwrap();
+    let mut split = base.clone();
+    let baked = split
+        .lightmaps
+        .iter()
+        .position(|l| l.mode == LightingMode::Baked)
+        .unwrap();
+    let chair: Vec<penumbra::LightmapRect> = split.lightmaps[baked]
+        .rects
+        .iter()
+        .filter(|r| r.mesh.starts_with("SheenChair"))
+        .map(|r| penumbra::LightmapRect {
+            mesh: r.mesh.clone(),
+            min: glam::Vec2::ZERO,
+            max: glam::Vec2::ONE,
+        })
+        .collect();
+    assert!(chair.len() >= 3, "the chair's meshes: {chair:?}");
+    split.lightmaps[baked]
+        .rects
+        .retain(|r| !r.mesh.starts_with("SheenChair"));
+    split.lightmaps.push(penumbra::Lightmaps {
+        mode: LightingMode::Baked,
+        image: penumbra::LightmapImage::with_finite_texels("green.hdr", 4, 4, vec![[0.0, 0.8, 0.0]; 16]),
+        rects: chair,
+    });
+    split.validate_lightmaps().unwrap();
+    let one = render(&base, &camera, "one-baked-atlas");
+    let two = render(&split, &camera, "two-baked-atlases");
+    let green = |image: &image::RgbaImage| {
+        image
+            .pixels()
+            .filter(|p| {
+                let [r, g, b, _] = p.0.map(u32::from);
+                g >= 16 && g > 2 * r && g > 2 * b
+            })
+            .count()
+    };
+    let (before, after) = (green(&one), green(&two));
+    eprintln!("green pixels: one atlas {before}, two atlases {after}");
+    // The chair covers about a fifth of the frame.
+    assert!(
+        before < 50 && after > 3000,
+        "the chair must show its own green atlas"
+    );
+    // The floor keeps the example's atlas.
+    let open = pixel(&camera, Vec3::new(0.2, 0.0, 0.5));
+    let (a, b) = (one.get_pixel(open.0, open.1).0, two.get_pixel(open.0, open.1).0);
+    assert!(
+        a.iter().zip(b).all(|(x, y)| x.abs_diff(y) <= 2),
+        "the floor changed: {a:?} vs {b:?}"
+    );
 }
 
 /// The chair's occlusion textures (glTF `occlusionTexture` on `TEXCOORD_1`) darken the

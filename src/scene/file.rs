@@ -445,6 +445,7 @@ impl SceneFile {
                 )));
             }
             let image = LightmapImage::load(&base_dir.join(&atlas.path))?;
+            scene.warnings.extend(image.warnings.iter().cloned());
             let rects = atlas
                 .meshes
                 .iter()

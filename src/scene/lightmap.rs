@@ -25,6 +25,9 @@ pub struct LightmapImage {
     pub height: u32,
     /// `width * height` texels.
     pub rgb: Vec<[f32; 3]>,
+    /// What decoding changed, for the user to see: texels that were not finite (Inf or NaN,
+    /// which bakers leave in atlas gutters that nothing samples) are read as 0.
+    pub warnings: Vec<String>,
 }
 
 /// How a scene's light is made (engines' "lighting modes").
@@ -130,12 +133,7 @@ impl LightmapImage {
                 .map(|p| p.0.map(|c| srgb_to_linear(c as f32 / 255.0)))
                 .collect()
         };
-        Ok(LightmapImage {
-            name: name.to_string(),
-            width,
-            height,
-            rgb,
-        })
+        Ok(LightmapImage::with_finite_texels(name, width, height, rgb))
     }
 
     /// Decodes a KTX2 container's first level (see the module docs for the formats).
@@ -214,19 +212,39 @@ impl LightmapImage {
                 _ => [0, 1, 2].map(|c| data[i * 4 + c] as f32 / 255.0),
             })
             .collect();
-        if let Some(i) = rgb.iter().position(|t| t.iter().any(|c| !c.is_finite())) {
-            return Err(bad(format!("texel {i} is not finite")));
-        }
-        Ok(LightmapImage {
-            name: name.to_string(),
-            width,
-            height,
-            rgb,
-        })
+        Ok(LightmapImage::with_finite_texels(name, width, height, rgb))
     }
 }
 
 impl LightmapImage {
+    /// An image of `rgb` whose texels that are not finite (Inf or NaN) are replaced by 0, with
+    /// one warning naming the image and how many were.
+    pub fn with_finite_texels(name: &str, width: u32, height: u32, mut rgb: Vec<[f32; 3]>) -> Self {
+        let mut replaced = 0usize;
+        for texel in &mut rgb {
+            if texel.iter().any(|c| !c.is_finite()) {
+                *texel = [0.0; 3];
+                replaced += 1;
+            }
+        }
+        let warnings = (replaced > 0)
+            .then(|| {
+                format!(
+                    "lightmap `{name}`: {replaced} of {} texels are not finite (Inf or NaN) and are read as 0",
+                    rgb.len()
+                )
+            })
+            .into_iter()
+            .collect();
+        LightmapImage {
+            name: name.to_string(),
+            width,
+            height,
+            rgb,
+            warnings,
+        }
+    }
+
     /// The texel at (x, y), clamped to the image.
     pub fn texel(&self, x: i64, y: i64) -> [f32; 3] {
         let x = x.clamp(0, self.width as i64 - 1) as usize;
@@ -399,6 +417,35 @@ mod tests {
             assert_eq!(image(122, &rg11b10).rgb, vec![[1.0, 2.0, 0.5]; 2]);
             assert_eq!(image(123, &rgb9e5).rgb, vec![[1.0, 0.5, 0.25], [0.0; 3]]);
         }
+        // Texels a baker left Inf or NaN (atlas gutters): read as 0, the image kept, one
+        // warning naming the file and the count.
+        let floats: Vec<u8> = [
+            1.0f32,
+            2.0,
+            3.0,
+            1.0,
+            f32::NAN,
+            0.5,
+            0.5,
+            1.0,
+            0.25,
+            f32::INFINITY,
+            0.0,
+            1.0,
+        ]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+        let gutters = LightmapImage::decode_ktx2("gutters.ktx2", &ktx2(109, 3, 1, &floats, false)).unwrap();
+        assert_eq!(gutters.rgb, vec![[1.0, 2.0, 3.0], [0.0; 3], [0.0; 3]]);
+        assert_eq!(gutters.warnings.len(), 1);
+        assert!(
+            gutters.warnings[0].contains("gutters.ktx2") && gutters.warnings[0].contains("2 of 3"),
+            "{:?}",
+            gutters.warnings
+        );
+        let clean = LightmapImage::decode_ktx2("clean.ktx2", &ktx2(97, 2, 1, &halfs, false)).unwrap();
+        assert!(clean.warnings.is_empty(), "{:?}", clean.warnings);
         // Too little data, an unsupported format: errors naming the file and the reason.
         let short = LightmapImage::decode_ktx2("short.ktx2", &ktx2(97, 4, 4, &halfs, false)).unwrap_err();
         assert!(short.to_string().contains("short.ktx2"), "{short}");

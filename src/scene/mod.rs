@@ -236,8 +236,9 @@ impl Scene {
         })
     }
 
-    /// Checks the lightmaps: a lighting mode of its own per atlas, every rectangle naming a
-    /// mesh that exists and has lightmap UVs, a finite exposure >= 0.
+    /// Checks the lightmaps: a mixed or baked mode per atlas, one atlas per mesh and mode
+    /// (several atlases may serve one mode), every rectangle naming a mesh that exists and has
+    /// lightmap UVs, a finite exposure >= 0.
     pub fn validate_lightmaps(&self) -> Result<()> {
         let bad = |s: String| Err(PenumbraError::Scene(s));
         if !(self.lightmap_exposure >= 0.0 && self.lightmap_exposure.is_finite()) {
@@ -251,11 +252,23 @@ impl Scene {
             if atlas.mode == LightingMode::Dynamic {
                 return bad(format!("lightmap `{name}`: dynamic lighting uses no lightmap"));
             }
-            if self.lightmaps[..k].iter().any(|other| other.mode == atlas.mode) {
-                return bad(format!(
-                    "lightmap `{name}`: a second atlas for {} lighting (one per mode)",
-                    atlas.mode.name()
-                ));
+            // Several atlases may serve one mode (engines give each mesh its own image), but a
+            // mesh takes one atlas per mode.
+            for (r, rect) in atlas.rects.iter().enumerate() {
+                if atlas.rects[..r].iter().any(|other| other.mesh == rect.mesh) {
+                    return bad(format!("lightmap `{name}`: mesh `{}` is listed twice", rect.mesh));
+                }
+                let earlier = self.lightmaps[..k].iter().find(|other| {
+                    other.mode == atlas.mode && other.rects.iter().any(|o| o.mesh == rect.mesh)
+                });
+                if let Some(other) = earlier {
+                    return bad(format!(
+                        "lightmaps `{}` and `{name}` both give mesh `{}` its {} lighting (one atlas per mesh and mode)",
+                        other.image.name,
+                        rect.mesh,
+                        atlas.mode.name()
+                    ));
+                }
             }
             if atlas.image.rgb.len() != atlas.image.width as usize * atlas.image.height as usize
                 || atlas.image.width == 0
