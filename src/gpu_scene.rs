@@ -8,7 +8,8 @@ use wgpu::util::DeviceExt;
 use crate::error::{PenumbraError, Result};
 use crate::layouts::{MaterialUniform, SceneLayouts, SurfaceUniform};
 use crate::scene::{
-    Aabb, AlphaMode, FilterMode, Light, LightingMode, LightmapImage, Scene, TextureSampler, WrapMode,
+    Aabb, AlphaMode, FilterMode, Light, LightingMode, LightmapFilter, LightmapImage, Scene, TextureSampler,
+    WrapMode,
 };
 
 /// One mesh's vertex streams.
@@ -61,6 +62,7 @@ pub struct GpuScene {
     lightmap_groups: Vec<wgpu::BindGroup>,
     lighting: LightingMode,
     lightmap_exposure: f32,
+    lightmap_filter: LightmapFilter,
 }
 
 /// An instance's occlusion texture as the surface group binds it.
@@ -384,6 +386,7 @@ impl GpuScene {
             lightmap_groups: Vec::new(),
             lighting: LightingMode::Dynamic,
             lightmap_exposure: 1.0,
+            lightmap_filter: scene.lightmap_filter,
             light_revision: 0,
             meshes,
             materials,
@@ -425,6 +428,22 @@ impl GpuScene {
         self.has_lightmaps(self.lighting) || self.lightmaps.occlusion.iter().any(|o| o.params[0] > 0.0)
     }
 
+    /// How lightmaps are read between their texels now.
+    pub fn lightmap_filter(&self) -> LightmapFilter {
+        self.lightmap_filter
+    }
+
+    /// Switches how lightmaps are read between their texels (bilinear or bicubic).
+    pub fn set_lightmap_filter(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        filter: LightmapFilter,
+    ) -> Result<()> {
+        self.lightmap_filter = filter;
+        self.set_lighting(device, queue, self.lighting, self.lightmap_exposure)
+    }
+
     /// Switches the lighting mode and the lightmaps' exposure (finite, >= 0). Instances with no
     /// lightmap for the mode are lit dynamically.
     pub fn set_lighting(
@@ -439,6 +458,7 @@ impl GpuScene {
                 "lightmap exposure {exposure} must be finite and >= 0"
             )));
         }
+        let bicubic = (self.lightmap_filter == LightmapFilter::Bicubic) as u32 as f32;
         let l = &self.lightmaps;
         self.lightmap_groups = l
             .assigned
@@ -454,7 +474,7 @@ impl GpuScene {
                 let uniform = match slot {
                     Some((_, rect)) => SurfaceUniform {
                         rect,
-                        params: [exposure, code, 0.0, 0.0],
+                        params: [exposure, code, bicubic, 0.0],
                         occlusion: occlusion.params,
                         occlusion_transform: occlusion.transform,
                     },

@@ -75,7 +75,7 @@ pub struct SurfaceUniform {
     /// The lightmap's atlas rectangle: xy min, zw max (texture space).
     pub rect: [f32; 4],
     /// x: lightmap exposure; y: 0 no lightmap (dynamic lighting or none for the instance),
-    /// 1 mixed, 2 baked.
+    /// 1 mixed, 2 baked; z: 1 bicubic lightmap filtering, 0 bilinear.
     pub params: [f32; 4],
     /// x: occlusion strength (0: no occlusion texture); y: its UV set (0 or 1).
     pub occlusion: [f32; 4],

@@ -333,6 +333,86 @@ fn several_atlases_in_one_mode_each_light_their_own_meshes() {
     );
 }
 
+/// Bicubic lightmap filtering (`LightmapFilter::Bicubic`) spreads a step in a coarse bake
+/// over more of the floor than bilinear filtering, and leaves flat light as it is.
+#[test]
+fn bicubic_lightmap_filtering_smooths_a_coarse_bake() {
+    let base = lit(sphere_at(scene(), 0.55, 0.35), LightingMode::Baked, 0.0);
+    let camera = base.view(0).unwrap();
+    // The floor alone takes an 8 x 8 lightmap over its whole second UV set.
+    let with = |texel: &dyn Fn(usize) -> f32, filter: penumbra::LightmapFilter| {
+        let mut scene = base.clone();
+        let rgb = (0..64).map(|i| [texel(i % 8); 3]).collect();
+        scene.lightmaps = vec![penumbra::Lightmaps {
+            mode: LightingMode::Baked,
+            image: penumbra::LightmapImage::with_finite_texels("step", 8, 8, rgb),
+            rects: vec![penumbra::LightmapRect {
+                mesh: "Plane".into(),
+                min: glam::Vec2::ZERO,
+                max: glam::Vec2::ONE,
+            }],
+        }];
+        scene.lightmap_filter = filter;
+        scene
+    };
+    use penumbra::LightmapFilter::{Bicubic, Bilinear};
+    let step = |x: usize| if x < 4 { 0.1 } else { 0.9 };
+    let dark = render(&with(&|_| 0.1, Bilinear), &camera, "filter-dark");
+    let bright = render(&with(&|_| 0.9, Bilinear), &camera, "filter-bright");
+    let bilinear = render(&with(&step, Bilinear), &camera, "filter-bilinear");
+    let bicubic = render(&with(&step, Bicubic), &camera, "filter-bicubic");
+    // Flat light comes out the same either way.
+    let flat = render(&with(&|_| 0.9, Bicubic), &camera, "filter-bright-bicubic");
+    let differing = flat
+        .pixels()
+        .zip(bright.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0).any(|(x, y)| x.abs_diff(y) > 2))
+        .count();
+    assert!(
+        differing < 20,
+        "{differing} pixels of flat light changed with the filter"
+    );
+    // Where the step lies between the floor lit all dark and all bright (0 to 1): pixels part
+    // way across it.
+    let luminance = |image: &image::RgbaImage, x: u32, y: u32| {
+        let p = image.get_pixel(x, y).0;
+        (0.2126 * p[0] as f32 + 0.7152 * p[1] as f32 + 0.0722 * p[2] as f32) / 255.0
+    };
+    let across = |image: &image::RgbaImage| {
+        let (mut partway, mut ends) = (0, 0);
+        for y in 0..SIZE.1 {
+            for x in 0..SIZE.0 {
+                let (lo, hi) = (luminance(&dark, x, y), luminance(&bright, x, y));
+                if hi - lo < 0.1 {
+                    continue;
+                }
+                let t = (luminance(image, x, y) - lo) / (hi - lo);
+                if (0.1..=0.9).contains(&t) {
+                    partway += 1;
+                } else {
+                    ends += 1;
+                }
+            }
+        }
+        (partway, ends)
+    };
+    let (linear_partway, linear_ends) = across(&bilinear);
+    let (cubic_partway, cubic_ends) = across(&bicubic);
+    eprintln!(
+        "floor pixels part way across the step: bilinear {linear_partway} (of {}), bicubic {cubic_partway} (of {})",
+        linear_partway + linear_ends,
+        cubic_partway + cubic_ends
+    );
+    assert!(
+        linear_partway > 100 && linear_ends > 1000,
+        "the step must show on the floor"
+    );
+    assert!(
+        cubic_partway as f32 > 1.5 * linear_partway as f32,
+        "bicubic filtering must spread the step wider"
+    );
+}
+
 /// The chair's occlusion textures (glTF `occlusionTexture` on `TEXCOORD_1`) darken the
 /// indirect light and leave the direct light alone.
 #[test]

@@ -509,6 +509,21 @@ impl DemoApp {
                 self.complain(format!("lighting: {e}"));
             }
         }
+        let mut bicubic = self.gpu_scene.lightmap_filter() == penumbra::LightmapFilter::Bicubic;
+        if ui
+            .checkbox(&mut bicubic, "bicubic lightmap filtering (smooth across texels)")
+            .changed()
+        {
+            let filter = if bicubic {
+                penumbra::LightmapFilter::Bicubic
+            } else {
+                penumbra::LightmapFilter::Bilinear
+            };
+            let rs = &self.render_state;
+            if let Err(e) = self.gpu_scene.set_lightmap_filter(&rs.device, &rs.queue, filter) {
+                self.complain(format!("lightmap filter: {e}"));
+            }
+        }
     }
 
     /// Moves one of the scene's objects (a dynamic object over baked scenery, for example).

@@ -5,7 +5,8 @@
 struct Surface {
     // the lightmap's atlas rectangle: xy min, zw max (texture space)
     rect: vec4<f32>,
-    // x: exposure; y: 0 no lightmap, 1 mixed (indirect light baked), 2 baked (all light baked)
+    // x: exposure; y: 0 no lightmap, 1 mixed (indirect light baked), 2 baked (all light baked);
+    // z: 1 bicubic filtering, 0 bilinear
     params: vec4<f32>,
     // x: occlusion strength (0: none); y: the UV set it reads
     occlusion: vec4<f32>,
@@ -30,8 +31,38 @@ fn baked_light(uv1: vec2<f32>) -> vec4<f32> {
         return vec4<f32>(0.0);
     }
     let uv = mix(surface.rect.xy, surface.rect.zw, uv1);
-    let texel = textureSample(lightmap_atlas, lightmap_sampler, uv).rgb;
+    var texel = textureSample(lightmap_atlas, lightmap_sampler, uv).rgb;
+    // The surface uniform is the same for the whole draw: uniform control flow.
+    if surface.params.z > 0.5 {
+        texel = bicubic_lightmap(uv);
+    }
     return vec4<f32>(texel * surface.params.x, surface.params.y);
+}
+
+// The lightmap at `uv` through a cubic B-spline over the 4 x 4 texels around it, as four
+// bilinear fetches: each pair of B-spline weights along an axis becomes one fetch placed
+// between its two texels in proportion to them.
+fn bicubic_lightmap(uv: vec2<f32>) -> vec3<f32> {
+    let size = vec2<f32>(textureDimensions(lightmap_atlas));
+    let p = uv * size - 0.5;
+    let base = floor(p);
+    let f = p - base;
+    let g = 1.0 - f;
+    // B-spline weights of the texels at base - 1, base, base + 1 and base + 2.
+    let w0 = g * g * g / 6.0;
+    let w1 = (4.0 - 6.0 * f * f + 3.0 * f * f * f) / 6.0;
+    let w2 = (1.0 + 3.0 * f + 3.0 * f * f - 3.0 * f * f * f) / 6.0;
+    let w3 = f * f * f / 6.0;
+    let low = w0 + w1;
+    let high = w2 + w3;
+    // Texel-centre coordinates of the two fetches along each axis.
+    let at_low = (base - 0.5 + w1 / low) / size;
+    let at_high = (base + 1.5 + w3 / high) / size;
+    let s00 = textureSampleLevel(lightmap_atlas, lightmap_sampler, vec2<f32>(at_low.x, at_low.y), 0.0).rgb;
+    let s10 = textureSampleLevel(lightmap_atlas, lightmap_sampler, vec2<f32>(at_high.x, at_low.y), 0.0).rgb;
+    let s01 = textureSampleLevel(lightmap_atlas, lightmap_sampler, vec2<f32>(at_low.x, at_high.y), 0.0).rgb;
+    let s11 = textureSampleLevel(lightmap_atlas, lightmap_sampler, vec2<f32>(at_high.x, at_high.y), 0.0).rgb;
+    return low.y * (low.x * s00 + high.x * s10) + high.y * (low.x * s01 + high.x * s11);
 }
 
 // The ambient occlusion at this point, for the indirect light: mix(1, texel, strength). Samples

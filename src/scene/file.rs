@@ -25,8 +25,8 @@ use glam::{EulerRot, Mat4, Quat, Vec2, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 use super::{
-    AlphaMode, Camera, Light, LightingMode, LightmapImage, LightmapRect, Lightmaps, Material, Mesh, Model,
-    ModelLightSizes, Scene, TextureImage, Viewpoint, character, primitives, teapot,
+    AlphaMode, Camera, Light, LightingMode, LightmapFilter, LightmapImage, LightmapRect, Lightmaps, Material,
+    Mesh, Model, ModelLightSizes, Scene, TextureImage, Viewpoint, character, primitives, teapot,
 };
 use crate::error::{PenumbraError, Result};
 
@@ -177,6 +177,9 @@ pub struct SceneFile {
     /// What lightmap texels are multiplied by (default 1).
     #[serde(default = "one")]
     pub lightmap_exposure: f32,
+    /// How lightmaps are read between their texels (default `Bilinear`).
+    #[serde(default)]
+    pub lightmap_filter: LightmapFilter,
 }
 
 fn one() -> f32 {
@@ -475,6 +478,7 @@ impl SceneFile {
         }
         scene.lighting = self.lighting;
         scene.lightmap_exposure = self.lightmap_exposure;
+        scene.lightmap_filter = self.lightmap_filter;
         scene.validate_lightmaps().map_err(|e| bad(e.to_string()))?;
 
         let bounds = scene.bounds();

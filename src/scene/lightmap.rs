@@ -58,6 +58,19 @@ impl LightingMode {
     }
 }
 
+/// How the lit passes read a lightmap between its texels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum LightmapFilter {
+    /// One bilinear fetch: cheap, but its slope jumps at every texel, which shows as a grid on
+    /// a low-resolution bake seen up close.
+    #[default]
+    Bilinear,
+    /// A cubic B-spline over 4 x 4 texels (four bilinear fetches): smooth across texels, a
+    /// little blurrier; what Bevy offers as bicubic lightmap sampling.
+    Bicubic,
+}
+
 /// The part of an atlas one mesh's second UV set maps into: `atlas_uv = mix(min, max, uv1)`, in
 /// texture space (v down, as wgpu samples). A negative extent mirrors.
 #[derive(Debug, Clone, PartialEq)]

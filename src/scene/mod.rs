@@ -25,7 +25,7 @@ pub use light::{
     DirectionalLight, Light, MAX_LIGHTS, MODEL_SPOT_RADIUS_PER_DISTANCE, MODEL_SUN_DIAMETER_DEG, ModelLight,
     ModelLightKind, ModelLightSizes, PointLight, SpotLight, lights_from_model,
 };
-pub use lightmap::{LightingMode, LightmapImage, LightmapRect, Lightmaps, rg11b10, rgb9e5};
+pub use lightmap::{LightingMode, LightmapFilter, LightmapImage, LightmapRect, Lightmaps, rg11b10, rgb9e5};
 pub use material::{AlphaMode, FilterMode, Material, TextureImage, TextureSampler, WrapMode};
 pub use mesh::{Mesh, MeshRepairs};
 
@@ -116,6 +116,8 @@ pub struct Scene {
     pub lighting: LightingMode,
     /// What a lightmap's texels are multiplied by (the lights' units against the baker's).
     pub lightmap_exposure: f32,
+    /// How lightmaps are read between their texels.
+    pub lightmap_filter: LightmapFilter,
 }
 
 impl Default for Scene {
@@ -133,6 +135,7 @@ impl Default for Scene {
             lightmaps: Vec::new(),
             lighting: LightingMode::Dynamic,
             lightmap_exposure: 1.0,
+            lightmap_filter: LightmapFilter::Bilinear,
         }
     }
 }
