@@ -332,6 +332,8 @@ impl GpuScene {
                 label: Some("GpuScene::lightmap_sampler"),
                 mag_filter: wgpu::FilterMode::Linear,
                 min_filter: wgpu::FilterMode::Linear,
+                // Between the levels a file has (trilinear); one level: the full size.
+                mipmap_filter: wgpu::MipmapFilterMode::Linear,
                 ..Default::default()
             }),
             assigned: (0..scene.instances.len())
@@ -665,11 +667,31 @@ fn upload_lightmap(
             ),
         });
     }
-    let texels: Vec<u16> = image
-        .rgb
-        .iter()
-        .flat_map(|t| [t[0], t[1], t[2], 1.0].map(|c| half::f16::from_f32(c).to_bits()))
+    let levels: Vec<(&Vec<[f32; 3]>, (u32, u32))> = std::iter::once(&image.rgb)
+        .chain(&image.mips)
+        .enumerate()
+        .map(|(i, texels)| (texels, image.level_size(i)))
         .collect();
+    let full_chain = 32 - image.width.max(image.height).leading_zeros() as usize;
+    if levels.len() > full_chain {
+        return Err(PenumbraError::Texture {
+            name: image.name.clone(),
+            reason: format!(
+                "{} levels, a {}x{} image has at most {full_chain}",
+                levels.len(),
+                image.width,
+                image.height
+            ),
+        });
+    }
+    for (i, (texels, (w, h))) in levels.iter().enumerate() {
+        if texels.len() != *w as usize * *h as usize {
+            return Err(PenumbraError::Texture {
+                name: image.name.clone(),
+                reason: format!("level {i} holds {} texels, {w}x{h} need {}", texels.len(), w * h),
+            });
+        }
+    }
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(&image.name),
         size: wgpu::Extent3d {
@@ -677,23 +699,38 @@ fn upload_lightmap(
             height: image.height,
             depth_or_array_layers: 1,
         },
-        mip_level_count: 1,
+        mip_level_count: levels.len() as u32,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: wgpu::TextureFormat::Rgba16Float,
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     });
-    queue.write_texture(
-        texture.as_image_copy(),
-        bytemuck::cast_slice(&texels),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(image.width * 8),
-            rows_per_image: Some(image.height),
-        },
-        texture.size(),
-    );
+    for (level, (texels, (w, h))) in levels.iter().enumerate() {
+        let halfs: Vec<u16> = texels
+            .iter()
+            .flat_map(|t| [t[0], t[1], t[2], 1.0].map(|c| half::f16::from_f32(c).to_bits()))
+            .collect();
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: level as u32,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytemuck::cast_slice(&halfs),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(w * 8),
+                rows_per_image: Some(*h),
+            },
+            wgpu::Extent3d {
+                width: *w,
+                height: *h,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
     Ok(texture.create_view(&Default::default()))
 }
 

@@ -413,6 +413,51 @@ fn bicubic_lightmap_filtering_smooths_a_coarse_bake() {
     );
 }
 
+/// A lightmap's smaller levels (mipmaps), when it has them, are what a surface that shrinks it
+/// reads: a 2048-texel atlas dark at full size and bright in its smaller levels lights the floor
+/// (a few hundred pixels across) bright; without them the floor reads the full size, dark.
+#[test]
+fn a_shrunk_lightmap_reads_its_smaller_levels() {
+    let base = lit(sphere_at(scene(), 0.55, 0.35), LightingMode::Baked, 0.0);
+    let camera = base.view(0).unwrap();
+    let side = 2048u32;
+    let with = |levels: u32| {
+        let mut scene = base.clone();
+        let full = vec![[0.1f32; 3]; (side * side) as usize];
+        let mips = (1..levels)
+            .map(|i| vec![[0.9f32; 3]; ((side >> i) * (side >> i)) as usize])
+            .collect();
+        scene.lightmaps = vec![penumbra::Lightmaps {
+            mode: LightingMode::Baked,
+            image: penumbra::LightmapImage::with_finite_texels("levels", side, side, full).with_mips(mips),
+            rects: vec![penumbra::LightmapRect {
+                mesh: "Plane".into(),
+                min: glam::Vec2::ZERO,
+                max: glam::Vec2::ONE,
+            }],
+        }];
+        scene.validate_lightmaps().unwrap();
+        scene
+    };
+    let one = render(&with(1), &camera, "levels-one");
+    let all = render(&with(12), &camera, "levels-all");
+    // The floor in the open, near the camera and far from it.
+    for p in [Vec3::new(0.2, 0.0, 0.5), Vec3::new(-0.5, 0.0, -0.5)] {
+        let at = pixel(&camera, p);
+        let (dark, bright) = (common::luminance(&one, at), common::luminance(&all, at));
+        eprintln!("floor at {p}: full size only {dark:.3}, with its levels {bright:.3}");
+        assert!(
+            bright > dark + 0.3,
+            "the shrunk floor must read the bright smaller levels"
+        );
+    }
+    // A level of the wrong size is an error naming the lightmap and the level.
+    let mut wrong = with(1);
+    wrong.lightmaps[0].image.mips = vec![vec![[0.5; 3]; 3]];
+    let e = wrong.validate_lightmaps().unwrap_err().to_string();
+    assert!(e.contains("levels") && e.contains("level 1"), "{e}");
+}
+
 /// The chair's occlusion textures (glTF `occlusionTexture` on `TEXCOORD_1`) darken the
 /// indirect light and leave the direct light alone.
 #[test]

@@ -31,16 +31,20 @@ fn baked_light(uv1: vec2<f32>) -> vec4<f32> {
         return vec4<f32>(0.0);
     }
     let uv = mix(surface.rect.xy, surface.rect.zw, uv1);
+    // Between the levels the file has, where the surface shrinks the atlas (trilinear).
     var texel = textureSample(lightmap_atlas, lightmap_sampler, uv).rgb;
-    // The surface uniform is the same for the whole draw: uniform control flow.
-    if surface.params.z > 0.5 {
+    // Atlas texels per pixel: bicubic filtering smooths magnified texels only.
+    let texels = uv * vec2<f32>(textureDimensions(lightmap_atlas));
+    let magnified = max(length(dpdx(texels)), length(dpdy(texels))) < 1.0;
+    // The surface uniform is the same for the whole draw.
+    if surface.params.z > 0.5 && magnified {
         texel = bicubic_lightmap(uv);
     }
     return vec4<f32>(texel * surface.params.x, surface.params.y);
 }
 
-// The lightmap at `uv` through a cubic B-spline over the 4 x 4 texels around it, as four
-// bilinear fetches: each pair of B-spline weights along an axis becomes one fetch placed
+// The lightmap's full-size level at `uv` through a cubic B-spline over the 4 x 4 texels around
+// it, as four bilinear fetches: each pair of B-spline weights along an axis becomes one fetch placed
 // between its two texels in proportion to them.
 fn bicubic_lightmap(uv: vec2<f32>) -> vec3<f32> {
     let size = vec2<f32>(textureDimensions(lightmap_atlas));

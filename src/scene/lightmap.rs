@@ -1,7 +1,8 @@
 //! Lightmaps: baked light in a texture atlas, sampled with a mesh's second UV set.
 //!
 //! A [`LightmapImage`] is linear RGB radiance decoded from a file:
-//! * KTX2 (one level, 2D), uncompressed or zstd-supercompressed, in the float formats bakers
+//! * KTX2 (2D, every level: the smaller ones become [`LightmapImage::mips`]), uncompressed or
+//!   zstd-supercompressed, in the float formats bakers
 //!   write: `E5B9G9R9_UFLOAT_PACK32` (RGB9E5), `B10G11R11_UFLOAT_PACK32` (RG11B10),
 //!   `R16G16B16A16_SFLOAT`, `R32G32B32A32_SFLOAT`, and 8-bit `R8G8B8A8_UNORM` / `_SRGB`;
 //! * Radiance HDR (`.hdr`);
@@ -25,6 +26,10 @@ pub struct LightmapImage {
     pub height: u32,
     /// `width * height` texels.
     pub rgb: Vec<[f32; 3]>,
+    /// The smaller levels the file has (mipmaps), level 1 first: level `i` is
+    /// `max(width >> i, 1)` x `max(height >> i, 1)` texels. Empty when it has one level; the
+    /// lit passes then read the full-size level wherever the surface is.
+    pub mips: Vec<Vec<[f32; 3]>>,
     /// What decoding changed, for the user to see: texels that were not finite (Inf or NaN,
     /// which bakers leave in atlas gutters that nothing samples) are read as 0.
     pub warnings: Vec<String>,
@@ -62,12 +67,13 @@ impl LightingMode {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum LightmapFilter {
-    /// One bilinear fetch: cheap, but its slope jumps at every texel, which shows as a grid on
-    /// a low-resolution bake seen up close.
+    /// One bilinear fetch (trilinear between the levels the file has): cheap, but its slope
+    /// jumps at every texel, which shows as a grid on a low-resolution bake seen up close.
     #[default]
     Bilinear,
-    /// A cubic B-spline over 4 x 4 texels (four bilinear fetches): smooth across texels, a
-    /// little blurrier; what Bevy offers as bicubic lightmap sampling.
+    /// A cubic B-spline over 4 x 4 texels (four bilinear fetches) where the atlas is magnified
+    /// (a texel larger than a pixel): smooth across texels, a little blurrier; what Bevy offers
+    /// as bicubic lightmap sampling. Where the atlas is shrunk it reads as `Bilinear` does.
     Bicubic,
 }
 
@@ -163,30 +169,6 @@ impl LightmapImage {
             ));
         }
         let (width, height) = (header.pixel_width, header.pixel_height.max(1));
-        let level = reader
-            .levels()
-            .next()
-            .ok_or_else(|| bad("it has no image data".into()))?;
-        let data: Vec<u8> = match header.supercompression_scheme {
-            None => level.data.to_vec(),
-            Some(ktx2::SupercompressionScheme::Zstandard) => {
-                use std::io::Read;
-                let mut source = level.data;
-                let mut decoder = ruzstd::decoding::StreamingDecoder::new(&mut source)
-                    .map_err(|e| bad(format!("its zstd data is corrupt: {e}")))?;
-                let mut out = Vec::with_capacity(level.uncompressed_byte_length as usize);
-                decoder
-                    .read_to_end(&mut out)
-                    .map_err(|e| bad(format!("its zstd data is corrupt: {e}")))?;
-                out
-            }
-            Some(other) => {
-                return Err(bad(format!(
-                    "supercompression {other:?} is not supported (zstd or none)"
-                )));
-            }
-        };
-        let texels = width as usize * height as usize;
         let format = header.format.ok_or_else(|| {
             bad("its format is undefined (Basis Universal); lightmaps need a float or 8-bit format".into())
         })?;
@@ -203,30 +185,68 @@ impl LightmapImage {
                 )));
             }
         };
-        if data.len() < texels * bytes_per_texel {
-            return Err(bad(format!(
-                "its image data holds {} bytes, {width}x{height} texels need {}",
-                data.len(),
-                texels * bytes_per_texel
-            )));
-        }
-        let word = |i: usize| u32::from_le_bytes(data[i * 4..i * 4 + 4].try_into().expect("4 bytes"));
-        let half = |i: usize| half::f16::from_le_bytes([data[i * 2], data[i * 2 + 1]]).to_f32();
-        let float = |i: usize| f32::from_le_bytes(data[i * 4..i * 4 + 4].try_into().expect("4 bytes"));
-        let rgb: Vec<[f32; 3]> = (0..texels)
-            .map(|i| match format {
-                ktx2::Format::E5B9G9R9_UFLOAT_PACK32 => rgb9e5(word(i)),
-                ktx2::Format::B10G11R11_UFLOAT_PACK32 => rg11b10(word(i)),
-                ktx2::Format::R16G16B16A16_SFLOAT => [half(i * 4), half(i * 4 + 1), half(i * 4 + 2)],
-                ktx2::Format::R32G32B32A32_SFLOAT => [float(i * 4), float(i * 4 + 1), float(i * 4 + 2)],
-                ktx2::Format::R8G8B8A8_SRGB => {
-                    [0, 1, 2].map(|c| srgb_to_linear(data[i * 4 + c] as f32 / 255.0))
+        // Every level the file has, the full-size one first.
+        let mut levels = Vec::new();
+        for (i, level) in reader.levels().enumerate() {
+            let (w, h) = ((width >> i).max(1), (height >> i).max(1));
+            let data: Vec<u8> = match header.supercompression_scheme {
+                None => level.data.to_vec(),
+                Some(ktx2::SupercompressionScheme::Zstandard) => {
+                    use std::io::Read;
+                    let mut source = level.data;
+                    let mut decoder = ruzstd::decoding::StreamingDecoder::new(&mut source)
+                        .map_err(|e| bad(format!("level {i}: its zstd data is corrupt: {e}")))?;
+                    let mut out = Vec::with_capacity(level.uncompressed_byte_length as usize);
+                    decoder
+                        .read_to_end(&mut out)
+                        .map_err(|e| bad(format!("level {i}: its zstd data is corrupt: {e}")))?;
+                    out
                 }
-                _ => [0, 1, 2].map(|c| data[i * 4 + c] as f32 / 255.0),
-            })
-            .collect();
-        Ok(LightmapImage::with_finite_texels(name, width, height, rgb))
+                Some(other) => {
+                    return Err(bad(format!(
+                        "supercompression {other:?} is not supported (zstd or none)"
+                    )));
+                }
+            };
+            let texels = w as usize * h as usize;
+            if data.len() < texels * bytes_per_texel {
+                let what = if i == 0 {
+                    String::new()
+                } else {
+                    format!("level {i}: ")
+                };
+                return Err(bad(format!(
+                    "{what}its image data holds {} bytes, {w}x{h} texels need {}",
+                    data.len(),
+                    texels * bytes_per_texel
+                )));
+            }
+            levels.push(decode_texels(format, &data, texels));
+        }
+        if levels.is_empty() {
+            return Err(bad("it has no image data".into()));
+        }
+        let rgb = levels.remove(0);
+        Ok(LightmapImage::with_finite_texels(name, width, height, rgb).with_mips(levels))
     }
+}
+
+/// `texels` texels of `data` in `format` (one the decoder accepts), as linear RGB.
+#[cfg(feature = "renderer")]
+fn decode_texels(format: ktx2::Format, data: &[u8], texels: usize) -> Vec<[f32; 3]> {
+    let word = |i: usize| u32::from_le_bytes(data[i * 4..i * 4 + 4].try_into().expect("4 bytes"));
+    let half = |i: usize| half::f16::from_le_bytes([data[i * 2], data[i * 2 + 1]]).to_f32();
+    let float = |i: usize| f32::from_le_bytes(data[i * 4..i * 4 + 4].try_into().expect("4 bytes"));
+    (0..texels)
+        .map(|i| match format {
+            ktx2::Format::E5B9G9R9_UFLOAT_PACK32 => rgb9e5(word(i)),
+            ktx2::Format::B10G11R11_UFLOAT_PACK32 => rg11b10(word(i)),
+            ktx2::Format::R16G16B16A16_SFLOAT => [half(i * 4), half(i * 4 + 1), half(i * 4 + 2)],
+            ktx2::Format::R32G32B32A32_SFLOAT => [float(i * 4), float(i * 4 + 1), float(i * 4 + 2)],
+            ktx2::Format::R8G8B8A8_SRGB => [0, 1, 2].map(|c| srgb_to_linear(data[i * 4 + c] as f32 / 255.0)),
+            _ => [0, 1, 2].map(|c| data[i * 4 + c] as f32 / 255.0),
+        })
+        .collect()
 }
 
 impl LightmapImage {
@@ -254,8 +274,35 @@ impl LightmapImage {
             width,
             height,
             rgb,
+            mips: Vec::new(),
             warnings,
         }
+    }
+
+    /// This image with `mips` as its smaller levels (level 1 first), their texels that are
+    /// not finite replaced by 0 and counted in its warning. Level `i` must hold
+    /// [`Self::level_size`]`(i)` texels ([`crate::Scene::validate_lightmaps`] checks).
+    pub fn with_mips(mut self, mut mips: Vec<Vec<[f32; 3]>>) -> Self {
+        let mut replaced = 0usize;
+        for texel in mips.iter_mut().flatten() {
+            if texel.iter().any(|c| !c.is_finite()) {
+                *texel = [0.0; 3];
+                replaced += 1;
+            }
+        }
+        if replaced > 0 {
+            self.warnings.push(format!(
+                "lightmap `{}`: {replaced} texels of its smaller levels are not finite (Inf or NaN) and are read as 0",
+                self.name
+            ));
+        }
+        self.mips = mips;
+        self
+    }
+
+    /// Texels across and down level `level` (0: the full size).
+    pub fn level_size(&self, level: usize) -> (u32, u32) {
+        ((self.width >> level).max(1), (self.height >> level).max(1))
     }
 
     /// The texel at (x, y), clamped to the image.
@@ -369,11 +416,21 @@ mod tests {
     /// A KTX2 container of one `width` x `height` level in Vulkan format `format`, its data
     /// zstd-supercompressed when `zstd`.
     fn ktx2(format: u32, width: u32, height: u32, texels: &[u8], zstd: bool) -> Vec<u8> {
-        let data = if zstd {
-            ruzstd::encoding::compress_to_vec(texels, ruzstd::encoding::CompressionLevel::Fastest)
-        } else {
-            texels.to_vec()
-        };
+        ktx2_levels(format, width, height, &[texels], zstd)
+    }
+
+    /// As [`ktx2`] with several levels, the full-size one first.
+    fn ktx2_levels(format: u32, width: u32, height: u32, levels: &[&[u8]], zstd: bool) -> Vec<u8> {
+        let data: Vec<Vec<u8>> = levels
+            .iter()
+            .map(|texels| {
+                if zstd {
+                    ruzstd::encoding::compress_to_vec(*texels, ruzstd::encoding::CompressionLevel::Fastest)
+                } else {
+                    texels.to_vec()
+                }
+            })
+            .collect();
         let mut out = b"\xABKTX 20\xBB\r\n\x1A\n".to_vec();
         let type_size = if format == 97 { 2 } else { 4 };
         for v in [
@@ -384,27 +441,56 @@ mod tests {
             0,
             0,
             1,
-            1,
+            levels.len() as u32,
             if zstd { 2 } else { 0 },
         ] {
             out.extend_from_slice(&v.to_le_bytes());
         }
         // Index: an empty data format descriptor (its length word alone) after the level
         // index, no key/value or global data.
-        let dfd_offset = 80 + 24;
+        let dfd_offset = 80 + 24 * levels.len();
         for v in [dfd_offset, 4, 0, 0] {
             out.extend_from_slice(&(v as u32).to_le_bytes());
         }
         out.extend_from_slice(&0u64.to_le_bytes());
         out.extend_from_slice(&0u64.to_le_bytes());
-        let level_offset = 112u64;
-        for v in [level_offset, data.len() as u64, texels.len() as u64] {
-            out.extend_from_slice(&v.to_le_bytes());
+        let mut offset = (dfd_offset as u64 + 4).next_multiple_of(16);
+        for (texels, level) in levels.iter().zip(&data) {
+            for v in [offset, level.len() as u64, texels.len() as u64] {
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+            offset = (offset + level.len() as u64).next_multiple_of(16);
         }
         out.extend_from_slice(&4u32.to_le_bytes());
-        out.resize(level_offset as usize, 0);
-        out.extend_from_slice(&data);
+        for level in &data {
+            out.resize(out.len().next_multiple_of(16), 0);
+            out.extend_from_slice(level);
+        }
         out
+    }
+
+    #[test]
+    fn ktx2_levels_become_mips() {
+        let halfs = |v: f32, n: usize| -> Vec<u8> {
+            (0..n)
+                .flat_map(|_| [v, v, v, 1.0])
+                .flat_map(|c| half::f16::from_f32(c).to_le_bytes())
+                .collect()
+        };
+        for zstd in [false, true] {
+            let file = ktx2_levels(97, 4, 2, &[&halfs(0.25, 8), &halfs(0.5, 2), &halfs(1.0, 1)], zstd);
+            let image = LightmapImage::decode_ktx2("mips.ktx2", &file).unwrap();
+            assert_eq!((image.width, image.height), (4, 2));
+            assert_eq!(image.rgb, vec![[0.25; 3]; 8]);
+            assert_eq!(image.mips, vec![vec![[0.5; 3]; 2], vec![[1.0; 3]]]);
+            assert_eq!((image.level_size(1), image.level_size(2)), ((2, 1), (1, 1)));
+        }
+        // A level with too little data: an error naming the file and the level.
+        let short = ktx2_levels(97, 4, 2, &[&halfs(0.25, 8), &halfs(0.5, 1)], false);
+        let e = LightmapImage::decode_ktx2("short-mip.ktx2", &short)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("short-mip.ktx2") && e.contains("level 1"), "{e}");
     }
 
     #[test]

@@ -278,6 +278,27 @@ impl Scene {
             {
                 return bad(format!("lightmap `{name}`: its size does not match its texels"));
             }
+            let full_chain = 32 - atlas.image.width.max(atlas.image.height).leading_zeros() as usize;
+            if atlas.image.mips.len() >= full_chain {
+                return bad(format!(
+                    "lightmap `{name}`: {} smaller levels, a {}x{} image has at most {}",
+                    atlas.image.mips.len(),
+                    atlas.image.width,
+                    atlas.image.height,
+                    full_chain - 1
+                ));
+            }
+            for (i, mip) in atlas.image.mips.iter().enumerate() {
+                let (w, h) = atlas.image.level_size(i + 1);
+                if mip.len() != w as usize * h as usize {
+                    return bad(format!(
+                        "lightmap `{name}`: level {} holds {} texels, {w}x{h} need {}",
+                        i + 1,
+                        mip.len(),
+                        w * h
+                    ));
+                }
+            }
             for rect in &atlas.rects {
                 let meshes: Vec<&Mesh> = self.meshes.iter().filter(|m| m.name == rect.mesh).collect();
                 if meshes.is_empty() {
