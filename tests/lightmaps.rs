@@ -411,6 +411,13 @@ fn bicubic_lightmap_filtering_smooths_a_coarse_bake() {
         cubic_partway as f32 > 1.5 * linear_partway as f32,
         "bicubic filtering must spread the step wider"
     );
+    // The one-pass forward path (hard shadows) filters the same way.
+    let gpu = common::gpu();
+    let hard = ShadowSettings::preset(ShadowMethod::Hard, penumbra::Quality::Medium);
+    let forward = common::render(&gpu, &with(&step, Bicubic), &camera, hard, SIZE.0, SIZE.1);
+    let (forward_partway, _) = across(&forward);
+    eprintln!("forward path, bicubic: {forward_partway} part way");
+    assert!(forward_partway as f32 > 1.5 * linear_partway as f32);
 }
 
 /// A lightmap's smaller levels (mipmaps), when it has them, are what a surface that shrinks it
@@ -456,6 +463,49 @@ fn a_shrunk_lightmap_reads_its_smaller_levels() {
     wrong.lightmaps[0].image.mips = vec![vec![[0.5; 3]; 3]];
     let e = wrong.validate_lightmaps().unwrap_err().to_string();
     assert!(e.contains("levels") && e.contains("level 1"), "{e}");
+}
+
+/// A scene file with lightmaps may give no light: it is lit by its lightmaps and its ambient
+/// alone, as the example is with its sun turned off. Without lightmaps, no light is an error.
+#[test]
+fn a_scene_lit_by_its_lightmaps_alone_is_valid() {
+    let dir = common::asset("scenes");
+    let text = std::fs::read_to_string(dir.join("mixed_lighting.ron")).unwrap();
+    let start = text.find("    lights: [").expect("the example's lights");
+    let end = start + text[start..].find("    ],\n").expect("the end of its lights") + "    ],\n".len();
+    let unlit = format!("{}{}", &text[..start], &text[end..]);
+    let file = SceneFile::parse(&unlit, &dir.join("unlit.ron")).unwrap();
+    let mut alone = file.build(&dir, &dir.join("unlit.ron")).unwrap();
+    assert_eq!(alone.light, penumbra::Light::none());
+    assert!(alone.more_lights.is_empty());
+    alone.lighting = LightingMode::Baked;
+    let camera = alone.view(0).unwrap();
+    let by_lightmaps = render(&alone, &camera, "lightmaps-alone");
+    let sun_off = render(&lit(scene(), LightingMode::Baked, 0.0), &camera, "sun-off");
+    let differing = by_lightmaps
+        .pixels()
+        .zip(sun_off.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0).any(|(x, y)| x.abs_diff(y) > 2))
+        .count();
+    assert_eq!(
+        differing, 0,
+        "{differing} pixels differ from the example with its sun off"
+    );
+    // The bake shows: the floor under the seat darker than in the open.
+    let under = pixel(&camera, Vec3::new(-0.1, 0.0, 0.05));
+    let open = pixel(&camera, Vec3::new(0.2, 0.0, 0.5));
+    assert!(common::luminance(&by_lightmaps, under) < 0.6 * common::luminance(&by_lightmaps, open));
+    // No light and no lightmap: an error saying what to give.
+    let bare = r#"(
+        meshes: [(name: "floor", source: Plane(size: 4.0))],
+        instances: [(mesh: "floor")],
+        views: [],
+    )"#;
+    let e = SceneFile::parse(bare, &dir.join("bare.ron"))
+        .and_then(|f| f.build(&dir, &dir.join("bare.ron")))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("bare.ron") && e.contains("no light"), "{e}");
 }
 
 /// The chair's occlusion textures (glTF `occlusionTexture` on `TEXCOORD_1`) darken the

@@ -33,18 +33,15 @@ fn baked_light(uv1: vec2<f32>) -> vec4<f32> {
     let uv = mix(surface.rect.xy, surface.rect.zw, uv1);
     // Between the levels the file has, where the surface shrinks the atlas (trilinear).
     var texel = textureSample(lightmap_atlas, lightmap_sampler, uv).rgb;
-    // Atlas texels per pixel: bicubic filtering smooths magnified texels only.
-    let texels = uv * vec2<f32>(textureDimensions(lightmap_atlas));
-    let magnified = max(length(dpdx(texels)), length(dpdy(texels))) < 1.0;
-    // The surface uniform is the same for the whole draw.
-    if surface.params.z > 0.5 && magnified {
+    // The surface uniform is the same for the whole draw: uniform control flow.
+    if surface.params.z > 0.5 {
         texel = bicubic_lightmap(uv);
     }
     return vec4<f32>(texel * surface.params.x, surface.params.y);
 }
 
-// The lightmap's full-size level at `uv` through a cubic B-spline over the 4 x 4 texels around
-// it, as four bilinear fetches: each pair of B-spline weights along an axis becomes one fetch placed
+// The lightmap at `uv` through a cubic B-spline over the 4 x 4 texels of its full size around
+// it, as four bilinear fetches (each at the level its own derivatives pick, as one fetch would): each pair of B-spline weights along an axis becomes one fetch placed
 // between its two texels in proportion to them.
 fn bicubic_lightmap(uv: vec2<f32>) -> vec3<f32> {
     let size = vec2<f32>(textureDimensions(lightmap_atlas));
@@ -62,10 +59,10 @@ fn bicubic_lightmap(uv: vec2<f32>) -> vec3<f32> {
     // Texel-centre coordinates of the two fetches along each axis.
     let at_low = (base - 0.5 + w1 / low) / size;
     let at_high = (base + 1.5 + w3 / high) / size;
-    let s00 = textureSampleLevel(lightmap_atlas, lightmap_sampler, vec2<f32>(at_low.x, at_low.y), 0.0).rgb;
-    let s10 = textureSampleLevel(lightmap_atlas, lightmap_sampler, vec2<f32>(at_high.x, at_low.y), 0.0).rgb;
-    let s01 = textureSampleLevel(lightmap_atlas, lightmap_sampler, vec2<f32>(at_low.x, at_high.y), 0.0).rgb;
-    let s11 = textureSampleLevel(lightmap_atlas, lightmap_sampler, vec2<f32>(at_high.x, at_high.y), 0.0).rgb;
+    let s00 = textureSample(lightmap_atlas, lightmap_sampler, vec2<f32>(at_low.x, at_low.y)).rgb;
+    let s10 = textureSample(lightmap_atlas, lightmap_sampler, vec2<f32>(at_high.x, at_low.y)).rgb;
+    let s01 = textureSample(lightmap_atlas, lightmap_sampler, vec2<f32>(at_low.x, at_high.y)).rgb;
+    let s11 = textureSample(lightmap_atlas, lightmap_sampler, vec2<f32>(at_high.x, at_high.y)).rgb;
     return low.y * (low.x * s00 + high.x * s10) + high.y * (low.x * s01 + high.x * s11);
 }
 

@@ -237,9 +237,12 @@ impl SceneFile {
             (None, Some((key, more)), None) => (*key, more.to_vec()),
             // Placed once the meshes are.
             (None, None, Some(_)) => (Light::default(), Vec::new()),
+            // Lit by its lightmaps alone: a key light that adds nothing.
+            (None, None, None) if !self.lightmaps.is_empty() => (Light::none(), Vec::new()),
             (None, None, None) => {
                 return Err(bad(
-                    "it has no light: give `light`, `lights` or `lights_from`".into()
+                    "it has no light: give `light`, `lights` or `lights_from` (only a scene with lightmaps may have none)"
+                        .into(),
                 ));
             }
             _ => {

@@ -89,6 +89,17 @@ impl Default for Light {
 }
 
 impl Light {
+    /// The key light of a scene lit by its lightmaps alone (a scene file with lightmaps and no
+    /// light): a black, point-like sun straight down, which adds no light.
+    pub fn none() -> Self {
+        Light::Directional(DirectionalLight {
+            direction: Vec3::NEG_Y,
+            angular_diameter_deg: 0.0,
+            color: Vec3::ZERO,
+            intensity: 0.0,
+        })
+    }
+
     /// The unit direction the light travels at the scene.
     pub fn direction(&self) -> Vec3 {
         let d = match self {

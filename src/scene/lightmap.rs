@@ -71,9 +71,9 @@ pub enum LightmapFilter {
     /// jumps at every texel, which shows as a grid on a low-resolution bake seen up close.
     #[default]
     Bilinear,
-    /// A cubic B-spline over 4 x 4 texels (four bilinear fetches) where the atlas is magnified
-    /// (a texel larger than a pixel): smooth across texels, a little blurrier; what Bevy offers
-    /// as bicubic lightmap sampling. Where the atlas is shrunk it reads as `Bilinear` does.
+    /// A cubic B-spline over 4 x 4 texels (four bilinear fetches, each at the level its own
+    /// derivatives pick): smooth across texels, a little blurrier; what Bevy offers as bicubic
+    /// lightmap sampling.
     Bicubic,
 }
 
