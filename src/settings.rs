@@ -207,7 +207,7 @@ pub struct PenumbraSettings {
     /// Beside a shadow (inside the fattened shadow, the light's centre in sight), take the
     /// distance to the caster the receiver sees nearest the light's centre: a search of 16 taps
     /// of the real shadow map, only at those pixels. Without it the distance there is the
-    /// fattened surface's, which beside a thick caster's foot is too far (README, "Where ours
+    /// fattened surface's, which beside a thick caster's foot is too far (docs/benchmark.md, "Where ours
     /// stands": penumbra RMSE 12-18% lower with it, at 13 ms added to the distance map's 28 on
     /// lavapipe). Default true.
     #[cfg_attr(feature = "serde", serde(default = "default_true"))]
@@ -229,7 +229,7 @@ pub struct PenumbraSettings {
     /// The result is the same except where two lights' penumbrae cross, where the narrower is
     /// sampled on the wider's taps. Default false: on Mesa's software rasterizer it saves blur
     /// time only where the lights' shadows overlap (lights two to four 0.60-0.66x the
-    /// first's), and the packed writes cost PCF about as much as that saves (README, "Lights").
+    /// first's), and the packed writes cost PCF about as much as that saves (docs/lights.md).
     #[cfg_attr(feature = "serde", serde(default))]
     pub batch_lights: bool,
     /// How much shadows far from their occluder are lightened by bounced light, in [0, 1];

@@ -147,7 +147,7 @@ struct Inputs {
 }
 
 /// Soft shadows for several lights on an engine's depth buffer. See the module docs and the
-/// README's "Embedding in your engine".
+/// `docs/embedding.md` page.
 pub struct Shadows {
     settings: ShadowSettings,
     lights: Vec<Option<LightState>>,
