@@ -70,7 +70,11 @@ fn every_relative_link_and_image_resolves() {
         }
     }
     assert!(checked > 20, "only {checked} relative links found");
-    assert!(broken.is_empty(), "links that lead nowhere:\n{}", broken.join("\n"));
+    assert!(
+        broken.is_empty(),
+        "links that lead nowhere:\n{}",
+        broken.join("\n")
+    );
 }
 
 #[test]
@@ -78,14 +82,15 @@ fn the_readme_is_a_front_page() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
     let lines = readme.lines().count();
-    assert!(lines <= 300, "README.md has {lines} lines; new material goes into docs/");
+    assert!(
+        lines <= 300,
+        "README.md has {lines} lines; new material goes into docs/"
+    );
     // The two set-up commands CI and newcomers run.
     assert!(readme.contains("cargo run --release --example demo"));
-    assert!(
-        readme.contains(
-            "cargo test --locked && cargo +nightly test --locked -p penumbra-bevy --ignore-rust-version"
-        )
-    );
+    assert!(readme.contains(
+        "cargo test --locked && cargo +nightly test --locked -p penumbra-bevy --ignore-rust-version"
+    ));
 }
 
 #[test]
