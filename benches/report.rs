@@ -523,6 +523,7 @@ fn sized_light(scene: &penumbra::Scene, kind: &str, k: usize, apart_deg: f32, si
                 radius: 0.02 * reach * size,
                 color: glam::Vec3::ONE,
                 intensity: 1.0,
+                range: None,
             })
         }
         ("point", _) => Light::Point(penumbra::PointLight {
@@ -530,6 +531,7 @@ fn sized_light(scene: &penumbra::Scene, kind: &str, k: usize, apart_deg: f32, si
             radius: 0.02 * reach * size,
             color: glam::Vec3::ONE,
             intensity: 1.0,
+            range: None,
         }),
         (_, other) => other,
     }

@@ -223,6 +223,7 @@ fn main() -> Result<()> {
         radius: 0.25,
         color: Vec3::new(1.0, 0.85, 0.6),
         intensity: 0.8,
+        range: None,
     });
 
     // penumbra glue begin: casters from the engine's buffers, lights, shadows.

@@ -67,6 +67,10 @@ struct Args {
     /// Lightmap exposure (default: the scene file's)
     #[arg(long)]
     exposure: Option<f32>,
+    /// The camera's exposure for the lights as an EV100 (Bevy's and Filament's: 9.7 is Bevy's
+    /// default camera); default: the scene file's, or 9.7 for a model file's own lights
+    #[arg(long)]
+    ev100: Option<f32>,
     /// Output PNG.
     #[arg(long, default_value = "out.png")]
     out: PathBuf,
@@ -141,6 +145,10 @@ fn main() -> Result<()> {
         scene.lightmap_exposure = exposure;
     }
     scene.validate_lightmaps().context("--exposure")?;
+    if let Some(ev100) = args.ev100 {
+        scene.exposure = penumbra::Exposure::Ev100(ev100);
+        scene.exposure.validate().context("--ev100")?;
+    }
     let camera = scene.view(args.view).context("--view")?;
     let gpu = HeadlessGpu::new()?;
     eprintln!("adapter: {}", gpu.describe());

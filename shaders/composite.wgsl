@@ -18,7 +18,8 @@ struct ShadedLight {
     cos_inner: f32,
     // its layer of the visibility array
     layer: u32,
-    _pad0: u32,
+    // a spot's or point light's range (0: none)
+    range: f32,
     _pad1: u32,
     _pad2: u32,
 }
@@ -86,10 +87,13 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         var to_light = -l.direction;
         var cone = 1.0;
         if l.spot != 0u {
-            to_light = normalize(l.position - in.world);
+            // Spots and points: candela over the squared distance, windowed by the range.
+            let offset = l.position - in.world;
+            to_light = normalize(offset);
+            cone = falloff(dot(offset, offset), l.range);
         }
         if l.spot == 1u {
-            cone = smoothstep(l.cos_outer, l.cos_inner, dot(-to_light, l.direction));
+            cone *= smoothstep(l.cos_outer, l.cos_inner, dot(-to_light, l.direction));
         }
         let n_dot_l = max(dot(n, to_light), 0.0);
         var v = 1.0;

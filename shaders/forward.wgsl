@@ -22,8 +22,9 @@ struct ForwardFrame {
     light_direction: vec4<f32>,
     // xyz: spot or point position; w: cosine of the cone's outer angle
     light_position: vec4<f32>,
-    // rgb: color x intensity; w: cosine of the cone's inner (full-intensity) angle
+    // rgb: color x intensity x exposure; w: cosine of the cone's inner (full-intensity) angle
     light_radiance: vec4<f32>,
+    // rgb: ambient; w: a spot's or point light's range (0: none)
     ambient: vec4<f32>,
 }
 
@@ -106,11 +107,14 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     var to_light = -frame.light_direction.xyz;
     var cone = 1.0;
     if frame.light_direction.w > 0.5 {
-        to_light = normalize(frame.light_position.xyz - in.world);
+        // Spots and points: candela over the squared distance, windowed by the range.
+        let offset = frame.light_position.xyz - in.world;
+        to_light = normalize(offset);
+        cone = falloff(dot(offset, offset), frame.ambient.w);
     }
     if frame.light_direction.w > 0.5 && frame.light_direction.w < 1.5 {
         let cos_angle = dot(-to_light, frame.light_direction.xyz);
-        cone = smoothstep(frame.light_position.w, frame.light_radiance.w, cos_angle);
+        cone *= smoothstep(frame.light_position.w, frame.light_radiance.w, cos_angle);
     }
     let n_dot_l = max(dot(n, to_light), 0.0);
     var visibility = 1.0;

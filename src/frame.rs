@@ -498,7 +498,9 @@ pub(crate) struct ShadedLight {
     pub cos_inner: f32,
     /// Its layer of the visibility array.
     pub layer: u32,
-    pub _pad: [u32; 3],
+    /// A spot's or point light's range ([`crate::SpotLight::range`]); 0: none.
+    pub range: f32,
+    pub _pad: [u32; 2],
 }
 
 /// Every light the composite shades (mirrors `ShadedLights` in composite.wgsl).
@@ -511,9 +513,10 @@ pub(crate) struct ShadedLights {
 }
 
 impl ShadedLights {
-    /// The lights, each with its visibility layer; past [`crate::MAX_LIGHTS`] they are not
-    /// shaded (the callers check the count).
-    pub fn new(lights: &[(Light, u32)]) -> Self {
+    /// The lights, each with its visibility layer, their radiance times `exposure` (the
+    /// camera's [`crate::Exposure::scale`]); past [`crate::MAX_LIGHTS`] they are not shaded
+    /// (the callers check the count).
+    pub fn new(lights: &[(Light, u32)], exposure: f32) -> Self {
         let mut shaded = ShadedLights {
             count: lights.len().min(crate::MAX_LIGHTS) as u32,
             _pad: [0; 3],
@@ -526,10 +529,11 @@ impl ShadedLights {
                 spot: light_kind(light),
                 position: position.to_array(),
                 cos_outer,
-                radiance: light.radiance().to_array(),
+                radiance: (light.radiance() * exposure).to_array(),
                 cos_inner,
                 layer: *layer,
-                _pad: [0; 3],
+                range: light.range().unwrap_or(0.0),
+                _pad: [0; 2],
             };
         }
         shaded
@@ -631,6 +635,7 @@ mod tests {
                     ("radiance", offset_of!(ShadedLight, radiance)),
                     ("cos_inner", offset_of!(ShadedLight, cos_inner)),
                     ("layer", offset_of!(ShadedLight, layer)),
+                    ("range", offset_of!(ShadedLight, range)),
                 ],
                 size_of::<ShadedLight>(),
             ),

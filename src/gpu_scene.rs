@@ -8,8 +8,8 @@ use wgpu::util::DeviceExt;
 use crate::error::{PenumbraError, Result};
 use crate::layouts::{MaterialUniform, SceneLayouts, SurfaceUniform};
 use crate::scene::{
-    Aabb, AlphaMode, FilterMode, Light, LightingMode, LightmapFilter, LightmapImage, Scene, TextureSampler,
-    WrapMode,
+    Aabb, AlphaMode, Exposure, FilterMode, Light, LightingMode, LightmapFilter, LightmapImage, Scene,
+    TextureSampler, WrapMode,
 };
 
 /// One mesh's vertex streams.
@@ -63,6 +63,8 @@ pub struct GpuScene {
     lighting: LightingMode,
     lightmap_exposure: f32,
     lightmap_filter: LightmapFilter,
+    /// The camera's exposure for the lights.
+    exposure: Exposure,
 }
 
 /// An instance's occlusion texture as the surface group binds it.
@@ -389,6 +391,7 @@ impl GpuScene {
             lighting: LightingMode::Dynamic,
             lightmap_exposure: 1.0,
             lightmap_filter: scene.lightmap_filter,
+            exposure: scene.exposure,
             light_revision: 0,
             meshes,
             materials,
@@ -428,6 +431,18 @@ impl GpuScene {
     /// pipelines that leave both out.
     pub fn samples_surface_maps(&self) -> bool {
         self.has_lightmaps(self.lighting) || self.lightmaps.occlusion.iter().any(|o| o.params[0] > 0.0)
+    }
+
+    /// The camera's exposure for the lights ([`crate::Scene::exposure`]).
+    pub fn exposure(&self) -> Exposure {
+        self.exposure
+    }
+
+    /// Sets the camera's exposure for the lights (validated).
+    pub fn set_exposure(&mut self, exposure: Exposure) -> Result<()> {
+        exposure.validate()?;
+        self.exposure = exposure;
+        Ok(())
     }
 
     /// How lightmaps are read between their texels now.

@@ -331,6 +331,7 @@ mod tests {
             radius: 0.2,
             color: Vec3::ONE,
             intensity: 1.0,
+            range: None,
         });
         // Faces of 1024 texels in real time, 2048 for the reference (its atlas 6144 a side).
         assert_eq!(sample_resolution(&point, 2048, 8192), 4096);
@@ -348,6 +349,7 @@ mod tests {
             radius: 0.2,
             color: Vec3::ONE,
             intensity: 1.0,
+            range: None,
         });
         assert_eq!(sample_resolution(&spot, 2048, 8192), 2048);
     }

@@ -95,9 +95,9 @@ pub use scene::SceneFile;
 #[cfg(feature = "renderer")]
 pub use scene::file::load_scene;
 pub use scene::{
-    Aabb, AlphaMode, Camera, DirectionalLight, Instance, Light, LightingMode, LightmapFilter, LightmapImage,
-    LightmapRect, Lightmaps, MAX_LIGHTS, Material, Mesh, Model, OrbitCamera, PointLight, Scene, SpotLight,
-    TextureImage, Viewpoint,
+    Aabb, AlphaMode, Camera, DirectionalLight, Exposure, Instance, Light, LightingMode, LightmapFilter,
+    LightmapImage, LightmapRect, Lightmaps, MAX_LIGHTS, Material, Mesh, Model, OrbitCamera, PointLight,
+    Scene, SpotLight, TextureImage, Viewpoint,
 };
 pub use settings::{
     CascadeSettings, CullMode, DepthFormat, LightFit, PcfKernel, PcssSettings, PenumbraSettings, Quality,

@@ -182,6 +182,7 @@ mod tests {
             radius,
             color: Vec3::ONE,
             intensity: 1.0,
+            range: None,
         });
         let emitter = Emitter::of(&light);
         for x in [

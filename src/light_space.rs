@@ -1158,6 +1158,7 @@ mod tests {
             radius: 0.2,
             color: Vec3::ONE,
             intensity: 1.0,
+            range: None,
         })
     }
 
@@ -1249,6 +1250,7 @@ mod tests {
             radius: 0.2,
             color: Vec3::ONE,
             intensity: 1.0,
+            range: None,
         });
         let b = Aabb::new(Vec3::new(-3.0, 0.0, -3.0), Vec3::new(3.0, 2.0, 3.0));
         let lv = LightView::fit(&light, &b);
@@ -1387,6 +1389,7 @@ mod tests {
             radius: 0.25,
             color: Vec3::ONE,
             intensity: 1.0,
+            range: None,
         });
         let parts = [
             Aabb::new(Vec3::new(2.0, 1.0, -3.0), Vec3::new(3.0, 2.0, -2.0)),

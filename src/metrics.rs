@@ -82,15 +82,27 @@ fn render_linear(
     Ok(values.chunks_exact(4).map(|px| px[1]).collect())
 }
 
-/// `scene` with its key light alone.
-fn key_light_alone(scene: &Scene) -> std::borrow::Cow<'_, Scene> {
-    if scene.more_lights.is_empty() {
-        std::borrow::Cow::Borrowed(scene)
+/// `scene` with its key light alone, at an exposure that shows its direct light as the
+/// project's unitless lights were: 1 on a white surface facing it (a sun), or facing it at the
+/// scene's centre (a spot or point light, whose light falls off with distance). The visibility
+/// is a ratio of two renders and does not change with it; which pixels get enough direct
+/// light to be measured ([`MIN_DIRECT`]) does not depend on the light's units then.
+fn key_light_alone(scene: &Scene) -> Scene {
+    let light = scene.light;
+    let (intensity, distance) = match light {
+        crate::Light::Directional(l) => (l.intensity, 1.0),
+        crate::Light::Spot(l) => (l.intensity, l.position.distance(scene.bounds().center())),
+        crate::Light::Point(l) => (l.intensity, l.position.distance(scene.bounds().center())),
+    };
+    let exposure = if intensity > 0.0 {
+        distance.max(1e-3).powi(2) / intensity
     } else {
-        std::borrow::Cow::Owned(Scene {
-            more_lights: Vec::new(),
-            ..scene.clone()
-        })
+        1.0
+    };
+    Scene {
+        more_lights: Vec::new(),
+        exposure: crate::Exposure::Multiplier(exposure),
+        ..scene.clone()
     }
 }
 
@@ -105,7 +117,7 @@ pub fn measure_visibility(
     size: (u32, u32),
 ) -> Result<VisibilityImage> {
     check_size(size)?;
-    let scene = &*key_light_alone(scene);
+    let scene = &key_light_alone(scene);
     let shaded = render_linear((&gpu.device, &gpu.queue), scene, camera, settings, size)?;
     let (unshadowed, ambient) =
         unshadowed_and_ambient((&gpu.device, &gpu.queue), scene, camera, settings, size)?;
@@ -138,7 +150,7 @@ pub fn direct_light_mask(
     size: (u32, u32),
 ) -> Result<Vec<bool>> {
     check_size(size)?;
-    let scene = &*key_light_alone(scene);
+    let scene = &key_light_alone(scene);
     let (unshadowed, ambient) = unshadowed_and_ambient((device, queue), scene, camera, settings, size)?;
     Ok(unshadowed
         .iter()

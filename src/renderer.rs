@@ -731,7 +731,7 @@ impl Renderer {
                             .map(|(l, id)| (*l, id.layer())),
                     );
                 }
-                composite.set_lights(queue, &lights);
+                composite.set_lights(queue, &lights, scene.exposure().scale());
             }
             if let (Some(composite), Some(source)) = (&mut self.composite, source)
                 && self.composite_source.as_ref() != Some(&source)

@@ -225,6 +225,7 @@ fn spot_over_the_box() -> Light {
         radius: 0.3,
         color: Vec3::ONE,
         intensity: 1.0,
+        range: None,
     })
 }
 
@@ -235,6 +236,7 @@ fn point_beside_the_box() -> Light {
         radius: 0.3,
         color: Vec3::ONE,
         intensity: 1.0,
+        range: None,
     })
 }
 
@@ -620,6 +622,7 @@ fn a_lights_maps_are_re_rendered_exactly_when_a_caster_it_sees_changes() {
             radius: 0.2,
             color: Vec3::ONE,
             intensity: 1.0,
+            range: None,
         })
     };
     let left = shadows.add_light(device, spot(-3.0)).unwrap();

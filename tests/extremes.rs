@@ -302,6 +302,7 @@ fn extreme_light_sizes_depth_ranges_and_caster_heights() {
             radius,
             color: Vec3::ONE,
             intensity: 3.0,
+            range: None,
         });
         for method in methods {
             let settings = ShadowSettings {
@@ -621,6 +622,7 @@ fn any_light() -> impl Strategy<Value = Light> {
                 radius,
                 color: Vec3::ONE,
                 intensity: 2.0,
+                range: None,
             })
         });
     prop_oneof![3 => sun, 1 => spot]

@@ -430,7 +430,7 @@ fn gltf_with_lights(spot: &str) -> String {
                 "extensions":{{"KHR_lights_punctual":{{"lights":[
                   {{"type":"directional","name":"sun","color":[1,0.9,0.8],"intensity":3}},
                   {{"type":"spot","name":"lamp","intensity":300{spot}}},
-                  {{"type":"point","name":"bulb","intensity":100}}]}}}}"#
+                  {{"type":"point","name":"bulb","intensity":100,"range":20}}]}}}}"#
         ),
     )
 }
@@ -456,53 +456,50 @@ fn gltf_lights_are_read_and_light_the_showcase() {
     assert!((lamp.position - Vec3::new(0.0, 3.0, 3.0)).length() < 1e-5);
     assert!((lamp.direction - down).length() < 1e-4);
 
-    // The showcase takes the file's lights: the sun is the key light, the spot the second,
-    // the point light the third. Intensities are illuminances at the model's
-    // centre relative to the brightest: the spot's 300 cd at a distance of sqrt(15.5) gives
-    // 19.35 lux against the sun's 3.
+    // The showcase takes the file's lights as they are: the sun (3 lux) is the key light, the
+    // spot (300 cd) the second, the point light (100 cd, range 20) the third; the camera's
+    // exposure is in physical terms (Bevy's default EV100).
     let scene = penumbra::Scene::showcase(&model).unwrap();
+    assert_eq!(
+        scene.exposure,
+        penumbra::Exposure::Ev100(penumbra::Exposure::EV100_DEFAULT)
+    );
     let penumbra::Light::Directional(key) = scene.light else {
         panic!("{:?}", scene.light)
     };
     assert!((key.direction.normalize() - down).length() < 1e-4);
     assert_eq!(key.angular_diameter_deg, penumbra::scene::MODEL_SUN_DIAMETER_DEG);
-    assert!(
-        (key.intensity - 3.0 / (300.0 / 15.5)).abs() < 1e-3,
-        "{}",
-        key.intensity
-    );
+    assert_eq!(key.intensity, 3.0);
     assert_eq!(scene.more_lights.len(), 2);
     let penumbra::Light::Spot(spot) = scene.more_lights[0] else {
         panic!("{:?}", scene.more_lights[0])
     };
-    assert!((spot.intensity - 1.0).abs() < 1e-6);
+    assert_eq!((spot.intensity, spot.range), (300.0, None));
     assert!(
         (spot.radius - 0.02 * 15.5f32.sqrt()).abs() < 1e-4,
         "{}",
         spot.radius
     );
-    // The bulb: 100 cd, its size 2% of its distance to the model's centre like a spot's.
+    // The bulb: 100 cd within 20 units, its size 2% of its distance to the model's centre.
     let penumbra::Light::Point(bulb) = scene.more_lights[1] else {
         panic!("{:?}", scene.more_lights[1])
     };
-    let spot_distance = 15.5f32.sqrt();
-    let bulb_distance = bulb.radius / 0.02;
-    let expected = (100.0 / (bulb_distance * bulb_distance)) / (300.0 / (spot_distance * spot_distance));
-    assert!(
-        (bulb.intensity - expected).abs() < 1e-3 * expected.max(1.0),
-        "{} vs {expected}",
-        bulb.intensity
-    );
+    assert_eq!((bulb.intensity, bulb.range), (100.0, Some(20.0)));
     assert!(
         !scene.warnings.iter().any(|w| w.contains("bulb")),
         "{:?}",
         scene.warnings
     );
 
-    // Both lights reach the picture: it differs from the key light alone.
+    // Both lights reach the picture: it differs from the key light alone (an exposure that
+    // shows 3 lux and the spot's 19 lux at the model).
     let gpu = common::gpu();
     let camera = scene.view(0).unwrap();
     let settings = penumbra::ShadowSettings::default();
+    let scene = penumbra::Scene {
+        exposure: penumbra::Exposure::Multiplier(0.04),
+        ..scene
+    };
     let both = common::render(&gpu, &scene, &camera, settings, 160, 120);
     let alone = penumbra::Scene {
         more_lights: vec![],

@@ -33,6 +33,7 @@ fn scene() -> Scene {
             radius: RADIUS,
             color: Vec3::ONE,
             intensity: 1.0,
+            range: None,
         }),
         ..Default::default()
     };

@@ -127,6 +127,7 @@ fn penumbra_under_a_square_plate_matches_2_r_d_over_d() {
         radius,
         color: Vec3::ONE,
         intensity: 1.0,
+        range: None,
     });
     let scene = plate_over_a_floor(
         light,
@@ -229,6 +230,7 @@ fn a_sphere_lights_penumbra_is_the_share_of_its_disk_each_point_sees() {
         radius,
         color: Vec3::ONE,
         intensity: 1.0,
+        range: None,
     });
     // The plate's top face at `plate_height`: the rays toward the light, up and to the left,
     // pass the plate's top corner last.

@@ -301,7 +301,9 @@ fn spot_light_casts_a_perspective_shadow() {
         cone_angle_deg: 45.0,
         radius: 0.0,
         color: Vec3::ONE,
-        intensity: 1.2,
+        // Candela: about 1.2 lux at the teapot, 10 units away.
+        intensity: 120.0,
+        range: None,
     });
     let camera = scene.view(0).unwrap();
     let (w, h) = (400, 320);

@@ -45,12 +45,14 @@ fn light_at(k: usize, phase: usize) -> Option<Light> {
             radius: 0.1,
             color: Vec3::ONE,
             intensity: 1.0,
+            range: None,
         })),
         2 if (80..160).contains(&phase) => Some(Light::Point(PointLight {
             position: Vec3::new(-1.0, 1.5, 0.5),
             radius: 0.05,
             color: Vec3::ONE,
             intensity: 1.0,
+            range: None,
         })),
         _ => None,
     }

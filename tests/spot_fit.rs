@@ -25,6 +25,7 @@ fn wide_cone_scene() -> Scene {
             radius: 0.08,
             color: Vec3::ONE,
             intensity: 1.0,
+            range: None,
         }),
         ..Default::default()
     };

@@ -67,6 +67,7 @@ impl Lamp {
                 radius: 0.25,
                 color: Vec3::ONE,
                 intensity: 1.0,
+                range: None,
             }),
             Lamp::Spot => Light::Spot(SpotLight {
                 position: self.spot_position(),
@@ -75,6 +76,7 @@ impl Lamp {
                 radius: 0.25,
                 color: Vec3::ONE,
                 intensity: 1.0,
+                range: None,
             }),
         }
     }

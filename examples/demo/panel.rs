@@ -478,9 +478,24 @@ impl DemoApp {
                     }
                 });
                 ui.label("drag: orbit · right drag: pan · wheel: zoom");
+                self.exposure_controls(ui);
                 self.lighting_controls(ui);
                 self.object_controls(ui);
             });
+    }
+
+    /// The camera's exposure for the lights, as an EV100 (a multiplier of 1 is about -0.23).
+    fn exposure_controls(&mut self, ui: &mut egui::Ui) {
+        let scale = self.gpu_scene.exposure().scale().max(1e-12);
+        // The EV100 whose scale this is: scale = 1 / (pi 1.2 2^ev).
+        let mut ev100 = -(scale * std::f32::consts::PI * 1.2).log2();
+        let before = ev100;
+        ui.add(egui::Slider::new(&mut ev100, -4.0..=16.0).text("exposure (EV100)"));
+        if ev100 != before
+            && let Err(e) = self.gpu_scene.set_exposure(penumbra::Exposure::Ev100(ev100))
+        {
+            self.complain(format!("exposure: {e}"));
+        }
     }
 
     /// The lighting mode and the lightmaps' exposure, for scenes that have lightmaps.
@@ -692,6 +707,7 @@ pub(crate) fn to_point(light: &Light, center: glam::Vec3, radius: f32) -> Light 
             radius: s.radius,
             color: s.color,
             intensity: s.intensity,
+            range: None,
         }),
         Light::Directional(d) => {
             let distance = radius * 1.5;
@@ -700,6 +716,7 @@ pub(crate) fn to_point(light: &Light, center: glam::Vec3, radius: f32) -> Light 
                 radius: distance * (d.angular_diameter_deg.to_radians() * 0.5).tan(),
                 color: d.color,
                 intensity: d.intensity,
+                range: None,
             })
         }
     }
@@ -715,6 +732,7 @@ pub(crate) fn to_spot(light: &Light, center: glam::Vec3, radius: f32) -> Light {
             radius: p.radius,
             color: p.color,
             intensity: p.intensity,
+            range: None,
         }),
         Light::Directional(d) => {
             let distance = radius * 2.5;
@@ -726,6 +744,7 @@ pub(crate) fn to_spot(light: &Light, center: glam::Vec3, radius: f32) -> Light {
                 radius: distance * (d.angular_diameter_deg.to_radians() * 0.5).tan(),
                 color: d.color,
                 intensity: d.intensity,
+                range: None,
             })
         }
     }

@@ -23,6 +23,8 @@ struct FrameKey {
     size: (u32, u32),
     scene: (u64, u64, u64),
     lighting: (penumbra::LightingMode, f32),
+    lightmap_filter: penumbra::LightmapFilter,
+    exposure: penumbra::Exposure,
 }
 
 struct Target {
@@ -139,6 +141,8 @@ impl Side {
             size,
             scene: scene.revision(),
             lighting: scene.lighting(),
+            lightmap_filter: scene.lightmap_filter(),
+            exposure: scene.exposure(),
         };
         let reference_pending = self.stats.reference.is_some_and(|p| !p.is_complete());
         let unchanged = self.key == Some(key);

@@ -244,6 +244,8 @@ pub(crate) fn extract_penumbra(
             radius: size.map_or(spot.radius, |s| s.0).max(0.0),
             color: linear(spot.color),
             intensity: spot.intensity,
+            // Shadows' visibility is unitless: the range and units are Bevy's to shade.
+            range: None,
         });
         add(entity, render_entity, spot.shadow_maps_enabled, light);
     }
@@ -253,6 +255,7 @@ pub(crate) fn extract_penumbra(
             radius: size.map_or(point.radius, |s| s.0).max(0.0),
             color: linear(point.color),
             intensity: point.intensity,
+            range: None,
         });
         add(entity, render_entity, point.shadow_maps_enabled, light);
     }

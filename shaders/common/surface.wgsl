@@ -77,3 +77,15 @@ fn ambient_occlusion(uv0: vec2<f32>, uv1: vec2<f32>) -> f32 {
     let texel = textureSample(occlusion_texture, occlusion_sampler, vec2<f32>(dot(t[0].xyz, uv), dot(t[1].xyz, uv))).r;
     return mix(1.0, texel, surface.occlusion.x);
 }
+
+// A spot's or point light's lux per candela at squared distance `d2`: the inverse square,
+// windowed to 0 at `range` as glTF suggests, (1 - (d / range)^4)^2 (range 0: no window).
+fn falloff(d2: f32, range: f32) -> f32 {
+    var window = 1.0;
+    if range > 0.0 {
+        let r = d2 / (range * range);
+        let w = clamp(1.0 - r * r, 0.0, 1.0);
+        window = w * w;
+    }
+    return window / max(d2, 1e-8);
+}

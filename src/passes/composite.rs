@@ -68,8 +68,13 @@ impl CompositePass {
 
     /// Sets the lights to shade, each with its layer of the visibility array (at most
     /// [`crate::MAX_LIGHTS`]; the caller checked).
-    pub fn set_lights(&self, queue: &wgpu::Queue, lights: &[(Light, u32)]) {
-        queue.write_buffer(&self.lights, 0, bytemuck::bytes_of(&ShadedLights::new(lights)));
+    /// `exposure` is the camera's ([`crate::Exposure::scale`]).
+    pub fn set_lights(&self, queue: &wgpu::Queue, lights: &[(Light, u32)], exposure: f32) {
+        queue.write_buffer(
+            &self.lights,
+            0,
+            bytemuck::bytes_of(&ShadedLights::new(lights, exposure)),
+        );
     }
 
     /// Binds the frame uniform and the visibility array (a 2D-array view).

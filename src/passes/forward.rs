@@ -196,8 +196,8 @@ impl ForwardPass {
             camera_position: vec4(camera.eye(), 0.0),
             light_direction: vec4(direction, kind),
             light_position: vec4(position, cos_outer),
-            light_radiance: vec4(light.radiance(), cos_inner),
-            ambient: vec4(scene.ambient(), 0.0),
+            light_radiance: vec4(light.radiance() * scene.exposure().scale(), cos_inner),
+            ambient: vec4(scene.ambient(), light.range().unwrap_or(0.0)),
         };
         queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

@@ -25,8 +25,8 @@ use glam::{EulerRot, Mat4, Quat, Vec2, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
 use super::{
-    AlphaMode, Camera, Light, LightingMode, LightmapFilter, LightmapImage, LightmapRect, Lightmaps, Material,
-    Mesh, Model, ModelLightSizes, Scene, TextureImage, Viewpoint, character, primitives, teapot,
+    AlphaMode, Camera, Exposure, Light, LightingMode, LightmapFilter, LightmapImage, LightmapRect, Lightmaps,
+    Material, Mesh, Model, ModelLightSizes, Scene, TextureImage, Viewpoint, character, primitives, teapot,
 };
 use crate::error::{PenumbraError, Result};
 
@@ -180,6 +180,11 @@ pub struct SceneFile {
     /// How lightmaps are read between their texels (default `Bilinear`).
     #[serde(default)]
     pub lightmap_filter: LightmapFilter,
+    /// The camera's exposure (see [`Exposure`]): `Multiplier(m)` or `Ev100(ev)`. Default:
+    /// `Multiplier(1.0)`, or `Ev100(9.7)` when the lights come from a model file
+    /// (`lights_from`), whose intensities are lux and candela.
+    #[serde(default)]
+    pub exposure: Option<Exposure>,
 }
 
 fn one() -> f32 {
@@ -482,6 +487,12 @@ impl SceneFile {
         scene.lighting = self.lighting;
         scene.lightmap_exposure = self.lightmap_exposure;
         scene.lightmap_filter = self.lightmap_filter;
+        scene.exposure = self.exposure.unwrap_or(if self.lights_from.is_some() {
+            Exposure::Ev100(Exposure::EV100_DEFAULT)
+        } else {
+            Exposure::default()
+        });
+        scene.exposure.validate().map_err(|e| bad(e.to_string()))?;
         scene.validate_lightmaps().map_err(|e| bad(e.to_string()))?;
 
         let bounds = scene.bounds();

@@ -32,7 +32,8 @@ pub struct DirectionalLight {
     /// Linear RGB color.
     #[cfg_attr(feature = "serde", serde(default = "white"))]
     pub color: Vec3,
-    /// Multiplier on `color` (irradiance on a surface facing the light).
+    /// Illuminance in lux on a surface facing the light (glTF's unit for a directional
+    /// light), times `color`.
     #[cfg_attr(feature = "serde", serde(default = "one"))]
     pub intensity: f32,
 }
@@ -51,8 +52,14 @@ pub struct SpotLight {
     pub radius: f32,
     #[cfg_attr(feature = "serde", serde(default = "white"))]
     pub color: Vec3,
+    /// Luminous intensity in candela along the axis (glTF's unit): a surface facing the light
+    /// at distance `d` receives `intensity / d²` lux, times `color`.
     #[cfg_attr(feature = "serde", serde(default = "one"))]
     pub intensity: f32,
+    /// Where the light ends (glTF's `range`, world units): the inverse-square falloff is
+    /// windowed by `clamp(1 - (d / range)^4, 0, 1)^2`, 0 from `range` on. `None`: no end.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub range: Option<f32>,
 }
 
 /// A point light: a sphere of `radius` at `position` shining in every direction. Its shadows
@@ -66,8 +73,64 @@ pub struct PointLight {
     pub radius: f32,
     #[cfg_attr(feature = "serde", serde(default = "white"))]
     pub color: Vec3,
+    /// Luminous intensity in candela (glTF's unit): a surface facing the light at distance
+    /// `d` receives `intensity / d²` lux, times `color`.
     #[cfg_attr(feature = "serde", serde(default = "one"))]
     pub intensity: f32,
+    /// Where the light ends, as [`SpotLight::range`].
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub range: Option<f32>,
+}
+
+/// How bright a frame shows the light it receives: the camera's exposure. A Lambertian surface
+/// of albedo `a` receiving `E` lux from a light shows `a · E · scale()` in linear values
+/// (`scale()` folds in the BRDF's `1/π`); the ambient term and lightmaps are not scaled
+/// (lightmaps have [`crate::Scene::lightmap_exposure`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Exposure {
+    /// The scale itself. `Multiplier(1.0)`, the default, shows 1 lux on a white surface as
+    /// 1: the project's own scenes give their lights in those terms.
+    Multiplier(f32),
+    /// Exposure value at ISO 100, as Bevy and Filament define it: the scale is
+    /// `1 / (π · 1.2 · 2^ev100)`, so a surface looks as it does there. Bevy's default camera
+    /// has 9.7 ([`Exposure::EV100_DEFAULT`]); a bright sunny day is about 15.
+    Ev100(f32),
+}
+
+impl Exposure {
+    /// Bevy's default camera exposure (its "Blender" exposure), for files in physical units.
+    pub const EV100_DEFAULT: f32 = 9.7;
+
+    /// What a lux on a white surface becomes in the frame's linear values.
+    pub fn scale(self) -> f32 {
+        match self {
+            Exposure::Multiplier(m) => m,
+            Exposure::Ev100(ev) => 1.0 / (std::f32::consts::PI * 1.2 * 2f32.powf(ev)),
+        }
+    }
+
+    /// Errors unless the scale is finite and >= 0 (an EV100 finite).
+    pub fn validate(self) -> crate::error::Result<()> {
+        let ok = match self {
+            Exposure::Multiplier(m) => m.is_finite() && m >= 0.0,
+            Exposure::Ev100(ev) => ev.is_finite() && self.scale().is_finite(),
+        };
+        if ok {
+            Ok(())
+        } else {
+            Err(crate::error::PenumbraError::setting(
+                "exposure",
+                format!("{self:?} must be finite (a multiplier >= 0)"),
+            ))
+        }
+    }
+}
+
+impl Default for Exposure {
+    fn default() -> Self {
+        Exposure::Multiplier(1.0)
+    }
 }
 
 fn white() -> Vec3 {
@@ -89,6 +152,15 @@ impl Default for Light {
 }
 
 impl Light {
+    /// Where a spot or point light ends ([`SpotLight::range`]); `None` for a sun or no end.
+    pub fn range(&self) -> Option<f32> {
+        match self {
+            Light::Directional(_) => None,
+            Light::Spot(l) => l.range,
+            Light::Point(l) => l.range,
+        }
+    }
+
     /// The key light of a scene lit by its lightmaps alone (a scene file with lightmaps and no
     /// light): a black, point-like sun straight down, which adds no light.
     pub fn none() -> Self {
@@ -211,6 +283,14 @@ impl Light {
             Light::Spot(l) => (l.color, l.intensity),
             Light::Point(l) => (l.color, l.intensity),
         };
+        if let Some(range) = self.range()
+            && !(range > 0.0 && range.is_finite())
+        {
+            return Err(E::setting(
+                "light.range",
+                format!("{range} must be finite and > 0"),
+            ));
+        }
         if !finite(color) || color.min_element() < 0.0 {
             return Err(E::setting("light.color", "must be finite and non-negative"));
         }
@@ -247,6 +327,8 @@ pub struct ModelLight {
     pub position: Vec3,
     /// The direction it shines (its node's -Z).
     pub direction: Vec3,
+    /// glTF's `range` (spot and point lights), in the model's units.
+    pub range: Option<f32>,
 }
 
 /// The angular diameter given to a model file's directional light, which has no size: the
@@ -288,16 +370,14 @@ impl Default for ModelLightSizes {
     }
 }
 
-/// Penumbra lights of a model's lights, placed by `place`, `center` the placed model's centre.
-///
-/// penumbra's lights have no distance falloff and the renderer no exposure, so physical
-/// intensities become relative ones: each light's illuminance at `center` (a directional
-/// light's lux; a spot's candela over its squared distance), scaled so that the brightest
-/// gives intensity 1 (a point light's like a spot's). Sizes from `sizes`
-/// ([`ModelLightSizes::default`]: the sun's 0.53 degrees, spots and points 2% of their
-/// distance). A spot's falloff starts at 0.85 of its cone whatever the file says; cones wider
-/// than 89 degrees are narrowed to 89. Lights past [`crate::MAX_LIGHTS`] are left out with a
-/// warning.
+/// Penumbra lights of a model's lights, placed by `place`, `center` the placed model's centre:
+/// their intensities as the file gives them (lux for a directional light, candela for spots
+/// and points, see [`DirectionalLight::intensity`]) with glTF's `range` scaled by the
+/// placement, so a scene built from them wants an [`Exposure`] in physical terms (such as
+/// [`Exposure::EV100_DEFAULT`]). Sizes from `sizes` ([`ModelLightSizes::default`]: the sun's
+/// 0.53 degrees, spots and points 2% of their distance to `center`). A spot's falloff starts at
+/// 0.85 of its cone whatever the file says; cones wider than 89 degrees are narrowed to 89.
+/// Lights past [`crate::MAX_LIGHTS`] are left out with a warning.
 pub fn lights_from_model(
     lights: &[ModelLight],
     place: glam::Mat4,
@@ -305,47 +385,42 @@ pub fn lights_from_model(
     sizes: ModelLightSizes,
     warnings: &mut Vec<String>,
 ) -> Vec<Light> {
-    let mut placed: Vec<(Light, f32)> = Vec::new();
+    // How much the placement scales lengths (a range is a length).
+    let scale = place.transform_vector3(Vec3::X).length();
+    let mut placed = Vec::new();
     for l in lights {
         let position = place.transform_point3(l.position);
         let direction = place.transform_vector3(l.direction).normalize_or(Vec3::NEG_Y);
         let name = if l.name.is_empty() { "(unnamed)" } else { &l.name };
-        let (light, illuminance) = match l.kind {
-            ModelLightKind::Point => {
-                let distance = position.distance(center).max(1e-6);
-                (
-                    Light::Point(PointLight {
-                        position,
-                        radius: sizes.spot_radius_per_distance * distance,
-                        color: l.color,
-                        intensity: 1.0,
-                    }),
-                    l.intensity / (distance * distance),
-                )
-            }
-            ModelLightKind::Directional => (
-                Light::Directional(DirectionalLight {
-                    direction,
-                    angular_diameter_deg: sizes.sun_diameter_deg,
-                    color: l.color,
-                    intensity: 1.0,
-                }),
-                l.intensity,
-            ),
-            ModelLightKind::Spot { outer_cone_deg, .. } => {
-                let distance = position.distance(center).max(1e-6);
-                (
-                    Light::Spot(SpotLight {
-                        position,
-                        direction,
-                        cone_angle_deg: outer_cone_deg.clamp(0.1, 89.0),
-                        radius: sizes.spot_radius_per_distance * distance,
-                        color: l.color,
-                        intensity: 1.0,
-                    }),
-                    l.intensity / (distance * distance),
-                )
-            }
+        let intensity = if l.intensity.is_finite() {
+            l.intensity.max(0.0)
+        } else {
+            0.0
+        };
+        let range = l.range.filter(|r| *r > 0.0 && r.is_finite()).map(|r| r * scale);
+        let light = match l.kind {
+            ModelLightKind::Point => Light::Point(PointLight {
+                position,
+                radius: sizes.spot_radius_per_distance * position.distance(center).max(1e-6),
+                color: l.color,
+                intensity,
+                range,
+            }),
+            ModelLightKind::Directional => Light::Directional(DirectionalLight {
+                direction,
+                angular_diameter_deg: sizes.sun_diameter_deg,
+                color: l.color,
+                intensity,
+            }),
+            ModelLightKind::Spot { outer_cone_deg, .. } => Light::Spot(SpotLight {
+                position,
+                direction,
+                cone_angle_deg: outer_cone_deg.clamp(0.1, 89.0),
+                radius: sizes.spot_radius_per_distance * position.distance(center).max(1e-6),
+                color: l.color,
+                intensity,
+                range,
+            }),
         };
         if placed.len() == crate::MAX_LIGHTS {
             warnings.push(format!(
@@ -354,25 +429,9 @@ pub fn lights_from_model(
             ));
             continue;
         }
-        placed.push((light, illuminance.max(0.0)));
+        placed.push(light);
     }
-    let brightest = placed.iter().map(|(_, e)| *e).fold(0.0, f32::max);
     placed
-        .into_iter()
-        .map(|(mut light, e)| {
-            let intensity = if brightest > 0.0 && e.is_finite() {
-                e / brightest
-            } else {
-                1.0
-            };
-            match &mut light {
-                Light::Directional(d) => d.intensity = intensity,
-                Light::Spot(s) => s.intensity = intensity,
-                Light::Point(p) => p.intensity = intensity,
-            }
-            light
-        })
-        .collect()
 }
 
 #[cfg(test)]
@@ -389,6 +448,7 @@ mod tests {
             radius: 0.2,
             color: Vec3::ONE,
             intensity: 2.0,
+            range: None,
         });
         let Light::Spot(turned) = spot.turned(quarter) else {
             panic!("a spot stays a spot");
@@ -416,6 +476,7 @@ mod tests {
             radius: 0.1,
             color: Vec3::ONE,
             intensity: 1.0,
+            range: None,
         });
         assert!(
             point

@@ -22,8 +22,8 @@ pub use camera::{Camera, OrbitCamera};
 #[cfg(feature = "renderer")]
 pub use file::{LightsFrom, MeshSource, SceneFile, TextureSource};
 pub use light::{
-    DirectionalLight, Light, MAX_LIGHTS, MODEL_SPOT_RADIUS_PER_DISTANCE, MODEL_SUN_DIAMETER_DEG, ModelLight,
-    ModelLightKind, ModelLightSizes, PointLight, SpotLight, lights_from_model,
+    DirectionalLight, Exposure, Light, MAX_LIGHTS, MODEL_SPOT_RADIUS_PER_DISTANCE, MODEL_SUN_DIAMETER_DEG,
+    ModelLight, ModelLightKind, ModelLightSizes, PointLight, SpotLight, lights_from_model,
 };
 pub use lightmap::{LightingMode, LightmapFilter, LightmapImage, LightmapRect, Lightmaps, rg11b10, rgb9e5};
 pub use material::{AlphaMode, FilterMode, Material, TextureImage, TextureSampler, WrapMode};
@@ -118,6 +118,10 @@ pub struct Scene {
     pub lightmap_exposure: f32,
     /// How lightmaps are read between their texels.
     pub lightmap_filter: LightmapFilter,
+    /// The camera's exposure: what the lights' lux become in the frame (the ambient term and
+    /// lightmaps are not scaled). The default, a multiplier of 1, suits lights given in the
+    /// project's own terms; a scene with a model file's lights gets [`Exposure::EV100_DEFAULT`].
+    pub exposure: Exposure,
 }
 
 impl Default for Scene {
@@ -136,6 +140,7 @@ impl Default for Scene {
             lighting: LightingMode::Dynamic,
             lightmap_exposure: 1.0,
             lightmap_filter: LightmapFilter::Bilinear,
+            exposure: Exposure::default(),
         }
     }
 }
@@ -325,6 +330,7 @@ impl Scene {
 
     pub fn validate(&self) -> Result<()> {
         self.validate_lightmaps()?;
+        self.exposure.validate()?;
         let bad = |s: String| Err(PenumbraError::Scene(s));
         for (k, inst) in self.instances.iter().enumerate() {
             if inst.mesh >= self.meshes.len() {
@@ -434,6 +440,8 @@ impl Scene {
         if let Some((key, more)) = lights.split_first() {
             scene.light = *key;
             scene.more_lights = more.to_vec();
+            // The file's lights are in lux and candela.
+            scene.exposure = Exposure::Ev100(Exposure::EV100_DEFAULT);
         }
         let size = bounds.size();
         let footprint = size.x.max(size.z).max(size.y * 0.5).max(1e-6);

@@ -34,6 +34,7 @@ fn convert_light(light: &gltf::khr_lights_punctual::Light, global: &Mat4) -> Mod
         intensity: light.intensity(),
         position: global.transform_point3(Vec3::ZERO),
         direction: global.transform_vector3(Vec3::NEG_Z),
+        range: light.range(),
     }
 }
 

@@ -1,0 +1,215 @@
+//! Lights in physical units: a spot's or point light's candela fall off with the square of the
+//! distance, lights add up (the renderer is linear in them), and a glTF file's lights keep
+//! their intensities, so dimming them all dims the frame down to its ambient light.
+
+mod common;
+
+use glam::{Mat4, Vec3};
+use penumbra::{
+    Camera, DirectionalLight, Exposure, Light, Material, PointLight, Scene, ShadowMethod, ShadowSettings,
+    SpotLight, scene::primitives,
+};
+
+const SIZE: (u32, u32) = (160, 120);
+
+/// An 8-bit sRGB value as linear light.
+fn linear(c: u8) -> f32 {
+    let c = c as f32 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// The linear luminance of pixel (x, y).
+fn luminance(image: &image::RgbaImage, x: u32, y: u32) -> f32 {
+    let p = image.get_pixel(x, y).0;
+    0.2126 * linear(p[0]) + 0.7152 * linear(p[1]) + 0.0722 * linear(p[2])
+}
+
+/// A white floor (a receiver, no caster) and a grey box on it, no ambient light.
+fn floor_scene(with_box: bool) -> Scene {
+    let mut scene = Scene {
+        ambient: Vec3::ZERO,
+        ..Default::default()
+    };
+    let white = scene.add_material(Material::colored("white", [1.0, 1.0, 1.0]));
+    let floor = scene.add_mesh(primitives::plane(20.0, 1.0));
+    scene.add_instance(floor, white, Mat4::IDENTITY).caster = false;
+    if with_box {
+        let grey = scene.add_material(Material::colored("grey", [0.5, 0.5, 0.5]));
+        let cube = scene.add_mesh(primitives::cuboid(Vec3::splat(0.6)));
+        scene.add_instance(cube, grey, Mat4::from_translation(Vec3::new(0.0, 0.3, 0.0)));
+    }
+    scene
+}
+
+fn render(scene: &Scene, camera: &Camera, method: ShadowMethod) -> image::RgbaImage {
+    let gpu = common::gpu();
+    let settings = ShadowSettings::preset(method, penumbra::Quality::Medium);
+    common::render(&gpu, scene, camera, settings, SIZE.0, SIZE.1)
+}
+
+fn point(height: f32, intensity: f32) -> Light {
+    Light::Point(PointLight {
+        position: Vec3::new(0.0, height, 0.0),
+        radius: 0.0,
+        color: Vec3::ONE,
+        intensity,
+        range: None,
+    })
+}
+
+#[test]
+fn a_point_light_twice_as_far_gives_a_quarter_of_the_light() {
+    // Looking straight down at the floor's centre, under the light.
+    let camera = Camera::look_at(Vec3::new(0.0, 6.0, 0.001), Vec3::ZERO);
+    let centre = (SIZE.0 / 2, SIZE.1 / 2);
+    let lit = |height: f32| {
+        let scene = Scene {
+            light: point(height, 0.8),
+            ..floor_scene(false)
+        };
+        let image = render(&scene, &camera, ShadowMethod::Ours);
+        image
+            .save(common::output_dir().join(format!("light-units-point-{height}.png")))
+            .unwrap();
+        luminance(&image, centre.0, centre.1)
+    };
+    let (near, far) = (lit(1.0), lit(2.0));
+    eprintln!(
+        "floor under a 0.8 cd point light: at 1 {near:.4}, at 2 {far:.4}, ratio {:.4}",
+        far / near
+    );
+    // 0.8 lux at 1 unit on a white floor, exposure 1.
+    assert!((near - 0.8).abs() < 0.02, "{near}");
+    assert!((far / near - 0.25).abs() < 0.25 * 0.05, "{far} / {near}");
+    // A range ends the light: the same light with a range shorter than its height lights
+    // nothing, one far longer lights as without one.
+    let windowed = |range: f32| {
+        let Light::Point(mut p) = point(2.0, 0.8) else {
+            unreachable!()
+        };
+        p.range = Some(range);
+        let scene = Scene {
+            light: Light::Point(p),
+            ..floor_scene(false)
+        };
+        luminance(&render(&scene, &camera, ShadowMethod::Ours), centre.0, centre.1)
+    };
+    assert!(windowed(1.5) < 0.002);
+    assert!((windowed(200.0) - far).abs() < 0.01);
+}
+
+#[test]
+fn the_frame_lit_by_several_lights_is_the_sum_of_the_frames_lit_by_each() {
+    let camera = Camera::look_at(Vec3::new(3.0, 4.0, 5.0), Vec3::ZERO);
+    let lights = [
+        Light::Directional(DirectionalLight {
+            direction: Vec3::new(0.5, -1.0, 0.3),
+            angular_diameter_deg: 2.0,
+            color: Vec3::new(1.0, 0.9, 0.8),
+            intensity: 0.25,
+        }),
+        Light::Spot(SpotLight {
+            position: Vec3::new(-1.5, 2.5, 1.0),
+            direction: Vec3::new(0.6, -1.0, -0.4),
+            cone_angle_deg: 40.0,
+            radius: 0.1,
+            color: Vec3::new(0.6, 0.8, 1.0),
+            intensity: 1.2,
+            range: Some(12.0),
+        }),
+        Light::Point(PointLight {
+            position: Vec3::new(1.5, 1.5, -1.0),
+            radius: 0.05,
+            color: Vec3::ONE,
+            intensity: 0.6,
+            range: None,
+        }),
+    ];
+    let ambient = Vec3::splat(0.05);
+    let with = |lights: &[Light]| {
+        let (key, more) = lights.split_first().unwrap();
+        Scene {
+            light: *key,
+            more_lights: more.to_vec(),
+            ambient,
+            ..floor_scene(true)
+        }
+    };
+    let dark = |l: &Light| {
+        let mut l = *l;
+        match &mut l {
+            Light::Directional(d) => d.intensity = 0.0,
+            Light::Spot(s) => s.intensity = 0.0,
+            Light::Point(p) => p.intensity = 0.0,
+        }
+        l
+    };
+    let all = render(&with(&lights), &camera, ShadowMethod::Ours);
+    all.save(common::output_dir().join("light-units-three-lights.png"))
+        .unwrap();
+    let each: Vec<image::RgbaImage> = lights
+        .iter()
+        .map(|l| render(&with(&[*l]), &camera, ShadowMethod::Ours))
+        .collect();
+    let ambient_only = render(&with(&[dark(&lights[0])]), &camera, ShadowMethod::Ours);
+    let (mut close, mut lit, mut worst) = (0, 0, 0.0f32);
+    let total = SIZE.0 * SIZE.1;
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let sum: f32 =
+                each.iter().map(|i| luminance(i, x, y)).sum::<f32>() - 2.0 * luminance(&ambient_only, x, y);
+            let whole = luminance(&all, x, y);
+            let error = (whole - sum).abs();
+            worst = worst.max(error);
+            if error < 0.01 {
+                close += 1;
+            }
+            if whole > luminance(&ambient_only, x, y) + 0.05 {
+                lit += 1;
+            }
+        }
+    }
+    eprintln!("{close} of {total} pixels within 0.01 of the sum, worst {worst:.4}; {lit} lit");
+    assert!(lit > total / 4, "the lights must light the frame");
+    assert!(close as f32 > 0.99 * total as f32);
+}
+
+#[test]
+fn dimming_every_light_of_a_gltf_file_a_millionfold_leaves_only_the_ambient() {
+    let path = common::shared_models().join("MixedLightingExample/MixedLightingExample.gltf");
+    let model = penumbra::load_model(&path).unwrap();
+    let scene = Scene::showcase(&model).unwrap();
+    assert_eq!(scene.exposure, Exposure::Ev100(Exposure::EV100_DEFAULT));
+    let camera = scene.view(0).unwrap();
+    let scaled = |factor: f32| {
+        let mut scene = scene.clone();
+        for l in std::iter::once(&mut scene.light).chain(&mut scene.more_lights) {
+            match l {
+                Light::Directional(d) => d.intensity *= factor,
+                Light::Spot(s) => s.intensity *= factor,
+                Light::Point(p) => p.intensity *= factor,
+            }
+        }
+        render(&scene, &camera, ShadowMethod::Ours)
+    };
+    let (full, dimmed, off) = (scaled(1.0), scaled(1e-6), scaled(0.0));
+    full.save(common::output_dir().join("light-units-gltf.png"))
+        .unwrap();
+    let differing = |a: &image::RgbaImage, b: &image::RgbaImage| {
+        a.pixels()
+            .zip(b.pixels())
+            .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > 1))
+            .count()
+    };
+    // The file's sun (2049 lux at EV100 9.7) lights the frame; a millionth of it does not.
+    assert!(differing(&full, &off) > 1000, "the file's lights must show");
+    assert_eq!(
+        differing(&dimmed, &off),
+        0,
+        "a millionth of the file's lights must not show"
+    );
+}
