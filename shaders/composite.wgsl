@@ -70,6 +70,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let base = material.base_color * textureSample(base_color_texture, base_color_sampler, in.uv);
     let baked = baked_light(in.uv1);
     let occlusion = ambient_occlusion(in.uv, in.uv1);
+    let emission = emitted(in.uv);
     if material.alpha.x >= 0.0 && base.a < material.alpha.x {
         discard;
     }
@@ -78,7 +79,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     // Blended materials (alpha.y = 1) keep their alpha for the blend.
     let alpha = select(1.0, base.a, material.alpha.y > 0.5);
     if baked.w > 1.5 {
-        return vec4<f32>(base.rgb * baked.rgb, alpha);
+        return vec4<f32>(base.rgb * baked.rgb + emission, alpha);
     }
     var light = select(frame.ambient.rgb, baked.rgb, baked.w > 0.5) * occlusion;
     let pixel = vec2<i32>(in.clip.xy);
@@ -103,5 +104,5 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         }
         light += l.radiance * (n_dot_l * cone * v);
     }
-    return vec4<f32>(base.rgb * light, alpha);
+    return vec4<f32>(base.rgb * light + emission, alpha);
 }

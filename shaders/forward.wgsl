@@ -93,6 +93,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let base = material.base_color * textureSample(base_color_texture, base_color_sampler, in.uv);
     let baked = baked_light(in.uv1);
     let occlusion = ambient_occlusion(in.uv, in.uv1);
+    let emission = emitted(in.uv);
     if material.alpha.x >= 0.0 && base.a < material.alpha.x {
         discard;
     }
@@ -101,7 +102,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     // Blended materials (alpha.y = 1) keep their alpha for the blend.
     let alpha = select(1.0, base.a, material.alpha.y > 0.5);
     if baked.w > 1.5 {
-        return vec4<f32>(base.rgb * baked.rgb, alpha);
+        return vec4<f32>(base.rgb * baked.rgb + emission, alpha);
     }
     let indirect = select(frame.ambient.rgb, baked.rgb, baked.w > 0.5) * occlusion;
     var to_light = -frame.light_direction.xyz;
@@ -132,5 +133,5 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         visibility = shadow_visibility(in.world + n * offset, cascade);
     }
     let light = frame.light_radiance.rgb * (n_dot_l * cone * visibility) + indirect;
-    return vec4<f32>(base.rgb * light, alpha);
+    return vec4<f32>(base.rgb * light + emission, alpha);
 }

@@ -689,6 +689,7 @@ mod tests {
                         "occlusion_transform",
                         offset_of!(crate::layouts::SurfaceUniform, occlusion_transform),
                     ),
+                    ("emissive", offset_of!(crate::layouts::SurfaceUniform, emissive)),
                 ],
                 size_of::<crate::layouts::SurfaceUniform>(),
             ),

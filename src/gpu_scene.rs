@@ -76,6 +76,9 @@ struct InstanceOcclusion {
     /// [`SurfaceUniform::occlusion`] and [`SurfaceUniform::occlusion_transform`].
     params: [f32; 4],
     transform: [[f32; 4]; 2],
+    /// The material's emissive texture (sRGB view; white when none) and light.
+    emissive_view: wgpu::TextureView,
+    emissive: [f32; 4],
 }
 
 /// An atlas and a rectangle of it (min xy, max xy).
@@ -363,9 +366,13 @@ impl GpuScene {
                         0.0
                     };
                     let t = m.occlusion_uv_transform;
+                    // The emissive texture is sRGB, like the base colour's.
+                    let emissive_view = m.emissive_texture.map_or(&white.0, |t| &textures[t].0);
                     InstanceOcclusion {
                         view: view.clone(),
                         sampler: samplers[&m.sampler].clone(),
+                        emissive_view: emissive_view.clone(),
+                        emissive: [m.emissive.x, m.emissive.y, m.emissive.z, 0.0],
                         params: [strength, m.occlusion_uv_set as f32, 0.0, 0.0],
                         transform: [
                             [t.matrix2.x_axis.x, t.matrix2.y_axis.x, t.translation.x, 0.0],
@@ -430,7 +437,11 @@ impl GpuScene {
     /// a lightmap in the current mode, or a material an occlusion texture. Otherwise they use
     /// pipelines that leave both out.
     pub fn samples_surface_maps(&self) -> bool {
-        self.has_lightmaps(self.lighting) || self.lightmaps.occlusion.iter().any(|o| o.params[0] > 0.0)
+        let l = &self.lightmaps;
+        self.has_lightmaps(self.lighting)
+            || l.occlusion
+                .iter()
+                .any(|o| o.params[0] > 0.0 || o.emissive[..3].iter().any(|c| *c > 0.0))
     }
 
     /// The camera's exposure for the lights ([`crate::Scene::exposure`]).
@@ -494,10 +505,12 @@ impl GpuScene {
                         params: [exposure, code, bicubic, 0.0],
                         occlusion: occlusion.params,
                         occlusion_transform: occlusion.transform,
+                        emissive: occlusion.emissive,
                     },
                     None => SurfaceUniform {
                         occlusion: occlusion.params,
                         occlusion_transform: occlusion.transform,
+                        emissive: occlusion.emissive,
                         ..Default::default()
                     },
                 };
@@ -512,6 +525,7 @@ impl GpuScene {
                         wgpu::BindingResource::Sampler(&l.sampler),
                         wgpu::BindingResource::TextureView(&occlusion.view),
                         wgpu::BindingResource::Sampler(&occlusion.sampler),
+                        wgpu::BindingResource::TextureView(&occlusion.emissive_view),
                     ]),
                 })
             })

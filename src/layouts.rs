@@ -16,7 +16,8 @@ pub struct SceneLayouts {
     /// Group with the material uniform, its base color texture and sampler.
     pub material: wgpu::BindGroupLayout,
     /// The convenience renderer's lit passes: what an instance adds to its material there,
-    /// its lightmap (uniform, atlas, sampler) and its material's occlusion texture and sampler.
+    /// its lightmap (uniform, atlas, sampler), its material's occlusion texture and sampler and
+    /// its emissive texture.
     pub surface: wgpu::BindGroupLayout,
 }
 
@@ -57,6 +58,8 @@ impl SceneLayouts {
                 entry::sampler(2, wgpu::SamplerBindingType::Filtering),
                 entry::texture_2d(3, wgpu::TextureSampleType::Float { filterable: true }),
                 entry::sampler(4, wgpu::SamplerBindingType::Filtering),
+                // The material's emissive texture, read with its sampler (binding 4).
+                entry::texture_2d(5, wgpu::TextureSampleType::Float { filterable: true }),
             ],
         });
         Self {
@@ -81,6 +84,8 @@ pub struct SurfaceUniform {
     pub occlusion: [f32; 4],
     /// The occlusion UVs' affine transform, two rows: `u' = dot(row0.xyz, (u, v, 1))`.
     pub occlusion_transform: [[f32; 4]; 2],
+    /// rgb: the material's emissive light (times the emissive texture, binding 5); w: unused.
+    pub emissive: [f32; 4],
 }
 
 /// Per-instance data, as the shaders see it.

@@ -213,3 +213,54 @@ fn dimming_every_light_of_a_gltf_file_a_millionfold_leaves_only_the_ambient() {
         "a millionth of the file's lights must not show"
     );
 }
+
+/// A surface that gives off light shows it with every light off and no ambient light, through
+/// the composite (`ours`) and the forward path (`hard`) alike; the rest of the frame stays dark.
+#[test]
+fn an_emissive_surface_is_bright_with_every_light_off() {
+    let camera = Camera::look_at(Vec3::new(3.0, 4.0, 5.0), Vec3::ZERO);
+    let mut scene = Scene {
+        light: Light::Directional(DirectionalLight {
+            direction: Vec3::new(0.5, -1.0, 0.3),
+            angular_diameter_deg: 2.0,
+            color: Vec3::ONE,
+            intensity: 0.0,
+        }),
+        ..floor_scene(true)
+    };
+    let glowing = scene.add_material(Material {
+        emissive: Vec3::new(1.0, 0.5, 0.2),
+        ..Material::colored("panel", [0.5, 0.5, 0.5])
+    });
+    scene.instances[1].material = glowing;
+    let cube_top = common::project(&camera, SIZE.0, SIZE.1, Vec3::new(0.0, 0.6, 0.0)).unwrap();
+    let floor = common::project(&camera, SIZE.0, SIZE.1, Vec3::new(-2.0, 0.0, 2.0)).unwrap();
+    for method in [ShadowMethod::Ours, ShadowMethod::Hard] {
+        let image = render(&scene, &camera, method);
+        image
+            .save(common::output_dir().join(format!("emissive-{}.png", method.name())))
+            .unwrap();
+        let top = image.get_pixel(cube_top.0, cube_top.1).0;
+        let lit = [linear(top[0]), linear(top[1]), linear(top[2])];
+        eprintln!(
+            "{}: the emissive box {lit:?}, the floor {:?}",
+            method.name(),
+            image.get_pixel(floor.0, floor.1).0
+        );
+        for (got, want) in lit.iter().zip([1.0, 0.5, 0.2]) {
+            assert!((got - want).abs() < 0.02, "{}: {lit:?}", method.name());
+        }
+        assert!(image.get_pixel(floor.0, floor.1).0[..3].iter().all(|c| *c <= 2));
+    }
+    // An emissive texture (sRGB) multiplies the emissive light: a red one leaves only red.
+    scene.textures.push(penumbra::TextureImage {
+        name: "red".into(),
+        width: 1,
+        height: 1,
+        rgba8: vec![255, 0, 0, 255],
+    });
+    scene.materials[glowing].emissive_texture = Some(scene.textures.len() - 1);
+    let image = render(&scene, &camera, ShadowMethod::Ours);
+    let top = image.get_pixel(cube_top.0, cube_top.1).0;
+    assert!(top[0] == 255 && top[1] <= 2 && top[2] <= 2, "{top:?}");
+}

@@ -375,6 +375,33 @@ fn gltf_node_hierarchy_and_alpha_mask_are_applied() {
 }
 
 #[test]
+fn gltf_emissive_factor_and_strength_are_read() {
+    let dir = common::scratch_dir("gltf_emissive");
+    let bytes = triangle_bytes(&[0, 1, 2]);
+    std::fs::write(dir.join("tri.bin"), &bytes).unwrap();
+    let json = gltf_json("tri.bin", bytes.len(), 3)
+        .replace(
+            r#""scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}]"#,
+            r#""scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+               "extensionsUsed":["KHR_materials_emissive_strength"],
+               "materials":[{"emissiveFactor":[1,0.5,0.25],
+                             "extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":4}}}]"#,
+        )
+        .replace(r#""indices":1}"#, r#""indices":1,"material":0}"#);
+    let path = dir.join("glowing.gltf");
+    std::fs::write(&path, json).unwrap();
+    let model = load_model(&path).unwrap();
+    let material = &model.materials[model.parts[0].material];
+    assert_eq!(material.emissive, Vec3::new(4.0, 2.0, 1.0));
+    assert_eq!(material.emissive_texture, None);
+    assert!(
+        !model.warnings.iter().any(|w| w.contains("emissive")),
+        "{:?}",
+        model.warnings
+    );
+}
+
+#[test]
 fn obj_material_library_gives_color_and_texture() {
     let dir = common::scratch_dir("obj_mtl");
     image::RgbaImage::from_pixel(4, 4, image::Rgba([10, 200, 30, 255]))

@@ -12,6 +12,8 @@ struct Surface {
     occlusion: vec4<f32>,
     // the occlusion UVs' affine transform: u' = dot(row 0 .xyz, (u, v, 1)), v' likewise
     occlusion_transform: array<vec4<f32>, 2>,
+    // rgb: the material's emissive light (times the emissive texture)
+    emissive: vec4<f32>,
 }
 
 // Whether the pipeline samples lightmaps and occlusion textures at all: one made for a scene
@@ -23,6 +25,7 @@ override SURFACE_MAPS: bool = true;
 @group(3) @binding(2) var lightmap_sampler: sampler;
 @group(3) @binding(3) var occlusion_texture: texture_2d<f32>;
 @group(3) @binding(4) var occlusion_sampler: sampler;
+@group(3) @binding(5) var emissive_texture: texture_2d<f32>;
 
 // The baked light at `uv1` times the exposure (rgb) and the mode (w: 0 none, 1 mixed,
 // 2 baked). Samples in every case: call it in uniform control flow.
@@ -64,6 +67,15 @@ fn bicubic_lightmap(uv: vec2<f32>) -> vec3<f32> {
     let s01 = textureSample(lightmap_atlas, lightmap_sampler, vec2<f32>(at_low.x, at_high.y)).rgb;
     let s11 = textureSample(lightmap_atlas, lightmap_sampler, vec2<f32>(at_high.x, at_high.y)).rgb;
     return low.y * (low.x * s00 + high.x * s10) + high.y * (low.x * s01 + high.x * s11);
+}
+
+// The light the surface gives off itself at `uv0`: added to the frame whatever the lights.
+// Samples in every case: call it in uniform control flow.
+fn emitted(uv0: vec2<f32>) -> vec3<f32> {
+    if !SURFACE_MAPS {
+        return vec3<f32>(0.0);
+    }
+    return surface.emissive.rgb * textureSample(emissive_texture, occlusion_sampler, uv0).rgb;
 }
 
 // The ambient occlusion at this point, for the indirect light: mix(1, texel, strength). Samples

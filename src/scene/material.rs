@@ -1,6 +1,6 @@
 //! Surface materials and their textures.
 
-use glam::Vec4;
+use glam::{Vec3, Vec4};
 
 /// How a material's alpha is used.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -101,6 +101,13 @@ pub struct Material {
     pub occlusion_strength: f32,
     /// Applied to the occlusion texture's UVs (its `KHR_texture_transform`).
     pub occlusion_uv_transform: glam::Affine2,
+    /// Light the surface gives off itself (linear RGB, glTF's `emissiveFactor` times its
+    /// `KHR_materials_emissive_strength`), added to the frame whatever the lights, the ambient
+    /// and the camera's exposure: an emissive value of 1 shows as 1.
+    pub emissive: Vec3,
+    /// Multiplies `emissive` (glTF `emissiveTexture`, sRGB, on UV set 0), index into
+    /// [`crate::Scene::textures`].
+    pub emissive_texture: Option<usize>,
     pub sampler: TextureSampler,
 }
 
@@ -115,6 +122,8 @@ impl Default for Material {
             occlusion_uv_set: 0,
             occlusion_strength: 1.0,
             occlusion_uv_transform: glam::Affine2::IDENTITY,
+            emissive: Vec3::ZERO,
+            emissive_texture: None,
             sampler: TextureSampler::default(),
         }
     }

@@ -189,6 +189,7 @@ impl Scene {
         self.materials.extend(model.materials.iter().map(|m| Material {
             base_color_texture: m.base_color_texture.map(|t| t + texture_base),
             occlusion_texture: m.occlusion_texture.map(|t| t + texture_base),
+            emissive_texture: m.emissive_texture.map(|t| t + texture_base),
             ..m.clone()
         }));
         let first = self.instances.len();
@@ -378,6 +379,21 @@ impl Scene {
             }
             if !m.base_color.is_finite() {
                 return bad(format!("material `{}` has a non-finite base color", m.name));
+            }
+            if let Some(t) = m.emissive_texture
+                && t >= self.textures.len()
+            {
+                return bad(format!(
+                    "material `{}` uses emissive texture {t} of {}",
+                    m.name,
+                    self.textures.len()
+                ));
+            }
+            if !m.emissive.is_finite() || m.emissive.min_element() < 0.0 {
+                return bad(format!(
+                    "material `{}`: emissive {} must be finite and >= 0",
+                    m.name, m.emissive
+                ));
             }
         }
         for t in &self.textures {

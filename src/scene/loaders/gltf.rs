@@ -78,7 +78,10 @@ pub(super) fn load(path: &Path) -> Result<Model> {
 
     let mut model = Model::default();
     for extension in gltf.extensions_used() {
-        if !matches!(extension, "KHR_lights_punctual" | "KHR_texture_transform") {
+        if !matches!(
+            extension,
+            "KHR_lights_punctual" | "KHR_texture_transform" | "KHR_materials_emissive_strength"
+        ) {
             model
                 .warnings
                 .push(format!("extension {extension} is not supported: ignored"));
@@ -230,14 +233,13 @@ fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Ma
     let unused: Vec<&str> = [
         (material.normal_texture().is_some(), "normal"),
         (pbr.metallic_roughness_texture().is_some(), "metallic-roughness"),
-        (material.emissive_texture().is_some(), "emissive"),
     ]
     .into_iter()
     .filter_map(|(has, what)| has.then_some(what))
     .collect();
     if !unused.is_empty() {
         warnings.push(format!(
-            "material `{name}`: its {} texture(s) are not used (base colour and occlusion are)",
+            "material `{name}`: its {} texture(s) are not used (base colour, occlusion and emissive are)",
             unused.join(", ")
         ));
     }
@@ -287,6 +289,15 @@ fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Ma
                 .map(|o| convert_sampler(&o.texture().sampler()))
         })
         .unwrap_or_default();
+    let emissive_texture = material.emissive_texture().map(|info| {
+        if info.tex_coord() != 0 {
+            warnings.push(format!(
+                "material `{name}`: emissive texture uses UV set {}, read from set 0",
+                info.tex_coord()
+            ));
+        }
+        info.texture().source().index()
+    });
     Material {
         name,
         base_color: Vec4::from_array(pbr.base_color_factor()),
@@ -296,6 +307,8 @@ fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Ma
         occlusion_uv_set: occlusion_uv_set.min(1),
         occlusion_strength: occlusion.as_ref().map_or(1.0, |o| o.strength().clamp(0.0, 1.0)),
         occlusion_uv_transform,
+        emissive: Vec3::from(material.emissive_factor()) * material.emissive_strength().unwrap_or(1.0),
+        emissive_texture,
         sampler,
     }
 }
