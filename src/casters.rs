@@ -592,15 +592,16 @@ impl Casters {
                 usage: wgpu::BufferUsages::UNIFORM,
             },
         );
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("Casters::alpha_mask"),
-            layout: &self.layouts.material,
-            entries: &crate::gpu_helpers::entries(&[
+        let bind_group = crate::gpu_helpers::bind_group(
+            device,
+            "Casters::alpha_mask",
+            &self.layouts.material,
+            &[
                 buffer.as_entire_binding(),
                 wgpu::BindingResource::TextureView(mask.texture),
                 wgpu::BindingResource::Sampler(&self.sampler),
-            ]),
-        });
+            ],
+        );
         let alpha = InstanceAlpha {
             uvs: owned(&mask.uvs),
             bind_group,

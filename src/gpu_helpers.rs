@@ -229,6 +229,20 @@ pub(crate) fn kept(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAtta
     })
 }
 
+/// A bind group of `resources` at bindings 0, 1, 2, ... in order, on `layout`.
+pub(crate) fn bind_group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    resources: &[wgpu::BindingResource],
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries(resources),
+    })
+}
+
 /// Bind group entries for a list of resources, numbered from 0.
 pub(crate) fn entries<'a>(resources: &[wgpu::BindingResource<'a>]) -> Vec<wgpu::BindGroupEntry<'a>> {
     resources

@@ -253,15 +253,16 @@ impl GpuScene {
                 });
                 let view = m.base_color_texture.map_or(&white.0, |t| &textures[t].0);
                 let sampler = &samplers[&m.sampler];
-                device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("GpuScene::material"),
-                    layout: &layouts.material,
-                    entries: &crate::gpu_helpers::entries(&[
+                crate::gpu_helpers::bind_group(
+                    device,
+                    "GpuScene::material",
+                    &layouts.material,
+                    &[
                         buffer.as_entire_binding(),
                         wgpu::BindingResource::TextureView(view),
                         wgpu::BindingResource::Sampler(sampler),
-                    ]),
-                })
+                    ],
+                )
             })
             .collect();
 
@@ -516,18 +517,19 @@ impl GpuScene {
                 };
                 queue.write_buffer(buffer, 0, bytemuck::bytes_of(&uniform));
                 let view = slot.map_or(&l.black, |(atlas, _)| &l.atlases[atlas]);
-                device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("GpuScene::surface"),
-                    layout: &l.layout,
-                    entries: &crate::gpu_helpers::entries(&[
+                crate::gpu_helpers::bind_group(
+                    device,
+                    "GpuScene::surface",
+                    &l.layout,
+                    &[
                         buffer.as_entire_binding(),
                         wgpu::BindingResource::TextureView(view),
                         wgpu::BindingResource::Sampler(&l.sampler),
                         wgpu::BindingResource::TextureView(&occlusion.view),
                         wgpu::BindingResource::Sampler(&occlusion.sampler),
                         wgpu::BindingResource::TextureView(&occlusion.emissive_view),
-                    ]),
-                })
+                    ],
+                )
             })
             .collect();
         self.lighting = mode;

@@ -24,7 +24,7 @@ use bytemuck::{Pod, Zeroable};
 use super::tile_classify::tiles_layout;
 use super::{
     CLASSIFICATION_FORMAT, Classification, DepthUse, Fullscreen, VISIBILITY_FORMAT, classified_test,
-    draw_fullscreen_into, entries, entry, screen_target,
+    draw_fullscreen_into, entry, screen_target,
 };
 use crate::frame::{BlurParams, BlurSwitches, gaussian_weights};
 
@@ -215,11 +215,12 @@ impl BlurPass {
             })
         });
         let axis_groups = [0, 1].map(|i| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("BlurPass::axis"),
-                layout: &axis_layout,
-                entries: &entries(&[axis_buffers[i].as_entire_binding()]),
-            })
+            super::bind_group(
+                device,
+                "BlurPass::axis",
+                &axis_layout,
+                &[axis_buffers[i].as_entire_binding()],
+            )
         });
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("BlurPass::linear_sampler"),
@@ -307,11 +308,7 @@ impl BlurPass {
             resources.extend((0..MAX_BATCHED_LIGHTS).map(distance));
             resources.extend((0..MAX_BATCHED_LIGHTS).map(sigma));
             resources.push(wgpu::BindingResource::TextureView(receiver_mask));
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("BlurPass::bind_group"),
-                layout: &self.layout,
-                entries: &entries(&resources),
-            })
+            super::bind_group(device, "BlurPass::bind_group", &self.layout, &resources)
         };
         let source = match (&self.packed, lights.first()) {
             (Some(packed), _) => &packed.visibility.1,

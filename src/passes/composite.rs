@@ -6,7 +6,7 @@
 //! layer per light, indirect attenuation already applied; or the reference's mean) and the
 //! prepass's camera depth (tested, not written). Output: the lit color in the caller's target.
 
-use super::{entries, entry};
+use super::entry;
 use crate::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
 
@@ -79,15 +79,16 @@ impl CompositePass {
 
     /// Binds the frame uniform and the visibility array (a 2D-array view).
     pub fn bind(&mut self, device: &wgpu::Device, frame: &wgpu::Buffer, visibility: &wgpu::TextureView) {
-        self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("CompositePass::bind_group"),
-            layout: &self.layout,
-            entries: &entries(&[
+        self.bind_group = Some(super::bind_group(
+            device,
+            "CompositePass::bind_group",
+            &self.layout,
+            &[
                 frame.as_entire_binding(),
                 wgpu::BindingResource::TextureView(visibility),
                 self.lights.as_entire_binding(),
-            ]),
-        }));
+            ],
+        ));
     }
 
     pub fn encode(

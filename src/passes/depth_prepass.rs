@@ -72,14 +72,12 @@ impl DepthPrepass {
 
     /// Points the pass at the frame uniform.
     pub fn bind(&mut self, device: &wgpu::Device, frame: &wgpu::Buffer) {
-        self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("DepthPrepass::bind_group"),
-            layout: &self.frame_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: frame.as_entire_binding(),
-            }],
-        }));
+        self.bind_group = Some(super::bind_group(
+            device,
+            "DepthPrepass::bind_group",
+            &self.frame_layout,
+            &[frame.as_entire_binding()],
+        ));
     }
 
     /// Camera depth (Depth32Float).

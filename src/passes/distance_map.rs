@@ -30,8 +30,7 @@ use crate::frame::DistanceSwitches;
 
 use super::tile_classify::{TileClassifyPass, tiles_layout};
 use super::{
-    CLASSIFICATION_FORMAT, Classification, Fullscreen, LIGHT_KIND, cleared, draw_area, entries, entry,
-    screen_target,
+    CLASSIFICATION_FORMAT, Classification, Fullscreen, LIGHT_KIND, cleared, draw_area, entry, screen_target,
 };
 
 pub struct DistanceMapPass {
@@ -190,10 +189,11 @@ impl DistanceMapPass {
             .bind(device, frame, camera_depth, fattened_map, fattened_side);
         self.reduce_pending
             .store(true, std::sync::atomic::Ordering::Relaxed);
-        self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("DistanceMapPass::bind_group"),
-            layout: &self.layout,
-            entries: &entries(&[
+        self.bind_group = Some(super::bind_group(
+            device,
+            "DistanceMapPass::bind_group",
+            &self.layout,
+            &[
                 frame.as_entire_binding(),
                 wgpu::BindingResource::TextureView(fattened_map),
                 wgpu::BindingResource::TextureView(camera_depth),
@@ -201,8 +201,8 @@ impl DistanceMapPass {
                 wgpu::BindingResource::TextureView(occluder_offset),
                 wgpu::BindingResource::TextureView(exit_map),
                 wgpu::BindingResource::TextureView(shadow_map),
-            ]),
-        }));
+            ],
+        ));
     }
 
     /// The light kind the pass was made for.

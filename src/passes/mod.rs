@@ -57,8 +57,8 @@ pub use resolve::ResolvePass;
 pub use shadow_map::ShadowMapPass;
 // The generic helpers the passes build on (a leaf module).
 pub(crate) use crate::gpu_helpers::{
-    Fullscreen, cleared, comparison_sampler, entries, entry, fullscreen_pipeline, fullscreen_pipeline_with,
-    kept, screen_target,
+    Fullscreen, bind_group, cleared, comparison_sampler, entry, fullscreen_pipeline,
+    fullscreen_pipeline_with, kept, screen_target,
 };
 #[cfg(feature = "renderer")]
 pub(crate) use crate::gpu_helpers::{POSITION, blended_target, stream, vertex_layout};

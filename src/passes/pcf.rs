@@ -6,9 +6,7 @@
 //! method takes its distance-driven taps in [`super::DistanceMapPass`], with the same tap code
 //! (`shaders/common/pcf_taps.wgsl`).
 
-use super::{
-    LIGHT_KIND, VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline_with, screen_target,
-};
+use super::{LIGHT_KIND, VISIBILITY_FORMAT, draw_fullscreen, entry, fullscreen_pipeline_with, screen_target};
 use crate::frame::{PcfSwitches, PcfUniform};
 
 pub struct PcfPass {
@@ -87,17 +85,18 @@ impl PcfPass {
         camera_depth: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
     ) {
-        self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("PcfPass::bind_group"),
-            layout: &self.layout,
-            entries: &entries(&[
+        self.bind_group = Some(super::bind_group(
+            device,
+            "PcfPass::bind_group",
+            &self.layout,
+            &[
                 frame.as_entire_binding(),
                 wgpu::BindingResource::TextureView(camera_depth),
                 wgpu::BindingResource::TextureView(shadow_map),
                 wgpu::BindingResource::Sampler(&self.sampler),
                 self.params.as_entire_binding(),
-            ]),
-        }));
+            ],
+        ));
     }
 
     /// The switches the pipeline was made with.

@@ -4,9 +4,7 @@
 //! Input: the frame uniform, the camera depth and the shadow map. Output: an R16F visibility
 //! texture. Blocker and PCF tap counts come from [`crate::PcssSettings`].
 
-use super::{
-    LIGHT_KIND, VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline_with, screen_target,
-};
+use super::{LIGHT_KIND, VISIBILITY_FORMAT, draw_fullscreen, entry, fullscreen_pipeline_with, screen_target};
 use crate::frame::PcssUniform;
 
 pub struct PcssPass {
@@ -80,18 +78,19 @@ impl PcssPass {
         camera_depth: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
     ) {
-        self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("PcssPass::bind_group"),
-            layout: &self.layout,
-            entries: &entries(&[
+        self.bind_group = Some(super::bind_group(
+            device,
+            "PcssPass::bind_group",
+            &self.layout,
+            &[
                 frame.as_entire_binding(),
                 wgpu::BindingResource::TextureView(camera_depth),
                 wgpu::BindingResource::TextureView(shadow_map),
                 wgpu::BindingResource::Sampler(&self.sampler),
                 wgpu::BindingResource::TextureView(shadow_map),
                 self.params.as_entire_binding(),
-            ]),
-        }));
+            ],
+        ));
     }
 
     pub fn visibility(&self) -> &wgpu::TextureView {

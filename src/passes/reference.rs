@@ -8,7 +8,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{DepthUse, Fullscreen, draw_fullscreen_into, entries, entry, screen_target};
+use super::{DepthUse, Fullscreen, draw_fullscreen_into, entry, screen_target};
 use crate::light_samples::Emitter;
 use crate::light_space::{LightView, MAX_TILES, tile_matrix};
 
@@ -108,10 +108,11 @@ impl ReferencePass {
         shadow_map: &wgpu::TextureView,
     ) {
         let group = |previous: &Target| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("ReferencePass::bind_group"),
-                layout: &self.layout,
-                entries: &entries(&[
+            super::bind_group(
+                device,
+                "ReferencePass::bind_group",
+                &self.layout,
+                &[
                     frame.as_entire_binding(),
                     wgpu::BindingResource::TextureView(camera_depth),
                     wgpu::BindingResource::TextureView(shadow_map),
@@ -119,8 +120,8 @@ impl ReferencePass {
                     wgpu::BindingResource::TextureView(&previous[0].1),
                     self.sample.as_entire_binding(),
                     wgpu::BindingResource::TextureView(&previous[1].1),
-                ]),
-            })
+                ],
+            )
         };
         self.bind_groups = Some([group(&self.targets[0]), group(&self.targets[1])]);
     }

@@ -5,7 +5,7 @@
 //! visibility array ([`crate::Shadows::visibility`], R16F), in [0, 1], with the indirect-light
 //! attenuation already applied and 1 where nothing was drawn or the pixel receives no shadow.
 
-use super::{VISIBILITY_FORMAT, draw_fullscreen, entries, entry, fullscreen_pipeline};
+use super::{VISIBILITY_FORMAT, draw_fullscreen, entry, fullscreen_pipeline};
 
 pub struct ResolvePass {
     layout: wgpu::BindGroupLayout,
@@ -52,17 +52,18 @@ impl ResolvePass {
         visibility: &wgpu::TextureView,
         receiver_mask: &wgpu::TextureView,
     ) {
-        self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("ResolvePass::bind_group"),
-            layout: &self.layout,
-            entries: &entries(&[
+        self.bind_group = Some(super::bind_group(
+            device,
+            "ResolvePass::bind_group",
+            &self.layout,
+            &[
                 frame.as_entire_binding(),
                 wgpu::BindingResource::TextureView(camera_depth),
                 wgpu::BindingResource::TextureView(distance_map),
                 wgpu::BindingResource::TextureView(visibility),
                 wgpu::BindingResource::TextureView(receiver_mask),
-            ]),
-        }));
+            ],
+        ));
     }
 
     /// Writes the visibility into `output` (a single-layer view of the visibility array).

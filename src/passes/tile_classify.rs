@@ -128,14 +128,12 @@ impl TileClassifyPass {
         layout: &wgpu::BindGroupLayout,
         classes: &wgpu::TextureView,
     ) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("TileClassifyPass::tiles"),
+        super::bind_group(
+            device,
+            "TileClassifyPass::tiles",
             layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::TextureView(classes),
-            }],
-        })
+            &[wgpu::BindingResource::TextureView(classes)],
+        )
     }
 
     /// The kept tiles, for the passes that draw only them.

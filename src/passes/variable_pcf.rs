@@ -15,8 +15,7 @@
 use super::blur::PackedVisibility;
 use super::tile_classify::tiles_layout;
 use super::{
-    Classification, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, draw_area, entries, entry, kept,
-    screen_target,
+    Classification, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, draw_area, entry, kept, screen_target,
 };
 use crate::frame::{PcfSwitches, PcfUniform};
 
@@ -189,18 +188,19 @@ impl VariablePcfPass {
         distance_map: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
     ) {
-        self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("VariablePcfPass::bind_group"),
-            layout: &self.layout,
-            entries: &entries(&[
+        self.bind_group = Some(super::bind_group(
+            device,
+            "VariablePcfPass::bind_group",
+            &self.layout,
+            &[
                 frame.as_entire_binding(),
                 wgpu::BindingResource::TextureView(camera_depth),
                 wgpu::BindingResource::TextureView(distance_map),
                 wgpu::BindingResource::TextureView(shadow_map),
                 wgpu::BindingResource::Sampler(&self.sampler),
                 self.params.as_entire_binding(),
-            ]),
-        }));
+            ],
+        ));
     }
 
     /// The switches the pipeline was made with.
