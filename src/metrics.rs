@@ -87,7 +87,7 @@ fn render_linear(
 /// scene's centre (a spot or point light, whose light falls off with distance). The visibility
 /// is a ratio of two renders and does not change with it; which pixels get enough direct
 /// light to be measured ([`MIN_DIRECT`]) does not depend on the light's units then.
-fn key_light_alone(scene: &Scene) -> Scene {
+fn key_light_alone(scene: &Scene) -> std::borrow::Cow<'_, Scene> {
     let light = scene.light;
     let (intensity, distance) = match light {
         crate::Light::Directional(l) => (l.intensity, 1.0),
@@ -99,11 +99,16 @@ fn key_light_alone(scene: &Scene) -> Scene {
     } else {
         1.0
     };
-    Scene {
-        more_lights: Vec::new(),
-        exposure: crate::Exposure::Multiplier(exposure),
-        ..scene.clone()
+    let exposure = crate::Exposure::Multiplier(exposure);
+    // Meshes and textures are copied only when something must change.
+    if scene.more_lights.is_empty() && scene.exposure == exposure {
+        return std::borrow::Cow::Borrowed(scene);
     }
+    std::borrow::Cow::Owned(Scene {
+        more_lights: Vec::new(),
+        exposure,
+        ..scene.clone()
+    })
 }
 
 /// Measures the visibility `settings.method` gives `scene` from `camera` (three renders; see
@@ -117,7 +122,7 @@ pub fn measure_visibility(
     size: (u32, u32),
 ) -> Result<VisibilityImage> {
     check_size(size)?;
-    let scene = &key_light_alone(scene);
+    let scene = &*key_light_alone(scene);
     let shaded = render_linear((&gpu.device, &gpu.queue), scene, camera, settings, size)?;
     let (unshadowed, ambient) =
         unshadowed_and_ambient((&gpu.device, &gpu.queue), scene, camera, settings, size)?;
@@ -150,7 +155,7 @@ pub fn direct_light_mask(
     size: (u32, u32),
 ) -> Result<Vec<bool>> {
     check_size(size)?;
-    let scene = &key_light_alone(scene);
+    let scene = &*key_light_alone(scene);
     let (unshadowed, ambient) = unshadowed_and_ambient((device, queue), scene, camera, settings, size)?;
     Ok(unshadowed
         .iter()
