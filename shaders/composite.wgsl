@@ -1,5 +1,6 @@
 // Composite pass of the convenience renderer: the lit scene from the camera. Each light's
-// direct light (Lambert, spot cone) times its screen-space visibility (its layer of the
+// direct light (Lambert, or glTF's metallic-roughness model: `surface.wgsl`; spot cone) times
+// its screen-space visibility (its layer of the
 // visibility array, resolved: the indirect-light attenuation is already in it), summed, on top
 // of the base color (texture x factor), plus ambient, or the instance's lightmap in its place
 // (mixed lighting); with baked lighting a lightmapped instance shows its lightmap alone. Depth is tested against the prepass
@@ -45,6 +46,9 @@ struct VsOut {
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) uv1: vec2<f32>,
+    @location(4) color: vec4<f32>,
+    // xyz: the tangent in world space; w: the bitangent's sign
+    @location(5) tangent: vec4<f32>,
 }
 
 @vertex
@@ -53,6 +57,8 @@ fn vs_main(
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) uv1: vec2<f32>,
+    @location(4) color: vec4<f32>,
+    @location(5) tangent: vec4<f32>,
 ) -> VsOut {
     let world = instance.model * vec4<f32>(position, 1.0);
     var out: VsOut;
@@ -61,16 +67,20 @@ fn vs_main(
     out.normal = (instance.normal * vec4<f32>(normal, 0.0)).xyz;
     out.uv = uv;
     out.uv1 = uv1;
+    out.color = color;
+    out.tangent = vec4<f32>((instance.model * vec4<f32>(tangent.xyz, 0.0)).xyz, tangent.w);
     return out;
 }
 
 @fragment
 fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
+    let v_dir = normalize(to_camera(in.world));
     let n = camera_side_normal(in.normal, in.world, to_camera(in.world));
-    let base = material.base_color * textureSample(base_color_texture, base_color_sampler, in.uv);
+    let base = material.base_color * in.color * textureSample(base_color_texture, base_color_sampler, in.uv);
     let baked = baked_light(in.uv1);
     let occlusion = ambient_occlusion(in.uv, in.uv1);
     let emission = emitted(in.uv);
+    let r = reflectance(base.rgb, in.uv, n, in.tangent, v_dir);
     if material.alpha.x >= 0.0 && base.a < material.alpha.x {
         discard;
     }
@@ -81,7 +91,12 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     if baked.w > 1.5 {
         return vec4<f32>(base.rgb * baked.rgb + emission, alpha);
     }
-    var light = select(frame.ambient.rgb, baked.rgb, baked.w > 0.5) * occlusion;
+    let indirect = select(frame.ambient.rgb, baked.rgb, baked.w > 0.5) * occlusion;
+    // The diffuse light (times the diffuse colour at the end) and the specular light; the
+    // indirect light's specular share is its colour at normal incidence (a uniform
+    // surrounding, no environment map).
+    var light = indirect;
+    var specular = indirect * r.f0;
     let pixel = vec2<i32>(in.clip.xy);
     for (var k = 0u; k < min(shaded.count, 8u); k++) {
         let l = shaded.lights[k];
@@ -96,13 +111,15 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         if l.spot == 1u {
             cone *= smoothstep(l.cos_outer, l.cos_inner, dot(-to_light, l.direction));
         }
-        let n_dot_l = max(dot(n, to_light), 0.0);
+        let lit = reflected(r, to_light);
         var v = 1.0;
         // The screen-space visibility belongs to the opaque surface behind a blended one.
         if instance.flags.x > 0.5 && material.alpha.y < 0.5 {
             v = textureLoad(visibility, pixel, l.layer, 0).x;
         }
-        light += l.radiance * (n_dot_l * cone * v);
+        // Shadows multiply each light's direct light only.
+        light += l.radiance * (lit.diffuse * cone * v);
+        specular += l.radiance * (lit.specular * cone * v);
     }
-    return vec4<f32>(base.rgb * light + emission, alpha);
+    return vec4<f32>(r.diffuse * light + specular + emission, alpha);
 }

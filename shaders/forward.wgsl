@@ -42,6 +42,9 @@ struct VsOut {
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) uv1: vec2<f32>,
+    @location(4) color: vec4<f32>,
+    // xyz: the tangent in world space; w: the bitangent's sign
+    @location(5) tangent: vec4<f32>,
 }
 
 @vertex
@@ -50,6 +53,8 @@ fn vs_main(
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) uv1: vec2<f32>,
+    @location(4) color: vec4<f32>,
+    @location(5) tangent: vec4<f32>,
 ) -> VsOut {
     let world = instance.model * vec4<f32>(position, 1.0);
     var out: VsOut;
@@ -58,6 +63,8 @@ fn vs_main(
     out.normal = (instance.normal * vec4<f32>(normal, 0.0)).xyz;
     out.uv = uv;
     out.uv1 = uv1;
+    out.color = color;
+    out.tangent = vec4<f32>((instance.model * vec4<f32>(tangent.xyz, 0.0)).xyz, tangent.w);
     return out;
 }
 
@@ -90,10 +97,11 @@ fn shadow_visibility(world: vec3<f32>, cascade: u32) -> f32 {
 fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let n = camera_side_normal(in.normal, in.world, frame.camera_position.xyz - in.world);
     // Sample before any discard so the implicit derivatives stay in uniform control flow.
-    let base = material.base_color * textureSample(base_color_texture, base_color_sampler, in.uv);
+    let base = material.base_color * in.color * textureSample(base_color_texture, base_color_sampler, in.uv);
     let baked = baked_light(in.uv1);
     let occlusion = ambient_occlusion(in.uv, in.uv1);
     let emission = emitted(in.uv);
+    let r = reflectance(base.rgb, in.uv, n, in.tangent, normalize(frame.camera_position.xyz - in.world));
     if material.alpha.x >= 0.0 && base.a < material.alpha.x {
         discard;
     }
@@ -117,7 +125,9 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         let cos_angle = dot(-to_light, frame.light_direction.xyz);
         cone *= smoothstep(frame.light_position.w, frame.light_radiance.w, cos_angle);
     }
+    // The shadow lookup is offset along the vertex normal; the shading uses the mapped one.
     let n_dot_l = max(dot(n, to_light), 0.0);
+    let lit = reflected(r, to_light);
     var visibility = 1.0;
     if instance.flags.x > 0.5 && n_dot_l > 0.0 {
         // Normal-offset bias: look the shadow map up a little off the surface.
@@ -132,6 +142,9 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         }
         visibility = shadow_visibility(in.world + n * offset, cascade);
     }
-    let light = frame.light_radiance.rgb * (n_dot_l * cone * visibility) + indirect;
-    return vec4<f32>(base.rgb * light + emission, alpha);
+    // Shadows multiply the light's direct light only; the indirect light's specular share is
+    // its colour at normal incidence (see the composite).
+    let light = frame.light_radiance.rgb * (lit.diffuse * cone * visibility) + indirect;
+    let specular = frame.light_radiance.rgb * (lit.specular * cone * visibility) + indirect * r.f0;
+    return vec4<f32>(r.diffuse * light + specular + emission, alpha);
 }

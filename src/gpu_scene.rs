@@ -2,14 +2,14 @@
 //! passes read positions alone), instance transforms in a dynamic-offset uniform buffer, and one
 //! bind group per material.
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec3, Vec4};
 use wgpu::util::DeviceExt;
 
 use crate::error::{PenumbraError, Result};
 use crate::layouts::{MaterialUniform, SceneLayouts, SurfaceUniform};
 use crate::scene::{
     Aabb, AlphaMode, Exposure, FilterMode, Light, LightingMode, LightmapFilter, LightmapImage, Scene,
-    TextureSampler, WrapMode,
+    Shading, TextureSampler, WrapMode,
 };
 
 /// One mesh's vertex streams.
@@ -19,6 +19,10 @@ pub struct GpuMesh {
     pub uvs: wgpu::Buffer,
     /// The second UV set (zeros when the mesh has none).
     pub lightmap_uvs: wgpu::Buffer,
+    /// Vertex colours (white when the mesh has none).
+    pub colors: wgpu::Buffer,
+    /// Tangents (zeros when the mesh has none: no normal mapping).
+    pub tangents: wgpu::Buffer,
     pub smoothed_normals: wgpu::Buffer,
     pub indices: wgpu::Buffer,
     pub index_count: u32,
@@ -67,8 +71,9 @@ pub struct GpuScene {
     exposure: Exposure,
 }
 
-/// An instance's occlusion texture as the surface group binds it.
-struct InstanceOcclusion {
+/// What an instance's material adds in the lit passes, as the surface group binds it: its
+/// occlusion, emissive, metallic-roughness and normal textures and their uniform rows.
+struct InstanceSurface {
     /// A linear view (white when the material has none).
     view: wgpu::TextureView,
     /// The material's sampler.
@@ -79,6 +84,11 @@ struct InstanceOcclusion {
     /// The material's emissive texture (sRGB view; white when none) and light.
     emissive_view: wgpu::TextureView,
     emissive: [f32; 4],
+    /// The metallic-roughness and normal textures (linear views; white and flat when none).
+    metallic_roughness_view: wgpu::TextureView,
+    normal_view: wgpu::TextureView,
+    /// [`SurfaceUniform::shading`].
+    shading: [f32; 4],
 }
 
 /// An atlas and a rectangle of it (min xy, max xy).
@@ -97,9 +107,9 @@ struct GpuLightmaps {
     assigned: Vec<[Option<AtlasRect>; 2]>,
     /// Per instance.
     uniforms: Vec<wgpu::Buffer>,
-    /// Per instance: its material's occlusion texture (a linear view; white when none), the
-    /// material's sampler, and the uniform's occlusion row and UV transform.
-    occlusion: Vec<InstanceOcclusion>,
+    /// Per instance: its material's occlusion, emissive, metallic-roughness and normal
+    /// textures, the material's sampler, and the uniform's rows for them.
+    surfaces: Vec<InstanceSurface>,
 }
 
 /// The vertex streams a camera pass of [`GpuScene::draw`] binds.
@@ -107,8 +117,8 @@ struct GpuLightmaps {
 pub(crate) enum CameraStreams {
     /// Positions (slot 0) and uvs (slot 1): depth passes that alpha-test.
     PositionUv,
-    /// Positions, shading normals, uvs and lightmap uvs (slots 0 to 3), and the instance's
-    /// lightmap at group 3: lit passes.
+    /// Positions, shading normals, uvs, lightmap uvs, colours and tangents (slots 0 to 5), and
+    /// the instance's surface (lightmap, textures) at group 3: lit passes.
     Lit,
 }
 
@@ -165,6 +175,30 @@ impl GpuScene {
                             vertex,
                         ),
                     },
+                    colors: match mesh.colors.len() == mesh.positions.len() {
+                        true => make(
+                            "GpuMesh::colors",
+                            &pad(bytemuck::cast_slice(&mesh.colors)),
+                            vertex,
+                        ),
+                        false => make(
+                            "GpuMesh::colors",
+                            &pad(bytemuck::cast_slice(&vec![Vec4::ONE; mesh.positions.len()])),
+                            vertex,
+                        ),
+                    },
+                    tangents: match mesh.tangents.len() == mesh.positions.len() {
+                        true => make(
+                            "GpuMesh::tangents",
+                            &pad(bytemuck::cast_slice(&mesh.tangents)),
+                            vertex,
+                        ),
+                        false => make(
+                            "GpuMesh::tangents",
+                            &pad(&vec![0u8; mesh.positions.len() * 16]),
+                            vertex,
+                        ),
+                    },
                     smoothed_normals: make(
                         "GpuMesh::smoothed_normals",
                         &pad(bytemuck::cast_slice(&mesh.smoothed_normals)),
@@ -188,12 +222,20 @@ impl GpuScene {
                 .or_insert_with(|| make_sampler(device, &m.sampler));
         }
         let max_side = device.limits().max_texture_dimension_2d;
-        // Each texture as sRGB (base colour) and, when a material reads occlusion from it, as
-        // linear data too (a second upload: view formats are not on every backend).
+        // Each texture as sRGB (base colour) and, when a material reads data from it (occlusion,
+        // metallic-roughness, normals), as linear data too (a second upload: view formats are
+        // not on every backend).
         let data_textures: std::collections::HashSet<usize> = scene
             .materials
             .iter()
-            .filter_map(|m| m.occlusion_texture)
+            .flat_map(|m| {
+                [
+                    m.occlusion_texture,
+                    m.metallic_roughness_texture,
+                    m.normal_texture,
+                ]
+            })
+            .flatten()
             .collect();
         let textures: Vec<(wgpu::TextureView, Option<wgpu::TextureView>)> = scene
             .textures
@@ -226,6 +268,16 @@ impl GpuScene {
             wgpu::TextureFormat::Rgba8Unorm,
         );
         let white = (white.clone(), Some(white));
+        // A normal map's "no change": (0.5, 0.5, 1) is the unperturbed normal.
+        let flat_normal = upload_texture(
+            device,
+            queue,
+            "flat normal",
+            1,
+            1,
+            &[128, 128, 255, 255],
+            wgpu::TextureFormat::Rgba8Unorm,
+        );
         let materials = scene
             .materials
             .iter()
@@ -351,7 +403,7 @@ impl GpuScene {
                     })
                 })
                 .collect(),
-            occlusion: scene
+            surfaces: scene
                 .instances
                 .iter()
                 .map(|inst| {
@@ -369,7 +421,24 @@ impl GpuScene {
                     let t = m.occlusion_uv_transform;
                     // The emissive texture is sRGB, like the base colour's.
                     let emissive_view = m.emissive_texture.map_or(&white.0, |t| &textures[t].0);
-                    InstanceOcclusion {
+                    let linear = |t: Option<usize>, none: &wgpu::TextureView| {
+                        t.and_then(|t| textures[t].1.clone())
+                            .unwrap_or_else(|| none.clone())
+                    };
+                    let white_linear = white.1.as_ref().expect("white has a linear view");
+                    let (model, metallic, roughness) = match m.shading {
+                        Shading::Lambert => (0.0, 0.0, 1.0),
+                        Shading::MetallicRoughness { metallic, roughness } => (1.0, metallic, roughness),
+                    };
+                    let normal_scale = if m.normal_texture.is_some() {
+                        m.normal_scale
+                    } else {
+                        0.0
+                    };
+                    InstanceSurface {
+                        metallic_roughness_view: linear(m.metallic_roughness_texture, white_linear),
+                        normal_view: linear(m.normal_texture, &flat_normal),
+                        shading: [metallic, roughness, model, normal_scale],
                         view: view.clone(),
                         sampler: samplers[&m.sampler].clone(),
                         emissive_view: emissive_view.clone(),
@@ -440,9 +509,12 @@ impl GpuScene {
     pub fn samples_surface_maps(&self) -> bool {
         let l = &self.lightmaps;
         self.has_lightmaps(self.lighting)
-            || l.occlusion
-                .iter()
-                .any(|o| o.params[0] > 0.0 || o.emissive[..3].iter().any(|c| *c > 0.0))
+            || l.surfaces.iter().any(|o| {
+                o.params[0] > 0.0
+                    || o.emissive[..3].iter().any(|c| *c > 0.0)
+                    || o.shading[2] > 0.0
+                    || o.shading[3] != 0.0
+            })
     }
 
     /// The camera's exposure for the lights ([`crate::Scene::exposure`]).
@@ -493,8 +565,8 @@ impl GpuScene {
             .assigned
             .iter()
             .zip(&l.uniforms)
-            .zip(&l.occlusion)
-            .map(|((assigned, buffer), occlusion)| {
+            .zip(&l.surfaces)
+            .map(|((assigned, buffer), surface)| {
                 let (code, slot) = match mode {
                     LightingMode::Dynamic => (0.0, None),
                     LightingMode::Mixed => (1.0, assigned[0]),
@@ -504,14 +576,16 @@ impl GpuScene {
                     Some((_, rect)) => SurfaceUniform {
                         rect,
                         params: [exposure, code, bicubic, 0.0],
-                        occlusion: occlusion.params,
-                        occlusion_transform: occlusion.transform,
-                        emissive: occlusion.emissive,
+                        occlusion: surface.params,
+                        occlusion_transform: surface.transform,
+                        emissive: surface.emissive,
+                        shading: surface.shading,
                     },
                     None => SurfaceUniform {
-                        occlusion: occlusion.params,
-                        occlusion_transform: occlusion.transform,
-                        emissive: occlusion.emissive,
+                        occlusion: surface.params,
+                        occlusion_transform: surface.transform,
+                        emissive: surface.emissive,
+                        shading: surface.shading,
                         ..Default::default()
                     },
                 };
@@ -525,9 +599,11 @@ impl GpuScene {
                         buffer.as_entire_binding(),
                         wgpu::BindingResource::TextureView(view),
                         wgpu::BindingResource::Sampler(&l.sampler),
-                        wgpu::BindingResource::TextureView(&occlusion.view),
-                        wgpu::BindingResource::Sampler(&occlusion.sampler),
-                        wgpu::BindingResource::TextureView(&occlusion.emissive_view),
+                        wgpu::BindingResource::TextureView(&surface.view),
+                        wgpu::BindingResource::Sampler(&surface.sampler),
+                        wgpu::BindingResource::TextureView(&surface.emissive_view),
+                        wgpu::BindingResource::TextureView(&surface.metallic_roughness_view),
+                        wgpu::BindingResource::TextureView(&surface.normal_view),
                     ],
                 )
             })
@@ -643,6 +719,8 @@ impl GpuScene {
                     pass.set_vertex_buffer(1, mesh.normals.slice(..));
                     pass.set_vertex_buffer(2, mesh.uvs.slice(..));
                     pass.set_vertex_buffer(3, mesh.lightmap_uvs.slice(..));
+                    pass.set_vertex_buffer(4, mesh.colors.slice(..));
+                    pass.set_vertex_buffer(5, mesh.tangents.slice(..));
                     pass.set_bind_group(3, &self.lightmap_groups[index], &[]);
                 }
             }

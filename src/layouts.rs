@@ -16,8 +16,8 @@ pub struct SceneLayouts {
     /// Group with the material uniform, its base color texture and sampler.
     pub material: wgpu::BindGroupLayout,
     /// The convenience renderer's lit passes: what an instance adds to its material there,
-    /// its lightmap (uniform, atlas, sampler), its material's occlusion texture and sampler and
-    /// its emissive texture.
+    /// its lightmap (uniform, atlas, sampler), its material's occlusion texture and sampler, and
+    /// its emissive, metallic-roughness and normal textures.
     pub surface: wgpu::BindGroupLayout,
 }
 
@@ -58,8 +58,11 @@ impl SceneLayouts {
                 entry::sampler(2, wgpu::SamplerBindingType::Filtering),
                 entry::texture_2d(3, wgpu::TextureSampleType::Float { filterable: true }),
                 entry::sampler(4, wgpu::SamplerBindingType::Filtering),
-                // The material's emissive texture, read with its sampler (binding 4).
+                // The material's emissive, metallic-roughness and normal textures, read with its
+                // sampler (binding 4).
                 entry::texture_2d(5, wgpu::TextureSampleType::Float { filterable: true }),
+                entry::texture_2d(6, wgpu::TextureSampleType::Float { filterable: true }),
+                entry::texture_2d(7, wgpu::TextureSampleType::Float { filterable: true }),
             ],
         });
         Self {
@@ -86,6 +89,10 @@ pub struct SurfaceUniform {
     pub occlusion_transform: [[f32; 4]; 2],
     /// rgb: the material's emissive light (times the emissive texture, binding 5); w: unused.
     pub emissive: [f32; 4],
+    /// x: metallic, y: roughness (times the metallic-roughness texture, binding 6); z: 1 for
+    /// the metallic-roughness model, 0 Lambertian; w: the normal map's scale (binding 7; 0:
+    /// no normal map).
+    pub shading: [f32; 4],
 }
 
 /// Per-instance data, as the shaders see it.

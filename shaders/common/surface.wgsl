@@ -1,6 +1,8 @@
 // Shared by the convenience renderer's lit passes (composite, forward): what an instance adds
 // to its material there (mirrors `SurfaceUniform` in src/layouts.rs): its lightmap, sampled
-// with the mesh's second UV set, and its material's ambient-occlusion texture.
+// with the mesh's second UV set, its material's ambient-occlusion, emissive,
+// metallic-roughness and normal textures, and how the material reflects the lights (Lambert,
+// or glTF's metallic-roughness model).
 
 struct Surface {
     // the lightmap's atlas rectangle: xy min, zw max (texture space)
@@ -14,6 +16,9 @@ struct Surface {
     occlusion_transform: array<vec4<f32>, 2>,
     // rgb: the material's emissive light (times the emissive texture)
     emissive: vec4<f32>,
+    // x: metallic, y: roughness (times the metallic-roughness texture's blue and green);
+    // z: 1 metallic-roughness model, 0 Lambert; w: the normal map's scale (0: none)
+    shading: vec4<f32>,
 }
 
 // Whether the pipeline samples lightmaps and occlusion textures at all: one made for a scene
@@ -26,6 +31,91 @@ override SURFACE_MAPS: bool = true;
 @group(3) @binding(3) var occlusion_texture: texture_2d<f32>;
 @group(3) @binding(4) var occlusion_sampler: sampler;
 @group(3) @binding(5) var emissive_texture: texture_2d<f32>;
+@group(3) @binding(6) var metallic_roughness_texture: texture_2d<f32>;
+@group(3) @binding(7) var normal_texture: texture_2d<f32>;
+
+const PI: f32 = 3.14159265;
+
+// How the surface at one point reflects light.
+struct Reflectance {
+    // the shading normal (normal-mapped), on the camera's side
+    n: vec3<f32>,
+    // toward the camera
+    v: vec3<f32>,
+    // the diffuse colour: the base colour (Lambert), base x (1 - metallic) (metallic-roughness)
+    diffuse: vec3<f32>,
+    // the specular colour at normal incidence (metallic-roughness; 0 for Lambert)
+    f0: vec3<f32>,
+    // GGX alpha: roughness squared
+    alpha: f32,
+    // the metallic-roughness model (false: Lambert, diffuse only)
+    specular: bool,
+}
+
+// The surface's reflectance at a point of base colour `base`, texture coordinates `uv0`,
+// camera-side vertex normal `n` (unit), tangent `tangent` (xyz world, w the bitangent's sign)
+// and direction to the camera `v`. Samples in every case: call it in uniform control flow.
+fn reflectance(base: vec3<f32>, uv0: vec2<f32>, n: vec3<f32>, tangent: vec4<f32>, v: vec3<f32>) -> Reflectance {
+    var r: Reflectance;
+    r.n = n;
+    r.v = v;
+    r.diffuse = base;
+    r.f0 = vec3<f32>(0.0);
+    r.alpha = 1.0;
+    r.specular = surface.shading.z > 0.5;
+    if !SURFACE_MAPS {
+        return r;
+    }
+    let texel = textureSample(metallic_roughness_texture, occlusion_sampler, uv0);
+    let mapped = textureSample(normal_texture, occlusion_sampler, uv0).xyz * 2.0 - 1.0;
+    let t = tangent.xyz - n * dot(n, tangent.xyz);
+    if surface.shading.w != 0.0 && dot(t, t) > 1e-12 {
+        // Tangent space (glTF): the bitangent is cross(normal, tangent) times w.
+        let tu = normalize(t);
+        let bu = cross(n, tu) * select(1.0, -1.0, tangent.w < 0.0);
+        let m = vec3<f32>(mapped.xy * surface.shading.w, mapped.z);
+        r.n = normalize(tu * m.x + bu * m.y + n * max(m.z, 0.0));
+    }
+    if r.specular {
+        let metallic = clamp(surface.shading.x * texel.b, 0.0, 1.0);
+        let roughness = clamp(surface.shading.y * texel.g, 0.0, 1.0);
+        r.diffuse = base * (1.0 - metallic);
+        r.f0 = mix(vec3<f32>(0.04), base, metallic);
+        // As in glTF's reference viewer, roughness kept above 0.045 so the lobe stays finite.
+        let a = max(roughness, 0.045);
+        r.alpha = a * a;
+    }
+    return r;
+}
+
+// What the surface sends to the camera per unit of a light's irradiance from direction `l`
+// (unit, toward the light), split into the diffuse factor (multiplying `diffuse`: n.l, times
+// 1 - Fresnel for the metallic-roughness model) and the specular light (rgb). The irradiance
+// convention is the Lambertian one these passes always used: a white Lambertian surface facing
+// a light shows its irradiance, so the BRDF is scaled by pi.
+struct Reflected {
+    diffuse: vec3<f32>,
+    specular: vec3<f32>,
+}
+
+fn reflected(r: Reflectance, l: vec3<f32>) -> Reflected {
+    let n_dot_l = max(dot(r.n, l), 0.0);
+    if !r.specular {
+        return Reflected(vec3<f32>(n_dot_l), vec3<f32>(0.0));
+    }
+    let n_dot_v = max(dot(r.n, r.v), 1e-4);
+    let h = normalize(l + r.v);
+    let n_dot_h = max(dot(r.n, h), 0.0);
+    let v_dot_h = max(dot(r.v, h), 0.0);
+    let fresnel = r.f0 + (1.0 - r.f0) * pow(1.0 - v_dot_h, 5.0);
+    let a2 = r.alpha * r.alpha;
+    let d_denominator = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+    let distribution = a2 / (PI * d_denominator * d_denominator);
+    // Smith's visibility, separable form (glTF appendix B): G / (4 n.l n.v).
+    let visibility = 1.0 / ((n_dot_l + sqrt(a2 + (1.0 - a2) * n_dot_l * n_dot_l))
+        * (n_dot_v + sqrt(a2 + (1.0 - a2) * n_dot_v * n_dot_v)));
+    return Reflected((1.0 - fresnel) * n_dot_l, PI * fresnel * distribution * visibility * n_dot_l);
+}
 
 // The baked light at `uv1` times the exposure (rgb) and the mode (w: 0 none, 1 mixed,
 // 2 baked). Samples in every case: call it in uniform control flow.

@@ -455,6 +455,8 @@ pub(crate) fn camera_pipeline(
     });
     const NORMAL: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x3);
     const LIGHTMAP_UV: [wgpu::VertexAttribute; 1] = stream(3, wgpu::VertexFormat::Float32x2);
+    const COLOR: [wgpu::VertexAttribute; 1] = stream(4, wgpu::VertexFormat::Float32x4);
+    const TANGENT: [wgpu::VertexAttribute; 1] = stream(5, wgpu::VertexFormat::Float32x4);
     const UV_AFTER_POSITION: [wgpu::VertexAttribute; 1] = stream(1, wgpu::VertexFormat::Float32x2);
     const UV_AFTER_NORMAL: [wgpu::VertexAttribute; 1] = stream(2, wgpu::VertexFormat::Float32x2);
     let position_uv = [
@@ -466,6 +468,8 @@ pub(crate) fn camera_pipeline(
         Some(vertex_layout(&NORMAL)),
         Some(vertex_layout(&UV_AFTER_NORMAL)),
         Some(vertex_layout(&LIGHTMAP_UV)),
+        Some(vertex_layout(&COLOR)),
+        Some(vertex_layout(&TANGENT)),
     ];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),

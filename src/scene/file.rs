@@ -78,6 +78,13 @@ pub struct MaterialEntry {
     pub texture: Option<TextureSource>,
     #[serde(default)]
     pub alpha_mode: AlphaMode,
+    /// Metalness in [0, 1]. With `metallic` or `roughness` given the material is shaded with
+    /// glTF's metallic-roughness model ([`crate::scene::Shading`]); with neither, Lambertian.
+    #[serde(default)]
+    pub metallic: Option<f32>,
+    /// Roughness in [0, 1] (default 1 when only `metallic` is given).
+    #[serde(default)]
+    pub roughness: Option<f32>,
 }
 
 /// An instance entry. Rotation is in degrees about Y, then X, then Z.
@@ -309,6 +316,13 @@ impl SceneFile {
                 base_color: entry.base_color,
                 base_color_texture: texture,
                 alpha_mode: entry.alpha_mode,
+                shading: match (entry.metallic, entry.roughness) {
+                    (None, None) => crate::scene::Shading::Lambert,
+                    (metallic, roughness) => crate::scene::Shading::MetallicRoughness {
+                        metallic: metallic.unwrap_or(0.0),
+                        roughness: roughness.unwrap_or(1.0),
+                    },
+                },
                 ..Default::default()
             });
             if material_index.insert(entry.name.clone(), index).is_some() {

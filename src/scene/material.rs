@@ -80,8 +80,22 @@ impl Default for TextureSampler {
     }
 }
 
-/// A material: base color factor times an optional base color texture, and an optional
-/// ambient-occlusion texture.
+/// How a material reflects the lights' direct light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shading {
+    /// A diffuse surface: the base colour times the irradiance, no highlight. The project's
+    /// own scenes use it (their look and golden images were made with it).
+    Lambert,
+    /// glTF's metallic-roughness model (its specification's appendix B): a Lambertian diffuse
+    /// of `base x (1 - metallic)` and a GGX specular lobe (Smith height-correlated visibility,
+    /// Schlick Fresnel from 4% for dielectrics to the base colour for metals), with
+    /// `roughness` squared as the lobe's alpha. Both factors in [0, 1], multiplied by
+    /// [`Material::metallic_roughness_texture`] where there is one.
+    MetallicRoughness { metallic: f32, roughness: f32 },
+}
+
+/// A material: base color factor times an optional base color texture, its shading model, and
+/// its optional metallic-roughness, normal, ambient-occlusion and emissive textures.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
     pub name: String,
@@ -108,6 +122,19 @@ pub struct Material {
     /// Multiplies `emissive` (glTF `emissiveTexture`, sRGB, on UV set 0), index into
     /// [`crate::Scene::textures`].
     pub emissive_texture: Option<usize>,
+    /// How the surface reflects the lights' direct light (glTF materials:
+    /// [`Shading::MetallicRoughness`]).
+    pub shading: Shading,
+    /// glTF `metallicRoughnessTexture` (linear; blue is the metalness, green the roughness,
+    /// each multiplying its factor in [`Shading::MetallicRoughness`]; on UV set 0), index
+    /// into [`crate::Scene::textures`].
+    pub metallic_roughness_texture: Option<usize>,
+    /// A tangent-space normal map (glTF `normalTexture`, linear, on UV set 0; the mesh's
+    /// tangents, or MikkTSpace ones generated when the file has none), index into
+    /// [`crate::Scene::textures`].
+    pub normal_texture: Option<usize>,
+    /// glTF's normal `scale`: multiplies the map's x and y.
+    pub normal_scale: f32,
     pub sampler: TextureSampler,
 }
 
@@ -124,6 +151,10 @@ impl Default for Material {
             occlusion_uv_transform: glam::Affine2::IDENTITY,
             emissive: Vec3::ZERO,
             emissive_texture: None,
+            shading: Shading::Lambert,
+            metallic_roughness_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
             sampler: TextureSampler::default(),
         }
     }

@@ -2,7 +2,7 @@
 
 use std::collections::HashMap;
 
-use glam::{Mat3, Mat4, Vec2, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 use super::bounds::Aabb;
 use crate::error::{PenumbraError, Result};
@@ -22,6 +22,13 @@ pub struct Mesh {
     /// The second UV set (glTF `TEXCOORD_1`), which lightmaps are sampled with: one per vertex,
     /// or empty when the mesh has none (see [`Mesh::with_lightmap_uvs`]).
     pub lightmap_uvs: Vec<Vec2>,
+    /// Vertex colours (glTF `COLOR_0`, linear RGBA), multiplying the material's base colour:
+    /// one per vertex, or empty when the mesh has none (white).
+    pub colors: Vec<Vec4>,
+    /// Tangents for normal maps (glTF `TANGENT`: xyz the tangent, w the bitangent's sign, +-1):
+    /// one per vertex, or empty when the mesh has none (see [`Mesh::with_tangents`] and
+    /// [`Mesh::with_generated_tangents`]).
+    pub tangents: Vec<Vec4>,
     /// One averaged normal per *position*: all vertices that share a position (within
     /// [`Mesh::WELD_TOLERANCE`]) have the same smoothed normal, so displacing along it never
     /// tears the mesh open at hard edges.
@@ -133,6 +140,8 @@ impl Mesh {
                 normals,
                 uvs,
                 lightmap_uvs: Vec::new(),
+                colors: Vec::new(),
+                tangents: Vec::new(),
                 smoothed_normals,
                 indices,
                 bounds,
@@ -161,6 +170,66 @@ impl Mesh {
 
     pub fn vertex_count(&self) -> usize {
         self.positions.len()
+    }
+
+    /// The mesh with vertex colours (linear RGBA), one per vertex; non-finite entries become
+    /// white. Errors when the count differs from the vertex count.
+    pub fn with_colors(mut self, colors: Vec<Vec4>) -> Result<Mesh> {
+        self.check_count("vertex colours", colors.len())?;
+        self.colors = colors
+            .into_iter()
+            .map(|c| if c.is_finite() { c } else { Vec4::ONE })
+            .collect();
+        Ok(self)
+    }
+
+    /// The mesh with tangents (xyz the tangent, w the bitangent's sign), one per vertex.
+    /// Tangents that are not finite, have no length or lie along the normal are replaced by
+    /// generated ones. Errors when the count differs from the vertex count.
+    pub fn with_tangents(mut self, tangents: Vec<Vec4>) -> Result<Mesh> {
+        self.check_count("tangents", tangents.len())?;
+        let usable = |(t, n): (&Vec4, &Vec3)| {
+            let xyz = t.truncate();
+            t.is_finite() && xyz.length() > 1e-6 && xyz.normalize().dot(*n).abs() < 0.999
+        };
+        if !tangents.iter().zip(&self.normals).all(usable) {
+            let generated = generated_tangents(&self);
+            self.tangents = tangents
+                .iter()
+                .zip(&self.normals)
+                .zip(&generated)
+                .map(|((t, n), g)| if usable((t, n)) { *t } else { *g })
+                .collect();
+            return Ok(self);
+        }
+        self.tangents = tangents
+            .into_iter()
+            .map(|t| {
+                t.truncate()
+                    .normalize()
+                    .extend(if t.w < 0.0 { -1.0 } else { 1.0 })
+            })
+            .collect();
+        Ok(self)
+    }
+
+    /// The mesh with MikkTSpace tangents from its positions, normals and first UV set (what
+    /// normal maps are baked against). A vertex the algorithm leaves without one (a degenerate
+    /// triangle alone) gets a tangent perpendicular to its normal.
+    pub fn with_generated_tangents(mut self) -> Mesh {
+        self.tangents = generated_tangents(&self);
+        self
+    }
+
+    fn check_count(&self, what: &str, count: usize) -> Result<()> {
+        if count != self.positions.len() {
+            return Err(PenumbraError::Scene(format!(
+                "mesh `{}`: {count} {what} for {} positions",
+                self.name,
+                self.positions.len()
+            )));
+        }
+        Ok(())
     }
 
     pub fn triangle_count(&self) -> usize {
@@ -208,6 +277,66 @@ impl Mesh {
         }
         Mesh::new(name, positions, Some(normals), Some(uvs), indices)
     }
+}
+
+/// MikkTSpace tangents of `mesh`, one per vertex (see [`Mesh::with_generated_tangents`]).
+#[cfg(feature = "renderer")]
+fn generated_tangents(mesh: &Mesh) -> Vec<Vec4> {
+    struct Faces<'a> {
+        mesh: &'a Mesh,
+        tangents: Vec<Option<Vec4>>,
+    }
+    impl Faces<'_> {
+        fn vertex(&self, face: usize, vert: usize) -> usize {
+            self.mesh.indices[face * 3 + vert] as usize
+        }
+    }
+    impl bevy_mikktspace::Geometry for Faces<'_> {
+        fn num_faces(&self) -> usize {
+            self.mesh.indices.len() / 3
+        }
+        fn num_vertices_of_face(&self, _face: usize) -> usize {
+            3
+        }
+        fn position(&self, face: usize, vert: usize) -> [f32; 3] {
+            self.mesh.positions[self.vertex(face, vert)].to_array()
+        }
+        fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
+            self.mesh.normals[self.vertex(face, vert)].to_array()
+        }
+        fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
+            self.mesh.uvs[self.vertex(face, vert)].to_array()
+        }
+        fn set_tangent(&mut self, space: Option<bevy_mikktspace::TangentSpace>, face: usize, vert: usize) {
+            let v = self.vertex(face, vert);
+            self.tangents[v] = space.map(|s| Vec4::from_array(s.tangent_encoded()));
+        }
+    }
+    let mut faces = Faces {
+        mesh,
+        tangents: vec![None; mesh.positions.len()],
+    };
+    // It fails only on meshes it cannot index (none here: `Mesh::new` checked them); then
+    // every vertex takes the fallback below.
+    let _ = bevy_mikktspace::generate_tangents(&mut faces);
+    faces
+        .tangents
+        .iter()
+        .zip(&mesh.normals)
+        .map(|(t, n)| match t {
+            Some(t) if t.is_finite() && t.truncate().length() > 1e-6 => *t,
+            _ => n.any_orthonormal_vector().extend(1.0),
+        })
+        .collect()
+}
+
+/// Without the convenience layer (no MikkTSpace crate): a tangent perpendicular to each normal.
+#[cfg(not(feature = "renderer"))]
+fn generated_tangents(mesh: &Mesh) -> Vec<Vec4> {
+    mesh.normals
+        .iter()
+        .map(|n| n.any_orthonormal_vector().extend(1.0))
+        .collect()
 }
 
 /// The geometric normal of a triangle scaled by nothing (unit length, or zero when degenerate).

@@ -26,7 +26,7 @@ pub use light::{
     ModelLight, ModelLightKind, ModelLightSizes, PointLight, SpotLight, lights_from_model,
 };
 pub use lightmap::{LightingMode, LightmapFilter, LightmapImage, LightmapRect, Lightmaps, rg11b10, rgb9e5};
-pub use material::{AlphaMode, FilterMode, Material, TextureImage, TextureSampler, WrapMode};
+pub use material::{AlphaMode, FilterMode, Material, Shading, TextureImage, TextureSampler, WrapMode};
 pub use mesh::{Mesh, MeshRepairs};
 
 use glam::{Mat4, Vec3};
@@ -190,6 +190,8 @@ impl Scene {
             base_color_texture: m.base_color_texture.map(|t| t + texture_base),
             occlusion_texture: m.occlusion_texture.map(|t| t + texture_base),
             emissive_texture: m.emissive_texture.map(|t| t + texture_base),
+            metallic_roughness_texture: m.metallic_roughness_texture.map(|t| t + texture_base),
+            normal_texture: m.normal_texture.map(|t| t + texture_base),
             ..m.clone()
         }));
         let first = self.instances.len();
@@ -333,6 +335,17 @@ impl Scene {
         self.validate_lightmaps()?;
         self.exposure.validate()?;
         let bad = |s: String| Err(PenumbraError::Scene(s));
+        for m in &self.meshes {
+            for (what, count) in [("vertex colours", m.colors.len()), ("tangents", m.tangents.len())] {
+                if count != 0 && count != m.positions.len() {
+                    return bad(format!(
+                        "mesh `{}` has {count} {what} for {} positions (one each, or none)",
+                        m.name,
+                        m.positions.len()
+                    ));
+                }
+            }
+        }
         for (k, inst) in self.instances.iter().enumerate() {
             if inst.mesh >= self.meshes.len() {
                 return bad(format!(
@@ -353,14 +366,23 @@ impl Scene {
             }
         }
         for m in &self.materials {
-            if let Some(t) = m.occlusion_texture
-                && t >= self.textures.len()
-            {
-                return bad(format!(
-                    "material `{}` uses occlusion texture {t} of {}",
-                    m.name,
-                    self.textures.len()
-                ));
+            let textures = [
+                ("texture", m.base_color_texture),
+                ("occlusion texture", m.occlusion_texture),
+                ("emissive texture", m.emissive_texture),
+                ("metallic-roughness texture", m.metallic_roughness_texture),
+                ("normal texture", m.normal_texture),
+            ];
+            for (what, texture) in textures {
+                if let Some(t) = texture
+                    && t >= self.textures.len()
+                {
+                    return bad(format!(
+                        "material `{}` uses {what} {t} of {}",
+                        m.name,
+                        self.textures.len()
+                    ));
+                }
             }
             if !(0.0..=1.0).contains(&m.occlusion_strength) || m.occlusion_uv_set > 1 {
                 return bad(format!(
@@ -368,26 +390,19 @@ impl Scene {
                     m.name, m.occlusion_strength
                 ));
             }
-            if let Some(t) = m.base_color_texture
-                && t >= self.textures.len()
-            {
-                return bad(format!(
-                    "material `{}` uses texture {t} of {}",
-                    m.name,
-                    self.textures.len()
-                ));
-            }
             if !m.base_color.is_finite() {
                 return bad(format!("material `{}` has a non-finite base color", m.name));
             }
-            if let Some(t) = m.emissive_texture
-                && t >= self.textures.len()
+            if let Shading::MetallicRoughness { metallic, roughness } = m.shading
+                && !((0.0..=1.0).contains(&metallic) && (0.0..=1.0).contains(&roughness))
             {
                 return bad(format!(
-                    "material `{}` uses emissive texture {t} of {}",
-                    m.name,
-                    self.textures.len()
+                    "material `{}`: metallic {metallic} and roughness {roughness} must be in [0, 1]",
+                    m.name
                 ));
+            }
+            if !m.normal_scale.is_finite() {
+                return bad(format!("material `{}` has a non-finite normal scale", m.name));
             }
             if !m.emissive.is_finite() || m.emissive.min_element() < 0.0 {
                 return bad(format!(

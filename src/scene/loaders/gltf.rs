@@ -10,7 +10,9 @@ use std::path::Path;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::error::{PenumbraError, Result};
-use crate::scene::{AlphaMode, Instance, Material, Mesh, Model, ModelLight, ModelLightKind, TextureImage};
+use crate::scene::{
+    AlphaMode, Instance, Material, Mesh, Model, ModelLight, ModelLightKind, Shading, TextureImage,
+};
 
 /// A `KHR_lights_punctual` light at its node, in the model's space: it shines along the
 /// node's -Z.
@@ -230,19 +232,27 @@ fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Ma
         }
         info.texture().source().index()
     });
-    let unused: Vec<&str> = [
-        (material.normal_texture().is_some(), "normal"),
-        (pbr.metallic_roughness_texture().is_some(), "metallic-roughness"),
-    ]
-    .into_iter()
-    .filter_map(|(has, what)| has.then_some(what))
-    .collect();
-    if !unused.is_empty() {
-        warnings.push(format!(
-            "material `{name}`: its {} texture(s) are not used (base colour, occlusion and emissive are)",
-            unused.join(", ")
-        ));
-    }
+    // The metallic-roughness and normal textures read UV set 0, as the base colour's does.
+    let on_set_zero = |what: &str, set: u32, index: usize, warnings: &mut Vec<String>| {
+        if set != 0 {
+            warnings.push(format!(
+                "material `{name}`: {what} texture uses UV set {set}, read from set 0"
+            ));
+        }
+        index
+    };
+    let metallic_roughness_texture = pbr.metallic_roughness_texture().map(|info| {
+        on_set_zero(
+            "metallic-roughness",
+            info.tex_coord(),
+            info.texture().source().index(),
+            warnings,
+        )
+    });
+    let normal = material.normal_texture();
+    let normal_texture = normal
+        .as_ref()
+        .map(|n| on_set_zero("normal", n.tex_coord(), n.texture().source().index(), warnings));
     // Occlusion: its own UV set (0 or 1); glTF's strength.
     let occlusion = material.occlusion_texture();
     // Its KHR_texture_transform (the crate reads it for plain texture infos only).
@@ -290,13 +300,12 @@ fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Ma
         })
         .unwrap_or_default();
     let emissive_texture = material.emissive_texture().map(|info| {
-        if info.tex_coord() != 0 {
-            warnings.push(format!(
-                "material `{name}`: emissive texture uses UV set {}, read from set 0",
-                info.tex_coord()
-            ));
-        }
-        info.texture().source().index()
+        on_set_zero(
+            "emissive",
+            info.tex_coord(),
+            info.texture().source().index(),
+            warnings,
+        )
     });
     Material {
         name,
@@ -309,6 +318,13 @@ fn convert_material(material: &gltf::Material, warnings: &mut Vec<String>) -> Ma
         occlusion_uv_transform,
         emissive: Vec3::from(material.emissive_factor()) * material.emissive_strength().unwrap_or(1.0),
         emissive_texture,
+        shading: Shading::MetallicRoughness {
+            metallic: pbr.metallic_factor().clamp(0.0, 1.0),
+            roughness: pbr.roughness_factor().clamp(0.0, 1.0),
+        },
+        metallic_roughness_texture,
+        normal_texture,
+        normal_scale: normal.as_ref().map_or(1.0, |n| n.scale()),
         sampler,
     }
 }
@@ -410,13 +426,30 @@ fn read_primitive(
         .read_tex_coords(1)
         .map(|it| it.into_f32().map(Vec2::from_array).collect::<Vec<_>>())
         .filter(|t| t.len() == positions.len());
-    let mesh = Mesh::new(label, positions, normals, uvs, indices).map_err(|e| e.to_string())?;
-    match lightmap_uvs {
-        Some(uv1) => mesh.with_lightmap_uvs(uv1),
-        None => Ok(mesh),
+    let colors = reader
+        .read_colors(0)
+        .map(|it| it.into_rgba_f32().map(Vec4::from_array).collect::<Vec<_>>())
+        .filter(|c| c.len() == positions.len());
+    let tangents = reader
+        .read_tangents()
+        .map(|it| it.map(Vec4::from_array).collect::<Vec<_>>())
+        .filter(|t| t.len() == positions.len());
+    let normal_mapped = primitive.material().normal_texture().is_some();
+    let mut mesh = Mesh::new(label, positions, normals, uvs, indices).map_err(|e| e.to_string())?;
+    if let Some(uv1) = lightmap_uvs {
+        mesh = mesh.with_lightmap_uvs(uv1).map_err(|e| e.to_string())?;
     }
-    .map(Some)
-    .map_err(|e| e.to_string())
+    if let Some(colors) = colors {
+        mesh = mesh.with_colors(colors).map_err(|e| e.to_string())?;
+    }
+    // Tangents where a normal map needs them: the file's, or MikkTSpace's (as glTF asks).
+    if normal_mapped {
+        mesh = match tangents {
+            Some(tangents) => mesh.with_tangents(tangents).map_err(|e| e.to_string())?,
+            None => mesh.with_generated_tangents(),
+        };
+    }
+    Ok(Some(mesh))
 }
 
 /// `KHR_texture_transform`'s matrix: translation by `offset` times a rotation by `rotation`
