@@ -97,7 +97,7 @@ pub use scene::file::load_scene;
 pub use scene::{
     Aabb, AlphaMode, Camera, DirectionalLight, Exposure, Instance, Light, LightingMode, LightmapFilter,
     LightmapImage, LightmapRect, Lightmaps, MAX_LIGHTS, Material, Mesh, Model, OrbitCamera, PointLight,
-    Scene, SpotLight, TextureImage, Viewpoint,
+    Scene, Shading, SpotLight, TextureImage, Viewpoint,
 };
 pub use settings::{
     CascadeSettings, CullMode, DepthFormat, LightFit, PcfKernel, PcssSettings, PenumbraSettings, Quality,

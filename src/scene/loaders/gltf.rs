@@ -544,13 +544,20 @@ fn pose_skinned(
         positions.push(m.transform_point3(mesh.positions[v]));
         normals.push(m.transform_vector3(mesh.normals[v]));
     }
-    let lightmap_uvs = mesh.lightmap_uvs;
-    Mesh::new(mesh.name, positions, Some(normals), Some(mesh.uvs), mesh.indices)
+    let (lightmap_uvs, colors, normal_mapped) = (mesh.lightmap_uvs, mesh.colors, !mesh.tangents.is_empty());
+    let posed = Mesh::new(mesh.name, positions, Some(normals), Some(mesh.uvs), mesh.indices)
         .map(|posed| Mesh {
             lightmap_uvs,
+            colors,
             ..posed
         })
-        .map_err(|e| e.to_string())
+        .map_err(|e| e.to_string())?;
+    // Tangents for the posed normals (MikkTSpace again: the file's were for the bind pose).
+    Ok(if normal_mapped {
+        posed.with_generated_tangents()
+    } else {
+        posed
+    })
 }
 
 fn to_rgba8(name: String, image: gltf::image::Data) -> Result<TextureImage, String> {
