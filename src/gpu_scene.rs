@@ -151,6 +151,18 @@ impl GpuScene {
                         bytes.to_vec()
                     }
                 };
+                // A stream a mesh may lack: its own `count` values (bytes `own`), one per
+                // vertex, or `fallback` (one vertex's bytes) for every vertex.
+                fn bytes<T: bytemuck::Pod>(values: &[T]) -> (&[u8], usize) {
+                    (bytemuck::cast_slice(values), values.len())
+                }
+                let optional = |label, (own, count): (&[u8], usize), fallback: &[u8]| {
+                    if count == mesh.positions.len() {
+                        make(label, &pad(own), vertex)
+                    } else {
+                        make(label, &pad(&fallback.repeat(mesh.positions.len())), vertex)
+                    }
+                };
                 GpuMesh {
                     positions: make(
                         "GpuMesh::positions",
@@ -163,42 +175,13 @@ impl GpuScene {
                         vertex,
                     ),
                     uvs: make("GpuMesh::uvs", &pad(bytemuck::cast_slice(&mesh.uvs)), vertex),
-                    lightmap_uvs: match mesh.lightmap_uvs.len() == mesh.positions.len() {
-                        true => make(
-                            "GpuMesh::lightmap_uvs",
-                            &pad(bytemuck::cast_slice(&mesh.lightmap_uvs)),
-                            vertex,
-                        ),
-                        false => make(
-                            "GpuMesh::lightmap_uvs",
-                            &pad(&vec![0u8; mesh.positions.len() * 8]),
-                            vertex,
-                        ),
-                    },
-                    colors: match mesh.colors.len() == mesh.positions.len() {
-                        true => make(
-                            "GpuMesh::colors",
-                            &pad(bytemuck::cast_slice(&mesh.colors)),
-                            vertex,
-                        ),
-                        false => make(
-                            "GpuMesh::colors",
-                            &pad(bytemuck::cast_slice(&vec![Vec4::ONE; mesh.positions.len()])),
-                            vertex,
-                        ),
-                    },
-                    tangents: match mesh.tangents.len() == mesh.positions.len() {
-                        true => make(
-                            "GpuMesh::tangents",
-                            &pad(bytemuck::cast_slice(&mesh.tangents)),
-                            vertex,
-                        ),
-                        false => make(
-                            "GpuMesh::tangents",
-                            &pad(&vec![0u8; mesh.positions.len() * 16]),
-                            vertex,
-                        ),
-                    },
+                    lightmap_uvs: optional("GpuMesh::lightmap_uvs", bytes(&mesh.lightmap_uvs), &[0u8; 8]),
+                    colors: optional(
+                        "GpuMesh::colors",
+                        bytes(&mesh.colors),
+                        bytemuck::bytes_of(&Vec4::ONE),
+                    ),
+                    tangents: optional("GpuMesh::tangents", bytes(&mesh.tangents), &[0u8; 16]),
                     smoothed_normals: make(
                         "GpuMesh::smoothed_normals",
                         &pad(bytemuck::cast_slice(&mesh.smoothed_normals)),

@@ -12,20 +12,11 @@ use penumbra::{
 
 const SIZE: (u32, u32) = (160, 120);
 
-/// An 8-bit sRGB value as linear light.
-fn linear(c: u8) -> f32 {
-    let c = c as f32 / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
+use common::linear;
 
 /// The linear luminance of pixel (x, y).
 fn luminance(image: &image::RgbaImage, x: u32, y: u32) -> f32 {
-    let p = image.get_pixel(x, y).0;
-    0.2126 * linear(p[0]) + 0.7152 * linear(p[1]) + 0.0722 * linear(p[2])
+    common::linear_luminance(image, (x, y))
 }
 
 /// A white floor (a receiver, no caster) and a grey box on it, no ambient light.

@@ -131,6 +131,22 @@ pub fn project(camera: &Camera, width: u32, height: u32, p: Vec3) -> Option<(u32
         .then_some((x as u32, y as u32))
 }
 
+/// An 8-bit sRGB value as linear light.
+pub fn linear(c: u8) -> f32 {
+    let c = c as f32 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// The linear luminance of one pixel.
+pub fn linear_luminance(image: &image::RgbaImage, (x, y): (u32, u32)) -> f32 {
+    let p = image.get_pixel(x, y).0;
+    0.2126 * linear(p[0]) + 0.7152 * linear(p[1]) + 0.0722 * linear(p[2])
+}
+
 /// Mean luminance (0..1, sRGB-encoded values) of the 3x3 block around (x, y).
 pub fn luminance(img: &image::RgbaImage, (x, y): (u32, u32)) -> f32 {
     let mut sum = 0.0;
