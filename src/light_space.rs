@@ -143,7 +143,7 @@ impl LightView {
 
     /// These cascades, each replaced by `previous`' (the windows its maps were drawn with)
     /// where that window still holds everything this one must: same view, depth range and
-    /// size, and its corner at most [`CASCADE_SLACK`] texels away. A camera that moves a
+    /// size, and its corner at most 3 texels away (`CASCADE_SLACK`). A camera that moves a
     /// little then leaves the maps as they are. `resolution`: texels per cascade side.
     pub fn keeping_windows_of(mut self, previous: &LightView, resolution: u32) -> LightView {
         let count = self.cascade_count as usize;
