@@ -291,7 +291,7 @@ fn time_frames(
         config.frames,
         |s, i| s.set_light(nudged(&scene.light, i)),
     )?;
-    let mask_saved_share = if renderer.last_report().is_some_and(|r| r.plan.distance_map) {
+    let mask_saved_share = if renderer.last_report().is_some_and(|r| r.plan.chain.distance_map()) {
         Some(penumbra::debug::mask_savings(&gpu.device, &gpu.queue, &renderer)?.share)
     } else {
         None
@@ -701,17 +701,17 @@ fn measure_embedding(
     gpu_scene.set_light(nudged(&scene.light, 1))?;
     penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, camera, width, height)?;
     let moving = renderer.last_report().context("a frame")?;
-    let moving = moving.plan.geometry_passes(moving.shadow_maps_rendered);
+    let moving = moving.plan.geometry_passes(moving.light.shadow_maps_rendered);
     penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, camera, width, height)?;
     let still = renderer.last_report().context("a frame")?;
-    let still = still.plan.geometry_passes(still.shadow_maps_rendered);
+    let still = still.plan.geometry_passes(still.light.shadow_maps_rendered);
     let mut moved = *camera;
     moved.eye.x += 0.01;
     penumbra::render_to_image(gpu, &mut renderer, &gpu_scene, &moved, width, height)?;
     let camera_moved = renderer.last_report().context("a frame")?;
     let camera_moved = camera_moved
         .plan
-        .geometry_passes(camera_moved.shadow_maps_rendered);
+        .geometry_passes(camera_moved.light.shadow_maps_rendered);
     let mut geometry_passes = vec![GeometryPasses {
         path: "Renderer (ours)".into(),
         light_moving: moving,
@@ -719,7 +719,7 @@ fn measure_embedding(
     }];
     // The embedding path on the renderer's depth.
     let depth = renderer
-        .debug_texture(penumbra::DebugTexture::CameraDepth)
+        .camera_depth_texture()
         .context("the renderer's depth")?
         .clone();
     let view = penumbra::ViewInputs {

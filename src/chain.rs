@@ -25,19 +25,33 @@ pub enum Chain {
     /// map; on the screen the distance map, the variable-spacing PCF, then the blur, whose
     /// vertical draw writes the light's layer (or a resolve, with `blur` false: a blur of one
     /// tap).
-    DistanceMap { method: ShadowMethod, blur: bool },
+    DistanceMap {
+        /// [`ShadowMethod::Ours`] or [`ShadowMethod::OursFast`].
+        method: ShadowMethod,
+        /// The blur has more than one tap.
+        blur: bool,
+    },
     /// The baseline ([`ShadowMethod::Traditional`]): fixed-spacing PCF, a fixed Gaussian
     /// blur (`blur`: it has more than one tap), a resolve.
-    FixedPcf { blur: bool },
+    FixedPcf {
+        /// The blur has more than one tap.
+        blur: bool,
+    },
     /// [`ShadowMethod::Pcss`]: PCSS, a resolve.
     Pcss,
     /// Screen-space hard shadows ([`ShadowMethod::Hard`], [`ShadowMethod::Hardware2x2`], and a
     /// method that needs a light size under a light without one): one PCF tap (a bilinear
     /// 2 x 2 comparison), a resolve.
-    Hard { method: ShadowMethod },
+    Hard {
+        /// The method drawn.
+        method: ShadowMethod,
+    },
     /// The shadow map alone: the convenience renderer shades with it in its forward pass (or
     /// renders the reference).
-    MapOnly { method: ShadowMethod },
+    MapOnly {
+        /// The method the frame draws with the map.
+        method: ShadowMethod,
+    },
 }
 
 impl Chain {
@@ -107,10 +121,13 @@ impl Chain {
         )
     }
 
+    /// PCSS runs (its blocker search and filter in one pass).
     pub fn pcss(&self) -> bool {
         matches!(self, Chain::Pcss)
     }
 
+    /// A separable blur runs over the PCF visibility (width following the distance after
+    /// the distance map, fixed for the baseline).
     pub fn blur(&self) -> bool {
         matches!(
             self,

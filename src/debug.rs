@@ -2,7 +2,8 @@
 
 use crate::error::{PenumbraError, Result};
 use crate::gpu::read_texture_f32;
-use crate::renderer::{DebugTexture, Renderer};
+use crate::renderer::Renderer;
+use crate::shadows::LightTexture;
 
 /// What a debug view shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -22,6 +23,7 @@ pub enum DebugView {
 }
 
 impl DebugView {
+    /// Every view, in the order the passes make what they show.
     pub const ALL: [DebugView; 6] = [
         DebugView::ShadowMap,
         DebugView::FattenedMap,
@@ -43,6 +45,7 @@ impl DebugView {
         }
     }
 
+    /// The view [`DebugView::name`] calls `name`; an error naming the choices otherwise.
     pub fn from_name(name: &str) -> Result<Self> {
         Self::ALL.into_iter().find(|v| v.name() == name).ok_or_else(|| {
             let names: Vec<_> = Self::ALL.iter().map(|v| v.name()).collect();
@@ -53,13 +56,13 @@ impl DebugView {
         })
     }
 
-    fn texture(self) -> DebugTexture {
+    fn texture(self) -> LightTexture {
         match self {
-            DebugView::ShadowMap => DebugTexture::ShadowMap,
-            DebugView::FattenedMap => DebugTexture::FattenedMap,
-            DebugView::Distance | DebugView::Mask => DebugTexture::DistanceMap,
-            DebugView::Pcf => DebugTexture::Visibility,
-            DebugView::Blur => DebugTexture::BlurredVisibility,
+            DebugView::ShadowMap => LightTexture::ShadowMap,
+            DebugView::FattenedMap => LightTexture::FattenedMap,
+            DebugView::Distance | DebugView::Mask => LightTexture::DistanceMap,
+            DebugView::Pcf => LightTexture::Visibility,
+            DebugView::Blur => LightTexture::BlurredVisibility,
         }
     }
 }
@@ -95,7 +98,9 @@ pub struct Legend {
 /// A debug image, with its legend where its colors stand for values.
 #[derive(Debug, Clone)]
 pub struct DebugImage {
+    /// The view, one pixel per texel of the texture shown.
     pub image: image::RgbaImage,
+    /// What its false colors stand for (the distance view); `None` for gray views.
     pub legend: Option<Legend>,
 }
 
@@ -204,7 +209,7 @@ pub struct MaskSavings {
 /// classification's kept tiles, [`crate::PenumbraSettings::tiles`]), or `None` where no
 /// classification ran.
 pub fn tile_share(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Renderer) -> Result<Option<f32>> {
-    let Some(classes) = renderer.light_texture(crate::LightTexture::TileClasses) else {
+    let Some(classes) = renderer.debug_texture(LightTexture::TileClasses) else {
         return Ok(None);
     };
     let (values, _) = read_texture_f32(device, queue, classes)?;
@@ -215,7 +220,7 @@ pub fn tile_share(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Rendere
 /// Measures [`MaskSavings`] by reading back the last frame's distance map. Errors when the
 /// renderer's method has no distance map.
 pub fn mask_savings(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Renderer) -> Result<MaskSavings> {
-    let distance = renderer.debug_texture(DebugTexture::DistanceMap).ok_or_else(|| {
+    let distance = renderer.debug_texture(LightTexture::DistanceMap).ok_or_else(|| {
         PenumbraError::setting(
             "method",
             format!("`{}` has no mask to measure", renderer.settings().method.name()),

@@ -4,22 +4,64 @@
 //! engine's own depth buffer, camera matrices and vertex buffers, hands back one visibility per
 //! light for the engine's lit shader, and never owns a window or an event loop.
 //!
-//! * **Embedding** (no feature needed): [`Casters`] registers meshes from the engine's buffers
-//!   and places instances; [`Shadows`] takes up to [`MAX_LIGHTS`] lights and, each frame, the
-//!   engine's [`CameraMatrices`] and depth ([`ViewInputs`]), and writes each light's
-//!   visibility into a layer of [`Shadows::visibility`]. `examples/engine.rs` is a worked engine.
-//! * [`ShadowMethod::Ours`]: the distance-map method. A depth shadow map, a fattened shadow
-//!   map, a full-screen distance map over the camera depth, PCF whose spacing grows with the
-//!   receiver-to-occluder distance, a distance-driven separable blur and indirect-light
-//!   attenuation; each method's chain of passes is written once in [`Chain::new`].
-//! * Beside it: the PCF + Gaussian baseline ([`ShadowMethod::Traditional`]), PCSS, hard shadows
-//!   and hardware 2x2 PCF, configured by [`ShadowSettings`] (physical mode by default: only the
-//!   light's size is set).
-//! * The convenience layer (feature `renderer`, on by default): [`Renderer`] draws a whole lit
-//!   frame of a [`GpuScene`] on top of [`Shadows`]; the scene model ([`Scene`]) with loaders
-//!   for OBJ and glTF 2.0 ([`load_model`]) and a RON scene format ([`SceneFile`],
-//!   [`load_scene`]); the ground truth; debug access to every intermediate texture
-//!   ([`Renderer::debug_texture`], [`debug`]).
+//! ## Two ways in
+//!
+//! **An engine** keeps its own renderer and asks penumbra for shadows only (no feature needed;
+//! `default-features = false` builds on wgpu, glam, bytemuck and thiserror alone):
+//!
+//! 1. [`Casters`] registers meshes from the engine's vertex and index buffers
+//!    ([`CasterMeshDesc`]) and places instances of them ([`CasterInstance`]); moving one is a
+//!    [`Casters::set_transform`].
+//! 2. [`Shadows`] holds up to [`MAX_LIGHTS`] lights ([`Shadows::add_light`]), each given a
+//!    layer of one texture array.
+//! 3. Each frame, after its depth prepass, the engine hands over its camera
+//!    ([`CameraMatrices`]) and depth ([`ViewInputs`]); [`Shadows::render`] records every
+//!    light's passes into the engine's encoder.
+//! 4. The engine's lit shader samples [`Shadows::visibility`] (format
+//!    [`VISIBILITY_FORMAT`], layer [`LightId::layer`]) and multiplies each light's direct term
+//!    by it.
+//!
+//! ```no_run
+//! # fn main() -> penumbra::Result<()> {
+//! # let gpu = penumbra::HeadlessGpu::new()?;
+//! # let (device, queue) = (&gpu.device, &gpu.queue);
+//! # let vertices: wgpu::Buffer = unimplemented!();
+//! # let depth: wgpu::Texture = unimplemented!();
+//! # let (view, projection) = (glam::Mat4::IDENTITY, glam::Mat4::IDENTITY);
+//! // Once: the engine's mesh (positions at offset 0 of a 24-byte vertex) and an instance.
+//! let mut casters = penumbra::Casters::new(device);
+//! let positions = penumbra::VertexStream::new(&vertices, 0, 24, wgpu::VertexFormat::Float32x3);
+//! let mesh = casters.add_mesh(device, queue, &penumbra::CasterMeshDesc::new("crate", positions, 36))?;
+//! let instance = casters.add_instance(device, queue, penumbra::CasterInstance::new(mesh, glam::Mat4::IDENTITY))?;
+//!
+//! let mut shadows = penumbra::Shadows::new(device, penumbra::ShadowSettings::default())?;
+//! let sun = shadows.add_light(device, penumbra::Light::Directional(penumbra::DirectionalLight {
+//!     direction: glam::Vec3::new(-0.3, -1.0, -0.2),
+//!     angular_diameter_deg: 2.0,
+//!     color: glam::Vec3::ONE,
+//!     intensity: 1.0,
+//! }))?;
+//!
+//! // Every frame, after the engine's depth prepass into `depth`:
+//! casters.set_transform(queue, instance, glam::Mat4::from_translation(glam::Vec3::Y))?;
+//! let camera = penumbra::CameraMatrices { view, projection, depth: penumbra::DepthConvention::Standard };
+//! let mut encoder = device.create_command_encoder(&Default::default());
+//! shadows.render(device, queue, &mut encoder, &casters, &penumbra::ViewInputs::new(camera, &depth))?;
+//! queue.submit([encoder.finish()]);
+//! // The lit shader reads layer `sun.layer()` of this view.
+//! let visibility: &wgpu::TextureView = shadows.visibility().expect("made by the first frame");
+//! # let _ = (sun, visibility); Ok(()) }
+//! ```
+//!
+//! `examples/engine.rs` in the repository is a whole engine written this way, and
+//! `penumbra-bevy` a plugin that does it on Bevy's own data.
+//!
+//! **A whole frame** (feature `renderer`, on by default): [`Renderer`] draws a lit frame of a
+//! [`GpuScene`] on top of [`Shadows`], with its own depth prepass and composite; the scene
+//! model ([`Scene`]) comes with loaders for OBJ and glTF 2.0 ([`load_model`]) and a RON scene
+//! format ([`SceneFile`], [`load_scene`]). It also renders the ground truth
+//! ([`Renderer::render_reference`]) and gives every intermediate texture for inspection
+//! ([`Renderer::debug_texture`], [`debug`]).
 //!
 //! ```no_run
 //! # fn main() -> penumbra::Result<()> {
@@ -32,10 +74,30 @@
 //! image.save("teapot.png").expect("writable");
 //! # Ok(()) }
 //! ```
+//!
+//! ## Methods and settings
+//!
+//! [`ShadowSettings`] chooses the method and its parameters; [`ShadowSettings::default`] is
+//! the distance-map method in physical mode, where only each light's size is set and the
+//! filter widths follow from it.
+//!
+//! * [`ShadowMethod::Ours`]: the distance-map method. A depth shadow map, a fattened shadow
+//!   map, a screen-space distance map over the camera depth, PCF whose spacing grows with the
+//!   receiver-to-occluder distance, a distance-driven separable blur and indirect-light
+//!   attenuation. Each method's chain of passes is written once ([`Chain`]).
+//! * Beside it, for comparison: the PCF + Gaussian baseline ([`ShadowMethod::Traditional`]),
+//!   PCSS, hard shadows and hardware 2x2 PCF, and the ground truth
+//!   ([`ShadowMethod::Reference`], many hard shadow maps averaged).
+//!
+//! ## Errors
+//!
+//! Every fallible call returns a [`PenumbraError`] that names the setting, file or argument at
+//! fault and why; penumbra does not panic on input a user can influence.
 
 // Without the convenience layer (feature `renderer`) some crate-private helpers it shares with
 // the core go unused.
 #![cfg_attr(not(feature = "renderer"), allow(dead_code))]
+#![warn(missing_docs)]
 
 pub mod casters;
 mod chain;
@@ -88,7 +150,7 @@ pub use loaders::load_model;
 pub use passes::VISIBILITY_FORMAT;
 #[cfg(feature = "renderer")]
 pub use renderer::{
-    DebugTexture, FrameReport, PassPlan, Renderer, render_to_image, render_to_image_with_progress,
+    FrameReport, PassPlan, Renderer, render_to_image, render_to_image_with_progress,
 };
 #[cfg(feature = "renderer")]
 pub use scene::SceneFile;

@@ -16,35 +16,24 @@ use crate::light_space::LightView;
 use crate::passes::{CompositePass, DepthPrepass, ForwardPass};
 use crate::scene::{Camera, Light};
 use crate::settings::{ShadowMethod, ShadowSettings};
-use crate::shadows::{Chain, LightId, LightTexture, Shadows, ViewInputs};
+use crate::shadows::{Chain, LightId, LightReport, LightTexture, Shadows, ViewInputs};
 use crate::view::CameraMatrices;
 
-/// Which passes a frame runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// Which passes a frame of the [`Renderer`] runs: the key light's [`Chain`] (each further
+/// light runs the same chain) and the renderer's own passes around it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PassPlan {
-    /// The method actually drawn: a method that needs a light size falls back to
-    /// [`ShadowMethod::Hard`] when the light has none.
-    pub method: ShadowMethod,
-    /// The camera depth prepass (every screen-space method).
+    /// What each light runs. [`Chain::MapOnly`] where the forward pass shades with the shadow
+    /// map (hard shadows with one light) or the reference accumulates its own maps.
+    pub chain: Chain,
+    /// The camera depth prepass (every method but the forward pass's).
     pub depth_prepass: bool,
-    pub shadow_map: bool,
-    pub fattened_map: bool,
-    /// The casters' back faces from the light (the distance-map method).
-    pub exit_map: bool,
-    /// The full-screen distance map over the prepass depth.
-    pub distance_map: bool,
-    /// PCF (variable spacing after the distance map, fixed otherwise).
-    pub pcf: bool,
-    pub pcss: bool,
     /// The reference's accumulated visibility is composited (accumulated by
-    /// [`Renderer::render_reference`]).
+    /// [`Renderer::render_reference`]); no light runs a chain.
     pub reference: bool,
-    pub blur: bool,
-    /// A resolve pass writes the visibility into the light's layer, indirect attenuation
-    /// applied (after the distance map, the blur's vertical draw does that).
-    pub resolve: bool,
+    /// The lit pass over the prepass depth that reads every light's visibility layer.
     pub composite: bool,
-    /// The one-pass lit forward pass (hard and hw2x2).
+    /// The one-pass lit forward pass (hard and hw2x2 with one light).
     pub forward: bool,
 }
 
@@ -57,80 +46,78 @@ impl PassPlan {
         if count <= 1 || !plan.forward {
             return plan;
         }
-        let chain = Chain::new(settings, light);
         PassPlan {
-            method: plan.method,
+            chain: Chain::new(settings, light),
             depth_prepass: true,
-            shadow_map: true,
-            pcf: chain.pcf(),
-            resolve: chain.resolve(),
+            reference: false,
             composite: true,
-            ..Default::default()
+            forward: false,
         }
     }
 
-    /// The passes `settings.method` needs under `light`: the method's [`Chain`] plus the
-    /// renderer's own prepass and composite, or the forward pass.
+    /// The passes `settings.method` needs under `light` with one light: the method's
+    /// [`Chain`] plus the renderer's own prepass and composite, or the forward pass.
     pub fn new(settings: &ShadowSettings, light: &Light) -> Self {
         let chain = Chain::new(settings, light);
-        let method = chain.method();
-        match method {
+        match chain.method() {
             ShadowMethod::Hard | ShadowMethod::Hardware2x2 => PassPlan {
-                method,
-                shadow_map: true,
+                chain: chain.map_only(),
+                depth_prepass: false,
+                reference: false,
+                composite: false,
                 forward: true,
-                ..Default::default()
             },
             ShadowMethod::Reference => PassPlan {
-                method,
+                chain,
                 depth_prepass: true,
                 reference: true,
                 composite: true,
-                ..Default::default()
+                forward: false,
             },
             _ => PassPlan {
-                method,
+                chain,
                 depth_prepass: true,
-                shadow_map: true,
-                fattened_map: chain.fattened_map(),
-                exit_map: chain.exit_map(),
-                distance_map: chain.distance_map(),
-                pcf: chain.pcf(),
-                pcss: chain.pcss(),
                 reference: false,
-                blur: chain.blur(),
-                resolve: chain.resolve(),
                 composite: true,
                 forward: false,
             },
         }
     }
 
+    /// The method actually drawn: a method that needs a light size falls back to
+    /// [`ShadowMethod::Hard`] when the light has none.
+    pub fn method(&self) -> ShadowMethod {
+        self.chain.method()
+    }
+
+    /// The lights' chains run (every frame but the reference's).
+    pub fn shadow_map(&self) -> bool {
+        !self.reference
+    }
+
     /// The names of the passes, in the order they run.
     pub fn names(&self) -> Vec<&'static str> {
-        [
-            (self.depth_prepass, "depth prepass"),
-            (self.shadow_map, "shadow map"),
-            (self.fattened_map, "fattened shadow map"),
-            (self.exit_map, "exit map"),
-            (self.distance_map, "distance map"),
-            (self.pcf, "pcf"),
-            (self.pcss, "pcss"),
-            (self.blur, "blur"),
-            (self.resolve, "resolve"),
-            (self.composite, "composite"),
-            (self.forward, "forward"),
-        ]
-        .into_iter()
-        .filter_map(|(on, name)| on.then_some(name))
-        .collect()
+        let mut names = Vec::new();
+        if self.depth_prepass {
+            names.push("depth prepass");
+        }
+        if self.shadow_map() {
+            names.extend(self.chain.names());
+        }
+        if self.composite {
+            names.push("composite");
+        }
+        if self.forward {
+            names.push("forward");
+        }
+        names
     }
 
     /// How many times the frame draws the scene's geometry: the light-space maps (when they
     /// are re-rendered), the prepass, the composite or the forward pass.
     pub fn geometry_passes(&self, shadow_maps_rendered: bool) -> u32 {
-        let maps = if shadow_maps_rendered {
-            self.shadow_map as u32 + self.fattened_map as u32 + self.exit_map as u32
+        let maps = if shadow_maps_rendered && self.shadow_map() {
+            self.chain.light_maps()
         } else {
             0
         };
@@ -138,44 +125,15 @@ impl PassPlan {
     }
 }
 
-/// What a frame did.
+/// What a frame of the [`Renderer`] did.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrameReport {
+    /// The passes it ran.
     pub plan: PassPlan,
-    /// False when the shadow map and fattened map were reused from an earlier frame.
-    pub shadow_maps_rendered: bool,
-    /// The spreads derived from the light (physical mode) for this frame.
-    pub spreads: DerivedSpreads,
-    pub light_view: LightView,
-}
-
-/// An intermediate texture, for debug views.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum DebugTexture {
-    /// Depth of the casters from the light.
-    ShadowMap,
-    /// Depth of the fattened casters from the light.
-    FattenedMap,
-    /// Camera depth.
-    CameraDepth,
-    /// RG16F: R = distance to the occluder (world units), G = mask.
-    DistanceMap,
-    /// Raw PCF or PCSS visibility (R16F).
-    Visibility,
-    /// Blurred visibility (R16F).
-    BlurredVisibility,
-}
-
-impl DebugTexture {
-    /// Every intermediate texture, in the order the passes make them.
-    pub const ALL: [DebugTexture; 6] = [
-        DebugTexture::ShadowMap,
-        DebugTexture::FattenedMap,
-        DebugTexture::CameraDepth,
-        DebugTexture::DistanceMap,
-        DebugTexture::Visibility,
-        DebugTexture::BlurredVisibility,
-    ];
+    /// What the key light did. For the reference, which draws its own maps, its chain is
+    /// [`Chain::MapOnly`], nothing is reported rendered, and the light's view and spreads are
+    /// those of a fit to the scene's bounds.
+    pub light: LightReport,
 }
 
 /// Owns a [`Shadows`] for the scene's lights and the passes around it. Made once per output
@@ -285,10 +243,12 @@ impl Renderer {
         &self.layouts
     }
 
+    /// The settings the renderer draws with ([`Renderer::set_settings`] changes them).
     pub fn settings(&self) -> &ShadowSettings {
         &self.settings
     }
 
+    /// The format of the targets [`Renderer::render`] draws into.
     pub fn color_format(&self) -> wgpu::TextureFormat {
         self.color_format
     }
@@ -328,6 +288,7 @@ impl Renderer {
         }
     }
 
+    /// The output size in pixels, as last given to [`Renderer::resize`].
     pub fn size(&self) -> (u32, u32) {
         self.size
     }
@@ -436,34 +397,29 @@ impl Renderer {
     }
 
     /// An intermediate texture of the last frame, if the current method has it: of the light
-    /// [`Renderer::set_debug_light`] chose (default the key light).
-    pub fn debug_texture(&self, which: DebugTexture) -> Option<&wgpu::Texture> {
-        let method = self.settings.method;
-        let id = match self.debug_light {
-            0 => self.light,
-            k => self.more.get(k - 1).copied().unwrap_or(self.light),
-        };
-        let light = |t| self.shadows.light_texture(id, t);
-        match which {
-            DebugTexture::ShadowMap => light(LightTexture::ShadowMap),
-            DebugTexture::FattenedMap => light(LightTexture::FattenedMap),
-            DebugTexture::CameraDepth => self.prepass.as_ref().map(|p| p.depth_texture()),
-            DebugTexture::DistanceMap => light(LightTexture::DistanceMap),
-            DebugTexture::Visibility => match method {
-                ShadowMethod::Reference => self.reference.as_ref().map(|p| p.visibility_texture()),
-                _ => light(LightTexture::Visibility),
-            },
-            DebugTexture::BlurredVisibility => light(LightTexture::BlurredVisibility),
+    /// [`Renderer::set_debug_light`] chose (default the key light). Under the reference,
+    /// [`LightTexture::Visibility`] is the reference's accumulated mean.
+    pub fn debug_texture(&self, which: LightTexture) -> Option<&wgpu::Texture> {
+        match (which, self.settings.method) {
+            (LightTexture::Visibility, ShadowMethod::Reference) => {
+                self.reference.as_ref().map(|p| p.visibility_texture())
+            }
+            _ => self.shadows.light_texture(self.debug_light_id(), which),
         }
     }
 
-    /// One of the shown light's textures ([`Renderer::debug_texture`]'s light).
-    pub(crate) fn light_texture(&self, which: LightTexture) -> Option<&wgpu::Texture> {
-        let id = match self.debug_light {
+    /// The camera depth of the renderer's own prepass (the depth the lights' screen-space
+    /// passes read), once a frame has run it.
+    pub fn camera_depth_texture(&self) -> Option<&wgpu::Texture> {
+        self.prepass.as_ref().map(|p| p.depth_texture())
+    }
+
+    /// The light whose maps [`Renderer::debug_texture`] gives.
+    fn debug_light_id(&self) -> LightId {
+        match self.debug_light {
             0 => self.light,
             k => self.more.get(k - 1).copied().unwrap_or(self.light),
-        };
-        self.shadows.light_texture(id, which)
+        }
     }
 
     /// The receiver mask of the renderer's own depth prepass (R8: 1 where a receiver was
@@ -480,7 +436,7 @@ impl Renderer {
         if !plan.composite {
             None
         } else if plan.reference {
-            self.debug_texture(DebugTexture::Visibility)
+            self.debug_texture(LightTexture::Visibility)
         } else {
             self.shadows.visibility_texture()
         }
@@ -493,7 +449,7 @@ impl Renderer {
 
     /// The light's view used by the last frame.
     pub fn light_view(&self) -> Option<&LightView> {
-        self.last_report.as_ref().map(|r| &r.light_view)
+        self.last_report.as_ref().map(|r| &r.light.light_view)
     }
 
     /// [`Self::allocate`], turning a device's refusal (a format it cannot render to, say) into
@@ -646,12 +602,18 @@ impl Renderer {
         self.timer = timer;
         let (shadow_maps_rendered, spreads, light_view) = result?;
         let _ = casters;
-        let report = FrameReport {
-            plan,
-            shadow_maps_rendered,
-            spreads,
-            light_view,
+        let light = match self.shadows.report(self.light).filter(|_| plan.shadow_map()) {
+            Some(report) => *report,
+            None => LightReport {
+                light: self.light,
+                chain: plan.chain,
+                shadow_maps_rendered,
+                tiles_rendered: 0,
+                spreads,
+                light_view,
+            },
         };
+        let report = FrameReport { plan, light };
         self.last_report = Some(report);
         Ok(Some(report))
     }
@@ -675,7 +637,7 @@ impl Renderer {
         // (prepass, composite, reference) is written before anything is encoded: the
         // wall-clock timer submits after every pass. Without a chain (the reference) the light
         // gets a loose fit.
-        if plan.shadow_map {
+        if plan.shadow_map() {
             let (depth, mask) = match &self.prepass {
                 Some(p) => (p.depth_texture(), Some(p.receiver_mask_texture())),
                 // The forward path reads no depth; the maps only need the camera for the fit.
@@ -688,7 +650,7 @@ impl Renderer {
             };
             self.shadows.prepare(device, queue, casters, &view)?;
         }
-        let (light_view, spreads) = match self.shadows.planned(self.light).filter(|_| plan.shadow_map) {
+        let (light_view, spreads) = match self.shadows.planned(self.light).filter(|_| plan.shadow_map()) {
             Some(planned) => planned,
             None => self.loose_fit(scene),
         };
@@ -703,7 +665,7 @@ impl Renderer {
             mark(encoder, "depth prepass");
         }
         let mut maps_rendered = false;
-        if plan.shadow_map {
+        if plan.shadow_map() {
             let reports = self.shadows.encode_marked(encoder, casters, mark)?;
             maps_rendered = reports.first().is_some_and(|r| r.shadow_maps_rendered);
         }
@@ -772,7 +734,7 @@ impl Renderer {
                     scene,
                     camera,
                     &result.2,
-                    plan.method,
+                    plan.method(),
                     &self.settings.shadow_map,
                     target,
                 );

@@ -65,7 +65,10 @@ impl LightId {
 /// What one light did in the last frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LightReport {
+    /// The light reported on.
     pub light: LightId,
+    /// The passes its frame ran (a method that needs a light size falls back to hard
+    /// shadows under a light without one).
     pub chain: Chain,
     /// False when the shadow map and fattened map were reused from an earlier frame.
     pub shadow_maps_rendered: bool,
@@ -73,14 +76,19 @@ pub struct LightReport {
     /// nearest cascade, or the first face); the others kept what an earlier frame drew. 0 when
     /// nothing was redrawn.
     pub tiles_rendered: u32,
+    /// The filter spreads the frame used (derived from the light's size in physical mode).
     pub spreads: DerivedSpreads,
+    /// The light's projection, fitted to the casters and the view, with its cascades.
     pub light_view: LightView,
 }
 
 /// An intermediate texture of one light, for debug views.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum LightTexture {
+    /// Depth of the casters from the light (an atlas of cascades or cube faces).
     ShadowMap,
+    /// Depth of the casters fattened by the penumbra's reach, at half resolution (the
+    /// distance-map method).
     FattenedMap,
     /// Depth of the casters' back faces (the distance-map method).
     ExitMap,
@@ -96,6 +104,19 @@ pub enum LightTexture {
     /// The tile classification (R8, one texel per 16 x 16 pixel screen tile): 1 where the
     /// distance map ran, 0 where no shadow can fall ([`crate::PenumbraSettings::tiles`]).
     TileClasses,
+}
+
+impl LightTexture {
+    /// Every texture of a light, in the order its passes make them.
+    pub const ALL: [LightTexture; 7] = [
+        LightTexture::ShadowMap,
+        LightTexture::FattenedMap,
+        LightTexture::ExitMap,
+        LightTexture::TileClasses,
+        LightTexture::DistanceMap,
+        LightTexture::Visibility,
+        LightTexture::BlurredVisibility,
+    ];
 }
 
 /// What decides whether a light's shadow maps can be reused.
@@ -208,6 +229,7 @@ impl Shadows {
         Ok(())
     }
 
+    /// The settings every light runs with ([`Shadows::set_settings`] changes them).
     pub fn settings(&self) -> &ShadowSettings {
         &self.settings
     }
@@ -296,6 +318,7 @@ impl Shadows {
         Ok(())
     }
 
+    /// Light `id` as last set; an error for an id that was removed or never added.
     pub fn light(&self, id: LightId) -> Result<Light> {
         self.state(id).map(|s| s.light)
     }
@@ -754,6 +777,8 @@ impl Shadows {
         )
     }
 
+    /// The texture behind [`Shadows::visibility`] (R16F, one layer per light, the view's
+    /// size), once a frame has been encoded.
     pub fn visibility_texture(&self) -> Option<&wgpu::Texture> {
         self.visibility.as_ref().map(|v| &v.0)
     }

@@ -100,7 +100,7 @@ fn the_penumbra_keeps_its_width_across_a_cascade_boundary() {
     assert_eq!(settings.shadow_map.cascades.count, 4, "four cascades by default");
     // Where the first cascade ends for this view, as the renderer planned it.
     let (_, renderer): (_, Renderer) = common::render_frame(&gpu, &scene, &camera, settings, SIZE);
-    let light_view = renderer.last_report().expect("a frame").light_view;
+    let light_view = renderer.last_report().expect("a frame").light.light_view;
     let cascades = light_view.cascades();
     assert_eq!(cascades.len(), 4, "the sun gets four cascades");
     for pair in cascades.windows(2) {

@@ -6,7 +6,7 @@ mod common;
 
 use glam::{Mat4, Vec3, Vec4};
 use penumbra::{
-    CameraMatrices, CasterInstance, CasterMeshDesc, Casters, DebugTexture, DepthConvention, DirectionalLight,
+    CameraMatrices, CasterInstance, CasterMeshDesc, Casters, DepthConvention, DirectionalLight,
     IndexStream, Light, LightTexture, MeshGeometry, PenumbraError, PointLight, ShadowMethod, ShadowSettings,
     Shadows, SpotLight, VertexStream, ViewInputs,
 };
@@ -817,14 +817,14 @@ fn winding_changes_neither_the_fattened_map_nor_the_shadows_nor_the_shading() {
         let fattened = penumbra::read_texture_f32(
             &gpu.device,
             &gpu.queue,
-            renderer.debug_texture(DebugTexture::FattenedMap).unwrap(),
+            renderer.debug_texture(LightTexture::FattenedMap).unwrap(),
         )
         .unwrap()
         .0;
         let (distance, channels) = penumbra::read_texture_f32(
             &gpu.device,
             &gpu.queue,
-            renderer.debug_texture(DebugTexture::DistanceMap).unwrap(),
+            renderer.debug_texture(LightTexture::DistanceMap).unwrap(),
         )
         .unwrap();
         let mask = distance
@@ -1157,19 +1157,19 @@ fn moving_a_gpu_scene_instance_re_renders_the_maps_and_moves_the_shadow() {
             (image, *renderer.last_report().unwrap())
         };
     let (before, first) = frame(&mut renderer, &gpu_scene, &camera);
-    assert!(first.shadow_maps_rendered);
+    assert!(first.light.shadow_maps_rendered);
     let mut moved_camera = camera;
     moved_camera.eye.x += 0.01;
     let (_, camera_move) = frame(&mut renderer, &gpu_scene, &moved_camera);
     assert!(
-        !camera_move.shadow_maps_rendered,
+        !camera_move.light.shadow_maps_rendered,
         "a camera move re-rendered the maps"
     );
     let caster = scene.instances.iter().position(|i| i.caster).unwrap();
     let transform = Mat4::from_translation(Vec3::new(0.5, 0.0, 0.0)) * scene.instances[caster].transform;
     gpu_scene.set_transform(&gpu.queue, caster, transform).unwrap();
     let (after, moved) = frame(&mut renderer, &gpu_scene, &camera);
-    assert!(moved.shadow_maps_rendered, "moving a caster kept the old maps");
+    assert!(moved.light.shadow_maps_rendered, "moving a caster kept the old maps");
     let changed = before
         .pixels()
         .zip(after.pixels())

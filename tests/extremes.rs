@@ -7,7 +7,7 @@ use glam::{Mat4, Vec3};
 use penumbra::metrics::measure_visibility;
 use penumbra::scene::primitives;
 use penumbra::{
-    Camera, CascadeSettings, CullMode, DebugTexture, DepthFormat, DirectionalLight, Light, LightFit,
+    Camera, CascadeSettings, CullMode, LightTexture, DepthFormat, DirectionalLight, Light, LightFit,
     Material, PcfKernel, PcssSettings, PenumbraSettings, Scene, ShadowMapSettings, ShadowMethod,
     ShadowSettings, SpreadMode, TraditionalSettings, load_scene,
 };
@@ -120,7 +120,7 @@ fn finite_frame(
 ) -> (image::RgbaImage, Option<Vec<f32>>) {
     let (image, renderer) = common::render_frame(gpu, scene, camera, settings, size);
     let mut visibility = None;
-    for which in DebugTexture::ALL {
+    for which in LightTexture::ALL {
         let Some(texture) = renderer.debug_texture(which) else {
             continue;
         };
@@ -131,7 +131,7 @@ fn finite_frame(
         let (values, _) = common::read_f32(gpu, texture);
         let bad = values.iter().filter(|v| !v.is_finite()).count();
         assert_eq!(bad, 0, "{what}: {bad} non-finite values in {which:?}");
-        if matches!(which, DebugTexture::Visibility | DebugTexture::BlurredVisibility) {
+        if matches!(which, LightTexture::Visibility | LightTexture::BlurredVisibility) {
             let outside = values.iter().filter(|v| !(0.0..=1.0).contains(*v)).count();
             assert_eq!(
                 outside, 0,

@@ -148,7 +148,7 @@ fn lights_are_added_and_removed_between_frames_and_metrics_measure_the_key_light
     // that is not there gives the key light's.
     let map = |renderer: &mut Renderer, light: usize| {
         renderer.set_debug_light(light);
-        let texture = renderer.debug_texture(penumbra::DebugTexture::ShadowMap).unwrap();
+        let texture = renderer.debug_texture(penumbra::LightTexture::ShadowMap).unwrap();
         common::read_f32(&gpu, texture).0
     };
     let (key_map, second_map, missing_map) = (

@@ -7,7 +7,7 @@ mod common;
 use glam::{Mat4, Vec3};
 use penumbra::metrics::{measure_visibility, visibility_error};
 use penumbra::{
-    Camera, DebugTexture, GpuScene, Light, Material, Renderer, Scene, ShadowMethod, ShadowSettings,
+    Camera, LightTexture, GpuScene, Light, Material, Renderer, Scene, ShadowMethod, ShadowSettings,
     SpotLight, load_scene, scene::primitives,
 };
 
@@ -103,7 +103,7 @@ fn reference_visibility(
     penumbra::read_texture_f32(
         &gpu.device,
         &gpu.queue,
-        renderer.debug_texture(DebugTexture::Visibility).unwrap(),
+        renderer.debug_texture(LightTexture::Visibility).unwrap(),
     )
     .unwrap()
 }

@@ -6,7 +6,7 @@ mod common;
 
 use glam::{Mat4, Quat, Vec3};
 use penumbra::{
-    Camera, DebugTexture, DirectionalLight, GpuScene, HeadlessGpu, Light, Material, Renderer, Scene,
+    Camera, LightTexture, DirectionalLight, GpuScene, HeadlessGpu, Light, Material, Renderer, Scene,
     ShadowMethod, ShadowSettings, SpreadMode, load_scene, scene::primitives,
 };
 
@@ -170,9 +170,9 @@ fn light_size_zero_is_hard_shadows() {
     for method in [ShadowMethod::Ours, ShadowMethod::OursFast, ShadowMethod::Pcss] {
         let (image, renderer) = render_frame(&gpu, &scene, &camera, settings(method), (320, 256));
         let plan = renderer.last_report().unwrap().plan;
-        assert_eq!(plan.method, ShadowMethod::Hard, "{}", method.name());
+        assert_eq!(plan.method(), ShadowMethod::Hard, "{}", method.name());
         assert!(
-            !plan.fattened_map && !plan.pcf && !plan.blur,
+            !plan.chain.fattened_map() && !plan.chain.pcf() && !plan.chain.blur(),
             "{}: {:?}",
             method.name(),
             plan.names()
@@ -204,7 +204,7 @@ fn mask_contains_every_hard_shadowed_pixel() {
                 size.1,
             );
             let (_, renderer) = render_frame(&gpu, &scene, &camera, settings(ShadowMethod::Ours), size);
-            let (distance, channels) = read(&gpu, renderer.debug_texture(DebugTexture::DistanceMap).unwrap());
+            let (distance, channels) = read(&gpu, renderer.debug_texture(LightTexture::DistanceMap).unwrap());
             let channels = channels as usize;
             let mut shadowed = 0;
             let mut outside = 0;
@@ -265,21 +265,18 @@ fn intermediates_stay_finite_at_extreme_settings() {
             l.angular_diameter_deg = degrees;
         }
         let (image, renderer) = render_frame(&gpu, &scene, &camera, s, (160, 128));
-        for which in [
-            DebugTexture::ShadowMap,
-            DebugTexture::FattenedMap,
-            DebugTexture::CameraDepth,
-            DebugTexture::DistanceMap,
-            DebugTexture::Visibility,
-            DebugTexture::BlurredVisibility,
-        ] {
-            let Some(texture) = renderer.debug_texture(which) else {
+        let textures = LightTexture::ALL
+            .into_iter()
+            .map(|which| (format!("{which:?}"), renderer.debug_texture(which)))
+            .chain([("camera depth".to_string(), renderer.camera_depth_texture())]);
+        for (which, texture) in textures {
+            let Some(texture) = texture else {
                 continue;
             };
             let (values, _) = read(&gpu, texture);
             let bad = values.iter().filter(|v| !v.is_finite()).count();
             assert_eq!(bad, 0, "{what}: {bad} non-finite values in {which:?}");
-            if matches!(which, DebugTexture::Visibility | DebugTexture::BlurredVisibility) {
+            if which == "Visibility" || which == "BlurredVisibility" {
                 assert!(
                     values.iter().all(|v| (0.0..=1.0).contains(v)),
                     "{what}: visibility outside [0, 1] in {which:?}"
@@ -322,8 +319,8 @@ fn flat_shaded_cube_fattens_into_a_closed_shape() {
         .view(0)
         .unwrap_or(Camera::look_at(Vec3::new(0.0, 5.0, 6.0), Vec3::ZERO));
     let (_, renderer) = render_frame(&gpu, &scene, &camera, s, (64, 64));
-    let (real, _) = read(&gpu, renderer.debug_texture(DebugTexture::ShadowMap).unwrap());
-    let (fat, _) = read(&gpu, renderer.debug_texture(DebugTexture::FattenedMap).unwrap());
+    let (real, _) = read(&gpu, renderer.debug_texture(LightTexture::ShadowMap).unwrap());
+    let (fat, _) = read(&gpu, renderer.debug_texture(LightTexture::FattenedMap).unwrap());
     // The fattened map has half the shadow map's resolution: a fattened texel covers 2 x 2
     // shadow-map texels.
     let side = 256usize;
@@ -391,10 +388,10 @@ fn camera_moves_reuse_the_shadow_maps() {
         penumbra::render_to_image(&gpu, renderer, scene, camera, 96, 64).unwrap();
         *renderer.last_report().unwrap()
     };
-    assert!(frame(&mut renderer, &gpu_scene, &scene.view(0).unwrap()).shadow_maps_rendered);
+    assert!(frame(&mut renderer, &gpu_scene, &scene.view(0).unwrap()).light.shadow_maps_rendered);
     let second = frame(&mut renderer, &gpu_scene, &scene.view(1).unwrap());
     assert!(
-        !second.shadow_maps_rendered,
+        !second.light.shadow_maps_rendered,
         "a camera move must not re-render the shadow maps"
     );
     assert_eq!(
@@ -412,7 +409,7 @@ fn camera_moves_reuse_the_shadow_maps() {
     );
     // Geometry is drawn twice on a camera move (prepass and composite), four times when the
     // maps are re-rendered too.
-    assert_eq!(second.plan.geometry_passes(second.shadow_maps_rendered), 2);
+    assert_eq!(second.plan.geometry_passes(second.light.shadow_maps_rendered), 2);
     assert_eq!(second.plan.geometry_passes(true), 5);
     let mut light = scene.light;
     if let Light::Directional(l) = &mut light {
@@ -420,7 +417,7 @@ fn camera_moves_reuse_the_shadow_maps() {
     }
     gpu_scene.set_light(light).unwrap();
     assert!(
-        frame(&mut renderer, &gpu_scene, &scene.view(1).unwrap()).shadow_maps_rendered,
+        frame(&mut renderer, &gpu_scene, &scene.view(1).unwrap()).light.shadow_maps_rendered,
         "a light move must"
     );
 }
@@ -444,32 +441,35 @@ fn passes_the_method_does_not_use_are_not_allocated() {
         penumbra::render_to_image(&gpu, renderer, &gpu_scene, &camera, 96, 64).unwrap();
     };
     frame(&mut renderer, ShadowMethod::Hardware2x2);
-    assert!(renderer.debug_texture(DebugTexture::ShadowMap).is_some());
+    assert!(renderer.debug_texture(LightTexture::ShadowMap).is_some());
+    assert!(renderer.camera_depth_texture().is_none(), "hw2x2 allocated a camera depth");
     for t in [
-        DebugTexture::FattenedMap,
-        DebugTexture::CameraDepth,
-        DebugTexture::DistanceMap,
-        DebugTexture::Visibility,
-        DebugTexture::BlurredVisibility,
+        LightTexture::FattenedMap,
+        LightTexture::ExitMap,
+        LightTexture::TileClasses,
+        LightTexture::DistanceMap,
+        LightTexture::Visibility,
+        LightTexture::BlurredVisibility,
     ] {
         assert!(renderer.debug_texture(t).is_none(), "hw2x2 allocated {t:?}");
     }
     frame(&mut renderer, ShadowMethod::Ours);
-    for t in DebugTexture::ALL {
+    for t in LightTexture::ALL {
         assert!(renderer.debug_texture(t).is_some(), "ours lacks {t:?}");
     }
+    assert!(renderer.camera_depth_texture().is_some(), "ours lacks the camera depth");
     frame(&mut renderer, ShadowMethod::Pcss);
-    assert!(renderer.debug_texture(DebugTexture::FattenedMap).is_none());
-    assert!(renderer.debug_texture(DebugTexture::DistanceMap).is_none());
-    assert!(renderer.debug_texture(DebugTexture::BlurredVisibility).is_none());
-    assert!(renderer.debug_texture(DebugTexture::Visibility).is_some());
+    assert!(renderer.debug_texture(LightTexture::FattenedMap).is_none());
+    assert!(renderer.debug_texture(LightTexture::DistanceMap).is_none());
+    assert!(renderer.debug_texture(LightTexture::BlurredVisibility).is_none());
+    assert!(renderer.debug_texture(LightTexture::Visibility).is_some());
 }
 
 /// Which pixels lie within 8 pixels of a jump in camera depth, where a blur can smear shadow
 /// (or light) in from another surface: the paper's ghosting.
 fn near_depth_jumps(gpu: &HeadlessGpu, scene: &Scene, camera: &Camera, (w, h): (u32, u32)) -> Vec<bool> {
     let (_, renderer) = render_frame(gpu, scene, camera, settings(ShadowMethod::Ours), (w, h));
-    let (depth, _) = read(gpu, renderer.debug_texture(DebugTexture::CameraDepth).unwrap());
+    let (depth, _) = read(gpu, renderer.camera_depth_texture().unwrap());
     let mut near = vec![false; (w * h) as usize];
     for y in 8..h - 8 {
         for x in 8..w - 8 {

@@ -620,7 +620,7 @@ fn distances_are_measured_to_the_true_occluder() {
         let (d, channels) = common::read_f32(
             &gpu,
             renderer
-                .debug_texture(penumbra::DebugTexture::DistanceMap)
+                .debug_texture(penumbra::LightTexture::DistanceMap)
                 .unwrap(),
         );
         // A quarter of the profile inside the shadow: the ray meets the plate a little further
