@@ -291,7 +291,10 @@ fn time_frames(
         config.frames,
         |s, i| s.set_light(nudged(&scene.light, i)),
     )?;
-    let mask_saved_share = if renderer.last_report().is_some_and(|r| r.plan.chain.distance_map()) {
+    let mask_saved_share = if renderer
+        .last_report()
+        .is_some_and(|r| r.plan.chain.distance_map())
+    {
         Some(penumbra::debug::mask_savings(&gpu.device, &gpu.queue, &renderer)?.share)
     } else {
         None

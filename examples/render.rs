@@ -168,7 +168,11 @@ fn main() -> Result<()> {
     if let Some(samples) = args.compare_to_reference {
         compare_to_reference(&gpu, &scene, &camera, settings, samples, &image, &args.out)?;
     }
-    if renderer.last_report().is_some_and(|r| r.plan.chain.distance_map()) && debug_view.is_none() {
+    if renderer
+        .last_report()
+        .is_some_and(|r| r.plan.chain.distance_map())
+        && debug_view.is_none()
+    {
         let saved = penumbra::debug::mask_savings(&gpu.device, &gpu.queue, &renderer)?;
         eprintln!(
             "mask: {} of {} receiver pixels ({:.1}%) took no shadow-map taps; {} taps saved",

@@ -14,6 +14,7 @@
 use glam::{Mat3, Mat4, Vec3};
 
 use crate::error::{PenumbraError, Result};
+use crate::gpu_helpers::scoped;
 use crate::layouts::{InstanceUniform, MaterialUniform, SceneLayouts};
 use crate::scene::Aabb;
 
@@ -21,12 +22,16 @@ use crate::scene::Aabb;
 /// the bytes from one vertex to the next, and its format.
 #[derive(Debug, Clone, Copy)]
 pub struct VertexStream<'a> {
+    /// The engine's buffer holding the attribute. It needs `VERTEX` usage, and `COPY_SRC` when
+    /// the mesh is read back ([`MeshGeometry::ReadBack`]); penumbra keeps a handle to it.
     pub buffer: &'a wgpu::Buffer,
     /// Byte offset of the first vertex's attribute (the attribute's offset inside an
     /// interleaved vertex included).
     pub offset: u64,
     /// Bytes between consecutive vertices (a multiple of 4).
     pub stride: u64,
+    /// The attribute's format. Which formats are accepted depends on the stream: see
+    /// [`CasterMeshDesc::positions`], [`CasterMeshDesc::normals`] and [`AlphaMask::uvs`].
     pub format: wgpu::VertexFormat,
 }
 
@@ -45,9 +50,12 @@ impl<'a> VertexStream<'a> {
 /// An engine's index buffer range.
 #[derive(Debug, Clone, Copy)]
 pub struct IndexStream<'a> {
+    /// The engine's index buffer. It needs `INDEX` usage, and `COPY_SRC` when the mesh is read
+    /// back ([`MeshGeometry::ReadBack`]); penumbra keeps a handle to it.
     pub buffer: &'a wgpu::Buffer,
-    /// Byte offset of the first index.
+    /// Byte offset of the first index (a multiple of the index size).
     pub offset: u64,
+    /// 16- or 32-bit indices.
     pub format: wgpu::IndexFormat,
     /// Number of indices (a multiple of 3: triangle lists).
     pub count: u32,
@@ -102,6 +110,8 @@ pub enum MeshGeometry<'a> {
     ReadBack,
     /// The same data the buffers hold, from the CPU: no read-back, no `COPY_SRC`.
     Cpu {
+        /// Model-space positions, one per vertex ([`CasterMeshDesc::vertex_count`] of them),
+        /// all finite.
         positions: &'a [Vec3],
         /// Shading normals, one per vertex, to orient the smoothed normals.
         normals: Option<&'a [Vec3]>,
@@ -117,6 +127,8 @@ pub struct CasterMeshDesc<'a> {
     pub label: &'a str,
     /// `Float32x3`, `Float32x4` (w ignored) or `Float16x4` (w ignored).
     pub positions: VertexStream<'a>,
+    /// Vertices in the streams. Every index must be below it; without indices it must be a
+    /// multiple of 3 (a triangle list).
     pub vertex_count: u32,
     /// `None`: a non-indexed triangle list.
     pub indices: Option<IndexStream<'a>>,
@@ -124,6 +136,9 @@ pub struct CasterMeshDesc<'a> {
     /// read back with [`MeshGeometry::ReadBack`] to orient the smoothed normals. Without them
     /// the faces are oriented so the mesh encloses a positive volume.
     pub normals: Option<VertexStream<'a>>,
+    /// Where the CPU copy of the geometry comes from (read once, for the bounds and smoothed
+    /// normals): [`MeshGeometry::ReadBack`] from [`CasterMeshDesc::new`], or the data given to
+    /// [`CasterMeshDesc::cpu`].
     pub geometry: MeshGeometry<'a>,
 }
 
@@ -141,6 +156,7 @@ impl<'a> CasterMeshDesc<'a> {
         }
     }
 
+    /// The same mesh drawn with `indices` (a triangle list) instead of as a non-indexed one.
     pub fn indices(self, indices: IndexStream<'a>) -> Self {
         Self {
             indices: Some(indices),
@@ -148,6 +164,8 @@ impl<'a> CasterMeshDesc<'a> {
         }
     }
 
+    /// The same mesh with shading normals, which orient its smoothed normals (see
+    /// [`CasterMeshDesc::normals`]).
     pub fn normals(self, normals: VertexStream<'a>) -> Self {
         Self {
             normals: Some(normals),
@@ -175,7 +193,9 @@ pub struct AlphaMask<'a> {
     pub uvs: VertexStream<'a>,
     /// A filterable float 2D texture whose alpha is tested.
     pub texture: &'a wgpu::TextureView,
+    /// Multiplies the texture's alpha before the test (a material's base-colour alpha); finite.
     pub alpha_factor: f32,
+    /// The alpha below which a texel casts no shadow (glTF's `alphaCutoff`); finite.
     pub cutoff: f32,
 }
 
@@ -190,6 +210,7 @@ pub struct InstanceId(u32);
 /// Where an instance is and what it does.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CasterInstance {
+    /// The registered mesh it places ([`Casters::add_mesh`]).
     pub mesh: MeshId,
     /// Model to world.
     pub transform: Mat4,
@@ -304,6 +325,57 @@ const CHANGE_LOG: usize = 4096;
 
 /// The shadow casters (and receivers) of a scene, drawn from the engine's buffers. Shared by
 /// every light: pass it to [`crate::Shadows::prepare`] each frame.
+///
+/// ```no_run
+/// # fn main() -> penumbra::Result<()> {
+/// use glam::{Mat4, Vec3};
+/// use penumbra::{CasterInstance, CasterMeshDesc, Casters, IndexStream, VertexStream};
+/// use wgpu::util::DeviceExt;
+///
+/// let gpu = penumbra::HeadlessGpu::new()?;
+/// let (device, queue) = (&gpu.device, &gpu.queue);
+/// // The engine's own buffers: a 2 x 2 quad, positions tightly packed (12-byte stride).
+/// let positions = [
+///     Vec3::new(-1.0, 0.0, -1.0),
+///     Vec3::new(1.0, 0.0, -1.0),
+///     Vec3::new(1.0, 0.0, 1.0),
+///     Vec3::new(-1.0, 0.0, 1.0),
+/// ];
+/// let indices: [u32; 6] = [0, 2, 1, 0, 3, 2];
+/// let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+///     label: Some("quad vertices"),
+///     contents: bytemuck::cast_slice(&positions),
+///     usage: wgpu::BufferUsages::VERTEX,
+/// });
+/// let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+///     label: Some("quad indices"),
+///     contents: bytemuck::cast_slice(&indices),
+///     usage: wgpu::BufferUsages::INDEX,
+/// });
+///
+/// let mut casters = Casters::new(device);
+/// // Registered once. The CPU copy of the same data spares a read-back (and `COPY_SRC`).
+/// let desc = CasterMeshDesc::new(
+///     "quad",
+///     VertexStream::new(&vertex_buffer, 0, 12, wgpu::VertexFormat::Float32x3),
+///     positions.len() as u32,
+/// )
+/// .indices(IndexStream::u32(&index_buffer, indices.len() as u32))
+/// .cpu(&positions, None, Some(&indices));
+/// let mesh = casters.add_mesh(device, queue, &desc)?;
+///
+/// // Placed one unit up, casting and receiving shadows.
+/// let instance = casters.add_instance(
+///     device,
+///     queue,
+///     CasterInstance::new(mesh, Mat4::from_translation(Vec3::Y)),
+/// )?;
+/// // Moved in a later frame: only this instance's data is uploaded.
+/// casters.set_transform(queue, instance, Mat4::from_translation(Vec3::new(0.0, 2.0, 0.0)))?;
+/// assert_eq!(casters.instance(instance)?.transform.w_axis.y, 2.0);
+/// assert!(casters.caster_bounds().max.y > 1.9);
+/// # Ok(()) }
+/// ```
 pub struct Casters {
     id: u64,
     layouts: SceneLayouts,
@@ -362,6 +434,22 @@ impl Casters {
     /// Registers a mesh that lives in the engine's buffers (see [`CasterMeshDesc`]). Its
     /// smoothed normals are computed here, once.
     pub fn add_mesh(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        desc: &CasterMeshDesc,
+    ) -> Result<MeshId> {
+        let (result, error) = scoped(device, || self.add_mesh_now(device, queue, desc));
+        match error {
+            Some(error) => Err(PenumbraError::gpu(
+                format!("adding caster mesh `{}`", desc.label),
+                error,
+            )),
+            None => result,
+        }
+    }
+
+    fn add_mesh_now(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
@@ -610,6 +698,20 @@ impl Casters {
     }
 
     fn insert(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        instance: CasterInstance,
+        alpha: Option<InstanceAlpha>,
+    ) -> Result<InstanceId> {
+        let (result, error) = scoped(device, || self.insert_now(device, queue, instance, alpha));
+        match error {
+            Some(error) => Err(PenumbraError::gpu("adding a caster instance", error)),
+            None => result,
+        }
+    }
+
+    fn insert_now(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,

@@ -22,3 +22,72 @@ pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'sta
         ..Default::default()
     }
 }
+
+/// Whether a wgpu device has been lost, and why: what lets a [`crate::Shadows`] or
+/// [`crate::Renderer`] report [`crate::PenumbraError::DeviceLost`] instead of drawing nothing
+/// without a word (a lost device accepts commands and does nothing with them).
+///
+/// wgpu keeps one lost callback per device, so penumbra does not install one by itself:
+/// [`DeviceLoss::watch`] installs it (replacing any the application set), and an application
+/// with a callback of its own calls [`DeviceLoss::record`] from it instead. wgpu calls the
+/// callback when it next polls the device (a submit or `Device::poll`).
+///
+/// ```no_run
+/// # fn main() -> penumbra::Result<()> {
+/// let gpu = penumbra::HeadlessGpu::new()?;
+/// let mut shadows = penumbra::Shadows::new(&gpu.device, penumbra::ShadowSettings::default())?;
+/// // With no lost callback of the application's own:
+/// shadows.watch_device_loss(penumbra::DeviceLoss::watch(&gpu.device));
+/// // ... or from the application's own callback:
+/// let loss = penumbra::DeviceLoss::default();
+/// let seen = loss.clone();
+/// gpu.device.set_device_lost_callback(move |reason, message| {
+///     seen.record(reason, &message);
+///     // the application's own handling
+/// });
+/// shadows.watch_device_loss(loss);
+/// # Ok(()) }
+/// ```
+#[derive(Debug, Clone, Default)]
+pub struct DeviceLoss(std::sync::Arc<std::sync::Mutex<Option<String>>>);
+
+impl DeviceLoss {
+    /// Installs a lost callback on `device` that records the loss here.
+    pub fn watch(device: &wgpu::Device) -> Self {
+        let loss = Self::default();
+        let seen = loss.clone();
+        device.set_device_lost_callback(move |reason, message| seen.record(reason, &message));
+        loss
+    }
+
+    /// Records that the device was lost, with wgpu's reason and message.
+    pub fn record(&self, reason: wgpu::DeviceLostReason, message: &str) {
+        let reason = match reason {
+            wgpu::DeviceLostReason::Destroyed => "destroyed",
+            wgpu::DeviceLostReason::Unknown => "unknown",
+        };
+        let text = if message.is_empty() {
+            reason.to_string()
+        } else {
+            format!("{reason}: {message}")
+        };
+        let mut lost = self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        lost.get_or_insert(text);
+    }
+
+    /// wgpu's reason and message, once the device has been lost.
+    pub fn lost(&self) -> Option<String> {
+        self.0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .clone()
+    }
+
+    /// [`crate::PenumbraError::DeviceLost`] once the device has been lost.
+    pub fn check(&self) -> crate::Result<()> {
+        match self.lost() {
+            Some(reason) => Err(crate::PenumbraError::DeviceLost { reason }),
+            None => Ok(()),
+        }
+    }
+}

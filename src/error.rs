@@ -6,23 +6,69 @@
 use std::path::PathBuf;
 
 /// Everything that can go wrong in penumbra.
+///
+/// Each variant carries what a program needs to react (the setting's name, the file's path)
+/// and its `Display` is a one-line message for a user:
+///
+/// ```
+/// use penumbra::{CameraMatrices, DepthConvention, PenumbraError, ShadowMethod, ShadowSettings};
+///
+/// // A setting out of range: `InvalidSetting`, named by its path in `ShadowSettings`.
+/// let mut settings = ShadowSettings::default();
+/// settings.shadow_map.resolution = 1000; // not a power of two
+/// match settings.validate(None) {
+///     Err(PenumbraError::InvalidSetting { name, reason }) => {
+///         assert_eq!(name, "shadow_map.resolution");
+///         assert!(reason.contains("power of two"), "{reason}");
+///     }
+///     other => panic!("expected an invalid setting, got {other:?}"),
+/// }
+///
+/// // An argument that cannot be used: `InvalidInput`, saying which one.
+/// let camera = CameraMatrices {
+///     view: glam::Mat4::IDENTITY,
+///     projection: glam::Mat4::ZERO, // not invertible
+///     depth: DepthConvention::Standard,
+/// };
+/// assert!(matches!(
+///     camera.validate(),
+///     Err(PenumbraError::InvalidInput { what, .. }) if what == "camera projection matrix"
+/// ));
+///
+/// // The message names the setting and lists the valid values.
+/// let error = ShadowMethod::from_name("vsm").unwrap_err();
+/// assert!(matches!(error, PenumbraError::InvalidSetting { name: "method", .. }));
+/// assert!(error.to_string().starts_with("invalid setting `method`: unknown method `vsm`"));
+/// ```
 #[derive(Debug, thiserror::Error)]
 pub enum PenumbraError {
     /// A file could not be read.
     #[error("cannot read {path}: {source}")]
     Io {
+        /// The file that was being read (a model, scene, texture or lightmap file).
         path: PathBuf,
+        /// The operating system's error.
         #[source]
         source: std::io::Error,
     },
 
     /// A model file (OBJ or glTF) was read but is not usable.
     #[error("cannot load model {path}: {reason}")]
-    Model { path: PathBuf, reason: String },
+    Model {
+        /// The model file.
+        path: PathBuf,
+        /// What is wrong with its content.
+        reason: String,
+    },
 
     /// A scene description file is malformed or refers to something that does not exist.
     #[error("invalid scene file {path}: {reason}")]
-    SceneFile { path: PathBuf, reason: String },
+    SceneFile {
+        /// The scene file (RON).
+        path: PathBuf,
+        /// The syntax error or the missing or invalid thing it refers to.
+        reason: String,
+    },
 
     /// A scene built in code is inconsistent (for example an instance names a missing mesh).
     #[error("invalid scene: {0}")]
@@ -30,7 +76,13 @@ pub enum PenumbraError {
 
     /// A texture image could not be decoded.
     #[error("cannot decode texture {name}: {reason}")]
-    Texture { name: String, reason: String },
+    Texture {
+        /// The texture's name: its file path, or the name it was given in the scene or model.
+        name: String,
+        /// Why it is unusable: the decoder's error, an unsupported file type or layout, or a
+        /// size beyond the device's limit.
+        reason: String,
+    },
 
     /// No graphics adapter could be found.
     #[error(
@@ -38,24 +90,61 @@ pub enum PenumbraError {
          adapter: `apt-get install mesa-vulkan-drivers libvulkan1` (Debian/Ubuntu) for Vulkan \
          (lavapipe), or set WGPU_BACKEND=gl to use Mesa's llvmpipe through OpenGL"
     )]
-    NoAdapter { detail: String },
+    NoAdapter {
+        /// wgpu's explanation of why no adapter was returned.
+        detail: String,
+    },
 
     /// The adapter refused to create a device.
     #[error("cannot create a device on adapter {adapter}: {reason}")]
-    RequestDevice { adapter: String, reason: String },
+    RequestDevice {
+        /// The adapter's name and backend, e.g. `llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan)`.
+        adapter: String,
+        /// wgpu's reason for refusing the device.
+        reason: String,
+    },
 
     /// A setting is out of its valid range.
     #[error("invalid setting `{name}`: {reason}")]
-    InvalidSetting { name: &'static str, reason: String },
+    InvalidSetting {
+        /// The setting's path, as in `shadow_map.resolution` or `penumbra.blur_taps`, or the
+        /// name of a parameter such as `method`, `quality` or `size`.
+        name: &'static str,
+        /// The value given and the range or values allowed.
+        reason: String,
+    },
 
     /// An argument given to the library does not fit what it must be: a texture of the wrong
     /// size or format, a buffer too short for its declared count, an unknown id.
     #[error("invalid {what}: {reason}")]
-    InvalidInput { what: String, reason: String },
+    InvalidInput {
+        /// The argument at fault, e.g. `depth texture`, `camera view matrix`, `light 2`, or a
+        /// caster mesh's stream named with the mesh's label.
+        what: String,
+        /// What it must be and how it falls short.
+        reason: String,
+    },
 
     /// The GPU reported an error (validation or out of memory) while doing `during`.
     #[error("GPU error while {during}: {reason}")]
-    Gpu { during: String, reason: String },
+    Gpu {
+        /// The operation that failed, e.g. `reading back a texture` or `rendering the
+        /// reference`.
+        during: String,
+        /// The error reported, in most cases wgpu's own message.
+        reason: String,
+    },
+
+    /// The wgpu device was lost (its `destroy` was called, the driver failed or was reset):
+    /// nothing more can be drawn on it. Reported by the calls of a [`crate::Shadows`] or
+    /// [`crate::Renderer`] given a [`crate::DeviceLoss`] that saw it happen; the application
+    /// makes a new device and new penumbra objects on it.
+    #[error("the GPU device was lost ({reason})")]
+    DeviceLost {
+        /// wgpu's reason (`destroyed` when the application destroyed the device, `unknown`
+        /// otherwise) and its message.
+        reason: String,
+    },
 }
 
 /// Shorthand for `Result<T, PenumbraError>`.
@@ -73,6 +162,19 @@ impl PenumbraError {
         Self::InvalidInput {
             what: what.into(),
             reason: reason.into(),
+        }
+    }
+
+    /// A wgpu error raised while penumbra did `during` ([`PenumbraError::Gpu`]).
+    pub(crate) fn gpu(during: impl Into<String>, error: wgpu::Error) -> Self {
+        let reason = match &error {
+            wgpu::Error::OutOfMemory { .. } => format!("out of GPU memory: {error}"),
+            wgpu::Error::Validation { description, .. } => format!("wgpu validation failed: {description}"),
+            wgpu::Error::Internal { description, .. } => format!("internal GPU error: {description}"),
+        };
+        Self::Gpu {
+            during: during.into(),
+            reason,
         }
     }
 

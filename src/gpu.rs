@@ -4,11 +4,47 @@ use crate::device::{device_descriptor, instance_flags};
 use crate::error::{PenumbraError, Result};
 
 /// A wgpu instance, adapter, device and queue with no window.
+///
+/// ```no_run
+/// # fn main() -> penumbra::Result<()> {
+/// use wgpu::util::DeviceExt;
+///
+/// let gpu = penumbra::HeadlessGpu::new()?;
+/// println!("running on {}", gpu.describe());
+/// // A 2 x 2 RGBA8 texture uploaded through the queue and read back.
+/// let texels: Vec<u8> = (0..16).collect();
+/// let texture = gpu.device.create_texture_with_data(
+///     &gpu.queue,
+///     &wgpu::TextureDescriptor {
+///         label: Some("example"),
+///         size: wgpu::Extent3d { width: 2, height: 2, depth_or_array_layers: 1 },
+///         mip_level_count: 1,
+///         sample_count: 1,
+///         dimension: wgpu::TextureDimension::D2,
+///         format: wgpu::TextureFormat::Rgba8Unorm,
+///         usage: wgpu::TextureUsages::COPY_SRC,
+///         view_formats: &[],
+///     },
+///     wgpu::util::TextureDataOrder::LayerMajor,
+///     &texels,
+/// );
+/// assert_eq!(penumbra::read_texture_rgba8(&gpu.device, &gpu.queue, &texture)?, texels);
+/// # Ok(()) }
+/// ```
 pub struct HeadlessGpu {
+    /// The wgpu instance, with the backends `WGPU_BACKEND` allows.
     pub instance: wgpu::Instance,
+    /// The adapter the device was made on ([`HeadlessGpu::describe`] names it).
     pub adapter: wgpu::Adapter,
+    /// The device, with the features and limits penumbra asks for
+    /// ([`crate::device_descriptor`]).
     pub device: wgpu::Device,
+    /// The device's queue.
     pub queue: wgpu::Queue,
+    /// Sees the device lost: its lost callback is installed by [`HeadlessGpu::new`]. Give it
+    /// to [`crate::Renderer::watch_device_loss`] or [`crate::Shadows::watch_device_loss`];
+    /// [`crate::render_to_image`] checks it by itself.
+    pub device_loss: crate::device::DeviceLoss,
 }
 
 impl HeadlessGpu {
@@ -38,11 +74,13 @@ impl HeadlessGpu {
                 adapter: format!("{} ({:?})", info.name, info.backend),
                 reason: e.to_string(),
             })?;
+        let device_loss = crate::device::DeviceLoss::watch(&device);
         Ok(Self {
             instance,
             adapter,
             device,
             queue,
+            device_loss,
         })
     }
 
@@ -139,9 +177,15 @@ pub fn read_texture_bytes(
         ));
     }
     let (sender, receiver) = std::sync::mpsc::channel();
-    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
-        let _ = sender.send(r);
+    // A buffer made on a lost device is invalid, and wgpu raises mapping it as an error.
+    let ((), error) = crate::gpu_helpers::scoped(device, || {
+        buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = sender.send(r);
+        })
     });
+    if let Some(error) = error {
+        return Err(gpu_error("mapping a read-back buffer", error.to_string()));
+    }
     device
         .poll(wgpu::PollType::Wait {
             submission_index: None,

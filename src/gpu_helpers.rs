@@ -3,6 +3,31 @@
 //! targets and attachments, the full-screen pipeline and the comparison sampler. A leaf: it
 //! imports nothing from the crate, so no module reaches another through it.
 
+/// Polls a future once: wgpu's error scopes resolve at once on native backends. A future that
+/// is still pending (a web backend) gives `None`.
+pub(crate) fn block_on_now<F: std::future::Future>(future: F) -> Option<F::Output> {
+    let mut future = std::pin::pin!(future);
+    let mut context = std::task::Context::from_waker(std::task::Waker::noop());
+    match future.as_mut().poll(&mut context) {
+        std::task::Poll::Ready(value) => Some(value),
+        std::task::Poll::Pending => None,
+    }
+}
+
+/// Runs `f` inside a validation and an out-of-memory error scope on `device` (this thread's
+/// calls only): what `f` returns and the first wgpu error it raised, if any. The error is then
+/// the caller's to return instead of wgpu's default handler panicking on it. Errors raised
+/// while encoding into an application's command encoder are not among them: wgpu reports
+/// those at the encoder's `finish`.
+pub(crate) fn scoped<T>(device: &wgpu::Device, f: impl FnOnce() -> T) -> (T, Option<wgpu::Error>) {
+    let memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let value = f();
+    let validation = block_on_now(validation.pop()).flatten();
+    let memory = block_on_now(memory.pop()).flatten();
+    (value, validation.or(memory))
+}
+
 /// Vertex buffer layout of one tightly packed attribute stream.
 pub(crate) const fn stream(location: u32, format: wgpu::VertexFormat) -> [wgpu::VertexAttribute; 1] {
     [wgpu::VertexAttribute {

@@ -6,6 +6,7 @@ use glam::{Mat4, Vec3, Vec4};
 use wgpu::util::DeviceExt;
 
 use crate::error::{PenumbraError, Result};
+use crate::gpu_helpers::scoped;
 use crate::layouts::{MaterialUniform, SceneLayouts, SurfaceUniform};
 use crate::scene::{
     Aabb, AlphaMode, Exposure, FilterMode, Light, LightingMode, LightmapFilter, LightmapImage, Scene,
@@ -46,11 +47,49 @@ pub struct GpuInstance {
 }
 
 /// A scene on the GPU. Made once per scene; the light can be changed with [`GpuScene::set_light`].
+///
+/// ```no_run
+/// # fn main() -> penumbra::Result<()> {
+/// use glam::{Mat4, Vec3};
+/// use penumbra::{Camera, GpuScene, Material, Mesh, Renderer, Scene, ShadowSettings};
+///
+/// // A scene built in code: a 4 x 4 floor and a 1 x 1 card one unit above it.
+/// let quad = |name: &str, half: f32| {
+///     let corners = [(-half, -half), (half, -half), (half, half), (-half, half)];
+///     let positions = corners.map(|(x, z)| Vec3::new(x, 0.0, z)).to_vec();
+///     Mesh::new(name, positions, None, None, vec![0, 2, 1, 0, 3, 2])
+/// };
+/// let mut scene = Scene::default();
+/// let floor = scene.add_mesh(quad("floor", 2.0)?);
+/// let card = scene.add_mesh(quad("card", 0.5)?);
+/// let grey = scene.add_material(Material::colored("grey", [0.8, 0.8, 0.8]));
+/// scene.add_instance(floor, grey, Mat4::IDENTITY);
+/// scene.add_instance(card, grey, Mat4::from_translation(Vec3::Y));
+///
+/// let gpu = penumbra::HeadlessGpu::new()?;
+/// let format = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// let mut renderer = Renderer::new(&gpu.device, format, ShadowSettings::default())?;
+/// // Uploaded once, with the layouts of the renderer that draws it.
+/// let mut gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene)?;
+/// assert_eq!(gpu_scene.instances.len(), 2);
+///
+/// // Moving instance 1 (the card) uploads its transform alone.
+/// gpu_scene.set_transform(&gpu.queue, 1, Mat4::from_translation(Vec3::new(0.5, 1.5, 0.0)))?;
+/// let camera = Camera::look_at(Vec3::new(0.0, 3.0, 5.0), Vec3::ZERO);
+/// let image = penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, 320, 240)?;
+/// assert_eq!(image.dimensions(), (320, 240));
+/// # Ok(()) }
+/// ```
 pub struct GpuScene {
     /// Bumped when the light changes.
     light_revision: u64,
+    /// The scene's meshes' vertex and index buffers, in the order of [`Scene::meshes`].
     pub meshes: Vec<GpuMesh>,
+    /// One bind group per material (its uniform, base colour texture and sampler), in the
+    /// order of [`Scene::materials`].
     pub materials: Vec<wgpu::BindGroup>,
+    /// The drawable instances, in the order of [`Scene::instances`] (the index that
+    /// [`GpuScene::set_transform`] takes).
     pub instances: Vec<GpuInstance>,
     /// The instances' transforms and flags, and the casters drawn from the light: the same
     /// registry an engine fills through [`crate::Casters`].
@@ -125,6 +164,19 @@ pub(crate) enum CameraStreams {
 impl GpuScene {
     /// Validates and uploads `scene`.
     pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        layouts: &SceneLayouts,
+        scene: &Scene,
+    ) -> Result<Self> {
+        let (result, error) = scoped(device, || Self::new_now(device, queue, layouts, scene));
+        match error {
+            Some(error) => Err(PenumbraError::gpu("uploading the scene", error)),
+            None => result,
+        }
+    }
+
+    fn new_now(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         layouts: &SceneLayouts,
@@ -596,6 +648,8 @@ impl GpuScene {
         Ok(())
     }
 
+    /// The key light ([`Scene::light`]): the one the reference, the error metrics and the
+    /// debug views measure.
     pub fn light(&self) -> &Light {
         &self.light
     }
@@ -712,6 +766,8 @@ impl GpuScene {
         }
     }
 
+    /// The scene's constant ambient light ([`Scene::ambient`], linear RGB), added unshadowed to
+    /// surfaces that have no lightmap in the current lighting mode; not scaled by the exposure.
     pub fn ambient(&self) -> Vec3 {
         self.ambient
     }
@@ -732,6 +788,7 @@ impl GpuScene {
         self.bounds
     }
 
+    /// World bounds of the instances that cast shadows, where they are now (moves included).
     pub fn caster_bounds(&self) -> Aabb {
         self.casters.caster_bounds()
     }

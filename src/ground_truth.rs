@@ -23,6 +23,7 @@ pub struct ReferenceProgress {
 }
 
 impl ReferenceProgress {
+    /// True once every sample the settings ask for has been averaged (`done >= total`).
     pub fn is_complete(&self) -> bool {
         self.done >= self.total
     }

@@ -22,6 +22,7 @@ pub struct SceneLayouts {
 }
 
 impl SceneLayouts {
+    /// Creates the three layouts on `device`.
     pub fn new(device: &wgpu::Device) -> Self {
         let instance = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("SceneLayouts::instance"),

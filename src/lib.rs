@@ -134,7 +134,7 @@ pub use casters::{
     AlphaMask, CasterInstance, CasterMeshDesc, Casters, IndexStream, InstanceId, MeshGeometry, MeshId,
     VertexStream,
 };
-pub use device::{device_descriptor, instance_flags};
+pub use device::{DeviceLoss, device_descriptor, instance_flags};
 pub use error::{PenumbraError, Result};
 pub use frame::DerivedSpreads;
 #[cfg(feature = "renderer")]
@@ -149,9 +149,7 @@ pub use light_space::{Cascade, LightView, MAX_CASCADES};
 pub use loaders::load_model;
 pub use passes::VISIBILITY_FORMAT;
 #[cfg(feature = "renderer")]
-pub use renderer::{
-    FrameReport, PassPlan, Renderer, render_to_image, render_to_image_with_progress,
-};
+pub use renderer::{FrameReport, PassPlan, Renderer, render_to_image, render_to_image_with_progress};
 #[cfg(feature = "renderer")]
 pub use scene::SceneFile;
 #[cfg(feature = "renderer")]

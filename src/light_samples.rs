@@ -88,14 +88,27 @@ pub fn light_sample(light: &Light, k: u32, n: u32) -> Light {
 pub enum Emitter {
     /// A sun: directions spaced evenly over the disk through which they pass, one unit along
     /// `axis` (the direction the light travels).
-    Cone { axis: Vec3 },
+    Cone {
+        /// The light's direction of travel (normalized when weighing).
+        axis: Vec3,
+    },
     /// A spot light: a one-sided Lambertian disk centred at `center`, facing `facing`.
-    Disk { center: Vec3, facing: Vec3 },
+    Disk {
+        /// The spot light's position, world units.
+        center: Vec3,
+        /// The direction the disk emits toward: the spot's direction (normalized when
+        /// weighing).
+        facing: Vec3,
+    },
     /// A point light: a sphere centred at `center`, of uniform radiance.
-    Sphere { center: Vec3 },
+    Sphere {
+        /// The point light's position, world units.
+        center: Vec3,
+    },
 }
 
 impl Emitter {
+    /// The emitter of `light`: a sun's cone, a spot's disk or a point light's sphere.
     pub fn of(light: &Light) -> Emitter {
         match *light {
             Light::Directional(_) => Emitter::Cone {

@@ -20,25 +20,39 @@ use crate::view::CameraMatrices;
 /// Whether the light's projection is orthographic or perspective.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ProjectionKind {
+    /// Parallel light: a directional light (sun).
     Orthographic,
+    /// Light from one point: a spot light, or each cube face of a point light.
     Perspective,
 }
 
 /// The light's camera for the shadow map.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LightView {
+    /// World to the light's view (right-handed, looking down -z along the light): a
+    /// directional light's eye lies two scene radii from the scene's centre toward the light,
+    /// a spot's at its position; a point light's view is its first cube face's (+x).
     pub view: Mat4,
+    /// The light's view to clip space of the whole window (depth in [0, 1], near plane at 0):
+    /// orthographic for a directional light, an off-centre perspective for a spot, a cube
+    /// face's perspective for a point light.
     pub projection: Mat4,
+    /// `projection * view`: world to the whole window's clip space. Each cascade or cube face
+    /// has its own in [`LightView::cascade_windows`].
     pub view_projection: Mat4,
+    /// Orthographic for a directional light, perspective for spot and point lights.
     pub kind: ProjectionKind,
     /// Near and far plane distances along the light direction, world units.
     pub near: f32,
+    /// Far plane distance along the light's view axis, world units (see [`LightView::near`]).
     pub far: f32,
     /// Width and height of the projection at the near plane (orthographic: everywhere), world units.
     pub extent: Vec2,
     /// The cascades' windows ([`LightView::cascades`]); one, the whole window, unless the
     /// light is directional and fitted to a perspective camera with several cascades.
     pub cascade_windows: [Cascade; MAX_TILES],
+    /// How many entries of `cascade_windows` are in use: 1 to [`MAX_CASCADES`] for a
+    /// directional light, 6 (the cube faces) for a point light, 1 for a spot light.
     pub cascade_count: u32,
     /// Tiles per side of the maps' atlas ([`atlas_grid`]).
     pub grid: u32,
@@ -263,6 +277,7 @@ impl LightView {
 /// What [`LightView::fit_with`] fits the light to.
 #[derive(Debug, Clone, Copy)]
 pub struct FitInputs<'a> {
+    /// The light to fit: its kind picks the projection, its direction and position place it.
     pub light: &'a Light,
     /// Where shadows come from: a directional map's sides enclose these (seen along the light).
     pub casters: Aabb,

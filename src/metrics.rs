@@ -22,8 +22,12 @@ pub const MIN_DIRECT: f32 = 0.02;
 /// A visibility image: per pixel visibility in [0, 1], or `None` where it is not measured.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VisibilityImage {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// `width x height` values, row by row, top row first: the visibility in [0, 1] (1 fully
+    /// lit), or `None` where the direct light is below [`MIN_DIRECT`].
     pub visibility: Vec<Option<f32>>,
 }
 
@@ -53,7 +57,10 @@ pub struct VisibilityError {
     pub penumbra_rmse: f32,
     /// Largest absolute error.
     pub max_abs: f32,
+    /// Pixels measured in both images: what `rmse` and `max_abs` are taken over.
     pub pixels: usize,
+    /// Of those, the pixels whose reference is in (0.02, 0.98): what `penumbra_rmse` is
+    /// taken over (with none, it is 0).
     pub penumbra_pixels: usize,
 }
 

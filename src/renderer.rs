@@ -140,6 +140,26 @@ pub struct FrameReport {
 /// format; [`Renderer::resize`] when the output size changes, [`Renderer::set_settings`] when
 /// settings change. Passes are allocated on the first frame that needs them and dropped when
 /// the method no longer does.
+///
+/// ```no_run
+/// # fn main() -> penumbra::Result<()> {
+/// use penumbra::{GpuScene, Renderer, ShadowMethod, ShadowSettings};
+/// let gpu = penumbra::HeadlessGpu::new()?;
+/// let scene = penumbra::load_scene(std::path::Path::new("assets/scenes/teapot.ron"))?;
+/// let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, ShadowSettings::default())?;
+/// renderer.watch_device_loss(gpu.device_loss.clone());
+/// let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene)?;
+/// let camera = scene.view(0)?;
+/// // The distance-map method, then PCSS for comparison, on the same scene.
+/// let ours = penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, 640, 480)?;
+/// let plan = renderer.last_report().expect("a frame").plan;
+/// assert!(plan.chain.distance_map());
+/// renderer.set_settings(&gpu.device, ShadowSettings { method: ShadowMethod::Pcss, ..ShadowSettings::default() })?;
+/// let pcss = penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, 640, 480)?;
+/// // Every intermediate texture of the last frame, for inspection:
+/// let raw = renderer.debug_texture(penumbra::LightTexture::Visibility);
+/// # let _ = (ours, pcss, raw); Ok(()) }
+/// ```
 pub struct Renderer {
     device: wgpu::Device,
     settings: ShadowSettings,
@@ -168,6 +188,8 @@ pub struct Renderer {
     no_depth: wgpu::Texture,
     size: (u32, u32),
     last_report: Option<FrameReport>,
+    /// Reports the device's loss ([`Renderer::watch_device_loss`]).
+    loss: Option<crate::device::DeviceLoss>,
     timer: Option<crate::timing::Timer>,
 }
 
@@ -232,6 +254,7 @@ impl Renderer {
             }),
             size: (0, 0),
             last_report: None,
+            loss: None,
             timer: None,
         };
         renderer.allocate_checked()?;
@@ -379,6 +402,21 @@ impl Renderer {
         Ok(timed)
     }
 
+    /// Has [`Renderer::render`] and the reference's calls report
+    /// [`PenumbraError::DeviceLost`] once `loss` has seen the device lost (see
+    /// [`crate::DeviceLoss`]; a [`crate::HeadlessGpu`] has one).
+    pub fn watch_device_loss(&mut self, loss: crate::device::DeviceLoss) {
+        self.shadows.watch_device_loss(loss.clone());
+        self.loss = Some(loss);
+    }
+
+    /// [`PenumbraError::DeviceLost`] where the watched device is lost.
+    fn check_device(&self) -> Result<()> {
+        self.loss
+            .as_ref()
+            .map_or(Ok(()), crate::device::DeviceLoss::check)
+    }
+
     /// What the last frame did.
     pub fn last_report(&self) -> Option<&FrameReport> {
         self.last_report.as_ref()
@@ -456,9 +494,8 @@ impl Renderer {
     /// an error that names the method instead of a panic.
     fn allocate_checked(&mut self) -> Result<()> {
         let device = self.device.clone();
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        self.allocate(&device);
-        match crate::shadows::block_on_now(scope.pop()).flatten() {
+        let ((), error) = crate::gpu_helpers::scoped(&device, || self.allocate(&device));
+        match error {
             None => Ok(()),
             Some(error) => Err(PenumbraError::Gpu {
                 during: format!("creating the passes of method `{}`", self.settings.method.name()),
@@ -569,6 +606,7 @@ impl Renderer {
         camera: &Camera,
         target: &wgpu::TextureView,
     ) -> Result<Option<FrameReport>> {
+        self.check_device()?;
         if self.size.0 == 0 || self.size.1 == 0 {
             return Ok(None);
         }
@@ -960,6 +998,25 @@ pub fn render_to_image_with_progress(
     height: u32,
     progress: impl FnMut(u32, u32),
 ) -> Result<image::RgbaImage> {
+    gpu.device_loss.check()?;
+    let result = render_to_image_now(gpu, renderer, scene, camera, (width, height), progress);
+    // A device lost meanwhile is the cause of whatever else failed (a read-back, say); wgpu
+    // tells of the loss when it polls the device.
+    if result.is_err() {
+        let _ = gpu.device.poll(wgpu::PollType::Poll);
+    }
+    gpu.device_loss.check()?;
+    result
+}
+
+fn render_to_image_now(
+    gpu: &crate::gpu::HeadlessGpu,
+    renderer: &mut Renderer,
+    scene: &GpuScene,
+    camera: &Camera,
+    (width, height): (u32, u32),
+    progress: impl FnMut(u32, u32),
+) -> Result<image::RgbaImage> {
     crate::gpu::check_target_size(&gpu.device, (width, height))?;
     let target = crate::gpu::color_target(
         &gpu.device,
@@ -972,13 +1029,22 @@ pub fn render_to_image_with_progress(
     if renderer.settings().method == ShadowMethod::Reference {
         renderer.render_reference(&gpu.device, &gpu.queue, scene, camera, &view, progress)?;
     } else {
-        let mut encoder = gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("penumbra::render_to_image"),
-            });
-        renderer.render(&gpu.queue, &mut encoder, scene, camera, &view)?;
-        gpu.queue.submit([encoder.finish()]);
+        // The encoder is this function's own, so what wgpu finds wrong in the commands
+        // (reported at `finish`) comes back as an error too.
+        let (result, error) = crate::gpu_helpers::scoped(&gpu.device, || {
+            let mut encoder = gpu
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("penumbra::render_to_image"),
+                });
+            let report = renderer.render(&gpu.queue, &mut encoder, scene, camera, &view);
+            gpu.queue.submit([encoder.finish()]);
+            report
+        });
+        if let Some(error) = error {
+            return Err(PenumbraError::gpu("rendering a frame", error));
+        }
+        result?;
     }
     let pixels = crate::gpu::read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;
     image::RgbaImage::from_raw(width, height, pixels).ok_or_else(|| PenumbraError::Gpu {

@@ -96,16 +96,24 @@ impl ShadowMethod {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Quality {
+    /// A 1024-texel shadow map, 3x3 PCF, 7 blur taps, 8 PCSS blocker and PCF samples, 64
+    /// reference samples.
     Low,
+    /// The defaults: a 2048-texel shadow map, 3x3 PCF, 11 blur taps, 16 PCSS samples, 256
+    /// reference samples.
     #[default]
     Medium,
+    /// A 2048-texel shadow map, 4x4 PCF, 15 blur taps, 24 PCSS samples, 512 reference samples.
     High,
+    /// A 4096-texel shadow map, 5x5 PCF, 21 blur taps, 32 PCSS samples, 1024 reference samples.
     Ultra,
 }
 
 impl Quality {
+    /// Every preset, from cheapest to most expensive.
     pub const ALL: [Quality; 4] = [Quality::Low, Quality::Medium, Quality::High, Quality::Ultra];
 
+    /// The name used on command lines and in files: `low`, `medium`, `high` or `ultra`.
     pub fn name(self) -> &'static str {
         match self {
             Quality::Low => "low",
@@ -115,6 +123,8 @@ impl Quality {
         }
     }
 
+    /// Parses a name given by [`Quality::name`]; any other name is a
+    /// [`PenumbraError::InvalidSetting`] for `quality` that lists the valid ones.
     pub fn from_name(name: &str) -> Result<Self> {
         Self::ALL.into_iter().find(|q| q.name() == name).ok_or_else(|| {
             PenumbraError::setting(
@@ -150,9 +160,12 @@ pub enum SpreadMode {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum PcfKernel {
+    /// 3 x 3 = 9 taps (the default).
     #[default]
     Pcf3x3,
+    /// 4 x 4 = 16 taps.
     Pcf4x4,
+    /// 5 x 5 = 25 taps.
     Pcf5x5,
 }
 
@@ -182,7 +195,10 @@ pub enum TileClassification {
     /// On where the device is a software rasterizer (its adapter a CPU), off on GPUs.
     #[default]
     Auto,
+    /// Always classify the tiles (on a GPU too), as long as
+    /// [`PenumbraSettings::mask_early_out`] is on.
     On,
+    /// Never classify: the distance map is drawn over the whole screen.
     Off,
 }
 
@@ -328,6 +344,8 @@ pub enum DepthFormat {
 }
 
 impl DepthFormat {
+    /// The wgpu format the light's depth maps are created with: `Depth16Unorm`,
+    /// `Depth24Plus` or `Depth32Float`.
     pub fn texture_format(self) -> wgpu::TextureFormat {
         match self {
             DepthFormat::Depth16 => wgpu::TextureFormat::Depth16Unorm,
@@ -352,6 +370,8 @@ pub enum CullMode {
 }
 
 impl CullMode {
+    /// The face the shadow-map pipelines cull, as wgpu's primitive state takes it (`None`:
+    /// no culling).
     pub fn face(self) -> Option<wgpu::Face> {
         match self {
             CullMode::None => None,
@@ -491,14 +511,43 @@ impl Default for ShadowMapSettings {
 
 /// All shadow settings. `Default` is the distance-map method in physical mode on a 2048^2
 /// 32-bit shadow map.
+///
+/// Start from [`ShadowSettings::default`] or a [`ShadowSettings::preset`], change fields, and
+/// check them with [`ShadowSettings::validate`] ([`crate::Shadows`] checks them too):
+///
+/// ```
+/// # fn main() -> penumbra::Result<()> {
+/// use penumbra::{PenumbraError, Quality, ShadowMethod, ShadowSettings};
+///
+/// // The PCF + Gaussian baseline at high quality: 4x4 PCF on a 2048-texel map.
+/// let mut settings = ShadowSettings::preset(ShadowMethod::Traditional, Quality::High);
+/// assert_eq!(settings.traditional.pcf_kernel.side(), 4);
+/// assert_eq!(settings.shadow_map.resolution, 2048);
+/// // Checked against a device's largest texture side (its `max_texture_dimension_2d`).
+/// settings.validate(Some(8192))?;
+///
+/// // An even blur tap count is refused, and the error names the field.
+/// settings.traditional.blur_taps = 12;
+/// match settings.validate(None) {
+///     Err(PenumbraError::InvalidSetting { name, .. }) => assert_eq!(name, "traditional.blur_taps"),
+///     other => panic!("expected an invalid setting, got {other:?}"),
+/// }
+/// # Ok(()) }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ShadowSettings {
+    /// Which method filters the shadows. Default [`ShadowMethod::Ours`].
     pub method: ShadowMethod,
+    /// The lights' shadow maps (size, format, biases, fit, cascades): used by every method.
     pub shadow_map: ShadowMapSettings,
+    /// Read by the distance-map methods ([`ShadowMethod::Ours`], [`ShadowMethod::OursFast`]).
     pub penumbra: PenumbraSettings,
+    /// Read by the PCF + Gaussian baseline ([`ShadowMethod::Traditional`]).
     pub traditional: TraditionalSettings,
+    /// Read by [`ShadowMethod::Pcss`].
     pub pcss: PcssSettings,
+    /// Read by the ground truth ([`ShadowMethod::Reference`]).
     pub reference: ReferenceSettings,
 }
 

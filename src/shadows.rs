@@ -14,8 +14,10 @@
 use crate::casters::Casters;
 pub use crate::chain::Chain;
 use crate::chain::{FRAME_SIZE, LightMaps, ScreenChain, ScreenInputs};
+use crate::device::DeviceLoss;
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, light_kind};
+use crate::gpu_helpers::scoped;
 use crate::light_space::{FitInputs, LightView, MAX_TILES};
 use crate::passes::{
     BlurInput, BlurPass, MAX_BATCHED_LIGHTS, PackedVisibility, ShadowMapPass, VISIBILITY_FORMAT,
@@ -169,6 +171,41 @@ struct Inputs {
 
 /// Soft shadows for several lights on an engine's depth buffer. See the module docs and the
 /// `docs/embedding.md` page.
+///
+/// Lights are added, changed and removed at any time; each keeps its layer of
+/// [`Shadows::visibility`] until it is removed, and a removed light's layer is given to the
+/// next light added:
+///
+/// ```no_run
+/// # fn main() -> penumbra::Result<()> {
+/// use penumbra::{Light, PointLight, Shadows, ShadowSettings, SpotLight};
+/// let gpu = penumbra::HeadlessGpu::new()?;
+/// let mut shadows = Shadows::new(&gpu.device, ShadowSettings::default())?;
+/// let lamp = Light::Point(PointLight {
+///     position: glam::Vec3::new(0.0, 2.0, 0.0),
+///     radius: 0.05,
+///     color: glam::Vec3::ONE,
+///     intensity: 100.0,
+///     range: None,
+/// });
+/// let first = shadows.add_light(&gpu.device, lamp)?;
+/// let second = shadows.add_light(&gpu.device, lamp)?;
+/// assert_eq!((first.layer(), second.layer()), (0, 1));
+/// // A spot now, where the second point light was.
+/// shadows.set_light(second, Light::Spot(SpotLight {
+///     position: glam::Vec3::new(2.0, 3.0, 0.0),
+///     direction: glam::Vec3::new(-0.5, -1.0, 0.0),
+///     cone_angle_deg: 40.0,
+///     radius: 0.1,
+///     color: glam::Vec3::ONE,
+///     intensity: 200.0,
+///     range: None,
+/// }))?;
+/// shadows.remove_light(first)?;
+/// assert_eq!(shadows.light_ids(), vec![second]);
+/// // Every frame: shadows.render(&device, &queue, &mut encoder, &casters, &view_inputs)?
+/// # Ok(()) }
+/// ```
 pub struct Shadows {
     settings: ShadowSettings,
     lights: Vec<Option<LightState>>,
@@ -194,6 +231,8 @@ pub struct Shadows {
     /// and reference paths).
     screen_space: bool,
     prepared: bool,
+    /// Reports the device's loss ([`Shadows::watch_device_loss`]).
+    loss: Option<DeviceLoss>,
 }
 
 impl Shadows {
@@ -201,7 +240,7 @@ impl Shadows {
     /// is an offline renderer, see [`crate::Renderer`]).
     pub fn new(device: &wgpu::Device, settings: ShadowSettings) -> Result<Self> {
         Self::check_settings(device, &settings)?;
-        Ok(Self {
+        let (shadows, error) = scoped(device, || Self {
             settings,
             lights: Vec::new(),
             size: (0, 0),
@@ -215,7 +254,40 @@ impl Shadows {
             screen_space: true,
             prepared: false,
             software: device.adapter_info().device_type == wgpu::DeviceType::Cpu,
-        })
+            loss: None,
+        });
+        match error {
+            Some(error) => Err(PenumbraError::gpu("creating the shadows", error)),
+            None => Ok(shadows),
+        }
+    }
+
+    /// Has every later call report [`PenumbraError::DeviceLost`] once `loss` has seen the
+    /// device lost, instead of drawing nothing without a word (a lost device takes commands
+    /// and does nothing). See [`DeviceLoss`] for how it learns of the loss.
+    pub fn watch_device_loss(&mut self, loss: DeviceLoss) {
+        self.loss = Some(loss);
+    }
+
+    /// [`PenumbraError::DeviceLost`] where the watched device is lost.
+    fn check_device(&self) -> Result<()> {
+        self.loss.as_ref().map_or(Ok(()), DeviceLoss::check)
+    }
+
+    /// Runs `f` after checking the device, inside wgpu error scopes: a wgpu error it raises is
+    /// returned as [`PenumbraError::Gpu`] naming `during`.
+    fn guarded<T>(
+        &mut self,
+        device: &wgpu::Device,
+        during: &str,
+        f: impl FnOnce(&mut Self) -> Result<T>,
+    ) -> Result<T> {
+        self.check_device()?;
+        let (result, error) = scoped(device, || f(self));
+        match error {
+            Some(error) => Err(PenumbraError::gpu(during, error)),
+            None => result,
+        }
     }
 
     fn check_settings(device: &wgpu::Device, settings: &ShadowSettings) -> Result<()> {
@@ -237,6 +309,12 @@ impl Shadows {
     /// Applies new settings to every light. Maps are recreated when their resolution, format,
     /// bias or culling change; passes a method no longer uses are dropped.
     pub fn set_settings(&mut self, device: &wgpu::Device, settings: ShadowSettings) -> Result<()> {
+        self.guarded(device, "applying new settings", |this| {
+            this.set_settings_now(device, settings)
+        })
+    }
+
+    fn set_settings_now(&mut self, device: &wgpu::Device, settings: ShadowSettings) -> Result<()> {
         Self::check_settings(device, &settings)?;
         let maps_changed = settings.shadow_map != self.settings.shadow_map;
         self.settings = settings;
@@ -278,6 +356,10 @@ impl Shadows {
     /// - `color` and `intensity` are not used: the visibility is unitless (1 lit, 0 in the
     ///   umbra), and the engine multiplies it into its own light's direct term.
     pub fn add_light(&mut self, device: &wgpu::Device, light: Light) -> Result<LightId> {
+        self.guarded(device, "adding a light", |this| this.add_light_now(device, light))
+    }
+
+    fn add_light_now(&mut self, device: &wgpu::Device, light: Light) -> Result<LightId> {
         light.validate()?;
         let slot = match self.lights.iter().position(Option::is_none) {
             Some(slot) => slot,
@@ -343,12 +425,25 @@ impl Shadows {
         view: &ViewInputs,
     ) -> Result<()> {
         self.prepared = false;
+        self.guarded(device, "preparing the shadows", |this| {
+            this.prepare_now(device, queue, casters, view)
+        })?;
+        self.prepared = true;
+        Ok(())
+    }
+
+    fn prepare_now(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        casters: &Casters,
+        view: &ViewInputs,
+    ) -> Result<()> {
         view.camera.validate()?;
         let (width, height) = check_depth(view.depth)?;
         if let Some(mask) = view.receiver_mask {
             check_mask(mask, (width, height))?;
         }
-        let device_scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let resized = self.size != (width, height);
         self.size = (width, height);
         let inputs_changed = match &self.inputs {
@@ -518,13 +613,6 @@ impl Shadows {
             }
         }
         self.plan_blurs(device, queue, resized, rebound);
-        if let Some(error) = block_on_now(device_scope.pop()).flatten() {
-            return Err(PenumbraError::Gpu {
-                during: "preparing the shadows".into(),
-                reason: error.to_string(),
-            });
-        }
-        self.prepared = true;
         Ok(())
     }
 
@@ -646,6 +734,7 @@ impl Shadows {
         casters: &Casters,
         mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str),
     ) -> Result<Vec<LightReport>> {
+        self.check_device()?;
         if !self.prepared || self.casters_id != Some(casters.id()) {
             return Err(PenumbraError::input(
                 "Shadows::encode",
@@ -1141,15 +1230,4 @@ fn visibility_array(device: &wgpu::Device, width: u32, height: u32, layers: u32)
             | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
     })
-}
-
-/// Polls a future once: wgpu's error scopes resolve at once on native backends. A future that
-/// is not ready counts as no error.
-pub(crate) fn block_on_now<F: std::future::Future>(future: F) -> Option<F::Output> {
-    let mut future = std::pin::pin!(future);
-    let mut context = std::task::Context::from_waker(std::task::Waker::noop());
-    match future.as_mut().poll(&mut context) {
-        std::task::Poll::Ready(value) => Some(value),
-        std::task::Poll::Pending => None,
-    }
 }

@@ -40,7 +40,10 @@ impl TimedFrames {
 /// One pass's GPU time.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PassTime {
+    /// The pass's name, e.g. `depth prepass` or `composite` (the names a frame report's pass
+    /// plan lists).
     pub pass: &'static str,
+    /// Time from the end of the previous pass (or the frame's start) to the end of this one.
     pub milliseconds: f64,
 }
 
@@ -99,6 +102,7 @@ pub struct WallClockTimer {
 }
 
 impl WallClockTimer {
+    /// A timer that submits to `queue` and waits on `device` (clones of both are kept).
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
         Self {
             device: device.clone(),
@@ -141,6 +145,9 @@ impl WallClockTimer {
     }
 }
 
+/// Times passes with GPU timestamps written inside the command encoder (up to 32 a frame: the
+/// frame's start and 31 passes); needs `TIMESTAMP_QUERY` and
+/// `TIMESTAMP_QUERY_INSIDE_ENCODERS`.
 pub struct GpuTimer {
     queries: wgpu::QuerySet,
     resolve: wgpu::Buffer,

@@ -31,10 +31,45 @@ impl DepthConvention {
 
 /// The camera an engine renders with: world-to-view and view-to-clip matrices (right-handed
 /// view space looking down -z; clip depth in [0, 1] as wgpu's), and its depth convention.
+///
+/// ```
+/// # fn main() -> penumbra::Result<()> {
+/// use glam::Vec3;
+/// use penumbra::{CameraMatrices, DepthConvention};
+///
+/// let eye = Vec3::new(0.0, 2.0, 5.0);
+/// let camera = CameraMatrices {
+///     view: glam::camera::rh::view::look_at_mat4(eye, Vec3::ZERO, Vec3::Y),
+///     // Depth 0 at the near plane (0.1), 1 at the far plane (100): standard depth.
+///     projection: glam::camera::rh::proj::directx::perspective(60f32.to_radians(), 16.0 / 9.0, 0.1, 100.0),
+///     depth: DepthConvention::Standard,
+/// };
+/// camera.validate()?;
+/// assert!(camera.is_perspective());
+/// assert!(camera.eye().distance(eye) < 1e-3);
+/// let (near, far) = camera.distance_range(0.0, 1000.0);
+/// assert!((near - 0.1).abs() < 1e-3 && (far - 100.0).abs() < 0.1);
+///
+/// // Reversed depth (near plane at 1) is the same camera with its planes swapped.
+/// let reversed = CameraMatrices {
+///     projection: glam::camera::rh::proj::directx::perspective(60f32.to_radians(), 16.0 / 9.0, 100.0, 0.1),
+///     depth: DepthConvention::Reversed,
+///     ..camera
+/// };
+/// assert_eq!(reversed.depth.clear_depth(), 0.0);
+/// let (near, far) = reversed.distance_range(0.0, 1000.0);
+/// assert!((near - 0.1).abs() < 1e-3 && (far - 100.0).abs() < 0.1);
+/// # Ok(()) }
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CameraMatrices {
+    /// World to view: the inverse of the camera's placement in the world. Finite and
+    /// invertible.
     pub view: Mat4,
+    /// View to clip, with clip depth in [0, 1]: any projection (perspective or orthographic,
+    /// off-centre, jittered, infinite far plane). Finite and invertible.
     pub projection: Mat4,
+    /// How `projection` maps distance to depth: what the engine's depth buffer holds.
     pub depth: DepthConvention,
 }
 
@@ -62,6 +97,7 @@ impl CameraMatrices {
         Ok(())
     }
 
+    /// World to clip: `projection * view`.
     pub fn view_projection(&self) -> Mat4 {
         self.projection * self.view
     }

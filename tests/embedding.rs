@@ -6,9 +6,9 @@ mod common;
 
 use glam::{Mat4, Vec3, Vec4};
 use penumbra::{
-    CameraMatrices, CasterInstance, CasterMeshDesc, Casters, DepthConvention, DirectionalLight,
-    IndexStream, Light, LightTexture, MeshGeometry, PenumbraError, PointLight, ShadowMethod, ShadowSettings,
-    Shadows, SpotLight, VertexStream, ViewInputs,
+    CameraMatrices, CasterInstance, CasterMeshDesc, Casters, DepthConvention, DirectionalLight, IndexStream,
+    Light, LightTexture, MeshGeometry, PenumbraError, PointLight, ShadowMethod, ShadowSettings, Shadows,
+    SpotLight, VertexStream, ViewInputs,
 };
 use wgpu::util::DeviceExt;
 
@@ -1169,7 +1169,10 @@ fn moving_a_gpu_scene_instance_re_renders_the_maps_and_moves_the_shadow() {
     let transform = Mat4::from_translation(Vec3::new(0.5, 0.0, 0.0)) * scene.instances[caster].transform;
     gpu_scene.set_transform(&gpu.queue, caster, transform).unwrap();
     let (after, moved) = frame(&mut renderer, &gpu_scene, &camera);
-    assert!(moved.light.shadow_maps_rendered, "moving a caster kept the old maps");
+    assert!(
+        moved.light.shadow_maps_rendered,
+        "moving a caster kept the old maps"
+    );
     let changed = before
         .pixels()
         .zip(after.pixels())

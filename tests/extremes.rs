@@ -7,7 +7,7 @@ use glam::{Mat4, Vec3};
 use penumbra::metrics::measure_visibility;
 use penumbra::scene::primitives;
 use penumbra::{
-    Camera, CascadeSettings, CullMode, LightTexture, DepthFormat, DirectionalLight, Light, LightFit,
+    Camera, CascadeSettings, CullMode, DepthFormat, DirectionalLight, Light, LightFit, LightTexture,
     Material, PcfKernel, PcssSettings, PenumbraSettings, Scene, ShadowMapSettings, ShadowMethod,
     ShadowSettings, SpreadMode, TraditionalSettings, load_scene,
 };

@@ -7,7 +7,7 @@ mod common;
 use glam::{Mat4, Vec3};
 use penumbra::metrics::{measure_visibility, visibility_error};
 use penumbra::{
-    Camera, LightTexture, GpuScene, Light, Material, Renderer, Scene, ShadowMethod, ShadowSettings,
+    Camera, GpuScene, Light, LightTexture, Material, Renderer, Scene, ShadowMethod, ShadowSettings,
     SpotLight, load_scene, scene::primitives,
 };
 

@@ -6,7 +6,7 @@ mod common;
 
 use glam::{Mat4, Quat, Vec3};
 use penumbra::{
-    Camera, LightTexture, DirectionalLight, GpuScene, HeadlessGpu, Light, Material, Renderer, Scene,
+    Camera, DirectionalLight, GpuScene, HeadlessGpu, Light, LightTexture, Material, Renderer, Scene,
     ShadowMethod, ShadowSettings, SpreadMode, load_scene, scene::primitives,
 };
 
@@ -388,7 +388,11 @@ fn camera_moves_reuse_the_shadow_maps() {
         penumbra::render_to_image(&gpu, renderer, scene, camera, 96, 64).unwrap();
         *renderer.last_report().unwrap()
     };
-    assert!(frame(&mut renderer, &gpu_scene, &scene.view(0).unwrap()).light.shadow_maps_rendered);
+    assert!(
+        frame(&mut renderer, &gpu_scene, &scene.view(0).unwrap())
+            .light
+            .shadow_maps_rendered
+    );
     let second = frame(&mut renderer, &gpu_scene, &scene.view(1).unwrap());
     assert!(
         !second.light.shadow_maps_rendered,
@@ -417,7 +421,9 @@ fn camera_moves_reuse_the_shadow_maps() {
     }
     gpu_scene.set_light(light).unwrap();
     assert!(
-        frame(&mut renderer, &gpu_scene, &scene.view(1).unwrap()).light.shadow_maps_rendered,
+        frame(&mut renderer, &gpu_scene, &scene.view(1).unwrap())
+            .light
+            .shadow_maps_rendered,
         "a light move must"
     );
 }
@@ -442,7 +448,10 @@ fn passes_the_method_does_not_use_are_not_allocated() {
     };
     frame(&mut renderer, ShadowMethod::Hardware2x2);
     assert!(renderer.debug_texture(LightTexture::ShadowMap).is_some());
-    assert!(renderer.camera_depth_texture().is_none(), "hw2x2 allocated a camera depth");
+    assert!(
+        renderer.camera_depth_texture().is_none(),
+        "hw2x2 allocated a camera depth"
+    );
     for t in [
         LightTexture::FattenedMap,
         LightTexture::ExitMap,
@@ -457,7 +466,10 @@ fn passes_the_method_does_not_use_are_not_allocated() {
     for t in LightTexture::ALL {
         assert!(renderer.debug_texture(t).is_some(), "ours lacks {t:?}");
     }
-    assert!(renderer.camera_depth_texture().is_some(), "ours lacks the camera depth");
+    assert!(
+        renderer.camera_depth_texture().is_some(),
+        "ours lacks the camera depth"
+    );
     frame(&mut renderer, ShadowMethod::Pcss);
     assert!(renderer.debug_texture(LightTexture::FattenedMap).is_none());
     assert!(renderer.debug_texture(LightTexture::DistanceMap).is_none());

@@ -198,7 +198,9 @@ impl Side {
         }
         self.stats.wall_ms = start.elapsed().as_secs_f32() * 1e3;
         self.stats.redraws += 1;
-        let has_mask = renderer.last_report().is_some_and(|r| r.plan.chain.distance_map());
+        let has_mask = renderer
+            .last_report()
+            .is_some_and(|r| r.plan.chain.distance_map());
         if !has_mask {
             self.stats.mask = None;
         } else if measure_mask || self.stats.mask.is_none() {

@@ -6,7 +6,9 @@ use glam::{Mat4, Vec3};
 /// and absorbs nothing when united with another box.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Aabb {
+    /// The corner with the smallest coordinate on every axis (`+inf` in [`Aabb::EMPTY`]).
     pub min: Vec3,
+    /// The corner with the largest coordinate on every axis (`-inf` in [`Aabb::EMPTY`]).
     pub max: Vec3,
 }
 
@@ -69,10 +71,13 @@ impl Aabb {
         }
     }
 
+    /// The point halfway between `min` and `max`; meaningless for an empty box (NaN for
+    /// [`Aabb::EMPTY`]).
     pub fn center(&self) -> Vec3 {
         (self.min + self.max) * 0.5
     }
 
+    /// The box's extent along each axis, `max - min`; zero for an empty box.
     pub fn size(&self) -> Vec3 {
         if self.is_empty() {
             Vec3::ZERO

@@ -10,13 +10,20 @@ use super::bounds::Aabb;
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Camera {
+    /// Where the camera is, in world coordinates.
     pub eye: Vec3,
+    /// The world point the camera looks at, which lands at the center of the image. Where it
+    /// equals `eye`, the camera looks along -Z.
     pub target: Vec3,
+    /// Which world direction shows as up in the image ([`Camera::look_at`]: +Y). It need not be
+    /// unit length or perpendicular to the view direction; parallel to it, some perpendicular
+    /// direction is used instead.
     pub up: Vec3,
     /// Vertical field of view in degrees, in (0, 180).
     pub fov_y_deg: f32,
     /// Near and far clip distances in world units, 0 < near < far.
     pub near: f32,
+    /// The far clip distance in world units (see `near`); reversed depth puts it at depth 0.
     pub far: f32,
 }
 
@@ -39,6 +46,7 @@ impl Camera {
         }
     }
 
+    /// The unit direction from `eye` toward `target` (-Z when the two coincide).
     pub fn forward(&self) -> Vec3 {
         (self.target - self.eye).normalize_or(Vec3::NEG_Z)
     }
@@ -65,6 +73,8 @@ impl Camera {
         )
     }
 
+    /// The world-to-clip matrix for a target of the given width / height: [`Camera::projection`]
+    /// times [`Camera::view`], with reversed depth.
     pub fn view_projection(&self, aspect: f32) -> Mat4 {
         self.projection(aspect) * self.view()
     }
@@ -94,12 +104,17 @@ impl Camera {
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct OrbitCamera {
+    /// The world point the camera orbits and looks at.
     pub target: Vec3,
+    /// How far the eye is from `target`, in world units, > 0 ([`OrbitCamera::zoom`] keeps it at
+    /// least 1e-6).
     pub distance: f32,
     /// Degrees about +Y; 0 looks from +Z toward -Z.
     pub yaw_deg: f32,
     /// Degrees above the horizontal plane, clamped to (-89, 89).
     pub pitch_deg: f32,
+    /// Vertical field of view in degrees, handed on to [`Camera::fov_y_deg`]
+    /// ([`OrbitCamera::framing`] picks 40).
     pub fov_y_deg: f32,
 }
 
@@ -118,6 +133,8 @@ impl OrbitCamera {
         }
     }
 
+    /// The eye's world position: `distance` away from `target` in the direction given by the yaw
+    /// and the pitch (clamped to [-89, 89] degrees).
     pub fn eye(&self) -> Vec3 {
         let (yaw, pitch) = (
             self.yaw_deg.to_radians(),

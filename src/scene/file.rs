@@ -34,28 +34,47 @@ use crate::error::{PenumbraError, Result};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum MeshSource {
     /// Newell's teapot with `tessellation` x `tessellation` quads per patch (1..=64).
-    Teapot { tessellation: u32 },
+    Teapot {
+        /// Quads along each side of a patch, in 1..=64 (outside that is an error).
+        tessellation: u32,
+    },
     /// The built-in humanoid figure, about 1.8 units tall.
     Character,
     /// A box with the given edge lengths, centered at the origin.
-    Box { size: Vec3 },
+    Box {
+        /// Edge lengths along x, y and z in world units, each > 0.
+        size: Vec3,
+    },
     /// A sphere centered at the origin.
-    Sphere { radius: f32 },
+    Sphere {
+        /// Radius in world units, > 0 (the sphere has 48 segments around and 24 rings).
+        radius: f32,
+    },
     /// A floor on y = 0 of side `size`, with UVs repeating `uv_repeat` times.
     Plane {
+        /// Side length in world units, > 0.
         size: f32,
+        /// How many times a texture repeats across the floor in each direction (default 1).
         #[serde(default = "one")]
         uv_repeat: f32,
     },
     /// An OBJ or glTF (.gltf / .glb) file, relative to the scene file. Its own materials are
     /// used unless the instance names one.
-    File { path: String },
+    File {
+        /// The file's path, relative to the scene file's directory; its extension picks the
+        /// loader.
+        path: String,
+    },
 }
 
 /// A named mesh entry.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MeshEntry {
+    /// The name that instances (`mesh`) and `lights_from` refer to; unique in the file. A
+    /// built-in mesh also takes it as its [`Mesh::name`], which lightmap rectangles match; a
+    /// model file's meshes keep their own names.
     pub name: String,
+    /// Where the mesh comes from: a built-in shape or a model file.
     pub source: MeshSource,
 }
 
@@ -63,19 +82,34 @@ pub struct MeshEntry {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum TextureSource {
     /// A generated checkerboard of `squares` x `squares` cells of two sRGB colors.
-    Checker { squares: u32, a: [u8; 4], b: [u8; 4] },
+    Checker {
+        /// Cells along each side, kept to 1..=256 (the image is at most 256 texels a side).
+        squares: u32,
+        /// The color of the top-left cell and every other one, 8-bit sRGB RGBA.
+        a: [u8; 4],
+        /// The color of the remaining cells, 8-bit sRGB RGBA.
+        b: [u8; 4],
+    },
     /// A PNG or JPEG file, relative to the scene file.
-    File { path: String },
+    File {
+        /// The image's path, relative to the scene file's directory.
+        path: String,
+    },
 }
 
 /// A named material entry.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MaterialEntry {
+    /// The name that instances give as `material`; unique in the file. It becomes
+    /// [`Material::name`].
     pub name: String,
     /// Linear RGBA.
     pub base_color: Vec4,
+    /// A base-color texture, multiplying `base_color` (UV set 0); default none.
     #[serde(default)]
     pub texture: Option<TextureSource>,
+    /// How alpha (`base_color`'s times the texture's) is used: `Opaque` (the default),
+    /// `Mask(cutoff: 0.5)` with a cutoff in [0, 1], or `Blend`; see [`AlphaMode`].
     #[serde(default)]
     pub alpha_mode: AlphaMode,
     /// Metalness in [0, 1]. With `metallic` or `roughness` given the material is shaded with
@@ -90,18 +124,26 @@ pub struct MaterialEntry {
 /// An instance entry. Rotation is in degrees about Y, then X, then Z.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct InstanceEntry {
+    /// The `name` of the entry in `meshes` to place; a model file's entry places all its parts.
     pub mesh: String,
     /// A material name; `None` keeps a file's own materials (built-in meshes get a grey one).
     #[serde(default)]
     pub material: Option<String>,
+    /// Where the mesh's origin goes, in world units (default the origin).
     #[serde(default)]
     pub translation: Vec3,
+    /// Euler angles in degrees for x, y and z (default none), combined as `Ry * Rx * Rz` (glam's
+    /// `EulerRot::YXZ`).
     #[serde(default)]
     pub rotation_deg: Vec3,
+    /// Scale along the mesh's own x, y and z axes, applied before the rotation (default
+    /// `(1.0, 1.0, 1.0)`). A zero scale is an error; a negative one mirrors.
     #[serde(default = "unit_scale")]
     pub scale: Vec3,
+    /// Whether it is drawn into the shadow maps (default `true`).
     #[serde(default = "yes")]
     pub caster: bool,
+    /// Whether it receives shadows (default `true`); `false` lights it as if nothing occluded it.
     #[serde(default = "yes")]
     pub receiver: bool,
 }
@@ -109,13 +151,20 @@ pub struct InstanceEntry {
 /// A named viewpoint. Near and far planes are fitted to the scene when left out.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ViewEntry {
+    /// The viewpoint's name ([`Viewpoint::name`]).
     pub name: String,
+    /// The camera's position in world units.
     pub eye: Vec3,
+    /// The world point the camera looks at (the center of the image).
     pub target: Vec3,
+    /// Vertical field of view in degrees, in (0, 180) (default 45).
     #[serde(default = "default_fov")]
     pub fov_y_deg: f32,
+    /// Near clip distance in world units. Default: fitted around the whole scene's bounds
+    /// ([`Camera::fit_depth_range`]). The two planes must end up with 0 < near < far.
     #[serde(default)]
     pub near: Option<f32>,
+    /// Far clip distance in world units; default fitted like `near`.
     #[serde(default)]
     pub far: Option<f32>,
 }
@@ -138,7 +187,12 @@ pub struct LightsFrom {
 pub struct LightmapRectEntry {
     /// A mesh's name: a built-in mesh entry's, or a glTF mesh's own name inside a file.
     pub mesh: String,
+    /// The rectangle's `min` corner in atlas UV units (0 to 1 across the image): in texture
+    /// space (v down, so its top-left corner), or with the atlas's `v_up` in UV space with v up
+    /// (its bottom-left corner).
     pub min: Vec2,
+    /// The rectangle's width and height in the same units. Without `v_up` a lightmap UV `uv`
+    /// lands at `min + uv * size`; a negative extent mirrors.
     pub size: Vec2,
 }
 
@@ -152,15 +206,56 @@ pub struct LightmapEntry {
     /// The rectangles are given with v up (as Bevy and OpenGL tools list them).
     #[serde(default)]
     pub v_up: bool,
+    /// The meshes this atlas lights and the rectangle each samples; a mesh may appear once per
+    /// atlas, and in one atlas per mode.
     pub meshes: Vec<LightmapRectEntry>,
 }
 
 /// A scene description as stored on disk.
+///
+/// [`load_scene`] reads and builds one from a path; [`SceneFile::parse`] and
+/// [`SceneFile::build`] do the same from text. Built-in meshes need no other file:
+///
+/// ```
+/// # fn main() -> penumbra::Result<()> {
+/// use std::path::Path;
+/// use penumbra::SceneFile;
+///
+/// let text = r#"(
+///     meshes: [
+///         (name: "ball", source: Sphere(radius: 1.0)),
+///         (name: "floor", source: Plane(size: 10.0)),
+///     ],
+///     materials: [(name: "red", base_color: (0.8, 0.1, 0.1, 1.0))],
+///     instances: [
+///         (mesh: "ball", material: Some("red"), translation: (0.0, 1.5, 0.0)),
+///         (mesh: "floor", caster: false),
+///     ],
+///     light: Directional((direction: (-0.3, -1.0, -0.2), angular_diameter_deg: 0.53)),
+///     views: [(name: "front", eye: (0.0, 3.0, 8.0), target: (0.0, 1.0, 0.0))],
+/// )"#;
+/// let file = SceneFile::parse(text, Path::new("inline.ron"))?;
+/// // Paths in the file would be relative to the first argument; this one has none.
+/// let scene = file.build(Path::new("."), Path::new("inline.ron"))?;
+///
+/// assert_eq!(scene.instances.len(), 2);
+/// assert_eq!(scene.views[0].name, "front");
+/// // The ball (radius 1, centered 1.5 up) is the only caster: it stops 0.5 above the floor.
+/// assert!((scene.caster_bounds().min.y - 0.5).abs() < 1e-4);
+/// // Fields left out take their defaults.
+/// assert_eq!(file.ambient, glam::Vec3::splat(0.12));
+/// assert_eq!(file.views[0].fov_y_deg, 45.0);
+/// # Ok(()) }
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SceneFile {
+    /// The meshes instances can place, by name (required).
     pub meshes: Vec<MeshEntry>,
+    /// The materials instances can name (default none: built-in meshes then get a grey one,
+    /// model files keep their own).
     #[serde(default)]
     pub materials: Vec<MaterialEntry>,
+    /// What the scene shows: each entry places one mesh entry (required).
     pub instances: Vec<InstanceEntry>,
     /// The one light, or the key light when `lights` lists more.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -172,8 +267,12 @@ pub struct SceneFile {
     /// The lights of a glTF mesh entry's file, placed like that mesh's first instance.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lights_from: Option<LightsFrom>,
+    /// Constant light from everywhere, linear RGB, added to every surface unshadowed and not
+    /// scaled by the exposure (default `(0.12, 0.12, 0.12)`).
     #[serde(default = "default_ambient")]
     pub ambient: Vec3,
+    /// The named viewpoints, in order ([`Scene::view`] takes them by index). Required, but may be
+    /// `[]`.
     pub views: Vec<ViewEntry>,
     /// Lightmap atlases, each for one lighting mode.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -546,6 +645,27 @@ impl SceneFile {
 }
 
 /// Loads a scene: a `.ron` scene file, or an OBJ / glTF model shown by [`Scene::showcase`].
+///
+/// The extension decides which (`.ron`, else the model loaders'). A scene file's own paths
+/// are relative to its directory. What the loaders could not represent is listed in
+/// [`Scene::warnings`].
+///
+/// ```no_run
+/// # fn main() -> penumbra::Result<()> {
+/// use std::path::Path;
+///
+/// let scene = penumbra::load_scene(Path::new("assets/scenes/teapot.ron"))?;
+/// for warning in &scene.warnings {
+///     eprintln!("warning: {warning}");
+/// }
+/// let camera = scene.view(0)?;
+/// println!("{} instances, first view from {}", scene.instances.len(), camera.eye);
+///
+/// // A model file gets a floor, three orbiting views and a light (its own, if it has any).
+/// let showcase = penumbra::load_scene(Path::new("model.glb"))?;
+/// assert_eq!(showcase.views.len(), 3);
+/// # Ok(()) }
+/// ```
 pub fn load_scene(path: &Path) -> Result<Scene> {
     let ext = path
         .extension()

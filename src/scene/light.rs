@@ -14,8 +14,12 @@ pub const MAX_LIGHTS: usize = 8;
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Light {
+    /// A light infinitely far away with a disk of some angular size, like the sun; its shadows
+    /// come from orthographic maps (cascaded, see [`crate::CascadeSettings`]).
     Directional(DirectionalLight),
+    /// A disk-shaped light shining into a cone; its shadows come from one perspective map.
     Spot(SpotLight),
+    /// A spherical light shining every way; its shadows come from a cube of six maps.
     Point(PointLight),
 }
 
@@ -42,6 +46,7 @@ pub struct DirectionalLight {
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SpotLight {
+    /// The center of the emitting disk (the cone's apex), in world coordinates.
     pub position: Vec3,
     /// The cone's axis; need not be unit length.
     pub direction: Vec3,
@@ -50,6 +55,7 @@ pub struct SpotLight {
     /// Radius of the emitting disk in world units, >= 0. 0 is a point source (hard shadows).
     #[cfg_attr(feature = "serde", serde(default))]
     pub radius: f32,
+    /// Linear RGB color, multiplying `intensity` (white when a scene file leaves it out).
     #[cfg_attr(feature = "serde", serde(default = "white"))]
     pub color: Vec3,
     /// Luminous intensity in candela along the axis (glTF's unit): a surface facing the light
@@ -67,10 +73,12 @@ pub struct SpotLight {
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PointLight {
+    /// The center of the emitting sphere, in world coordinates.
     pub position: Vec3,
     /// Radius of the emitting sphere in world units, >= 0. 0 is a point source (hard shadows).
     #[cfg_attr(feature = "serde", serde(default))]
     pub radius: f32,
+    /// Linear RGB color, multiplying `intensity` (white when a scene file leaves it out).
     #[cfg_attr(feature = "serde", serde(default = "white"))]
     pub color: Vec3,
     /// Luminous intensity in candela (glTF's unit): a surface facing the light at distance
@@ -304,13 +312,18 @@ impl Light {
 /// The kind of light a model file names.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ModelLightKind {
+    /// glTF's `directional`: a sun, given [`ModelLightSizes::sun_diameter_deg`] as its size.
     Directional,
     /// A cone: the angles between its axis and the outer edge and where the falloff starts.
     Spot {
+        /// glTF's `outerConeAngle`, in degrees: it becomes [`SpotLight::cone_angle_deg`], kept to
+        /// [0.1, 89].
         outer_cone_deg: f32,
+        /// glTF's `innerConeAngle`, in degrees. Not used: penumbra starts a spot's falloff at 0.85
+        /// of its outer angle.
         inner_cone_deg: f32,
     },
-    /// A light shining in every direction (not shadowed by penumbra yet).
+    /// glTF's `point`: a light shining in every direction, which becomes a [`PointLight`].
     Point,
 }
 
@@ -318,12 +331,16 @@ pub enum ModelLightKind {
 /// in physical units, without a size. [`lights_from_model`] makes penumbra lights of them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModelLight {
+    /// The light's name in the file, empty when it has none; warnings name the light by it.
     pub name: String,
+    /// Directional, spot (with its cone angles) or point.
     pub kind: ModelLightKind,
     /// Linear RGB.
     pub color: Vec3,
     /// Lux (directional) or candela (spot, point).
     pub intensity: f32,
+    /// Where its node puts it, in the model's space (its node's origin; unused for a directional
+    /// light).
     pub position: Vec3,
     /// The direction it shines (its node's -Z).
     pub direction: Vec3,

@@ -21,8 +21,11 @@ use crate::error::{PenumbraError, Result};
 /// Linear RGB radiance, row-major, top row first.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LightmapImage {
+    /// A label for messages: the file's path when it was read from one.
     pub name: String,
+    /// Width of the full-size level (level 0), in texels.
     pub width: u32,
+    /// Height of the full-size level (level 0), in texels.
     pub height: u32,
     /// `width * height` texels.
     pub rgb: Vec<[f32; 3]>,
@@ -52,8 +55,12 @@ pub enum LightingMode {
 }
 
 impl LightingMode {
+    /// The three modes in the order `Dynamic`, `Mixed`, `Baked`, for listing them or looking one
+    /// up by [`LightingMode::name`].
     pub const ALL: [LightingMode; 3] = [LightingMode::Dynamic, LightingMode::Mixed, LightingMode::Baked];
 
+    /// The mode's lower-case name, `dynamic`, `mixed` or `baked` (as messages print it and the
+    /// demo's `--lighting` option takes it).
     pub fn name(self) -> &'static str {
         match self {
             LightingMode::Dynamic => "dynamic",
@@ -83,7 +90,11 @@ pub enum LightmapFilter {
 pub struct LightmapRect {
     /// The mesh's name ([`crate::Mesh::name`]; for a glTF file, the glTF mesh's name).
     pub mesh: String,
+    /// Where the mesh's lightmap UV (0, 0) lands in the atlas, in texture space (0 to 1 across
+    /// the image, v down).
     pub min: Vec2,
+    /// Where the mesh's lightmap UV (1, 1) lands; below `min` on an axis, the mesh's lightmap is
+    /// mirrored along it.
     pub max: Vec2,
 }
 
@@ -103,8 +114,13 @@ impl LightmapRect {
 /// One lightmap atlas of a scene: the mode it was baked for and the meshes that use it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Lightmaps {
+    /// The lighting mode the atlas was baked for, [`LightingMode::Mixed`] or
+    /// [`LightingMode::Baked`] ([`crate::Scene::validate_lightmaps`] rejects `Dynamic`): it is
+    /// read while the scene is lit in that mode.
     pub mode: LightingMode,
+    /// The baked light: linear RGB radiance, with the smaller levels the file had.
     pub image: LightmapImage,
+    /// Which meshes (by name) sample the atlas and where; a mesh is listed at most once.
     pub rects: Vec<LightmapRect>,
 }
 

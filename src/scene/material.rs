@@ -11,7 +11,10 @@ pub enum AlphaMode {
     Opaque,
     /// Fragments whose alpha (texture x factor) is below `cutoff` are discarded, in the lit pass
     /// and in the shadow map (glTF's `MASK`). `cutoff` is in [0, 1]; glTF's default is 0.5.
-    Mask { cutoff: f32 },
+    Mask {
+        /// The alpha threshold, in [0, 1]: fragments with less alpha are discarded.
+        cutoff: f32,
+    },
     /// Blended over what lies behind (glTF's `BLEND`): drawn after the opaque surfaces, back to
     /// front, without writing depth. It casts shadows where its alpha is at least 0.5 (as
     /// `Mask { cutoff: 0.5 }` in the shadow map), and receives none from the screen-space
@@ -35,9 +38,13 @@ impl AlphaMode {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum WrapMode {
+    /// Coordinates wrap around, so the texture tiles (glTF `REPEAT`; the default).
     #[default]
     Repeat,
+    /// The texture tiles with every other copy mirrored (glTF `MIRRORED_REPEAT`).
     MirroredRepeat,
+    /// Coordinates are clamped to [0, 1], so the edge texels stretch outward (glTF
+    /// `CLAMP_TO_EDGE`).
     ClampToEdge,
 }
 
@@ -45,7 +52,9 @@ pub enum WrapMode {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum FilterMode {
+    /// The nearest texel (or mip level): blocky when magnified.
     Nearest,
+    /// Linear interpolation between neighboring texels (or mip levels); the default.
     #[default]
     Linear,
 }
@@ -54,7 +63,9 @@ pub enum FilterMode {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct TextureSampler {
+    /// How u, the texture's horizontal coordinate, wraps (glTF `wrapS`).
     pub wrap_u: WrapMode,
+    /// How v, the texture's vertical coordinate, wraps (glTF `wrapT`).
     pub wrap_v: WrapMode,
     /// Magnification.
     pub mag_filter: FilterMode,
@@ -91,18 +102,58 @@ pub enum Shading {
     /// Schlick Fresnel from 4% for dielectrics to the base colour for metals), with
     /// `roughness` squared as the lobe's alpha. Both factors in [0, 1], multiplied by
     /// [`Material::metallic_roughness_texture`] where there is one.
-    MetallicRoughness { metallic: f32, roughness: f32 },
+    MetallicRoughness {
+        /// Metalness in [0, 1]: 0 a dielectric, 1 a metal (glTF `metallicFactor`).
+        metallic: f32,
+        /// Perceptual roughness in [0, 1]: 0 mirror-like, 1 fully rough (glTF
+        /// `roughnessFactor`).
+        roughness: f32,
+    },
 }
 
 /// A material: base color factor times an optional base color texture, its shading model, and
 /// its optional metallic-roughness, normal, ambient-occlusion and emissive textures.
+///
+/// Texture fields are indices into the scene's [`crate::Scene::textures`]:
+///
+/// ```
+/// use glam::Vec4;
+/// use penumbra::{AlphaMode, Material, Scene, Shading, TextureImage};
+///
+/// // Opaque, untextured and Lambertian, of a linear color.
+/// let clay = Material::colored("clay", [0.7, 0.4, 0.3]);
+/// assert_eq!(clay.base_color, Vec4::new(0.7, 0.4, 0.3, 1.0));
+/// assert_eq!(clay.shading, Shading::Lambert);
+///
+/// // A checkered metal grille whose dark squares are cut out (they cast no shadow either);
+/// // the fields not named keep their defaults.
+/// let mut scene = Scene::default();
+/// scene.textures.push(TextureImage::checker("holes", 8, [255; 4], [0, 0, 0, 0]));
+/// let holes = scene.textures.len() - 1;
+/// let grille = Material {
+///     name: "grille".into(),
+///     base_color: Vec4::new(0.9, 0.9, 0.92, 1.0),
+///     base_color_texture: Some(holes),
+///     alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
+///     shading: Shading::MetallicRoughness { metallic: 1.0, roughness: 0.35 },
+///     ..Material::default()
+/// };
+/// assert!(grille.is_masked());
+/// assert_eq!(grille.alpha_mode.shadow_cutoff(), Some(0.5));
+/// scene.add_material(grille);
+/// assert_eq!(scene.textures[holes].width, 256);
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
+    /// A name for messages: a scene file's material entry name, or the model file's own (a glTF
+    /// material without one is called `material`).
     pub name: String,
     /// Linear RGBA multiplier.
     pub base_color: Vec4,
     /// Index into [`crate::Scene::textures`].
     pub base_color_texture: Option<usize>,
+    /// How the alpha of `base_color` times the base-color texture's is used: opaque, cut out or
+    /// blended. It also decides what casts a shadow ([`AlphaMode::shadow_cutoff`]).
     pub alpha_mode: AlphaMode,
     /// Ambient occlusion (glTF `occlusionTexture`: its red channel, linear), index into
     /// [`crate::Scene::textures`]. It darkens the indirect light (the ambient term, or the
@@ -135,6 +186,8 @@ pub struct Material {
     pub normal_texture: Option<usize>,
     /// glTF's normal `scale`: multiplies the map's x and y.
     pub normal_scale: f32,
+    /// How all of the material's textures are sampled (glTF files: the base-color texture's
+    /// sampler, else the occlusion texture's; by default repeating, linear and mipmapped).
     pub sampler: TextureSampler,
 }
 
@@ -179,9 +232,15 @@ impl Material {
 /// An 8-bit sRGB RGBA image, row-major, top row first.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TextureImage {
+    /// A label for messages and the GPU texture (for an image read from a file, its path).
     pub name: String,
+    /// Width in texels, > 0.
     pub width: u32,
+    /// Height in texels, > 0.
     pub height: u32,
+    /// The texels, `width * height * 4` bytes (R, G, B, A per texel), rows top to bottom. Read as
+    /// sRGB where the image colors a surface (base color, emissive), as linear data where it is
+    /// an occlusion, metallic-roughness or normal map.
     pub rgba8: Vec<u8>,
 }
 
@@ -202,6 +261,8 @@ impl TextureImage {
         ))
     }
 
+    /// An image from raw bytes laid out as [`TextureImage::rgba8`]. Nothing is checked here:
+    /// [`crate::Scene::validate`] rejects a size that does not match the bytes.
     pub fn from_rgba8(name: impl Into<String>, width: u32, height: u32, rgba8: Vec<u8>) -> Self {
         Self {
             name: name.into(),

@@ -12,12 +12,46 @@ use crate::error::{PenumbraError, Result};
 /// Invariants established by [`Mesh::new`]: all four attribute arrays have one entry per
 /// vertex, every index is in range, the index count is a multiple of three, positions are
 /// finite, and `normals` / `smoothed_normals` are unit length.
+///
+/// ```
+/// # fn main() -> penumbra::Result<()> {
+/// use glam::{Vec2, Vec3};
+/// use penumbra::Mesh;
+///
+/// // A unit square on y = 0, counter-clockwise seen from above, with a UV per corner.
+/// let positions = vec![
+///     Vec3::ZERO,
+///     Vec3::X,
+///     Vec3::new(1.0, 0.0, -1.0),
+///     Vec3::NEG_Z,
+/// ];
+/// let uvs = vec![Vec2::new(0.0, 1.0), Vec2::ONE, Vec2::X, Vec2::ZERO];
+/// // No normals given: they are computed from the triangles.
+/// let tile = Mesh::new("tile", positions, None, Some(uvs.clone()), vec![0, 1, 2, 0, 2, 3])?
+///     // The same UVs serve as its lightmap UVs (the second set).
+///     .with_lightmap_uvs(uvs)?;
+///
+/// assert_eq!((tile.vertex_count(), tile.triangle_count()), (4, 2));
+/// assert!(tile.normals.iter().all(|n| (*n - Vec3::Y).length() < 1e-6));
+/// assert_eq!(tile.bounds.min, Vec3::new(0.0, 0.0, -1.0));
+/// assert_eq!(tile.bounds.max, Vec3::X);
+///
+/// // Bad input is an error, not a panic: index 3 does not exist in a 3-vertex mesh.
+/// assert!(Mesh::new("broken", vec![Vec3::ZERO; 3], None, None, vec![0, 1, 3]).is_err());
+/// # Ok(()) }
+/// ```
 #[derive(Debug, Clone)]
 pub struct Mesh {
+    /// A name for messages, and what lightmap rectangles ([`crate::LightmapRect::mesh`]) match:
+    /// a glTF mesh's or OBJ object's name, or a scene file's mesh entry name for a built-in.
     pub name: String,
+    /// Vertex positions in the mesh's own model space, finite.
     pub positions: Vec<Vec3>,
     /// Shading normals, one per vertex (may differ between vertices at one position: hard edges).
     pub normals: Vec<Vec3>,
+    /// The first UV set (glTF `TEXCOORD_0`), which material textures are read with: one per
+    /// vertex, in texture space (v down, as glTF; the OBJ loader flips its v). Zero where the
+    /// input had none.
     pub uvs: Vec<Vec2>,
     /// The second UV set (glTF `TEXCOORD_1`), which lightmaps are sampled with: one per vertex,
     /// or empty when the mesh has none (see [`Mesh::with_lightmap_uvs`]).
@@ -33,7 +67,12 @@ pub struct Mesh {
     /// [`Mesh::WELD_TOLERANCE`]) have the same smoothed normal, so displacing along it never
     /// tears the mesh open at hard edges.
     pub smoothed_normals: Vec<Vec3>,
+    /// A triangle list: three indices into the vertex arrays per triangle. Counter-clockwise is
+    /// the front (wgpu's default), which matters where the shadow pass culls faces
+    /// ([`crate::ShadowMapSettings::cull_mode`]).
     pub indices: Vec<u32>,
+    /// The box around `positions` in model space, computed by [`Mesh::new`] (editing
+    /// `positions` afterwards does not update it).
     pub bounds: Aabb,
 }
 
@@ -168,6 +207,7 @@ impl Mesh {
         Ok(self)
     }
 
+    /// The number of vertices: entries in each per-vertex array.
     pub fn vertex_count(&self) -> usize {
         self.positions.len()
     }
@@ -232,6 +272,7 @@ impl Mesh {
         Ok(())
     }
 
+    /// The number of triangles, `indices.len() / 3`.
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }

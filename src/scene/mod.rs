@@ -51,7 +51,10 @@ pub struct Instance {
 /// A named camera position.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Viewpoint {
+    /// The viewpoint's name, for menus and messages (a scene file's view `name`); names are not
+    /// checked for uniqueness.
     pub name: String,
+    /// The camera this viewpoint looks through ([`Scene::view`] returns it by index).
     pub camera: Camera,
 }
 
@@ -59,9 +62,17 @@ pub struct Viewpoint {
 /// Indices in `parts` refer to this model's own lists.
 #[derive(Debug, Clone, Default)]
 pub struct Model {
+    /// The file's meshes (one per glTF primitive, or per OBJ object or group), in their own
+    /// coordinates; [`Model::parts`] place them.
     pub meshes: Vec<Mesh>,
+    /// The file's materials, indexed by the parts' [`Instance::material`]; their texture fields
+    /// index [`Model::textures`].
     pub materials: Vec<Material>,
+    /// The file's decoded images, indexed by the materials' texture fields.
     pub textures: Vec<TextureImage>,
+    /// Where the meshes stand: each part names one of this model's meshes and materials, and its
+    /// transform takes the mesh into the model's frame (a glTF node's global transform, or the
+    /// identity for a skinned mesh, which comes already posed).
     pub parts: Vec<Instance>,
     /// The file's own lights (glTF `KHR_lights_punctual`), in the model's space, in the order
     /// of their nodes.
@@ -94,11 +105,73 @@ pub(crate) fn check_light_count(count: usize) -> Result<()> {
 }
 
 /// Everything needed to render a frame.
+///
+/// A scene can come from a file ([`crate::load_scene`]) or be put together in code:
+///
+/// ```
+/// # fn main() -> penumbra::Result<()> {
+/// use glam::{Mat4, Vec3};
+/// use penumbra::{Camera, DirectionalLight, Light, Material, Mesh, Scene, Viewpoint};
+///
+/// // A unit square on y = 0 facing +Y (counter-clockwise seen from above); normals computed.
+/// let square = Mesh::new(
+///     "square",
+///     vec![
+///         Vec3::new(-0.5, 0.0, 0.5),
+///         Vec3::new(0.5, 0.0, 0.5),
+///         Vec3::new(0.5, 0.0, -0.5),
+///         Vec3::new(-0.5, 0.0, -0.5),
+///     ],
+///     None,
+///     None,
+///     vec![0, 1, 2, 0, 2, 3],
+/// )?;
+///
+/// let mut scene = Scene::default();
+/// let mesh = scene.add_mesh(square);
+/// let grey = scene.add_material(Material::colored("grey", [0.8, 0.8, 0.8]));
+/// let red = scene.add_material(Material::colored("red", [0.8, 0.1, 0.1]));
+/// // A 10 x 10 floor that receives shadows but casts none...
+/// scene
+///     .add_instance(mesh, grey, Mat4::from_scale(Vec3::new(10.0, 1.0, 10.0)))
+///     .caster = false;
+/// // ...and a card one unit above it that casts onto it.
+/// scene.add_instance(mesh, red, Mat4::from_translation(Vec3::Y));
+///
+/// // A sun a little wider than the real one (softer shadows), from above and to the side.
+/// scene.light = Light::Directional(DirectionalLight {
+///     direction: Vec3::new(-0.3, -1.0, -0.2),
+///     angular_diameter_deg: 1.0,
+///     color: Vec3::ONE,
+///     intensity: 1.0,
+/// });
+/// scene.views.push(Viewpoint {
+///     name: "front".into(),
+///     camera: Camera::look_at(Vec3::new(0.0, 4.0, 8.0), Vec3::ZERO),
+/// });
+///
+/// scene.validate()?;
+/// assert_eq!(scene.instances.len(), 2);
+/// assert_eq!(scene.lights().count(), 1);
+/// // The card is the only caster; the floor sets the scene's extent.
+/// assert_eq!(scene.caster_bounds().min.y, 1.0);
+/// assert_eq!(scene.bounds().size().x, 10.0);
+/// assert_eq!(scene.view(0)?.eye, Vec3::new(0.0, 4.0, 8.0));
+/// # Ok(()) }
+/// ```
 #[derive(Debug, Clone)]
 pub struct Scene {
+    /// The meshes, each in its own model space; [`Instance::mesh`] indexes this list
+    /// ([`Scene::add_mesh`] appends to it).
     pub meshes: Vec<Mesh>,
+    /// The materials; [`Instance::material`] indexes this list ([`Scene::add_material`] appends
+    /// to it).
     pub materials: Vec<Material>,
+    /// The images that the materials' texture fields ([`Material::base_color_texture`] and the
+    /// others) index.
     pub textures: Vec<TextureImage>,
+    /// What the scene shows: each instance places one mesh with one material in the world and
+    /// says whether it casts and receives shadows.
     pub instances: Vec<Instance>,
     /// The key light: the one the reference, the error metrics and the debug views measure.
     pub light: Light,
@@ -107,6 +180,8 @@ pub struct Scene {
     pub more_lights: Vec<Light>,
     /// Constant light from everywhere (linear RGB), added to every surface unshadowed.
     pub ambient: Vec3,
+    /// Named cameras, in order (a scene file's `views`); [`Scene::view`] takes one by index.
+    /// May be empty.
     pub views: Vec<Viewpoint>,
     /// What the loaders could not represent (from [`Model::warnings`]), for the user to see.
     pub warnings: Vec<String>,
@@ -235,7 +310,6 @@ impl Scene {
         self.bounds_where(|i| i.receiver)
     }
 
-    /// Checks that every index is in range and every transform and setting is valid.
     /// The atlas and rectangle instance `k` samples in `mode`, if any.
     pub fn lightmap_of(&self, k: usize, mode: LightingMode) -> Option<(usize, &LightmapRect)> {
         let mesh = &self.meshes.get(self.instances.get(k)?.mesh)?.name;
@@ -331,6 +405,11 @@ impl Scene {
         Ok(())
     }
 
+    /// Checks that every index is in range and every transform and setting is valid: the
+    /// instances' mesh and material indices and transforms, the materials' texture indices and
+    /// factors, the textures' sizes, the meshes' colour and tangent counts, the ambient term,
+    /// the lights (at most [`crate::MAX_LIGHTS`], each [`Light::validate`]), the exposure and
+    /// the lightmaps ([`Scene::validate_lightmaps`]). The error names what is wrong.
     pub fn validate(&self) -> Result<()> {
         self.validate_lightmaps()?;
         self.exposure.validate()?;
