@@ -299,6 +299,8 @@ pub(crate) enum Streams {
 
 struct CasterMesh {
     label: String,
+    /// GPU memory penumbra allocated for the mesh (its smoothed normals), in bytes.
+    own_bytes: u64,
     positions: OwnedStream,
     smoothed_normals: OwnedStream,
     indices: Option<(wgpu::Buffer, u64, wgpu::IndexFormat)>,
@@ -575,6 +577,7 @@ impl Casters {
         Ok(self.push_mesh(CasterMesh {
             label: desc.label.to_string(),
             positions: owned(&desc.positions),
+            own_bytes: smoothed_buffer.size(),
             smoothed_normals: OwnedStream {
                 buffer: smoothed_buffer,
                 offset: 0,
@@ -612,10 +615,19 @@ impl Casters {
                 layout: StreamLayout::FLOAT3,
             },
             indices: Some((indices.clone(), 0, wgpu::IndexFormat::Uint32)),
+            // The buffers are the scene's.
+            own_bytes: 0,
             element_count: index_count,
             vertex_count,
             bounds,
         })
+    }
+
+    /// The GPU memory these casters allocated, in bytes: the instances' uniform buffer and the
+    /// smoothed normals of the meshes added with [`Casters::add_mesh`] (the engine's own
+    /// buffers are not counted).
+    pub fn allocated_bytes(&self) -> u64 {
+        self.buffer.size() + self.meshes.iter().flatten().map(|m| m.own_bytes).sum::<u64>()
     }
 
     fn push_mesh(&mut self, mesh: CasterMesh) -> MeshId {

@@ -180,6 +180,14 @@ pub(crate) struct LightMaps {
 }
 
 impl LightMaps {
+    /// GPU memory the maps take, in bytes.
+    pub fn allocated_bytes(&self) -> u64 {
+        self.shadow.allocated_bytes()
+            + self.fattened.as_ref().map_or(0, |(fattened, exit)| {
+                fattened.allocated_bytes() + exit.allocated_bytes()
+            })
+    }
+
     /// Makes or keeps the maps `chain` needs for `light`; true when any was made (they must
     /// then be drawn and bound again).
     pub fn allocate(
@@ -307,6 +315,21 @@ pub(crate) enum ScreenChain {
 }
 
 impl ScreenChain {
+    /// GPU memory the chain's passes allocated, in bytes.
+    pub fn allocated_bytes(&self) -> u64 {
+        match self {
+            ScreenChain::MapOnly => 0,
+            ScreenChain::DistanceMap { distance, pcf, .. } => {
+                distance.allocated_bytes() + pcf.allocated_bytes()
+            }
+            ScreenChain::FixedPcf { pcf, blur, .. } => {
+                pcf.allocated_bytes() + blur.as_ref().map_or(0, BlurPass::allocated_bytes)
+            }
+            ScreenChain::Pcss { pcss, .. } => pcss.allocated_bytes(),
+            ScreenChain::Hard { pcf, .. } => pcf.allocated_bytes(),
+        }
+    }
+
     /// The passes of `chain` for a light of `kind` ([`crate::frame::light_kind`]), made with
     /// `params`' compile-time switches and sized `width` x `height`.
     pub fn new(

@@ -28,6 +28,42 @@ pub(crate) fn scoped<T>(device: &wgpu::Device, f: impl FnOnce() -> T) -> (T, Opt
     (value, validation.or(memory))
 }
 
+/// The bytes of GPU memory `texture`'s texels take: every mip level and layer at the format's
+/// size per texel (a depth format as its depth aspect's copy size, 4 bytes for `Depth24Plus`;
+/// a stencil aspect adds 1). What the driver adds for alignment and tiling is not counted.
+pub(crate) fn texture_bytes(texture: &wgpu::Texture) -> u64 {
+    use wgpu::TextureFormat as F;
+    let format = texture.format();
+    let (block_width, block_height) = format.block_dimensions();
+    let block = match format {
+        F::Depth24Plus => 4,
+        F::Depth24PlusStencil8 => 5,
+        F::Depth32FloatStencil8 => 5,
+        F::Stencil8 => 1,
+        _ => format
+            .block_copy_size(None)
+            .or_else(|| format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)))
+            .unwrap_or(4),
+    };
+    let layers = match texture.dimension() {
+        wgpu::TextureDimension::D3 => 1,
+        _ => texture.depth_or_array_layers(),
+    };
+    (0..texture.mip_level_count())
+        .map(|level| {
+            let size = texture.size().mip_level_size(level, texture.dimension());
+            let blocks = size.width.div_ceil(block_width) as u64 * size.height.div_ceil(block_height) as u64;
+            let depth = match texture.dimension() {
+                wgpu::TextureDimension::D3 => size.depth_or_array_layers as u64,
+                _ => 1,
+            };
+            blocks * depth * block as u64
+        })
+        .sum::<u64>()
+        * layers as u64
+        * texture.sample_count() as u64
+}
+
 /// Vertex buffer layout of one tightly packed attribute stream.
 pub(crate) const fn stream(location: u32, format: wgpu::VertexFormat) -> [wgpu::VertexAttribute; 1] {
     [wgpu::VertexAttribute {

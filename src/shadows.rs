@@ -17,7 +17,7 @@ use crate::chain::{FRAME_SIZE, LightMaps, ScreenChain, ScreenInputs};
 use crate::device::DeviceLoss;
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, light_kind};
-use crate::gpu_helpers::scoped;
+use crate::gpu_helpers::{scoped, texture_bytes};
 use crate::light_space::{FitInputs, LightView, MAX_TILES};
 use crate::passes::{
     BlurInput, BlurPass, MAX_BATCHED_LIGHTS, PackedVisibility, ShadowMapPass, VISIBILITY_FORMAT,
@@ -403,6 +403,31 @@ impl Shadows {
     /// Light `id` as last set; an error for an id that was removed or never added.
     pub fn light(&self, id: LightId) -> Result<Light> {
         self.state(id).map(|s| s.light)
+    }
+
+    /// The GPU memory these shadows allocated, in bytes: every light's maps, screen-space
+    /// passes and uniforms, the batched blurs and the visibility array (not a target given to
+    /// [`Shadows::set_visibility_target`], nor anything of the engine's). Texels are counted at
+    /// their format's size; what a driver adds for alignment is not. It follows the lights,
+    /// the methods and the view's size, and comes back to the same value when they do.
+    pub fn allocated_bytes(&self) -> u64 {
+        let own_visibility = match (&self.target, &self.visibility) {
+            (None, Some((texture, ..))) => texture_bytes(texture),
+            _ => 0,
+        };
+        own_visibility
+            + texture_bytes(&self.dummy.0)
+            + self
+                .blurs
+                .iter()
+                .map(|(_, blur)| blur.allocated_bytes())
+                .sum::<u64>()
+            + self
+                .lights
+                .iter()
+                .flatten()
+                .map(LightState::allocated_bytes)
+                .sum::<u64>()
     }
 
     /// The lights, in layer order.
@@ -940,6 +965,13 @@ impl Shadows {
 }
 
 impl LightState {
+    /// GPU memory this light's maps, passes and uniform take, in bytes.
+    fn allocated_bytes(&self) -> u64 {
+        self.frame.size()
+            + self.maps.as_ref().map_or(0, LightMaps::allocated_bytes)
+            + self.screen.allocated_bytes()
+    }
+
     fn new(device: &wgpu::Device, light: Light) -> Self {
         Self {
             light,

@@ -2,7 +2,9 @@
 //! added, changed and removed and caster instances added, moved and removed, in a cycle of 200
 //! frames. The GPU memory the device holds (wgpu's own counters: in this test only penumbra
 //! allocates) and its counts of buffers and bind groups come back to the same values at the
-//! same point of every cycle: nothing penumbra makes is kept past its use.
+//! same point of every cycle: nothing penumbra makes is kept past its use. penumbra's own count
+//! (`Shadows::allocated_bytes`, `Casters::allocated_bytes`) says the same and matches the
+//! device's.
 
 use glam::{Mat4, Vec3};
 use penumbra::{
@@ -111,6 +113,9 @@ fn two_thousand_frames_of_changing_lights_and_casters_keep_the_gpu_memory_flat()
     let mut instances: Vec<InstanceId> = Vec::new();
     let mut mesh = None;
     let mut marks = Vec::new();
+    // What penumbra says it allocated, at each cycle's end and at its busiest point.
+    let mut own = Vec::new();
+    let mut busiest = Vec::new();
     for frame in 0..FRAMES {
         let phase = frame % CYCLE;
         if phase == 0 {
@@ -198,6 +203,11 @@ fn two_thousand_frames_of_changing_lights_and_casters_keep_the_gpu_memory_flat()
         if phase == CYCLE - 1 {
             device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
             marks.push(held(device));
+            own.push(shadows.allocated_bytes() + casters.allocated_bytes());
+        }
+        if phase == 100 {
+            // Three lights and three instances.
+            busiest.push(shadows.allocated_bytes() + casters.allocated_bytes());
         }
     }
     eprintln!("held at each cycle's end (texture bytes, buffer bytes, buffers, bind groups):");
@@ -211,4 +221,35 @@ fn two_thousand_frames_of_changing_lights_and_casters_keep_the_gpu_memory_flat()
     for pair in marks[1..].windows(2) {
         assert_eq!(pair[0], pair[1], "the device holds more at each cycle's end");
     }
+    // penumbra's own count says the same, from the first cycle on, and it follows the lights:
+    // more with three lights than with the one left at a cycle's end.
+    eprintln!("penumbra's own count at each cycle's end: {own:?}; with three lights: {busiest:?}");
+    assert!(
+        own.windows(2).all(|p| p[0] == p[1]),
+        "penumbra's count grows: {own:?}"
+    );
+    assert!(
+        busiest.windows(2).all(|p| p[0] == p[1]),
+        "penumbra's count grows: {busiest:?}"
+    );
+    assert!(
+        busiest[0] > own[0],
+        "three lights ({}) take no more than one ({})",
+        busiest[0],
+        own[0]
+    );
+    // And it accounts for what the device holds: penumbra's textures are nearly all of its
+    // memory (its buffers are uniforms and smoothed normals, a few kilobytes), so its count
+    // matches the device's texture bytes less the test's depth texture, within what a driver
+    // adds for alignment. (The device's buffer bytes are mostly wgpu's own staging.)
+    let device_textures = marks.last().unwrap()[0] - (SIZE.0 * SIZE.1 * 4) as isize;
+    let counted = *own.last().unwrap() as f64;
+    let ratio = counted / device_textures as f64;
+    eprintln!(
+        "penumbra counts {counted} bytes, the device holds {device_textures} texture bytes of penumbra's: {ratio:.4}"
+    );
+    assert!(
+        (0.95..=1.05).contains(&ratio),
+        "penumbra's count ({counted}) is not the device's ({device_textures})"
+    );
 }

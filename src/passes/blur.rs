@@ -19,6 +19,7 @@
 //! a pixel gets what a pass of its own gives; where penumbrae of different widths cross, the
 //! narrower is sampled on the wider's taps (a test bounds the difference).
 
+use crate::gpu_helpers::texture_bytes;
 use bytemuck::{Pod, Zeroable};
 
 use super::tile_classify::tiles_layout;
@@ -117,6 +118,18 @@ pub struct BlurPass {
 }
 
 impl BlurPass {
+    /// GPU memory this pass allocated: its textures and buffers, in bytes.
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        let textures = [
+            Some(&self.temp.0),
+            self.packed.as_ref().map(|p| &p.visibility.0),
+            self.union.as_ref().map(|u| &u.0),
+            self.output.as_ref().map(|o| &o.0),
+        ];
+        self.axis_buffers.iter().map(wgpu::Buffer::size).sum::<u64>()
+            + textures.into_iter().flatten().map(texture_bytes).sum::<u64>()
+    }
+
     /// The pass for `lights` lights (1 to [`MAX_BATCHED_LIGHTS`]; several only after the
     /// distance map) and `switches` (compile-time: other switches need a new pass).
     pub(crate) fn new(

@@ -27,6 +27,7 @@
 //! back with a relative error below 1e-3, far below what a blur or kernel width can show.
 
 use crate::frame::DistanceSwitches;
+use crate::gpu_helpers::texture_bytes;
 
 use super::tile_classify::{TileClassifyPass, tiles_layout};
 use super::{
@@ -52,6 +53,11 @@ pub struct DistanceMapPass {
 }
 
 impl DistanceMapPass {
+    /// GPU memory this pass allocated: its textures and buffers, in bytes.
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        texture_bytes(&self.distance.0) + texture_bytes(&self.classification.0) + self.tiles.allocated_bytes()
+    }
+
     pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
     /// The pass; with `mask_early_out` false every receiver pixel is classified as shadowed,

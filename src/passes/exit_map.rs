@@ -8,6 +8,7 @@
 //! as a back face by its geometry turned outward by the smoothed normal, so the winding never
 //! matters. Alpha-masked casters are drawn whole.
 
+use crate::gpu_helpers::texture_bytes;
 use bytemuck::{Pod, Zeroable};
 
 use super::shadow_map::{begin_depth_pass, depth_state, light_depth_target, support_map_resolution};
@@ -36,6 +37,11 @@ pub struct ExitMapPass {
 }
 
 impl ExitMapPass {
+    /// GPU memory this pass allocated: its textures and buffers, in bytes.
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        texture_bytes(&self.texture) + self.uniform.allocated_bytes()
+    }
+
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
     /// resolution.
     pub fn new(

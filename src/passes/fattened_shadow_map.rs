@@ -11,6 +11,7 @@
 //! casters are fattened whole (a superset of their real shadow, so the mask stays
 //! conservative).
 
+use crate::gpu_helpers::texture_bytes;
 use bytemuck::{Pod, Zeroable};
 
 use super::shadow_map::{depth_pass_descriptor, depth_state, light_depth_target, support_map_resolution};
@@ -43,6 +44,11 @@ pub struct FattenedShadowMapPass {
 }
 
 impl FattenedShadowMapPass {
+    /// GPU memory this pass allocated: its textures and buffers, in bytes.
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        texture_bytes(&self.texture) + texture_bytes(&self.occluder_offset.0) + self.uniform.allocated_bytes()
+    }
+
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
     /// resolution.
     pub fn new(

@@ -217,6 +217,11 @@ pub(crate) struct CascadeUniforms {
 }
 
 impl CascadeUniforms {
+    /// GPU memory the uniforms take, in bytes.
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        self.buffer.size()
+    }
+
     pub fn new(device: &wgpu::Device, label: &str, visibility: wgpu::ShaderStages, size: usize) -> Self {
         let align = u64::from(device.limits().min_uniform_buffer_offset_alignment).max(1);
         let stride = (size as u64).div_ceil(align) * align;

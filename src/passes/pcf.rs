@@ -8,6 +8,7 @@
 
 use super::{LIGHT_KIND, VISIBILITY_FORMAT, draw_fullscreen, entry, fullscreen_pipeline_with, screen_target};
 use crate::frame::{PcfSwitches, PcfUniform};
+use crate::gpu_helpers::texture_bytes;
 
 pub struct PcfPass {
     switches: PcfSwitches,
@@ -21,6 +22,11 @@ pub struct PcfPass {
 }
 
 impl PcfPass {
+    /// GPU memory this pass allocated: its textures and buffers, in bytes.
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        self.params.size() + texture_bytes(&self.output.0)
+    }
+
     /// The pass for `switches` and one light kind ([`crate::frame::light_kind`]: the other
     /// kinds' code is compiled out); other switches or another kind need a new pass.
     pub(crate) fn new(

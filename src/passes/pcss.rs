@@ -6,6 +6,7 @@
 
 use super::{LIGHT_KIND, VISIBILITY_FORMAT, draw_fullscreen, entry, fullscreen_pipeline_with, screen_target};
 use crate::frame::PcssUniform;
+use crate::gpu_helpers::texture_bytes;
 
 pub struct PcssPass {
     light_kind: u32,
@@ -18,6 +19,11 @@ pub struct PcssPass {
 }
 
 impl PcssPass {
+    /// GPU memory this pass allocated: its textures and buffers, in bytes.
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        self.params.size() + texture_bytes(&self.output.0)
+    }
+
     /// The pass for one light kind ([`crate::frame::light_kind`]: the other kinds' code is
     /// compiled out, as in the distance-map method's passes); another kind needs a new pass.
     pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32) -> Self {

@@ -7,6 +7,7 @@
 //! use a second minimal pipeline that reads alpha. Constant and slope-scaled depth bias are
 //! applied by the rasterizer.
 
+use crate::gpu_helpers::texture_bytes;
 use bytemuck::{Pod, Zeroable};
 
 use super::{CascadeUniforms, CasterPipelines, SecondStream, TileClear};
@@ -34,6 +35,11 @@ pub struct ShadowMapPass {
 }
 
 impl ShadowMapPass {
+    /// GPU memory this pass allocated: its textures and buffers, in bytes.
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        texture_bytes(&self.texture) + self.light.allocated_bytes()
+    }
+
     /// Creates the pipelines and the shadow map texture, `grid` x `grid` tiles of the
     /// configured resolution ([`crate::light_space::atlas_grid`]). `settings` must have been
     /// validated.

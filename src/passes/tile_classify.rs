@@ -12,6 +12,7 @@
 //! can (conservative: see `shaders/tile_classify.wgsl`).
 
 use super::{Fullscreen, LIGHT_KIND, Tiles, entry, screen_target};
+use crate::gpu_helpers::texture_bytes;
 
 /// Screen pixels per tile side (`TILE` in the shader).
 pub const TILE: u32 = 16;
@@ -51,6 +52,11 @@ pub(crate) struct TileClassifyPass {
 }
 
 impl TileClassifyPass {
+    /// GPU memory this pass allocated: its textures and buffers, in bytes.
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        texture_bytes(&self.reduced.0) + texture_bytes(&self.classes.0)
+    }
+
     /// Made for one light kind ([`crate::frame::light_kind`]), like the distance map.
     pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32) -> Self {
         let shader = crate::shaders::module(device, "tile_classify.wgsl", crate::shaders::TILE_CLASSIFY);

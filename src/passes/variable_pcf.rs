@@ -18,6 +18,7 @@ use super::{
     Classification, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, draw_area, entry, kept, screen_target,
 };
 use crate::frame::{PcfSwitches, PcfUniform};
+use crate::gpu_helpers::texture_bytes;
 
 pub struct VariablePcfPass {
     switches: PcfSwitches,
@@ -36,6 +37,11 @@ pub struct VariablePcfPass {
 }
 
 impl VariablePcfPass {
+    /// GPU memory this pass allocated: its textures and buffers, in bytes.
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        self.params.size() + texture_bytes(&self.visibility.0) + texture_bytes(&self.blur_sigma.0)
+    }
+
     /// Format of the blur's standard deviations.
     pub const SIGMA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
