@@ -14,7 +14,6 @@
 use glam::{Mat3, Mat4, Vec3};
 
 use crate::error::{PenumbraError, Result};
-use crate::gpu_helpers::scoped;
 use crate::layouts::{InstanceUniform, MaterialUniform, SceneLayouts};
 use crate::scene::Aabb;
 
@@ -441,14 +440,11 @@ impl Casters {
         queue: &wgpu::Queue,
         desc: &CasterMeshDesc,
     ) -> Result<MeshId> {
-        let (result, error) = scoped(device, || self.add_mesh_now(device, queue, desc));
-        match error {
-            Some(error) => Err(PenumbraError::gpu(
-                format!("adding caster mesh `{}`", desc.label),
-                error,
-            )),
-            None => result,
-        }
+        PenumbraError::scoped(
+            device,
+            || format!("adding caster mesh `{}`", desc.label),
+            || self.add_mesh_now(device, queue, desc),
+        )
     }
 
     fn add_mesh_now(
@@ -655,7 +651,11 @@ impl Casters {
         queue: &wgpu::Queue,
         instance: CasterInstance,
     ) -> Result<InstanceId> {
-        self.insert(device, queue, instance, None)
+        PenumbraError::scoped(
+            device,
+            || "adding a caster instance".into(),
+            || self.insert(device, queue, instance, None),
+        )
     }
 
     /// Places a mesh whose shadow is alpha-tested (foliage, fences).
@@ -696,34 +696,21 @@ impl Casters {
             device,
             "Casters::alpha_mask",
             &self.layouts.material,
-            &[
-                buffer.as_entire_binding(),
-                wgpu::BindingResource::TextureView(mask.texture),
-                wgpu::BindingResource::Sampler(&self.sampler),
-            ],
+            &[&buffer, mask.texture, &self.sampler],
         );
         let alpha = InstanceAlpha {
             uvs: owned(&mask.uvs),
             bind_group,
         };
-        self.insert(device, queue, instance, Some(alpha))
+        PenumbraError::scoped(
+            device,
+            || "adding a caster instance".into(),
+            || self.insert(device, queue, instance, Some(alpha)),
+        )
     }
 
+    /// Adds an instance (inside wgpu's error scopes).
     fn insert(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        instance: CasterInstance,
-        alpha: Option<InstanceAlpha>,
-    ) -> Result<InstanceId> {
-        let (result, error) = scoped(device, || self.insert_now(device, queue, instance, alpha));
-        match error {
-            Some(error) => Err(PenumbraError::gpu("adding a caster instance", error)),
-            None => result,
-        }
-    }
-
-    fn insert_now(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
@@ -973,12 +960,7 @@ impl Casters {
     }
 
     fn mesh(&self, id: MeshId) -> Result<&CasterMesh> {
-        self.meshes
-            .get(id.0 as usize)
-            .and_then(Option::as_ref)
-            .ok_or_else(|| {
-                PenumbraError::input(format!("mesh {}", id.0), "no such mesh (removed or never added)")
-            })
+        crate::error::slot(&self.meshes, "mesh", id.0)
     }
 
     /// The name a mesh was registered with.
@@ -987,27 +969,11 @@ impl Casters {
     }
 
     fn record(&self, id: InstanceId) -> Result<&InstanceRecord> {
-        self.instances
-            .get(id.0 as usize)
-            .and_then(Option::as_ref)
-            .ok_or_else(|| {
-                PenumbraError::input(
-                    format!("instance {}", id.0),
-                    "no such instance (removed or never added)",
-                )
-            })
+        crate::error::slot(&self.instances, "instance", id.0)
     }
 
     fn record_mut(&mut self, id: InstanceId) -> Result<&mut InstanceRecord> {
-        self.instances
-            .get_mut(id.0 as usize)
-            .and_then(Option::as_mut)
-            .ok_or_else(|| {
-                PenumbraError::input(
-                    format!("instance {}", id.0),
-                    "no such instance (removed or never added)",
-                )
-            })
+        crate::error::slot_mut(&mut self.instances, "instance", id.0)
     }
 
     fn log_change(&mut self, bounds: Aabb) {
@@ -1082,12 +1048,8 @@ fn instance_buffer(
     stride: u32,
     capacity: u32,
 ) -> (wgpu::Buffer, wgpu::BindGroup) {
-    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("Casters::instances"),
-        size: stride as u64 * capacity as u64,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let buffer =
+        crate::gpu_helpers::uniform_buffer(device, "Casters::instances", stride as u64 * capacity as u64);
     let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("Casters::instances"),
         layout: &layouts.instance,

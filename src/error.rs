@@ -150,6 +150,23 @@ pub enum PenumbraError {
 /// Shorthand for `Result<T, PenumbraError>`.
 pub type Result<T, E = PenumbraError> = std::result::Result<T, E>;
 
+/// What slot `index` of `slots` holds: [`PenumbraError::no_such`] `kind` where it is empty or
+/// beyond the end (an id removed or never handed out).
+pub(crate) fn slot<'a, T>(slots: &'a [Option<T>], kind: &str, index: u32) -> Result<&'a T> {
+    slots
+        .get(index as usize)
+        .and_then(Option::as_ref)
+        .ok_or_else(|| PenumbraError::no_such(kind, index))
+}
+
+/// [`slot`], to change.
+pub(crate) fn slot_mut<'a, T>(slots: &'a mut [Option<T>], kind: &str, index: u32) -> Result<&'a mut T> {
+    slots
+        .get_mut(index as usize)
+        .and_then(Option::as_mut)
+        .ok_or_else(|| PenumbraError::no_such(kind, index))
+}
+
 impl PenumbraError {
     pub(crate) fn model(path: impl Into<PathBuf>, reason: impl Into<String>) -> Self {
         Self::Model {
@@ -165,6 +182,20 @@ impl PenumbraError {
         }
     }
 
+    /// Runs `f` inside wgpu's validation and out-of-memory error scopes
+    /// ([`crate::gpu_helpers::scoped`]): a wgpu error it raised is returned as
+    /// [`PenumbraError::Gpu`] naming `during`, otherwise what `f` returned.
+    pub(crate) fn scoped<T>(
+        device: &wgpu::Device,
+        during: impl FnOnce() -> String,
+        f: impl FnOnce() -> Result<T>,
+    ) -> Result<T> {
+        match crate::gpu_helpers::scoped(device, f) {
+            (_, Some(error)) => Err(Self::gpu(during(), error)),
+            (result, None) => result,
+        }
+    }
+
     /// A wgpu error raised while penumbra did `during` ([`PenumbraError::Gpu`]).
     pub(crate) fn gpu(during: impl Into<String>, error: wgpu::Error) -> Self {
         let reason = match &error {
@@ -176,6 +207,15 @@ impl PenumbraError {
             during: during.into(),
             reason,
         }
+    }
+
+    /// [`PenumbraError::InvalidInput`] for an id with nothing behind it: `kind` `index` was
+    /// removed or never added.
+    pub(crate) fn no_such(kind: &str, index: u32) -> Self {
+        Self::input(
+            format!("{kind} {index}"),
+            format!("no such {kind} (removed or never added)"),
+        )
     }
 
     pub(crate) fn setting(name: &'static str, reason: impl Into<String>) -> Self {

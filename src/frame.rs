@@ -548,150 +548,90 @@ mod tests {
     /// A WGSL struct's fields and their offsets in the Rust mirror, and the mirror's size.
     type Layout = (&'static str, Vec<(&'static str, usize)>, usize);
 
+    /// `(wgsl name, [(field, offset in the Rust type)], size of the Rust type)` for a Rust type
+    /// and the fields it shares with its WGSL struct.
+    macro_rules! layout {
+        ($wgsl:literal, $rust:ty, [$($field:ident),* $(,)?]) => {
+            ($wgsl, vec![$((stringify!($field), offset_of!($rust, $field))),*], size_of::<$rust>())
+        };
+    }
+
     fn layouts() -> Vec<Layout> {
         vec![
-            (
-                "Frame",
-                vec![
-                    ("view", offset_of!(FrameUniform, view)),
-                    ("light", offset_of!(FrameUniform, light)),
-                    ("penumbra", offset_of!(FrameUniform, penumbra)),
-                    ("ambient", offset_of!(FrameUniform, ambient)),
-                    ("cascades", offset_of!(FrameUniform, cascades)),
-                ],
-                size_of::<FrameUniform>(),
-            ),
-            (
+            layout!("Frame", FrameUniform, [view, light, penumbra, ambient, cascades]),
+            layout!(
                 "Cascades",
-                vec![
-                    ("view_proj", offset_of!(CascadesUniform, view_proj)),
-                    ("extent_end", offset_of!(CascadesUniform, extent_end)),
-                    ("tile", offset_of!(CascadesUniform, tile)),
-                    ("axis", offset_of!(CascadesUniform, axis)),
-                    ("count", offset_of!(CascadesUniform, count)),
-                    ("grid", offset_of!(CascadesUniform, grid)),
-                ],
-                size_of::<CascadesUniform>(),
+                CascadesUniform,
+                [view_proj, extent_end, tile, axis, count, grid]
             ),
-            (
+            layout!(
                 "View",
-                vec![
-                    ("view_proj", offset_of!(ViewUniform, view_proj)),
-                    ("inv_view_proj", offset_of!(ViewUniform, inv_view_proj)),
-                    ("toward_camera", offset_of!(ViewUniform, toward_camera)),
-                    ("depth_to_view", offset_of!(ViewUniform, depth_to_view)),
-                    ("size", offset_of!(ViewUniform, size)),
-                    ("inv_size", offset_of!(ViewUniform, inv_size)),
-                    ("pixels_per_unit", offset_of!(ViewUniform, pixels_per_unit)),
-                    ("reversed_depth", offset_of!(ViewUniform, reversed_depth)),
-                    ("has_receiver_mask", offset_of!(ViewUniform, has_receiver_mask)),
-                    ("has_distance_map", offset_of!(ViewUniform, has_distance_map)),
-                ],
-                size_of::<ViewUniform>(),
+                ViewUniform,
+                [
+                    view_proj,
+                    inv_view_proj,
+                    toward_camera,
+                    depth_to_view,
+                    size,
+                    inv_size,
+                    pixels_per_unit,
+                    reversed_depth,
+                    has_receiver_mask,
+                    has_distance_map
+                ]
             ),
-            (
+            layout!(
                 "ShadowLight",
-                vec![
-                    ("view_proj", offset_of!(ShadowLightUniform, view_proj)),
-                    ("direction", offset_of!(ShadowLightUniform, direction)),
-                    ("spot", offset_of!(ShadowLightUniform, spot)),
-                    ("position", offset_of!(ShadowLightUniform, position)),
-                    ("cos_outer", offset_of!(ShadowLightUniform, cos_outer)),
-                    ("radiance", offset_of!(ShadowLightUniform, radiance)),
-                    ("cos_inner", offset_of!(ShadowLightUniform, cos_inner)),
-                    ("near", offset_of!(ShadowLightUniform, near)),
-                    ("far", offset_of!(ShadowLightUniform, far)),
-                    ("perspective", offset_of!(ShadowLightUniform, perspective)),
-                    ("resolution", offset_of!(ShadowLightUniform, resolution)),
-                    ("extent", offset_of!(ShadowLightUniform, extent)),
-                    ("tan_half_fov", offset_of!(ShadowLightUniform, tan_half_fov)),
-                    ("size_term", offset_of!(ShadowLightUniform, size_term)),
-                ],
-                size_of::<ShadowLightUniform>(),
+                ShadowLightUniform,
+                [
+                    view_proj,
+                    direction,
+                    spot,
+                    position,
+                    cos_outer,
+                    radiance,
+                    cos_inner,
+                    near,
+                    far,
+                    perspective,
+                    resolution,
+                    extent,
+                    tan_half_fov,
+                    size_term
+                ]
             ),
-            (
+            layout!(
                 "Penumbra",
-                vec![
-                    ("fatten_distance", offset_of!(PenumbraUniform, fatten_distance)),
-                    ("physical", offset_of!(PenumbraUniform, physical)),
-                    ("indirect_weight", offset_of!(PenumbraUniform, indirect_weight)),
-                    (
-                        "indirect_half_distance",
-                        offset_of!(PenumbraUniform, indirect_half_distance),
-                    ),
-                    ("pcf_share", offset_of!(PenumbraUniform, pcf_share)),
-                    ("sigma_per_width", offset_of!(PenumbraUniform, sigma_per_width)),
-                    ("normal_offset", offset_of!(PenumbraUniform, normal_offset)),
-                ],
-                size_of::<PenumbraUniform>(),
+                PenumbraUniform,
+                [
+                    fatten_distance,
+                    physical,
+                    indirect_weight,
+                    indirect_half_distance,
+                    pcf_share,
+                    sigma_per_width,
+                    normal_offset
+                ]
             ),
-            (
+            layout!(
                 "ShadedLight",
-                vec![
-                    ("direction", offset_of!(ShadedLight, direction)),
-                    ("spot", offset_of!(ShadedLight, spot)),
-                    ("position", offset_of!(ShadedLight, position)),
-                    ("cos_outer", offset_of!(ShadedLight, cos_outer)),
-                    ("radiance", offset_of!(ShadedLight, radiance)),
-                    ("cos_inner", offset_of!(ShadedLight, cos_inner)),
-                    ("layer", offset_of!(ShadedLight, layer)),
-                    ("range", offset_of!(ShadedLight, range)),
-                ],
-                size_of::<ShadedLight>(),
+                ShadedLight,
+                [
+                    direction, spot, position, cos_outer, radiance, cos_inner, layer, range
+                ]
             ),
-            (
-                "ShadedLights",
-                vec![
-                    ("count", offset_of!(ShadedLights, count)),
-                    ("lights", offset_of!(ShadedLights, lights)),
-                ],
-                size_of::<ShadedLights>(),
-            ),
-            (
-                "Pcf",
-                vec![
-                    ("taps_per_side", offset_of!(PcfUniform, taps_per_side)),
-                    ("base_spacing", offset_of!(PcfUniform, base_spacing)),
-                    ("spread", offset_of!(PcfUniform, spread)),
-                ],
-                size_of::<PcfUniform>(),
-            ),
-            (
-                "Pcss",
-                vec![
-                    ("blocker_samples", offset_of!(PcssUniform, blocker_samples)),
-                    ("pcf_samples", offset_of!(PcssUniform, pcf_samples)),
-                ],
-                size_of::<PcssUniform>(),
-            ),
-            (
+            layout!("ShadedLights", ShadedLights, [count, lights]),
+            layout!("Pcf", PcfUniform, [taps_per_side, base_spacing, spread]),
+            layout!("Pcss", PcssUniform, [blocker_samples, pcf_samples]),
+            layout!(
                 "Blur",
-                vec![
-                    ("axis", offset_of!(crate::passes::BlurUniform, axis)),
-                    ("weights", offset_of!(crate::passes::BlurUniform, weights)),
-                    ("taps", offset_of!(crate::passes::BlurUniform, taps)),
-                    ("step", offset_of!(crate::passes::BlurUniform, step)),
-                    ("resolve", offset_of!(crate::passes::BlurUniform, resolve)),
-                    (
-                        "kernel_sigma",
-                        offset_of!(crate::passes::BlurUniform, kernel_sigma),
-                    ),
-                ],
-                size_of::<crate::passes::BlurUniform>(),
+                crate::passes::BlurUniform,
+                [axis, weights, taps, step, resolve, kernel_sigma]
             ),
-            (
+            layout!(
                 "Surface",
-                vec![
-                    ("rect", offset_of!(crate::layouts::SurfaceUniform, rect)),
-                    ("params", offset_of!(crate::layouts::SurfaceUniform, params)),
-                    ("occlusion", offset_of!(crate::layouts::SurfaceUniform, occlusion)),
-                    (
-                        "occlusion_transform",
-                        offset_of!(crate::layouts::SurfaceUniform, occlusion_transform),
-                    ),
-                    ("emissive", offset_of!(crate::layouts::SurfaceUniform, emissive)),
-                ],
-                size_of::<crate::layouts::SurfaceUniform>(),
+                crate::layouts::SurfaceUniform,
+                [rect, params, occlusion, occlusion_transform, emissive, shading]
             ),
         ]
     }

@@ -3,6 +3,39 @@
 //! targets and attachments, the full-screen pipeline and the comparison sampler. A leaf: it
 //! imports nothing from the crate, so no module reaches another through it.
 
+/// A bind group layout of `entries`.
+pub(crate) fn layout(
+    device: &wgpu::Device,
+    label: &str,
+    entries: &[wgpu::BindGroupLayoutEntry],
+) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries,
+    })
+}
+
+/// The layout of a pass that looks a light's shadow map up from the screen
+/// ([`entry::shadow_lookup`]), with `more` entries from binding 4.
+pub(crate) fn shadow_lookup_layout(
+    device: &wgpu::Device,
+    label: &str,
+    frame_size: usize,
+    more: &[wgpu::BindGroupLayoutEntry],
+) -> wgpu::BindGroupLayout {
+    layout(device, label, &entry::shadow_lookup(frame_size, more))
+}
+
+/// A uniform buffer of `size` bytes that the queue writes.
+pub(crate) fn uniform_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
 /// Polls a future once: wgpu's error scopes resolve at once on native backends. A future that
 /// is still pending (a web backend) gives `None`.
 pub(crate) fn block_on_now<F: std::future::Future>(future: F) -> Option<F::Output> {
@@ -77,6 +110,24 @@ pub(crate) const POSITION: [wgpu::VertexAttribute; 1] = stream(0, wgpu::VertexFo
 
 /// Bind group layout entries, so each pass states only what differs.
 pub(crate) mod entry {
+    /// The bindings a pass that looks a light's shadow map up from the screen starts with, and
+    /// then `more` (numbered from 4): 0 the frame uniform of `frame_size` bytes, 1 the camera
+    /// depth (an unfilterable float texture), 2 the light's depth map, 3 its comparison
+    /// sampler.
+    pub(crate) fn shadow_lookup(
+        frame_size: usize,
+        more: &[wgpu::BindGroupLayoutEntry],
+    ) -> Vec<wgpu::BindGroupLayoutEntry> {
+        let mut entries = vec![
+            uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
+            texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
+            texture_2d(2, wgpu::TextureSampleType::Depth),
+            sampler(3, wgpu::SamplerBindingType::Comparison),
+        ];
+        entries.extend_from_slice(more);
+        entries
+    }
+
     /// A uniform buffer of at least `size` bytes (dynamic offset when `dynamic`).
     pub(crate) fn uniform(
         binding: u32,
@@ -94,6 +145,16 @@ pub(crate) mod entry {
             },
             count: None,
         }
+    }
+
+    /// A uniform buffer of at least `size` bytes read in the fragment stage.
+    pub(crate) fn fragment_uniform(binding: u32, size: usize) -> wgpu::BindGroupLayoutEntry {
+        uniform(binding, wgpu::ShaderStages::FRAGMENT, size, false)
+    }
+
+    /// A 2D float texture read with `textureLoad` in the fragment stage (not filterable).
+    pub(crate) fn unfilterable(binding: u32) -> wgpu::BindGroupLayoutEntry {
+        texture_2d(binding, wgpu::TextureSampleType::Float { filterable: false })
     }
 
     /// A 2D texture read in the fragment stage.
@@ -141,7 +202,8 @@ pub(crate) fn vertex_layout(attributes: &[wgpu::VertexAttribute]) -> wgpu::Verte
     }
 }
 
-/// A screen-sized color target that later passes read.
+/// A 2D render target (color or depth, at least 1 x 1) that later passes read and that can be
+/// copied out.
 pub(crate) fn screen_target(
     device: &wgpu::Device,
     label: &str,
@@ -261,6 +323,39 @@ impl Fullscreen<'_> {
     }
 }
 
+/// Begins a render pass named `label` on `colors` and `depth` (no timestamps, occlusion
+/// queries or multiview).
+pub(crate) fn begin_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    colors: &[Option<wgpu::RenderPassColorAttachment>],
+    depth: Option<wgpu::RenderPassDepthStencilAttachment>,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: colors,
+        depth_stencil_attachment: depth,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// A depth attachment (no stencil): loaded by `load` and stored, or read-only with `None`.
+pub(crate) fn depth_attachment(
+    view: &wgpu::TextureView,
+    load: Option<wgpu::LoadOp<f32>>,
+) -> Option<wgpu::RenderPassDepthStencilAttachment<'_>> {
+    Some(wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: load.map(|load| wgpu::Operations {
+            load,
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    })
+}
+
 /// A color attachment cleared to `clear` and stored.
 pub(crate) fn cleared(
     view: &wgpu::TextureView,
@@ -290,30 +385,63 @@ pub(crate) fn kept(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAtta
     })
 }
 
+/// What a bind group entry can hold: a whole buffer, a texture view, a sampler, or any other
+/// [`wgpu::BindingResource`] as it is (a buffer range, an array of views).
+pub(crate) trait Binding {
+    /// The resource bound.
+    fn resource(&self) -> wgpu::BindingResource<'_>;
+}
+
+impl Binding for wgpu::Buffer {
+    fn resource(&self) -> wgpu::BindingResource<'_> {
+        self.as_entire_binding()
+    }
+}
+
+impl Binding for wgpu::TextureView {
+    fn resource(&self) -> wgpu::BindingResource<'_> {
+        wgpu::BindingResource::TextureView(self)
+    }
+}
+
+impl Binding for wgpu::Sampler {
+    fn resource(&self) -> wgpu::BindingResource<'_> {
+        wgpu::BindingResource::Sampler(self)
+    }
+}
+
+impl<T: Binding + ?Sized> Binding for &T {
+    fn resource(&self) -> wgpu::BindingResource<'_> {
+        (**self).resource()
+    }
+}
+
+impl Binding for wgpu::BindingResource<'_> {
+    fn resource(&self) -> wgpu::BindingResource<'_> {
+        self.clone()
+    }
+}
+
 /// A bind group of `resources` at bindings 0, 1, 2, ... in order, on `layout`.
 pub(crate) fn bind_group(
     device: &wgpu::Device,
     label: &str,
     layout: &wgpu::BindGroupLayout,
-    resources: &[wgpu::BindingResource],
+    resources: &[&dyn Binding],
 ) -> wgpu::BindGroup {
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout,
-        entries: &entries(resources),
-    })
-}
-
-/// Bind group entries for a list of resources, numbered from 0.
-pub(crate) fn entries<'a>(resources: &[wgpu::BindingResource<'a>]) -> Vec<wgpu::BindGroupEntry<'a>> {
-    resources
+    let entries: Vec<_> = resources
         .iter()
         .enumerate()
         .map(|(i, r)| wgpu::BindGroupEntry {
             binding: i as u32,
-            resource: r.clone(),
+            resource: r.resource(),
         })
-        .collect()
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
 }
 
 /// A colour target that blends by the source's alpha (blended materials), or `None` for a

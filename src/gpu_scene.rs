@@ -6,7 +6,6 @@ use glam::{Mat4, Vec3, Vec4};
 use wgpu::util::DeviceExt;
 
 use crate::error::{PenumbraError, Result};
-use crate::gpu_helpers::scoped;
 use crate::layouts::{MaterialUniform, SceneLayouts, SurfaceUniform};
 use crate::scene::{
     Aabb, AlphaMode, Exposure, FilterMode, Light, LightingMode, LightmapFilter, LightmapImage, Scene,
@@ -169,11 +168,11 @@ impl GpuScene {
         layouts: &SceneLayouts,
         scene: &Scene,
     ) -> Result<Self> {
-        let (result, error) = scoped(device, || Self::new_now(device, queue, layouts, scene));
-        match error {
-            Some(error) => Err(PenumbraError::gpu("uploading the scene", error)),
-            None => result,
-        }
+        PenumbraError::scoped(
+            device,
+            || "uploading the scene".into(),
+            || Self::new_now(device, queue, layouts, scene),
+        )
     }
 
     fn new_now(
@@ -344,11 +343,7 @@ impl GpuScene {
                     device,
                     "GpuScene::material",
                     &layouts.material,
-                    &[
-                        buffer.as_entire_binding(),
-                        wgpu::BindingResource::TextureView(view),
-                        wgpu::BindingResource::Sampler(sampler),
-                    ],
+                    &[&buffer, view, sampler],
                 )
             })
             .collect();
@@ -488,12 +483,11 @@ impl GpuScene {
                 .collect(),
             uniforms: (0..scene.instances.len())
                 .map(|_| {
-                    device.create_buffer(&wgpu::BufferDescriptor {
-                        label: Some("GpuScene::surface"),
-                        size: size_of::<SurfaceUniform>() as u64,
-                        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                        mapped_at_creation: false,
-                    })
+                    crate::gpu_helpers::uniform_buffer(
+                        device,
+                        "GpuScene::surface",
+                        size_of::<SurfaceUniform>() as u64,
+                    )
                 })
                 .collect(),
         };
@@ -631,14 +625,14 @@ impl GpuScene {
                     "GpuScene::surface",
                     &l.layout,
                     &[
-                        buffer.as_entire_binding(),
-                        wgpu::BindingResource::TextureView(view),
-                        wgpu::BindingResource::Sampler(&l.sampler),
-                        wgpu::BindingResource::TextureView(&surface.view),
-                        wgpu::BindingResource::Sampler(&surface.sampler),
-                        wgpu::BindingResource::TextureView(&surface.emissive_view),
-                        wgpu::BindingResource::TextureView(&surface.metallic_roughness_view),
-                        wgpu::BindingResource::TextureView(&surface.normal_view),
+                        &buffer,
+                        view,
+                        &l.sampler,
+                        &surface.view,
+                        &surface.sampler,
+                        &surface.emissive_view,
+                        &surface.metallic_roughness_view,
+                        &surface.normal_view,
                     ],
                 )
             })

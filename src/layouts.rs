@@ -24,37 +24,30 @@ pub struct SceneLayouts {
 impl SceneLayouts {
     /// Creates the three layouts on `device`.
     pub fn new(device: &wgpu::Device) -> Self {
-        let instance = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("SceneLayouts::instance"),
-            entries: &[entry::uniform(
+        let instance = crate::gpu_helpers::layout(
+            device,
+            "SceneLayouts::instance",
+            &[entry::uniform(
                 0,
                 wgpu::ShaderStages::VERTEX_FRAGMENT,
                 size_of::<InstanceUniform>(),
                 true,
             )],
-        });
-        let material = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("SceneLayouts::material"),
-            entries: &[
-                entry::uniform(
-                    0,
-                    wgpu::ShaderStages::FRAGMENT,
-                    size_of::<MaterialUniform>(),
-                    false,
-                ),
+        );
+        let material = crate::gpu_helpers::layout(
+            device,
+            "SceneLayouts::material",
+            &[
+                entry::fragment_uniform(0, size_of::<MaterialUniform>()),
                 entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: true }),
                 entry::sampler(2, wgpu::SamplerBindingType::Filtering),
             ],
-        });
-        let surface = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("SceneLayouts::surface"),
-            entries: &[
-                entry::uniform(
-                    0,
-                    wgpu::ShaderStages::FRAGMENT,
-                    size_of::<SurfaceUniform>(),
-                    false,
-                ),
+        );
+        let surface = crate::gpu_helpers::layout(
+            device,
+            "SceneLayouts::surface",
+            &[
+                entry::fragment_uniform(0, size_of::<SurfaceUniform>()),
                 entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: true }),
                 entry::sampler(2, wgpu::SamplerBindingType::Filtering),
                 entry::texture_2d(3, wgpu::TextureSampleType::Float { filterable: true }),
@@ -65,7 +58,7 @@ impl SceneLayouts {
                 entry::texture_2d(6, wgpu::TextureSampleType::Float { filterable: true }),
                 entry::texture_2d(7, wgpu::TextureSampleType::Float { filterable: true }),
             ],
-        });
+        );
         Self {
             instance,
             material,

@@ -216,12 +216,7 @@ impl Renderer {
         settings.validate(Some(device.limits().max_texture_dimension_2d))?;
         let mut shadows = Shadows::new(device, shadows_settings(&settings))?;
         let light = shadows.add_light(device, Light::default())?;
-        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("Renderer::frame"),
-            size: FRAME_SIZE as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let frame_buffer = crate::gpu_helpers::uniform_buffer(device, "Renderer::frame", FRAME_SIZE as u64);
         let mut renderer = Self {
             device: device.clone(),
             settings,
@@ -1031,20 +1026,20 @@ fn render_to_image_now(
     } else {
         // The encoder is this function's own, so what wgpu finds wrong in the commands
         // (reported at `finish`) comes back as an error too.
-        let (result, error) = crate::gpu_helpers::scoped(&gpu.device, || {
-            let mut encoder = gpu
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("penumbra::render_to_image"),
-                });
-            let report = renderer.render(&gpu.queue, &mut encoder, scene, camera, &view);
-            gpu.queue.submit([encoder.finish()]);
-            report
-        });
-        if let Some(error) = error {
-            return Err(PenumbraError::gpu("rendering a frame", error));
-        }
-        result?;
+        PenumbraError::scoped(
+            &gpu.device,
+            || "rendering a frame".into(),
+            || {
+                let mut encoder = gpu
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("penumbra::render_to_image"),
+                    });
+                let report = renderer.render(&gpu.queue, &mut encoder, scene, camera, &view);
+                gpu.queue.submit([encoder.finish()]);
+                report
+            },
+        )?;
     }
     let pixels = crate::gpu::read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;
     image::RgbaImage::from_raw(width, height, pixels).ok_or_else(|| PenumbraError::Gpu {

@@ -47,15 +47,17 @@ impl ShadowMethod {
         ShadowMethod::Reference,
     ];
 
-    /// The real-time methods (all but the reference).
-    pub const REAL_TIME: [ShadowMethod; 6] = [
-        ShadowMethod::Ours,
-        ShadowMethod::OursFast,
-        ShadowMethod::Traditional,
-        ShadowMethod::Pcss,
-        ShadowMethod::Hard,
-        ShadowMethod::Hardware2x2,
-    ];
+    /// The real-time methods: all but the reference, which [`ShadowMethod::ALL`] lists last.
+    pub const REAL_TIME: [ShadowMethod; 6] = {
+        assert!(matches!(Self::ALL[6], ShadowMethod::Reference));
+        let mut methods = [ShadowMethod::Ours; 6];
+        let mut i = 0;
+        while i < methods.len() {
+            methods[i] = Self::ALL[i];
+            i += 1;
+        }
+        methods
+    };
 
     /// The name used on command lines (`ours`, `ours-fast`, `traditional`, `pcss`, `hard`, `hw2x2`).
     pub fn name(self) -> &'static str {

@@ -283,11 +283,7 @@ impl Shadows {
         f: impl FnOnce(&mut Self) -> Result<T>,
     ) -> Result<T> {
         self.check_device()?;
-        let (result, error) = scoped(device, || f(self));
-        match error {
-            Some(error) => Err(PenumbraError::gpu(during, error)),
-            None => result,
-        }
+        PenumbraError::scoped(device, || during.into(), || f(self))
     }
 
     fn check_settings(device: &wgpu::Device, settings: &ShadowSettings) -> Result<()> {
@@ -451,193 +447,185 @@ impl Shadows {
     ) -> Result<()> {
         self.prepared = false;
         self.guarded(device, "preparing the shadows", |this| {
-            this.prepare_now(device, queue, casters, view)
+            view.camera.validate()?;
+            let (width, height) = check_depth(view.depth)?;
+            if let Some(mask) = view.receiver_mask {
+                check_mask(mask, (width, height))?;
+            }
+            let resized = this.size != (width, height);
+            this.size = (width, height);
+            let inputs_changed = match &this.inputs {
+                Some(inputs) => {
+                    inputs.depth != *view.depth || inputs.mask.as_ref().map(|m| &m.0) != view.receiver_mask
+                }
+                None => true,
+            };
+            if inputs_changed {
+                this.inputs = Some(Inputs {
+                    depth: view.depth.clone(),
+                    depth_view: view.depth.create_view(&wgpu::TextureViewDescriptor {
+                        label: Some("Shadows::depth"),
+                        aspect: wgpu::TextureAspect::DepthOnly,
+                        ..Default::default()
+                    }),
+                    mask: view
+                        .receiver_mask
+                        .map(|m| (m.clone(), m.create_view(&Default::default()))),
+                });
+            }
+            if let Some(target) = &this.target {
+                check_target(target, Some(((width, height), this.lights.len())))?;
+            }
+            if resized || this.visibility.is_none() {
+                this.visibility = Some(match &this.target {
+                    Some(target) => layer_views(target.clone()),
+                    None => layer_views(visibility_array(
+                        device,
+                        width,
+                        height,
+                        this.lights.len().max(1) as u32,
+                    )),
+                });
+                this.generation += 1;
+            }
+            let rebind_all = resized || inputs_changed;
+            this.casters_id = Some(casters.id());
+
+            let shadow_bounds = casters.shadow_bounds();
+            let caster_bounds = casters.caster_bounds();
+            let parts = casters.shadow_parts();
+            let has_mask = view.receiver_mask.is_some();
+            let software = this.software;
+            for state in this.lights.iter_mut().flatten() {
+                let mut chain = Chain::new(&this.settings, &state.light);
+                if !this.screen_space {
+                    // Only the light-space map: the renderer shades in its forward pass.
+                    chain = chain.map_only();
+                }
+                let effective = ShadowSettings {
+                    method: chain.method(),
+                    ..this.settings
+                };
+                let params = pass_params(&effective, software);
+                let sm = this.settings.shadow_map;
+                if state.allocate(device, casters, &sm, &chain, &params, (width, height), resized)
+                    || rebind_all
+                {
+                    state.bound = None;
+                }
+                let light = state.light;
+                // Fit once to find the depth range (and so the widest penumbra), then fit the sides
+                // to the casters widened by that penumbra.
+                let loose = LightView::fit(&light, &shadow_bounds);
+                // A spot's or point light's maps depend only on what lies in its reach (within its
+                // size of its frustum): a caster moving elsewhere changes neither its fit nor its
+                // penumbra widths. A sun sees the whole scene.
+                let own;
+                let (shadow_bounds, caster_bounds, parts) = match light {
+                    Light::Directional(_) => (shadow_bounds, caster_bounds, &parts[..]),
+                    Light::Spot(SpotLight { radius, .. }) | Light::Point(PointLight { radius, .. }) => {
+                        own = casters.seen_by(|b| sees(&loose, b, radius));
+                        if own.1.is_empty() {
+                            (shadow_bounds, caster_bounds, &parts[..])
+                        } else {
+                            (own.1, own.0, &own.2[..])
+                        }
+                    }
+                };
+                // Fitted again to what it sees, so that nothing outside changes it.
+                let loose = match light {
+                    Light::Directional(_) => loose,
+                    _ => LightView::fit(&light, &shadow_bounds),
+                };
+                let spreads = spreads(&this.settings, &light, &loose, &shadow_bounds, &caster_bounds);
+                let sm = &this.settings.shadow_map;
+                let light_view = LightView::fit_with(&FitInputs {
+                    light: &light,
+                    casters: caster_bounds,
+                    casters_and_receivers: shadow_bounds,
+                    parts,
+                    margin: spreads.fatten_distance * 2.0,
+                    fit: sm.fit,
+                    camera: Some(view.camera),
+                    resolution: sm.resolution,
+                    snap_to_texels: sm.snap_to_texels,
+                    cascades: sm.cascades,
+                });
+                // Cascades whose maps still hold what they must stay as drawn.
+                let light_view = match &state.drawn_with {
+                    Some(previous) => light_view.keeping_windows_of(previous, sm.resolution),
+                    None => light_view,
+                };
+                queue.write_buffer(
+                    &state.frame,
+                    0,
+                    bytemuck::bytes_of(&FrameUniform::new(&FrameInputs {
+                        camera: &view.camera,
+                        width,
+                        height,
+                        light: &light,
+                        ambient: glam::Vec3::ZERO,
+                        light_view: &light_view,
+                        settings: &effective,
+                        spreads,
+                        caster_radius: caster_bounds.radius(),
+                        receiver_mask: has_mask,
+                        distance_map: chain.distance_map(),
+                    })),
+                );
+                let key = ShadowKey {
+                    casters: casters.id(),
+                    light,
+                    light_view: light_view.map_matrices(),
+                    shadow_map: this.settings.shadow_map,
+                    fatten_distance: chain.fattened_map().then_some(spreads.fatten_distance),
+                };
+                let margin = spreads.fatten_distance * 2.0;
+                let tiles = redrawn_tiles(
+                    state,
+                    &key,
+                    &light_view,
+                    &view.camera,
+                    casters,
+                    !caster_bounds.is_empty(),
+                    margin,
+                );
+                let render_maps = tiles != 0;
+                if render_maps && let Some(maps) = &mut state.maps {
+                    maps.prepare(
+                        device,
+                        queue,
+                        casters,
+                        &light_view,
+                        spreads.fatten_distance,
+                        tiles,
+                    );
+                }
+                state.screen.prepare(queue, &params);
+                state.planned = Some(Planned {
+                    chain,
+                    key,
+                    render_maps,
+                    tiles,
+                    spreads,
+                    light_view,
+                });
+            }
+            let inputs = this.inputs.as_ref().expect("set above");
+            let mask_view = inputs.mask.as_ref().map_or(&this.dummy.1, |m| &m.1);
+            let mut rebound = false;
+            for state in this.lights.iter_mut().flatten() {
+                let chain = state.planned.expect("planned above").chain;
+                if state.bound != Some(chain) {
+                    state.bind(device, &inputs.depth_view, mask_view, &this.dummy.1);
+                    state.bound = Some(chain);
+                    rebound = true;
+                }
+            }
+            this.plan_blurs(device, queue, resized, rebound);
+            Ok(())
         })?;
         self.prepared = true;
-        Ok(())
-    }
-
-    fn prepare_now(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        casters: &Casters,
-        view: &ViewInputs,
-    ) -> Result<()> {
-        view.camera.validate()?;
-        let (width, height) = check_depth(view.depth)?;
-        if let Some(mask) = view.receiver_mask {
-            check_mask(mask, (width, height))?;
-        }
-        let resized = self.size != (width, height);
-        self.size = (width, height);
-        let inputs_changed = match &self.inputs {
-            Some(inputs) => {
-                inputs.depth != *view.depth || inputs.mask.as_ref().map(|m| &m.0) != view.receiver_mask
-            }
-            None => true,
-        };
-        if inputs_changed {
-            self.inputs = Some(Inputs {
-                depth: view.depth.clone(),
-                depth_view: view.depth.create_view(&wgpu::TextureViewDescriptor {
-                    label: Some("Shadows::depth"),
-                    aspect: wgpu::TextureAspect::DepthOnly,
-                    ..Default::default()
-                }),
-                mask: view
-                    .receiver_mask
-                    .map(|m| (m.clone(), m.create_view(&Default::default()))),
-            });
-        }
-        if let Some(target) = &self.target {
-            check_target(target, Some(((width, height), self.lights.len())))?;
-        }
-        if resized || self.visibility.is_none() {
-            self.visibility = Some(match &self.target {
-                Some(target) => layer_views(target.clone()),
-                None => layer_views(visibility_array(
-                    device,
-                    width,
-                    height,
-                    self.lights.len().max(1) as u32,
-                )),
-            });
-            self.generation += 1;
-        }
-        let rebind_all = resized || inputs_changed;
-        self.casters_id = Some(casters.id());
-
-        let shadow_bounds = casters.shadow_bounds();
-        let caster_bounds = casters.caster_bounds();
-        let parts = casters.shadow_parts();
-        let has_mask = view.receiver_mask.is_some();
-        let software = self.software;
-        for state in self.lights.iter_mut().flatten() {
-            let mut chain = Chain::new(&self.settings, &state.light);
-            if !self.screen_space {
-                // Only the light-space map: the renderer shades in its forward pass.
-                chain = chain.map_only();
-            }
-            let effective = ShadowSettings {
-                method: chain.method(),
-                ..self.settings
-            };
-            let params = pass_params(&effective, software);
-            let sm = self.settings.shadow_map;
-            if state.allocate(device, casters, &sm, &chain, &params, (width, height), resized) || rebind_all {
-                state.bound = None;
-            }
-            let light = state.light;
-            // Fit once to find the depth range (and so the widest penumbra), then fit the sides
-            // to the casters widened by that penumbra.
-            let loose = LightView::fit(&light, &shadow_bounds);
-            // A spot's or point light's maps depend only on what lies in its reach (within its
-            // size of its frustum): a caster moving elsewhere changes neither its fit nor its
-            // penumbra widths. A sun sees the whole scene.
-            let own;
-            let (shadow_bounds, caster_bounds, parts) = match light {
-                Light::Directional(_) => (shadow_bounds, caster_bounds, &parts[..]),
-                Light::Spot(SpotLight { radius, .. }) | Light::Point(PointLight { radius, .. }) => {
-                    own = casters.seen_by(|b| sees(&loose, b, radius));
-                    if own.1.is_empty() {
-                        (shadow_bounds, caster_bounds, &parts[..])
-                    } else {
-                        (own.1, own.0, &own.2[..])
-                    }
-                }
-            };
-            // Fitted again to what it sees, so that nothing outside changes it.
-            let loose = match light {
-                Light::Directional(_) => loose,
-                _ => LightView::fit(&light, &shadow_bounds),
-            };
-            let spreads = spreads(&self.settings, &light, &loose, &shadow_bounds, &caster_bounds);
-            let sm = &self.settings.shadow_map;
-            let light_view = LightView::fit_with(&FitInputs {
-                light: &light,
-                casters: caster_bounds,
-                casters_and_receivers: shadow_bounds,
-                parts,
-                margin: spreads.fatten_distance * 2.0,
-                fit: sm.fit,
-                camera: Some(view.camera),
-                resolution: sm.resolution,
-                snap_to_texels: sm.snap_to_texels,
-                cascades: sm.cascades,
-            });
-            // Cascades whose maps still hold what they must stay as drawn.
-            let light_view = match &state.drawn_with {
-                Some(previous) => light_view.keeping_windows_of(previous, sm.resolution),
-                None => light_view,
-            };
-            queue.write_buffer(
-                &state.frame,
-                0,
-                bytemuck::bytes_of(&FrameUniform::new(&FrameInputs {
-                    camera: &view.camera,
-                    width,
-                    height,
-                    light: &light,
-                    ambient: glam::Vec3::ZERO,
-                    light_view: &light_view,
-                    settings: &effective,
-                    spreads,
-                    caster_radius: caster_bounds.radius(),
-                    receiver_mask: has_mask,
-                    distance_map: chain.distance_map(),
-                })),
-            );
-            let key = ShadowKey {
-                casters: casters.id(),
-                light,
-                light_view: light_view.map_matrices(),
-                shadow_map: self.settings.shadow_map,
-                fatten_distance: chain.fattened_map().then_some(spreads.fatten_distance),
-            };
-            let margin = spreads.fatten_distance * 2.0;
-            let tiles = redrawn_tiles(
-                state,
-                &key,
-                &light_view,
-                &view.camera,
-                casters,
-                !caster_bounds.is_empty(),
-                margin,
-            );
-            let render_maps = tiles != 0;
-            if render_maps && let Some(maps) = &mut state.maps {
-                maps.prepare(
-                    device,
-                    queue,
-                    casters,
-                    &light_view,
-                    spreads.fatten_distance,
-                    tiles,
-                );
-            }
-            state.screen.prepare(queue, &params);
-            state.planned = Some(Planned {
-                chain,
-                key,
-                render_maps,
-                tiles,
-                spreads,
-                light_view,
-            });
-        }
-        let inputs = self.inputs.as_ref().expect("set above");
-        let mask_view = inputs.mask.as_ref().map_or(&self.dummy.1, |m| &m.1);
-        let mut rebound = false;
-        for state in self.lights.iter_mut().flatten() {
-            let chain = state.planned.expect("planned above").chain;
-            if state.bound != Some(chain) {
-                state.bind(device, &inputs.depth_view, mask_view, &self.dummy.1);
-                state.bound = Some(chain);
-                rebound = true;
-            }
-        }
-        self.plan_blurs(device, queue, resized, rebound);
         Ok(())
     }
 
@@ -940,27 +928,11 @@ impl Shadows {
     }
 
     fn state(&self, id: LightId) -> Result<&LightState> {
-        self.lights
-            .get(id.0 as usize)
-            .and_then(Option::as_ref)
-            .ok_or_else(|| {
-                PenumbraError::input(
-                    format!("light {}", id.0),
-                    "no such light (removed or never added)",
-                )
-            })
+        crate::error::slot(&self.lights, "light", id.0)
     }
 
     fn state_mut(&mut self, id: LightId) -> Result<&mut LightState> {
-        self.lights
-            .get_mut(id.0 as usize)
-            .and_then(Option::as_mut)
-            .ok_or_else(|| {
-                PenumbraError::input(
-                    format!("light {}", id.0),
-                    "no such light (removed or never added)",
-                )
-            })
+        crate::error::slot_mut(&mut self.lights, "light", id.0)
     }
 }
 
@@ -975,12 +947,7 @@ impl LightState {
     fn new(device: &wgpu::Device, light: Light) -> Self {
         Self {
             light,
-            frame: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("Shadows::frame"),
-                size: FRAME_SIZE as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            frame: crate::gpu_helpers::uniform_buffer(device, "Shadows::frame", FRAME_SIZE as u64),
             maps: None,
             screen: ScreenChain::MapOnly,
             bound: None,

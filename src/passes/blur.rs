@@ -159,19 +159,12 @@ impl BlurPass {
             layout_entries.push(entry::texture_2d(8 + c, unfilterable));
         }
         layout_entries.push(entry::texture_2d(12, unfilterable));
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("BlurPass::layout"),
-            entries: &layout_entries,
-        });
-        let axis_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("BlurPass::axis_layout"),
-            entries: &[entry::uniform(
-                0,
-                wgpu::ShaderStages::FRAGMENT,
-                size_of::<BlurUniform>(),
-                false,
-            )],
-        });
+        let layout = crate::gpu_helpers::layout(device, "BlurPass::layout", &layout_entries);
+        let axis_layout = crate::gpu_helpers::layout(
+            device,
+            "BlurPass::axis_layout",
+            &[entry::fragment_uniform(0, size_of::<BlurUniform>())],
+        );
         let flag = |on: bool| if on { 1.0 } else { 0.0 };
         let targets = vec![Some(wgpu::ColorTargetState::from(VISIBILITY_FORMAT)); lights];
         let constants = [
@@ -219,22 +212,10 @@ impl BlurPass {
             };
             fullscreen(&[], Some(write), "fs_classify")
         });
-        let axis_buffers = ["BlurPass::horizontal", "BlurPass::vertical"].map(|label| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: size_of::<BlurUniform>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        });
-        let axis_groups = [0, 1].map(|i| {
-            super::bind_group(
-                device,
-                "BlurPass::axis",
-                &axis_layout,
-                &[axis_buffers[i].as_entire_binding()],
-            )
-        });
+        let axis_buffers = ["BlurPass::horizontal", "BlurPass::vertical"]
+            .map(|label| crate::gpu_helpers::uniform_buffer(device, label, size_of::<BlurUniform>() as u64));
+        let axis_groups =
+            [0, 1].map(|i| super::bind_group(device, "BlurPass::axis", &axis_layout, &[&axis_buffers[i]]));
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("BlurPass::linear_sampler"),
             mag_filter: wgpu::FilterMode::Linear,
@@ -307,20 +288,12 @@ impl BlurPass {
         dummy: &wgpu::TextureView,
     ) {
         let group = |source: &wgpu::TextureView| {
-            let distance = |c: usize| {
-                wgpu::BindingResource::TextureView(lights.get(c).map_or(dummy, |l| l.distance_map))
-            };
-            let sigma =
-                |c: usize| wgpu::BindingResource::TextureView(lights.get(c).map_or(dummy, |l| l.blur_sigma));
-            let mut resources = vec![
-                frame.as_entire_binding(),
-                wgpu::BindingResource::TextureView(camera_depth),
-                wgpu::BindingResource::Sampler(&self.sampler),
-                wgpu::BindingResource::TextureView(source),
-            ];
-            resources.extend((0..MAX_BATCHED_LIGHTS).map(distance));
-            resources.extend((0..MAX_BATCHED_LIGHTS).map(sigma));
-            resources.push(wgpu::BindingResource::TextureView(receiver_mask));
+            let distance = |c: usize| lights.get(c).map_or(dummy, |l| l.distance_map);
+            let sigma = |c: usize| lights.get(c).map_or(dummy, |l| l.blur_sigma);
+            let mut resources: Vec<&dyn super::Binding> = vec![frame, camera_depth, &self.sampler, source];
+            resources.extend((0..MAX_BATCHED_LIGHTS).map(|c| distance(c) as &dyn super::Binding));
+            resources.extend((0..MAX_BATCHED_LIGHTS).map(|c| sigma(c) as &dyn super::Binding));
+            resources.push(receiver_mask);
             super::bind_group(device, "BlurPass::bind_group", &self.layout, &resources)
         };
         let source = match (&self.packed, lights.first()) {

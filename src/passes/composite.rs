@@ -7,6 +7,7 @@
 //! prepass's camera depth (tested, not written). Output: the lit color in the caller's target.
 
 use super::entry;
+use super::{begin_pass, cleared, depth_attachment};
 use crate::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
 
@@ -29,9 +30,10 @@ impl CompositePass {
         frame_size: usize,
     ) -> Self {
         let shader = crate::shaders::module(device, "composite.wgsl", crate::shaders::COMPOSITE);
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("CompositePass::layout"),
-            entries: &[
+        let layout = crate::gpu_helpers::layout(
+            device,
+            "CompositePass::layout",
+            &[
                 entry::uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT, frame_size, false),
                 // Not filterable: the reference's mean is R32F.
                 entry::texture(
@@ -39,15 +41,14 @@ impl CompositePass {
                     wgpu::TextureSampleType::Float { filterable: false },
                     wgpu::TextureViewDimension::D2Array,
                 ),
-                entry::uniform(2, wgpu::ShaderStages::FRAGMENT, size_of::<ShadedLights>(), false),
+                entry::fragment_uniform(2, size_of::<ShadedLights>()),
             ],
-        });
-        let lights = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("CompositePass::lights"),
-            size: size_of::<ShadedLights>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        );
+        let lights = crate::gpu_helpers::uniform_buffer(
+            device,
+            "CompositePass::lights",
+            size_of::<ShadedLights>() as u64,
+        );
         // Depth tested against the prepass, not written; blended surfaces over the opaque ones.
         let pipelines = super::LitPipelines::new(
             device,
@@ -83,11 +84,7 @@ impl CompositePass {
             device,
             "CompositePass::bind_group",
             &self.layout,
-            &[
-                frame.as_entire_binding(),
-                wgpu::BindingResource::TextureView(visibility),
-                self.lights.as_entire_binding(),
-            ],
+            &[&frame, visibility, &self.lights],
         ));
     }
 
@@ -102,29 +99,12 @@ impl CompositePass {
         let Some(bind_group) = &self.bind_group else {
             return;
         };
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("CompositePass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: target,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(super::forward::BACKGROUND),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: camera_depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = begin_pass(
+            encoder,
+            "CompositePass",
+            &[cleared(target, super::forward::BACKGROUND)],
+            depth_attachment(camera_depth, Some(wgpu::LoadOp::Load)),
+        );
         pass.set_pipeline(self.pipelines.opaque(scene));
         pass.set_bind_group(0, bind_group, &[]);
         scene.draw(&mut pass, CameraStreams::Lit);

@@ -5,6 +5,7 @@
 //! depth (Depth32Float, reversed: cleared to 0, `Greater` test; tested `Equal` by the
 //! composite) and a receiver mask (R8Unorm: 1 on instances that receive shadows).
 
+use super::{begin_pass, cleared, depth_attachment};
 use super::{entry, screen_target};
 use crate::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
@@ -23,15 +24,16 @@ impl DepthPrepass {
 
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, frame_size: usize) -> Self {
         let shader = crate::shaders::module(device, "depth_prepass.wgsl", crate::shaders::DEPTH_PREPASS);
-        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("DepthPrepass::frame_layout"),
-            entries: &[entry::uniform(
+        let frame_layout = crate::gpu_helpers::layout(
+            device,
+            "DepthPrepass::frame_layout",
+            &[entry::uniform(
                 0,
                 wgpu::ShaderStages::VERTEX_FRAGMENT,
                 frame_size,
                 false,
             )],
-        });
+        );
         let pipeline = super::camera_pipeline(
             device,
             "DepthPrepass::pipeline",
@@ -76,7 +78,7 @@ impl DepthPrepass {
             device,
             "DepthPrepass::bind_group",
             &self.frame_layout,
-            &[frame.as_entire_binding()],
+            &[&frame],
         ));
     }
 
@@ -97,29 +99,12 @@ impl DepthPrepass {
         let Some(bind_group) = &self.bind_group else {
             return;
         };
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("DepthPrepass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &self.receiver_mask.1,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &self.depth.1,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = begin_pass(
+            encoder,
+            "DepthPrepass",
+            &[cleared(&self.receiver_mask.1, wgpu::Color::TRANSPARENT)],
+            depth_attachment(&self.depth.1, Some(wgpu::LoadOp::Clear(0.0))),
+        );
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
         scene.draw(&mut pass, CameraStreams::PositionUv);

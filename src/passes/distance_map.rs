@@ -26,6 +26,7 @@
 //! RG16F was chosen by a precision test (this module's tests): distances from 1e-4 to 1e4 come
 //! back with a relative error below 1e-3, far below what a blur or kernel width can show.
 
+use super::{begin_pass, depth_attachment};
 use crate::frame::DistanceSwitches;
 use crate::gpu_helpers::texture_bytes;
 
@@ -73,9 +74,10 @@ impl DistanceMapPass {
     ) -> Self {
         let shader = crate::shaders::module(device, "distance_map.wgsl", crate::shaders::DISTANCE_MAP);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("DistanceMapPass::layout"),
-            entries: &[
+        let layout = crate::gpu_helpers::layout(
+            device,
+            "DistanceMapPass::layout",
+            &[
                 entry::uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT, frame_size, false),
                 entry::texture_2d(1, unfilterable),
                 entry::texture_2d(2, unfilterable),
@@ -84,7 +86,7 @@ impl DistanceMapPass {
                 entry::texture_2d(5, unfilterable),
                 entry::texture_2d(6, unfilterable),
             ],
-        });
+        );
         let constants = [
             ("MASK_EARLY_OUT", if switches.mask_early_out { 1.0 } else { 0.0 }),
             ("NEAREST_CASTER", if switches.nearest_caster { 1.0 } else { 0.0 }),
@@ -200,13 +202,13 @@ impl DistanceMapPass {
             "DistanceMapPass::bind_group",
             &self.layout,
             &[
-                frame.as_entire_binding(),
-                wgpu::BindingResource::TextureView(fattened_map),
-                wgpu::BindingResource::TextureView(camera_depth),
-                wgpu::BindingResource::TextureView(receiver_mask),
-                wgpu::BindingResource::TextureView(occluder_offset),
-                wgpu::BindingResource::TextureView(exit_map),
-                wgpu::BindingResource::TextureView(shadow_map),
+                &frame,
+                fattened_map,
+                camera_depth,
+                receiver_mask,
+                occluder_offset,
+                exit_map,
+                shadow_map,
             ],
         ));
     }
@@ -258,21 +260,12 @@ impl DistanceMapPass {
                     || maps_drawn,
             );
         }
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("DistanceMapPass"),
-            color_attachments: &[cleared(&self.distance.1, wgpu::Color::TRANSPARENT)],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &self.classification.1,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = begin_pass(
+            encoder,
+            "DistanceMapPass",
+            &[cleared(&self.distance.1, wgpu::Color::TRANSPARENT)],
+            depth_attachment(&self.classification.1, Some(wgpu::LoadOp::Clear(0.0))),
+        );
         pass.set_bind_group(0, group, &[]);
         let tiles = self.classification().tiles;
         pass.set_pipeline(&self.pipeline);

@@ -7,6 +7,7 @@
 //! tap), [`ShadowMethod::Hardware2x2`] a linear one (the hardware's 2x2 PCF); the pipeline is
 //! the same.
 
+use super::{begin_pass, cleared, depth_attachment};
 use bytemuck::{Pod, Zeroable};
 
 use super::{entry, screen_target};
@@ -69,9 +70,10 @@ impl ForwardPass {
         shadow_map: &wgpu::TextureView,
     ) -> Self {
         let shader = crate::shaders::module(device, "forward.wgsl", crate::shaders::FORWARD);
-        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("ForwardPass::frame_layout"),
-            entries: &[
+        let frame_layout = crate::gpu_helpers::layout(
+            device,
+            "ForwardPass::frame_layout",
+            &[
                 entry::uniform(
                     0,
                     wgpu::ShaderStages::VERTEX_FRAGMENT,
@@ -81,13 +83,12 @@ impl ForwardPass {
                 entry::texture_2d(1, wgpu::TextureSampleType::Depth),
                 entry::sampler(2, wgpu::SamplerBindingType::Comparison),
             ],
-        });
-        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("ForwardPass::frame"),
-            size: size_of::<FrameUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        );
+        let frame_buffer = crate::gpu_helpers::uniform_buffer(
+            device,
+            "ForwardPass::frame",
+            size_of::<FrameUniform>() as u64,
+        );
         let hard_sampler =
             super::comparison_sampler(device, "ForwardPass::hard_sampler", wgpu::FilterMode::Nearest);
         let pcf_sampler =
@@ -200,29 +201,12 @@ impl ForwardPass {
             ambient: vec4(scene.ambient(), light.range().unwrap_or(0.0)),
         };
         queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("ForwardPass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: target,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(BACKGROUND),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &self.depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = begin_pass(
+            encoder,
+            "ForwardPass",
+            &[cleared(target, BACKGROUND)],
+            depth_attachment(&self.depth, Some(wgpu::LoadOp::Clear(0.0))),
+        );
         pass.set_pipeline(self.pipelines.opaque(scene));
         let frame_group = match method {
             ShadowMethod::Hard => &self.hard_bind_group,

@@ -57,8 +57,8 @@ pub use resolve::ResolvePass;
 pub use shadow_map::ShadowMapPass;
 // The generic helpers the passes build on (a leaf module).
 pub(crate) use crate::gpu_helpers::{
-    Fullscreen, bind_group, cleared, comparison_sampler, entry, fullscreen_pipeline,
-    fullscreen_pipeline_with, kept, screen_target,
+    Binding, Fullscreen, begin_pass, bind_group, cleared, comparison_sampler, depth_attachment, entry,
+    fullscreen_pipeline, fullscreen_pipeline_with, kept, screen_target,
 };
 #[cfg(feature = "renderer")]
 pub(crate) use crate::gpu_helpers::{POSITION, blended_target, stream, vertex_layout};
@@ -173,28 +173,10 @@ pub(crate) fn draw_fullscreen_into(
     let color_attachments: Vec<_> = targets.iter().map(|t| cleared(t, wgpu::Color::WHITE)).collect();
     let depth_stencil_attachment = match depth {
         DepthUse::None => None,
-        DepthUse::Test(view) => Some(wgpu::RenderPassDepthStencilAttachment {
-            view,
-            depth_ops: None,
-            stencil_ops: None,
-        }),
-        DepthUse::Write(view) => Some(wgpu::RenderPassDepthStencilAttachment {
-            view,
-            depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(0.0),
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
+        DepthUse::Test(view) => depth_attachment(view, None),
+        DepthUse::Write(view) => depth_attachment(view, Some(wgpu::LoadOp::Clear(0.0))),
     };
-    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(label),
-        color_attachments: &color_attachments,
-        depth_stencil_attachment,
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
+    let mut pass = begin_pass(encoder, label, &color_attachments, depth_stencil_attachment);
     pass.set_pipeline(pipeline);
     for (i, group) in bind_groups.iter().enumerate() {
         pass.set_bind_group(i as u32, *group, &[]);
@@ -225,16 +207,9 @@ impl CascadeUniforms {
     pub fn new(device: &wgpu::Device, label: &str, visibility: wgpu::ShaderStages, size: usize) -> Self {
         let align = u64::from(device.limits().min_uniform_buffer_offset_alignment).max(1);
         let stride = (size as u64).div_ceil(align) * align;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some(label),
-            entries: &[entry::uniform(0, visibility, size, true)],
-        });
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(label),
-            size: stride * crate::light_space::MAX_TILES as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let layout = crate::gpu_helpers::layout(device, label, &[entry::uniform(0, visibility, size, true)]);
+        let buffer =
+            crate::gpu_helpers::uniform_buffer(device, label, stride * crate::light_space::MAX_TILES as u64);
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(label),
             layout: &layout,

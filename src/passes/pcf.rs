@@ -36,16 +36,12 @@ impl PcfPass {
         light_kind: u32,
     ) -> Self {
         let shader = crate::shaders::module(device, "pcf.wgsl", crate::shaders::PCF);
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("PcfPass::layout"),
-            entries: &[
-                entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
-                entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
-                entry::texture_2d(2, wgpu::TextureSampleType::Depth),
-                entry::sampler(3, wgpu::SamplerBindingType::Comparison),
-                entry::uniform(4, wgpu::ShaderStages::FRAGMENT, size_of::<PcfUniform>(), false),
-            ],
-        });
+        let layout = crate::gpu_helpers::shadow_lookup_layout(
+            device,
+            "PcfPass::layout",
+            frame_size,
+            &[entry::fragment_uniform(4, size_of::<PcfUniform>())],
+        );
         let flag = |on: bool| if on { 1.0 } else { 0.0 };
         let pipeline = fullscreen_pipeline_with(
             device,
@@ -58,12 +54,8 @@ impl PcfPass {
                 (LIGHT_KIND, light_kind as f64),
             ],
         );
-        let params = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("PcfPass::params"),
-            size: size_of::<PcfUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let params =
+            crate::gpu_helpers::uniform_buffer(device, "PcfPass::params", size_of::<PcfUniform>() as u64);
         Self {
             switches,
             light_kind,
@@ -95,13 +87,7 @@ impl PcfPass {
             device,
             "PcfPass::bind_group",
             &self.layout,
-            &[
-                frame.as_entire_binding(),
-                wgpu::BindingResource::TextureView(camera_depth),
-                wgpu::BindingResource::TextureView(shadow_map),
-                wgpu::BindingResource::Sampler(&self.sampler),
-                self.params.as_entire_binding(),
-            ],
+            &[&frame, camera_depth, shadow_map, &self.sampler, &self.params],
         ));
     }
 

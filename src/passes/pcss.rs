@@ -28,17 +28,15 @@ impl PcssPass {
     /// compiled out, as in the distance-map method's passes); another kind needs a new pass.
     pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32) -> Self {
         let shader = crate::shaders::module(device, "pcss.wgsl", crate::shaders::PCSS);
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("PcssPass::layout"),
-            entries: &[
-                entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
-                entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
-                entry::texture_2d(2, wgpu::TextureSampleType::Depth),
-                entry::sampler(3, wgpu::SamplerBindingType::Comparison),
-                entry::texture_2d(4, wgpu::TextureSampleType::Float { filterable: false }),
-                entry::uniform(5, wgpu::ShaderStages::FRAGMENT, size_of::<PcssUniform>(), false),
+        let layout = crate::gpu_helpers::shadow_lookup_layout(
+            device,
+            "PcssPass::layout",
+            frame_size,
+            &[
+                entry::unfilterable(4),
+                entry::fragment_uniform(5, size_of::<PcssUniform>()),
             ],
-        });
+        );
         let pipeline = fullscreen_pipeline_with(
             device,
             "PcssPass::pipeline",
@@ -47,12 +45,8 @@ impl PcssPass {
             VISIBILITY_FORMAT,
             &[(LIGHT_KIND, light_kind as f64)],
         );
-        let params = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("PcssPass::params"),
-            size: size_of::<PcssUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let params =
+            crate::gpu_helpers::uniform_buffer(device, "PcssPass::params", size_of::<PcssUniform>() as u64);
         Self {
             light_kind,
             layout,
@@ -89,12 +83,12 @@ impl PcssPass {
             "PcssPass::bind_group",
             &self.layout,
             &[
-                frame.as_entire_binding(),
-                wgpu::BindingResource::TextureView(camera_depth),
-                wgpu::BindingResource::TextureView(shadow_map),
-                wgpu::BindingResource::Sampler(&self.sampler),
-                wgpu::BindingResource::TextureView(shadow_map),
-                self.params.as_entire_binding(),
+                &frame,
+                camera_depth,
+                shadow_map,
+                &self.sampler,
+                shadow_map,
+                &self.params,
             ],
         ));
     }

@@ -55,18 +55,16 @@ pub struct ReferencePass {
 impl ReferencePass {
     pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
         let shader = crate::shaders::module(device, "reference.wgsl", crate::shaders::REFERENCE);
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("ReferencePass::layout"),
-            entries: &[
-                entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
-                entry::texture_2d(1, wgpu::TextureSampleType::Float { filterable: false }),
-                entry::texture_2d(2, wgpu::TextureSampleType::Depth),
-                entry::sampler(3, wgpu::SamplerBindingType::Comparison),
-                entry::texture_2d(4, wgpu::TextureSampleType::Float { filterable: false }),
-                entry::uniform(5, wgpu::ShaderStages::FRAGMENT, size_of::<SampleUniform>(), false),
-                entry::texture_2d(6, wgpu::TextureSampleType::Float { filterable: false }),
+        let layout = crate::gpu_helpers::shadow_lookup_layout(
+            device,
+            "ReferencePass::layout",
+            frame_size,
+            &[
+                entry::unfilterable(4),
+                entry::fragment_uniform(5, size_of::<SampleUniform>()),
+                entry::unfilterable(6),
             ],
-        });
+        );
         let pipeline = Fullscreen {
             label: "ReferencePass::pipeline",
             shader: &shader,
@@ -78,12 +76,11 @@ impl ReferencePass {
         .pipeline(device);
         let sampler =
             super::comparison_sampler(device, "ReferencePass::hard_sampler", wgpu::FilterMode::Nearest);
-        let sample = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("ReferencePass::sample"),
-            size: size_of::<SampleUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let sample = crate::gpu_helpers::uniform_buffer(
+            device,
+            "ReferencePass::sample",
+            size_of::<SampleUniform>() as u64,
+        );
         Self {
             layout,
             pipeline,
@@ -113,13 +110,13 @@ impl ReferencePass {
                 "ReferencePass::bind_group",
                 &self.layout,
                 &[
-                    frame.as_entire_binding(),
-                    wgpu::BindingResource::TextureView(camera_depth),
-                    wgpu::BindingResource::TextureView(shadow_map),
-                    wgpu::BindingResource::Sampler(&self.sampler),
-                    wgpu::BindingResource::TextureView(&previous[0].1),
-                    self.sample.as_entire_binding(),
-                    wgpu::BindingResource::TextureView(&previous[1].1),
+                    &frame,
+                    camera_depth,
+                    shadow_map,
+                    &self.sampler,
+                    &previous[0].1,
+                    &self.sample,
+                    &previous[1].1,
                 ],
             )
         };

@@ -17,16 +17,17 @@ impl ResolvePass {
     pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
         let shader = crate::shaders::module(device, "resolve.wgsl", crate::shaders::RESOLVE);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("ResolvePass::layout"),
-            entries: &[
-                entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
+        let layout = crate::gpu_helpers::layout(
+            device,
+            "ResolvePass::layout",
+            &[
+                entry::fragment_uniform(0, frame_size),
                 entry::texture_2d(1, unfilterable),
                 entry::texture_2d(2, unfilterable),
                 entry::texture_2d(3, unfilterable),
                 entry::texture_2d(4, unfilterable),
             ],
-        });
+        );
         let pipeline = fullscreen_pipeline(
             device,
             "ResolvePass::pipeline",
@@ -56,13 +57,7 @@ impl ResolvePass {
             device,
             "ResolvePass::bind_group",
             &self.layout,
-            &[
-                frame.as_entire_binding(),
-                wgpu::BindingResource::TextureView(camera_depth),
-                wgpu::BindingResource::TextureView(distance_map),
-                wgpu::BindingResource::TextureView(visibility),
-                wgpu::BindingResource::TextureView(receiver_mask),
-            ],
+            &[&frame, camera_depth, distance_map, visibility, receiver_mask],
         ));
     }
 

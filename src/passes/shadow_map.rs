@@ -7,6 +7,7 @@
 //! use a second minimal pipeline that reads alpha. Constant and slope-scaled depth bias are
 //! applied by the rasterizer.
 
+use super::depth_attachment;
 use crate::gpu_helpers::texture_bytes;
 use bytemuck::{Pod, Zeroable};
 
@@ -196,24 +197,13 @@ pub(super) fn light_depth_target(
     resolution: u32,
     label: &str,
 ) -> (wgpu::Texture, wgpu::TextureView) {
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: resolution,
-            height: resolution,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: settings.depth_format.texture_format(),
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
-    let view = texture.create_view(&Default::default());
-    (texture, view)
+    super::screen_target(
+        device,
+        label,
+        resolution,
+        resolution,
+        settings.depth_format.texture_format(),
+    )
 }
 
 /// A depth-only pass that clears `view` to the far plane, or with `keep` loads what it holds.
@@ -221,18 +211,14 @@ pub(super) fn depth_pass_descriptor(view: &wgpu::TextureView, keep: bool) -> wgp
     wgpu::RenderPassDescriptor {
         label: None,
         color_attachments: &[],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+        depth_stencil_attachment: depth_attachment(
             view,
-            depth_ops: Some(wgpu::Operations {
-                load: if keep {
-                    wgpu::LoadOp::Load
-                } else {
-                    wgpu::LoadOp::Clear(1.0)
-                },
-                store: wgpu::StoreOp::Store,
+            Some(if keep {
+                wgpu::LoadOp::Load
+            } else {
+                wgpu::LoadOp::Clear(1.0)
             }),
-            stencil_ops: None,
-        }),
+        ),
         timestamp_writes: None,
         occlusion_query_set: None,
         multiview_mask: None,

@@ -28,13 +28,14 @@ const CLASS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 /// the classes, read by the vertex stage. wgpu gives equal layouts one identity, so the passes
 /// that draw tiles make their own and use the group this pass makes.
 pub(crate) fn tiles_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("tiles_layout"),
-        entries: &[wgpu::BindGroupLayoutEntry {
+    crate::gpu_helpers::layout(
+        device,
+        "tiles_layout",
+        &[wgpu::BindGroupLayoutEntry {
             visibility: wgpu::ShaderStages::VERTEX,
-            ..entry::texture_2d(0, wgpu::TextureSampleType::Float { filterable: false })
+            ..entry::unfilterable(0)
         }],
-    })
+    )
 }
 
 pub(crate) struct TileClassifyPass {
@@ -61,22 +62,24 @@ impl TileClassifyPass {
     pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32) -> Self {
         let shader = crate::shaders::module(device, "tile_classify.wgsl", crate::shaders::TILE_CLASSIFY);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("TileClassifyPass::layout"),
-            entries: &[
-                entry::uniform(0, wgpu::ShaderStages::FRAGMENT, frame_size, false),
+        let layout = crate::gpu_helpers::layout(
+            device,
+            "TileClassifyPass::layout",
+            &[
+                entry::fragment_uniform(0, frame_size),
                 entry::texture_2d(1, unfilterable),
                 entry::texture_2d(2, unfilterable),
                 entry::sampler(4, wgpu::SamplerBindingType::NonFiltering),
             ],
-        });
-        let reduce_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("TileClassifyPass::reduce_layout"),
-            entries: &[
+        );
+        let reduce_layout = crate::gpu_helpers::layout(
+            device,
+            "TileClassifyPass::reduce_layout",
+            &[
                 entry::texture_2d(3, unfilterable),
                 entry::sampler(4, wgpu::SamplerBindingType::NonFiltering),
             ],
-        });
+        );
         let constants = [(LIGHT_KIND, light_kind as f64)];
         let pipeline = |label, layout: &wgpu::BindGroupLayout, format: wgpu::TextureFormat, entry| {
             Fullscreen {
@@ -134,12 +137,7 @@ impl TileClassifyPass {
         layout: &wgpu::BindGroupLayout,
         classes: &wgpu::TextureView,
     ) -> wgpu::BindGroup {
-        super::bind_group(
-            device,
-            "TileClassifyPass::tiles",
-            layout,
-            &[wgpu::BindingResource::TextureView(classes)],
-        )
+        super::bind_group(device, "TileClassifyPass::tiles", layout, &[classes])
     }
 
     /// The kept tiles, for the passes that draw only them.

@@ -17,6 +17,7 @@ use super::tile_classify::tiles_layout;
 use super::{
     Classification, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, draw_area, entry, kept, screen_target,
 };
+use super::{begin_pass, depth_attachment};
 use crate::frame::{PcfSwitches, PcfUniform};
 use crate::gpu_helpers::texture_bytes;
 
@@ -55,17 +56,18 @@ impl VariablePcfPass {
     ) -> Self {
         let shader = crate::shaders::module(device, "variable_pcf.wgsl", crate::shaders::VARIABLE_PCF);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("VariablePcfPass::layout"),
-            entries: &[
+        let layout = crate::gpu_helpers::layout(
+            device,
+            "VariablePcfPass::layout",
+            &[
                 entry::uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT, frame_size, false),
                 entry::texture_2d(1, unfilterable),
                 entry::texture_2d(2, unfilterable),
                 entry::texture_2d(3, wgpu::TextureSampleType::Depth),
                 entry::sampler(4, wgpu::SamplerBindingType::Comparison),
-                entry::uniform(5, wgpu::ShaderStages::FRAGMENT, size_of::<PcfUniform>(), false),
+                entry::fragment_uniform(5, size_of::<PcfUniform>()),
             ],
-        });
+        );
         let pipeline = Self::make_pipeline(
             device,
             &shader,
@@ -75,12 +77,11 @@ impl VariablePcfPass {
             light_kind,
             "fs_main",
         );
-        let params = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("VariablePcfPass::params"),
-            size: size_of::<PcfUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let params = crate::gpu_helpers::uniform_buffer(
+            device,
+            "VariablePcfPass::params",
+            size_of::<PcfUniform>() as u64,
+        );
         Self {
             switches,
             light_kind,
@@ -199,12 +200,12 @@ impl VariablePcfPass {
             "VariablePcfPass::bind_group",
             &self.layout,
             &[
-                frame.as_entire_binding(),
-                wgpu::BindingResource::TextureView(camera_depth),
-                wgpu::BindingResource::TextureView(distance_map),
-                wgpu::BindingResource::TextureView(shadow_map),
-                wgpu::BindingResource::Sampler(&self.sampler),
-                self.params.as_entire_binding(),
+                &frame,
+                camera_depth,
+                distance_map,
+                shadow_map,
+                &self.sampler,
+                &self.params,
             ],
         ));
     }
@@ -282,18 +283,12 @@ impl VariablePcfPass {
         pipeline: &wgpu::RenderPipeline,
         attachments: &[Option<wgpu::RenderPassColorAttachment>],
     ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("VariablePcfPass"),
-            color_attachments: attachments,
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: classification.depth,
-                depth_ops: None,
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = begin_pass(
+            encoder,
+            "VariablePcfPass",
+            attachments,
+            depth_attachment(classification.depth, None),
+        );
         let Some(group) = &self.bind_group else {
             return;
         };

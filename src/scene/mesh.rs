@@ -294,17 +294,39 @@ impl Mesh {
                 tri.swap(1, 2);
             }
         }
-        Mesh::new(
+        let mut mesh = Mesh::new(
             self.name.clone(),
             positions,
             Some(normals),
             Some(self.uvs.clone()),
             indices,
-        )
+        )?;
+        if !self.lightmap_uvs.is_empty() {
+            mesh = mesh.with_lightmap_uvs(self.lightmap_uvs.clone())?;
+        }
+        if !self.colors.is_empty() {
+            mesh = mesh.with_colors(self.colors.clone())?;
+        }
+        if !self.tangents.is_empty() {
+            // Tangents turn with the surface; a mirroring transform flips the bitangent's side.
+            let linear = Mat3::from_mat4(*m);
+            let sign = if flip { -1.0 } else { 1.0 };
+            let tangents = self
+                .tangents
+                .iter()
+                .map(|t| (linear * t.truncate()).normalize_or_zero().extend(t.w * sign))
+                .collect();
+            mesh = mesh.with_tangents(tangents)?;
+        }
+        Ok(mesh)
     }
 
-    /// Concatenates several meshes into one (their vertices stay separate).
+    /// Concatenates several meshes into one (their vertices stay separate). Lightmap UVs,
+    /// vertex colours and tangents are kept where every part has them; colours where only some
+    /// parts have them (the others white). Lightmap UVs or tangents on only some parts are an
+    /// error naming a part without them: there is nothing to give the others.
     pub fn merge(name: impl Into<String>, parts: &[Mesh]) -> Result<Mesh> {
+        let name = name.into();
         let mut positions = Vec::new();
         let mut normals = Vec::new();
         let mut uvs = Vec::new();
@@ -316,7 +338,41 @@ impl Mesh {
             uvs.extend_from_slice(&part.uvs);
             indices.extend(part.indices.iter().map(|i| i + base));
         }
-        Mesh::new(name, positions, Some(normals), Some(uvs), indices)
+        let mut mesh = Mesh::new(name.clone(), positions, Some(normals), Some(uvs), indices)?;
+        // Every part's values of one attribute, `None` when no part has it.
+        let all_or_none = |what: &str, has: fn(&Mesh) -> bool| -> Result<bool> {
+            match parts.iter().find(|p| !has(p)) {
+                Some(_) if !parts.iter().any(has) => Ok(false),
+                Some(without) => Err(PenumbraError::Scene(format!(
+                    "merging into mesh `{name}`: some parts have {what} and `{}` has none",
+                    without.name
+                ))),
+                None => Ok(!parts.is_empty()),
+            }
+        };
+        if all_or_none("lightmap uvs", |p| !p.lightmap_uvs.is_empty())? {
+            mesh = mesh.with_lightmap_uvs(
+                parts
+                    .iter()
+                    .flat_map(|p| p.lightmap_uvs.iter().copied())
+                    .collect(),
+            )?;
+        }
+        if all_or_none("tangents", |p| !p.tangents.is_empty())? {
+            mesh = mesh.with_tangents(parts.iter().flat_map(|p| p.tangents.iter().copied()).collect())?;
+        }
+        if parts.iter().any(|p| !p.colors.is_empty()) {
+            let colors = parts.iter().flat_map(|p| {
+                let white = std::iter::repeat_n(Vec4::ONE, p.positions.len());
+                if p.colors.is_empty() {
+                    white.collect::<Vec<_>>()
+                } else {
+                    p.colors.clone()
+                }
+            });
+            mesh = mesh.with_colors(colors.collect())?;
+        }
+        Ok(mesh)
     }
 }
 
@@ -503,6 +559,71 @@ pub(crate) fn smoothed_normals(
 mod tests {
     use super::*;
     use crate::scene::primitives;
+
+    /// A unit quad in the xz plane with every optional attribute: lightmap uvs, red colours,
+    /// tangents along +x with the bitangent on the +1 side.
+    fn dressed_quad() -> Mesh {
+        let quad = primitives::plane(1.0, 1.0);
+        let n = quad.vertex_count();
+        quad.with_lightmap_uvs(vec![Vec2::new(0.25, 0.75); n])
+            .unwrap()
+            .with_colors(vec![Vec4::new(1.0, 0.0, 0.0, 1.0); n])
+            .unwrap()
+            .with_tangents(vec![Vec4::new(1.0, 0.0, 0.0, 1.0); n])
+            .unwrap()
+    }
+
+    #[test]
+    fn transforming_a_mesh_keeps_its_lightmap_uvs_colours_and_tangents() {
+        let quad = dressed_quad();
+        let turned = quad
+            .transformed(&Mat4::from_rotation_y(std::f32::consts::FRAC_PI_2))
+            .unwrap();
+        assert_eq!(turned.lightmap_uvs, quad.lightmap_uvs);
+        assert_eq!(turned.colors, quad.colors);
+        // +x turned a quarter about y is -z.
+        for t in &turned.tangents {
+            assert!((t.truncate() - Vec3::NEG_Z).length() < 1e-5 && t.w == 1.0, "{t}");
+        }
+        // A mirror keeps the tangent's direction where it is not mirrored and flips the
+        // bitangent's side.
+        let mirrored = quad
+            .transformed(&Mat4::from_scale(Vec3::new(1.0, 1.0, -1.0)))
+            .unwrap();
+        assert!(mirrored.tangents.iter().all(|t| t.x == 1.0 && t.w == -1.0));
+    }
+
+    #[test]
+    fn merging_keeps_what_every_part_has_fills_colours_and_refuses_half_given_uvs() {
+        let dressed = dressed_quad();
+        let plain = primitives::plane(1.0, 1.0);
+        let both = Mesh::merge("both", &[dressed.clone(), dressed.clone()]).unwrap();
+        assert_eq!(both.lightmap_uvs.len(), 2 * dressed.vertex_count());
+        assert_eq!(both.tangents.len(), 2 * dressed.vertex_count());
+        assert_eq!(both.colors.len(), 2 * dressed.vertex_count());
+        // Colours on one part only: the other is white.
+        let coloured = plain
+            .clone()
+            .with_colors(vec![Vec4::new(0.0, 0.0, 1.0, 1.0); plain.vertex_count()])
+            .unwrap();
+        let mixed = Mesh::merge("mixed", &[coloured, plain.clone()]).unwrap();
+        let n = plain.vertex_count();
+        assert!(
+            mixed.colors[..n]
+                .iter()
+                .all(|c| *c == Vec4::new(0.0, 0.0, 1.0, 1.0))
+        );
+        assert!(mixed.colors[n..].iter().all(|c| *c == Vec4::ONE));
+        assert!(mixed.lightmap_uvs.is_empty() && mixed.tangents.is_empty());
+        // Lightmap uvs on one part only: an error naming the part without.
+        let mut bare = plain.clone();
+        bare.name = "bare".into();
+        let error = Mesh::merge("half", &[dressed, bare]).unwrap_err().to_string();
+        assert!(
+            error.contains("lightmap uvs") && error.contains("`bare`"),
+            "{error}"
+        );
+    }
 
     #[test]
     fn split_normal_cube_gets_one_smoothed_normal_per_corner() {
