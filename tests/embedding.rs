@@ -14,59 +14,7 @@ use wgpu::util::DeviceExt;
 
 const SIZE: u32 = 256;
 
-/// A mesh in buffers of the test's own: positions (stride 12) and u32 indices.
-struct RawMesh {
-    positions: Vec<Vec3>,
-    indices: Vec<u32>,
-    vertex_buffer: wgpu::Buffer,
-    index_buffer: wgpu::Buffer,
-}
-
-impl RawMesh {
-    fn new(device: &wgpu::Device, mesh: &penumbra::Mesh) -> Self {
-        let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("test vertices"),
-            contents: bytemuck::cast_slice(&mesh.positions),
-            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_SRC,
-        });
-        let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("test indices"),
-            contents: bytemuck::cast_slice(&mesh.indices),
-            usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_SRC,
-        });
-        Self {
-            positions: mesh.positions.clone(),
-            indices: mesh.indices.clone(),
-            vertex_buffer,
-            index_buffer,
-        }
-    }
-
-    fn desc(&self) -> CasterMeshDesc<'_> {
-        CasterMeshDesc {
-            label: "test mesh",
-            positions: VertexStream {
-                buffer: &self.vertex_buffer,
-                offset: 0,
-                stride: 12,
-                format: wgpu::VertexFormat::Float32x3,
-            },
-            vertex_count: self.positions.len() as u32,
-            indices: Some(IndexStream {
-                buffer: &self.index_buffer,
-                offset: 0,
-                format: wgpu::IndexFormat::Uint32,
-                count: self.indices.len() as u32,
-            }),
-            normals: None,
-            geometry: MeshGeometry::Cpu {
-                positions: &self.positions,
-                normals: None,
-                indices: Some(&self.indices),
-            },
-        }
-    }
-}
+use common::RawMesh;
 
 /// The test's own depth prepass: positions only, one transform per draw.
 struct DepthPass {
@@ -133,20 +81,7 @@ impl DepthPass {
             multiview_mask: None,
             cache: None,
         });
-        let depth = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("test depth"),
-            size: wgpu::Extent3d {
-                width: SIZE,
-                height: SIZE,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Depth32Float,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
+        let depth = common::engine_depth(device, (SIZE, SIZE));
         Self {
             pipeline_standard,
             layout,

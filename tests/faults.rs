@@ -4,12 +4,14 @@
 //! software adapter: resources of a second device (of the same adapter) handed to the first (a
 //! misuse no argument check sees), and `Device::destroy`.
 
+mod common;
+
+use common::RawMesh;
 use glam::{Mat4, Vec3};
 use penumbra::{
-    CameraMatrices, CasterInstance, CasterMeshDesc, Casters, DepthConvention, DirectionalLight, HeadlessGpu,
-    IndexStream, Light, PenumbraError, ShadowSettings, Shadows, VertexStream, ViewInputs,
+    CameraMatrices, CasterInstance, CasterMeshDesc, Casters, DirectionalLight, HeadlessGpu, Light,
+    PenumbraError, ShadowSettings, Shadows, ViewInputs,
 };
-use wgpu::util::DeviceExt;
 
 const SIZE: (u32, u32) = (64, 48);
 
@@ -27,50 +29,17 @@ fn second_device(gpu: &HeadlessGpu) -> wgpu::Device {
     }
 }
 
-/// A cube's vertex and index buffers on `device` (readable back: `COPY_SRC`).
-fn cube_buffers(device: &wgpu::Device) -> (penumbra::Mesh, wgpu::Buffer, wgpu::Buffer) {
-    let cube = penumbra::scene::primitives::cuboid(Vec3::splat(0.5));
-    let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("faults vertices"),
-        contents: bytemuck::cast_slice(&cube.positions),
-        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_SRC,
-    });
-    let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("faults indices"),
-        contents: bytemuck::cast_slice(&cube.indices),
-        usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_SRC,
-    });
-    (cube, vertices, indices)
+/// A cube in buffers of `device`'s (readable back).
+fn cube(device: &wgpu::Device) -> RawMesh {
+    RawMesh::new(device, &penumbra::scene::primitives::cuboid(Vec3::splat(0.5)))
 }
 
 fn depth_texture(device: &wgpu::Device) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("faults depth"),
-        size: wgpu::Extent3d {
-            width: SIZE.0,
-            height: SIZE.1,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Depth32Float,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
-    })
+    common::engine_depth(device, SIZE)
 }
 
 fn camera() -> CameraMatrices {
-    CameraMatrices {
-        view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 4.0, 4.0), Vec3::ZERO, Vec3::Y),
-        projection: glam::camera::rh::proj::directx::perspective(
-            0.9,
-            SIZE.0 as f32 / SIZE.1 as f32,
-            0.1,
-            50.0,
-        ),
-        depth: DepthConvention::Standard,
-    }
+    common::engine_camera(SIZE)
 }
 
 fn sun() -> Light {
@@ -83,18 +52,10 @@ fn sun() -> Light {
 }
 
 /// Casters holding one cube (given from the CPU) and shadows for one sun, on `gpu`.
-fn scene(gpu: &HeadlessGpu, buffers: &(penumbra::Mesh, wgpu::Buffer, wgpu::Buffer)) -> (Casters, Shadows) {
+fn scene(gpu: &HeadlessGpu, cube: &RawMesh) -> (Casters, Shadows) {
     let (device, queue) = (&gpu.device, &gpu.queue);
-    let (cube, vertices, indices) = buffers;
-    let desc = CasterMeshDesc::new(
-        "cube",
-        VertexStream::new(vertices, 0, 12, wgpu::VertexFormat::Float32x3),
-        cube.positions.len() as u32,
-    )
-    .indices(IndexStream::u32(indices, cube.indices.len() as u32))
-    .cpu(&cube.positions, None, Some(&cube.indices));
     let mut casters = Casters::new(device);
-    let mesh = casters.add_mesh(device, queue, &desc).unwrap();
+    let mesh = casters.add_mesh(device, queue, &cube.desc()).unwrap();
     casters
         .add_instance(device, queue, CasterInstance::new(mesh, Mat4::IDENTITY))
         .unwrap();
@@ -142,7 +103,7 @@ fn expect_gpu_error<T: std::fmt::Debug>(result: penumbra::Result<T>, during: &st
 fn a_depth_texture_of_another_device_is_an_error_and_the_shadows_go_on() {
     let gpu = HeadlessGpu::new().expect("a device");
     let other = second_device(&gpu);
-    let buffers = cube_buffers(&gpu.device);
+    let buffers = cube(&gpu.device);
     let (casters, mut shadows) = scene(&gpu, &buffers);
     // Every check penumbra makes on the texture itself passes (format, usage, size): only wgpu
     // sees that it belongs to another device, when penumbra binds it.
@@ -169,35 +130,27 @@ fn a_depth_texture_of_another_device_is_an_error_and_the_shadows_go_on() {
 fn a_mesh_read_back_from_another_devices_buffers_is_an_error() {
     let gpu = HeadlessGpu::new().expect("a device");
     let other = second_device(&gpu);
-    let (cube, vertices, indices) = cube_buffers(&other);
-    let desc = CasterMeshDesc::new(
-        "foreign cube",
-        VertexStream::new(&vertices, 0, 12, wgpu::VertexFormat::Float32x3),
-        cube.positions.len() as u32,
-    )
-    .indices(IndexStream::u32(&indices, cube.indices.len() as u32));
+    let foreign = cube(&other);
+    let desc = CasterMeshDesc {
+        label: "foreign cube",
+        ..foreign.read_back()
+    };
     let mut casters = Casters::new(&gpu.device);
     // Read back (no CPU data given): penumbra copies the buffers in commands of its own.
     let result = casters.add_mesh(&gpu.device, &gpu.queue, &desc);
     let reason = expect_gpu_error(result, "adding caster mesh `foreign cube`");
     println!("foreign buffers: {reason}");
     // The casters are still usable.
-    let (own_cube, own_vertices, own_indices) = cube_buffers(&gpu.device);
-    let own = CasterMeshDesc::new(
-        "cube",
-        VertexStream::new(&own_vertices, 0, 12, wgpu::VertexFormat::Float32x3),
-        own_cube.positions.len() as u32,
-    )
-    .indices(IndexStream::u32(&own_indices, own_cube.indices.len() as u32));
+    let own = cube(&gpu.device);
     casters
-        .add_mesh(&gpu.device, &gpu.queue, &own)
+        .add_mesh(&gpu.device, &gpu.queue, &own.read_back())
         .expect("the device's own mesh");
 }
 
 #[test]
 fn a_lost_device_is_reported_by_every_later_call() {
     let gpu = HeadlessGpu::new().expect("a device");
-    let buffers = cube_buffers(&gpu.device);
+    let buffers = cube(&gpu.device);
     let (casters, mut shadows) = scene(&gpu, &buffers);
     shadows.watch_device_loss(gpu.device_loss.clone());
     let depth = depth_texture(&gpu.device);

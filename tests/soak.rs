@@ -6,12 +6,13 @@
 //! (`Shadows::allocated_bytes`, `Casters::allocated_bytes`) says the same and matches the
 //! device's.
 
+mod common;
+
 use glam::{Mat4, Vec3};
 use penumbra::{
-    CameraMatrices, CasterInstance, CasterMeshDesc, Casters, DepthConvention, DirectionalLight, IndexStream,
-    InstanceId, Light, LightId, PointLight, ShadowSettings, Shadows, SpotLight, VertexStream, ViewInputs,
+    CasterInstance, Casters, DirectionalLight, InstanceId, Light, LightId, PointLight, ShadowSettings,
+    Shadows, SpotLight, ViewInputs,
 };
-use wgpu::util::DeviceExt;
 
 const SIZE: (u32, u32) = (64, 48);
 const CYCLE: usize = 200;
@@ -64,46 +65,11 @@ fn light_at(k: usize, phase: usize) -> Option<Light> {
 fn two_thousand_frames_of_changing_lights_and_casters_keep_the_gpu_memory_flat() {
     let gpu = penumbra::HeadlessGpu::new().expect("a device");
     let (device, queue) = (&gpu.device, &gpu.queue);
-    let cube = penumbra::scene::primitives::cuboid(Vec3::splat(0.5));
-    let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("soak vertices"),
-        contents: bytemuck::cast_slice(&cube.positions),
-        usage: wgpu::BufferUsages::VERTEX,
-    });
-    let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("soak indices"),
-        contents: bytemuck::cast_slice(&cube.indices),
-        usage: wgpu::BufferUsages::INDEX,
-    });
-    let positions = VertexStream::new(&vertices, 0, 12, wgpu::VertexFormat::Float32x3);
-    let desc = CasterMeshDesc::new("cube", positions, cube.positions.len() as u32)
-        .indices(IndexStream::u32(&index_buffer, cube.indices.len() as u32))
-        .cpu(&cube.positions, None, Some(&cube.indices));
-    let depth = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("soak depth"),
-        size: wgpu::Extent3d {
-            width: SIZE.0,
-            height: SIZE.1,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Depth32Float,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
-    });
+    let cube = common::RawMesh::new(device, &penumbra::scene::primitives::cuboid(Vec3::splat(0.5)));
+    let desc = cube.desc();
+    let depth = common::engine_depth(device, SIZE);
     let depth_view = depth.create_view(&Default::default());
-    let camera = CameraMatrices {
-        view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 4.0, 4.0), Vec3::ZERO, Vec3::Y),
-        projection: glam::camera::rh::proj::directx::perspective(
-            0.9,
-            SIZE.0 as f32 / SIZE.1 as f32,
-            0.1,
-            50.0,
-        ),
-        depth: DepthConvention::Standard,
-    };
+    let camera = common::engine_camera(SIZE);
     let mut settings = ShadowSettings::default();
     settings.shadow_map.resolution = 256;
 

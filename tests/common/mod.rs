@@ -199,3 +199,85 @@ pub fn width_10_90(profile: &[(f32, f32)]) -> Option<f32> {
     let low = profile[..high].iter().rposition(|&(_, v)| v <= 0.1)?;
     Some(crossing(0.9, high) - crossing(0.1, low + 1))
 }
+
+/// A mesh in buffers of the test's own, as an engine holds one: positions (stride 12) and u32
+/// indices, readable back (`COPY_SRC`).
+pub struct RawMesh {
+    pub positions: Vec<Vec3>,
+    pub indices: Vec<u32>,
+    pub vertex_buffer: wgpu::Buffer,
+    pub index_buffer: wgpu::Buffer,
+}
+
+impl RawMesh {
+    pub fn new(device: &wgpu::Device, mesh: &penumbra::Mesh) -> Self {
+        use wgpu::util::DeviceExt;
+        let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("test vertices"),
+            contents: bytemuck::cast_slice(&mesh.positions),
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_SRC,
+        });
+        let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("test indices"),
+            contents: bytemuck::cast_slice(&mesh.indices),
+            usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_SRC,
+        });
+        Self {
+            positions: mesh.positions.clone(),
+            indices: mesh.indices.clone(),
+            vertex_buffer,
+            index_buffer,
+        }
+    }
+
+    /// The mesh for `Casters::add_mesh`, its geometry given from the CPU.
+    pub fn desc(&self) -> penumbra::CasterMeshDesc<'_> {
+        self.read_back().cpu(&self.positions, None, Some(&self.indices))
+    }
+
+    /// The mesh for `Casters::add_mesh`, its geometry read back from the buffers.
+    pub fn read_back(&self) -> penumbra::CasterMeshDesc<'_> {
+        penumbra::CasterMeshDesc::new(
+            "test mesh",
+            penumbra::VertexStream::new(&self.vertex_buffer, 0, 12, wgpu::VertexFormat::Float32x3),
+            self.positions.len() as u32,
+        )
+        .indices(penumbra::IndexStream::u32(
+            &self.index_buffer,
+            self.indices.len() as u32,
+        ))
+    }
+}
+
+/// An engine's depth buffer: `Depth32Float`, drawable and readable by penumbra's passes.
+pub fn engine_depth(device: &wgpu::Device, (width, height): (u32, u32)) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("test depth"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Depth32Float,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    })
+}
+
+/// An engine's perspective camera (standard depth) looking down at the origin from (0, 4, 4),
+/// for a view of `size` pixels.
+pub fn engine_camera((width, height): (u32, u32)) -> penumbra::CameraMatrices {
+    penumbra::CameraMatrices {
+        view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 4.0, 4.0), Vec3::ZERO, Vec3::Y),
+        projection: glam::camera::rh::proj::directx::perspective(
+            0.9,
+            width as f32 / height as f32,
+            0.1,
+            50.0,
+        ),
+        depth: penumbra::DepthConvention::Standard,
+    }
+}
