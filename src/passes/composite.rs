@@ -84,7 +84,7 @@ impl CompositePass {
             device,
             "CompositePass::bind_group",
             &self.layout,
-            &[&frame, visibility, &self.lights],
+            &[frame, visibility, &self.lights],
         ));
     }
 

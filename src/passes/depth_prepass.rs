@@ -78,7 +78,7 @@ impl DepthPrepass {
             device,
             "DepthPrepass::bind_group",
             &self.frame_layout,
-            &[&frame],
+            &[frame],
         ));
     }
 

@@ -202,7 +202,7 @@ impl DistanceMapPass {
             "DistanceMapPass::bind_group",
             &self.layout,
             &[
-                &frame,
+                frame,
                 fattened_map,
                 camera_depth,
                 receiver_mask,

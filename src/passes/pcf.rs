@@ -87,7 +87,7 @@ impl PcfPass {
             device,
             "PcfPass::bind_group",
             &self.layout,
-            &[&frame, camera_depth, shadow_map, &self.sampler, &self.params],
+            &[frame, camera_depth, shadow_map, &self.sampler, &self.params],
         ));
     }
 

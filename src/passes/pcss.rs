@@ -83,7 +83,7 @@ impl PcssPass {
             "PcssPass::bind_group",
             &self.layout,
             &[
-                &frame,
+                frame,
                 camera_depth,
                 shadow_map,
                 &self.sampler,

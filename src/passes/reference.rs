@@ -110,7 +110,7 @@ impl ReferencePass {
                 "ReferencePass::bind_group",
                 &self.layout,
                 &[
-                    &frame,
+                    frame,
                     camera_depth,
                     shadow_map,
                     &self.sampler,

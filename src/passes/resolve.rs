@@ -57,7 +57,7 @@ impl ResolvePass {
             device,
             "ResolvePass::bind_group",
             &self.layout,
-            &[&frame, camera_depth, distance_map, visibility, receiver_mask],
+            &[frame, camera_depth, distance_map, visibility, receiver_mask],
         ));
     }
 

@@ -200,7 +200,7 @@ impl VariablePcfPass {
             "VariablePcfPass::bind_group",
             &self.layout,
             &[
-                &frame,
+                frame,
                 camera_depth,
                 distance_map,
                 shadow_map,
