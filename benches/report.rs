@@ -195,6 +195,20 @@ pub struct Embedding {
     pub batching: Vec<BatchRun>,
     /// `ours`' screen-space time against its share of penumbra tiles, camera near to far.
     pub tiles: Vec<TileRun>,
+    /// `ours` with PCF at half resolution where the penumbra is wide, and without.
+    pub reduced: Vec<ReducedRun>,
+}
+
+/// `ours` (medium) on the teapot's view 0 with one light size, PCF at reduced resolution
+/// (`PenumbraSettings::reduced_resolution`) or not, light turning: means over two timings taken
+/// in opposite orders.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ReducedRun {
+    pub light_size_deg: f32,
+    pub reduced: bool,
+    /// The PCF pass (its half-resolution draw included).
+    pub pcf_ms: f64,
+    pub frame_ms: f64,
 }
 
 /// `ours` (medium) on the teapot's view 0 with the camera pulled back along its view: the share
@@ -463,6 +477,7 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
     embedding.room = measure_room(&gpu, &assets, size, config)?;
     embedding.batching = measure_batching(&gpu, &teapot, &camera, size, config)?;
     embedding.tiles = measure_tiles(&gpu, &teapot, &camera, size, config)?;
+    embedding.reduced = measure_reduced(&gpu, &teapot, &camera, size, config)?;
     write_report(config, &device_name, times_on_gpu(&gpu), &runs, &embedding)?;
     Ok(runs)
 }
@@ -653,6 +668,46 @@ fn measure_tiles(
     Ok(runs)
 }
 
+/// `ours` (medium) on `scene` from `camera` at each of the configured light sizes, with PCF at
+/// reduced resolution and without, light turning; each pair timed twice, in opposite orders.
+fn measure_reduced(
+    gpu: &HeadlessGpu,
+    scene: &penumbra::Scene,
+    camera: &penumbra::Camera,
+    size: (u32, u32),
+    config: &Config,
+) -> Result<Vec<ReducedRun>> {
+    let mut runs = Vec::new();
+    for &degrees in &config.light_sizes {
+        let mut sized = scene.clone();
+        if let Light::Directional(l) = &mut sized.light {
+            l.angular_diameter_deg = degrees;
+        }
+        let mut sums = [(0.0f64, 0.0f64); 2];
+        for reduced in [true, false, false, true] {
+            let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+            settings.penumbra.reduced_resolution = reduced;
+            let t = time_frames(gpu, &sized, camera, settings, size, config)?;
+            let sum = &mut sums[usize::from(reduced)];
+            sum.0 += t.pass_ms.get("pcf").copied().unwrap_or(0.0) / 2.0;
+            sum.1 += t.frame_ms / 2.0;
+        }
+        for reduced in [false, true] {
+            let (pcf_ms, frame_ms) = sums[usize::from(reduced)];
+            println!(
+                "reduced resolution {reduced}, light {degrees} degrees: pcf {pcf_ms:.2} ms, frame {frame_ms:.2} ms"
+            );
+            runs.push(ReducedRun {
+                light_size_deg: degrees,
+                reduced,
+                pcf_ms,
+                frame_ms,
+            });
+        }
+    }
+    Ok(runs)
+}
+
 fn measure_cascades(
     gpu: &HeadlessGpu,
     assets: &Path,
@@ -825,6 +880,7 @@ fn measure_embedding(
         room: Vec::new(),
         batching: Vec::new(),
         tiles: Vec::new(),
+        reduced: Vec::new(),
         geometry_passes,
     })
 }
@@ -1272,6 +1328,7 @@ fn write_report(
         embedding.camera_moved
     )?;
     write_tiles(&mut md, &embedding.tiles, (embedding.width, embedding.height))?;
+    write_reduced(&mut md, &embedding.reduced, (embedding.width, embedding.height))?;
     writeln!(
         md,
         "\n## Cascades: the outdoor scene's street view\n\n\
@@ -1373,6 +1430,47 @@ fn write_tiles(md: &mut String, tiles: &[TileRun], (width, height): (u32, u32)) 
             "\nCost follows the shadows: not judged, no view kept a tenth of the largest share ({:.1}%).",
             largest.tile_share * 100.0
         )?,
+    }
+    Ok(())
+}
+
+/// The table of `ours`' PCF and frame time with PCF at reduced resolution and without, per
+/// light size.
+fn write_reduced(md: &mut String, reduced: &[ReducedRun], (width, height): (u32, u32)) -> Result<()> {
+    use std::fmt::Write;
+    if reduced.is_empty() {
+        return Ok(());
+    }
+    writeln!(
+        md,
+        "\n## PCF at reduced resolution (teapot, view 0, {width}x{height}, ours medium, light turning)\n\n\
+         With `reduced_resolution`, PCF takes its taps at one pixel of each 2 x 2 block where the penumbra \
+         is wide, in a half-resolution draw, and the full-resolution draw interpolates there; its error \
+         against the reference is checked by `tests/soft_shadows.rs`. Each figure is the mean of two \
+         timings taken in opposite orders.\n\n\
+         | light | PCF ms, full resolution | PCF ms, reduced | frame ms, full | frame ms, reduced | frame ratio |\n\
+         |---|---|---|---|---|---|"
+    )?;
+    let mut sizes: Vec<f32> = reduced.iter().map(|r| r.light_size_deg).collect();
+    sizes.dedup();
+    for degrees in sizes {
+        let find = |on: bool| {
+            reduced
+                .iter()
+                .find(|r| r.light_size_deg == degrees && r.reduced == on)
+        };
+        let (Some(full), Some(half)) = (find(false), find(true)) else {
+            continue;
+        };
+        writeln!(
+            md,
+            "| {degrees}° | {:.2} | {:.2} | {:.2} | {:.2} | {:.3} |",
+            full.pcf_ms,
+            half.pcf_ms,
+            full.frame_ms,
+            half.frame_ms,
+            half.frame_ms / full.frame_ms.max(1e-9)
+        )?;
     }
     Ok(())
 }

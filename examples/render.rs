@@ -48,6 +48,10 @@ struct Args {
     /// (`PenumbraSettings::nearest_caster`), to compare its cost and its error.
     #[arg(long)]
     no_nearest_caster: bool,
+    /// `ours`: PCF at half resolution where the penumbra is wide
+    /// (`PenumbraSettings::reduced_resolution`), to compare its cost and its error.
+    #[arg(long)]
+    reduced_resolution: bool,
     /// Blur up to four lights in one pass (`PenumbraSettings::batch_lights`; scenes with more
     /// than one light).
     #[arg(long)]
@@ -106,6 +110,7 @@ fn main() -> Result<()> {
     settings.shadow_map.resolution = args.shadow_map;
     settings.shadow_map.cascades.count = args.cascades;
     settings.penumbra.nearest_caster = !args.no_nearest_caster;
+    settings.penumbra.reduced_resolution = args.reduced_resolution;
     settings.penumbra.batch_lights = args.batch_lights;
     if let Some(samples) = args.samples {
         settings.reference.samples = samples;

@@ -10,15 +10,38 @@
 // texel, texel^2 / 6; s at least the base spacing); the blur makes what is left, which this
 // pass writes, projected from the plane across the light onto the receiver and into pixels
 // along screen x and y.
+//
+// Reduced resolution: where the penumbra is wide, PCF runs at half resolution first
+// (`fs_half`: one pixel of each 2 x 2 block), and the full-resolution draw interpolates those
+// values (bilinearly, one filtered read) instead of taking its own taps. A pixel takes its own
+// taps where a half-resolution value it would mix is missing: the penumbra is narrow there (near
+// contact), no shadow can fall there, nothing was drawn there, or a pixel within one of it lies
+// on another surface (a depth edge).
 
-// Compile-time switch (pipeline override constant).
+// Compile-time switches (pipeline override constants).
 override ROTATE_TAPS: bool = true;
+// the full-resolution draw reads the half-resolution one's values where it can
+override HALF_RESOLUTION: bool = false;
+
+// Least standard deviation of the penumbra, in pixels along both screen axes, for PCF at half
+// resolution: the interpolation between values two pixels apart is then well below the
+// penumbra's own spread, and the blur still follows it.
+const WIDE_PIXELS: f32 = 2.0;
+// How far (relative) the inverse view depth of a pixel beside one the half-resolution draw
+// computes may lie from the plane through that pixel: on a plane inverse depth is affine
+// across the screen, and a depth edge lies far beyond this.
+const SAME_SURFACE: f32 = 0.01;
 
 @group(0) @binding(1) var camera_depth: texture_2d<f32>;
 @group(0) @binding(2) var distance_map: texture_2d<f32>;
 @group(0) @binding(3) var shadow_map: texture_depth_2d;
 @group(0) @binding(4) var shadow_sampler: sampler_comparison;
 @group(0) @binding(5) var<uniform> pcf: Pcf;
+// The half-resolution draw's result, read by the full-resolution draw: at the top-left pixel of
+// each 2 x 2 block, R the visibility, G 1 where it was computed (a wide penumbra) and 0 where
+// not, BA the blur's standard deviations.
+@group(1) @binding(0) var half_visibility: texture_2d<f32>;
+@group(1) @binding(1) var half_sampler: sampler;
 
 struct Out {
     @location(0) visibility: vec4<f32>,
@@ -58,10 +81,23 @@ fn fs_packed(@builtin(position) frag: vec4<f32>) -> PackedOut {
     return PackedOut(out.visibility, out.blur_sigma, out.visibility);
 }
 
-// The visibility and the blur's standard deviations at pixel centre `frag`.
-fn pcf_at(frag: vec2<f32>) -> Out {
+// What the taps at a pixel need, and the spread the blur adds.
+struct Setup {
+    r: Receiver,
+    // a unit tap step's shadow-map uv
+    to_uv: mat2x2<f32>,
+    side: i32,
+    angle: f32,
+    // the blur's standard deviation in pixels along screen x and y (physical mode; else 0)
+    blur_sigma: vec2<f32>,
+    // the penumbra's whole standard deviation in pixels along screen x and y (physical mode;
+    // else 0)
+    penumbra_sigma: vec2<f32>,
+}
+
+// The taps' layout at pixel centre `frag` (camera depth `depth`).
+fn setup(frag: vec2<f32>, depth: f32) -> Setup {
     let pixel = vec2<i32>(frag);
-    let depth = textureLoad(camera_depth, pixel, 0).x;
     use_pixel_cascade(frag, depth);
     let d = textureLoad(distance_map, pixel, 0).x;
     let world = world_position(frag, depth);
@@ -71,9 +107,10 @@ fn pcf_at(frag: vec2<f32>) -> Out {
     let texel_world = map_world / frame.light.resolution;
     var spacing_world = (pcf.base_spacing + d * pcf.spread) * texel_world;
     var blur_sigma = 0.0;
+    var sigma = 0.0;
     if frame.penumbra.physical != 0u {
         let width = penumbra_width(d, world);
-        let sigma = frame.penumbra.sigma_per_width * width;
+        sigma = frame.penumbra.sigma_per_width * width;
         let variance = sigma * sigma;
         spacing_world = 0.0;
         if side > 1 {
@@ -93,11 +130,96 @@ fn pcf_at(frag: vec2<f32>) -> Out {
         let pcf_variance = spacing_world * spacing_world * taps_variance + texel_world * texel_world / 6.0;
         blur_sigma = sqrt(max(variance - pcf_variance, 0.0));
     }
-    let angle = select(0.0, pixel_noise(frag) * 6.2831853, ROTATE_TAPS);
-    var out: Out;
-    out.visibility = vec4<f32>(pcf_taps(r.p, r.slope, across_light_to_uv(world) * spacing_world, side, angle));
+    var out: Setup;
+    out.r = r;
+    out.to_uv = across_light_to_uv(world) * spacing_world;
+    out.side = side;
+    out.angle = select(0.0, pixel_noise(frag) * 6.2831853, ROTATE_TAPS);
     let ray = light_ray(world);
-    let sigma_px = blur_sigma / max(vec2<f32>(across_light(r.dx, ray), across_light(r.dy, ray)), vec2<f32>(1e-6));
-    out.blur_sigma = vec4<f32>(sigma_px, 0.0, 0.0);
+    let pixel_world = max(vec2<f32>(across_light(r.dx, ray), across_light(r.dy, ray)), vec2<f32>(1e-6));
+    out.blur_sigma = blur_sigma / pixel_world;
+    out.penumbra_sigma = sigma / pixel_world;
     return out;
+}
+
+// The taps' mean.
+fn taps(s: Setup) -> f32 {
+    return pcf_taps(s.r.p, s.r.slope, s.to_uv, s.side, s.angle);
+}
+
+// A wide penumbra: PCF at half resolution serves it.
+fn is_wide(s: Setup) -> bool {
+    return min(s.penumbra_sigma.x, s.penumbra_sigma.y) >= WIDE_PIXELS;
+}
+
+// The visibility and the blur's standard deviations at pixel centre `frag`.
+fn pcf_at(frag: vec2<f32>) -> Out {
+    let pixel = vec2<i32>(frag);
+    let depth = textureLoad(camera_depth, pixel, 0).x;
+    var out: Out;
+    if HALF_RESOLUTION {
+        let half = from_half(pixel);
+        if half.y > 0.999 {
+            out.visibility = vec4<f32>(half.x);
+            out.blur_sigma = vec4<f32>(half.zw, 0.0, 0.0);
+            return out;
+        }
+    }
+    let s = setup(frag, depth);
+    out.visibility = vec4<f32>(taps(s));
+    out.blur_sigma = vec4<f32>(s.blur_sigma, 0.0, 0.0);
+    return out;
+}
+
+// What the half-resolution values around `pixel` interpolate to (texel q holds pixel 2q's),
+// bilinearly, in one filtered read: the visibility (R) and the blur's standard deviations
+// (BA), and in G 1 only where every value it mixes was computed (each texel's G is 1 only
+// where its penumbra is wide and the pixels around its own lie on its surface).
+fn from_half(pixel: vec2<i32>) -> vec4<f32> {
+    let uv = (vec2<f32>(pixel) * 0.5 + 0.5) / vec2<f32>(textureDimensions(half_visibility));
+    return textureSampleLevel(half_visibility, half_sampler, uv, 0.0);
+}
+
+// Inverse view depth at `pixel`, 0 where nothing was drawn.
+fn inverse_depth(pixel: vec2<i32>) -> f32 {
+    let size = vec2<i32>(frame.view.size);
+    let depth = textureLoad(camera_depth, clamp(pixel, vec2<i32>(0), size - 1), 0).x;
+    return select(1.0 / view_depth(depth), 0.0, is_background(depth));
+}
+
+// The pixels within one of `pixel` (inverse view depth `center`) lie on one plane with it: no
+// depth edge among the pixels that interpolate a value computed at `pixel`.
+fn smooth_around(pixel: vec2<i32>, center: f32) -> bool {
+    let gradient = 0.5 * vec2<f32>(
+        inverse_depth(pixel + vec2<i32>(1, 0)) - inverse_depth(pixel - vec2<i32>(1, 0)),
+        inverse_depth(pixel + vec2<i32>(0, 1)) - inverse_depth(pixel - vec2<i32>(0, 1)),
+    );
+    for (var y = -1; y <= 1; y++) {
+        for (var x = -1; x <= 1; x++) {
+            let expected = center + dot(gradient, vec2<f32>(f32(x), f32(y)));
+            let actual = inverse_depth(pixel + vec2<i32>(x, y));
+            if actual == 0.0 || abs(actual - expected) > SAME_SURFACE * center {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+// The half-resolution draw (a target half the screen's size, rounded up): texel q gets PCF at
+// pixel 2q (R), G = 1 and the blur's standard deviations there (BA) where a shadow can fall
+// and the penumbra is wide; elsewhere G = 0, and the full-resolution draw takes its own taps
+// around it.
+@fragment
+fn fs_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let pixel = min(2 * vec2<i32>(frag.xy), vec2<i32>(frame.view.size) - 1);
+    let depth = textureLoad(camera_depth, pixel, 0).x;
+    if is_background(depth) || textureLoad(distance_map, pixel, 0).y <= 0.0 {
+        return vec4<f32>(1.0, 0.0, 0.0, 0.0);
+    }
+    let s = setup(vec2<f32>(pixel) + 0.5, depth);
+    if !is_wide(s) || !smooth_around(pixel, 1.0 / view_depth(depth)) {
+        return vec4<f32>(1.0, 0.0, 0.0, 0.0);
+    }
+    return vec4<f32>(taps(s), 1.0, s.blur_sigma);
 }

@@ -145,6 +145,8 @@ pub(crate) struct PcfSwitches {
     pub mask_early_out: bool,
     /// After the distance map: draw only the screen tiles its tile classification kept.
     pub tiles: bool,
+    /// The distance-map method: PCF at half resolution where the penumbra is wide.
+    pub half_resolution: bool,
 }
 
 /// The distance map's compile-time switches.
@@ -255,6 +257,12 @@ impl PassParams {
                 rotate_taps: p.rotate_taps,
                 mask_early_out: p.mask_early_out,
                 tiles,
+                // Only a physical penumbra says how wide it is in pixels; the fast mode takes
+                // one tap.
+                half_resolution: p.reduced_resolution
+                    && !fixed
+                    && manual.is_none()
+                    && s.method != ShadowMethod::OursFast,
             },
             distance_switches: DistanceSwitches {
                 mask_early_out: p.mask_early_out,

@@ -235,6 +235,14 @@ pub struct PenumbraSettings {
     /// [`TileClassification::Auto`].
     #[cfg_attr(feature = "serde", serde(default))]
     pub tiles: TileClassification,
+    /// In physical mode, PCF at half resolution where the penumbra is wide (its standard
+    /// deviation at least 2 pixels along both screen axes): one pixel of each 2 x 2 block takes
+    /// the taps in a draw of its own and the others interpolate, except near contact and at
+    /// depth edges, which keep full resolution. Default false: on Mesa's software rasterizer,
+    /// where a pass costs what its pixels do whatever its shader does, it makes PCF slower
+    /// (docs/cost.md), and it has not been measured on a GPU yet.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub reduced_resolution: bool,
     /// Taps of each blur direction, odd, in [1, 31]. Default 11.
     pub blur_taps: u32,
     /// Weight blur taps by depth similarity so the blur does not bleed across depth
@@ -266,6 +274,7 @@ impl Default for PenumbraSettings {
             mask_early_out: true,
             nearest_caster: true,
             tiles: TileClassification::Auto,
+            reduced_resolution: false,
             blur_taps: 11,
             depth_aware_blur: true,
             batch_lights: false,

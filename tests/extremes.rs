@@ -564,6 +564,7 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                     } else {
                         penumbra::TileClassification::Off
                     },
+                    reduced_resolution: rotate,
                     blur_taps,
                     depth_aware_blur: aware,
                     batch_lights: true,

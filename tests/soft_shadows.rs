@@ -571,3 +571,89 @@ fn indirect_light_lightens_far_shadows_more_than_contact_shadows() {
     let open = common::project(&camera, size.0, size.1, Vec3::new(0.0, 0.0, -1.5)).unwrap();
     assert_eq!(plain.get_pixel(open.0, open.1), bounced.get_pixel(open.0, open.1));
 }
+
+/// Reduced resolution (`PenumbraSettings::reduced_resolution`): on the teapot under a large
+/// light (wide penumbrae), PCF at half resolution where the penumbra is wide changes the raw
+/// PCF visibility on many pixels, keeps it bit for bit next to every depth jump and on the
+/// pixels that take the taps themselves, and leaves the penumbra's error against the reference
+/// where full resolution has it.
+#[test]
+fn reduced_resolution_keeps_the_penumbra_and_full_resolution_at_depth_edges() {
+    let gpu = common::gpu();
+    let (w, h) = (640u32, 512u32);
+    let mut scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    if let Light::Directional(l) = &mut scene.light {
+        l.angular_diameter_deg = 8.0;
+    }
+    let camera = scene.view(0).unwrap();
+    let with = |reduced: bool| {
+        let mut s = settings(ShadowMethod::Ours);
+        s.penumbra.reduced_resolution = reduced;
+        s
+    };
+    // The raw PCF visibility (before the blur) and the camera depth.
+    let raw = |reduced: bool| {
+        let (_, renderer) = render_frame(&gpu, &scene, &camera, with(reduced), (w, h));
+        let (pcf, _) = read(&gpu, renderer.debug_texture(LightTexture::Visibility).unwrap());
+        let (depth, _) = read(&gpu, renderer.camera_depth_texture().unwrap());
+        (pcf, depth)
+    };
+    let ((half, depth), (full, _)) = (raw(true), raw(false));
+    let differs = |i: usize| (half[i] - full[i]).abs() > 1e-6;
+    let changed = (0..half.len()).filter(|&i| differs(i)).count();
+    eprintln!(
+        "reduced resolution: {changed} of {} raw PCF values changed",
+        half.len()
+    );
+    assert!(changed > 2000, "half resolution served too few pixels: {changed}");
+    let (mut edge_pixels, mut block_pixels) = (0, 0);
+    for y in 1..h - 1 {
+        for x in 1..w - 1 {
+            let i = (y * w + x) as usize;
+            // The top-left pixel of each 2 x 2 block is the one the half-resolution draw
+            // computes: the same taps at the same pixel.
+            if x % 2 == 0 && y % 2 == 0 && depth[i] > 0.0 {
+                block_pixels += 1;
+                assert!(
+                    !differs(i),
+                    "({x}, {y}) takes the block's own taps: {} != {}",
+                    half[i],
+                    full[i]
+                );
+            }
+            // Reversed depth is proportional to 1 / view distance: a 3% jump to a neighbour.
+            let jump = [(1i32, 0i32), (-1, 0), (0, 1), (0, -1)].iter().any(|(dx, dy)| {
+                let j = ((y as i32 + dy) * w as i32 + x as i32 + dx) as usize;
+                (depth[j] - depth[i]).abs() > 0.03 * depth[i].max(depth[j])
+            });
+            if jump && depth[i] > 0.0 {
+                edge_pixels += 1;
+                assert!(
+                    !differs(i),
+                    "({x}, {y}) lies at a depth jump: {} != {}",
+                    half[i],
+                    full[i]
+                );
+            }
+        }
+    }
+    assert!(
+        edge_pixels > 100 && block_pixels > 10_000,
+        "{edge_pixels} edge, {block_pixels} block pixels"
+    );
+
+    let measure =
+        |s: ShadowSettings| penumbra::metrics::measure_visibility(&gpu, &scene, &camera, s, (w, h)).unwrap();
+    let reference = measure(settings(ShadowMethod::Reference));
+    let error = |reduced: bool| {
+        penumbra::metrics::visibility_error(&reference, &measure(with(reduced)))
+            .unwrap()
+            .penumbra_rmse
+    };
+    let (reduced, full) = (error(true), error(false));
+    eprintln!("penumbra RMSE against the reference: {reduced:.4} at reduced resolution, {full:.4} at full");
+    assert!(
+        reduced <= full * 1.03 + 1e-3,
+        "reduced resolution costs accuracy: {full:.4} -> {reduced:.4}"
+    );
+}

@@ -290,6 +290,10 @@ impl DemoApp {
                     &mut p.nearest_caster,
                     "beside a shadow, distance to the nearest caster",
                 );
+                ui.checkbox(
+                    &mut p.reduced_resolution,
+                    "PCF at half resolution where the penumbra is wide",
+                );
                 ui.checkbox(&mut p.depth_aware_blur, "depth-aware blur");
                 ui.checkbox(&mut p.batch_lights, "blur lights in batches of four");
                 ui.add(egui::Slider::new(&mut p.indirect_weight, 0.0..=1.0).text("indirect_weight"));

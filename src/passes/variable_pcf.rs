@@ -8,6 +8,12 @@
 //! The tap code is shared with the fixed-spacing [`super::PcfPass`]
 //! (`shaders/common/pcf_taps.wgsl`); the fast mode runs this pass with one tap.
 //!
+//! Reduced resolution ([`crate::PenumbraSettings::reduced_resolution`]): a first draw at half
+//! resolution takes the taps at one pixel of each 2 x 2 block where the penumbra is wide (its
+//! standard deviation at least 2 pixels along both screen axes); the full-resolution draw
+//! interpolates those values (the visibility and the blur's deviations) there and works out its
+//! own only near contact, at depth edges and where no half-resolution value was computed.
+//!
 //! A light blurred with others in one pass ([`super::BlurPass`] for several lights) also
 //! writes its visibility into its channel of that pass's packed texture ([`PackedVisibility`]),
 //! which the blur then reads with one fetch a tap for all the lights.
@@ -35,13 +41,30 @@ pub struct VariablePcfPass {
     visibility: (wgpu::Texture, wgpu::TextureView),
     blur_sigma: (wgpu::Texture, wgpu::TextureView),
     bind_group: Option<wgpu::BindGroup>,
+    /// Group 1 of the full-resolution draw: the half-resolution values.
+    half_layout: wgpu::BindGroupLayout,
+    /// The half-resolution draw, with reduced resolution on.
+    half_pipeline: Option<wgpu::RenderPipeline>,
+    /// Its target: half the screen's size (rounded up), 1 x 1 with reduced resolution off.
+    half: (wgpu::Texture, wgpu::TextureView),
+    half_group: Option<wgpu::BindGroup>,
+    /// Bilinear, clamped to the edge: the full-resolution draw's one read of the half-resolution
+    /// values.
+    half_sampler: wgpu::Sampler,
 }
 
 impl VariablePcfPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.params.size() + texture_bytes(&self.visibility.0) + texture_bytes(&self.blur_sigma.0)
+        self.params.size()
+            + texture_bytes(&self.visibility.0)
+            + texture_bytes(&self.blur_sigma.0)
+            + texture_bytes(&self.half.0)
     }
+
+    /// Format of the half-resolution values (R visibility, G 1 where computed, BA the blur's
+    /// standard deviations).
+    const HALF_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
     /// Format of the blur's standard deviations.
     pub const SIGMA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
@@ -68,15 +91,34 @@ impl VariablePcfPass {
                 entry::fragment_uniform(5, size_of::<PcfUniform>()),
             ],
         );
+        let half_layout = crate::gpu_helpers::layout(
+            device,
+            "VariablePcfPass::half_layout",
+            &[
+                entry::texture_2d(0, wgpu::TextureSampleType::Float { filterable: true }),
+                entry::sampler(1, wgpu::SamplerBindingType::Filtering),
+            ],
+        );
         let pipeline = Self::make_pipeline(
             device,
             &shader,
-            &layout,
+            &[&layout, &half_layout],
             &[Some(VISIBILITY_FORMAT.into()), Some(Self::SIGMA_FORMAT.into())],
             switches,
             light_kind,
             "fs_main",
         );
+        let half_pipeline = switches.half_resolution.then(|| {
+            Self::make_pipeline(
+                device,
+                &shader,
+                &[&layout],
+                &[Some(Self::HALF_FORMAT.into())],
+                switches,
+                light_kind,
+                "fs_half",
+            )
+        });
         let params = crate::gpu_helpers::uniform_buffer(
             device,
             "VariablePcfPass::params",
@@ -98,34 +140,54 @@ impl VariablePcfPass {
             visibility: screen_target(device, "VariablePcfPass::visibility", 1, 1, VISIBILITY_FORMAT),
             blur_sigma: screen_target(device, "VariablePcfPass::blur_sigma", 1, 1, Self::SIGMA_FORMAT),
             bind_group: None,
+            half: screen_target(device, "VariablePcfPass::half", 1, 1, Self::HALF_FORMAT),
+            half_layout,
+            half_pipeline,
+            half_group: None,
+            half_sampler: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("VariablePcfPass::half_sampler"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            }),
         }
     }
 
-    /// The pass's pipeline into `targets` with fragment entry point `entry`.
+    /// The pass's pipeline into `targets` with fragment entry point `entry` and bind groups
+    /// `groups` (0, and 1 for the full-resolution draws). The half-resolution draw (`fs_half`,
+    /// group 0 only) has no classification test: its target is not the depth's size.
     fn make_pipeline(
         device: &wgpu::Device,
         shader: &wgpu::ShaderModule,
-        layout: &wgpu::BindGroupLayout,
+        groups: &[&wgpu::BindGroupLayout],
         targets: &[Option<wgpu::ColorTargetState>],
         switches: PcfSwitches,
         light_kind: u32,
         entry: &str,
     ) -> wgpu::RenderPipeline {
+        let mut layouts: Vec<_> = groups.iter().map(|g| Some(*g)).collect();
         // With the tile classification only the kept tiles are drawn (group 2).
         let tiles = tiles_layout(device);
-        let (layouts, vertex) = if switches.tiles {
-            (vec![Some(layout), None, Some(&tiles)], "vs_tile")
+        let vertex = if switches.tiles {
+            layouts.resize(2, None);
+            layouts.push(Some(&tiles));
+            "vs_tile"
         } else {
-            (vec![Some(layout)], "vs_fullscreen")
+            "vs_fullscreen"
         };
+        let full_resolution = groups.len() > 1;
         Fullscreen {
             label: "VariablePcfPass::pipeline",
             shader,
             bind_group_layouts: &layouts,
             targets,
-            depth: Some(super::classified_test()),
+            depth: full_resolution.then(super::classified_test),
             constants: &[
                 ("ROTATE_TAPS", if switches.rotate_taps { 1.0 } else { 0.0 }),
+                (
+                    "HALF_RESOLUTION",
+                    if switches.half_resolution { 1.0 } else { 0.0 },
+                ),
                 (LIGHT_KIND, light_kind as f64),
             ],
         }
@@ -159,7 +221,7 @@ impl VariablePcfPass {
             let pipeline = Self::make_pipeline(
                 device,
                 &self.shader,
-                &self.layout,
+                &[&self.layout, &self.half_layout],
                 &targets,
                 self.switches,
                 self.light_kind,
@@ -184,7 +246,13 @@ impl VariablePcfPass {
             height,
             Self::SIGMA_FORMAT,
         );
+        let (half_w, half_h) = match self.half_pipeline {
+            Some(_) => (width.div_ceil(2), height.div_ceil(2)),
+            None => (1, 1),
+        };
+        self.half = screen_target(device, "VariablePcfPass::half", half_w, half_h, Self::HALF_FORMAT);
         self.bind_group = None;
+        self.half_group = None;
     }
 
     pub fn bind(
@@ -207,6 +275,12 @@ impl VariablePcfPass {
                 &self.sampler,
                 &self.params,
             ],
+        ));
+        self.half_group = Some(super::bind_group(
+            device,
+            "VariablePcfPass::half_group",
+            &self.half_layout,
+            &[&self.half.1, &self.half_sampler],
         ));
     }
 
@@ -273,9 +347,10 @@ impl VariablePcfPass {
         self.record(encoder, classification, pipeline, &attachments);
     }
 
-    /// One draw into `attachments`, tested against `classification` (over its kept tiles when
-    /// the pass was made for them); the attachments are cleared or kept as they say even when
-    /// the pass is not bound yet.
+    /// The half-resolution draw when reduced resolution is on, then one draw into
+    /// `attachments`, tested against `classification` (both over its kept tiles when the pass
+    /// was made for them); the attachments are cleared or kept as they say even when the pass
+    /// is not bound yet.
     fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -283,22 +358,45 @@ impl VariablePcfPass {
         pipeline: &wgpu::RenderPipeline,
         attachments: &[Option<wgpu::RenderPassColorAttachment>],
     ) {
+        // The distance map and this pass take the tile switch from the same settings.
+        debug_assert_eq!(self.switches.tiles, classification.tiles.is_some());
+        let tiles = classification.tiles.filter(|_| self.switches.tiles);
+        let groups = match (&self.bind_group, &self.half_group) {
+            (Some(group), Some(half_group)) if tiles.is_some() || !self.switches.tiles => {
+                Some((group, half_group))
+            }
+            _ => None,
+        };
+        if let (Some((group, _)), Some(half_pipeline)) = (groups, &self.half_pipeline) {
+            // Cleared to "not computed" (G = 0), drawn over the same tiles.
+            let not_computed = wgpu::Color {
+                r: 1.0,
+                g: 0.0,
+                b: 0.0,
+                a: 0.0,
+            };
+            let mut pass = begin_pass(
+                encoder,
+                "VariablePcfPass::half",
+                &[cleared(&self.half.1, not_computed)],
+                None,
+            );
+            pass.set_pipeline(half_pipeline);
+            pass.set_bind_group(0, group, &[]);
+            draw_area(&mut pass, tiles);
+        }
         let mut pass = begin_pass(
             encoder,
             "VariablePcfPass",
             attachments,
             depth_attachment(classification.depth, None),
         );
-        let Some(group) = &self.bind_group else {
+        let Some((group, half_group)) = groups else {
             return;
         };
-        // The distance map and this pass take the tile switch from the same settings.
-        debug_assert_eq!(self.switches.tiles, classification.tiles.is_some());
-        if self.switches.tiles && classification.tiles.is_none() {
-            return;
-        }
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, group, &[]);
-        draw_area(&mut pass, classification.tiles.filter(|_| self.switches.tiles));
+        pass.set_bind_group(1, half_group, &[]);
+        draw_area(&mut pass, tiles);
     }
 }
