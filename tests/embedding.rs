@@ -1443,7 +1443,10 @@ fn the_tile_classification_drops_tiles_and_keeps_every_shadow() {
         })
         .sum();
     println!("reduced resolution changed {changed} pixels of the three layers");
-    assert!(changed > 100, "reduced resolution served few pixels here: {changed}");
+    assert!(
+        changed > 100,
+        "reduced resolution served few pixels here: {changed}"
+    );
 }
 
 /// A receiver the engine draws but does not register (the floor) gets the whole shadow: the
