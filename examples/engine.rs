@@ -8,7 +8,7 @@
 //! The lines between `penumbra glue` markers are all the engine adds for its shadows.
 //!
 //! ```sh
-//! cargo run --release --example engine -- --model ../shared/models/teapot.obj --out frame.png
+//! cargo run --release --example engine -- --model assets/models/teapot.obj --out frame.png
 //! ```
 //!
 //! `--out PATH` writes the last frame as PATH, each light's visibility as PATH.lightN.png
@@ -420,7 +420,8 @@ fn main() -> Result<()> {
         };
         let inputs = penumbra::ViewInputs::new(camera, &depth);
         shadows.render(device, queue, &mut encoder, &casters, &inputs)?;
-        // The visibility array is made on the first frame (and again on a resize).
+        // The visibility array is made on the first frame, and again on a resize or when a light
+        // is added beyond its layers; the bound view is compared to see when.
         let visibility = shadows.visibility().context("the shadows made no visibility")?;
         if shadows_group
             .as_ref()

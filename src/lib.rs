@@ -165,3 +165,9 @@ pub use settings::{
 };
 pub use shadows::{Chain, LightId, LightReport, LightTexture, Shadows, ViewInputs};
 pub use view::{CameraMatrices, DepthConvention};
+
+/// The README's Rust code, compiled by `cargo test --doc` so that the front page's embedding
+/// glue stays true to the API.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

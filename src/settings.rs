@@ -225,9 +225,9 @@ pub struct PenumbraSettings {
     /// Beside a shadow (inside the fattened shadow, the light's centre in sight), take the
     /// distance to the caster the receiver sees nearest the light's centre: a search of 16 taps
     /// of the real shadow map, only at those pixels. Without it the distance there is the
-    /// fattened surface's, which beside a thick caster's foot is too far (docs/benchmark.md, "Where ours
-    /// stands": penumbra RMSE 12-18% lower with it, at 13 ms added to the distance map's 28 on
-    /// lavapipe). Default true.
+    /// fattened surface's, which beside a thick caster's foot is too far: without the search
+    /// the penumbra there is more than 1.3x the reference's width, with it within 15%
+    /// (`tests/truth.rs`). Default true.
     #[cfg_attr(feature = "serde", serde(default = "default_true"))]
     pub nearest_caster: bool,
     /// Whether the distance map (and so PCF and the blur) runs only on the 16 x 16 pixel screen
@@ -253,9 +253,9 @@ pub struct PenumbraSettings {
     /// its own Gaussian weights, on the taps of the widest light that needs a blur at the
     /// pixel); the pass runs where any of their shadows can fall. Off: one blur pass per light.
     /// The result is the same except where two lights' penumbrae cross, where the narrower is
-    /// sampled on the wider's taps. Default false: on Mesa's software rasterizer it saves blur
-    /// time only where the lights' shadows overlap (lights two to four 0.60-0.66x the
-    /// first's), and the packed writes cost PCF about as much as that saves (docs/lights.md).
+    /// sampled on the wider's taps. Default false: it saves blur time only where the lights'
+    /// shadows overlap, and the packed writes cost PCF about as much as that saves (the
+    /// benchmark's "Batching the blur" table; docs/lights.md).
     #[cfg_attr(feature = "serde", serde(default))]
     pub batch_lights: bool,
     /// How much shadows far from their occluder are lightened by bounced light, in [0, 1];

@@ -93,6 +93,51 @@ fn the_readme_is_a_front_page() {
     ));
 }
 
+/// CI installs what the README tells a newcomer to install, no more and no less, and runs the
+/// README's test command.
+#[test]
+fn ci_installs_the_readmes_prerequisites_and_runs_its_test_command() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let ci = std::fs::read_to_string(root.join(".ci/run")).unwrap();
+    let words = |line: &str| -> Vec<String> {
+        let mut words: Vec<String> = line.split_whitespace().map(str::to_string).collect();
+        words.sort();
+        words
+    };
+    let ci_packages = ci
+        .lines()
+        .find_map(|l| l.strip_prefix("PACKAGES=\""))
+        .and_then(|l| l.strip_suffix('"'))
+        .expect(".ci/run sets PACKAGES=\"...\"");
+    // The README's packages: every `apt-get install` of its set-up section.
+    let setup = &readme[readme.find("## Set-up").expect("a set-up section")..];
+    let setup = &setup[..setup[3..].find("\n## ").map_or(setup.len(), |end| end + 3)];
+    let mut readme_packages: Vec<String> = setup
+        .lines()
+        .filter_map(|l| l.split("apt-get install").nth(1))
+        .flat_map(str::split_whitespace)
+        .map(|w| w.trim_end_matches(['`', ';', ',']).to_string())
+        .filter(|w| !w.starts_with('-'))
+        .collect();
+    readme_packages.sort();
+    readme_packages.dedup();
+    assert_eq!(
+        readme_packages,
+        words(ci_packages),
+        "the README's set-up installs other packages than .ci/run"
+    );
+    let command =
+        "cargo test --locked && cargo +nightly test --locked -p penumbra-bevy --ignore-rust-version";
+    assert!(readme.contains(command));
+    let last = ci.lines().rev().find(|l| !l.trim().is_empty()).unwrap();
+    assert_eq!(
+        last.trim(),
+        command,
+        ".ci/run's last line is the README's test command"
+    );
+}
+
 #[test]
 fn the_link_finder_finds_links_and_skips_code() {
     let text = "see [a](docs/a.md) and ![b](b.png#x)\n```\n[c](c.md)\n```\n[d](https://x.y)";

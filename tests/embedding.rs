@@ -701,7 +701,7 @@ fn a_light_of_size_zero_still_gives_a_hard_visibility() {
 
 /// A mesh and its copy with every triangle wound the other way, with the same normals.
 fn both_windings() -> (penumbra::Mesh, penumbra::Mesh) {
-    let model = penumbra::load_model(&common::shared_models().join("spot.obj")).unwrap();
+    let model = penumbra::load_model(&common::models().join("spot.obj")).unwrap();
     let mesh = model.meshes[model.parts[0].mesh].clone();
     let mut indices = mesh.indices.clone();
     for t in indices.chunks_exact_mut(3) {

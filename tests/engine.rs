@@ -32,7 +32,7 @@ struct Run {
 }
 
 fn model() -> PathBuf {
-    common::shared_models().join("spot.obj")
+    common::models().join("spot.obj")
 }
 
 fn run_engine(name: &str, frames: u32) -> Run {

@@ -1,5 +1,5 @@
 //! Fuzz-style tests of everything that reads user files: the OBJ and glTF loaders on mutated
-//! bytes of the real models in `../shared/models`, and the scene-file parser and builder on
+//! bytes of the real models in `assets/models`, and the scene-file parser and builder on
 //! mutated text of the project's own scenes. Every input must give `Ok` or an error naming the
 //! file; nothing may panic out of the loader, hang, or allocate without bound.
 //!
@@ -201,7 +201,7 @@ fn load_model(path: &Path) -> Result<(), String> {
 }
 
 fn shared_model(file: &str) -> Option<Vec<u8>> {
-    let path: PathBuf = common::shared_models().join(file);
+    let path: PathBuf = common::models().join(file);
     match std::fs::read(&path) {
         Ok(bytes) => Some(bytes),
         Err(e) => {

@@ -171,7 +171,7 @@ fn the_frame_lit_by_several_lights_is_the_sum_of_the_frames_lit_by_each() {
 
 #[test]
 fn dimming_every_light_of_a_gltf_file_a_millionfold_leaves_only_the_ambient() {
-    let path = common::shared_models().join("MixedLightingExample/MixedLightingExample.gltf");
+    let path = common::models().join("MixedLightingExample/MixedLightingExample.gltf");
     let model = penumbra::load_model(&path).unwrap();
     let scene = Scene::showcase(&model).unwrap();
     assert_eq!(scene.exposure, Exposure::Ev100(Exposure::EV100_DEFAULT));

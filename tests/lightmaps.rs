@@ -1,5 +1,5 @@
 //! Lightmaps and lighting modes on a real baked scene: Bevy's mixed-lighting example
-//! (`assets/scenes/mixed_lighting.ron`, which reads `../shared/models/MixedLightingExample/`):
+//! (`assets/scenes/mixed_lighting.ron`, which reads `assets/models/MixedLightingExample/`):
 //! its KTX2 atlases (zstd, RGB9E5) decode, the baked light lands where the bake put it, the
 //! three modes differ as documented, and the dynamic sphere's soft shadow moves over the
 //! lightmapped floor. Misuse is an error naming what is wrong. Frames are written to
@@ -268,7 +268,7 @@ fn lightmap_misuse_is_an_error_naming_what_is_wrong() {
         instances: [(mesh: "floor")],
         light: Directional((direction: (0.0, -1.0, 0.0))),
         views: [],
-        lightmaps: [(mode: Baked, path: "../../../shared/models/MixedLightingExample/lightmaps/MixedLightingExample-Baked.zstd.ktx2",
+        lightmaps: [(mode: Baked, path: "../models/MixedLightingExample/lightmaps/MixedLightingExample-Baked.zstd.ktx2",
                      meshes: [(mesh: "floor", min: (0.0, 0.0), size: (1.0, 1.0))])],
     )"#;
     expect(built_in.to_string(), "no second UV set");

@@ -1,4 +1,4 @@
-//! Loaders and scene files on real files made elsewhere (`../shared/models`), on the project's
+//! Loaders and scene files on real files made elsewhere (`assets/models`), on the project's
 //! own scenes, and on broken files made here: every failure is an `Err` naming the file and the
 //! reason, never a panic.
 
@@ -28,7 +28,7 @@ fn assert_mesh_sane(model: &Model, what: &str) {
 
 #[test]
 fn teapot_obj_without_normals_gets_computed_smooth_normals() {
-    let model = load_model(&common::shared_models().join("teapot.obj")).unwrap();
+    let model = load_model(&common::models().join("teapot.obj")).unwrap();
     assert_mesh_sane(&model, "teapot.obj");
     let triangles: usize = model.meshes.iter().map(|m| m.triangle_count()).sum();
     assert_eq!(triangles, 6320);
@@ -64,7 +64,7 @@ fn teapot_obj_without_normals_gets_computed_smooth_normals() {
 
 #[test]
 fn spot_obj_keeps_its_uvs_and_gets_normals() {
-    let model = load_model(&common::shared_models().join("spot.obj")).unwrap();
+    let model = load_model(&common::models().join("spot.obj")).unwrap();
     assert_mesh_sane(&model, "spot.obj");
     let mesh = &model.meshes[0];
     assert_eq!(mesh.triangle_count(), 5856);
@@ -80,7 +80,7 @@ fn spot_obj_keeps_its_uvs_and_gets_normals() {
 
 #[test]
 fn fox_glb_is_skinned_into_its_bind_pose_with_its_embedded_texture() {
-    let model = load_model(&common::shared_models().join("Fox.glb")).unwrap();
+    let model = load_model(&common::models().join("Fox.glb")).unwrap();
     assert_mesh_sane(&model, "Fox.glb");
     assert_eq!(model.textures.len(), 1, "the embedded base color texture");
     let texture = &model.textures[0];
@@ -100,7 +100,7 @@ fn fox_glb_is_skinned_into_its_bind_pose_with_its_embedded_texture() {
 
 #[test]
 fn cornell_box_glb_has_several_meshes_and_materials() {
-    let model = load_model(&common::shared_models().join("CornellBox.glb")).unwrap();
+    let model = load_model(&common::models().join("CornellBox.glb")).unwrap();
     assert_mesh_sane(&model, "CornellBox.glb");
     assert!(model.parts.len() >= 3, "{} parts", model.parts.len());
     let colors: std::collections::HashSet<[u32; 3]> = model
@@ -139,7 +139,7 @@ fn project_scenes_load_with_three_viewpoints() {
 
 #[test]
 fn models_given_as_scenes_are_shown_on_a_floor() {
-    let scene = load_scene(&common::shared_models().join("spot.obj")).unwrap();
+    let scene = load_scene(&common::models().join("spot.obj")).unwrap();
     assert_eq!(scene.views.len(), 3);
     let casters = scene.caster_bounds();
     assert!(casters.min.y.abs() < 1e-4, "model is set on the floor");
@@ -177,7 +177,7 @@ fn missing_and_unsupported_files_are_named() {
 #[test]
 fn truncated_and_garbage_files_give_errors() {
     let dir = common::scratch_dir("garbage");
-    let fox = std::fs::read(common::shared_models().join("Fox.glb")).unwrap();
+    let fox = std::fs::read(common::models().join("Fox.glb")).unwrap();
     for (name, len) in [
         ("fox_header.glb", 12),
         ("fox_half.glb", fox.len() / 2),
@@ -195,7 +195,7 @@ fn truncated_and_garbage_files_give_errors() {
         std::fs::write(&path, &noise).unwrap();
         expect_error(&path, "");
     }
-    let teapot = std::fs::read(common::shared_models().join("teapot.obj")).unwrap();
+    let teapot = std::fs::read(common::models().join("teapot.obj")).unwrap();
     let cut = dir.join("teapot_cut.obj");
     std::fs::write(&cut, &teapot[..teapot.len() / 3]).unwrap();
     // A cut OBJ may still be a valid prefix; it must load or fail cleanly, never panic.
@@ -543,7 +543,7 @@ fn gltf_lights_are_read_and_light_the_showcase() {
 #[test]
 fn bevys_mixed_lighting_scene_loads_with_its_sun() {
     // It requires KHR_lights_punctual and KHR_texture_transform, which were refused before.
-    let path = common::shared_models().join("MixedLightingExample/MixedLightingExample.gltf");
+    let path = common::models().join("MixedLightingExample/MixedLightingExample.gltf");
     let model = load_model(&path).unwrap_or_else(|e| panic!("{e}"));
     assert_mesh_sane(&model, "MixedLightingExample");
     let suns: Vec<_> = model

@@ -449,7 +449,7 @@ fn blended_surfaces_show_what_lies_behind_and_cast_only_where_alpha_is_half_or_m
 fn real_models_render_with_shadows() {
     let gpu = common::gpu();
     for file in ["teapot.obj", "spot.obj", "Fox.glb", "CornellBox.glb"] {
-        let scene = load_scene(&common::shared_models().join(file)).unwrap();
+        let scene = load_scene(&common::models().join(file)).unwrap();
         let camera = scene.view(0).unwrap();
         let (w, h) = (256, 192);
         let (with, without) = common::render_with_and_without_casters(

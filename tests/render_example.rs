@@ -38,7 +38,7 @@ fn renders_a_scene_file_and_a_model_to_png() {
     assert!(ok, "{stderr}");
     assert_eq!(image::image_dimensions(&out).unwrap(), (160, 120));
 
-    let model = common::shared_models().join("Fox.glb");
+    let model = common::models().join("Fox.glb");
     let out = dir.join("fox.png");
     let (ok, stderr) = run(&[
         "--scene",

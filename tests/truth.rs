@@ -138,7 +138,7 @@ fn truth_scene(lamp: Lamp) -> Scene {
         .receiver = false;
 
     // The scanned cow, about 1.5 units long, standing on the floor.
-    let model = penumbra::load_model(&common::shared_models().join("spot.obj")).unwrap();
+    let model = penumbra::load_model(&common::models().join("spot.obj")).unwrap();
     let bounds = model.bounds();
     let scale = 1.5 / bounds.size().max_element();
     let place = Mat4::from_translation(Vec3::new(2.0, -bounds.min.y * scale, 1.5))

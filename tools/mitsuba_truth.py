@@ -137,21 +137,60 @@ def main():
     parser.add_argument("--spp", type=int, default=1024, help="samples per sub-pixel (a square, for the multijitter sampler)")
     parser.add_argument("--scale", type=int, default=5, help="Mitsuba's sub-pixels per pixel side (odd)")
     parser.add_argument("--views", default=None, help="comma-separated view numbers (default: all dumped)")
+    parser.add_argument("--report", default=None,
+                        help="also write the table as a Markdown report to this path, headed by the command, "
+                             "Mitsuba's version and variant and the repository's commit")
     args = parser.parse_args()
     dumped = sorted(glob.glob(os.path.join(args.out, "truth_*_*.json")))
     if not dumped:
         raise SystemExit(f"no truth_*.json in {args.out}: run tests/truth.rs with PENUMBRA_SAVE_RENDERS=1 first")
     if args.scale % 2 == 0:
         raise SystemExit("--scale must be odd, so that a sub-pixel lies at each pixel's centre")
-    print("| lamp | view | method | penumbra RMSE vs Mitsuba | inner half signed | outer half signed | pixels | Mitsuba's noise |")
-    print("|---|---|---|---|---|---|---|---|")
+    lines = [
+        "| lamp | view | method | penumbra RMSE vs Mitsuba | inner half signed | outer half signed | pixels | Mitsuba's noise |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for line in lines:
+        print(line)
     for path in dumped:
         lamp, view_index = re.match(r".*truth_(\d+)_(\d+)\.json", path).groups()
         if args.views and view_index not in args.views.split(","):
             continue
         name, rows = compare(args.out, lamp, view_index, args.spp, args.scale)
         for method, (rmse, inner, outer, n, noise) in rows.items():
-            print(f"| {name} | {view_index} | {method} | {rmse:.4f} | {inner:+.4f} | {outer:+.4f} | {n} | {noise:.4f} |")
+            lines.append(f"| {name} | {view_index} | {method} | {rmse:.4f} | {inner:+.4f} | {outer:+.4f} | {n} | {noise:.4f} |")
+            print(lines[-1])
+    if args.report:
+        write_report(args, lines)
+
+
+def write_report(args, lines):
+    """The table as a Markdown file, with what produced it."""
+    import subprocess
+    import sys
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                                check=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], capture_output=True,
+                               text=True, check=True).stdout.strip()
+        if dirty:
+            commit += " with uncommitted changes"
+    except (OSError, subprocess.CalledProcessError):
+        commit = "unknown (no git)"
+    header = [
+        "# penumbra against Mitsuba 3",
+        "",
+        f"Written by `python3 tools/mitsuba_truth.py {' '.join(sys.argv[1:])}` from the images that",
+        "`tests/truth.rs` saved (`PENUMBRA_SAVE_RENDERS=1`), on the repository at commit "
+        f"{commit}; Mitsuba {mi.__version__}, variant `{mi.variant()}`, {args.spp} samples per",
+        f"sub-pixel, {args.scale}x{args.scale} sub-pixels per pixel, the centre one kept. Penumbra",
+        "RMSE is over the pixels where Mitsuba's visibility is in (0.02, 0.98), with Mitsuba's own",
+        "noise (the difference of two seeds) taken out; the halves are (0.02, 0.5] and (0.5, 0.98).",
+        "",
+    ]
+    with open(args.report, "w") as f:
+        f.write("\n".join(header + lines) + "\n")
+    print(f"wrote {args.report}")
 
 
 if __name__ == "__main__":

@@ -6,15 +6,10 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 use penumbra::{Camera, GpuScene, HeadlessGpu, Renderer, Scene, ShadowSettings};
 
-/// The real-world models beside the checkout (`../shared/models`).
-pub fn shared_models() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/models");
-    assert!(
-        dir.is_dir(),
-        "{} is missing: the tests read real-world models from ../shared/models beside the checkout",
-        dir.display()
-    );
-    dir
+/// The real-world models made elsewhere, copied into the repository with their origin and
+/// licence (`assets/models/README.md`).
+pub fn models() -> PathBuf {
+    asset("models")
 }
 
 pub fn asset(rel: &str) -> PathBuf {
