@@ -1,0 +1,262 @@
+//! A blocker a few centimetres from a small light: the room's lamp under its shade, isolated.
+//!
+//! A sphere light of radius R = 3 cm hangs 1.2 m above the floor; a thin plate `D` below it
+//! covers everything on one side of the line z = 0 (its edge lies right under the light). A
+//! wall at x = 0.4 stands beside it. Every receiver point sees the light's sphere as a disk cut
+//! by the plate's edge along z, so across the edge (along z) the penumbra's full width is
+//! `2 R d / D'` with `d / D' = (H - y) / (H - h) - 1` for a receiver at height `y`, the plate at
+//! `h` and the light at `H`, whatever x; its 10-90% part is 0.687 of that. With D = 6 cm that
+//! ratio is 19 on the floor, where the room's is 20-30; earlier accuracy tests stayed at 1-3.
+//!
+//! Measured along z at fixed points: on the floor (the -y cube face), on the wall low down (a
+//! ray 66 degrees off the wall's normal, the -y face), on the wall at 45 degrees down from the
+//! light (the boundary between the -y and +x faces) and higher up (the +x face).
+
+mod common;
+
+use glam::{Mat4, Vec3};
+use penumbra::{
+    Camera, Light, Material, PointLight, Quality, Scene, ShadowMethod, ShadowSettings,
+    metrics::measure_visibility, scene::primitives,
+};
+
+const LIGHT_HEIGHT: f32 = 1.2;
+const RADIUS: f32 = 0.03;
+/// The wall's plane, x = WALL (facing -x).
+const WALL: f32 = 0.4;
+
+fn scene(gap: f32) -> Scene {
+    let mut scene = Scene {
+        light: Light::Point(PointLight {
+            position: Vec3::new(0.0, LIGHT_HEIGHT, 0.0),
+            radius: RADIUS,
+            color: Vec3::ONE,
+            intensity: 1.0,
+            range: None,
+        }),
+        ..Default::default()
+    };
+    let grey = scene.add_material(Material::colored("plaster", [0.8, 0.8, 0.8]));
+    let brass = scene.add_material(Material::colored("shade", [0.75, 0.6, 0.3]));
+    let floor = scene.add_mesh(primitives::plane(8.0, 1.0));
+    scene.add_instance(floor, grey, Mat4::IDENTITY).caster = false;
+    // The wall ends below the plate, so the scene's centre (where the metrics' exposure puts 1
+    // on a surface facing the light) is not at the light.
+    let wall = scene.add_mesh(primitives::cuboid(Vec3::new(0.02, 1.3, 6.0)));
+    scene
+        .add_instance(
+            wall,
+            grey,
+            Mat4::from_translation(Vec3::new(WALL + 0.01, 0.65, 0.0)),
+        )
+        .caster = false;
+    let (min, max) = plate(gap);
+    let plate = scene.add_mesh(primitives::cuboid(max - min));
+    scene
+        .add_instance(plate, brass, Mat4::from_translation((min + max) / 2.0))
+        .receiver = false;
+    scene
+}
+
+/// The plate's box: 4 mm thick, its lower face `gap` below the light's centre, from x = -1.5 to
+/// just short of the wall, z from -1.5 to 0 (its edge right under the light).
+fn plate(gap: f32) -> (Vec3, Vec3) {
+    let bottom = LIGHT_HEIGHT - gap;
+    (
+        Vec3::new(-1.5, bottom, -1.5),
+        Vec3::new(WALL - 0.02, bottom + 0.004, 0.0),
+    )
+}
+
+/// The exact visibility at `p` (normal `n`), independent of the renderer: the sphere seen from
+/// `p` is a disk of directions of angular radius asin(R / distance) and uniform radiance;
+/// integrated on a polar grid over it, each direction weighted by its solid angle and the
+/// receiver's cosine, and tested against the plate's box.
+fn exact_visibility(p: Vec3, n: Vec3, gap: f32) -> f32 {
+    let (min, max) = plate(gap);
+    let to_light = Vec3::new(0.0, LIGHT_HEIGHT, 0.0) - p;
+    let distance = to_light.length();
+    let axis = to_light / distance;
+    let half_angle = (RADIUS / distance).asin();
+    let side = axis.any_orthonormal_vector();
+    let up = axis.cross(side);
+    let (rings, sectors) = (48, 96);
+    let (mut lit, mut all) = (0.0f64, 0.0f64);
+    for i in 0..rings {
+        // Equal solid angle per ring: uniform in cos(theta).
+        let (c0, c1) = (
+            1.0 - (1.0 - half_angle.cos()) * i as f32 / rings as f32,
+            1.0 - (1.0 - half_angle.cos()) * (i + 1) as f32 / rings as f32,
+        );
+        let cos_theta = 0.5 * (c0 + c1);
+        let sin_theta = (1.0 - cos_theta * cos_theta).sqrt();
+        for k in 0..sectors {
+            let phi = std::f32::consts::TAU * (k as f32 + 0.5) / sectors as f32;
+            let d = axis * cos_theta + (side * phi.cos() + up * phi.sin()) * sin_theta;
+            let weight = n.dot(d).max(0.0) as f64;
+            all += weight;
+            if !hits_box(p, d, min, max, distance) {
+                lit += weight;
+            }
+        }
+    }
+    (lit / all.max(1e-30)) as f32
+}
+
+/// Whether the ray from `p` along `d` meets the box before `distance`.
+fn hits_box(p: Vec3, d: Vec3, min: Vec3, max: Vec3, distance: f32) -> bool {
+    let inv = d.recip();
+    let (a, b) = ((min - p) * inv, (max - p) * inv);
+    let near = a.min(b).max_element().max(0.0);
+    let far = a.max(b).min_element().min(distance);
+    near <= far
+}
+
+/// The small-angle 10-90% width along z at a receiver of height `y`, the plate `gap` below
+/// the light: `0.687 2 R d / D`. Only a guide: across a penumbra this wide the rays tilt by up
+/// to 25 degrees, and the exact profile's tails are 6% wider.
+fn analytic(y: f32, gap: f32) -> f32 {
+    0.687 * 2.0 * RADIUS * ((LIGHT_HEIGHT - y) / gap - 1.0)
+}
+
+/// A place to measure: a point on the line z = 0 of a receiver and the camera that sees it.
+struct Spot {
+    name: &'static str,
+    point: Vec3,
+    camera: Camera,
+}
+
+fn spots() -> Vec<Spot> {
+    let camera = |eye: Vec3, target: Vec3| Camera {
+        fov_y_deg: 60.0,
+        near: 0.05,
+        far: 20.0,
+        ..Camera::look_at(eye, target)
+    };
+    vec![
+        Spot {
+            name: "floor",
+            point: Vec3::new(-0.5, 0.0, 0.0),
+            camera: camera(Vec3::new(-0.5, 1.0, 1.6), Vec3::new(-0.5, 0.0, 0.0)),
+        },
+        Spot {
+            name: "wall, low (66 degrees)",
+            point: Vec3::new(WALL, 0.3, 0.0),
+            camera: camera(Vec3::new(-0.9, 0.3, 0.9), Vec3::new(WALL, 0.3, 0.0)),
+        },
+        Spot {
+            name: "wall, between two faces",
+            point: Vec3::new(WALL, LIGHT_HEIGHT - WALL, 0.0),
+            camera: camera(Vec3::new(-0.9, 0.8, 0.9), Vec3::new(WALL, 0.8, 0.0)),
+        },
+        Spot {
+            name: "wall, high",
+            point: Vec3::new(WALL, 0.95, 0.0),
+            camera: camera(Vec3::new(-0.9, 0.95, 0.9), Vec3::new(WALL, 0.95, 0.0)),
+        },
+    ]
+}
+
+fn settings(method: ShadowMethod) -> ShadowSettings {
+    let mut s = ShadowSettings::preset(method, Quality::Medium);
+    s.reference.samples = 128;
+    s
+}
+
+const SIZE: (u32, u32) = (400, 300);
+
+/// The 10-90% width along z through `point`, from the umbra (z < 0) into the light, of the
+/// visibility `at` gives, averaged over five profiles 1 cm apart across it (along the
+/// receiver); `reach` each way.
+fn width_at(at: impl Fn(Vec3) -> f32, point: Vec3, across: Vec3, reach: f32) -> Option<f32> {
+    let profile: Vec<(f32, f32)> = (0..=400)
+        .map(|i| {
+            let t = reach * (i as f32 / 200.0 - 1.0);
+            let v = (-2..=2)
+                .map(|k| at(point + Vec3::Z * t + across * (0.01 * k as f32)))
+                .sum::<f32>()
+                / 5.0;
+            (t, v)
+        })
+        .collect();
+    common::width_10_90(&profile)
+}
+
+/// A place's widths: its name, the small-angle and the exact width, and each method's.
+struct Widths {
+    name: &'static str,
+    small_angle: f32,
+    exact: f32,
+    methods: Vec<f32>,
+}
+
+/// Widths on every spot for `methods`, with the plate `gap` below the light.
+fn measure(gpu: &penumbra::HeadlessGpu, gap: f32, methods: &[ShadowMethod]) -> Vec<Widths> {
+    let scene = scene(gap);
+    spots()
+        .into_iter()
+        .map(|spot| {
+            let small_angle = analytic(spot.point.y, gap);
+            let reach = 0.8 * small_angle / 0.687;
+            let (across, normal) = if spot.point.y == 0.0 {
+                (Vec3::X, Vec3::Y)
+            } else {
+                (Vec3::Y, Vec3::NEG_X)
+            };
+            let exact = width_at(|p| exact_visibility(p, normal, gap), spot.point, across, reach)
+                .expect("the exact profile crosses the penumbra");
+            let widths = methods
+                .iter()
+                .map(|&method| {
+                    let image =
+                        measure_visibility(gpu, &scene, &spot.camera, settings(method), SIZE).unwrap();
+                    let at = |p| common::sample_visibility(&image, &spot.camera, p);
+                    width_at(at, spot.point, across, reach)
+                        .unwrap_or_else(|| panic!("{}: {} has no penumbra there", spot.name, method.name()))
+                })
+                .collect();
+            Widths {
+                name: spot.name,
+                small_angle,
+                exact,
+                methods: widths,
+            }
+        })
+        .collect()
+}
+
+#[test]
+#[ignore = "issue 38: ours is 0.64-0.84x the reference's width here, until the fix lands"]
+fn a_blocker_six_centimetres_from_the_light_throws_a_penumbra_as_wide_as_the_truth() {
+    let gpu = common::gpu();
+    let methods = [ShadowMethod::Reference, ShadowMethod::Ours, ShadowMethod::Pcss];
+    let results = measure(&gpu, 0.06, &methods);
+    for w in &results {
+        println!(
+            "{}: small-angle {:.3}, exact {:.3}; {}",
+            w.name,
+            w.small_angle,
+            w.exact,
+            methods
+                .iter()
+                .zip(&w.methods)
+                .map(|(m, x)| format!("{} {x:.3} ({:.2}x)", m.name(), x / w.exact))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    for w in &results {
+        let (reference, ours) = (w.methods[0], w.methods[1]);
+        assert!(
+            (reference / w.exact - 1.0).abs() <= 0.05,
+            "{}: the reference's width {reference:.3} against the exact {:.3}",
+            w.name,
+            w.exact
+        );
+        assert!(
+            (ours / reference - 1.0).abs() <= 0.10,
+            "{}: ours' width {ours:.3} against the reference's {reference:.3}",
+            w.name
+        );
+    }
+}
