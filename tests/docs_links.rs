@@ -113,6 +113,8 @@ fn ci_installs_the_readmes_prerequisites_and_runs_its_test_command() {
     // The README's packages: every `apt-get install` of its set-up section.
     let setup = &readme[readme.find("## Set-up").expect("a set-up section")..];
     let setup = &setup[..setup[3..].find("\n## ").map_or(setup.len(), |end| end + 3)];
+    // Shell continuation lines joined.
+    let setup = setup.replace("\\\n", " ");
     let mut readme_packages: Vec<String> = setup
         .lines()
         .filter_map(|l| l.split("apt-get install").nth(1))

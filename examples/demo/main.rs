@@ -204,6 +204,12 @@ fn main() -> ExitCode {
     );
     if let Err(e) = result {
         eprintln!("error: cannot run the demo's window: {e}");
+        if e.to_string().contains("xlib") {
+            // winit opens the X11 libraries at run time; a minimal system lacks some of them.
+            eprintln!(
+                "hint: the X11 window needs libX11, libXcursor, libXi and libxkbcommon-x11 (Debian: sudo apt-get install libxcursor1 libxi6 libxkbcommon-x11-0)"
+            );
+        }
         eprintln!(
             "hint: the headless renderer needs no window: cargo run --release --example render -- --scene assets/scenes/teapot.ron --out out.png"
         );
