@@ -5,8 +5,8 @@
 // contact the blur vanishes; far away it is wide: as few taps as keep them at most a pixel
 // apart, out to 2.5 standard deviations (at most the setting's count), and none where the
 // pixel and both ends of the kernel agree on wholly lit or wholly shadowed. With depth-aware
-// weighting, taps at a different depth count less, so the blur does not bleed across depth
-// discontinuities.
+// weighting, taps off the pixel's plane count less, so the blur does not bleed across depth
+// discontinuities but runs its length along a receiver seen at a grazing angle.
 //
 // Batching (several lights, after the distance map): the lights' values come packed, light c
 // in channel c of one texture (the variable PCF passes write them so, and the horizontal draw
@@ -124,13 +124,13 @@ fn blur_all(frag: vec2<f32>) -> vec4<f32> {
         }
         return center;
     }
-    let z = view_depth(depth);
+    let surface = BlurCenter(depth, depth_slope(pixel, depth));
     let radius = i32(blur.taps) / 2;
     if FIXED_STEP {
         if blur.step < 1e-3 || radius == 0 {
             return finish(center, vec4<f32>(0.0));
         }
-        return finish(taps(frag, center, z, radius, blur.step, vec4<f32>(0.0), vec4<bool>(false)), vec4<f32>(0.0));
+        return finish(taps(frag, center, surface, radius, blur.step, vec4<f32>(0.0), vec4<bool>(false)), vec4<f32>(0.0));
     }
     // The distance-driven blur: per light, a Gaussian of standard deviation `sigma` pixels,
     // sampled out to 2.5 sigma with as few taps as keep them at most a pixel apart (up to the
@@ -167,7 +167,7 @@ fn blur_all(frag: vec2<f32>) -> vec4<f32> {
     // Weights of a Gaussian 4% wider than sigma: cut at 2.5 sigma, the kernel's own spread is
     // then sigma.
     let inv_sigma = select(vec4<f32>(0.0), 1.0 / (1.04 * sigma), blurred);
-    let result = taps(frag, center, z, n, 2.5 * widest / f32(max(n, 1)), inv_sigma, blurred);
+    let result = taps(frag, center, surface, n, 2.5 * widest / f32(max(n, 1)), inv_sigma, blurred);
     return finish(select(result, vec4<f32>(1.0), left_out), d);
 }
 
@@ -193,9 +193,43 @@ fn receives(pixel: vec2<i32>) -> bool {
     return frame.view.has_receiver_mask == 0u || textureLoad(receiver_mask, pixel, 0).x >= 0.5;
 }
 
+// The receiver at the blurred pixel as the depth-aware weights see it: its camera depth and
+// how that depth changes per pixel along the draw's axis.
+struct BlurCenter {
+    depth: f32,
+    slope: f32,
+}
+
+// The camera depth's change per pixel along the draw's axis at `pixel` where the receiver is
+// flat there: a plane's depth-buffer value is affine in screen space, so a tap on the pixel's
+// plane lies at `depth + slope * offset` exactly. The plane is trusted only where the steps to
+// both neighbours agree (within 10%); at a silhouette or on a curved receiver (the teapot's
+// rim, where the plane continued would meet the floor behind) the slope is 0 and a tap must lie
+// at the pixel's own depth.
+fn depth_slope(pixel: vec2<i32>, depth: f32) -> f32 {
+    let axis = vec2<i32>(blur.axis.xy);
+    let last = vec2<i32>(frame.view.size) - 1;
+    let ahead = textureLoad(camera_depth, clamp(pixel + axis, vec2<i32>(0), last), 0).x - depth;
+    let behind = depth - textureLoad(camera_depth, clamp(pixel - axis, vec2<i32>(0), last), 0).x;
+    let flat_here = abs(ahead - behind) <= 0.1 * max(abs(ahead), abs(behind));
+    return select(0.0, 0.5 * (ahead + behind), flat_here);
+}
+
+// The weight of a tap at `tap_pixel`, `offset` pixels along the axis from the blurred pixel:
+// close to 1 where its depth is where the pixel's plane would put it, falling off with the
+// difference relative to that depth (2% is one e-fold). On a receiver seen at a grazing angle
+// the depth changes a lot along a wide blur; measured against the plane, the taps on that
+// receiver keep their weight and those across a depth edge lose it.
+fn depth_weight(surface: BlurCenter, tap_pixel: vec2<i32>, offset: f32) -> f32 {
+    let tap_z = view_depth(textureLoad(camera_depth, tap_pixel, 0).x);
+    let expected = view_depth(clamp(surface.depth + surface.slope * offset, 0.0, 1.0));
+    let relative = (tap_z - expected) / max(expected * 0.02, 1e-20);
+    return exp(-relative * relative);
+}
+
 // Gaussian weights of standard deviation 1 / inv_sigma pixels for the lights in `blurred`; the
 // others keep `center`.
-fn taps(frag: vec2<f32>, center: vec4<f32>, z: f32, radius: i32, step: f32, inv_sigma: vec4<f32>, blurred: vec4<bool>) -> vec4<f32> {
+fn taps(frag: vec2<f32>, center: vec4<f32>, surface: BlurCenter, radius: i32, step: f32, inv_sigma: vec4<f32>, blurred: vec4<bool>) -> vec4<f32> {
     let direction = blur.axis.xy * step * frame.view.inv_size;
     let uv = frag * frame.view.inv_size;
     let center_weight = select(1.0, blur.weights[0].x, FIXED_STEP);
@@ -212,9 +246,8 @@ fn taps(frag: vec2<f32>, center: vec4<f32>, z: f32, radius: i32, step: f32, inv_
             var weight = 1.0;
             let tap_pixel = clamp(vec2<i32>(tap_uv * frame.view.size), vec2<i32>(0), vec2<i32>(frame.view.size) - 1);
             if DEPTH_AWARE {
-                let tap_z = view_depth(textureLoad(camera_depth, tap_pixel, 0).x);
-                let relative = (tap_z - z) / (z * 0.02);
-                weight = exp(-relative * relative);
+                let offset = dot(vec2<f32>(tap_pixel - vec2<i32>(frag)), blur.axis.xy);
+                weight = depth_weight(surface, tap_pixel, offset);
             }
             // Surfaces that receive no shadow (the receiver mask's and the background: the same
             // for every light) are not blurred into those that do. Read from the depth and the

@@ -102,6 +102,19 @@ impl Cull {
     }
 }
 
+/// The boxes of what one light can see ([`Casters::seen_by`]).
+#[derive(Default)]
+pub(crate) struct SeenBounds {
+    /// The casters' union.
+    pub casters: Aabb,
+    /// Casters' and receivers' union.
+    pub all: Aabb,
+    /// Each caster's and receiver's box.
+    pub parts: Vec<Aabb>,
+    /// Each caster's box.
+    pub caster_parts: Vec<Aabb>,
+}
+
 /// Where penumbra reads a mesh's geometry once, to compute its bounds and smoothed normals.
 #[derive(Debug, Clone, Copy)]
 pub enum MeshGeometry<'a> {
@@ -827,6 +840,14 @@ impl Casters {
             .fold(Aabb::EMPTY, |a, r| a.union(&r.world_bounds))
     }
 
+    /// World bounds of each instance that casts.
+    pub(crate) fn caster_parts(&self) -> Vec<Aabb> {
+        self.records()
+            .filter(|r| r.instance.caster && !r.world_bounds.is_empty())
+            .map(|r| r.world_bounds)
+            .collect()
+    }
+
     /// World bounds of everything that casts or receives.
     pub fn shadow_bounds(&self) -> Aabb {
         self.shadow_parts().iter().fold(Aabb::EMPTY, |a, b| a.union(b))
@@ -841,24 +862,25 @@ impl Casters {
             .collect()
     }
 
-    /// As [`Casters::caster_bounds`], [`Casters::shadow_bounds`] and [`Casters::shadow_parts`],
-    /// over the instances whose world box `inside` keeps (what one light can see).
-    pub(crate) fn seen_by(&self, inside: impl Fn(&Aabb) -> bool) -> (Aabb, Aabb, Vec<Aabb>) {
-        let mut casters = Aabb::EMPTY;
-        let mut parts = Vec::new();
+    /// As [`Casters::caster_bounds`], [`Casters::shadow_bounds`], [`Casters::shadow_parts`] and
+    /// [`Casters::caster_parts`], over the instances whose world box `inside` keeps (what one
+    /// light can see).
+    pub(crate) fn seen_by(&self, inside: impl Fn(&Aabb) -> bool) -> SeenBounds {
+        let mut seen = SeenBounds::default();
         for r in self.records() {
             if (r.instance.caster || r.instance.receiver)
                 && !r.world_bounds.is_empty()
                 && inside(&r.world_bounds)
             {
                 if r.instance.caster {
-                    casters = casters.union(&r.world_bounds);
+                    seen.casters = seen.casters.union(&r.world_bounds);
+                    seen.caster_parts.push(r.world_bounds);
                 }
-                parts.push(r.world_bounds);
+                seen.parts.push(r.world_bounds);
             }
         }
-        let all = parts.iter().fold(Aabb::EMPTY, |a, b| a.union(b));
-        (casters, all, parts)
+        seen.all = seen.parts.iter().fold(Aabb::EMPTY, |a, b| a.union(b));
+        seen
     }
 
     /// Triangles drawn per shadow-map pass.

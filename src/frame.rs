@@ -322,16 +322,20 @@ pub(crate) fn is_point_light(light: &Light) -> bool {
 
 /// Derives the fatten distance: half the widest penumbra the scene allows (the deepest
 /// receiver behind the casters' nearest point along the light), plus two texels of the fattened map
-/// (four of the shadow map: the fattened map has half its resolution). For a
-/// spot or point light the nearest occluder is the casters' box's nearest point (at least the
-/// map's near plane): the width `2 R d / D` grows without bound as `D` shrinks; the fatten
-/// distance stays under half that nearest distance (more would swallow the light; wider
-/// penumbrae are cut at twice it). Never more than the scene's radius.
+/// (four of the shadow map: the fattened map has half its resolution). For a spot or point
+/// light the width `2 R d / D` grows without bound as the occluder's distance `D` shrinks, but
+/// where the fattened map marks it, at the caster's own distance, a penumbra reaches at most
+/// the light's radius beside the caster: the fatten distance is about `R`. It stays under half
+/// the nearest caster's distance from the light (more would swallow the light). That distance
+/// is each caster's own ([`light_to_box`]), not the distance to the casters' union, which a
+/// lamp's shade, its stand and the desk below enclose the bulb in (the union held the light, the
+/// distance fell to the map's near plane and the fatten distance to millimetres: the outer part
+/// of every penumbra lay outside the fattened shadow). Never more than the scene's radius.
 pub(crate) fn derive_spreads(
     light: &Light,
     light_view: &LightView,
     shadow_bounds: &Aabb,
-    caster_bounds: &Aabb,
+    caster_parts: &[Aabb],
     resolution: u32,
 ) -> DerivedSpreads {
     let size = light_size_term(light);
@@ -346,8 +350,9 @@ pub(crate) fn derive_spreads(
             // The deepest receiver lies at most `far`, the nearest caster no nearer than the
             // casters' box.
             let mut range = depth_range;
-            if !caster_bounds.is_empty() {
-                let nearest_caster = caster_bounds
+            let casters = caster_parts.iter().fold(Aabb::EMPTY, |a, b| a.union(b));
+            if !casters.is_empty() {
+                let nearest_caster = casters
                     .corners()
                     .iter()
                     .map(|c| -light_view.view.transform_point3(*c).z)
@@ -358,11 +363,16 @@ pub(crate) fn derive_spreads(
         }
         Light::Spot(_) | Light::Point(_) => {
             let position = light.position().unwrap_or_default();
-            let mut nearest = light_view.near.max(1e-6);
-            if !caster_bounds.is_empty() {
-                let closest = position.clamp(caster_bounds.min, caster_bounds.max);
-                nearest = nearest.max(closest.distance(position));
-            }
+            let nearest_part = caster_parts
+                .iter()
+                .filter(|b| !b.is_empty())
+                .map(|b| light_to_box(position, b))
+                .fold(f32::INFINITY, f32::min);
+            let nearest = if nearest_part.is_finite() {
+                nearest_part.max(light_view.near).max(1e-6)
+            } else {
+                light_view.near.max(1e-6)
+            };
             // Down to steps of 2^(1/8), so a caster moving a little elsewhere does not change
             // every light's fatten distance (and with it its maps).
             let nearest = ((nearest.log2() * 8.0).floor() / 8.0).exp2();
@@ -389,6 +399,17 @@ pub(crate) fn derive_spreads(
         fatten_distance: fatten,
         penumbra_per_distance: per_distance,
     }
+}
+
+/// How near a caster in box `b` can come to a light at `position`: the distance to the box
+/// from outside it; from inside (a shade or a room around the bulb), the distance to its
+/// nearest side, where such a caster's surfaces lie.
+pub(crate) fn light_to_box(position: Vec3, b: &Aabb) -> f32 {
+    let outside = position.clamp(b.min, b.max).distance(position);
+    if outside > 0.0 {
+        return outside;
+    }
+    (position - b.min).min(b.max - position).min_element().max(0.0)
 }
 
 pub(crate) struct FrameInputs<'a> {

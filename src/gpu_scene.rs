@@ -787,6 +787,11 @@ impl GpuScene {
         self.casters.caster_bounds()
     }
 
+    /// World bounds of each caster instance.
+    pub(crate) fn caster_parts(&self) -> Vec<Aabb> {
+        self.casters.caster_parts()
+    }
+
     /// Triangles drawn per camera pass.
     pub fn triangle_count(&self) -> usize {
         self.triangle_count

@@ -904,7 +904,7 @@ impl Renderer {
             &light,
             &loose,
             &scene.shadow_bounds(),
-            &scene.caster_bounds(),
+            &scene.caster_parts(),
         );
         (loose, spreads)
     }

@@ -245,8 +245,11 @@ pub struct PenumbraSettings {
     pub reduced_resolution: bool,
     /// Taps of each blur direction, odd, in [1, 31]. Default 11.
     pub blur_taps: u32,
-    /// Weight blur taps by depth similarity so the blur does not bleed across depth
-    /// discontinuities. Default true.
+    /// Weight blur taps by how near they lie to the blurred pixel's plane (its depth and, where
+    /// the receiver is flat, the depth's slope along the blur's axis), so the blur does not
+    /// bleed across depth discontinuities but runs its whole length along a receiver seen at a
+    /// grazing angle (weighting by the pixel's own depth cut it short there: a wall's or a
+    /// floor's penumbra came out too narrow). Default true.
     pub depth_aware_blur: bool,
     /// Blur up to four lights' visibility in one pass: their PCF passes write it packed, one
     /// channel each, and the lights share the draws, the depth reads and the taps (each keeps

@@ -494,6 +494,7 @@ impl Shadows {
             let shadow_bounds = casters.shadow_bounds();
             let caster_bounds = casters.caster_bounds();
             let parts = casters.shadow_parts();
+            let caster_parts = casters.caster_parts();
             let has_mask = view.receiver_mask.is_some();
             let software = this.software;
             for state in this.lights.iter_mut().flatten() {
@@ -521,14 +522,15 @@ impl Shadows {
                 // size of its frustum): a caster moving elsewhere changes neither its fit nor its
                 // penumbra widths. A sun sees the whole scene.
                 let own;
-                let (shadow_bounds, caster_bounds, parts) = match light {
-                    Light::Directional(_) => (shadow_bounds, caster_bounds, &parts[..]),
+                let everything = (shadow_bounds, caster_bounds, &parts[..], &caster_parts[..]);
+                let (shadow_bounds, caster_bounds, parts, caster_parts) = match light {
+                    Light::Directional(_) => everything,
                     Light::Spot(SpotLight { radius, .. }) | Light::Point(PointLight { radius, .. }) => {
                         own = casters.seen_by(|b| sees(&loose, b, radius));
-                        if own.1.is_empty() {
-                            (shadow_bounds, caster_bounds, &parts[..])
+                        if own.all.is_empty() {
+                            everything
                         } else {
-                            (own.1, own.0, &own.2[..])
+                            (own.all, own.casters, &own.parts[..], &own.caster_parts[..])
                         }
                     }
                 };
@@ -537,14 +539,23 @@ impl Shadows {
                     Light::Directional(_) => loose,
                     _ => LightView::fit(&light, &shadow_bounds),
                 };
-                let spreads = spreads(&this.settings, &light, &loose, &shadow_bounds, &caster_bounds);
+                let spreads = spreads(&this.settings, &light, &loose, &shadow_bounds, caster_parts);
                 let sm = &this.settings.shadow_map;
+                // The margin keeps the fattened casters, pushed toward a spot or point light, in
+                // front of its near plane; a chain that draws no fattened map keeps the tightest
+                // near plane (PCSS searches for blockers from it). A sun's cascades are widened
+                // by it for every method: penumbrae reach in from casters beside them.
+                let margin = match light {
+                    Light::Directional(_) => spreads.fatten_distance * 2.0,
+                    _ if chain.fattened_map() => spreads.fatten_distance * 2.0,
+                    _ => 0.0,
+                };
                 let light_view = LightView::fit_with(&FitInputs {
                     light: &light,
                     casters: caster_bounds,
                     casters_and_receivers: shadow_bounds,
                     parts,
-                    margin: spreads.fatten_distance * 2.0,
+                    margin,
                     fit: sm.fit,
                     camera: Some(view.camera),
                     resolution: sm.resolution,
@@ -1025,13 +1036,13 @@ pub(crate) fn spreads(
     light: &Light,
     light_view: &LightView,
     shadow_bounds: &Aabb,
-    caster_bounds: &Aabb,
+    caster_parts: &[Aabb],
 ) -> DerivedSpreads {
     let derived = derive_spreads(
         light,
         light_view,
         shadow_bounds,
-        caster_bounds,
+        caster_parts,
         settings.shadow_map.resolution,
     );
     match settings.penumbra.spreads {
