@@ -16,8 +16,8 @@ mod common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{
-    Camera, Light, Material, PointLight, Quality, Scene, ShadowMethod, ShadowSettings,
-    metrics::measure_visibility, scene::primitives,
+    Camera, Material, Quality, Scene, ShadowMethod, ShadowSettings, metrics::measure_visibility,
+    scene::primitives,
 };
 
 const LIGHT_HEIGHT: f32 = 1.2;
@@ -26,20 +26,8 @@ const RADIUS: f32 = 0.03;
 const WALL: f32 = 0.4;
 
 fn scene(gap: f32) -> Scene {
-    let mut scene = Scene {
-        light: Light::Point(PointLight {
-            position: Vec3::new(0.0, LIGHT_HEIGHT, 0.0),
-            radius: RADIUS,
-            color: Vec3::ONE,
-            intensity: 1.0,
-            range: None,
-        }),
-        ..Default::default()
-    };
-    let grey = scene.add_material(Material::colored("plaster", [0.8, 0.8, 0.8]));
+    let (mut scene, grey) = common::point_light_over_floor(LIGHT_HEIGHT, RADIUS, 8.0);
     let brass = scene.add_material(Material::colored("shade", [0.75, 0.6, 0.3]));
-    let floor = scene.add_mesh(primitives::plane(8.0, 1.0));
-    scene.add_instance(floor, grey, Mat4::IDENTITY).caster = false;
     // The wall ends below the plate, so the scene's centre (where the metrics' exposure puts 1
     // on a surface facing the light) is not at the light.
     let wall = scene.add_mesh(primitives::cuboid(Vec3::new(0.02, 1.3, 6.0)));

@@ -15,7 +15,7 @@ mod common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{
-    Camera, Light, Material, PointLight, Quality, Scene, ShadowMethod, ShadowSettings,
+    Camera, Light, Material, Quality, Scene, ShadowMethod, ShadowSettings,
     metrics::{VisibilityImage, measure_visibility},
     scene::primitives,
 };
@@ -27,20 +27,8 @@ const HIGH: (f32, (f32, f32)) = (1.5, (-1.0, 6.0));
 const LOW: (f32, (f32, f32)) = (0.6, (-6.0, -1.5));
 
 fn scene() -> Scene {
-    let mut scene = Scene {
-        light: Light::Point(PointLight {
-            position: Vec3::new(0.0, LIGHT_HEIGHT, 0.0),
-            radius: RADIUS,
-            color: Vec3::ONE,
-            intensity: 1.0,
-            range: None,
-        }),
-        ..Default::default()
-    };
-    let grey = scene.add_material(Material::colored("floor", [0.8, 0.8, 0.8]));
+    let (mut scene, _) = common::point_light_over_floor(LIGHT_HEIGHT, RADIUS, 30.0);
     let blue = scene.add_material(Material::colored("plate", [0.3, 0.5, 0.8]));
-    let floor = scene.add_mesh(primitives::plane(30.0, 1.0));
-    scene.add_instance(floor, grey, Mat4::IDENTITY).caster = false;
     for (h, (x0, x1)) in [HIGH, LOW] {
         let plate = scene.add_mesh(primitives::cuboid(Vec3::new(x1 - x0, 0.04, 2.0)));
         scene

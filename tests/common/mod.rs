@@ -276,3 +276,23 @@ pub fn engine_camera((width, height): (u32, u32)) -> penumbra::CameraMatrices {
         depth: penumbra::DepthConvention::Standard,
     }
 }
+
+/// A sphere light of `radius`, `height` above a grey floor `floor_size` wide that receives
+/// shadows and casts none; with the floor's material, for the caller's further receivers.
+pub fn point_light_over_floor(height: f32, radius: f32, floor_size: f32) -> (Scene, usize) {
+    use penumbra::{Light, Material, PointLight, scene::primitives};
+    let mut scene = Scene {
+        light: Light::Point(PointLight {
+            position: Vec3::new(0.0, height, 0.0),
+            radius,
+            color: Vec3::ONE,
+            intensity: 1.0,
+            range: None,
+        }),
+        ..Default::default()
+    };
+    let grey = scene.add_material(Material::colored("floor", [0.8, 0.8, 0.8]));
+    let floor = scene.add_mesh(primitives::plane(floor_size, 1.0));
+    scene.add_instance(floor, grey, glam::Mat4::IDENTITY).caster = false;
+    (scene, grey)
+}
