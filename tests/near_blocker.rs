@@ -8,9 +8,15 @@
 //! `h` and the light at `H`, whatever x; its 10-90% part is 0.687 of that. With D = 6 cm that
 //! ratio is 19 on the floor, where the room's is 20-30; earlier accuracy tests stayed at 1-3.
 //!
+//! That small-angle width is a guide only: across penumbrae this wide the rays tilt, and the
+//! exact profile, integrated here on the CPU over the sphere's disk of directions, is 6-11%
+//! wider. The reference must agree with the exact width within 5%, and `ours` with the
+//! reference within 10% (20% low on the wall; see the test).
+//!
 //! Measured along z at fixed points: on the floor (the -y cube face), on the wall low down (a
 //! ray 66 degrees off the wall's normal, the -y face), on the wall at 45 degrees down from the
-//! light (the boundary between the -y and +x faces) and higher up (the +x face).
+//! light (the boundary between the -y and +x faces) and higher up (the +x face). A second test
+//! holds `ours` to 0.8x `pcss`' penumbra RMSE in the room itself.
 
 mod common;
 
