@@ -9,8 +9,8 @@
 //! ratio is 19 on the floor, where the room's is 20-30; earlier accuracy tests stayed at 1-3.
 //!
 //! That small-angle width is a guide only: across penumbrae this wide the rays tilt, and the
-//! exact profile, integrated here on the CPU over the sphere's disk of directions, is 6-11%
-//! wider. The reference must agree with the exact width within 5%, and `ours` with the
+//! plate is 4 mm thick; the exact profile, integrated here on the CPU over the sphere's disk of
+//! directions, is about 11% wider. The reference must agree with the exact width within 5%, and `ours` with the
 //! reference within 10% (20% low on the wall; see the test).
 //!
 //! Measured along z at fixed points: on the floor (the -y cube face), on the wall low down (a
@@ -107,8 +107,7 @@ fn hits_box(p: Vec3, d: Vec3, min: Vec3, max: Vec3, distance: f32) -> bool {
 }
 
 /// The small-angle 10-90% width along z at a receiver of height `y`, the plate `gap` below
-/// the light: `0.687 2 R d / D`. Only a guide: across a penumbra this wide the rays tilt by up
-/// to 25 degrees, and the exact profile's tails are 6% wider.
+/// the light: `0.687 2 R d / D`. Only a guide (see the module's docs).
 fn analytic(y: f32, gap: f32) -> f32 {
     0.687 * 2.0 * RADIUS * ((LIGHT_HEIGHT - y) / gap - 1.0)
 }
