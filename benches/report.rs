@@ -922,6 +922,10 @@ fn find<'a>(
     })
 }
 
+/// The most `ours`' penumbra RMSE may be as a share of `pcss`'s, on every view of every bench
+/// scene and in the room (issue 38).
+const PCSS_RMSE_TARGET: f32 = 0.8;
+
 fn verdict(met: bool) -> &'static str {
     if met { "**met**" } else { "**missed**" }
 }
@@ -1067,8 +1071,8 @@ fn write_report(
                     o.penumbra_rmse.unwrap_or(f32::NAN),
                     p.penumbra_rmse.unwrap_or(f32::NAN),
                 );
-                rmse_ok &= a <= b;
-                details.push(format!("view {v}: {a:.4} vs {b:.4}"));
+                rmse_ok &= a <= PCSS_RMSE_TARGET * b;
+                details.push(format!("view {v}: {a:.4} vs {b:.4} ({:.2}x)", a / b));
                 pcss_ratios.push(o.frame_ms / p.frame_ms);
             }
             if let (Some(o), Some(h)) = (at("ours"), at("hard")) {
@@ -1080,7 +1084,7 @@ fn write_report(
         }
         writeln!(
             md,
-            "- `ours` penumbra RMSE at or below `pcss` ({preset}) on {scene} from every viewpoint ({}) -> {}",
+            "- `ours` penumbra RMSE at most {PCSS_RMSE_TARGET}x `pcss` ({preset}) on {scene} from every viewpoint ({}) -> {}",
             details.join("; "),
             verdict(rmse_ok)
         )?;
@@ -1354,6 +1358,17 @@ fn write_report(
             md,
             "| {} | {:.2} | {:.4} | {:.4} |",
             r.method, r.frame_ms, r.rmse, r.penumbra_rmse
+        )?;
+    }
+    let room = |m: &str| embedding.room.iter().find(|r| r.method == m);
+    if let (Some(o), Some(p)) = (room("ours"), room("pcss")) {
+        let ratio = o.penumbra_rmse / p.penumbra_rmse;
+        writeln!(
+            md,
+            "\n- `ours` penumbra RMSE at most {PCSS_RMSE_TARGET}x `pcss` on the lamp: {:.4} vs {:.4} ({ratio:.2}x) -> {}",
+            o.penumbra_rmse,
+            p.penumbra_rmse,
+            verdict(ratio <= PCSS_RMSE_TARGET)
         )?;
     }
     std::fs::write(config.out_dir.join("report.md"), &md)?;

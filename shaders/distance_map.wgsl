@@ -99,7 +99,11 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     }
     // Beside the shadow `fs_nearest_caster` takes the distance again.
     let beside = NEAREST_CASTER && textureLoad(shadow_map, shadow_texel(p.xy), 0).x >= map_depth(p.z);
-    return classified(fattened_distance(p, texel, fattened_depth), 1.0, select(0.5 * BESIDE, BESIDE, beside));
+    var d = fattened_distance(p, texel, fattened_depth);
+    if NEAREST_CASTER && !beside {
+        d = nearest_silhouette(world, p, d, light_linear_depth(fattened_depth) + textureLoad(occluder_offset, texel, 0).x);
+    }
+    return classified(d, 1.0, select(0.5 * BESIDE, BESIDE, beside));
 }
 
 // The full-screen triangle of the second draw, between the two classifications: tested with
@@ -184,4 +188,120 @@ fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
         }
     }
     return best;
+}
+
+// Directions and steps of the search inside a shadow, and the bisections that then place the
+// nearest silhouette between its last caster texel and its first texel with none.
+const SILHOUETTE_DIRECTIONS: i32 = 8;
+const SILHOUETTE_STEPS: i32 = 4;
+const SILHOUETTE_BISECTIONS: i32 = 2;
+
+// Inside a shadow (the light's centre hidden), the penumbra's inner half is shaped by the
+// silhouette the receiver sees nearest, in angle, to the light's centre: where the shadow map
+// turns from a caster to no caster. Neither the caster's front (the fattened surface: a thick
+// caster's top) nor its back face (`exit_map`: near a foot) stands for it everywhere; beside a
+// rounded body the silhouette lies between them. Searched along `SILHOUETTE_DIRECTIONS` rays out
+// to where the penumbra of the front's distance would reach (`front` the caster's light depth
+// there), with steps that widen away from the receiver; the nearest crossing in angle is then
+// bisected, and the last caster texel before it gives the distance. `d` where no silhouette is
+// in reach (deep in the umbra, where the width does not show).
+fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32) -> f32 {
+    let size = vec2<f32>(textureDimensions(shadow_map));
+    let tile = frame.cascades.tile[cascade];
+    let receiver_depth = light_linear_depth(p.z);
+    let reach = max(receiver_depth - front, d);
+    let uv_world_at_receiver = shadow_map_world_size(world).x;
+    var half_angle = 0.5 * frame.light.size_term;
+    var reach_depth = receiver_depth;
+    if light_perspective() {
+        let to_light = length(world - frame.light.position);
+        half_angle = 0.5 * frame.light.size_term / max(to_light - reach, 1e-4 * to_light + 1e-20);
+        reach_depth = max(receiver_depth - reach, 1e-6);
+    }
+    let uv_world_at_reach = select(
+        uv_world_at_receiver,
+        uv_world_at_receiver * reach_depth / max(receiver_depth, 1e-20),
+        light_perspective(),
+    );
+    let radius = min(half_angle * reach / max(uv_world_at_reach, 1e-20), 48.0 / size.x);
+    // A caster texel closer than two texels along the light is the receiver's own surface.
+    let texel_world = uv_world_at_receiver / frame.light.resolution;
+    let own = receiver_depth - light_linear_depth(textureLoad(shadow_map, shadow_texel(p.xy), 0).x);
+    if own <= 2.0 * texel_world {
+        return d;
+    }
+    var best_angle = 1e30;
+    var best = d;
+    // the nearest crossing: its direction, the last caster's and the first free step's
+    // distances from p (uv)
+    var best_direction = vec2<f32>(0.0);
+    var best_span = vec2<f32>(0.0);
+    for (var k = 0; k < SILHOUETTE_DIRECTIONS; k += 1) {
+        let a = 6.2831853 * f32(k) / f32(SILHOUETTE_DIRECTIONS);
+        let direction = vec2<f32>(cos(a), sin(a));
+        var caster = own;
+        var last = 0.0;
+        for (var i = 1; i <= SILHOUETTE_STEPS; i += 1) {
+            let t = f32(i) / f32(SILHOUETTE_STEPS);
+            let r = radius * t * t;
+            let uv = p.xy + r * direction;
+            if any(uv < tile.xy) || any(uv > tile.zw) {
+                break;
+            }
+            let dt = receiver_depth - light_linear_depth(textureLoad(shadow_map, vec2<i32>(uv * size), 0).x);
+            if dt > 2.0 * texel_world {
+                caster = dt;
+                last = r;
+                continue;
+            }
+            let angle = 0.5 * (last + r) * uv_world_at(uv_world_at_receiver, receiver_depth, caster) / caster;
+            if angle < best_angle {
+                best_angle = angle;
+                best = caster;
+                best_direction = direction;
+                best_span = vec2<f32>(last, r);
+            }
+            break;
+        }
+    }
+    if best_angle < 1e30 {
+        for (var i = 0; i < SILHOUETTE_BISECTIONS; i += 1) {
+            let r = 0.5 * (best_span.x + best_span.y);
+            let uv = clamp(p.xy + r * best_direction, tile.xy, tile.zw);
+            let dt = receiver_depth - light_linear_depth(textureLoad(shadow_map, vec2<i32>(uv * size), 0).x);
+            if dt > 2.0 * texel_world {
+                best_span.x = r;
+            } else {
+                best_span.y = r;
+            }
+        }
+        // Where the rays leave the caster, one and four exit-map texels inside the silhouette:
+        // beside a rounded body that end rises toward the silhouette as the square root of the
+        // depth inside it (the chord shrinks), beside a face seen edge-on it stays. Extrapolated
+        // to the silhouette, it gives the caster point the penumbra follows in both.
+        let silhouette = 0.5 * (best_span.x + best_span.y);
+        let exit_texel = 1.0 / f32(textureDimensions(exit_map).x);
+        let near = at_exit(clamp(p.xy + max(silhouette - 1.5 * exit_texel, 0.0) * best_direction, tile.xy, tile.zw), receiver_depth);
+        let far = at_exit(clamp(p.xy + max(silhouette - 6.0 * exit_texel, 0.0) * best_direction, tile.xy, tile.zw), receiver_depth);
+        if near > 2.0 * texel_world && far > 2.0 * texel_world {
+            best = clamp(2.0 * near - far, near, max(best, near));
+        }
+    }
+    return best;
+}
+
+// The distance from a receiver at light depth `receiver_depth` back to the exit map's back face
+// at `uv` (<= 0 where none lies in front of it).
+fn at_exit(uv: vec2<f32>, receiver_depth: f32) -> f32 {
+    return receiver_depth - light_linear_depth(textureLoad(exit_map, fattened_texel(vec3<f32>(uv, 0.0)), 0).x);
+}
+
+// World units across the light per unit of shadow-map uv at a caster `caster` in front of a
+// receiver at light depth `receiver_depth` (`at_receiver` the receiver's own; a perspective
+// map's shrink toward the light).
+fn uv_world_at(at_receiver: f32, receiver_depth: f32, caster: f32) -> f32 {
+    if light_perspective() {
+        return at_receiver * (receiver_depth - caster) / max(receiver_depth, 1e-20);
+    }
+    return at_receiver;
 }
