@@ -376,7 +376,7 @@ pub(crate) fn derive_spreads(
             // Down to steps of 2^(1/8), so a caster moving a little elsewhere does not change
             // every light's fatten distance (and with it its maps).
             let nearest = ((nearest.log2() * 8.0).floor() / 8.0).exp2();
-            cap = cap.min(0.5 * nearest);
+            cap = cap.min(0.8 * nearest);
             // Where the fattened map marks it, at the caster's own distance from the light, a
             // penumbra reaches only R (D - d) / D beside the caster (D the receiver's distance,
             // d the caster's): never past the light's radius, however wide it grows on the

@@ -7,7 +7,7 @@ use glam::{Mat4, Vec3};
 use penumbra::metrics::measure_visibility;
 use penumbra::scene::primitives;
 use penumbra::{
-    Camera, CascadeSettings, CullMode, DepthFormat, DirectionalLight, Light, LightFit, LightTexture,
+    Camera, CascadeSettings, CullMode, DepthFormat, DirectionalLight, Light, LightFit,
     Material, PcfKernel, PcssSettings, PenumbraSettings, Scene, ShadowMapSettings, ShadowMethod,
     ShadowSettings, SpreadMode, TraditionalSettings, load_scene,
 };
@@ -104,42 +104,8 @@ fn check_frame(
     size: (u32, u32),
     what: &str,
 ) -> (image::RgbaImage, Option<Vec<f32>>) {
-    let (image, visibility) = finite_frame(gpu, scene, camera, settings, size, what);
+    let (image, visibility) = common::finite_frame(gpu, scene, camera, settings, size, what);
     assert_not_flat(&image, what);
-    (image, visibility)
-}
-
-/// As [`check_frame`], asking nothing of the final image.
-fn finite_frame(
-    gpu: &penumbra::HeadlessGpu,
-    scene: &Scene,
-    camera: &Camera,
-    settings: ShadowSettings,
-    size: (u32, u32),
-    what: &str,
-) -> (image::RgbaImage, Option<Vec<f32>>) {
-    let (image, renderer) = common::render_frame(gpu, scene, camera, settings, size);
-    let mut visibility = None;
-    for which in LightTexture::ALL {
-        let Some(texture) = renderer.debug_texture(which) else {
-            continue;
-        };
-        if texture.format() == wgpu::TextureFormat::Depth24Plus {
-            // Its texels have no defined layout to copy out; the visibility still is checked.
-            continue;
-        }
-        let (values, _) = common::read_f32(gpu, texture);
-        let bad = values.iter().filter(|v| !v.is_finite()).count();
-        assert_eq!(bad, 0, "{what}: {bad} non-finite values in {which:?}");
-        if matches!(which, LightTexture::Visibility | LightTexture::BlurredVisibility) {
-            let outside = values.iter().filter(|v| !(0.0..=1.0).contains(*v)).count();
-            assert_eq!(
-                outside, 0,
-                "{what}: {outside} visibilities outside [0, 1] in {which:?}"
-            );
-            visibility = Some(values);
-        }
-    }
     (image, visibility)
 }
 
@@ -422,7 +388,7 @@ fn odd_geometry_renders_or_is_rejected() {
         );
         // From inside the standing cube (its faces are drawn from both sides).
         let inside = Camera::look_at(Vec3::new(-2.0, 0.5, 0.0), Vec3::new(3.0, 0.0, 0.0));
-        finite_frame(
+        common::finite_frame(
             &gpu,
             &scene,
             &inside,
@@ -431,7 +397,7 @@ fn odd_geometry_renders_or_is_rejected() {
             &format!("{} inside a caster", method.name()),
         );
         // An empty scene: only the background.
-        let (image, _) = finite_frame(
+        let (image, _) = common::finite_frame(
             &gpu,
             &Scene::default(),
             &top,
@@ -642,7 +608,7 @@ fn random_settings_and_lights_keep_every_value_finite() {
             let mut scene = standing_and_floating(1.0);
             scene.light = light;
             let what = format!("{settings:?} under {light:?}");
-            finite_frame(&gpu, &scene, &top, settings, (96, 72), &what);
+            common::finite_frame(&gpu, &scene, &top, settings, (96, 72), &what);
             Ok(())
         })
         .unwrap();

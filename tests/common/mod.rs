@@ -83,6 +83,41 @@ pub fn render_frame(
     (image, renderer)
 }
 
+/// Renders one frame and checks every intermediate texture the method made: finite values, and
+/// visibility in [0, 1]. Returns the image and the (blurred, where there is one) visibility.
+pub fn finite_frame(
+    gpu: &penumbra::HeadlessGpu,
+    scene: &Scene,
+    camera: &Camera,
+    settings: ShadowSettings,
+    size: (u32, u32),
+    what: &str,
+) -> (image::RgbaImage, Option<Vec<f32>>) {
+    let (image, renderer) = render_frame(gpu, scene, camera, settings, size);
+    let mut visibility = None;
+    for which in penumbra::LightTexture::ALL {
+        let Some(texture) = renderer.debug_texture(which) else {
+            continue;
+        };
+        if texture.format() == wgpu::TextureFormat::Depth24Plus {
+            // Its texels have no defined layout to copy out; the visibility still is checked.
+            continue;
+        }
+        let (values, _) = read_f32(gpu, texture);
+        let bad = values.iter().filter(|v| !v.is_finite()).count();
+        assert_eq!(bad, 0, "{what}: {bad} non-finite values in {which:?}");
+        if matches!(which, penumbra::LightTexture::Visibility | penumbra::LightTexture::BlurredVisibility) {
+            let outside = values.iter().filter(|v| !(0.0..=1.0).contains(*v)).count();
+            assert_eq!(
+                outside, 0,
+                "{what}: {outside} visibilities outside [0, 1] in {which:?}"
+            );
+            visibility = Some(values);
+        }
+    }
+    (image, visibility)
+}
+
 /// A texture's texels as f32 (first channel) and its width.
 pub fn read_f32(gpu: &HeadlessGpu, texture: &wgpu::Texture) -> (Vec<f32>, u32) {
     penumbra::read_texture_f32(&gpu.device, &gpu.queue, texture).unwrap()
