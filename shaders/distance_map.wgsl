@@ -135,6 +135,27 @@ fn fs_nearest_caster(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f3
     return vec4<f32>(min(d, nearest_caster(world, p, d)), 1.0, 0.0, 0.0);
 }
 
+// How far (shadow-map uv) a search around a receiver at `world` (light depth `receiver_depth`,
+// `uv_world_at_receiver` world units across the light per unit of uv there) reaches: to where
+// the penumbra of a caster `d` in front of it ends, at most 48 texels of a map `side` wide.
+fn search_radius(world: vec3<f32>, receiver_depth: f32, uv_world_at_receiver: f32, d: f32, side: f32) -> f32 {
+    // The light's angular radius seen from the receiver, and the depth the search reaches.
+    var half_angle = 0.5 * frame.light.size_term;
+    var reach_depth = receiver_depth;
+    if light_perspective() {
+        let to_light = length(world - frame.light.position);
+        half_angle = 0.5 * frame.light.size_term / max(to_light - d, 1e-4 * to_light + 1e-20);
+        reach_depth = max(receiver_depth - d, 1e-6);
+    }
+    // World units across the light per unit of uv there (a perspective map's shrink).
+    let uv_world_at_reach = select(
+        uv_world_at_receiver,
+        uv_world_at_receiver * reach_depth / max(receiver_depth, 1e-20),
+        light_perspective(),
+    );
+    return min(half_angle * d / max(uv_world_at_reach, 1e-20), 48.0 / side);
+}
+
 // The ring search: taps per ring, and rings.
 const RING_TAPS: i32 = 8;
 const RINGS: i32 = 2;
@@ -150,20 +171,7 @@ fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
     // World units across the light per unit of uv at the receiver (at a caster's depth, scaled
     // by the depths for a perspective map).
     let uv_world_at_receiver = shadow_map_world_size(world).x;
-    // The light's angular radius seen from the receiver, and the widest the search reaches.
-    var half_angle = 0.5 * frame.light.size_term;
-    var reach_depth = receiver_depth;
-    if light_perspective() {
-        let to_light = length(world - frame.light.position);
-        half_angle = 0.5 * frame.light.size_term / max(to_light - d, 1e-4 * to_light + 1e-20);
-        reach_depth = max(receiver_depth - d, 1e-6);
-    }
-    let uv_world_at_reach = select(
-        uv_world_at_receiver,
-        uv_world_at_receiver * reach_depth / max(receiver_depth, 1e-20),
-        light_perspective(),
-    );
-    let radius = min(half_angle * d / max(uv_world_at_reach, 1e-20), 48.0 / size.x);
+    let radius = search_radius(world, receiver_depth, uv_world_at_receiver, d, size.x);
     // A caster texel closer than two texels along the light is the receiver's own surface.
     let texel_world = uv_world_at_receiver / frame.light.resolution;
     var best_angle = 1e30;
@@ -212,19 +220,7 @@ fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32) -> f32
     let receiver_depth = light_linear_depth(p.z);
     let reach = max(receiver_depth - front, d);
     let uv_world_at_receiver = shadow_map_world_size(world).x;
-    var half_angle = 0.5 * frame.light.size_term;
-    var reach_depth = receiver_depth;
-    if light_perspective() {
-        let to_light = length(world - frame.light.position);
-        half_angle = 0.5 * frame.light.size_term / max(to_light - reach, 1e-4 * to_light + 1e-20);
-        reach_depth = max(receiver_depth - reach, 1e-6);
-    }
-    let uv_world_at_reach = select(
-        uv_world_at_receiver,
-        uv_world_at_receiver * reach_depth / max(receiver_depth, 1e-20),
-        light_perspective(),
-    );
-    let radius = min(half_angle * reach / max(uv_world_at_reach, 1e-20), 48.0 / size.x);
+    let radius = search_radius(world, receiver_depth, uv_world_at_receiver, reach, size.x);
     // A caster texel closer than two texels along the light is the receiver's own surface.
     let texel_world = uv_world_at_receiver / frame.light.resolution;
     let own = receiver_depth - light_linear_depth(textureLoad(shadow_map, shadow_texel(p.xy), 0).x);

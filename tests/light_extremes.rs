@@ -3,12 +3,11 @@
 //! the light's cube map.
 //!
 //! Each scene is a sphere light over a grey floor with boxes as casters, and each is held to an
-//! exact visibility integrated on the CPU. Seen from a receiver point, the sphere is a disk of
-//! directions of uniform radiance. The integral runs on a polar grid over that disk, weights
-//! each direction by the receiver's cosine, and tests it against the boxes up to the sphere's
-//! near surface. Every test also checks the frame's intermediate textures for non-finite
-//! values. Profiles are checked for bands (steps that the exact profile does not have) and for
-//! seams (an error that jumps where one cube face meets the next).
+//! exact visibility integrated on the CPU ([`common::exact_sphere_visibility`]: the sphere seen
+//! from a receiver is a disk of directions, tested against the boxes). Every test also checks
+//! the frame's intermediate textures for non-finite values. Profiles are checked for bands
+//! (steps that the exact profile does not have) and for seams (an error that jumps where one
+//! cube face meets the next).
 
 mod common;
 
@@ -32,15 +31,6 @@ impl Block {
     fn new(min: Vec3, max: Vec3) -> Self {
         Self { min, max }
     }
-
-    /// Whether the ray from `p` along `d` (unit) meets the box before `distance`.
-    fn hit(&self, p: Vec3, d: Vec3, distance: f32) -> bool {
-        let inv = d.recip();
-        let (a, b) = ((self.min - p) * inv, (self.max - p) * inv);
-        let near = a.min(b).max_element().max(0.0);
-        let far = a.max(b).min_element().min(distance);
-        near <= far
-    }
 }
 
 /// A sphere light of `radius` at [`LIGHT`] over a grey floor 8 units wide, with `blocks` as
@@ -57,38 +47,11 @@ fn scene(radius: f32, blocks: &[Block]) -> Scene {
     scene
 }
 
-/// The exact visibility of the light (radius `radius`) at `p` with normal `n`.
+/// The exact visibility of the light (radius `radius`) at `p` with normal `n`
+/// ([`common::exact_sphere_visibility`]).
 fn exact_visibility(radius: f32, blocks: &[Block], p: Vec3, n: Vec3) -> f32 {
-    let to_light = LIGHT - p;
-    let distance = to_light.length();
-    let axis = to_light / distance;
-    let half_angle = (radius / distance).asin();
-    let side = axis.any_orthonormal_vector();
-    let up = axis.cross(side);
-    let (rings, sectors) = (48, 96);
-    let (mut lit, mut all) = (0.0f64, 0.0f64);
-    for i in 0..rings {
-        // Equal solid angle per ring: uniform in cos(theta).
-        let (c0, c1) = (
-            1.0 - (1.0 - half_angle.cos()) * i as f32 / rings as f32,
-            1.0 - (1.0 - half_angle.cos()) * (i + 1) as f32 / rings as f32,
-        );
-        let cos_theta = 0.5 * (c0 + c1);
-        let sin_theta = (1.0 - cos_theta * cos_theta).sqrt();
-        for k in 0..sectors {
-            let phi = std::f32::consts::TAU * (k as f32 + 0.5) / sectors as f32;
-            let d = axis * cos_theta + (side * phi.cos() + up * phi.sin()) * sin_theta;
-            // Where the ray meets the sphere's near surface.
-            let b = d.dot(to_light);
-            let surface = b - (b * b - distance * distance + radius * radius).max(0.0).sqrt();
-            let weight = n.dot(d).max(0.0) as f64;
-            all += weight;
-            if !blocks.iter().any(|block| block.hit(p, d, surface)) {
-                lit += weight;
-            }
-        }
-    }
-    (lit / all.max(1e-30)) as f32
+    let boxes: Vec<(Vec3, Vec3)> = blocks.iter().map(|b| (b.min, b.max)).collect();
+    common::exact_sphere_visibility(LIGHT, radius, &boxes, p, n)
 }
 
 fn settings(method: ShadowMethod) -> ShadowSettings {

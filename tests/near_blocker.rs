@@ -62,48 +62,11 @@ fn plate(gap: f32) -> (Vec3, Vec3) {
     )
 }
 
-/// The exact visibility at `p` (normal `n`), independent of the renderer: the sphere seen from
-/// `p` is a disk of directions of angular radius asin(R / distance) and uniform radiance;
-/// integrated on a polar grid over it, each direction weighted by its solid angle and the
-/// receiver's cosine, and tested against the plate's box.
+/// The exact visibility at `p` (normal `n`), independent of the renderer
+/// ([`common::exact_sphere_visibility`]).
 fn exact_visibility(p: Vec3, n: Vec3, gap: f32) -> f32 {
-    let (min, max) = plate(gap);
-    let to_light = Vec3::new(0.0, LIGHT_HEIGHT, 0.0) - p;
-    let distance = to_light.length();
-    let axis = to_light / distance;
-    let half_angle = (RADIUS / distance).asin();
-    let side = axis.any_orthonormal_vector();
-    let up = axis.cross(side);
-    let (rings, sectors) = (48, 96);
-    let (mut lit, mut all) = (0.0f64, 0.0f64);
-    for i in 0..rings {
-        // Equal solid angle per ring: uniform in cos(theta).
-        let (c0, c1) = (
-            1.0 - (1.0 - half_angle.cos()) * i as f32 / rings as f32,
-            1.0 - (1.0 - half_angle.cos()) * (i + 1) as f32 / rings as f32,
-        );
-        let cos_theta = 0.5 * (c0 + c1);
-        let sin_theta = (1.0 - cos_theta * cos_theta).sqrt();
-        for k in 0..sectors {
-            let phi = std::f32::consts::TAU * (k as f32 + 0.5) / sectors as f32;
-            let d = axis * cos_theta + (side * phi.cos() + up * phi.sin()) * sin_theta;
-            let weight = n.dot(d).max(0.0) as f64;
-            all += weight;
-            if !hits_box(p, d, min, max, distance) {
-                lit += weight;
-            }
-        }
-    }
-    (lit / all.max(1e-30)) as f32
-}
-
-/// Whether the ray from `p` along `d` meets the box before `distance`.
-fn hits_box(p: Vec3, d: Vec3, min: Vec3, max: Vec3, distance: f32) -> bool {
-    let inv = d.recip();
-    let (a, b) = ((min - p) * inv, (max - p) * inv);
-    let near = a.min(b).max_element().max(0.0);
-    let far = a.max(b).min_element().min(distance);
-    near <= far
+    let light = Vec3::new(0.0, LIGHT_HEIGHT, 0.0);
+    common::exact_sphere_visibility(light, RADIUS, &[plate(gap)], p, n)
 }
 
 /// The small-angle 10-90% width along z at a receiver of height `y`, the plate `gap` below

@@ -331,3 +331,51 @@ pub fn point_light_over_floor(height: f32, radius: f32, floor_size: f32) -> (Sce
     scene.add_instance(floor, grey, glam::Mat4::IDENTITY).caster = false;
     (scene, grey)
 }
+
+/// The exact visibility at `p` (normal `n`) of a sphere light of `radius` centred at `light`,
+/// with the boxes `blocks` (min and max corners) as casters, independent of the renderer. Seen
+/// from `p` the sphere is a disk of directions of angular radius asin(R / distance) and uniform
+/// radiance. The integral runs on a polar grid over that disk, weights each direction by its
+/// solid angle and the receiver's cosine, and tests it against the boxes up to the sphere's near
+/// surface.
+pub fn exact_sphere_visibility(light: Vec3, radius: f32, blocks: &[(Vec3, Vec3)], p: Vec3, n: Vec3) -> f32 {
+    let to_light = light - p;
+    let distance = to_light.length();
+    let axis = to_light / distance;
+    let half_angle = (radius / distance).asin();
+    let side = axis.any_orthonormal_vector();
+    let up = axis.cross(side);
+    let (rings, sectors) = (48, 96);
+    let (mut lit, mut all) = (0.0f64, 0.0f64);
+    for i in 0..rings {
+        // Equal solid angle per ring: uniform in cos(theta).
+        let (c0, c1) = (
+            1.0 - (1.0 - half_angle.cos()) * i as f32 / rings as f32,
+            1.0 - (1.0 - half_angle.cos()) * (i + 1) as f32 / rings as f32,
+        );
+        let cos_theta = 0.5 * (c0 + c1);
+        let sin_theta = (1.0 - cos_theta * cos_theta).sqrt();
+        for k in 0..sectors {
+            let phi = std::f32::consts::TAU * (k as f32 + 0.5) / sectors as f32;
+            let d = axis * cos_theta + (side * phi.cos() + up * phi.sin()) * sin_theta;
+            // Where the ray meets the sphere's near surface.
+            let b = d.dot(to_light);
+            let surface = b - (b * b - distance * distance + radius * radius).max(0.0).sqrt();
+            let weight = n.dot(d).max(0.0) as f64;
+            all += weight;
+            if !blocks.iter().any(|&(min, max)| ray_hits_box(p, d, min, max, surface)) {
+                lit += weight;
+            }
+        }
+    }
+    (lit / all.max(1e-30)) as f32
+}
+
+/// Whether the ray from `p` along `d` (unit) meets the box `min`..`max` before `distance`.
+pub fn ray_hits_box(p: Vec3, d: Vec3, min: Vec3, max: Vec3, distance: f32) -> bool {
+    let inv = d.recip();
+    let (a, b) = ((min - p) * inv, (max - p) * inv);
+    let near = a.min(b).max_element().max(0.0);
+    let far = a.max(b).min_element().min(distance);
+    near <= far
+}
