@@ -7,9 +7,9 @@ use glam::{Mat4, Vec3};
 use penumbra::metrics::measure_visibility;
 use penumbra::scene::primitives;
 use penumbra::{
-    Camera, CascadeSettings, CullMode, DepthFormat, DirectionalLight, Light, LightFit,
-    Material, PcfKernel, PcssSettings, PenumbraSettings, Scene, ShadowMapSettings, ShadowMethod,
-    ShadowSettings, SpreadMode, TraditionalSettings, load_scene,
+    Camera, CascadeSettings, CullMode, DepthFormat, DirectionalLight, Light, LightFit, Material, PcfKernel,
+    PcssSettings, PenumbraSettings, Scene, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode,
+    TraditionalSettings, load_scene,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config as ProptestConfig, TestRunner};

@@ -84,8 +84,7 @@ fn measure(scene: &Scene, camera: &Camera, what: &str) -> (VisibilityImage, Visi
         );
     }
     let ours = measure_visibility(&gpu, scene, camera, settings(ShadowMethod::Ours), SIZE).unwrap();
-    let reference =
-        measure_visibility(&gpu, scene, camera, settings(ShadowMethod::Reference), SIZE).unwrap();
+    let reference = measure_visibility(&gpu, scene, camera, settings(ShadowMethod::Reference), SIZE).unwrap();
     save(&ours, &reference, what);
     (ours, reference)
 }
@@ -153,8 +152,13 @@ fn a_blocker_touching_the_light() {
         .collect();
     let (ref_max, ref_rms) = floor_error(&reference, &camera, &points, exact);
     let (max, rms) = floor_error(&ours, &camera, &points, exact);
-    let line: Vec<Vec3> = (-100..=100).map(|i| Vec3::new(0.0, 0.0, 0.01 * i as f32)).collect();
-    let profile: Vec<f32> = line.iter().map(|&p| common::sample_visibility(&ours, &camera, p)).collect();
+    let line: Vec<Vec3> = (-100..=100)
+        .map(|i| Vec3::new(0.0, 0.0, 0.01 * i as f32))
+        .collect();
+    let profile: Vec<f32> = line
+        .iter()
+        .map(|&p| common::sample_visibility(&ours, &camera, p))
+        .collect();
     let truth: Vec<f32> = line.iter().map(|&p| exact(p)).collect();
     let step = worst_extra_step(&profile, &truth);
     println!(
@@ -164,12 +168,21 @@ fn a_blocker_touching_the_light() {
     );
     // The reference's 128 points cover the whole sphere, about 64 of them face a receiver: here
     // it lies within 0.034 (rms) of the exact visibility.
-    assert!(ref_rms < 0.05, "the reference is off the exact visibility: rms {ref_rms}");
+    assert!(
+        ref_rms < 0.05,
+        "the reference is off the exact visibility: rms {ref_rms}"
+    );
     // Measured: rms 0.033, max 0.113 and a step 0.026, both where the fattened map ends, about
     // 0.95 units beside the edge (the exact visibility is 0.87 there; the fatten distance is
     // held to 0.8x the caster's distance from the light).
-    assert!(rms < 0.05 && max < 0.15, "ours: rms {rms}, max {max} from the exact visibility");
-    assert!(step < 0.04, "ours has a band: a step {step} beyond the exact profile's");
+    assert!(
+        rms < 0.05 && max < 0.15,
+        "ours: rms {rms}, max {max} from the exact visibility"
+    );
+    assert!(
+        step < 0.04,
+        "ours has a band: a step {step} beyond the exact profile's"
+    );
 }
 
 /// A light inside a closed shade: a box 24 cm wide around the light with a 10 cm square hole in
@@ -183,11 +196,26 @@ fn a_light_inside_a_closed_shade() {
     let bottom = c.y - outer;
     let mut blocks = vec![
         // top and four sides
-        Block::new(c + Vec3::new(-outer, outer - wall, -outer), c + Vec3::splat(outer)),
-        Block::new(c + Vec3::new(-outer, -outer, -outer), c + Vec3::new(-outer + wall, outer, outer)),
-        Block::new(c + Vec3::new(outer - wall, -outer, -outer), c + Vec3::new(outer, outer, outer)),
-        Block::new(c + Vec3::new(-outer, -outer, -outer), c + Vec3::new(outer, outer, -outer + wall)),
-        Block::new(c + Vec3::new(-outer, -outer, outer - wall), c + Vec3::new(outer, outer, outer)),
+        Block::new(
+            c + Vec3::new(-outer, outer - wall, -outer),
+            c + Vec3::splat(outer),
+        ),
+        Block::new(
+            c + Vec3::new(-outer, -outer, -outer),
+            c + Vec3::new(-outer + wall, outer, outer),
+        ),
+        Block::new(
+            c + Vec3::new(outer - wall, -outer, -outer),
+            c + Vec3::new(outer, outer, outer),
+        ),
+        Block::new(
+            c + Vec3::new(-outer, -outer, -outer),
+            c + Vec3::new(outer, outer, -outer + wall),
+        ),
+        Block::new(
+            c + Vec3::new(-outer, -outer, outer - wall),
+            c + Vec3::new(outer, outer, outer),
+        ),
     ];
     // the bottom around the hole
     let low = |x0: f32, x1: f32, z0: f32, z1: f32| {
@@ -208,15 +236,25 @@ fn a_light_inside_a_closed_shade() {
     let axes: Vec<Vec3> = (-26..=26)
         .flat_map(|i| {
             let t = 0.05 * i as f32;
-            [Vec3::new(t, 0.0, 0.0), Vec3::new(0.0, 0.0, t), Vec3::new(t, 0.0, t) * 0.7]
+            [
+                Vec3::new(t, 0.0, 0.0),
+                Vec3::new(0.0, 0.0, t),
+                Vec3::new(t, 0.0, t) * 0.7,
+            ]
         })
         .collect();
     let (ref_max, ref_rms) = floor_error(&reference, &camera, &axes, exact);
     let (max, rms) = floor_error(&ours, &camera, &axes, exact);
     println!("shade: reference max {ref_max:.3} rms {ref_rms:.3}; ours max {max:.3} rms {rms:.3}");
-    assert!(ref_rms < 0.03, "the reference is off the exact visibility: rms {ref_rms}");
+    assert!(
+        ref_rms < 0.03,
+        "the reference is off the exact visibility: rms {ref_rms}"
+    );
     // Measured: rms 0.037, max 0.149 (the hole's penumbra).
-    assert!(rms < 0.06 && max < 0.2, "ours: rms {rms}, max {max} from the exact visibility");
+    assert!(
+        rms < 0.06 && max < 0.2,
+        "ours: rms {rms}, max {max} from the exact visibility"
+    );
     // Dark everywhere the hole does not show the light, lit under it.
     for image in [&ours, &reference] {
         for &p in &axes {
@@ -225,7 +263,10 @@ fn a_light_inside_a_closed_shade() {
                 assert!(v < 0.02, "light leaks out of the shade at {p}: visibility {v}");
             }
             if e == 1.0 && p.length() < 0.3 {
-                assert!(v > 0.95, "the light through the hole is lost at {p}: visibility {v}");
+                assert!(
+                    v > 0.95,
+                    "the light through the hole is lost at {p}: visibility {v}"
+                );
             }
         }
     }
@@ -255,11 +296,16 @@ fn a_penumbra_wider_than_the_screen() {
         "{in_penumbra} of {measured} pixels lie in the penumbra"
     );
     let exact = |p: Vec3| exact_visibility(TOUCHING_RADIUS, &blocks, p, Vec3::Y);
-    let line: Vec<Vec3> = (-40..=40).map(|i| Vec3::new(0.0, 0.0, 0.004 * i as f32)).collect();
+    let line: Vec<Vec3> = (-40..=40)
+        .map(|i| Vec3::new(0.0, 0.0, 0.004 * i as f32))
+        .collect();
     let truth: Vec<f32> = line.iter().map(|&p| exact(p)).collect();
     let (ref_max, _) = floor_error(&reference, &camera, &line, exact);
     let (max, rms) = floor_error(&ours, &camera, &line, exact);
-    let profile: Vec<f32> = line.iter().map(|&p| common::sample_visibility(&ours, &camera, p)).collect();
+    let profile: Vec<f32> = line
+        .iter()
+        .map(|&p| common::sample_visibility(&ours, &camera, p))
+        .collect();
     let step = worst_extra_step(&profile, &truth);
     println!(
         "wider than the screen: exact {:.3}..{:.3}; reference max {ref_max:.3}; ours max {max:.3} \
@@ -267,12 +313,18 @@ fn a_penumbra_wider_than_the_screen() {
         truth[0],
         truth[truth.len() - 1]
     );
-    assert!(ref_max < 0.06, "the reference is off the exact visibility: max {ref_max}");
+    assert!(
+        ref_max < 0.06,
+        "the reference is off the exact visibility: max {ref_max}"
+    );
     // Measured: max 0.059, and a step of 0.016 at the hard edge (z = 0), where the distance
     // comes from the search for the nearest silhouette on one side and for the nearest caster
     // on the other.
     assert!(max < 0.1, "ours is {max} off the exact visibility");
-    assert!(step < 0.025, "ours has a band: a step {step} beyond the exact profile's");
+    assert!(
+        step < 0.025,
+        "ours has a band: a step {step} beyond the exact profile's"
+    );
 }
 
 /// A blocker between two cube faces: an 8 cm cube 35 cm from the light, 45 degrees down
@@ -296,9 +348,14 @@ fn a_blocker_between_two_cube_faces() {
     let mut worst_seam = 0.0f32;
     for k in -4..=4 {
         let z = 0.04 * k as f32;
-        let line: Vec<Vec3> = (-30..=30).map(|i| Vec3::new(1.2 + 0.005 * i as f32, 0.0, z)).collect();
+        let line: Vec<Vec3> = (-30..=30)
+            .map(|i| Vec3::new(1.2 + 0.005 * i as f32, 0.0, z))
+            .collect();
         let truth: Vec<f32> = line.iter().map(|&p| exact(p)).collect();
-        let profile: Vec<f32> = line.iter().map(|&p| common::sample_visibility(&ours, &camera, p)).collect();
+        let profile: Vec<f32> = line
+            .iter()
+            .map(|&p| common::sample_visibility(&ours, &camera, p))
+            .collect();
         worst_seam = worst_seam.max(worst_extra_step(&profile, &truth));
     }
     println!(
@@ -306,9 +363,21 @@ fn a_blocker_between_two_cube_faces() {
          extra step {worst_seam:.3}; exact at the centre {:.3}",
         exact(Vec3::new(1.2, 0.0, 0.0))
     );
-    assert!(exact(Vec3::new(1.2, 0.0, 0.0)) < 0.5, "the shadow is not on the faces' line");
-    assert!(ref_rms < 0.03, "the reference is off the exact visibility: rms {ref_rms}");
+    assert!(
+        exact(Vec3::new(1.2, 0.0, 0.0)) < 0.5,
+        "the shadow is not on the faces' line"
+    );
+    assert!(
+        ref_rms < 0.03,
+        "the reference is off the exact visibility: rms {ref_rms}"
+    );
     // Measured: rms 0.022, max 0.063, a step of 0.017.
-    assert!(rms < 0.06 && max < 0.2, "ours: rms {rms}, max {max} from the exact visibility");
-    assert!(worst_seam < 0.05, "ours has a seam: a step {worst_seam} beyond the exact profile's");
+    assert!(
+        rms < 0.06 && max < 0.2,
+        "ours: rms {rms}, max {max} from the exact visibility"
+    );
+    assert!(
+        worst_seam < 0.05,
+        "ours has a seam: a step {worst_seam} beyond the exact profile's"
+    );
 }

@@ -106,7 +106,10 @@ pub fn finite_frame(
         let (values, _) = read_f32(gpu, texture);
         let bad = values.iter().filter(|v| !v.is_finite()).count();
         assert_eq!(bad, 0, "{what}: {bad} non-finite values in {which:?}");
-        if matches!(which, penumbra::LightTexture::Visibility | penumbra::LightTexture::BlurredVisibility) {
+        if matches!(
+            which,
+            penumbra::LightTexture::Visibility | penumbra::LightTexture::BlurredVisibility
+        ) {
             let outside = values.iter().filter(|v| !(0.0..=1.0).contains(*v)).count();
             assert_eq!(
                 outside, 0,
@@ -363,7 +366,10 @@ pub fn exact_sphere_visibility(light: Vec3, radius: f32, blocks: &[(Vec3, Vec3)]
             let surface = b - (b * b - distance * distance + radius * radius).max(0.0).sqrt();
             let weight = n.dot(d).max(0.0) as f64;
             all += weight;
-            if !blocks.iter().any(|&(min, max)| ray_hits_box(p, d, min, max, surface)) {
+            if !blocks
+                .iter()
+                .any(|&(min, max)| ray_hits_box(p, d, min, max, surface))
+            {
                 lit += weight;
             }
         }
