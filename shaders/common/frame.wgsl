@@ -205,8 +205,9 @@ fn penumbra_width(d: f32, world: vec3<f32>) -> f32 {
 // circle, 1 / `shadow_map_world_size`.
 fn across_light_to_uv(world: vec3<f32>) -> mat2x2<f32> {
     if !light_perspective() {
-        let scale = 1.0 / shadow_map_world_size(world).x;
-        return mat2x2<f32>(scale, 0.0, 0.0, scale);
+        // A cascade's window need not be square: each axis has its own scale.
+        let scale = 1.0 / max(shadow_map_world_size(world), vec2<f32>(1e-30));
+        return mat2x2<f32>(scale.x, 0.0, 0.0, scale.y);
     }
     let ray = light_ray(world);
     let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(ray.x) > 0.7);
