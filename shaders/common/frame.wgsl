@@ -201,8 +201,9 @@ fn penumbra_width(d: f32, world: vec3<f32>) -> f32 {
 // Shadow-map uv per world unit across the light at `world`, along two directions square to the
 // light's ray: a perspective map (spot, point) magnifies what lies off its axis along the
 // radius, by 1 / cos of the angle off the axis (up to 1.73 at a cube face's corner), so a
-// kernel of world units across the light is an ellipse in the map. An orthographic map: a
-// circle, 1 / `shadow_map_world_size`.
+// kernel of world units across the light is an ellipse in the map. An orthographic map: 1 /
+// `shadow_map_world_size` along each axis, which differ where a cascade's window is not square
+// (one scale for both squashed every rotated kernel of a sun's cascades by up to 9%).
 fn across_light_to_uv(world: vec3<f32>) -> mat2x2<f32> {
     if !light_perspective() {
         // A cascade's window need not be square: each axis has its own scale.
