@@ -156,6 +156,12 @@ fn search_radius(world: vec3<f32>, receiver_depth: f32, uv_world_at_receiver: f3
     return min(half_angle * d / max(uv_world_at_reach, 1e-20), 48.0 / side);
 }
 
+// A search's uv offsets are in units of the map's x axis; this scales them per axis, so that
+// they lie on circles across the light where a sun's cascade window is not square.
+fn search_aspect(world_size: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(1.0, world_size.x / max(world_size.y, 1e-30));
+}
+
 // The ring search: taps per ring, and rings.
 const RING_TAPS: i32 = 8;
 const RINGS: i32 = 2;
@@ -170,17 +176,19 @@ fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
     let receiver_depth = light_linear_depth(p.z);
     // World units across the light per unit of uv at the receiver (at a caster's depth, scaled
     // by the depths for a perspective map).
-    let uv_world_at_receiver = shadow_map_world_size(world).x;
+    let world_size = shadow_map_world_size(world);
+    let uv_world_at_receiver = world_size.x;
+    let aspect = search_aspect(world_size);
     let radius = search_radius(world, receiver_depth, uv_world_at_receiver, d, size.x);
     // A caster texel closer than two texels along the light is the receiver's own surface.
-    let texel_world = uv_world_at_receiver / frame.light.resolution;
+    let texel_world = max(world_size.x, world_size.y) / frame.light.resolution;
     var best_angle = 1e30;
     var best = d;
     for (var ring = 1; ring <= RINGS; ring += 1) {
         let r = radius * f32(ring) / f32(RINGS);
         for (var k = 0; k < RING_TAPS; k += 1) {
             let a = 6.2831853 * (f32(k) + 0.5 * f32(ring & 1)) / f32(RING_TAPS);
-            let uv = clamp(p.xy + r * vec2<f32>(cos(a), sin(a)), tile.xy, tile.zw);
+            let uv = clamp(p.xy + r * vec2<f32>(cos(a), sin(a)) * aspect, tile.xy, tile.zw);
             let z = textureLoad(shadow_map, vec2<i32>(uv * size), 0).x;
             let caster_depth = light_linear_depth(z);
             let dt = receiver_depth - caster_depth;
@@ -188,7 +196,7 @@ fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
             if light_perspective() {
                 uv_world = uv_world_at_receiver * caster_depth / max(receiver_depth, 1e-20);
             }
-            let angle = length(uv - p.xy) * uv_world / max(dt, 1e-20);
+            let angle = length((uv - p.xy) / aspect) * uv_world / max(dt, 1e-20);
             if z < map_depth(p.z) && dt > 2.0 * texel_world && angle < best_angle {
                 best_angle = angle;
                 best = dt;
@@ -219,10 +227,12 @@ fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32) -> f32
     let tile = frame.cascades.tile[cascade];
     let receiver_depth = light_linear_depth(p.z);
     let reach = max(receiver_depth - front, d);
-    let uv_world_at_receiver = shadow_map_world_size(world).x;
+    let world_size = shadow_map_world_size(world);
+    let uv_world_at_receiver = world_size.x;
+    let aspect = search_aspect(world_size);
     let radius = search_radius(world, receiver_depth, uv_world_at_receiver, reach, size.x);
     // A caster texel closer than two texels along the light is the receiver's own surface.
-    let texel_world = uv_world_at_receiver / frame.light.resolution;
+    let texel_world = max(world_size.x, world_size.y) / frame.light.resolution;
     let own = receiver_depth - light_linear_depth(textureLoad(shadow_map, shadow_texel(p.xy), 0).x);
     if own <= 2.0 * texel_world {
         return d;
@@ -235,7 +245,8 @@ fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32) -> f32
     var best_span = vec2<f32>(0.0);
     for (var k = 0; k < SILHOUETTE_DIRECTIONS; k += 1) {
         let a = 6.2831853 * f32(k) / f32(SILHOUETTE_DIRECTIONS);
-        let direction = vec2<f32>(cos(a), sin(a));
+        // a direction across the light, in uv (x-axis units)
+        let direction = vec2<f32>(cos(a), sin(a)) * aspect;
         // A ray whose farthest tap still meets a caster is not searched: deep in an umbra that
         // is every ray, and the pixel takes 8 taps, not 32 (a gap narrower than the reach on
         // that ray is missed).
