@@ -137,8 +137,8 @@ fn fs_nearest_caster(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f3
 
 // How far (shadow-map uv) a search around a receiver at `world` (light depth `receiver_depth`,
 // `uv_world_at_receiver` world units across the light per unit of uv there) reaches: to where
-// the penumbra of a caster `d` in front of it ends, at most 48 texels of a map `side` wide.
-fn search_radius(world: vec3<f32>, receiver_depth: f32, uv_world_at_receiver: f32, d: f32, side: f32) -> f32 {
+// the penumbra of a caster `d` in front of it ends, at most `cap` texels of a map `side` wide.
+fn search_radius(world: vec3<f32>, receiver_depth: f32, uv_world_at_receiver: f32, d: f32, side: f32, cap: f32) -> f32 {
     // The light's angular radius seen from the receiver, and the depth the search reaches.
     var half_angle = 0.5 * frame.light.size_term;
     var reach_depth = receiver_depth;
@@ -153,7 +153,7 @@ fn search_radius(world: vec3<f32>, receiver_depth: f32, uv_world_at_receiver: f3
         uv_world_at_receiver * reach_depth / max(receiver_depth, 1e-20),
         light_perspective(),
     );
-    return min(half_angle * d / max(uv_world_at_reach, 1e-20), 48.0 / side);
+    return min(half_angle * d / max(uv_world_at_reach, 1e-20), cap / side);
 }
 
 // A search's uv offsets are in units of the map's x axis; this scales them per axis, so that
@@ -161,6 +161,17 @@ fn search_radius(world: vec3<f32>, receiver_depth: f32, uv_world_at_receiver: f3
 fn search_aspect(world_size: vec2<f32>) -> vec2<f32> {
     return vec2<f32>(1.0, world_size.x / max(world_size.y, 1e-30));
 }
+
+// The searches' reach, in shadow-map texels, beside a shadow and inside it. Their taps are
+// few (16 beside, 4 per ray inside), so the reach bounds how far apart they fall. Inside, a
+// blocker right under a small light (the room's lamp) casts penumbrae hundreds of texels wide:
+// at 48 texels the search missed the lamp shade's rim and the wall's widths were 0.82-0.87x
+// the reference's; at 256 they are 0.97-1.12x (tests/near_blocker.rs); at 512 the taps lie so
+// far apart that some rays step over the rim (0.87-1.10x). The longer reach costs a little
+// where a small blocker's penumbra overlaps itself (tests/light_extremes.rs, the blocker
+// between two cube faces: rms 0.022 at 48 texels, 0.031 at 256).
+const BESIDE_REACH_TEXELS: f32 = 48.0;
+const INSIDE_REACH_TEXELS: f32 = 256.0;
 
 // The ring search: taps per ring, and rings.
 const RING_TAPS: i32 = 8;
@@ -179,7 +190,7 @@ fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
     let world_size = shadow_map_world_size(world);
     let uv_world_at_receiver = world_size.x;
     let aspect = search_aspect(world_size);
-    let radius = search_radius(world, receiver_depth, uv_world_at_receiver, d, size.x);
+    let radius = search_radius(world, receiver_depth, uv_world_at_receiver, d, size.x, BESIDE_REACH_TEXELS);
     // A caster texel closer than two texels along the light is the receiver's own surface.
     let texel_world = max(world_size.x, world_size.y) / frame.light.resolution;
     var best_angle = 1e30;
@@ -230,7 +241,7 @@ fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32) -> f32
     let world_size = shadow_map_world_size(world);
     let uv_world_at_receiver = world_size.x;
     let aspect = search_aspect(world_size);
-    let radius = search_radius(world, receiver_depth, uv_world_at_receiver, reach, size.x);
+    let radius = search_radius(world, receiver_depth, uv_world_at_receiver, reach, size.x, INSIDE_REACH_TEXELS);
     // A caster texel closer than two texels along the light is the receiver's own surface.
     let texel_world = max(world_size.x, world_size.y) / frame.light.resolution;
     let own = receiver_depth - light_linear_depth(textureLoad(shadow_map, shadow_texel(p.xy), 0).x);
