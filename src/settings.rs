@@ -216,7 +216,11 @@ pub struct PenumbraSettings {
     /// spacing, which smooths the map's texels at contact. Default 0.5.
     pub pcf_base_spacing: f32,
     /// In physical mode, the share of the penumbra's variance made by PCF (the rest by the
-    /// blur), in [0, 1]. Default 0.5. The fast mode uses 0.
+    /// blur), in [0, 1]. Default 0.75: PCF filters the shadow map across the light, where a
+    /// caster's shape and a receiver's slant are what they are, and the screen-space blur only
+    /// smooths its taps. With 0.5, penumbrae on walls the light grazes were 0.83-0.87x as wide
+    /// as the reference's (tests/near_blocker.rs), and the bench scenes' penumbra error was
+    /// higher (docs/benchmark.md). The fast mode uses 0.
     pub pcf_variance_share: f32,
     /// Rotate the PCF taps per pixel by a noise angle to break up banding. Default true.
     pub rotate_taps: bool,
@@ -276,7 +280,7 @@ impl Default for PenumbraSettings {
             spreads: SpreadMode::Physical,
             pcf_kernel: PcfKernel::Pcf3x3,
             pcf_base_spacing: 0.5,
-            pcf_variance_share: 0.5,
+            pcf_variance_share: 0.75,
             rotate_taps: true,
             mask_early_out: true,
             nearest_caster: true,

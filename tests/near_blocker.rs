@@ -11,7 +11,7 @@
 //! That small-angle width is a guide only: across penumbrae this wide the rays tilt, and the
 //! plate is 4 mm thick; the exact profile, integrated here on the CPU over the sphere's disk of
 //! directions, is about 11% wider. The reference must agree with the exact width within 5%, and `ours` with the
-//! reference within 10% (20% low on the wall; see the test).
+//! reference within 10%.
 //!
 //! Measured along z at fixed points: on the floor (the -y cube face), on the wall low down (a
 //! ray 66 degrees off the wall's normal, the -y face), on the wall at 45 degrees down from the
@@ -224,19 +224,12 @@ fn a_blocker_six_centimetres_from_the_light_throws_a_penumbra_as_wide_as_the_tru
             w.name,
             w.exact
         );
-        // Low on the wall, which the light grazes (66 degrees), ours is still narrow (0.83x
-        // measured; 0.64x before issue 38's fixes): the blur's vertical kernel, drawn long
-        // along the light, takes in receivers higher up, nearer the light, whose penumbra is
-        // narrower; and the plate's fattened corners, pushed along their averaged normals,
-        // reach 1/sqrt(3) of the fatten distance sideways, so the outer tail lies outside the
-        // fattened shadow. Everywhere else 10%.
-        let tolerance = if w.name.starts_with("wall, low") {
-            0.20
-        } else {
-            0.10
-        };
+        // Low on the wall, which the light grazes (66 degrees), ours was 0.83-0.87x while the
+        // blur made half the penumbra's variance: its kernel, drawn long along the light on
+        // the screen, took in receivers nearer the light. With PCF making three quarters
+        // (`pcf_variance_share` 0.75) it is 0.96x.
         assert!(
-            (ours / reference - 1.0).abs() <= tolerance,
+            (ours / reference - 1.0).abs() <= 0.10,
             "{}: ours' width {ours:.3} against the reference's {reference:.3}",
             w.name
         );
@@ -286,12 +279,12 @@ fn the_rooms_lamp_against_pcss() {
 
 /// The 10-90% widths across the shade's shadow edge on the wall behind the desk (z = -1.5),
 /// along vertical lines from the dark above to the lit below, for `ours` and `pcss` against the
-/// reference. Issue 38 asks for 10%; measured (480x384, 128 samples) `ours` is 0.97-1.12x the
-/// reference's on the six lines (1.11x and 1.12x on the two nearest the lamp), `pcss`
-/// 0.85-0.99x. With the silhouette search inside a shadow reaching 48 shadow-map texels it was
-/// 0.82-0.87x: the shade's rim lies hundreds of texels from the wall's pixels. It now reaches
-/// 256 (`INSIDE_REACH_TEXELS` in shaders/distance_map.wgsl); at 512 its 4 taps per ray lie so
-/// far apart that some rays step over the rim (0.87-1.10x). Held here to 0.85-1.15x.
+/// reference, held to issue 38's 10%. Measured (480x384, 128 samples): `ours` 0.93-0.99x the
+/// reference's on the six lines, `pcss` 0.85-0.99x. With the silhouette search inside a shadow
+/// reaching 48 shadow-map texels, `ours` was 0.82-0.87x: the shade's rim lies hundreds of
+/// texels from the wall's pixels. Reaching 256 (`INSIDE_REACH_TEXELS` in
+/// shaders/distance_map.wgsl) made it 0.97-1.12x, and PCF making three quarters of the
+/// penumbra's variance (`pcf_variance_share` 0.75, was 0.5) 0.93-0.99x.
 fn wall_widths(
     reference: &penumbra::metrics::VisibilityImage,
     ours: &penumbra::metrics::VisibilityImage,
@@ -327,7 +320,7 @@ fn wall_widths(
             o.expect("ours crosses the shade's shadow edge"),
         );
         assert!(
-            (0.85..=1.15).contains(&(o / r)),
+            (0.90..=1.10).contains(&(o / r)),
             "x = {x}: ours' width {o:.3} against the reference's {r:.3}"
         );
     }
