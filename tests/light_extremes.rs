@@ -181,7 +181,7 @@ fn a_blocker_touching_the_light() {
     );
     // The reference's 128 points cover the whole sphere, about 64 of them face a receiver: here
     // it lies within 0.034 (rms) of the exact visibility.
-    // Measured: rms 0.033, max 0.113 and a step 0.026, both where the fattened map ends, about
+    // Measured: rms 0.030, max 0.113 and a step 0.030, both where the fattened map ends, about
     // 0.95 units beside the edge (the exact visibility is 0.88 there; the fatten distance is
     // held to 0.8x the caster's distance from the light).
     assert_close(ref_rms, 0.05, (rms, max), (0.05, 0.15));
@@ -252,7 +252,7 @@ fn a_light_inside_a_closed_shade() {
     let (ref_max, ref_rms) = floor_error(&reference, &camera, &axes, exact);
     let (max, rms) = floor_error(&ours, &camera, &axes, exact);
     println!("shade: reference max {ref_max:.3} rms {ref_rms:.3}; ours max {max:.3} rms {rms:.3}");
-    // Measured: rms 0.037, max 0.149 (the hole's penumbra).
+    // Measured: rms 0.038, max 0.160 (the hole's penumbra).
     assert_close(ref_rms, 0.03, (rms, max), (0.06, 0.2));
     // Dark everywhere the hole does not show the light, lit under it.
     for image in [&ours, &reference] {
@@ -316,7 +316,7 @@ fn a_penumbra_wider_than_the_screen() {
         ref_max < 0.06,
         "the reference is off the exact visibility: max {ref_max}"
     );
-    // Measured: max 0.059, and a step of 0.016 at the hard edge (z = 0), where the distance
+    // Measured: max 0.051, and a step of 0.017 at the hard edge (z = 0), where the distance
     // comes from the search for the nearest silhouette on one side and for the nearest caster
     // on the other.
     assert!(max < 0.1, "ours is {max} off the exact visibility");
@@ -366,7 +366,9 @@ fn a_blocker_between_two_cube_faces() {
         exact(Vec3::new(1.2, 0.0, 0.0)) < 0.5,
         "the shadow is not on the faces' line"
     );
-    // Measured: rms 0.022, max 0.063, a step of 0.017.
+    // Measured: rms 0.030, max 0.121, a step of 0.010 (rms 0.022 and max 0.063 while the
+    // silhouette search reached 48 texels, not 256: the blob's core then took the plate's own
+    // distance, which is right for a thin plate).
     assert_close(ref_rms, 0.03, (rms, max), (0.06, 0.2));
     assert!(
         worst_seam < 0.05,
