@@ -1,6 +1,9 @@
 // Shared by PCF and PCSS: the receiver's plane from its neighbor pixels, for normal-offset and
 // receiver-plane depth bias. Needs `camera_depth` bound by the including pass.
 
+// The steepest receiver plane whose slope is taken as it is: tan(87 degrees).
+const GRAZING_TAN: f32 = 19.08;
+
 struct Receiver {
     // World position pushed off the surface along its normal (normal-offset bias).
     world: vec3<f32>,
@@ -51,9 +54,16 @@ fn receiver(pixel: vec2<i32>, depth: f32, texels: f32) -> Receiver {
     let py = to_shadow_map(out.world + dy) - out.p;
     let det = px.x * py.y - px.y * py.x;
     out.slope = vec2<f32>(0.0);
-    if abs(det) > 1e-30 {
+    if abs(det) > 1e-30 && len > 1e-30 {
         let slope = vec2<f32>(py.y * px.z - px.y * py.z, px.x * py.z - py.x * px.z) / det;
-        out.slope = clamp(slope, vec2<f32>(-8.0), vec2<f32>(8.0));
+        // A plane the light grazes has a steep slope, right as far as the plane goes; beyond
+        // GRAZING_TAN (87 degrees from the light) it is cut to what 87 degrees would give, so a
+        // plane misjudged from its pixels (an edge-on one) cannot push the taps' references
+        // far behind the map. A bound in the map's own units (depth per uv) would depend on how
+        // large a window the map was fitted to, and cut some planes and not others.
+        let cos_incidence = abs(dot(n / len, light_ray(center)));
+        let tan_incidence = sqrt(max(1.0 - cos_incidence * cos_incidence, 0.0)) / max(cos_incidence, 1e-6);
+        out.slope = slope * min(1.0, GRAZING_TAN / max(tan_incidence, 1e-6));
     }
     // The push keeps its bias but not its sideways shift, which would move every shadow edge
     // by a fraction of a texel: look up at the surface's own map position, with the reference
