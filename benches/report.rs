@@ -36,6 +36,9 @@ pub struct Config {
     pub metric_size: (u32, u32),
     /// Directional light sizes (degrees) for the sweep of `ours` and `pcss`.
     pub light_sizes: Vec<f32>,
+    /// Two view sizes at which the memory table measures what `Shadows` holds: the screen-space
+    /// bytes per pixel are the difference between them, the light maps the rest.
+    pub memory_sizes: [(u32, u32); 2],
     pub out_dir: PathBuf,
 }
 
@@ -54,6 +57,7 @@ impl Config {
             reference_samples: 256,
             metric_size: (400, 320),
             light_sizes: vec![0.5, 2.0, 8.0],
+            memory_sizes: [(1920, 1080), (3840, 2160)],
             out_dir,
         }
     }
@@ -89,6 +93,7 @@ impl Config {
             reference_samples: 8,
             metric_size: (96, 72),
             light_sizes: vec![2.0],
+            memory_sizes: [(160, 90), (320, 180)],
             ..Self::quick(out_dir)
         }
     }
@@ -197,6 +202,23 @@ pub struct Embedding {
     pub tiles: Vec<TileRun>,
     /// `ours` with PCF at half resolution where the penumbra is wide, and without.
     pub reduced: Vec<ReducedRun>,
+    /// What `Shadows` holds for one and for eight lights, per method.
+    pub memory: Vec<MemoryRun>,
+}
+
+/// GPU memory `Shadows::allocated_bytes` reports for `lights` spot lights of one method
+/// (medium), after a frame at each of [`Config::memory_sizes`].
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct MemoryRun {
+    pub method: String,
+    pub lights: usize,
+    /// At the larger of the two sizes.
+    pub total_bytes: u64,
+    /// Screen-space bytes per pixel: the difference between the two sizes' totals over the
+    /// difference in pixels.
+    pub bytes_per_pixel: f64,
+    /// The rest: the lights' maps and uniforms, whatever the view's size.
+    pub maps_bytes: f64,
 }
 
 /// `ours` (medium) on the teapot's view 0 with one light size, PCF at reduced resolution
@@ -478,7 +500,107 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
     embedding.batching = measure_batching(&gpu, &teapot, &camera, size, config)?;
     embedding.tiles = measure_tiles(&gpu, &teapot, &camera, size, config)?;
     embedding.reduced = measure_reduced(&gpu, &teapot, &camera, size, config)?;
+    embedding.memory = measure_memory(&gpu, &teapot, &camera, config)?;
     write_report(config, &device_name, times_on_gpu(&gpu), &runs, &embedding)?;
+    Ok(runs)
+}
+
+/// What `Shadows` holds for one and for eight spot lights of each real-time method (medium),
+/// after one frame at each of [`Config::memory_sizes`] on a camera depth where nothing was
+/// drawn (the passes size their targets by the view; no pixel needs a shadow).
+fn measure_memory(
+    gpu: &HeadlessGpu,
+    scene: &penumbra::Scene,
+    camera: &penumbra::Camera,
+    config: &Config,
+) -> Result<Vec<MemoryRun>> {
+    let gpu_scene = GpuScene::new(
+        &gpu.device,
+        &gpu.queue,
+        Renderer::new(
+            &gpu.device,
+            wgpu::TextureFormat::Rgba8UnormSrgb,
+            ShadowSettings::default(),
+        )?
+        .layouts(),
+        scene,
+    )?;
+    let bytes_at = |method: ShadowMethod, lights: usize, (w, h): (u32, u32)| -> Result<u64> {
+        let depth = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("bench::memory_depth"),
+            size: wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Depth32Float,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let depth_view = depth.create_view(&Default::default());
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        // The far plane everywhere: nothing drawn.
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            ..Default::default()
+        });
+        let mut shadows =
+            penumbra::Shadows::new(&gpu.device, ShadowSettings::preset(method, Quality::Medium))?;
+        for k in 0..lights {
+            shadows.add_light(&gpu.device, added_light(scene, "spot", k, 360.0 / lights as f32))?;
+        }
+        let view = penumbra::ViewInputs {
+            camera: penumbra::CameraMatrices::from_camera(camera, w as f32 / h as f32),
+            depth: &depth,
+            receiver_mask: None,
+        };
+        shadows.render(&gpu.device, &gpu.queue, &mut encoder, gpu_scene.casters(), &view)?;
+        gpu.queue.submit([encoder.finish()]);
+        gpu.device.poll(wgpu::PollType::Wait {
+            submission_index: None,
+            timeout: None,
+        })?;
+        Ok(shadows.allocated_bytes())
+    };
+    let [small, large] = config.memory_sizes;
+    let pixels = |(w, h): (u32, u32)| f64::from(w) * f64::from(h);
+    let mut runs = Vec::new();
+    for method in [
+        ShadowMethod::Ours,
+        ShadowMethod::Traditional,
+        ShadowMethod::Pcss,
+        ShadowMethod::Hard,
+    ] {
+        for lights in [1usize, 8] {
+            let (a, b) = (bytes_at(method, lights, small)?, bytes_at(method, lights, large)?);
+            let bytes_per_pixel = (b as f64 - a as f64) / (pixels(large) - pixels(small));
+            let run = MemoryRun {
+                method: method.name().into(),
+                lights,
+                total_bytes: b,
+                bytes_per_pixel,
+                maps_bytes: b as f64 - bytes_per_pixel * pixels(large),
+            };
+            println!(
+                "memory: {} with {lights} light(s): {:.1} MiB at {}x{}, {bytes_per_pixel:.2} bytes a pixel",
+                run.method,
+                b as f64 / 1048576.0,
+                large.0,
+                large.1
+            );
+            runs.push(run);
+        }
+    }
     Ok(runs)
 }
 
@@ -881,6 +1003,7 @@ fn measure_embedding(
         batching: Vec::new(),
         tiles: Vec::new(),
         reduced: Vec::new(),
+        memory: Vec::new(),
         geometry_passes,
     })
 }
@@ -1371,6 +1494,7 @@ fn write_report(
             verdict(ratio <= PCSS_RMSE_TARGET)
         )?;
     }
+    write_memory(&mut md, config, &embedding.memory)?;
     std::fs::write(config.out_dir.join("report.md"), &md)?;
     std::fs::write(
         config.out_dir.join("embedding.json"),
@@ -1608,5 +1732,44 @@ fn plot_tradeoff(path: &Path, runs: &[Run], size: (u32, u32)) -> Result<()> {
         .label_font(("sans-serif", 16))
         .draw()?;
     root.present()?;
+    Ok(())
+}
+
+/// At most this many bytes a pixel of screen-space memory per light after the first (issue 39).
+const ADDED_LIGHT_BYTES_PER_PIXEL: f64 = 2.0;
+
+/// The memory table and its target.
+fn write_memory(md: &mut String, config: &Config, memory: &[MemoryRun]) -> Result<()> {
+    use std::fmt::Write;
+    let [small, large] = config.memory_sizes;
+    writeln!(
+        md,
+        "\n## Memory\n\n\
+         What `Shadows::allocated_bytes` reports after a frame with spot lights (medium): the \
+         screen-space bytes a pixel are the difference between its totals at {}x{} and {}x{} over \
+         the difference in pixels, the light maps what is left.\n\n\
+         | method | lights | MiB at {}x{} | screen bytes a pixel | light maps MiB |\n|---|---|---|---|---|",
+        small.0, small.1, large.0, large.1, large.0, large.1
+    )?;
+    for m in memory {
+        writeln!(
+            md,
+            "| {} | {} | {:.1} | {:.2} | {:.1} |",
+            m.method,
+            m.lights,
+            m.total_bytes as f64 / 1048576.0,
+            m.bytes_per_pixel,
+            m.maps_bytes / 1048576.0
+        )?;
+    }
+    let ours = |n: usize| memory.iter().find(|m| m.method == "ours" && m.lights == n);
+    if let (Some(one), Some(eight)) = (ours(1), ours(8)) {
+        let added = (eight.bytes_per_pixel - one.bytes_per_pixel) / 7.0;
+        writeln!(
+            md,
+            "\n- `ours`: at most {ADDED_LIGHT_BYTES_PER_PIXEL} bytes a pixel of screen-space memory per light after the first: {added:.2} -> {}",
+            verdict(added <= ADDED_LIGHT_BYTES_PER_PIXEL)
+        )?;
+    }
     Ok(())
 }
