@@ -166,8 +166,9 @@ fn search_aspect(world_size: vec2<f32>) -> vec2<f32> {
 // few (16 beside, 4 per ray inside), so the reach bounds how far apart they fall. Inside, a
 // blocker right under a small light (the room's lamp) casts penumbrae hundreds of texels wide:
 // at 48 texels the search missed the lamp shade's rim and the wall's widths were 0.82-0.87x
-// the reference's; at 256 they are 0.97-1.12x (tests/near_blocker.rs); at 512 the taps lie so
-// far apart that some rays step over the rim (0.87-1.10x). The longer reach costs a little
+// the reference's; at 256 they are 0.97-1.12x (with `pcf_variance_share` 0.5; 0.93-0.99x at
+// 0.75, tests/near_blocker.rs); at 512 the taps lie so far apart that some rays step over the
+// rim (0.87-1.10x, at 0.5). The longer reach costs a little
 // where a small blocker's penumbra overlaps itself (tests/light_extremes.rs, the blocker
 // between two cube faces: rms 0.022 at 48 texels, 0.031 at 256, its core lighter).
 const BESIDE_REACH_TEXELS: f32 = 48.0;
