@@ -1,6 +1,7 @@
 //! `cargo bench`: every real-time method on the project's scenes, measured for speed and
 //! accuracy in one run (see `report.rs`). `PENUMBRA_BENCH=quick` runs the quick mode (under
-//! 3 minutes on a software adapter). Writes target/penumbra-bench/report.md, report.json and
+//! 3 minutes on a software adapter); `PENUMBRA_BENCH=accuracy` the full run's accuracy on every
+//! viewpoint with the quick run's timing. Writes target/penumbra-bench/report.md, report.json and
 //! tradeoff.png, or into `PENUMBRA_BENCH_OUT` where that is set.
 
 mod report;
@@ -12,6 +13,7 @@ fn main() -> anyhow::Result<()> {
     };
     let config = match std::env::var("PENUMBRA_BENCH").as_deref() {
         Ok("quick") => report::Config::quick(out),
+        Ok("accuracy") => report::Config::accuracy(out),
         _ => report::Config::full(out),
     };
     report::run(&config)?;

@@ -77,6 +77,21 @@ impl Config {
         }
     }
 
+    /// The full run's accuracy (every viewpoint, its reference and metric size) with the
+    /// quick run's few frames and the medium preset only: the accuracy verdicts where a full
+    /// run's timings would take hours (a software adapter). Its frame times are too few to
+    /// quote.
+    pub fn accuracy(out_dir: PathBuf) -> Self {
+        Self {
+            mode: "accuracy",
+            views: vec![0, 1, 2],
+            presets: vec![Quality::Medium],
+            reference_samples: 256,
+            metric_size: (400, 320),
+            ..Self::quick(out_dir)
+        }
+    }
+
     /// The smallest run that still exercises every part of the report (for the test).
     pub fn smoke(out_dir: PathBuf) -> Self {
         Self {
