@@ -26,6 +26,9 @@ override FIXED_STEP: bool = false;
 override DEPTH_AWARE: bool = true;
 // how many lights this pass blurs (1 to 4): lights 0 to LIGHTS - 1; several are packed
 override LIGHTS: u32 = 1u;
+// The compute path (one light): the deviations come in the G and B of the visibility texture
+// the variable PCF wrote (bound as `sigma0`), and the distance map's B is the classification.
+override COMPUTE_PATH: bool = false;
 
 struct Blur {
     // xy: axis (1, 0) or (0, 1)
@@ -98,6 +101,10 @@ fn each_light_rg(t0: texture_2d<f32>, t1: texture_2d<f32>, t2: texture_2d<f32>, 
 
 // Every light's standard deviation along the draw's axis (physical mode), in pixels.
 fn sigmas_of(pixel: vec2<i32>) -> vec4<f32> {
+    if COMPUTE_PATH {
+        let s = textureLoad(sigma0, pixel, 0);
+        return vec4<f32>(select(s.y, s.z, blur.axis.y > 0.5), 0.0, 0.0, 0.0);
+    }
     let s = each_light_rg(sigma0, sigma1, sigma2, sigma3, pixel);
     if blur.axis.y > 0.5 {
         return vec4<f32>(s[0].y, s[1].y, s[2].y, s[3].y);
@@ -301,4 +308,29 @@ fn fs_classify(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
         mask = max(mask, textureLoad(distance3, pixel, 0).y);
     }
     return select(0.0, 1.0, mask > 0.0);
+}
+
+// The compute path, one light. The horizontal axis: one invocation per pixel of the listed
+// tiles (`common/tile_list.wgsl`) where the distance map's classification says a shadow can
+// fall, into `blur_out`; the other pixels keep what it was cleared to (1).
+@group(2) @binding(1) var blur_out: texture_storage_2d<rgba16float, write>;
+
+@compute @workgroup_size(16, 16)
+fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    let pixel = listed_pixel(group, groups, local);
+    if pixel.x < 0 || textureLoad(distance0, pixel, 0).z <= 0.0 {
+        return;
+    }
+    textureStore(blur_out, pixel, vec4<f32>(blur_all(vec2<f32>(pixel) + 0.5).x));
+}
+
+// The vertical axis, which writes the engine's render target (a layer of the visibility
+// array) and so stays a draw: the listed tiles' quads (`vs_listed_tile`), 1 where no shadow
+// can fall.
+@fragment
+fn fs_listed(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    if textureLoad(distance0, vec2<i32>(frag.xy), 0).z <= 0.0 {
+        return vec4<f32>(1.0);
+    }
+    return vec4<f32>(blur_all(frag.xy).x);
 }

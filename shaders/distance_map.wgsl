@@ -77,7 +77,12 @@ fn shadow_texel(p: vec2<f32>) -> vec2<i32> {
 
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
-    let pixel = vec2<i32>(frag.xy);
+    return distance_at(frag.xy);
+}
+
+// The distance, mask and classification at pixel centre `frag` (the first draw's).
+fn distance_at(frag: vec2<f32>) -> Out {
+    let pixel = vec2<i32>(frag);
     let depth = textureLoad(camera_depth, pixel, 0).x;
     if is_background(depth) {
         return classified(0.0, -2.0, 0.0);
@@ -86,8 +91,8 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     if frame.view.has_receiver_mask != 0u && textureLoad(receiver_mask, pixel, 0).x < 0.5 {
         return classified(0.0, -1.0, 0.0);
     }
-    use_pixel_cascade(frag.xy, depth);
-    let world = world_position(frag.xy, depth);
+    use_pixel_cascade(frag, depth);
+    let world = world_position(frag, depth);
     let p = to_shadow_map(world);
     let texel = fattened_texel(p);
     let fattened_depth = textureLoad(fattened_map, texel, 0).x;
@@ -126,13 +131,36 @@ fn vs_tile_beside(@builtin(vertex_index) index: u32, @builtin(instance_index) in
 // the nearest caster texel of the real shadow map, when nearer.
 @fragment
 fn fs_nearest_caster(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let depth = textureLoad(camera_depth, vec2<i32>(frag.xy), 0).x;
-    use_pixel_cascade(frag.xy, depth);
-    let world = world_position(frag.xy, depth);
+    return vec4<f32>(beside_distance(frag.xy), 1.0, 0.0, 0.0);
+}
+
+fn beside_distance(frag: vec2<f32>) -> f32 {
+    let depth = textureLoad(camera_depth, vec2<i32>(frag), 0).x;
+    use_pixel_cascade(frag, depth);
+    let world = world_position(frag, depth);
     let p = to_shadow_map(world);
     let texel = fattened_texel(p);
     let d = fattened_distance(p, texel, textureLoad(fattened_map, texel, 0).x);
-    return vec4<f32>(min(d, nearest_caster(world, p, d)), 1.0, 0.0, 0.0);
+    return min(d, nearest_caster(world, p, d));
+}
+
+// The compute path: both draws in one invocation per pixel of the listed tiles
+// (`common/tile_list.wgsl`), into one texture: R distance, G mask, B the classification the
+// draws write as depth (0, 0.5 or 1), which the later passes read instead of testing it.
+@group(0) @binding(7) var distance_out: texture_storage_2d<rgba16float, write>;
+
+@compute @workgroup_size(16, 16)
+fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    let pixel = listed_pixel(group, groups, local);
+    if pixel.x < 0 {
+        return;
+    }
+    let frag = vec2<f32>(pixel) + 0.5;
+    var out = distance_at(frag);
+    if NEAREST_CASTER && out.shadow_here >= BESIDE {
+        out.distance.x = beside_distance(frag);
+    }
+    textureStore(distance_out, pixel, vec4<f32>(out.distance.xy, out.shadow_here, 0.0));
 }
 
 // How far (shadow-map uv) a search around a receiver at `world` (light depth `receiver_depth`,

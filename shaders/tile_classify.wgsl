@@ -26,10 +26,10 @@ const MAX_FOOTPRINT: i32 = 64;
 
 @group(0) @binding(3) var fattened_map: texture_2d<f32>;
 
-@fragment
-fn fs_reduce(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+// The least fattened depth in reduced texel `block`'s REDUCE x REDUCE texels.
+fn least_in_block(block: vec2<f32>) -> f32 {
     let inv_size = 1.0 / vec2<f32>(textureDimensions(fattened_map));
-    let first = floor(frag.xy) * f32(REDUCE);
+    let first = block * f32(REDUCE);
     var least = vec4<f32>(1.0);
     for (var y = 0; y < REDUCE; y += 2) {
         for (var x = 0; x < REDUCE; x += 2) {
@@ -37,9 +37,14 @@ fn fs_reduce(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
             least = min(least, textureGather(0, fattened_map, gather_sampler, uv));
         }
     }
+    return min(min(least.x, least.y), min(least.z, least.w));
+}
+
+@fragment
+fn fs_reduce(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     // Stored as a half float, whose rounding moves a value by at most 2^-12 of itself: lowered
     // by 2^-10 first, the stored depth is never behind the true least one (conservative).
-    return vec4<f32>(min(min(least.x, least.y), min(least.z, least.w)) * (1.0 - 1.0 / 1024.0));
+    return vec4<f32>(least_in_block(floor(frag.xy)) * (1.0 - 1.0 / 1024.0));
 }
 
 // The least of two magnitudes a coordinate in [lo, hi] can have.
@@ -111,8 +116,13 @@ fn may_be_inside(k: u32, corners: array<vec3<f32>, 8>) -> bool {
 
 @fragment
 fn fs_classify(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(select(0.0, 1.0, may_hold_shadow(vec2<i32>(frag.xy))));
+}
+
+// Whether a pixel of screen tile `tile` may lie inside the fattened shadow.
+fn may_hold_shadow(tile: vec2<i32>) -> bool {
     let size = vec2<i32>(frame.view.size);
-    let first = vec2<i32>(frag.xy) * TILE;
+    let first = tile * TILE;
     let last = min(first + TILE, size) - 1;
     // The background's depth is the clear value, 0 or 1: left out of the range by mapping it
     // past the other end.
@@ -133,7 +143,7 @@ fn fs_classify(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let near = min(min(lo.x, lo.y), min(lo.z, lo.w));
     let far = max(max(hi.x, hi.y), max(hi.z, hi.w));
     if far < near {
-        return vec4<f32>(0.0);
+        return false;
     }
     // The tile's edges at its two depths.
     let edge_lo = vec2<f32>(first);
@@ -153,10 +163,10 @@ fn fs_classify(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         let offset_hi = box_hi - frame.light.position;
         for (var k = 0u; k < count; k++) {
             if face_reachable(k, offset_lo, offset_hi) && may_be_inside(k, corners) {
-                return vec4<f32>(1.0);
+                return true;
             }
         }
-        return vec4<f32>(0.0);
+        return false;
     }
     // Cascades: those serving a view distance in the tile's range (from the previous one's
     // blend band to their own end).
@@ -168,8 +178,62 @@ fn fs_classify(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         let starts = select(frame.cascades.extent_end[max(k, 1u) - 1u].w, 0.0, k == 0u);
         let ends = select(frame.cascades.extent_end[k].z, 1e30, k + 1u == count);
         if farthest >= starts && nearest <= ends && may_be_inside(k, corners) {
-            return vec4<f32>(1.0);
+            return true;
         }
     }
-    return vec4<f32>(0.0);
+    return false;
+}
+
+// The compute path (the screen-space chain as compute passes over a list of tiles):
+// `cs_reduce` is `fs_reduce` into a 32-bit float (no rounding to allow for), `cs_classify` runs
+// one invocation per screen tile and appends the tiles it keeps to the list (all of them with
+// CLASSIFY off), and `cs_finish` turns the list's length into the indirect arguments of the
+// passes over it. The list's count is zeroed before `cs_classify`.
+
+// false: every tile is listed (the classification is off)
+override CLASSIFY: bool = true;
+
+struct TileListOut {
+    count: atomic<u32>,
+    tiles: array<u32>,
+}
+
+// Indirect arguments: a dispatch of one workgroup per listed tile (at most 65535 a row) and a
+// draw of one quad (6 vertices) per listed tile.
+struct TileArgs {
+    dispatch: vec4<u32>,
+    draw: vec4<u32>,
+}
+
+@group(0) @binding(5) var<storage, read_write> list_out: TileListOut;
+@group(0) @binding(6) var reduced_out: texture_storage_2d<r32float, write>;
+@group(0) @binding(7) var<storage, read_write> args: TileArgs;
+
+@compute @workgroup_size(8, 8)
+fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
+    if any(id.xy >= textureDimensions(reduced_out)) {
+        return;
+    }
+    textureStore(reduced_out, id.xy, vec4<f32>(least_in_block(vec2<f32>(id.xy))));
+}
+
+@compute @workgroup_size(8, 8)
+fn cs_classify(@builtin(global_invocation_id) id: vec3<u32>) {
+    let tiles = (vec2<u32>(frame.view.size) + vec2<u32>(u32(TILE) - 1u)) / u32(TILE);
+    if any(id.xy >= tiles) {
+        return;
+    }
+    if CLASSIFY && !may_hold_shadow(vec2<i32>(id.xy)) {
+        return;
+    }
+    let index = atomicAdd(&list_out.count, 1u);
+    list_out.tiles[index] = id.x | (id.y << 16u);
+}
+
+@compute @workgroup_size(1)
+fn cs_finish() {
+    let count = atomicLoad(&list_out.count);
+    let across = min(count, 65535u);
+    args.dispatch = vec4<u32>(across, (count + 65534u) / 65535u, 1u, 0u);
+    args.draw = vec4<u32>(6u, count, 0u, 0u);
 }

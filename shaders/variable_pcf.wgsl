@@ -223,3 +223,20 @@ fn fs_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     }
     return vec4<f32>(taps(s), 1.0, s.blur_sigma);
 }
+
+// The compute path: one invocation per pixel of the listed tiles (`common/tile_list.wgsl`)
+// where the distance map's classification (its B) says a shadow can fall, into one texture:
+// R the visibility, GB the blur's standard deviations along screen x and y. The other pixels
+// keep what the texture was cleared to (1, 0, 0). Reduced resolution stays a draw.
+@group(0) @binding(6) var pcf_out: texture_storage_2d<rgba16float, write>;
+
+@compute @workgroup_size(16, 16)
+fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    let pixel = listed_pixel(group, groups, local);
+    if pixel.x < 0 || textureLoad(distance_map, pixel, 0).z <= 0.0 {
+        return;
+    }
+    let depth = textureLoad(camera_depth, pixel, 0).x;
+    let s = setup(vec2<f32>(pixel) + 0.5, depth);
+    textureStore(pcf_out, pixel, vec4<f32>(taps(s), s.blur_sigma, 0.0));
+}

@@ -4,11 +4,13 @@
 //! ([`ScreenChain::encode`]) side by side.
 
 use crate::casters::Casters;
+use crate::frame::DistanceSwitches;
 use crate::frame::{FrameUniform, PassParams, is_point_light};
 use crate::light_space::{LightView, atlas_grid, tile_resolution};
 use crate::passes::{
-    BlurInput, BlurPass, DistanceMapPass, ExitMapPass, FattenedShadowMapPass, PackedVisibility, PcfPass,
-    PcssPass, ResolvePass, ShadowMapPass, VariablePcfPass,
+    BlurCompute, BlurInput, BlurPass, DistanceMapCompute, DistanceMapPass, ExitMapPass,
+    FattenedShadowMapPass, PackedVisibility, PcfPass, PcssPass, ResolvePass, ShadowMapPass,
+    VariablePcfCompute, VariablePcfPass,
 };
 use crate::scene::Light;
 use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings};
@@ -30,6 +32,11 @@ pub enum Chain {
         method: ShadowMethod,
         /// The blur has more than one tap.
         blur: bool,
+        /// The screen-space passes run as compute passes over a list of the screen tiles a
+        /// shadow can reach (the blur's vertical axis, which writes the light's layer, as a
+        /// draw of those tiles); otherwise as draws
+        /// ([`crate::PenumbraSettings::fragment_passes`]).
+        compute: bool,
     },
     /// The baseline ([`ShadowMethod::Traditional`]): fixed-spacing PCF, a fixed Gaussian
     /// blur (`blur`: it has more than one tap), a resolve.
@@ -67,6 +74,10 @@ impl Chain {
             method @ (ShadowMethod::Ours | ShadowMethod::OursFast) => Chain::DistanceMap {
                 method,
                 blur: settings.penumbra.blur_taps > 1,
+                // Batched blurs and PCF at half resolution are draws only.
+                compute: !settings.penumbra.fragment_passes
+                    && !settings.penumbra.batch_lights
+                    && !settings.penumbra.reduced_resolution,
             },
             ShadowMethod::Traditional => Chain::FixedPcf {
                 blur: settings.traditional.blur_taps > 1,
@@ -84,6 +95,23 @@ impl Chain {
         Chain::MapOnly {
             method: self.method(),
         }
+    }
+
+    /// This chain with its screen-space passes as draws (a device without compute shaders).
+    pub(crate) fn without_compute(self) -> Self {
+        match self {
+            Chain::DistanceMap { method, blur, .. } => Chain::DistanceMap {
+                method,
+                blur,
+                compute: false,
+            },
+            other => other,
+        }
+    }
+
+    /// The screen-space passes run as compute passes over a tile list.
+    pub fn compute(&self) -> bool {
+        matches!(self, Chain::DistanceMap { compute: true, .. })
     }
 
     /// The method drawn: a method that needs a light size falls back to
@@ -289,10 +317,19 @@ pub(crate) struct ScreenInputs<'a> {
     pub dummy: &'a wgpu::TextureView,
 }
 
-/// A light's screen-space passes, one variant per [`Chain`]. The distance-map method's blur is
-/// not here: one blur pass serves up to four lights (`Shadows::blurs`).
+/// A light's screen-space passes, one variant per [`Chain`]. The distance-map method's blur as
+/// draws is not here: one blur pass serves up to four lights (`Shadows::blurs`); the compute
+/// path's is.
 pub(crate) enum ScreenChain {
     MapOnly,
+    /// The distance-map method as compute passes over the distance map's tile list.
+    DistanceMapCompute {
+        distance: DistanceMapCompute,
+        pcf: VariablePcfCompute,
+        /// Writes the layer; without it the resolve does.
+        blur: Option<BlurCompute>,
+        resolve: ResolvePass,
+    },
     DistanceMap {
         distance: DistanceMapPass,
         pcf: VariablePcfPass,
@@ -319,6 +356,13 @@ impl ScreenChain {
     pub fn allocated_bytes(&self) -> u64 {
         match self {
             ScreenChain::MapOnly => 0,
+            ScreenChain::DistanceMapCompute {
+                distance, pcf, blur, ..
+            } => {
+                distance.allocated_bytes()
+                    + pcf.allocated_bytes()
+                    + blur.as_ref().map_or(0, BlurCompute::allocated_bytes)
+            }
             ScreenChain::DistanceMap { distance, pcf, .. } => {
                 distance.allocated_bytes() + pcf.allocated_bytes()
             }
@@ -342,6 +386,19 @@ impl ScreenChain {
         let resolve = || ResolvePass::new(device, FRAME_SIZE);
         let mut passes = match chain {
             Chain::MapOnly { .. } => ScreenChain::MapOnly,
+            Chain::DistanceMap {
+                compute: true, blur, ..
+            } => ScreenChain::DistanceMapCompute {
+                distance: DistanceMapCompute::new(
+                    device,
+                    FRAME_SIZE,
+                    compute_distance_switches(params),
+                    kind,
+                ),
+                pcf: VariablePcfCompute::new(device, FRAME_SIZE, params.pcf_switches, kind),
+                blur: blur.then(|| BlurCompute::new(device, FRAME_SIZE, params.blur_switches)),
+                resolve: resolve(),
+            },
             Chain::DistanceMap { .. } => ScreenChain::DistanceMap {
                 distance: DistanceMapPass::new(device, FRAME_SIZE, params.distance_switches, kind),
                 pcf: VariablePcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind),
@@ -371,7 +428,24 @@ impl ScreenChain {
         let pcf_fits = |p: &PcfPass| p.switches() == params.pcf_switches && p.light_kind() == kind;
         match (self, chain) {
             (ScreenChain::MapOnly, Chain::MapOnly { .. }) => true,
-            (ScreenChain::DistanceMap { distance, pcf, .. }, Chain::DistanceMap { .. }) => {
+            (
+                ScreenChain::DistanceMapCompute {
+                    distance, pcf, blur, ..
+                },
+                Chain::DistanceMap {
+                    compute: true,
+                    blur: wanted,
+                    ..
+                },
+            ) => {
+                distance.switches() == compute_distance_switches(params)
+                    && distance.light_kind() == kind
+                    && pcf.switches() == params.pcf_switches
+                    && pcf.light_kind() == kind
+                    && blur.is_some() == *wanted
+                    && blur.as_ref().is_none_or(|b| b.switches() == params.blur_switches)
+            }
+            (ScreenChain::DistanceMap { distance, pcf, .. }, Chain::DistanceMap { compute: false, .. }) => {
                 distance.switches() == params.distance_switches
                     && distance.light_kind() == kind
                     && pcf.switches() == params.pcf_switches
@@ -392,6 +466,15 @@ impl ScreenChain {
     pub fn resize(&mut self, device: &wgpu::Device, w: u32, h: u32) {
         match self {
             ScreenChain::MapOnly => {}
+            ScreenChain::DistanceMapCompute {
+                distance, pcf, blur, ..
+            } => {
+                distance.resize(device, w, h);
+                pcf.resize(device, w, h);
+                if let Some(blur) = blur {
+                    blur.resize(device, w, h);
+                }
+            }
             ScreenChain::DistanceMap { distance, pcf, .. } => {
                 distance.resize(device, w, h);
                 pcf.resize(device, w, h);
@@ -411,6 +494,12 @@ impl ScreenChain {
     pub fn prepare(&self, queue: &wgpu::Queue, params: &PassParams) {
         match self {
             ScreenChain::MapOnly => {}
+            ScreenChain::DistanceMapCompute { pcf, blur, .. } => {
+                pcf.prepare(queue, &params.pcf);
+                if let Some(blur) = blur {
+                    blur.prepare(queue, &params.blur);
+                }
+            }
             ScreenChain::DistanceMap { pcf, .. } => pcf.prepare(queue, &params.pcf),
             ScreenChain::FixedPcf { pcf, blur, .. } => {
                 pcf.prepare(queue, &params.pcf);
@@ -435,6 +524,38 @@ impl ScreenChain {
         let shadow_map = maps.shadow.view();
         match self {
             ScreenChain::MapOnly => {}
+            ScreenChain::DistanceMapCompute {
+                distance,
+                pcf,
+                blur,
+                resolve,
+            } => {
+                let Some((fattened, exit)) = &maps.fattened else {
+                    return;
+                };
+                distance.bind(
+                    device,
+                    frame,
+                    (fattened.view(), fattened.texture().width()),
+                    fattened.occluder_offset(),
+                    exit.view(),
+                    shadow_map,
+                    depth,
+                    mask,
+                );
+                pcf.bind(device, frame, depth, distance.distance_map(), shadow_map);
+                match blur {
+                    Some(blur) => blur.bind(
+                        device,
+                        frame,
+                        (depth, mask),
+                        pcf.output(),
+                        distance.distance_map(),
+                        dummy,
+                    ),
+                    None => resolve.bind(device, frame, depth, distance.distance_map(), pcf.output(), mask),
+                }
+            }
             ScreenChain::DistanceMap {
                 distance,
                 pcf,
@@ -504,6 +625,21 @@ impl ScreenChain {
     ) {
         match self {
             ScreenChain::MapOnly => {}
+            ScreenChain::DistanceMapCompute {
+                distance,
+                pcf,
+                blur,
+                resolve,
+            } => {
+                run(encoder, mark, "distance map", &|e| distance.encode(e, maps_drawn));
+                run(encoder, mark, "pcf", &|e| pcf.encode(e, distance.listed()));
+                match blur {
+                    Some(blur) => run(encoder, mark, "blur", &|e| {
+                        blur.encode(e, distance.listed(), layer)
+                    }),
+                    None => run(encoder, mark, "resolve", &|e| resolve.encode(e, layer)),
+                }
+            }
             ScreenChain::DistanceMap {
                 distance,
                 pcf,
@@ -554,10 +690,29 @@ impl ScreenChain {
         }
     }
 
-    /// The raw visibility (PCF or PCSS), before any blur.
+    /// The distance map (R distance, G mask; the compute path's B its classification).
+    pub fn distance_texture(&self) -> Option<&wgpu::Texture> {
+        match self {
+            ScreenChain::DistanceMap { distance, .. } => Some(distance.distance_texture()),
+            ScreenChain::DistanceMapCompute { distance, .. } => Some(distance.distance_texture()),
+            _ => None,
+        }
+    }
+
+    /// The tile classification's classes, where the chain draws only the tiles it keeps (the
+    /// compute path lists them instead).
+    pub fn tile_classes_texture(&self) -> Option<&wgpu::Texture> {
+        match self {
+            ScreenChain::DistanceMap { distance, .. } => distance.tile_classes_texture(),
+            _ => None,
+        }
+    }
+
+    /// The raw visibility (PCF or PCSS), before any blur (the compute path's in R).
     pub fn raw_visibility(&self) -> Option<&wgpu::Texture> {
         match self {
             ScreenChain::MapOnly => None,
+            ScreenChain::DistanceMapCompute { pcf, .. } => Some(pcf.output_texture()),
             ScreenChain::DistanceMap { pcf, .. } => Some(pcf.visibility_texture()),
             ScreenChain::FixedPcf { pcf, .. } | ScreenChain::Hard { pcf, .. } => {
                 Some(pcf.visibility_texture())
@@ -572,5 +727,14 @@ impl ScreenChain {
             ScreenChain::FixedPcf { blur: Some(blur), .. } => blur.blurred_texture(),
             _ => None,
         }
+    }
+}
+
+/// The compute path's distance-map switches: its tile list follows the classification setting
+/// with `Auto` on (see [`PassParams::list_tiles`]).
+fn compute_distance_switches(params: &PassParams) -> DistanceSwitches {
+    DistanceSwitches {
+        tiles: params.list_tiles,
+        ..params.distance_switches
     }
 }

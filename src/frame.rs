@@ -189,6 +189,9 @@ pub(crate) struct PassParams {
     pub blur: BlurParams,
     pub blur_switches: BlurSwitches,
     pub pcss: PcssUniform,
+    /// The compute path classifies its tiles (`Auto` is on for every device there: a tile
+    /// list costs nothing where no tile is dropped).
+    pub list_tiles: bool,
 }
 
 impl PassParams {
@@ -282,6 +285,7 @@ impl PassParams {
                 pcf_samples: s.pcss.pcf_samples,
                 _pad: [0.0; 2],
             },
+            list_tiles: tiles,
         }
     }
 }

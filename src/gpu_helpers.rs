@@ -183,6 +183,54 @@ pub(crate) mod entry {
         }
     }
 
+    /// `entry` seen by the compute stage too (and a uniform by the vertex stage: the listed
+    /// tiles' quads).
+    pub(crate) fn and_compute(mut entry: wgpu::BindGroupLayoutEntry) -> wgpu::BindGroupLayoutEntry {
+        entry.visibility |= wgpu::ShaderStages::COMPUTE;
+        if matches!(
+            entry.ty,
+            wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                ..
+            }
+        ) {
+            entry.visibility |= wgpu::ShaderStages::VERTEX;
+        }
+        entry
+    }
+
+    /// A 2D storage texture of `format` a compute pass writes.
+    pub(crate) fn storage_texture(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+        wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::StorageTexture {
+                access: wgpu::StorageTextureAccess::WriteOnly,
+                format,
+                view_dimension: wgpu::TextureViewDimension::D2,
+            },
+            count: None,
+        }
+    }
+
+    /// A storage buffer seen by `visibility`, read-only or not.
+    pub(crate) fn storage_buffer(
+        binding: u32,
+        visibility: wgpu::ShaderStages,
+        read_only: bool,
+    ) -> wgpu::BindGroupLayoutEntry {
+        wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        }
+    }
+
     /// A sampler used in the fragment stage.
     pub(crate) fn sampler(binding: u32, kind: wgpu::SamplerBindingType) -> wgpu::BindGroupLayoutEntry {
         wgpu::BindGroupLayoutEntry {

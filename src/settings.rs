@@ -269,6 +269,15 @@ pub struct PenumbraSettings {
     /// benchmark's "Batching the blur" table; docs/lights.md).
     #[cfg_attr(feature = "serde", serde(default))]
     pub batch_lights: bool,
+    /// Run the screen-space chain (distance map, PCF, blur) as draws, as before the compute
+    /// path. Default false: where the device has compute shaders it runs as compute passes
+    /// over a list of the 16 x 16 pixel screen tiles a shadow can reach, and costs what those
+    /// tiles do (on a GPU, fragment work costs many times the same work in compute); the
+    /// blur's vertical axis, which writes the light's layer, draws those tiles. Batched blurs
+    /// ([`Self::batch_lights`]) and [`Self::reduced_resolution`] are draws only: either turns
+    /// the draws on, as does a device without compute shaders (WebGL 2).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub fragment_passes: bool,
     /// How much shadows far from their occluder are lightened by bounced light, in [0, 1];
     /// 0 turns it off. Default 0.
     pub indirect_weight: f32,
@@ -289,6 +298,7 @@ impl Default for PenumbraSettings {
             blur_taps: 11,
             depth_aware_blur: true,
             batch_lights: false,
+            fragment_passes: false,
             indirect_weight: 0.0,
         }
     }

@@ -1,6 +1,6 @@
 //! The passes' WGSL sources. Each pass has one file in `shaders/`; the pieces several passes
 //! share (the frame uniform and light-space helpers, a point light's cube faces, the
-//! full-screen triangle, the screen tiles' quads, the receiver plane, the instance and material uniforms) live in `shaders/common/` and are joined to the
+//! full-screen triangle, the screen tiles' quads and list, the receiver plane, the instance and material uniforms) live in `shaders/common/` and are joined to the
 //! pass's file at compile time, so there is one copy of each.
 
 macro_rules! wgsl {
@@ -33,6 +33,7 @@ pub const DISTANCE_MAP: &str = wgsl!(
     "common/cube.wgsl",
     "common/fullscreen.wgsl",
     "common/tiles.wgsl",
+    "common/tile_list.wgsl",
     "distance_map.wgsl"
 );
 /// The distance-map method's PCF pass (`variable_pcf.wgsl`): tap spacing that grows with the
@@ -42,6 +43,7 @@ pub const VARIABLE_PCF: &str = wgsl!(
     "common/cube.wgsl",
     "common/fullscreen.wgsl",
     "common/tiles.wgsl",
+    "common/tile_list.wgsl",
     "common/receiver.wgsl",
     "common/pcf_taps.wgsl",
     "variable_pcf.wgsl"
@@ -71,6 +73,7 @@ pub const BLUR: &str = wgsl!(
     "common/cube.wgsl",
     "common/fullscreen.wgsl",
     "common/tiles.wgsl",
+    "common/tile_list.wgsl",
     "blur.wgsl"
 );
 /// Resolve pass (`resolve.wgsl`): writes a light's visibility into its layer of the output

@@ -94,17 +94,21 @@ pub enum LightTexture {
     FattenedMap,
     /// Depth of the casters' back faces (the distance-map method).
     ExitMap,
-    /// RG16F: R = distance to the occluder (world units), G = mask (1 inside the fattened
-    /// shadow, 0 outside, -1 on non-receivers, -2 where nothing was drawn; with the tile
-    /// classification, -1 and -2 only on the tiles it kept, the others 0).
+    /// R = distance to the occluder (world units), G = mask (1 inside the fattened shadow, 0
+    /// outside, -1 on non-receivers, -2 where nothing was drawn; with the tile classification,
+    /// -1 and -2 only on the tiles it kept, the others 0). RG16F; the compute path's is
+    /// RGBA16F, B the classification (0 where no pass runs, 0.5 where a shadow can fall, 1
+    /// beside a shadow).
     DistanceMap,
-    /// Raw PCF or PCSS visibility (R16F).
+    /// Raw PCF or PCSS visibility (R16F; the compute path's is RGBA16F, GB the blur's
+    /// standard deviations in pixels along screen x and y).
     Visibility,
     /// Blurred visibility (R16F). After the distance map, the blur writes the light's layer
     /// directly: this is then the whole visibility array ([`Shadows::visibility_texture`]).
     BlurredVisibility,
     /// The tile classification (R8, one texel per 16 x 16 pixel screen tile): 1 where the
-    /// distance map ran, 0 where no shadow can fall ([`crate::PenumbraSettings::tiles`]).
+    /// distance map ran, 0 where no shadow can fall ([`crate::PenumbraSettings::tiles`]). The
+    /// compute path lists its tiles instead and has none.
     TileClasses,
 }
 
@@ -219,6 +223,8 @@ pub struct Shadows {
     generation: u64,
     /// The device is a software rasterizer (for [`crate::TileClassification::Auto`]).
     software: bool,
+    /// The device runs compute passes ([`crate::PenumbraSettings::fragment_passes`]).
+    compute: bool,
     /// The distance-map method's blurs: up to four lights each (one each when
     /// [`PenumbraSettings::batch_lights`](crate::PenumbraSettings::batch_lights) is off),
     /// with the slots of the lights they blur.
@@ -254,6 +260,7 @@ impl Shadows {
             screen_space: true,
             prepared: false,
             software: device.adapter_info().device_type == wgpu::DeviceType::Cpu,
+            compute: crate::passes::has_compute(device),
             loss: None,
         });
         match error {
@@ -499,6 +506,9 @@ impl Shadows {
             let software = this.software;
             for state in this.lights.iter_mut().flatten() {
                 let mut chain = Chain::new(&this.settings, &state.light);
+                if !this.compute {
+                    chain = chain.without_compute();
+                }
                 if !this.screen_space {
                     // Only the light-space map: the renderer shades in its forward pass.
                     chain = chain.map_only();
@@ -651,7 +661,8 @@ impl Shadows {
             .enumerate()
             .filter_map(|(slot, s)| {
                 let chain = s.as_ref()?.planned?.chain;
-                (chain.blur() && chain.distance_map()).then_some(slot)
+                // The compute path's blur is its chain's own.
+                (chain.blur() && chain.distance_map() && !chain.compute()).then_some(slot)
             })
             .collect();
         let per_pass = if self.settings.penumbra.batch_lights {
@@ -910,13 +921,12 @@ impl Shadows {
     pub fn light_texture(&self, id: LightId, which: LightTexture) -> Option<&wgpu::Texture> {
         let s = self.state(id).ok()?;
         let fattened = s.maps.as_ref().and_then(|m| m.fattened.as_ref());
-        let distance = s.screen.distance_map();
         match which {
             LightTexture::ShadowMap => s.maps.as_ref().map(|m| m.shadow.texture()),
             LightTexture::FattenedMap => fattened.map(|(f, _)| f.texture()),
             LightTexture::ExitMap => fattened.map(|(_, e)| e.texture()),
-            LightTexture::DistanceMap => distance.map(|(d, _)| d.distance_texture()),
-            LightTexture::TileClasses => distance.and_then(|(d, _)| d.tile_classes_texture()),
+            LightTexture::DistanceMap => s.screen.distance_texture(),
+            LightTexture::TileClasses => s.screen.tile_classes_texture(),
             LightTexture::Visibility => s.screen.raw_visibility(),
             LightTexture::BlurredVisibility => match s.report.map(|r| r.chain) {
                 Some(chain) if chain.blur() && chain.distance_map() => self.visibility.as_ref().map(|v| &v.0),

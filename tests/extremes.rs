@@ -533,7 +533,10 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                     reduced_resolution: rotate,
                     blur_taps,
                     depth_aware_blur: aware,
-                    batch_lights: true,
+                    // Batched blurs and reduced resolution are draws: with neither, the compute
+                    // path runs.
+                    batch_lights: nearest && mask,
+                    fragment_passes: false,
                     indirect_weight: indirect,
                 }
             },

@@ -273,12 +273,16 @@ fn intermediates_stay_finite_at_extreme_settings() {
             let Some(texture) = texture else {
                 continue;
             };
-            let (values, _) = read(&gpu, texture);
+            let (values, channels) = read(&gpu, texture);
             let bad = values.iter().filter(|v| !v.is_finite()).count();
             assert_eq!(bad, 0, "{what}: {bad} non-finite values in {which:?}");
             if which == "Visibility" || which == "BlurredVisibility" {
+                // The visibility is the first channel (the compute path's raw visibility
+                // carries the blur's deviations beside it).
                 assert!(
-                    values.iter().all(|v| (0.0..=1.0).contains(v)),
+                    values
+                        .chunks_exact(channels as usize)
+                        .all(|v| (0.0..=1.0).contains(&v[0])),
                     "{what}: visibility outside [0, 1] in {which:?}"
                 );
             }
@@ -594,7 +598,10 @@ fn reduced_resolution_keeps_the_penumbra_and_full_resolution_at_depth_edges() {
     // The raw PCF visibility (before the blur) and the camera depth.
     let raw = |reduced: bool| {
         let (_, renderer) = render_frame(&gpu, &scene, &camera, with(reduced), (w, h));
-        let (pcf, _) = read(&gpu, renderer.debug_texture(LightTexture::Visibility).unwrap());
+        // The visibility is the first channel (reduced resolution is drawn; full resolution
+        // runs as compute, whose raw visibility carries the blur's deviations beside it).
+        let (pcf, channels) = read(&gpu, renderer.debug_texture(LightTexture::Visibility).unwrap());
+        let pcf: Vec<f32> = pcf.chunks_exact(channels as usize).map(|c| c[0]).collect();
         let (depth, _) = read(&gpu, renderer.camera_depth_texture().unwrap());
         (pcf, depth)
     };

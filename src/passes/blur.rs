@@ -405,3 +405,223 @@ impl BlurPass {
         );
     }
 }
+
+/// The blur of the compute path, one light, over the distance map's listed tiles: the
+/// horizontal axis a compute pass (`cs_main` in `shaders/blur.wgsl`) into a texture of its own
+/// (RGBA16F, cleared to 1 first), the vertical axis a draw of the listed tiles' quads
+/// (`fs_listed`) into the light's layer (cleared to 1), which is the engine's render target
+/// and so stays a draw. Both read the variable PCF's output (the visibility and, in G and B,
+/// the deviations) and the distance map's classification (B).
+pub(crate) struct BlurCompute {
+    switches: BlurSwitches,
+    layout: wgpu::BindGroupLayout,
+    out_layout: wgpu::BindGroupLayout,
+    horizontal: wgpu::ComputePipeline,
+    vertical: wgpu::RenderPipeline,
+    sampler: wgpu::Sampler,
+    axis_buffers: [wgpu::Buffer; 2],
+    axis_groups: [wgpu::BindGroup; 2],
+    temp: (wgpu::Texture, wgpu::TextureView),
+    /// The horizontal axis's inputs and output, the vertical axis's inputs.
+    bind_groups: Option<[wgpu::BindGroup; 3]>,
+}
+
+impl BlurCompute {
+    const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        self.axis_buffers.iter().map(wgpu::Buffer::size).sum::<u64>() + texture_bytes(&self.temp.0)
+    }
+
+    /// The pass for `switches` (after the distance map, not fixed).
+    pub(crate) fn new(device: &wgpu::Device, frame_size: usize, switches: BlurSwitches) -> Self {
+        let shader = crate::shaders::module(device, "blur.wgsl", crate::shaders::BLUR);
+        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let filterable = wgpu::TextureSampleType::Float { filterable: true };
+        let mut entries = vec![
+            entry::uniform(
+                0,
+                wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
+                frame_size,
+                false,
+            ),
+            entry::and_compute(entry::texture_2d(1, unfilterable)),
+            entry::and_compute(entry::sampler(2, wgpu::SamplerBindingType::Filtering)),
+            entry::and_compute(entry::texture_2d(3, filterable)),
+        ];
+        entries.extend((4..13).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
+        // The variable PCF's output is read as the deviations too.
+        entries[8] = entry::and_compute(entry::texture_2d(8, filterable));
+        let layout = crate::gpu_helpers::layout(device, "BlurCompute::layout", &entries);
+        let out_layout = crate::gpu_helpers::layout(
+            device,
+            "BlurCompute::out_layout",
+            &[entry::storage_texture(1, Self::FORMAT)],
+        );
+        let axis_layout = crate::gpu_helpers::layout(
+            device,
+            "BlurCompute::axis_layout",
+            &[entry::and_compute(entry::fragment_uniform(
+                0,
+                size_of::<BlurUniform>(),
+            ))],
+        );
+        let list_layout = super::TileListPass::list_layout(device);
+        let flag = |on: bool| if on { 1.0 } else { 0.0 };
+        let constants = [
+            ("FIXED_STEP", 0.0),
+            ("DEPTH_AWARE", flag(switches.depth_aware)),
+            ("LIGHTS", 1.0),
+            ("COMPUTE_PATH", 1.0),
+        ];
+        let horizontal = super::compute_pipeline(
+            device,
+            "BlurCompute::horizontal",
+            &shader,
+            &[
+                Some(&layout),
+                Some(&axis_layout),
+                Some(&out_layout),
+                Some(&list_layout),
+            ],
+            "cs_main",
+            &constants,
+        );
+        let vertical = Fullscreen {
+            label: "BlurCompute::vertical",
+            shader: &shader,
+            bind_group_layouts: &[Some(&layout), Some(&axis_layout), None, Some(&list_layout)],
+            targets: &[Some(VISIBILITY_FORMAT.into())],
+            depth: None,
+            constants: &constants,
+        }
+        .pipeline_with(device, "vs_listed_tile", "fs_listed");
+        let axis_buffers = ["BlurCompute::horizontal", "BlurCompute::vertical"]
+            .map(|label| crate::gpu_helpers::uniform_buffer(device, label, size_of::<BlurUniform>() as u64));
+        let axis_groups =
+            [0, 1].map(|i| super::bind_group(device, "BlurCompute::axis", &axis_layout, &[&axis_buffers[i]]));
+        Self {
+            switches,
+            layout,
+            out_layout,
+            horizontal,
+            vertical,
+            sampler: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("BlurCompute::linear_sampler"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            }),
+            axis_buffers,
+            axis_groups,
+            temp: super::storage_target(device, "BlurCompute::horizontal", (1, 1), Self::FORMAT, true),
+            bind_groups: None,
+        }
+    }
+
+    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.temp = super::storage_target(
+            device,
+            "BlurCompute::horizontal",
+            (width, height),
+            Self::FORMAT,
+            true,
+        );
+        self.bind_groups = None;
+    }
+
+    pub(crate) fn switches(&self) -> BlurSwitches {
+        self.switches
+    }
+
+    /// Points the pass at its inputs: `pcf` the variable PCF's output, `distance_map` the
+    /// compute path's, `dummy` for the other lights' slots.
+    pub(crate) fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        frame: &wgpu::Buffer,
+        (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
+        pcf: &wgpu::TextureView,
+        distance_map: &wgpu::TextureView,
+        dummy: &wgpu::TextureView,
+    ) {
+        let group = |source: &wgpu::TextureView| {
+            let resources: [&dyn super::Binding; 13] = [
+                frame,
+                camera_depth,
+                &self.sampler,
+                source,
+                distance_map,
+                dummy,
+                dummy,
+                dummy,
+                pcf,
+                dummy,
+                dummy,
+                dummy,
+                receiver_mask,
+            ];
+            super::bind_group(device, "BlurCompute::bind_group", &self.layout, &resources)
+        };
+        let out = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("BlurCompute::out"),
+            layout: &self.out_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(&self.temp.1),
+            }],
+        });
+        self.bind_groups = Some([group(pcf), out, group(&self.temp.1)]);
+    }
+
+    /// Uploads the frame's tap count, step and Gaussian weights.
+    pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &BlurParams) {
+        let weights = gaussian_weights(params.taps);
+        for (i, axis) in [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]]
+            .into_iter()
+            .enumerate()
+        {
+            queue.write_buffer(
+                &self.axis_buffers[i],
+                0,
+                bytemuck::bytes_of(&BlurUniform {
+                    axis,
+                    weights,
+                    taps: params.taps,
+                    step: params.step,
+                    resolve: (i == 1) as u32,
+                    kernel_sigma: kernel_sigma(params.taps, &weights),
+                }),
+            );
+        }
+    }
+
+    /// Records both axes over `tiles`, the vertical one into `layer`.
+    pub(crate) fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        tiles: super::TileList,
+        layer: &wgpu::TextureView,
+    ) {
+        let Some([horizontal, out, vertical]) = &self.bind_groups else {
+            return;
+        };
+        super::clear_target(encoder, "BlurCompute::clear", &self.temp.1, wgpu::Color::WHITE);
+        tiles.dispatch(
+            encoder,
+            "BlurCompute::horizontal",
+            &self.horizontal,
+            &[Some(horizontal), Some(&self.axis_groups[0]), Some(out)],
+        );
+        let mut pass = super::begin_pass(
+            encoder,
+            "BlurCompute::vertical",
+            &[super::cleared(layer, wgpu::Color::WHITE)],
+            None,
+        );
+        pass.set_pipeline(&self.vertical);
+        pass.set_bind_group(0, vertical, &[]);
+        pass.set_bind_group(1, &self.axis_groups[1], &[]);
+        tiles.draw(&mut pass);
+    }
+}

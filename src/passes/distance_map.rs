@@ -277,6 +277,170 @@ impl DistanceMapPass {
     }
 }
 
+/// The distance map of the compute path: the tile list first ([`super::TileListPass`]), then
+/// both draws' work in one compute pass over the listed tiles (`cs_main` in
+/// `shaders/distance_map.wgsl`), into one texture (RGBA16F: R distance, G mask, B the
+/// classification the draws write as depth, 0, 0.5 or 1), cleared first so that the other
+/// tiles read as no shadow. The later passes read the classification instead of testing a
+/// depth.
+pub(crate) struct DistanceMapCompute {
+    switches: DistanceSwitches,
+    light_kind: u32,
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+    distance: (wgpu::Texture, wgpu::TextureView),
+    bind_group: Option<wgpu::BindGroup>,
+    tiles: super::TileListPass,
+    /// As [`DistanceMapPass`]'s.
+    reduce_pending: std::sync::atomic::AtomicBool,
+}
+
+impl DistanceMapCompute {
+    /// Its texture's format: a half float a compute pass can write everywhere (RG16F cannot be
+    /// a storage texture on the web), with the same precision as [`DistanceMapPass`]'s.
+    pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        texture_bytes(&self.distance.0) + self.tiles.allocated_bytes()
+    }
+
+    /// As [`DistanceMapPass::new`]; `switches.tiles` off lists every tile.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        frame_size: usize,
+        switches: DistanceSwitches,
+        light_kind: u32,
+    ) -> Self {
+        let shader = crate::shaders::module(device, "distance_map.wgsl", crate::shaders::DISTANCE_MAP);
+        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let mut entries = vec![entry::uniform(0, wgpu::ShaderStages::COMPUTE, frame_size, false)];
+        entries.extend((1..=6).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
+        entries.push(entry::storage_texture(7, Self::FORMAT));
+        let layout = crate::gpu_helpers::layout(device, "DistanceMapCompute::layout", &entries);
+        let list_layout = super::TileListPass::list_layout(device);
+        let pipeline = super::compute_pipeline(
+            device,
+            "DistanceMapCompute::pipeline",
+            &shader,
+            &[Some(&layout), None, None, Some(&list_layout)],
+            "cs_main",
+            &[
+                ("MASK_EARLY_OUT", if switches.mask_early_out { 1.0 } else { 0.0 }),
+                ("NEAREST_CASTER", if switches.nearest_caster { 1.0 } else { 0.0 }),
+                (LIGHT_KIND, light_kind as f64),
+            ],
+        );
+        let mut pass = Self {
+            switches,
+            light_kind,
+            layout,
+            pipeline,
+            distance: super::storage_target(
+                device,
+                "DistanceMapCompute::distance_map",
+                (1, 1),
+                Self::FORMAT,
+                true,
+            ),
+            bind_group: None,
+            tiles: super::TileListPass::new(device, frame_size, light_kind, switches.tiles),
+            reduce_pending: std::sync::atomic::AtomicBool::new(true),
+        };
+        pass.resize(device, 1, 1);
+        pass
+    }
+
+    /// Recreates the screen-sized texture and list; the pass must then be bound again.
+    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.distance = super::storage_target(
+            device,
+            "DistanceMapCompute::distance_map",
+            (width, height),
+            Self::FORMAT,
+            true,
+        );
+        self.tiles.resize(device, width, height);
+        self.bind_group = None;
+    }
+
+    /// As [`DistanceMapPass::bind`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        frame: &wgpu::Buffer,
+        (fattened_map, fattened_side): (&wgpu::TextureView, u32),
+        occluder_offset: &wgpu::TextureView,
+        exit_map: &wgpu::TextureView,
+        shadow_map: &wgpu::TextureView,
+        camera_depth: &wgpu::TextureView,
+        receiver_mask: &wgpu::TextureView,
+    ) {
+        self.tiles
+            .bind(device, frame, camera_depth, fattened_map, fattened_side);
+        self.reduce_pending
+            .store(true, std::sync::atomic::Ordering::Relaxed);
+        self.bind_group = Some(super::bind_group(
+            device,
+            "DistanceMapCompute::bind_group",
+            &self.layout,
+            &[
+                frame,
+                fattened_map,
+                camera_depth,
+                receiver_mask,
+                occluder_offset,
+                exit_map,
+                shadow_map,
+                &self.distance.1,
+            ],
+        ));
+    }
+
+    pub(crate) fn light_kind(&self) -> u32 {
+        self.light_kind
+    }
+
+    pub(crate) fn switches(&self) -> DistanceSwitches {
+        self.switches
+    }
+
+    /// Distance (R), mask (G) and classification (B).
+    pub fn distance_map(&self) -> &wgpu::TextureView {
+        &self.distance.1
+    }
+
+    pub fn distance_texture(&self) -> &wgpu::Texture {
+        &self.distance.0
+    }
+
+    /// The listed tiles, for the passes over them.
+    pub(crate) fn listed(&self) -> super::TileList<'_> {
+        self.tiles.listed()
+    }
+
+    /// Records the tile list and the distance map over it (`maps_drawn`: the light's maps
+    /// were drawn this frame).
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, maps_drawn: bool) {
+        let Some(group) = &self.bind_group else {
+            return;
+        };
+        let reduce = self
+            .reduce_pending
+            .swap(false, std::sync::atomic::Ordering::Relaxed)
+            || maps_drawn;
+        self.tiles.encode(encoder, reduce);
+        super::clear_target(
+            encoder,
+            "DistanceMapCompute::clear",
+            &self.distance.1,
+            wgpu::Color::TRANSPARENT,
+        );
+        self.listed()
+            .dispatch(encoder, "DistanceMapCompute", &self.pipeline, &[Some(group)]);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     /// The distance map's format keeps distances from 1e-4 to 1e4 scene units to a relative

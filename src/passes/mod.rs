@@ -36,6 +36,7 @@ mod tile_classify;
 mod tile_clear;
 mod variable_pcf;
 
+pub(crate) use blur::BlurCompute;
 #[cfg(test)]
 pub(crate) use blur::BlurUniform;
 pub(crate) use blur::{BlurInput, PackedVisibility};
@@ -44,6 +45,7 @@ pub use blur::{BlurPass, MAX_BATCHED_LIGHTS};
 pub use composite::CompositePass;
 #[cfg(feature = "renderer")]
 pub use depth_prepass::DepthPrepass;
+pub(crate) use distance_map::DistanceMapCompute;
 pub use distance_map::DistanceMapPass;
 pub use exit_map::ExitMapPass;
 pub use fattened_shadow_map::FattenedShadowMapPass;
@@ -62,7 +64,9 @@ pub(crate) use crate::gpu_helpers::{
 };
 #[cfg(feature = "renderer")]
 pub(crate) use crate::gpu_helpers::{POSITION, blended_target, stream, vertex_layout};
+pub(crate) use tile_classify::TileListPass;
 pub(crate) use tile_clear::TileClear;
+pub(crate) use variable_pcf::VariablePcfCompute;
 pub use variable_pcf::VariablePcfPass;
 
 /// Format of the screen-space visibility textures (filterable, for the blur's bilinear taps).
@@ -182,6 +186,136 @@ pub(crate) fn draw_fullscreen_into(
         pass.set_bind_group(i as u32, *group, &[]);
     }
     draw_area(&mut pass, tiles);
+}
+
+/// The bind group index of a tile list (`shaders/common/tile_list.wgsl`).
+pub(crate) const TILE_LIST_GROUP: u32 = 3;
+
+/// The screen tiles a [`TileListPass`] listed, for the passes that run over them: the list's
+/// bind group (group [`TILE_LIST_GROUP`], `shaders/common/tile_list.wgsl`) and the indirect
+/// arguments the list's length gives (a dispatch of one 16 x 16 workgroup per tile at offset
+/// 0, a draw of one quad per tile at offset 16).
+#[derive(Clone, Copy)]
+pub(crate) struct TileList<'a> {
+    pub group: &'a wgpu::BindGroup,
+    pub args: &'a wgpu::Buffer,
+}
+
+impl TileList<'_> {
+    /// Dispatches `pipeline` (bind groups from 0, `None` skipped) over the listed tiles.
+    pub fn dispatch(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        label: &str,
+        pipeline: &wgpu::ComputePipeline,
+        groups: &[Option<&wgpu::BindGroup>],
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(label),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(pipeline);
+        for (i, group) in groups.iter().enumerate() {
+            if let Some(group) = group {
+                pass.set_bind_group(i as u32, *group, &[]);
+            }
+        }
+        pass.set_bind_group(TILE_LIST_GROUP, self.group, &[]);
+        pass.dispatch_workgroups_indirect(self.args, 0);
+    }
+
+    /// Draws one quad per listed tile (the pipeline's vertex stage is `vs_listed_tile`).
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_bind_group(TILE_LIST_GROUP, self.group, &[]);
+        pass.draw_indirect(self.args, 16);
+    }
+}
+
+/// Whether `device` runs the screen-space chain as compute passes over a tile list: compute
+/// shaders with 16 x 16 workgroups, storage textures and buffers (a WebGL 2 device has none).
+pub(crate) fn has_compute(device: &wgpu::Device) -> bool {
+    let l = device.limits();
+    l.max_compute_invocations_per_workgroup >= 256
+        && l.max_compute_workgroup_size_x >= 16
+        && l.max_compute_workgroup_size_y >= 16
+        && l.max_compute_workgroups_per_dimension >= 65535
+        && l.max_storage_textures_per_shader_stage >= 1
+        && l.max_storage_buffers_per_shader_stage >= 2
+        && l.max_bind_groups >= 4
+}
+
+/// A compute pipeline with entry point `entry` and values for its override constants.
+pub(crate) fn compute_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    shader: &wgpu::ShaderModule,
+    bind_group_layouts: &[Option<&wgpu::BindGroupLayout>],
+    entry: &str,
+    constants: &[(&str, f64)],
+) -> wgpu::ComputePipeline {
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts,
+        immediate_size: 0,
+    });
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: Some(&layout),
+        module: shader,
+        entry_point: Some(entry),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants,
+            ..Default::default()
+        },
+        cache: None,
+    })
+}
+
+/// A texture a compute pass writes and later passes read, which a render pass can clear
+/// ([`clear_target`]) when `clearable` (a format some devices cannot render to, R32F on GL,
+/// is not).
+pub(crate) fn storage_target(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    clearable: bool,
+) -> (wgpu::Texture, wgpu::TextureView) {
+    let clear = if clearable {
+        wgpu::TextureUsages::RENDER_ATTACHMENT
+    } else {
+        wgpu::TextureUsages::empty()
+    };
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: width.max(1),
+            height: height.max(1),
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::STORAGE_BINDING
+            | clear
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    (texture, view)
+}
+
+/// Sets every texel of `view` to `color` (a render pass that only clears): the compute passes
+/// write only the listed tiles, and the pixels of the others must read as no shadow.
+pub(crate) fn clear_target(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    view: &wgpu::TextureView,
+    color: wgpu::Color,
+) {
+    drop(begin_pass(encoder, label, &[cleared(view, color)], None));
 }
 
 /// The light-space passes' per-light data: a uniform of `size` bytes alone in a bind group

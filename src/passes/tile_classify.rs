@@ -226,3 +226,228 @@ impl TileClassifyPass {
         );
     }
 }
+
+/// The tile classification of the compute path: the same test, one invocation per screen tile,
+/// which appends the tiles it keeps to a list (every tile with the classification off), and
+/// the indirect arguments of the passes that run over that list ([`super::TileList`]): a
+/// dispatch of one 16 x 16 workgroup per listed tile, a draw of one quad per listed tile. So
+/// the distance map, PCF and blur cost what the listed tiles do, on a GPU as on a software
+/// rasterizer.
+///
+/// Inputs: the frame uniform, the camera depth and the fattened shadow map. Outputs: the
+/// reduced fattened map (R32F, redrawn when the light's maps are), the list (a count, then one
+/// `x | y << 16` per tile) and the arguments.
+pub(crate) struct TileListPass {
+    classify_layout: wgpu::BindGroupLayout,
+    reduce_layout: wgpu::BindGroupLayout,
+    list_layout: wgpu::BindGroupLayout,
+    reduce: wgpu::ComputePipeline,
+    classify: wgpu::ComputePipeline,
+    finish: wgpu::ComputePipeline,
+    reduced: (wgpu::Texture, wgpu::TextureView),
+    list: wgpu::Buffer,
+    args: wgpu::Buffer,
+    /// The list as group [`super::TILE_LIST_GROUP`] of the passes over it.
+    list_group: wgpu::BindGroup,
+    /// Tiles across and down.
+    tiles: (u32, u32),
+    groups: Option<(wgpu::BindGroup, wgpu::BindGroup)>,
+    gather: wgpu::Sampler,
+}
+
+impl TileListPass {
+    /// GPU memory this pass allocated: its texture and buffers, in bytes.
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        texture_bytes(&self.reduced.0) + self.list.size() + self.args.size()
+    }
+
+    /// The layout of the list's bind group (`shaders/common/tile_list.wgsl`), for the passes
+    /// over it.
+    pub(crate) fn list_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+        crate::gpu_helpers::layout(
+            device,
+            "TileListPass::list_layout",
+            &[entry::storage_buffer(
+                0,
+                wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::COMPUTE,
+                true,
+            )],
+        )
+    }
+
+    /// Made for one light kind ([`crate::frame::light_kind`]); `classify` false lists every
+    /// tile.
+    pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32, classify: bool) -> Self {
+        let shader = crate::shaders::module(device, "tile_classify.wgsl", crate::shaders::TILE_CLASSIFY);
+        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let classify_layout = crate::gpu_helpers::layout(
+            device,
+            "TileListPass::classify_layout",
+            &[
+                entry::uniform(0, compute, frame_size, false),
+                entry::and_compute(entry::texture_2d(1, unfilterable)),
+                entry::and_compute(entry::texture_2d(2, unfilterable)),
+                entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::NonFiltering)),
+                entry::storage_buffer(5, compute, false),
+                entry::storage_buffer(7, compute, false),
+            ],
+        );
+        let reduce_layout = crate::gpu_helpers::layout(
+            device,
+            "TileListPass::reduce_layout",
+            &[
+                entry::and_compute(entry::texture_2d(3, unfilterable)),
+                entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::NonFiltering)),
+                entry::storage_texture(6, REDUCED_STORAGE_FORMAT),
+            ],
+        );
+        let constants = [
+            (LIGHT_KIND, light_kind as f64),
+            ("CLASSIFY", if classify { 1.0 } else { 0.0 }),
+        ];
+        let pipeline = |label, layout: &wgpu::BindGroupLayout, entry| {
+            super::compute_pipeline(device, label, &shader, &[Some(layout)], entry, &constants)
+        };
+        let list_layout = Self::list_layout(device);
+        let (list, list_group) = Self::list(device, &list_layout, 1);
+        Self {
+            reduce: pipeline("TileListPass::reduce", &reduce_layout, "cs_reduce"),
+            classify: pipeline("TileListPass::classify", &classify_layout, "cs_classify"),
+            finish: pipeline("TileListPass::finish", &classify_layout, "cs_finish"),
+            classify_layout,
+            reduce_layout,
+            list_layout,
+            reduced: super::storage_target(
+                device,
+                "TileListPass::reduced",
+                (1, 1),
+                REDUCED_STORAGE_FORMAT,
+                false,
+            ),
+            list,
+            args: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("TileListPass::args"),
+                size: 32,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+                mapped_at_creation: false,
+            }),
+            list_group,
+            tiles: (1, 1),
+            groups: None,
+            gather: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("TileListPass::gather"),
+                ..Default::default()
+            }),
+        }
+    }
+
+    /// A list of up to `tiles` tiles and its bind group.
+    fn list(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        tiles: u32,
+    ) -> (wgpu::Buffer, wgpu::BindGroup) {
+        let list = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("TileListPass::list"),
+            size: 4 * (1 + u64::from(tiles.max(1))),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let group = super::bind_group(device, "TileListPass::list", layout, &[&list.as_entire_binding()]);
+        (list, group)
+    }
+
+    /// Sizes the list for a screen; the pass must then be bound again.
+    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.tiles = TileClassifyPass::tiles(width, height);
+        (self.list, self.list_group) = Self::list(device, &self.list_layout, self.tiles.0 * self.tiles.1);
+        self.groups = None;
+    }
+
+    /// Points the pass at its inputs; `fattened_map` is `fattened_side` texels a side.
+    pub fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        frame: &wgpu::Buffer,
+        camera_depth: &wgpu::TextureView,
+        fattened_map: &wgpu::TextureView,
+        fattened_side: u32,
+    ) {
+        let side = fattened_side.div_ceil(REDUCE);
+        if self.reduced.0.width() != side {
+            self.reduced = super::storage_target(
+                device,
+                "TileListPass::reduced",
+                (side, side),
+                REDUCED_STORAGE_FORMAT,
+                false,
+            );
+        }
+        let classify = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("TileListPass::classify"),
+            layout: &self.classify_layout,
+            entries: &entries([
+                (0, frame.as_entire_binding()),
+                (1, wgpu::BindingResource::TextureView(camera_depth)),
+                (2, wgpu::BindingResource::TextureView(&self.reduced.1)),
+                (4, wgpu::BindingResource::Sampler(&self.gather)),
+                (5, self.list.as_entire_binding()),
+                (7, self.args.as_entire_binding()),
+            ]),
+        });
+        let reduce = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("TileListPass::reduce"),
+            layout: &self.reduce_layout,
+            entries: &entries([
+                (3, wgpu::BindingResource::TextureView(fattened_map)),
+                (4, wgpu::BindingResource::Sampler(&self.gather)),
+                (6, wgpu::BindingResource::TextureView(&self.reduced.1)),
+            ]),
+        });
+        self.groups = Some((classify, reduce));
+    }
+
+    /// The list, for the passes over it.
+    pub fn listed(&self) -> super::TileList<'_> {
+        super::TileList {
+            group: &self.list_group,
+            args: &self.args,
+        }
+    }
+
+    /// Records the reduction of the fattened map (`maps_drawn`: the light's maps were drawn
+    /// since the last one), the list's reset, the classification and the arguments.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, maps_drawn: bool) {
+        let Some((classify, reduce)) = &self.groups else {
+            return;
+        };
+        encoder.clear_buffer(&self.list, 0, Some(4));
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("TileListPass"),
+            timestamp_writes: None,
+        });
+        if maps_drawn {
+            let side = self.reduced.0.width();
+            pass.set_pipeline(&self.reduce);
+            pass.set_bind_group(0, reduce, &[]);
+            pass.dispatch_workgroups(side.div_ceil(8), side.div_ceil(8), 1);
+        }
+        pass.set_pipeline(&self.classify);
+        pass.set_bind_group(0, classify, &[]);
+        pass.dispatch_workgroups(self.tiles.0.div_ceil(8), self.tiles.1.div_ceil(8), 1);
+        pass.set_pipeline(&self.finish);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+}
+
+/// The compute path's reduced fattened map: 32-bit, which a compute pass can write everywhere
+/// (a half float cannot be a storage texture on the web).
+const REDUCED_STORAGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+/// Bind group entries at the given bindings.
+fn entries<'a, const N: usize>(
+    resources: [(u32, wgpu::BindingResource<'a>); N],
+) -> [wgpu::BindGroupEntry<'a>; N] {
+    resources.map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource })
+}

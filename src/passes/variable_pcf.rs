@@ -400,3 +400,165 @@ impl VariablePcfPass {
         draw_area(&mut pass, tiles);
     }
 }
+
+/// The variable PCF of the compute path: one compute pass over the distance map's listed
+/// tiles (`cs_main` in `shaders/variable_pcf.wgsl`), at the pixels whose classification says a
+/// shadow can fall, into one texture (RGBA16F: R the visibility, GB the blur's standard
+/// deviations along screen x and y), cleared first to (1, 0, 0): no shadow, no blur.
+pub(crate) struct VariablePcfCompute {
+    switches: PcfSwitches,
+    light_kind: u32,
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+    params: wgpu::Buffer,
+    sampler: wgpu::Sampler,
+    output: (wgpu::Texture, wgpu::TextureView),
+    bind_group: Option<wgpu::BindGroup>,
+}
+
+impl VariablePcfCompute {
+    /// The output's format: half floats, which a compute pass can write and the blur filter.
+    pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        self.params.size() + texture_bytes(&self.output.0)
+    }
+
+    /// The pass for `switches` (its half resolution is not used: that stays a draw) and one
+    /// light kind.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        frame_size: usize,
+        switches: PcfSwitches,
+        light_kind: u32,
+    ) -> Self {
+        let shader = crate::shaders::module(device, "variable_pcf.wgsl", crate::shaders::VARIABLE_PCF);
+        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let layout = crate::gpu_helpers::layout(
+            device,
+            "VariablePcfCompute::layout",
+            &[
+                entry::uniform(0, wgpu::ShaderStages::COMPUTE, frame_size, false),
+                entry::and_compute(entry::texture_2d(1, unfilterable)),
+                entry::and_compute(entry::texture_2d(2, unfilterable)),
+                entry::and_compute(entry::texture_2d(3, wgpu::TextureSampleType::Depth)),
+                entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::Comparison)),
+                entry::uniform(5, wgpu::ShaderStages::COMPUTE, size_of::<PcfUniform>(), false),
+                entry::storage_texture(6, Self::FORMAT),
+            ],
+        );
+        let list_layout = super::TileListPass::list_layout(device);
+        let pipeline = super::compute_pipeline(
+            device,
+            "VariablePcfCompute::pipeline",
+            &shader,
+            &[Some(&layout), None, None, Some(&list_layout)],
+            "cs_main",
+            &[
+                ("ROTATE_TAPS", if switches.rotate_taps { 1.0 } else { 0.0 }),
+                ("HALF_RESOLUTION", 0.0),
+                (LIGHT_KIND, light_kind as f64),
+            ],
+        );
+        Self {
+            switches,
+            light_kind,
+            layout,
+            pipeline,
+            params: crate::gpu_helpers::uniform_buffer(
+                device,
+                "VariablePcfCompute::params",
+                size_of::<PcfUniform>() as u64,
+            ),
+            sampler: super::comparison_sampler(
+                device,
+                "VariablePcfCompute::comparison_sampler",
+                wgpu::FilterMode::Linear,
+            ),
+            output: super::storage_target(
+                device,
+                "VariablePcfCompute::visibility",
+                (1, 1),
+                Self::FORMAT,
+                true,
+            ),
+            bind_group: None,
+        }
+    }
+
+    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.output = super::storage_target(
+            device,
+            "VariablePcfCompute::visibility",
+            (width, height),
+            Self::FORMAT,
+            true,
+        );
+        self.bind_group = None;
+    }
+
+    /// Points the pass at its inputs (`distance_map`: the compute path's).
+    pub fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        frame: &wgpu::Buffer,
+        camera_depth: &wgpu::TextureView,
+        distance_map: &wgpu::TextureView,
+        shadow_map: &wgpu::TextureView,
+    ) {
+        self.bind_group = Some(super::bind_group(
+            device,
+            "VariablePcfCompute::bind_group",
+            &self.layout,
+            &[
+                frame,
+                camera_depth,
+                distance_map,
+                shadow_map,
+                &self.sampler,
+                &self.params,
+                &self.output.1,
+            ],
+        ));
+    }
+
+    pub(crate) fn switches(&self) -> PcfSwitches {
+        self.switches
+    }
+
+    pub(crate) fn light_kind(&self) -> u32 {
+        self.light_kind
+    }
+
+    pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &PcfUniform) {
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
+    }
+
+    /// R the visibility, GB the blur's standard deviations.
+    pub fn output(&self) -> &wgpu::TextureView {
+        &self.output.1
+    }
+
+    pub fn output_texture(&self) -> &wgpu::Texture {
+        &self.output.0
+    }
+
+    /// Records the pass over `tiles`.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, tiles: super::TileList) {
+        let Some(group) = &self.bind_group else {
+            return;
+        };
+        super::clear_target(
+            encoder,
+            "VariablePcfCompute::clear",
+            &self.output.1,
+            wgpu::Color {
+                r: 1.0,
+                g: 0.0,
+                b: 0.0,
+                a: 0.0,
+            },
+        );
+        tiles.dispatch(encoder, "VariablePcfCompute", &self.pipeline, &[Some(group)]);
+    }
+}

@@ -103,13 +103,16 @@ pub fn finite_frame(
             // Its texels have no defined layout to copy out; the visibility still is checked.
             continue;
         }
-        let (values, _) = read_f32(gpu, texture);
+        let (values, channels) = read_f32(gpu, texture);
         let bad = values.iter().filter(|v| !v.is_finite()).count();
         assert_eq!(bad, 0, "{what}: {bad} non-finite values in {which:?}");
         if matches!(
             which,
             penumbra::LightTexture::Visibility | penumbra::LightTexture::BlurredVisibility
         ) {
+            // The visibility is the first channel (the compute path's raw visibility carries
+            // the blur's deviations beside it).
+            let values: Vec<f32> = values.chunks_exact(channels as usize).map(|c| c[0]).collect();
             let outside = values.iter().filter(|v| !(0.0..=1.0).contains(*v)).count();
             assert_eq!(
                 outside, 0,
@@ -121,7 +124,7 @@ pub fn finite_frame(
     (image, visibility)
 }
 
-/// A texture's texels as f32 (first channel) and its width.
+/// A texture's texels as f32 and how many channels each has.
 pub fn read_f32(gpu: &HeadlessGpu, texture: &wgpu::Texture) -> (Vec<f32>, u32) {
     penumbra::read_texture_f32(&gpu.device, &gpu.queue, texture).unwrap()
 }

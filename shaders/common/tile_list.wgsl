@@ -1,0 +1,47 @@
+// Shared by the passes that run over the list of screen tiles a tile classification wrote
+// (`cs_classify` in `tile_classify.wgsl`): the compute passes, one 16 x 16 workgroup per listed
+// tile in a dispatch sized by the list itself (indirect), and a draw that must stay a draw (it
+// writes the engine's render target) as one quad per listed tile (an indirect draw).
+
+// The listed tiles: how many, then each tile as x | y << 16 (in no particular order).
+struct TileList {
+    count: u32,
+    tiles: array<u32>,
+}
+
+@group(3) @binding(0) var<storage, read> tile_list: TileList;
+
+// Screen pixels per tile side (`TILE` in `tile_classify.wgsl`): the compute passes'
+// workgroups are this size.
+const LIST_TILE: u32 = 16u;
+
+fn listed_tile(index: u32) -> vec2<u32> {
+    let packed = tile_list.tiles[index];
+    return vec2<u32>(packed & 0xffffu, packed >> 16u);
+}
+
+// The pixel invocation `local` of workgroup `group` works on (`groups` the dispatch's size: a
+// list longer than a dispatch's rows allow runs on over rows of workgroups), or -1 past the
+// list's end or the screen's edge.
+fn listed_pixel(group: vec3<u32>, groups: vec3<u32>, local: vec3<u32>) -> vec2<i32> {
+    let index = group.x + group.y * groups.x;
+    if index >= tile_list.count {
+        return vec2<i32>(-1);
+    }
+    let pixel = listed_tile(index) * LIST_TILE + local.xy;
+    if any(vec2<f32>(pixel) >= frame.view.size) {
+        return vec2<i32>(-1);
+    }
+    return vec2<i32>(pixel);
+}
+
+// Corner `index` (0 to 5, two triangles) of listed tile `instance`'s quad, at depth 0.
+@vertex
+fn vs_listed_tile(@builtin(vertex_index) index: u32, @builtin(instance_index) instance: u32) -> @builtin(position) vec4<f32> {
+    let tile = listed_tile(instance);
+    let k = index % 6u;
+    let corner = vec2<u32>(u32(k == 1u || k == 4u || k == 5u), u32(k == 2u || k == 3u || k == 5u));
+    let pixel = min(vec2<f32>((tile + corner) * LIST_TILE), frame.view.size);
+    let ndc = vec2<f32>(pixel.x * frame.view.inv_size.x * 2.0 - 1.0, 1.0 - pixel.y * frame.view.inv_size.y * 2.0);
+    return vec4<f32>(ndc, 0.0, 1.0);
+}
