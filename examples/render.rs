@@ -56,6 +56,10 @@ struct Args {
     /// than one light).
     #[arg(long)]
     batch_lights: bool,
+    /// `ours`: the screen-space passes as draws (`PenumbraSettings::fragment_passes`) instead
+    /// of compute passes over the tile list, to compare their cost.
+    #[arg(long)]
+    fragment_passes: bool,
     /// Also render the ground-truth reference with this many light samples, print the
     /// visibility error (RMSE, penumbra RMSE, max) and FLIP, and write OUT.heat.png (the
     /// visibility error) next to the output.
@@ -112,6 +116,7 @@ fn main() -> Result<()> {
     settings.penumbra.nearest_caster = !args.no_nearest_caster;
     settings.penumbra.reduced_resolution = args.reduced_resolution;
     settings.penumbra.batch_lights = args.batch_lights;
+    settings.penumbra.fragment_passes = args.fragment_passes;
     if let Some(samples) = args.samples {
         settings.reference.samples = samples;
     }

@@ -26,8 +26,9 @@ override FIXED_STEP: bool = false;
 override DEPTH_AWARE: bool = true;
 // how many lights this pass blurs (1 to 4): lights 0 to LIGHTS - 1; several are packed
 override LIGHTS: u32 = 1u;
-// The compute path (one light): the deviations come in the G and B of the visibility texture
-// the variable PCF wrote (bound as `sigma0`), and the distance map's B is the classification.
+// The compute path (one light): the values are 32-bit floats, read linearly between texels
+// by two loads (not filterable everywhere; a filtered fetch also reads two texels more), and
+// the distance map's B is the classification.
 override COMPUTE_PATH: bool = false;
 
 struct Blur {
@@ -68,11 +69,27 @@ struct Blur {
 
 // Every light's value at `uv` (filtered).
 fn values_at(uv: vec2<f32>) -> vec4<f32> {
+    if COMPUTE_PATH {
+        return vec4<f32>(along_axis(uv), 1.0, 1.0, 1.0);
+    }
     let v = textureSampleLevel(source, linear_sampler, uv, 0.0);
     if LIGHTS > 1u {
         return v;
     }
     return vec4<f32>(v.x, 1.0, 1.0, 1.0);
+}
+
+// One light's value at `uv`, which lies on a pixel centre across the draw's axis: linear
+// between the two texels along it (clamped to the edge, as the sampler is).
+fn along_axis(uv: vec2<f32>) -> f32 {
+    let a = blur.axis.xy;
+    let pos = uv * frame.view.size - 0.5;
+    let first = floor(pos * a) + round(pos * (1.0 - a));
+    let t = dot(pos - first, a);
+    let last = vec2<i32>(frame.view.size) - 1;
+    let p0 = clamp(vec2<i32>(first), vec2<i32>(0), last);
+    let p1 = clamp(vec2<i32>(first) + vec2<i32>(a), vec2<i32>(0), last);
+    return mix(textureLoad(source, p0, 0).x, textureLoad(source, p1, 0).x, t);
 }
 
 // Every light's value at `pixel`.
@@ -101,10 +118,6 @@ fn each_light_rg(t0: texture_2d<f32>, t1: texture_2d<f32>, t2: texture_2d<f32>, 
 
 // Every light's standard deviation along the draw's axis (physical mode), in pixels.
 fn sigmas_of(pixel: vec2<i32>) -> vec4<f32> {
-    if COMPUTE_PATH {
-        let s = textureLoad(sigma0, pixel, 0);
-        return vec4<f32>(select(s.y, s.z, blur.axis.y > 0.5), 0.0, 0.0, 0.0);
-    }
     let s = each_light_rg(sigma0, sigma1, sigma2, sigma3, pixel);
     if blur.axis.y > 0.5 {
         return vec4<f32>(s[0].y, s[1].y, s[2].y, s[3].y);
@@ -313,7 +326,7 @@ fn fs_classify(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
 // The compute path, one light. The horizontal axis: one invocation per pixel of the listed
 // tiles (`common/tile_list.wgsl`) where the distance map's classification says a shadow can
 // fall, into `blur_out`; the other pixels keep what it was cleared to (1).
-@group(2) @binding(1) var blur_out: texture_storage_2d<rgba16float, write>;
+@group(2) @binding(1) var blur_out: texture_storage_2d<r32float, write>;
 
 @compute @workgroup_size(16, 16)
 fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {

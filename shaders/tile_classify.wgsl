@@ -208,6 +208,9 @@ struct TileArgs {
 @group(0) @binding(5) var<storage, read_write> list_out: TileListOut;
 @group(0) @binding(6) var reduced_out: texture_storage_2d<r32float, write>;
 @group(0) @binding(7) var<storage, read_write> args: TileArgs;
+// One texel per screen tile, 1 where it was listed (the debug views' and the bench's tile
+// share).
+@group(0) @binding(8) var classes_out: texture_storage_2d<r32float, write>;
 
 @compute @workgroup_size(8, 8)
 fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -223,7 +226,9 @@ fn cs_classify(@builtin(global_invocation_id) id: vec3<u32>) {
     if any(id.xy >= tiles) {
         return;
     }
-    if CLASSIFY && !may_hold_shadow(vec2<i32>(id.xy)) {
+    let kept = !CLASSIFY || may_hold_shadow(vec2<i32>(id.xy));
+    textureStore(classes_out, id.xy, vec4<f32>(select(0.0, 1.0, kept)));
+    if !kept {
         return;
     }
     let index = atomicAdd(&list_out.count, 1u);

@@ -225,10 +225,11 @@ fn fs_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 }
 
 // The compute path: one invocation per pixel of the listed tiles (`common/tile_list.wgsl`)
-// where the distance map's classification (its B) says a shadow can fall, into one texture:
-// R the visibility, GB the blur's standard deviations along screen x and y. The other pixels
-// keep what the texture was cleared to (1, 0, 0). Reduced resolution stays a draw.
-@group(0) @binding(6) var pcf_out: texture_storage_2d<rgba16float, write>;
+// where the distance map's classification (its B) says a shadow can fall, into the visibility
+// (R32F) and the blur's standard deviations along screen x and y (RG32F). The other pixels keep
+// what the textures were cleared to: 1, no blur. Reduced resolution stays a draw.
+@group(0) @binding(6) var visibility_out: texture_storage_2d<r32float, write>;
+@group(0) @binding(7) var sigma_out: texture_storage_2d<rg32float, write>;
 
 @compute @workgroup_size(16, 16)
 fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
@@ -238,5 +239,6 @@ fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gro
     }
     let depth = textureLoad(camera_depth, pixel, 0).x;
     let s = setup(vec2<f32>(pixel) + 0.5, depth);
-    textureStore(pcf_out, pixel, vec4<f32>(taps(s), s.blur_sigma, 0.0));
+    textureStore(visibility_out, pixel, vec4<f32>(taps(s)));
+    textureStore(sigma_out, pixel, vec4<f32>(s.blur_sigma, 0.0, 0.0));
 }

@@ -308,13 +308,56 @@ fn run(
 
 /// What a light's screen-space passes read besides their own: the frame uniform, the engine's
 /// depth and receiver mask (or a stand-in), the light's maps, and a 1 x 1 stand-in for inputs
-/// a chain does not have.
+/// a chain does not have; and the compute path's intermediates, which every light shares.
 pub(crate) struct ScreenInputs<'a> {
     pub frame: &'a wgpu::Buffer,
     pub depth: &'a wgpu::TextureView,
     pub mask: &'a wgpu::TextureView,
     pub maps: &'a LightMaps,
     pub dummy: &'a wgpu::TextureView,
+    pub compute: Option<&'a ComputeTargets>,
+}
+
+/// The compute path's screen-sized intermediates. Each light's chain runs whole, blur
+/// included, before the next light's starts, so one set serves every light: a light adds only
+/// its layer of the visibility array (and its tile list) to the screen-space memory. After a
+/// frame they hold the last light's values (see `Shadows::inspect`).
+#[derive(Clone)]
+pub(crate) struct ComputeTargets {
+    /// R distance, G mask, B classification ([`DistanceMapCompute::FORMAT`]).
+    pub distance: (wgpu::Texture, wgpu::TextureView),
+    /// The variable PCF's visibility and the blur's deviations.
+    pub visibility: (wgpu::Texture, wgpu::TextureView),
+    pub sigma: (wgpu::Texture, wgpu::TextureView),
+    /// The blur's horizontal axis.
+    pub blurred: (wgpu::Texture, wgpu::TextureView),
+}
+
+impl ComputeTargets {
+    pub fn new(device: &wgpu::Device, size: (u32, u32)) -> Self {
+        let target = |label, format| crate::passes::storage_target(device, label, size, format, true);
+        Self {
+            distance: target("ComputeTargets::distance_map", DistanceMapCompute::FORMAT),
+            visibility: target(
+                "ComputeTargets::visibility",
+                VariablePcfCompute::VISIBILITY_FORMAT,
+            ),
+            sigma: target("ComputeTargets::sigma", VariablePcfCompute::SIGMA_FORMAT),
+            blurred: target("ComputeTargets::blurred", BlurCompute::FORMAT),
+        }
+    }
+
+    /// The targets' width and height.
+    pub fn size(&self) -> (u32, u32) {
+        (self.distance.0.width(), self.distance.0.height())
+    }
+
+    pub fn allocated_bytes(&self) -> u64 {
+        [&self.distance, &self.visibility, &self.sigma, &self.blurred]
+            .into_iter()
+            .map(|t| crate::gpu_helpers::texture_bytes(&t.0))
+            .sum()
+    }
 }
 
 /// A light's screen-space passes, one variant per [`Chain`]. The distance-map method's blur as
@@ -329,6 +372,8 @@ pub(crate) enum ScreenChain {
         /// Writes the layer; without it the resolve does.
         blur: Option<BlurCompute>,
         resolve: ResolvePass,
+        /// The shared intermediates, as bound.
+        targets: Option<ComputeTargets>,
     },
     DistanceMap {
         distance: DistanceMapPass,
@@ -398,6 +443,7 @@ impl ScreenChain {
                 pcf: VariablePcfCompute::new(device, FRAME_SIZE, params.pcf_switches, kind),
                 blur: blur.then(|| BlurCompute::new(device, FRAME_SIZE, params.blur_switches)),
                 resolve: resolve(),
+                targets: None,
             },
             Chain::DistanceMap { .. } => ScreenChain::DistanceMap {
                 distance: DistanceMapPass::new(device, FRAME_SIZE, params.distance_switches, kind),
@@ -467,13 +513,10 @@ impl ScreenChain {
         match self {
             ScreenChain::MapOnly => {}
             ScreenChain::DistanceMapCompute {
-                distance, pcf, blur, ..
+                distance, targets, ..
             } => {
                 distance.resize(device, w, h);
-                pcf.resize(device, w, h);
-                if let Some(blur) = blur {
-                    blur.resize(device, w, h);
-                }
+                *targets = None;
             }
             ScreenChain::DistanceMap { distance, pcf, .. } => {
                 distance.resize(device, w, h);
@@ -520,6 +563,7 @@ impl ScreenChain {
             mask,
             maps,
             dummy,
+            compute,
         } = *inputs;
         let shadow_map = maps.shadow.view();
         match self {
@@ -529,12 +573,16 @@ impl ScreenChain {
                 pcf,
                 blur,
                 resolve,
+                targets,
             } => {
-                let Some((fattened, exit)) = &maps.fattened else {
+                let (Some((fattened, exit)), Some(shared)) = (&maps.fattened, compute) else {
                     return;
                 };
+                *targets = Some(shared.clone());
+                let distance_map = &shared.distance.1;
                 distance.bind(
                     device,
+                    distance_map,
                     frame,
                     (fattened.view(), fattened.texture().width()),
                     fattened.occluder_offset(),
@@ -543,17 +591,26 @@ impl ScreenChain {
                     depth,
                     mask,
                 );
-                pcf.bind(device, frame, depth, distance.distance_map(), shadow_map);
+                let (visibility, sigma) = (&shared.visibility.1, &shared.sigma.1);
+                pcf.bind(
+                    device,
+                    (visibility, sigma),
+                    frame,
+                    depth,
+                    distance_map,
+                    shadow_map,
+                );
                 match blur {
                     Some(blur) => blur.bind(
                         device,
+                        &shared.blurred.1,
                         frame,
                         (depth, mask),
-                        pcf.output(),
-                        distance.distance_map(),
+                        (visibility, sigma),
+                        distance_map,
                         dummy,
                     ),
-                    None => resolve.bind(device, frame, depth, distance.distance_map(), pcf.output(), mask),
+                    None => resolve.bind(device, frame, depth, distance_map, visibility, mask),
                 }
             }
             ScreenChain::DistanceMap {
@@ -630,6 +687,7 @@ impl ScreenChain {
                 pcf,
                 blur,
                 resolve,
+                ..
             } => {
                 run(encoder, mark, "distance map", &|e| distance.encode(e, maps_drawn));
                 run(encoder, mark, "pcf", &|e| pcf.encode(e, distance.listed()));
@@ -694,25 +752,26 @@ impl ScreenChain {
     pub fn distance_texture(&self) -> Option<&wgpu::Texture> {
         match self {
             ScreenChain::DistanceMap { distance, .. } => Some(distance.distance_texture()),
-            ScreenChain::DistanceMapCompute { distance, .. } => Some(distance.distance_texture()),
+            ScreenChain::DistanceMapCompute { targets, .. } => targets.as_ref().map(|t| &t.distance.0),
             _ => None,
         }
     }
 
-    /// The tile classification's classes, where the chain draws only the tiles it keeps (the
-    /// compute path lists them instead).
+    /// The tile classification's classes, where the chain draws only the tiles it keeps or
+    /// lists them.
     pub fn tile_classes_texture(&self) -> Option<&wgpu::Texture> {
         match self {
             ScreenChain::DistanceMap { distance, .. } => distance.tile_classes_texture(),
+            ScreenChain::DistanceMapCompute { distance, .. } => Some(distance.tile_classes_texture()),
             _ => None,
         }
     }
 
-    /// The raw visibility (PCF or PCSS), before any blur (the compute path's in R).
+    /// The raw visibility (PCF or PCSS), before any blur.
     pub fn raw_visibility(&self) -> Option<&wgpu::Texture> {
         match self {
             ScreenChain::MapOnly => None,
-            ScreenChain::DistanceMapCompute { pcf, .. } => Some(pcf.output_texture()),
+            ScreenChain::DistanceMapCompute { targets, .. } => targets.as_ref().map(|t| &t.visibility.0),
             ScreenChain::DistanceMap { pcf, .. } => Some(pcf.visibility_texture()),
             ScreenChain::FixedPcf { pcf, .. } | ScreenChain::Hard { pcf, .. } => {
                 Some(pcf.visibility_texture())

@@ -681,6 +681,8 @@ impl Renderer {
                 depth,
                 receiver_mask: mask,
             };
+            // The debug views read the chosen light's intermediates.
+            self.shadows.inspect(Some(self.debug_light_id()));
             self.shadows.prepare(device, queue, casters, &view)?;
         }
         let (light_view, spreads) = match self.shadows.planned(self.light).filter(|_| plan.shadow_map()) {

@@ -13,7 +13,7 @@
 
 use crate::casters::Casters;
 pub use crate::chain::Chain;
-use crate::chain::{FRAME_SIZE, LightMaps, ScreenChain, ScreenInputs};
+use crate::chain::{ComputeTargets, FRAME_SIZE, LightMaps, ScreenChain, ScreenInputs};
 use crate::device::DeviceLoss;
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, light_kind};
@@ -100,15 +100,15 @@ pub enum LightTexture {
     /// RGBA16F, B the classification (0 where no pass runs, 0.5 where a shadow can fall, 1
     /// beside a shadow).
     DistanceMap,
-    /// Raw PCF or PCSS visibility (R16F; the compute path's is RGBA16F, GB the blur's
-    /// standard deviations in pixels along screen x and y).
+    /// Raw PCF or PCSS visibility (R16F; the compute path's is R32F).
     Visibility,
     /// Blurred visibility (R16F). After the distance map, the blur writes the light's layer
     /// directly: this is then the whole visibility array ([`Shadows::visibility_texture`]).
     BlurredVisibility,
     /// The tile classification (R8, one texel per 16 x 16 pixel screen tile): 1 where the
     /// distance map ran, 0 where no shadow can fall ([`crate::PenumbraSettings::tiles`]). The
-    /// compute path lists its tiles instead and has none.
+    /// compute path's is R32F, 1 where a tile was listed (every tile with the classification
+    /// off).
     TileClasses,
 }
 
@@ -225,6 +225,11 @@ pub struct Shadows {
     software: bool,
     /// The device runs compute passes ([`crate::PenumbraSettings::fragment_passes`]).
     compute: bool,
+    /// The compute path's intermediates, shared by the lights.
+    compute_targets: Option<ComputeTargets>,
+    /// The light whose chain runs last, so that its intermediates stay readable
+    /// ([`Shadows::inspect`]).
+    inspected: Option<LightId>,
     /// The distance-map method's blurs: up to four lights each (one each when
     /// [`PenumbraSettings::batch_lights`](crate::PenumbraSettings::batch_lights) is off),
     /// with the slots of the lights they blur.
@@ -261,6 +266,8 @@ impl Shadows {
             prepared: false,
             software: device.adapter_info().device_type == wgpu::DeviceType::Cpu,
             compute: crate::passes::has_compute(device),
+            compute_targets: None,
+            inspected: None,
             loss: None,
         });
         match error {
@@ -420,6 +427,10 @@ impl Shadows {
         };
         own_visibility
             + texture_bytes(&self.dummy.0)
+            + self
+                .compute_targets
+                .as_ref()
+                .map_or(0, ComputeTargets::allocated_bytes)
             + self
                 .blurs
                 .iter()
@@ -632,13 +643,32 @@ impl Shadows {
                     light_view,
                 });
             }
+            // The compute path's intermediates, one set for every light that runs it.
+            let any_compute = this
+                .lights
+                .iter()
+                .flatten()
+                .any(|s| s.planned.is_some_and(|p| p.chain.compute()));
+            if !any_compute {
+                this.compute_targets = None;
+            } else if this
+                .compute_targets
+                .as_ref()
+                .is_none_or(|t| t.size() != (width, height))
+            {
+                this.compute_targets = Some(ComputeTargets::new(device, (width, height)));
+                for state in this.lights.iter_mut().flatten() {
+                    state.bound = None;
+                }
+            }
             let inputs = this.inputs.as_ref().expect("set above");
             let mask_view = inputs.mask.as_ref().map_or(&this.dummy.1, |m| &m.1);
             let mut rebound = false;
             for state in this.lights.iter_mut().flatten() {
                 let chain = state.planned.expect("planned above").chain;
                 if state.bound != Some(chain) {
-                    state.bind(device, &inputs.depth_view, mask_view, &this.dummy.1);
+                    let compute = this.compute_targets.as_ref().filter(|_| chain.compute());
+                    state.bind(device, &inputs.depth_view, mask_view, &this.dummy.1, compute);
                     state.bound = Some(chain);
                     rebound = true;
                 }
@@ -789,8 +819,20 @@ impl Shadows {
             }
         }
         let mut reports = Vec::new();
-        for (slot, state) in self.lights.iter_mut().enumerate() {
-            let Some(state) = state else { continue };
+        // Slot order, the inspected light last where its chain shares the compute path's
+        // intermediates (a batched blur's lights must keep slot order: the first clears).
+        let mut order: Vec<usize> = (0..self.lights.len()).collect();
+        if let Some(id) = self.inspected
+            && let Some(Some(state)) = self.lights.get(id.0 as usize)
+            && state.planned.is_some_and(|p| p.chain.compute())
+        {
+            order.retain(|&slot| slot != id.0 as usize);
+            order.push(id.0 as usize);
+        }
+        for slot in order {
+            let Some(state) = &mut self.lights[slot] else {
+                continue;
+            };
             let Some(plan) = state.planned.take() else {
                 continue;
             };
@@ -841,7 +883,16 @@ impl Shadows {
                 mark(encoder, "blur");
             }
         }
+        reports.sort_by_key(|r| r.light.layer());
         Ok(reports)
+    }
+
+    /// Keeps `light`'s intermediate textures readable after each frame
+    /// ([`Shadows::light_texture`]): the compute path's screen-space intermediates are shared
+    /// by the lights (each light's chain runs whole before the next one's), so after a frame
+    /// they hold the last light's, and this light's chain runs last. `None`: slot order.
+    pub fn inspect(&mut self, light: Option<LightId>) {
+        self.inspected = light;
     }
 
     /// [`Shadows::prepare`] then [`Shadows::encode`].
@@ -917,7 +968,10 @@ impl Shadows {
         self.state(id).ok().and_then(|s| s.report.as_ref())
     }
 
-    /// An intermediate texture of a light's last frame, if its chain has it.
+    /// An intermediate texture of a light's last frame, if its chain has it. The compute
+    /// path's screen-space intermediates ([`LightTexture::DistanceMap`],
+    /// [`LightTexture::Visibility`]) are shared by the lights: they hold the light whose chain
+    /// ran last, which [`Shadows::inspect`] chooses (by default the last light in slot order).
     pub fn light_texture(&self, id: LightId, which: LightTexture) -> Option<&wgpu::Texture> {
         let s = self.state(id).ok()?;
         let fattened = s.maps.as_ref().and_then(|m| m.fattened.as_ref());
@@ -1018,6 +1072,7 @@ impl LightState {
         depth: &wgpu::TextureView,
         mask: &wgpu::TextureView,
         dummy: &wgpu::TextureView,
+        compute: Option<&ComputeTargets>,
     ) {
         let Some(maps) = &self.maps else { return };
         let inputs = ScreenInputs {
@@ -1026,6 +1081,7 @@ impl LightState {
             mask,
             maps,
             dummy,
+            compute,
         };
         self.screen.bind(device, &inputs);
     }

@@ -1406,20 +1406,20 @@ fn the_tile_classification_drops_tiles_and_keeps_every_shadow() {
                 .iter()
                 .map(|l| shadows.add_light(device, *l).unwrap())
                 .collect();
-            render_seen_by(&gpu, &w, &depth, &mut shadows, Some(&mask), side_camera());
-            runs.push(
-                ids.iter()
-                    .map(|id| {
-                        let distance = shadows.light_texture(*id, LightTexture::DistanceMap).unwrap();
-                        let (d, channels) = penumbra::read_texture_f32(device, queue, distance).unwrap();
-                        let drawn_background = d
-                            .chunks_exact(channels as usize)
-                            .filter(|px| px[1] < -1.5)
-                            .count();
-                        (read_layer(&gpu, &shadows, id.layer()), drawn_background)
-                    })
-                    .collect::<Vec<_>>(),
-            );
+            let mut run = Vec::new();
+            for id in &ids {
+                // The compute path's intermediates are shared: this light's chain runs last.
+                shadows.inspect(Some(*id));
+                render_seen_by(&gpu, &w, &depth, &mut shadows, Some(&mask), side_camera());
+                let distance = shadows.light_texture(*id, LightTexture::DistanceMap).unwrap();
+                let (d, channels) = penumbra::read_texture_f32(device, queue, distance).unwrap();
+                let drawn_background = d
+                    .chunks_exact(channels as usize)
+                    .filter(|px| px[1] < -1.5)
+                    .count();
+                run.push((read_layer(&gpu, &shadows, id.layer()), drawn_background));
+            }
+            runs.push(run);
         }
         for (k, name) in ["sun", "spot", "point"].iter().enumerate() {
             let ((all, background_all), (tiled, background_tiled)) = (&runs[0][k], &runs[1][k]);

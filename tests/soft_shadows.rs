@@ -593,13 +593,13 @@ fn reduced_resolution_keeps_the_penumbra_and_full_resolution_at_depth_edges() {
     let with = |reduced: bool| {
         let mut s = settings(ShadowMethod::Ours);
         s.penumbra.reduced_resolution = reduced;
+        // Reduced resolution is drawn: full resolution too, so that the two differ only there.
+        s.penumbra.fragment_passes = true;
         s
     };
     // The raw PCF visibility (before the blur) and the camera depth.
     let raw = |reduced: bool| {
         let (_, renderer) = render_frame(&gpu, &scene, &camera, with(reduced), (w, h));
-        // The visibility is the first channel (reduced resolution is drawn; full resolution
-        // runs as compute, whose raw visibility carries the blur's deviations beside it).
         let (pcf, channels) = read(&gpu, renderer.debug_texture(LightTexture::Visibility).unwrap());
         let pcf: Vec<f32> = pcf.chunks_exact(channels as usize).map(|c| c[0]).collect();
         let (depth, _) = read(&gpu, renderer.camera_depth_texture().unwrap());

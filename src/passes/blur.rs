@@ -408,10 +408,11 @@ impl BlurPass {
 
 /// The blur of the compute path, one light, over the distance map's listed tiles: the
 /// horizontal axis a compute pass (`cs_main` in `shaders/blur.wgsl`) into a texture of its own
-/// (RGBA16F, cleared to 1 first), the vertical axis a draw of the listed tiles' quads
+/// (R32F, cleared to 1 first), the vertical axis a draw of the listed tiles' quads
 /// (`fs_listed`) into the light's layer (cleared to 1), which is the engine's render target
-/// and so stays a draw. Both read the variable PCF's output (the visibility and, in G and B,
-/// the deviations) and the distance map's classification (B).
+/// and so stays a draw. Both read the variable PCF's deviations and the distance map's
+/// classification (B); the values are read linearly between texels by two loads. Its texture
+/// is given at [`Self::bind`]: the lights share it ([`crate::chain::ComputeTargets`]).
 pub(crate) struct BlurCompute {
     switches: BlurSwitches,
     layout: wgpu::BindGroupLayout,
@@ -421,23 +422,23 @@ pub(crate) struct BlurCompute {
     sampler: wgpu::Sampler,
     axis_buffers: [wgpu::Buffer; 2],
     axis_groups: [wgpu::BindGroup; 2],
-    temp: (wgpu::Texture, wgpu::TextureView),
+    /// The horizontal axis's result, as bound.
+    temp: Option<wgpu::TextureView>,
     /// The horizontal axis's inputs and output, the vertical axis's inputs.
     bind_groups: Option<[wgpu::BindGroup; 3]>,
 }
 
 impl BlurCompute {
-    const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+    pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.axis_buffers.iter().map(wgpu::Buffer::size).sum::<u64>() + texture_bytes(&self.temp.0)
+        self.axis_buffers.iter().map(wgpu::Buffer::size).sum::<u64>()
     }
 
     /// The pass for `switches` (after the distance map, not fixed).
     pub(crate) fn new(device: &wgpu::Device, frame_size: usize, switches: BlurSwitches) -> Self {
         let shader = crate::shaders::module(device, "blur.wgsl", crate::shaders::BLUR);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-        let filterable = wgpu::TextureSampleType::Float { filterable: true };
         let mut entries = vec![
             entry::uniform(
                 0,
@@ -446,12 +447,10 @@ impl BlurCompute {
                 false,
             ),
             entry::and_compute(entry::texture_2d(1, unfilterable)),
-            entry::and_compute(entry::sampler(2, wgpu::SamplerBindingType::Filtering)),
-            entry::and_compute(entry::texture_2d(3, filterable)),
+            // Never sampled here (the values are loaded): a sampler that does not filter.
+            entry::and_compute(entry::sampler(2, wgpu::SamplerBindingType::NonFiltering)),
         ];
-        entries.extend((4..13).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
-        // The variable PCF's output is read as the deviations too.
-        entries[8] = entry::and_compute(entry::texture_2d(8, filterable));
+        entries.extend((3..13).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
         let layout = crate::gpu_helpers::layout(device, "BlurCompute::layout", &entries);
         let out_layout = crate::gpu_helpers::layout(
             device,
@@ -507,41 +506,30 @@ impl BlurCompute {
             horizontal,
             vertical,
             sampler: device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("BlurCompute::linear_sampler"),
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
+                label: Some("BlurCompute::sampler"),
                 ..Default::default()
             }),
             axis_buffers,
             axis_groups,
-            temp: super::storage_target(device, "BlurCompute::horizontal", (1, 1), Self::FORMAT, true),
+            temp: None,
             bind_groups: None,
         }
-    }
-
-    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.temp = super::storage_target(
-            device,
-            "BlurCompute::horizontal",
-            (width, height),
-            Self::FORMAT,
-            true,
-        );
-        self.bind_groups = None;
     }
 
     pub(crate) fn switches(&self) -> BlurSwitches {
         self.switches
     }
 
-    /// Points the pass at its inputs: `pcf` the variable PCF's output, `distance_map` the
-    /// compute path's, `dummy` for the other lights' slots.
+    /// Points the pass at its inputs: `pcf` the variable PCF's visibility and deviations,
+    /// `distance_map` the compute path's, `dummy` for the other lights' slots; the horizontal
+    /// axis writes `temp` ([`Self::FORMAT`], the screen's size).
     pub(crate) fn bind(
         &mut self,
         device: &wgpu::Device,
+        temp: &wgpu::TextureView,
         frame: &wgpu::Buffer,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
-        pcf: &wgpu::TextureView,
+        (visibility, sigma): (&wgpu::TextureView, &wgpu::TextureView),
         distance_map: &wgpu::TextureView,
         dummy: &wgpu::TextureView,
     ) {
@@ -555,7 +543,7 @@ impl BlurCompute {
                 dummy,
                 dummy,
                 dummy,
-                pcf,
+                sigma,
                 dummy,
                 dummy,
                 dummy,
@@ -568,10 +556,11 @@ impl BlurCompute {
             layout: &self.out_layout,
             entries: &[wgpu::BindGroupEntry {
                 binding: 1,
-                resource: wgpu::BindingResource::TextureView(&self.temp.1),
+                resource: wgpu::BindingResource::TextureView(temp),
             }],
         });
-        self.bind_groups = Some([group(pcf), out, group(&self.temp.1)]);
+        self.bind_groups = Some([group(visibility), out, group(temp)]);
+        self.temp = Some(temp.clone());
     }
 
     /// Uploads the frame's tap count, step and Gaussian weights.
@@ -603,10 +592,10 @@ impl BlurCompute {
         tiles: super::TileList,
         layer: &wgpu::TextureView,
     ) {
-        let Some([horizontal, out, vertical]) = &self.bind_groups else {
+        let (Some([horizontal, out, vertical]), Some(temp)) = (&self.bind_groups, &self.temp) else {
             return;
         };
-        super::clear_target(encoder, "BlurCompute::clear", &self.temp.1, wgpu::Color::WHITE);
+        super::clear_target(encoder, "BlurCompute::clear", temp, wgpu::Color::WHITE);
         tiles.dispatch(
             encoder,
             "BlurCompute::horizontal",

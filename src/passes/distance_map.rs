@@ -282,13 +282,15 @@ impl DistanceMapPass {
 /// `shaders/distance_map.wgsl`), into one texture (RGBA16F: R distance, G mask, B the
 /// classification the draws write as depth, 0, 0.5 or 1), cleared first so that the other
 /// tiles read as no shadow. The later passes read the classification instead of testing a
-/// depth.
+/// depth. The texture is given at [`Self::bind`]: the lights share one
+/// ([`crate::chain::ComputeTargets`]).
 pub(crate) struct DistanceMapCompute {
     switches: DistanceSwitches,
     light_kind: u32,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
-    distance: (wgpu::Texture, wgpu::TextureView),
+    /// The output, as bound.
+    distance: Option<wgpu::TextureView>,
     bind_group: Option<wgpu::BindGroup>,
     tiles: super::TileListPass,
     /// As [`DistanceMapPass`]'s.
@@ -301,7 +303,7 @@ impl DistanceMapCompute {
     pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.distance.0) + self.tiles.allocated_bytes()
+        self.tiles.allocated_bytes()
     }
 
     /// As [`DistanceMapPass::new`]; `switches.tiles` off lists every tile.
@@ -335,13 +337,7 @@ impl DistanceMapCompute {
             light_kind,
             layout,
             pipeline,
-            distance: super::storage_target(
-                device,
-                "DistanceMapCompute::distance_map",
-                (1, 1),
-                Self::FORMAT,
-                true,
-            ),
+            distance: None,
             bind_group: None,
             tiles: super::TileListPass::new(device, frame_size, light_kind, switches.tiles),
             reduce_pending: std::sync::atomic::AtomicBool::new(true),
@@ -350,24 +346,18 @@ impl DistanceMapCompute {
         pass
     }
 
-    /// Recreates the screen-sized texture and list; the pass must then be bound again.
+    /// Sizes the tile list for a screen; the pass must then be bound again.
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.distance = super::storage_target(
-            device,
-            "DistanceMapCompute::distance_map",
-            (width, height),
-            Self::FORMAT,
-            true,
-        );
         self.tiles.resize(device, width, height);
         self.bind_group = None;
     }
 
-    /// As [`DistanceMapPass::bind`].
+    /// As [`DistanceMapPass::bind`], writing `distance` ([`Self::FORMAT`], the screen's size).
     #[allow(clippy::too_many_arguments)]
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
+        distance: &wgpu::TextureView,
         frame: &wgpu::Buffer,
         (fattened_map, fattened_side): (&wgpu::TextureView, u32),
         occluder_offset: &wgpu::TextureView,
@@ -392,9 +382,10 @@ impl DistanceMapCompute {
                 occluder_offset,
                 exit_map,
                 shadow_map,
-                &self.distance.1,
+                distance,
             ],
         ));
+        self.distance = Some(distance.clone());
     }
 
     pub(crate) fn light_kind(&self) -> u32 {
@@ -405,13 +396,9 @@ impl DistanceMapCompute {
         self.switches
     }
 
-    /// Distance (R), mask (G) and classification (B).
-    pub fn distance_map(&self) -> &wgpu::TextureView {
-        &self.distance.1
-    }
-
-    pub fn distance_texture(&self) -> &wgpu::Texture {
-        &self.distance.0
+    /// One texel per screen tile, 1 where it was listed (R32F).
+    pub fn tile_classes_texture(&self) -> &wgpu::Texture {
+        self.tiles.classes_texture()
     }
 
     /// The listed tiles, for the passes over them.
@@ -422,7 +409,7 @@ impl DistanceMapCompute {
     /// Records the tile list and the distance map over it (`maps_drawn`: the light's maps
     /// were drawn this frame).
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, maps_drawn: bool) {
-        let Some(group) = &self.bind_group else {
+        let (Some(group), Some(distance)) = (&self.bind_group, &self.distance) else {
             return;
         };
         let reduce = self
@@ -433,7 +420,7 @@ impl DistanceMapCompute {
         super::clear_target(
             encoder,
             "DistanceMapCompute::clear",
-            &self.distance.1,
+            distance,
             wgpu::Color::TRANSPARENT,
         );
         self.listed()

@@ -232,10 +232,13 @@ impl TileList<'_> {
 }
 
 /// Whether `device` runs the screen-space chain as compute passes over a tile list: compute
-/// shaders with 16 x 16 workgroups, storage textures and buffers (a WebGL 2 device has none).
+/// shaders with 16 x 16 workgroups, storage textures and buffers (a WebGL 2 device has none),
+/// and 32-bit float render targets, which clear the compute passes' outputs (wgpu's GL backend
+/// has none: it keeps the draws).
 pub(crate) fn has_compute(device: &wgpu::Device) -> bool {
     let l = device.limits();
-    l.max_compute_invocations_per_workgroup >= 256
+    device.adapter_info().backend != wgpu::Backend::Gl
+        && l.max_compute_invocations_per_workgroup >= 256
         && l.max_compute_workgroup_size_x >= 16
         && l.max_compute_workgroup_size_y >= 16
         && l.max_compute_workgroups_per_dimension >= 65535

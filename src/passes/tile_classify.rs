@@ -236,7 +236,8 @@ impl TileClassifyPass {
 ///
 /// Inputs: the frame uniform, the camera depth and the fattened shadow map. Outputs: the
 /// reduced fattened map (R32F, redrawn when the light's maps are), the list (a count, then one
-/// `x | y << 16` per tile) and the arguments.
+/// `x | y << 16` per tile), the arguments, and the classes (R32F, one texel per tile, 1 where
+/// listed) for the debug views.
 pub(crate) struct TileListPass {
     classify_layout: wgpu::BindGroupLayout,
     reduce_layout: wgpu::BindGroupLayout,
@@ -245,6 +246,8 @@ pub(crate) struct TileListPass {
     classify: wgpu::ComputePipeline,
     finish: wgpu::ComputePipeline,
     reduced: (wgpu::Texture, wgpu::TextureView),
+    /// One texel per tile: 1 listed, 0 not (R32F).
+    classes: (wgpu::Texture, wgpu::TextureView),
     list: wgpu::Buffer,
     args: wgpu::Buffer,
     /// The list as group [`super::TILE_LIST_GROUP`] of the passes over it.
@@ -258,7 +261,7 @@ pub(crate) struct TileListPass {
 impl TileListPass {
     /// GPU memory this pass allocated: its texture and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.reduced.0) + self.list.size() + self.args.size()
+        texture_bytes(&self.reduced.0) + texture_bytes(&self.classes.0) + self.list.size() + self.args.size()
     }
 
     /// The layout of the list's bind group (`shaders/common/tile_list.wgsl`), for the passes
@@ -291,6 +294,7 @@ impl TileListPass {
                 entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::NonFiltering)),
                 entry::storage_buffer(5, compute, false),
                 entry::storage_buffer(7, compute, false),
+                entry::storage_texture(8, REDUCED_STORAGE_FORMAT),
             ],
         );
         let reduce_layout = crate::gpu_helpers::layout(
@@ -321,6 +325,13 @@ impl TileListPass {
             reduced: super::storage_target(
                 device,
                 "TileListPass::reduced",
+                (1, 1),
+                REDUCED_STORAGE_FORMAT,
+                false,
+            ),
+            classes: super::storage_target(
+                device,
+                "TileListPass::classes",
                 (1, 1),
                 REDUCED_STORAGE_FORMAT,
                 false,
@@ -362,6 +373,13 @@ impl TileListPass {
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
         self.tiles = TileClassifyPass::tiles(width, height);
         (self.list, self.list_group) = Self::list(device, &self.list_layout, self.tiles.0 * self.tiles.1);
+        self.classes = super::storage_target(
+            device,
+            "TileListPass::classes",
+            self.tiles,
+            REDUCED_STORAGE_FORMAT,
+            false,
+        );
         self.groups = None;
     }
 
@@ -394,6 +412,7 @@ impl TileListPass {
                 (4, wgpu::BindingResource::Sampler(&self.gather)),
                 (5, self.list.as_entire_binding()),
                 (7, self.args.as_entire_binding()),
+                (8, wgpu::BindingResource::TextureView(&self.classes.1)),
             ]),
         });
         let reduce = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -406,6 +425,11 @@ impl TileListPass {
             ]),
         });
         self.groups = Some((classify, reduce));
+    }
+
+    /// One texel per screen tile: 1 where it was listed.
+    pub fn classes_texture(&self) -> &wgpu::Texture {
+        &self.classes.0
     }
 
     /// The list, for the passes over it.

@@ -403,8 +403,11 @@ impl VariablePcfPass {
 
 /// The variable PCF of the compute path: one compute pass over the distance map's listed
 /// tiles (`cs_main` in `shaders/variable_pcf.wgsl`), at the pixels whose classification says a
-/// shadow can fall, into one texture (RGBA16F: R the visibility, GB the blur's standard
-/// deviations along screen x and y), cleared first to (1, 0, 0): no shadow, no blur.
+/// shadow can fall, into the visibility (R32F, cleared to 1 first: no shadow) and the blur's
+/// standard deviations along screen x and y (RG32F, cleared to 0: no blur). 32-bit floats: a
+/// compute pass can write them everywhere (half floats only as RGBA16F, whose four-channel
+/// fetches cost the blur's taps on a software rasterizer). The textures are given at
+/// [`Self::bind`]: the lights share them ([`crate::chain::ComputeTargets`]).
 pub(crate) struct VariablePcfCompute {
     switches: PcfSwitches,
     light_kind: u32,
@@ -412,16 +415,17 @@ pub(crate) struct VariablePcfCompute {
     pipeline: wgpu::ComputePipeline,
     params: wgpu::Buffer,
     sampler: wgpu::Sampler,
-    output: (wgpu::Texture, wgpu::TextureView),
+    /// The outputs as bound: the visibility and the deviations.
+    outputs: Option<(wgpu::TextureView, wgpu::TextureView)>,
     bind_group: Option<wgpu::BindGroup>,
 }
 
 impl VariablePcfCompute {
-    /// The output's format: half floats, which a compute pass can write and the blur filter.
-    pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+    pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+    pub const SIGMA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.params.size() + texture_bytes(&self.output.0)
+        self.params.size()
     }
 
     /// The pass for `switches` (its half resolution is not used: that stays a draw) and one
@@ -444,7 +448,8 @@ impl VariablePcfCompute {
                 entry::and_compute(entry::texture_2d(3, wgpu::TextureSampleType::Depth)),
                 entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::Comparison)),
                 entry::uniform(5, wgpu::ShaderStages::COMPUTE, size_of::<PcfUniform>(), false),
-                entry::storage_texture(6, Self::FORMAT),
+                entry::storage_texture(6, Self::VISIBILITY_FORMAT),
+                entry::storage_texture(7, Self::SIGMA_FORMAT),
             ],
         );
         let list_layout = super::TileListPass::list_layout(device);
@@ -475,32 +480,17 @@ impl VariablePcfCompute {
                 "VariablePcfCompute::comparison_sampler",
                 wgpu::FilterMode::Linear,
             ),
-            output: super::storage_target(
-                device,
-                "VariablePcfCompute::visibility",
-                (1, 1),
-                Self::FORMAT,
-                true,
-            ),
+            outputs: None,
             bind_group: None,
         }
     }
 
-    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.output = super::storage_target(
-            device,
-            "VariablePcfCompute::visibility",
-            (width, height),
-            Self::FORMAT,
-            true,
-        );
-        self.bind_group = None;
-    }
-
-    /// Points the pass at its inputs (`distance_map`: the compute path's).
+    /// Points the pass at its inputs (`distance_map`: the compute path's) and its outputs
+    /// ([`Self::VISIBILITY_FORMAT`] and [`Self::SIGMA_FORMAT`], the screen's size).
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
+        (visibility, sigma): (&wgpu::TextureView, &wgpu::TextureView),
         frame: &wgpu::Buffer,
         camera_depth: &wgpu::TextureView,
         distance_map: &wgpu::TextureView,
@@ -517,9 +507,11 @@ impl VariablePcfCompute {
                 shadow_map,
                 &self.sampler,
                 &self.params,
-                &self.output.1,
+                visibility,
+                sigma,
             ],
         ));
+        self.outputs = Some((visibility.clone(), sigma.clone()));
     }
 
     pub(crate) fn switches(&self) -> PcfSwitches {
@@ -534,30 +526,22 @@ impl VariablePcfCompute {
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
     }
 
-    /// R the visibility, GB the blur's standard deviations.
-    pub fn output(&self) -> &wgpu::TextureView {
-        &self.output.1
-    }
-
-    pub fn output_texture(&self) -> &wgpu::Texture {
-        &self.output.0
-    }
-
     /// Records the pass over `tiles`.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, tiles: super::TileList) {
-        let Some(group) = &self.bind_group else {
+        let (Some(group), Some((visibility, sigma))) = (&self.bind_group, &self.outputs) else {
             return;
         };
         super::clear_target(
             encoder,
             "VariablePcfCompute::clear",
-            &self.output.1,
-            wgpu::Color {
-                r: 1.0,
-                g: 0.0,
-                b: 0.0,
-                a: 0.0,
-            },
+            visibility,
+            wgpu::Color::WHITE,
+        );
+        super::clear_target(
+            encoder,
+            "VariablePcfCompute::clear",
+            sigma,
+            wgpu::Color::TRANSPARENT,
         );
         tiles.dispatch(encoder, "VariablePcfCompute", &self.pipeline, &[Some(group)]);
     }
