@@ -9,7 +9,7 @@ use crate::frame::{FrameUniform, PassParams, is_point_light};
 use crate::light_space::{LightView, atlas_grid, tile_resolution};
 use crate::passes::{
     BlurCompute, BlurInput, BlurPass, DistanceMapCompute, DistanceMapPass, ExitMapPass,
-    FattenedShadowMapPass, PackedVisibility, PcfPass, PcssPass, ResolvePass, ShadowMapPass,
+    FattenedShadowMapPass, PackedVisibility, PcfPass, PcssPass, ResolvePass, ShadowMapPass, TileListTargets,
     VariablePcfCompute, VariablePcfPass,
 };
 use crate::scene::Light;
@@ -331,6 +331,8 @@ pub(crate) struct ComputeTargets {
     pub sigma: (wgpu::Texture, wgpu::TextureView),
     /// The blur's horizontal axis.
     pub blurred: (wgpu::Texture, wgpu::TextureView),
+    /// The tile list the passes run over.
+    pub tiles: TileListTargets,
 }
 
 impl ComputeTargets {
@@ -344,6 +346,7 @@ impl ComputeTargets {
             ),
             sigma: target("ComputeTargets::sigma", VariablePcfCompute::SIGMA_FORMAT),
             blurred: target("ComputeTargets::blurred", BlurCompute::FORMAT),
+            tiles: TileListTargets::new(device, size),
         }
     }
 
@@ -356,13 +359,16 @@ impl ComputeTargets {
         [&self.distance, &self.visibility, &self.sigma, &self.blurred]
             .into_iter()
             .map(|t| crate::gpu_helpers::texture_bytes(&t.0))
-            .sum()
+            .sum::<u64>()
+            + self.tiles.allocated_bytes()
     }
 }
 
-/// A light's screen-space passes, one variant per [`Chain`]. The distance-map method's blur as
+/// A light's screen-space passes, one variant per [`Chain`] (one value per light, made when its
+/// chain changes: their sizes differ, unboxed). The distance-map method's blur as
 /// draws is not here: one blur pass serves up to four lights (`Shadows::blurs`); the compute
 /// path's is.
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum ScreenChain {
     MapOnly,
     /// The distance-map method as compute passes over the distance map's tile list.
@@ -512,12 +518,8 @@ impl ScreenChain {
     pub fn resize(&mut self, device: &wgpu::Device, w: u32, h: u32) {
         match self {
             ScreenChain::MapOnly => {}
-            ScreenChain::DistanceMapCompute {
-                distance, targets, ..
-            } => {
-                distance.resize(device, w, h);
-                *targets = None;
-            }
+            // The shared intermediates are the screen's size (`Shadows` makes them).
+            ScreenChain::DistanceMapCompute { targets, .. } => *targets = None,
             ScreenChain::DistanceMap { distance, pcf, .. } => {
                 distance.resize(device, w, h);
                 pcf.resize(device, w, h);
@@ -582,7 +584,7 @@ impl ScreenChain {
                 let distance_map = &shared.distance.1;
                 distance.bind(
                     device,
-                    distance_map,
+                    (distance_map, &shared.tiles),
                     frame,
                     (fattened.view(), fattened.texture().width()),
                     fattened.occluder_offset(),
@@ -606,8 +608,7 @@ impl ScreenChain {
                         &shared.blurred.1,
                         frame,
                         (depth, mask),
-                        (visibility, sigma),
-                        distance_map,
+                        (visibility, sigma, distance_map),
                         dummy,
                     ),
                     None => resolve.bind(device, frame, depth, distance_map, visibility, mask),
@@ -689,12 +690,13 @@ impl ScreenChain {
                 resolve,
                 ..
             } => {
+                let Some(listed) = distance.listed() else {
+                    return;
+                };
                 run(encoder, mark, "distance map", &|e| distance.encode(e, maps_drawn));
-                run(encoder, mark, "pcf", &|e| pcf.encode(e, distance.listed()));
+                run(encoder, mark, "pcf", &|e| pcf.encode(e, listed));
                 match blur {
-                    Some(blur) => run(encoder, mark, "blur", &|e| {
-                        blur.encode(e, distance.listed(), layer)
-                    }),
+                    Some(blur) => run(encoder, mark, "blur", &|e| blur.encode(e, listed, layer)),
                     None => run(encoder, mark, "resolve", &|e| resolve.encode(e, layer)),
                 }
             }
@@ -762,7 +764,9 @@ impl ScreenChain {
     pub fn tile_classes_texture(&self) -> Option<&wgpu::Texture> {
         match self {
             ScreenChain::DistanceMap { distance, .. } => distance.tile_classes_texture(),
-            ScreenChain::DistanceMapCompute { distance, .. } => Some(distance.tile_classes_texture()),
+            ScreenChain::DistanceMapCompute { targets, .. } => {
+                targets.as_ref().map(|t| t.tiles.classes_texture())
+            }
             _ => None,
         }
     }

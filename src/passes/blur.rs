@@ -529,8 +529,7 @@ impl BlurCompute {
         temp: &wgpu::TextureView,
         frame: &wgpu::Buffer,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
-        (visibility, sigma): (&wgpu::TextureView, &wgpu::TextureView),
-        distance_map: &wgpu::TextureView,
+        (visibility, sigma, distance_map): (&wgpu::TextureView, &wgpu::TextureView, &wgpu::TextureView),
         dummy: &wgpu::TextureView,
     ) {
         let group = |source: &wgpu::TextureView| {

@@ -332,7 +332,7 @@ impl DistanceMapCompute {
                 (LIGHT_KIND, light_kind as f64),
             ],
         );
-        let mut pass = Self {
+        Self {
             switches,
             light_kind,
             layout,
@@ -341,23 +341,16 @@ impl DistanceMapCompute {
             bind_group: None,
             tiles: super::TileListPass::new(device, frame_size, light_kind, switches.tiles),
             reduce_pending: std::sync::atomic::AtomicBool::new(true),
-        };
-        pass.resize(device, 1, 1);
-        pass
+        }
     }
 
-    /// Sizes the tile list for a screen; the pass must then be bound again.
-    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.tiles.resize(device, width, height);
-        self.bind_group = None;
-    }
-
-    /// As [`DistanceMapPass::bind`], writing `distance` ([`Self::FORMAT`], the screen's size).
+    /// As [`DistanceMapPass::bind`], writing `distance` ([`Self::FORMAT`]) over the tiles
+    /// listed into `tiles`, both the screen's size.
     #[allow(clippy::too_many_arguments)]
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
-        distance: &wgpu::TextureView,
+        (distance, tiles): (&wgpu::TextureView, &super::TileListTargets),
         frame: &wgpu::Buffer,
         (fattened_map, fattened_side): (&wgpu::TextureView, u32),
         occluder_offset: &wgpu::TextureView,
@@ -367,7 +360,7 @@ impl DistanceMapCompute {
         receiver_mask: &wgpu::TextureView,
     ) {
         self.tiles
-            .bind(device, frame, camera_depth, fattened_map, fattened_side);
+            .bind(device, tiles, frame, camera_depth, fattened_map, fattened_side);
         self.reduce_pending
             .store(true, std::sync::atomic::Ordering::Relaxed);
         self.bind_group = Some(super::bind_group(
@@ -396,20 +389,16 @@ impl DistanceMapCompute {
         self.switches
     }
 
-    /// One texel per screen tile, 1 where it was listed (R32F).
-    pub fn tile_classes_texture(&self) -> &wgpu::Texture {
-        self.tiles.classes_texture()
-    }
-
-    /// The listed tiles, for the passes over them.
-    pub(crate) fn listed(&self) -> super::TileList<'_> {
+    /// The listed tiles, for the passes over them (once bound).
+    pub(crate) fn listed(&self) -> Option<super::TileList<'_>> {
         self.tiles.listed()
     }
 
     /// Records the tile list and the distance map over it (`maps_drawn`: the light's maps
     /// were drawn this frame).
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, maps_drawn: bool) {
-        let (Some(group), Some(distance)) = (&self.bind_group, &self.distance) else {
+        let (Some(group), Some(distance), Some(listed)) = (&self.bind_group, &self.distance, self.listed())
+        else {
             return;
         };
         let reduce = self
@@ -423,8 +412,7 @@ impl DistanceMapCompute {
             distance,
             wgpu::Color::TRANSPARENT,
         );
-        self.listed()
-            .dispatch(encoder, "DistanceMapCompute", &self.pipeline, &[Some(group)]);
+        listed.dispatch(encoder, "DistanceMapCompute", &self.pipeline, &[Some(group)]);
     }
 }
 

@@ -64,7 +64,7 @@ pub(crate) use crate::gpu_helpers::{
 };
 #[cfg(feature = "renderer")]
 pub(crate) use crate::gpu_helpers::{POSITION, blended_target, stream, vertex_layout};
-pub(crate) use tile_classify::TileListPass;
+pub(crate) use tile_classify::{TileListPass, TileListTargets};
 pub(crate) use tile_clear::TileClear;
 pub(crate) use variable_pcf::VariablePcfCompute;
 pub use variable_pcf::VariablePcfPass;

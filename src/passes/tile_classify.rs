@@ -235,33 +235,91 @@ impl TileClassifyPass {
 /// rasterizer.
 ///
 /// Inputs: the frame uniform, the camera depth and the fattened shadow map. Outputs: the
-/// reduced fattened map (R32F, redrawn when the light's maps are), the list (a count, then one
-/// `x | y << 16` per tile), the arguments, and the classes (R32F, one texel per tile, 1 where
-/// listed) for the debug views.
+/// reduced fattened map (R32F, the light's own, redrawn when its maps are) and, into
+/// [`TileListTargets`] that the lights share, the list, the arguments and the classes.
 pub(crate) struct TileListPass {
     classify_layout: wgpu::BindGroupLayout,
     reduce_layout: wgpu::BindGroupLayout,
-    list_layout: wgpu::BindGroupLayout,
     reduce: wgpu::ComputePipeline,
     classify: wgpu::ComputePipeline,
     finish: wgpu::ComputePipeline,
     reduced: (wgpu::Texture, wgpu::TextureView),
-    /// One texel per tile: 1 listed, 0 not (R32F).
-    classes: (wgpu::Texture, wgpu::TextureView),
-    list: wgpu::Buffer,
-    args: wgpu::Buffer,
-    /// The list as group [`super::TILE_LIST_GROUP`] of the passes over it.
-    list_group: wgpu::BindGroup,
-    /// Tiles across and down.
-    tiles: (u32, u32),
+    /// The list written, as bound.
+    targets: Option<TileListTargets>,
     groups: Option<(wgpu::BindGroup, wgpu::BindGroup)>,
     gather: wgpu::Sampler,
 }
 
+/// A tile list for one screen: the list (a count, then one `x | y << 16` per tile), the
+/// indirect arguments, the classes (R32F, one texel per tile, 1 where listed: the debug view's
+/// and the bench's tile share) and the list's bind group for the passes over it. Lights whose
+/// chains run one after the other share one.
+#[derive(Clone)]
+pub(crate) struct TileListTargets {
+    list: wgpu::Buffer,
+    args: wgpu::Buffer,
+    classes: (wgpu::Texture, wgpu::TextureView),
+    /// The list as group [`super::TILE_LIST_GROUP`].
+    group: wgpu::BindGroup,
+}
+
+impl TileListTargets {
+    /// For a `width` x `height` screen.
+    pub fn new(device: &wgpu::Device, (width, height): (u32, u32)) -> Self {
+        let tiles = TileClassifyPass::tiles(width, height);
+        let list = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("TileListTargets::list"),
+            size: 4 * (1 + u64::from(tiles.0 * tiles.1)),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let group = super::bind_group(
+            device,
+            "TileListTargets::list",
+            &TileListPass::list_layout(device),
+            &[&list.as_entire_binding()],
+        );
+        Self {
+            args: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("TileListTargets::args"),
+                size: 32,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+                mapped_at_creation: false,
+            }),
+            classes: super::storage_target(
+                device,
+                "TileListTargets::classes",
+                tiles,
+                REDUCED_STORAGE_FORMAT,
+                false,
+            ),
+            list,
+            group,
+        }
+    }
+
+    pub fn allocated_bytes(&self) -> u64 {
+        texture_bytes(&self.classes.0) + self.list.size() + self.args.size()
+    }
+
+    /// One texel per screen tile: 1 where it was listed.
+    pub fn classes_texture(&self) -> &wgpu::Texture {
+        &self.classes.0
+    }
+
+    /// The list, for the passes over it.
+    pub fn listed(&self) -> super::TileList<'_> {
+        super::TileList {
+            group: &self.group,
+            args: &self.args,
+        }
+    }
+}
+
 impl TileListPass {
-    /// GPU memory this pass allocated: its texture and buffers, in bytes.
+    /// GPU memory this pass allocated (its reduced map), in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.reduced.0) + texture_bytes(&self.classes.0) + self.list.size() + self.args.size()
+        texture_bytes(&self.reduced.0)
     }
 
     /// The layout of the list's bind group (`shaders/common/tile_list.wgsl`), for the passes
@@ -313,15 +371,12 @@ impl TileListPass {
         let pipeline = |label, layout: &wgpu::BindGroupLayout, entry| {
             super::compute_pipeline(device, label, &shader, &[Some(layout)], entry, &constants)
         };
-        let list_layout = Self::list_layout(device);
-        let (list, list_group) = Self::list(device, &list_layout, 1);
         Self {
             reduce: pipeline("TileListPass::reduce", &reduce_layout, "cs_reduce"),
             classify: pipeline("TileListPass::classify", &classify_layout, "cs_classify"),
             finish: pipeline("TileListPass::finish", &classify_layout, "cs_finish"),
             classify_layout,
             reduce_layout,
-            list_layout,
             reduced: super::storage_target(
                 device,
                 "TileListPass::reduced",
@@ -329,22 +384,7 @@ impl TileListPass {
                 REDUCED_STORAGE_FORMAT,
                 false,
             ),
-            classes: super::storage_target(
-                device,
-                "TileListPass::classes",
-                (1, 1),
-                REDUCED_STORAGE_FORMAT,
-                false,
-            ),
-            list,
-            args: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("TileListPass::args"),
-                size: 32,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
-                mapped_at_creation: false,
-            }),
-            list_group,
-            tiles: (1, 1),
+            targets: None,
             groups: None,
             gather: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("TileListPass::gather"),
@@ -353,40 +393,12 @@ impl TileListPass {
         }
     }
 
-    /// A list of up to `tiles` tiles and its bind group.
-    fn list(
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-        tiles: u32,
-    ) -> (wgpu::Buffer, wgpu::BindGroup) {
-        let list = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("TileListPass::list"),
-            size: 4 * (1 + u64::from(tiles.max(1))),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let group = super::bind_group(device, "TileListPass::list", layout, &[&list.as_entire_binding()]);
-        (list, group)
-    }
-
-    /// Sizes the list for a screen; the pass must then be bound again.
-    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.tiles = TileClassifyPass::tiles(width, height);
-        (self.list, self.list_group) = Self::list(device, &self.list_layout, self.tiles.0 * self.tiles.1);
-        self.classes = super::storage_target(
-            device,
-            "TileListPass::classes",
-            self.tiles,
-            REDUCED_STORAGE_FORMAT,
-            false,
-        );
-        self.groups = None;
-    }
-
-    /// Points the pass at its inputs; `fattened_map` is `fattened_side` texels a side.
+    /// Points the pass at its inputs (`fattened_map` is `fattened_side` texels a side) and
+    /// the list it writes.
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
+        targets: &TileListTargets,
         frame: &wgpu::Buffer,
         camera_depth: &wgpu::TextureView,
         fattened_map: &wgpu::TextureView,
@@ -410,9 +422,9 @@ impl TileListPass {
                 (1, wgpu::BindingResource::TextureView(camera_depth)),
                 (2, wgpu::BindingResource::TextureView(&self.reduced.1)),
                 (4, wgpu::BindingResource::Sampler(&self.gather)),
-                (5, self.list.as_entire_binding()),
-                (7, self.args.as_entire_binding()),
-                (8, wgpu::BindingResource::TextureView(&self.classes.1)),
+                (5, targets.list.as_entire_binding()),
+                (7, targets.args.as_entire_binding()),
+                (8, wgpu::BindingResource::TextureView(&targets.classes.1)),
             ]),
         });
         let reduce = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -425,28 +437,21 @@ impl TileListPass {
             ]),
         });
         self.groups = Some((classify, reduce));
+        self.targets = Some(targets.clone());
     }
 
-    /// One texel per screen tile: 1 where it was listed.
-    pub fn classes_texture(&self) -> &wgpu::Texture {
-        &self.classes.0
-    }
-
-    /// The list, for the passes over it.
-    pub fn listed(&self) -> super::TileList<'_> {
-        super::TileList {
-            group: &self.list_group,
-            args: &self.args,
-        }
+    /// The list, for the passes over it (once bound).
+    pub fn listed(&self) -> Option<super::TileList<'_>> {
+        self.targets.as_ref().map(TileListTargets::listed)
     }
 
     /// Records the reduction of the fattened map (`maps_drawn`: the light's maps were drawn
     /// since the last one), the list's reset, the classification and the arguments.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, maps_drawn: bool) {
-        let Some((classify, reduce)) = &self.groups else {
+        let (Some((classify, reduce)), Some(targets)) = (&self.groups, &self.targets) else {
             return;
         };
-        encoder.clear_buffer(&self.list, 0, Some(4));
+        encoder.clear_buffer(&targets.list, 0, Some(4));
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("TileListPass"),
             timestamp_writes: None,
@@ -457,9 +462,10 @@ impl TileListPass {
             pass.set_bind_group(0, reduce, &[]);
             pass.dispatch_workgroups(side.div_ceil(8), side.div_ceil(8), 1);
         }
+        let tiles = (targets.classes.0.width(), targets.classes.0.height());
         pass.set_pipeline(&self.classify);
         pass.set_bind_group(0, classify, &[]);
-        pass.dispatch_workgroups(self.tiles.0.div_ceil(8), self.tiles.1.div_ceil(8), 1);
+        pass.dispatch_workgroups(tiles.0.div_ceil(8), tiles.1.div_ceil(8), 1);
         pass.set_pipeline(&self.finish);
         pass.dispatch_workgroups(1, 1, 1);
     }
