@@ -13,15 +13,31 @@ override ROTATE_TAPS: bool = true;
 
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let pixel = vec2<i32>(frag.xy);
+    return vec4<f32>(visibility_at(frag.xy));
+}
+
+// The visibility at pixel centre `frag`.
+fn visibility_at(frag: vec2<f32>) -> f32 {
+    let pixel = vec2<i32>(frag);
     let depth = textureLoad(camera_depth, pixel, 0).x;
     if is_background(depth) {
-        return vec4<f32>(1.0);
+        return 1.0;
     }
-    use_pixel_cascade(frag.xy, depth);
+    use_pixel_cascade(frag, depth);
     let r = receiver(pixel, depth, frame.penumbra.normal_offset);
     let spacing = pcf.spread / frame.light.resolution;
-    let angle = select(0.0, pixel_noise(frag.xy) * 6.2831853, ROTATE_TAPS);
+    let angle = select(0.0, pixel_noise(frag) * 6.2831853, ROTATE_TAPS);
     let to_uv = mat2x2<f32>(spacing, 0.0, 0.0, spacing);
-    return vec4<f32>(pcf_taps(r.p, r.slope, to_uv, i32(pcf.taps_per_side), angle));
+    return pcf_taps(r.p, r.slope, to_uv, i32(pcf.taps_per_side), angle);
+}
+
+// The compute path: one invocation per pixel, in 16 x 16 workgroups over the screen.
+@group(0) @binding(5) var visibility_out: texture_storage_2d<r32float, write>;
+
+@compute @workgroup_size(16, 16)
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if any(vec2<f32>(id.xy) >= frame.view.size) {
+        return;
+    }
+    textureStore(visibility_out, id.xy, vec4<f32>(visibility_at(vec2<f32>(id.xy) + 0.5)));
 }

@@ -25,19 +25,24 @@ fn vogel(k: i32, n: i32, angle: f32) -> vec2<f32> {
 
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let pixel = vec2<i32>(frag.xy);
+    return vec4<f32>(visibility_at(frag.xy));
+}
+
+// The visibility at pixel centre `frag`.
+fn visibility_at(frag: vec2<f32>) -> f32 {
+    let pixel = vec2<i32>(frag);
     let depth = textureLoad(camera_depth, pixel, 0).x;
     if is_background(depth) {
-        return vec4<f32>(1.0);
+        return 1.0;
     }
-    use_pixel_cascade(frag.xy, depth);
+    use_pixel_cascade(frag, depth);
     let r = receiver(pixel, depth, frame.penumbra.normal_offset);
     let world = r.world;
     let p = r.p;
     let slope = r.slope;
     let world_size = shadow_map_world_size(world).x;
     let receiver = light_linear_depth(p.z);
-    let angle = pixel_noise(frag.xy) * 6.2831853;
+    let angle = pixel_noise(frag) * 6.2831853;
     // Blocker search: occluders can lie anywhere between the light's near plane and the
     // receiver; the light's footprint there is the widest penumbra possible.
     let search_world = max(penumbra_width(receiver - frame.light.near, world), 0.0);
@@ -56,7 +61,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         }
     }
     if blocker_count < 0.5 {
-        return vec4<f32>(1.0);
+        return 1.0;
     }
     let d = max(receiver - light_linear_depth(blocker_sum / blocker_count), 0.0);
     // The filter: the penumbra's half width across the light, into the map (an ellipse off a
@@ -69,5 +74,16 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         let offset = filter_uv * vogel(k, samples, angle);
         sum += textureSampleCompareLevel(shadow_map, shadow_sampler, in_tile(p.xy + offset), map_depth(p.z + dot(slope, offset)));
     }
-    return vec4<f32>(sum / f32(samples));
+    return sum / f32(samples);
+}
+
+// The compute path: one invocation per pixel, in 16 x 16 workgroups over the screen.
+@group(0) @binding(6) var visibility_out: texture_storage_2d<r32float, write>;
+
+@compute @workgroup_size(16, 16)
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if any(vec2<f32>(id.xy) >= frame.view.size) {
+        return;
+    }
+    textureStore(visibility_out, id.xy, vec4<f32>(visibility_at(vec2<f32>(id.xy) + 0.5)));
 }

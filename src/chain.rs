@@ -45,13 +45,18 @@ pub enum Chain {
         blur: bool,
     },
     /// [`ShadowMethod::Pcss`]: PCSS, a resolve.
-    Pcss,
+    Pcss {
+        /// PCSS is a compute pass over the screen (else a draw).
+        compute: bool,
+    },
     /// Screen-space hard shadows ([`ShadowMethod::Hard`], [`ShadowMethod::Hardware2x2`], and a
     /// method that needs a light size under a light without one): one PCF tap (a bilinear
     /// 2 x 2 comparison), a resolve.
     Hard {
         /// The method drawn.
         method: ShadowMethod,
+        /// The tap is a compute pass over the screen (else a draw).
+        compute: bool,
     },
     /// The shadow map alone: the convenience renderer shades with it in its forward pass (or
     /// renders the reference).
@@ -64,26 +69,26 @@ pub enum Chain {
 impl Chain {
     /// The chain `settings.method` runs for `light`.
     pub fn new(settings: &ShadowSettings, light: &Light) -> Self {
+        let compute = !settings.penumbra.fragment_passes;
         match settings.method {
             // A point light's cube faces are shaded with hard shadows by these methods.
             ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Pcss if is_point_light(light) => {
                 Chain::Hard {
                     method: ShadowMethod::Hard,
+                    compute,
                 }
             }
             method @ (ShadowMethod::Ours | ShadowMethod::OursFast) => Chain::DistanceMap {
                 method,
                 blur: settings.penumbra.blur_taps > 1,
                 // Batched blurs and PCF at half resolution are draws only.
-                compute: !settings.penumbra.fragment_passes
-                    && !settings.penumbra.batch_lights
-                    && !settings.penumbra.reduced_resolution,
+                compute: compute && !settings.penumbra.batch_lights && !settings.penumbra.reduced_resolution,
             },
             ShadowMethod::Traditional => Chain::FixedPcf {
                 blur: settings.traditional.blur_taps > 1,
             },
-            ShadowMethod::Pcss => Chain::Pcss,
-            method @ (ShadowMethod::Hard | ShadowMethod::Hardware2x2) => Chain::Hard { method },
+            ShadowMethod::Pcss => Chain::Pcss { compute },
+            method @ (ShadowMethod::Hard | ShadowMethod::Hardware2x2) => Chain::Hard { method, compute },
             ShadowMethod::Reference => Chain::MapOnly {
                 method: ShadowMethod::Reference,
             },
@@ -105,22 +110,36 @@ impl Chain {
                 blur,
                 compute: false,
             },
+            Chain::Pcss { .. } => Chain::Pcss { compute: false },
+            Chain::Hard { method, .. } => Chain::Hard {
+                method,
+                compute: false,
+            },
             other => other,
         }
     }
 
-    /// The screen-space passes run as compute passes over a tile list.
+    /// The screen-space passes run as compute passes (the distance-map method's over a tile
+    /// list, PCSS's and hard shadows' over the screen); the resolve into the light's layer
+    /// stays a draw.
     pub fn compute(&self) -> bool {
-        matches!(self, Chain::DistanceMap { compute: true, .. })
+        matches!(
+            self,
+            Chain::DistanceMap { compute: true, .. }
+                | Chain::Pcss { compute: true }
+                | Chain::Hard { compute: true, .. }
+        )
     }
 
     /// The method drawn: a method that needs a light size falls back to
     /// [`ShadowMethod::Hard`] when the light has none.
     pub fn method(&self) -> ShadowMethod {
         match *self {
-            Chain::DistanceMap { method, .. } | Chain::Hard { method } | Chain::MapOnly { method } => method,
+            Chain::DistanceMap { method, .. } | Chain::Hard { method, .. } | Chain::MapOnly { method } => {
+                method
+            }
             Chain::FixedPcf { .. } => ShadowMethod::Traditional,
-            Chain::Pcss => ShadowMethod::Pcss,
+            Chain::Pcss { .. } => ShadowMethod::Pcss,
         }
     }
 
@@ -151,7 +170,7 @@ impl Chain {
 
     /// PCSS runs (its blocker search and filter in one pass).
     pub fn pcss(&self) -> bool {
-        matches!(self, Chain::Pcss)
+        matches!(self, Chain::Pcss { .. })
     }
 
     /// A separable blur runs over the PCF visibility (width following the distance after
@@ -190,7 +209,7 @@ impl Chain {
             ],
             Chain::FixedPcf { blur: true } => vec!["pcf", "blur", "resolve"],
             Chain::FixedPcf { blur: false } | Chain::Hard { .. } => vec!["pcf", "resolve"],
-            Chain::Pcss => vec!["pcss", "resolve"],
+            Chain::Pcss { .. } => vec!["pcss", "resolve"],
             Chain::MapOnly { .. } => vec![],
         });
         names
@@ -320,14 +339,22 @@ pub(crate) struct ScreenInputs<'a> {
 
 /// The compute path's screen-sized intermediates. Each light's chain runs whole, blur
 /// included, before the next light's starts, so one set serves every light: a light adds only
-/// its layer of the visibility array (and its tile list) to the screen-space memory. After a
-/// frame they hold the last light's values (see `Shadows::inspect`).
+/// its layer of the visibility array to the screen-space memory. After a frame they hold the
+/// last light's values (see `Shadows::inspect`).
 #[derive(Clone)]
 pub(crate) struct ComputeTargets {
+    /// The visibility before any blur (PCF, PCSS).
+    pub visibility: (wgpu::Texture, wgpu::TextureView),
+    /// The distance-map method's, where a light runs it.
+    pub distance_map: Option<DistanceMapTargets>,
+}
+
+/// The distance-map method's part of [`ComputeTargets`].
+#[derive(Clone)]
+pub(crate) struct DistanceMapTargets {
     /// R distance, G mask, B classification ([`DistanceMapCompute::FORMAT`]).
     pub distance: (wgpu::Texture, wgpu::TextureView),
-    /// The variable PCF's visibility and the blur's deviations.
-    pub visibility: (wgpu::Texture, wgpu::TextureView),
+    /// The blur's deviations from the variable PCF.
     pub sigma: (wgpu::Texture, wgpu::TextureView),
     /// The blur's horizontal axis.
     pub blurred: (wgpu::Texture, wgpu::TextureView),
@@ -336,31 +363,35 @@ pub(crate) struct ComputeTargets {
 }
 
 impl ComputeTargets {
-    pub fn new(device: &wgpu::Device, size: (u32, u32)) -> Self {
+    /// For a screen of `size`; the distance-map method's part with `distance_map`.
+    pub fn new(device: &wgpu::Device, size: (u32, u32), distance_map: bool) -> Self {
         let target = |label, format| crate::passes::storage_target(device, label, size, format, true);
         Self {
-            distance: target("ComputeTargets::distance_map", DistanceMapCompute::FORMAT),
             visibility: target(
                 "ComputeTargets::visibility",
                 VariablePcfCompute::VISIBILITY_FORMAT,
             ),
-            sigma: target("ComputeTargets::sigma", VariablePcfCompute::SIGMA_FORMAT),
-            blurred: target("ComputeTargets::blurred", BlurCompute::FORMAT),
-            tiles: TileListTargets::new(device, size),
+            distance_map: distance_map.then(|| DistanceMapTargets {
+                distance: target("ComputeTargets::distance_map", DistanceMapCompute::FORMAT),
+                sigma: target("ComputeTargets::sigma", VariablePcfCompute::SIGMA_FORMAT),
+                blurred: target("ComputeTargets::blurred", BlurCompute::FORMAT),
+                tiles: TileListTargets::new(device, size),
+            }),
         }
     }
 
-    /// The targets' width and height.
-    pub fn size(&self) -> (u32, u32) {
-        (self.distance.0.width(), self.distance.0.height())
+    /// These serve a screen of `size`, with the distance-map method's part when wanted.
+    pub fn fit(&self, size: (u32, u32), distance_map: bool) -> bool {
+        (self.visibility.0.width(), self.visibility.0.height()) == size
+            && self.distance_map.is_some() == distance_map
     }
 
     pub fn allocated_bytes(&self) -> u64 {
-        [&self.distance, &self.visibility, &self.sigma, &self.blurred]
-            .into_iter()
-            .map(|t| crate::gpu_helpers::texture_bytes(&t.0))
-            .sum::<u64>()
-            + self.tiles.allocated_bytes()
+        let bytes = |t: &(wgpu::Texture, wgpu::TextureView)| crate::gpu_helpers::texture_bytes(&t.0);
+        bytes(&self.visibility)
+            + self.distance_map.as_ref().map_or(0, |d| {
+                bytes(&d.distance) + bytes(&d.sigma) + bytes(&d.blurred) + d.tiles.allocated_bytes()
+            })
     }
 }
 
@@ -457,16 +488,16 @@ impl ScreenChain {
                 resolve: resolve(),
             },
             Chain::FixedPcf { blur } => ScreenChain::FixedPcf {
-                pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind),
+                pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind, false),
                 blur: blur.then(|| BlurPass::new(device, FRAME_SIZE, params.blur_switches, 1)),
                 resolve: resolve(),
             },
-            Chain::Pcss => ScreenChain::Pcss {
-                pcss: PcssPass::new(device, FRAME_SIZE, kind),
+            Chain::Pcss { compute } => ScreenChain::Pcss {
+                pcss: PcssPass::new(device, FRAME_SIZE, kind, *compute),
                 resolve: resolve(),
             },
-            Chain::Hard { .. } => ScreenChain::Hard {
-                pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind),
+            Chain::Hard { compute, .. } => ScreenChain::Hard {
+                pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind, *compute),
                 resolve: resolve(),
             },
         };
@@ -505,11 +536,16 @@ impl ScreenChain {
             }
             (ScreenChain::FixedPcf { pcf, blur, .. }, Chain::FixedPcf { blur: wanted }) => {
                 pcf_fits(pcf)
+                    && !pcf.is_compute()
                     && blur.is_some() == *wanted
                     && blur.as_ref().is_none_or(|b| b.switches() == params.blur_switches)
             }
-            (ScreenChain::Pcss { pcss, .. }, Chain::Pcss) => pcss.light_kind() == kind,
-            (ScreenChain::Hard { pcf, .. }, Chain::Hard { .. }) => pcf_fits(pcf),
+            (ScreenChain::Pcss { pcss, .. }, Chain::Pcss { compute }) => {
+                pcss.light_kind() == kind && pcss.is_compute() == *compute
+            }
+            (ScreenChain::Hard { pcf, .. }, Chain::Hard { compute, .. }) => {
+                pcf_fits(pcf) && pcf.is_compute() == *compute
+            }
             _ => false,
         }
     }
@@ -577,10 +613,13 @@ impl ScreenChain {
                 resolve,
                 targets,
             } => {
-                let (Some((fattened, exit)), Some(shared)) = (&maps.fattened, compute) else {
+                let (Some((fattened, exit)), Some(all)) = (&maps.fattened, compute) else {
                     return;
                 };
-                *targets = Some(shared.clone());
+                let Some(shared) = &all.distance_map else {
+                    return;
+                };
+                *targets = Some(all.clone());
                 let distance_map = &shared.distance.1;
                 distance.bind(
                     device,
@@ -593,7 +632,7 @@ impl ScreenChain {
                     depth,
                     mask,
                 );
-                let (visibility, sigma) = (&shared.visibility.1, &shared.sigma.1);
+                let (visibility, sigma) = (&all.visibility.1, &shared.sigma.1);
                 pcf.bind(
                     device,
                     (visibility, sigma),
@@ -644,8 +683,10 @@ impl ScreenChain {
                 );
             }
             ScreenChain::FixedPcf { pcf, blur, resolve } => {
-                pcf.bind(device, frame, depth, shadow_map);
-                let mut visibility = pcf.visibility();
+                pcf.bind(device, frame, depth, shadow_map, None);
+                let Some(mut visibility) = pcf.visibility() else {
+                    return;
+                };
                 if let Some(blur) = blur {
                     let input = BlurInput {
                         visibility,
@@ -658,12 +699,18 @@ impl ScreenChain {
                 resolve.bind(device, frame, depth, dummy, visibility, mask);
             }
             ScreenChain::Pcss { pcss, resolve } => {
-                pcss.bind(device, frame, depth, shadow_map);
-                resolve.bind(device, frame, depth, dummy, pcss.visibility(), mask);
+                let shared = compute.map(|c| &c.visibility);
+                pcss.bind(device, frame, depth, shadow_map, shared);
+                if let Some(visibility) = pcss.visibility() {
+                    resolve.bind(device, frame, depth, dummy, visibility, mask);
+                }
             }
             ScreenChain::Hard { pcf, resolve } => {
-                pcf.bind(device, frame, depth, shadow_map);
-                resolve.bind(device, frame, depth, dummy, pcf.visibility(), mask);
+                let shared = compute.map(|c| &c.visibility);
+                pcf.bind(device, frame, depth, shadow_map, shared);
+                if let Some(visibility) = pcf.visibility() {
+                    resolve.bind(device, frame, depth, dummy, visibility, mask);
+                }
             }
         }
     }
@@ -754,7 +801,10 @@ impl ScreenChain {
     pub fn distance_texture(&self) -> Option<&wgpu::Texture> {
         match self {
             ScreenChain::DistanceMap { distance, .. } => Some(distance.distance_texture()),
-            ScreenChain::DistanceMapCompute { targets, .. } => targets.as_ref().map(|t| &t.distance.0),
+            ScreenChain::DistanceMapCompute { targets, .. } => targets
+                .as_ref()
+                .and_then(|t| t.distance_map.as_ref())
+                .map(|d| &d.distance.0),
             _ => None,
         }
     }
@@ -764,9 +814,10 @@ impl ScreenChain {
     pub fn tile_classes_texture(&self) -> Option<&wgpu::Texture> {
         match self {
             ScreenChain::DistanceMap { distance, .. } => distance.tile_classes_texture(),
-            ScreenChain::DistanceMapCompute { targets, .. } => {
-                targets.as_ref().map(|t| t.tiles.classes_texture())
-            }
+            ScreenChain::DistanceMapCompute { targets, .. } => targets
+                .as_ref()
+                .and_then(|t| t.distance_map.as_ref())
+                .map(|d| d.tiles.classes_texture()),
             _ => None,
         }
     }
@@ -777,10 +828,8 @@ impl ScreenChain {
             ScreenChain::MapOnly => None,
             ScreenChain::DistanceMapCompute { targets, .. } => targets.as_ref().map(|t| &t.visibility.0),
             ScreenChain::DistanceMap { pcf, .. } => Some(pcf.visibility_texture()),
-            ScreenChain::FixedPcf { pcf, .. } | ScreenChain::Hard { pcf, .. } => {
-                Some(pcf.visibility_texture())
-            }
-            ScreenChain::Pcss { pcss, .. } => Some(pcss.visibility_texture()),
+            ScreenChain::FixedPcf { pcf, .. } | ScreenChain::Hard { pcf, .. } => pcf.visibility_texture(),
+            ScreenChain::Pcss { pcss, .. } => pcss.visibility_texture(),
         }
     }
 

@@ -644,19 +644,22 @@ impl Shadows {
                 });
             }
             // The compute path's intermediates, one set for every light that runs it.
-            let any_compute = this
-                .lights
-                .iter()
-                .flatten()
-                .any(|s| s.planned.is_some_and(|p| p.chain.compute()));
+            let planned = || {
+                this.lights
+                    .iter()
+                    .flatten()
+                    .filter_map(|s| s.planned.map(|p| p.chain))
+            };
+            let any_compute = planned().any(|c| c.compute());
+            let distance_map = planned().any(|c| c.compute() && c.distance_map());
             if !any_compute {
                 this.compute_targets = None;
             } else if this
                 .compute_targets
                 .as_ref()
-                .is_none_or(|t| t.size() != (width, height))
+                .is_none_or(|t| !t.fit((width, height), distance_map))
             {
-                this.compute_targets = Some(ComputeTargets::new(device, (width, height)));
+                this.compute_targets = Some(ComputeTargets::new(device, (width, height), distance_map));
                 for state in this.lights.iter_mut().flatten() {
                     state.bound = None;
                 }

@@ -321,6 +321,142 @@ pub(crate) fn clear_target(
     drop(begin_pass(encoder, label, &[cleared(view, color)], None));
 }
 
+/// How a baseline's screen pass (PCF, PCSS) computes one visibility per pixel: a full-screen
+/// draw into its own R16F texture, or (the compute path) a compute pass over the screen in
+/// 16 x 16 workgroups (`cs_main`) into an R32F texture given at bind time, which the lights
+/// share ([`crate::chain::ComputeTargets`]).
+pub(crate) enum ScreenPipeline {
+    Draw {
+        pipeline: wgpu::RenderPipeline,
+        output: (wgpu::Texture, wgpu::TextureView),
+    },
+    Compute {
+        pipeline: wgpu::ComputePipeline,
+        output: Option<(wgpu::Texture, wgpu::TextureView)>,
+    },
+}
+
+impl ScreenPipeline {
+    /// The pipeline of `shader`'s `fs_main` (or `cs_main`, with `compute`) on `layout`, which
+    /// for compute must end with the output's storage texture ([`Self::layout_entries`]).
+    pub fn new(
+        device: &wgpu::Device,
+        label: &str,
+        shader: &wgpu::ShaderModule,
+        layout: &wgpu::BindGroupLayout,
+        constants: &[(&str, f64)],
+        compute: bool,
+    ) -> Self {
+        if compute {
+            ScreenPipeline::Compute {
+                pipeline: compute_pipeline(device, label, shader, &[Some(layout)], "cs_main", constants),
+                output: None,
+            }
+        } else {
+            ScreenPipeline::Draw {
+                pipeline: fullscreen_pipeline_with(
+                    device,
+                    label,
+                    shader,
+                    &[Some(layout)],
+                    VISIBILITY_FORMAT,
+                    constants,
+                ),
+                output: screen_target(device, label, 1, 1, VISIBILITY_FORMAT),
+            }
+        }
+    }
+
+    /// `entries` (a fragment pass's) for `compute`: seen by the compute stage, then the output
+    /// at the next binding.
+    pub fn layout_entries(
+        mut entries: Vec<wgpu::BindGroupLayoutEntry>,
+        compute: bool,
+    ) -> Vec<wgpu::BindGroupLayoutEntry> {
+        if compute {
+            entries = entries.into_iter().map(entry::and_compute).collect();
+            let next = entries.iter().map(|e| e.binding + 1).max().unwrap_or(0);
+            entries.push(entry::storage_texture(next, COMPUTE_VISIBILITY_FORMAT));
+        }
+        entries
+    }
+
+    pub fn is_compute(&self) -> bool {
+        matches!(self, ScreenPipeline::Compute { .. })
+    }
+
+    /// Sizes a draw's own texture (a compute pass's is given at bind time).
+    pub fn resize(&mut self, device: &wgpu::Device, label: &str, width: u32, height: u32) {
+        if let ScreenPipeline::Draw { output, .. } = self {
+            *output = screen_target(device, label, width, height, VISIBILITY_FORMAT);
+        }
+    }
+
+    /// A bind group of `resources` (bindings 0, 1, ...), and for compute the output
+    /// `shared` after them.
+    pub fn bind_group(
+        &mut self,
+        device: &wgpu::Device,
+        label: &str,
+        layout: &wgpu::BindGroupLayout,
+        resources: &[&dyn Binding],
+        shared: Option<&(wgpu::Texture, wgpu::TextureView)>,
+    ) -> Option<wgpu::BindGroup> {
+        match self {
+            ScreenPipeline::Draw { .. } => Some(bind_group(device, label, layout, resources)),
+            ScreenPipeline::Compute { output, .. } => {
+                let shared = shared?;
+                let mut all = resources.to_vec();
+                all.push(&shared.1);
+                *output = Some(shared.clone());
+                Some(bind_group(device, label, layout, &all))
+            }
+        }
+    }
+
+    /// The visibility (once bound, for compute).
+    pub fn output(&self) -> Option<&(wgpu::Texture, wgpu::TextureView)> {
+        match self {
+            ScreenPipeline::Draw { output, .. } => Some(output),
+            ScreenPipeline::Compute { output, .. } => output.as_ref(),
+        }
+    }
+
+    /// GPU memory of the pass's own texture (a shared one is counted where it is made).
+    pub fn own_bytes(&self) -> u64 {
+        match self {
+            ScreenPipeline::Draw { output, .. } => crate::gpu_helpers::texture_bytes(&output.0),
+            ScreenPipeline::Compute { .. } => 0,
+        }
+    }
+
+    /// Records the pass with `group`.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, label: &str, group: &wgpu::BindGroup) {
+        match self {
+            ScreenPipeline::Draw { pipeline, output } => {
+                draw_fullscreen(encoder, label, pipeline, &[group], &output.1);
+            }
+            ScreenPipeline::Compute {
+                pipeline,
+                output: Some(output),
+            } => {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(label),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, group, &[]);
+                pass.dispatch_workgroups(output.0.width().div_ceil(16), output.0.height().div_ceil(16), 1);
+            }
+            ScreenPipeline::Compute { output: None, .. } => {}
+        }
+    }
+}
+
+/// The compute path's visibility before any blur: 32-bit, which a compute pass can write
+/// everywhere (a single half float cannot be a storage texture on the web).
+pub(crate) const COMPUTE_VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
 /// The light-space passes' per-light data: a uniform of `size` bytes alone in a bind group
 /// (binding 0), one slot per cascade picked by a dynamic offset. Each cascade is drawn into its
 /// tile of the map atlas ([`CascadeUniforms::draw_tiles`]).

@@ -2,57 +2,57 @@
 //! fixed spacing: the baseline's PCF, and screen-space hard shadows with one tap.
 //!
 //! Input: the frame uniform, the camera depth (world positions are reconstructed from it) and
-//! the shadow map. Output: an R16F visibility texture (1 lit, 0 shadowed). The distance-map
+//! the shadow map. Output: an R16F visibility texture (1 lit, 0 shadowed), or on the compute
+//! path an R32F one the lights share, written by a compute pass ([`super::ScreenPipeline`]). The distance-map
 //! method takes its distance-driven taps in [`super::DistanceMapPass`], with the same tap code
 //! (`shaders/common/pcf_taps.wgsl`).
 
-use super::{LIGHT_KIND, VISIBILITY_FORMAT, draw_fullscreen, entry, fullscreen_pipeline_with, screen_target};
+use super::{LIGHT_KIND, ScreenPipeline, entry};
 use crate::frame::{PcfSwitches, PcfUniform};
-use crate::gpu_helpers::texture_bytes;
 
 pub struct PcfPass {
     switches: PcfSwitches,
     light_kind: u32,
     layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::RenderPipeline,
+    pipeline: ScreenPipeline,
     params: wgpu::Buffer,
     sampler: wgpu::Sampler,
-    output: (wgpu::Texture, wgpu::TextureView),
     bind_group: Option<wgpu::BindGroup>,
 }
 
 impl PcfPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.params.size() + texture_bytes(&self.output.0)
+        self.params.size() + self.pipeline.own_bytes()
     }
 
     /// The pass for `switches` and one light kind ([`crate::frame::light_kind`]: the other
-    /// kinds' code is compiled out); other switches or another kind need a new pass.
+    /// kinds' code is compiled out), a compute pass with `compute`; other switches, another
+    /// kind or the other kind of pass need a new pass.
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
         switches: PcfSwitches,
         light_kind: u32,
+        compute: bool,
     ) -> Self {
         let shader = crate::shaders::module(device, "pcf.wgsl", crate::shaders::PCF);
-        let layout = crate::gpu_helpers::shadow_lookup_layout(
-            device,
-            "PcfPass::layout",
-            frame_size,
-            &[entry::fragment_uniform(4, size_of::<PcfUniform>())],
+        let entries = ScreenPipeline::layout_entries(
+            entry::shadow_lookup(frame_size, &[entry::fragment_uniform(4, size_of::<PcfUniform>())]),
+            compute,
         );
+        let layout = crate::gpu_helpers::layout(device, "PcfPass::layout", &entries);
         let flag = |on: bool| if on { 1.0 } else { 0.0 };
-        let pipeline = fullscreen_pipeline_with(
+        let pipeline = ScreenPipeline::new(
             device,
             "PcfPass::pipeline",
             &shader,
-            &[Some(&layout)],
-            VISIBILITY_FORMAT,
+            &layout,
             &[
                 ("ROTATE_TAPS", flag(switches.rotate_taps)),
                 (LIGHT_KIND, light_kind as f64),
             ],
+            compute,
         );
         let params =
             crate::gpu_helpers::uniform_buffer(device, "PcfPass::params", size_of::<PcfUniform>() as u64);
@@ -67,28 +67,35 @@ impl PcfPass {
                 "PcfPass::comparison_sampler",
                 wgpu::FilterMode::Linear,
             ),
-            output: screen_target(device, "PcfPass::visibility", 1, 1, VISIBILITY_FORMAT),
             bind_group: None,
         }
     }
 
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.output = screen_target(device, "PcfPass::visibility", width, height, VISIBILITY_FORMAT);
+        self.pipeline.resize(device, "PcfPass::visibility", width, height);
     }
 
+    /// Points the pass at its inputs; a compute pass writes `shared` (the screen's size).
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
         frame: &wgpu::Buffer,
         camera_depth: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
+        shared: Option<&(wgpu::Texture, wgpu::TextureView)>,
     ) {
-        self.bind_group = Some(super::bind_group(
+        self.bind_group = self.pipeline.bind_group(
             device,
             "PcfPass::bind_group",
             &self.layout,
             &[frame, camera_depth, shadow_map, &self.sampler, &self.params],
-        ));
+            shared,
+        );
+    }
+
+    /// A compute pass.
+    pub(crate) fn is_compute(&self) -> bool {
+        self.pipeline.is_compute()
     }
 
     /// The switches the pipeline was made with.
@@ -106,18 +113,18 @@ impl PcfPass {
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
     }
 
-    /// The raw PCF visibility.
-    pub fn visibility(&self) -> &wgpu::TextureView {
-        &self.output.1
+    /// The raw PCF visibility (once bound, for a compute pass).
+    pub fn visibility(&self) -> Option<&wgpu::TextureView> {
+        self.pipeline.output().map(|o| &o.1)
     }
 
-    pub fn visibility_texture(&self) -> &wgpu::Texture {
-        &self.output.0
+    pub fn visibility_texture(&self) -> Option<&wgpu::Texture> {
+        self.pipeline.output().map(|o| &o.0)
     }
 
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
         if let Some(group) = &self.bind_group {
-            draw_fullscreen(encoder, "PcfPass", &self.pipeline, &[group], &self.output.1);
+            self.pipeline.encode(encoder, "PcfPass", group);
         }
     }
 }

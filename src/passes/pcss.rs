@@ -2,48 +2,49 @@
 //! sized by the light.
 //!
 //! Input: the frame uniform, the camera depth and the shadow map. Output: an R16F visibility
-//! texture. Blocker and PCF tap counts come from [`crate::PcssSettings`].
+//! texture, or on the compute path an R32F one the lights share ([`super::ScreenPipeline`]). Blocker and PCF tap counts come from [`crate::PcssSettings`].
 
-use super::{LIGHT_KIND, VISIBILITY_FORMAT, draw_fullscreen, entry, fullscreen_pipeline_with, screen_target};
+use super::{LIGHT_KIND, ScreenPipeline, entry};
 use crate::frame::PcssUniform;
-use crate::gpu_helpers::texture_bytes;
 
 pub struct PcssPass {
     light_kind: u32,
     layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::RenderPipeline,
+    pipeline: ScreenPipeline,
     params: wgpu::Buffer,
     sampler: wgpu::Sampler,
-    output: (wgpu::Texture, wgpu::TextureView),
     bind_group: Option<wgpu::BindGroup>,
 }
 
 impl PcssPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.params.size() + texture_bytes(&self.output.0)
+        self.params.size() + self.pipeline.own_bytes()
     }
 
     /// The pass for one light kind ([`crate::frame::light_kind`]: the other kinds' code is
-    /// compiled out, as in the distance-map method's passes); another kind needs a new pass.
-    pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32) -> Self {
+    /// compiled out, as in the distance-map method's passes), a compute pass with `compute`;
+    /// another kind or the other kind of pass needs a new pass.
+    pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32, compute: bool) -> Self {
         let shader = crate::shaders::module(device, "pcss.wgsl", crate::shaders::PCSS);
-        let layout = crate::gpu_helpers::shadow_lookup_layout(
-            device,
-            "PcssPass::layout",
-            frame_size,
-            &[
-                entry::unfilterable(4),
-                entry::fragment_uniform(5, size_of::<PcssUniform>()),
-            ],
+        let entries = ScreenPipeline::layout_entries(
+            entry::shadow_lookup(
+                frame_size,
+                &[
+                    entry::unfilterable(4),
+                    entry::fragment_uniform(5, size_of::<PcssUniform>()),
+                ],
+            ),
+            compute,
         );
-        let pipeline = fullscreen_pipeline_with(
+        let layout = crate::gpu_helpers::layout(device, "PcssPass::layout", &entries);
+        let pipeline = ScreenPipeline::new(
             device,
             "PcssPass::pipeline",
             &shader,
-            &[Some(&layout)],
-            VISIBILITY_FORMAT,
+            &layout,
             &[(LIGHT_KIND, light_kind as f64)],
+            compute,
         );
         let params =
             crate::gpu_helpers::uniform_buffer(device, "PcssPass::params", size_of::<PcssUniform>() as u64);
@@ -57,7 +58,6 @@ impl PcssPass {
                 "PcssPass::comparison_sampler",
                 wgpu::FilterMode::Linear,
             ),
-            output: screen_target(device, "PcssPass::visibility", 1, 1, VISIBILITY_FORMAT),
             bind_group: None,
         }
     }
@@ -68,17 +68,20 @@ impl PcssPass {
     }
 
     pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.output = screen_target(device, "PcssPass::visibility", width, height, VISIBILITY_FORMAT);
+        self.pipeline
+            .resize(device, "PcssPass::visibility", width, height);
     }
 
+    /// Points the pass at its inputs; a compute pass writes `shared` (the screen's size).
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
         frame: &wgpu::Buffer,
         camera_depth: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
+        shared: Option<&(wgpu::Texture, wgpu::TextureView)>,
     ) {
-        self.bind_group = Some(super::bind_group(
+        self.bind_group = self.pipeline.bind_group(
             device,
             "PcssPass::bind_group",
             &self.layout,
@@ -90,15 +93,22 @@ impl PcssPass {
                 shadow_map,
                 &self.params,
             ],
-        ));
+            shared,
+        );
     }
 
-    pub fn visibility(&self) -> &wgpu::TextureView {
-        &self.output.1
+    /// A compute pass.
+    pub(crate) fn is_compute(&self) -> bool {
+        self.pipeline.is_compute()
     }
 
-    pub fn visibility_texture(&self) -> &wgpu::Texture {
-        &self.output.0
+    /// The visibility (once bound, for a compute pass).
+    pub fn visibility(&self) -> Option<&wgpu::TextureView> {
+        self.pipeline.output().map(|o| &o.1)
+    }
+
+    pub fn visibility_texture(&self) -> Option<&wgpu::Texture> {
+        self.pipeline.output().map(|o| &o.0)
     }
 
     /// Uploads the frame's sample counts.
@@ -108,7 +118,7 @@ impl PcssPass {
 
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
         if let Some(group) = &self.bind_group {
-            draw_fullscreen(encoder, "PcssPass", &self.pipeline, &[group], &self.output.1);
+            self.pipeline.encode(encoder, "PcssPass", group);
         }
     }
 }
