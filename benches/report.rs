@@ -219,6 +219,20 @@ pub struct Embedding {
     pub reduced: Vec<ReducedRun>,
     /// What `Shadows` holds for one and for eight lights, per method.
     pub memory: Vec<MemoryRun>,
+    /// `ours` and `pcss` with their screen-space passes as compute passes and as draws.
+    pub compute: Vec<ComputeRun>,
+}
+
+/// One method (medium) on the teapot's view 0, light turning, with the screen-space passes as
+/// compute passes (the default) or as draws (`PenumbraSettings::fragment_passes`).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ComputeRun {
+    pub method: String,
+    pub compute: bool,
+    /// The method's screen-space passes: distance map (its tile list included), PCF, blur,
+    /// PCSS, resolve.
+    pub screen_space_ms: f64,
+    pub frame_ms: f64,
 }
 
 /// GPU memory `Shadows::allocated_bytes` reports for `lights` spot lights of one method
@@ -516,6 +530,7 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
     embedding.tiles = measure_tiles(&gpu, &teapot, &camera, size, config)?;
     embedding.reduced = measure_reduced(&gpu, &teapot, &camera, size, config)?;
     embedding.memory = measure_memory(&gpu, &teapot, &camera, config)?;
+    embedding.compute = measure_compute(&gpu, &teapot, &camera, size, config)?;
     write_report(config, &device_name, times_on_gpu(&gpu), &runs, &embedding)?;
     Ok(runs)
 }
@@ -805,6 +820,83 @@ fn measure_tiles(
     Ok(runs)
 }
 
+/// `ours` and `pcss` (medium) on `scene` from `camera`, light turning, with the screen-space
+/// passes as compute passes and as draws; each pair timed twice, in opposite orders.
+fn measure_compute(
+    gpu: &HeadlessGpu,
+    scene: &penumbra::Scene,
+    camera: &penumbra::Camera,
+    size: (u32, u32),
+    config: &Config,
+) -> Result<Vec<ComputeRun>> {
+    let mut runs = Vec::new();
+    for method in [ShadowMethod::Ours, ShadowMethod::Pcss] {
+        let mut sums = [(0.0f64, 0.0f64); 2];
+        for compute in [true, false, false, true] {
+            let mut settings = ShadowSettings::preset(method, Quality::Medium);
+            settings.penumbra.fragment_passes = !compute;
+            let t = time_frames(gpu, scene, camera, settings, size, config)?;
+            let screen: f64 = ["distance map", "pcf", "blur", "pcss", "resolve"]
+                .iter()
+                .map(|p| t.pass_ms.get(*p).copied().unwrap_or(0.0))
+                .sum();
+            let sum = &mut sums[usize::from(compute)];
+            sum.0 += screen / 2.0;
+            sum.1 += t.frame_ms / 2.0;
+        }
+        for compute in [true, false] {
+            let (screen_space_ms, frame_ms) = sums[usize::from(compute)];
+            println!(
+                "{} with compute passes {compute}: screen-space passes {screen_space_ms:.2} ms, frame {frame_ms:.2} ms",
+                method.name()
+            );
+            runs.push(ComputeRun {
+                method: method.name().to_string(),
+                compute,
+                screen_space_ms,
+                frame_ms,
+            });
+        }
+    }
+    Ok(runs)
+}
+
+/// The table of `ours`' and `pcss`' screen-space and frame time with compute passes and with
+/// draws.
+fn write_compute(md: &mut String, runs: &[ComputeRun], (width, height): (u32, u32)) -> Result<()> {
+    use std::fmt::Write;
+    if runs.is_empty() {
+        return Ok(());
+    }
+    writeln!(
+        md,
+        "\n## Compute passes against draws (teapot, view 0, {width}x{height}, medium, light turning)\n\n\
+         The screen-space chain as compute passes (the default: `ours` over its list of penumbra tiles, \
+         `pcss` over the screen; the resolve and the blur's vertical axis, which write the light's layer, \
+         stay draws) and as draws (`PenumbraSettings::fragment_passes`). Screen-space ms: the distance map \
+         with its tile list, PCF, blur, PCSS and the resolve. Each figure is the mean of two timings taken \
+         in opposite orders.\n\n\
+         | method | screen-space ms, compute | screen-space ms, draws | ratio | frame ms, compute | frame ms, draws |\n\
+         |---|---|---|---|---|---|"
+    )?;
+    for method in ["ours", "pcss"] {
+        let find = |compute: bool| runs.iter().find(|r| r.method == method && r.compute == compute);
+        let (Some(c), Some(d)) = (find(true), find(false)) else {
+            continue;
+        };
+        writeln!(
+            md,
+            "| {method} | {:.2} | {:.2} | {:.3} | {:.2} | {:.2} |",
+            c.screen_space_ms,
+            d.screen_space_ms,
+            c.screen_space_ms / d.screen_space_ms.max(1e-9),
+            c.frame_ms,
+            d.frame_ms
+        )?;
+    }
+    Ok(())
+}
+
 /// `ours` (medium) on `scene` from `camera` at each of the configured light sizes, with PCF at
 /// reduced resolution and without, light turning; each pair timed twice, in opposite orders.
 fn measure_reduced(
@@ -1019,6 +1111,7 @@ fn measure_embedding(
         tiles: Vec::new(),
         reduced: Vec::new(),
         memory: Vec::new(),
+        compute: Vec::new(),
         geometry_passes,
     })
 }
@@ -1471,6 +1564,7 @@ fn write_report(
     )?;
     write_tiles(&mut md, &embedding.tiles, (embedding.width, embedding.height))?;
     write_reduced(&mut md, &embedding.reduced, (embedding.width, embedding.height))?;
+    write_compute(&mut md, &embedding.compute, (embedding.width, embedding.height))?;
     writeln!(
         md,
         "\n## Cascades: the outdoor scene's street view\n\n\

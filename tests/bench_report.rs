@@ -69,6 +69,8 @@ fn the_bench_writes_its_report() {
         "| point | 90 deg | x0.25 | 4 | batched |",
         "lights two to four add",
         "lights two to four, with penumbrae smaller than the first's",
+        "## Compute passes against draws",
+        "| ours | ",
     ] {
         assert!(md.contains(needle), "report.md lacks `{needle}`");
     }
@@ -76,6 +78,14 @@ fn the_bench_writes_its_report() {
         md.contains("**met**") || md.contains("**missed**"),
         "targets have verdicts"
     );
+    // Both methods were timed both ways, their screen-space passes included.
+    let compute: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("embedding.json")).unwrap()).unwrap();
+    let runs = compute["compute"].as_array().expect("embedding.json has the compute runs");
+    assert_eq!(runs.len(), 4, "{runs:?}");
+    for run in runs {
+        assert!(run["screen_space_ms"].as_f64().unwrap() > 0.0, "{run}");
+    }
     // Every batching run timed the three screen-space passes of its lights.
     let embedding: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("embedding.json")).unwrap()).unwrap();
