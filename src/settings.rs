@@ -194,13 +194,16 @@ impl PcfKernel {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum TileClassification {
-    /// On where the device is a software rasterizer (its adapter a CPU), off on GPUs.
+    /// The compute path (the default, [`PenumbraSettings::fragment_passes`] off): on, its
+    /// passes run over the list of kept tiles. The draws: on where the device is a software
+    /// rasterizer (its adapter a CPU), off on GPUs.
     #[default]
     Auto,
     /// Always classify the tiles (on a GPU too), as long as
     /// [`PenumbraSettings::mask_early_out`] is on.
     On,
-    /// Never classify: the distance map is drawn over the whole screen.
+    /// Never classify: the distance map runs over the whole screen (the compute path lists
+    /// every tile).
     Off,
 }
 

@@ -81,7 +81,9 @@ fn the_bench_writes_its_report() {
     // Both methods were timed both ways, their screen-space passes included.
     let compute: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("embedding.json")).unwrap()).unwrap();
-    let runs = compute["compute"].as_array().expect("embedding.json has the compute runs");
+    let runs = compute["compute"]
+        .as_array()
+        .expect("embedding.json has the compute runs");
     assert_eq!(runs.len(), 4, "{runs:?}");
     for run in runs {
         assert!(run["screen_space_ms"].as_f64().unwrap() > 0.0, "{run}");

@@ -15,6 +15,16 @@
 //! | [`CompositePass`] | `shaders/composite.wgsl` | all instances, resolved visibility, camera depth | lit color |
 //! | [`ReferencePass`] | `shaders/reference.wgsl` | camera depth, one hard shadow map per light sample | mean visibility (R32F), weighted per pixel, beside the sum of the weights |
 //! | [`ForwardPass`] | `shaders/forward.wgsl` | all instances, camera, shadow map | lit color + camera depth (hard, hw2x2) |
+//!
+//! The compute path (the default where the device has compute shaders,
+//! [`crate::PenumbraSettings::fragment_passes`]): `TileListPass` (`cs_classify` in
+//! `shaders/tile_classify.wgsl`) lists the 16 x 16 tiles the distance-map method's shadows can
+//! reach and writes indirect arguments; `DistanceMapCompute`, `VariablePcfCompute` and
+//! `BlurCompute`'s horizontal axis (`cs_main` in their shaders) run over that list
+//! (`shaders/common/tile_list.wgsl`), and the blur's vertical axis draws the listed tiles'
+//! quads into the light's layer. [`PcfPass`] and [`PcssPass`] run `cs_main` over the screen
+//! ([`ScreenPipeline`]). Their screen-sized outputs are the lights' shared
+//! `chain::ComputeTargets`.
 
 mod blur;
 #[cfg(feature = "renderer")]
