@@ -325,13 +325,14 @@ fn fs_classify(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
 
 // The compute path, one light. The horizontal axis: one invocation per pixel of the listed
 // tiles (`common/tile_list.wgsl`) where the distance map's classification says a shadow can
-// fall, into `blur_out`; the other pixels keep what it was cleared to (1).
+// fall (the fixed blur: every tile, every pixel), into `blur_out`; the other pixels keep what
+// it was cleared to (1).
 @group(2) @binding(1) var blur_out: texture_storage_2d<r32float, write>;
 
 @compute @workgroup_size(16, 16)
 fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
     let pixel = listed_pixel(group, groups, local);
-    if pixel.x < 0 || textureLoad(distance0, pixel, 0).z <= 0.0 {
+    if pixel.x < 0 || (!FIXED_STEP && textureLoad(distance0, pixel, 0).z <= 0.0) {
         return;
     }
     textureStore(blur_out, pixel, vec4<f32>(blur_all(vec2<f32>(pixel) + 0.5).x));
@@ -342,7 +343,13 @@ fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gro
 // can fall.
 @fragment
 fn fs_listed(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    if textureLoad(distance0, vec2<i32>(frag.xy), 0).z <= 0.0 {
+    // After the distance map: where it says no shadow falls. The fixed blur (over every tile):
+    // where no receiver is, as the resolve would.
+    if FIXED_STEP {
+        if !receives(vec2<i32>(frag.xy)) {
+            return vec4<f32>(1.0);
+        }
+    } else if textureLoad(distance0, vec2<i32>(frag.xy), 0).z <= 0.0 {
         return vec4<f32>(1.0);
     }
     return vec4<f32>(blur_all(frag.xy).x);

@@ -43,6 +43,9 @@ pub enum Chain {
     FixedPcf {
         /// The blur has more than one tap.
         blur: bool,
+        /// PCF and the blur's horizontal axis are compute passes over the screen, and the
+        /// blur's vertical axis writes the light's layer (else draws).
+        compute: bool,
     },
     /// [`ShadowMethod::Pcss`]: PCSS, a resolve.
     Pcss {
@@ -86,6 +89,7 @@ impl Chain {
             },
             ShadowMethod::Traditional => Chain::FixedPcf {
                 blur: settings.traditional.blur_taps > 1,
+                compute,
             },
             ShadowMethod::Pcss => Chain::Pcss { compute },
             method @ (ShadowMethod::Hard | ShadowMethod::Hardware2x2) => Chain::Hard { method, compute },
@@ -110,6 +114,7 @@ impl Chain {
                 blur,
                 compute: false,
             },
+            Chain::FixedPcf { blur, .. } => Chain::FixedPcf { blur, compute: false },
             Chain::Pcss { .. } => Chain::Pcss { compute: false },
             Chain::Hard { method, .. } => Chain::Hard {
                 method,
@@ -120,12 +125,13 @@ impl Chain {
     }
 
     /// The screen-space passes run as compute passes (the distance-map method's over a tile
-    /// list, PCSS's and hard shadows' over the screen); the resolve into the light's layer
-    /// stays a draw.
+    /// list, the others' over the screen); the writes into the light's layer (the resolve, the
+    /// blur's vertical axis) stay draws.
     pub fn compute(&self) -> bool {
         matches!(
             self,
             Chain::DistanceMap { compute: true, .. }
+                | Chain::FixedPcf { compute: true, .. }
                 | Chain::Pcss { compute: true }
                 | Chain::Hard { compute: true, .. }
         )
@@ -178,7 +184,7 @@ impl Chain {
     pub fn blur(&self) -> bool {
         matches!(
             self,
-            Chain::DistanceMap { blur: true, .. } | Chain::FixedPcf { blur: true }
+            Chain::DistanceMap { blur: true, .. } | Chain::FixedPcf { blur: true, .. }
         )
     }
 
@@ -186,6 +192,7 @@ impl Chain {
     pub fn resolve(&self) -> bool {
         match self {
             Chain::DistanceMap { blur, .. } => !blur,
+            Chain::FixedPcf { blur, compute } => !(*blur && *compute),
             Chain::MapOnly { .. } => false,
             _ => true,
         }
@@ -207,8 +214,13 @@ impl Chain {
                 "pcf",
                 if *blur { "blur" } else { "resolve" },
             ],
-            Chain::FixedPcf { blur: true } => vec!["pcf", "blur", "resolve"],
-            Chain::FixedPcf { blur: false } | Chain::Hard { .. } => vec!["pcf", "resolve"],
+            // The compute path's blur writes the layer.
+            Chain::FixedPcf {
+                blur: true,
+                compute: true,
+            } => vec!["pcf", "blur"],
+            Chain::FixedPcf { blur: true, .. } => vec!["pcf", "blur", "resolve"],
+            Chain::FixedPcf { blur: false, .. } | Chain::Hard { .. } => vec!["pcf", "resolve"],
             Chain::Pcss { .. } => vec!["pcss", "resolve"],
             Chain::MapOnly { .. } => vec![],
         });
@@ -345,8 +357,12 @@ pub(crate) struct ScreenInputs<'a> {
 pub(crate) struct ComputeTargets {
     /// The visibility before any blur (PCF, PCSS).
     pub visibility: (wgpu::Texture, wgpu::TextureView),
+    /// The blur's horizontal axis, where a chain blurs.
+    pub blurred: Option<(wgpu::Texture, wgpu::TextureView)>,
     /// The distance-map method's, where a light runs it.
     pub distance_map: Option<DistanceMapTargets>,
+    /// Every tile of the screen listed: the fixed blur runs over all of them.
+    pub every_tile: Option<TileListTargets>,
 }
 
 /// The distance-map method's part of [`ComputeTargets`].
@@ -356,42 +372,84 @@ pub(crate) struct DistanceMapTargets {
     pub distance: (wgpu::Texture, wgpu::TextureView),
     /// The blur's deviations from the variable PCF.
     pub sigma: (wgpu::Texture, wgpu::TextureView),
-    /// The blur's horizontal axis.
-    pub blurred: (wgpu::Texture, wgpu::TextureView),
     /// The tile list the passes run over.
     pub tiles: TileListTargets,
 }
 
+/// Which parts of [`ComputeTargets`] the lights' chains use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct ComputeNeeds {
+    pub blur: bool,
+    pub distance_map: bool,
+    pub every_tile: bool,
+}
+
+impl ComputeNeeds {
+    /// What `chain` uses (nothing off the compute path).
+    pub fn of(chain: &Chain) -> Self {
+        if !chain.compute() {
+            return Self::default();
+        }
+        Self {
+            blur: chain.blur(),
+            distance_map: chain.distance_map(),
+            every_tile: chain.blur() && !chain.distance_map(),
+        }
+    }
+
+    pub fn union(self, other: Self) -> Self {
+        Self {
+            blur: self.blur || other.blur,
+            distance_map: self.distance_map || other.distance_map,
+            every_tile: self.every_tile || other.every_tile,
+        }
+    }
+}
+
 impl ComputeTargets {
-    /// For a screen of `size`; the distance-map method's part with `distance_map`.
-    pub fn new(device: &wgpu::Device, size: (u32, u32), distance_map: bool) -> Self {
+    /// For a screen of `size`, with the parts `needs` names.
+    pub fn new(device: &wgpu::Device, size: (u32, u32), needs: ComputeNeeds) -> Self {
         let target = |label, format| crate::passes::storage_target(device, label, size, format, true);
         Self {
             visibility: target(
                 "ComputeTargets::visibility",
                 VariablePcfCompute::VISIBILITY_FORMAT,
             ),
-            distance_map: distance_map.then(|| DistanceMapTargets {
+            blurred: needs
+                .blur
+                .then(|| target("ComputeTargets::blurred", BlurCompute::FORMAT)),
+            distance_map: needs.distance_map.then(|| DistanceMapTargets {
                 distance: target("ComputeTargets::distance_map", DistanceMapCompute::FORMAT),
                 sigma: target("ComputeTargets::sigma", VariablePcfCompute::SIGMA_FORMAT),
-                blurred: target("ComputeTargets::blurred", BlurCompute::FORMAT),
                 tiles: TileListTargets::new(device, size),
             }),
+            every_tile: needs
+                .every_tile
+                .then(|| TileListTargets::every_tile(device, size)),
         }
     }
 
-    /// These serve a screen of `size`, with the distance-map method's part when wanted.
-    pub fn fit(&self, size: (u32, u32), distance_map: bool) -> bool {
-        (self.visibility.0.width(), self.visibility.0.height()) == size
-            && self.distance_map.is_some() == distance_map
+    /// These are a screen of `size`'s, with exactly the parts `needs` names.
+    pub fn fit(&self, size: (u32, u32), needs: ComputeNeeds) -> bool {
+        let have = ComputeNeeds {
+            blur: self.blurred.is_some(),
+            distance_map: self.distance_map.is_some(),
+            every_tile: self.every_tile.is_some(),
+        };
+        (self.visibility.0.width(), self.visibility.0.height()) == size && have == needs
     }
 
     pub fn allocated_bytes(&self) -> u64 {
         let bytes = |t: &(wgpu::Texture, wgpu::TextureView)| crate::gpu_helpers::texture_bytes(&t.0);
         bytes(&self.visibility)
+            + self.blurred.as_ref().map_or(0, bytes)
             + self.distance_map.as_ref().map_or(0, |d| {
-                bytes(&d.distance) + bytes(&d.sigma) + bytes(&d.blurred) + d.tiles.allocated_bytes()
+                bytes(&d.distance) + bytes(&d.sigma) + d.tiles.allocated_bytes()
             })
+            + self
+                .every_tile
+                .as_ref()
+                .map_or(0, TileListTargets::allocated_bytes)
     }
 }
 
@@ -423,6 +481,15 @@ pub(crate) enum ScreenChain {
         blur: Option<BlurPass>,
         resolve: ResolvePass,
     },
+    /// The baseline as compute passes over the screen (every tile listed); the blur writes the
+    /// layer, the resolve only without a blur.
+    FixedPcfCompute {
+        pcf: PcfPass,
+        blur: Option<BlurCompute>,
+        resolve: ResolvePass,
+        /// The shared intermediates, as bound.
+        targets: Option<ComputeTargets>,
+    },
     Pcss {
         pcss: PcssPass,
         resolve: ResolvePass,
@@ -450,6 +517,9 @@ impl ScreenChain {
             }
             ScreenChain::FixedPcf { pcf, blur, .. } => {
                 pcf.allocated_bytes() + blur.as_ref().map_or(0, BlurPass::allocated_bytes)
+            }
+            ScreenChain::FixedPcfCompute { pcf, blur, .. } => {
+                pcf.allocated_bytes() + blur.as_ref().map_or(0, BlurCompute::allocated_bytes)
             }
             ScreenChain::Pcss { pcss, .. } => pcss.allocated_bytes(),
             ScreenChain::Hard { pcf, .. } => pcf.allocated_bytes(),
@@ -487,7 +557,13 @@ impl ScreenChain {
                 pcf: VariablePcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind),
                 resolve: resolve(),
             },
-            Chain::FixedPcf { blur } => ScreenChain::FixedPcf {
+            Chain::FixedPcf { blur, compute: true } => ScreenChain::FixedPcfCompute {
+                pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind, true),
+                blur: blur.then(|| BlurCompute::new(device, FRAME_SIZE, params.blur_switches)),
+                resolve: resolve(),
+                targets: None,
+            },
+            Chain::FixedPcf { blur, .. } => ScreenChain::FixedPcf {
                 pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind, false),
                 blur: blur.then(|| BlurPass::new(device, FRAME_SIZE, params.blur_switches, 1)),
                 resolve: resolve(),
@@ -534,9 +610,27 @@ impl ScreenChain {
                     && pcf.switches() == params.pcf_switches
                     && pcf.light_kind() == kind
             }
-            (ScreenChain::FixedPcf { pcf, blur, .. }, Chain::FixedPcf { blur: wanted }) => {
+            (
+                ScreenChain::FixedPcf { pcf, blur, .. },
+                Chain::FixedPcf {
+                    blur: wanted,
+                    compute: false,
+                },
+            ) => {
                 pcf_fits(pcf)
                     && !pcf.is_compute()
+                    && blur.is_some() == *wanted
+                    && blur.as_ref().is_none_or(|b| b.switches() == params.blur_switches)
+            }
+            (
+                ScreenChain::FixedPcfCompute { pcf, blur, .. },
+                Chain::FixedPcf {
+                    blur: wanted,
+                    compute: true,
+                },
+            ) => {
+                pcf_fits(pcf)
+                    && pcf.is_compute()
                     && blur.is_some() == *wanted
                     && blur.as_ref().is_none_or(|b| b.switches() == params.blur_switches)
             }
@@ -566,6 +660,7 @@ impl ScreenChain {
                     blur.resize(device, w, h);
                 }
             }
+            ScreenChain::FixedPcfCompute { targets, .. } => *targets = None,
             ScreenChain::Pcss { pcss, .. } => pcss.resize(device, w, h),
             ScreenChain::Hard { pcf, .. } => pcf.resize(device, w, h),
         }
@@ -583,6 +678,12 @@ impl ScreenChain {
             }
             ScreenChain::DistanceMap { pcf, .. } => pcf.prepare(queue, &params.pcf),
             ScreenChain::FixedPcf { pcf, blur, .. } => {
+                pcf.prepare(queue, &params.pcf);
+                if let Some(blur) = blur {
+                    blur.prepare(queue, &params.blur);
+                }
+            }
+            ScreenChain::FixedPcfCompute { pcf, blur, .. } => {
                 pcf.prepare(queue, &params.pcf);
                 if let Some(blur) = blur {
                     blur.prepare(queue, &params.blur);
@@ -644,7 +745,7 @@ impl ScreenChain {
                 match blur {
                     Some(blur) => blur.bind(
                         device,
-                        &shared.blurred.1,
+                        &all.blurred.as_ref().expect("made for a blurring chain").1,
                         frame,
                         (depth, mask),
                         (visibility, sigma, distance_map),
@@ -697,6 +798,30 @@ impl ScreenChain {
                     visibility = blur.blurred().unwrap_or(visibility);
                 }
                 resolve.bind(device, frame, depth, dummy, visibility, mask);
+            }
+            ScreenChain::FixedPcfCompute {
+                pcf,
+                blur,
+                resolve,
+                targets,
+            } => {
+                let Some(all) = compute else {
+                    return;
+                };
+                *targets = Some(all.clone());
+                pcf.bind(device, frame, depth, shadow_map, Some(&all.visibility));
+                let visibility = &all.visibility.1;
+                match (blur, &all.blurred) {
+                    (Some(blur), Some(blurred)) => blur.bind(
+                        device,
+                        &blurred.1,
+                        frame,
+                        (depth, mask),
+                        (visibility, dummy, dummy),
+                        dummy,
+                    ),
+                    _ => resolve.bind(device, frame, depth, dummy, visibility, mask),
+                }
             }
             ScreenChain::Pcss { pcss, resolve } => {
                 let shared = compute.map(|c| &c.visibility);
@@ -771,6 +896,24 @@ impl ScreenChain {
                 }
                 run(encoder, mark, "resolve", &|e| resolve.encode(e, layer));
             }
+            ScreenChain::FixedPcfCompute {
+                pcf,
+                blur,
+                resolve,
+                targets,
+            } => {
+                run(encoder, mark, "pcf", &|e| pcf.encode(e));
+                let listed = targets
+                    .as_ref()
+                    .and_then(|t| t.every_tile.as_ref())
+                    .map(TileListTargets::listed);
+                match (blur, listed) {
+                    (Some(blur), Some(listed)) => {
+                        run(encoder, mark, "blur", &|e| blur.encode(e, listed, layer))
+                    }
+                    _ => run(encoder, mark, "resolve", &|e| resolve.encode(e, layer)),
+                }
+            }
             ScreenChain::Pcss { pcss, resolve } => {
                 run(encoder, mark, "pcss", &|e| pcss.encode(e));
                 run(encoder, mark, "resolve", &|e| resolve.encode(e, layer));
@@ -828,7 +971,9 @@ impl ScreenChain {
             ScreenChain::MapOnly => None,
             ScreenChain::DistanceMapCompute { targets, .. } => targets.as_ref().map(|t| &t.visibility.0),
             ScreenChain::DistanceMap { pcf, .. } => Some(pcf.visibility_texture()),
-            ScreenChain::FixedPcf { pcf, .. } | ScreenChain::Hard { pcf, .. } => pcf.visibility_texture(),
+            ScreenChain::FixedPcf { pcf, .. }
+            | ScreenChain::FixedPcfCompute { pcf, .. }
+            | ScreenChain::Hard { pcf, .. } => pcf.visibility_texture(),
             ScreenChain::Pcss { pcss, .. } => pcss.visibility_texture(),
         }
     }

@@ -13,7 +13,7 @@
 
 use crate::casters::Casters;
 pub use crate::chain::Chain;
-use crate::chain::{ComputeTargets, FRAME_SIZE, LightMaps, ScreenChain, ScreenInputs};
+use crate::chain::{ComputeNeeds, ComputeTargets, FRAME_SIZE, LightMaps, ScreenChain, ScreenInputs};
 use crate::device::DeviceLoss;
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, light_kind};
@@ -644,22 +644,25 @@ impl Shadows {
                 });
             }
             // The compute path's intermediates, one set for every light that runs it.
-            let planned = || {
-                this.lights
-                    .iter()
-                    .flatten()
-                    .filter_map(|s| s.planned.map(|p| p.chain))
-            };
-            let any_compute = planned().any(|c| c.compute());
-            let distance_map = planned().any(|c| c.compute() && c.distance_map());
+            let needs = this
+                .lights
+                .iter()
+                .flatten()
+                .filter_map(|s| s.planned.map(|p| ComputeNeeds::of(&p.chain)))
+                .fold(ComputeNeeds::default(), ComputeNeeds::union);
+            let any_compute = this
+                .lights
+                .iter()
+                .flatten()
+                .any(|s| s.planned.is_some_and(|p| p.chain.compute()));
             if !any_compute {
                 this.compute_targets = None;
             } else if this
                 .compute_targets
                 .as_ref()
-                .is_none_or(|t| !t.fit((width, height), distance_map))
+                .is_none_or(|t| !t.fit((width, height), needs))
             {
-                this.compute_targets = Some(ComputeTargets::new(device, (width, height), distance_map));
+                this.compute_targets = Some(ComputeTargets::new(device, (width, height), needs));
                 for state in this.lights.iter_mut().flatten() {
                     state.bound = None;
                 }
@@ -986,7 +989,10 @@ impl Shadows {
             LightTexture::TileClasses => s.screen.tile_classes_texture(),
             LightTexture::Visibility => s.screen.raw_visibility(),
             LightTexture::BlurredVisibility => match s.report.map(|r| r.chain) {
-                Some(chain) if chain.blur() && chain.distance_map() => self.visibility.as_ref().map(|v| &v.0),
+                // The blur writes the layer: after the distance map, and on the compute path.
+                Some(chain) if chain.blur() && (chain.distance_map() || chain.compute()) => {
+                    self.visibility.as_ref().map(|v| &v.0)
+                }
                 _ => s.screen.blurred_visibility(),
             },
         }

@@ -435,7 +435,8 @@ impl BlurCompute {
         self.axis_buffers.iter().map(wgpu::Buffer::size).sum::<u64>()
     }
 
-    /// The pass for `switches` (after the distance map, not fixed).
+    /// The pass for `switches`: after the distance map (over its tile list, with its
+    /// classification) or the baseline's fixed blur (over every tile).
     pub(crate) fn new(device: &wgpu::Device, frame_size: usize, switches: BlurSwitches) -> Self {
         let shader = crate::shaders::module(device, "blur.wgsl", crate::shaders::BLUR);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
@@ -468,7 +469,7 @@ impl BlurCompute {
         let list_layout = super::TileListPass::list_layout(device);
         let flag = |on: bool| if on { 1.0 } else { 0.0 };
         let constants = [
-            ("FIXED_STEP", 0.0),
+            ("FIXED_STEP", flag(switches.fixed_step)),
             ("DEPTH_AWARE", flag(switches.depth_aware)),
             ("LIGHTS", 1.0),
             ("COMPUTE_PATH", 1.0),

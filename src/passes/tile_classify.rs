@@ -298,6 +298,51 @@ impl TileListTargets {
         }
     }
 
+    /// Every tile of a `width` x `height` screen, listed once (a pass over the whole screen).
+    pub fn every_tile(device: &wgpu::Device, (width, height): (u32, u32)) -> Self {
+        let (across, down) = TileClassifyPass::tiles(width, height);
+        let count = across * down;
+        let words: Vec<u32> = std::iter::once(count)
+            .chain((0..down).flat_map(|y| (0..across).map(move |x| x | (y << 16))))
+            .collect();
+        let filled = |label, usage, contents: &[u32]| {
+            wgpu::util::DeviceExt::create_buffer_init(
+                device,
+                &wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents: bytemuck::cast_slice(contents),
+                    usage,
+                },
+            )
+        };
+        let list = filled("TileListTargets::every_tile", wgpu::BufferUsages::STORAGE, &words);
+        // As `cs_finish` writes them.
+        let dispatch = [count.min(65535), count.div_ceil(65535), 1, 0];
+        let args = filled(
+            "TileListTargets::every_tile_args",
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+            &[dispatch[0], dispatch[1], dispatch[2], dispatch[3], 6, count, 0, 0],
+        );
+        let group = super::bind_group(
+            device,
+            "TileListTargets::every_tile",
+            &TileListPass::list_layout(device),
+            &[&list.as_entire_binding()],
+        );
+        Self {
+            list,
+            args,
+            classes: super::storage_target(
+                device,
+                "TileListTargets::classes",
+                (1, 1),
+                REDUCED_STORAGE_FORMAT,
+                false,
+            ),
+            group,
+        }
+    }
+
     pub fn allocated_bytes(&self) -> u64 {
         texture_bytes(&self.classes.0) + self.list.size() + self.args.size()
     }
