@@ -272,13 +272,15 @@ pub struct PenumbraSettings {
     /// benchmark's "Batching the blur" table; docs/lights.md).
     #[cfg_attr(feature = "serde", serde(default))]
     pub batch_lights: bool,
-    /// Run the screen-space chain (distance map, PCF, blur) as draws, as before the compute
-    /// path. Default false: where the device has compute shaders it runs as compute passes
-    /// over a list of the 16 x 16 pixel screen tiles a shadow can reach, and costs what those
-    /// tiles do (on a GPU, fragment work costs many times the same work in compute); the
-    /// blur's vertical axis, which writes the light's layer, draws those tiles. Batched blurs
-    /// ([`Self::batch_lights`]) and [`Self::reduced_resolution`] are draws only: either turns
-    /// the draws on, as does a device without compute shaders (WebGL 2).
+    /// Run the screen-space passes as draws, as before the compute path. Default false: where
+    /// the device has compute shaders they are compute passes, the distance-map method's over a
+    /// list of the 16 x 16 pixel screen tiles a shadow can reach (it then costs what those
+    /// tiles do; on a GPU, fragment work costs many times the same work in compute), the
+    /// baselines' over the screen; the writes into the light's layer (the resolve, the blur's
+    /// vertical axis over the listed tiles) stay draws. Batched blurs ([`Self::batch_lights`])
+    /// and [`Self::reduced_resolution`] are draws only: either turns the draws on for the
+    /// distance-map method, as does a device without compute shaders (WebGL 2, wgpu's GL
+    /// backend).
     #[cfg_attr(feature = "serde", serde(default))]
     pub fragment_passes: bool,
     /// How much shadows far from their occluder are lightened by bounced light, in [0, 1];
