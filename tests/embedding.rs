@@ -398,6 +398,9 @@ fn lights_blurred_in_batches_get_their_own_blur_except_where_penumbrae_cross() {
     let layers = |batch: bool| -> Vec<Vec<f32>> {
         let mut settings = ShadowSettings::default();
         settings.penumbra.batch_lights = batch;
+        // Batched blurs are drawn: one blur per light drawn too, so the two differ only in
+        // the batching (the compute path's intermediates are 32-bit).
+        settings.penumbra.fragment_passes = true;
         let mut shadows = Shadows::new(device, settings).unwrap();
         let ids: Vec<_> = lights
             .iter()
@@ -422,6 +425,9 @@ fn lights_blurred_in_batches_get_their_own_blur_except_where_penumbrae_cross() {
     let second_frame = |batch: bool, fresh: bool| -> Vec<Vec<f32>> {
         let mut settings = ShadowSettings::default();
         settings.penumbra.batch_lights = batch;
+        // Batched blurs are drawn: one blur per light drawn too, so the two differ only in
+        // the batching (the compute path's intermediates are 32-bit).
+        settings.penumbra.fragment_passes = true;
         let mut shadows = Shadows::new(device, settings).unwrap();
         let first = if fresh { &turned } else { &lights };
         let ids: Vec<_> = first
