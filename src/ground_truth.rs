@@ -229,6 +229,8 @@ impl GroundTruth {
             .iter()
             .map(|light| ShadowMapSettings {
                 resolution: sample_resolution(light, settings.shadow_map.resolution, max_side),
+                // The truth does not inherit a real-time map's precision.
+                depth_format: crate::settings::DepthFormat::Depth32,
                 ..settings.shadow_map
             })
             .collect();

@@ -367,16 +367,27 @@ impl Default for PcssSettings {
     }
 }
 
-/// Depth format of the shadow map.
+/// Depth format of the light's maps (the shadow map, and the distance-map method's fattened
+/// and exit maps).
+///
+/// The default is 16 bits. A GPU clears and writes a map in proportion to its bytes: on an
+/// NVIDIA H100 a bare clear of a 4096-texel square took 1.20 ms in 32-bit float and 0.67 ms in
+/// 16-bit unorm (issue 39's measurement), and the medium preset's sun map is such an atlas.
+/// Its precision holds where measured on the software adapter: the room's lamp and monitor
+/// (a point and a spot light, `tests/near_blocker.rs`) gave penumbra RMSE 0.0530 against
+/// 0.0543 in 32 bits and wall widths within 0.002 of them; the truth scene's widths under a
+/// spot, a sphere and a sun light (`tests/truth.rs`) moved by at most 0.002 of the ratio; and
+/// no acne nor detached shadow at a grazing sun in 16 bits (`tests/robustness.rs`). The
+/// reference renders its samples in 32 bits whatever this says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum DepthFormat {
     /// 16-bit normalized: half the memory, needs a tight near/far fit.
+    #[default]
     Depth16,
     /// At least 24 bits (the device picks 24-bit unorm or 32-bit float).
     Depth24,
     /// 32-bit float.
-    #[default]
     Depth32,
 }
 
@@ -460,7 +471,7 @@ pub struct ShadowMapSettings {
     /// Width and height in texels, a power of two in [64, 8192] and within the device's limit;
     /// with cascades, each cascade's, at most [`MAX_CASCADE_RESOLUTION`]. Default 2048.
     pub resolution: u32,
-    /// Default [`DepthFormat::Depth32`].
+    /// Default [`DepthFormat::Depth16`].
     pub depth_format: DepthFormat,
     /// Constant depth bias, in units of the depth format's smallest resolvable difference
     /// (for 32-bit float, about 2^-23 times the largest depth in the triangle). Default 4.
