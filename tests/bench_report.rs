@@ -70,6 +70,7 @@ fn the_bench_writes_its_report() {
         "lights two to four add",
         "lights two to four, with penumbrae smaller than the first's",
         "## Compute passes against draws",
+        "own cost (its passes but the camera's depth prepass and the lit pass",
         "| ours | ",
     ] {
         assert!(md.contains(needle), "report.md lacks `{needle}`");
