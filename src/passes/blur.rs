@@ -79,6 +79,29 @@ pub(crate) struct BlurUniform {
     pub kernel_sigma: f32,
 }
 
+/// Uploads both axes' uniforms (horizontal, vertical) for `params`; `resolve`: the vertical
+/// axis writes the lights' layers.
+fn write_axes(queue: &wgpu::Queue, buffers: &[wgpu::Buffer; 2], params: &BlurParams, resolve: bool) {
+    let weights = gaussian_weights(params.taps);
+    for (i, axis) in [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]]
+        .into_iter()
+        .enumerate()
+    {
+        queue.write_buffer(
+            &buffers[i],
+            0,
+            bytemuck::bytes_of(&BlurUniform {
+                axis,
+                weights,
+                taps: params.taps,
+                step: params.step,
+                resolve: (i == 1 && resolve) as u32,
+                kernel_sigma: kernel_sigma(params.taps, &weights),
+            }),
+        );
+    }
+}
+
 /// One light's inputs to the blur.
 pub(crate) struct BlurInput<'a> {
     /// The visibility to blur (several lights read the pass's packed texture instead).
@@ -325,24 +348,12 @@ impl BlurPass {
 
     /// Uploads the frame's tap count, step and Gaussian weights.
     pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &BlurParams) {
-        let weights = gaussian_weights(params.taps);
-        for (i, axis) in [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]]
-            .into_iter()
-            .enumerate()
-        {
-            queue.write_buffer(
-                &self.axis_buffers[i],
-                0,
-                bytemuck::bytes_of(&BlurUniform {
-                    axis,
-                    weights,
-                    taps: params.taps,
-                    step: params.step,
-                    resolve: (i == 1 && self.switches.after_distance_map) as u32,
-                    kernel_sigma: kernel_sigma(params.taps, &weights),
-                }),
-            );
-        }
+        write_axes(
+            queue,
+            &self.axis_buffers,
+            params,
+            self.switches.after_distance_map,
+        );
     }
 
     /// Records both directions ([`Self::prepare`] and [`Self::bind`] first). After the
@@ -565,24 +576,7 @@ impl BlurCompute {
 
     /// Uploads the frame's tap count, step and Gaussian weights.
     pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &BlurParams) {
-        let weights = gaussian_weights(params.taps);
-        for (i, axis) in [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]]
-            .into_iter()
-            .enumerate()
-        {
-            queue.write_buffer(
-                &self.axis_buffers[i],
-                0,
-                bytemuck::bytes_of(&BlurUniform {
-                    axis,
-                    weights,
-                    taps: params.taps,
-                    step: params.step,
-                    resolve: (i == 1) as u32,
-                    kernel_sigma: kernel_sigma(params.taps, &weights),
-                }),
-            );
-        }
+        write_axes(queue, &self.axis_buffers, params, true);
     }
 
     /// Records both axes over `tiles`, the vertical one into `layer`.

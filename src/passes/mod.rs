@@ -290,7 +290,7 @@ pub(crate) fn compute_pipeline(
 pub(crate) fn storage_target(
     device: &wgpu::Device,
     label: &str,
-    (width, height): (u32, u32),
+    size: (u32, u32),
     format: wgpu::TextureFormat,
     clearable: bool,
 ) -> (wgpu::Texture, wgpu::TextureView) {
@@ -299,25 +299,13 @@ pub(crate) fn storage_target(
     } else {
         wgpu::TextureUsages::empty()
     };
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: width.max(1),
-            height: height.max(1),
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
+    crate::gpu_helpers::texture_2d(
+        device,
+        label,
+        size,
         format,
-        usage: wgpu::TextureUsages::STORAGE_BINDING
-            | clear
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
-    let view = texture.create_view(&Default::default());
-    (texture, view)
+        wgpu::TextureUsages::STORAGE_BINDING | clear,
+    )
 }
 
 /// Sets every texel of `view` to `color` (a render pass that only clears): the compute passes
