@@ -219,7 +219,8 @@ pub struct Embedding {
     pub reduced: Vec<ReducedRun>,
     /// What `Shadows` holds for one and for eight lights, per method.
     pub memory: Vec<MemoryRun>,
-    /// `ours` and `pcss` with their screen-space passes as compute passes and as draws.
+    /// `ours`, `pcss` and `traditional` with their screen-space passes as compute passes and as
+    /// draws.
     pub compute: Vec<ComputeRun>,
 }
 
@@ -820,8 +821,9 @@ fn measure_tiles(
     Ok(runs)
 }
 
-/// `ours` and `pcss` (medium) on `scene` from `camera`, light turning, with the screen-space
-/// passes as compute passes and as draws; each pair timed twice, in opposite orders.
+/// `ours`, `pcss` and `traditional` (medium) on `scene` from `camera`, light turning, with the
+/// screen-space passes as compute passes and as draws; each pair timed twice, in opposite
+/// orders.
 fn measure_compute(
     gpu: &HeadlessGpu,
     scene: &penumbra::Scene,
@@ -830,7 +832,7 @@ fn measure_compute(
     config: &Config,
 ) -> Result<Vec<ComputeRun>> {
     let mut runs = Vec::new();
-    for method in [ShadowMethod::Ours, ShadowMethod::Pcss] {
+    for method in [ShadowMethod::Ours, ShadowMethod::Pcss, ShadowMethod::Traditional] {
         let mut sums = [(0.0f64, 0.0f64); 2];
         for compute in [true, false, false, true] {
             let mut settings = ShadowSettings::preset(method, Quality::Medium);
@@ -861,8 +863,7 @@ fn measure_compute(
     Ok(runs)
 }
 
-/// The table of `ours`' and `pcss`' screen-space and frame time with compute passes and with
-/// draws.
+/// The table of each method's screen-space and frame time with compute passes and with draws.
 fn write_compute(md: &mut String, runs: &[ComputeRun], (width, height): (u32, u32)) -> Result<()> {
     use std::fmt::Write;
     if runs.is_empty() {
@@ -872,14 +873,14 @@ fn write_compute(md: &mut String, runs: &[ComputeRun], (width, height): (u32, u3
         md,
         "\n## Compute passes against draws (teapot, view 0, {width}x{height}, medium, light turning)\n\n\
          The screen-space chain as compute passes (the default: `ours` over its list of penumbra tiles, \
-         `pcss` over the screen; the resolve and the blur's vertical axis, which write the light's layer, \
-         stay draws) and as draws (`PenumbraSettings::fragment_passes`). Screen-space ms: the distance map \
+         the baselines over the screen; the resolve and the blur's vertical axis, which write the light's \
+         layer, stay draws) and as draws (`PenumbraSettings::fragment_passes`). Screen-space ms: the distance map \
          with its tile list, PCF, blur, PCSS and the resolve. Each figure is the mean of two timings taken \
          in opposite orders.\n\n\
          | method | screen-space ms, compute | screen-space ms, draws | ratio | frame ms, compute | frame ms, draws |\n\
          |---|---|---|---|---|---|"
     )?;
-    for method in ["ours", "pcss"] {
+    for method in ["ours", "pcss", "traditional"] {
         let find = |compute: bool| runs.iter().find(|r| r.method == method && r.compute == compute);
         let (Some(c), Some(d)) = (find(true), find(false)) else {
             continue;

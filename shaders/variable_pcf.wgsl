@@ -226,15 +226,21 @@ fn fs_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 
 // The compute path: one invocation per pixel of the listed tiles (`common/tile_list.wgsl`)
 // where the distance map's classification (its B) says a shadow can fall, into the visibility
-// (R32F) and the blur's standard deviations along screen x and y (RG32F). The other pixels keep
-// what the textures were cleared to: 1, no blur. Reduced resolution stays a draw.
+// (R32F) and the blur's standard deviations along screen x and y (RG32F). The listed tiles'
+// other pixels get no blur, and keep the visibility it was cleared to (1): the blur reads a
+// neighbour's visibility anywhere, its deviations only at the listed pixels it blurs, so only
+// the visibility is cleared. Reduced resolution stays a draw.
 @group(0) @binding(6) var visibility_out: texture_storage_2d<r32float, write>;
 @group(0) @binding(7) var sigma_out: texture_storage_2d<rg32float, write>;
 
 @compute @workgroup_size(16, 16)
 fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
     let pixel = listed_pixel(group, groups, local);
-    if pixel.x < 0 || textureLoad(distance_map, pixel, 0).z <= 0.0 {
+    if pixel.x < 0 {
+        return;
+    }
+    if textureLoad(distance_map, pixel, 0).z <= 0.0 {
+        textureStore(sigma_out, pixel, vec4<f32>(0.0));
         return;
     }
     let depth = textureLoad(camera_depth, pixel, 0).x;

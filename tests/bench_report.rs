@@ -85,7 +85,7 @@ fn the_bench_writes_its_report() {
     let runs = compute["compute"]
         .as_array()
         .expect("embedding.json has the compute runs");
-    assert_eq!(runs.len(), 4, "{runs:?}");
+    assert_eq!(runs.len(), 6, "{runs:?}");
     for run in runs {
         assert!(run["screen_space_ms"].as_f64().unwrap() > 0.0, "{run}");
     }

@@ -296,6 +296,11 @@ impl DemoApp {
                 );
                 ui.checkbox(&mut p.depth_aware_blur, "depth-aware blur");
                 ui.checkbox(&mut p.batch_lights, "blur lights in batches of four");
+                // Every method's: draws instead of compute passes, to compare their cost.
+                ui.checkbox(
+                    &mut p.fragment_passes,
+                    "screen-space passes as draws, not compute (all methods)",
+                );
                 ui.add(egui::Slider::new(&mut p.indirect_weight, 0.0..=1.0).text("indirect_weight"));
             });
         egui::CollapsingHeader::new("Traditional (PCF + Gaussian)")

@@ -404,8 +404,9 @@ impl VariablePcfPass {
 /// The variable PCF of the compute path: one compute pass over the distance map's listed
 /// tiles (`cs_main` in `shaders/variable_pcf.wgsl`), at the pixels whose classification says a
 /// shadow can fall, into the visibility (R32F, cleared to 1 first: no shadow) and the blur's
-/// standard deviations along screen x and y (RG32F, cleared to 0: no blur). 32-bit floats: a
-/// compute pass can write them everywhere (half floats only as RGBA16F, whose four-channel
+/// standard deviations along screen x and y (RG32F, 0 at the listed tiles' other pixels, not
+/// cleared: the blur reads them only at the listed pixels it blurs). 32-bit floats: a compute
+/// pass can write them everywhere (half floats only as RGBA16F, whose four-channel
 /// fetches cost the blur's taps on a software rasterizer). The textures are given at
 /// [`Self::bind`]: the lights share them ([`crate::chain::ComputeTargets`]).
 pub(crate) struct VariablePcfCompute {
@@ -528,7 +529,9 @@ impl VariablePcfCompute {
 
     /// Records the pass over `tiles`.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, tiles: super::TileList) {
-        let (Some(group), Some((visibility, sigma))) = (&self.bind_group, &self.outputs) else {
+        // The deviations are written at every listed pixel (the only ones the blur reads them
+        // at); the visibility is read anywhere, and cleared.
+        let (Some(group), Some((visibility, _))) = (&self.bind_group, &self.outputs) else {
             return;
         };
         super::clear_target(
@@ -536,12 +539,6 @@ impl VariablePcfCompute {
             "VariablePcfCompute::clear",
             visibility,
             wgpu::Color::WHITE,
-        );
-        super::clear_target(
-            encoder,
-            "VariablePcfCompute::clear",
-            sigma,
-            wgpu::Color::TRANSPARENT,
         );
         tiles.dispatch(encoder, "VariablePcfCompute", &self.pipeline, &[Some(group)]);
     }
