@@ -1,5 +1,6 @@
 // Distance map pass: a full-screen pass over the camera's depth (the engine's, or the
-// renderer's own prepass). No geometry is drawn: world positions come from the depth and the
+// renderer's own prepass), or on the compute path (`cs_main`, below) a compute pass over the
+// tiles the tile classification listed. No geometry is drawn: world positions come from the depth and the
 // camera's inverse view-projection.
 //
 // For each receiver pixel it writes the distance along the light from the occluder to the
@@ -134,6 +135,8 @@ fn fs_nearest_caster(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f3
     return vec4<f32>(beside_distance(frag.xy), 1.0, 0.0, 0.0);
 }
 
+// The distance beside a shadow at pixel centre `frag`: the fattened surface's, or the nearest
+// caster's where that is nearer.
 fn beside_distance(frag: vec2<f32>) -> f32 {
     let depth = textureLoad(camera_depth, vec2<i32>(frag), 0).x;
     use_pixel_cascade(frag, depth);
