@@ -252,7 +252,7 @@ pub(crate) fn has_compute(device: &wgpu::Device) -> bool {
         && l.max_compute_workgroup_size_x >= 16
         && l.max_compute_workgroup_size_y >= 16
         && l.max_compute_workgroups_per_dimension >= 65535
-        && l.max_storage_textures_per_shader_stage >= 1
+        && l.max_storage_textures_per_shader_stage >= 2
         && l.max_storage_buffers_per_shader_stage >= 2
         && l.max_bind_groups >= 4
 }
