@@ -617,7 +617,7 @@ impl Renderer {
         let matrices = CameraMatrices::from_camera(camera, self.size.0 as f32 / self.size.1 as f32);
         let casters = scene.casters();
         self.shadows.set_light(self.light, light)?;
-        self.shadows.set_screen_space(!plan.forward);
+        self.shadows.set_maps_only(plan.forward);
 
         let mut timer = self.timer.take();
         if let Some(t) = &mut timer {

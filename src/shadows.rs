@@ -338,8 +338,14 @@ impl Shadows {
         Ok(())
     }
 
-    pub(crate) fn set_screen_space(&mut self, on: bool) {
-        self.screen_space = on;
+    /// Draws only the lights' shadow maps, no screen-space pass, for an engine that shades with
+    /// the maps itself (read them with [`Shadows::light_texture`] and
+    /// [`LightTexture::ShadowMap`]; each light's view and cascades are in its [`LightReport`]).
+    /// The next [`Shadows::prepare`] frees the screen-space passes and the distance-map
+    /// method's fattened and exit maps; [`Shadows::visibility`] is not written while it is on.
+    /// Off by default. The convenience renderer's hard shadows use it (its forward pass).
+    pub fn set_maps_only(&mut self, maps_only: bool) {
+        self.screen_space = !maps_only;
     }
 
     /// Frees every light's passes but its shadow map (the convenience renderer's forward and

@@ -1643,3 +1643,54 @@ fn the_visibility_goes_into_an_engines_texture_and_each_replacement_is_counted()
         "the engine's texture holds another visibility"
     );
 }
+
+/// Maps only: an engine that shades with penumbra's shadow maps itself gets the maps drawn
+/// (the spot's map holds the box, nearer the light than the floor) and no screen-space pass:
+/// the chain is the map alone, the distance-map method's intermediates are freed, and the
+/// memory falls; turned off again, the next frame's layer shows the shadow.
+#[test]
+fn maps_only_draws_the_shadow_map_and_no_screen_space_pass() {
+    let gpu = common::gpu();
+    let device = &gpu.device;
+    let w = world(&gpu);
+    let depth = DepthPass::new(device);
+    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+    let spot = shadows.add_light(device, spot_over_the_box()).unwrap();
+    render_seen_by(&gpu, &w, &depth, &mut shadows, None, side_camera());
+    let full = shadows.allocated_bytes();
+    assert!(shadows.light_texture(spot, LightTexture::DistanceMap).is_some());
+
+    shadows.set_maps_only(true);
+    let reports = render_seen_by(&gpu, &w, &depth, &mut shadows, None, side_camera());
+    let report = reports[0];
+    assert_eq!(
+        report.chain,
+        penumbra::Chain::MapOnly {
+            method: ShadowMethod::Ours
+        }
+    );
+    assert!(shadows.light_texture(spot, LightTexture::DistanceMap).is_none());
+    assert!(shadows.light_texture(spot, LightTexture::FattenedMap).is_none());
+    let maps_only = shadows.allocated_bytes();
+    assert!(maps_only < full, "maps only {maps_only} bytes against {full}");
+    // The map holds the box: some texels nearer the light than most (the floor).
+    let map = shadows.light_texture(spot, LightTexture::ShadowMap).unwrap();
+    let (depths, _) = penumbra::read_texture_f32(device, &gpu.queue, map).unwrap();
+    let mut sorted = depths.clone();
+    sorted.sort_by(f32::total_cmp);
+    let median = sorted[sorted.len() / 2];
+    let nearer = depths.iter().filter(|d| **d < median - 0.01).count();
+    assert!(
+        nearer > 100,
+        "{nearer} texels nearer the light than the floor's {median}"
+    );
+
+    shadows.set_maps_only(false);
+    render_seen_by(&gpu, &w, &depth, &mut shadows, None, side_camera());
+    let layer = read_layer(&gpu, &shadows, spot.layer());
+    let shadowed = layer.iter().filter(|v| **v < 0.5).count();
+    assert!(
+        shadowed > 200,
+        "{shadowed} shadowed pixels once the screen-space passes are back"
+    );
+}
