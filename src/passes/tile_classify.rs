@@ -273,12 +273,7 @@ impl TileListTargets {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let group = super::bind_group(
-            device,
-            "TileListTargets::list",
-            &TileListPass::list_layout(device),
-            &[&list.as_entire_binding()],
-        );
+        let group = Self::list_group(device, "TileListTargets::list", &list);
         Self {
             args: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("TileListTargets::args"),
@@ -323,12 +318,7 @@ impl TileListTargets {
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
             &[dispatch[0], dispatch[1], dispatch[2], dispatch[3], 6, count, 0, 0],
         );
-        let group = super::bind_group(
-            device,
-            "TileListTargets::every_tile",
-            &TileListPass::list_layout(device),
-            &[&list.as_entire_binding()],
-        );
+        let group = Self::list_group(device, "TileListTargets::every_tile", &list);
         Self {
             list,
             args,
@@ -341,6 +331,16 @@ impl TileListTargets {
             ),
             group,
         }
+    }
+
+    /// `list` as group [`super::TILE_LIST_GROUP`] of the passes over it.
+    fn list_group(device: &wgpu::Device, label: &str, list: &wgpu::Buffer) -> wgpu::BindGroup {
+        super::bind_group(
+            device,
+            label,
+            &TileListPass::list_layout(device),
+            &[&list.as_entire_binding()],
+        )
     }
 
     pub fn allocated_bytes(&self) -> u64 {
