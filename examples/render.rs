@@ -11,7 +11,9 @@ use anyhow::{Context, Result, bail};
 use clap::Parser;
 use penumbra::debug::DebugView;
 use penumbra::timing::TimedFrames;
-use penumbra::{GpuScene, HeadlessGpu, Light, Quality, Renderer, ShadowMethod, ShadowSettings};
+use penumbra::{
+    GpuScene, HeadlessGpu, Light, MapResolution, Quality, Renderer, ShadowMethod, ShadowSettings,
+};
 
 #[derive(Parser)]
 #[command(about = "Render a penumbra scene (or an OBJ/glTF model on a floor) to a PNG, headless")]
@@ -60,6 +62,11 @@ struct Args {
     /// of compute passes over the tile list, to compare their cost.
     #[arg(long)]
     fragment_passes: bool,
+    /// `ours`: the narrowest penumbra, in texels, the light's maps may be coarsened to
+    /// (`MapResolution::FromPenumbra`); 0 keeps the maps at `--shadow-map` texels
+    /// (`MapResolution::Configured`). Default: the preset's.
+    #[arg(long)]
+    narrowest_texels: Option<f32>,
     /// Also render the ground-truth reference with this many light samples, print the
     /// visibility error (RMSE, penumbra RMSE, max) and FLIP, and write OUT.heat.png (the
     /// visibility error) next to the output.
@@ -117,6 +124,11 @@ fn main() -> Result<()> {
     settings.penumbra.reduced_resolution = args.reduced_resolution;
     settings.penumbra.batch_lights = args.batch_lights;
     settings.penumbra.fragment_passes = args.fragment_passes;
+    settings.penumbra.map_resolution = match args.narrowest_texels {
+        None => settings.penumbra.map_resolution,
+        Some(t) if t <= 0.0 => MapResolution::Configured,
+        Some(narrowest_texels) => MapResolution::FromPenumbra { narrowest_texels },
+    };
     if let Some(samples) = args.samples {
         settings.reference.samples = samples;
     }
@@ -177,6 +189,17 @@ fn main() -> Result<()> {
         .with_context(|| format!("cannot write {}", args.out.display()))?;
     if let Some(samples) = args.compare_to_reference {
         compare_to_reference(&gpu, &scene, &camera, settings, samples, &image, &args.out)?;
+    }
+    // The key light's penumbra widths, as measured after the frame (`MapResolution::FromPenumbra`).
+    if let Some(report) = renderer
+        .last_report()
+        .and_then(|r| renderer.shadows().report(r.light.light))
+        && let Some(widths) = report.penumbra_widths
+    {
+        eprintln!(
+            "maps: {} texels a tile; {} penumbra pixels, narrower than {:?} texels: {:?}",
+            report.map_resolution, widths.pixels, widths.limits_texels, widths.narrower
+        );
     }
     if renderer
         .last_report()

@@ -184,7 +184,9 @@ fn search_radius(world: vec3<f32>, receiver_depth: f32, uv_world_at_receiver: f3
         uv_world_at_receiver * reach_depth / max(receiver_depth, 1e-20),
         light_perspective(),
     );
-    return min(half_angle * d / max(uv_world_at_reach, 1e-20), cap / side);
+    // The cap is in texels of the map at its configured resolution: a map drawn coarser
+    // (`frame.penumbra.map_scale`) is searched as far across the light.
+    return min(half_angle * d / max(uv_world_at_reach, 1e-20), cap / (side * frame.penumbra.map_scale));
 }
 
 // A search's uv offsets are in units of the map's x axis; this scales them per axis, so that

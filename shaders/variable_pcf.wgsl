@@ -93,6 +93,10 @@ struct Setup {
     // the penumbra's whole standard deviation in pixels along screen x and y (physical mode;
     // else 0)
     penumbra_sigma: vec2<f32>,
+    // the penumbra's width, or a pixel's where that is wider (across the light, along the
+    // screen axis whose pixel spans the least), in texels of the light's map: the least detail
+    // the map must draw there (physical mode; else -1)
+    width_texels: f32,
 }
 
 // The taps' layout at pixel centre `frag` (camera depth `depth`).
@@ -108,8 +112,9 @@ fn setup(frag: vec2<f32>, depth: f32) -> Setup {
     var spacing_world = (pcf.base_spacing + d * pcf.spread) * texel_world;
     var blur_sigma = 0.0;
     var sigma = 0.0;
+    var width = -1.0;
     if frame.penumbra.physical != 0u {
-        let width = penumbra_width(d, world);
+        width = penumbra_width(d, world);
         sigma = frame.penumbra.sigma_per_width * width;
         let variance = sigma * sigma;
         spacing_world = 0.0;
@@ -139,6 +144,7 @@ fn setup(frag: vec2<f32>, depth: f32) -> Setup {
     let pixel_world = max(vec2<f32>(across_light(r.dx, ray), across_light(r.dy, ray)), vec2<f32>(1e-6));
     out.blur_sigma = blur_sigma / pixel_world;
     out.penumbra_sigma = sigma / pixel_world;
+    out.width_texels = select(-1.0, max(width, min(pixel_world.x, pixel_world.y)) / texel_world, width >= 0.0);
     return out;
 }
 
@@ -233,18 +239,61 @@ fn fs_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 @group(0) @binding(6) var visibility_out: texture_storage_2d<r32float, write>;
 @group(0) @binding(7) var sigma_out: texture_storage_2d<rg32float, write>;
 
+// The penumbra widths the compute path measured, for the choice of the light's map resolution
+// (`PenumbraSettings::map_resolution`): how many of the pixels in a penumbra (its PCF
+// visibility strictly between 0 and 1) have a penumbra narrower than `limits.x`, `limits.y` and
+// `limits.z` texels of the map as drawn, and how many there are. The CPU writes the limits and
+// zeroes the counts before each frame, and reads the counts back.
+struct Widths {
+    counts: array<atomic<u32>, 4>,
+    limits: vec4<f32>,
+}
+
+@group(0) @binding(8) var<storage, read_write> widths: Widths;
+
+// A workgroup's counts, added to `widths` once per workgroup (zeroed at the dispatch's start).
+var<workgroup> group_widths: array<atomic<u32>, 4>;
+
+// Visibility this far from 0 and 1 counts as a penumbra's.
+const IN_PENUMBRA: f32 = 0.02;
+
 @compute @workgroup_size(16, 16)
-fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>, @builtin(local_invocation_index) index: u32) {
     let pixel = listed_pixel(group, groups, local);
-    if pixel.x < 0 {
-        return;
+    if pixel.x >= 0 {
+        let width = pcf_pixel(pixel);
+        if width >= 0.0 {
+            atomicAdd(&group_widths[3], 1u);
+            for (var i = 0; i < 3; i += 1) {
+                if width < widths.limits[i] {
+                    atomicAdd(&group_widths[i], 1u);
+                }
+            }
+        }
     }
+    workgroupBarrier();
+    if index < 4u {
+        let n = atomicLoad(&group_widths[index]);
+        if n > 0u {
+            atomicAdd(&widths.counts[index], n);
+        }
+    }
+}
+
+// The compute path's work at `pixel`: its visibility and the blur's deviations. Returns the
+// penumbra's width in texels where the pixel lies in one (physical mode), else -1.
+fn pcf_pixel(pixel: vec2<i32>) -> f32 {
     if textureLoad(distance_map, pixel, 0).z <= 0.0 {
         textureStore(sigma_out, pixel, vec4<f32>(0.0));
-        return;
+        return -1.0;
     }
     let depth = textureLoad(camera_depth, pixel, 0).x;
     let s = setup(vec2<f32>(pixel) + 0.5, depth);
-    textureStore(visibility_out, pixel, vec4<f32>(taps(s)));
+    let visibility = taps(s);
+    textureStore(visibility_out, pixel, vec4<f32>(visibility));
     textureStore(sigma_out, pixel, vec4<f32>(s.blur_sigma, 0.0, 0.0));
+    if visibility > IN_PENUMBRA && visibility < 1.0 - IN_PENUMBRA {
+        return s.width_texels;
+    }
+    return -1.0;
 }

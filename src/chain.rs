@@ -261,10 +261,21 @@ impl LightMaps {
         let tile = tile_resolution(light, settings.resolution);
         let layouts = casters.layouts();
         let mut made = false;
-        let same =
-            |m: &LightMaps| m.casters == casters.id() && (m.shadow.grid(), m.shadow.tile()) == (grid, tile);
+        let same = |m: &LightMaps| m.casters == casters.id() && m.shadow.grid() == grid;
         let maps = match maps {
-            Some(m) if same(m) => m,
+            Some(m) if same(m) => {
+                // A new resolution (`crate::MapResolution::FromPenumbra`): new textures, the
+                // same pipelines.
+                if m.shadow.tile() != tile {
+                    m.shadow.resize(device, settings, tile);
+                    if let Some((fattened, exit)) = &mut m.fattened {
+                        fattened.resize(device, settings, tile);
+                        exit.resize(device, settings, tile);
+                    }
+                    made = true;
+                }
+                m
+            }
             _ => {
                 made = true;
                 maps.insert(LightMaps {
@@ -929,6 +940,14 @@ impl ScreenChain {
     pub fn distance_map(&self) -> Option<(&DistanceMapPass, &VariablePcfPass)> {
         match self {
             ScreenChain::DistanceMap { distance, pcf, .. } => Some((distance, pcf)),
+            _ => None,
+        }
+    }
+
+    /// The penumbra widths the compute path's PCF counts ([`crate::map_resolution`]).
+    pub(crate) fn width_probe_mut(&mut self) -> Option<&mut crate::map_resolution::WidthProbe> {
+        match self {
+            ScreenChain::DistanceMapCompute { pcf, .. } => Some(pcf.probe_mut()),
             _ => None,
         }
     }

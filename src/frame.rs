@@ -60,7 +60,8 @@ pub(crate) struct PenumbraUniform {
     pub pcf_share: f32,
     pub sigma_per_width: f32,
     pub normal_offset: f32,
-    pub _pad: f32,
+    /// The configured map resolution over the one drawn.
+    pub map_scale: f32,
 }
 
 /// Mirrors `struct Cascades`.
@@ -340,12 +341,13 @@ pub(crate) fn derive_spreads(
     light_view: &LightView,
     shadow_bounds: &Aabb,
     caster_parts: &[Aabb],
-    resolution: u32,
+    map_scale: f32,
 ) -> DerivedSpreads {
     let size = light_size_term(light);
     let depth_range = (light_view.far - light_view.near).max(0.0);
-    let _ = resolution;
-    let mut texel = light_view.extent.max_element() / light_view.tile.max(1) as f32;
+    // A texel of the map as drawn: coarser by `map_scale` than the fit's
+    // (`crate::MapResolution::FromPenumbra`).
+    let mut texel = map_scale * light_view.extent.max_element() / light_view.tile.max(1) as f32;
     // A spot or point light's casters, pushed out past half their distance from it, would
     // swallow the light itself.
     let mut cap = shadow_bounds.radius().max(1e-6);
@@ -433,6 +435,9 @@ pub(crate) struct FrameInputs<'a> {
     pub receiver_mask: bool,
     /// A distance map is bound (the resolve applies the indirect term).
     pub distance_map: bool,
+    /// The configured map resolution over the one drawn (1, 2 or 4:
+    /// [`crate::MapResolution::FromPenumbra`]).
+    pub map_scale: f32,
 }
 
 impl FrameUniform {
@@ -498,7 +503,7 @@ impl FrameUniform {
                 pcf_share: share,
                 sigma_per_width: SIGMA_PER_WIDTH,
                 normal_offset: s.shadow_map.normal_offset,
-                _pad: 0.0,
+                map_scale: f.map_scale,
             },
             ambient: f.ambient.extend(0.0).to_array(),
             cascades: CascadesUniform::new(lv, lv.tile),

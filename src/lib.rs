@@ -116,6 +116,7 @@ mod ground_truth;
 mod layouts;
 pub mod light_samples;
 pub mod light_space;
+pub mod map_resolution;
 #[cfg(feature = "renderer")]
 pub use scene::loaders;
 #[cfg(feature = "renderer")]
@@ -147,6 +148,7 @@ pub use layouts::SceneLayouts;
 pub use light_space::{Cascade, LightView, MAX_CASCADES};
 #[cfg(feature = "renderer")]
 pub use loaders::load_model;
+pub use map_resolution::PenumbraWidths;
 pub use passes::VISIBILITY_FORMAT;
 #[cfg(feature = "renderer")]
 pub use renderer::{FrameReport, PassPlan, Renderer, render_to_image, render_to_image_with_progress};
@@ -160,8 +162,9 @@ pub use scene::{
     Scene, Shading, SpotLight, TextureImage, Viewpoint,
 };
 pub use settings::{
-    CascadeSettings, CullMode, DepthFormat, LightFit, PcfKernel, PcssSettings, PenumbraSettings, Quality,
-    ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode, TileClassification, TraditionalSettings,
+    CascadeSettings, CullMode, DepthFormat, LightFit, MapResolution, PcfKernel, PcssSettings,
+    PenumbraSettings, Quality, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode,
+    TileClassification, TraditionalSettings,
 };
 pub use shadows::{Chain, LightId, LightReport, LightTexture, Shadows, ViewInputs};
 pub use view::{CameraMatrices, DepthConvention};

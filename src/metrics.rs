@@ -84,6 +84,7 @@ fn render_linear(
         let mut encoder = device.create_command_encoder(&Default::default());
         renderer.render(queue, &mut encoder, &gpu_scene, camera, &view)?;
         queue.submit([encoder.finish()]);
+        renderer.settle(device, queue, &gpu_scene, camera, &view)?;
     }
     let (values, _) = read_texture_f32(device, queue, &target)?;
     Ok(values.chunks_exact(4).map(|px| px[1]).collect())

@@ -335,6 +335,31 @@ impl Renderer {
         self.timer.as_ref().map(|t| t.read(device))
     }
 
+    /// After a frame rendered into `target` and submitted: while a light's maps are to be
+    /// drawn at another resolution ([`crate::MapResolution::FromPenumbra`], which measures its
+    /// penumbrae as it renders; [`Shadows::settle`]), renders the frame again (at most three
+    /// times), so that one frame shows what a running application settles to.
+    pub fn settle(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &GpuScene,
+        camera: &Camera,
+        target: &wgpu::TextureView,
+    ) -> Result<()> {
+        for _ in 0..3 {
+            if !self.shadows.settle(device, queue)? {
+                break;
+            }
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("Renderer::settle"),
+            });
+            self.render(queue, &mut encoder, scene, camera, target)?;
+            queue.submit([encoder.finish()]);
+        }
+        Ok(())
+    }
+
     /// Renders `warmup + frames` frames of `scene` into a `width` x `height` target of this
     /// renderer's format, timing every pass ([`Self::enable_timing`]), and returns the last
     /// `frames` frames' times. `before_frame(scene, i)` runs before frame `i` (counting the
@@ -378,6 +403,10 @@ impl Renderer {
                     reason: e.to_string(),
                 })?;
             if i < warmup {
+                // The timed frames draw the maps at the resolution they settle to.
+                if i == 0 {
+                    self.settle(device, queue, scene, camera, &view)?;
+                }
                 continue;
             }
             timed.wall_ms.push(start.elapsed().as_secs_f64() * 1e3);
@@ -644,6 +673,8 @@ impl Renderer {
                 tiles_rendered: 0,
                 spreads,
                 light_view,
+                map_resolution: light_view.tile,
+                penumbra_widths: None,
             },
         };
         let report = FrameReport { plan, light };
@@ -907,6 +938,7 @@ impl Renderer {
             &loose,
             &scene.shadow_bounds(),
             &scene.caster_parts(),
+            1.0,
         );
         (loose, spreads)
     }
@@ -935,6 +967,7 @@ impl Renderer {
                 caster_radius: scene.caster_bounds().radius(),
                 receiver_mask: false,
                 distance_map: false,
+                map_scale: 1.0,
             })),
         );
     }
@@ -1042,6 +1075,9 @@ fn render_to_image_now(
                 report
             },
         )?;
+        // The frame a running application settles to: again at the map resolution its
+        // penumbrae ask for (`MapResolution::FromPenumbra`).
+        renderer.settle(&gpu.device, &gpu.queue, scene, camera, &view)?;
     }
     let pixels = crate::gpu::read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;
     image::RgbaImage::from_raw(width, height, pixels).ok_or_else(|| PenumbraError::Gpu {

@@ -18,13 +18,15 @@ use crate::device::DeviceLoss;
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, light_kind};
 use crate::gpu_helpers::{scoped, texture_bytes};
+use crate::light_space::tile_resolution;
 use crate::light_space::{FitInputs, LightView, MAX_TILES};
+use crate::map_resolution::PenumbraWidths;
 use crate::passes::{
     BlurInput, BlurPass, MAX_BATCHED_LIGHTS, PackedVisibility, ShadowMapPass, VISIBILITY_FORMAT,
     screen_target,
 };
 use crate::scene::{Aabb, Light, MAX_LIGHTS, PointLight, SpotLight};
-use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
+use crate::settings::{MapResolution, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
 use crate::view::CameraMatrices;
 
 /// What the engine gives each frame.
@@ -82,6 +84,14 @@ pub struct LightReport {
     pub spreads: DerivedSpreads,
     /// The light's projection, fitted to the casters and the view, with its cascades.
     pub light_view: LightView,
+    /// Texels a side of one tile of the light's maps as drawn this frame (cascade or cube
+    /// face): [`crate::ShadowMapSettings::resolution`] (half of it for a point light's faces),
+    /// or a half or a quarter of that with [`crate::MapResolution::FromPenumbra`].
+    pub map_resolution: u32,
+    /// The penumbra widths last measured for the map resolution
+    /// ([`crate::MapResolution::FromPenumbra`] on the compute path; `None` before the first
+    /// comes back, and for the other methods).
+    pub penumbra_widths: Option<PenumbraWidths>,
 }
 
 /// An intermediate texture of one light, for debug views.
@@ -146,6 +156,9 @@ struct Planned {
     tiles: u32,
     spreads: DerivedSpreads,
     light_view: LightView,
+    /// The limits the PCF pass counts penumbra widths below, and the tile resolution drawn
+    /// ([`crate::MapResolution::FromPenumbra`]).
+    probe: Option<([f32; 3], u32)>,
 }
 
 /// One light: its maps, its screen-space passes and its cache.
@@ -164,6 +177,11 @@ struct LightState {
     seen_revision: u64,
     planned: Option<Planned>,
     report: Option<LightReport>,
+    /// The light's maps are drawn at the configured resolution divided by `2^map_level`
+    /// ([`crate::MapResolution::FromPenumbra`]).
+    map_level: u32,
+    /// The penumbra widths last measured, and whether the level has taken them yet.
+    widths: Option<(PenumbraWidths, bool)>,
 }
 
 /// The engine's depth and receiver mask as bound.
@@ -521,6 +539,19 @@ impl Shadows {
             let caster_parts = casters.caster_parts();
             let has_mask = view.receiver_mask.is_some();
             let software = this.software;
+            // The penumbra widths earlier frames measured, before anything is written for this
+            // one (their read-back submits a copy of its own).
+            if this
+                .lights
+                .iter_mut()
+                .flatten()
+                .any(|s| s.screen.width_probe_mut().is_some_and(|p| p.pending()))
+            {
+                let _ = device.poll(wgpu::PollType::Poll);
+            }
+            for state in this.lights.iter_mut().flatten() {
+                state.collect_widths(device, queue);
+            }
             for state in this.lights.iter_mut().flatten() {
                 let mut chain = Chain::new(&this.settings, &state.light);
                 if !this.compute {
@@ -535,7 +566,25 @@ impl Shadows {
                     ..this.settings
                 };
                 let params = pass_params(&effective, software);
-                let sm = this.settings.shadow_map;
+                // The maps' resolution: the configured one, or a coarser one the light's
+                // penumbrae allow (`MapResolution::FromPenumbra`).
+                let level = state.wanted_level(&this.settings, &chain);
+                if level != state.map_level {
+                    // Windows snapped to the old texel grid are not kept.
+                    state.drawn_with = None;
+                    state.map_level = level;
+                }
+                if let Some((_, taken)) = &mut state.widths {
+                    *taken = true;
+                }
+                let sm = ShadowMapSettings {
+                    resolution: this.settings.shadow_map.resolution >> state.map_level,
+                    ..this.settings.shadow_map
+                };
+                let effective = ShadowSettings {
+                    shadow_map: sm,
+                    ..effective
+                };
                 if state.allocate(device, casters, &sm, &chain, &params, (width, height), resized)
                     || rebind_all
                 {
@@ -566,8 +615,15 @@ impl Shadows {
                     Light::Directional(_) => loose,
                     _ => LightView::fit(&light, &shadow_bounds),
                 };
-                let spreads = spreads(&this.settings, &light, &loose, &shadow_bounds, caster_parts);
-                let sm = &this.settings.shadow_map;
+                let map_scale = (1u32 << state.map_level) as f32;
+                let spreads = spreads(
+                    &effective,
+                    &light,
+                    &loose,
+                    &shadow_bounds,
+                    caster_parts,
+                    map_scale,
+                );
                 // The margin keeps the fattened casters, pushed toward a spot or point light, in
                 // front of its near plane; a chain that draws no fattened map keeps the tightest
                 // near plane (PCSS searches for blockers from it). A sun's cascades are widened
@@ -609,13 +665,14 @@ impl Shadows {
                         caster_radius: caster_bounds.radius(),
                         receiver_mask: has_mask,
                         distance_map: chain.distance_map(),
+                        map_scale,
                     })),
                 );
                 let key = ShadowKey {
                     casters: casters.id(),
                     light,
                     light_view: light_view.map_matrices(),
-                    shadow_map: this.settings.shadow_map,
+                    shadow_map: sm,
                     fatten_distance: chain.fattened_map().then_some(spreads.fatten_distance),
                 };
                 let margin = spreads.fatten_distance * 2.0;
@@ -640,6 +697,19 @@ impl Shadows {
                     );
                 }
                 state.screen.prepare(queue, &params);
+                // The PCF pass counts the penumbra widths below these limits, in texels of the
+                // map as drawn.
+                let probe = match (
+                    narrowest_texels(&this.settings, &chain),
+                    state.screen.width_probe_mut(),
+                ) {
+                    (Some(t), Some(probe)) => {
+                        let limits = [t, 2.0 * t, 4.0 * t];
+                        probe.reset(queue, limits);
+                        Some((limits, light_view.tile))
+                    }
+                    _ => None,
+                };
                 state.planned = Some(Planned {
                     chain,
                     key,
@@ -647,6 +717,7 @@ impl Shadows {
                     tiles,
                     spreads,
                     light_view,
+                    probe,
                 });
             }
             // The compute path's intermediates, one set for every light that runs it.
@@ -867,6 +938,9 @@ impl Shadows {
                     mark,
                 );
             }
+            if let (Some((limits, resolution)), Some(probe)) = (plan.probe, state.screen.width_probe_mut()) {
+                probe.recorded(limits, resolution);
+            }
             let report = LightReport {
                 light: LightId(slot as u32),
                 chain,
@@ -874,6 +948,8 @@ impl Shadows {
                 tiles_rendered: plan.tiles,
                 spreads: plan.spreads,
                 light_view: plan.light_view,
+                map_resolution: plan.light_view.tile,
+                penumbra_widths: state.widths.map(|(w, _)| w),
             };
             state.report = Some(report);
             reports.push(report);
@@ -905,6 +981,43 @@ impl Shadows {
     /// they hold the last light's, and this light's chain runs last. `None`: slot order.
     pub fn inspect(&mut self, light: Option<LightId>) {
         self.inspected = light;
+    }
+
+    /// Waits for the penumbra widths the last encoded frame measured
+    /// ([`crate::MapResolution::FromPenumbra`]; its commands must have been submitted) and
+    /// returns whether a light's maps will be drawn at another resolution from the next frame:
+    /// a tool that renders one frame and reads it back renders again while this says so, to
+    /// show what a running application settles to. Without it the widths come back a frame or
+    /// two later, without a wait.
+    pub fn settle(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<bool> {
+        self.check_device()?;
+        for state in self.lights.iter_mut().flatten() {
+            state.collect_widths(device, queue);
+        }
+        if self
+            .lights
+            .iter_mut()
+            .flatten()
+            .any(|s| s.screen.width_probe_mut().is_some_and(|p| p.pending()))
+        {
+            device
+                .poll(wgpu::PollType::Wait {
+                    submission_index: None,
+                    timeout: None,
+                })
+                .map_err(|e| PenumbraError::Gpu {
+                    during: "waiting for the penumbra widths".into(),
+                    reason: e.to_string(),
+                })?;
+        }
+        let mut changes = false;
+        for state in self.lights.iter_mut().flatten() {
+            state.collect_widths(device, queue);
+            if let Some(report) = &state.report {
+                changes |= state.wanted_level(&self.settings, &report.chain) != state.map_level;
+            }
+        }
+        Ok(changes)
     }
 
     /// [`Shadows::prepare`] then [`Shadows::encode`].
@@ -1046,6 +1159,39 @@ impl LightState {
             seen_revision: 0,
             planned: None,
             report: None,
+            map_level: 0,
+            widths: None,
+        }
+    }
+
+    /// Takes the penumbra widths a read-back returned, if one has, and starts the next
+    /// ([`crate::map_resolution::WidthProbe::collect`]).
+    fn collect_widths(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) {
+        if let Some(probe) = self.screen.width_probe_mut()
+            && let Some(widths) = probe.collect(device, queue)
+        {
+            self.widths = Some((widths, false));
+            if let Some(report) = &mut self.report {
+                report.penumbra_widths = Some(widths);
+            }
+        }
+    }
+
+    /// The level the light's maps should be drawn at for `chain` under `settings`: 0 unless
+    /// the chain measures its penumbrae, else what the last widths measured ask for.
+    fn wanted_level(&self, settings: &ShadowSettings, chain: &Chain) -> u32 {
+        if narrowest_texels(settings, chain).is_none() {
+            return 0;
+        }
+        let configured = tile_resolution(&self.light, settings.shadow_map.resolution);
+        match self.widths {
+            Some((widths, false)) => {
+                match (0..=crate::map_resolution::MAX_LEVEL).find(|&l| configured >> l == widths.resolution) {
+                    Some(measured_at) => crate::map_resolution::next_level(measured_at, &widths, configured),
+                    None => self.map_level,
+                }
+            }
+            _ => self.map_level,
         }
     }
 
@@ -1118,20 +1264,29 @@ pub(crate) fn spreads(
     light_view: &LightView,
     shadow_bounds: &Aabb,
     caster_parts: &[Aabb],
+    map_scale: f32,
 ) -> DerivedSpreads {
-    let derived = derive_spreads(
-        light,
-        light_view,
-        shadow_bounds,
-        caster_parts,
-        settings.shadow_map.resolution,
-    );
+    let derived = derive_spreads(light, light_view, shadow_bounds, caster_parts, map_scale);
     match settings.penumbra.spreads {
         SpreadMode::Physical => derived,
         SpreadMode::Manual { fatten_distance, .. } => DerivedSpreads {
             fatten_distance,
             ..derived
         },
+    }
+}
+
+/// The narrowest penumbra, in texels, `chain` lets its maps be coarsened to under `settings`
+/// ([`crate::MapResolution::FromPenumbra`]), or `None` where it measures nothing: the draws,
+/// the manual spreads, the other methods.
+fn narrowest_texels(settings: &ShadowSettings, chain: &Chain) -> Option<f32> {
+    match (settings.penumbra.map_resolution, settings.penumbra.spreads) {
+        (MapResolution::FromPenumbra { narrowest_texels }, SpreadMode::Physical)
+            if chain.distance_map() && chain.compute() =>
+        {
+            Some(narrowest_texels)
+        }
+        _ => None,
     }
 }
 

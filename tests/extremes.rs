@@ -538,6 +538,14 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                     batch_lights: nearest && mask,
                     fragment_passes: false,
                     indirect_weight: indirect,
+                    // Either way: coarser maps where the penumbrae allow, or never.
+                    map_resolution: if aware {
+                        penumbra::MapResolution::FromPenumbra {
+                            narrowest_texels: 4.0,
+                        }
+                    } else {
+                        penumbra::MapResolution::Configured
+                    },
                 }
             },
         );

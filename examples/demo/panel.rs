@@ -4,8 +4,8 @@
 use eframe::egui;
 use penumbra::debug::DebugView;
 use penumbra::{
-    CullMode, DepthFormat, DirectionalLight, Light, LightFit, PcfKernel, PointLight, Quality, ShadowMethod,
-    ShadowSettings, SpotLight, SpreadMode,
+    CullMode, DepthFormat, DirectionalLight, Light, LightFit, MapResolution, PcfKernel, PointLight, Quality,
+    ShadowMethod, ShadowSettings, SpotLight, SpreadMode,
 };
 
 use crate::app::{BUILT_IN, DemoApp, LightAngles, MapView, built_in_path};
@@ -302,6 +302,22 @@ impl DemoApp {
                     "screen-space passes as draws, not compute (all methods)",
                 );
                 ui.add(egui::Slider::new(&mut p.indirect_weight, 0.0..=1.0).text("indirect_weight"));
+                // The light's maps at half resolution where its penumbrae are wide.
+                let mut from_penumbra = matches!(p.map_resolution, MapResolution::FromPenumbra { .. });
+                ui.checkbox(&mut from_penumbra, "coarser light maps where penumbrae are wide");
+                p.map_resolution = match (from_penumbra, p.map_resolution) {
+                    (false, _) => MapResolution::Configured,
+                    (true, MapResolution::FromPenumbra { mut narrowest_texels }) => {
+                        ui.add(
+                            egui::Slider::new(&mut narrowest_texels, 1.0..=64.0)
+                                .logarithmic(true)
+                                .suffix(" texels")
+                                .text("narrowest penumbra at half resolution"),
+                        );
+                        MapResolution::FromPenumbra { narrowest_texels }
+                    }
+                    (true, MapResolution::Configured) => MapResolution::from_penumbra(),
+                };
             });
         egui::CollapsingHeader::new("Traditional (PCF + Gaussian)")
             .default_open(self.is_open("traditional"))
@@ -621,6 +637,15 @@ impl DemoApp {
                                 ui.end_row();
                             }
                         });
+                    if let Some((texels, widths)) = s.maps {
+                        ui.label(match widths {
+                            Some(w) => format!(
+                                "light maps {texels} texels a tile; of {} penumbra pixels {} narrower than {} texels",
+                                w.pixels, w.narrower[0], w.limits_texels[0]
+                            ),
+                            None => format!("light maps {texels} texels a tile"),
+                        });
+                    }
                     if let Some(m) = &s.mask {
                         ui.label(format!(
                             "mask saved {:.1}% of the shadow-map taps ({} of {} receiver pixels skipped)",

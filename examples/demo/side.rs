@@ -43,6 +43,8 @@ pub struct SideStats {
     pub wall_ms: f32,
     /// The mask's savings (distance-map methods), measured every few redraws.
     pub mask: Option<MaskSavings>,
+    /// The key light's maps: texels a tile as drawn, and the penumbra widths measured.
+    pub maps: Option<(u32, Option<penumbra::PenumbraWidths>)>,
     /// The reference's progress, when this side shows it.
     pub reference: Option<ReferenceProgress>,
     /// Redraws so far.
@@ -190,6 +192,9 @@ impl Side {
             });
             renderer.render(queue, &mut encoder, scene, camera, &target.view)?;
             queue.submit([encoder.finish()]);
+            // Again while the light's maps move to the resolution its penumbrae ask for
+            // (`MapResolution::FromPenumbra`): the side shows what it settles to.
+            renderer.settle(device, queue, scene, camera, &target.view)?;
             self.stats.reference = None;
             if let Some(times) = renderer.pass_times(device) {
                 self.stats.passes = times?;
@@ -198,6 +203,10 @@ impl Side {
         }
         self.stats.wall_ms = start.elapsed().as_secs_f32() * 1e3;
         self.stats.redraws += 1;
+        self.stats.maps = renderer
+            .last_report()
+            .and_then(|r| renderer.shadows().report(r.light.light))
+            .map(|r| (r.map_resolution, r.penumbra_widths));
         let has_mask = renderer
             .last_report()
             .is_some_and(|r| r.plan.chain.distance_map());

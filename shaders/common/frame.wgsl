@@ -61,7 +61,9 @@ struct Penumbra {
     sigma_per_width: f32,
     // shadow-map texels the receiver is pushed along its normal
     normal_offset: f32,
-    _pad: f32,
+    // the configured resolution of the light's maps over the one drawn (1, 2 or 4: the
+    // distance-map method coarsens them where its penumbrae allow)
+    map_scale: f32,
 }
 
 // A directional light's cascades or a point light's six cube faces (one tile for other lights:

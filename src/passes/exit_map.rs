@@ -87,6 +87,17 @@ impl ExitMapPass {
         }
     }
 
+    /// Makes the map again for a shadow map of `tile` texels a tile (the pipelines stay); it
+    /// must then be drawn and bound again.
+    pub(crate) fn resize(&mut self, device: &wgpu::Device, settings: &ShadowMapSettings, tile: u32) {
+        (self.texture, self.view) = light_depth_target(
+            device,
+            settings,
+            support_map_resolution(tile) * self.grid,
+            "ExitMapPass::exit_map",
+        );
+    }
+
     /// The exit depth map.
     pub fn view(&self) -> &wgpu::TextureView {
         &self.view

@@ -81,25 +81,7 @@ impl FattenedShadowMapPass {
             wgpu::PrimitiveState::default(),
             depth_state(settings),
         );
-        let (texture, view) = light_depth_target(
-            device,
-            settings,
-            support_map_resolution(tile) * grid.max(1),
-            "FattenedShadowMapPass::fattened_map",
-        );
-        let offset = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("FattenedShadowMapPass::occluder_offset"),
-            format: Self::OFFSET_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            size: texture.size(),
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            view_formats: &[],
-        });
-        let offset_view = offset.create_view(&Default::default());
+        let ((texture, view), (offset, offset_view)) = Self::targets(device, settings, grid.max(1), tile);
         Self {
             texture,
             view,
@@ -120,6 +102,45 @@ impl FattenedShadowMapPass {
     /// where the fattened map has a caster; R16F; half-float precision is far finer than a
     /// fatten distance needs (a relative 1e-3).
     pub const OFFSET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+
+    /// The fattened map and the occluder offsets, `grid` x `grid` tiles of half `tile` texels.
+    fn targets(
+        device: &wgpu::Device,
+        settings: &ShadowMapSettings,
+        grid: u32,
+        tile: u32,
+    ) -> (
+        (wgpu::Texture, wgpu::TextureView),
+        (wgpu::Texture, wgpu::TextureView),
+    ) {
+        let (texture, view) = light_depth_target(
+            device,
+            settings,
+            support_map_resolution(tile) * grid,
+            "FattenedShadowMapPass::fattened_map",
+        );
+        let offset = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("FattenedShadowMapPass::occluder_offset"),
+            format: Self::OFFSET_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            size: texture.size(),
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            view_formats: &[],
+        });
+        let offset_view = offset.create_view(&Default::default());
+        ((texture, view), (offset, offset_view))
+    }
+
+    /// Makes the maps again for a shadow map of `tile` texels a tile (the pipelines stay); they
+    /// must then be drawn and bound again.
+    pub(crate) fn resize(&mut self, device: &wgpu::Device, settings: &ShadowMapSettings, tile: u32) {
+        let ((texture, view), offset) = Self::targets(device, settings, self.grid, tile);
+        (self.texture, self.view, self.occluder_offset) = (texture, view, offset);
+    }
 
     /// The fattened depth map.
     pub fn view(&self) -> &wgpu::TextureView {

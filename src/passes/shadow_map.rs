@@ -103,6 +103,13 @@ impl ShadowMapPass {
         }
     }
 
+    /// Makes the map again with tiles of `tile` texels a side (the pipelines stay); it must
+    /// then be drawn and bound again.
+    pub(crate) fn resize(&mut self, device: &wgpu::Device, settings: &ShadowMapSettings, tile: u32) {
+        (self.texture, self.view) =
+            light_depth_target(device, settings, tile * self.grid, "ShadowMapPass::shadow_map");
+    }
+
     /// Tiles per side of the atlas.
     pub fn grid(&self) -> u32 {
         self.grid

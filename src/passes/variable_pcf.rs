@@ -26,6 +26,7 @@ use super::{
 use super::{begin_pass, depth_attachment};
 use crate::frame::{PcfSwitches, PcfUniform};
 use crate::gpu_helpers::texture_bytes;
+use crate::map_resolution::WidthProbe;
 
 pub struct VariablePcfPass {
     switches: PcfSwitches,
@@ -419,6 +420,8 @@ pub(crate) struct VariablePcfCompute {
     /// The outputs as bound: the visibility and the deviations.
     outputs: Option<(wgpu::TextureView, wgpu::TextureView)>,
     bind_group: Option<wgpu::BindGroup>,
+    /// The penumbra widths the pass counts ([`crate::map_resolution`]).
+    probe: WidthProbe,
 }
 
 impl VariablePcfCompute {
@@ -426,7 +429,12 @@ impl VariablePcfCompute {
     pub const SIGMA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.params.size()
+        self.params.size() + self.probe.allocated_bytes()
+    }
+
+    /// The penumbra widths this pass counts.
+    pub(crate) fn probe_mut(&mut self) -> &mut WidthProbe {
+        &mut self.probe
     }
 
     /// The pass for `switches` (its half resolution is not used: that stays a draw) and one
@@ -451,6 +459,7 @@ impl VariablePcfCompute {
                 entry::uniform(5, wgpu::ShaderStages::COMPUTE, size_of::<PcfUniform>(), false),
                 entry::storage_texture(6, Self::VISIBILITY_FORMAT),
                 entry::storage_texture(7, Self::SIGMA_FORMAT),
+                entry::storage_buffer(8, wgpu::ShaderStages::COMPUTE, false),
             ],
         );
         let list_layout = super::TileListPass::list_layout(device);
@@ -483,6 +492,7 @@ impl VariablePcfCompute {
             ),
             outputs: None,
             bind_group: None,
+            probe: WidthProbe::new(device),
         }
     }
 
@@ -510,6 +520,7 @@ impl VariablePcfCompute {
                 &self.params,
                 visibility,
                 sigma,
+                &self.probe.buffer().as_entire_binding(),
             ],
         ));
         self.outputs = Some((visibility.clone(), sigma.clone()));
