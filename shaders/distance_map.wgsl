@@ -189,6 +189,12 @@ fn search_radius(world: vec3<f32>, receiver_depth: f32, uv_world_at_receiver: f3
     return min(half_angle * d / max(uv_world_at_reach, 1e-20), cap / (side * frame.penumbra.map_scale));
 }
 
+// The larger of a texel's two sides in world units, for a map `world_size` world units per uv.
+fn max_texel_world(world_size: vec2<f32>) -> f32 {
+    let texel = world_size / atlas_texels();
+    return max(texel.x, texel.y);
+}
+
 // A search's uv offsets are in units of the map's x axis; this scales them per axis, so that
 // they lie on circles across the light where a sun's cascade window is not square.
 fn search_aspect(world_size: vec2<f32>) -> vec2<f32> {
@@ -226,7 +232,7 @@ fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
     let aspect = search_aspect(world_size);
     let radius = search_radius(world, receiver_depth, uv_world_at_receiver, d, size.x, BESIDE_REACH_TEXELS);
     // A caster texel closer than two texels along the light is the receiver's own surface.
-    let texel_world = max(world_size.x, world_size.y) / frame.light.resolution;
+    let texel_world = max_texel_world(world_size);
     var best_angle = 1e30;
     var best = d;
     for (var ring = 1; ring <= RINGS; ring += 1) {
@@ -277,7 +283,7 @@ fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32) -> f32
     let aspect = search_aspect(world_size);
     let radius = search_radius(world, receiver_depth, uv_world_at_receiver, reach, size.x, INSIDE_REACH_TEXELS);
     // A caster texel closer than two texels along the light is the receiver's own surface.
-    let texel_world = max(world_size.x, world_size.y) / frame.light.resolution;
+    let texel_world = max_texel_world(world_size);
     let own = receiver_depth - light_linear_depth(textureLoad(shadow_map, shadow_texel(p.xy), 0).x);
     if own <= 2.0 * texel_world {
         return d;

@@ -85,10 +85,11 @@ fn shadow_visibility(world: vec3<f32>, cascade: u32) -> f32 {
     let w = max(clip.w, 1e-20);
     let ndc = clip.xyz / w;
     let uv = ndc.xy * vec2<f32>(0.5, -0.5) + vec2<f32>(0.5);
-    // Inside the cascade's own tile of the atlas.
-    let grid = max(frame.cascade_count.y, 1u);
-    let tile = vec2<f32>(f32(cascade % grid), f32(cascade / grid)) / f32(grid);
-    let inside = clip.w > 0.0 && all(uv >= tile) && all(uv <= tile + 1.0 / f32(grid)) && ndc.z >= 0.0;
+    // Inside the cascade's own tile of the atlas (columns y, rows z).
+    let cols = max(frame.cascade_count.y, 1u);
+    let size = 1.0 / vec2<f32>(f32(cols), f32(max(frame.cascade_count.z, 1u)));
+    let tile = vec2<f32>(f32(cascade % cols), f32(cascade / cols)) * size;
+    let inside = clip.w > 0.0 && all(uv >= tile) && all(uv <= tile + size) && ndc.z >= 0.0;
     let visibility = textureSampleCompareLevel(shadow_map, shadow_sampler, uv, min(ndc.z, 1.0));
     return select(1.0, visibility, inside);
 }

@@ -25,9 +25,9 @@ fn visibility_at(frag: vec2<f32>) -> f32 {
     }
     use_pixel_cascade(frag, depth);
     let r = receiver(pixel, depth, frame.penumbra.normal_offset);
-    let spacing = pcf.spread / frame.light.resolution;
+    let spacing = pcf.spread / atlas_texels();
     let angle = select(0.0, pixel_noise(frag) * 6.2831853, ROTATE_TAPS);
-    let to_uv = mat2x2<f32>(spacing, 0.0, 0.0, spacing);
+    let to_uv = mat2x2<f32>(spacing.x, 0.0, 0.0, spacing.y);
     return pcf_taps(r.p, r.slope, to_uv, i32(pcf.taps_per_side), angle);
 }
 

@@ -46,7 +46,9 @@ fn visibility_at(frag: vec2<f32>) -> f32 {
     // Blocker search: occluders can lie anywhere between the light's near plane and the
     // receiver; the light's footprint there is the widest penumbra possible.
     let search_world = max(penumbra_width(receiver - frame.light.near, world), 0.0);
-    let search_uv = min(search_world / world_size, 0.25) * 0.5;
+    // A disk in the map's texels (its uv along y scaled where the atlas is not square).
+    let texels = atlas_texels();
+    let search_uv = min(search_world / world_size, 0.25) * 0.5 * vec2<f32>(1.0, texels.x / texels.y);
     let size = vec2<i32>(textureDimensions(shadow_depths));
     let blockers = i32(pcss.blocker_samples);
     var blocker_sum = 0.0;
@@ -66,8 +68,8 @@ fn visibility_at(frag: vec2<f32>) -> f32 {
     let d = max(receiver - light_linear_depth(blocker_sum / blocker_count), 0.0);
     // The filter: the penumbra's half width across the light, into the map (an ellipse off a
     // perspective map's axis), plus half a texel.
-    let texel = 0.5 / frame.light.resolution;
-    let filter_uv = across_light_to_uv(world) * (penumbra_width(d, world) * 0.5) + mat2x2<f32>(texel, 0.0, 0.0, texel);
+    let texel = 0.5 / atlas_texels();
+    let filter_uv = across_light_to_uv(world) * (penumbra_width(d, world) * 0.5) + mat2x2<f32>(texel.x, 0.0, 0.0, texel.y);
     let samples = i32(pcss.pcf_samples);
     var sum = 0.0;
     for (var k = 0; k < samples; k++) {

@@ -6,7 +6,7 @@
 use crate::casters::Casters;
 use crate::frame::DistanceSwitches;
 use crate::frame::{FrameUniform, PassParams, is_point_light};
-use crate::light_space::{LightView, atlas_grid, tile_resolution};
+use crate::light_space::LightView;
 use crate::passes::{
     BlurCompute, BlurInput, BlurPass, DistanceMapCompute, DistanceMapPass, ExitMapPass,
     FattenedShadowMapPass, PackedVisibility, PcfPass, PcssPass, ResolvePass, ShadowMapPass, TileListTargets,
@@ -247,30 +247,28 @@ impl LightMaps {
             })
     }
 
-    /// Makes or keeps the maps `chain` needs for `light`; true when any was made (they must
-    /// then be drawn and bound again).
+    /// Makes or keeps the maps `chain` needs for a light fitted as `light_view` (its atlas's
+    /// tiles and their size); true when any was made (they must then be drawn and bound again).
     pub fn allocate(
         maps: &mut Option<LightMaps>,
         device: &wgpu::Device,
         casters: &Casters,
         settings: &ShadowMapSettings,
-        light: &Light,
+        light_view: &LightView,
         chain: &Chain,
     ) -> bool {
-        let grid = atlas_grid(light, &settings.cascades);
-        let tile = tile_resolution(light, settings.resolution);
+        let (grid, tile) = (light_view.grid, light_view.tile);
         let layouts = casters.layouts();
         let mut made = false;
-        let same = |m: &LightMaps| m.casters == casters.id() && m.shadow.grid() == grid;
         let maps = match maps {
-            Some(m) if same(m) => {
-                // A new resolution (`crate::MapResolution::FromPenumbra`): new textures, the
-                // same pipelines.
-                if m.shadow.tile() != tile {
-                    m.shadow.resize(device, settings, tile);
+            Some(m) if m.casters == casters.id() => {
+                // Another layout (the cascades in use) or resolution
+                // (`crate::MapResolution::FromPenumbra`): new textures, the same pipelines.
+                if (m.shadow.grid(), m.shadow.tile()) != (grid, tile) {
+                    m.shadow.resize(device, settings, grid, tile);
                     if let Some((fattened, exit)) = &mut m.fattened {
-                        fattened.resize(device, settings, tile);
-                        exit.resize(device, settings, tile);
+                        fattened.resize(device, settings, grid, tile);
+                        exit.resize(device, settings, grid, tile);
                     }
                     made = true;
                 }
@@ -737,7 +735,7 @@ impl ScreenChain {
                     device,
                     (distance_map, &shared.tiles),
                     frame,
-                    (fattened.view(), fattened.texture().width()),
+                    (fattened.view(), fattened_size(fattened.texture())),
                     fattened.occluder_offset(),
                     exit.view(),
                     shadow_map,
@@ -776,7 +774,7 @@ impl ScreenChain {
                 distance.bind(
                     device,
                     frame,
-                    (fattened.view(), fattened.texture().width()),
+                    (fattened.view(), fattened_size(fattened.texture())),
                     fattened.occluder_offset(),
                     exit.view(),
                     shadow_map,
@@ -1013,4 +1011,9 @@ fn compute_distance_switches(params: &PassParams) -> DistanceSwitches {
         tiles: params.list_tiles,
         ..params.distance_switches
     }
+}
+
+/// A fattened map's width and height in texels.
+fn fattened_size(texture: &wgpu::Texture) -> (u32, u32) {
+    (texture.width(), texture.height())
 }

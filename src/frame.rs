@@ -77,31 +77,32 @@ pub(crate) struct CascadesUniform {
     pub tile: [[f32; 4]; MAX_TILES],
     /// xyz: the unit direction the tile looks along.
     pub axis: [[f32; 4]; MAX_TILES],
+    /// The atlas's columns and rows of tiles.
+    pub grid: [f32; 2],
     pub count: u32,
-    /// Tiles per side of the atlas.
-    pub grid: f32,
-    pub _pad: [f32; 2],
+    pub _pad: f32,
 }
 
 impl CascadesUniform {
     /// The cascades of `lv`, placed in the tiles of its atlas (`resolution` texels a tile).
     pub fn new(lv: &LightView, resolution: u32) -> Self {
-        let grid = lv.grid.max(1);
+        let grid = lv.grid;
         let mut out = CascadesUniform::zeroed();
         let cascades = lv.cascades();
         out.count = cascades.len() as u32;
-        out.grid = grid as f32;
-        let side = (resolution * grid) as f32;
+        out.grid = [grid.cols.max(1) as f32, grid.rows.max(1) as f32];
+        let (width, height) = grid.size(resolution);
+        let (width, height) = (width as f32, height as f32);
         for (i, c) in cascades.iter().enumerate() {
             out.view_proj[i] = (tile_matrix(grid, i as u32) * c.view_projection).to_cols_array_2d();
             out.extent_end[i] = [c.extent.x, c.extent.y, c.end, c.blend_start];
             out.axis[i] = c.axis.normalize_or(glam::Vec3::NEG_Z).extend(0.0).to_array();
-            let [x, y, w, h] = tile_viewport(grid, i as u32, resolution * grid);
+            let [x, y, w, h] = tile_viewport(grid, i as u32, resolution);
             out.tile[i] = [
-                (x as f32 + 0.5) / side,
-                (y as f32 + 0.5) / side,
-                ((x + w) as f32 - 0.5) / side,
-                ((y + h) as f32 - 0.5) / side,
+                (x as f32 + 0.5) / width,
+                (y as f32 + 0.5) / height,
+                ((x + w) as f32 - 0.5) / width,
+                ((y + h) as f32 - 0.5) / height,
             ];
         }
         out
@@ -488,9 +489,9 @@ impl FrameUniform {
                 near: lv.near,
                 far: lv.far,
                 perspective: perspective as u32,
-                // Texels per side of the whole atlas: with the extents times the grid
-                // (`shadow_map_world_size`), each cascade's own texel size.
-                resolution: (lv.tile * lv.grid.max(1)) as f32,
+                // Texels across the whole atlas (its columns): with the extents times the
+                // grid (`shadow_map_world_size`), each cascade's own texel size.
+                resolution: lv.grid.size(lv.tile).0 as f32,
                 extent: lv.extent.to_array(),
                 tan_half_fov,
                 size_term: light_size_term(light),
@@ -603,7 +604,7 @@ mod tests {
             layout!(
                 "Cascades",
                 CascadesUniform,
-                [view_proj, extent_end, tile, axis, count, grid]
+                [view_proj, extent_end, tile, axis, grid, count]
             ),
             layout!(
                 "View",

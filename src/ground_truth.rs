@@ -7,7 +7,7 @@
 use crate::error::{PenumbraError, Result};
 use crate::gpu_scene::GpuScene;
 use crate::light_samples::{Emitter, light_sample};
-use crate::light_space::{FitInputs, LightView, atlas_grid, tile_resolution};
+use crate::light_space::{AtlasGrid, FitInputs, LightView, atlas_grid, tile_resolution};
 use crate::passes::{DepthPrepass, ReferencePass, ShadowMapPass};
 use crate::scene::{Camera, Light};
 use crate::settings::{ShadowMapSettings, ShadowSettings};
@@ -72,7 +72,7 @@ pub(crate) fn sample_resolution(light: &Light, resolution: u32, max_side: u32) -
 }
 
 /// What a light's map pass was made for: its atlas, the casters and the map settings.
-type MapKey = (u32, u32, u64, ShadowMapSettings);
+type MapKey = (AtlasGrid, u32, u64, ShadowMapSettings);
 
 /// The reference's running means, one per light (the key light first), and what they were
 /// averaged for.
@@ -296,6 +296,12 @@ impl GroundTruth {
                     snap_to_texels: false,
                     cascades: sm.cascades,
                 });
+                // The map keeps the largest grid the light can need (square), whatever the
+                // cascades in use: their tiles lie at the same columns and rows in it.
+                let view = LightView {
+                    grid: shadow_map.grid(),
+                    ..view
+                };
                 let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("reference: sample"),
                 });

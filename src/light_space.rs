@@ -54,8 +54,9 @@ pub struct LightView {
     /// How many entries of `cascade_windows` are in use: 1 to [`MAX_CASCADES`] for a
     /// directional light, 6 (the cube faces) for a point light, 1 for a spot light.
     pub cascade_count: u32,
-    /// Tiles per side of the maps' atlas ([`atlas_grid`]).
-    pub grid: u32,
+    /// How the maps' atlas lays out its tiles: as many as the cascades in use need (a
+    /// directional light), the six cube faces (a point light) or one.
+    pub grid: AtlasGrid,
     /// Texels per side of one tile ([`tile_resolution`]).
     pub tile: u32,
 }
@@ -101,14 +102,57 @@ pub struct Cascade {
     pub view: Mat4,
 }
 
-/// Tiles per side of a light's map atlas: 2 for a directional light with two or more
-/// cascades (up to four tiles), 1 otherwise.
-pub fn atlas_grid(light: &Light, cascades: &CascadeSettings) -> u32 {
+/// How a light's maps lay out their tiles (cascades, cube faces): `cols` x `rows` square tiles
+/// of the same size, tile `i` at column `i % cols`, row `i / cols` (row 0 at the top, like
+/// texture rows). The maps are `cols` tiles wide and `rows` high.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct AtlasGrid {
+    /// Tiles across.
+    pub cols: u32,
+    /// Tiles down.
+    pub rows: u32,
+}
+
+impl AtlasGrid {
+    /// One tile.
+    pub const SINGLE: AtlasGrid = AtlasGrid { cols: 1, rows: 1 };
+
+    /// `n` x `n` tiles.
+    pub const fn square(n: u32) -> AtlasGrid {
+        AtlasGrid { cols: n, rows: n }
+    }
+
+    /// The smallest grid of at most two columns that holds `count` cascades: 1 x 1, 2 x 1,
+    /// then 2 x 2 (a third cascade leaves one tile unused). The maps cost what their texels
+    /// do, so a view that needs two cascades draws half a 2 x 2 atlas's.
+    pub fn for_cascades(count: u32) -> AtlasGrid {
+        match count {
+            0 | 1 => AtlasGrid::SINGLE,
+            2 => AtlasGrid { cols: 2, rows: 1 },
+            _ => AtlasGrid::square(2),
+        }
+    }
+
+    /// Tiles it holds.
+    pub fn tiles(self) -> u32 {
+        self.cols * self.rows
+    }
+
+    /// Width and height in texels with tiles of `tile` texels a side.
+    pub fn size(self, tile: u32) -> (u32, u32) {
+        (tile * self.cols.max(1), tile * self.rows.max(1))
+    }
+}
+
+/// The largest grid a light's maps can take under `cascades`: 2 x 2 for a directional light
+/// with two or more cascades, 3 x 3 for a point light's six faces (three tiles unused), one
+/// tile otherwise. A directional light's maps take the grid of the cascades in use
+/// ([`AtlasGrid::for_cascades`], [`LightView::grid`]).
+pub fn atlas_grid(light: &Light, cascades: &CascadeSettings) -> AtlasGrid {
     match light {
-        Light::Directional(_) if cascades.count > 1 => 2,
-        // Six cube faces in a 3 x 3 atlas (three tiles unused).
-        Light::Point(_) => 3,
-        _ => 1,
+        Light::Directional(_) if cascades.count > 1 => AtlasGrid::square(2),
+        Light::Point(_) => AtlasGrid::square(3),
+        _ => AtlasGrid::SINGLE,
     }
 }
 
@@ -121,31 +165,32 @@ pub fn tile_resolution(light: &Light, resolution: u32) -> u32 {
     }
 }
 
-/// Where tile `index` of a `grid` x `grid` atlas lies: clip space of the whole window mapped
-/// into the tile (row 0 at the top, like texture rows).
-pub fn tile_matrix(grid: u32, index: u32) -> Mat4 {
-    if grid <= 1 {
+/// Where tile `index` of `grid` lies: clip space of the whole window mapped into the tile.
+pub fn tile_matrix(grid: AtlasGrid, index: u32) -> Mat4 {
+    if grid.tiles() <= 1 {
         return Mat4::IDENTITY;
     }
-    let scale = 1.0 / grid as f32;
-    let (col, row) = ((index % grid) as f32, (index / grid) as f32);
+    let cols = grid.cols.max(1);
+    let (sx, sy) = (1.0 / cols as f32, 1.0 / grid.rows.max(1) as f32);
+    let (col, row) = ((index % cols) as f32, (index / cols) as f32);
     Mat4::from_cols(
-        Vec4::new(scale, 0.0, 0.0, 0.0),
-        Vec4::new(0.0, scale, 0.0, 0.0),
+        Vec4::new(sx, 0.0, 0.0, 0.0),
+        Vec4::new(0.0, sy, 0.0, 0.0),
         Vec4::Z,
         Vec4::new(
-            -1.0 + scale * (2.0 * col + 1.0),
-            1.0 - scale * (2.0 * row + 1.0),
+            -1.0 + sx * (2.0 * col + 1.0),
+            1.0 - sy * (2.0 * row + 1.0),
             0.0,
             1.0,
         ),
     )
 }
 
-/// The texel rectangle of tile `index` in an atlas `side` texels wide: x, y, width, height.
-pub fn tile_viewport(grid: u32, index: u32, side: u32) -> [u32; 4] {
-    let tile = side / grid.max(1);
-    let (col, row) = (index % grid.max(1), index / grid.max(1));
+/// The texel rectangle of tile `index` of `grid`, with tiles `tile` texels a side: x, y,
+/// width, height.
+pub fn tile_viewport(grid: AtlasGrid, index: u32, tile: u32) -> [u32; 4] {
+    let cols = grid.cols.max(1);
+    let (col, row) = (index % cols, index / cols);
     [col * tile, row * tile, tile, tile]
 }
 
@@ -258,9 +303,9 @@ impl LightView {
         view: Mat4,
         view_projection: Mat4,
         extent: Vec2,
-        grid: u32,
+        grid: AtlasGrid,
         axis: Vec3,
-    ) -> ([Cascade; MAX_TILES], u32, u32) {
+    ) -> ([Cascade; MAX_TILES], u32, AtlasGrid) {
         let whole = Cascade {
             view_projection,
             extent,
@@ -386,11 +431,17 @@ impl LightView {
                 let (near, far) = (near - pad_z, far + pad_z);
                 let projection =
                     glam::camera::rh::proj::directx::orthographic(min.x, max.x, min.y, max.y, near, far);
-                let grid = atlas_grid(light, &inputs.cascades);
+                // The atlas holds the cascades in use, not the most the settings allow.
                 let (cascade_windows, cascade_count, grid) =
                     match directional_cascades(inputs, &view, &casters, radius, (near, far)) {
-                        Some((windows, count)) => (windows, count, grid),
-                        None => LightView::single(view, projection * view, max - min, grid, direction),
+                        Some((windows, count)) => (windows, count, AtlasGrid::for_cascades(count)),
+                        None => LightView::single(
+                            view,
+                            projection * view,
+                            max - min,
+                            AtlasGrid::SINGLE,
+                            direction,
+                        ),
                     };
                 LightView {
                     view,
@@ -438,7 +489,7 @@ impl LightView {
                 let projection = to_window * square;
                 let extent = Vec2::splat(2.0 * near * half);
                 let (cascade_windows, cascade_count, grid) =
-                    LightView::single(view, projection * view, extent, 1, direction);
+                    LightView::single(view, projection * view, extent, AtlasGrid::SINGLE, direction);
                 LightView {
                     view,
                     projection,
@@ -519,7 +570,7 @@ fn point_faces(inputs: &FitInputs, position: Vec3, bounds: &Aabb) -> LightView {
         extent,
         cascade_windows: faces,
         cascade_count: 6,
-        grid: 3,
+        grid: AtlasGrid::square(3),
         tile,
     }
 }
@@ -1309,7 +1360,7 @@ mod tests {
         let lv = LightView::fit_with(&cascaded_inputs(&light, camera, 4));
         let cascades = lv.cascades();
         assert_eq!(cascades.len(), 4);
-        assert_eq!(lv.grid, 2);
+        assert_eq!(lv.grid, AtlasGrid::square(2));
         let mut start = camera.distance_range(0.0, 1.0).0;
         for (i, c) in cascades.iter().enumerate() {
             let last = i == 3;
@@ -1334,7 +1385,7 @@ mod tests {
         }
         // The nearest cascade's texels are far smaller than one map's.
         let single = LightView::fit_with(&cascaded_inputs(&light, camera, 1));
-        assert_eq!((single.cascades().len(), single.grid), (1, 1));
+        assert_eq!((single.cascades().len(), single.grid), (1, AtlasGrid::SINGLE));
         assert!(
             cascades[0].extent.x * 8.0 < single.extent.x,
             "{} vs {}",
@@ -1378,7 +1429,7 @@ mod tests {
     fn spot_lights_and_orthographic_cameras_get_one_map() {
         let spot = wide_spot();
         let lv = LightView::fit_with(&cascaded_inputs(&spot, street_camera(), 4));
-        assert_eq!((lv.cascades().len(), lv.grid), (1, 1));
+        assert_eq!((lv.cascades().len(), lv.grid), (1, AtlasGrid::SINGLE));
         let sun = sun(Vec3::new(0.6, -0.6, -0.4));
         let ortho = CameraMatrices {
             projection: glam::camera::rh::proj::directx::orthographic(-20.0, 20.0, -15.0, 15.0, 0.1, 400.0),
@@ -1386,11 +1437,30 @@ mod tests {
         };
         let lv = LightView::fit_with(&cascaded_inputs(&sun, ortho, 4));
         assert_eq!(lv.cascades().len(), 1);
-        // Its atlas still has the sun's 2 x 2 tiles; the one cascade sits in the first.
-        assert_eq!(lv.grid, 2);
-        let m = tile_matrix(2, 0) * Vec4::new(1.0, 1.0, 0.5, 1.0);
+        // One cascade, one tile: the atlas holds what is in use.
+        assert_eq!(lv.grid, AtlasGrid::SINGLE);
+        let m = tile_matrix(AtlasGrid::square(2), 0) * Vec4::new(1.0, 1.0, 0.5, 1.0);
         assert_eq!((m.x, m.y), (0.0, 1.0));
-        assert_eq!(tile_viewport(2, 3, 4096), [2048, 2048, 2048, 2048]);
+        assert_eq!(
+            tile_viewport(AtlasGrid::square(2), 3, 2048),
+            [2048, 2048, 2048, 2048]
+        );
+    }
+
+    #[test]
+    fn two_cascades_take_a_two_by_one_atlas() {
+        let grid = AtlasGrid::for_cascades(2);
+        assert_eq!((grid.cols, grid.rows, grid.size(2048)), (2, 1, (4096, 2048)));
+        assert_eq!(AtlasGrid::for_cascades(3), AtlasGrid::square(2));
+        assert_eq!(AtlasGrid::for_cascades(1), AtlasGrid::SINGLE);
+        // The second tile: the right half, the whole height.
+        let m = tile_matrix(grid, 1);
+        let (lo, hi) = (
+            m * Vec4::new(-1.0, -1.0, 0.5, 1.0),
+            m * Vec4::new(1.0, 1.0, 0.5, 1.0),
+        );
+        assert_eq!((lo.x, lo.y, hi.x, hi.y), (0.0, -1.0, 1.0, 1.0));
+        assert_eq!(tile_viewport(grid, 1, 2048), [2048, 0, 2048, 2048]);
     }
 
     /// A point light's cube: every corner of every caster lies beyond the near plane of the

@@ -561,14 +561,15 @@ pub struct ShadowMapSettings {
     pub cascades: CascadeSettings,
 }
 
-/// The largest [`ShadowMapSettings::resolution`] with two or more cascades: their 2 x 2 atlas
+/// The largest [`ShadowMapSettings::resolution`] with two or more cascades: an atlas of 2 x 2
 /// is then 8192 texels a side.
 pub const MAX_CASCADE_RESOLUTION: u32 = 4096;
 
 /// Cascaded shadow maps: a directional light's map split along the camera's view distance
 /// into windows of the same resolution, the nearest smallest, so texels near the camera are
-/// small and far ones large. The cascades lie side by side in one atlas (2 x 2 tiles of
-/// [`ShadowMapSettings::resolution`] texels when there are two or more); every pixel reads the
+/// small and far ones large. The cascades lie side by side in one atlas of tiles of
+/// [`ShadowMapSettings::resolution`] texels, as many as the view uses: one tile, 2 x 1 for two
+/// cascades, 2 x 2 for three or four ([`crate::light_space::AtlasGrid`]); every pixel reads the
 /// cascade its view distance falls in. Spot lights and orthographic cameras use one map.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

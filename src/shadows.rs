@@ -585,9 +585,7 @@ impl Shadows {
                     shadow_map: sm,
                     ..effective
                 };
-                if state.allocate(device, casters, &sm, &chain, &params, (width, height), resized)
-                    || rebind_all
-                {
+                if state.allocate_screen(device, &chain, &params, (width, height), resized) || rebind_all {
                     state.bound = None;
                 }
                 let light = state.light;
@@ -650,6 +648,11 @@ impl Shadows {
                     Some(previous) => light_view.keeping_windows_of(previous, sm.resolution),
                     None => light_view,
                 };
+                // The maps hold the tiles the fit uses (a sun's cascades in use).
+                if LightMaps::allocate(&mut state.maps, device, casters, &sm, &light_view, &chain) {
+                    state.key = None;
+                    state.bound = None;
+                }
                 queue.write_buffer(
                     &state.frame,
                     0,
@@ -1195,26 +1198,19 @@ impl LightState {
         }
     }
 
-    /// Makes the maps and passes `chain` needs, or keeps those that serve it, and sizes their
-    /// targets; returns true when anything was made or resized (the bind groups must then be
-    /// rebuilt). The light-space maps are made with `casters`' layouts (again when the casters
-    /// are new), and must then be drawn again.
-    #[allow(clippy::too_many_arguments)]
-    fn allocate(
+    /// Makes the screen-space passes `chain` needs, or keeps those that serve it, and sizes
+    /// their targets; returns true when anything was made or resized (the bind groups must
+    /// then be rebuilt). The light-space maps are made after the fit
+    /// ([`LightMaps::allocate`]).
+    fn allocate_screen(
         &mut self,
         device: &wgpu::Device,
-        casters: &Casters,
-        settings: &ShadowMapSettings,
         chain: &Chain,
         params: &PassParams,
         size: (u32, u32),
         resized: bool,
     ) -> bool {
         let mut changed = false;
-        if LightMaps::allocate(&mut self.maps, device, casters, settings, &self.light, chain) {
-            self.key = None;
-            changed = true;
-        }
         let kind = light_kind(&self.light);
         if !self.screen.fits(chain, params, kind) {
             self.screen = ScreenChain::new(device, chain, params, kind, size);

@@ -202,3 +202,83 @@ fn cascades_sharpen_the_outdoor_scene_near_the_camera() {
         errors[0]
     );
 }
+
+/// The maps hold the cascades the view uses: the teapot's view 0 uses two, side by side in a
+/// 2 x 1 atlas (the fattened and exit maps the same at half the texels); the roof's view uses
+/// four in 2 x 2. A renderer whose view goes from one layout to the other makes its maps again
+/// and draws what a new renderer draws.
+#[test]
+fn the_maps_hold_the_cascades_the_view_uses() {
+    use penumbra::{GpuScene, LightTexture, light_space::AtlasGrid};
+    let gpu = common::gpu();
+    let settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+    let tile = settings.shadow_map.resolution;
+    let teapot = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let teapot_camera = teapot.view(0).unwrap();
+    let sizes = |renderer: &Renderer| {
+        let report = renderer.last_report().expect("a frame").light;
+        let shadows = renderer.shadows();
+        let size = |which| {
+            let t = shadows.light_texture(report.light, which).expect("the map");
+            (t.width(), t.height())
+        };
+        (
+            report.light_view.grid,
+            report.light_view.cascades().len(),
+            size(LightTexture::ShadowMap),
+            size(LightTexture::FattenedMap),
+            size(LightTexture::ExitMap),
+        )
+    };
+    let (_, renderer) = common::render_frame(&gpu, &teapot, &teapot_camera, settings, SIZE);
+    assert_eq!(
+        sizes(&renderer),
+        (
+            AtlasGrid { cols: 2, rows: 1 },
+            2,
+            (2 * tile, tile),
+            (tile, tile / 2),
+            (tile, tile / 2)
+        )
+    );
+    let (_, renderer) = common::render_frame(&gpu, &roof_scene(), &camera(), settings, SIZE);
+    let (grid, count, shadow_map, ..) = sizes(&renderer);
+    assert_eq!(
+        (grid, count, shadow_map),
+        (AtlasGrid::square(2), 4, (2 * tile, 2 * tile))
+    );
+
+    // The teapot seen from view 0, then from far back (one cascade): the maps go from 2 x 1
+    // to one tile, and the frame is the one a new renderer draws.
+    let far = Camera {
+        eye: teapot_camera.target + (teapot_camera.eye - teapot_camera.target) * 4.0,
+        far: teapot_camera.far * 4.0,
+        ..teapot_camera
+    };
+    let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &teapot).unwrap();
+    penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &teapot_camera, SIZE.0, SIZE.1).unwrap();
+    assert_eq!(sizes(&renderer).0, AtlasGrid { cols: 2, rows: 1 });
+    let reused = penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &far, SIZE.0, SIZE.1).unwrap();
+    let (grid, count, shadow_map, ..) = sizes(&renderer);
+    assert_eq!((grid, count, shadow_map), (AtlasGrid::SINGLE, 1, (tile, tile)));
+    let (fresh, _) = common::render_frame(&gpu, &teapot, &far, settings, SIZE);
+    let differing = reused
+        .pixels()
+        .zip(fresh.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0.iter()).any(|(x, y)| x.abs_diff(*y) > 1))
+        .count();
+    assert_eq!(
+        differing, 0,
+        "the reused renderer's frame differs from a new one's"
+    );
+    // And the far view has the teapot's shadow on the floor below it.
+    let visibility = measure_visibility(&gpu, &teapot, &far, settings, SIZE).unwrap();
+    let shadowed = visibility
+        .visibility
+        .iter()
+        .flatten()
+        .filter(|&&v| v < 0.2)
+        .count();
+    assert!(shadowed > 100, "no shadow from far back ({shadowed} pixels)");
+}

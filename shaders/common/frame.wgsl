@@ -67,7 +67,8 @@ struct Penumbra {
 }
 
 // A directional light's cascades or a point light's six cube faces (one tile for other lights:
-// the whole map). The maps are atlases of `grid` x `grid` tiles, one cascade or face per tile.
+// the whole map). The maps are atlases of `grid.x` x `grid.y` square tiles (columns, rows), one
+// cascade or face per tile.
 struct Cascades {
     // world to the tile of the atlas (clip space)
     view_proj: array<mat4x4<f32>, 6>,
@@ -78,9 +79,10 @@ struct Cascades {
     tile: array<vec4<f32>, 6>,
     // xyz: the unit direction the tile looks along
     axis: array<vec4<f32>, 6>,
+    // the atlas's columns and rows of tiles
+    grid: vec2<f32>,
     count: u32,
-    grid: f32,
-    _pad: vec2<f32>,
+    _pad: f32,
 }
 
 struct Frame {
@@ -223,6 +225,12 @@ fn across_light_to_uv(world: vec3<f32>) -> mat2x2<f32> {
     return mat2x2<f32>((to_shadow_map(world + e1 * h).xy - p) / h, (to_shadow_map(world + e2 * h).xy - p) / h);
 }
 
+// Texels of the light's atlas along its x and y: `frame.light.resolution` across, and down as
+// many per tile (its tiles are square; two cascades lie side by side in a 2 x 1 atlas).
+fn atlas_texels() -> vec2<f32> {
+    return frame.light.resolution * vec2<f32>(1.0, frame.cascades.grid.y / max(frame.cascades.grid.x, 1.0));
+}
+
 // The unit direction the light travels at `world`.
 fn light_ray(world: vec3<f32>) -> vec3<f32> {
     if light_kind() != 0u {
@@ -231,12 +239,13 @@ fn light_ray(world: vec3<f32>) -> vec3<f32> {
     return normalize(frame.light.direction);
 }
 
-// World units per unit of shadow-map uv at the receiver (perpendicular to the light): the whole
-// map's size, or with cascades the pixel's cascade's window times the tiles per side.
+// World units per unit of shadow-map uv at the receiver (perpendicular to the light), along the
+// map's x and y: the whole map's size, or with cascades the pixel's cascade's window times the
+// atlas's columns and rows.
 fn shadow_map_world_size(world: vec3<f32>) -> vec2<f32> {
     if !light_perspective() {
         return frame.cascades.extent_end[cascade].xy * frame.cascades.grid;
     }
     let depth = max(dot(world - frame.light.position, light_axis()), 1e-6);
-    return vec2<f32>(2.0 * depth * frame.light.tan_half_fov * frame.cascades.grid);
+    return 2.0 * depth * frame.light.tan_half_fov * frame.cascades.grid;
 }

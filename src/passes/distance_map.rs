@@ -179,14 +179,14 @@ impl DistanceMapPass {
     }
 
     /// Points the pass at its inputs. `receiver_mask` is read only where the frame uniform
-    /// says one is bound (any texture otherwise); the fattened map is `fattened_side` texels a
+    /// says one is bound (any texture otherwise); the fattened map is `fattened_size` texels
     /// side.
     #[allow(clippy::too_many_arguments)]
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
         frame: &wgpu::Buffer,
-        (fattened_map, fattened_side): (&wgpu::TextureView, u32),
+        (fattened_map, fattened_size): (&wgpu::TextureView, (u32, u32)),
         occluder_offset: &wgpu::TextureView,
         exit_map: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
@@ -194,7 +194,7 @@ impl DistanceMapPass {
         receiver_mask: &wgpu::TextureView,
     ) {
         self.tiles
-            .bind(device, frame, camera_depth, fattened_map, fattened_side);
+            .bind(device, frame, camera_depth, fattened_map, fattened_size);
         self.reduce_pending
             .store(true, std::sync::atomic::Ordering::Relaxed);
         self.bind_group = Some(super::bind_group(
@@ -352,7 +352,7 @@ impl DistanceMapCompute {
         device: &wgpu::Device,
         (distance, tiles): (&wgpu::TextureView, &super::TileListTargets),
         frame: &wgpu::Buffer,
-        (fattened_map, fattened_side): (&wgpu::TextureView, u32),
+        (fattened_map, fattened_size): (&wgpu::TextureView, (u32, u32)),
         occluder_offset: &wgpu::TextureView,
         exit_map: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
@@ -360,7 +360,7 @@ impl DistanceMapCompute {
         receiver_mask: &wgpu::TextureView,
     ) {
         self.tiles
-            .bind(device, tiles, frame, camera_depth, fattened_map, fattened_side);
+            .bind(device, tiles, frame, camera_depth, fattened_map, fattened_size);
         self.reduce_pending
             .store(true, std::sync::atomic::Ordering::Relaxed);
         self.bind_group = Some(super::bind_group(

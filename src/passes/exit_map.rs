@@ -15,7 +15,7 @@ use super::shadow_map::{begin_depth_pass, depth_state, light_depth_target, suppo
 use super::{CascadeUniforms, CasterPipelines, SecondStream, TileClear};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
-use crate::light_space::LightView;
+use crate::light_space::{AtlasGrid, LightView};
 use crate::settings::ShadowMapSettings;
 
 #[repr(C)]
@@ -29,8 +29,9 @@ pub struct ExitMapPass {
     texture: wgpu::Texture,
     view: wgpu::TextureView,
     uniform: CascadeUniforms,
-    /// Tiles per side of the atlas, and the cascades drawn.
-    grid: u32,
+    /// The atlas's tiles, their texels a side (half the shadow map's), and the cascades drawn.
+    grid: AtlasGrid,
+    tile: u32,
     cascades: u32,
     pipelines: CasterPipelines,
     clear: TileClear,
@@ -48,7 +49,7 @@ impl ExitMapPass {
         device: &wgpu::Device,
         layouts: &SceneLayouts,
         settings: &ShadowMapSettings,
-        grid: u32,
+        grid: AtlasGrid,
         tile: u32,
     ) -> Self {
         let shader = crate::shaders::module(device, "exit_map.wgsl", crate::shaders::EXIT_MAP);
@@ -73,14 +74,15 @@ impl ExitMapPass {
         let (texture, view) = light_depth_target(
             device,
             settings,
-            support_map_resolution(tile) * grid.max(1),
+            (grid, support_map_resolution(tile)),
             "ExitMapPass::exit_map",
         );
         Self {
             texture,
             view,
             uniform,
-            grid: grid.max(1),
+            grid,
+            tile: support_map_resolution(tile),
             cascades: 1,
             pipelines,
             clear: TileClear::new(device, settings.depth_format.texture_format(), None),
@@ -89,13 +91,20 @@ impl ExitMapPass {
 
     /// Makes the map again for a shadow map of `tile` texels a tile (the pipelines stay); it
     /// must then be drawn and bound again.
-    pub(crate) fn resize(&mut self, device: &wgpu::Device, settings: &ShadowMapSettings, tile: u32) {
+    pub(crate) fn resize(
+        &mut self,
+        device: &wgpu::Device,
+        settings: &ShadowMapSettings,
+        grid: AtlasGrid,
+        tile: u32,
+    ) {
         (self.texture, self.view) = light_depth_target(
             device,
             settings,
-            support_map_resolution(tile) * self.grid,
+            (grid, support_map_resolution(tile)),
             "ExitMapPass::exit_map",
         );
+        (self.grid, self.tile) = (grid, support_map_resolution(tile));
     }
 
     /// The exit depth map.
@@ -139,7 +148,7 @@ impl ExitMapPass {
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
         let keep = self.uniform.keeps_tiles(self.cascades);
         let mut pass = begin_depth_pass(encoder, "ExitMapPass", &self.view, keep);
-        let tiles = (self.texture.width(), self.grid, self.cascades);
+        let tiles = (self.tile, self.grid, self.cascades);
         self.uniform
             .draw_tiles(&mut pass, tiles, &self.clear, |pass, cull| {
                 casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));

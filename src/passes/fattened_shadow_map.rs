@@ -18,7 +18,7 @@ use super::shadow_map::{depth_pass_descriptor, depth_state, light_depth_target, 
 use super::{CascadeUniforms, CasterPipelines, SecondStream, TileClear, cleared, kept};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
-use crate::light_space::LightView;
+use crate::light_space::{AtlasGrid, LightView};
 use crate::settings::ShadowMapSettings;
 
 #[repr(C)]
@@ -36,8 +36,9 @@ pub struct FattenedShadowMapPass {
     /// World units from the fattened surface back to the caster's own surface, along the light.
     occluder_offset: (wgpu::Texture, wgpu::TextureView),
     uniform: CascadeUniforms,
-    /// Tiles per side of the atlas, and the cascades drawn.
-    grid: u32,
+    /// The atlas's tiles, their texels a side (half the shadow map's), and the cascades drawn.
+    grid: AtlasGrid,
+    tile: u32,
     cascades: u32,
     pipelines: CasterPipelines,
     clear: TileClear,
@@ -55,7 +56,7 @@ impl FattenedShadowMapPass {
         device: &wgpu::Device,
         layouts: &SceneLayouts,
         settings: &ShadowMapSettings,
-        grid: u32,
+        grid: AtlasGrid,
         tile: u32,
     ) -> Self {
         let shader = crate::shaders::module(
@@ -81,13 +82,14 @@ impl FattenedShadowMapPass {
             wgpu::PrimitiveState::default(),
             depth_state(settings),
         );
-        let ((texture, view), (offset, offset_view)) = Self::targets(device, settings, grid.max(1), tile);
+        let ((texture, view), (offset, offset_view)) = Self::targets(device, settings, grid, tile);
         Self {
             texture,
             view,
             occluder_offset: (offset, offset_view),
             uniform,
-            grid: grid.max(1),
+            grid,
+            tile: support_map_resolution(tile),
             cascades: 1,
             pipelines,
             clear: TileClear::new(
@@ -103,11 +105,11 @@ impl FattenedShadowMapPass {
     /// fatten distance needs (a relative 1e-3).
     pub const OFFSET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 
-    /// The fattened map and the occluder offsets, `grid` x `grid` tiles of half `tile` texels.
+    /// The fattened map and the occluder offsets, `grid`'s tiles of half `tile` texels.
     fn targets(
         device: &wgpu::Device,
         settings: &ShadowMapSettings,
-        grid: u32,
+        grid: AtlasGrid,
         tile: u32,
     ) -> (
         (wgpu::Texture, wgpu::TextureView),
@@ -116,7 +118,7 @@ impl FattenedShadowMapPass {
         let (texture, view) = light_depth_target(
             device,
             settings,
-            support_map_resolution(tile) * grid,
+            (grid, support_map_resolution(tile)),
             "FattenedShadowMapPass::fattened_map",
         );
         let offset = device.create_texture(&wgpu::TextureDescriptor {
@@ -137,9 +139,16 @@ impl FattenedShadowMapPass {
 
     /// Makes the maps again for a shadow map of `tile` texels a tile (the pipelines stay); they
     /// must then be drawn and bound again.
-    pub(crate) fn resize(&mut self, device: &wgpu::Device, settings: &ShadowMapSettings, tile: u32) {
-        let ((texture, view), offset) = Self::targets(device, settings, self.grid, tile);
+    pub(crate) fn resize(
+        &mut self,
+        device: &wgpu::Device,
+        settings: &ShadowMapSettings,
+        grid: AtlasGrid,
+        tile: u32,
+    ) {
+        let ((texture, view), offset) = Self::targets(device, settings, grid, tile);
         (self.texture, self.view, self.occluder_offset) = (texture, view, offset);
+        (self.grid, self.tile) = (grid, support_map_resolution(tile));
     }
 
     /// The fattened depth map.
@@ -203,7 +212,7 @@ impl FattenedShadowMapPass {
             }],
             ..depth_pass_descriptor(&self.view, keep)
         });
-        let tiles = (self.texture.width(), self.grid, self.cascades);
+        let tiles = (self.tile, self.grid, self.cascades);
         self.uniform
             .draw_tiles(&mut pass, tiles, &self.clear, |pass, cull| {
                 casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));

@@ -193,7 +193,12 @@ impl ForwardPass {
             light_view_proj,
             cascade_end,
             cascade_offset,
-            cascade_count: [cascades.len() as u32, light_view.grid.max(1), 0, 0],
+            cascade_count: [
+                cascades.len() as u32,
+                light_view.grid.cols.max(1),
+                light_view.grid.rows.max(1),
+                0,
+            ],
             camera_position: vec4(camera.eye(), 0.0),
             light_direction: vec4(direction, kind),
             light_position: vec4(position, cos_outer),

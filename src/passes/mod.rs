@@ -537,13 +537,13 @@ impl CascadeUniforms {
         self.redraw & all != all
     }
 
-    /// For each of `count` cascades to redraw: the viewport of its tile in an atlas `side`
-    /// texels wide with `grid` tiles a side, the tile cleared by `clear` when others are kept,
-    /// its uniform at `group` index 0, then `draw`.
+    /// For each of `count` cascades to redraw: the viewport of its tile (`tile` texels a side
+    /// in `grid`), the tile cleared by `clear` when others are kept, its uniform at `group`
+    /// index 0, then `draw`.
     pub fn draw_tiles(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
-        (side, grid, count): (u32, u32, u32),
+        (tile, grid, count): (u32, crate::light_space::AtlasGrid, u32),
         clear: &TileClear,
         mut draw: impl FnMut(&mut wgpu::RenderPass<'_>, crate::casters::Cull),
     ) {
@@ -552,7 +552,7 @@ impl CascadeUniforms {
             if self.redraw & (1 << index) == 0 {
                 continue;
             }
-            let [x, y, w, h] = crate::light_space::tile_viewport(grid, index, side);
+            let [x, y, w, h] = crate::light_space::tile_viewport(grid, index, tile);
             pass.set_viewport(x as f32, y as f32, w as f32, h as f32, 0.0, 1.0);
             if keeps {
                 clear.draw(pass);

@@ -153,7 +153,8 @@ impl ReferencePass {
             params: [
                 self.accumulated as f32,
                 light.cascades().len() as f32,
-                light.grid.max(1) as f32,
+                // square: the reference's maps keep the largest grid
+                light.grid.cols.max(1) as f32,
                 // a point light: its faces are picked by direction
                 if light.cascades().len() == 6 { 2.0 } else { 0.0 },
             ],

@@ -14,7 +14,7 @@ use bytemuck::{Pod, Zeroable};
 use super::{CascadeUniforms, CasterPipelines, SecondStream, TileClear};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
-use crate::light_space::LightView;
+use crate::light_space::{AtlasGrid, LightView};
 use crate::settings::ShadowMapSettings;
 
 #[repr(C)]
@@ -27,8 +27,9 @@ pub struct ShadowMapPass {
     texture: wgpu::Texture,
     view: wgpu::TextureView,
     light: CascadeUniforms,
-    /// Tiles per side of the atlas, and the cascades drawn.
-    grid: u32,
+    /// The atlas's tiles, their texels a side, and the cascades drawn.
+    grid: AtlasGrid,
+    tile: u32,
     cascades: u32,
     opaque: CasterPipelines,
     masked: CasterPipelines,
@@ -48,7 +49,7 @@ impl ShadowMapPass {
         device: &wgpu::Device,
         layouts: &SceneLayouts,
         settings: &ShadowMapSettings,
-        grid: u32,
+        grid: AtlasGrid,
         tile: u32,
     ) -> Self {
         let shader = crate::shaders::module(device, "shadow_map.wgsl", crate::shaders::SHADOW_MAP);
@@ -89,13 +90,13 @@ impl ShadowMapPass {
             primitive,
             depth_state(settings),
         );
-        let (texture, view) =
-            light_depth_target(device, settings, tile * grid.max(1), "ShadowMapPass::shadow_map");
+        let (texture, view) = light_depth_target(device, settings, (grid, tile), "ShadowMapPass::shadow_map");
         Self {
             texture,
             view,
             light,
-            grid: grid.max(1),
+            grid,
+            tile,
             cascades: 1,
             opaque,
             masked,
@@ -103,21 +104,28 @@ impl ShadowMapPass {
         }
     }
 
-    /// Makes the map again with tiles of `tile` texels a side (the pipelines stay); it must
-    /// then be drawn and bound again.
-    pub(crate) fn resize(&mut self, device: &wgpu::Device, settings: &ShadowMapSettings, tile: u32) {
+    /// Makes the map again as `grid`'s tiles of `tile` texels a side (the pipelines stay); it
+    /// must then be drawn and bound again.
+    pub(crate) fn resize(
+        &mut self,
+        device: &wgpu::Device,
+        settings: &ShadowMapSettings,
+        grid: AtlasGrid,
+        tile: u32,
+    ) {
         (self.texture, self.view) =
-            light_depth_target(device, settings, tile * self.grid, "ShadowMapPass::shadow_map");
+            light_depth_target(device, settings, (grid, tile), "ShadowMapPass::shadow_map");
+        (self.grid, self.tile) = (grid, tile);
     }
 
-    /// Tiles per side of the atlas.
-    pub fn grid(&self) -> u32 {
+    /// How the atlas lays out its tiles.
+    pub fn grid(&self) -> AtlasGrid {
         self.grid
     }
 
     /// Texels per side of one tile.
     pub fn tile(&self) -> u32 {
-        self.texture.width() / self.grid
+        self.tile
     }
 
     /// The depth shadow map.
@@ -165,7 +173,7 @@ impl ShadowMapPass {
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
         let keep = self.light.keeps_tiles(self.cascades);
         let mut pass = begin_depth_pass(encoder, "ShadowMapPass", &self.view, keep);
-        let tiles = (self.texture.width(), self.grid, self.cascades);
+        let tiles = (self.tile, self.grid, self.cascades);
         self.light
             .draw_tiles(&mut pass, tiles, &self.clear, |pass, cull| {
                 casters.draw(pass, Streams::OpaqueDepth, cull, |l| self.opaque.get(l));
@@ -196,19 +204,20 @@ pub(super) fn depth_state(settings: &ShadowMapSettings) -> wgpu::DepthStencilSta
     }
 }
 
-/// A square depth texture of the shadow map's format, `resolution` texels a side, readable by
-/// shaders.
+/// A depth texture of the shadow map's format holding `grid`'s tiles of `tile` texels a side,
+/// readable by shaders.
 pub(super) fn light_depth_target(
     device: &wgpu::Device,
     settings: &ShadowMapSettings,
-    resolution: u32,
+    (grid, tile): (AtlasGrid, u32),
     label: &str,
 ) -> (wgpu::Texture, wgpu::TextureView) {
+    let (width, height) = grid.size(tile);
     super::screen_target(
         device,
         label,
-        resolution,
-        resolution,
+        width,
+        height,
         settings.depth_format.texture_format(),
     )
 }

@@ -148,18 +148,24 @@ impl TileClassifyPass {
         }
     }
 
-    /// Points the pass at its inputs; `fattened_map` is `fattened_side` texels a side.
+    /// Points the pass at its inputs; `fattened_map` is `fattened_size` texels (width, height).
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
         frame: &wgpu::Buffer,
         camera_depth: &wgpu::TextureView,
         fattened_map: &wgpu::TextureView,
-        fattened_side: u32,
+        fattened_size: (u32, u32),
     ) {
-        let side = fattened_side.div_ceil(REDUCE);
-        if self.reduced.0.width() != side {
-            self.reduced = screen_target(device, "TileClassifyPass::reduced", side, side, REDUCED_FORMAT);
+        let size = (fattened_size.0.div_ceil(REDUCE), fattened_size.1.div_ceil(REDUCE));
+        if (self.reduced.0.width(), self.reduced.0.height()) != size {
+            self.reduced = screen_target(
+                device,
+                "TileClassifyPass::reduced",
+                size.0,
+                size.1,
+                REDUCED_FORMAT,
+            );
         }
         let classify = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("TileClassifyPass::classify"),
@@ -438,8 +444,8 @@ impl TileListPass {
         }
     }
 
-    /// Points the pass at its inputs (`fattened_map` is `fattened_side` texels a side) and
-    /// the list it writes.
+    /// Points the pass at its inputs (`fattened_map` is `fattened_size` texels, width and
+    /// height) and the list it writes.
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
@@ -447,14 +453,14 @@ impl TileListPass {
         frame: &wgpu::Buffer,
         camera_depth: &wgpu::TextureView,
         fattened_map: &wgpu::TextureView,
-        fattened_side: u32,
+        fattened_size: (u32, u32),
     ) {
-        let side = fattened_side.div_ceil(REDUCE);
-        if self.reduced.0.width() != side {
+        let size = (fattened_size.0.div_ceil(REDUCE), fattened_size.1.div_ceil(REDUCE));
+        if (self.reduced.0.width(), self.reduced.0.height()) != size {
             self.reduced = super::storage_target(
                 device,
                 "TileListPass::reduced",
-                (side, side),
+                size,
                 REDUCED_STORAGE_FORMAT,
                 false,
             );
@@ -502,10 +508,10 @@ impl TileListPass {
             timestamp_writes: None,
         });
         if maps_drawn {
-            let side = self.reduced.0.width();
+            let (w, h) = (self.reduced.0.width(), self.reduced.0.height());
             pass.set_pipeline(&self.reduce);
             pass.set_bind_group(0, reduce, &[]);
-            pass.dispatch_workgroups(side.div_ceil(8), side.div_ceil(8), 1);
+            pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         }
         let tiles = (targets.classes.0.width(), targets.classes.0.height());
         pass.set_pipeline(&self.classify);
