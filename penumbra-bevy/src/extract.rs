@@ -15,7 +15,7 @@ use bevy::render::sync_world::RenderEntity;
 use bevy::render::view::Msaa;
 use penumbra::{DirectionalLight as Sun, Light, PointLight as Point, SpotLight as Spot};
 
-use crate::material::PenumbraTargets;
+use crate::material::{PenumbraMaterial, PenumbraTargets};
 use crate::{PenumbraCamera, PenumbraLightSize, vec3};
 
 /// The sun's angular diameter in radians, for a `DirectionalLight` with no size given.
@@ -37,9 +37,21 @@ pub(crate) struct ExtractedCaster {
     pub entity: Entity,
     pub mesh: AssetId<Mesh>,
     pub transform: Mat4,
-    /// False for `NotShadowCaster`: still a receiver, which the lights' maps are fitted to.
+    /// False for `NotShadowCaster` (and for a masked material whose alpha is below its
+    /// cutoff everywhere): still a receiver, which the lights' maps are fitted to.
     pub casts: bool,
     pub receives: bool,
+    /// Its `StandardMaterial`'s alpha test (`AlphaMode::Mask`), where a texture gives the alpha.
+    pub mask: Option<ExtractedMask>,
+}
+
+/// A `StandardMaterial`'s alpha test: texels whose alpha (the base-colour texture's times the
+/// base colour's) is below the cutoff cast no shadow.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct ExtractedMask {
+    pub texture: AssetId<Image>,
+    pub alpha_factor: f32,
+    pub cutoff: f32,
 }
 
 /// A light penumbra shades.
@@ -94,8 +106,17 @@ type CasterQuery<'w, 's> = Query<
         Has<NotShadowReceiver>,
         Has<SkinnedMesh>,
         Has<MorphWeights>,
+        Option<&'static MeshMaterial3d<StandardMaterial>>,
+        Option<&'static MeshMaterial3d<PenumbraMaterial>>,
     ),
 >;
+
+/// The materials a caster's alpha test is read from: a `StandardMaterial`, or the
+/// `PenumbraMaterial` the plugin switched it to.
+type MaterialAssets<'w> = (
+    Res<'w, Assets<StandardMaterial>>,
+    Res<'w, Assets<PenumbraMaterial>>,
+);
 
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract_penumbra(
@@ -141,6 +162,7 @@ pub(crate) fn extract_penumbra(
         )>,
     >,
     meshes: Extract<Res<Assets<Mesh>>>,
+    materials: Extract<MaterialAssets>,
     mut mesh_events: Extract<MessageReader<AssetEvent<Mesh>>>,
     targets: Extract<Res<PenumbraTargets>>,
 ) {
@@ -187,7 +209,20 @@ pub(crate) fn extract_penumbra(
     extracted.casters.clear();
     extracted.geometry.clear();
     extracted.left_out.clear();
-    for (entity, mesh, transform, visibility, not_caster, not_receiver, skinned, morphed) in &casters {
+    let (standard, converted) = &*materials;
+    for (
+        entity,
+        mesh,
+        transform,
+        visibility,
+        not_caster,
+        not_receiver,
+        skinned,
+        morphed,
+        material,
+        penumbra,
+    ) in &casters
+    {
         if visibility.is_some_and(|v| !v.get()) || (not_caster && not_receiver) {
             continue;
         }
@@ -202,12 +237,35 @@ pub(crate) fn extract_penumbra(
             extracted.geometry.push((id, geometry(mesh)));
             known.0.insert(id);
         }
+        // An alpha-masked material: its texture's alpha is tested as the shadow is drawn; without
+        // a texture its base colour's alpha passes everywhere or nowhere.
+        let (mut casts, mut mask) = (!not_caster, None);
+        // The plugin switches a `StandardMaterial` to a `PenumbraMaterial` built on it.
+        let material = material
+            .and_then(|m| standard.get(&m.0))
+            .or_else(|| penumbra.and_then(|m| converted.get(&m.0)).map(|m| &m.base));
+        if let Some(material) = material
+            && let AlphaMode::Mask(cutoff) = material.alpha_mode
+        {
+            let alpha_factor = material.base_color.alpha();
+            match &material.base_color_texture {
+                Some(texture) => {
+                    mask = Some(ExtractedMask {
+                        texture: texture.id(),
+                        alpha_factor,
+                        cutoff,
+                    })
+                }
+                None => casts &= alpha_factor >= cutoff,
+            }
+        }
         extracted.casters.push(ExtractedCaster {
             entity,
             mesh: id,
             transform: transform.to_matrix(),
-            casts: !not_caster,
+            casts,
             receives: !not_receiver,
+            mask,
         });
     }
 

@@ -15,11 +15,11 @@ use bevy::render::texture::GpuImage;
 use bevy::render::view::ExtractedView;
 use bevy::render::{ExtractSchedule, Render, RenderSystems};
 use penumbra::{
-    CameraMatrices, CasterInstance, CasterMeshDesc, Casters, DepthConvention, IndexStream, InstanceId, Light,
-    LightId, MeshGeometry, MeshId, Shadows, VertexStream, ViewInputs,
+    AlphaMask, CameraMatrices, CasterInstance, CasterMeshDesc, Casters, DepthConvention, IndexStream,
+    InstanceId, Light, LightId, MeshGeometry, MeshId, Shadows, VertexStream, ViewInputs,
 };
 
-use crate::extract::{Extracted, ExtractedLight, Geometry, KnownGeometry, extract_penumbra};
+use crate::extract::{Extracted, ExtractedLight, ExtractedMask, Geometry, KnownGeometry, extract_penumbra};
 use crate::{PenumbraDiagnostics, mat4};
 
 /// One light's row of the table the material reads (`PenumbraLight` in the shader).
@@ -65,6 +65,8 @@ struct Instance {
     mesh: AssetId<Mesh>,
     transform: Mat4,
     flags: (bool, bool),
+    /// The alpha test it was placed with.
+    mask: Option<ExtractedMask>,
 }
 
 /// penumbra's state in the render world.
@@ -222,7 +224,13 @@ fn prepare_penumbra(
         return;
     }
 
-    sync_casters(state, &extracted, device, queue, &allocator, &render_meshes);
+    sync_casters(
+        state,
+        &extracted,
+        device,
+        queue,
+        (&allocator, &render_meshes, &images),
+    );
     sync_lights(state, &extracted.lights, device, clustered.as_deref());
 
     let Some(image) = images.get(&extracted.visibility) else {
@@ -243,8 +251,7 @@ fn sync_casters(
     extracted: &Extracted,
     device: &wgpu::Device,
     queue: &wgpu::Queue,
-    allocator: &MeshAllocator,
-    render_meshes: &RenderAssets<RenderMesh>,
+    (allocator, render_meshes, images): (&MeshAllocator, &RenderAssets<RenderMesh>, &RenderAssets<GpuImage>),
 ) {
     for id in &extracted.stale_meshes {
         state.geometry.remove(id);
@@ -293,11 +300,19 @@ fn sync_casters(
                 }
             }
         }
+        // A masked caster's texture, once Bevy has it on the GPU.
+        let mask_texture = match &caster.mask {
+            Some(mask) => match images.get(mask.texture) {
+                Some(image) => Some(&image.texture_view),
+                None => continue,
+            },
+            None => None,
+        };
         let mesh_id = state.meshes[&caster.mesh].id;
         let (casters, _) = state.gpu.as_mut().expect("made");
         let transform = mat4(caster.transform);
         match state.instances.get_mut(&caster.entity) {
-            Some(instance) if instance.mesh == caster.mesh => {
+            Some(instance) if instance.mesh == caster.mesh && instance.mask == caster.mask => {
                 if instance.transform != caster.transform {
                     if let Err(e) = casters.set_transform(queue, instance.id, transform) {
                         messages.push(format!("penumbra: entity {}: {e}", caster.entity));
@@ -319,7 +334,36 @@ fn sync_casters(
                 let mut instance = CasterInstance::new(mesh_id, transform);
                 instance.caster = caster.casts;
                 instance.receiver = caster.receives;
-                match casters.add_instance(device, queue, instance) {
+                let added = match (&caster.mask, mask_texture) {
+                    (Some(mask), Some(texture)) => match uv_stream(allocator, render_meshes, caster.mesh) {
+                        Ok(uvs) => casters
+                            .add_masked_instance(
+                                device,
+                                queue,
+                                instance,
+                                &AlphaMask {
+                                    uvs,
+                                    texture,
+                                    alpha_factor: mask.alpha_factor,
+                                    cutoff: mask.cutoff,
+                                },
+                            )
+                            .map_err(|e| e.to_string()),
+                        Err(why) => {
+                            messages.push(format!(
+                                "penumbra: entity {}: its material is alpha-masked but {why}; its shadow is not masked",
+                                caster.entity
+                            ));
+                            casters
+                                .add_instance(device, queue, instance)
+                                .map_err(|e| e.to_string())
+                        }
+                    },
+                    _ => casters
+                        .add_instance(device, queue, instance)
+                        .map_err(|e| e.to_string()),
+                };
+                match added {
                     Ok(id) => {
                         state.instances.insert(
                             caster.entity,
@@ -328,6 +372,7 @@ fn sync_casters(
                                 mesh: caster.mesh,
                                 transform: caster.transform,
                                 flags: (caster.casts, caster.receives),
+                                mask: caster.mask,
                             },
                         );
                     }
@@ -369,6 +414,39 @@ fn place_of(
         first_vertex: vertices.range.start,
         index_buffer: indices.map(|i| (i.buffer.id(), i.range.start)),
     })
+}
+
+/// A mesh's first texture coordinates where Bevy has them on the GPU, for an alpha test, or
+/// why there are none.
+fn uv_stream<'a>(
+    allocator: &'a MeshAllocator,
+    render_meshes: &RenderAssets<RenderMesh>,
+    mesh: AssetId<Mesh>,
+) -> Result<VertexStream<'a>, String> {
+    let render_mesh = render_meshes.get(mesh).ok_or("it is not on the GPU")?;
+    let vertices = allocator.mesh_vertex_slice(&mesh).ok_or("it is not on the GPU")?;
+    let layout = render_mesh.layout.0.layout();
+    let uv = render_mesh
+        .layout
+        .0
+        .attribute_ids()
+        .iter()
+        .position(|id| *id == Mesh::ATTRIBUTE_UV_0.id)
+        .ok_or("its mesh has no UV_0")?;
+    let attribute = layout.attributes[uv];
+    if attribute.format != wgpu::VertexFormat::Float32x2 {
+        return Err(format!(
+            "its GPU UVs are {:?}; penumbra reads Float32x2",
+            attribute.format
+        ));
+    }
+    let stride = layout.array_stride;
+    Ok(VertexStream::new(
+        vertices.buffer,
+        vertices.range.start as u64 * stride + attribute.offset,
+        stride,
+        attribute.format,
+    ))
 }
 
 /// Registers a mesh at its place in Bevy's buffers.

@@ -517,3 +517,88 @@ fn a_spot_and_a_point_light_each_cast_their_own_shadow() {
         );
     }
 }
+
+#[test]
+fn an_alpha_masked_casters_shadow_keeps_its_holes() {
+    use bevy::asset::RenderAssetUsages;
+    use bevy::render::render_resource::{Extent3d, TextureDimension, TextureFormat};
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    // A quad 1.6 wide lying 2 units above the plane, its texture transparent on one half
+    // (alpha 0, along u) and opaque on the other, `AlphaMode::Mask(0.5)`. Under the sun toward
+    // +x its shadow falls at x from 0.8 to 2.4: one half's from 0.8 to 1.6, the other's from
+    // 1.6 to 2.4. Without the alpha test both halves were dark.
+    let mut scene = box_above_plane(sun(2.0), false);
+    let world = scene.headless.app.world_mut();
+    world.despawn(scene.box_entity);
+    let side = 16u32;
+    let texels: Vec<u8> = (0..side * side)
+        .flat_map(|i| [200, 30, 30, if i % side < side / 2 { 0 } else { 255 }])
+        .collect();
+    let texture = world.resource_mut::<Assets<Image>>().add(Image::new(
+        Extent3d {
+            width: side,
+            height: side,
+            depth_or_array_layers: 1,
+        },
+        TextureDimension::D2,
+        texels,
+        TextureFormat::Rgba8UnormSrgb,
+        RenderAssetUsages::default(),
+    ));
+    let quad = world
+        .resource_mut::<Assets<Mesh>>()
+        .add(Plane3d::default().mesh().size(1.6, 1.6));
+    let masked = world
+        .resource_mut::<Assets<StandardMaterial>>()
+        .add(StandardMaterial {
+            base_color_texture: Some(texture),
+            alpha_mode: AlphaMode::Mask(0.5),
+            double_sided: true,
+            cull_mode: None,
+            perceptual_roughness: 1.0,
+            ..default()
+        });
+    let quad = world
+        .spawn((
+            Mesh3d(quad),
+            MeshMaterial3d(masked),
+            Transform::from_xyz(0.0, 2.0, 0.0),
+        ))
+        .id();
+    let ours = scene.headless.render(10);
+    save("masked_penumbra.png", &ours);
+    scene.set_penumbra(false);
+    let bevy = scene.headless.render(4);
+    save("masked_bevy.png", &bevy);
+    scene.set_penumbra(true);
+    scene.headless.app.world_mut().despawn(quad);
+    let empty = scene.headless.render(4);
+    let messages = scene.messages();
+    assert!(messages.is_empty(), "the plugin reported {messages:?}");
+    // The mean darkness of the plane between x = a and x = b on the rows near z = 0.
+    let mean = |dark: &[Option<f32>], a: f32, b: f32| {
+        let column = |x: f32| (SIZE.x as f32 / 2.0 + x * pixels_per_unit()) as u32;
+        let rows = SIZE.y / 2 - 8..SIZE.y / 2 + 8;
+        let values: Vec<f32> = rows
+            .flat_map(|y| (column(a)..column(b)).filter_map(move |x| dark[(y * SIZE.x + x) as usize]))
+            .collect();
+        assert!(values.len() > 50, "too few plane pixels between x = {a} and {b}");
+        values.iter().sum::<f32>() / values.len() as f32
+    };
+    let (ours_dark, bevy_dark) = (darkness(&ours, &empty), darkness(&bevy, &empty));
+    let halves = |dark: &[Option<f32>]| (mean(dark, 1.05, 1.45), mean(dark, 1.75, 2.25));
+    let (ours_halves, bevy_halves) = (halves(&ours_dark), halves(&bevy_dark));
+    println!("darkness under the quad's halves: penumbra {ours_halves:?}, Bevy {bevy_halves:?}");
+    for (name, (near, far)) in [("penumbra", ours_halves), ("Bevy", bevy_halves)] {
+        let (dark, lit) = (near.max(far), near.min(far));
+        assert!(
+            dark > 0.6 && lit < 0.15,
+            "{name}: the quad's halves darken the plane by {near:.2} and {far:.2}: one must be a hole"
+        );
+    }
+    assert_eq!(
+        ours_halves.0 > ours_halves.1,
+        bevy_halves.0 > bevy_halves.1,
+        "penumbra's hole is under the other half than Bevy's"
+    );
+}
