@@ -77,7 +77,6 @@ fn headless(path: &str, penumbra: bool) {
 fn spawn_window_camera(mut commands: Commands) {
     commands.spawn((
         Camera3d::default(),
-        Msaa::Off,
         PenumbraCamera::default(),
         ShadowFilteringMethod::Gaussian,
         Transform::from_xyz(-6.0, 7.0, 9.0).looking_at(Vec3::new(0.0, 0.5, 0.0), Vec3::Y),

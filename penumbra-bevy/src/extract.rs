@@ -12,7 +12,6 @@ use bevy::prelude::*;
 use bevy::render::Extract;
 use bevy::render::storage::ShaderBuffer;
 use bevy::render::sync_world::RenderEntity;
-use bevy::render::view::Msaa;
 use penumbra::{DirectionalLight as Sun, Light, PointLight as Point, SpotLight as Spot};
 
 use crate::material::{PenumbraMaterial, PenumbraTargets};
@@ -27,7 +26,7 @@ pub(crate) struct ExtractedPenumbraCamera {
     pub render_entity: Entity,
     pub main_entity: Entity,
     pub settings: penumbra::ShadowSettings,
-    /// Why penumbra cannot run on this camera (MSAA), logged once.
+    /// Why penumbra cannot run on this camera (no depth prepass), logged once.
     pub refused: Option<String>,
 }
 
@@ -122,16 +121,7 @@ type MaterialAssets<'w> = (
 pub(crate) fn extract_penumbra(
     mut extracted: ResMut<Extracted>,
     mut known: ResMut<KnownGeometry>,
-    cameras: Extract<
-        Query<(
-            Entity,
-            RenderEntity,
-            &Camera,
-            &PenumbraCamera,
-            Option<&Msaa>,
-            Has<DepthPrepass>,
-        )>,
-    >,
+    cameras: Extract<Query<(Entity, RenderEntity, &Camera, &PenumbraCamera, Has<DepthPrepass>)>>,
     casters: Extract<CasterQuery>,
     suns: Extract<
         Query<(
@@ -169,21 +159,15 @@ pub(crate) fn extract_penumbra(
     let extracted = &mut *extracted;
     extracted.camera = cameras
         .iter()
-        .find(|(_, _, camera, penumbra, _, _)| camera.is_active && penumbra.enabled)
-        .map(|(main_entity, render_entity, _, penumbra, msaa, depth_prepass)| {
-            let refused = if !depth_prepass {
-                Some(format!(
+        .find(|(_, _, camera, penumbra, _)| camera.is_active && penumbra.enabled)
+        .map(|(main_entity, render_entity, _, penumbra, depth_prepass)| {
+            // MSAA is served: the render world resolves the multisampled depth prepass.
+            let refused = (!depth_prepass).then(|| {
+                format!(
                     "penumbra: camera {main_entity} has no DepthPrepass; penumbra's passes read it. \
                      Bevy's own shadows are used meanwhile."
-                ))
-            } else {
-                msaa.filter(|m| **m != Msaa::Off).map(|m| {
-                    format!(
-                        "penumbra: camera {main_entity} has Msaa::{m:?}; penumbra reads the depth prepass \
-                         single-sampled, so it needs Msaa::Off on the camera. Bevy's own shadows are used meanwhile."
-                    )
-                })
-            };
+                )
+            });
             ExtractedPenumbraCamera {
                 render_entity,
                 main_entity,

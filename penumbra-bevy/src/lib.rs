@@ -7,7 +7,7 @@
 //! App::new()
 //!     .add_plugins((DefaultPlugins, PenumbraPlugin))
 //!     .add_systems(Startup, |mut commands: Commands| {
-//!         commands.spawn((Camera3d::default(), Msaa::Off, PenumbraCamera::default()));
+//!         commands.spawn((Camera3d::default(), PenumbraCamera::default()));
 //!     })
 //!     .run();
 //! ```
@@ -29,6 +29,7 @@
 //!
 //! See `docs/bevy.md` in the repository for what is supported and what it costs.
 
+mod depth_resolve;
 mod extract;
 mod material;
 mod render;
@@ -47,9 +48,9 @@ pub use penumbra::{Quality, ShadowMethod, ShadowSettings};
 /// Adds penumbra's soft shadows to every camera with a [`PenumbraCamera`].
 pub struct PenumbraPlugin;
 
-/// Turns penumbra on for a 3D camera. The camera needs `Msaa::Off` (penumbra reads the depth
-/// prepass single-sampled; with MSAA the plugin logs an error and Bevy's own shadows stay).
-/// One camera at a time: with several, the first active one is shaded.
+/// Turns penumbra on for a 3D camera, with or without MSAA (with it, penumbra reads the
+/// nearest sample of each pixel of the depth prepass). One camera at a time: with several, the
+/// first active one is shaded.
 #[derive(Component, Clone, Debug)]
 #[require(DepthPrepass)]
 pub struct PenumbraCamera {

@@ -19,6 +19,7 @@ use penumbra::{
     InstanceId, Light, LightId, MeshGeometry, MeshId, Shadows, VertexStream, ViewInputs,
 };
 
+use crate::depth_resolve::DepthResolve;
 use crate::extract::{Extracted, ExtractedLight, ExtractedMask, Geometry, KnownGeometry, extract_penumbra};
 use crate::{PenumbraDiagnostics, mat4};
 
@@ -85,6 +86,8 @@ pub(crate) struct PenumbraState {
     active: bool,
     /// Messages already logged (each once), shared with the app.
     diagnostics: PenumbraDiagnostics,
+    /// The single-sampled copy of a multisampled depth prepass (MSAA on the camera).
+    resolve: Option<DepthResolve>,
 }
 
 impl PenumbraState {
@@ -622,16 +625,24 @@ fn penumbra_pass(
         ));
         return;
     };
-    let depth: &wgpu::Texture = &depth.texture.texture;
+    let device = device.wgpu_device();
+    let queue: &wgpu::Queue = &queue;
+    let state = &mut *state;
+    // With MSAA, the nearest sample of each pixel, single-sampled.
+    let depth: wgpu::Texture = if depth.texture.texture.sample_count() > 1 {
+        state
+            .resolve
+            .get_or_insert_with(|| DepthResolve::new(device))
+            .encode(device, ctx.command_encoder(), &depth.texture.texture)
+    } else {
+        (*depth.texture.texture).clone()
+    };
     let camera_matrices = CameraMatrices {
         view: mat4(view.world_from_view.to_matrix().inverse()),
         projection: mat4(view.clip_from_view),
         depth: DepthConvention::Reversed,
     };
-    let inputs = ViewInputs::new(camera_matrices, depth);
-    let device = device.wgpu_device();
-    let queue: &wgpu::Queue = &queue;
-    let state = &mut *state;
+    let inputs = ViewInputs::new(camera_matrices, &depth);
     let Some((casters, shadows)) = state.gpu.as_mut() else {
         return;
     };
