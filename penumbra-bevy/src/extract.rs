@@ -2,7 +2,7 @@
 //! lights, and the CPU geometry of meshes it has not seen.
 
 use bevy::camera::visibility::InheritedVisibility;
-use bevy::core_pipeline::prepass::DepthPrepass;
+use bevy::core_pipeline::prepass::{DeferredPrepass, DepthPrepass};
 use bevy::light::{NotShadowCaster, NotShadowReceiver, SunDisk};
 use bevy::mesh::morph::MorphWeights;
 use bevy::mesh::skinning::SkinnedMesh;
@@ -85,6 +85,8 @@ pub(crate) struct Extracted {
     pub stale_meshes: Vec<AssetId<Mesh>>,
     pub visibility: Handle<Image>,
     pub lights_buffer: Handle<ShaderBuffer>,
+    /// Active cameras with an enabled `PenumbraCamera` past the one shaded.
+    pub unshaded_cameras: Vec<Entity>,
     /// Casters left out, with why (skinned, morphed), each logged once.
     pub left_out: Vec<(Entity, &'static str)>,
 }
@@ -121,7 +123,16 @@ type MaterialAssets<'w> = (
 pub(crate) fn extract_penumbra(
     mut extracted: ResMut<Extracted>,
     mut known: ResMut<KnownGeometry>,
-    cameras: Extract<Query<(Entity, RenderEntity, &Camera, &PenumbraCamera, Has<DepthPrepass>)>>,
+    cameras: Extract<
+        Query<(
+            Entity,
+            RenderEntity,
+            &Camera,
+            &PenumbraCamera,
+            Has<DepthPrepass>,
+            Has<DeferredPrepass>,
+        )>,
+    >,
     casters: Extract<CasterQuery>,
     suns: Extract<
         Query<(
@@ -157,24 +168,37 @@ pub(crate) fn extract_penumbra(
     targets: Extract<Res<PenumbraTargets>>,
 ) {
     let extracted = &mut *extracted;
-    extracted.camera = cameras
+    let mut shaded = cameras
         .iter()
-        .find(|(_, _, camera, penumbra, _)| camera.is_active && penumbra.enabled)
-        .map(|(main_entity, render_entity, _, penumbra, depth_prepass)| {
+        .filter(|(_, _, camera, penumbra, _, _)| camera.is_active && penumbra.enabled);
+    extracted.camera = shaded.next().map(
+        |(main_entity, render_entity, _, penumbra, depth_prepass, deferred)| {
             // MSAA is served: the render world resolves the multisampled depth prepass.
-            let refused = (!depth_prepass).then(|| {
-                format!(
+            let refused = if !depth_prepass {
+                Some(format!(
                     "penumbra: camera {main_entity} has no DepthPrepass; penumbra's passes read it. \
                      Bevy's own shadows are used meanwhile."
-                )
-            });
+                ))
+            } else {
+                // Bevy's deferred lighting pass shades without penumbra's material.
+                deferred.then(|| {
+                    format!(
+                        "penumbra: camera {main_entity} has DeferredPrepass; penumbra shades in the forward \
+                         pass's material, which deferred rendering does not run. Bevy's own shadows are used \
+                         meanwhile."
+                    )
+                })
+            };
             ExtractedPenumbraCamera {
                 render_entity,
                 main_entity,
                 settings: penumbra.settings,
                 refused,
             }
-        });
+        },
+    );
+    // One camera is shaded; the others' materials would read its visibility.
+    extracted.unshaded_cameras = shaded.map(|(main_entity, ..)| main_entity).collect();
     extracted.visibility = targets.visibility.clone();
     extracted.lights_buffer = targets.lights.clone();
 

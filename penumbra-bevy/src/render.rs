@@ -194,6 +194,14 @@ fn prepare_penumbra(
         state.log_once(reason.clone());
         return;
     }
+    for other in &extracted.unshaded_cameras {
+        state.log_once(format!(
+            "penumbra: camera {other} also has an enabled PenumbraCamera; penumbra shades one camera \
+             ({}), and {other}'s materials read that camera's visibility: its shadows from penumbra's \
+             lights are wrong. Disable the PenumbraCamera on all cameras but one.",
+            camera.main_entity
+        ));
+    }
     if extracted.lights_over_limit > 0 {
         state.warn_once(format!(
             "penumbra: {} shadow-mapped lights are past penumbra's limit of {}; they keep Bevy's own shadows",

@@ -445,6 +445,50 @@ fn misuse_is_reported_and_leaves_bevys_shadows() {
         messages.iter().any(|m| m.contains("past penumbra's limit of 8")),
         "{messages:?}"
     );
+
+    // Deferred rendering: refused, the camera named (its lighting pass does not run
+    // penumbra's material).
+    let mut scene = box_above_plane(sun(4.0), false);
+    scene
+        .headless
+        .app
+        .world_mut()
+        .entity_mut(scene.camera)
+        .insert(bevy::core_pipeline::prepass::DeferredPrepass);
+    scene.headless.render(4);
+    let messages = scene.messages();
+    let camera = format!("camera {}", scene.camera);
+    assert!(
+        messages
+            .iter()
+            .any(|m| m.contains("DeferredPrepass") && m.contains(&camera)),
+        "{messages:?}"
+    );
+
+    // A second camera with an enabled PenumbraCamera: named, with what goes wrong.
+    let mut scene = box_above_plane(sun(4.0), false);
+    let second = scene.headless.camera(Vec3::new(3.0, 8.0, 3.0), Vec3::ZERO);
+    let second = scene
+        .headless
+        .app
+        .world_mut()
+        .spawn((second, PenumbraCamera::default()))
+        .id();
+    scene
+        .headless
+        .app
+        .world_mut()
+        .get_mut::<Camera>(second)
+        .unwrap()
+        .order = 1;
+    scene.headless.render(4);
+    let messages = scene.messages();
+    assert!(
+        messages
+            .iter()
+            .any(|m| m.contains("also has an enabled PenumbraCamera")),
+        "{messages:?}"
+    );
 }
 
 #[test]
