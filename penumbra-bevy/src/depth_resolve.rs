@@ -95,15 +95,9 @@ impl DepthResolve {
         }
     }
 
-    /// Records the resolve of the multisampled `depth` into `encoder` and returns the
-    /// single-sampled texture it writes.
-    pub(crate) fn encode(
-        &mut self,
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        depth: &wgpu::Texture,
-    ) -> wgpu::Texture {
-        let size = (depth.width(), depth.height());
+    /// The single-sampled depth of `size` the resolve writes (made when the size changes), for
+    /// penumbra's passes to be prepared on before it is written.
+    pub(crate) fn target(&mut self, device: &wgpu::Device, size: (u32, u32)) -> wgpu::Texture {
         if self
             .target
             .as_ref()
@@ -126,7 +120,23 @@ impl DepthResolve {
             let view = texture.create_view(&Default::default());
             self.target = Some((texture, view));
         }
-        let (texture, view) = self.target.as_ref().expect("made above");
+        self.target.as_ref().expect("made above").0.clone()
+    }
+
+    /// Records the resolve of the multisampled `depth` into the target ([`Self::target`],
+    /// of `depth`'s size).
+    pub(crate) fn encode(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        depth: &wgpu::Texture,
+    ) {
+        let Some((texture, view)) = &self.target else {
+            return;
+        };
+        if (texture.width(), texture.height()) != (depth.width(), depth.height()) {
+            return;
+        }
         let source = depth.create_view(&wgpu::TextureViewDescriptor {
             label: Some("penumbra-bevy multisampled depth"),
             aspect: wgpu::TextureAspect::DepthOnly,
@@ -158,7 +168,5 @@ impl DepthResolve {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &group, &[]);
         pass.draw(0..3, 0..1);
-        drop(pass);
-        texture.clone()
     }
 }

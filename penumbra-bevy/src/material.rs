@@ -13,7 +13,6 @@ use bevy::render::storage::ShaderBuffer;
 use bevy::shader::ShaderRef;
 
 use crate::PenumbraCamera;
-use crate::render::GpuLights;
 
 /// Bevy's `StandardMaterial` with penumbra's shadows: the same PBR shading, with the direct
 /// term of each light penumbra shades scaled by that light's visibility at the pixel.
@@ -38,6 +37,30 @@ impl MaterialExtension for PenumbraShading {
         "embedded://penumbra_bevy/shaders/penumbra_material.wesl".into()
     }
 }
+
+/// One light's row of the table the material reads (`PenumbraLight` in the shader).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct GpuLight {
+    pub kind: u32,
+    pub index: u32,
+    pub layer: u32,
+    pub _pad: u32,
+    pub direction_to_light: [f32; 4],
+}
+
+/// The table of penumbra's lights (`PenumbraLights` in the shader).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct GpuLights {
+    pub count: u32,
+    pub _pad: [u32; 3],
+    pub lights: [GpuLight; penumbra::MAX_LIGHTS],
+}
+
+pub(crate) const KIND_DIRECTIONAL: u32 = 0;
+pub(crate) const KIND_SPOT: u32 = 1;
+pub(crate) const KIND_POINT: u32 = 2;
 
 /// An entity whose `StandardMaterial` the plugin leaves as it is (it then gets Bevy's own
 /// shadows for the lights penumbra does not shade, and none from those it does).

@@ -21,31 +21,8 @@ use penumbra::{
 
 use crate::depth_resolve::DepthResolve;
 use crate::extract::{Extracted, ExtractedLight, ExtractedMask, Geometry, KnownGeometry, extract_penumbra};
+use crate::material::{GpuLight, GpuLights, KIND_DIRECTIONAL, KIND_POINT, KIND_SPOT};
 use crate::{PenumbraDiagnostics, mat4};
-
-/// One light's row of the table the material reads (`PenumbraLight` in the shader).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub(crate) struct GpuLight {
-    kind: u32,
-    index: u32,
-    layer: u32,
-    _pad: u32,
-    direction_to_light: [f32; 4],
-}
-
-/// The table of penumbra's lights (`PenumbraLights` in the shader).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub(crate) struct GpuLights {
-    count: u32,
-    _pad: [u32; 3],
-    lights: [GpuLight; penumbra::MAX_LIGHTS],
-}
-
-const KIND_DIRECTIONAL: u32 = 0;
-const KIND_SPOT: u32 = 1;
-const KIND_POINT: u32 = 2;
 
 /// A mesh registered with penumbra, and where its data was in Bevy's buffers then.
 struct RegisteredMesh {
@@ -88,6 +65,8 @@ pub(crate) struct PenumbraState {
     diagnostics: PenumbraDiagnostics,
     /// The single-sampled copy of a multisampled depth prepass (MSAA on the camera).
     resolve: Option<DepthResolve>,
+    /// `Shadows::prepare` ran for this frame's camera (the graph's step may record).
+    prepared: bool,
 }
 
 impl PenumbraState {
@@ -120,6 +99,7 @@ pub(crate) fn build(render_app: &mut SubApp, diagnostics: PenumbraDiagnostics) {
                     .after(RenderSystems::ExtractCommands)
                     .before(RenderSystems::CreateViews),
                 prepare_penumbra.in_set(RenderSystems::PrepareResources),
+                prepare_shadows.in_set(RenderSystems::PrepareBindGroups),
             ),
         );
 }
@@ -612,49 +592,91 @@ fn sync_lights(
     }
 }
 
-/// penumbra's passes on the view's depth prepass, before Bevy's main pass.
-fn penumbra_pass(
-    view: ViewQuery<(Entity, &ExtractedView, &ViewPrepassTextures)>,
+/// penumbra's [`Shadows::prepare`] on the penumbra camera's depth prepass, once Bevy has made
+/// the view's prepass textures: the lights' fits and uniforms and the passes' bind groups (with
+/// MSAA, on the single-sampled depth the graph's step resolves into before it records).
+fn prepare_shadows(
+    views: Query<(&ExtractedView, &ViewPrepassTextures)>,
     extracted: Res<Extracted>,
     mut state: ResMut<PenumbraState>,
     device: Res<RenderDevice>,
     queue: Res<RenderQueue>,
-    mut ctx: RenderContext,
 ) {
-    let (entity, view, prepass) = view.into_inner();
+    let state = &mut *state;
+    state.prepared = false;
     let Some(camera) = &extracted.camera else { return };
-    if camera.render_entity != entity || !state.active {
+    if !state.active {
         return;
     }
+    let Ok((view, prepass)) = views.get(camera.render_entity) else {
+        return;
+    };
     let Some(depth) = prepass.depth.as_ref() else {
         state.log_once(format!(
             "penumbra: camera {} has no depth prepass texture; add DepthPrepass to it",
             camera.main_entity
         ));
+        state.active = false;
         return;
     };
     let device = device.wgpu_device();
     let queue: &wgpu::Queue = &queue;
-    let state = &mut *state;
+    let source = &depth.texture.texture;
     // With MSAA, the nearest sample of each pixel, single-sampled.
-    let depth: wgpu::Texture = if depth.texture.texture.sample_count() > 1 {
+    let depth: wgpu::Texture = if source.sample_count() > 1 {
         state
             .resolve
             .get_or_insert_with(|| DepthResolve::new(device))
-            .encode(device, ctx.command_encoder(), &depth.texture.texture)
+            .target(device, (source.width(), source.height()))
     } else {
-        (*depth.texture.texture).clone()
+        (**source).clone()
     };
     let camera_matrices = CameraMatrices {
         view: mat4(view.world_from_view.to_matrix().inverse()),
         projection: mat4(view.clip_from_view),
         depth: DepthConvention::Reversed,
     };
-    let inputs = ViewInputs::new(camera_matrices, &depth);
     let Some((casters, shadows)) = state.gpu.as_mut() else {
         return;
     };
-    match shadows.render(device, queue, ctx.command_encoder(), casters, &inputs) {
+    match shadows.prepare(device, queue, casters, &ViewInputs::new(camera_matrices, &depth)) {
+        Ok(()) => state.prepared = true,
+        Err(e) => {
+            state.active = false;
+            state.log_once(format!("penumbra: {e}"));
+        }
+    }
+}
+
+/// penumbra's passes, recorded between Bevy's depth prepass and its main pass (prepared in
+/// [`prepare_shadows`]).
+fn penumbra_pass(
+    view: ViewQuery<(Entity, &ViewPrepassTextures)>,
+    extracted: Res<Extracted>,
+    mut state: ResMut<PenumbraState>,
+    device: Res<RenderDevice>,
+    queue: Res<RenderQueue>,
+    mut ctx: RenderContext,
+) {
+    let (entity, prepass) = view.into_inner();
+    let Some(camera) = &extracted.camera else { return };
+    if camera.render_entity != entity || !state.active || !state.prepared {
+        return;
+    }
+    let state = &mut *state;
+    if let (Some(depth), Some(resolve)) = (prepass.depth.as_ref(), &state.resolve)
+        && depth.texture.texture.sample_count() > 1
+    {
+        resolve.encode(
+            device.wgpu_device(),
+            ctx.command_encoder(),
+            &depth.texture.texture,
+        );
+    }
+    let Some((casters, shadows)) = state.gpu.as_mut() else {
+        return;
+    };
+    match shadows.encode(ctx.command_encoder(), casters) {
         // The material reads the visibility from now on (the write lands before the main pass).
         Ok(_) => {
             if let Some(buffer) = &state.table_buffer {
