@@ -155,7 +155,10 @@ fn main() {
         std::process::exit(2)
     });
     let mut headless = common::Headless::new(args.size, |app| {
-        app.add_plugins(PenumbraPlugin).add_systems(Update, move_box);
+        // Bevy's render diagnostics: each pass's GPU time where the device has timestamp
+        // queries (penumbra's passes are the `penumbra` span).
+        app.add_plugins((PenumbraPlugin, bevy::render::diagnostic::RenderDiagnosticsPlugin))
+            .add_systems(Update, move_box);
     });
     let camera = headless.camera(Vec3::new(-6.0, 7.0, 9.0), Vec3::new(0.0, 0.5, 0.0));
     let world = headless.app.world_mut();
@@ -175,6 +178,7 @@ fn main() {
     );
     let mut times = Vec::new();
     let mut frames = Vec::new();
+    let mut spans = Vec::new();
     for mode in MODES {
         set_mode(&mut headless.app, camera, mode);
         if mode.still {
@@ -183,6 +187,7 @@ fn main() {
         for _ in 0..6 {
             headless.frame();
         }
+        clear_render_diagnostics(&mut headless.app);
         let mut samples: Vec<f64> = (0..args.frames)
             .map(|_| {
                 let start = Instant::now();
@@ -193,6 +198,7 @@ fn main() {
         samples.sort_by(f64::total_cmp);
         let median = samples[samples.len() / 2];
         times.push(median);
+        spans.push(gpu_spans(&headless.app));
         headless.app.insert_resource(common::BoxPoseAt(1.0));
         let frame = headless.render(5);
         headless.app.world_mut().remove_resource::<common::BoxPoseAt>();
@@ -218,6 +224,22 @@ fn main() {
     for (mode, t) in MODES.iter().zip(&times) {
         println!("| {} | {t:.1} | {:.2} |", mode.name, t / ours);
     }
+    // GPU time per span of Bevy's render diagnostics, mean over each mode's timed frames.
+    println!();
+    println!(
+        "GPU ms per render span (Bevy's render diagnostics, mean over the timed frames; `penumbra` is the plugin's passes):"
+    );
+    for (mode, spans) in MODES.iter().zip(&spans) {
+        if spans.is_empty() {
+            println!(
+                "- {}: no GPU timings (the device has no timestamp queries)",
+                mode.name
+            );
+            continue;
+        }
+        let list: Vec<String> = spans.iter().map(|(name, ms)| format!("{name} {ms:.3}")).collect();
+        println!("- {}: {}", mode.name, list.join(", "));
+    }
     if let Some(dir) = &args.pictures {
         let pick = |name: &str| &frames[MODES.iter().position(|m| m.name == name).expect("a mode")];
         let parts = [pick("penumbra ours"), pick("bevy pcss"), pick("bevy gaussian")];
@@ -231,6 +253,32 @@ fn main() {
             .unwrap_or_else(|e| eprintln!("bench: cannot write {}: {e}", path.display()));
         println!("pictures in {}", dir.display());
     }
+}
+
+/// Forgets what Bevy's render diagnostics measured so far.
+fn clear_render_diagnostics(app: &mut App) {
+    let mut store = app
+        .world_mut()
+        .resource_mut::<bevy::diagnostic::DiagnosticsStore>();
+    for diagnostic in store.iter_mut() {
+        diagnostic.clear_history();
+    }
+}
+
+/// The mean GPU time (ms) of each span Bevy's render diagnostics measured since they were
+/// cleared, by its path below `render/`.
+fn gpu_spans(app: &App) -> Vec<(String, f64)> {
+    let store = app.world().resource::<bevy::diagnostic::DiagnosticsStore>();
+    let mut spans: Vec<(String, f64)> = store
+        .iter()
+        .filter_map(|d| {
+            let path = d.path().as_str();
+            let name = path.strip_prefix("render/")?.strip_suffix("/elapsed_gpu")?;
+            Some((name.to_string(), d.average()?))
+        })
+        .collect();
+    spans.sort_by(|a, b| a.0.cmp(&b.0));
+    spans
 }
 
 /// Switches the camera and the lights to `mode`.

@@ -6,6 +6,7 @@ use bevy::core_pipeline::{Core3d, Core3dSystems};
 use bevy::pbr::{ExtractedDirectionalLight, ExtractedPointLight, GlobalClusterableObjectMeta};
 use bevy::platform::collections::{HashMap, HashSet};
 use bevy::prelude::*;
+use bevy::render::diagnostic::RecordDiagnostics;
 use bevy::render::mesh::RenderMesh;
 use bevy::render::mesh::allocator::MeshAllocator;
 use bevy::render::render_asset::RenderAssets;
@@ -664,6 +665,12 @@ fn penumbra_pass(
         return;
     }
     let state = &mut *state;
+    // A span of Bevy's render diagnostics (`RenderDiagnosticsPlugin`: GPU time where the device
+    // has timestamp queries): `render/penumbra/elapsed_gpu`.
+    let recorder = ctx.diagnostic_recorder();
+    let span = recorder
+        .as_deref()
+        .map(|r| r.time_span(ctx.command_encoder(), "penumbra"));
     if let (Some(depth), Some(resolve)) = (prepass.depth.as_ref(), &state.resolve)
         && depth.texture.texture.sample_count() > 1
     {
@@ -673,10 +680,17 @@ fn penumbra_pass(
             &depth.texture.texture,
         );
     }
-    let Some((casters, shadows)) = state.gpu.as_mut() else {
+    let encoded = state
+        .gpu
+        .as_mut()
+        .map(|(casters, shadows)| shadows.encode(ctx.command_encoder(), casters));
+    if let Some(span) = span {
+        span.end(ctx.command_encoder());
+    }
+    let Some(encoded) = encoded else {
         return;
     };
-    match shadows.encode(ctx.command_encoder(), casters) {
+    match encoded {
         // The material reads the visibility from now on (the write lands before the main pass).
         Ok(_) => {
             if let Some(buffer) = &state.table_buffer {
