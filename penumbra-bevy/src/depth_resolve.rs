@@ -11,6 +11,8 @@ pub(crate) struct DepthResolve {
     pipeline: wgpu::RenderPipeline,
     /// The single-sampled depth (`Depth32Float`), made again when the view's size changes.
     target: Option<(wgpu::Texture, wgpu::TextureView)>,
+    /// The multisampled depth as bound, and its bind group (made again when Bevy's changes).
+    source: Option<(wgpu::Texture, wgpu::BindGroup)>,
 }
 
 const SHADER: &str = r"
@@ -92,6 +94,7 @@ impl DepthResolve {
             layout,
             pipeline,
             target: None,
+            source: None,
         }
     }
 
@@ -126,7 +129,7 @@ impl DepthResolve {
     /// Records the resolve of the multisampled `depth` into the target ([`Self::target`],
     /// of `depth`'s size).
     pub(crate) fn encode(
-        &self,
+        &mut self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         depth: &wgpu::Texture,
@@ -137,19 +140,23 @@ impl DepthResolve {
         if (texture.width(), texture.height()) != (depth.width(), depth.height()) {
             return;
         }
-        let source = depth.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("penumbra-bevy multisampled depth"),
-            aspect: wgpu::TextureAspect::DepthOnly,
-            ..Default::default()
-        });
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("penumbra-bevy depth resolve"),
-            layout: &self.layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::TextureView(&source),
-            }],
-        });
+        if self.source.as_ref().is_none_or(|(bound, _)| bound != depth) {
+            let source = depth.create_view(&wgpu::TextureViewDescriptor {
+                label: Some("penumbra-bevy multisampled depth"),
+                aspect: wgpu::TextureAspect::DepthOnly,
+                ..Default::default()
+            });
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("penumbra-bevy depth resolve"),
+                layout: &self.layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&source),
+                }],
+            });
+            self.source = Some((depth.clone(), group));
+        }
+        let group = &self.source.as_ref().expect("bound above").1;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("penumbra-bevy depth resolve"),
             color_attachments: &[],
@@ -166,7 +173,7 @@ impl DepthResolve {
             multiview_mask: None,
         });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &group, &[]);
+        pass.set_bind_group(0, group, &[]);
         pass.draw(0..3, 0..1);
     }
 }

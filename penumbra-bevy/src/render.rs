@@ -671,7 +671,7 @@ fn penumbra_pass(
     let span = recorder
         .as_deref()
         .map(|r| r.time_span(ctx.command_encoder(), "penumbra"));
-    if let (Some(depth), Some(resolve)) = (prepass.depth.as_ref(), &state.resolve)
+    if let (Some(depth), Some(resolve)) = (prepass.depth.as_ref(), state.resolve.as_mut())
         && depth.texture.texture.sample_count() > 1
     {
         resolve.encode(
