@@ -3,7 +3,10 @@
 
 use bevy::camera::visibility::InheritedVisibility;
 use bevy::core_pipeline::prepass::{DeferredPrepass, DepthPrepass};
-use bevy::light::{NotShadowCaster, NotShadowReceiver, SunDisk};
+use bevy::light::{
+    CascadeShadowConfig, DirectionalLightShadowMap, NotShadowCaster, NotShadowReceiver, PointLightShadowMap,
+    SunDisk,
+};
 use bevy::mesh::morph::MorphWeights;
 use bevy::mesh::skinning::SkinnedMesh;
 use bevy::mesh::{Indices, PrimitiveTopology, VertexAttributeValues};
@@ -112,6 +115,21 @@ type CasterQuery<'w, 's> = Query<
     ),
 >;
 
+/// The suns, with what penumbra takes from them.
+type SunQuery<'w, 's> = Query<
+    'w,
+    's,
+    (
+        Entity,
+        RenderEntity,
+        &'static DirectionalLight,
+        &'static GlobalTransform,
+        Option<&'static SunDisk>,
+        Option<&'static PenumbraLightSize>,
+        Option<&'static CascadeShadowConfig>,
+    ),
+>;
+
 /// The materials a caster's alpha test is read from: a `StandardMaterial`, or the
 /// `PenumbraMaterial` the plugin switched it to.
 type MaterialAssets<'w> = (
@@ -133,17 +151,9 @@ pub(crate) fn extract_penumbra(
             Has<DeferredPrepass>,
         )>,
     >,
+    bevy_maps: Extract<(Res<DirectionalLightShadowMap>, Res<PointLightShadowMap>)>,
     casters: Extract<CasterQuery>,
-    suns: Extract<
-        Query<(
-            Entity,
-            RenderEntity,
-            &DirectionalLight,
-            &GlobalTransform,
-            Option<&SunDisk>,
-            Option<&PenumbraLightSize>,
-        )>,
-    >,
+    suns: Extract<SunQuery>,
     spots: Extract<
         Query<(
             Entity,
@@ -189,10 +199,14 @@ pub(crate) fn extract_penumbra(
                     )
                 })
             };
+            let mut settings = penumbra.settings;
+            if penumbra.bevy_shadow_settings {
+                take_bevy_shadow_settings(&mut settings, &bevy_maps, &suns);
+            }
             ExtractedPenumbraCamera {
                 render_entity,
                 main_entity,
-                settings: penumbra.settings,
+                settings,
                 refused,
             }
         },
@@ -289,7 +303,7 @@ pub(crate) fn extract_penumbra(
             });
         }
     };
-    for (entity, render_entity, sun, transform, disk, size) in &suns {
+    for (entity, render_entity, sun, transform, disk, size, _) in &suns {
         let diameter = size
             .map(|s| s.0)
             .or(disk.map(|d| d.angular_size))
@@ -330,6 +344,34 @@ pub(crate) fn extract_penumbra(
     extracted.lights_over_limit = lights.len().saturating_sub(penumbra::MAX_LIGHTS);
     lights.truncate(penumbra::MAX_LIGHTS);
     extracted.lights = lights;
+}
+
+/// Bevy's shadow settings where they mean what penumbra's do
+/// ([`PenumbraCamera::bevy_shadow_settings`]).
+fn take_bevy_shadow_settings(
+    settings: &mut penumbra::ShadowSettings,
+    (directional, point): &(Res<DirectionalLightShadowMap>, Res<PointLightShadowMap>),
+    suns: &SunQuery,
+) {
+    let sun = suns
+        .iter()
+        .filter(|(_, _, sun, ..)| sun.shadow_maps_enabled)
+        .min_by_key(|(entity, ..)| *entity);
+    let power_of_two = |size: usize| {
+        let size = size.clamp(64, penumbra::settings::MAX_CASCADE_RESOLUTION as usize) as u32;
+        1u32 << (31 - size.leading_zeros())
+    };
+    let sm = &mut settings.shadow_map;
+    match sun {
+        Some((_, _, light, _, _, _, cascades)) => {
+            sm.resolution = power_of_two(directional.size);
+            if let Some(cascades) = cascades {
+                sm.cascades.count = (cascades.bounds.len() as u32).clamp(1, penumbra::MAX_CASCADES as u32);
+            }
+            sm.normal_offset = light.shadow_normal_bias.clamp(0.0, 8.0);
+        }
+        None => sm.resolution = power_of_two(2 * point.size),
+    }
 }
 
 /// A Bevy colour as penumbra's linear RGB.

@@ -58,6 +58,15 @@ pub struct PenumbraCamera {
     pub settings: ShadowSettings,
     /// False: Bevy's own shadow maps and filtering for every light, as without the plugin.
     pub enabled: bool,
+    /// True (the default): Bevy's shadow settings replace these where they mean the same:
+    /// `DirectionalLightShadowMap::size` the map resolution (with no sun shaded, twice
+    /// `PointLightShadowMap::size`: penumbra's cube faces are half its resolution), the first
+    /// shaded sun's `CascadeShadowConfig` the number of cascades (its bounds are not taken:
+    /// penumbra splits the view its own way) and its `shadow_normal_bias` the normal offset
+    /// (both in texels of the map). Bevy's depth biases are not taken (world units along the
+    /// light; penumbra's are in units of the depth format), nor spot and point lights' normal
+    /// biases (penumbra has one normal offset for every light).
+    pub bevy_shadow_settings: bool,
 }
 
 impl Default for PenumbraCamera {
@@ -73,6 +82,7 @@ impl PenumbraCamera {
         Self {
             settings: ShadowSettings::preset(method, quality),
             enabled: true,
+            bevy_shadow_settings: true,
         }
     }
 }
@@ -111,9 +121,21 @@ impl Plugin for PenumbraPlugin {
 /// The errors and warnings the plugin logged (each once), for an app or a test to show or
 /// check: a camera penumbra cannot run on, a mesh it cannot cast, lights past its limit.
 #[derive(Resource, Clone, Default, Debug)]
-pub struct PenumbraDiagnostics(Arc<Mutex<Vec<String>>>);
+pub struct PenumbraDiagnostics(Arc<Mutex<Vec<String>>>, Arc<Mutex<Option<ShadowSettings>>>);
 
 impl PenumbraDiagnostics {
+    /// The settings penumbra's passes ran with last: the camera's, with Bevy's shadow settings
+    /// taken in ([`PenumbraCamera::bevy_shadow_settings`]).
+    pub fn settings(&self) -> Option<ShadowSettings> {
+        self.1.lock().ok().and_then(|s| *s)
+    }
+
+    pub(crate) fn set_settings(&self, settings: ShadowSettings) {
+        if let Ok(mut s) = self.1.lock() {
+            *s = Some(settings);
+        }
+    }
+
     /// Every message so far, oldest first.
     pub fn messages(&self) -> Vec<String> {
         self.0.lock().map(|m| m.clone()).unwrap_or_default()

@@ -215,6 +215,7 @@ fn prepare_penumbra(
         state.log_once(format!("penumbra: the camera's settings are refused: {e}"));
         return;
     }
+    state.diagnostics.set_settings(camera.settings);
 
     sync_casters(
         state,

@@ -688,3 +688,73 @@ fn msaa_on_the_camera_shades_as_without_it() {
         "a rim at the silhouette: mean {mean}, largest {worst}"
     );
 }
+
+#[test]
+fn bevys_shadow_settings_are_taken_where_they_mean_the_same() {
+    use bevy::light::{CascadeShadowConfigBuilder, DirectionalLightShadowMap};
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let mut scene = box_above_plane(sun(4.0), false);
+    let applied = |scene: &Scene| {
+        scene
+            .headless
+            .app
+            .world()
+            .resource::<PenumbraDiagnostics>()
+            .settings()
+            .expect("penumbra ran")
+    };
+    // Bevy's defaults are penumbra's medium preset's: 2048 texels, four cascades; the normal
+    // offset is Bevy's 1.8 texels.
+    scene.headless.render(4);
+    let s = applied(&scene);
+    assert_eq!((s.shadow_map.resolution, s.shadow_map.cascades.count), (2048, 4));
+    assert_eq!(s.shadow_map.normal_offset, 1.8);
+    // Bevy's resource and the sun's own settings.
+    let world = scene.headless.app.world_mut();
+    world.insert_resource(DirectionalLightShadowMap { size: 1024 });
+    let mut suns = world.query_filtered::<Entity, With<DirectionalLight>>();
+    let sun = suns.single(world).unwrap();
+    world.entity_mut(sun).insert(
+        CascadeShadowConfigBuilder {
+            num_cascades: 2,
+            ..default()
+        }
+        .build(),
+    );
+    world.get_mut::<DirectionalLight>(sun).unwrap().shadow_normal_bias = 3.0;
+    let frame = scene.headless.render(4);
+    let s = applied(&scene);
+    assert_eq!(
+        (
+            s.shadow_map.resolution,
+            s.shadow_map.cascades.count,
+            s.shadow_map.normal_offset
+        ),
+        (1024, 2, 3.0)
+    );
+    // Still a shadowed frame, and nothing reported.
+    let lum = plane(&frame);
+    let darkest = lum.iter().flatten().copied().fold(255.0, f32::min);
+    assert!(darkest < 60.0, "no shadow: darkest {darkest}");
+    let messages = scene.messages();
+    assert!(messages.is_empty(), "{messages:?}");
+    // Off: the camera's own settings, whatever Bevy's say.
+    scene
+        .headless
+        .app
+        .world_mut()
+        .get_mut::<PenumbraCamera>(scene.camera)
+        .unwrap()
+        .bevy_shadow_settings = false;
+    scene.headless.render(4);
+    let s = applied(&scene);
+    let own = PenumbraCamera::default().settings.shadow_map;
+    assert_eq!(
+        (
+            s.shadow_map.resolution,
+            s.shadow_map.cascades.count,
+            s.shadow_map.normal_offset
+        ),
+        (own.resolution, own.cascades.count, own.normal_offset)
+    );
+}
