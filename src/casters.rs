@@ -657,6 +657,93 @@ impl Casters {
         Ok(())
     }
 
+    /// A deforming mesh's new pose (a skinned or morphed character): the engine has written
+    /// its new vertex positions into the buffer the mesh was registered with ([`Casters::add_mesh`]),
+    /// and `positions` (and `normals`) are their CPU copy, `indices` the mesh's CPU indices
+    /// (`None` for a mesh that is not indexed). Its bounds and smoothed normals are computed
+    /// again, and every light redraws what its instances covered before and cover now.
+    pub fn set_mesh_pose(
+        &mut self,
+        queue: &wgpu::Queue,
+        id: MeshId,
+        positions: &[Vec3],
+        normals: Option<&[Vec3]>,
+        indices: Option<&[u32]>,
+    ) -> Result<()> {
+        let what = || format!("mesh {}", id.0);
+        let mesh = self.mesh(id)?;
+        if mesh.own_bytes == 0 {
+            return Err(PenumbraError::input(
+                what(),
+                "its smoothed normals are shared; it cannot be posed",
+            ));
+        }
+        if positions.len() != mesh.vertex_count as usize
+            || normals.is_some_and(|n| n.len() != positions.len())
+        {
+            return Err(PenumbraError::input(
+                what(),
+                format!(
+                    "{} positions and {:?} normals for {} vertices",
+                    positions.len(),
+                    normals.map(<[Vec3]>::len),
+                    mesh.vertex_count
+                ),
+            ));
+        }
+        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(PenumbraError::input(
+                what(),
+                format!("position {i} is not finite"),
+            ));
+        }
+        let all: Vec<u32>;
+        let indices = match (indices, mesh.indices.is_some()) {
+            (Some(ix), true) if ix.len() == mesh.element_count as usize => {
+                if let Some(bad) = ix.iter().find(|&&i| i >= mesh.vertex_count) {
+                    return Err(PenumbraError::input(
+                        what(),
+                        format!("index {bad} is out of range"),
+                    ));
+                }
+                ix
+            }
+            (None, false) => {
+                all = (0..mesh.vertex_count).collect();
+                &all
+            }
+            _ => {
+                return Err(PenumbraError::input(
+                    what(),
+                    "its CPU indices do not match the index buffer it was registered with",
+                ));
+            }
+        };
+        let bounds = Aabb::from_points(positions.iter());
+        let smoothed = crate::scene::mesh::smoothed_normals(positions, indices, bounds, normals);
+        queue.write_buffer(&mesh.smoothed_normals.buffer, 0, bytemuck::cast_slice(&smoothed));
+        if let Some(mesh) = self.meshes.get_mut(id.0 as usize).and_then(Option::as_mut) {
+            mesh.bounds = bounds;
+        }
+        let placed: Vec<u32> = self
+            .instances
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| r.as_ref().is_some_and(|r| r.instance.mesh == id))
+            .map(|(slot, _)| slot as u32)
+            .collect();
+        for slot in placed {
+            let Some(record) = self.instances[slot as usize].as_mut() else {
+                continue;
+            };
+            let old = record.world_bounds;
+            record.world_bounds = bounds.transformed(&record.instance.transform);
+            let changed = old.union(&record.world_bounds);
+            self.log_change(changed);
+        }
+        Ok(())
+    }
+
     /// Places a mesh.
     pub fn add_instance(
         &mut self,
@@ -1101,7 +1188,8 @@ fn vertex_buffer(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buff
         &wgpu::util::BufferInitDescriptor {
             label: Some(label),
             contents,
-            usage: wgpu::BufferUsages::VERTEX,
+            // COPY_DST: a deforming mesh's smoothed normals are rewritten (`set_mesh_pose`).
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
         },
     )
 }

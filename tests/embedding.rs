@@ -245,6 +245,7 @@ struct World {
     box_mesh: RawMesh,
     floor_mesh: RawMesh,
     casters: Casters,
+    box_id: penumbra::MeshId,
     box_instance: penumbra::InstanceId,
 }
 
@@ -336,8 +337,60 @@ fn world_with(gpu: &penumbra::HeadlessGpu, register_floor: bool) -> World {
         box_mesh,
         floor_mesh,
         casters,
+        box_id,
         box_instance,
     }
+}
+
+#[test]
+fn a_posed_mesh_moves_its_shadow_when_its_new_vertices_are_given() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let mut w = world(&gpu);
+    let depth = DepthPass::new(device);
+    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+    let id = shadows.add_light(device, sun(30.0)).unwrap();
+    // The x of the shadow's dark texels' centroid under the top camera (32 pixels a unit).
+    let shadow_x = |layer: &[f32]| {
+        let dark: Vec<f32> = (0..layer.len())
+            .filter(|&i| layer[i] < 0.5)
+            .map(|i| (i % SIZE as usize) as f32)
+            .collect();
+        assert!(dark.len() > 100, "no shadow ({} dark texels)", dark.len());
+        dark.iter().sum::<f32>() / dark.len() as f32
+    };
+    render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+    render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+    let before = shadow_x(&read_layer(&gpu, &shadows, id.layer()));
+    // A pose: the engine writes the box's vertices 1.5 units toward +x into its own buffer
+    // (as a skinned character's would be) and gives penumbra their CPU copy.
+    let posed: Vec<Vec3> = w.box_mesh.positions.iter().map(|p| *p + Vec3::X * 1.5).collect();
+    queue.write_buffer(&w.box_mesh.vertex_buffer, 0, bytemuck::cast_slice(&posed));
+    w.casters
+        .set_mesh_pose(queue, w.box_id, &posed, None, Some(&w.box_mesh.indices))
+        .unwrap();
+    let reports = render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+    assert!(
+        reports[0].shadow_maps_rendered,
+        "the pose did not redraw the maps"
+    );
+    let after = shadow_x(&read_layer(&gpu, &shadows, id.layer()));
+    println!("shadow centroid x: {before:.1} px, posed {after:.1} px (1.5 units: 48 px)");
+    assert!(
+        (after - before - 48.0).abs() < 6.0,
+        "the shadow moved by {} px",
+        after - before
+    );
+    // The bounds follow the pose: the casters' box reaches past x = 2.
+    assert!(w.casters.caster_bounds().max.x > 1.9);
+    // Misuse is named.
+    let short = &posed[..3];
+    expect_input_error(
+        w.casters
+            .set_mesh_pose(queue, w.box_id, short, None, Some(&w.box_mesh.indices)),
+        "mesh",
+        "positions",
+    );
 }
 
 #[test]

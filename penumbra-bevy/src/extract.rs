@@ -8,7 +8,7 @@ use bevy::light::{
     SunDisk,
 };
 use bevy::mesh::morph::MorphWeights;
-use bevy::mesh::skinning::SkinnedMesh;
+use bevy::mesh::skinning::{SkinnedMesh, SkinnedMeshInverseBindposes};
 use bevy::mesh::{Indices, PrimitiveTopology, VertexAttributeValues};
 use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
@@ -31,6 +31,17 @@ pub(crate) struct ExtractedPenumbraCamera {
     pub settings: penumbra::ShadowSettings,
     /// Why penumbra cannot run on this camera (no depth prepass), logged once.
     pub refused: Option<String>,
+}
+
+/// A skinned caster: its vertices as its joints pose them this frame.
+#[derive(Clone, Debug)]
+pub(crate) struct ExtractedSkinned {
+    pub entity: Entity,
+    pub mesh: AssetId<Mesh>,
+    /// World-space positions and normals, and the mesh's indices.
+    pub pose: Geometry,
+    pub casts: bool,
+    pub receives: bool,
 }
 
 /// A caster: a mesh entity and where it is.
@@ -90,8 +101,12 @@ pub(crate) struct Extracted {
     pub lights_buffer: Handle<ShaderBuffer>,
     /// Active cameras with an enabled `PenumbraCamera` past the one shaded.
     pub unshaded_cameras: Vec<Entity>,
-    /// Casters left out, with why (skinned, morphed), each logged once.
+    /// Casters left out, with why (morphed), each logged once.
     pub left_out: Vec<(Entity, &'static str)>,
+    /// Skinned casters, posed.
+    pub skinned: Vec<ExtractedSkinned>,
+    /// Skinned casters that could not be posed, with why.
+    pub not_posed: Vec<(Entity, String)>,
 }
 
 /// Meshes whose geometry the render world holds (so it is not copied again).
@@ -108,7 +123,7 @@ type CasterQuery<'w, 's> = Query<
         Option<&'static InheritedVisibility>,
         Has<NotShadowCaster>,
         Has<NotShadowReceiver>,
-        Has<SkinnedMesh>,
+        Option<&'static SkinnedMesh>,
         Has<MorphWeights>,
         Option<&'static MeshMaterial3d<StandardMaterial>>,
         Option<&'static MeshMaterial3d<PenumbraMaterial>>,
@@ -173,6 +188,7 @@ pub(crate) fn extract_penumbra(
         )>,
     >,
     meshes: Extract<Res<Assets<Mesh>>>,
+    skins: Extract<(Query<&GlobalTransform>, Res<Assets<SkinnedMeshInverseBindposes>>)>,
     materials: Extract<MaterialAssets>,
     mut mesh_events: Extract<MessageReader<AssetEvent<Mesh>>>,
     targets: Extract<Res<PenumbraTargets>>,
@@ -231,6 +247,8 @@ pub(crate) fn extract_penumbra(
     extracted.casters.clear();
     extracted.geometry.clear();
     extracted.left_out.clear();
+    extracted.skinned.clear();
+    extracted.not_posed.clear();
     let (standard, converted) = &*materials;
     for (
         entity,
@@ -248,9 +266,25 @@ pub(crate) fn extract_penumbra(
         if visibility.is_some_and(|v| !v.get()) || (not_caster && not_receiver) {
             continue;
         }
-        if skinned || morphed {
-            let why = if skinned { "skinned" } else { "morphed" };
-            extracted.left_out.push((entity, why));
+        if morphed {
+            extracted.left_out.push((entity, "morphed"));
+            continue;
+        }
+        // A skinned mesh: its vertices as Bevy's joints pose them this frame, in world space.
+        if let Some(skin) = skinned {
+            let Some(asset) = meshes.get(mesh.id()) else {
+                continue;
+            };
+            match posed(asset, skin, &skins) {
+                Ok(pose) => extracted.skinned.push(ExtractedSkinned {
+                    entity,
+                    mesh: mesh.id(),
+                    pose,
+                    casts: !not_caster,
+                    receives: !not_receiver,
+                }),
+                Err(why) => extracted.not_posed.push((entity, why)),
+            }
             continue;
         }
         let id = mesh.id();
@@ -372,6 +406,66 @@ fn take_bevy_shadow_settings(
         }
         None => sm.resolution = power_of_two(2 * point.size),
     }
+}
+
+/// `mesh`'s vertices posed by `skin`'s joints as Bevy's skinning does (each vertex the
+/// weighted sum of its joints' `global x inverse bind pose` applied to it), in world space.
+fn posed(
+    mesh: &Mesh,
+    skin: &SkinnedMesh,
+    (joints, bindposes): &(Query<&GlobalTransform>, Res<Assets<SkinnedMeshInverseBindposes>>),
+) -> Result<Geometry, String> {
+    let rest = geometry(mesh)?;
+    let bindposes = bindposes
+        .get(&skin.inverse_bindposes)
+        .ok_or("its inverse bind poses are not loaded")?;
+    let matrices: Vec<Mat4> = skin
+        .joints
+        .iter()
+        .zip(bindposes.iter())
+        .map(|(joint, inverse)| {
+            joints
+                .get(*joint)
+                .map(|global| global.to_matrix() * *inverse)
+                .map_err(|_| format!("its joint {joint} has no GlobalTransform"))
+        })
+        .collect::<Result<_, _>>()?;
+    let indices = match mesh.try_attribute(Mesh::ATTRIBUTE_JOINT_INDEX) {
+        Ok(VertexAttributeValues::Uint16x4(v)) => v.iter().map(|j| j.map(u32::from)).collect::<Vec<_>>(),
+        _ => return Err("its joint indices are not Uint16x4 on the CPU".into()),
+    };
+    let weights = match mesh.try_attribute(Mesh::ATTRIBUTE_JOINT_WEIGHT) {
+        Ok(VertexAttributeValues::Float32x4(v)) => v.clone(),
+        _ => return Err("its joint weights are not Float32x4 on the CPU".into()),
+    };
+    if indices.len() != rest.positions.len() || weights.len() != rest.positions.len() {
+        return Err("its joint attributes do not cover its vertices".into());
+    }
+    let skin_matrix = |v: usize| -> Result<Mat4, String> {
+        let mut m = Mat4::ZERO;
+        for k in 0..4 {
+            let joint = matrices
+                .get(indices[v][k] as usize)
+                .ok_or_else(|| format!("vertex {v} names joint {} of {}", indices[v][k], matrices.len()))?;
+            m += *joint * weights[v][k];
+        }
+        Ok(m)
+    };
+    let mut positions = Vec::with_capacity(rest.positions.len());
+    let mut normals = rest.normals.as_ref().map(|n| Vec::with_capacity(n.len()));
+    for (v, p) in rest.positions.iter().enumerate() {
+        let m = skin_matrix(v)?;
+        positions.push(vec3(m.transform_point3(Vec3::from_array(p.to_array()))));
+        if let (Some(out), Some(rest_normals)) = (&mut normals, &rest.normals) {
+            let n = m.transform_vector3(Vec3::from_array(rest_normals[v].to_array()));
+            out.push(vec3(n.normalize_or_zero()));
+        }
+    }
+    Ok(Geometry {
+        positions,
+        normals,
+        indices: rest.indices,
+    })
 }
 
 /// A Bevy colour as penumbra's linear RGB.

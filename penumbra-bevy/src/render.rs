@@ -39,6 +39,18 @@ struct MeshPlace {
     index_buffer: Option<(bevy::render::render_resource::BufferId, u32)>,
 }
 
+/// A skinned caster's mesh and instance, and the buffers its pose is written to.
+struct SkinnedCaster {
+    mesh: MeshId,
+    instance: InstanceId,
+    vertices: wgpu::Buffer,
+    /// The mesh's indices (kept alive for penumbra's draws).
+    _indices: Option<wgpu::Buffer>,
+    /// The pose last given (a pose that does not change redraws nothing).
+    pose: Geometry,
+    flags: (bool, bool),
+}
+
 struct Instance {
     id: InstanceId,
     mesh: AssetId<Mesh>,
@@ -66,6 +78,8 @@ pub(crate) struct PenumbraState {
     diagnostics: PenumbraDiagnostics,
     /// The single-sampled copy of a multisampled depth prepass (MSAA on the camera).
     resolve: Option<DepthResolve>,
+    /// Skinned casters: drawn from buffers of the plugin's own that hold their posed vertices.
+    skinned: HashMap<Entity, SkinnedCaster>,
     /// `Shadows::prepare` ran for this frame's camera (the graph's step may record).
     prepared: bool,
 }
@@ -374,6 +388,7 @@ fn sync_casters(
             }
         }
     }
+    sync_skinned(state, extracted, device, queue, &mut messages);
     // Despawned, hidden or no longer casting.
     let gone: Vec<Entity> = state
         .instances
@@ -391,6 +406,116 @@ fn sync_casters(
     for message in messages {
         state.log_once(message);
     }
+}
+
+/// Places, poses and removes the skinned casters: each a mesh of penumbra's drawn from the
+/// plugin's own buffers, which hold its vertices as Bevy's joints pose them this frame (in world
+/// space: the instance is not moved).
+fn sync_skinned(
+    state: &mut PenumbraState,
+    extracted: &Extracted,
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    messages: &mut Vec<String>,
+) {
+    for (entity, why) in &extracted.not_posed {
+        messages.push(format!(
+            "penumbra: skinned entity {entity} casts no penumbra shadow: {why}"
+        ));
+    }
+    let Some((casters, _)) = state.gpu.as_mut() else {
+        return;
+    };
+    let mut seen = HashSet::new();
+    for skinned in &extracted.skinned {
+        seen.insert(skinned.entity);
+        let pose = &skinned.pose;
+        let flags = (skinned.casts, skinned.receives);
+        if let Some(caster) = state.skinned.get_mut(&skinned.entity)
+            && caster.pose.positions.len() == pose.positions.len()
+            && caster.pose.indices == pose.indices
+        {
+            if caster.pose.positions != pose.positions {
+                queue.write_buffer(&caster.vertices, 0, bytemuck::cast_slice(&pose.positions));
+                if let Err(e) = casters.set_mesh_pose(
+                    queue,
+                    caster.mesh,
+                    &pose.positions,
+                    pose.normals.as_deref(),
+                    pose.indices.as_deref(),
+                ) {
+                    messages.push(format!("penumbra: skinned entity {}: {e}", skinned.entity));
+                }
+                caster.pose = pose.clone();
+            }
+            if caster.flags != flags {
+                if let Err(e) = casters.set_flags(queue, caster.instance, flags.0, flags.1) {
+                    messages.push(format!("penumbra: skinned entity {}: {e}", skinned.entity));
+                }
+                caster.flags = flags;
+            }
+            continue;
+        }
+        // New, or its mesh changed: registered again.
+        if let Some(old) = state.skinned.remove(&skinned.entity) {
+            let _ = casters.remove_instance(old.instance);
+            let _ = casters.remove_mesh(old.mesh);
+        }
+        use wgpu::util::DeviceExt;
+        let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("penumbra-bevy posed vertices"),
+            contents: bytemuck::cast_slice(&pose.positions),
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+        });
+        let indices = pose.indices.as_ref().map(|ix| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("penumbra-bevy posed indices"),
+                contents: bytemuck::cast_slice(ix),
+                usage: wgpu::BufferUsages::INDEX,
+            })
+        });
+        let label = format!("bevy skinned mesh {} of entity {}", skinned.mesh, skinned.entity);
+        let mut desc = CasterMeshDesc::new(
+            &label,
+            VertexStream::new(&vertices, 0, 12, wgpu::VertexFormat::Float32x3),
+            pose.positions.len() as u32,
+        );
+        if let (Some(buffer), Some(ix)) = (&indices, &pose.indices) {
+            desc = desc.indices(IndexStream::u32(buffer, ix.len() as u32));
+        }
+        desc = desc.cpu(&pose.positions, pose.normals.as_deref(), pose.indices.as_deref());
+        let placed = casters.add_mesh(device, queue, &desc).and_then(|mesh| {
+            let mut instance = CasterInstance::new(mesh, glam::Mat4::IDENTITY);
+            instance.caster = flags.0;
+            instance.receiver = flags.1;
+            casters.add_instance(device, queue, instance).map(|id| (mesh, id))
+        });
+        match placed {
+            Ok((mesh, instance)) => {
+                state.skinned.insert(
+                    skinned.entity,
+                    SkinnedCaster {
+                        mesh,
+                        instance,
+                        vertices,
+                        _indices: indices,
+                        pose: pose.clone(),
+                        flags,
+                    },
+                );
+            }
+            Err(e) => messages.push(format!("penumbra: skinned entity {}: {e}", skinned.entity)),
+        }
+    }
+    // Despawned, hidden, or no longer skinned.
+    state.skinned.retain(|entity, caster| {
+        let keep = seen.contains(entity);
+        if !keep {
+            let _ = casters.remove_instance(caster.instance);
+            let _ = casters.remove_mesh(caster.mesh);
+        }
+        keep
+    });
 }
 
 /// Where a mesh's vertices and indices lie now, `None` while it is not on the GPU.

@@ -758,3 +758,98 @@ fn bevys_shadow_settings_are_taken_where_they_mean_the_same() {
         (own.resolution, own.cascades.count, own.normal_offset)
     );
 }
+
+#[test]
+fn a_skinned_mesh_casts_its_posed_shadow_as_bevy_does() {
+    use bevy::mesh::skinning::{SkinnedMesh, SkinnedMeshInverseBindposes};
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    // A bar 2 long at height 2, skinned to two joints at its middle: its -x end follows the
+    // first, its +x end the second. Bent, the second joint turns the +x end up by 60 degrees,
+    // and the bar's shadow changes shape; penumbra's follows the pose as Bevy's own does.
+    let mut scene = box_above_plane(sun(2.0), false);
+    let world = scene.headless.app.world_mut();
+    world.despawn(scene.box_entity);
+    let mut bar = Mesh::from(Cuboid::new(2.0, 0.2, 0.6)).translated_by(Vec3::Y * 2.0);
+    let positions: Vec<[f32; 3]> = match bar.attribute(Mesh::ATTRIBUTE_POSITION) {
+        Some(VertexAttributeValues::Float32x3(p)) => p.clone(),
+        _ => unreachable!(),
+    };
+    let joint_of = |p: &[f32; 3]| if p[0] < 0.0 { 0u16 } else { 1 };
+    bar.insert_attribute(
+        Mesh::ATTRIBUTE_JOINT_INDEX,
+        VertexAttributeValues::Uint16x4(positions.iter().map(|p| [joint_of(p), 0, 0, 0]).collect()),
+    );
+    bar.insert_attribute(
+        Mesh::ATTRIBUTE_JOINT_WEIGHT,
+        VertexAttributeValues::Float32x4(vec![[1.0, 0.0, 0.0, 0.0]; positions.len()]),
+    );
+    let bar = world.resource_mut::<Assets<Mesh>>().add(bar);
+    let rest = Mat4::from_translation(Vec3::Y * 2.0).inverse();
+    let bindposes = world
+        .resource_mut::<Assets<SkinnedMeshInverseBindposes>>()
+        .add(SkinnedMeshInverseBindposes::from(vec![rest, rest]));
+    let red = world
+        .resource_mut::<Assets<StandardMaterial>>()
+        .add(StandardMaterial {
+            base_color: Color::srgb(0.8, 0.05, 0.05),
+            perceptual_roughness: 1.0,
+            ..default()
+        });
+    let root = world.spawn(Transform::from_xyz(0.0, 2.0, 0.0)).id();
+    let elbow = world.spawn(Transform::IDENTITY).id();
+    world.entity_mut(root).add_child(elbow);
+    let skinned = world
+        .spawn((
+            Mesh3d(bar),
+            MeshMaterial3d(red),
+            SkinnedMesh {
+                inverse_bindposes: bindposes,
+                joints: vec![root, elbow],
+            },
+            bevy::camera::visibility::NoFrustumCulling,
+        ))
+        .id();
+    let shadows = |scene: &mut Scene, name: &str| {
+        scene.set_penumbra(true);
+        let ours = scene.headless.render(10);
+        save(&format!("skinned_{name}_penumbra.png"), &ours);
+        scene.set_penumbra(false);
+        let bevy = scene.headless.render(6);
+        save(&format!("skinned_{name}_bevy.png"), &bevy);
+        (ours, bevy)
+    };
+    let straight = shadows(&mut scene, "straight");
+    scene
+        .headless
+        .app
+        .world_mut()
+        .get_mut::<Transform>(elbow)
+        .unwrap()
+        .rotation = Quat::from_rotation_z(60f32.to_radians());
+    let bent = shadows(&mut scene, "bent");
+    scene.headless.app.world_mut().despawn(skinned);
+    scene.set_penumbra(true);
+    let empty = scene.headless.render(6);
+    let messages = scene.messages();
+    assert!(messages.is_empty(), "the plugin reported {messages:?}");
+    let mut centres = Vec::new();
+    for (name, (ours, bevy)) in [("straight", &straight), ("bent", &bent)] {
+        let (o, b) = (darkness(ours, &empty), darkness(bevy, &empty));
+        let (o_at, b_at) = (centroid(&o), centroid(&b));
+        let (o_sum, b_sum): (f32, f32) = (o.iter().flatten().sum(), b.iter().flatten().sum());
+        println!("{name}: penumbra's shadow at {o_at} ({o_sum:.0}), Bevy's at {b_at} ({b_sum:.0})");
+        assert!(
+            o_at.distance(b_at) < 2.0,
+            "{name}: penumbra's shadow at {o_at}, Bevy's at {b_at}"
+        );
+        assert!(
+            (o_sum / b_sum - 1.0).abs() < 0.25,
+            "{name}: penumbra's darkness sums to {o_sum}, Bevy's to {b_sum}"
+        );
+        centres.push(o_at);
+    }
+    assert!(
+        centres[0].distance(centres[1]) > 3.0,
+        "the shadow did not follow the pose: {centres:?}"
+    );
+}

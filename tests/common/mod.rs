@@ -251,7 +251,8 @@ impl RawMesh {
         let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("test vertices"),
             contents: bytemuck::cast_slice(&mesh.positions),
-            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_SRC,
+            // COPY_DST: a test poses the mesh by writing new positions.
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         });
         let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("test indices"),
