@@ -60,13 +60,7 @@ fn box_above_plane(light: impl Bundle, extra_attributes: bool) -> Scene {
             perceptual_roughness: 1.0,
             ..default()
         });
-    let red = world
-        .resource_mut::<Assets<StandardMaterial>>()
-        .add(StandardMaterial {
-            base_color: Color::srgb(0.8, 0.05, 0.05),
-            perceptual_roughness: 1.0,
-            ..default()
-        });
+    let red = red(world);
     world.spawn((Mesh3d(plane), MeshMaterial3d(grey)));
     let box_entity = world
         .spawn((
@@ -91,6 +85,25 @@ fn box_above_plane(light: impl Bundle, extra_attributes: bool) -> Scene {
         camera,
         box_entity,
     }
+}
+
+/// [`box_above_plane`] without its box: the plane, `light` and the camera, for a test's own
+/// casters.
+fn plane_alone(light: impl Bundle) -> Scene {
+    let mut scene = box_above_plane(light, false);
+    scene.headless.app.world_mut().despawn(scene.box_entity);
+    scene
+}
+
+/// A matte red material, as the box's.
+fn red(world: &mut World) -> Handle<StandardMaterial> {
+    world
+        .resource_mut::<Assets<StandardMaterial>>()
+        .add(StandardMaterial {
+            base_color: Color::srgb(0.8, 0.05, 0.05),
+            perceptual_roughness: 1.0,
+            ..default()
+        })
 }
 
 /// A sun shining down and toward +x: the box's shadow falls at x from 0.7 to 2.5.
@@ -543,9 +556,8 @@ fn an_alpha_masked_casters_shadow_keeps_its_holes() {
     // (alpha 0, along u) and opaque on the other, `AlphaMode::Mask(0.5)`. Under the sun toward
     // +x its shadow falls at x from 0.8 to 2.4: one half's from 0.8 to 1.6, the other's from
     // 1.6 to 2.4. Without the alpha test both halves were dark.
-    let mut scene = box_above_plane(sun(2.0), false);
+    let mut scene = plane_alone(sun(2.0));
     let world = scene.headless.app.world_mut();
-    world.despawn(scene.box_entity);
     let side = 16u32;
     let texels: Vec<u8> = (0..side * side)
         .flat_map(|i| [200, 30, 30, if i % side < side / 2 { 0 } else { 255 }])
@@ -766,9 +778,8 @@ fn a_skinned_mesh_casts_its_posed_shadow_as_bevy_does() {
     // A bar 2 long at height 2, skinned to two joints at its middle: its -x end follows the
     // first, its +x end the second. Bent, the second joint turns the +x end up by 60 degrees,
     // and the bar's shadow changes shape; penumbra's follows the pose as Bevy's own does.
-    let mut scene = box_above_plane(sun(2.0), false);
+    let mut scene = plane_alone(sun(2.0));
     let world = scene.headless.app.world_mut();
-    world.despawn(scene.box_entity);
     let mut bar = Mesh::from(Cuboid::new(2.0, 0.2, 0.6)).translated_by(Vec3::Y * 2.0);
     let positions: Vec<[f32; 3]> = match bar.attribute(Mesh::ATTRIBUTE_POSITION) {
         Some(VertexAttributeValues::Float32x3(p)) => p.clone(),
@@ -788,13 +799,7 @@ fn a_skinned_mesh_casts_its_posed_shadow_as_bevy_does() {
     let bindposes = world
         .resource_mut::<Assets<SkinnedMeshInverseBindposes>>()
         .add(SkinnedMeshInverseBindposes::from(vec![rest, rest]));
-    let red = world
-        .resource_mut::<Assets<StandardMaterial>>()
-        .add(StandardMaterial {
-            base_color: Color::srgb(0.8, 0.05, 0.05),
-            perceptual_roughness: 1.0,
-            ..default()
-        });
+    let red = red(world);
     let root = world.spawn(Transform::from_xyz(0.0, 2.0, 0.0)).id();
     let elbow = world.spawn(Transform::IDENTITY).id();
     world.entity_mut(root).add_child(elbow);
