@@ -200,6 +200,23 @@ fn centroid(darkness: &[Option<f32>]) -> Vec2 {
     sum / weight.max(1e-6)
 }
 
+/// Penumbra's shadow (`ours`' darkness) where Bevy's own (`bevy`'s) is: centroids within 2 px
+/// and summed darkness within 25%. Returns penumbra's centroid.
+fn like_bevys(name: &str, ours: &[Option<f32>], bevy: &[Option<f32>]) -> Vec2 {
+    let (o_at, b_at) = (centroid(ours), centroid(bevy));
+    let (o_sum, b_sum): (f32, f32) = (ours.iter().flatten().sum(), bevy.iter().flatten().sum());
+    println!("{name}: penumbra's shadow at {o_at} ({o_sum:.0}), Bevy's at {b_at} ({b_sum:.0})");
+    assert!(
+        o_at.distance(b_at) < 2.0,
+        "{name}: penumbra's shadow at {o_at}, Bevy's at {b_at}"
+    );
+    assert!(
+        (o_sum / b_sum - 1.0).abs() < 0.25,
+        "{name}: penumbra's darkness sums to {o_sum}, Bevy's to {b_sum}"
+    );
+    o_at
+}
+
 /// Pixels inside a penumbra (darkness between 0.1 and 0.9).
 fn penumbra_pixels(darkness: &[Option<f32>]) -> usize {
     darkness
@@ -533,17 +550,7 @@ fn a_spot_and_a_point_light_each_cast_their_own_shadow() {
     };
     for (side, right) in [("the spot's (right)", true), ("the point light's (left)", false)] {
         let (o, b) = (half(&ours_dark, right), half(&bevy_dark, right));
-        let (o_at, b_at) = (centroid(&o), centroid(&b));
-        let (o_sum, b_sum): (f32, f32) = (o.iter().flatten().sum(), b.iter().flatten().sum());
-        println!("{side} shadow: penumbra at {o_at} ({o_sum:.0}), Bevy at {b_at} ({b_sum:.0})");
-        assert!(
-            o_at.distance(b_at) < 2.0,
-            "{side} shadow: penumbra at {o_at}, Bevy at {b_at}"
-        );
-        assert!(
-            (o_sum / b_sum - 1.0).abs() < 0.25,
-            "{side} shadow: penumbra's darkness sums to {o_sum}, Bevy's to {b_sum}"
-        );
+        like_bevys(side, &o, &b);
     }
 }
 
@@ -840,18 +847,7 @@ fn a_skinned_mesh_casts_its_posed_shadow_as_bevy_does() {
     let mut centres = Vec::new();
     for (name, (ours, bevy)) in [("straight", &straight), ("bent", &bent)] {
         let (o, b) = (darkness(ours, &empty), darkness(bevy, &empty));
-        let (o_at, b_at) = (centroid(&o), centroid(&b));
-        let (o_sum, b_sum): (f32, f32) = (o.iter().flatten().sum(), b.iter().flatten().sum());
-        println!("{name}: penumbra's shadow at {o_at} ({o_sum:.0}), Bevy's at {b_at} ({b_sum:.0})");
-        assert!(
-            o_at.distance(b_at) < 2.0,
-            "{name}: penumbra's shadow at {o_at}, Bevy's at {b_at}"
-        );
-        assert!(
-            (o_sum / b_sum - 1.0).abs() < 0.25,
-            "{name}: penumbra's darkness sums to {o_sum}, Bevy's to {b_sum}"
-        );
-        centres.push(o_at);
+        centres.push(like_bevys(name, &o, &b));
     }
     assert!(
         centres[0].distance(centres[1]) > 3.0,
