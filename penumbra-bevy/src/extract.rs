@@ -23,7 +23,7 @@ use crate::{PenumbraCamera, PenumbraLightSize, vec3};
 /// The sun's angular diameter in radians, for a `DirectionalLight` with no size given.
 pub const SUN_ANGULAR_DIAMETER: f32 = 0.0093;
 
-/// The penumbra camera, as the render world sees it.
+/// A penumbra camera, as the render world sees it.
 #[derive(Clone, Debug)]
 pub(crate) struct ExtractedPenumbraCamera {
     pub render_entity: Entity,
@@ -86,7 +86,10 @@ pub(crate) struct Geometry {
 /// This frame's extraction.
 #[derive(Resource, Default)]
 pub(crate) struct Extracted {
-    pub camera: Option<ExtractedPenumbraCamera>,
+    /// The active cameras with an enabled `PenumbraCamera`, in Bevy's rendering order
+    /// (`Camera::order`): each gets its own shadows; the first one's lights set the layers of
+    /// the visibility the materials read.
+    pub cameras: Vec<ExtractedPenumbraCamera>,
     pub casters: Vec<ExtractedCaster>,
     pub lights: Vec<ExtractedLight>,
     /// Shadow-mapped lights past penumbra's limit (they keep Bevy's shadows).
@@ -99,8 +102,6 @@ pub(crate) struct Extracted {
     pub stale_meshes: Vec<AssetId<Mesh>>,
     pub visibility: Handle<Image>,
     pub lights_buffer: Handle<ShaderBuffer>,
-    /// Active cameras with an enabled `PenumbraCamera` past the one shaded.
-    pub unshaded_cameras: Vec<Entity>,
     /// Casters left out, with why (morphed), each logged once.
     pub left_out: Vec<(Entity, &'static str)>,
     /// Skinned casters, posed.
@@ -194,41 +195,44 @@ pub(crate) fn extract_penumbra(
     targets: Extract<Res<PenumbraTargets>>,
 ) {
     let extracted = &mut *extracted;
-    let mut shaded = cameras
+    let mut shaded: Vec<_> = cameras
         .iter()
-        .filter(|(_, _, camera, penumbra, _, _)| camera.is_active && penumbra.enabled);
-    extracted.camera = shaded.next().map(
-        |(main_entity, render_entity, _, penumbra, depth_prepass, deferred)| {
-            // MSAA is served: the render world resolves the multisampled depth prepass.
-            let refused = if !depth_prepass {
-                Some(format!(
-                    "penumbra: camera {main_entity} has no DepthPrepass; penumbra's passes read it. \
+        .filter(|(_, _, camera, penumbra, _, _)| camera.is_active && penumbra.enabled)
+        .collect();
+    shaded.sort_by_key(|(main_entity, _, camera, ..)| (camera.order, *main_entity));
+    extracted.cameras = shaded
+        .into_iter()
+        .map(
+            |(main_entity, render_entity, _, penumbra, depth_prepass, deferred)| {
+                // MSAA is served: the render world resolves the multisampled depth prepass.
+                let refused = if !depth_prepass {
+                    Some(format!(
+                        "penumbra: camera {main_entity} has no DepthPrepass; penumbra's passes read it. \
                      Bevy's own shadows are used meanwhile."
-                ))
-            } else {
-                // Bevy's deferred lighting pass shades without penumbra's material.
-                deferred.then(|| {
+                    ))
+                } else {
+                    // Bevy's deferred lighting pass shades without penumbra's material.
+                    deferred.then(|| {
                     format!(
                         "penumbra: camera {main_entity} has DeferredPrepass; penumbra shades in the forward \
                          pass's material, which deferred rendering does not run. Bevy's own shadows are used \
                          meanwhile."
                     )
                 })
-            };
-            let mut settings = penumbra.settings;
-            if penumbra.bevy_shadow_settings {
-                take_bevy_shadow_settings(&mut settings, &bevy_maps, &suns);
-            }
-            ExtractedPenumbraCamera {
-                render_entity,
-                main_entity,
-                settings,
-                refused,
-            }
-        },
-    );
-    // One camera is shaded; the others' materials would read its visibility.
-    extracted.unshaded_cameras = shaded.map(|(main_entity, ..)| main_entity).collect();
+                };
+                let mut settings = penumbra.settings;
+                if penumbra.bevy_shadow_settings {
+                    take_bevy_shadow_settings(&mut settings, &bevy_maps, &suns);
+                }
+                ExtractedPenumbraCamera {
+                    render_entity,
+                    main_entity,
+                    settings,
+                    refused,
+                }
+            },
+        )
+        .collect();
     extracted.visibility = targets.visibility.clone();
     extracted.lights_buffer = targets.lights.clone();
 

@@ -22,8 +22,8 @@
 //!   fields: `SpotLight::radius`, `PointLight::radius`, a sun's `SunDisk::angular_size`
 //!   (or [`PenumbraLightSize`] to set it). Bevy renders no shadow map for these lights; lights
 //!   past the limit keep Bevy's own shadows.
-//! - **The view**: penumbra's passes run on the camera's depth prepass, after Bevy's prepass
-//!   and before its main pass, and write one visibility layer per light.
+//! - **The views**: penumbra's passes run on each penumbra camera's depth prepass, after
+//!   Bevy's prepass and before its main pass, and write one visibility layer per light.
 //! - **Shading**: each `StandardMaterial` mesh is switched to [`PenumbraMaterial`] (Bevy's
 //!   PBR, with each penumbra light's direct term scaled by its visibility). Entities with
 //!   [`KeepStandardMaterial`] are left alone; they then get no shadow from penumbra's lights.
@@ -50,8 +50,10 @@ pub use penumbra::{Quality, ShadowMethod, ShadowSettings};
 pub struct PenumbraPlugin;
 
 /// Turns penumbra on for a 3D camera, with or without MSAA (with it, penumbra reads the
-/// nearest sample of each pixel of the depth prepass). One camera at a time: with several, the
-/// first active one is shaded.
+/// nearest sample of each pixel of the depth prepass). Several cameras may have one (split
+/// screen with `Camera::viewport`, a view rendered to a texture beside the window's): each gets
+/// shadows of its own, fitted to its view and drawn before its main pass. A 3D camera without
+/// one sees penumbra's lights unshadowed (a warning names it).
 #[derive(Component, Clone, Debug)]
 #[require(DepthPrepass)]
 pub struct PenumbraCamera {

@@ -68,7 +68,7 @@ pub(crate) const KIND_POINT: u32 = 2;
 pub struct KeepStandardMaterial;
 
 /// The textures and buffers penumbra's shading reads: the visibility array (one layer per
-/// light, the penumbra camera's target size) and the light table.
+/// light, the largest penumbra camera's target size) and the light table.
 #[derive(Resource)]
 pub struct PenumbraTargets {
     pub(crate) visibility: Handle<Image>,
@@ -172,8 +172,9 @@ pub(crate) fn convert_standard_materials(
     }
 }
 
-/// Keeps the visibility array the size of the penumbra camera's target. A new size makes a new
-/// image, which every [`PenumbraMaterial`] is pointed at.
+/// Keeps the visibility array the size of the largest penumbra camera's target (each camera's
+/// passes write their visibility into its top-left corner before that camera's main pass). A
+/// new size makes a new image, which every [`PenumbraMaterial`] is pointed at.
 pub(crate) fn fit_targets(
     cameras: Query<(&Camera, &PenumbraCamera)>,
     mut images: ResMut<Assets<Image>>,
@@ -182,8 +183,9 @@ pub(crate) fn fit_targets(
 ) {
     let Some(size) = cameras
         .iter()
-        .find(|(camera, penumbra)| camera.is_active && penumbra.enabled)
-        .and_then(|(camera, _)| camera.physical_target_size())
+        .filter(|(camera, penumbra)| camera.is_active && penumbra.enabled)
+        .filter_map(|(camera, _)| camera.physical_target_size())
+        .reduce(UVec2::max)
     else {
         return;
     };

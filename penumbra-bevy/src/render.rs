@@ -6,12 +6,14 @@ use bevy::core_pipeline::{Core3d, Core3dSystems};
 use bevy::pbr::{ExtractedDirectionalLight, ExtractedPointLight, GlobalClusterableObjectMeta};
 use bevy::platform::collections::{HashMap, HashSet};
 use bevy::prelude::*;
+use bevy::render::camera::ExtractedCamera;
 use bevy::render::diagnostic::RecordDiagnostics;
 use bevy::render::mesh::RenderMesh;
 use bevy::render::mesh::allocator::MeshAllocator;
 use bevy::render::render_asset::RenderAssets;
 use bevy::render::renderer::{RenderContext, RenderDevice, RenderQueue, ViewQuery};
 use bevy::render::storage::GpuShaderBuffer;
+use bevy::render::sync_world::MainEntity;
 use bevy::render::texture::GpuImage;
 use bevy::render::view::ExtractedView;
 use bevy::render::{ExtractSchedule, Render, RenderSystems};
@@ -60,28 +62,51 @@ struct Instance {
     mask: Option<ExtractedMask>,
 }
 
+/// One penumbra camera's shadows: a `Shadows` of its own (the lights' fits to its view, their
+/// maps, the screen-space passes) over the casters every camera shares.
+struct ViewShadows {
+    main_entity: Entity,
+    shadows: Shadows,
+    /// Main-world light entity -> its light id in this camera's `Shadows` and the light as
+    /// last given.
+    lights: HashMap<Entity, (LightId, Light)>,
+    /// Each light of the material's table: its layer in this camera's visibility and its
+    /// layer in the material's (the first camera's layers).
+    layers: Vec<(u32, u32)>,
+    /// The single-sampled copy of a multisampled depth prepass (MSAA on the camera).
+    resolve: Option<DepthResolve>,
+    /// `None`: the passes write straight into the material's visibility. `Some(size)`: this
+    /// camera's target is smaller than the largest penumbra camera's, or its lights sit in
+    /// other layers: the passes write into penumbra's own texture, whose layers are then copied
+    /// into the material's, before this camera's main pass.
+    copied: Option<(u32, u32)>,
+    /// `Shadows::prepare` ran for this frame (the graph's step may record).
+    prepared: bool,
+}
+
 /// penumbra's state in the render world.
 #[derive(Resource, Default)]
 pub(crate) struct PenumbraState {
-    gpu: Option<(Casters, Shadows)>,
+    /// The casters every penumbra camera's shadows draw.
+    casters: Option<Casters>,
+    /// Each penumbra camera's shadows, by its render-world view entity.
+    views: HashMap<Entity, ViewShadows>,
     geometry: HashMap<AssetId<Mesh>, Geometry>,
     meshes: HashMap<AssetId<Mesh>, RegisteredMesh>,
     instances: HashMap<Entity, Instance>,
-    /// Main-world light entity -> its light id and the light as last given.
-    lights: HashMap<Entity, (LightId, Light)>,
     table: GpuLights,
     /// The light table's GPU buffer (the material's binding 101).
     table_buffer: Option<wgpu::Buffer>,
-    /// Whether this frame's passes may run (the camera is usable and the table was written).
+    /// The full light table and an empty one, one of them copied into the table buffer before
+    /// each 3D camera's main pass: the full one for a penumbra camera whose passes ran, the
+    /// empty one for any other (so no camera reads another's visibility).
+    tables: Option<(wgpu::Buffer, wgpu::Buffer)>,
+    /// Whether this frame's passes may run (every penumbra camera is usable).
     active: bool,
     /// Messages already logged (each once), shared with the app.
     diagnostics: PenumbraDiagnostics,
-    /// The single-sampled copy of a multisampled depth prepass (MSAA on the camera).
-    resolve: Option<DepthResolve>,
     /// Skinned casters: drawn from buffers of the plugin's own that hold their posed vertices.
     skinned: HashMap<Entity, SkinnedCaster>,
-    /// `Shadows::prepare` ran for this frame's camera (the graph's step may record).
-    prepared: bool,
 }
 
 impl PenumbraState {
@@ -135,7 +160,7 @@ fn hand_over_shadow_maps(
     mut suns: Query<(Entity, &mut ExtractedDirectionalLight)>,
     mut others: Query<(Entity, &mut ExtractedPointLight)>,
 ) {
-    let usable = extracted.camera.as_ref().is_some_and(|c| c.refused.is_none());
+    let usable = usable(&extracted);
     let penumbra: HashSet<Entity> = if usable {
         extracted.lights.iter().map(|l| l.render_entity).collect()
     } else {
@@ -156,8 +181,15 @@ fn hand_over_shadow_maps(
     }
 }
 
-/// Brings penumbra's casters and lights in step with this frame's extraction and writes the
-/// light table the material reads.
+/// Whether penumbra shades this frame: there is a penumbra camera and none is refused (one
+/// refused camera gives every camera Bevy's own shadows: a camera left with neither would be
+/// silently wrong).
+fn usable(extracted: &Extracted) -> bool {
+    !extracted.cameras.is_empty() && extracted.cameras.iter().all(|c| c.refused.is_none())
+}
+
+/// Brings penumbra's casters, cameras and lights in step with this frame's extraction and
+/// writes the light table the material reads.
 #[allow(clippy::too_many_arguments)]
 fn prepare_penumbra(
     extracted: Res<Extracted>,
@@ -178,24 +210,25 @@ fn prepare_penumbra(
         return;
     };
     state.table_buffer = Some((*table_buffer.buffer).clone());
-    // An empty table unless penumbra's passes run this frame: they write the full one.
+    // An empty table unless penumbra's passes run this frame: each camera's step copies the
+    // table its main pass reads.
     queue.write_buffer(&table_buffer.buffer, 0, bytemuck::bytes_of(&GpuLights::default()));
 
-    let camera = match &extracted.camera {
-        Some(camera) => camera,
-        None => return,
-    };
-    if let Some(reason) = &camera.refused {
-        state.log_once(reason.clone());
+    // Cameras gone or turned off: their shadows are dropped.
+    let current: HashSet<Entity> = extracted.cameras.iter().map(|c| c.render_entity).collect();
+    state.views.retain(|entity, _| current.contains(entity));
+    if extracted.cameras.is_empty() {
         return;
     }
-    for other in &extracted.unshaded_cameras {
-        state.log_once(format!(
-            "penumbra: camera {other} also has an enabled PenumbraCamera; penumbra shades one camera \
-             ({}), and {other}'s materials read that camera's visibility: its shadows from penumbra's \
-             lights are wrong. Disable the PenumbraCamera on all cameras but one.",
-            camera.main_entity
-        ));
+    let mut refused = false;
+    for camera in &extracted.cameras {
+        if let Some(reason) = &camera.refused {
+            state.log_once(reason.clone());
+            refused = true;
+        }
+    }
+    if refused {
+        return;
     }
     if extracted.lights_over_limit > 0 {
         state.warn_once(format!(
@@ -210,26 +243,52 @@ fn prepare_penumbra(
         ));
     }
 
-    if state.gpu.is_none() {
-        match Shadows::new(device, camera.settings) {
-            Ok(shadows) => state.gpu = Some((Casters::new(device), shadows)),
-            Err(e) => {
-                state.log_once(format!("penumbra: the camera's settings are refused: {e}"));
-                return;
+    state.casters.get_or_insert_with(|| Casters::new(device));
+    let mut messages = Vec::new();
+    for camera in &extracted.cameras {
+        match state.views.get_mut(&camera.render_entity) {
+            Some(view) => {
+                if view.shadows.settings() != &camera.settings
+                    && let Err(e) = view.shadows.set_settings(device, camera.settings)
+                {
+                    messages.push(format!(
+                        "penumbra: camera {}'s settings are refused: {e}",
+                        camera.main_entity
+                    ));
+                    state.views.remove(&camera.render_entity);
+                }
             }
+            None => match Shadows::new(device, camera.settings) {
+                Ok(shadows) => {
+                    state.views.insert(
+                        camera.render_entity,
+                        ViewShadows {
+                            main_entity: camera.main_entity,
+                            shadows,
+                            lights: HashMap::default(),
+                            layers: Vec::new(),
+                            resolve: None,
+                            copied: None,
+                            prepared: false,
+                        },
+                    );
+                }
+                Err(e) => messages.push(format!(
+                    "penumbra: camera {}'s settings are refused: {e}",
+                    camera.main_entity
+                )),
+            },
         }
     }
-    if let Err(e) = state.gpu.as_mut().map_or(Ok(()), |(_, shadows)| {
-        if shadows.settings() != &camera.settings {
-            shadows.set_settings(device, camera.settings)
-        } else {
-            Ok(())
-        }
-    }) {
-        state.log_once(format!("penumbra: the camera's settings are refused: {e}"));
+    let refused_settings = !messages.is_empty();
+    for message in messages {
+        state.log_once(message);
+    }
+    if refused_settings {
+        // A penumbra camera without shadows would read another camera's.
         return;
     }
-    state.diagnostics.set_settings(camera.settings);
+    state.diagnostics.set_settings(extracted.cameras[0].settings);
 
     sync_casters(
         state,
@@ -238,17 +297,27 @@ fn prepare_penumbra(
         queue,
         (&allocator, &render_meshes, &images),
     );
-    sync_lights(state, &extracted.lights, device, clustered.as_deref());
+    let order: Vec<Entity> = extracted.cameras.iter().map(|c| c.render_entity).collect();
+    sync_lights(state, &extracted.lights, &order, device, clustered.as_deref());
 
-    let Some(image) = images.get(&extracted.visibility) else {
-        return;
-    };
-    let (_, shadows) = state.gpu.as_mut().expect("made above");
-    if let Err(e) = shadows.set_visibility_target(Some((*image.texture).clone())) {
-        let message = format!("penumbra: {e}");
-        state.log_once(message);
+    if images.get(&extracted.visibility).is_none() {
         return;
     }
+    let (full, _) = state.tables.get_or_insert_with(|| {
+        let table = |label| {
+            use wgpu::util::DeviceExt;
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytemuck::bytes_of(&GpuLights::default()),
+                usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            })
+        };
+        (
+            table("penumbra-bevy light table"),
+            table("penumbra-bevy empty light table"),
+        )
+    });
+    queue.write_buffer(full, 0, bytemuck::bytes_of(&state.table));
     state.active = true;
 }
 
@@ -287,7 +356,7 @@ fn sync_casters(
             let Some(geometry) = state.geometry.get(&caster.mesh) else {
                 continue;
             };
-            let (casters, _) = state.gpu.as_mut().expect("made");
+            let casters = state.casters.as_mut().expect("made");
             match register(
                 casters,
                 device,
@@ -316,7 +385,7 @@ fn sync_casters(
             None => None,
         };
         let mesh_id = state.meshes[&caster.mesh].id;
-        let (casters, _) = state.gpu.as_mut().expect("made");
+        let casters = state.casters.as_mut().expect("made");
         let transform = mat4(caster.transform);
         match state.instances.get_mut(&caster.entity) {
             Some(instance) if instance.mesh == caster.mesh && instance.mask == caster.mask => {
@@ -398,7 +467,7 @@ fn sync_casters(
         .collect();
     for entity in gone {
         if let Some(instance) = state.instances.remove(&entity)
-            && let Some((casters, _)) = state.gpu.as_mut()
+            && let Some(casters) = state.casters.as_mut()
         {
             let _ = casters.remove_instance(instance.id);
         }
@@ -423,7 +492,7 @@ fn sync_skinned(
             "penumbra: skinned entity {entity} casts no penumbra shadow: {why}"
         ));
     }
-    let Some((casters, _)) = state.gpu.as_mut() else {
+    let Some(casters) = state.casters.as_mut() else {
         return;
     };
     let mut seen = HashSet::new();
@@ -633,7 +702,7 @@ fn drop_mesh(state: &mut PenumbraState, mesh: AssetId<Mesh>) {
     let Some(registered) = state.meshes.remove(&mesh) else {
         return;
     };
-    let Some((casters, _)) = state.gpu.as_mut() else {
+    let Some(casters) = state.casters.as_mut() else {
         return;
     };
     state.instances.retain(|_, instance| {
@@ -647,71 +716,41 @@ fn drop_mesh(state: &mut PenumbraState, mesh: AssetId<Mesh>) {
     let _ = casters.remove_mesh(registered.id);
 }
 
-/// Adds, changes and removes penumbra's lights, and fills the light table.
+/// Adds, changes and removes penumbra's lights in each camera's shadows, and fills the light
+/// table from the first camera's (`order`): every camera's visibility is read through it, each
+/// light at the first camera's layer.
 fn sync_lights(
     state: &mut PenumbraState,
     lights: &[ExtractedLight],
+    order: &[Entity],
     device: &wgpu::Device,
     clustered: Option<&GlobalClusterableObjectMeta>,
 ) {
     let mut messages = Vec::new();
-    let (_, shadows) = state.gpu.as_mut().expect("made");
-    let alive: HashSet<Entity> = lights.iter().map(|l| l.entity).collect();
-    state.lights.retain(|entity, (id, _)| {
-        let keep = alive.contains(entity);
-        if !keep {
-            let _ = shadows.remove_light(*id);
-        }
-        keep
-    });
     let mut table = GpuLights::default();
-    for extracted in lights {
-        let id = match state.lights.get_mut(&extracted.entity) {
-            Some((id, light)) => {
-                if *light != extracted.light {
-                    if let Err(e) = shadows.set_light(*id, extracted.light) {
-                        messages.push(format!("penumbra: light {}: {e}", extracted.entity));
-                        continue;
-                    }
-                    *light = extracted.light;
-                }
-                *id
-            }
-            None => match shadows.add_light(device, extracted.light) {
-                Ok(id) => {
-                    state.lights.insert(extracted.entity, (id, extracted.light));
-                    id
-                }
-                Err(e) => {
-                    messages.push(format!("penumbra: light {}: {e}", extracted.entity));
-                    continue;
-                }
-            },
+    // Light entity -> its layer in the table.
+    let mut table_layers: HashMap<Entity, u32> = HashMap::default();
+    for (i, camera) in order.iter().enumerate() {
+        let Some(view) = state.views.get_mut(camera) else {
+            continue;
         };
-        let (kind, index, direction) = match extracted.light {
-            Light::Directional(sun) => (KIND_DIRECTIONAL, 0, -sun.direction.normalize()),
-            Light::Spot(_) | Light::Point(_) => {
-                let Some(index) = clustered.and_then(|c| c.entity_to_index.get(&extracted.render_entity))
-                else {
+        let ids = sync_view_lights(view, lights, device, &mut messages);
+        if i == 0 {
+            for (extracted, id) in lights.iter().zip(&ids) {
+                let Some(id) = id else { continue };
+                let Some(row) = table_row(extracted, *id, clustered) else {
                     continue; // Not in Bevy's light list this frame.
                 };
-                let kind = if matches!(extracted.light, Light::Spot(_)) {
-                    KIND_SPOT
-                } else {
-                    KIND_POINT
-                };
-                (kind, *index as u32, glam::Vec3::ZERO)
+                table.lights[table.count as usize] = row;
+                table.count += 1;
+                table_layers.insert(extracted.entity, id.layer());
             }
-        };
-        let row = &mut table.lights[table.count as usize];
-        *row = GpuLight {
-            kind,
-            index,
-            layer: id.layer(),
-            _pad: 0,
-            direction_to_light: direction.extend(0.0).to_array(),
-        };
-        table.count += 1;
+        }
+        view.layers = lights
+            .iter()
+            .zip(&ids)
+            .filter_map(|(extracted, id)| Some((id.as_ref()?.layer(), *table_layers.get(&extracted.entity)?)))
+            .collect();
     }
     state.table = table;
     for message in messages {
@@ -719,8 +758,79 @@ fn sync_lights(
     }
 }
 
-/// penumbra's [`Shadows::prepare`] on the penumbra camera's depth prepass, once Bevy has made
-/// the view's prepass textures: the lights' fits and uniforms and the passes' bind groups (with
+/// One camera's lights brought in step with `lights`: each light's id (`None` where it was
+/// refused, with why in `messages`).
+fn sync_view_lights(
+    view: &mut ViewShadows,
+    lights: &[ExtractedLight],
+    device: &wgpu::Device,
+    messages: &mut Vec<String>,
+) -> Vec<Option<LightId>> {
+    let shadows = &mut view.shadows;
+    let alive: HashSet<Entity> = lights.iter().map(|l| l.entity).collect();
+    view.lights.retain(|entity, (id, _)| {
+        let keep = alive.contains(entity);
+        if !keep {
+            let _ = shadows.remove_light(*id);
+        }
+        keep
+    });
+    lights
+        .iter()
+        .map(|extracted| match view.lights.get_mut(&extracted.entity) {
+            Some((id, light)) => {
+                if *light != extracted.light {
+                    if let Err(e) = shadows.set_light(*id, extracted.light) {
+                        messages.push(format!("penumbra: light {}: {e}", extracted.entity));
+                        return None;
+                    }
+                    *light = extracted.light;
+                }
+                Some(*id)
+            }
+            None => match shadows.add_light(device, extracted.light) {
+                Ok(id) => {
+                    view.lights.insert(extracted.entity, (id, extracted.light));
+                    Some(id)
+                }
+                Err(e) => {
+                    messages.push(format!("penumbra: light {}: {e}", extracted.entity));
+                    None
+                }
+            },
+        })
+        .collect()
+}
+
+/// A light's row of the material's table: which of Bevy's lights it is, and its layer.
+fn table_row(
+    extracted: &ExtractedLight,
+    id: LightId,
+    clustered: Option<&GlobalClusterableObjectMeta>,
+) -> Option<GpuLight> {
+    let (kind, index, direction) = match extracted.light {
+        Light::Directional(sun) => (KIND_DIRECTIONAL, 0, -sun.direction.normalize()),
+        Light::Spot(_) | Light::Point(_) => {
+            let index = clustered?.entity_to_index.get(&extracted.render_entity)?;
+            let kind = if matches!(extracted.light, Light::Spot(_)) {
+                KIND_SPOT
+            } else {
+                KIND_POINT
+            };
+            (kind, *index as u32, glam::Vec3::ZERO)
+        }
+    };
+    Some(GpuLight {
+        kind,
+        index,
+        layer: id.layer(),
+        _pad: 0,
+        direction_to_light: direction.extend(0.0).to_array(),
+    })
+}
+
+/// penumbra's [`Shadows::prepare`] on each penumbra camera's depth prepass, once Bevy has made
+/// the views' prepass textures: the lights' fits and uniforms and the passes' bind groups (with
 /// MSAA, on the single-sampled depth the graph's step resolves into before it records).
 fn prepare_shadows(
     views: Query<(&ExtractedView, &ViewPrepassTextures)>,
@@ -728,76 +838,142 @@ fn prepare_shadows(
     mut state: ResMut<PenumbraState>,
     device: Res<RenderDevice>,
     queue: Res<RenderQueue>,
+    images: Res<RenderAssets<GpuImage>>,
 ) {
     let state = &mut *state;
-    state.prepared = false;
-    let Some(camera) = &extracted.camera else { return };
+    for view in state.views.values_mut() {
+        view.prepared = false;
+    }
     if !state.active {
         return;
     }
-    let Ok((view, prepass)) = views.get(camera.render_entity) else {
-        return;
-    };
-    let Some(depth) = prepass.depth.as_ref() else {
-        state.log_once(format!(
-            "penumbra: camera {} has no depth prepass texture; add DepthPrepass to it",
-            camera.main_entity
-        ));
-        state.active = false;
+    let (Some(casters), Some(shared)) = (state.casters.as_ref(), images.get(&extracted.visibility)) else {
         return;
     };
     let device = device.wgpu_device();
     let queue: &wgpu::Queue = &queue;
-    let source = &depth.texture.texture;
-    // With MSAA, the nearest sample of each pixel, single-sampled.
-    let depth: wgpu::Texture = if source.sample_count() > 1 {
-        state
-            .resolve
-            .get_or_insert_with(|| DepthResolve::new(device))
-            .target(device, (source.width(), source.height()))
-    } else {
-        (**source).clone()
-    };
-    let camera_matrices = CameraMatrices {
-        view: mat4(view.world_from_view.to_matrix().inverse()),
-        projection: mat4(view.clip_from_view),
-        depth: DepthConvention::Reversed,
-    };
-    let Some((casters, shadows)) = state.gpu.as_mut() else {
-        return;
-    };
-    match shadows.prepare(device, queue, casters, &ViewInputs::new(camera_matrices, &depth)) {
-        Ok(()) => state.prepared = true,
-        Err(e) => {
-            state.active = false;
-            state.log_once(format!("penumbra: {e}"));
+    let mut messages = Vec::new();
+    for (entity, view) in &mut state.views {
+        let Ok((extracted_view, prepass)) = views.get(*entity) else {
+            continue;
+        };
+        let Some(depth) = prepass.depth.as_ref() else {
+            messages.push(format!(
+                "penumbra: camera {} has no depth prepass texture; add DepthPrepass to it",
+                view.main_entity
+            ));
+            continue;
+        };
+        let source = &depth.texture.texture;
+        // With MSAA, the nearest sample of each pixel, single-sampled.
+        let depth: wgpu::Texture = if source.sample_count() > 1 {
+            view.resolve
+                .get_or_insert_with(|| DepthResolve::new(device))
+                .target(device, (source.width(), source.height()))
+        } else {
+            (**source).clone()
+        };
+        let size = (depth.width(), depth.height());
+        // Straight into the material's visibility where it fits; otherwise copied into it.
+        let direct = (shared.texture.width(), shared.texture.height()) == size
+            && view.layers.iter().all(|(a, b)| a == b);
+        if let Err(e) = view
+            .shadows
+            .set_visibility_target(direct.then(|| (*shared.texture).clone()))
+        {
+            messages.push(format!("penumbra: camera {}: {e}", view.main_entity));
+            continue;
         }
+        view.copied = (!direct).then_some(size);
+        let camera_matrices = CameraMatrices {
+            view: mat4(extracted_view.world_from_view.to_matrix().inverse()),
+            projection: mat4(whole_target(
+                extracted_view.clip_from_view,
+                extracted_view.viewport,
+                size,
+            )),
+            depth: DepthConvention::Reversed,
+        };
+        match view
+            .shadows
+            .prepare(device, queue, casters, &ViewInputs::new(camera_matrices, &depth))
+        {
+            Ok(()) => view.prepared = true,
+            Err(e) => messages.push(format!("penumbra: camera {}: {e}", view.main_entity)),
+        }
+    }
+    for message in messages {
+        state.log_once(message);
     }
 }
 
-/// penumbra's passes, recorded between Bevy's depth prepass and its main pass (prepared in
-/// [`prepare_shadows`]).
+/// A camera's projection onto its viewport (`x, y, width, height` in pixels of its target, of
+/// `size`) as a projection onto the whole target, which its depth prepass texture covers: the
+/// viewport's clip space scaled and moved within the target's.
+fn whole_target(clip_from_view: Mat4, viewport: UVec4, size: (u32, u32)) -> Mat4 {
+    let (w, h) = (size.0.max(1) as f32, size.1.max(1) as f32);
+    let v = viewport.as_vec4();
+    if v.z <= 0.0 || v.w <= 0.0 || (viewport == UVec4::new(0, 0, size.0, size.1)) {
+        return clip_from_view;
+    }
+    // NDC x from the viewport's [-1, 1] to the target's; y likewise, pixel rows running down.
+    let (sx, sy) = (v.z / w, v.w / h);
+    let tx = (2.0 * v.x + v.z) / w - 1.0;
+    let ty = 1.0 - (2.0 * v.y + v.w) / h;
+    let to_target = Mat4::from_cols(
+        Vec4::new(sx, 0.0, 0.0, 0.0),
+        Vec4::new(0.0, sy, 0.0, 0.0),
+        Vec4::new(0.0, 0.0, 1.0, 0.0),
+        Vec4::new(tx, ty, 0.0, 1.0),
+    );
+    to_target * clip_from_view
+}
+
+/// penumbra's passes, recorded for each 3D camera between Bevy's depth prepass and its main
+/// pass (prepared in [`prepare_shadows`]), and the light table that camera's main pass reads:
+/// a penumbra camera's own, an empty one for any other camera.
+#[allow(clippy::too_many_arguments)]
 fn penumbra_pass(
-    view: ViewQuery<(Entity, &ViewPrepassTextures)>,
+    view: ViewQuery<(
+        Entity,
+        Option<&ViewPrepassTextures>,
+        Option<&MainEntity>,
+        Has<ExtractedCamera>,
+    )>,
     extracted: Res<Extracted>,
     mut state: ResMut<PenumbraState>,
     device: Res<RenderDevice>,
-    queue: Res<RenderQueue>,
+    images: Res<RenderAssets<GpuImage>>,
     mut ctx: RenderContext,
 ) {
-    let (entity, prepass) = view.into_inner();
-    let Some(camera) = &extracted.camera else { return };
-    if camera.render_entity != entity || !state.active || !state.prepared {
+    let (entity, prepass, main_entity, is_camera) = view.into_inner();
+    let state = &mut *state;
+    let (Some((full, empty)), Some(table)) = (state.tables.clone(), state.table_buffer.clone()) else {
+        return;
+    };
+    let size = std::mem::size_of::<GpuLights>() as u64;
+    let shaded = state.active && state.views.get(&entity).is_some_and(|v| v.prepared);
+    if !shaded {
+        if state.active && is_camera && !state.views.contains_key(&entity) {
+            state.warn_once(format!(
+                "penumbra: camera {} has no enabled PenumbraCamera; penumbra's lights cast no shadow in it \
+                 (Bevy's shadow maps are off for them). Add PenumbraCamera to it.",
+                main_entity.map_or(entity, |m| m.id())
+            ));
+        }
+        ctx.command_encoder()
+            .copy_buffer_to_buffer(&empty, 0, &table, 0, size);
         return;
     }
-    let state = &mut *state;
+    let casters = state.casters.as_ref().expect("made with the views");
+    let view = state.views.get_mut(&entity).expect("checked above");
     // A span of Bevy's render diagnostics (`RenderDiagnosticsPlugin`: GPU time where the device
     // has timestamp queries): `render/penumbra/elapsed_gpu`.
     let recorder = ctx.diagnostic_recorder();
     let span = recorder
         .as_deref()
         .map(|r| r.time_span(ctx.command_encoder(), "penumbra"));
-    if let (Some(depth), Some(resolve)) = (prepass.depth.as_ref(), state.resolve.as_mut())
+    if let (Some(depth), Some(resolve)) = (prepass.and_then(|p| p.depth.as_ref()), view.resolve.as_mut())
         && depth.texture.texture.sample_count() > 1
     {
         resolve.encode(
@@ -806,27 +982,44 @@ fn penumbra_pass(
             &depth.texture.texture,
         );
     }
-    let encoded = state
-        .gpu
-        .as_mut()
-        .map(|(casters, shadows)| shadows.encode(ctx.command_encoder(), casters));
+    let encoded = view.shadows.encode(ctx.command_encoder(), casters);
+    if encoded.is_ok()
+        && let (Some(size), Some(own), Some(shared)) = (
+            view.copied,
+            view.shadows.visibility_texture(),
+            images.get(&extracted.visibility),
+        )
+    {
+        let extent = wgpu::Extent3d {
+            width: size.0.min(shared.texture.width()),
+            height: size.1.min(shared.texture.height()),
+            depth_or_array_layers: 1,
+        };
+        for (from, to) in &view.layers {
+            let at = |texture, layer| wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
+                aspect: wgpu::TextureAspect::All,
+            };
+            ctx.command_encoder()
+                .copy_texture_to_texture(at(own, *from), at(&shared.texture, *to), extent);
+        }
+    }
     if let Some(span) = span {
         span.end(ctx.command_encoder());
     }
-    let Some(encoded) = encoded else {
-        return;
-    };
     match encoded {
-        // The material reads the visibility from now on (the write lands before the main pass).
-        Ok(_) => {
-            if let Some(buffer) = &state.table_buffer {
-                queue.write_buffer(buffer, 0, bytemuck::bytes_of(&state.table));
-            }
-        }
-        // The lights are shaded unshadowed this frame (the table stays empty).
+        // This camera's main pass reads the visibility just written.
+        Ok(_) => ctx
+            .command_encoder()
+            .copy_buffer_to_buffer(&full, 0, &table, 0, size),
+        // The lights are shaded unshadowed in this camera this frame.
         Err(e) => {
-            state.active = false;
-            let message = format!("penumbra: {e}");
+            let message = format!("penumbra: camera {}: {e}", view.main_entity);
+            view.prepared = false;
+            ctx.command_encoder()
+                .copy_buffer_to_buffer(&empty, 0, &table, 0, size);
             state.log_once(message);
         }
     }

@@ -49,6 +49,32 @@ pub fn default_plugins(window: bool) -> bevy::app::PluginGroupBuilder {
 #[derive(Resource, Clone, Default)]
 pub struct Captured(pub Arc<Mutex<Option<Vec<u8>>>>);
 
+/// Another render target with a read-back of its own (a second camera's).
+pub struct Target {
+    pub image: Handle<Image>,
+    pub size: UVec2,
+    captured: Captured,
+}
+
+/// A target image of `size` that is read back every frame into `captured`.
+fn readback_target(app: &mut App, size: UVec2) -> (Handle<Image>, Captured) {
+    assert!(
+        size.x % 64 == 0,
+        "rows are read back padded to 256 bytes: use a width that is a multiple of 64"
+    );
+    let mut image = Image::new_target_texture(size.x, size.y, TextureFormat::Rgba8UnormSrgb, None);
+    image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
+    let target = app.world_mut().resource_mut::<Assets<Image>>().add(image);
+    let captured = Captured::default();
+    let sink = captured.clone();
+    app.world_mut()
+        .spawn(Readback::texture(target.clone()))
+        .observe(move |event: On<ReadbackComplete>| {
+            *sink.0.lock().unwrap() = Some(event.data.clone());
+        });
+    (target, captured)
+}
+
 /// A headless app: everything the caller adds renders through a camera into `target`.
 pub struct Headless {
     pub app: App,
@@ -60,10 +86,6 @@ pub struct Headless {
 impl Headless {
     /// An app with the default plugins (no window) and `plugins`, ready to update.
     pub fn new(size: UVec2, add: impl FnOnce(&mut App)) -> Self {
-        assert!(
-            size.x % 64 == 0,
-            "rows are read back padded to 256 bytes: use a width that is a multiple of 64"
-        );
         let mut app = App::new();
         app.add_plugins(default_plugins(false));
         add(&mut app);
@@ -72,16 +94,7 @@ impl Headless {
         }
         app.finish();
         app.cleanup();
-        let mut image = Image::new_target_texture(size.x, size.y, TextureFormat::Rgba8UnormSrgb, None);
-        image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
-        let target = app.world_mut().resource_mut::<Assets<Image>>().add(image);
-        let captured = Captured::default();
-        let sink = captured.clone();
-        app.world_mut().spawn(Readback::texture(target.clone())).observe(
-            move |event: On<ReadbackComplete>| {
-                *sink.0.lock().unwrap() = Some(event.data.clone());
-            },
-        );
+        let (target, captured) = readback_target(&mut app, size);
         Self {
             app,
             target,
@@ -126,25 +139,48 @@ impl Headless {
 
     /// Runs `frames` updates and returns the last frame read back.
     pub fn render(&mut self, frames: u32) -> image::RgbaImage {
-        *self.captured.0.lock().unwrap() = None;
+        self.render_all(frames, &[]).0
+    }
+
+    /// Another target of `size`, for a camera of the caller's, read back by [`Headless::render_all`].
+    pub fn add_target(&mut self, size: UVec2) -> Target {
+        let (image, captured) = readback_target(&mut self.app, size);
+        Target {
+            image,
+            size,
+            captured,
+        }
+    }
+
+    /// Runs `frames` updates and returns the last frame read back from the main target and
+    /// from each of `others`.
+    pub fn render_all(
+        &mut self,
+        frames: u32,
+        others: &[&Target],
+    ) -> (image::RgbaImage, Vec<image::RgbaImage>) {
+        let all: Vec<(&Captured, UVec2)> = std::iter::once((&self.captured, self.size))
+            .chain(others.iter().map(|t| (&t.captured, t.size)))
+            .collect();
+        for (captured, _) in &all {
+            *captured.0.lock().unwrap() = None;
+        }
         for _ in 0..frames {
             self.app.update();
         }
-        // The read-back arrives a frame or two later.
+        // The read-backs arrive a frame or two later.
         for _ in 0..8 {
-            if self.captured.0.lock().unwrap().is_some() {
+            if all.iter().all(|(c, _)| c.0.lock().unwrap().is_some()) {
                 break;
             }
             self.app.update();
         }
-        let data = self
-            .captured
-            .0
-            .lock()
-            .unwrap()
-            .take()
-            .expect("no frame was read back");
-        image::RgbaImage::from_raw(self.size.x, self.size.y, data).expect("a frame of the target's size")
+        let mut images = all.iter().map(|(captured, size)| {
+            let data = captured.0.lock().unwrap().take().expect("no frame was read back");
+            image::RgbaImage::from_raw(size.x, size.y, data).expect("a frame of the target's size")
+        });
+        let main = images.next().expect("the main target");
+        (main, images.collect())
     }
 }
 
