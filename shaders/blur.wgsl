@@ -323,10 +323,11 @@ fn fs_classify(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
     return select(0.0, 1.0, mask > 0.0);
 }
 
-// The compute path, one light. The horizontal axis: one invocation per pixel of the listed
-// tiles (`common/tile_list.wgsl`) where the distance map's classification says a shadow can
-// fall (the fixed blur: every tile, every pixel), into `blur_out`; the other pixels keep what
-// it was cleared to (1).
+// The compute path, one light. Either axis (the uniform's): one invocation per pixel of the
+// listed tiles (`common/tile_list.wgsl`) where the distance map's classification says a shadow
+// can fall (the fixed blur: every tile, every pixel), into `blur_out`; the other pixels keep
+// what they held (the horizontal axis's target was cleared to 1; the vertical axis's, the PCF's
+// visibility, is read by the copy only where this pass wrote).
 @group(2) @binding(1) var blur_out: texture_storage_2d<r32float, write>;
 
 @compute @workgroup_size(16, 16)
@@ -338,19 +339,20 @@ fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gro
     textureStore(blur_out, pixel, vec4<f32>(blur_all(vec2<f32>(pixel) + 0.5).x));
 }
 
-// The vertical axis, which writes the engine's render target (a layer of the visibility
-// array) and so stays a draw: the listed tiles' quads (`vs_listed_tile`), 1 where no shadow
-// can fall.
+// The result into the light's layer, which is the engine's render target and so is drawn:
+// the listed tiles' quads (`vs_listed_tile`), one load a pixel of what the vertical axis wrote
+// (bound as `source`), 1 where no shadow can fall.
 @fragment
-fn fs_listed(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+fn fs_listed_copy(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let pixel = vec2<i32>(frag.xy);
     // After the distance map: where it says no shadow falls. The fixed blur (over every tile):
     // where no receiver is, as the resolve would.
     if FIXED_STEP {
-        if !receives(vec2<i32>(frag.xy)) {
+        if !receives(pixel) {
             return vec4<f32>(1.0);
         }
-    } else if textureLoad(distance0, vec2<i32>(frag.xy), 0).z <= 0.0 {
+    } else if textureLoad(distance0, pixel, 0).z <= 0.0 {
         return vec4<f32>(1.0);
     }
-    return vec4<f32>(blur_all(frag.xy).x);
+    return vec4<f32>(textureLoad(source, pixel, 0).x);
 }

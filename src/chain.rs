@@ -33,8 +33,8 @@ pub enum Chain {
         /// The blur has more than one tap.
         blur: bool,
         /// The screen-space passes run as compute passes over a list of the screen tiles a
-        /// shadow can reach (the blur's vertical axis, which writes the light's layer, as a
-        /// draw of those tiles); otherwise as draws
+        /// shadow can reach (the copy of the blurred result into the light's layer, which is
+        /// a render target, as a draw of those tiles); otherwise as draws
         /// ([`crate::PenumbraSettings::fragment_passes`]).
         compute: bool,
     },
@@ -43,8 +43,8 @@ pub enum Chain {
     FixedPcf {
         /// The blur has more than one tap.
         blur: bool,
-        /// PCF and the blur's horizontal axis are compute passes over the screen, and the
-        /// blur's vertical axis writes the light's layer (else draws).
+        /// PCF and both axes of the blur are compute passes over the screen, and a draw copies
+        /// the result into the light's layer (else draws).
         compute: bool,
     },
     /// [`ShadowMethod::Pcss`]: PCSS, a resolve.
@@ -126,7 +126,7 @@ impl Chain {
 
     /// The screen-space passes run as compute passes (the distance-map method's over a tile
     /// list, the others' over the screen); the writes into the light's layer (the resolve, the
-    /// blur's vertical axis) stay draws.
+    /// blur's copy of its result) stay draws.
     pub fn compute(&self) -> bool {
         matches!(
             self,

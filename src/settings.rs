@@ -276,8 +276,8 @@ pub struct PenumbraSettings {
     /// the device has compute shaders they are compute passes, the distance-map method's over a
     /// list of the 16 x 16 pixel screen tiles a shadow can reach (it then costs what those
     /// tiles do; on a GPU, fragment work costs many times the same work in compute), the
-    /// baselines' over the screen; the writes into the light's layer (the resolve, the blur's
-    /// vertical axis over the listed tiles) stay draws. Batched blurs ([`Self::batch_lights`])
+    /// baselines' over the screen; the writes into the light's layer (the resolve, the copy of
+    /// the blur's result over the listed tiles) stay draws. Batched blurs ([`Self::batch_lights`])
     /// and [`Self::reduced_resolution`] are draws only: either turns the draws on for the
     /// distance-map method, as does a device without compute shaders (WebGL 2, wgpu's GL
     /// backend).

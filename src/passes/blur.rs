@@ -417,26 +417,32 @@ impl BlurPass {
     }
 }
 
-/// The blur of the compute path, one light, over the distance map's listed tiles: the
-/// horizontal axis a compute pass (`cs_main` in `shaders/blur.wgsl`) into a texture of its own
-/// (R32F, cleared to 1 first), the vertical axis a draw of the listed tiles' quads
-/// (`fs_listed`) into the light's layer (cleared to 1), which is the engine's render target
-/// and so stays a draw. Both read the variable PCF's deviations and the distance map's
-/// classification (B); the values are read linearly between texels by two loads. Its texture
-/// is given at [`Self::bind`]: the lights share it ([`crate::chain::ComputeTargets`]).
+/// The blur of the compute path, one light, over the distance map's listed tiles (or every
+/// tile for the fixed blur): both axes are compute passes (`cs_main` in `shaders/blur.wgsl`),
+/// the horizontal one from the PCF's visibility into a texture of its own (R32F, cleared to 1
+/// first), the vertical one from there back into the PCF's visibility, which the horizontal
+/// axis has finished reading (the indirect attenuation applied). The light's layer is the
+/// engine's render target, so a draw of the listed tiles' quads (`fs_listed_copy`: one load a
+/// pixel, 1 where no shadow can fall) copies the result into it. Both axes read the variable
+/// PCF's deviations and the distance map's classification (B); the values are read linearly
+/// between texels by two loads. Its textures are given at [`Self::bind`]: the lights share
+/// them ([`crate::chain::ComputeTargets`]).
 pub(crate) struct BlurCompute {
     switches: BlurSwitches,
     layout: wgpu::BindGroupLayout,
     out_layout: wgpu::BindGroupLayout,
-    horizontal: wgpu::ComputePipeline,
-    vertical: wgpu::RenderPipeline,
+    /// Both axes (the axis uniform says which).
+    axes: wgpu::ComputePipeline,
+    /// The result into the light's layer.
+    copy: wgpu::RenderPipeline,
     sampler: wgpu::Sampler,
     axis_buffers: [wgpu::Buffer; 2],
     axis_groups: [wgpu::BindGroup; 2],
     /// The horizontal axis's result, as bound.
     temp: Option<wgpu::TextureView>,
-    /// The horizontal axis's inputs and output, the vertical axis's inputs.
-    bind_groups: Option<[wgpu::BindGroup; 3]>,
+    /// The horizontal axis's inputs and output, the vertical axis's inputs and output (the
+    /// copy reads what the horizontal axis read: the PCF's visibility, blurred by then).
+    bind_groups: Option<[wgpu::BindGroup; 4]>,
 }
 
 impl BlurCompute {
@@ -485,9 +491,9 @@ impl BlurCompute {
             ("LIGHTS", 1.0),
             ("COMPUTE_PATH", 1.0),
         ];
-        let horizontal = super::compute_pipeline(
+        let axes = super::compute_pipeline(
             device,
-            "BlurCompute::horizontal",
+            "BlurCompute::axes",
             &shader,
             &[
                 Some(&layout),
@@ -498,15 +504,15 @@ impl BlurCompute {
             "cs_main",
             &constants,
         );
-        let vertical = Fullscreen {
-            label: "BlurCompute::vertical",
+        let copy = Fullscreen {
+            label: "BlurCompute::copy",
             shader: &shader,
             bind_group_layouts: &[Some(&layout), Some(&axis_layout), None, Some(&list_layout)],
             targets: &[Some(VISIBILITY_FORMAT.into())],
             depth: None,
             constants: &constants,
         }
-        .pipeline_with(device, "vs_listed_tile", "fs_listed");
+        .pipeline_with(device, "vs_listed_tile", "fs_listed_copy");
         let axis_buffers = ["BlurCompute::horizontal", "BlurCompute::vertical"]
             .map(|label| crate::gpu_helpers::uniform_buffer(device, label, size_of::<BlurUniform>() as u64));
         let axis_groups =
@@ -515,8 +521,8 @@ impl BlurCompute {
             switches,
             layout,
             out_layout,
-            horizontal,
-            vertical,
+            axes,
+            copy,
             sampler: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("BlurCompute::sampler"),
                 ..Default::default()
@@ -534,7 +540,8 @@ impl BlurCompute {
 
     /// Points the pass at its inputs: `pcf` the variable PCF's visibility and deviations,
     /// `distance_map` the compute path's, `dummy` for the other lights' slots; the horizontal
-    /// axis writes `temp` ([`Self::FORMAT`], the screen's size).
+    /// axis writes `temp` ([`Self::FORMAT`], the screen's size), the vertical one `visibility`
+    /// (a storage texture of that format).
     pub(crate) fn bind(
         &mut self,
         device: &wgpu::Device,
@@ -562,15 +569,17 @@ impl BlurCompute {
             ];
             super::bind_group(device, "BlurCompute::bind_group", &self.layout, &resources)
         };
-        let out = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("BlurCompute::out"),
-            layout: &self.out_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::TextureView(temp),
-            }],
-        });
-        self.bind_groups = Some([group(visibility), out, group(temp)]);
+        let out = |target: &wgpu::TextureView| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("BlurCompute::out"),
+                layout: &self.out_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(target),
+                }],
+            })
+        };
+        self.bind_groups = Some([group(visibility), out(temp), group(temp), out(visibility)]);
         self.temp = Some(temp.clone());
     }
 
@@ -579,31 +588,40 @@ impl BlurCompute {
         write_axes(queue, &self.axis_buffers, params, true);
     }
 
-    /// Records both axes over `tiles`, the vertical one into `layer`.
+    /// Records both axes over `tiles`, and the copy of the result into `layer`.
     pub(crate) fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         tiles: super::TileList,
         layer: &wgpu::TextureView,
     ) {
-        let (Some([horizontal, out, vertical]), Some(temp)) = (&self.bind_groups, &self.temp) else {
+        let (Some([horizontal, to_temp, vertical, to_visibility]), Some(temp)) =
+            (&self.bind_groups, &self.temp)
+        else {
             return;
         };
         super::clear_target(encoder, "BlurCompute::clear", temp, wgpu::Color::WHITE);
         tiles.dispatch(
             encoder,
             "BlurCompute::horizontal",
-            &self.horizontal,
-            &[Some(horizontal), Some(&self.axis_groups[0]), Some(out)],
+            &self.axes,
+            &[Some(horizontal), Some(&self.axis_groups[0]), Some(to_temp)],
+        );
+        tiles.dispatch(
+            encoder,
+            "BlurCompute::vertical",
+            &self.axes,
+            &[Some(vertical), Some(&self.axis_groups[1]), Some(to_visibility)],
         );
         let mut pass = super::begin_pass(
             encoder,
-            "BlurCompute::vertical",
+            "BlurCompute::copy",
             &[super::cleared(layer, wgpu::Color::WHITE)],
             None,
         );
-        pass.set_pipeline(&self.vertical);
-        pass.set_bind_group(0, vertical, &[]);
+        pass.set_pipeline(&self.copy);
+        // The horizontal axis's inputs: the PCF's visibility, which now holds the result.
+        pass.set_bind_group(0, horizontal, &[]);
         pass.set_bind_group(1, &self.axis_groups[1], &[]);
         tiles.draw(&mut pass);
     }

@@ -19,10 +19,10 @@
 //! The compute path (the default where the device has compute shaders,
 //! [`crate::PenumbraSettings::fragment_passes`]): `TileListPass` (`cs_classify` in
 //! `shaders/tile_classify.wgsl`) lists the 16 x 16 tiles the distance-map method's shadows can
-//! reach and writes indirect arguments; `DistanceMapCompute`, `VariablePcfCompute` and
-//! `BlurCompute`'s horizontal axis (`cs_main` in their shaders) run over that list
-//! (`shaders/common/tile_list.wgsl`), and the blur's vertical axis draws the listed tiles'
-//! quads into the light's layer. [`PcfPass`] and [`PcssPass`] run `cs_main` over the screen
+//! reach and writes indirect arguments; `DistanceMapCompute`, `VariablePcfCompute` and both
+//! axes of `BlurCompute` (`cs_main` in their shaders) run over that list
+//! (`shaders/common/tile_list.wgsl`), and a draw of the listed tiles' quads copies the blurred
+//! result into the light's layer (one load a pixel). [`PcfPass`] and [`PcssPass`] run `cs_main` over the screen
 //! ([`ScreenPipeline`]). Their screen-sized outputs are the lights' shared
 //! `chain::ComputeTargets`.
 
