@@ -43,7 +43,10 @@ use bevy::pbr::MaterialPlugin;
 use bevy::prelude::*;
 use bevy::render::RenderApp;
 
-pub use material::{KeepStandardMaterial, PenumbraMaterial, PenumbraShading};
+pub use material::{
+    KeepStandardMaterial, PenumbraBindings, PenumbraMaterial, PenumbraMaterialPlugin, PenumbraShading,
+    PenumbraTargets,
+};
 pub use penumbra::{Quality, ShadowMethod, ShadowSettings};
 
 /// Adds penumbra's soft shadows to every camera with a [`PenumbraCamera`].
@@ -100,6 +103,8 @@ pub struct PenumbraLightSize(pub f32);
 
 impl Plugin for PenumbraPlugin {
     fn build(&self, app: &mut App) {
+        // The shadows' WESL module, which `PenumbraMaterial` and an app's own materials import.
+        bevy::shader::load_shader_library!(app, "shaders/shadows.wesl");
         embedded_asset!(app, "shaders/penumbra_material.wesl");
         let diagnostics = PenumbraDiagnostics::default();
         app.insert_resource(diagnostics.clone());

@@ -2,7 +2,7 @@
 //! `StandardMaterial`s to it.
 
 use bevy::asset::RenderAssetUsages;
-use bevy::pbr::{ExtendedMaterial, MaterialExtension};
+use bevy::pbr::{ExtendedMaterial, Material, MaterialExtension};
 use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 use bevy::render::render_resource::{
@@ -61,6 +61,78 @@ pub(crate) struct GpuLights {
 pub(crate) const KIND_DIRECTIONAL: u32 = 0;
 pub(crate) const KIND_SPOT: u32 = 1;
 pub(crate) const KIND_POINT: u32 = 2;
+
+/// A material of the app's own whose fragment shader reads penumbra's shadows, through the
+/// WESL module `penumbra_bevy::shaders::shadows` (`apply_shadows`, `directional_visibility`,
+/// `clustered_visibility`; see `docs/bevy.md`, "Custom materials"). The material declares the
+/// two bindings that module reads, and [`PenumbraMaterialPlugin`] keeps them pointed at
+/// penumbra's textures:
+///
+/// ```ignore
+/// #[derive(Asset, AsBindGroup, Reflect, Debug, Clone)]
+/// struct MyExtension {
+///     // penumbra's (the module's bindings 100 and 101):
+///     #[texture(100, dimension = "2d_array", sample_type = "float", filterable = false)]
+///     visibility: Handle<Image>,
+///     #[storage(101, read_only)]
+///     lights: Handle<ShaderBuffer>,
+///     // the material's own, from 102 on.
+/// }
+/// ```
+///
+/// For an `ExtendedMaterial<B, E>`, implement it for the extension `E`.
+pub trait PenumbraBindings: Asset {
+    /// The visibility array the material's binding 100 holds now.
+    fn penumbra_visibility(&self) -> &Handle<Image>;
+    /// Points bindings 100 (the visibility array) and 101 (the light table) at penumbra's.
+    fn set_penumbra_bindings(&mut self, visibility: Handle<Image>, lights: Handle<ShaderBuffer>);
+}
+
+impl<B: Material, E: MaterialExtension + PenumbraBindings> PenumbraBindings for ExtendedMaterial<B, E> {
+    fn penumbra_visibility(&self) -> &Handle<Image> {
+        self.extension.penumbra_visibility()
+    }
+
+    fn set_penumbra_bindings(&mut self, visibility: Handle<Image>, lights: Handle<ShaderBuffer>) {
+        self.extension.set_penumbra_bindings(visibility, lights);
+    }
+}
+
+/// Keeps every material of type `M` pointed at penumbra's visibility and light table (set on
+/// each new material, and again when the visibility array is made anew for a new target
+/// size). Add it beside `MaterialPlugin::<M>` and [`crate::PenumbraPlugin`].
+pub struct PenumbraMaterialPlugin<M>(std::marker::PhantomData<M>);
+
+impl<M> Default for PenumbraMaterialPlugin<M> {
+    fn default() -> Self {
+        Self(std::marker::PhantomData)
+    }
+}
+
+impl<M: PenumbraBindings> Plugin for PenumbraMaterialPlugin<M> {
+    fn build(&self, app: &mut App) {
+        app.add_systems(PostUpdate, bind_targets::<M>.after(fit_targets));
+    }
+}
+
+/// Points the materials of type `M` whose visibility binding is not penumbra's current one at
+/// penumbra's textures.
+fn bind_targets<M: PenumbraBindings>(
+    targets: Option<Res<PenumbraTargets>>,
+    mut materials: ResMut<Assets<M>>,
+) {
+    let Some(targets) = targets else { return };
+    let stale: Vec<AssetId<M>> = materials
+        .iter()
+        .filter(|(_, material)| material.penumbra_visibility() != &targets.visibility)
+        .map(|(id, _)| id)
+        .collect();
+    for id in stale {
+        if let Some(mut material) = materials.get_mut(id) {
+            material.set_penumbra_bindings(targets.visibility.clone(), targets.lights.clone());
+        }
+    }
+}
 
 /// An entity whose `StandardMaterial` the plugin leaves as it is (it then gets Bevy's own
 /// shadows for the lights penumbra does not shade, and none from those it does).

@@ -23,14 +23,21 @@ struct Scene {
     headless: Headless,
     camera: Entity,
     box_entity: Entity,
+    plane: Entity,
 }
 
 /// A grey plane, a red box whose bottom is 1.5 above it, `light`, and a camera looking down.
 /// With `extra_attributes` the box's mesh also has vertex colours and a second UV set (a
 /// wider vertex layout than Bevy's primitives).
 fn box_above_plane(light: impl Bundle, extra_attributes: bool) -> Scene {
+    box_above_plane_with(light, extra_attributes, |_| {})
+}
+
+/// [`box_above_plane`] in an app that `add` adds plugins to.
+fn box_above_plane_with(light: impl Bundle, extra_attributes: bool, add: impl FnOnce(&mut App)) -> Scene {
     let mut headless = Headless::new(SIZE, |app| {
         app.add_plugins(PenumbraPlugin);
+        add(app);
     });
     let world = headless.app.world_mut();
     world.insert_resource(GlobalAmbientLight {
@@ -61,7 +68,7 @@ fn box_above_plane(light: impl Bundle, extra_attributes: bool) -> Scene {
             ..default()
         });
     let red = red(world);
-    world.spawn((Mesh3d(plane), MeshMaterial3d(grey)));
+    let plane = world.spawn((Mesh3d(plane), MeshMaterial3d(grey))).id();
     let box_entity = world
         .spawn((
             Mesh3d(cube),
@@ -84,6 +91,7 @@ fn box_above_plane(light: impl Bundle, extra_attributes: bool) -> Scene {
         headless,
         camera,
         box_entity,
+        plane,
     }
 }
 
@@ -999,4 +1007,66 @@ fn split_screen_cameras_each_shade_their_viewport() {
             100.0 * differ
         );
     }
+}
+
+/// A material of the app's own (`examples/common/tinted.rs`: an `ExtendedMaterial` whose WESL
+/// shader imports `penumbra_bevy::shaders::shadows`) on the plane. Lit, through
+/// `apply_shadows`: the frame is `PenumbraMaterial`'s. Unlit, darkened by
+/// `directional_visibility`: the shadow lies where `PenumbraMaterial`'s does, as dark.
+#[test]
+fn a_custom_material_reads_penumbras_shadows() {
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let light = || sun(4.0);
+    // PenumbraMaterial's frame and shadow, in an app of their own (dropped before the next).
+    let (standard, standard_darkness) = {
+        let mut reference = box_above_plane(light(), false);
+        let with_box = reference.headless.render(6);
+        reference.headless.app.world_mut().despawn(reference.box_entity);
+        let empty = reference.headless.render(6);
+        let darkness = darkness(&with_box, &empty);
+        (with_box, darkness)
+    };
+    assert!(shadowed_plane_pixels(&standard) > 300, "no shadow to compare");
+
+    let mut scene = box_above_plane_with(light(), false, |app| {
+        app.add_plugins(common::tinted::TintedPlugin);
+    });
+    let mut frames = Vec::new();
+    for unlit in [false, true] {
+        let world = scene.headless.app.world_mut();
+        let material =
+            world
+                .resource_mut::<Assets<common::tinted::Tinted>>()
+                .add(bevy::pbr::ExtendedMaterial {
+                    base: StandardMaterial {
+                        base_color: Color::srgb(0.7, 0.7, 0.7),
+                        perceptual_roughness: 1.0,
+                        ..default()
+                    },
+                    extension: common::tinted::Tint::new(Vec3::ONE, unlit),
+                });
+        let mut plane = world.entity_mut(scene.plane);
+        plane.remove::<MeshMaterial3d<StandardMaterial>>();
+        plane.remove::<MeshMaterial3d<penumbra_bevy::PenumbraMaterial>>();
+        plane.insert(MeshMaterial3d(material));
+        frames.push(scene.headless.render(6));
+    }
+    save("custom_material_lit.png", &frames[0]);
+    save("custom_material_unlit.png", &frames[1]);
+    let messages = scene.messages();
+    assert!(messages.is_empty(), "the plugin reported {messages:?}");
+
+    // Lit: PenumbraMaterial's frame, shadow included.
+    let differ = differing(&frames[0], UVec2::ZERO, &standard);
+    println!(
+        "lit: {:.3}% of the pixels differ from PenumbraMaterial's frame",
+        100.0 * differ
+    );
+    assert!(differ < 0.002, "lit: {:.2}% of the pixels differ", 100.0 * differ);
+
+    // Unlit: each plane pixel's darkness is 1 - visibility, where PenumbraMaterial's is.
+    scene.headless.app.world_mut().despawn(scene.box_entity);
+    let unlit_empty = scene.headless.render(6);
+    let ours = darkness(&frames[1], &unlit_empty);
+    like_bevys("unlit custom material", &ours, &standard_darkness);
 }

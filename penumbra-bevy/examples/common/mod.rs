@@ -3,6 +3,8 @@
 
 #![allow(dead_code)]
 
+pub mod tinted;
+
 use std::sync::{Arc, Mutex};
 
 use bevy::app::PluginsState;
@@ -188,6 +190,10 @@ impl Headless {
 #[derive(Component)]
 pub struct Moving;
 
+/// The examples' scene's floor.
+#[derive(Component)]
+pub struct Floor;
+
 /// The examples' scene: a floor, a column, an arch, a sphere and a moving box under a sun
 /// (3 degrees), a spot (radius 0.25) and a point light (radius 0.2).
 pub fn spawn_scene(
@@ -207,6 +213,7 @@ pub fn spawn_scene(
     commands.spawn((
         Mesh3d(meshes.add(Plane3d::default().mesh().size(20.0, 20.0))),
         MeshMaterial3d(materials.add(matte(Color::srgb(0.75, 0.74, 0.70)))),
+        Floor,
     ));
     commands.spawn((
         Mesh3d(meshes.add(Cylinder::new(0.35, 3.0))),
