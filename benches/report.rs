@@ -1188,11 +1188,12 @@ fn write_report(
     writeln!(md, "# penumbra benchmark ({} mode)\n", config.mode)?;
     writeln!(
         md,
-        "Device: {device}. Frames: {} after {} warm-up, light turning 0.01 degrees per frame so every pass runs. \
+        "Device: {device}. Frames: {} after {} warm-up (more where those took under {} ms: a GPU raises its clock under sustained load), light turning 0.01 degrees per frame so every pass runs. \
          Errors against a {}-sample reference at {}x{}. Frame times are {}. Software adapters' absolute \
          times mean little; the ratios, measured in one run, do.\n",
         config.frames,
         config.warmup,
+        penumbra::WARMUP_MIN_MS,
         config.reference_samples,
         config.metric_size.0,
         config.metric_size.1,

@@ -151,7 +151,9 @@ pub use loaders::load_model;
 pub use map_resolution::PenumbraWidths;
 pub use passes::VISIBILITY_FORMAT;
 #[cfg(feature = "renderer")]
-pub use renderer::{FrameReport, PassPlan, Renderer, render_to_image, render_to_image_with_progress};
+pub use renderer::{
+    FrameReport, PassPlan, Renderer, WARMUP_MIN_MS, render_to_image, render_to_image_with_progress,
+};
 #[cfg(feature = "renderer")]
 pub use scene::SceneFile;
 #[cfg(feature = "renderer")]
