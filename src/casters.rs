@@ -82,25 +82,34 @@ impl<'a> IndexStream<'a> {
 
 /// Which casters a light-space draw takes.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum Cull {
-    /// Every caster.
-    None,
-    /// Those whose world box, grown by `margin` (how far a pass pushes vertices out), reaches
-    /// into the clip volume of `view_projection`: one cascade or cube face.
-    Outside { view_projection: Mat4, margin: f32 },
+pub(crate) struct Cull {
+    /// `Some((view_projection, margin))`: those whose world box, grown by `margin` (how far a
+    /// pass pushes vertices out), reaches into the clip volume of `view_projection` (one
+    /// cascade or cube face); `None`: wherever they are.
+    pub clip: Option<(Mat4, f32)>,
+    /// Those with a layer in common with these ([`Casters::set_layers`],
+    /// [`crate::Shadows::set_light_layers`]).
+    pub layers: u32,
 }
 
 impl Cull {
-    fn keeps(&self, bounds: &Aabb) -> bool {
-        match self {
-            Cull::None => true,
-            Cull::Outside {
-                view_projection,
-                margin,
-            } => crate::light_space::box_reaches_clip(view_projection, bounds, *margin),
-        }
+    /// Every caster.
+    pub const ALL: Cull = Cull {
+        clip: None,
+        layers: ALL_LAYERS,
+    };
+
+    fn keeps(&self, record: &InstanceRecord) -> bool {
+        record.layers & self.layers != 0
+            && self.clip.is_none_or(|(view_projection, margin)| {
+                crate::light_space::box_reaches_clip(&view_projection, &record.world_bounds, margin)
+            })
     }
 }
+
+/// Every layer: what an instance and a light are on until set otherwise
+/// ([`Casters::set_layers`], [`crate::Shadows::set_light_layers`]).
+pub const ALL_LAYERS: u32 = u32::MAX;
 
 /// The boxes of what one light can see ([`Casters::seen_by`]).
 #[derive(Default)]
@@ -332,6 +341,8 @@ struct InstanceRecord {
     offset: u32,
     world_bounds: Aabb,
     alpha: Option<InstanceAlpha>,
+    /// The layers it casts on ([`Casters::set_layers`]).
+    layers: u32,
 }
 
 /// How many changes the log keeps; a light that last looked further back re-renders.
@@ -834,6 +845,7 @@ impl Casters {
             offset: slot * self.stride,
             world_bounds: local.transformed(&instance.transform),
             alpha,
+            layers: ALL_LAYERS,
         };
         self.log_change(record.world_bounds);
         self.write(queue, &record);
@@ -878,6 +890,26 @@ impl Casters {
         self.log_change(bounds);
         self.write(queue, self.record(id)?);
         Ok(())
+    }
+
+    /// Puts an instance on `layers` (a bit mask; [`ALL_LAYERS`] when added): it casts shadows
+    /// only from the lights with a layer in common ([`crate::Shadows::set_light_layers`]),
+    /// as render layers (Bevy's `RenderLayers`) keep a light's shadows to some meshes. 0 casts
+    /// for no light. The lights whose maps it reaches draw them again.
+    pub fn set_layers(&mut self, id: InstanceId, layers: u32) -> Result<()> {
+        let record = self.record_mut(id)?;
+        if record.layers == layers {
+            return Ok(());
+        }
+        record.layers = layers;
+        let bounds = record.world_bounds;
+        self.log_change(bounds);
+        Ok(())
+    }
+
+    /// The layers an instance casts on ([`Casters::set_layers`]).
+    pub fn layers(&self, id: InstanceId) -> Result<u32> {
+        self.record(id).map(|r| r.layers)
     }
 
     /// Removes an instance.
@@ -1016,7 +1048,7 @@ impl Casters {
         pipeline: impl Fn(DrawLayout) -> Option<&'p wgpu::RenderPipeline>,
     ) {
         let mut current: Option<DrawLayout> = None;
-        for (mesh, record) in self.draws(streams).filter(|(_, r)| cull.keeps(&r.world_bounds)) {
+        for (mesh, record) in self.draws(streams).filter(|(_, r)| cull.keeps(r)) {
             let layout = draw_layout(mesh, record, streams);
             if current != Some(layout) {
                 let Some(p) = pipeline(layout) else { continue };

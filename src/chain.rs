@@ -296,7 +296,8 @@ impl LightMaps {
     }
 
     /// Uploads the light's fit (and fatten distance) for the next draw, which redraws only the
-    /// tiles (cascades, cube faces) whose bit is set in `tiles`.
+    /// tiles (cascades, cube faces) whose bit is set in `tiles` and draws only the casters on
+    /// `layers`.
     pub fn prepare(
         &mut self,
         device: &wgpu::Device,
@@ -305,13 +306,14 @@ impl LightMaps {
         light_view: &LightView,
         fatten_distance: f32,
         tiles: u32,
+        layers: u32,
     ) {
-        self.shadow.prepare(device, queue, casters, light_view);
+        self.shadow.prepare(device, queue, casters, light_view, layers);
         self.shadow.redraw_only(tiles);
         if let Some((fattened, exit)) = &mut self.fattened {
-            fattened.prepare(device, queue, casters, light_view, fatten_distance);
+            fattened.prepare(device, queue, casters, light_view, fatten_distance, layers);
             fattened.redraw_only(tiles);
-            exit.prepare(device, queue, casters, light_view);
+            exit.prepare(device, queue, casters, light_view, layers);
             exit.redraw_only(tiles);
         }
     }

@@ -305,7 +305,7 @@ impl GroundTruth {
                 let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("reference: sample"),
                 });
-                shadow_map.prepare(device, queue, casters, &view);
+                shadow_map.prepare(device, queue, casters, &view, crate::casters::ALL_LAYERS);
                 shadow_map.encode(&mut encoder, casters);
                 pass.accumulate(&mut encoder, queue, &view, &Emitter::of(light));
                 queue.submit([encoder.finish()]);

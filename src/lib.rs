@@ -132,8 +132,8 @@ pub mod timing;
 pub mod view;
 
 pub use casters::{
-    AlphaMask, CasterInstance, CasterMeshDesc, Casters, IndexStream, InstanceId, MeshGeometry, MeshId,
-    VertexStream,
+    ALL_LAYERS, AlphaMask, CasterInstance, CasterMeshDesc, Casters, IndexStream, InstanceId, MeshGeometry,
+    MeshId, VertexStream,
 };
 pub use device::{DeviceLoss, device_descriptor, instance_flags};
 pub use error::{PenumbraError, Result};

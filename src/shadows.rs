@@ -144,6 +144,8 @@ struct ShadowKey {
     light_view: [glam::Mat4; MAX_TILES + 1],
     shadow_map: ShadowMapSettings,
     fatten_distance: Option<f32>,
+    /// The casters' layers it draws ([`Shadows::set_light_layers`]).
+    layers: u32,
 }
 
 /// What [`Shadows::prepare`] decided for one light, for [`Shadows::encode`].
@@ -182,6 +184,8 @@ struct LightState {
     map_level: u32,
     /// The penumbra widths last measured, and whether the level has taken them yet.
     widths: Option<(PenumbraWidths, bool)>,
+    /// The layers whose casters it draws ([`Shadows::set_light_layers`]).
+    layers: u32,
 }
 
 /// The engine's depth and receiver mask as bound.
@@ -425,6 +429,20 @@ impl Shadows {
         light.validate()?;
         self.state_mut(id)?.light = light;
         Ok(())
+    }
+
+    /// Keeps light `id`'s shadows to the casters on `layers` (a bit mask: those with a layer in
+    /// common, [`crate::Casters::set_layers`]); [`crate::ALL_LAYERS`] when added. As with render
+    /// layers (Bevy's `RenderLayers`), the other casters cast no shadow from it. Its maps are
+    /// re-rendered next frame.
+    pub fn set_light_layers(&mut self, id: LightId, layers: u32) -> Result<()> {
+        self.state_mut(id)?.layers = layers;
+        Ok(())
+    }
+
+    /// The layers whose casters light `id` shadows ([`Shadows::set_light_layers`]).
+    pub fn light_layers(&self, id: LightId) -> Result<u32> {
+        self.state(id).map(|s| s.layers)
     }
 
     /// Removes a light; its layer keeps its last content until the slot is reused.
@@ -677,6 +695,7 @@ impl Shadows {
                     light_view: light_view.map_matrices(),
                     shadow_map: sm,
                     fatten_distance: chain.fattened_map().then_some(spreads.fatten_distance),
+                    layers: state.layers,
                 };
                 let margin = spreads.fatten_distance * 2.0;
                 let tiles = redrawn_tiles(
@@ -697,6 +716,7 @@ impl Shadows {
                         &light_view,
                         spreads.fatten_distance,
                         tiles,
+                        state.layers,
                     );
                 }
                 state.screen.prepare(queue, &params);
@@ -1159,6 +1179,7 @@ impl LightState {
             bound: None,
             key: None,
             drawn_with: None,
+            layers: crate::casters::ALL_LAYERS,
             seen_revision: 0,
             planned: None,
             report: None,
@@ -1320,7 +1341,8 @@ fn redrawn_tiles(
     let same_but_windows = old.casters == key.casters
         && old.light == key.light
         && old.shadow_map == key.shadow_map
-        && old.fatten_distance == key.fatten_distance;
+        && old.fatten_distance == key.fatten_distance
+        && old.layers == key.layers;
     if !same_but_windows {
         return all;
     }

@@ -394,6 +394,70 @@ fn a_posed_mesh_moves_its_shadow_when_its_new_vertices_are_given() {
 }
 
 #[test]
+fn a_caster_casts_only_for_the_lights_it_shares_a_layer_with() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let mut w = world(&gpu);
+    let depth = DepthPass::new(device);
+    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+    let id = shadows.add_light(device, sun(30.0)).unwrap();
+    assert_eq!(shadows.light_layers(id).unwrap(), penumbra::ALL_LAYERS);
+    assert_eq!(w.casters.layers(w.box_instance).unwrap(), penumbra::ALL_LAYERS);
+    let dark = |shadows: &Shadows| {
+        read_layer(&gpu, shadows, id.layer())
+            .iter()
+            .filter(|v| **v < 0.5)
+            .count()
+    };
+    let frame = |w: &World, shadows: &mut Shadows| {
+        // Twice: the second frame is the one a still scene settles to.
+        render_on_box_and_floor(&gpu, w, &depth, shadows, None);
+        render_on_box_and_floor(&gpu, w, &depth, shadows, None);
+        read_layer(&gpu, shadows, id.layer())
+    };
+    let all = frame(&w, &mut shadows);
+    let shadowed = dark(&shadows);
+    assert!(
+        shadowed > 500,
+        "no shadow on every layer ({shadowed} dark texels)"
+    );
+
+    // The box on layer 1, the light on layer 0: no shadow.
+    w.casters.set_layers(w.box_instance, 0b10).unwrap();
+    shadows.set_light_layers(id, 0b01).unwrap();
+    let reports = render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+    assert!(
+        reports[0].shadow_maps_rendered,
+        "new layers did not redraw the maps"
+    );
+    frame(&w, &mut shadows);
+    let apart = dark(&shadows);
+    // The light on both layers: the shadow as before.
+    shadows.set_light_layers(id, 0b11).unwrap();
+    let shared = frame(&w, &mut shadows);
+    let differ = differing_texels(&all, &shared);
+    // The box on no layer.
+    w.casters.set_layers(w.box_instance, 0).unwrap();
+    frame(&w, &mut shadows);
+    let none = dark(&shadows);
+    println!(
+        "dark texels: every layer {shadowed}, apart {apart}, shared {} ({differ} texels differ), no layer {none}",
+        shared.iter().filter(|v| **v < 0.5).count()
+    );
+    assert_eq!(
+        apart, 0,
+        "a light on another layer than the box's shadowed {apart} texels"
+    );
+    assert_eq!(none, 0, "a box on no layer shadowed {none} texels");
+    assert_eq!(differ, 0, "sharing a layer gave another shadow than every layer");
+    // Misuse is named.
+    shadows.remove_light(id).unwrap();
+    assert!(shadows.set_light_layers(id, 1).is_err());
+    assert!(shadows.light_layers(id).is_err());
+    let _ = queue;
+}
+
+#[test]
 fn four_lights_share_one_orthographic_depth_and_each_shadows_its_own_layer() {
     let gpu = common::gpu();
     let device = &gpu.device;

@@ -123,6 +123,7 @@ impl ExitMapPass {
         queue: &wgpu::Queue,
         casters: &Casters,
         light: &LightView,
+        layers: u32,
     ) {
         self.pipelines
             .prepare(device, &casters.draw_layouts(Streams::Fattened));
@@ -134,7 +135,7 @@ impl ExitMapPass {
             };
             self.uniform.write(queue, i, bytemuck::bytes_of(&uniform));
         }
-        self.uniform.cull_to(light, 0.0);
+        self.uniform.cull_to(light, 0.0, layers);
         self.cascades = light.cascades().len() as u32;
     }
 

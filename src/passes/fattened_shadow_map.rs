@@ -175,6 +175,7 @@ impl FattenedShadowMapPass {
         casters: &Casters,
         light: &LightView,
         fatten_distance: f32,
+        layers: u32,
     ) {
         self.pipelines
             .prepare(device, &casters.draw_layouts(Streams::Fattened));
@@ -189,7 +190,7 @@ impl FattenedShadowMapPass {
             self.uniform.write(queue, i, bytemuck::bytes_of(&uniform));
         }
         // Pushed out, a caster reaches `fatten_distance` past its box.
-        self.uniform.cull_to(light, fatten_distance);
+        self.uniform.cull_to(light, fatten_distance, layers);
         self.cascades = light.cascades().len() as u32;
     }
 

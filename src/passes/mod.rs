@@ -503,18 +503,18 @@ impl CascadeUniforms {
         }
     }
 
-    /// From now on each tile draws only the casters its cascade (or cube face) of `light` can
-    /// see, their boxes grown by `margin` (the fatten distance for a pass that pushes vertices
-    /// out). A cascade near the camera or one face of a point light's cube sees a part of the
+    /// From now on each tile draws only the casters on `layers` that its cascade (or cube
+    /// face) of `light` can see, their boxes grown by `margin` (the fatten distance for a pass
+    /// that pushes vertices out). A cascade near the camera or one face of a point light's cube sees a part of the
     /// scene; every tile drew every caster before.
-    pub fn cull_to(&mut self, light: &crate::light_space::LightView, margin: f32) {
+    pub fn cull_to(&mut self, light: &crate::light_space::LightView, margin: f32, layers: u32) {
         self.redraw = u32::MAX;
         self.cull = light
             .cascades()
             .iter()
-            .map(|c| crate::casters::Cull::Outside {
-                view_projection: c.view_projection,
-                margin,
+            .map(|c| crate::casters::Cull {
+                clip: Some((c.view_projection, margin)),
+                layers,
             })
             .collect();
     }
@@ -559,7 +559,7 @@ impl CascadeUniforms {
             }
             pass.set_bind_group(0, &self.group, &[(self.stride * u64::from(index)) as u32]);
             let cull = self.cull.get(index as usize).copied();
-            draw(pass, cull.unwrap_or(crate::casters::Cull::None));
+            draw(pass, cull.unwrap_or(crate::casters::Cull::ALL));
         }
     }
 }

@@ -144,6 +144,7 @@ impl ShadowMapPass {
         queue: &wgpu::Queue,
         casters: &Casters,
         light: &LightView,
+        layers: u32,
     ) {
         self.opaque
             .prepare(device, &casters.draw_layouts(Streams::OpaqueDepth));
@@ -158,7 +159,7 @@ impl ShadowMapPass {
                 }),
             );
         }
-        self.light.cull_to(light, 0.0);
+        self.light.cull_to(light, 0.0, layers);
         self.cascades = light.cascades().len() as u32;
     }
 
