@@ -1,13 +1,13 @@
 //! What the render world takes from the app each frame: the penumbra camera, the casters, the
 //! lights, and the CPU geometry of meshes it has not seen.
 
-use bevy::camera::visibility::InheritedVisibility;
+use bevy::camera::visibility::{InheritedVisibility, RenderLayers};
 use bevy::core_pipeline::prepass::{DeferredPrepass, DepthPrepass};
 use bevy::light::{
     CascadeShadowConfig, DirectionalLightShadowMap, NotShadowCaster, NotShadowReceiver, PointLightShadowMap,
     SunDisk,
 };
-use bevy::mesh::morph::MorphWeights;
+use bevy::mesh::morph::{MeshMorphWeights, MorphWeights};
 use bevy::mesh::skinning::{SkinnedMesh, SkinnedMeshInverseBindposes};
 use bevy::mesh::{Indices, PrimitiveTopology, VertexAttributeValues};
 use bevy::platform::collections::HashSet;
@@ -33,7 +33,8 @@ pub(crate) struct ExtractedPenumbraCamera {
     pub refused: Option<String>,
 }
 
-/// A skinned caster: its vertices as its joints pose them this frame.
+/// A skinned or morphed caster: its vertices as its joints and morph weights pose them this
+/// frame.
 #[derive(Clone, Debug)]
 pub(crate) struct ExtractedSkinned {
     pub entity: Entity,
@@ -42,6 +43,8 @@ pub(crate) struct ExtractedSkinned {
     pub pose: Geometry,
     pub casts: bool,
     pub receives: bool,
+    /// Its render layers as penumbra's mask ([`layer_mask`]).
+    pub layers: u32,
 }
 
 /// A caster: a mesh entity and where it is.
@@ -56,6 +59,9 @@ pub(crate) struct ExtractedCaster {
     pub receives: bool,
     /// Its `StandardMaterial`'s alpha test (`AlphaMode::Mask`), where a texture gives the alpha.
     pub mask: Option<ExtractedMask>,
+    /// Its render layers as penumbra's mask ([`layer_mask`]): it casts for the lights it
+    /// shares a layer with.
+    pub layers: u32,
 }
 
 /// A `StandardMaterial`'s alpha test: texels whose alpha (the base-colour texture's times the
@@ -68,11 +74,14 @@ pub(crate) struct ExtractedMask {
 }
 
 /// A light penumbra shades.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct ExtractedLight {
     pub entity: Entity,
     pub render_entity: Entity,
     pub light: Light,
+    /// Its render layers as penumbra's mask ([`layer_mask`]): it shadows the casters it shares
+    /// a layer with.
+    pub mask: u32,
 }
 
 /// A mesh's triangles on the CPU: what penumbra computes its bounds and smoothed normals from.
@@ -102,12 +111,28 @@ pub(crate) struct Extracted {
     pub stale_meshes: Vec<AssetId<Mesh>>,
     pub visibility: Handle<Image>,
     pub lights_buffer: Handle<ShaderBuffer>,
-    /// Casters left out, with why (morphed), each logged once.
-    pub left_out: Vec<(Entity, &'static str)>,
-    /// Skinned casters, posed.
+    /// Skinned and morphed casters, posed.
     pub skinned: Vec<ExtractedSkinned>,
-    /// Skinned casters that could not be posed, with why.
+    /// Skinned or morphed casters that could not be posed, with why.
     pub not_posed: Vec<(Entity, String)>,
+    /// Entities on render layers past 31, which penumbra's masks do not hold.
+    pub high_layers: Vec<Entity>,
+}
+
+/// Render layers as penumbra's 32-bit mask (layer n is bit n; no component is layer 0), and
+/// whether a layer past 31 was left out.
+pub(crate) fn layer_mask(layers: Option<&RenderLayers>) -> (u32, bool) {
+    let Some(layers) = layers else { return (1, false) };
+    let mut mask = 0u32;
+    let mut high = false;
+    for layer in layers.iter() {
+        if layer < 32 {
+            mask |= 1 << layer;
+        } else {
+            high = true;
+        }
+    }
+    (mask, high)
 }
 
 /// Meshes whose geometry the render world holds (so it is not copied again).
@@ -125,9 +150,11 @@ type CasterQuery<'w, 's> = Query<
         Has<NotShadowCaster>,
         Has<NotShadowReceiver>,
         Option<&'static SkinnedMesh>,
-        Has<MorphWeights>,
+        Option<&'static MeshMorphWeights>,
+        Option<&'static MorphWeights>,
         Option<&'static MeshMaterial3d<StandardMaterial>>,
         Option<&'static MeshMaterial3d<PenumbraMaterial>>,
+        Option<&'static RenderLayers>,
     ),
 >;
 
@@ -143,6 +170,7 @@ type SunQuery<'w, 's> = Query<
         Option<&'static SunDisk>,
         Option<&'static PenumbraLightSize>,
         Option<&'static CascadeShadowConfig>,
+        Option<&'static RenderLayers>,
     ),
 >;
 
@@ -177,6 +205,7 @@ pub(crate) fn extract_penumbra(
             &SpotLight,
             &GlobalTransform,
             Option<&PenumbraLightSize>,
+            Option<&RenderLayers>,
         )>,
     >,
     points: Extract<
@@ -186,10 +215,12 @@ pub(crate) fn extract_penumbra(
             &PointLight,
             &GlobalTransform,
             Option<&PenumbraLightSize>,
+            Option<&RenderLayers>,
         )>,
     >,
     meshes: Extract<Res<Assets<Mesh>>>,
     skins: Extract<(Query<&GlobalTransform>, Res<Assets<SkinnedMeshInverseBindposes>>)>,
+    morph_weights: Extract<Query<&MorphWeights>>,
     materials: Extract<MaterialAssets>,
     mut mesh_events: Extract<MessageReader<AssetEvent<Mesh>>>,
     targets: Extract<Res<PenumbraTargets>>,
@@ -197,7 +228,7 @@ pub(crate) fn extract_penumbra(
     let extracted = &mut *extracted;
     let mut shaded: Vec<_> = cameras
         .iter()
-        .filter(|(_, _, camera, penumbra, _, _)| camera.is_active && penumbra.enabled)
+        .filter(|(_, _, camera, penumbra, ..)| camera.is_active && penumbra.enabled)
         .collect();
     shaded.sort_by_key(|(main_entity, _, camera, ..)| (camera.order, *main_entity));
     extracted.cameras = shaded
@@ -250,9 +281,9 @@ pub(crate) fn extract_penumbra(
 
     extracted.casters.clear();
     extracted.geometry.clear();
-    extracted.left_out.clear();
     extracted.skinned.clear();
     extracted.not_posed.clear();
+    extracted.high_layers.clear();
     let (standard, converted) = &*materials;
     for (
         entity,
@@ -262,30 +293,51 @@ pub(crate) fn extract_penumbra(
         not_caster,
         not_receiver,
         skinned,
-        morphed,
+        mesh_morph,
+        own_morph,
         material,
         penumbra,
+        render_layers,
     ) in &casters
     {
         if visibility.is_some_and(|v| !v.get()) || (not_caster && not_receiver) {
             continue;
         }
-        if morphed {
-            extracted.left_out.push((entity, "morphed"));
-            continue;
+        let (layers, high) = layer_mask(render_layers);
+        if high {
+            extracted.high_layers.push(entity);
         }
-        // A skinned mesh: its vertices as Bevy's joints pose them this frame, in world space.
-        if let Some(skin) = skinned {
+        // A skinned or morphed mesh: its vertices as Bevy's morph weights and joints pose them
+        // this frame, in world space.
+        let weights = match (mesh_morph, own_morph) {
+            (Some(MeshMorphWeights::Value { weights }), _) => Some(Ok(weights.as_slice())),
+            (Some(MeshMorphWeights::Reference(owner)), _) => {
+                Some(morph_weights.get(*owner).map(|w| w.weights()).map_err(|_| {
+                    format!("its MeshMorphWeights names entity {owner}, which has no MorphWeights")
+                }))
+            }
+            (None, Some(own)) => Some(Ok(own.weights())),
+            (None, None) => None,
+        };
+        if skinned.is_some() || weights.is_some() {
             let Some(asset) = meshes.get(mesh.id()) else {
                 continue;
             };
-            match posed(asset, skin, &skins) {
+            let pose = weights
+                .unwrap_or(Ok(&[]))
+                .and_then(|weights| morphed(geometry(asset)?, asset, weights))
+                .and_then(|rest| match skinned {
+                    Some(skin) => posed(rest, asset, skin, &skins),
+                    None => Ok(placed(rest, &transform.to_matrix())),
+                });
+            match pose {
                 Ok(pose) => extracted.skinned.push(ExtractedSkinned {
                     entity,
                     mesh: mesh.id(),
                     pose,
                     casts: !not_caster,
                     receives: !not_receiver,
+                    layers,
                 }),
                 Err(why) => extracted.not_posed.push((entity, why)),
             }
@@ -326,22 +378,32 @@ pub(crate) fn extract_penumbra(
             casts,
             receives: !not_receiver,
             mask,
+            layers,
         });
     }
 
     let mut lights: Vec<ExtractedLight> = Vec::new();
     extracted.bevy_shadowed.clear();
-    let mut add = |entity: Entity, render_entity: Entity, shadow_maps_enabled: bool, light: Light| {
+    let mut add = |entity: Entity,
+                   render_entity: Entity,
+                   shadow_maps_enabled: bool,
+                   light: Light,
+                   layers: Option<&RenderLayers>| {
         if shadow_maps_enabled {
             extracted.bevy_shadowed.push(render_entity);
+            let (mask, high) = layer_mask(layers);
+            if high {
+                extracted.high_layers.push(entity);
+            }
             lights.push(ExtractedLight {
                 entity,
                 render_entity,
                 light,
+                mask,
             });
         }
     };
-    for (entity, render_entity, sun, transform, disk, size, _) in &suns {
+    for (entity, render_entity, sun, transform, disk, size, _, layers) in &suns {
         let diameter = size
             .map(|s| s.0)
             .or(disk.map(|d| d.angular_size))
@@ -352,9 +414,9 @@ pub(crate) fn extract_penumbra(
             color: linear(sun.color),
             intensity: sun.illuminance,
         });
-        add(entity, render_entity, sun.shadow_maps_enabled, light);
+        add(entity, render_entity, sun.shadow_maps_enabled, light, layers);
     }
-    for (entity, render_entity, spot, transform, size) in &spots {
+    for (entity, render_entity, spot, transform, size, layers) in &spots {
         let light = Light::Spot(Spot {
             position: vec3(transform.translation()),
             direction: vec3(transform.forward().as_vec3()),
@@ -365,9 +427,9 @@ pub(crate) fn extract_penumbra(
             // Shadows' visibility is unitless: the range and units are Bevy's to shade.
             range: None,
         });
-        add(entity, render_entity, spot.shadow_maps_enabled, light);
+        add(entity, render_entity, spot.shadow_maps_enabled, light, layers);
     }
-    for (entity, render_entity, point, transform, size) in &points {
+    for (entity, render_entity, point, transform, size, layers) in &points {
         let light = Light::Point(Point {
             position: vec3(transform.translation()),
             radius: size.map_or(point.radius, |s| s.0).max(0.0),
@@ -375,7 +437,7 @@ pub(crate) fn extract_penumbra(
             intensity: point.intensity,
             range: None,
         });
-        add(entity, render_entity, point.shadow_maps_enabled, light);
+        add(entity, render_entity, point.shadow_maps_enabled, light, layers);
     }
     // A stable order: the same lights keep the same layers while they live.
     lights.sort_by_key(|l| l.entity);
@@ -401,7 +463,7 @@ fn take_bevy_shadow_settings(
     };
     let sm = &mut settings.shadow_map;
     match sun {
-        Some((_, _, light, _, _, _, cascades)) => {
+        Some((_, _, light, _, _, _, cascades, _)) => {
             sm.resolution = power_of_two(directional.size);
             if let Some(cascades) = cascades {
                 sm.cascades.count = (cascades.bounds.len() as u32).clamp(1, penumbra::MAX_CASCADES as u32);
@@ -412,14 +474,66 @@ fn take_bevy_shadow_settings(
     }
 }
 
-/// `mesh`'s vertices posed by `skin`'s joints as Bevy's skinning does (each vertex the
-/// weighted sum of its joints' `global x inverse bind pose` applied to it), in world space.
+/// `rest` (`mesh`'s vertices, morphed) as `weights` morph it, as Bevy's morphing does: each
+/// vertex plus each target's displacement of it times that target's weight (the targets laid
+/// out one after another, each a displacement per vertex).
+fn morphed(mut rest: Geometry, mesh: &Mesh, weights: &[f32]) -> Result<Geometry, String> {
+    if weights.iter().all(|w| *w == 0.0) {
+        return Ok(rest);
+    }
+    let targets = mesh
+        .try_morph_targets()
+        .map_err(|e| format!("its morph targets are not on the CPU ({e})"))?;
+    let count = rest.positions.len();
+    if count == 0 || targets.len() % count != 0 {
+        return Err(format!(
+            "its {} morph displacements are not a whole number of targets of {count} vertices",
+            targets.len()
+        ));
+    }
+    for (target, weight) in targets.chunks(count).zip(weights) {
+        if *weight == 0.0 {
+            continue;
+        }
+        for (v, d) in target.iter().enumerate() {
+            rest.positions[v] += vec3(d.position) * *weight;
+            if let Some(normals) = &mut rest.normals {
+                normals[v] += vec3(d.normal) * *weight;
+            }
+        }
+    }
+    if let Some(normals) = &mut rest.normals {
+        for n in normals {
+            *n = n.normalize_or_zero();
+        }
+    }
+    Ok(rest)
+}
+
+/// `rest` moved by `transform` into world space (a morphed mesh that is not skinned).
+fn placed(mut rest: Geometry, transform: &Mat4) -> Geometry {
+    let transform = crate::mat4(*transform);
+    let normal_matrix = transform.inverse().transpose();
+    for p in &mut rest.positions {
+        *p = transform.transform_point3(*p);
+    }
+    if let Some(normals) = &mut rest.normals {
+        for n in normals {
+            *n = normal_matrix.transform_vector3(*n).normalize_or_zero();
+        }
+    }
+    rest
+}
+
+/// `rest` (`mesh`'s vertices, morphed) posed by `skin`'s joints as Bevy's skinning does (each
+/// vertex the weighted sum of its joints' `global x inverse bind pose` applied to it), in world
+/// space.
 fn posed(
+    rest: Geometry,
     mesh: &Mesh,
     skin: &SkinnedMesh,
     (joints, bindposes): &(Query<&GlobalTransform>, Res<Assets<SkinnedMeshInverseBindposes>>),
 ) -> Result<Geometry, String> {
-    let rest = geometry(mesh)?;
     let bindposes = bindposes
         .get(&skin.inverse_bindposes)
         .ok_or("its inverse bind poses are not loaded")?;

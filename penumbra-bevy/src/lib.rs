@@ -14,9 +14,10 @@
 //!
 //! What the plugin does each frame:
 //! - **Casters** are the app's `Mesh3d` entities, drawn from the vertex and index buffers Bevy's
-//!   mesh allocator already holds, at their `GlobalTransform`s. `NotShadowCaster` entities,
-//!   hidden ones and morphed meshes cast no penumbra shadow; skinned meshes are posed on the CPU
-//!   with their joints each frame.
+//!   mesh allocator already holds, at their `GlobalTransform`s. `NotShadowCaster` and hidden
+//!   entities cast no penumbra shadow; skinned and morphed meshes are posed on the CPU with their
+//!   morph weights and joints each frame. A mesh casts for the lights it shares a `RenderLayers`
+//!   layer with.
 //! - **Lights** are the `DirectionalLight`s, `SpotLight`s and `PointLight`s with
 //!   `shadow_maps_enabled`, up to [`penumbra::MAX_LIGHTS`]. Their size comes from Bevy's
 //!   fields: `SpotLight::radius`, `PointLight::radius`, a sun's `SunDisk::angular_size`

@@ -51,6 +51,7 @@ struct SkinnedCaster {
     /// The pose last given (a pose that does not change redraws nothing).
     pose: Geometry,
     flags: (bool, bool),
+    layers: u32,
 }
 
 struct Instance {
@@ -60,6 +61,8 @@ struct Instance {
     flags: (bool, bool),
     /// The alpha test it was placed with.
     mask: Option<ExtractedMask>,
+    /// Its render layers as penumbra's mask.
+    layers: u32,
 }
 
 /// One penumbra camera's shadows: a `Shadows` of its own (the lights' fits to its view, their
@@ -67,18 +70,21 @@ struct Instance {
 struct ViewShadows {
     main_entity: Entity,
     shadows: Shadows,
-    /// Main-world light entity -> its light id in this camera's `Shadows` and the light as
-    /// last given.
-    lights: HashMap<Entity, (LightId, Light)>,
-    /// Each light of the material's table: its layer in this camera's visibility and its
-    /// layer in the material's (the first camera's layers).
-    layers: Vec<(u32, u32)>,
+    /// Main-world light entity -> its light id in this camera's `Shadows`, the light and its
+    /// layer mask as last given. Only the lights sharing a render layer with the camera.
+    lights: HashMap<Entity, (LightId, Light, u32)>,
+    /// The light table this camera's main pass reads (which of Bevy's lights each visibility
+    /// layer belongs to), and its GPU copy, copied into the material's before that pass.
+    table: GpuLights,
+    table_buffer: wgpu::Buffer,
+    /// The visibility layers the table names (those copied when `copied`).
+    layers: Vec<u32>,
     /// The single-sampled copy of a multisampled depth prepass (MSAA on the camera).
     resolve: Option<DepthResolve>,
     /// `None`: the passes write straight into the material's visibility. `Some(size)`: this
-    /// camera's target is smaller than the largest penumbra camera's, or its lights sit in
-    /// other layers: the passes write into penumbra's own texture, whose layers are then copied
-    /// into the material's, before this camera's main pass.
+    /// camera's target is smaller than the largest penumbra camera's: the passes write into
+    /// penumbra's own texture, whose layers are then copied into the material's, before this
+    /// camera's main pass.
     copied: Option<(u32, u32)>,
     /// `Shadows::prepare` ran for this frame (the graph's step may record).
     prepared: bool,
@@ -94,13 +100,12 @@ pub(crate) struct PenumbraState {
     geometry: HashMap<AssetId<Mesh>, Geometry>,
     meshes: HashMap<AssetId<Mesh>, RegisteredMesh>,
     instances: HashMap<Entity, Instance>,
-    table: GpuLights,
     /// The light table's GPU buffer (the material's binding 101).
     table_buffer: Option<wgpu::Buffer>,
-    /// The full light table and an empty one, one of them copied into the table buffer before
-    /// each 3D camera's main pass: the full one for a penumbra camera whose passes ran, the
-    /// empty one for any other (so no camera reads another's visibility).
-    tables: Option<(wgpu::Buffer, wgpu::Buffer)>,
+    /// An empty light table, copied into the table buffer before the main pass of a 3D camera
+    /// whose penumbra passes did not run (so no camera reads another's visibility); a penumbra
+    /// camera's own table is copied before its main pass.
+    empty_table: Option<wgpu::Buffer>,
     /// Whether this frame's passes may run (every penumbra camera is usable).
     active: bool,
     /// Messages already logged (each once), shared with the app.
@@ -237,9 +242,10 @@ fn prepare_penumbra(
             penumbra::MAX_LIGHTS
         ));
     }
-    for (entity, why) in &extracted.left_out {
+    for entity in &extracted.high_layers {
         state.warn_once(format!(
-            "penumbra: entity {entity} casts no penumbra shadow: its mesh is {why} (penumbra draws meshes in their rest pose)"
+            "penumbra: entity {entity} is on render layers past 31, which penumbra does not follow: it \
+             casts and lights as on its layers 0 to 31 alone"
         ));
     }
 
@@ -266,6 +272,8 @@ fn prepare_penumbra(
                             main_entity: camera.main_entity,
                             shadows,
                             lights: HashMap::default(),
+                            table: GpuLights::default(),
+                            table_buffer: new_table(device, "penumbra-bevy light table"),
                             layers: Vec::new(),
                             resolve: None,
                             copied: None,
@@ -297,28 +305,28 @@ fn prepare_penumbra(
         queue,
         (&allocator, &render_meshes, &images),
     );
-    let order: Vec<Entity> = extracted.cameras.iter().map(|c| c.render_entity).collect();
-    sync_lights(state, &extracted.lights, &order, device, clustered.as_deref());
+    sync_lights(state, &extracted, device, clustered.as_deref());
 
     if images.get(&extracted.visibility).is_none() {
         return;
     }
-    let (full, _) = state.tables.get_or_insert_with(|| {
-        let table = |label| {
-            use wgpu::util::DeviceExt;
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: bytemuck::bytes_of(&GpuLights::default()),
-                usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            })
-        };
-        (
-            table("penumbra-bevy light table"),
-            table("penumbra-bevy empty light table"),
-        )
-    });
-    queue.write_buffer(full, 0, bytemuck::bytes_of(&state.table));
+    state
+        .empty_table
+        .get_or_insert_with(|| new_table(device, "penumbra-bevy empty light table"));
+    for view in state.views.values() {
+        queue.write_buffer(&view.table_buffer, 0, bytemuck::bytes_of(&view.table));
+    }
     state.active = true;
+}
+
+/// A light table to copy into the material's, empty until written.
+fn new_table(device: &wgpu::Device, label: &str) -> wgpu::Buffer {
+    use wgpu::util::DeviceExt;
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytemuck::bytes_of(&GpuLights::default()),
+        usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+    })
 }
 
 /// Registers new meshes and places, moves and removes instances.
@@ -402,6 +410,12 @@ fn sync_casters(
                     }
                     instance.flags = flags;
                 }
+                if instance.layers != caster.layers {
+                    if let Err(e) = casters.set_layers(instance.id, caster.layers) {
+                        messages.push(format!("penumbra: entity {}: {e}", caster.entity));
+                    }
+                    instance.layers = caster.layers;
+                }
             }
             other => {
                 if let Some(old) = other {
@@ -439,7 +453,12 @@ fn sync_casters(
                         .add_instance(device, queue, instance)
                         .map_err(|e| e.to_string()),
                 };
-                match added {
+                match added.and_then(|id| {
+                    casters
+                        .set_layers(id, caster.layers)
+                        .map(|()| id)
+                        .map_err(|e| e.to_string())
+                }) {
                     Ok(id) => {
                         state.instances.insert(
                             caster.entity,
@@ -449,6 +468,7 @@ fn sync_casters(
                                 transform: caster.transform,
                                 flags: (caster.casts, caster.receives),
                                 mask: caster.mask,
+                                layers: caster.layers,
                             },
                         );
                     }
@@ -489,7 +509,7 @@ fn sync_skinned(
 ) {
     for (entity, why) in &extracted.not_posed {
         messages.push(format!(
-            "penumbra: skinned entity {entity} casts no penumbra shadow: {why}"
+            "penumbra: entity {entity} (skinned or morphed) casts no penumbra shadow: {why}"
         ));
     }
     let Some(casters) = state.casters.as_mut() else {
@@ -522,6 +542,12 @@ fn sync_skinned(
                     messages.push(format!("penumbra: skinned entity {}: {e}", skinned.entity));
                 }
                 caster.flags = flags;
+            }
+            if caster.layers != skinned.layers {
+                if let Err(e) = casters.set_layers(caster.instance, skinned.layers) {
+                    messages.push(format!("penumbra: skinned entity {}: {e}", skinned.entity));
+                }
+                caster.layers = skinned.layers;
             }
             continue;
         }
@@ -557,7 +583,9 @@ fn sync_skinned(
             let mut instance = CasterInstance::new(mesh, glam::Mat4::IDENTITY);
             instance.caster = flags.0;
             instance.receiver = flags.1;
-            casters.add_instance(device, queue, instance).map(|id| (mesh, id))
+            let id = casters.add_instance(device, queue, instance)?;
+            casters.set_layers(id, skinned.layers)?;
+            Ok((mesh, id))
         });
         match placed {
             Ok((mesh, instance)) => {
@@ -570,6 +598,7 @@ fn sync_skinned(
                         _indices: indices,
                         pose: pose.clone(),
                         flags,
+                        layers: skinned.layers,
                     },
                 );
             }
@@ -716,43 +745,37 @@ fn drop_mesh(state: &mut PenumbraState, mesh: AssetId<Mesh>) {
     let _ = casters.remove_mesh(registered.id);
 }
 
-/// Adds, changes and removes penumbra's lights in each camera's shadows, and fills the light
-/// table from the first camera's (`order`): every camera's visibility is read through it, each
-/// light at the first camera's layer.
+/// Adds, changes and removes penumbra's lights in each camera's shadows, and fills each
+/// camera's light table.
 fn sync_lights(
     state: &mut PenumbraState,
-    lights: &[ExtractedLight],
-    order: &[Entity],
+    extracted: &Extracted,
     device: &wgpu::Device,
     clustered: Option<&GlobalClusterableObjectMeta>,
 ) {
     let mut messages = Vec::new();
-    let mut table = GpuLights::default();
-    // Light entity -> its layer in the table.
-    let mut table_layers: HashMap<Entity, u32> = HashMap::default();
-    for (i, camera) in order.iter().enumerate() {
-        let Some(view) = state.views.get_mut(camera) else {
+    for camera in &extracted.cameras {
+        let Some(view) = state.views.get_mut(&camera.render_entity) else {
             continue;
         };
-        let ids = sync_view_lights(view, lights, device, &mut messages);
-        if i == 0 {
-            for (extracted, id) in lights.iter().zip(&ids) {
-                let Some(id) = id else { continue };
-                let Some(row) = table_row(extracted, *id, clustered) else {
-                    continue; // Not in Bevy's light list this frame.
-                };
-                table.lights[table.count as usize] = row;
-                table.count += 1;
-                table_layers.insert(extracted.entity, id.layer());
-            }
+        // Every light, whatever the camera's layers: Bevy 0.20 lights a view with a spot or
+        // point light on another layer once some camera sees that light (seen in
+        // `tests/plugin.rs`), and penumbra takes away what Bevy lights.
+        let lights: Vec<&ExtractedLight> = extracted.lights.iter().collect();
+        let ids = sync_view_lights(view, &lights, device, &mut messages);
+        let mut table = GpuLights::default();
+        view.layers.clear();
+        for (extracted, id) in lights.iter().zip(&ids) {
+            let Some(id) = id else { continue };
+            let Some(row) = table_row(extracted, *id, clustered) else {
+                continue; // Not in Bevy's light list this frame.
+            };
+            table.lights[table.count as usize] = row;
+            table.count += 1;
+            view.layers.push(id.layer());
         }
-        view.layers = lights
-            .iter()
-            .zip(&ids)
-            .filter_map(|(extracted, id)| Some((id.as_ref()?.layer(), *table_layers.get(&extracted.entity)?)))
-            .collect();
+        view.table = table;
     }
-    state.table = table;
     for message in messages {
         state.log_once(message);
     }
@@ -762,13 +785,13 @@ fn sync_lights(
 /// refused, with why in `messages`).
 fn sync_view_lights(
     view: &mut ViewShadows,
-    lights: &[ExtractedLight],
+    lights: &[&ExtractedLight],
     device: &wgpu::Device,
     messages: &mut Vec<String>,
 ) -> Vec<Option<LightId>> {
     let shadows = &mut view.shadows;
     let alive: HashSet<Entity> = lights.iter().map(|l| l.entity).collect();
-    view.lights.retain(|entity, (id, _)| {
+    view.lights.retain(|entity, (id, ..)| {
         let keep = alive.contains(entity);
         if !keep {
             let _ = shadows.remove_light(*id);
@@ -777,27 +800,44 @@ fn sync_view_lights(
     });
     lights
         .iter()
-        .map(|extracted| match view.lights.get_mut(&extracted.entity) {
-            Some((id, light)) => {
-                if *light != extracted.light {
-                    if let Err(e) = shadows.set_light(*id, extracted.light) {
-                        messages.push(format!("penumbra: light {}: {e}", extracted.entity));
-                        return None;
+        .map(|extracted| {
+            let id = match view.lights.get_mut(&extracted.entity) {
+                Some((id, light, mask)) => {
+                    if *light != extracted.light {
+                        if let Err(e) = shadows.set_light(*id, extracted.light) {
+                            messages.push(format!("penumbra: light {}: {e}", extracted.entity));
+                            return None;
+                        }
+                        *light = extracted.light;
                     }
-                    *light = extracted.light;
+                    if *mask != extracted.mask {
+                        // Its casters are those sharing a render layer with it.
+                        if let Err(e) = shadows.set_light_layers(*id, extracted.mask) {
+                            messages.push(format!("penumbra: light {}: {e}", extracted.entity));
+                            return None;
+                        }
+                        *mask = extracted.mask;
+                    }
+                    *id
                 }
-                Some(*id)
-            }
-            None => match shadows.add_light(device, extracted.light) {
-                Ok(id) => {
-                    view.lights.insert(extracted.entity, (id, extracted.light));
-                    Some(id)
+                None => {
+                    let added = shadows
+                        .add_light(device, extracted.light)
+                        .and_then(|id| shadows.set_light_layers(id, extracted.mask).map(|()| id));
+                    match added {
+                        Ok(id) => {
+                            view.lights
+                                .insert(extracted.entity, (id, extracted.light, extracted.mask));
+                            id
+                        }
+                        Err(e) => {
+                            messages.push(format!("penumbra: light {}: {e}", extracted.entity));
+                            return None;
+                        }
+                    }
                 }
-                Err(e) => {
-                    messages.push(format!("penumbra: light {}: {e}", extracted.entity));
-                    None
-                }
-            },
+            };
+            Some(id)
         })
         .collect()
 }
@@ -875,8 +915,7 @@ fn prepare_shadows(
         };
         let size = (depth.width(), depth.height());
         // Straight into the material's visibility where it fits; otherwise copied into it.
-        let direct = (shared.texture.width(), shared.texture.height()) == size
-            && view.layers.iter().all(|(a, b)| a == b);
+        let direct = (shared.texture.width(), shared.texture.height()) == size;
         if let Err(e) = view
             .shadows
             .set_visibility_target(direct.then(|| (*shared.texture).clone()))
@@ -948,7 +987,7 @@ fn penumbra_pass(
 ) {
     let (entity, prepass, main_entity, is_camera) = view.into_inner();
     let state = &mut *state;
-    let (Some((full, empty)), Some(table)) = (state.tables.clone(), state.table_buffer.clone()) else {
+    let (Some(empty), Some(table)) = (state.empty_table.clone(), state.table_buffer.clone()) else {
         return;
     };
     let size = std::mem::size_of::<GpuLights>() as u64;
@@ -995,15 +1034,19 @@ fn penumbra_pass(
             height: size.1.min(shared.texture.height()),
             depth_or_array_layers: 1,
         };
-        for (from, to) in &view.layers {
-            let at = |texture, layer| wgpu::TexelCopyTextureInfo {
+        for layer in &view.layers {
+            let at = |texture| wgpu::TexelCopyTextureInfo {
                 texture,
                 mip_level: 0,
-                origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
+                origin: wgpu::Origin3d {
+                    x: 0,
+                    y: 0,
+                    z: *layer,
+                },
                 aspect: wgpu::TextureAspect::All,
             };
             ctx.command_encoder()
-                .copy_texture_to_texture(at(own, *from), at(&shared.texture, *to), extent);
+                .copy_texture_to_texture(at(own), at(&shared.texture), extent);
         }
     }
     if let Some(span) = span {
@@ -1013,7 +1056,7 @@ fn penumbra_pass(
         // This camera's main pass reads the visibility just written.
         Ok(_) => ctx
             .command_encoder()
-            .copy_buffer_to_buffer(&full, 0, &table, 0, size),
+            .copy_buffer_to_buffer(&view.table_buffer, 0, &table, 0, size),
         // The lights are shaded unshadowed in this camera this frame.
         Err(e) => {
             let message = format!("penumbra: camera {}: {e}", view.main_entity);

@@ -1070,3 +1070,159 @@ fn a_custom_material_reads_penumbras_shadows() {
     let ours = darkness(&frames[1], &unlit_empty);
     like_bevys("unlit custom material", &ours, &standard_darkness);
 }
+
+/// `RenderLayers`, as Bevy follows them: a box on layer 1 casts no shadow from a sun on layer
+/// 0 and casts one once the sun is on layer 1 too, in penumbra's frame as in Bevy's own.
+#[test]
+fn render_layers_keep_a_lights_shadows_to_its_layers_as_bevy_does() {
+    use bevy::camera::visibility::RenderLayers;
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let mut scene = box_above_plane(sun(4.0), false);
+    let world = scene.headless.app.world_mut();
+    let cube = world
+        .resource_mut::<Assets<Mesh>>()
+        .add(Cuboid::new(1.0, 1.0, 1.0));
+    let material = red(world);
+    let other = world
+        .spawn((
+            Mesh3d(cube),
+            MeshMaterial3d(material),
+            Transform::from_xyz(-2.5, 2.0, 1.5),
+            RenderLayers::layer(1),
+        ))
+        .id();
+    world
+        .entity_mut(scene.camera)
+        .insert(RenderLayers::from_layers(&[0, 1]));
+    let sun_entity = world
+        .query_filtered::<Entity, With<DirectionalLight>>()
+        .single(world)
+        .unwrap();
+
+    let frames = |scene: &mut Scene, name: &str| {
+        scene.set_penumbra(true);
+        let ours = scene.headless.render(6);
+        save(&format!("layers_{name}_penumbra.png"), &ours);
+        scene.set_penumbra(false);
+        let bevy = scene.headless.render(6);
+        save(&format!("layers_{name}_bevy.png"), &bevy);
+        scene.set_penumbra(true);
+        (ours, bevy)
+    };
+    let apart = frames(&mut scene, "apart");
+    scene
+        .headless
+        .app
+        .world_mut()
+        .entity_mut(sun_entity)
+        .insert(RenderLayers::from_layers(&[0, 1]));
+    let shared = frames(&mut scene, "shared");
+    let world = scene.headless.app.world_mut();
+    world.despawn(other);
+    world.despawn(scene.box_entity);
+    let empty = scene.headless.render(6);
+    let messages = scene.messages();
+    assert!(messages.is_empty(), "the plugin reported {messages:?}");
+
+    let mut sums = Vec::new();
+    for (name, (ours, bevy)) in [("apart", &apart), ("shared", &shared)] {
+        let (o, b) = (darkness(ours, &empty), darkness(bevy, &empty));
+        like_bevys(name, &o, &b);
+        sums.push(o.iter().flatten().sum::<f32>());
+    }
+    println!(
+        "penumbra's summed darkness: apart {:.0}, shared {:.0}",
+        sums[0], sums[1]
+    );
+    assert!(
+        sums[1] > 1.5 * sums[0],
+        "the box on layer 1 cast no shadow once the sun shared its layer: {sums:?}"
+    );
+}
+
+/// A morphed box (one target shearing its top 1.2 units toward -x, `MeshMorphWeights`
+/// referring to its `MorphWeights`) casts its rest shadow at weight 0 and its sheared shadow at
+/// weight 1, each where Bevy's own shadow of that shape lies: at rest Bevy's of the same entity,
+/// sheared Bevy's of a plain mesh with the sheared vertices (Bevy's frame of the morphed entity
+/// itself showed it unmorphed on this adapter).
+#[test]
+fn a_morphed_mesh_casts_its_morphed_shadow_as_bevy_does() {
+    use bevy::mesh::morph::{MeshMorphWeights, MorphAttributes, MorphWeights};
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let mut scene = plane_alone(sun(2.0));
+    let world = scene.headless.app.world_mut();
+    let mut cube = Mesh::from(Cuboid::new(1.0, 1.0, 1.0));
+    let positions: Vec<[f32; 3]> = match cube.attribute(Mesh::ATTRIBUTE_POSITION) {
+        Some(VertexAttributeValues::Float32x3(p)) => p.clone(),
+        _ => unreachable!(),
+    };
+    let shear = |p: &[f32; 3]| if p[1] > 0.0 { Vec3::NEG_X * 1.2 } else { Vec3::ZERO };
+    let mut sheared_cube = cube.clone();
+    sheared_cube.insert_attribute(
+        Mesh::ATTRIBUTE_POSITION,
+        VertexAttributeValues::Float32x3(
+            positions
+                .iter()
+                .map(|p| (Vec3::from_array(*p) + shear(p)).to_array())
+                .collect(),
+        ),
+    );
+    cube.set_morph_targets(
+        positions
+            .iter()
+            .map(|p| MorphAttributes::new(shear(p), Vec3::ZERO, Vec3::ZERO))
+            .collect(),
+    );
+    let cube = world.resource_mut::<Assets<Mesh>>().add(cube);
+    let sheared_cube = world.resource_mut::<Assets<Mesh>>().add(sheared_cube);
+    let red = red(world);
+    let at = Transform::from_xyz(0.0, 2.0, 0.0);
+    let morphed = world
+        .spawn((
+            Mesh3d(cube),
+            MeshMaterial3d(red.clone()),
+            at,
+            MorphWeights::new(vec![0.0], None).unwrap(),
+        ))
+        .id();
+    world
+        .entity_mut(morphed)
+        .insert(MeshMorphWeights::Reference(morphed));
+    let render = |scene: &mut Scene, penumbra: bool, name: &str| {
+        scene.set_penumbra(penumbra);
+        let frame = scene.headless.render(if penumbra { 10 } else { 6 });
+        save(&format!("morphed_{name}.png"), &frame);
+        frame
+    };
+    let rest = (
+        render(&mut scene, true, "rest_penumbra"),
+        render(&mut scene, false, "rest_bevy"),
+    );
+    scene
+        .headless
+        .app
+        .world_mut()
+        .entity_mut(morphed)
+        .insert(MorphWeights::new(vec![1.0], None).unwrap());
+    let ours = render(&mut scene, true, "sheared_penumbra");
+    let world = scene.headless.app.world_mut();
+    world.entity_mut(morphed).insert(Visibility::Hidden);
+    let plain = world.spawn((Mesh3d(sheared_cube), MeshMaterial3d(red), at)).id();
+    let sheared = (ours, render(&mut scene, false, "sheared_bevy"));
+    let world = scene.headless.app.world_mut();
+    world.despawn(plain);
+    world.despawn(morphed);
+    let empty = render(&mut scene, true, "empty");
+    let messages = scene.messages();
+    assert!(messages.is_empty(), "the plugin reported {messages:?}");
+    let mut centres = Vec::new();
+    for (name, (ours, bevy)) in [("rest", &rest), ("sheared", &sheared)] {
+        let (o, b) = (darkness(ours, &empty), darkness(bevy, &empty));
+        centres.push(like_bevys(name, &o, &b));
+    }
+    println!("shadow centroids: rest {}, sheared {}", centres[0], centres[1]);
+    assert!(
+        centres[0].distance(centres[1]) > 3.0,
+        "the shadow did not follow the morph: {centres:?}"
+    );
+}
