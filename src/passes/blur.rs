@@ -438,8 +438,6 @@ pub(crate) struct BlurCompute {
     sampler: wgpu::Sampler,
     axis_buffers: [wgpu::Buffer; 2],
     axis_groups: [wgpu::BindGroup; 2],
-    /// The horizontal axis's result, as bound.
-    temp: Option<wgpu::TextureView>,
     /// The horizontal axis's inputs and output, the vertical axis's inputs and output (the
     /// copy reads what the horizontal axis read: the PCF's visibility, blurred by then).
     bind_groups: Option<[wgpu::BindGroup; 4]>,
@@ -529,7 +527,6 @@ impl BlurCompute {
             }),
             axis_buffers,
             axis_groups,
-            temp: None,
             bind_groups: None,
         }
     }
@@ -580,7 +577,6 @@ impl BlurCompute {
             })
         };
         self.bind_groups = Some([group(visibility), out(temp), group(temp), out(visibility)]);
-        self.temp = Some(temp.clone());
     }
 
     /// Uploads the frame's tap count, step and Gaussian weights.
@@ -595,12 +591,10 @@ impl BlurCompute {
         tiles: super::TileList,
         layer: &wgpu::TextureView,
     ) {
-        let (Some([horizontal, to_temp, vertical, to_visibility]), Some(temp)) =
-            (&self.bind_groups, &self.temp)
-        else {
+        // The horizontal axis's target was cleared to 1 ([`crate::chain::ComputeTargets::clear`]).
+        let Some([horizontal, to_temp, vertical, to_visibility]) = &self.bind_groups else {
             return;
         };
-        super::clear_target(encoder, "BlurCompute::clear", temp, wgpu::Color::WHITE);
         tiles.dispatch(
             encoder,
             "BlurCompute::horizontal",

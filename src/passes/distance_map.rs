@@ -289,8 +289,6 @@ pub(crate) struct DistanceMapCompute {
     light_kind: u32,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
-    /// The output, as bound.
-    distance: Option<wgpu::TextureView>,
     bind_group: Option<wgpu::BindGroup>,
     tiles: super::TileListPass,
     /// As [`DistanceMapPass`]'s.
@@ -337,7 +335,6 @@ impl DistanceMapCompute {
             light_kind,
             layout,
             pipeline,
-            distance: None,
             bind_group: None,
             tiles: super::TileListPass::new(device, frame_size, light_kind, switches.tiles),
             reduce_pending: std::sync::atomic::AtomicBool::new(true),
@@ -378,7 +375,6 @@ impl DistanceMapCompute {
                 distance,
             ],
         ));
-        self.distance = Some(distance.clone());
     }
 
     pub(crate) fn light_kind(&self) -> u32 {
@@ -397,8 +393,7 @@ impl DistanceMapCompute {
     /// Records the tile list and the distance map over it (`maps_drawn`: the light's maps
     /// were drawn this frame).
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, maps_drawn: bool) {
-        let (Some(group), Some(distance), Some(listed)) = (&self.bind_group, &self.distance, self.listed())
-        else {
+        let (Some(group), Some(listed)) = (&self.bind_group, self.listed()) else {
             return;
         };
         let reduce = self
@@ -406,12 +401,7 @@ impl DistanceMapCompute {
             .swap(false, std::sync::atomic::Ordering::Relaxed)
             || maps_drawn;
         self.tiles.encode(encoder, reduce);
-        super::clear_target(
-            encoder,
-            "DistanceMapCompute::clear",
-            distance,
-            wgpu::Color::TRANSPARENT,
-        );
+        // The distance map was cleared to 0 ([`crate::chain::ComputeTargets::clear`]).
         listed.dispatch(encoder, "DistanceMapCompute", &self.pipeline, &[Some(group)]);
     }
 }

@@ -42,6 +42,7 @@ mod pcss;
 mod reference;
 mod resolve;
 mod shadow_map;
+mod storage_clear;
 mod tile_classify;
 mod tile_clear;
 mod variable_pcf;
@@ -74,6 +75,7 @@ pub(crate) use crate::gpu_helpers::{
 };
 #[cfg(feature = "renderer")]
 pub(crate) use crate::gpu_helpers::{POSITION, blended_target, stream, vertex_layout};
+pub(crate) use storage_clear::StorageClear;
 pub(crate) use tile_classify::{TileListPass, TileListTargets};
 pub(crate) use tile_clear::TileClear;
 pub(crate) use variable_pcf::VariablePcfCompute;
@@ -284,9 +286,9 @@ pub(crate) fn compute_pipeline(
     })
 }
 
-/// A texture a compute pass writes and later passes read, which a render pass can clear
-/// ([`clear_target`]) when `clearable` (a format some devices cannot render to, R32F on GL,
-/// is not).
+/// A texture a compute pass writes and later passes read, which a render pass can also clear
+/// when `clearable` (a format some devices cannot render to, R32F on GL, is not). The compute
+/// path's shared intermediates are cleared by compute passes instead ([`StorageClear`]).
 pub(crate) fn storage_target(
     device: &wgpu::Device,
     label: &str,
@@ -306,17 +308,6 @@ pub(crate) fn storage_target(
         format,
         wgpu::TextureUsages::STORAGE_BINDING | clear,
     )
-}
-
-/// Sets every texel of `view` to `color` (a render pass that only clears): the compute passes
-/// write only the listed tiles, and the pixels of the others must read as no shadow.
-pub(crate) fn clear_target(
-    encoder: &mut wgpu::CommandEncoder,
-    label: &str,
-    view: &wgpu::TextureView,
-    color: wgpu::Color,
-) {
-    drop(begin_pass(encoder, label, &[cleared(view, color)], None));
 }
 
 /// How a baseline's screen pass (PCF, PCSS) computes one visibility per pixel: a full-screen

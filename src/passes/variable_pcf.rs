@@ -417,8 +417,6 @@ pub(crate) struct VariablePcfCompute {
     pipeline: wgpu::ComputePipeline,
     params: wgpu::Buffer,
     sampler: wgpu::Sampler,
-    /// The outputs as bound: the visibility and the deviations.
-    outputs: Option<(wgpu::TextureView, wgpu::TextureView)>,
     bind_group: Option<wgpu::BindGroup>,
     /// The penumbra widths the pass counts ([`crate::map_resolution`]).
     probe: WidthProbe,
@@ -490,7 +488,6 @@ impl VariablePcfCompute {
                 "VariablePcfCompute::comparison_sampler",
                 wgpu::FilterMode::Linear,
             ),
-            outputs: None,
             bind_group: None,
             probe: WidthProbe::new(device),
         }
@@ -523,7 +520,6 @@ impl VariablePcfCompute {
                 &self.probe.buffer().as_entire_binding(),
             ],
         ));
-        self.outputs = Some((visibility.clone(), sigma.clone()));
     }
 
     pub(crate) fn switches(&self) -> PcfSwitches {
@@ -541,16 +537,11 @@ impl VariablePcfCompute {
     /// Records the pass over `tiles`.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, tiles: super::TileList) {
         // The deviations are written at every listed pixel (the only ones the blur reads them
-        // at); the visibility is read anywhere, and cleared.
-        let (Some(group), Some((visibility, _))) = (&self.bind_group, &self.outputs) else {
+        // at); the visibility is read anywhere, and was cleared to 1
+        // ([`crate::chain::ComputeTargets::clear`]).
+        let Some(group) = &self.bind_group else {
             return;
         };
-        super::clear_target(
-            encoder,
-            "VariablePcfCompute::clear",
-            visibility,
-            wgpu::Color::WHITE,
-        );
         tiles.dispatch(encoder, "VariablePcfCompute", &self.pipeline, &[Some(group)]);
     }
 }
