@@ -1226,3 +1226,198 @@ fn a_morphed_mesh_casts_its_morphed_shadow_as_bevy_does() {
         "the shadow did not follow the morph: {centres:?}"
     );
 }
+
+/// The Fox (`assets/models/Fox.glb`: 1728 vertices skinned to 24 joints, CC0 / CC BY 4.0, see
+/// `assets/models/README.md`), read with the `gltf` crate and spawned as Bevy spawns a glTF
+/// skin: one entity per node with its local transform, the mesh a `SkinnedMesh` on the joints'
+/// entities, everything under a root scaled to 1/50. Returns the node entities (by glTF index)
+/// and the skinned mesh's entity.
+fn spawn_fox(
+    world: &mut World,
+    document: &gltf::Document,
+    buffers: &[gltf::buffer::Data],
+) -> (Vec<Entity>, Entity) {
+    use bevy::mesh::skinning::{SkinnedMesh, SkinnedMeshInverseBindposes};
+    let scale = world.spawn(Transform::from_scale(Vec3::splat(0.02))).id();
+    let nodes: Vec<Entity> = document
+        .nodes()
+        .map(|node| {
+            let (t, r, s) = node.transform().decomposed();
+            world
+                .spawn(Transform {
+                    translation: Vec3::from_array(t),
+                    rotation: Quat::from_array(r),
+                    scale: Vec3::from_array(s),
+                })
+                .id()
+        })
+        .collect();
+    for node in document.nodes() {
+        for child in node.children() {
+            world
+                .entity_mut(nodes[node.index()])
+                .add_child(nodes[child.index()]);
+        }
+    }
+    for root in document.default_scene().expect("a scene").nodes() {
+        world.entity_mut(scale).add_child(nodes[root.index()]);
+    }
+    let fox = document
+        .nodes()
+        .find(|n| n.mesh().is_some())
+        .expect("the fox's mesh node");
+    let skin = fox.skin().expect("a skin");
+    let primitive = fox.mesh().unwrap().primitives().next().expect("a primitive");
+    let reader = primitive.reader(|b| Some(&buffers[b.index()]));
+    let positions: Vec<[f32; 3]> = reader.read_positions().expect("positions").collect();
+    let joints: Vec<[u16; 4]> = reader.read_joints(0).expect("joints").into_u16().collect();
+    let weights: Vec<[f32; 4]> = reader.read_weights(0).expect("weights").into_f32().collect();
+    let mut mesh = Mesh::new(
+        bevy::mesh::PrimitiveTopology::TriangleList,
+        bevy::asset::RenderAssetUsages::default(),
+    );
+    mesh.insert_attribute(Mesh::ATTRIBUTE_POSITION, positions);
+    mesh.insert_attribute(
+        Mesh::ATTRIBUTE_JOINT_INDEX,
+        VertexAttributeValues::Uint16x4(joints),
+    );
+    mesh.insert_attribute(Mesh::ATTRIBUTE_JOINT_WEIGHT, weights);
+    mesh.compute_flat_normals();
+    let inverse: Vec<Mat4> = skin
+        .reader(|b| Some(&buffers[b.index()]))
+        .read_inverse_bind_matrices()
+        .expect("inverse bind matrices")
+        .map(|m| Mat4::from_cols_array_2d(&m))
+        .collect();
+    let mesh = world.resource_mut::<Assets<Mesh>>().add(mesh);
+    let bindposes = world
+        .resource_mut::<Assets<SkinnedMeshInverseBindposes>>()
+        .add(SkinnedMeshInverseBindposes::from(inverse));
+    let material = red(world);
+    let entity = world
+        .spawn((
+            Mesh3d(mesh),
+            MeshMaterial3d(material),
+            SkinnedMesh {
+                inverse_bindposes: bindposes,
+                joints: skin.joints().map(|j| nodes[j.index()]).collect(),
+            },
+            bevy::camera::visibility::NoFrustumCulling,
+        ))
+        .id();
+    (nodes, entity)
+}
+
+/// Poses the Fox's nodes as its animation `name` has them at `time` seconds (linear
+/// interpolation of its keyframes, spherical for rotations).
+fn pose_fox(
+    world: &mut World,
+    nodes: &[Entity],
+    (document, buffers): (&gltf::Document, &[gltf::buffer::Data]),
+    name: &str,
+    time: f32,
+) {
+    use gltf::animation::util::ReadOutputs;
+    let animation = document
+        .animations()
+        .find(|a| a.name() == Some(name))
+        .expect("the animation");
+    for channel in animation.channels() {
+        let reader = channel.reader(|b| Some(&buffers[b.index()]));
+        let times: Vec<f32> = reader.read_inputs().expect("times").collect();
+        let k = times
+            .partition_point(|t| *t <= time)
+            .clamp(1, times.len().max(2) - 1);
+        let (t0, t1) = (times[k - 1], times[k.min(times.len() - 1)]);
+        let f = if t1 > t0 {
+            ((time - t0) / (t1 - t0)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let entity = nodes[channel.target().node().index()];
+        let mut transform = world.get_mut::<Transform>(entity).unwrap();
+        match reader.read_outputs().expect("values") {
+            ReadOutputs::Translations(v) => {
+                let v: Vec<Vec3> = v.map(Vec3::from_array).collect();
+                transform.translation = v[k - 1].lerp(v[k.min(v.len() - 1)], f);
+            }
+            ReadOutputs::Rotations(r) => {
+                let r: Vec<Quat> = r.into_f32().map(Quat::from_array).collect();
+                transform.rotation = r[k - 1].slerp(r[k.min(r.len() - 1)], f);
+            }
+            ReadOutputs::Scales(v) => {
+                let v: Vec<Vec3> = v.map(Vec3::from_array).collect();
+                transform.scale = v[k - 1].lerp(v[k.min(v.len() - 1)], f);
+            }
+            ReadOutputs::MorphTargetWeights(_) => {}
+        }
+    }
+}
+
+/// The Fox walking (its "Walk" animation at two times a third of its cycle apart): penumbra's
+/// shadow of each pose lies where Bevy's own does, and changes between the poses as Bevy's does.
+#[test]
+fn the_walking_fox_casts_its_posed_shadow_as_bevy_does() {
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/models/Fox.glb");
+    let (document, buffers, _) = gltf::import(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut scene = plane_alone(sun(2.0));
+    let (nodes, fox) = spawn_fox(scene.headless.app.world_mut(), &document, &buffers);
+    let mut frames = Vec::new();
+    for (name, time) in [("a", 0.1), ("b", 0.35)] {
+        pose_fox(
+            scene.headless.app.world_mut(),
+            &nodes,
+            (&document, &buffers),
+            "Walk",
+            time,
+        );
+        scene.set_penumbra(true);
+        let ours = scene.headless.render(10);
+        save(&format!("fox_{name}_penumbra.png"), &ours);
+        scene.set_penumbra(false);
+        let bevy = scene.headless.render(6);
+        save(&format!("fox_{name}_bevy.png"), &bevy);
+        frames.push((ours, bevy));
+    }
+    scene
+        .headless
+        .app
+        .world_mut()
+        .entity_mut(fox)
+        .insert(Visibility::Hidden);
+    scene.set_penumbra(true);
+    let empty = scene.headless.render(6);
+    let messages = scene.messages();
+    assert!(messages.is_empty(), "the plugin reported {messages:?}");
+    let darkness: Vec<(Vec<Option<f32>>, Vec<Option<f32>>)> = frames
+        .iter()
+        .map(|(ours, bevy)| (darkness(ours, &empty), darkness(bevy, &empty)))
+        .collect();
+    for (name, (ours, bevy)) in ["a", "b"].iter().zip(&darkness) {
+        like_bevys(&format!("fox pose {name}"), ours, bevy);
+    }
+    // Where the shadow changes between the poses (darkness moving by over 0.5), in each way.
+    let changed = |a: &[Option<f32>], b: &[Option<f32>]| -> Vec<bool> {
+        a.iter()
+            .zip(b)
+            .map(|(a, b)| matches!((a, b), (Some(a), Some(b)) if (a - b).abs() > 0.5))
+            .collect()
+    };
+    let ours = changed(&darkness[0].0, &darkness[1].0);
+    let bevy = changed(&darkness[0].1, &darkness[1].1);
+    let (n_ours, n_bevy) = (
+        ours.iter().filter(|c| **c).count(),
+        bevy.iter().filter(|c| **c).count(),
+    );
+    let both = ours.iter().zip(&bevy).filter(|(a, b)| **a && **b).count();
+    println!("pixels whose shadow changed between the poses: penumbra {n_ours}, Bevy {n_bevy}, both {both}");
+    assert!(
+        n_bevy > 30,
+        "the poses barely differ in Bevy's shadow ({n_bevy} pixels)"
+    );
+    assert!(
+        both as f32 > 0.5 * n_bevy as f32,
+        "penumbra's shadow changed elsewhere than Bevy's: {n_ours} and {n_bevy} pixels, {both} in common"
+    );
+}
