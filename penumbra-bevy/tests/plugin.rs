@@ -1421,3 +1421,158 @@ fn the_walking_fox_casts_its_posed_shadow_as_bevy_does() {
         "penumbra's shadow changed elsewhere than Bevy's: {n_ours} and {n_bevy} pixels, {both} in common"
     );
 }
+
+/// The luminance drop of each pixel of `shadowed` against `unshadowed` (0 where it got
+/// brighter), over every pixel.
+fn drop_map(shadowed: &image::RgbaImage, unshadowed: &image::RgbaImage) -> Vec<Option<f32>> {
+    let luminance =
+        |p: &image::Rgba<u8>| 0.2126 * p.0[0] as f32 + 0.7152 * p.0[1] as f32 + 0.0722 * p.0[2] as f32;
+    shadowed
+        .pixels()
+        .zip(unshadowed.pixels())
+        .map(|(s, u)| Some(((luminance(u) - luminance(s)) / 255.0).max(0.0)))
+        .collect()
+}
+
+/// A glTF scene spawned as Bevy 0.20 spawns one (`WorldAssetRoot`, Bevy's glTF loader): Bevy's
+/// `MixedLightingExample` (a floor, a sphere and the SheenChair with its JPEG textures, a glTF
+/// sun). Every `StandardMaterial` of it becomes a `PenumbraMaterial` that is an exact copy of it,
+/// textures included, and penumbra's shadow of the chair and the sphere lies where Bevy's own
+/// does.
+#[test]
+fn a_gltf_scene_spawned_as_bevy_spawns_it_gets_penumbras_shadows_with_its_materials() {
+    use bevy::gltf::GltfAssetLabel;
+    use bevy::world_serialization::WorldAssetRoot;
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let mut headless = Headless::new(SIZE, |app| {
+        app.add_plugins(PenumbraPlugin);
+    });
+    let world = headless.app.world_mut();
+    let scene = world
+        .resource::<AssetServer>()
+        .load(GltfAssetLabel::Scene(0).from_asset("models/MixedLightingExample/MixedLightingExample.gltf"));
+    world.spawn(WorldAssetRoot(scene.clone()));
+    let bundle = headless.camera(Vec3::new(1.6, 2.4, 2.2), Vec3::new(0.0, 0.3, 0.0));
+    let camera = headless
+        .app
+        .world_mut()
+        .spawn((
+            bundle,
+            PenumbraCamera::default(),
+            ShadowFilteringMethod::Hardware2x2,
+        ))
+        .id();
+    // Loaded, spawned, its materials switched and its textures on the GPU.
+    let mut converted = 0;
+    for _ in 0..400 {
+        headless.frame();
+        let world = headless.app.world_mut();
+        let loaded = world
+            .resource::<AssetServer>()
+            .is_loaded_with_dependencies(&scene);
+        converted = world
+            .query::<&MeshMaterial3d<penumbra_bevy::PenumbraMaterial>>()
+            .iter(world)
+            .count();
+        let standard = world
+            .query::<&MeshMaterial3d<StandardMaterial>>()
+            .iter(world)
+            .count();
+        if loaded && converted > 0 && standard == 0 {
+            break;
+        }
+    }
+    assert!(
+        converted >= 6,
+        "only {converted} meshes of the scene were switched to PenumbraMaterial"
+    );
+    let world = headless.app.world_mut();
+    let materials: Vec<StandardMaterial> = world
+        .resource::<Assets<penumbra_bevy::PenumbraMaterial>>()
+        .iter()
+        .map(|(_, m)| m.base.clone())
+        .collect();
+    // Each is a copy of one of the glTF's StandardMaterials as Bevy's loader made it: the same
+    // colours, factors and textures.
+    let key = |m: &StandardMaterial| {
+        format!(
+            "{:?} {:?} {:?} {:?} {:?} {} {} {:?} {:?}",
+            m.base_color,
+            m.base_color_texture.as_ref().map(|h| h.id()),
+            m.normal_map_texture.as_ref().map(|h| h.id()),
+            m.metallic_roughness_texture.as_ref().map(|h| h.id()),
+            m.occlusion_texture.as_ref().map(|h| h.id()),
+            m.perceptual_roughness,
+            m.metallic,
+            m.emissive,
+            m.alpha_mode,
+        )
+    };
+    let gltf_materials: Vec<String> = world
+        .resource::<Assets<StandardMaterial>>()
+        .iter()
+        .map(|(_, m)| key(m))
+        .collect();
+    let copies = materials
+        .iter()
+        .filter(|m| gltf_materials.contains(&key(m)))
+        .count();
+    let textured = materials
+        .iter()
+        .filter(|m| m.base_color_texture.is_some())
+        .count();
+    let occluded = materials.iter().filter(|m| m.occlusion_texture.is_some()).count();
+    println!(
+        "{converted} meshes switched; {} PenumbraMaterials, {copies} exact copies of the glTF's, {textured} with a base-colour texture, {occluded} with an occlusion texture",
+        materials.len()
+    );
+    assert_eq!(
+        copies,
+        materials.len(),
+        "a PenumbraMaterial differs from the glTF's material it was made from"
+    );
+    assert!(
+        textured >= 3,
+        "the chair's textures were lost: {textured} textured materials"
+    );
+
+    // The sun casts: penumbra's shadows, then Bevy's own, then none.
+    let mut suns = world.query::<&mut DirectionalLight>();
+    let count = suns.iter(world).count();
+    assert_eq!(count, 1, "the scene's sun");
+    let set_shadows = |headless: &mut Headless, on: bool| {
+        let world = headless.app.world_mut();
+        for mut sun in world.query::<&mut DirectionalLight>().iter_mut(world) {
+            sun.shadow_maps_enabled = on;
+        }
+    };
+    set_shadows(&mut headless, true);
+    let ours = headless.render(10);
+    save("gltf_scene_penumbra.png", &ours);
+    headless
+        .app
+        .world_mut()
+        .get_mut::<PenumbraCamera>(camera)
+        .unwrap()
+        .enabled = false;
+    let bevy = headless.render(6);
+    save("gltf_scene_bevy.png", &bevy);
+    set_shadows(&mut headless, false);
+    let unshadowed = headless.render(6);
+    save("gltf_scene_unshadowed.png", &unshadowed);
+    let messages = headless.app.world().resource::<PenumbraDiagnostics>().messages();
+    assert!(messages.is_empty(), "the plugin reported {messages:?}");
+    let (o, b) = (drop_map(&ours, &unshadowed), drop_map(&bevy, &unshadowed));
+    let (o_sum, b_sum): (f32, f32) = (o.iter().flatten().sum(), b.iter().flatten().sum());
+    let (o_at, b_at) = (centroid(&o), centroid(&b));
+    println!("shadow: penumbra's at {o_at} ({o_sum:.0}), Bevy's at {b_at} ({b_sum:.0})");
+    assert!(b_sum > 150.0, "no shadow in Bevy's frame ({b_sum})");
+    assert!(
+        o_at.distance(b_at) < 4.0,
+        "penumbra's shadow at {o_at}, Bevy's at {b_at}"
+    );
+    assert!(
+        (o_sum / b_sum - 1.0).abs() < 0.3,
+        "penumbra's darkness {o_sum}, Bevy's {b_sum}"
+    );
+}

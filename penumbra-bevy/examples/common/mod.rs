@@ -30,7 +30,12 @@ pub fn default_plugins(window: bool) -> bevy::app::PluginGroupBuilder {
         synchronous_pipeline_compilation: !window,
         ..default()
     };
-    let plugins = DefaultPlugins.set(render);
+    // Assets (a glTF scene in the tests) from the repository's `assets/`.
+    let assets = bevy::asset::AssetPlugin {
+        file_path: concat!(env!("CARGO_MANIFEST_DIR"), "/../assets").into(),
+        ..default()
+    };
+    let plugins = DefaultPlugins.set(render).set(assets);
     if window {
         plugins
     } else {
