@@ -378,32 +378,44 @@ pub(crate) struct ComputeTargets {
     clears: TargetClears,
 }
 
-/// [`ComputeTargets`]' clears, one per cleared texture: compute passes on a GPU, render
-/// passes' clears on a CPU adapter (where a render pass's clear is a memory fill and a compute
-/// pass runs a shader per texel: lavapipe's frame took 4-7% longer with compute clears, an
-/// H100's screen-space passes 0.37 ms less on teapot view 0; `PENUMBRA_CLEARS=compute` or
-/// `render` in the environment picks one whatever the device, for tests).
+/// [`ComputeTargets`]' clears, one per cleared texture.
 #[derive(Clone)]
-enum TargetClears {
-    Compute {
-        visibility: StorageClear,
-        blurred: Option<StorageClear>,
-        distance: Option<StorageClear>,
-    },
-    RenderPass {
-        visibility: wgpu::TextureView,
-        blurred: Option<wgpu::TextureView>,
-        distance: Option<wgpu::TextureView>,
-    },
+struct TargetClears {
+    visibility: OneClear,
+    blurred: Option<OneClear>,
+    distance: Option<OneClear>,
 }
 
-impl TargetClears {
+/// One texture's clear: a compute pass on a GPU, a render pass's clear on a CPU adapter (where a
+/// render pass's clear is a memory fill and a compute pass runs a shader per texel: lavapipe's
+/// frame took 4-7% longer with compute clears, an H100's screen-space passes 0.37 ms less on
+/// teapot view 0; `PENUMBRA_CLEARS=compute` or `render` in the environment picks one whatever
+/// the device, for tests).
+#[derive(Clone)]
+enum OneClear {
+    Compute(StorageClear),
+    RenderPass(wgpu::TextureView, wgpu::Color),
+}
+
+impl OneClear {
     /// Whether `device` clears with compute passes.
     fn compute(device: &wgpu::Device) -> bool {
         match std::env::var("PENUMBRA_CLEARS").as_deref() {
             Ok("compute") => true,
             Ok("render") => false,
             _ => device.adapter_info().device_type != wgpu::DeviceType::Cpu,
+        }
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
+        match self {
+            OneClear::Compute(clear) => clear.encode(encoder),
+            OneClear::RenderPass(view, value) => drop(crate::passes::begin_pass(
+                encoder,
+                "ComputeTargets::clear",
+                &[crate::passes::cleared(view, *value)],
+                None,
+            )),
         }
     }
 }
@@ -463,7 +475,7 @@ impl ComputeNeeds {
 impl ComputeTargets {
     /// For a screen of `size`, with the parts `needs` names.
     pub fn new(device: &wgpu::Device, size: (u32, u32), needs: ComputeNeeds) -> Self {
-        let compute_clears = TargetClears::compute(device);
+        let compute_clears = OneClear::compute(device);
         let target =
             |label, format| crate::passes::storage_target(device, label, size, format, !compute_clears);
         let visibility = target(
@@ -478,25 +490,35 @@ impl ComputeTargets {
             sigma: target("ComputeTargets::sigma", VariablePcfCompute::SIGMA_FORMAT),
             tiles: TileListTargets::new(device, size),
         });
-        let clear = |label, (texture, view): &(wgpu::Texture, wgpu::TextureView), value| {
-            StorageClear::new(device, label, (view, texture.format(), size), value)
+        let clear = |label, (texture, view): &(wgpu::Texture, wgpu::TextureView), value: wgpu::Color| {
+            if compute_clears {
+                let value = [value.r, value.g, value.b, value.a];
+                OneClear::Compute(StorageClear::new(
+                    device,
+                    label,
+                    (view, texture.format(), size),
+                    value,
+                ))
+            } else {
+                OneClear::RenderPass(view.clone(), value)
+            }
         };
-        let clears = if compute_clears {
-            TargetClears::Compute {
-                visibility: clear("ComputeTargets::clear_visibility", &visibility, [1.0; 4]),
-                blurred: blurred
-                    .as_ref()
-                    .map(|b| clear("ComputeTargets::clear_blurred", b, [1.0; 4])),
-                distance: distance_map
-                    .as_ref()
-                    .map(|d| clear("ComputeTargets::clear_distance", &d.distance, [0.0; 4])),
-            }
-        } else {
-            TargetClears::RenderPass {
-                visibility: visibility.1.clone(),
-                blurred: blurred.as_ref().map(|b| b.1.clone()),
-                distance: distance_map.as_ref().map(|d| d.distance.1.clone()),
-            }
+        let clears = TargetClears {
+            visibility: clear(
+                "ComputeTargets::clear_visibility",
+                &visibility,
+                wgpu::Color::WHITE,
+            ),
+            blurred: blurred
+                .as_ref()
+                .map(|b| clear("ComputeTargets::clear_blurred", b, wgpu::Color::WHITE)),
+            distance: distance_map.as_ref().map(|d| {
+                clear(
+                    "ComputeTargets::clear_distance",
+                    &d.distance,
+                    wgpu::Color::TRANSPARENT,
+                )
+            }),
         };
         Self {
             visibility,
@@ -509,48 +531,16 @@ impl ComputeTargets {
         }
     }
 
-    /// Records the clear of `which` ([`TargetClears`]: a compute pass on a GPU, where a render
-    /// pass's clear of these storage textures costs more than the passes that fill them).
+    /// Records the clear of `which` ([`OneClear`]: a compute pass on a GPU, where a render pass's
+    /// clear of these storage textures costs more than the passes that fill them).
     pub fn clear(&self, encoder: &mut wgpu::CommandEncoder, which: Cleared) {
-        let value = match which {
-            Cleared::Visibility | Cleared::Blurred => wgpu::Color::WHITE,
-            Cleared::Distance => wgpu::Color::TRANSPARENT,
+        let clear = match which {
+            Cleared::Visibility => Some(&self.clears.visibility),
+            Cleared::Blurred => self.clears.blurred.as_ref(),
+            Cleared::Distance => self.clears.distance.as_ref(),
         };
-        match &self.clears {
-            TargetClears::Compute {
-                visibility,
-                blurred,
-                distance,
-            } => {
-                let clear = match which {
-                    Cleared::Visibility => Some(visibility),
-                    Cleared::Blurred => blurred.as_ref(),
-                    Cleared::Distance => distance.as_ref(),
-                };
-                if let Some(clear) = clear {
-                    clear.encode(encoder);
-                }
-            }
-            TargetClears::RenderPass {
-                visibility,
-                blurred,
-                distance,
-            } => {
-                let view = match which {
-                    Cleared::Visibility => Some(visibility),
-                    Cleared::Blurred => blurred.as_ref(),
-                    Cleared::Distance => distance.as_ref(),
-                };
-                if let Some(view) = view {
-                    let pass = crate::passes::begin_pass(
-                        encoder,
-                        "ComputeTargets::clear",
-                        &[crate::passes::cleared(view, value)],
-                        None,
-                    );
-                    drop(pass);
-                }
-            }
+        if let Some(clear) = clear {
+            clear.encode(encoder);
         }
     }
 

@@ -342,14 +342,22 @@ fn world_with(gpu: &penumbra::HeadlessGpu, register_floor: bool) -> World {
     }
 }
 
-#[test]
-fn a_posed_mesh_moves_its_shadow_when_its_new_vertices_are_given() {
-    let gpu = common::gpu();
-    let (device, queue) = (&gpu.device, &gpu.queue);
-    let mut w = world(&gpu);
+/// The box and floor, the test's depth pass and default shadows with one sun 30 degrees off
+/// vertical.
+fn box_under_a_sun(gpu: &penumbra::HeadlessGpu) -> (World, DepthPass, Shadows, penumbra::LightId) {
+    let device = &gpu.device;
+    let w = world(gpu);
     let depth = DepthPass::new(device);
     let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
     let id = shadows.add_light(device, sun(30.0)).unwrap();
+    (w, depth, shadows, id)
+}
+
+#[test]
+fn a_posed_mesh_moves_its_shadow_when_its_new_vertices_are_given() {
+    let gpu = common::gpu();
+    let queue = &gpu.queue;
+    let (mut w, depth, mut shadows, id) = box_under_a_sun(&gpu);
     // The x of the shadow's dark texels' centroid under the top camera (32 pixels a unit).
     let shadow_x = |layer: &[f32]| {
         let dark: Vec<f32> = (0..layer.len())
@@ -396,11 +404,7 @@ fn a_posed_mesh_moves_its_shadow_when_its_new_vertices_are_given() {
 #[test]
 fn a_caster_casts_only_for_the_lights_it_shares_a_layer_with() {
     let gpu = common::gpu();
-    let (device, queue) = (&gpu.device, &gpu.queue);
-    let mut w = world(&gpu);
-    let depth = DepthPass::new(device);
-    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
-    let id = shadows.add_light(device, sun(30.0)).unwrap();
+    let (mut w, depth, mut shadows, id) = box_under_a_sun(&gpu);
     assert_eq!(shadows.light_layers(id).unwrap(), penumbra::ALL_LAYERS);
     assert_eq!(w.casters.layers(w.box_instance).unwrap(), penumbra::ALL_LAYERS);
     let dark = |shadows: &Shadows| {
@@ -454,7 +458,6 @@ fn a_caster_casts_only_for_the_lights_it_shares_a_layer_with() {
     shadows.remove_light(id).unwrap();
     assert!(shadows.set_light_layers(id, 1).is_err());
     assert!(shadows.light_layers(id).is_err());
-    let _ = queue;
 }
 
 #[test]

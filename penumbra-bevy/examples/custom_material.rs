@@ -22,22 +22,9 @@ use penumbra_bevy::{PenumbraCamera, PenumbraPlugin};
 struct Unlit(bool);
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let out = args.iter().position(|a| a == "--out").map(|i| {
-        args.get(i + 1)
-            .cloned()
-            .unwrap_or_else(|| fail("--out needs a file name, e.g. --out floor.png"))
-    });
-    let unlit = Unlit(args.iter().any(|a| a == "--unlit"));
-    if let Some(bad) = args
-        .iter()
-        .find(|a| a.starts_with("--") && !["--out", "--unlit"].contains(&a.as_str()))
-    {
-        fail(&format!(
-            "unknown argument `{bad}` (expected --out FILE.png, --unlit)"
-        ));
-    }
-    match out {
+    let args = common::ExampleArgs::parse("custom_material", &["--unlit"]);
+    let unlit = Unlit(args.has("--unlit"));
+    match args.out {
         Some(path) => {
             let mut headless = common::Headless::new(UVec2::new(960, 640), |app| {
                 app.add_plugins((PenumbraPlugin, TintedPlugin))

@@ -20,22 +20,9 @@ use bevy::prelude::*;
 use penumbra_bevy::{PenumbraCamera, PenumbraPlugin};
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let out = args.iter().position(|a| a == "--out").map(|i| {
-        args.get(i + 1)
-            .cloned()
-            .unwrap_or_else(|| fail("--out needs a file name, e.g. --out scene.png"))
-    });
-    let bevy_shadows = args.iter().any(|a| a == "--bevy");
-    if let Some(bad) = args
-        .iter()
-        .find(|a| a.starts_with("--") && !["--out", "--bevy"].contains(&a.as_str()))
-    {
-        fail(&format!(
-            "unknown argument `{bad}` (expected --out FILE.png, --bevy)"
-        ));
-    }
-    match out {
+    let args = common::ExampleArgs::parse("scene", &["--bevy"]);
+    let bevy_shadows = args.has("--bevy");
+    match args.out {
         Some(path) => headless(&path, !bevy_shadows),
         None => {
             App::new()

@@ -851,6 +851,23 @@ fn differing(a: &image::RgbaImage, at: UVec2, b: &image::RgbaImage) -> f32 {
     differ as f32 / (b.width() * b.height()) as f32
 }
 
+/// The rectangle of `frame` at `at` (`alone`'s size) is the frame its camera renders alone
+/// (under 0.2% of the pixels differ), and that frame shows a shadow to compare.
+fn as_alone(name: &str, how: &str, frame: &image::RgbaImage, at: UVec2, alone: &image::RgbaImage) {
+    let shadowed = shadowed_plane_pixels(alone);
+    let differ = differing(frame, at, alone);
+    println!(
+        "{name}: {shadowed} shadowed plane pixels alone, {:.3}% differ {how}",
+        100.0 * differ
+    );
+    assert!(shadowed > 300, "{name}: no shadow to compare ({shadowed} pixels)");
+    assert!(
+        differ < 0.002,
+        "{name}: {:.2}% of the pixels differ {how} from the camera alone",
+        100.0 * differ
+    );
+}
+
 /// Plane pixels darker than half the brightest one: the shadowed part of the plane.
 fn shadowed_plane_pixels(image: &image::RgbaImage) -> usize {
     let plane = plane(image);
@@ -915,18 +932,7 @@ fn two_cameras_on_two_targets_each_get_their_own_shadows() {
         ("top", &top_both, &top_alone),
         ("side", &side_both[0], &side_alone[0]),
     ] {
-        let shadowed = shadowed_plane_pixels(alone);
-        let differ = differing(both, UVec2::ZERO, alone);
-        println!(
-            "{name}: {shadowed} shadowed plane pixels alone, {:.3}% differ with two cameras",
-            100.0 * differ
-        );
-        assert!(shadowed > 300, "{name}: no shadow to compare ({shadowed} pixels)");
-        assert!(
-            differ < 0.002,
-            "{name}: {:.2}% of the pixels differ from the camera alone",
-            100.0 * differ
-        );
+        as_alone(name, "with two cameras", both, UVec2::ZERO, alone);
     }
 
     // The side camera without penumbra: no shadow from the sun (not the top camera's), named.
@@ -994,18 +1000,7 @@ fn split_screen_cameras_each_shade_their_viewport() {
     let messages = scene.messages();
     assert!(messages.is_empty(), "the plugin reported {messages:?}");
     for (name, at, alone) in [("left", 0, &alone[0]), ("right", half.x, &alone[1])] {
-        let shadowed = shadowed_plane_pixels(alone);
-        let differ = differing(&split, UVec2::new(at, 0), alone);
-        println!(
-            "{name}: {shadowed} shadowed plane pixels alone, {:.3}% differ in the split screen",
-            100.0 * differ
-        );
-        assert!(shadowed > 300, "{name}: no shadow to compare ({shadowed} pixels)");
-        assert!(
-            differ < 0.002,
-            "{name}: {:.2}% of the half's pixels differ from the camera alone",
-            100.0 * differ
-        );
+        as_alone(name, "in the split screen", &split, UVec2::new(at, 0), alone);
     }
 }
 

@@ -52,6 +52,44 @@ pub fn default_plugins(window: bool) -> bevy::app::PluginGroupBuilder {
     }
 }
 
+/// An example's command line: `--out FILE.png` (render headless into that file) and on/off
+/// `switches`. Exits with a message naming the argument on anything else, or on `--out`
+/// without a file name.
+pub struct ExampleArgs {
+    pub out: Option<String>,
+    args: Vec<String>,
+}
+
+impl ExampleArgs {
+    pub fn parse(example: &str, switches: &[&str]) -> Self {
+        let fail = |message: String| -> ! {
+            eprintln!("{example}: {message}");
+            std::process::exit(2)
+        };
+        let args: Vec<String> = std::env::args().skip(1).collect();
+        let out = args.iter().position(|a| a == "--out").map(|i| {
+            args.get(i + 1)
+                .cloned()
+                .unwrap_or_else(|| fail(format!("--out needs a file name, e.g. --out {example}.png")))
+        });
+        if let Some(bad) = args
+            .iter()
+            .find(|a| a.starts_with("--") && *a != "--out" && !switches.contains(&a.as_str()))
+        {
+            fail(format!(
+                "unknown argument `{bad}` (expected --out FILE.png{})",
+                switches.iter().map(|s| format!(", {s}")).collect::<String>()
+            ));
+        }
+        Self { out, args }
+    }
+
+    /// Whether switch `name` was given.
+    pub fn has(&self, name: &str) -> bool {
+        self.args.iter().any(|a| a == name)
+    }
+}
+
 /// The last frame read back from the render target, as RGBA8 rows.
 #[derive(Resource, Clone, Default)]
 pub struct Captured(pub Arc<Mutex<Option<Vec<u8>>>>);
