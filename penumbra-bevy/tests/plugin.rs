@@ -264,6 +264,19 @@ impl Scene {
             .enabled = on;
     }
 
+    /// The frame with penumbra's shadows (after `frames` updates) and with Bevy's own, each
+    /// saved as `{name}_penumbra.png` and `{name}_bevy.png`; penumbra is on again after.
+    fn penumbra_and_bevy(&mut self, name: &str, frames: u32) -> (image::RgbaImage, image::RgbaImage) {
+        self.set_penumbra(true);
+        let ours = self.headless.render(frames);
+        save(&format!("{name}_penumbra.png"), &ours);
+        self.set_penumbra(false);
+        let bevy = self.headless.render(6);
+        save(&format!("{name}_bevy.png"), &bevy);
+        self.set_penumbra(true);
+        (ours, bevy)
+    }
+
     fn messages(&self) -> Vec<String> {
         self.headless
             .app
@@ -804,16 +817,7 @@ fn a_skinned_mesh_casts_its_posed_shadow_as_bevy_does() {
             bevy::camera::visibility::NoFrustumCulling,
         ))
         .id();
-    let shadows = |scene: &mut Scene, name: &str| {
-        scene.set_penumbra(true);
-        let ours = scene.headless.render(10);
-        save(&format!("skinned_{name}_penumbra.png"), &ours);
-        scene.set_penumbra(false);
-        let bevy = scene.headless.render(6);
-        save(&format!("skinned_{name}_bevy.png"), &bevy);
-        (ours, bevy)
-    };
-    let straight = shadows(&mut scene, "straight");
+    let straight = scene.penumbra_and_bevy("skinned_straight", 10);
     scene
         .headless
         .app
@@ -821,7 +825,7 @@ fn a_skinned_mesh_casts_its_posed_shadow_as_bevy_does() {
         .get_mut::<Transform>(elbow)
         .unwrap()
         .rotation = Quat::from_rotation_z(60f32.to_radians());
-    let bent = shadows(&mut scene, "bent");
+    let bent = scene.penumbra_and_bevy("skinned_bent", 10);
     scene.headless.app.world_mut().despawn(skinned);
     scene.set_penumbra(true);
     let empty = scene.headless.render(6);
@@ -1094,24 +1098,14 @@ fn render_layers_keep_a_lights_shadows_to_its_layers_as_bevy_does() {
         .single(world)
         .unwrap();
 
-    let frames = |scene: &mut Scene, name: &str| {
-        scene.set_penumbra(true);
-        let ours = scene.headless.render(6);
-        save(&format!("layers_{name}_penumbra.png"), &ours);
-        scene.set_penumbra(false);
-        let bevy = scene.headless.render(6);
-        save(&format!("layers_{name}_bevy.png"), &bevy);
-        scene.set_penumbra(true);
-        (ours, bevy)
-    };
-    let apart = frames(&mut scene, "apart");
+    let apart = scene.penumbra_and_bevy("layers_apart", 6);
     scene
         .headless
         .app
         .world_mut()
         .entity_mut(sun_entity)
         .insert(RenderLayers::from_layers(&[0, 1]));
-    let shared = frames(&mut scene, "shared");
+    let shared = scene.penumbra_and_bevy("layers_shared", 6);
     let world = scene.headless.app.world_mut();
     world.despawn(other);
     world.despawn(scene.box_entity);
@@ -1367,13 +1361,7 @@ fn the_walking_fox_casts_its_posed_shadow_as_bevy_does() {
             "Walk",
             time,
         );
-        scene.set_penumbra(true);
-        let ours = scene.headless.render(10);
-        save(&format!("fox_{name}_penumbra.png"), &ours);
-        scene.set_penumbra(false);
-        let bevy = scene.headless.render(6);
-        save(&format!("fox_{name}_bevy.png"), &bevy);
-        frames.push((ours, bevy));
+        frames.push(scene.penumbra_and_bevy(&format!("fox_{name}"), 10));
     }
     scene
         .headless
