@@ -1266,7 +1266,10 @@ impl LightState {
 }
 
 // An engine keeps `Shadows` and `Casters` in state shared between threads (Bevy's render world
-// asks `Send + Sync` of a resource): checked when the crate builds.
+// asks `Send + Sync` of a resource): checked when the crate builds. Not on the web, where wgpu's
+// objects are neither (one thread; wgpu's `fragile-send-sync-non-atomic-wasm` would make them
+// so).
+#[cfg(not(target_arch = "wasm32"))]
 const _: () = {
     const fn shared<T: Send + Sync>() {}
     shared::<Shadows>();
