@@ -15,17 +15,6 @@ pub(crate) fn layout(
     })
 }
 
-/// The layout of a pass that looks a light's shadow map up from the screen
-/// ([`entry::shadow_lookup`]), with `more` entries from binding 4.
-pub(crate) fn shadow_lookup_layout(
-    device: &wgpu::Device,
-    label: &str,
-    frame_size: usize,
-    more: &[wgpu::BindGroupLayoutEntry],
-) -> wgpu::BindGroupLayout {
-    layout(device, label, &entry::shadow_lookup(frame_size, more))
-}
-
 /// A uniform buffer of `size` bytes that the queue writes.
 pub(crate) fn uniform_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {

@@ -8,7 +8,7 @@ use crate::error::{PenumbraError, Result};
 use crate::gpu_scene::GpuScene;
 use crate::light_samples::{Emitter, light_sample};
 use crate::light_space::{AtlasGrid, FitInputs, LightView, atlas_grid, tile_resolution};
-use crate::passes::{DepthPrepass, ReferencePass, ShadowMapPass};
+use crate::passes::{DepthPrepass, GeometricNormals, ReferencePass, ShadowMapPass};
 use crate::scene::{Camera, Light};
 use crate::settings::{ShadowMapSettings, ShadowSettings};
 use crate::view::CameraMatrices;
@@ -85,6 +85,9 @@ pub(crate) struct GroundTruth {
     key: Option<ReferenceKey>,
     /// Every light's mean, one layer each, as the composite binds them (copied from the passes).
     array: Option<(wgpu::Texture, wgpu::TextureView)>,
+    /// The receivers' triangle normals, drawn after the prepass (made on the first step, with
+    /// the scene's layouts).
+    normals: Option<GeometricNormals>,
 }
 
 impl GroundTruth {
@@ -96,6 +99,7 @@ impl GroundTruth {
             size,
             key: None,
             array: None,
+            normals: None,
         };
         truth.ensure_lights(device, 1);
         truth
@@ -255,14 +259,19 @@ impl GroundTruth {
                 self.maps.push(map);
             }
         }
+        let normals = self
+            .normals
+            .get_or_insert_with(|| GeometricNormals::new(device, scene.casters().layouts(), self.frame_size));
+        normals.prepare(device, frame, size.0, size.1);
         for (pass, (map, _)) in self.passes.iter_mut().zip(&self.maps) {
-            pass.bind(device, frame, prepass.depth(), map.view());
+            pass.bind(device, frame, prepass.depth(), map.view(), normals.view());
         }
         if self.key.as_ref() != Some(&key) {
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("reference: depth prepass"),
             });
             prepass.encode(&mut encoder, scene);
+            normals.encode(&mut encoder, scene, prepass.depth());
             queue.submit([encoder.finish()]);
             for pass in &mut self.passes {
                 pass.reset();
@@ -271,6 +280,10 @@ impl GroundTruth {
         }
         let casters = scene.casters();
         let matrices = CameraMatrices::from_camera(camera, size.0 as f32 / size.1.max(1) as f32);
+        // Each caster's and receiver's box, for a spot's near and far planes as the real-time
+        // maps take them. The whole scene's box alone put a spot inside a room at its nearest
+        // wall: the desk under the room's monitor lay before the near plane and cast nothing.
+        let parts = scene.shadow_parts();
         let first = self.passes[0].accumulated();
         let last = first.saturating_add(max_samples).min(total);
         for k in first..last {
@@ -288,7 +301,7 @@ impl GroundTruth {
                     light: &sample,
                     casters: scene.caster_bounds(),
                     casters_and_receivers: scene.shadow_bounds(),
-                    parts: &[],
+                    parts: &parts,
                     margin: 0.0,
                     fit: sm.fit,
                     camera: Some(matrices),

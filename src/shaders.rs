@@ -102,6 +102,13 @@ pub const REFERENCE: &str = wgsl!(
     "common/receiver.wgsl",
     "reference.wgsl"
 );
+/// The reference's receiver normals (`reference_normals.wgsl`): each pixel's triangle plane.
+pub const REFERENCE_NORMALS: &str = wgsl!(
+    "common/frame.wgsl",
+    "common/cube.wgsl",
+    "common/scene.wgsl",
+    "reference_normals.wgsl"
+);
 /// The convenience renderer's forward lit pass (`forward.wgsl`), for hard and hardware 2x2
 /// shadows from a single light: the direct light attenuated by one comparison lookup of the
 /// shadow map.
@@ -125,11 +132,12 @@ pub const TILE_CLASSIFY: &str = wgsl!(
 );
 
 /// Every pass's composed source, by the name of its file in `shaders/`.
-pub const ALL: [(&str, &str); 15] = [
+pub const ALL: [(&str, &str); 16] = [
     ("shadow_map", SHADOW_MAP),
     ("fattened_shadow_map", FATTENED_SHADOW_MAP),
     ("exit_map", EXIT_MAP),
     ("depth_prepass", DEPTH_PREPASS),
+    ("reference_normals", REFERENCE_NORMALS),
     ("distance_map", DISTANCE_MAP),
     ("pcf", PCF),
     ("variable_pcf", VARIABLE_PCF),

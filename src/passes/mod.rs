@@ -13,7 +13,8 @@
 //! | [`BlurPass`] | `shaders/blur.wgsl` | visibility, distance map, camera depth | blurred visibility (R16F), or the light's output layer with the indirect attenuation applied |
 //! | [`ResolvePass`] | `shaders/resolve.wgsl` | visibility, distance map, camera depth, receiver mask | one layer of the visibility array, indirect attenuation applied |
 //! | [`CompositePass`] | `shaders/composite.wgsl` | all instances, resolved visibility, camera depth | lit color |
-//! | [`ReferencePass`] | `shaders/reference.wgsl` | camera depth, one hard shadow map per light sample | mean visibility (R32F), weighted per pixel, beside the sum of the weights |
+//! | [`ReferencePass`] | `shaders/reference.wgsl` | camera depth, receiver normals, one hard shadow map per light sample | mean visibility (R32F), weighted per pixel, beside the sum of the weights |
+//! | [`GeometricNormals`] | `shaders/reference_normals.wgsl` | the scene, the camera depth | each pixel's triangle normal (RGBA32F), for the reference |
 //! | [`ForwardPass`] | `shaders/forward.wgsl` | all instances, camera, shadow map | lit color + camera depth (hard, hw2x2) |
 //!
 //! The compute path (the default where the device has compute shaders,
@@ -65,7 +66,7 @@ pub use forward::ForwardPass;
 pub use pcf::PcfPass;
 pub use pcss::PcssPass;
 #[cfg(feature = "renderer")]
-pub use reference::ReferencePass;
+pub use reference::{GeometricNormals, ReferencePass};
 pub use resolve::ResolvePass;
 pub use shadow_map::ShadowMapPass;
 // The generic helpers the passes build on (a leaf module).

@@ -1,14 +1,19 @@
 //! Reference pass: the ground-truth soft shadow of an area light, as the average of N hard
 //! shadows from N points stratified over the light.
 //!
-//! Input: the frame uniform, the camera depth, and for each sample a hard shadow map rendered
-//! by the caller from that sample's point light. Output: an R32F visibility, the running mean
+//! Input: the frame uniform, the camera depth, the receivers' geometric normals
+//! ([`GeometricNormals`]), and for each sample a hard shadow map rendered by the caller from
+//! that sample's point light. Output: an R32F visibility, the running mean
 //! weighted as [`crate::light_samples`] says, beside an R32F sum of the weights, each kept in two
 //! ping-pong targets whatever N is.
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{DepthUse, Fullscreen, draw_fullscreen_into, entry, screen_target};
+use super::{
+    DepthUse, Fullscreen, begin_pass, cleared, depth_attachment, draw_fullscreen_into, entry, screen_target,
+};
+use crate::gpu_scene::{CameraStreams, GpuScene};
+use crate::layouts::SceneLayouts;
 use crate::light_samples::Emitter;
 use crate::light_space::{LightView, MAX_TILES, tile_matrix};
 
@@ -44,7 +49,6 @@ fn target(device: &wgpu::Device, width: u32, height: u32) -> Target {
 pub struct ReferencePass {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
-    sampler: wgpu::Sampler,
     sample: wgpu::Buffer,
     targets: [Target; 2],
     /// Bind group reading target i and writing the other.
@@ -55,13 +59,18 @@ pub struct ReferencePass {
 impl ReferencePass {
     pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
         let shader = crate::shaders::module(device, "reference.wgsl", crate::shaders::REFERENCE);
-        let layout = crate::gpu_helpers::shadow_lookup_layout(
+        // 0 the frame, 1 the camera depth, 2 the sample's map (read with `textureLoad`), 3 and 5
+        // the mean and weights so far, 4 the sample, 6 the receivers' normals.
+        let layout = crate::gpu_helpers::layout(
             device,
             "ReferencePass::layout",
-            frame_size,
             &[
-                entry::unfilterable(4),
-                entry::fragment_uniform(5, size_of::<SampleUniform>()),
+                entry::fragment_uniform(0, frame_size),
+                entry::unfilterable(1),
+                entry::texture_2d(2, wgpu::TextureSampleType::Depth),
+                entry::unfilterable(3),
+                entry::fragment_uniform(4, size_of::<SampleUniform>()),
+                entry::unfilterable(5),
                 entry::unfilterable(6),
             ],
         );
@@ -74,8 +83,6 @@ impl ReferencePass {
             constants: &[],
         }
         .pipeline(device);
-        let sampler =
-            super::comparison_sampler(device, "ReferencePass::hard_sampler", wgpu::FilterMode::Nearest);
         let sample = crate::gpu_helpers::uniform_buffer(
             device,
             "ReferencePass::sample",
@@ -84,7 +91,6 @@ impl ReferencePass {
         Self {
             layout,
             pipeline,
-            sampler,
             sample,
             targets: [0, 1].map(|_| target(device, 1, 1)),
             bind_groups: None,
@@ -103,6 +109,7 @@ impl ReferencePass {
         frame: &wgpu::Buffer,
         camera_depth: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
+        normals: &wgpu::TextureView,
     ) {
         let group = |previous: &Target| {
             super::bind_group(
@@ -113,10 +120,10 @@ impl ReferencePass {
                     frame,
                     camera_depth,
                     shadow_map,
-                    &self.sampler,
                     &previous[0].1,
                     &self.sample,
                     &previous[1].1,
+                    normals,
                 ],
             )
         };
@@ -194,5 +201,95 @@ impl ReferencePass {
     /// The weighted mean visibility so far (R32F).
     pub fn visibility_texture(&self) -> &wgpu::Texture {
         &self.targets[(self.accumulated % 2) as usize][0].0
+    }
+}
+
+/// The receivers' geometric normals for the reference: every instance drawn again from the
+/// camera over the prepass's depth, each pixel the unit normal of its own triangle, turned
+/// toward the camera (zero where nothing was drawn). The reference's sample weights and its
+/// depth comparisons take the receiver's plane from it.
+pub struct GeometricNormals {
+    frame_layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+    target: (wgpu::Texture, wgpu::TextureView),
+    bind_group: Option<wgpu::BindGroup>,
+}
+
+impl GeometricNormals {
+    pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, frame_size: usize) -> Self {
+        let shader = crate::shaders::module(
+            device,
+            "reference_normals.wgsl",
+            crate::shaders::REFERENCE_NORMALS,
+        );
+        let frame_layout = crate::gpu_helpers::layout(
+            device,
+            "GeometricNormals::frame_layout",
+            &[entry::uniform(
+                0,
+                wgpu::ShaderStages::VERTEX_FRAGMENT,
+                frame_size,
+                false,
+            )],
+        );
+        let pipeline = super::camera_pipeline(
+            device,
+            "GeometricNormals::pipeline",
+            &shader,
+            &frame_layout,
+            layouts,
+            CameraStreams::PositionUv,
+            false,
+            Self::FORMAT.into(),
+            &[],
+        );
+        Self {
+            frame_layout,
+            pipeline,
+            target: screen_target(device, "GeometricNormals::target", 1, 1, Self::FORMAT),
+            bind_group: None,
+        }
+    }
+
+    /// Makes the target `width` x `height` (the camera depth's size) and points the pass at the
+    /// frame uniform.
+    pub fn prepare(&mut self, device: &wgpu::Device, frame: &wgpu::Buffer, width: u32, height: u32) {
+        let size = self.target.0.size();
+        if (size.width, size.height) != (width, height) {
+            self.target = screen_target(device, "GeometricNormals::target", width, height, Self::FORMAT);
+        }
+        self.bind_group = Some(super::bind_group(
+            device,
+            "GeometricNormals::bind_group",
+            &self.frame_layout,
+            &[frame],
+        ));
+    }
+
+    /// Draws the normals over `camera_depth` (the prepass's, already drawn).
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        camera_depth: &wgpu::TextureView,
+    ) {
+        let Some(bind_group) = &self.bind_group else {
+            return;
+        };
+        let mut pass = begin_pass(
+            encoder,
+            "GeometricNormals",
+            &[cleared(&self.target.1, wgpu::Color::TRANSPARENT)],
+            depth_attachment(camera_depth, Some(wgpu::LoadOp::Load)),
+        );
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        scene.draw(&mut pass, CameraStreams::PositionUv);
+    }
+
+    pub fn view(&self) -> &wgpu::TextureView {
+        &self.target.1
     }
 }
