@@ -40,13 +40,13 @@ struct Accumulated {
 }
 
 // The receiver's cosine toward `toward` (unit), with its normal `n` (zero where unknown). A
-// small floor keeps a receiver that faces away from the whole light (unlit whatever its
-// shadow) at the plain mean of its samples rather than at none.
+// small floor keeps a receiver that faces away from the whole light at the plain mean of its
+// samples (each of them 0 there, `fs_main`) rather than at none.
 fn receiver_cosine(n: vec3<f32>, toward: vec3<f32>) -> f32 {
     if dot(n, n) == 0.0 {
         return 1.0;
     }
-    return max(dot(n, toward), 0.0) + 1e-4;
+    return max(dot(n, toward), 0.0) + 1e-10;
 }
 
 // This sample's weight at the receiver `x` with unit normal `n` (see `src/light_samples.rs`).
@@ -179,6 +179,16 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Accumulated {
     var visibility = 1.0;
     if inside {
         visibility = hard_visibility(k, world, uv, ndc.z, normal, distance);
+    }
+    // A sample behind the receiver's own triangle: a ray toward it enters the surface. (Its
+    // weight is nearly 0 unless the whole light lies behind, where a smooth-shaded mesh's
+    // shading normal may still face the light: there the receiver reads 0, as rays find it.)
+    var toward = -normalize(sample.source.xyz);
+    if sample.source.w > 0.5 {
+        toward = normalize(sample.source.xyz - surface);
+    }
+    if dot(normal, toward) <= 0.0 && dot(normal, normal) > 0.0 {
+        visibility = 0.0;
     }
     let total = weight_before + weight;
     out.mean = vec4<f32>(select(before, before + (visibility - before) * (weight / total), total > 0.0));
