@@ -607,7 +607,10 @@ impl Renderer {
     }
 
     /// Errors unless `target` is a view of a texture of the renderer's size and format that
-    /// can be rendered to.
+    /// can be rendered to. The texture's format may also be the sRGB or linear counterpart of
+    /// the renderer's: a browser's canvas is `Rgba8Unorm` or `Bgra8Unorm` and is drawn through
+    /// a view of its sRGB format (its `view_formats`; wgpu refuses a view of any format the
+    /// texture does not list, and a view does not say its own).
     fn check_target(&self, target: &wgpu::TextureView) -> Result<()> {
         let texture = target.texture();
         let fail = |reason: String| Err(PenumbraError::input("render target", reason));
@@ -620,7 +623,7 @@ impl Renderer {
                 self.size.1
             ));
         }
-        if texture.format() != self.color_format {
+        if texture.format().remove_srgb_suffix() != self.color_format.remove_srgb_suffix() {
             return fail(format!(
                 "its format is {:?}, the renderer's {:?} (make the renderer with the target's format)",
                 texture.format(),

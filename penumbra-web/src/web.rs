@@ -1,0 +1,281 @@
+//! The page's side: WebGPU on the page's canvas, the controls, the animation frames.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use penumbra::{GpuScene, Quality, Renderer, Scene, ShadowSettings};
+use wasm_bindgen::JsCast;
+use wasm_bindgen::prelude::*;
+
+use crate::{Choice, adjusted_light, scene};
+
+#[wasm_bindgen(start)]
+pub fn start() {
+    console_error_panic_hook::set_once();
+    wasm_bindgen_futures::spawn_local(async {
+        if let Err(e) = run().await {
+            status(&format!("error: {e}"));
+        }
+    });
+}
+
+/// Shows `text` in the page's status line (and the console).
+fn status(text: &str) {
+    web_sys::console::log_1(&text.into());
+    if let Some(e) = document().and_then(|d| d.get_element_by_id("status")) {
+        e.set_text_content(Some(text));
+    }
+}
+
+fn document() -> Option<web_sys::Document> {
+    web_sys::window()?.document()
+}
+
+fn element<T: JsCast>(id: &str) -> Result<T, String> {
+    document()
+        .and_then(|d| d.get_element_by_id(id))
+        .ok_or_else(|| format!("the page has no element `{id}`"))?
+        .dyn_into::<T>()
+        .map_err(|_| format!("the page's `{id}` is not the element expected"))
+}
+
+/// The page's controls, read every frame.
+struct Controls {
+    scene: web_sys::HtmlSelectElement,
+    view: web_sys::HtmlSelectElement,
+    method: web_sys::HtmlSelectElement,
+    light: web_sys::HtmlInputElement,
+    turn: web_sys::HtmlInputElement,
+    fps: web_sys::HtmlElement,
+}
+
+impl Controls {
+    fn find() -> Result<Self, String> {
+        Ok(Self {
+            scene: element("scene")?,
+            view: element("view")?,
+            method: element("method")?,
+            light: element("light")?,
+            turn: element("turn")?,
+            fps: element("fps")?,
+        })
+    }
+
+    /// Sets the controls to `c` (the address's choice, at start).
+    fn show(&self, c: &Choice) {
+        self.scene.set_value(&c.scene);
+        self.view.set_value(&c.view.to_string());
+        self.method.set_value(c.method.name());
+        self.light.set_value(&c.light_scale.to_string());
+        self.turn.set_value(&c.turn_deg.to_string());
+    }
+
+    fn read(&self) -> Result<Choice, String> {
+        let query = format!(
+            "scene={}&view={}&method={}&light={}&turn={}",
+            self.scene.value(),
+            self.view.value(),
+            self.method.value(),
+            self.light.value(),
+            self.turn.value()
+        );
+        Choice::from_query(&query)
+    }
+}
+
+/// Everything one frame needs.
+struct App {
+    surface: wgpu::Surface<'static>,
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    format: wgpu::TextureFormat,
+    size: (u32, u32),
+    renderer: Renderer,
+    controls: Controls,
+    /// What is drawn now, and its scene as loaded (the light before the controls' changes).
+    choice: Choice,
+    scene: Scene,
+    gpu_scene: GpuScene,
+    /// Frames drawn, and the time and count at the last readout.
+    frames: u32,
+    last: (f64, u32),
+}
+
+async fn run() -> Result<(), String> {
+    let canvas: web_sys::HtmlCanvasElement = element("penumbra")?;
+    let controls = Controls::find()?;
+    let query = web_sys::window()
+        .ok_or("no window")?
+        .location()
+        .search()
+        .map_err(|_| "cannot read the address")?;
+    let choice = Choice::from_query(&query)?;
+    controls.show(&choice);
+    let size = (canvas.width().max(1), canvas.height().max(1));
+    let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
+    descriptor.backends = wgpu::Backends::BROWSER_WEBGPU;
+    let instance = wgpu::Instance::new(descriptor);
+    let surface = instance
+        .create_surface(wgpu::SurfaceTarget::Canvas(canvas))
+        .map_err(|e| format!("no WebGPU canvas: {e}"))?;
+    let adapter = instance
+        .request_adapter(&wgpu::RequestAdapterOptions {
+            compatible_surface: Some(&surface),
+            ..Default::default()
+        })
+        .await
+        .map_err(|e| format!("this browser gives no WebGPU adapter ({e}); see docs/web.md"))?;
+    let (device, queue) = adapter
+        .request_device(&penumbra::device_descriptor(&adapter))
+        .await
+        .map_err(|e| format!("the WebGPU adapter gives no device: {e}"))?;
+    let caps = surface.get_capabilities(&adapter);
+    // The browser's preferred canvas format comes first.
+    let canvas_format = *caps.formats.first().ok_or("the canvas offers no format")?;
+    // The renderer writes linear colour into an sRGB view of the canvas.
+    let format = canvas_format.add_srgb_suffix();
+    surface.configure(
+        &device,
+        &wgpu::SurfaceConfiguration {
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            format: canvas_format,
+            width: size.0,
+            height: size.1,
+            present_mode: wgpu::PresentMode::Fifo,
+            desired_maximum_frame_latency: 2,
+            alpha_mode: caps.alpha_modes[0],
+            view_formats: vec![format],
+            color_space: wgpu::SurfaceColorSpace::Auto,
+        },
+    );
+    let mut renderer = Renderer::new(&device, format, settings(&choice)).map_err(|e| e.to_string())?;
+    renderer.resize(&device, size.0, size.1);
+    let scene = scene(&choice.scene)?;
+    let gpu_scene = upload(&device, &queue, &renderer, &scene, &choice)?;
+    let app = App {
+        surface,
+        device,
+        queue,
+        format,
+        size,
+        renderer,
+        controls,
+        choice,
+        scene,
+        gpu_scene,
+        frames: 0,
+        last: (now(), 0),
+    };
+    status(&format!("WebGPU: {}", describe(&adapter)));
+    animate(Rc::new(RefCell::new(app)));
+    Ok(())
+}
+
+fn describe(adapter: &wgpu::Adapter) -> String {
+    let info = adapter.get_info();
+    if info.name.is_empty() {
+        format!("{:?} adapter", info.device_type)
+    } else {
+        info.name
+    }
+}
+
+fn settings(choice: &Choice) -> ShadowSettings {
+    ShadowSettings::preset(choice.method, Quality::Medium)
+}
+
+fn upload(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    renderer: &Renderer,
+    scene: &Scene,
+    choice: &Choice,
+) -> Result<GpuScene, String> {
+    let mut gpu = GpuScene::new(device, queue, renderer.layouts(), scene).map_err(|e| e.to_string())?;
+    gpu.set_light(adjusted_light(&scene.light, choice.light_scale, choice.turn_deg))
+        .map_err(|e| e.to_string())?;
+    Ok(gpu)
+}
+
+fn now() -> f64 {
+    web_sys::window()
+        .and_then(|w| w.performance())
+        .map(|p| p.now())
+        .unwrap_or(0.0)
+}
+
+/// Draws a frame, then asks for the next one.
+fn animate(app: Rc<RefCell<App>>) {
+    let next: Rc<RefCell<Option<Closure<dyn FnMut()>>>> = Rc::new(RefCell::new(None));
+    let first = next.clone();
+    *first.borrow_mut() = Some(Closure::new(move || {
+        if let Err(e) = app.borrow_mut().frame() {
+            status(&format!("error: {e}"));
+            return;
+        }
+        if let (Some(window), Some(callback)) = (web_sys::window(), next.borrow().as_ref()) {
+            let _ = window.request_animation_frame(callback.as_ref().unchecked_ref());
+        }
+    }));
+    if let (Some(window), Some(callback)) = (web_sys::window(), first.borrow().as_ref()) {
+        let _ = window.request_animation_frame(callback.as_ref().unchecked_ref());
+    }
+}
+
+impl App {
+    fn frame(&mut self) -> Result<(), String> {
+        let choice = self.controls.read()?;
+        if choice != self.choice {
+            if choice.scene != self.choice.scene {
+                self.scene = scene(&choice.scene)?;
+            }
+            if choice.method != self.choice.method {
+                self.renderer
+                    .set_settings(&self.device, settings(&choice))
+                    .map_err(|e| e.to_string())?;
+            }
+            if choice.scene != self.choice.scene {
+                self.gpu_scene = upload(&self.device, &self.queue, &self.renderer, &self.scene, &choice)?;
+            } else {
+                let light = adjusted_light(&self.scene.light, choice.light_scale, choice.turn_deg);
+                self.gpu_scene.set_light(light).map_err(|e| e.to_string())?;
+            }
+            self.choice = choice;
+        }
+        let view = self.choice.view.min(self.scene.views.len().saturating_sub(1));
+        let camera = self.scene.view(view).map_err(|e| e.to_string())?;
+        let texture = match self.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+            // Skip this frame; the next may get one.
+            _ => return Ok(()),
+        };
+        let target = texture.texture.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(self.format),
+            ..Default::default()
+        });
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("web frame"),
+            });
+        self.renderer
+            .render(&self.queue, &mut encoder, &self.gpu_scene, &camera, &target)
+            .map_err(|e| e.to_string())?;
+        self.queue.submit([encoder.finish()]);
+        self.queue.present(texture);
+        self.frames += 1;
+        let t = now();
+        if t - self.last.0 >= 500.0 {
+            let fps = f64::from(self.frames - self.last.1) * 1000.0 / (t - self.last.0);
+            self.controls.fps.set_text_content(Some(&format!(
+                "{fps:.1} FPS, {}x{}, {} frames",
+                self.size.0, self.size.1, self.frames
+            )));
+            self.last = (t, self.frames);
+        }
+        if let Some(body) = document().and_then(|d| d.body()) {
+            let _ = body.set_attribute("data-frames", &self.frames.to_string());
+        }
+        Ok(())
+    }
+}
