@@ -1,8 +1,7 @@
 //! The library builds for the web, `wasm32-unknown-unknown`: the embedding core (`Casters`,
 //! `Shadows`, settings: `default-features = false`) and the library with its default features
 //! (the renderer and the loaders). A `cargo check` of each for that target, in a target
-//! directory of its own. That it builds is not that it runs in a browser: the renderer's
-//! headless device and read-backs block, which the web does not allow (issue 41).
+//! directory of its own. That it runs in a browser is `tests/web_demo.rs`'s to show.
 
 use std::process::Command;
 
