@@ -3,7 +3,8 @@
 //! SwiftShader adapter), driven through chromedriver's WebDriver protocol, opens the teapot's
 //! view 0 with `ours` and then with `hard`, waits for frames drawn, and takes a screenshot. The
 //! canvas must show what the renderer draws natively (lavapipe) for the same scene, view, size
-//! and method, and switching the method must change the shadow as it changes natively.
+//! and method, and switching the method must change the shadow as it changes natively. Then the
+//! split view (`ours` left, `hard` right): each side its method's native frame.
 //!
 //! Needs Debian's `chromium` and `chromium-driver` and the wasm32 target (the README's
 //! prerequisites; `.ci/run` installs them). The build takes a target directory of its own
@@ -326,4 +327,32 @@ fn the_web_demo_draws_the_teapots_soft_shadow_in_headless_chromium() {
         (web_n as f32 / native_n as f32 - 1.0).abs() < 0.05 && (web_sum / native_sum - 1.0).abs() < 0.05,
         "switching the method changes {web_n} pixels (summed {web_sum}) in the browser, {native_n} ({native_sum}) natively"
     );
+    // The split view: `ours` left of the divider at 0.4 of the width, `hard` right of it. Each
+    // side must be its method's native frame there.
+    let page = screenshot(
+        port,
+        &format!("{address}?scene=teapot&view=0&method=ours&compare=hard&divider=0.4"),
+        3,
+        "web_demo_page_split.png",
+    );
+    let split = luminance(&page);
+    let divider = (0.4 * w as f32).round() as usize;
+    let side = |image: &[f32], right: bool| -> Vec<f32> {
+        image
+            .chunks(w as usize)
+            .flat_map(|row| if right { &row[divider..] } else { &row[..divider] })
+            .copied()
+            .collect()
+    };
+    for (right, name, expected) in [(false, "ours", &native[0]), (true, "hard", &native[1])] {
+        let (mean, far) = difference(&side(&split, right), &side(expected, right));
+        eprintln!(
+            "split view, {name}'s side: mean |difference| {mean:.4}, {:.3}% off by more than 0.05",
+            far * 100.0
+        );
+        assert!(
+            mean < 0.001 && far < 0.002,
+            "the split view's {name} side differs from the native frame: {mean}, {far}"
+        );
+    }
 }

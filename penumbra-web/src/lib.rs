@@ -37,6 +37,11 @@ pub struct Choice {
     pub light_scale: f32,
     /// The light's direction turned about the vertical axis, degrees (suns and spots).
     pub turn_deg: f32,
+    /// The split view's right side: another of [`METHODS`], or none (one method over the
+    /// whole canvas).
+    pub compare: Option<ShadowMethod>,
+    /// Where the split view divides the canvas, as a share of its width from the left.
+    pub divider: f32,
 }
 
 impl Default for Choice {
@@ -47,14 +52,16 @@ impl Default for Choice {
             method: ShadowMethod::Ours,
             light_scale: 1.0,
             turn_deg: 0.0,
+            compare: None,
+            divider: 0.5,
         }
     }
 }
 
 impl Choice {
-    /// Reads `scene`, `view`, `method`, `light` (scale) and `turn` from an address's query
-    /// string (`?scene=room&method=pcss`); a key missing keeps its default, a bad value is an
-    /// error naming the key.
+    /// Reads `scene`, `view`, `method`, `light` (scale), `turn`, `compare` (a method or
+    /// `none`) and `divider` (0 to 1) from an address's query string (`?scene=room&method=pcss`);
+    /// a key missing keeps its default, a bad value is an error naming the key.
     pub fn from_query(query: &str) -> Result<Self, String> {
         let mut choice = Self::default();
         for pair in query.trim_start_matches('?').split('&').filter(|p| !p.is_empty()) {
@@ -68,12 +75,19 @@ impl Choice {
                     choice.scene = value.into();
                 }
                 "view" => choice.view = value.parse().map_err(|_| bad("expected 0, 1 or 2"))?,
-                "method" => {
-                    let method = ShadowMethod::from_name(value).map_err(|e| bad(&e.to_string()))?;
-                    if !METHODS.contains(&method) {
-                        return Err(bad("the page offers ours, pcss, traditional and hard"));
+                "method" => choice.method = offered(value).map_err(|e| bad(&e))?,
+                "compare" => {
+                    choice.compare = match value {
+                        "" | "none" => None,
+                        v => Some(offered(v).map_err(|e| bad(&e))?),
                     }
-                    choice.method = method;
+                }
+                "divider" => {
+                    choice.divider = value
+                        .parse()
+                        .ok()
+                        .filter(|d: &f32| (0.0..=1.0).contains(d))
+                        .ok_or_else(|| bad("expected a share of the width in [0, 1]"))?
                 }
                 "light" => {
                     choice.light_scale = value
@@ -93,6 +107,24 @@ impl Choice {
             }
         }
         Ok(choice)
+    }
+}
+
+/// The method `name`, if the page offers it.
+fn offered(name: &str) -> Result<ShadowMethod, String> {
+    let method = ShadowMethod::from_name(name).map_err(|e| e.to_string())?;
+    if !METHODS.contains(&method) {
+        return Err("the page offers ours, pcss, traditional and hard".into());
+    }
+    Ok(method)
+}
+
+/// The columns of a `width`-pixel canvas the split view's right side covers: from the divider
+/// to the right edge (empty without a comparison).
+pub fn right_side(choice: &Choice, width: u32) -> std::ops::Range<u32> {
+    match choice.compare {
+        None => width..width,
+        Some(_) => ((choice.divider * width as f32).round() as u32).min(width)..width,
     }
 }
 
@@ -148,7 +180,16 @@ mod tests {
 
     #[test]
     fn the_query_sets_the_choice_and_names_a_bad_key() {
-        let c = Choice::from_query("?scene=room&view=1&method=pcss&light=2&turn=30").unwrap();
+        let c =
+            Choice::from_query("?scene=room&view=1&method=pcss&light=2&turn=30&compare=hard&divider=0.25")
+                .unwrap();
+        assert_eq!(c.compare, Some(ShadowMethod::Hard));
+        assert_eq!(c.divider, 0.25);
+        assert_eq!(right_side(&c, 800), 200..800);
+        assert_eq!(right_side(&Choice::default(), 800), 800..800);
+        assert!(Choice::from_query("?compare=reference").is_err());
+        assert!(Choice::from_query("?divider=2").is_err());
+        assert_eq!(Choice::from_query("?compare=none").unwrap().compare, None);
         assert_eq!(c.scene, "room");
         assert_eq!(c.view, 1);
         assert_eq!(c.method, ShadowMethod::Pcss);

@@ -7,7 +7,7 @@ use penumbra::{GpuScene, Quality, Renderer, Scene, ShadowSettings};
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 
-use crate::{Choice, adjusted_light, scene};
+use crate::{Choice, adjusted_light, right_side, scene};
 
 #[wasm_bindgen(start)]
 pub fn start() {
@@ -46,6 +46,8 @@ struct Controls {
     method: web_sys::HtmlSelectElement,
     light: web_sys::HtmlInputElement,
     turn: web_sys::HtmlInputElement,
+    compare: web_sys::HtmlSelectElement,
+    divider: web_sys::HtmlInputElement,
     fps: web_sys::HtmlElement,
 }
 
@@ -57,6 +59,8 @@ impl Controls {
             method: element("method")?,
             light: element("light")?,
             turn: element("turn")?,
+            compare: element("compare")?,
+            divider: element("divider")?,
             fps: element("fps")?,
         })
     }
@@ -68,16 +72,20 @@ impl Controls {
         self.method.set_value(c.method.name());
         self.light.set_value(&c.light_scale.to_string());
         self.turn.set_value(&c.turn_deg.to_string());
+        self.compare.set_value(c.compare.map_or("none", |m| m.name()));
+        self.divider.set_value(&c.divider.to_string());
     }
 
     fn read(&self) -> Result<Choice, String> {
         let query = format!(
-            "scene={}&view={}&method={}&light={}&turn={}",
+            "scene={}&view={}&method={}&light={}&turn={}&compare={}&divider={}",
             self.scene.value(),
             self.view.value(),
             self.method.value(),
             self.light.value(),
-            self.turn.value()
+            self.turn.value(),
+            self.compare.value(),
+            self.divider.value()
         );
         Choice::from_query(&query)
     }
@@ -91,6 +99,9 @@ struct App {
     format: wgpu::TextureFormat,
     size: (u32, u32),
     renderer: Renderer,
+    /// The split view's right side: its renderer (sharing the scene's layouts) and the texture
+    /// it draws into, whose columns right of the divider are copied onto the canvas.
+    compare: Option<(Renderer, wgpu::Texture)>,
     controls: Controls,
     /// What is drawn now, and its scene as loaded (the light before the controls' changes).
     choice: Choice,
@@ -137,7 +148,7 @@ async fn run() -> Result<(), String> {
     surface.configure(
         &device,
         &wgpu::SurfaceConfiguration {
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_DST,
             format: canvas_format,
             width: size.0,
             height: size.1,
@@ -152,6 +163,7 @@ async fn run() -> Result<(), String> {
     renderer.resize(&device, size.0, size.1);
     let scene = scene(&choice.scene)?;
     let gpu_scene = upload(&device, &queue, &renderer, &scene, &choice)?;
+    let compare = comparison(&device, &renderer, &choice, size)?;
     let app = App {
         surface,
         device,
@@ -159,6 +171,7 @@ async fn run() -> Result<(), String> {
         format,
         size,
         renderer,
+        compare,
         controls,
         choice,
         scene,
@@ -182,6 +195,43 @@ fn describe(adapter: &wgpu::Adapter) -> String {
 
 fn settings(choice: &Choice) -> ShadowSettings {
     ShadowSettings::preset(choice.method, Quality::Medium)
+}
+
+/// The split view's right side for `choice`, if it has one: a renderer of the compared
+/// method drawing into a texture of the canvas's size.
+fn comparison(
+    device: &wgpu::Device,
+    main: &Renderer,
+    choice: &Choice,
+    size: (u32, u32),
+) -> Result<Option<(Renderer, wgpu::Texture)>, String> {
+    let Some(method) = choice.compare else {
+        return Ok(None);
+    };
+    let format = main.color_format();
+    let mut renderer = Renderer::with_layouts(
+        device,
+        format,
+        ShadowSettings::preset(method, Quality::Medium),
+        main.layouts().clone(),
+    )
+    .map_err(|e| e.to_string())?;
+    renderer.resize(device, size.0, size.1);
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("split view's right side"),
+        size: wgpu::Extent3d {
+            width: size.0,
+            height: size.1,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: format.remove_srgb_suffix(),
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[format],
+    });
+    Ok(Some((renderer, texture)))
 }
 
 fn upload(
@@ -234,6 +284,9 @@ impl App {
                     .set_settings(&self.device, settings(&choice))
                     .map_err(|e| e.to_string())?;
             }
+            if choice.compare != self.choice.compare {
+                self.compare = comparison(&self.device, &self.renderer, &choice, self.size)?;
+            }
             if choice.scene != self.choice.scene {
                 self.gpu_scene = upload(&self.device, &self.queue, &self.renderer, &self.scene, &choice)?;
             } else {
@@ -261,6 +314,42 @@ impl App {
         self.renderer
             .render(&self.queue, &mut encoder, &self.gpu_scene, &camera, &target)
             .map_err(|e| e.to_string())?;
+        if let Some((renderer, side)) = &mut self.compare {
+            let view = side.create_view(&wgpu::TextureViewDescriptor {
+                format: Some(self.format),
+                ..Default::default()
+            });
+            renderer
+                .render(&self.queue, &mut encoder, &self.gpu_scene, &camera, &view)
+                .map_err(|e| e.to_string())?;
+            let columns = right_side(&self.choice, self.size.0);
+            if !columns.is_empty() {
+                let origin = wgpu::Origin3d {
+                    x: columns.start,
+                    y: 0,
+                    z: 0,
+                };
+                encoder.copy_texture_to_texture(
+                    wgpu::TexelCopyTextureInfo {
+                        texture: side,
+                        mip_level: 0,
+                        origin,
+                        aspect: wgpu::TextureAspect::All,
+                    },
+                    wgpu::TexelCopyTextureInfo {
+                        texture: &texture.texture,
+                        mip_level: 0,
+                        origin,
+                        aspect: wgpu::TextureAspect::All,
+                    },
+                    wgpu::Extent3d {
+                        width: columns.len() as u32,
+                        height: self.size.1,
+                        depth_or_array_layers: 1,
+                    },
+                );
+            }
+        }
         self.queue.submit([encoder.finish()]);
         self.queue.present(texture);
         self.frames += 1;
