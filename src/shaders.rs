@@ -19,7 +19,8 @@ pub const FATTENED_SHADOW_MAP: &str = wgsl!("common/scene.wgsl", "fattened_shado
 /// leaves the first occluder it meets.
 pub const EXIT_MAP: &str = wgsl!("common/scene.wgsl", "exit_map.wgsl");
 /// The convenience renderer's depth prepass (`depth_prepass.wgsl`): camera depth (reversed)
-/// and a receiver mask; an engine uses its own prepass instead.
+/// and a receiver mask (an engine uses its own prepass instead), or with `NORMALS` 1 the
+/// reference's receiver normals.
 pub const DEPTH_PREPASS: &str = wgsl!(
     "common/frame.wgsl",
     "common/cube.wgsl",
@@ -102,13 +103,6 @@ pub const REFERENCE: &str = wgsl!(
     "common/receiver.wgsl",
     "reference.wgsl"
 );
-/// The reference's receiver normals (`reference_normals.wgsl`): each pixel's triangle plane.
-pub const REFERENCE_NORMALS: &str = wgsl!(
-    "common/frame.wgsl",
-    "common/cube.wgsl",
-    "common/scene.wgsl",
-    "reference_normals.wgsl"
-);
 /// The convenience renderer's forward lit pass (`forward.wgsl`), for hard and hardware 2x2
 /// shadows from a single light: the direct light attenuated by one comparison lookup of the
 /// shadow map.
@@ -132,12 +126,11 @@ pub const TILE_CLASSIFY: &str = wgsl!(
 );
 
 /// Every pass's composed source, by the name of its file in `shaders/`.
-pub const ALL: [(&str, &str); 16] = [
+pub const ALL: [(&str, &str); 15] = [
     ("shadow_map", SHADOW_MAP),
     ("fattened_shadow_map", FATTENED_SHADOW_MAP),
     ("exit_map", EXIT_MAP),
     ("depth_prepass", DEPTH_PREPASS),
-    ("reference_normals", REFERENCE_NORMALS),
     ("distance_map", DISTANCE_MAP),
     ("pcf", PCF),
     ("variable_pcf", VARIABLE_PCF),

@@ -14,7 +14,7 @@
 //! | [`ResolvePass`] | `shaders/resolve.wgsl` | visibility, distance map, camera depth, receiver mask | one layer of the visibility array, indirect attenuation applied |
 //! | [`CompositePass`] | `shaders/composite.wgsl` | all instances, resolved visibility, camera depth | lit color |
 //! | [`ReferencePass`] | `shaders/reference.wgsl` | camera depth, receiver normals, one hard shadow map per light sample | mean visibility (R32F), weighted per pixel, beside the sum of the weights |
-//! | [`GeometricNormals`] | `shaders/reference_normals.wgsl` | the scene, the camera depth | each pixel's triangle normal (RGBA32F), for the reference |
+//! | [`GeometricNormals`] | `shaders/depth_prepass.wgsl` (`NORMALS` 1) | the scene, the camera depth | each pixel's triangle normal (RGBA32F), for the reference |
 //! | [`ForwardPass`] | `shaders/forward.wgsl` | all instances, camera, shadow map | lit color + camera depth (hard, hw2x2) |
 //!
 //! The compute path (the default where the device has compute shaders,

@@ -219,11 +219,8 @@ impl GeometricNormals {
     pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, frame_size: usize) -> Self {
-        let shader = crate::shaders::module(
-            device,
-            "reference_normals.wgsl",
-            crate::shaders::REFERENCE_NORMALS,
-        );
+        // The depth prepass's own shader, writing normals (`NORMALS` 1) over its depth.
+        let shader = crate::shaders::module(device, "depth_prepass.wgsl", crate::shaders::DEPTH_PREPASS);
         let frame_layout = crate::gpu_helpers::layout(
             device,
             "GeometricNormals::frame_layout",
@@ -243,7 +240,7 @@ impl GeometricNormals {
             CameraStreams::PositionUv,
             false,
             Self::FORMAT.into(),
-            &[],
+            &[("NORMALS", 1.0)],
         );
         Self {
             frame_layout,
