@@ -264,7 +264,10 @@ fn the_web_demo_draws_the_teapots_soft_shadow_in_headless_chromium() {
         // user's frames do.
         let page = screenshot(
             port,
-            &format!("{address}?scene=teapot&view=0&method={}", method.name()),
+            &format!(
+                "{address}?scene=teapot&view=0&method={}&compare=none",
+                method.name()
+            ),
             3,
             &format!("web_demo_page_{}.png", method.name()),
         );

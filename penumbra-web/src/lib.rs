@@ -38,7 +38,7 @@ pub struct Choice {
     /// The light's direction turned about the vertical axis, degrees (suns and spots).
     pub turn_deg: f32,
     /// The split view's right side: another of [`METHODS`], or none (one method over the
-    /// whole canvas).
+    /// whole canvas). Default: the traditional baseline, as in the native demo.
     pub compare: Option<ShadowMethod>,
     /// Where the split view divides the canvas, as a share of its width from the left.
     pub divider: f32,
@@ -52,7 +52,7 @@ impl Default for Choice {
             method: ShadowMethod::Ours,
             light_scale: 1.0,
             turn_deg: 0.0,
-            compare: None,
+            compare: Some(ShadowMethod::Traditional),
             divider: 0.5,
         }
     }
@@ -186,7 +186,11 @@ mod tests {
         assert_eq!(c.compare, Some(ShadowMethod::Hard));
         assert_eq!(c.divider, 0.25);
         assert_eq!(right_side(&c, 800), 200..800);
-        assert_eq!(right_side(&Choice::default(), 800), 800..800);
+        assert_eq!(right_side(&Choice::default(), 800), 400..800);
+        assert_eq!(
+            right_side(&Choice::from_query("?compare=none").unwrap(), 800),
+            800..800
+        );
         assert!(Choice::from_query("?compare=reference").is_err());
         assert!(Choice::from_query("?divider=2").is_err());
         assert_eq!(Choice::from_query("?compare=none").unwrap().compare, None);
