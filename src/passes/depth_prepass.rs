@@ -23,27 +23,13 @@ impl DepthPrepass {
     pub const RECEIVER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, frame_size: usize) -> Self {
-        let shader = crate::shaders::module(device, "depth_prepass.wgsl", crate::shaders::DEPTH_PREPASS);
-        let frame_layout = crate::gpu_helpers::layout(
+        let (frame_layout, pipeline) = prepass_pipeline(
             device,
-            "DepthPrepass::frame_layout",
-            &[entry::uniform(
-                0,
-                wgpu::ShaderStages::VERTEX_FRAGMENT,
-                frame_size,
-                false,
-            )],
-        );
-        let pipeline = super::camera_pipeline(
-            device,
-            "DepthPrepass::pipeline",
-            &shader,
-            &frame_layout,
+            "DepthPrepass",
             layouts,
-            CameraStreams::PositionUv,
-            true,
-            Self::RECEIVER_FORMAT.into(),
-            &[],
+            frame_size,
+            Self::RECEIVER_FORMAT,
+            false,
         );
         Self {
             frame_layout,
@@ -109,4 +95,41 @@ impl DepthPrepass {
         pass.set_bind_group(0, bind_group, &[]);
         scene.draw(&mut pass, CameraStreams::PositionUv);
     }
+}
+
+/// The layout of group 0 (the frame uniform) and a pipeline drawing every instance with
+/// `depth_prepass.wgsl` into a target of `format`: the prepass itself (`normals` false: depth
+/// written, the receiver mask) or, over its depth, the reference's triangle normals (`normals`
+/// true: `NORMALS` 1, depth only tested; [`super::GeometricNormals`]).
+pub(super) fn prepass_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layouts: &SceneLayouts,
+    frame_size: usize,
+    format: wgpu::TextureFormat,
+    normals: bool,
+) -> (wgpu::BindGroupLayout, wgpu::RenderPipeline) {
+    let shader = crate::shaders::module(device, "depth_prepass.wgsl", crate::shaders::DEPTH_PREPASS);
+    let frame_layout = crate::gpu_helpers::layout(
+        device,
+        &format!("{label}::frame_layout"),
+        &[entry::uniform(
+            0,
+            wgpu::ShaderStages::VERTEX_FRAGMENT,
+            frame_size,
+            false,
+        )],
+    );
+    let pipeline = super::camera_pipeline(
+        device,
+        &format!("{label}::pipeline"),
+        &shader,
+        &frame_layout,
+        layouts,
+        CameraStreams::PositionUv,
+        !normals,
+        format.into(),
+        if normals { &[("NORMALS", 1.0)] } else { &[] },
+    );
+    (frame_layout, pipeline)
 }

@@ -219,28 +219,14 @@ impl GeometricNormals {
     pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, frame_size: usize) -> Self {
-        // The depth prepass's own shader, writing normals (`NORMALS` 1) over its depth.
-        let shader = crate::shaders::module(device, "depth_prepass.wgsl", crate::shaders::DEPTH_PREPASS);
-        let frame_layout = crate::gpu_helpers::layout(
+        // The depth prepass's own pipeline, writing normals (`NORMALS` 1) over its depth.
+        let (frame_layout, pipeline) = super::depth_prepass::prepass_pipeline(
             device,
-            "GeometricNormals::frame_layout",
-            &[entry::uniform(
-                0,
-                wgpu::ShaderStages::VERTEX_FRAGMENT,
-                frame_size,
-                false,
-            )],
-        );
-        let pipeline = super::camera_pipeline(
-            device,
-            "GeometricNormals::pipeline",
-            &shader,
-            &frame_layout,
+            "GeometricNormals",
             layouts,
-            CameraStreams::PositionUv,
-            false,
-            Self::FORMAT.into(),
-            &[("NORMALS", 1.0)],
+            frame_size,
+            Self::FORMAT,
+            true,
         );
         Self {
             frame_layout,
