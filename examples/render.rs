@@ -36,7 +36,8 @@ struct Args {
     /// Quality preset: low, medium, high or ultra.
     #[arg(long, default_value = "medium")]
     quality: String,
-    /// The key light's size: angular diameter in degrees (directional) or radius in world units (spot, point).
+    /// The key light's size: angular diameter in degrees (directional), radius in world units (spot,
+    /// point, disk), or a rectangle's width in world units (its height keeps the sides' ratio).
     /// Defaults to the scene's.
     #[arg(long)]
     light_size: Option<f32>,
@@ -151,6 +152,12 @@ fn main() -> Result<()> {
             Light::Directional(l) => l.angular_diameter_deg = size,
             Light::Spot(l) => l.radius = size,
             Light::Point(l) => l.radius = size,
+            Light::Disk(l) => l.radius = size,
+            Light::Rect(l) => {
+                let ratio = if l.width > 0.0 { l.height / l.width } else { 1.0 };
+                l.width = size;
+                l.height = size * ratio;
+            }
         }
         scene.light.validate().context("--light-size")?;
     }

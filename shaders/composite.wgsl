@@ -23,6 +23,11 @@ struct ShadedLight {
     range: f32,
     _pad1: u32,
     _pad2: u32,
+    // an area light's half-axis along its width (xyz); w: its shape, 0 none, 1 rectangle,
+    // 2 disk
+    area_u: vec4<f32>,
+    // an area light's half-axis along its height
+    area_v: vec4<f32>,
 }
 
 struct ShadedLights {
@@ -111,7 +116,16 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         if l.spot == 1u {
             cone *= smoothstep(l.cos_outer, l.cos_inner, dot(-to_light, l.direction));
         }
-        let lit = reflected(r, to_light);
+        var lit = reflected(r, to_light);
+        if l.area_u.w > 0.5 {
+            // An area light: its luminance times the light its surface sends here
+            // (`area_reflected`), windowed by the range (no inverse square: the solid angle
+            // holds it).
+            let offset = l.position - in.world;
+            let d2 = max(dot(offset, offset), 1e-8);
+            cone = falloff(d2, l.range) * d2;
+            lit = area_reflected(r, in.world, l.position, l.area_u.xyz, l.area_v.xyz, l.direction, u32(l.area_u.w + 0.5));
+        }
         var v = 1.0;
         // The screen-space visibility belongs to the opaque surface behind a blended one.
         if instance.flags.x > 0.5 && material.alpha.y < 0.5 {

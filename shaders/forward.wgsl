@@ -26,6 +26,11 @@ struct ForwardFrame {
     light_radiance: vec4<f32>,
     // rgb: ambient; w: a spot's or point light's range (0: none)
     ambient: vec4<f32>,
+    // an area light's half-axis along its width (xyz); w: its shape, 0 none, 1 rectangle,
+    // 2 disk
+    area_u: vec4<f32>,
+    // an area light's half-axis along its height
+    area_v: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: ForwardFrame;
@@ -127,8 +132,17 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         cone *= smoothstep(frame.light_position.w, frame.light_radiance.w, cos_angle);
     }
     // The shadow lookup is offset along the vertex normal; the shading uses the mapped one.
-    let n_dot_l = max(dot(n, to_light), 0.0);
-    let lit = reflected(r, to_light);
+    var n_dot_l = max(dot(n, to_light), 0.0);
+    var lit = reflected(r, to_light);
+    if frame.area_u.w > 0.5 {
+        // An area light (see the composite): no inverse square, the light's solid angle.
+        let offset = frame.light_position.xyz - in.world;
+        let d2 = max(dot(offset, offset), 1e-8);
+        cone = falloff(d2, frame.ambient.w) * d2;
+        lit = area_reflected(r, in.world, frame.light_position.xyz, frame.area_u.xyz, frame.area_v.xyz, frame.light_direction.xyz, u32(frame.area_u.w + 0.5));
+        // Lit where any of it is above the horizon.
+        n_dot_l = select(0.0, 1.0, any(lit.diffuse > vec3<f32>(0.0)) || any(lit.specular > vec3<f32>(0.0)));
+    }
     var visibility = 1.0;
     if instance.flags.x > 0.5 && n_dot_l > 0.0 {
         // Normal-offset bias: look the shadow map up a little off the surface.

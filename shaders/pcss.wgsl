@@ -48,13 +48,23 @@ fn visibility_at(frag: vec2<f32>) -> f32 {
     let search_world = max(penumbra_width(receiver - frame.light.near, world), 0.0);
     // A disk in the map's texels (its uv along y scaled where the atlas is not square).
     let texels = atlas_texels();
-    let search_uv = min(search_world / world_size, 0.25) * 0.5 * vec2<f32>(1.0, texels.x / texels.y);
+    var search_uv = mat2x2<f32>(vec2<f32>(1.0, 0.0), vec2<f32>(0.0, texels.x / texels.y)) * (min(search_world / world_size, 0.25) * 0.5);
+    let area = area_shape() != 0u;
+    if area {
+        // An area light: the rectangle's (or disk's) own footprint, the disk of samples
+        // stretched to the ellipse that holds it (a rectangle's corners lie sqrt(2) out along
+        // its axes), as far as the round search would reach.
+        let axes = area_penumbra_axes(penumbra_scale(receiver - frame.light.near, world), world);
+        let reach = select(1.0, 1.4142135, area_shape() == 1u);
+        let half = min(vec2<f32>(length(axes.a), length(axes.b)) * reach, vec2<f32>(search_world * 0.5));
+        search_uv = area_uv_along(world, axes) * mat2x2<f32>(half.x, 0.0, 0.0, half.y);
+    }
     let size = vec2<i32>(textureDimensions(shadow_depths));
     let blockers = i32(pcss.blocker_samples);
     var blocker_sum = 0.0;
     var blocker_count = 0.0;
     for (var k = 0; k < blockers; k++) {
-        let offset = vogel(k, blockers, angle) * search_uv;
+        let offset = search_uv * vogel(k, blockers, angle);
         let texel = clamp(vec2<i32>(in_tile(p.xy + offset) * vec2<f32>(size)), vec2<i32>(0), size - 1);
         let occluder = textureLoad(shadow_depths, texel, 0).x;
         if occluder < map_depth(p.z + dot(slope, offset)) - 1e-5 {
@@ -69,7 +79,16 @@ fn visibility_at(frag: vec2<f32>) -> f32 {
     // The filter: the penumbra's half width across the light, into the map (an ellipse off a
     // perspective map's axis), plus half a texel.
     let texel = 0.5 / atlas_texels();
-    let filter_uv = across_light_to_uv(world) * (penumbra_width(d, world) * 0.5) + mat2x2<f32>(texel.x, 0.0, 0.0, texel.y);
+    var filter_uv = across_light_to_uv(world) * (penumbra_width(d, world) * 0.5) + mat2x2<f32>(texel.x, 0.0, 0.0, texel.y);
+    if area {
+        // An area light: the disk of taps stretched along the light's axes to a disk's
+        // ellipse, or for a rectangle to the ellipse with the rectangle's spread (its half
+        // sides times 2 / sqrt(3)).
+        let axes = area_penumbra_axes(penumbra_scale(d, world), world);
+        let stretch = select(1.0, 1.1547005, area_shape() == 1u);
+        let half = vec2<f32>(length(axes.a), length(axes.b)) * stretch;
+        filter_uv = area_uv_along(world, axes) * mat2x2<f32>(half.x, 0.0, 0.0, half.y) + mat2x2<f32>(texel.x, 0.0, 0.0, texel.y);
+    }
     let samples = i32(pcss.pcf_samples);
     var sum = 0.0;
     for (var k = 0; k < samples; k++) {

@@ -113,6 +113,9 @@ fn setup(frag: vec2<f32>, depth: f32) -> Setup {
     var blur_sigma = 0.0;
     var sigma = 0.0;
     var width = -1.0;
+    if frame.penumbra.physical != 0u && area_shape() != 0u {
+        return area_setup(frag, r, world, d, side, texel_world);
+    }
     if frame.penumbra.physical != 0u {
         width = penumbra_width(d, world);
         sigma = frame.penumbra.sigma_per_width * width;
@@ -145,6 +148,54 @@ fn setup(frag: vec2<f32>, depth: f32) -> Setup {
     out.blur_sigma = blur_sigma / pixel_world;
     out.penumbra_sigma = sigma / pixel_world;
     out.width_texels = select(-1.0, max(width, min(pixel_world.x, pixel_world.y)) / texel_world, width >= 0.0);
+    return out;
+}
+
+// An area light's taps (physical mode): as `setup`'s, with the penumbra's spread along each of
+// the light's two axes (`area_penumbra_axes`: a rectangle's penumbra is as wide along each
+// side as that side is long) and the taps' spacing and the blur's deviations apart along each.
+// `most_side` is the setting's taps per side, `texel_world` a map texel at the receiver.
+fn area_setup(frag: vec2<f32>, r: Receiver, world: vec3<f32>, d: f32, most_side: i32, texel_world: f32) -> Setup {
+    let axes = area_penumbra_axes(penumbra_scale(d, world), world);
+    let half = vec2<f32>(length(axes.a), length(axes.b));
+    let sigma = area_sigma_per_half_axis() * half;
+    let variance = sigma * sigma;
+    var side = most_side;
+    if side > 1 {
+        // As in `setup`: as few taps as keep them a texel apart along the wider axis.
+        let texels_variance = frame.penumbra.pcf_share * max(variance.x, variance.y) / (texel_world * texel_world);
+        side = clamp(i32(floor(sqrt(1.0 + 12.0 * texels_variance))), 2, side);
+    }
+    let taps_variance = f32(side * side - 1) / 12.0;
+    var spacing = vec2<f32>(0.0);
+    if side > 1 {
+        spacing = max(sqrt(frame.penumbra.pcf_share * variance / taps_variance), vec2<f32>(pcf.base_spacing * texel_world));
+    }
+    let pcf_variance = spacing * spacing * taps_variance + texel_world * texel_world / 6.0;
+    let blur_variance = max(variance - pcf_variance, vec2<f32>(0.0));
+    var out: Setup;
+    out.r = r;
+    out.to_uv = area_uv_along(world, axes) * mat2x2<f32>(spacing.x, 0.0, 0.0, spacing.y);
+    out.side = side;
+    out.angle = select(0.0, pixel_noise(frag) * 6.2831853, ROTATE_TAPS);
+    // A pixel step along screen x and y, across the light, and the share of it along each of
+    // the penumbra's axes: the variance a blur along that screen axis must make is the
+    // penumbra's along the step's direction.
+    let ray = light_ray(world);
+    let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(ray.x) > 0.7);
+    let a = unit_or(axes.a, normalize(cross(ray, helper)));
+    let b = unit_or(axes.b, normalize(cross(ray, a)));
+    let dx = r.dx - ray * dot(r.dx, ray);
+    let dy = r.dy - ray * dot(r.dy, ray);
+    let pixel_world = max(vec2<f32>(length(dx), length(dy)), vec2<f32>(1e-6));
+    let along_x = vec2<f32>(dot(dx, a), dot(dx, b)) / pixel_world.x;
+    let along_y = vec2<f32>(dot(dy, a), dot(dy, b)) / pixel_world.y;
+    let sq_x = along_x * along_x;
+    let sq_y = along_y * along_y;
+    out.blur_sigma = sqrt(vec2<f32>(dot(blur_variance, sq_x), dot(blur_variance, sq_y))) / pixel_world;
+    out.penumbra_sigma = sqrt(vec2<f32>(dot(variance, sq_x), dot(variance, sq_y))) / pixel_world;
+    // The narrower axis's width: the least detail the map must draw.
+    out.width_texels = max(2.0 * min(half.x, half.y), min(pixel_world.x, pixel_world.y)) / texel_world;
     return out;
 }
 

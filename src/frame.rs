@@ -47,6 +47,11 @@ pub(crate) struct ShadowLightUniform {
     pub extent: [f32; 2],
     pub tan_half_fov: f32,
     pub size_term: f32,
+    /// An area light's half-axis along its width (xyz, world units); w: its shape, 0 none (a
+    /// round light: its penumbrae as wide every way), 1 rectangle, 2 disk.
+    pub area_u: [f32; 4],
+    /// An area light's half-axis along its height (xyz, world units).
+    pub area_v: [f32; 4],
 }
 
 /// Mirrors `struct Penumbra`.
@@ -308,16 +313,33 @@ pub(crate) fn light_kind(light: &Light) -> u32 {
     match light {
         Light::Directional(_) => 0,
         Light::Spot(_) => 1,
-        Light::Point(_) => 2,
+        // Area lights' maps are a point light's cube; their shape is in `area_u` and `area_v`.
+        Light::Point(_) | Light::Rect(_) | Light::Disk(_) => 2,
     }
 }
 
-/// Light size term: directional `2 tan(theta / 2)`, spot and point `2 R`.
+/// Light size term: directional `2 tan(theta / 2)`, spot and point `2 R`, an area light the
+/// diameter of the sphere that holds it (the widest its penumbra can be: what the fattened
+/// map, the distance map's search and the tile classification must allow for).
 pub(crate) fn light_size_term(light: &Light) -> f32 {
     match light {
         Light::Directional(l) => 2.0 * (l.angular_diameter_deg.to_radians() * 0.5).tan(),
-        Light::Spot(l) => 2.0 * l.radius,
-        Light::Point(l) => 2.0 * l.radius,
+        _ => 2.0 * light.enclosing_radius(),
+    }
+}
+
+/// An area light's half-axes as the shaders take them (`ShadowLight::area_u`, `area_v`): xyz
+/// the half-axis, `area_u`'s w its shape (1 rectangle, 2 disk); zero for other lights.
+pub(crate) fn area_axes(light: &Light) -> ([f32; 4], [f32; 4]) {
+    match light.area() {
+        Some(a) => {
+            let shape = match a.shape {
+                crate::AreaShape::Rect => 1.0,
+                crate::AreaShape::Disk => 2.0,
+            };
+            (a.u.extend(shape).to_array(), a.v.extend(0.0).to_array())
+        }
+        None => ([0.0; 4], [0.0; 4]),
     }
 }
 
@@ -368,7 +390,7 @@ pub(crate) fn derive_spreads(
             }
             (size, size * range)
         }
-        Light::Spot(_) | Light::Point(_) => {
+        _ => {
             let position = light.position().unwrap_or_default();
             let nearest_part = caster_parts
                 .iter()
@@ -495,6 +517,8 @@ impl FrameUniform {
                 extent: lv.extent.to_array(),
                 tan_half_fov,
                 size_term: light_size_term(light),
+                area_u: area_axes(light).0,
+                area_v: area_axes(light).1,
             },
             penumbra: PenumbraUniform {
                 fatten_distance: fatten,
@@ -543,6 +567,9 @@ pub(crate) struct ShadedLight {
     /// A spot's or point light's range ([`crate::SpotLight::range`]); 0: none.
     pub range: f32,
     pub _pad: [u32; 2],
+    /// An area light's half-axes and shape, as [`ShadowLightUniform::area_u`].
+    pub area_u: [f32; 4],
+    pub area_v: [f32; 4],
 }
 
 /// Every light the composite shades (mirrors `ShadedLights` in composite.wgsl).
@@ -576,6 +603,8 @@ impl ShadedLights {
                 layer: *layer,
                 range: light.range().unwrap_or(0.0),
                 _pad: [0; 2],
+                area_u: area_axes(light).0,
+                area_v: area_axes(light).1,
             };
         }
         shaded
@@ -639,7 +668,9 @@ mod tests {
                     resolution,
                     extent,
                     tan_half_fov,
-                    size_term
+                    size_term,
+                    area_u,
+                    area_v
                 ]
             ),
             layout!(

@@ -60,7 +60,7 @@ pub(crate) struct SampleInputs<'a> {
 /// (`docs/reference.md`). Suns' and spots' maps are fitted to the view and keep `resolution`.
 pub(crate) fn sample_resolution(light: &Light, resolution: u32, max_side: u32) -> u32 {
     match light {
-        Light::Point(_) => {
+        l if l.uses_cube() => {
             // Six faces in a 3 x 3 atlas.
             let face_limit = (max_side / 3).max(1);
             // The largest power of two that fits, as the settings' resolutions are.

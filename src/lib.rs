@@ -159,9 +159,9 @@ pub use scene::SceneFile;
 #[cfg(feature = "renderer")]
 pub use scene::file::load_scene;
 pub use scene::{
-    Aabb, AlphaMode, Camera, DirectionalLight, Exposure, Instance, Light, LightingMode, LightmapFilter,
-    LightmapImage, LightmapRect, Lightmaps, MAX_LIGHTS, Material, Mesh, Model, OrbitCamera, PointLight,
-    Scene, Shading, SpotLight, TextureImage, Viewpoint,
+    Aabb, AlphaMode, AreaLight, AreaShape, Camera, DirectionalLight, DiskLight, Exposure, Instance, Light,
+    LightingMode, LightmapFilter, LightmapImage, LightmapRect, Lightmaps, MAX_LIGHTS, Material, Mesh, Model,
+    OrbitCamera, PointLight, RectLight, Scene, Shading, SpotLight, TextureImage, Viewpoint,
 };
 pub use settings::{
     CascadeSettings, CullMode, DepthFormat, LightFit, MapResolution, PcfKernel, PcssSettings,

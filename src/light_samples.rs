@@ -19,6 +19,11 @@
 //! * **Spot** (a one-sided Lambertian disk of radius `R` facing its direction `a`): points evenly
 //!   over the disk, `dω = max(0, a·ω) dA / |x - s|²`, so
 //!   `w = max(0, a·(x - s)/|x - s|) · max(0, n·ω) / |x - s|²`.
+//! * **Rectangle and disk** (one-sided Lambertian surfaces facing `a`): as a spot's disk,
+//!   points spread evenly over the surface: a rectangle's on a stratified grid of
+//!   `⌈√N⌉ × ⌈√N⌉` cells, jittered in its cells by a fixed hash (the grid's cells as square as
+//!   the sides allow); a disk's the same grid's cells through Shirley and Chiu's concentric map,
+//!   which keeps areas.
 //! * **Point** (a sphere of radius `R` and uniform radiance): points evenly over the sphere's
 //!   whole surface, each weighted by how squarely its surface element faces the receiver,
 //!   `w = max(0, m·(x - s)/|x - s|) · max(0, n·ω) / |x - s|²` with `m` the outward normal at
@@ -31,7 +36,7 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::scene::{DirectionalLight, Light, PointLight, SpotLight};
+use crate::scene::{DirectionalLight, DiskLight, Light, PointLight, RectLight, SpotLight};
 
 /// Point `k` of `n` on the unit disk: a Vogel (golden-angle) spiral, radius
 /// `sqrt((k + 0.5) / n)`, angle `k x 137.5 degrees`, which covers the disk evenly for any `n`.
@@ -80,7 +85,59 @@ pub fn light_sample(light: &Light, k: u32, n: u32) -> Light {
             radius: 0.0,
             ..l
         }),
+        Light::Rect(l) => {
+            let area = light.area().expect("a rectangle has an area");
+            let (s, t) = area_cell(k, n, l.width, l.height);
+            Light::Rect(RectLight {
+                position: area.point(s, t),
+                width: 0.0,
+                height: 0.0,
+                ..l
+            })
+        }
+        Light::Disk(l) => {
+            let area = light.area().expect("a disk has an area");
+            let (s, t) = area_cell(k, n, 1.0, 1.0);
+            Light::Disk(DiskLight {
+                position: area.point(s, t),
+                radius: 0.0,
+                ..l
+            })
+        }
     }
+}
+
+/// Sample `k` of `n` over a `width` x `height` surface, as `(s, t)` in [-1, 1]²: one point in
+/// each cell of a grid of about `n` cells (as many columns against rows as the sides' ratio
+/// allows), jittered inside its cell by a fixed hash so that the samples of a regular grid do
+/// not line up with a regular caster's edges; cells past `n` are left out evenly.
+pub fn area_cell(k: u32, n: u32, width: f32, height: f32) -> (f32, f32) {
+    let n = n.max(1);
+    let aspect = if width > 0.0 && height > 0.0 {
+        (width / height).clamp(1.0 / n as f32, n as f32)
+    } else {
+        1.0
+    };
+    let cols = ((n as f32 * aspect).sqrt().round() as u32).clamp(1, n);
+    let rows = n.div_ceil(cols);
+    // Cells in a scrambled order, so that leaving the last out does not leave out a corner.
+    let cells = cols * rows;
+    let cell = ((k as u64 * 2_654_435_761) % cells as u64) as u32;
+    let cell = if n < cells {
+        // Spread the n samples over all the cells.
+        ((k as u64 * cells as u64) / n as u64) as u32
+    } else {
+        cell
+    };
+    let (i, j) = (cell % cols, cell / cols);
+    let jitter = |x: u32| {
+        let h = x.wrapping_mul(0x9E37_79B9) ^ (x >> 15);
+        let h = h.wrapping_mul(0x85EB_CA6B) ^ (h >> 13);
+        (h & 0xFFFF) as f32 / 65536.0
+    };
+    let s = (i as f32 + 0.25 + 0.5 * jitter(2 * k + 1)) / cols as f32;
+    let t = (j as f32 + 0.25 + 0.5 * jitter(2 * k + 2)) / rows as f32;
+    (2.0 * s - 1.0, 2.0 * t - 1.0)
 }
 
 /// The light's shape as the reference weighs its samples (see the module docs).
@@ -92,7 +149,8 @@ pub enum Emitter {
         /// The light's direction of travel (normalized when weighing).
         axis: Vec3,
     },
-    /// A spot light: a one-sided Lambertian disk centred at `center`, facing `facing`.
+    /// A spot light, or a rectangle or disk area light: a one-sided Lambertian surface centred
+    /// at `center`, facing `facing`.
     Disk {
         /// The spot light's position, world units.
         center: Vec3,
@@ -119,6 +177,12 @@ impl Emitter {
                 facing: light.direction(),
             },
             Light::Point(l) => Emitter::Sphere { center: l.position },
+            Light::Rect(RectLight { position, .. }) | Light::Disk(DiskLight { position, .. }) => {
+                Emitter::Disk {
+                    center: position,
+                    facing: light.direction(),
+                }
+            }
         }
     }
 

@@ -151,7 +151,7 @@ impl AtlasGrid {
 pub fn atlas_grid(light: &Light, cascades: &CascadeSettings) -> AtlasGrid {
     match light {
         Light::Directional(_) if cascades.count > 1 => AtlasGrid::square(2),
-        Light::Point(_) => AtlasGrid::square(3),
+        l if l.uses_cube() => AtlasGrid::square(3),
         _ => AtlasGrid::SINGLE,
     }
 }
@@ -160,7 +160,7 @@ pub fn atlas_grid(light: &Light, cascades: &CascadeSettings) -> AtlasGrid {
 /// light's cube faces take half of it (six of them cost 1.5 maps' texels), other tiles all.
 pub fn tile_resolution(light: &Light, resolution: u32) -> u32 {
     match light {
-        Light::Point(_) => (resolution / 2).max(32),
+        l if l.uses_cube() => (resolution / 2).max(32),
         _ => resolution,
     }
 }
@@ -457,7 +457,9 @@ impl LightView {
                     tile: inputs.resolution,
                 }
             }
-            Light::Point(point) => point_faces(inputs, point.position, &bounds),
+            Light::Point(_) | Light::Rect(_) | Light::Disk(_) => {
+                point_faces(inputs, light.position().unwrap_or_default(), &bounds)
+            }
             Light::Spot(spot) => {
                 let view = glam::camera::rh::view::look_to_mat4(spot.position, direction, up);
                 let cone = (spot.cone_angle_deg + 1.0).clamp(0.5, 89.0).to_radians().tan();

@@ -12,7 +12,7 @@
 
 use crate::error::{PenumbraError, Result};
 use crate::gpu::{HeadlessGpu, read_texture_f32};
-use crate::scene::{Camera, Light, Scene};
+use crate::scene::{Camera, Scene};
 use crate::settings::{ShadowMethod, ShadowSettings};
 use crate::{GpuScene, Renderer};
 
@@ -97,11 +97,10 @@ fn render_linear(
 /// light to be measured ([`MIN_DIRECT`]) does not depend on the light's units then.
 fn key_light_alone(scene: &Scene) -> std::borrow::Cow<'_, Scene> {
     let light = scene.light;
-    let (intensity, distance) = match light {
-        crate::Light::Directional(l) => (l.intensity, 1.0),
-        crate::Light::Spot(l) => (l.intensity, l.position.distance(scene.bounds().center())),
-        crate::Light::Point(l) => (l.intensity, l.position.distance(scene.bounds().center())),
-    };
+    let intensity = light.far_intensity();
+    let distance = light
+        .position()
+        .map_or(1.0, |p| p.distance(scene.bounds().center()));
     let exposure = if intensity > 0.0 {
         distance.max(1e-3).powi(2) / intensity
     } else {
@@ -201,11 +200,7 @@ fn unshadowed_and_ambient(
     }
     let unshadowed = render_linear(gpu, &unshadowed_scene, camera, plain, size)?;
     let mut dark_scene = scene.clone();
-    match &mut dark_scene.light {
-        Light::Directional(l) => l.intensity = 0.0,
-        Light::Spot(l) => l.intensity = 0.0,
-        Light::Point(l) => l.intensity = 0.0,
-    }
+    dark_scene.light = dark_scene.light.with_intensity(0.0);
     let ambient = render_linear(gpu, &dark_scene, camera, plain, size)?;
     Ok((unshadowed, ambient))
 }

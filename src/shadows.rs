@@ -25,7 +25,7 @@ use crate::passes::{
     BlurInput, BlurPass, MAX_BATCHED_LIGHTS, PackedVisibility, ShadowMapPass, VISIBILITY_FORMAT,
     screen_target,
 };
-use crate::scene::{Aabb, Light, MAX_LIGHTS, PointLight, SpotLight};
+use crate::scene::{Aabb, Light, MAX_LIGHTS};
 use crate::settings::{MapResolution, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
 use crate::view::CameraMatrices;
 
@@ -617,7 +617,8 @@ impl Shadows {
                 let everything = (shadow_bounds, caster_bounds, &parts[..], &caster_parts[..]);
                 let (shadow_bounds, caster_bounds, parts, caster_parts) = match light {
                     Light::Directional(_) => everything,
-                    Light::Spot(SpotLight { radius, .. }) | Light::Point(PointLight { radius, .. }) => {
+                    _ => {
+                        let radius = light.enclosing_radius();
                         own = casters.seen_by(|b| sees(&loose, b, radius));
                         if own.all.is_empty() {
                             everything

@@ -41,8 +41,14 @@ struct ShadowLight {
     // orthographic extent (world units)
     extent: vec2<f32>,
     tan_half_fov: f32,
-    // directional 2 tan(theta / 2), spot 2 R
+    // directional 2 tan(theta / 2), spot and point 2 R, an area light the diameter of the
+    // sphere that holds it
     size_term: f32,
+    // an area light's half-axis along its width (xyz, world units); w: its shape, 0 none (a
+    // round light, as wide every way), 1 rectangle, 2 disk
+    area_u: vec4<f32>,
+    // an area light's half-axis along its height
+    area_v: vec4<f32>,
 }
 
 // What the distance-map method's passes share.
@@ -192,14 +198,59 @@ fn light_linear_depth(z: f32) -> f32 {
 // distance map holds): 2 d tan(theta/2) for a directional light, 2 R d' / (D - d') for a spot
 // light at distance D from the receiver, d' = d along the ray through the receiver.
 fn penumbra_width(d: f32, world: vec3<f32>) -> f32 {
+    return frame.light.size_term * penumbra_scale(d, world);
+}
+
+// The penumbra's width per unit of the light's size term (`penumbra_width` over `size_term`),
+// at a receiver `d` behind its occluder along the light's axis: d for a directional light,
+// d' / (D - d') for a light at distance D from the receiver, d' = d along the ray through the
+// receiver. The light's extent across the ray, times this, is the penumbra's extent there.
+fn penumbra_scale(d: f32, world: vec3<f32>) -> f32 {
     if light_kind() == 0u {
-        return frame.light.size_term * d;
+        return d;
     }
     let to_receiver = world - frame.light.position;
     let receiver_distance = length(to_receiver);
     let along_axis = dot(to_receiver, light_axis()) / max(receiver_distance, 1e-20);
     let d_ray = d / max(along_axis, 0.1);
-    return frame.light.size_term * d_ray / max(receiver_distance - d_ray, 1e-4 * receiver_distance + 1e-20);
+    return d_ray / max(receiver_distance - d_ray, 1e-4 * receiver_distance + 1e-20);
+}
+
+// An area light's shape: 0 none (a round light), 1 rectangle, 2 disk.
+fn area_shape() -> u32 {
+    return u32(frame.light.area_u.w + 0.5);
+}
+
+// A penumbra's extent across the light: two half-axes, world units.
+struct PenumbraAxes {
+    a: vec3<f32>,
+    b: vec3<f32>,
+}
+
+// An area light's half-axes as `world` sees them, times the penumbra's scale `k`
+// (`penumbra_scale`): each axis's part square to the ray through `world` (a light seen from
+// its side is foreshortened along the axis that points at the receiver). The edge of a
+// caster's shadow is as soft along each axis as the light is long along it.
+fn area_penumbra_axes(k: f32, world: vec3<f32>) -> PenumbraAxes {
+    let ray = light_ray(world);
+    let u = frame.light.area_u.xyz;
+    let v = frame.light.area_v.xyz;
+    return PenumbraAxes((u - ray * dot(u, ray)) * k, (v - ray * dot(v, ray)) * k);
+}
+
+// The standard deviation of an area light's penumbra profile along one half-axis, as a
+// fraction of the half-axis: a disk's edge profile has half its radius (twice
+// `sigma_per_width`), a rectangle's (a box: uniform across the side) 1 / sqrt(3) of it, with
+// the same calibration as the disk's (`sigma_per_width` over 1/4).
+fn area_sigma_per_half_axis() -> f32 {
+    let disk = 2.0 * frame.penumbra.sigma_per_width;
+    return select(disk, disk * 1.1547005, area_shape() == 1u);
+}
+
+// A unit vector along `v`, or `fallback` where `v` is (nearly) zero.
+fn unit_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
+    let len = length(v);
+    return select(fallback, v / len, len > 1e-30);
 }
 
 // Shadow-map uv per world unit across the light at `world`, along two directions square to the
@@ -219,10 +270,30 @@ fn across_light_to_uv(world: vec3<f32>) -> mat2x2<f32> {
     let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(ray.x) > 0.7);
     let e1 = normalize(cross(ray, helper));
     let e2 = cross(ray, e1);
+    return perspective_uv_along(world, e1, e2);
+}
+
+// Shadow-map uv per world unit along the unit directions `e1` and `e2` at `world` (the
+// columns), for a perspective map.
+fn perspective_uv_along(world: vec3<f32>, e1: vec3<f32>, e2: vec3<f32>) -> mat2x2<f32> {
     // A step of a thousandth of the distance to the light: linear enough, far above rounding.
     let h = 1e-3 * max(length(world - frame.light.position), 1e-20);
     let p = to_shadow_map(world).xy;
     return mat2x2<f32>((to_shadow_map(world + e1 * h).xy - p) / h, (to_shadow_map(world + e2 * h).xy - p) / h);
+}
+
+// Shadow-map uv per world unit along the directions of an area light's penumbra axes `axes` at
+// `world` (the columns: a unit step along axis a, and along b): the frame of a kernel wider
+// along one of the light's sides than along the other. Area lights' maps are perspective (a
+// cube's faces).
+fn area_uv_along(world: vec3<f32>, axes: PenumbraAxes) -> mat2x2<f32> {
+    let ray = light_ray(world);
+    let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(ray.x) > 0.7);
+    let e1 = normalize(cross(ray, helper));
+    let a = unit_or(axes.a, e1);
+    // b's unit direction, or where it vanishes the direction square to a and the ray.
+    let b = unit_or(axes.b, normalize(cross(ray, a)));
+    return perspective_uv_along(world, a, b);
 }
 
 // Texels of the light's atlas along its x and y: `frame.light.resolution` across, and down as

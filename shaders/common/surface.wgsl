@@ -191,3 +191,114 @@ fn falloff(d2: f32, range: f32) -> f32 {
     }
     return window / max(d2, 1e-8);
 }
+
+// An area light's direct light at `world` (camera-side shading in `r`): a one-sided
+// rectangle (`shape` 1) or disk (2) centred at `center` with half-axes `u` and `v`, facing
+// `facing`. Times its luminance it is the light the surface reflects, as `reflected` times a
+// point light's `1 / d²` is. Nothing reaches a point behind the light's plane.
+//
+// Diffuse: the cosine-weighted solid angle the light covers above the surface's horizon,
+// exactly, by Lambert's formula for a polygon (the sum over its edges of the angle each edge
+// subtends times the cosine of its plane's normal with the surface's), after clipping the
+// polygon to the horizon. A disk is a 16-sided polygon of the same area. This is what the
+// linearly transformed cosines of Heitz et al. (2016) reduce to for a Lambertian surface.
+// Specular (metallic-roughness): Karis's representative point (2013): the light's point
+// nearest the mirror direction, lit as a point light of the light's whole intensity there,
+// its lobe widened by the light's size (energy normalised by (alpha / alpha')²).
+fn area_reflected(r: Reflectance, world: vec3<f32>, center: vec3<f32>, u: vec3<f32>, v: vec3<f32>, facing: vec3<f32>, shape: u32) -> Reflected {
+    let to_center = center - world;
+    if dot(to_center, facing) >= 0.0 {
+        // Behind the light (or in its plane).
+        return Reflected(vec3<f32>(0.0), vec3<f32>(0.0));
+    }
+    var count = 4u;
+    var corners: array<vec3<f32>, 16>;
+    if shape == 1u {
+        corners[0] = to_center - u - v;
+        corners[1] = to_center + u - v;
+        corners[2] = to_center + u + v;
+        corners[3] = to_center - u + v;
+    } else {
+        // 16 sides of the same area as the disk: the radius times sqrt(pi / (8 sin(pi / 8))).
+        count = 16u;
+        let scale = 1.0129838;
+        for (var k = 0u; k < 16u; k++) {
+            let t = f32(k) * 0.39269908;
+            corners[k] = to_center + (u * cos(t) + v * sin(t)) * scale;
+        }
+    }
+    let cosine_solid_angle = clipped_polygon_irradiance(corners, count, r.n);
+    // Karis's representative point: where the mirror ray meets the light's plane, kept on the
+    // light (the point nearest the centre when the ray runs away from the plane).
+    let mirror = reflect(-r.v, r.n);
+    let toward_plane = dot(mirror, facing);
+    var p = to_center;
+    if toward_plane < -1e-4 {
+        p = mirror * (dot(to_center, facing) / toward_plane);
+    }
+    let u2 = max(dot(u, u), 1e-20);
+    let v2 = max(dot(v, v), 1e-20);
+    var st = vec2<f32>(dot(p - to_center, u) / u2, dot(p - to_center, v) / v2);
+    if shape == 1u {
+        st = clamp(st, vec2<f32>(-1.0), vec2<f32>(1.0));
+    } else if dot(st, st) > 1.0 {
+        st = normalize(st);
+    }
+    p = to_center + u * st.x + v * st.y;
+    let d2 = max(dot(p, p), 1e-8);
+    let l = p * inverseSqrt(d2);
+    let lit = reflected(r, l);
+    // The light seen from the point: its area times its cosine there, over d², is the solid
+    // angle a point light of its intensity would stand for.
+    let area = 4.0 * sqrt(u2 * v2) * select(0.78539816, 1.0, shape == 1u);
+    let solid_angle = area * max(dot(-l, facing), 0.0) / d2;
+    // The lobe widened by the light's size seen from the surface (its equivalent sphere's
+    // radius over the distance).
+    let widened = min(r.alpha + sqrt(area / 3.14159265) / (2.0 * sqrt(d2)), 1.0);
+    let normalisation = (r.alpha * r.alpha) / max(widened * widened, 1e-8);
+    // The diffuse part: the exact cosine-weighted solid angle, less what the surface reflects
+    // specularly there (as `reflected` does for a point light).
+    let n_dot_l = max(dot(r.n, l), 1e-4);
+    let diffuse_share = select(vec3<f32>(1.0), lit.diffuse / n_dot_l, r.specular && dot(r.n, l) > 1e-4);
+    return Reflected(diffuse_share * cosine_solid_angle, lit.specular * solid_angle * normalisation);
+}
+
+// The cosine-weighted solid angle (∫ max(0, n·ω) dω) of the polygon `corners[0..count]`
+// (offsets from the receiver, in order around it) seen from a receiver with unit normal `n`:
+// the polygon clipped to the half-space above the receiver's horizon, then Lambert's formula,
+// half the sum over the edges of each edge's angle times the cosine between `n` and the normal
+// of the plane through it and the receiver.
+fn clipped_polygon_irradiance(corners: array<vec3<f32>, 16>, count: u32, n: vec3<f32>) -> f32 {
+    var points = corners;
+    var clipped: array<vec3<f32>, 17>;
+    var kept = 0u;
+    for (var i = 0u; i < count; i++) {
+        let a = points[i];
+        let b = points[(i + 1u) % count];
+        let ha = dot(a, n);
+        let hb = dot(b, n);
+        if ha >= 0.0 {
+            clipped[kept] = a;
+            kept += 1u;
+        }
+        if (ha >= 0.0) != (hb >= 0.0) {
+            // The edge crosses the horizon: keep the crossing.
+            clipped[kept] = a + (b - a) * (ha / (ha - hb));
+            kept += 1u;
+        }
+    }
+    if kept < 3u {
+        return 0.0;
+    }
+    var sum = 0.0;
+    for (var i = 0u; i < kept; i++) {
+        let a = normalize(clipped[i]);
+        let b = normalize(clipped[(i + 1u) % kept]);
+        let c = cross(a, b);
+        let s = length(c);
+        if s > 1e-12 {
+            sum += atan2(s, dot(a, b)) / s * dot(c, n);
+        }
+    }
+    return 0.5 * abs(sum);
+}

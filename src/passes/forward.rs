@@ -36,6 +36,9 @@ struct FrameUniform {
     light_position: [f32; 4],
     light_radiance: [f32; 4],
     ambient: [f32; 4],
+    /// An area light's half-axes and shape (`FrameUniform`'s `area_u` and `area_v`).
+    area_u: [f32; 4],
+    area_v: [f32; 4],
 }
 
 /// The color behind the scene (linear RGB), shared by the lit passes.
@@ -204,6 +207,8 @@ impl ForwardPass {
             light_position: vec4(position, cos_outer),
             light_radiance: vec4(light.radiance() * scene.exposure().scale(), cos_inner),
             ambient: vec4(scene.ambient(), light.range().unwrap_or(0.0)),
+            area_u: crate::frame::area_axes(light).0,
+            area_v: crate::frame::area_axes(light).1,
         };
         queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
         let mut pass = begin_pass(

@@ -22,8 +22,9 @@ pub use camera::{Camera, OrbitCamera};
 #[cfg(feature = "renderer")]
 pub use file::{LightsFrom, MeshSource, SceneFile, TextureSource};
 pub use light::{
-    DirectionalLight, Exposure, Light, MAX_LIGHTS, MODEL_SPOT_RADIUS_PER_DISTANCE, MODEL_SUN_DIAMETER_DEG,
-    ModelLight, ModelLightKind, ModelLightSizes, PointLight, SpotLight, lights_from_model,
+    AreaLight, AreaShape, DirectionalLight, DiskLight, Exposure, Light, MAX_LIGHTS,
+    MODEL_SPOT_RADIUS_PER_DISTANCE, MODEL_SUN_DIAMETER_DEG, ModelLight, ModelLightKind, ModelLightSizes,
+    PointLight, RectLight, SpotLight, light_axes, lights_from_model,
 };
 pub use lightmap::{LightingMode, LightmapFilter, LightmapImage, LightmapRect, Lightmaps, rg11b10, rgb9e5};
 pub use material::{AlphaMode, FilterMode, Material, Shading, TextureImage, TextureSampler, WrapMode};
