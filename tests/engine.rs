@@ -114,7 +114,7 @@ fn shadow_of_centre(d: &Description, light: &Light) -> Vec3 {
         .transform_point3(model_mesh(&model()).bounds.center());
     match light {
         Light::Directional(sun) => centre + sun.direction * (-centre.y / sun.direction.y),
-        Light::Spot(_) | Light::Point(_) => {
+        _ => {
             let position = light.position().unwrap();
             position + (centre - position) * (position.y / (position.y - centre.y))
         }

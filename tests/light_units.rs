@@ -130,15 +130,7 @@ fn the_frame_lit_by_several_lights_is_the_sum_of_the_frames_lit_by_each() {
             ..floor_scene(true)
         }
     };
-    let dark = |l: &Light| {
-        let mut l = *l;
-        match &mut l {
-            Light::Directional(d) => d.intensity = 0.0,
-            Light::Spot(s) => s.intensity = 0.0,
-            Light::Point(p) => p.intensity = 0.0,
-        }
-        l
-    };
+    let dark = |l: &Light| l.with_intensity(0.0);
     let all = render(&with(&lights), &camera, ShadowMethod::Ours);
     all.save(common::output_dir().join("light-units-three-lights.png"))
         .unwrap();
@@ -179,11 +171,7 @@ fn dimming_every_light_of_a_gltf_file_a_millionfold_leaves_only_the_ambient() {
     let scaled = |factor: f32| {
         let mut scene = scene.clone();
         for l in std::iter::once(&mut scene.light).chain(&mut scene.more_lights) {
-            match l {
-                Light::Directional(d) => d.intensity *= factor,
-                Light::Spot(s) => s.intensity *= factor,
-                Light::Point(p) => p.intensity *= factor,
-            }
+            *l = l.with_intensity(l.intensity() * factor);
         }
         render(&scene, &camera, ShadowMethod::Ours)
     };
@@ -254,4 +242,82 @@ fn an_emissive_surface_is_bright_with_every_light_off() {
     let image = render(&scene, &camera, ShadowMethod::Ours);
     let top = image.get_pixel(cube_top.0, cube_top.1).0;
     assert!(top[0] == 255 && top[1] <= 2 && top[2] <= 2, "{top:?}");
+}
+
+/// The irradiance at a point `h` below one corner of an `a` x `b` rectangle of luminance 1
+/// parallel to it (the classic corner form factor times π).
+fn corner_irradiance(a: f32, b: f32, h: f32) -> f32 {
+    let (x, y) = (a / h, b / h);
+    let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
+    0.5 * (x / sx * (y / sx).atan() + y / sy * (x / sy).atan())
+}
+
+/// Area lights light a surface as Lambert's formula says: under a rectangle's centre and under
+/// one of its corners, and on a disk's axis, the frame's linear value is the albedo times
+/// the exact irradiance (closed forms, independent of the shader's polygon integral), and
+/// nothing behind the light's plane is lit.
+#[test]
+fn area_lights_give_the_exact_irradiance() {
+    use penumbra::{DiskLight, RectLight};
+    let (height, width, depth) = (1.5f32, 2.0f32, 1.0f32);
+    let camera = Camera {
+        fov_y_deg: 60.0,
+        ..Camera::look_at(Vec3::new(0.0, 2.5, 0.001), Vec3::ZERO)
+    };
+    let at = |image: &image::RgbaImage, p: Vec3| {
+        let (x, y) = common::project(&camera, SIZE.0, SIZE.1, p).expect("in view");
+        luminance(image, x, y)
+    };
+    let mut scene = floor_scene(false);
+    scene.exposure = Exposure::Multiplier(1.0);
+    let luminance_nits = 0.5;
+    scene.light = Light::Rect(RectLight {
+        position: Vec3::new(0.0, height, 0.0),
+        direction: Vec3::NEG_Y,
+        up: Vec3::Z,
+        width,
+        height: depth,
+        color: Vec3::ONE,
+        intensity: luminance_nits,
+        range: None,
+    });
+    let rect = render(&scene, &camera, ShadowMethod::Hard);
+    rect.save(common::output_dir().join("light-units-rect.png"))
+        .unwrap();
+    // Under the centre: four corners of (w/2) x (d/2) rectangles.
+    let centre = 4.0 * corner_irradiance(width / 2.0, depth / 2.0, height) * luminance_nits;
+    // Under a corner (x = w/2, z = d/2): the whole rectangle from its corner.
+    let corner = corner_irradiance(width, depth, height) * luminance_nits;
+    let measured_centre = at(&rect, Vec3::ZERO);
+    let measured_corner = at(&rect, Vec3::new(width / 2.0, 0.0, depth / 2.0));
+    eprintln!(
+        "rectangle: centre {measured_centre:.4} (exact {centre:.4}), corner {measured_corner:.4} (exact {corner:.4})"
+    );
+    assert!((measured_centre / centre - 1.0).abs() < 0.02);
+    assert!((measured_corner / corner - 1.0).abs() < 0.02);
+    // Facing up, the floor below is behind it: unlit.
+    if let Light::Rect(r) = &mut scene.light {
+        r.direction = Vec3::Y;
+    }
+    let behind = render(&scene, &camera, ShadowMethod::Hard);
+    assert!(
+        at(&behind, Vec3::ZERO) < 0.002,
+        "behind the light: {}",
+        at(&behind, Vec3::ZERO)
+    );
+    // A disk on its axis: E = L π R² / (h² + R²).
+    let radius = 0.8;
+    scene.light = Light::Disk(DiskLight {
+        position: Vec3::new(0.0, height, 0.0),
+        direction: Vec3::NEG_Y,
+        radius,
+        color: Vec3::ONE,
+        intensity: luminance_nits,
+        range: None,
+    });
+    let disk = render(&scene, &camera, ShadowMethod::Ours);
+    let exact = luminance_nits * std::f32::consts::PI * radius * radius / (height * height + radius * radius);
+    let measured = at(&disk, Vec3::ZERO);
+    eprintln!("disk: on its axis {measured:.4} (exact {exact:.4})");
+    assert!((measured / exact - 1.0).abs() < 0.02);
 }

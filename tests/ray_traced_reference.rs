@@ -230,6 +230,27 @@ fn light_points(light: &Light, x: Vec3, n: usize) -> Vec<LightPoint> {
                     weight,
                 })
             }
+            Light::Rect(_) | Light::Disk(_) => {
+                // A square grid of cells over the rectangle (or the square the disk is mapped
+                // from), one point at each cell's centre.
+                let area = light.area().unwrap();
+                let side = (n as f32).sqrt().ceil() as usize;
+                let (i, j) = (k % side, k / side);
+                if j >= side {
+                    return None;
+                }
+                let s = area.point(
+                    2.0 * (i as f32 + 0.5) / side as f32 - 1.0,
+                    2.0 * (j as f32 + 0.5) / side as f32 - 1.0,
+                );
+                let (to, d) = ((s - x).normalize(), (s - x).length());
+                let weight = area.facing.dot(-to).max(0.0) / (d * d);
+                (weight > 0.0).then_some(LightPoint {
+                    toward: to,
+                    distance: d,
+                    weight,
+                })
+            }
         })
         .collect()
 }
@@ -261,8 +282,7 @@ fn compare(scene: &Scene, view: usize, size: (u32, u32), grazing: f32) -> Agreem
     let light = scene.light;
     let centre_toward = |x: Vec3| match light {
         Light::Directional(l) => -l.direction.normalize(),
-        Light::Spot(l) => (l.position - x).normalize(),
-        Light::Point(l) => (l.position - x).normalize(),
+        _ => (light.position().unwrap() - x).normalize(),
     };
     let (mut sum, mut pixels, mut off) = (0.0f64, 0usize, 0usize);
     for py in 0..size.1 {

@@ -460,6 +460,18 @@ fn save_view(lamp: Lamp, view: usize, camera: &Camera) {
         Light::Point(l) => serde_json::json!({
             "kind": "point", "position": l.position.to_array(), "radius": l.radius,
         }),
+        Light::Rect(_) | Light::Disk(_) => {
+            let a = scene.light.area().unwrap();
+            let kind = if matches!(scene.light, Light::Rect(_)) {
+                "rect"
+            } else {
+                "disk"
+            };
+            serde_json::json!({
+                "kind": kind, "position": a.center.to_array(), "u": a.u.to_array(), "v": a.v.to_array(),
+                "facing": a.facing.to_array(),
+            })
+        }
     };
     let json = serde_json::json!({
         "lamp": lamp.name(),

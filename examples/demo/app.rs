@@ -72,6 +72,8 @@ impl LightAngles {
             Light::Directional(_) => -light.direction(),
             Light::Spot(s) => (s.position - center).normalize_or(Vec3::Y),
             Light::Point(p) => (p.position - center).normalize_or(Vec3::Y),
+            Light::Rect(r) => (r.position - center).normalize_or(Vec3::Y),
+            Light::Disk(d) => (d.position - center).normalize_or(Vec3::Y),
         };
         Self {
             azimuth_deg: toward.x.atan2(toward.z).to_degrees(),
@@ -103,6 +105,19 @@ impl LightAngles {
                 let distance = (p.position - center).length().max(1e-3);
                 p.position = center + toward * distance;
                 Light::Point(p)
+            }
+            // Area lights face the centre from where they are put, their sides kept.
+            Light::Rect(mut r) => {
+                let distance = (r.position - center).length().max(1e-3);
+                r.position = center + toward * distance;
+                r.direction = -toward;
+                Light::Rect(r)
+            }
+            Light::Disk(mut d) => {
+                let distance = (d.position - center).length().max(1e-3);
+                d.position = center + toward * distance;
+                d.direction = -toward;
+                Light::Disk(d)
             }
         }
     }

@@ -4,8 +4,8 @@
 use eframe::egui;
 use penumbra::debug::DebugView;
 use penumbra::{
-    CullMode, DepthFormat, DirectionalLight, Light, LightFit, MapResolution, PcfKernel, PointLight, Quality,
-    ShadowMethod, ShadowSettings, SpotLight, SpreadMode,
+    CullMode, DepthFormat, DirectionalLight, DiskLight, Light, LightFit, MapResolution, PcfKernel,
+    PointLight, Quality, RectLight, ShadowMethod, ShadowSettings, SpotLight, SpreadMode,
 };
 
 use crate::app::{BUILT_IN, DemoApp, LightAngles, MapView, built_in_path};
@@ -152,10 +152,12 @@ impl DemoApp {
                 }
                 let mut light = self.light;
                 ui.horizontal(|ui| {
-                    let (directional, spot, point) = (
+                    let (directional, spot, point, rect, disk) = (
                         matches!(light, Light::Directional(_)),
                         matches!(light, Light::Spot(_)),
                         matches!(light, Light::Point(_)),
+                        matches!(light, Light::Rect(_)),
+                        matches!(light, Light::Disk(_)),
                     );
                     if ui.selectable_label(directional, "directional").clicked() && !directional {
                         light = to_directional(&light);
@@ -165,6 +167,12 @@ impl DemoApp {
                     }
                     if ui.selectable_label(point, "point").clicked() && !point {
                         light = to_point(&light, center, radius);
+                    }
+                    if ui.selectable_label(rect, "rectangle").clicked() && !rect {
+                        light = to_area(&light, center, radius, true);
+                    }
+                    if ui.selectable_label(disk, "disk").clicked() && !disk {
+                        light = to_area(&light, center, radius, false);
                     }
                 });
                 match &mut light {
@@ -196,6 +204,35 @@ impl DemoApp {
                                 .text("size (sphere radius)"),
                         );
                         ui.add(egui::Slider::new(&mut p.intensity, 0.0..=4.0).text("intensity"));
+                    }
+                    Light::Rect(r) => {
+                        ui.add(
+                            egui::Slider::new(&mut r.width, 0.0..=radius)
+                                .suffix(" units")
+                                .text("width"),
+                        );
+                        ui.add(
+                            egui::Slider::new(&mut r.height, 0.0..=radius)
+                                .suffix(" units")
+                                .text("height"),
+                        );
+                        ui.add(
+                            egui::Slider::new(&mut r.intensity, 0.0..=40.0)
+                                .logarithmic(true)
+                                .text("luminance (nits)"),
+                        );
+                    }
+                    Light::Disk(d) => {
+                        ui.add(
+                            egui::Slider::new(&mut d.radius, 0.0..=radius * 0.5)
+                                .suffix(" units")
+                                .text("size (disk radius)"),
+                        );
+                        ui.add(
+                            egui::Slider::new(&mut d.intensity, 0.0..=40.0)
+                                .logarithmic(true)
+                                .text("luminance (nits)"),
+                        );
                     }
                 }
                 if light != self.light {
@@ -721,6 +758,12 @@ pub(crate) fn to_directional(light: &Light) -> Light {
             p.color,
             p.intensity,
         ),
+        Light::Rect(_) | Light::Disk(_) => (
+            light.direction(),
+            light.enclosing_radius(),
+            light.color(),
+            light.far_intensity(),
+        ),
     };
     let distance = 10.0f32.max(radius);
     Light::Directional(DirectionalLight {
@@ -736,6 +779,13 @@ pub(crate) fn to_directional(light: &Light) -> Light {
 pub(crate) fn to_point(light: &Light, center: glam::Vec3, radius: f32) -> Light {
     match *light {
         Light::Point(_) => *light,
+        Light::Rect(_) | Light::Disk(_) => Light::Point(PointLight {
+            position: light.position().unwrap_or(center),
+            radius: light.enclosing_radius(),
+            color: light.color(),
+            intensity: light.far_intensity(),
+            range: light.range(),
+        }),
         Light::Spot(s) => Light::Point(PointLight {
             position: s.position,
             radius: s.radius,
@@ -759,6 +809,15 @@ pub(crate) fn to_point(light: &Light, center: glam::Vec3, radius: f32) -> Light 
 pub(crate) fn to_spot(light: &Light, center: glam::Vec3, radius: f32) -> Light {
     match *light {
         Light::Spot(_) => *light,
+        Light::Rect(_) | Light::Disk(_) => Light::Spot(SpotLight {
+            position: light.position().unwrap_or(center),
+            direction: light.direction(),
+            cone_angle_deg: 60.0,
+            radius: light.enclosing_radius(),
+            color: light.color(),
+            intensity: light.far_intensity(),
+            range: light.range(),
+        }),
         Light::Point(p) => Light::Spot(SpotLight {
             position: p.position,
             direction: center - p.position,
@@ -781,5 +840,47 @@ pub(crate) fn to_spot(light: &Light, center: glam::Vec3, radius: f32) -> Light {
                 range: None,
             })
         }
+    }
+}
+
+/// A rectangle (`rect`) or disk light where `light` shines from, facing `center`: a spot's or
+/// point light's place, or above the scene toward a sun. Its size gives the disk's radius or
+/// the rectangle's width (its height a quarter of that), and its luminance gives the same light
+/// far along its axis (`Light::far_intensity`).
+pub(crate) fn to_area(light: &Light, center: glam::Vec3, radius: f32, rect: bool) -> Light {
+    let (position, size) = match *light {
+        Light::Directional(d) => {
+            let distance = radius * 1.5;
+            (
+                center - light.direction() * distance,
+                distance * (d.angular_diameter_deg.to_radians() * 0.5).tan(),
+            )
+        }
+        _ => (light.position().unwrap_or(center), light.enclosing_radius()),
+    };
+    let size = size.max(radius * 0.02);
+    let direction = (center - position).normalize_or(glam::Vec3::NEG_Y);
+    let (color, far) = (light.color(), light.far_intensity());
+    if rect {
+        let (width, height) = (2.0 * size, 0.5 * size);
+        Light::Rect(RectLight {
+            position,
+            direction,
+            up: glam::Vec3::ZERO,
+            width,
+            height,
+            color,
+            intensity: far / (width * height),
+            range: light.range(),
+        })
+    } else {
+        Light::Disk(DiskLight {
+            position,
+            direction,
+            radius: size,
+            color,
+            intensity: far / (std::f32::consts::PI * size * size),
+            range: light.range(),
+        })
     }
 }

@@ -159,6 +159,18 @@ pub fn adjusted_light(light: &Light, scale: f32, turn_deg: f32) -> Light {
             l.radius *= scale;
             Light::Point(l)
         }
+        Light::Rect(mut l) => {
+            l.width *= scale;
+            l.height *= scale;
+            l.up = turn * penumbra::scene::light_axes(l.direction, l.up).1;
+            l.direction = turn * l.direction;
+            Light::Rect(l)
+        }
+        Light::Disk(mut l) => {
+            l.radius *= scale;
+            l.direction = turn * l.direction;
+            Light::Disk(l)
+        }
     }
 }
 
