@@ -211,6 +211,8 @@ pub struct Embedding {
     pub cascades: Vec<CascadeRun>,
     /// The room's desk view, per method.
     pub room: Vec<RoomRun>,
+    /// The room's ceiling panel alone (a rectangle light) against a sphere light of its area.
+    pub area: Vec<AreaRun>,
     /// Batched against unbatched blurs.
     pub batching: Vec<BatchRun>,
     /// `ours`' screen-space time against its share of penumbra tiles, camera near to far.
@@ -294,6 +296,18 @@ pub struct RoomRun {
     pub frame_ms: f64,
     /// The lamp's visibility against the reference's, at the metric size.
     pub rmse: f32,
+    pub penumbra_rmse: f32,
+}
+
+/// One method under the room's ceiling panel (a rectangle) or under a sphere light of its area.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct AreaRun {
+    /// `rect` or `sphere`.
+    pub light: String,
+    pub method: String,
+    /// The light turning a little every frame (its maps drawn every frame).
+    pub frame_ms: f64,
+    /// The visibility's penumbra RMSE against the rectangle's reference, at the metric size.
     pub penumbra_rmse: f32,
 }
 
@@ -527,6 +541,7 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
     let mut embedding = measure_embedding(&gpu, &teapot, &camera, size, config)?;
     embedding.cascades = measure_cascades(&gpu, &assets, size, config)?;
     embedding.room = measure_room(&gpu, &assets, size, config)?;
+    embedding.area = measure_area(&gpu, &assets, size, config)?;
     embedding.batching = measure_batching(&gpu, &teapot, &camera, size, config)?;
     embedding.tiles = measure_tiles(&gpu, &teapot, &camera, size, config)?;
     embedding.reduced = measure_reduced(&gpu, &teapot, &camera, size, config)?;
@@ -663,6 +678,62 @@ fn measure_room(gpu: &HeadlessGpu, assets: &Path, size: (u32, u32), config: &Con
             rmse: error.rmse,
             penumbra_rmse: error.penumbra_rmse,
         });
+    }
+    Ok(runs)
+}
+
+/// The room's desk view under its ceiling panel alone (a rectangle light 1.2 x 0.3 m) and under a
+/// sphere light of the same area and far intensity at its centre (what an engine without
+/// area-light shadows would put there), with `ours` and `pcss` (medium): frame time with the
+/// light turning, and the penumbra RMSE against the rectangle's reference.
+fn measure_area(gpu: &HeadlessGpu, assets: &Path, size: (u32, u32), config: &Config) -> Result<Vec<AreaRun>> {
+    let room = penumbra::load_scene(&assets.join("room.ron"))?;
+    let camera = room.view(0)?;
+    let panel = room
+        .more_lights
+        .iter()
+        .copied()
+        .find(|l| matches!(l, Light::Rect(_)))
+        .ok_or_else(|| anyhow::anyhow!("room.ron has no rectangle light"))?;
+    let area = panel.area().expect("a rectangle has an area");
+    let rect = penumbra::Scene {
+        light: panel,
+        more_lights: Vec::new(),
+        ..room.clone()
+    };
+    let sphere = penumbra::Scene {
+        light: Light::Point(penumbra::PointLight {
+            position: area.center,
+            radius: (area.area() / std::f32::consts::PI).sqrt(),
+            color: panel.color(),
+            intensity: panel.far_intensity(),
+            range: None,
+        }),
+        ..rect.clone()
+    };
+    let mut reference = ShadowSettings::preset(ShadowMethod::Reference, Quality::Medium);
+    reference.reference.samples = config.reference_samples;
+    let reference = metrics::measure_visibility(gpu, &rect, &camera, reference, config.metric_size)?;
+    let mut runs = Vec::new();
+    for (light, scene) in [("rect", &rect), ("sphere", &sphere)] {
+        for method in [ShadowMethod::Ours, ShadowMethod::Pcss] {
+            let settings = ShadowSettings::preset(method, Quality::Medium);
+            let timing = time_frames(gpu, scene, &camera, settings, size, config)?;
+            let image = metrics::measure_visibility(gpu, scene, &camera, settings, config.metric_size)?;
+            let error = metrics::visibility_error(&reference, &image)?;
+            println!(
+                "area: {light} {}: {:.2} ms, penumbra RMSE {:.4}",
+                method.name(),
+                timing.frame_ms,
+                error.penumbra_rmse
+            );
+            runs.push(AreaRun {
+                light: light.into(),
+                method: method.name().into(),
+                frame_ms: timing.frame_ms,
+                penumbra_rmse: error.penumbra_rmse,
+            });
+        }
     }
     Ok(runs)
 }
@@ -1108,6 +1179,7 @@ fn measure_embedding(
         camera_moved,
         cascades: Vec::new(),
         room: Vec::new(),
+        area: Vec::new(),
         batching: Vec::new(),
         tiles: Vec::new(),
         reduced: Vec::new(),
@@ -1594,10 +1666,11 @@ fn write_report(
     }
     writeln!(
         md,
-        "\n## Room: a point light and a spot\n\n\
+        "\n## Room: a point light, a spot and a rectangle\n\n\
          The room's desk view, {}x{}, medium preset: the desk lamp (a point light of 3 cm radius, \
-         six cube faces) and the monitor (a spot of the screen's size), both moving a little every \
-         frame. The errors are the lamp's visibility against the reference at {}x{}.\n\n\
+         six cube faces), the monitor (a spot of the screen's size) and the ceiling panel (a \
+         rectangle light 1.2 x 0.3 m), the lamp moving a little every frame. The errors are the \
+         lamp's visibility against the reference at {}x{}.\n\n\
          | method | frame ms | RMSE | penumbra RMSE |\n|---|---|---|---|",
         embedding.width, embedding.height, config.metric_size.0, config.metric_size.1
     )?;
@@ -1619,6 +1692,7 @@ fn write_report(
             verdict(ratio <= PCSS_RMSE_TARGET)
         )?;
     }
+    write_area(&mut md, config, embedding)?;
     write_memory(&mut md, config, &embedding.memory)?;
     std::fs::write(config.out_dir.join("report.md"), &md)?;
     std::fs::write(
@@ -1862,6 +1936,55 @@ fn plot_tradeoff(path: &Path, runs: &[Run], size: (u32, u32)) -> Result<()> {
 
 /// At most this many bytes a pixel of screen-space memory per light after the first (issue 39).
 const ADDED_LIGHT_BYTES_PER_PIXEL: f64 = 2.0;
+
+/// The "Area light" section: the room's ceiling panel against a sphere light of its area.
+fn write_area(md: &mut String, config: &Config, embedding: &Embedding) -> Result<()> {
+    use std::fmt::Write;
+    if embedding.area.is_empty() {
+        return Ok(());
+    }
+    writeln!(
+        md,
+        "\n## Area light: a rectangle against a sphere of its area\n\n\
+         The room's desk view, {}x{}, medium preset, lit by its ceiling panel alone (a rectangle \
+         light 1.2 x 0.3 m) and by a sphere light of the same area and far intensity at its \
+         centre instead, the light turning a little every frame. Penumbra RMSE: the visibility \
+         against the rectangle's reference at {}x{}.\n\n\
+         | light | method | frame ms | penumbra RMSE |\n|---|---|---|---|",
+        embedding.width, embedding.height, config.metric_size.0, config.metric_size.1
+    )?;
+    for r in &embedding.area {
+        writeln!(
+            md,
+            "| {} | {} | {:.2} | {:.4} |",
+            r.light, r.method, r.frame_ms, r.penumbra_rmse
+        )?;
+    }
+    let run = |light: &str, method: &str| {
+        embedding
+            .area
+            .iter()
+            .find(|r| r.light == light && r.method == method)
+    };
+    if let (Some(o), Some(s)) = (run("rect", "ours"), run("sphere", "ours")) {
+        writeln!(
+            md,
+            "\n`ours`' frame with the rectangle: {:.2}x its frame with the sphere.",
+            o.frame_ms / s.frame_ms
+        )?;
+    }
+    if let (Some(o), Some(p)) = (run("rect", "ours"), run("sphere", "pcss")) {
+        let ratio = o.penumbra_rmse / p.penumbra_rmse;
+        writeln!(
+            md,
+            "\n- `ours` with the rectangle: penumbra RMSE at most 0.7x `pcss` with a sphere of its area: {:.4} vs {:.4} ({ratio:.2}x) -> {}",
+            o.penumbra_rmse,
+            p.penumbra_rmse,
+            verdict(ratio <= 0.7)
+        )?;
+    }
+    Ok(())
+}
 
 /// The memory table and its target.
 fn write_memory(md: &mut String, config: &Config, memory: &[MemoryRun]) -> Result<()> {

@@ -148,7 +148,7 @@ fn no_seam_where_the_shadow_crosses_cube_faces() {
 }
 
 #[test]
-fn the_room_has_a_shaded_lamp_and_a_monitor() {
+fn the_room_has_a_shaded_lamp_a_monitor_and_a_ceiling_panel() {
     let gpu = common::gpu();
     let scene = penumbra::load_scene(&common::asset("scenes/room.ron")).unwrap();
     assert!(
@@ -156,8 +156,8 @@ fn the_room_has_a_shaded_lamp_and_a_monitor() {
         "the desk lamp is the key light"
     );
     assert!(
-        matches!(scene.more_lights.as_slice(), [Light::Spot(_)]),
-        "the monitor is a spot: {:?}",
+        matches!(scene.more_lights.as_slice(), [Light::Spot(_), Light::Rect(_)]),
+        "the monitor is a spot, the ceiling panel a rectangle: {:?}",
         scene.more_lights
     );
     let camera = scene.view(0).unwrap();

@@ -234,11 +234,12 @@ fn light_points(light: &Light, x: Vec3, n: usize) -> Vec<LightPoint> {
                 // A square grid of cells over the rectangle (or the square the disk is mapped
                 // from), one point at each cell's centre.
                 let area = light.area().unwrap();
-                let side = (n as f32).sqrt().ceil() as usize;
-                let (i, j) = (k % side, k / side);
-                if j >= side {
+                // The largest whole grid within n points: the rest are left out.
+                let side = ((n as f32).sqrt().floor() as usize).max(1);
+                if k >= side * side {
                     return None;
                 }
+                let (i, j) = (k % side, k / side);
                 let s = area.point(
                     2.0 * (i as f32 + 0.5) / side as f32 - 1.0,
                     2.0 * (j as f32 + 0.5) / side as f32 - 1.0,
@@ -381,7 +382,7 @@ fn the_reference_matches_rays_on_faceted_meshes_under_the_sun() {
 }
 
 #[test]
-fn the_reference_matches_rays_in_the_room_under_the_lamp_and_the_monitor() {
+fn the_reference_matches_rays_in_the_room_under_the_lamp_the_monitor_and_the_panel() {
     let mut scene = load_scene(&common::asset("scenes/room.ron")).unwrap();
     assert!(
         matches!(scene.light, Light::Point(_)),
@@ -401,6 +402,18 @@ fn the_reference_matches_rays_in_the_room_under_the_lamp_and_the_monitor() {
     std::mem::swap(&mut scene.light, &mut scene.more_lights[spot]);
     check(
         "room, the monitor, view 0",
+        compare(&scene, 0, (320, 256), 0.1),
+        0.02,
+        0.005,
+    );
+    let panel = scene
+        .more_lights
+        .iter()
+        .position(|l| matches!(l, Light::Rect(_)))
+        .expect("the room has the ceiling panel");
+    std::mem::swap(&mut scene.light, &mut scene.more_lights[panel]);
+    check(
+        "room, the ceiling panel (a rectangle), view 0",
         compare(&scene, 0, (320, 256), 0.1),
         0.02,
         0.005,

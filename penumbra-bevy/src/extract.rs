@@ -15,10 +15,10 @@ use bevy::prelude::*;
 use bevy::render::Extract;
 use bevy::render::storage::ShaderBuffer;
 use bevy::render::sync_world::RenderEntity;
-use penumbra::{DirectionalLight as Sun, Light, PointLight as Point, SpotLight as Spot};
+use penumbra::{DirectionalLight as Sun, Light, PointLight as Point, RectLight as Rect, SpotLight as Spot};
 
 use crate::material::{PenumbraMaterial, PenumbraTargets};
-use crate::{PenumbraCamera, PenumbraLightSize, vec3};
+use crate::{PenumbraCamera, PenumbraLightSize, RectLightShadows, vec3};
 
 /// The sun's angular diameter in radians, for a `DirectionalLight` with no size given.
 pub const SUN_ANGULAR_DIAMETER: f32 = 0.0093;
@@ -215,6 +215,16 @@ pub(crate) fn extract_penumbra(
             &PointLight,
             &GlobalTransform,
             Option<&PenumbraLightSize>,
+            Option<&RenderLayers>,
+        )>,
+    >,
+    rects: Extract<
+        Query<(
+            Entity,
+            RenderEntity,
+            &RectLight,
+            &GlobalTransform,
+            Has<RectLightShadows>,
             Option<&RenderLayers>,
         )>,
     >,
@@ -438,6 +448,27 @@ pub(crate) fn extract_penumbra(
             range: None,
         });
         add(entity, render_entity, point.shadow_maps_enabled, light, layers);
+    }
+    for (entity, render_entity, rect, transform, shadows, layers) in &rects {
+        // Bevy's frame: the rectangle in the local xy plane, facing local -z; its sides scaled
+        // by the transform as Bevy scales them.
+        let affine = transform.affine();
+        let (width, height) = (
+            rect.width * affine.matrix3.x_axis.length(),
+            rect.height * affine.matrix3.y_axis.length(),
+        );
+        let light = Light::Rect(Rect {
+            position: vec3(transform.translation()),
+            direction: vec3(transform.forward().as_vec3()),
+            up: vec3(transform.up().as_vec3()),
+            width,
+            height,
+            color: linear(rect.color),
+            // Lumens over π times the area: the luminance (Bevy's own conversion).
+            intensity: rect.intensity / (std::f32::consts::PI * width * height).max(1e-12),
+            range: None,
+        });
+        add(entity, render_entity, shadows, light, layers);
     }
     // A stable order: the same lights keep the same layers while they live.
     lights.sort_by_key(|l| l.entity);

@@ -19,10 +19,11 @@
 //!   morph weights and joints each frame. A mesh casts for the lights it shares a `RenderLayers`
 //!   layer with.
 //! - **Lights** are the `DirectionalLight`s, `SpotLight`s and `PointLight`s with
-//!   `shadow_maps_enabled`, up to [`penumbra::MAX_LIGHTS`]. Their size comes from Bevy's
-//!   fields: `SpotLight::radius`, `PointLight::radius`, a sun's `SunDisk::angular_size`
-//!   (or [`PenumbraLightSize`] to set it). Bevy renders no shadow map for these lights; lights
-//!   past the limit keep Bevy's own shadows.
+//!   `shadow_maps_enabled`, and the `RectLight`s with [`RectLightShadows`] (Bevy gives them no
+//!   shadows), up to [`penumbra::MAX_LIGHTS`]. Their size comes from Bevy's fields:
+//!   `SpotLight::radius`, `PointLight::radius`, a sun's `SunDisk::angular_size` (or
+//!   [`PenumbraLightSize`] to set it), a `RectLight`'s width and height. Bevy renders no shadow
+//!   map for these lights; lights past the limit keep Bevy's own shadows.
 //! - **The views**: penumbra's passes run on each penumbra camera's depth prepass, after
 //!   Bevy's prepass and before its main pass, and write one visibility layer per light.
 //! - **Shading**: each `StandardMaterial` mesh is switched to [`PenumbraMaterial`] (Bevy's
@@ -101,6 +102,15 @@ impl PenumbraCamera {
 /// shadows.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct PenumbraLightSize(pub f32);
+
+/// Casts penumbra's soft shadows from a `RectLight`, which Bevy 0.20 shades (with its
+/// `area_light_luts` feature) but gives no shadow and no shadow switch: put this beside it. Its
+/// penumbrae are as wide along each of the rectangle's sides as that side is long.
+///
+/// Bevy shades rectangle lights from its clustered lights, which need storage buffers: where
+/// there are none (WebGL2) the light is not shadowed, and a warning says so.
+#[derive(Component, Clone, Copy, Debug, Default, PartialEq)]
+pub struct RectLightShadows;
 
 impl Plugin for PenumbraPlugin {
     fn build(&self, app: &mut App) {

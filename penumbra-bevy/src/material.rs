@@ -61,6 +61,7 @@ pub(crate) struct GpuLights {
 pub(crate) const KIND_DIRECTIONAL: u32 = 0;
 pub(crate) const KIND_SPOT: u32 = 1;
 pub(crate) const KIND_POINT: u32 = 2;
+pub(crate) const KIND_RECT: u32 = 3;
 
 /// A material of the app's own whose fragment shader reads penumbra's shadows, through the
 /// WESL module `penumbra_bevy::shaders::shadows` (`apply_shadows`, `directional_visibility`,

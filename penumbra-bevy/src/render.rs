@@ -24,7 +24,7 @@ use penumbra::{
 
 use crate::depth_resolve::DepthResolve;
 use crate::extract::{Extracted, ExtractedLight, ExtractedMask, Geometry, KnownGeometry, extract_penumbra};
-use crate::material::{GpuLight, GpuLights, KIND_DIRECTIONAL, KIND_POINT, KIND_SPOT};
+use crate::material::{GpuLight, GpuLights, KIND_DIRECTIONAL, KIND_POINT, KIND_RECT, KIND_SPOT};
 use crate::{PenumbraDiagnostics, mat4};
 
 /// A mesh registered with penumbra, and where its data was in Bevy's buffers then.
@@ -768,7 +768,16 @@ fn sync_lights(
         for (extracted, id) in lights.iter().zip(&ids) {
             let Some(id) = id else { continue };
             let Some(row) = table_row(extracted, *id, clustered) else {
-                continue; // Not in Bevy's light list this frame.
+                // Not in Bevy's light list this frame. Bevy lists rectangle lights only where
+                // it clusters them (with storage buffers): elsewhere it always leaves them out.
+                if matches!(extracted.light, Light::Rect(_)) {
+                    messages.push(format!(
+                        "penumbra: RectLight {} is not among Bevy's clustered lights (it clusters \
+                         rectangle lights only with storage buffers, and only visible ones): not shadowed",
+                        extracted.entity
+                    ));
+                }
+                continue;
             };
             table.lights[table.count as usize] = row;
             table.count += 1;
@@ -850,12 +859,14 @@ fn table_row(
 ) -> Option<GpuLight> {
     let (kind, index, direction) = match extracted.light {
         Light::Directional(sun) => (KIND_DIRECTIONAL, 0, -sun.direction.normalize()),
-        Light::Spot(_) | Light::Point(_) => {
+        _ => {
+            // Bevy's index among its clustered lights (a rectangle light is there only where
+            // Bevy clusters them: with storage buffers).
             let index = clustered?.entity_to_index.get(&extracted.render_entity)?;
-            let kind = if matches!(extracted.light, Light::Spot(_)) {
-                KIND_SPOT
-            } else {
-                KIND_POINT
+            let kind = match extracted.light {
+                Light::Spot(_) => KIND_SPOT,
+                Light::Rect(_) => KIND_RECT,
+                _ => KIND_POINT,
             };
             (kind, *index as u32, glam::Vec3::ZERO)
         }

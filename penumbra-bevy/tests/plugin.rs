@@ -9,7 +9,9 @@ use bevy::light::ShadowFilteringMethod;
 use bevy::mesh::VertexAttributeValues;
 use bevy::prelude::*;
 use common::Headless;
-use penumbra_bevy::{PenumbraCamera, PenumbraDiagnostics, PenumbraLightSize, PenumbraPlugin};
+use penumbra_bevy::{
+    PenumbraCamera, PenumbraDiagnostics, PenumbraLightSize, PenumbraPlugin, RectLightShadows,
+};
 
 const SIZE: UVec2 = UVec2::new(256, 256);
 /// The camera looks straight down from this height at a plane of this half-size: world x
@@ -369,7 +371,11 @@ fn shadow_like_bevys(
 /// The width (in pixels) over which darkness climbs from 0.1 to 0.9 along the middle row,
 /// entering the shadow from the left and leaving it on the right.
 fn edge_widths(darkness: &[Option<f32>]) -> (f32, f32) {
-    let row = SIZE.y as usize / 2;
+    edge_widths_at_row(darkness, SIZE.y as usize / 2)
+}
+
+/// [`edge_widths`] along row `row`.
+fn edge_widths_at_row(darkness: &[Option<f32>], row: usize) -> (f32, f32) {
     let line: Vec<f32> = (0..SIZE.x as usize)
         .map(|x| darkness[row * SIZE.x as usize + x].unwrap_or(f32::NAN))
         .collect();
@@ -421,6 +427,77 @@ fn a_suns_shadow_lies_where_bevys_does_and_widens_away_from_the_box() {
         (right / width(2.5) - 1.0).abs() < 0.25,
         "far edge {right} px, geometry {}",
         width(2.5)
+    );
+}
+
+/// [`edge_widths_at_row`] down column `column` (along world z), entering the shadow from the
+/// top.
+fn edge_widths_at_column(darkness: &[Option<f32>], column: usize) -> (f32, f32) {
+    let (w, h) = (SIZE.x as usize, SIZE.y as usize);
+    // The image turned: its row `r` is this one's column `r`.
+    let turned: Vec<Option<f32>> = (0..h * w).map(|i| darkness[(i % w) * w + i / w]).collect();
+    edge_widths_at_row(&turned, column)
+}
+
+/// The box's shadow under a `RectLight` 2 wide and 0.5 high at (-4, 6, -4) facing down, its
+/// height along `up`, with [`RectLightShadows`]: the frame, Bevy's own frame, and the 10-90%
+/// widths (pixels, means of the shadow's two edges) along x and along z through the shadow's
+/// middle (about (2, 0, 2), clear of the box in the camera's view).
+fn rect_shadow(up: Vec3) -> (image::RgbaImage, image::RgbaImage, f32, f32) {
+    let rect = (
+        RectLight {
+            intensity: 4.0e5,
+            width: 2.0,
+            height: 0.5,
+            range: 40.0,
+            ..default()
+        },
+        RectLightShadows,
+        // Facing down (local -z), its height (local y) along `up`.
+        Transform::from_xyz(-4.0, 6.0, -4.0).looking_to(Vec3::NEG_Y, up),
+    );
+    let mut scene = box_above_plane(rect, false);
+    let ours = scene.headless.render(10);
+    scene.set_penumbra(false);
+    let bevy = scene.headless.render(4);
+    scene.headless.app.world_mut().despawn(scene.box_entity);
+    let empty = scene.headless.render(4);
+    // Bevy gives a rectangle light no shadow.
+    let bevy_shadow = largest_difference(&bevy, &empty);
+    assert!(bevy_shadow < 6.0, "Bevy's own frame has a shadow: {bevy_shadow}");
+    let messages = scene.messages();
+    assert!(messages.is_empty(), "the plugin reported {messages:?}");
+    let dark = darkness(&ours, &empty);
+    // +x right, +z down in the image.
+    let middle = centroid(&dark);
+    let (left, right) = edge_widths_at_row(&dark, middle.y.round() as usize);
+    let (top, bottom) = edge_widths_at_column(&dark, middle.x.round() as usize);
+    println!(
+        "rect, up {up}: shadow at {middle} px, edge widths along x {left:.1} and {right:.1}, along z {top:.1} and {bottom:.1}"
+    );
+    (ours, bevy, (left + right) / 2.0, (top + bottom) / 2.0)
+}
+
+/// A rectangle light 4:1 casts penumbra's shadow (Bevy casts none from it), as soft along each
+/// axis as the light is long along it: the same box's shadow, with the light's long side along
+/// x and then along z, is the wider along x in the first and along z in the second. (The box's
+/// shadow seen from the slanted light has slanted edges, so each width mixes both axes: the two
+/// lights' widths are compared along the same line.)
+#[test]
+fn a_rect_lights_shadow_is_softer_along_its_long_side() {
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let (ours, bevy, long_x_along_x, long_x_along_z) = rect_shadow(Vec3::Z);
+    save("rect_penumbra.png", &ours);
+    save("rect_bevy.png", &bevy);
+    let (turned, _, long_z_along_x, long_z_along_z) = rect_shadow(Vec3::X);
+    save("rect_turned_penumbra.png", &turned);
+    assert!(
+        long_x_along_x > 1.8 * long_z_along_x,
+        "along x: {long_x_along_x:.1} px with the long side along x, {long_z_along_x:.1} px along z"
+    );
+    assert!(
+        long_z_along_z > 1.8 * long_x_along_z,
+        "along z: {long_z_along_z:.1} px with the long side along z, {long_x_along_z:.1} px along x"
     );
 }
 
