@@ -169,7 +169,11 @@ fn area_setup(frag: vec2<f32>, r: Receiver, world: vec3<f32>, d: f32, most_side:
     let taps_variance = f32(side * side - 1) / 12.0;
     var spacing = vec2<f32>(0.0);
     if side > 1 {
-        spacing = max(sqrt(frame.penumbra.pcf_share * variance / taps_variance), vec2<f32>(pcf.base_spacing * texel_world));
+        // The least spacing (the base, in texels) along the wider axis, and along the narrower
+        // in proportion: the tap count follows the wider axis, and the base spacing along the
+        // narrower would spread its taps wider than its penumbra (at contact, a third too wide).
+        let least = pcf.base_spacing * texel_world * sigma / max(max(sigma.x, sigma.y), 1e-30);
+        spacing = max(sqrt(frame.penumbra.pcf_share * variance / taps_variance), least);
     }
     let pcf_variance = spacing * spacing * taps_variance + texel_world * texel_world / 6.0;
     let blur_variance = max(variance - pcf_variance, vec2<f32>(0.0));

@@ -8,6 +8,8 @@
 //! 90 degrees. The two 10-90% widths must differ by the ratio of the sides (the geometry is the
 //! same turned about the vertical, so the exact ratio is exactly `WIDTH / HEIGHT`).
 //!
+//! A disk light in the rectangle's place is held to the same bounds.
+//!
 //! The exact visibility comes from a CPU integral over the rectangle (a 96 x 96 grid of points,
 //! each weighted by its solid angle and the receiver's cosine, tested against the plank's box):
 //! the reference must agree with it within 5%, and `ours` with the reference within 10%.
@@ -16,7 +18,7 @@ mod common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{
-    Camera, Light, Material, PointLight, Quality, RectLight, Scene, ShadowMethod, ShadowSettings,
+    Camera, DiskLight, Light, Material, PointLight, Quality, RectLight, Scene, ShadowMethod, ShadowSettings,
     metrics::{VisibilityImage, measure_visibility, visibility_error},
     scene::primitives,
 };
@@ -212,6 +214,40 @@ fn a_rectangles_penumbra_is_as_wide_along_each_side_as_that_side_is_long() {
         (ratio(|m| m.ours) / sides - 1.0).abs() <= 0.10,
         "ours: long over short {:.3} against the sides' {sides:.3}",
         ratio(|m| m.ours)
+    );
+}
+
+/// A disk light of radius 0.3 in the rectangle's place: its penumbra across the plank's edge
+/// against the exact integral (the reference within 5%) and the reference (`ours` within 10%).
+#[test]
+fn a_disks_penumbra_is_as_wide_as_the_reference_says() {
+    let gpu = common::gpu();
+    let disk = Light::Disk(DiskLight {
+        position: Vec3::new(0.0, LIGHT_HEIGHT, 0.0),
+        direction: Vec3::NEG_Y,
+        radius: 0.3,
+        color: Vec3::ONE,
+        intensity: 10.0,
+        range: None,
+    });
+    let m = measure(&gpu, disk);
+    println!(
+        "disk: exact {:.4}, reference {:.4} ({:.3}x), ours {:.4} ({:.3}x the reference's), pcss {:.4} ({:.3}x)",
+        m.exact,
+        m.reference,
+        m.reference / m.exact,
+        m.ours,
+        m.ours / m.reference,
+        m.pcss,
+        m.pcss / m.reference
+    );
+    assert!(
+        (m.reference / m.exact - 1.0).abs() <= 0.05,
+        "the reference against the exact"
+    );
+    assert!(
+        (m.ours / m.reference - 1.0).abs() <= 0.10,
+        "ours against the reference"
     );
 }
 

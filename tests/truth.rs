@@ -1,7 +1,8 @@
 //! Penumbrae against the ground truth: on a scene of the kind an independent renderer checked
 //! (a floor; a thin plate touching it at one end and rising to 1.5 units; a box floating 1 unit
 //! up; a pillar and a scanned mesh standing on the floor), under a spot light of disk radius
-//! 0.25, under a sphere light of that radius in its place and under a 4-degree sun, `ours`'
+//! 0.25, under a sphere light of that radius and a 0.8 x 0.2 rectangle light in its place and
+//! under a 4-degree sun, `ours`'
 //! 10-90% penumbra widths must be within 15% of the reference's at contact and far from it
 //! (one exception under the sphere light, below), and its mean signed error in each half of
 //! the penumbra within +-0.03.
@@ -17,7 +18,8 @@ mod common;
 
 use glam::{Mat4, Quat, Vec3};
 use penumbra::{
-    Camera, DirectionalLight, Light, Material, PointLight, Scene, ShadowMethod, ShadowSettings, SpotLight,
+    Camera, DirectionalLight, Light, Material, PointLight, RectLight, Scene, ShadowMethod, ShadowSettings,
+    SpotLight,
     metrics::{VisibilityImage, measure_visibility},
     scene::primitives,
 };
@@ -43,6 +45,10 @@ enum Lamp {
     Sun,
     /// A sphere light of the spot's radius where the spot is: its map is a cube of faces.
     Sphere,
+    /// A rectangle light 0.8 x 0.2 where the spot is, facing as it does, its long side along x:
+    /// its map is a cube of faces, its penumbrae four times as wide across edges along z as
+    /// across edges along x.
+    Rect,
 }
 
 impl Lamp {
@@ -51,6 +57,7 @@ impl Lamp {
             Lamp::Spot => "spot r=0.25",
             Lamp::Sun => "sun 4deg",
             Lamp::Sphere => "sphere r=0.25",
+            Lamp::Rect => "rect 0.8x0.2",
         }
     }
 
@@ -65,6 +72,17 @@ impl Lamp {
             Lamp::Sphere => Light::Point(PointLight {
                 position: self.spot_position(),
                 radius: 0.25,
+                color: Vec3::ONE,
+                intensity: 1.0,
+                range: None,
+            }),
+            Lamp::Rect => Light::Rect(RectLight {
+                position: self.spot_position(),
+                direction: -self.spot_position() + Vec3::new(0.0, 0.0, 0.5),
+                // Its height in the plane of +y and its direction; its width along x.
+                up: Vec3::Y,
+                width: 0.8,
+                height: 0.2,
                 color: Vec3::ONE,
                 intensity: 1.0,
                 range: None,
@@ -89,7 +107,7 @@ impl Lamp {
     fn shadow_of(self, p: Vec3) -> Vec3 {
         let d = match self {
             Lamp::Sun => SUN,
-            Lamp::Spot | Lamp::Sphere => p - self.spot_position(),
+            Lamp::Spot | Lamp::Sphere | Lamp::Rect => p - self.spot_position(),
         };
         common::shadow_on_floor(p, d)
     }
@@ -221,7 +239,15 @@ fn edges(lamp: Lamp) -> Vec<Edge> {
             reach: 0.18,
         },
     ];
-    edges.into_iter().map(clear).collect()
+    // The rectangle is 0.8 wide along x where the spot's disk is 0.5 across: profiles along x
+    // (across the pillar's edges) reach as much farther.
+    let wider = |mut edge: Edge| {
+        if matches!(lamp, Lamp::Rect) && edge.toward_light == Vec3::X {
+            edge.reach *= 0.8 / 0.5;
+        }
+        edge
+    };
+    edges.into_iter().map(wider).map(clear).collect()
 }
 
 /// A camera straight above `center`, `span` world units across vertically.
@@ -570,6 +596,13 @@ fn ours_matches_the_reference_under_a_sun() {
 #[test]
 fn ours_matches_the_reference_under_a_sphere_light() {
     check(Lamp::Sphere);
+}
+
+/// A rectangle light where the spot is: the same edges, each as soft as the rectangle's extent
+/// across it.
+#[test]
+fn ours_matches_the_reference_under_a_rectangle_light() {
+    check(Lamp::Rect);
 }
 
 /// Beside a thick caster's foot under a spot light, the light's rays pass nearest the caster's

@@ -20,8 +20,8 @@ mean signed error in each half of the penumbra (Mitsuba's visibility in (0.02, 0
 
 The lights as Mitsuba has them: a point light is a `sphere` of the light's radius, a spot light
 a one-sided `disk` of its radius facing its direction (its cone leaves the visibility alone), a
-sun a disk 1000 units away subtending the sun's angular diameter; each an `area` emitter of
-uniform radiance. Needs `pip install mitsuba numpy`.
+rectangle or disk light Mitsuba's `rectangle` or `disk` spanning its half-axes, a sun a disk 1000
+units away subtending the sun's angular diameter; each an `area` emitter of uniform radiance. Needs `pip install mitsuba numpy`.
 """
 import argparse
 import glob
@@ -52,6 +52,16 @@ def emitter(light):
     if light["kind"] == "spot":
         to_world = T().translate(light["position"]) @ frame_to(light["direction"]) @ T().scale(light["radius"])
         return {"type": "disk", "to_world": to_world, "emitter": area}
+    if light["kind"] in ("rect", "disk"):
+        # Mitsuba's rectangle spans [-1, 1]^2 and its disk the unit disk, in their xy planes,
+        # facing +z: their x and y become the light's half-axes u and v, z its facing.
+        u, v, n = (np.asarray(light[k], float) for k in ("u", "v", "facing"))
+        n = n / np.linalg.norm(n)
+        c = np.asarray(light["position"], float)
+        matrix = np.identity(4)
+        matrix[:3, 0], matrix[:3, 1], matrix[:3, 2], matrix[:3, 3] = u, v, n, c
+        shape = "rectangle" if light["kind"] == "rect" else "disk"
+        return {"type": shape, "to_world": T(matrix.tolist()), "emitter": area}
     d = np.asarray(light["direction"], float)
     d /= np.linalg.norm(d)
     far = 1000.0
