@@ -290,3 +290,91 @@ fn ours_with_a_rectangle_beats_pcss_with_a_sphere_of_its_area() {
         );
     }
 }
+
+/// Area lights at their extremes render finite frames with every visibility in [0, 1]: a line
+/// (a rectangle of no height), a rectangle of no size, one far wider than the floor, one a
+/// millimetre above the plank, one facing away from the scene, a disk of no radius; under
+/// `ours`, PCSS, the traditional baseline and hard shadows. A light of no area gives no light
+/// (its luminance is per unit of area) but the line's and the point's shadows are still
+/// there, and nothing is lit by the light facing away.
+#[test]
+fn area_lights_at_their_extremes_stay_finite() {
+    let gpu = common::gpu();
+    let camera = camera();
+    let rect = |position: Vec3, direction: Vec3, width: f32, height: f32| {
+        Light::Rect(RectLight {
+            position,
+            direction,
+            up: Vec3::Z,
+            width,
+            height,
+            color: Vec3::ONE,
+            intensity: 10.0,
+            range: None,
+        })
+    };
+    let above = Vec3::new(0.0, LIGHT_HEIGHT, 0.0);
+    let cases = [
+        ("a line", rect(above, Vec3::NEG_Y, WIDTH, 0.0)),
+        ("no size", rect(above, Vec3::NEG_Y, 0.0, 0.0)),
+        ("wider than the floor", rect(above, Vec3::NEG_Y, 40.0, 40.0)),
+        (
+            "a millimetre above the plank",
+            rect(Vec3::new(0.0, PLANK.1.y + 0.001, 0.8), Vec3::NEG_Y, 0.4, 0.4),
+        ),
+        ("facing away", rect(above, Vec3::Y, WIDTH, HEIGHT)),
+        (
+            "a disk of no radius",
+            Light::Disk(DiskLight {
+                position: above,
+                direction: Vec3::NEG_Y,
+                radius: 0.0,
+                color: Vec3::ONE,
+                intensity: 10.0,
+                range: None,
+            }),
+        ),
+    ];
+    for (name, light) in cases {
+        let mut scene = scene(light);
+        scene.ambient = Vec3::splat(0.1);
+        for method in [
+            ShadowMethod::Ours,
+            ShadowMethod::Pcss,
+            ShadowMethod::Traditional,
+            ShadowMethod::Hard,
+        ] {
+            let what = format!("{name}, {}", method.name());
+            let (image, visibility) =
+                common::finite_frame(&gpu, &scene, &camera, settings(method), (160, 120), &what);
+            // Under the plank (its shadow under a light straight above) and beside it.
+            let pixel = |p: Vec3| common::project(&camera, 160, 120, p).unwrap();
+            let (under, beside) = (pixel(Vec3::new(0.0, 0.0, 1.2)), pixel(Vec3::new(0.0, 0.0, 2.9)));
+            let at = |v: &[f32], (x, y): (u32, u32)| v[(y * 160 + x) as usize];
+            match (name, &visibility) {
+                // No area, no light (luminance is per unit of area), but the shadow of a line
+                // or a point is still there.
+                ("a line" | "no size" | "a disk of no radius", Some(v)) => assert!(
+                    at(v, under) < 0.5 && at(v, beside) > 0.9,
+                    "{what}: visibility under the plank {}, beside it {}",
+                    at(v, under),
+                    at(v, beside)
+                ),
+                ("facing away", _) => {
+                    let (a, b) = (
+                        common::linear_luminance(&image, under),
+                        common::linear_luminance(&image, beside),
+                    );
+                    assert!(
+                        (a - b).abs() < 0.01,
+                        "{what}: lit by a light facing away ({a:.4}, {b:.4})"
+                    );
+                }
+                _ => {}
+            }
+            if let Some(v) = visibility {
+                assert!(v.iter().all(|v| (0.0..=1.0).contains(v)), "{what}");
+            }
+        }
+    }
+}

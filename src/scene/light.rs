@@ -125,7 +125,8 @@ pub struct RectLight {
     #[cfg_attr(feature = "serde", serde(default = "white"))]
     pub color: Vec3,
     /// Luminance of its emitting side in nits (candela per square metre, world units taken
-    /// as metres), times `color`. A light of luminous power `Φ` lumens (Bevy's `RectLight`)
+    /// as metres), times `color`. A rectangle of no area gives no light (its shadows still
+    /// take its shape: a line's, or a point's). A light of luminous power `Φ` lumens (Bevy's `RectLight`)
     /// has `Φ / (π · width · height)` nits; seen from far along its normal it lights as a
     /// spot of `intensity · width · height` candela.
     #[cfg_attr(feature = "serde", serde(default = "one"))]
