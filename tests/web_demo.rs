@@ -265,7 +265,7 @@ fn the_web_demo_draws_the_teapots_soft_shadow_in_headless_chromium() {
         let page = screenshot(
             port,
             &format!(
-                "{address}?scene=teapot&view=0&method={}&compare=none",
+                "{address}?scene=teapot&view=0&method={}&compare=none&frames=3",
                 method.name()
             ),
             3,
@@ -330,11 +330,38 @@ fn the_web_demo_draws_the_teapots_soft_shadow_in_headless_chromium() {
         (web_n as f32 / native_n as f32 - 1.0).abs() < 0.05 && (web_sum / native_sum - 1.0).abs() < 0.05,
         "switching the method changes {web_n} pixels (summed {web_sum}) in the browser, {native_n} ({native_sum}) natively"
     );
+    // The room, lit by a point light, a spot and a rectangle (the area light's shading and
+    // anisotropic kernels through the browser's shader compiler): its canvas against the
+    // native frame.
+    let room = load_scene(&common::asset("scenes/room.ron")).unwrap();
+    let page = screenshot(
+        port,
+        &format!("{address}?scene=room&view=0&method=ours&compare=none&frames=3"),
+        3,
+        "web_demo_page_room.png",
+    );
+    let here = common::render(
+        &gpu,
+        &room,
+        &room.view(0).unwrap(),
+        ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium),
+        w,
+        h,
+    );
+    let (mean, far) = difference(&luminance(&page), &luminance(&here));
+    eprintln!(
+        "room: the canvas against the native frame: mean |difference| {mean:.4}, {:.3}% of pixels off by more than 0.05",
+        far * 100.0
+    );
+    assert!(
+        mean < 0.001 && far < 0.002,
+        "room: the canvas differs from the native frame: {mean}, {far}"
+    );
     // The split view: `ours` left of the divider at 0.4 of the width, `hard` right of it. Each
     // side must be its method's native frame there.
     let page = screenshot(
         port,
-        &format!("{address}?scene=teapot&view=0&method=ours&compare=hard&divider=0.4"),
+        &format!("{address}?scene=teapot&view=0&method=ours&compare=hard&divider=0.4&frames=3"),
         3,
         "web_demo_page_split.png",
     );

@@ -110,6 +110,25 @@ impl Choice {
     }
 }
 
+/// The address's `frames=N`: draw N frames, then stop (a still, for a screenshot: a software
+/// GPU takes seconds a frame, and the browser gives up waiting for a screenshot behind one).
+/// `None` without it: draw on.
+pub fn frame_limit(query: &str) -> Result<Option<u32>, String> {
+    for pair in query.trim_start_matches('?').split('&') {
+        if let Some(value) = pair.strip_prefix("frames=") {
+            return value
+                .parse()
+                .ok()
+                .filter(|n: &u32| *n > 0)
+                .map(Some)
+                .ok_or_else(|| {
+                    format!("the address's `frames={value}`: expected a number of frames, at least 1")
+                });
+        }
+    }
+    Ok(None)
+}
+
 /// The method `name`, if the page offers it.
 fn offered(name: &str) -> Result<ShadowMethod, String> {
     let method = ShadowMethod::from_name(name).map_err(|e| e.to_string())?;
@@ -180,6 +199,14 @@ mod web;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_frame_limit_comes_from_the_address() {
+        assert_eq!(frame_limit("?scene=room&frames=3"), Ok(Some(3)));
+        assert_eq!(frame_limit("?scene=room"), Ok(None));
+        assert!(frame_limit("?frames=0").unwrap_err().contains("frames=0"));
+        assert!(frame_limit("?frames=x").is_err());
+    }
 
     #[test]
     fn every_scene_builds_from_its_built_in_file() {

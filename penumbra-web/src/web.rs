@@ -2,12 +2,14 @@
 
 use std::cell::RefCell;
 use std::rc::Rc;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 use penumbra::{GpuScene, Quality, Renderer, Scene, ShadowSettings};
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 
-use crate::{Choice, adjusted_light, right_side, scene};
+use crate::{Choice, adjusted_light, frame_limit, right_side, scene};
 
 #[wasm_bindgen(start)]
 pub fn start() {
@@ -107,9 +109,15 @@ struct App {
     choice: Choice,
     scene: Scene,
     gpu_scene: GpuScene,
-    /// Frames drawn, and the time and count at the last readout.
-    frames: u32,
+    /// Frames the GPU has finished, and the time and count at the last readout.
+    frames: Arc<AtomicU32>,
     last: (f64, u32),
+    /// A frame is submitted and not finished: the next animation frame draws nothing, so work
+    /// never piles up behind a slow GPU (a software one takes seconds over the room's three
+    /// lights, and the browser then times out waiting for its compositor).
+    in_flight: Arc<AtomicBool>,
+    /// The address's `frames=N`: stop after N finished frames.
+    limit: Option<u32>,
 }
 
 async fn run() -> Result<(), String> {
@@ -121,6 +129,7 @@ async fn run() -> Result<(), String> {
         .search()
         .map_err(|_| "cannot read the address")?;
     let choice = Choice::from_query(&query)?;
+    let limit = frame_limit(&query)?;
     controls.show(&choice);
     let size = (canvas.width().max(1), canvas.height().max(1));
     let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
@@ -176,8 +185,10 @@ async fn run() -> Result<(), String> {
         choice,
         scene,
         gpu_scene,
-        frames: 0,
+        frames: Arc::new(AtomicU32::new(0)),
         last: (now(), 0),
+        in_flight: Arc::new(AtomicBool::new(false)),
+        limit,
     };
     status(&format!("WebGPU: {}", describe(&adapter)));
     animate(Rc::new(RefCell::new(app)));
@@ -274,6 +285,14 @@ fn animate(app: Rc<RefCell<App>>) {
 
 impl App {
     fn frame(&mut self) -> Result<(), String> {
+        self.show_frames();
+        if self.in_flight.load(Ordering::Acquire)
+            || self
+                .limit
+                .is_some_and(|n| self.frames.load(Ordering::Acquire) >= n)
+        {
+            return Ok(());
+        }
         let choice = self.controls.read()?;
         if choice != self.choice {
             if choice.scene != self.choice.scene {
@@ -352,19 +371,30 @@ impl App {
         }
         self.queue.submit([encoder.finish()]);
         self.queue.present(texture);
-        self.frames += 1;
+        self.in_flight.store(true, Ordering::Release);
+        let (frames, in_flight) = (self.frames.clone(), self.in_flight.clone());
+        self.queue.on_submitted_work_done(move || {
+            frames.fetch_add(1, Ordering::AcqRel);
+            in_flight.store(false, Ordering::Release);
+        });
+        Ok(())
+    }
+
+    /// The FPS readout and the page's `data-frames` (which the tests wait on): frames the GPU
+    /// has finished.
+    fn show_frames(&mut self) {
+        let frames = self.frames.load(Ordering::Acquire);
         let t = now();
         if t - self.last.0 >= 500.0 {
-            let fps = f64::from(self.frames - self.last.1) * 1000.0 / (t - self.last.0);
+            let fps = f64::from(frames - self.last.1) * 1000.0 / (t - self.last.0);
             self.controls.fps.set_text_content(Some(&format!(
-                "{fps:.1} FPS, {}x{}, {} frames",
-                self.size.0, self.size.1, self.frames
+                "{fps:.1} FPS, {}x{}, {frames} frames",
+                self.size.0, self.size.1
             )));
-            self.last = (t, self.frames);
+            self.last = (t, frames);
         }
         if let Some(body) = document().and_then(|d| d.body()) {
-            let _ = body.set_attribute("data-frames", &self.frames.to_string());
+            let _ = body.set_attribute("data-frames", &frames.to_string());
         }
-        Ok(())
     }
 }
