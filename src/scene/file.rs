@@ -14,6 +14,7 @@
 //!     ],
 //!     light: Directional((direction: (-0.4, -1.0, -0.3), angular_diameter_deg: 2.0)),
 //!     // or several: lights: [Directional((...)), Spot((...))], the first the key light;
+//!     // also Point((...)), and the area lights Rect((...)) and Disk((...)) (docs/lights.md);
 //!     // or a glTF mesh's own: lights_from: (mesh: "room", sizes: (sun_diameter_deg: 1.0)),
 //!     views: [(name: "front", eye: (0.0, 4.0, 9.0), target: (0.0, 1.0, 0.0))],
 //! )
@@ -707,6 +708,41 @@ mod tests {
         assert!((scene.caster_bounds().min.y - 0.5).abs() < 1e-4);
         let again = SceneFile::parse(&file.to_ron(), Path::new("x.ron")).unwrap();
         assert_eq!(again, file);
+    }
+
+    #[test]
+    fn rectangle_and_disk_lights_read_with_their_defaults_and_errors() {
+        let sun = "Directional((direction: (0.0, -1.0, 0.0)))";
+        let rect = "Rect((position: (0.0, 3.0, 0.0), direction: (0.0, -1.0, 0.0), width: 1.2, height: 0.3))";
+        let disk =
+            "Disk((position: (1.0, 3.0, 0.0), direction: (0.0, -1.0, 0.0), radius: 0.2, intensity: 5.0))";
+        let text = MINI.replace(&format!("light: {sun}"), &format!("lights: [{rect}, {disk}]"));
+        let scene = SceneFile::parse(&text, Path::new("area.ron"))
+            .unwrap()
+            .build(Path::new("."), Path::new("area.ron"))
+            .unwrap();
+        let Light::Rect(r) = scene.light else {
+            panic!("the key light is the rectangle: {:?}", scene.light)
+        };
+        // Defaults: no `up` (picked: the light faces straight down, so its height runs along z),
+        // white, 1 nit, no range.
+        assert_eq!(
+            (r.up, r.color, r.intensity, r.range),
+            (Vec3::ZERO, Vec3::ONE, 1.0, None)
+        );
+        let area = scene.light.area().unwrap();
+        assert!(area.v.normalize().abs_diff_eq(Vec3::Z, 1e-6) && (area.u.length() - 0.6).abs() < 1e-6);
+        assert!(matches!(scene.more_lights.as_slice(), [Light::Disk(d)] if d.intensity == 5.0));
+        // A negative side is refused, naming the field and the file.
+        let bad = MINI.replace(
+            &format!("light: {sun}"),
+            &format!("light: {}", rect.replace("width: 1.2", "width: -1.0")),
+        );
+        let err = SceneFile::parse(&bad, Path::new("area.ron"))
+            .and_then(|f| f.build(Path::new("."), Path::new("area.ron")))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("area.ron") && err.contains("light.width"), "{err}");
     }
 
     #[test]
