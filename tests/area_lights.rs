@@ -136,6 +136,22 @@ struct Measured {
     images: Vec<VisibilityImage>,
 }
 
+impl Measured {
+    /// The widths, each against the one it is held to.
+    fn widths(&self) -> String {
+        format!(
+            "exact {:.4}, reference {:.4} ({:.3}x), ours {:.4} ({:.3}x the reference's), pcss {:.4} ({:.3}x)",
+            self.exact,
+            self.reference,
+            self.reference / self.exact,
+            self.ours,
+            self.ours / self.reference,
+            self.pcss,
+            self.pcss / self.reference
+        )
+    }
+}
+
 fn measure(gpu: &penumbra::HeadlessGpu, light: Light) -> Measured {
     let scene = scene(light);
     let camera = camera();
@@ -159,16 +175,7 @@ fn a_rectangles_penumbra_is_as_wide_along_each_side_as_that_side_is_long() {
     let along_short = measure(&gpu, rect_light(false));
     let along_long = measure(&gpu, rect_light(true));
     for (name, m) in [("short side", &along_short), ("long side", &along_long)] {
-        println!(
-            "across the light's {name}: exact {:.4}, reference {:.4} ({:.3}x), ours {:.4} ({:.3}x the reference's), pcss {:.4} ({:.3}x)",
-            m.exact,
-            m.reference,
-            m.reference / m.exact,
-            m.ours,
-            m.ours / m.reference,
-            m.pcss,
-            m.pcss / m.reference
-        );
+        println!("across the light's {name}: {}", m.widths());
     }
     let sides = WIDTH / HEIGHT;
     let ratio = |m: fn(&Measured) -> f32| m(&along_long) / m(&along_short);
@@ -231,16 +238,7 @@ fn a_disks_penumbra_is_as_wide_as_the_reference_says() {
         range: None,
     });
     let m = measure(&gpu, disk);
-    println!(
-        "disk: exact {:.4}, reference {:.4} ({:.3}x), ours {:.4} ({:.3}x the reference's), pcss {:.4} ({:.3}x)",
-        m.exact,
-        m.reference,
-        m.reference / m.exact,
-        m.ours,
-        m.ours / m.reference,
-        m.pcss,
-        m.pcss / m.reference
-    );
+    println!("disk: {}", m.widths());
     assert!(
         (m.reference / m.exact - 1.0).abs() <= 0.05,
         "the reference against the exact"
