@@ -159,8 +159,9 @@ pub fn scene(name: &str) -> Result<Scene, String> {
         .map_err(|e| e.to_string())
 }
 
-/// `light` with its size scaled by `scale` and its direction turned `turn_deg` about the
-/// vertical axis (a point light's position is kept).
+/// `light` with its size scaled by `scale` (a rectangle's both sides) and the way it shines
+/// turned `turn_deg` about the vertical axis (suns, spots, rectangles and disks; every light
+/// keeps its position, and a point light has no direction to turn).
 pub fn adjusted_light(light: &Light, scale: f32, turn_deg: f32) -> Light {
     let turn = glam::Quat::from_rotation_y(turn_deg.to_radians());
     match *light {
