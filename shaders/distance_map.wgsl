@@ -108,6 +108,10 @@ fn distance_at(frag: vec2<f32>) -> Out {
     var d = fattened_distance(p, texel, fattened_depth);
     if NEAREST_CASTER && !beside {
         d = nearest_silhouette(world, p, d, light_linear_depth(fattened_depth) + textureLoad(occluder_offset, texel, 0).x);
+        // A silhouette farther from the receiver than the caster that hides the light's centre
+        // belongs to a caster above it, seen past that caster only where it ends.
+        let own = light_linear_depth(p.z) - light_linear_depth(textureLoad(shadow_map, shadow_texel(p.xy), 0).x);
+        d = min(d, max(own, 0.0));
     }
     return classified(d, 1.0, select(0.5 * BESIDE, BESIDE, beside));
 }
