@@ -252,6 +252,55 @@ fn a_disks_penumbra_is_as_wide_as_the_reference_says() {
     );
 }
 
+/// `ours` and PCSS with a rectangle light, and PCSS with a sphere light of its area in its place
+/// (`scenes`: the rectangle's, the sphere's), each against the rectangle's reference
+/// (`samples` light samples), over the whole view of `camera`.
+struct AgainstSphere {
+    reference: VisibilityImage,
+    ours: VisibilityImage,
+    /// `ours`' penumbra RMSE.
+    ours_error: f32,
+    /// PCSS's penumbra RMSE with the rectangle.
+    pcss_rect: f32,
+}
+
+/// Measures [`AgainstSphere`], prints it as `what` and holds `ours`' error to 0.7x PCSS's
+/// with the sphere.
+fn against_sphere(
+    gpu: &penumbra::HeadlessGpu,
+    (rect_scene, sphere_scene): (&Scene, &Scene),
+    camera: &Camera,
+    size: (u32, u32),
+    samples: u32,
+    what: &str,
+) -> AgainstSphere {
+    let run = |scene: &Scene, method| {
+        let mut s = ShadowSettings::preset(method, Quality::Medium);
+        s.reference.samples = samples;
+        measure_visibility(gpu, scene, camera, s, size).unwrap()
+    };
+    let reference = run(rect_scene, ShadowMethod::Reference);
+    let error = |image: &VisibilityImage| visibility_error(&reference, image).unwrap().penumbra_rmse;
+    let ours = run(rect_scene, ShadowMethod::Ours);
+    let ours_error = error(&ours);
+    let pcss_rect = error(&run(rect_scene, ShadowMethod::Pcss));
+    let pcss_sphere = error(&run(sphere_scene, ShadowMethod::Pcss));
+    println!(
+        "{what}: penumbra RMSE against the rectangle's reference: ours {ours_error:.4}, pcss with the rectangle {pcss_rect:.4}, pcss with a sphere of its area {pcss_sphere:.4} ({:.2}x)",
+        ours_error / pcss_sphere
+    );
+    assert!(
+        ours_error <= 0.7 * pcss_sphere,
+        "{what}: ours {ours_error:.4} against pcss with a sphere {pcss_sphere:.4}"
+    );
+    AgainstSphere {
+        reference,
+        ours,
+        ours_error,
+        pcss_rect,
+    }
+}
+
 /// `ours` with the rectangle against what an engine without area-light shadows offers: PCSS
 /// with a sphere light of the same area at the same place. Both against the rectangle's
 /// reference, over the whole view; PCSS with the rectangle itself is reported beside them.
@@ -270,21 +319,9 @@ fn ours_with_a_rectangle_beats_pcss_with_a_sphere_of_its_area() {
             intensity: 1.0,
             range: None,
         }));
-        let run =
-            |scene: &Scene, method| measure_visibility(&gpu, scene, &camera, settings(method), SIZE).unwrap();
-        let reference = run(&rect_scene, ShadowMethod::Reference);
-        let error = |image: &VisibilityImage| visibility_error(&reference, image).unwrap().penumbra_rmse;
-        let ours = error(&run(&rect_scene, ShadowMethod::Ours));
-        let pcss_rect = error(&run(&rect_scene, ShadowMethod::Pcss));
-        let pcss_sphere = error(&run(&sphere_scene, ShadowMethod::Pcss));
-        println!(
-            "light turned {turned}: penumbra RMSE against the rectangle's reference: ours {ours:.4}, pcss with the rectangle {pcss_rect:.4}, pcss with a sphere of its area (radius {radius:.3}) {pcss_sphere:.4} ({:.2}x)",
-            ours / pcss_sphere
-        );
-        assert!(
-            ours <= 0.7 * pcss_sphere,
-            "turned {turned}: ours {ours:.4} against pcss with a sphere {pcss_sphere:.4}"
-        );
+        let what = format!("light turned {turned}");
+        let m = against_sphere(&gpu, (&rect_scene, &sphere_scene), &camera, SIZE, 512, &what);
+        let (ours, pcss_rect) = (m.ours_error, m.pcss_rect);
         assert!(
             ours <= pcss_rect,
             "turned {turned}: ours {ours:.4} against pcss with the rectangle {pcss_rect:.4}"
@@ -327,25 +364,15 @@ fn in_the_room_ours_with_the_panel_beats_pcss_with_a_sphere_of_its_area() {
     let size = (400, 320);
     for view in 0..room.views.len() {
         let camera = room.view(view).unwrap();
-        let run = |scene: &Scene, method| {
-            let mut s = ShadowSettings::preset(method, Quality::Medium);
-            s.reference.samples = 256;
-            measure_visibility(&gpu, scene, &camera, s, size).unwrap()
-        };
-        let reference = run(&rect_scene, ShadowMethod::Reference);
-        let error = |image: &VisibilityImage| visibility_error(&reference, image).unwrap().penumbra_rmse;
-        let ours_image = run(&rect_scene, ShadowMethod::Ours);
-        let ours = error(&ours_image);
-        let pcss_rect = error(&run(&rect_scene, ShadowMethod::Pcss));
-        let pcss_sphere = error(&run(&sphere_scene, ShadowMethod::Pcss));
-        println!(
-            "room view {view}: penumbra RMSE against the panel's reference: ours {ours:.4}, pcss with the panel {pcss_rect:.4}, pcss with a sphere of its area {pcss_sphere:.4} ({:.2}x)",
-            ours / pcss_sphere
+        let m = against_sphere(
+            &gpu,
+            (&rect_scene, &sphere_scene),
+            &camera,
+            size,
+            256,
+            &format!("room view {view}"),
         );
-        assert!(
-            ours <= 0.7 * pcss_sphere,
-            "view {view}: ours {ours:.4} against pcss with a sphere {pcss_sphere:.4}"
-        );
+        let (reference, ours_image) = (m.reference, m.ours);
         if view == 0 {
             for y in [0.1, 0.2, 0.3] {
                 let p = Vec3::new(0.85, y, -1.49);
