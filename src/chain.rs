@@ -6,6 +6,7 @@
 use crate::casters::Casters;
 use crate::frame::DistanceSwitches;
 use crate::frame::{FrameUniform, PassParams, is_point_light};
+use crate::gpu_helpers::Target;
 use crate::light_space::LightView;
 use crate::passes::{
     BlurCompute, BlurInput, BlurPass, DistanceMapCompute, DistanceMapPass, ExitMapPass,
@@ -367,9 +368,9 @@ pub(crate) struct ScreenInputs<'a> {
 #[derive(Clone)]
 pub(crate) struct ComputeTargets {
     /// The visibility before any blur (PCF, PCSS).
-    pub visibility: (wgpu::Texture, wgpu::TextureView),
+    pub visibility: Target,
     /// The blur's horizontal axis, where a chain blurs.
-    pub blurred: Option<(wgpu::Texture, wgpu::TextureView)>,
+    pub blurred: Option<Target>,
     /// The distance-map method's, where a light runs it.
     pub distance_map: Option<DistanceMapTargets>,
     /// Every tile of the screen listed: the fixed blur runs over all of them.
@@ -435,9 +436,9 @@ pub(crate) enum Cleared {
 #[derive(Clone)]
 pub(crate) struct DistanceMapTargets {
     /// R distance, G mask, B classification ([`DistanceMapCompute::FORMAT`]).
-    pub distance: (wgpu::Texture, wgpu::TextureView),
+    pub distance: Target,
     /// The blur's deviations from the variable PCF.
-    pub sigma: (wgpu::Texture, wgpu::TextureView),
+    pub sigma: Target,
     /// The tile list the passes run over.
     pub tiles: TileListTargets,
 }
@@ -490,7 +491,7 @@ impl ComputeTargets {
             sigma: target("ComputeTargets::sigma", VariablePcfCompute::SIGMA_FORMAT),
             tiles: TileListTargets::new(device, size),
         });
-        let clear = |label, (texture, view): &(wgpu::Texture, wgpu::TextureView), value: wgpu::Color| {
+        let clear = |label, Target { texture, view }: &Target, value: wgpu::Color| {
             if compute_clears {
                 let value = [value.r, value.g, value.b, value.a];
                 OneClear::Compute(StorageClear::new(
@@ -551,11 +552,11 @@ impl ComputeTargets {
             distance_map: self.distance_map.is_some(),
             every_tile: self.every_tile.is_some(),
         };
-        (self.visibility.0.width(), self.visibility.0.height()) == size && have == needs
+        (self.visibility.texture.width(), self.visibility.texture.height()) == size && have == needs
     }
 
     pub fn allocated_bytes(&self) -> u64 {
-        let bytes = |t: &(wgpu::Texture, wgpu::TextureView)| crate::gpu_helpers::texture_bytes(&t.0);
+        let bytes = |t: &Target| crate::gpu_helpers::texture_bytes(&t.texture);
         bytes(&self.visibility)
             + self.blurred.as_ref().map_or(0, bytes)
             + self.distance_map.as_ref().map_or(0, |d| {
@@ -836,7 +837,7 @@ impl ScreenChain {
                     return;
                 };
                 *targets = Some(all.clone());
-                let distance_map = &shared.distance.1;
+                let distance_map = &shared.distance.view;
                 distance.bind(
                     device,
                     (distance_map, &shared.tiles),
@@ -848,7 +849,7 @@ impl ScreenChain {
                     depth,
                     mask,
                 );
-                let (visibility, sigma) = (&all.visibility.1, &shared.sigma.1);
+                let (visibility, sigma) = (&all.visibility.view, &shared.sigma.view);
                 pcf.bind(
                     device,
                     (visibility, sigma),
@@ -860,7 +861,7 @@ impl ScreenChain {
                 match blur {
                     Some(blur) => blur.bind(
                         device,
-                        &all.blurred.as_ref().expect("made for a blurring chain").1,
+                        &all.blurred.as_ref().expect("made for a blurring chain").view,
                         frame,
                         (depth, mask),
                         (visibility, sigma, distance_map),
@@ -925,11 +926,11 @@ impl ScreenChain {
                 };
                 *targets = Some(all.clone());
                 pcf.bind(device, frame, depth, shadow_map, Some(&all.visibility));
-                let visibility = &all.visibility.1;
+                let visibility = &all.visibility.view;
                 match (blur, &all.blurred) {
                     (Some(blur), Some(blurred)) => blur.bind(
                         device,
-                        &blurred.1,
+                        &blurred.view,
                         frame,
                         (depth, mask),
                         (visibility, dummy, dummy),
@@ -1080,7 +1081,7 @@ impl ScreenChain {
             ScreenChain::DistanceMapCompute { targets, .. } => targets
                 .as_ref()
                 .and_then(|t| t.distance_map.as_ref())
-                .map(|d| &d.distance.0),
+                .map(|d| &d.distance.texture),
             _ => None,
         }
     }
@@ -1102,7 +1103,9 @@ impl ScreenChain {
     pub fn raw_visibility(&self) -> Option<&wgpu::Texture> {
         match self {
             ScreenChain::MapOnly => None,
-            ScreenChain::DistanceMapCompute { targets, .. } => targets.as_ref().map(|t| &t.visibility.0),
+            ScreenChain::DistanceMapCompute { targets, .. } => {
+                targets.as_ref().map(|t| &t.visibility.texture)
+            }
             ScreenChain::DistanceMap { pcf, .. } => Some(pcf.visibility_texture()),
             ScreenChain::FixedPcf { pcf, .. }
             | ScreenChain::FixedPcfCompute { pcf, .. }

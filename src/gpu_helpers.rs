@@ -239,6 +239,13 @@ pub(crate) fn vertex_layout(attributes: &[wgpu::VertexAttribute]) -> wgpu::Verte
     }
 }
 
+/// A texture and the view of it that passes bind or draw into.
+#[derive(Clone, Debug)]
+pub(crate) struct Target {
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+}
+
 /// A 2D render target (color or depth, at least 1 x 1) that later passes read and that can be
 /// copied out.
 pub(crate) fn screen_target(
@@ -247,7 +254,7 @@ pub(crate) fn screen_target(
     width: u32,
     height: u32,
     format: wgpu::TextureFormat,
-) -> (wgpu::Texture, wgpu::TextureView) {
+) -> Target {
     texture_2d(
         device,
         label,
@@ -265,7 +272,7 @@ pub(crate) fn texture_2d(
     (width, height): (u32, u32),
     format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
-) -> (wgpu::Texture, wgpu::TextureView) {
+) -> Target {
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
@@ -281,7 +288,7 @@ pub(crate) fn texture_2d(
         view_formats: &[],
     });
     let view = texture.create_view(&Default::default());
-    (texture, view)
+    Target { texture, view }
 }
 
 /// A pipeline that draws one screen-covering triangle (`vs_fullscreen`) with `fs_main`.

@@ -5,6 +5,7 @@
 //! ([`crate::Renderer::render_reference`]); [`crate::Shadows`] never does.
 
 use crate::error::{PenumbraError, Result};
+use crate::gpu_helpers::Target;
 use crate::gpu_scene::GpuScene;
 use crate::light_samples::{Emitter, light_sample};
 use crate::light_space::{AtlasGrid, FitInputs, LightView, atlas_grid, tile_resolution};
@@ -84,7 +85,7 @@ pub(crate) struct GroundTruth {
     size: (u32, u32),
     key: Option<ReferenceKey>,
     /// Every light's mean, one layer each, as the composite binds them (copied from the passes).
-    array: Option<(wgpu::Texture, wgpu::TextureView)>,
+    array: Option<Target>,
     /// The receivers' triangle normals, drawn after the prepass (made on the first step, with
     /// the scene's layouts).
     normals: Option<GeometricNormals>,
@@ -142,7 +143,7 @@ impl GroundTruth {
             height: self.size.1.max(1),
             depth_or_array_layers: layers,
         };
-        if self.array.as_ref().is_none_or(|(t, _)| t.size() != size) {
+        if self.array.as_ref().is_none_or(|a| a.texture.size() != size) {
             let texture = device.create_texture(&wgpu::TextureDescriptor {
                 label: Some("GroundTruth::visibility_array"),
                 size,
@@ -158,9 +159,9 @@ impl GroundTruth {
                 dimension: Some(wgpu::TextureViewDimension::D2Array),
                 ..Default::default()
             });
-            self.array = Some((texture, view));
+            self.array = Some(Target { texture, view });
         }
-        let (array, view) = self.array.as_ref().expect("made above");
+        let Target { texture: array, view } = self.array.as_ref().expect("made above");
         for (layer, pass) in self.passes.iter().enumerate() {
             let source = pass.visibility_texture();
             encoder.copy_texture_to_texture(

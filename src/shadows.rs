@@ -17,7 +17,7 @@ use crate::chain::{ComputeNeeds, ComputeTargets, FRAME_SIZE, LightMaps, ScreenCh
 use crate::device::DeviceLoss;
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, light_kind};
-use crate::gpu_helpers::{scoped, texture_bytes};
+use crate::gpu_helpers::{Target, scoped, texture_bytes};
 use crate::light_space::tile_resolution;
 use crate::light_space::{FitInputs, LightView, MAX_TILES};
 use crate::map_resolution::PenumbraWidths;
@@ -192,7 +192,7 @@ struct LightState {
 struct Inputs {
     depth: wgpu::Texture,
     depth_view: wgpu::TextureView,
-    mask: Option<(wgpu::Texture, wgpu::TextureView)>,
+    mask: Option<Target>,
 }
 
 /// Soft shadows for several lights on an engine's depth buffer. See the module docs and the
@@ -257,7 +257,7 @@ pub struct Shadows {
     /// with the slots of the lights they blur.
     blurs: Vec<(Vec<usize>, BlurPass)>,
     /// 1x1 stand-ins for inputs a chain does not have.
-    dummy: (wgpu::Texture, wgpu::TextureView),
+    dummy: Target,
     /// Whose casters the pipelines were made for.
     casters_id: Option<u64>,
     /// False: only the light-space maps are rendered (the convenience renderer's forward
@@ -468,7 +468,7 @@ impl Shadows {
             _ => 0,
         };
         own_visibility
-            + texture_bytes(&self.dummy.0)
+            + texture_bytes(&self.dummy.texture)
             + self
                 .compute_targets
                 .as_ref()
@@ -516,7 +516,8 @@ impl Shadows {
             this.size = (width, height);
             let inputs_changed = match &this.inputs {
                 Some(inputs) => {
-                    inputs.depth != *view.depth || inputs.mask.as_ref().map(|m| &m.0) != view.receiver_mask
+                    inputs.depth != *view.depth
+                        || inputs.mask.as_ref().map(|m| &m.texture) != view.receiver_mask
                 }
                 None => true,
             };
@@ -528,9 +529,10 @@ impl Shadows {
                         aspect: wgpu::TextureAspect::DepthOnly,
                         ..Default::default()
                     }),
-                    mask: view
-                        .receiver_mask
-                        .map(|m| (m.clone(), m.create_view(&Default::default()))),
+                    mask: view.receiver_mask.map(|m| Target {
+                        texture: m.clone(),
+                        view: m.create_view(&Default::default()),
+                    }),
                 });
             }
             if let Some(target) = &this.target {
@@ -769,13 +771,13 @@ impl Shadows {
                 }
             }
             let inputs = this.inputs.as_ref().expect("set above");
-            let mask_view = inputs.mask.as_ref().map_or(&this.dummy.1, |m| &m.1);
+            let mask_view = inputs.mask.as_ref().map_or(&this.dummy.view, |m| &m.view);
             let mut rebound = false;
             for state in this.lights.iter_mut().flatten() {
                 let chain = state.planned.expect("planned above").chain;
                 if state.bound != Some(chain) {
                     let compute = this.compute_targets.as_ref().filter(|_| chain.compute());
-                    state.bind(device, &inputs.depth_view, mask_view, &this.dummy.1, compute);
+                    state.bind(device, &inputs.depth_view, mask_view, &this.dummy.view, compute);
                     state.bound = Some(chain);
                     rebound = true;
                 }
@@ -880,10 +882,10 @@ impl Shadows {
                 .collect();
             let inputs = self.inputs.as_ref().expect("set in prepare");
             let depth = &inputs.depth_view;
-            let mask = inputs.mask.as_ref().map_or(&self.dummy.1, |m| &m.1);
+            let mask = inputs.mask.as_ref().map_or(&self.dummy.view, |m| &m.view);
             // The camera and penumbra settings the blur reads are the same in every light's
             // frame uniform: the first light's serves.
-            pass.bind(device, &states[0].frame, (depth, mask), &lights, &self.dummy.1);
+            pass.bind(device, &states[0].frame, (depth, mask), &lights, &self.dummy.view);
             self.blurs.push((slots, pass));
         }
     }

@@ -19,7 +19,7 @@
 //! a pixel gets what a pass of its own gives; where penumbrae of different widths cross, the
 //! narrower is sampled on the wider's taps (a test bounds the difference).
 
-use crate::gpu_helpers::texture_bytes;
+use crate::gpu_helpers::{Target, texture_bytes};
 use bytemuck::{Pod, Zeroable};
 
 use super::tile_classify::tiles_layout;
@@ -34,7 +34,7 @@ pub const MAX_BATCHED_LIGHTS: usize = 4;
 
 /// A batch's visibility, written by its lights' variable PCF passes, light `c` in channel `c`.
 pub(crate) struct PackedVisibility {
-    pub visibility: (wgpu::Texture, wgpu::TextureView),
+    pub visibility: Target,
 }
 
 impl PackedVisibility {
@@ -130,13 +130,13 @@ pub struct BlurPass {
     axis_groups: [wgpu::BindGroup; 2],
     /// The horizontal draw's target: `VISIBILITY_FORMAT` for one light, packed (light `c` in
     /// channel `c`) for several.
-    temp: (wgpu::Texture, wgpu::TextureView),
+    temp: Target,
     /// Several lights: their visibility, packed.
     packed: Option<PackedVisibility>,
     /// Several lights: where any of them can be shadowed.
-    union: Option<(wgpu::Texture, wgpu::TextureView)>,
+    union: Option<Target>,
     /// The vertical draw's target, unless it writes the light's output layer.
-    output: Option<(wgpu::Texture, wgpu::TextureView)>,
+    output: Option<Target>,
     bind_groups: Option<[wgpu::BindGroup; 2]>,
 }
 
@@ -144,10 +144,10 @@ impl BlurPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
         let textures = [
-            Some(&self.temp.0),
-            self.packed.as_ref().map(|p| &p.visibility.0),
-            self.union.as_ref().map(|u| &u.0),
-            self.output.as_ref().map(|o| &o.0),
+            Some(&self.temp.texture),
+            self.packed.as_ref().map(|p| &p.visibility.texture),
+            self.union.as_ref().map(|u| &u.texture),
+            self.output.as_ref().map(|o| &o.texture),
         ];
         self.axis_buffers.iter().map(wgpu::Buffer::size).sum::<u64>()
             + textures.into_iter().flatten().map(texture_bytes).sum::<u64>()
@@ -320,11 +320,11 @@ impl BlurPass {
             super::bind_group(device, "BlurPass::bind_group", &self.layout, &resources)
         };
         let source = match (&self.packed, lights.first()) {
-            (Some(packed), _) => &packed.visibility.1,
+            (Some(packed), _) => &packed.visibility.view,
             (None, Some(light)) => light.visibility,
             (None, None) => dummy,
         };
-        self.bind_groups = Some([group(source), group(&self.temp.1)]);
+        self.bind_groups = Some([group(source), group(&self.temp.view)]);
     }
 
     /// Several lights: the packed visibility their variable PCF passes write.
@@ -334,11 +334,11 @@ impl BlurPass {
 
     /// The blurred visibility, unless the vertical draw writes the light's output layer.
     pub fn blurred(&self) -> Option<&wgpu::TextureView> {
-        self.output.as_ref().map(|o| &o.1)
+        self.output.as_ref().map(|o| &o.view)
     }
 
     pub fn blurred_texture(&self) -> Option<&wgpu::Texture> {
-        self.output.as_ref().map(|o| &o.0)
+        self.output.as_ref().map(|o| &o.texture)
     }
 
     /// The switches the pipeline was made with.
@@ -384,10 +384,10 @@ impl BlurPass {
                     classify,
                     &[&groups[0], &self.axis_groups[0]],
                     &[],
-                    DepthUse::Write(&union.1),
+                    DepthUse::Write(&union.view),
                     None,
                 );
-                Some(&union.1)
+                Some(&union.view)
             }
             _ => classification.map(|c| c.depth),
         };
@@ -397,12 +397,12 @@ impl BlurPass {
             "BlurPass::horizontal",
             &self.pipeline,
             &[&groups[0], &self.axis_groups[0]],
-            &[&self.temp.1],
+            &[&self.temp.view],
             depth,
             tiles,
         );
         let outputs: Vec<&wgpu::TextureView> = match &self.output {
-            Some(o) => vec![&o.1],
+            Some(o) => vec![&o.view],
             None => layers.iter().take(self.lights).copied().collect(),
         };
         draw_fullscreen_into(

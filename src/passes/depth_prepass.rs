@@ -7,14 +7,15 @@
 
 use super::{begin_pass, cleared, depth_attachment};
 use super::{entry, screen_target};
+use crate::gpu_helpers::Target;
 use crate::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
 
 pub struct DepthPrepass {
     frame_layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
-    depth: (wgpu::Texture, wgpu::TextureView),
-    receiver_mask: (wgpu::Texture, wgpu::TextureView),
+    depth: Target,
+    receiver_mask: Target,
     bind_group: Option<wgpu::BindGroup>,
 }
 
@@ -70,15 +71,15 @@ impl DepthPrepass {
 
     /// Camera depth (Depth32Float).
     pub fn depth(&self) -> &wgpu::TextureView {
-        &self.depth.1
+        &self.depth.view
     }
 
     pub fn depth_texture(&self) -> &wgpu::Texture {
-        &self.depth.0
+        &self.depth.texture
     }
 
     pub fn receiver_mask_texture(&self) -> &wgpu::Texture {
-        &self.receiver_mask.0
+        &self.receiver_mask.texture
     }
 
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, scene: &GpuScene) {
@@ -88,8 +89,8 @@ impl DepthPrepass {
         let mut pass = begin_pass(
             encoder,
             "DepthPrepass",
-            &[cleared(&self.receiver_mask.1, wgpu::Color::TRANSPARENT)],
-            depth_attachment(&self.depth.1, Some(wgpu::LoadOp::Clear(0.0))),
+            &[cleared(&self.receiver_mask.view, wgpu::Color::TRANSPARENT)],
+            depth_attachment(&self.depth.view, Some(wgpu::LoadOp::Clear(0.0))),
         );
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);

@@ -28,7 +28,7 @@
 
 use super::{begin_pass, depth_attachment};
 use crate::frame::DistanceSwitches;
-use crate::gpu_helpers::texture_bytes;
+use crate::gpu_helpers::{Target, texture_bytes};
 
 use super::tile_classify::{TileClassifyPass, tiles_layout};
 use super::{
@@ -42,8 +42,8 @@ pub struct DistanceMapPass {
     pipeline: wgpu::RenderPipeline,
     /// The second draw: beside a shadow, the distance to the nearest caster (when switched on).
     nearest_caster: Option<wgpu::RenderPipeline>,
-    distance: (wgpu::Texture, wgpu::TextureView),
-    classification: (wgpu::Texture, wgpu::TextureView),
+    distance: Target,
+    classification: Target,
     bind_group: Option<wgpu::BindGroup>,
     /// With `switches.tiles`: which screen tiles the draws (and the later passes') cover.
     tiles: TileClassifyPass,
@@ -56,7 +56,9 @@ pub struct DistanceMapPass {
 impl DistanceMapPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.distance.0) + texture_bytes(&self.classification.0) + self.tiles.allocated_bytes()
+        texture_bytes(&self.distance.texture)
+            + texture_bytes(&self.classification.texture)
+            + self.tiles.allocated_bytes()
     }
 
     pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
@@ -225,11 +227,11 @@ impl DistanceMapPass {
 
     /// Distance (R) and mask (G).
     pub fn distance_map(&self) -> &wgpu::TextureView {
-        &self.distance.1
+        &self.distance.view
     }
 
     pub fn distance_texture(&self) -> &wgpu::Texture {
-        &self.distance.0
+        &self.distance.texture
     }
 
     /// The tile classification's result, when the pass draws only the tiles it keeps.
@@ -241,7 +243,7 @@ impl DistanceMapPass {
     /// and, with the tile classification, the tiles kept.
     pub(crate) fn classification(&self) -> Classification<'_> {
         Classification {
-            depth: &self.classification.1,
+            depth: &self.classification.view,
             tiles: self.switches.tiles.then(|| self.tiles.kept()),
         }
     }
@@ -263,8 +265,8 @@ impl DistanceMapPass {
         let mut pass = begin_pass(
             encoder,
             "DistanceMapPass",
-            &[cleared(&self.distance.1, wgpu::Color::TRANSPARENT)],
-            depth_attachment(&self.classification.1, Some(wgpu::LoadOp::Clear(0.0))),
+            &[cleared(&self.distance.view, wgpu::Color::TRANSPARENT)],
+            depth_attachment(&self.classification.view, Some(wgpu::LoadOp::Clear(0.0))),
         );
         pass.set_bind_group(0, group, &[]);
         let tiles = self.classification().tiles;

@@ -8,7 +8,7 @@
 //! as a back face by its geometry turned outward by the smoothed normal, so the winding never
 //! matters. Alpha-masked casters are drawn whole.
 
-use crate::gpu_helpers::texture_bytes;
+use crate::gpu_helpers::{Target, texture_bytes};
 use bytemuck::{Pod, Zeroable};
 
 use super::shadow_map::{begin_depth_pass, depth_state, light_depth_target, support_map_resolution};
@@ -71,7 +71,7 @@ impl ExitMapPass {
             wgpu::PrimitiveState::default(),
             depth_state(settings),
         );
-        let (texture, view) = light_depth_target(
+        let Target { texture, view } = light_depth_target(
             device,
             settings,
             (grid, support_map_resolution(tile)),
@@ -98,7 +98,10 @@ impl ExitMapPass {
         grid: AtlasGrid,
         tile: u32,
     ) {
-        (self.texture, self.view) = light_depth_target(
+        Target {
+            texture: self.texture,
+            view: self.view,
+        } = light_depth_target(
             device,
             settings,
             (grid, support_map_resolution(tile)),

@@ -11,7 +11,7 @@
 //! casters are fattened whole (a superset of their real shadow, so the mask stays
 //! conservative).
 
-use crate::gpu_helpers::texture_bytes;
+use crate::gpu_helpers::{Target, texture_bytes};
 use bytemuck::{Pod, Zeroable};
 
 use super::shadow_map::{depth_pass_descriptor, depth_state, light_depth_target, support_map_resolution};
@@ -34,7 +34,7 @@ pub struct FattenedShadowMapPass {
     texture: wgpu::Texture,
     view: wgpu::TextureView,
     /// World units from the fattened surface back to the caster's own surface, along the light.
-    occluder_offset: (wgpu::Texture, wgpu::TextureView),
+    occluder_offset: Target,
     uniform: CascadeUniforms,
     /// The atlas's tiles, their texels a side (half the shadow map's), and the cascades drawn.
     grid: AtlasGrid,
@@ -47,7 +47,9 @@ pub struct FattenedShadowMapPass {
 impl FattenedShadowMapPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.texture) + texture_bytes(&self.occluder_offset.0) + self.uniform.allocated_bytes()
+        texture_bytes(&self.texture)
+            + texture_bytes(&self.occluder_offset.texture)
+            + self.uniform.allocated_bytes()
     }
 
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
@@ -82,11 +84,11 @@ impl FattenedShadowMapPass {
             wgpu::PrimitiveState::default(),
             depth_state(settings),
         );
-        let ((texture, view), (offset, offset_view)) = Self::targets(device, settings, grid, tile);
+        let (Target { texture, view }, occluder_offset) = Self::targets(device, settings, grid, tile);
         Self {
             texture,
             view,
-            occluder_offset: (offset, offset_view),
+            occluder_offset,
             uniform,
             grid,
             tile: support_map_resolution(tile),
@@ -111,11 +113,8 @@ impl FattenedShadowMapPass {
         settings: &ShadowMapSettings,
         grid: AtlasGrid,
         tile: u32,
-    ) -> (
-        (wgpu::Texture, wgpu::TextureView),
-        (wgpu::Texture, wgpu::TextureView),
-    ) {
-        let (texture, view) = light_depth_target(
+    ) -> (Target, Target) {
+        let fattened = light_depth_target(
             device,
             settings,
             (grid, support_map_resolution(tile)),
@@ -127,14 +126,20 @@ impl FattenedShadowMapPass {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::TEXTURE_BINDING
                 | wgpu::TextureUsages::COPY_SRC,
-            size: texture.size(),
+            size: fattened.texture.size(),
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             view_formats: &[],
         });
         let offset_view = offset.create_view(&Default::default());
-        ((texture, view), (offset, offset_view))
+        (
+            fattened,
+            Target {
+                texture: offset,
+                view: offset_view,
+            },
+        )
     }
 
     /// Makes the maps again for a shadow map of `tile` texels a tile (the pipelines stay); they
@@ -146,7 +151,7 @@ impl FattenedShadowMapPass {
         grid: AtlasGrid,
         tile: u32,
     ) {
-        let ((texture, view), offset) = Self::targets(device, settings, grid, tile);
+        let (Target { texture, view }, offset) = Self::targets(device, settings, grid, tile);
         (self.texture, self.view, self.occluder_offset) = (texture, view, offset);
         (self.grid, self.tile) = (grid, support_map_resolution(tile));
     }
@@ -159,7 +164,7 @@ impl FattenedShadowMapPass {
     /// The occluder offset ([`Self::OFFSET_FORMAT`]): how far behind the fattened surface the
     /// true caster lies, texel by texel of the fattened map.
     pub fn occluder_offset(&self) -> &wgpu::TextureView {
-        &self.occluder_offset.1
+        &self.occluder_offset.view
     }
 
     pub fn texture(&self) -> &wgpu::Texture {
@@ -203,7 +208,7 @@ impl FattenedShadowMapPass {
     /// Records the pass: every caster, inflated ([`Self::prepare`] first).
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
         let keep = self.uniform.keeps_tiles(self.cascades);
-        let offset = &self.occluder_offset.1;
+        let offset = &self.occluder_offset.view;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("FattenedShadowMapPass"),
             color_attachments: &[if keep {

@@ -111,7 +111,7 @@ impl ForwardPass {
         };
         let hard_bind_group = make_bind_group(&hard_sampler, "ForwardPass::frame_hard");
         let pcf_bind_group = make_bind_group(&pcf_sampler, "ForwardPass::frame_pcf");
-        let depth = screen_target(device, "ForwardPass::camera_depth", 1, 1, Self::DEPTH_FORMAT).1;
+        let depth = screen_target(device, "ForwardPass::camera_depth", 1, 1, Self::DEPTH_FORMAT).view;
         Self {
             frame_layout,
             frame_buffer,
@@ -156,7 +156,7 @@ impl ForwardPass {
                 height,
                 Self::DEPTH_FORMAT,
             )
-            .1;
+            .view;
             self.size = (width, height);
         }
     }

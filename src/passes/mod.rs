@@ -48,6 +48,7 @@ mod tile_classify;
 mod tile_clear;
 mod variable_pcf;
 
+use crate::gpu_helpers::Target;
 pub(crate) use blur::BlurCompute;
 #[cfg(test)]
 pub(crate) use blur::BlurUniform;
@@ -296,7 +297,7 @@ pub(crate) fn storage_target(
     size: (u32, u32),
     format: wgpu::TextureFormat,
     clearable: bool,
-) -> (wgpu::Texture, wgpu::TextureView) {
+) -> Target {
     let clear = if clearable {
         wgpu::TextureUsages::RENDER_ATTACHMENT
     } else {
@@ -318,11 +319,11 @@ pub(crate) fn storage_target(
 pub(crate) enum ScreenPipeline {
     Draw {
         pipeline: wgpu::RenderPipeline,
-        output: (wgpu::Texture, wgpu::TextureView),
+        output: Target,
     },
     Compute {
         pipeline: wgpu::ComputePipeline,
-        output: Option<(wgpu::Texture, wgpu::TextureView)>,
+        output: Option<Target>,
     },
 }
 
@@ -390,14 +391,14 @@ impl ScreenPipeline {
         label: &str,
         layout: &wgpu::BindGroupLayout,
         resources: &[&dyn Binding],
-        shared: Option<&(wgpu::Texture, wgpu::TextureView)>,
+        shared: Option<&Target>,
     ) -> Option<wgpu::BindGroup> {
         match self {
             ScreenPipeline::Draw { .. } => Some(bind_group(device, label, layout, resources)),
             ScreenPipeline::Compute { output, .. } => {
                 let shared = shared?;
                 let mut all = resources.to_vec();
-                all.push(&shared.1);
+                all.push(&shared.view);
                 *output = Some(shared.clone());
                 Some(bind_group(device, label, layout, &all))
             }
@@ -405,7 +406,7 @@ impl ScreenPipeline {
     }
 
     /// The visibility (once bound, for compute).
-    pub fn output(&self) -> Option<&(wgpu::Texture, wgpu::TextureView)> {
+    pub fn output(&self) -> Option<&Target> {
         match self {
             ScreenPipeline::Draw { output, .. } => Some(output),
             ScreenPipeline::Compute { output, .. } => output.as_ref(),
@@ -415,7 +416,7 @@ impl ScreenPipeline {
     /// GPU memory of the pass's own texture (a shared one is counted where it is made).
     pub fn own_bytes(&self) -> u64 {
         match self {
-            ScreenPipeline::Draw { output, .. } => crate::gpu_helpers::texture_bytes(&output.0),
+            ScreenPipeline::Draw { output, .. } => crate::gpu_helpers::texture_bytes(&output.texture),
             ScreenPipeline::Compute { .. } => 0,
         }
     }
@@ -424,7 +425,7 @@ impl ScreenPipeline {
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, label: &str, group: &wgpu::BindGroup) {
         match self {
             ScreenPipeline::Draw { pipeline, output } => {
-                draw_fullscreen(encoder, label, pipeline, &[group], &output.1);
+                draw_fullscreen(encoder, label, pipeline, &[group], &output.view);
             }
             ScreenPipeline::Compute {
                 pipeline,
@@ -436,7 +437,11 @@ impl ScreenPipeline {
                 });
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, group, &[]);
-                pass.dispatch_workgroups(output.0.width().div_ceil(16), output.0.height().div_ceil(16), 1);
+                pass.dispatch_workgroups(
+                    output.texture.width().div_ceil(16),
+                    output.texture.height().div_ceil(16),
+                    1,
+                );
             }
             ScreenPipeline::Compute { output: None, .. } => {}
         }

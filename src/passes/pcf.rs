@@ -9,6 +9,7 @@
 
 use super::{LIGHT_KIND, ScreenPipeline, entry};
 use crate::frame::{PcfSwitches, PcfUniform};
+use crate::gpu_helpers::Target;
 
 pub struct PcfPass {
     switches: PcfSwitches,
@@ -82,7 +83,7 @@ impl PcfPass {
         frame: &wgpu::Buffer,
         camera_depth: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
-        shared: Option<&(wgpu::Texture, wgpu::TextureView)>,
+        shared: Option<&Target>,
     ) {
         self.bind_group = self.pipeline.bind_group(
             device,
@@ -115,11 +116,11 @@ impl PcfPass {
 
     /// The raw PCF visibility (once bound, for a compute pass).
     pub fn visibility(&self) -> Option<&wgpu::TextureView> {
-        self.pipeline.output().map(|o| &o.1)
+        self.pipeline.output().map(|o| &o.view)
     }
 
     pub fn visibility_texture(&self) -> Option<&wgpu::Texture> {
-        self.pipeline.output().map(|o| &o.0)
+        self.pipeline.output().map(|o| &o.texture)
     }
 
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {

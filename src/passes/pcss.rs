@@ -6,6 +6,7 @@
 
 use super::{LIGHT_KIND, ScreenPipeline, entry};
 use crate::frame::PcssUniform;
+use crate::gpu_helpers::Target;
 
 pub struct PcssPass {
     light_kind: u32,
@@ -79,7 +80,7 @@ impl PcssPass {
         frame: &wgpu::Buffer,
         camera_depth: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
-        shared: Option<&(wgpu::Texture, wgpu::TextureView)>,
+        shared: Option<&Target>,
     ) {
         self.bind_group = self.pipeline.bind_group(
             device,
@@ -104,11 +105,11 @@ impl PcssPass {
 
     /// The visibility (once bound, for a compute pass).
     pub fn visibility(&self) -> Option<&wgpu::TextureView> {
-        self.pipeline.output().map(|o| &o.1)
+        self.pipeline.output().map(|o| &o.view)
     }
 
     pub fn visibility_texture(&self) -> Option<&wgpu::Texture> {
-        self.pipeline.output().map(|o| &o.0)
+        self.pipeline.output().map(|o| &o.texture)
     }
 
     /// Uploads the frame's sample counts.

@@ -7,6 +7,7 @@
 //! weighted as [`crate::light_samples`] says, beside an R32F sum of the weights, each kept in two
 //! ping-pong targets whatever N is.
 
+use crate::gpu_helpers::Target;
 use bytemuck::{Pod, Zeroable};
 
 use super::{
@@ -37,9 +38,9 @@ struct SampleUniform {
 }
 
 /// One ping-pong side: the mean and the weights so far.
-type Target = [(wgpu::Texture, wgpu::TextureView); 2];
+type Side = [Target; 2];
 
-fn target(device: &wgpu::Device, width: u32, height: u32) -> Target {
+fn target(device: &wgpu::Device, width: u32, height: u32) -> Side {
     [
         screen_target(device, "ReferencePass::visibility", width, height, FORMAT),
         screen_target(device, "ReferencePass::weight", width, height, FORMAT),
@@ -50,7 +51,7 @@ pub struct ReferencePass {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     sample: wgpu::Buffer,
-    targets: [Target; 2],
+    targets: [Side; 2],
     /// Bind group reading target i and writing the other.
     bind_groups: Option<[wgpu::BindGroup; 2]>,
     accumulated: u32,
@@ -111,7 +112,7 @@ impl ReferencePass {
         shadow_map: &wgpu::TextureView,
         normals: &wgpu::TextureView,
     ) {
-        let group = |previous: &Target| {
+        let group = |previous: &Side| {
             super::bind_group(
                 device,
                 "ReferencePass::bind_group",
@@ -120,9 +121,9 @@ impl ReferencePass {
                     frame,
                     camera_depth,
                     shadow_map,
-                    &previous[0].1,
+                    &previous[0].view,
                     &self.sample,
-                    &previous[1].1,
+                    &previous[1].view,
                     normals,
                 ],
             )
@@ -191,7 +192,7 @@ impl ReferencePass {
             "ReferencePass",
             &self.pipeline,
             &[&groups[read]],
-            &[&mean.1, &weight.1],
+            &[&mean.view, &weight.view],
             DepthUse::None,
             None,
         );
@@ -200,7 +201,7 @@ impl ReferencePass {
 
     /// The weighted mean visibility so far (R32F).
     pub fn visibility_texture(&self) -> &wgpu::Texture {
-        &self.targets[(self.accumulated % 2) as usize][0].0
+        &self.targets[(self.accumulated % 2) as usize][0].texture
     }
 }
 
@@ -211,7 +212,7 @@ impl ReferencePass {
 pub struct GeometricNormals {
     frame_layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
-    target: (wgpu::Texture, wgpu::TextureView),
+    target: Target,
     bind_group: Option<wgpu::BindGroup>,
 }
 
@@ -239,7 +240,7 @@ impl GeometricNormals {
     /// Makes the target `width` x `height` (the camera depth's size) and points the pass at the
     /// frame uniform.
     pub fn prepare(&mut self, device: &wgpu::Device, frame: &wgpu::Buffer, width: u32, height: u32) {
-        let size = self.target.0.size();
+        let size = self.target.texture.size();
         if (size.width, size.height) != (width, height) {
             self.target = screen_target(device, "GeometricNormals::target", width, height, Self::FORMAT);
         }
@@ -264,7 +265,7 @@ impl GeometricNormals {
         let mut pass = begin_pass(
             encoder,
             "GeometricNormals",
-            &[cleared(&self.target.1, wgpu::Color::TRANSPARENT)],
+            &[cleared(&self.target.view, wgpu::Color::TRANSPARENT)],
             depth_attachment(camera_depth, Some(wgpu::LoadOp::Load)),
         );
         pass.set_pipeline(&self.pipeline);
@@ -273,6 +274,6 @@ impl GeometricNormals {
     }
 
     pub fn view(&self) -> &wgpu::TextureView {
-        &self.target.1
+        &self.target.view
     }
 }

@@ -8,7 +8,7 @@
 //! applied by the rasterizer.
 
 use super::depth_attachment;
-use crate::gpu_helpers::texture_bytes;
+use crate::gpu_helpers::{Target, texture_bytes};
 use bytemuck::{Pod, Zeroable};
 
 use super::{CascadeUniforms, CasterPipelines, SecondStream, TileClear};
@@ -90,7 +90,8 @@ impl ShadowMapPass {
             primitive,
             depth_state(settings),
         );
-        let (texture, view) = light_depth_target(device, settings, (grid, tile), "ShadowMapPass::shadow_map");
+        let Target { texture, view } =
+            light_depth_target(device, settings, (grid, tile), "ShadowMapPass::shadow_map");
         Self {
             texture,
             view,
@@ -113,8 +114,10 @@ impl ShadowMapPass {
         grid: AtlasGrid,
         tile: u32,
     ) {
-        (self.texture, self.view) =
-            light_depth_target(device, settings, (grid, tile), "ShadowMapPass::shadow_map");
+        Target {
+            texture: self.texture,
+            view: self.view,
+        } = light_depth_target(device, settings, (grid, tile), "ShadowMapPass::shadow_map");
         (self.grid, self.tile) = (grid, tile);
     }
 
@@ -212,7 +215,7 @@ pub(super) fn light_depth_target(
     settings: &ShadowMapSettings,
     (grid, tile): (AtlasGrid, u32),
     label: &str,
-) -> (wgpu::Texture, wgpu::TextureView) {
+) -> Target {
     let (width, height) = grid.size(tile);
     super::screen_target(
         device,

@@ -12,7 +12,7 @@
 //! can (conservative: see `shaders/tile_classify.wgsl`).
 
 use super::{Fullscreen, LIGHT_KIND, Tiles, entry, screen_target};
-use crate::gpu_helpers::texture_bytes;
+use crate::gpu_helpers::{Target, texture_bytes};
 
 /// Screen pixels per tile side (`TILE` in the shader).
 pub const TILE: u32 = 16;
@@ -46,8 +46,8 @@ pub(crate) struct TileClassifyPass {
     reduce_layout: wgpu::BindGroupLayout,
     classify: wgpu::RenderPipeline,
     reduce: wgpu::RenderPipeline,
-    reduced: (wgpu::Texture, wgpu::TextureView),
-    classes: (wgpu::Texture, wgpu::TextureView),
+    reduced: Target,
+    classes: Target,
     groups: Option<(wgpu::BindGroup, wgpu::BindGroup)>,
     gather: wgpu::Sampler,
 }
@@ -55,7 +55,7 @@ pub(crate) struct TileClassifyPass {
 impl TileClassifyPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.reduced.0) + texture_bytes(&self.classes.0)
+        texture_bytes(&self.reduced.texture) + texture_bytes(&self.classes.texture)
     }
 
     /// Made for one light kind ([`crate::frame::light_kind`]), like the distance map.
@@ -95,7 +95,7 @@ impl TileClassifyPass {
         let tiles_layout = tiles_layout(device);
         let classes = screen_target(device, "TileClassifyPass::classes", 1, 1, CLASS_FORMAT);
         Self {
-            tiles: (Self::tiles_group(device, &tiles_layout, &classes.1), 1),
+            tiles: (Self::tiles_group(device, &tiles_layout, &classes.view), 1),
             tiles_layout,
             classify: pipeline("TileClassifyPass::classify", &layout, CLASS_FORMAT, "fs_classify"),
             reduce: pipeline(
@@ -126,7 +126,7 @@ impl TileClassifyPass {
         let (x, y) = Self::tiles(width, height);
         self.classes = screen_target(device, "TileClassifyPass::classes", x, y, CLASS_FORMAT);
         self.tiles = (
-            Self::tiles_group(device, &self.tiles_layout, &self.classes.1),
+            Self::tiles_group(device, &self.tiles_layout, &self.classes.view),
             x * y,
         );
         self.groups = None;
@@ -158,7 +158,7 @@ impl TileClassifyPass {
         fattened_size: (u32, u32),
     ) {
         let size = (fattened_size.0.div_ceil(REDUCE), fattened_size.1.div_ceil(REDUCE));
-        if (self.reduced.0.width(), self.reduced.0.height()) != size {
+        if (self.reduced.texture.width(), self.reduced.texture.height()) != size {
             self.reduced = screen_target(
                 device,
                 "TileClassifyPass::reduced",
@@ -173,7 +173,7 @@ impl TileClassifyPass {
             entries: &[
                 frame.as_entire_binding(),
                 wgpu::BindingResource::TextureView(camera_depth),
-                wgpu::BindingResource::TextureView(&self.reduced.1),
+                wgpu::BindingResource::TextureView(&self.reduced.view),
             ]
             .into_iter()
             .enumerate()
@@ -205,7 +205,7 @@ impl TileClassifyPass {
     }
 
     pub fn classes_texture(&self) -> &wgpu::Texture {
-        &self.classes.0
+        &self.classes.texture
     }
 
     /// Records the reduction of the fattened map (`maps_drawn`: the light's maps were drawn
@@ -220,7 +220,7 @@ impl TileClassifyPass {
                 "TileClassifyPass::reduce",
                 &self.reduce,
                 &[reduce],
-                &self.reduced.1,
+                &self.reduced.view,
             );
         }
         super::draw_fullscreen(
@@ -228,7 +228,7 @@ impl TileClassifyPass {
             "TileClassifyPass::classify",
             &self.classify,
             &[classify],
-            &self.classes.1,
+            &self.classes.view,
         );
     }
 }
@@ -249,7 +249,7 @@ pub(crate) struct TileListPass {
     reduce: wgpu::ComputePipeline,
     classify: wgpu::ComputePipeline,
     finish: wgpu::ComputePipeline,
-    reduced: (wgpu::Texture, wgpu::TextureView),
+    reduced: Target,
     /// The list written, as bound.
     targets: Option<TileListTargets>,
     groups: Option<(wgpu::BindGroup, wgpu::BindGroup)>,
@@ -264,7 +264,7 @@ pub(crate) struct TileListPass {
 pub(crate) struct TileListTargets {
     list: wgpu::Buffer,
     args: wgpu::Buffer,
-    classes: (wgpu::Texture, wgpu::TextureView),
+    classes: Target,
     /// The list as group [`super::TILE_LIST_GROUP`].
     group: wgpu::BindGroup,
 }
@@ -350,12 +350,12 @@ impl TileListTargets {
     }
 
     pub fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.classes.0) + self.list.size() + self.args.size()
+        texture_bytes(&self.classes.texture) + self.list.size() + self.args.size()
     }
 
     /// One texel per screen tile: 1 where it was listed.
     pub fn classes_texture(&self) -> &wgpu::Texture {
-        &self.classes.0
+        &self.classes.texture
     }
 
     /// The list, for the passes over it.
@@ -370,7 +370,7 @@ impl TileListTargets {
 impl TileListPass {
     /// GPU memory this pass allocated (its reduced map), in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.reduced.0)
+        texture_bytes(&self.reduced.texture)
     }
 
     /// The layout of the list's bind group (`shaders/common/tile_list.wgsl`), for the passes
@@ -456,7 +456,7 @@ impl TileListPass {
         fattened_size: (u32, u32),
     ) {
         let size = (fattened_size.0.div_ceil(REDUCE), fattened_size.1.div_ceil(REDUCE));
-        if (self.reduced.0.width(), self.reduced.0.height()) != size {
+        if (self.reduced.texture.width(), self.reduced.texture.height()) != size {
             self.reduced = super::storage_target(
                 device,
                 "TileListPass::reduced",
@@ -471,11 +471,11 @@ impl TileListPass {
             entries: &entries([
                 (0, frame.as_entire_binding()),
                 (1, wgpu::BindingResource::TextureView(camera_depth)),
-                (2, wgpu::BindingResource::TextureView(&self.reduced.1)),
+                (2, wgpu::BindingResource::TextureView(&self.reduced.view)),
                 (4, wgpu::BindingResource::Sampler(&self.gather)),
                 (5, targets.list.as_entire_binding()),
                 (7, targets.args.as_entire_binding()),
-                (8, wgpu::BindingResource::TextureView(&targets.classes.1)),
+                (8, wgpu::BindingResource::TextureView(&targets.classes.view)),
             ]),
         });
         let reduce = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -484,7 +484,7 @@ impl TileListPass {
             entries: &entries([
                 (3, wgpu::BindingResource::TextureView(fattened_map)),
                 (4, wgpu::BindingResource::Sampler(&self.gather)),
-                (6, wgpu::BindingResource::TextureView(&self.reduced.1)),
+                (6, wgpu::BindingResource::TextureView(&self.reduced.view)),
             ]),
         });
         self.groups = Some((classify, reduce));
@@ -508,12 +508,12 @@ impl TileListPass {
             timestamp_writes: None,
         });
         if maps_drawn {
-            let (w, h) = (self.reduced.0.width(), self.reduced.0.height());
+            let (w, h) = (self.reduced.texture.width(), self.reduced.texture.height());
             pass.set_pipeline(&self.reduce);
             pass.set_bind_group(0, reduce, &[]);
             pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         }
-        let tiles = (targets.classes.0.width(), targets.classes.0.height());
+        let tiles = (targets.classes.texture.width(), targets.classes.texture.height());
         pass.set_pipeline(&self.classify);
         pass.set_bind_group(0, classify, &[]);
         pass.dispatch_workgroups(tiles.0.div_ceil(8), tiles.1.div_ceil(8), 1);

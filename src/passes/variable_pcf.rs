@@ -25,7 +25,7 @@ use super::{
 };
 use super::{begin_pass, depth_attachment};
 use crate::frame::{PcfSwitches, PcfUniform};
-use crate::gpu_helpers::texture_bytes;
+use crate::gpu_helpers::{Target, texture_bytes};
 use crate::map_resolution::WidthProbe;
 
 pub struct VariablePcfPass {
@@ -39,15 +39,15 @@ pub struct VariablePcfPass {
     packed: Option<(usize, wgpu::TextureFormat, wgpu::RenderPipeline)>,
     params: wgpu::Buffer,
     sampler: wgpu::Sampler,
-    visibility: (wgpu::Texture, wgpu::TextureView),
-    blur_sigma: (wgpu::Texture, wgpu::TextureView),
+    visibility: Target,
+    blur_sigma: Target,
     bind_group: Option<wgpu::BindGroup>,
     /// Group 1 of the full-resolution draw: the half-resolution values.
     half_layout: wgpu::BindGroupLayout,
     /// The half-resolution draw, with reduced resolution on.
     half_pipeline: Option<wgpu::RenderPipeline>,
     /// Its target: half the screen's size (rounded up), 1 x 1 with reduced resolution off.
-    half: (wgpu::Texture, wgpu::TextureView),
+    half: Target,
     half_group: Option<wgpu::BindGroup>,
     /// Bilinear, clamped to the edge: the full-resolution draw's one read of the half-resolution
     /// values.
@@ -58,9 +58,9 @@ impl VariablePcfPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
         self.params.size()
-            + texture_bytes(&self.visibility.0)
-            + texture_bytes(&self.blur_sigma.0)
-            + texture_bytes(&self.half.0)
+            + texture_bytes(&self.visibility.texture)
+            + texture_bytes(&self.blur_sigma.texture)
+            + texture_bytes(&self.half.texture)
     }
 
     /// Format of the half-resolution values (R visibility, G 1 where computed, BA the blur's
@@ -281,7 +281,7 @@ impl VariablePcfPass {
             device,
             "VariablePcfPass::half_group",
             &self.half_layout,
-            &[&self.half.1, &self.half_sampler],
+            &[&self.half.view, &self.half_sampler],
         ));
     }
 
@@ -302,23 +302,23 @@ impl VariablePcfPass {
 
     /// The raw PCF visibility.
     pub fn visibility(&self) -> &wgpu::TextureView {
-        &self.visibility.1
+        &self.visibility.view
     }
 
     pub fn visibility_texture(&self) -> &wgpu::Texture {
-        &self.visibility.0
+        &self.visibility.texture
     }
 
     /// The blur's standard deviations in pixels (R along x, G along y).
     pub fn blur_sigma(&self) -> &wgpu::TextureView {
-        &self.blur_sigma.1
+        &self.blur_sigma.view
     }
 
     /// Records the pass where `classification` (the distance map's) says a shadow can fall.
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, classification: Classification) {
         let attachments = [
-            cleared(&self.visibility.1, wgpu::Color::WHITE),
-            cleared(&self.blur_sigma.1, wgpu::Color::TRANSPARENT),
+            cleared(&self.visibility.view, wgpu::Color::WHITE),
+            cleared(&self.blur_sigma.view, wgpu::Color::TRANSPARENT),
         ];
         self.record(encoder, classification, &self.pipeline, &attachments);
     }
@@ -337,12 +337,12 @@ impl VariablePcfPass {
             return self.encode(encoder, classification);
         };
         let attachments = [
-            cleared(&self.visibility.1, wgpu::Color::WHITE),
-            cleared(&self.blur_sigma.1, wgpu::Color::TRANSPARENT),
+            cleared(&self.visibility.view, wgpu::Color::WHITE),
+            cleared(&self.blur_sigma.view, wgpu::Color::TRANSPARENT),
             if first {
-                cleared(&packed.visibility.1, wgpu::Color::WHITE)
+                cleared(&packed.visibility.view, wgpu::Color::WHITE)
             } else {
-                kept(&packed.visibility.1)
+                kept(&packed.visibility.view)
             },
         ];
         self.record(encoder, classification, pipeline, &attachments);
@@ -379,7 +379,7 @@ impl VariablePcfPass {
             let mut pass = begin_pass(
                 encoder,
                 "VariablePcfPass::half",
-                &[cleared(&self.half.1, not_computed)],
+                &[cleared(&self.half.view, not_computed)],
                 None,
             );
             pass.set_pipeline(half_pipeline);
