@@ -5,7 +5,7 @@
 
 use crate::casters::Casters;
 use crate::frame::DistanceSwitches;
-use crate::frame::{FrameUniform, PassParams, is_point_light};
+use crate::frame::{FrameUniform, PassParams, has_no_size};
 use crate::gpu_helpers::Target;
 use crate::light_space::LightView;
 use crate::passes::{
@@ -75,8 +75,8 @@ impl Chain {
     pub fn new(settings: &ShadowSettings, light: &Light) -> Self {
         let compute = !settings.penumbra.fragment_passes;
         match settings.method {
-            // A point light's cube faces are shaded with hard shadows by these methods.
-            ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Pcss if is_point_light(light) => {
+            // A light with no size casts hard shadows: these methods give way to them.
+            ShadowMethod::Ours | ShadowMethod::OursFast | ShadowMethod::Pcss if has_no_size(light) => {
                 Chain::Hard {
                     method: ShadowMethod::Hard,
                     compute,

@@ -344,7 +344,7 @@ pub(crate) fn area_axes(light: &Light) -> ([f32; 4], [f32; 4]) {
 }
 
 /// True when the light has no size: every method then degenerates to hard shadows.
-pub(crate) fn is_point_light(light: &Light) -> bool {
+pub(crate) fn has_no_size(light: &Light) -> bool {
     light_size_term(light) <= 0.0
 }
 
