@@ -8,11 +8,10 @@
 //! as a back face by its geometry turned outward by the smoothed normal, so the winding never
 //! matters. Alpha-masked casters are drawn whole.
 
-use crate::gpu_helpers::{Target, texture_bytes};
 use bytemuck::{Pod, Zeroable};
 
-use super::shadow_map::{begin_depth_pass, depth_state, light_depth_target, support_map_resolution};
-use super::{CascadeUniforms, CasterPipelines, SecondStream, TileClear};
+use super::light_atlas::{LightMapAtlas, begin_depth_pass, depth_state, support_map_resolution};
+use super::{CascadeUniforms, CasterPipelines, SecondStream};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
 use crate::light_space::{AtlasGrid, LightView};
@@ -26,21 +25,15 @@ struct ExitLightUniform {
 }
 
 pub struct ExitMapPass {
-    texture: wgpu::Texture,
-    view: wgpu::TextureView,
-    uniform: CascadeUniforms,
-    /// The atlas's tiles, their texels a side (half the shadow map's), and the cascades drawn.
-    grid: AtlasGrid,
-    tile: u32,
-    cascades: u32,
+    /// The atlas's tiles: half the shadow map's texels a side.
+    atlas: LightMapAtlas,
     pipelines: CasterPipelines,
-    clear: TileClear,
 }
 
 impl ExitMapPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.texture) + self.uniform.allocated_bytes()
+        self.atlas.allocated_bytes()
     }
 
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
@@ -71,21 +64,16 @@ impl ExitMapPass {
             wgpu::PrimitiveState::default(),
             depth_state(settings),
         );
-        let Target { texture, view } = light_depth_target(
-            device,
-            settings,
-            (grid, support_map_resolution(tile)),
-            "ExitMapPass::exit_map",
-        );
         Self {
-            texture,
-            view,
-            uniform,
-            grid,
-            tile: support_map_resolution(tile),
-            cascades: 1,
+            atlas: LightMapAtlas::new(
+                device,
+                settings,
+                (grid, support_map_resolution(tile)),
+                "ExitMapPass::exit_map",
+                uniform,
+                None,
+            ),
             pipelines,
-            clear: TileClear::new(device, settings.depth_format.texture_format(), None),
         }
     }
 
@@ -98,25 +86,17 @@ impl ExitMapPass {
         grid: AtlasGrid,
         tile: u32,
     ) {
-        Target {
-            texture: self.texture,
-            view: self.view,
-        } = light_depth_target(
-            device,
-            settings,
-            (grid, support_map_resolution(tile)),
-            "ExitMapPass::exit_map",
-        );
-        (self.grid, self.tile) = (grid, support_map_resolution(tile));
+        self.atlas
+            .resize(device, settings, grid, support_map_resolution(tile));
     }
 
     /// The exit depth map.
     pub fn view(&self) -> &wgpu::TextureView {
-        &self.view
+        &self.atlas.map.view
     }
 
     pub fn texture(&self) -> &wgpu::Texture {
-        &self.texture
+        &self.atlas.map.texture
     }
 
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view.
@@ -136,26 +116,27 @@ impl ExitMapPass {
                 view_proj: cascade.view_projection.to_cols_array_2d(),
                 light: position.to_array(),
             };
-            self.uniform.write(queue, i, bytemuck::bytes_of(&uniform));
+            self.atlas.uniform.write(queue, i, bytemuck::bytes_of(&uniform));
         }
-        self.uniform.cull_to(light, 0.0, layers);
-        self.cascades = light.cascades().len() as u32;
+        self.atlas.prepared(light, 0.0, layers);
     }
 
     /// The next [`Self::encode`] redraws only the tiles whose bit is set (see
     /// [`super::ShadowMapPass::redraw_only`]).
     pub(crate) fn redraw_only(&mut self, tiles: u32) {
-        self.uniform.redraw_only(tiles);
+        self.atlas.uniform.redraw_only(tiles);
     }
 
     /// Records the pass: every caster's back faces ([`Self::prepare`] first).
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
-        let keep = self.uniform.keeps_tiles(self.cascades);
-        let mut pass = begin_depth_pass(encoder, "ExitMapPass", &self.view, keep);
-        let tiles = (self.tile, self.grid, self.cascades);
-        self.uniform
-            .draw_tiles(&mut pass, tiles, &self.clear, |pass, cull| {
-                casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));
-            });
+        let mut pass = begin_depth_pass(
+            encoder,
+            "ExitMapPass",
+            &self.atlas.map.view,
+            self.atlas.keeps_tiles(),
+        );
+        self.atlas.draw_tiles(&mut pass, |pass, cull| {
+            casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));
+        });
     }
 }

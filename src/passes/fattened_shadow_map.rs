@@ -14,8 +14,8 @@
 use crate::gpu_helpers::{Target, texture_bytes};
 use bytemuck::{Pod, Zeroable};
 
-use super::shadow_map::{depth_pass_descriptor, depth_state, light_depth_target, support_map_resolution};
-use super::{CascadeUniforms, CasterPipelines, SecondStream, TileClear, cleared, kept};
+use super::light_atlas::{LightMapAtlas, depth_pass_descriptor, depth_state, support_map_resolution};
+use super::{CascadeUniforms, CasterPipelines, SecondStream, cleared, kept};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
 use crate::light_space::{AtlasGrid, LightView};
@@ -31,25 +31,17 @@ struct FattenUniform {
 }
 
 pub struct FattenedShadowMapPass {
-    texture: wgpu::Texture,
-    view: wgpu::TextureView,
+    /// The atlas's tiles: half the shadow map's texels a side.
+    atlas: LightMapAtlas,
     /// World units from the fattened surface back to the caster's own surface, along the light.
     occluder_offset: Target,
-    uniform: CascadeUniforms,
-    /// The atlas's tiles, their texels a side (half the shadow map's), and the cascades drawn.
-    grid: AtlasGrid,
-    tile: u32,
-    cascades: u32,
     pipelines: CasterPipelines,
-    clear: TileClear,
 }
 
 impl FattenedShadowMapPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.texture)
-            + texture_bytes(&self.occluder_offset.texture)
-            + self.uniform.allocated_bytes()
+        self.atlas.allocated_bytes() + texture_bytes(&self.occluder_offset.texture)
     }
 
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
@@ -84,21 +76,18 @@ impl FattenedShadowMapPass {
             wgpu::PrimitiveState::default(),
             depth_state(settings),
         );
-        let (Target { texture, view }, occluder_offset) = Self::targets(device, settings, grid, tile);
-        Self {
-            texture,
-            view,
-            occluder_offset,
+        let atlas = LightMapAtlas::new(
+            device,
+            settings,
+            (grid, support_map_resolution(tile)),
+            "FattenedShadowMapPass::fattened_map",
             uniform,
-            grid,
-            tile: support_map_resolution(tile),
-            cascades: 1,
+            Some(Self::OFFSET_FORMAT),
+        );
+        Self {
+            occluder_offset: Self::occluder_offset_target(device, &atlas),
+            atlas,
             pipelines,
-            clear: TileClear::new(
-                device,
-                settings.depth_format.texture_format(),
-                Some(Self::OFFSET_FORMAT),
-            ),
         }
     }
 
@@ -107,39 +96,22 @@ impl FattenedShadowMapPass {
     /// fatten distance needs (a relative 1e-3).
     pub const OFFSET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 
-    /// The fattened map and the occluder offsets, `grid`'s tiles of half `tile` texels.
-    fn targets(
-        device: &wgpu::Device,
-        settings: &ShadowMapSettings,
-        grid: AtlasGrid,
-        tile: u32,
-    ) -> (Target, Target) {
-        let fattened = light_depth_target(
-            device,
-            settings,
-            (grid, support_map_resolution(tile)),
-            "FattenedShadowMapPass::fattened_map",
-        );
-        let offset = device.create_texture(&wgpu::TextureDescriptor {
+    /// The occluder offsets, as large as `atlas`'s map.
+    fn occluder_offset_target(device: &wgpu::Device, atlas: &LightMapAtlas) -> Target {
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("FattenedShadowMapPass::occluder_offset"),
             format: Self::OFFSET_FORMAT,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::TEXTURE_BINDING
                 | wgpu::TextureUsages::COPY_SRC,
-            size: fattened.texture.size(),
+            size: atlas.map.texture.size(),
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             view_formats: &[],
         });
-        let offset_view = offset.create_view(&Default::default());
-        (
-            fattened,
-            Target {
-                texture: offset,
-                view: offset_view,
-            },
-        )
+        let view = texture.create_view(&Default::default());
+        Target { texture, view }
     }
 
     /// Makes the maps again for a shadow map of `tile` texels a tile (the pipelines stay); they
@@ -151,14 +123,14 @@ impl FattenedShadowMapPass {
         grid: AtlasGrid,
         tile: u32,
     ) {
-        let (Target { texture, view }, offset) = Self::targets(device, settings, grid, tile);
-        (self.texture, self.view, self.occluder_offset) = (texture, view, offset);
-        (self.grid, self.tile) = (grid, support_map_resolution(tile));
+        self.atlas
+            .resize(device, settings, grid, support_map_resolution(tile));
+        self.occluder_offset = Self::occluder_offset_target(device, &self.atlas);
     }
 
     /// The fattened depth map.
     pub fn view(&self) -> &wgpu::TextureView {
-        &self.view
+        &self.atlas.map.view
     }
 
     /// The occluder offset ([`Self::OFFSET_FORMAT`]): how far behind the fattened surface the
@@ -168,7 +140,7 @@ impl FattenedShadowMapPass {
     }
 
     pub fn texture(&self) -> &wgpu::Texture {
-        &self.texture
+        &self.atlas.map.texture
     }
 
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view and
@@ -192,22 +164,21 @@ impl FattenedShadowMapPass {
                 light: light_position.to_array(),
                 params: [fatten_distance, 0.0, 0.0, 0.0],
             };
-            self.uniform.write(queue, i, bytemuck::bytes_of(&uniform));
+            self.atlas.uniform.write(queue, i, bytemuck::bytes_of(&uniform));
         }
         // Pushed out, a caster reaches `fatten_distance` past its box.
-        self.uniform.cull_to(light, fatten_distance, layers);
-        self.cascades = light.cascades().len() as u32;
+        self.atlas.prepared(light, fatten_distance, layers);
     }
 
     /// The next [`Self::encode`] redraws only the tiles whose bit is set (see
     /// [`super::ShadowMapPass::redraw_only`]).
     pub(crate) fn redraw_only(&mut self, tiles: u32) {
-        self.uniform.redraw_only(tiles);
+        self.atlas.uniform.redraw_only(tiles);
     }
 
     /// Records the pass: every caster, inflated ([`Self::prepare`] first).
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
-        let keep = self.uniform.keeps_tiles(self.cascades);
+        let keep = self.atlas.keeps_tiles();
         let offset = &self.occluder_offset.view;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("FattenedShadowMapPass"),
@@ -216,12 +187,10 @@ impl FattenedShadowMapPass {
             } else {
                 cleared(offset, wgpu::Color::TRANSPARENT)
             }],
-            ..depth_pass_descriptor(&self.view, keep)
+            ..depth_pass_descriptor(&self.atlas.map.view, keep)
         });
-        let tiles = (self.tile, self.grid, self.cascades);
-        self.uniform
-            .draw_tiles(&mut pass, tiles, &self.clear, |pass, cull| {
-                casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));
-            });
+        self.atlas.draw_tiles(&mut pass, |pass, cull| {
+            casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));
+        });
     }
 }

@@ -37,6 +37,7 @@ mod exit_map;
 mod fattened_shadow_map;
 #[cfg(feature = "renderer")]
 mod forward;
+mod light_atlas;
 mod pcf;
 mod pcss;
 #[cfg(feature = "renderer")]
