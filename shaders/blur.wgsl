@@ -129,7 +129,7 @@ fn finish(v: vec4<f32>, d: vec4<f32>) -> vec4<f32> {
     if blur.resolve == 0u {
         return v;
     }
-    let k = frame.penumbra.indirect_weight * d / (d + frame.penumbra.indirect_half_distance);
+    let k = vec4<f32>(indirect_share(d.x), indirect_share(d.y), indirect_share(d.z), indirect_share(d.w));
     return clamp(mix(v, vec4<f32>(1.0), k), vec4<f32>(0.0), vec4<f32>(1.0));
 }
 

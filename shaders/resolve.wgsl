@@ -22,7 +22,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     var v = textureLoad(visibility, pixel, 0).x;
     if frame.view.has_distance_map != 0u {
         let d = textureLoad(distance_map, pixel, 0).x;
-        v = mix(v, 1.0, frame.penumbra.indirect_weight * d / (d + frame.penumbra.indirect_half_distance));
+        v = mix(v, 1.0, indirect_share(d));
     }
     return vec4<f32>(clamp(v, 0.0, 1.0));
 }

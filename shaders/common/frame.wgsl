@@ -201,6 +201,13 @@ fn penumbra_width(d: f32, world: vec3<f32>) -> f32 {
     return frame.light.size_term * penumbra_scale(d, world);
 }
 
+// The share of a receiver's direct light that reaches it anyway `d` behind its occluder (the
+// bounced light `PenumbraSettings::indirect_weight` stands for): a shadow's visibility v is
+// lifted to mix(v, 1, k d / (d + h)), k the weight, h half the casters' bounding radius.
+fn indirect_share(d: f32) -> f32 {
+    return frame.penumbra.indirect_weight * d / (d + frame.penumbra.indirect_half_distance);
+}
+
 // The penumbra's width per unit of the light's size term (`penumbra_width` over `size_term`),
 // at a receiver `d` behind its occluder along the light's axis: d for a directional light,
 // d' / (D - d') for a light at distance D from the receiver, d' = d along the ray through the
