@@ -22,7 +22,7 @@
 use crate::gpu_helpers::{Target, texture_bytes};
 use bytemuck::{Pod, Zeroable};
 
-use super::tile_classify::tiles_layout;
+use super::tiles_layout;
 use super::{
     CLASSIFICATION_FORMAT, Classification, DepthUse, Fullscreen, VISIBILITY_FORMAT, classified_test,
     draw_fullscreen_into, entry, screen_target,

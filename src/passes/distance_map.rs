@@ -30,7 +30,8 @@ use super::{begin_pass, depth_attachment};
 use crate::frame::DistanceSwitches;
 use crate::gpu_helpers::{Target, texture_bytes};
 
-use super::tile_classify::{TileClassifyPass, tiles_layout};
+use super::tile_classify::TileClassifyPass;
+use super::tiles_layout;
 use super::{
     CLASSIFICATION_FORMAT, Classification, Fullscreen, LIGHT_KIND, cleared, draw_area, entry, screen_target,
 };

@@ -166,6 +166,20 @@ pub(crate) struct Tiles<'a> {
 /// The bind group index of the kept tiles (`shaders/common/tiles.wgsl`).
 pub(crate) const TILES_GROUP: u32 = 2;
 
+/// The layout of the kept tiles' bind group ([`TILES_GROUP`], `shaders/common/tiles.wgsl`):
+/// the classes, read by the vertex stage. wgpu gives equal layouts one identity, so each pass
+/// that draws tiles makes its own and uses the group the tile classification makes.
+pub(crate) fn tiles_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    crate::gpu_helpers::layout(
+        device,
+        "tiles_layout",
+        &[wgpu::BindGroupLayoutEntry {
+            visibility: wgpu::ShaderStages::VERTEX,
+            ..entry::unfilterable(0)
+        }],
+    )
+}
+
 /// Draws the screen: the kept `tiles` when given (the pipeline's vertex stage is then
 /// `vs_tile`), else the full-screen triangle.
 pub(crate) fn draw_area(pass: &mut wgpu::RenderPass<'_>, tiles: Option<Tiles>) {

@@ -11,7 +11,7 @@
 //! fattened depth under its footprint in each cascade or cube face it can use; 0 where none
 //! can (conservative: see `shaders/tile_classify.wgsl`).
 
-use super::{Fullscreen, LIGHT_KIND, Tiles, entry, screen_target};
+use super::{Fullscreen, LIGHT_KIND, Tiles, entry, screen_target, tiles_layout};
 use crate::gpu_helpers::{Target, texture_bytes};
 
 /// Screen pixels per tile side (`TILE` in the shader).
@@ -23,20 +23,6 @@ pub const REDUCE: u32 = 8;
 /// depth down before storing it, so the stored value never lies behind the true one.
 const REDUCED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 const CLASS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
-
-/// The layout of the kept tiles' bind group ([`super::TILES_GROUP`], `shaders/common/tiles.wgsl`):
-/// the classes, read by the vertex stage. wgpu gives equal layouts one identity, so the passes
-/// that draw tiles make their own and use the group this pass makes.
-pub(crate) fn tiles_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    crate::gpu_helpers::layout(
-        device,
-        "tiles_layout",
-        &[wgpu::BindGroupLayoutEntry {
-            visibility: wgpu::ShaderStages::VERTEX,
-            ..entry::unfilterable(0)
-        }],
-    )
-}
 
 pub(crate) struct TileClassifyPass {
     layout: wgpu::BindGroupLayout,

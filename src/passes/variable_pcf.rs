@@ -19,7 +19,7 @@
 //! which the blur then reads with one fetch a tap for all the lights.
 
 use super::blur::PackedVisibility;
-use super::tile_classify::tiles_layout;
+use super::tiles_layout;
 use super::{
     Classification, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, draw_area, entry, kept, screen_target,
 };
