@@ -10,7 +10,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::light_atlas::{LightMapAtlas, begin_depth_pass, depth_state, support_map_resolution};
+use super::light_atlas::{LightMapAtlas, depth_state, support_map_resolution};
 use super::{CascadeUniforms, CasterPipelines, SecondStream};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
@@ -129,13 +129,7 @@ impl ExitMapPass {
 
     /// Records the pass: every caster's back faces ([`Self::prepare`] first).
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
-        let mut pass = begin_depth_pass(
-            encoder,
-            "ExitMapPass",
-            &self.atlas.map.view,
-            self.atlas.keeps_tiles(),
-        );
-        self.atlas.draw_tiles(&mut pass, |pass, cull| {
+        self.atlas.encode_depth(encoder, "ExitMapPass", |pass, cull| {
             casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));
         });
     }

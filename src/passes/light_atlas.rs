@@ -81,6 +81,18 @@ impl LightMapAtlas {
         self.uniform.keeps_tiles(self.cascades)
     }
 
+    /// Records a depth-only pass `label` that clears the atlas (or the tiles to redraw) and
+    /// `draw`s each tile to redraw.
+    pub fn encode_depth(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        label: &str,
+        draw: impl FnMut(&mut wgpu::RenderPass<'_>, Cull),
+    ) {
+        let mut pass = begin_depth_pass(encoder, label, &self.map.view, self.keeps_tiles());
+        self.draw_tiles(&mut pass, draw);
+    }
+
     /// Draws each tile to redraw into `pass` ([`CascadeUniforms::draw_tiles`]).
     pub fn draw_tiles(
         &self,
@@ -152,7 +164,7 @@ pub(super) fn depth_pass_descriptor(view: &wgpu::TextureView, keep: bool) -> wgp
 }
 
 /// Begins a depth-only pass that clears `view` to the far plane (or with `keep` loads it).
-pub(super) fn begin_depth_pass<'e>(
+fn begin_depth_pass<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
     label: &str,
     view: &wgpu::TextureView,

@@ -9,7 +9,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::light_atlas::{LightMapAtlas, begin_depth_pass, depth_state};
+use super::light_atlas::{LightMapAtlas, depth_state};
 use super::{CascadeUniforms, CasterPipelines, SecondStream};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
@@ -162,13 +162,7 @@ impl ShadowMapPass {
     /// Records the pass: clears the map (or the tiles to redraw) and draws every caster
     /// ([`Self::prepare`] first).
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
-        let mut pass = begin_depth_pass(
-            encoder,
-            "ShadowMapPass",
-            &self.atlas.map.view,
-            self.atlas.keeps_tiles(),
-        );
-        self.atlas.draw_tiles(&mut pass, |pass, cull| {
+        self.atlas.encode_depth(encoder, "ShadowMapPass", |pass, cull| {
             casters.draw(pass, Streams::OpaqueDepth, cull, |l| self.opaque.get(l));
             casters.draw(pass, Streams::MaskedDepth, cull, |l| self.masked.get(l));
         });
