@@ -108,10 +108,6 @@ fn distance_at(frag: vec2<f32>) -> Out {
     var d = fattened_distance(p, texel, fattened_depth);
     if NEAREST_CASTER && !beside {
         d = nearest_silhouette(world, p, d, light_linear_depth(fattened_depth) + textureLoad(occluder_offset, texel, 0).x);
-        // A silhouette farther from the receiver than the caster that hides the light's centre
-        // belongs to a caster above it, seen past that caster only where it ends.
-        let own = light_linear_depth(p.z) - light_linear_depth(textureLoad(shadow_map, shadow_texel(p.xy), 0).x);
-        d = min(d, max(own, 0.0));
     }
     return classified(d, 1.0, select(0.5 * BESIDE, BESIDE, beside));
 }
@@ -276,7 +272,11 @@ const SILHOUETTE_BISECTIONS: i32 = 2;
 // there), with steps that widen away from the receiver, on the rays whose farthest tap is free
 // of casters; the nearest crossing in angle is then bisected, and the last caster texel before
 // it gives the distance. `d` where no silhouette is in reach (deep in the umbra, where the
-// width does not show).
+// width does not show). Either is at most the distance to the caster that hides the light's
+// centre (the shadow map's own texel, when not the receiver's own surface): a silhouette
+// farther from the receiver belongs to a caster above that one, seen past it only where it
+// ends. (Under the room's desk, the monitor's edge seen past the desk's top, read as the
+// distance, let the taps reach light through the slit between the desk and the wall.)
 fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32) -> f32 {
     let size = vec2<f32>(textureDimensions(shadow_map));
     let tile = frame.cascades.tile[cascade];
@@ -357,7 +357,7 @@ fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32) -> f32
             best = clamp(2.0 * near - far, near, max(best, near));
         }
     }
-    return best;
+    return min(best, own);
 }
 
 // The distance from a receiver at light depth `receiver_depth` back to the exit map's back face
