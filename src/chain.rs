@@ -570,9 +570,10 @@ impl ComputeTargets {
 }
 
 /// A light's screen-space passes, one variant per [`Chain`] (one value per light, made when its
-/// chain changes: their sizes differ, unboxed). The distance-map method's blur as
-/// draws is not here: one blur pass serves up to four lights (`Shadows::blurs`); the compute
-/// path's is.
+/// chain changes: their sizes differ, unboxed). Each chain owns every pass it runs, blur
+/// included, except the distance-map method's blur as draws when lights are blurred in batches
+/// ([`crate::PenumbraSettings::batch_lights`]): one blur pass then serves up to four lights,
+/// and `Shadows` owns it.
 #[allow(clippy::large_enum_variant)]
 pub(crate) enum ScreenChain {
     MapOnly,
@@ -589,6 +590,8 @@ pub(crate) enum ScreenChain {
     DistanceMap {
         distance: DistanceMapPass,
         pcf: VariablePcfPass,
+        /// Its vertical draw writes the layer; none without a blur, or in a batch.
+        blur: Option<BlurPass>,
         /// Writes the layer when the chain has no blur.
         resolve: ResolvePass,
     },
@@ -628,8 +631,12 @@ impl ScreenChain {
                     + pcf.allocated_bytes()
                     + blur.as_ref().map_or(0, BlurCompute::allocated_bytes)
             }
-            ScreenChain::DistanceMap { distance, pcf, .. } => {
-                distance.allocated_bytes() + pcf.allocated_bytes()
+            ScreenChain::DistanceMap {
+                distance, pcf, blur, ..
+            } => {
+                distance.allocated_bytes()
+                    + pcf.allocated_bytes()
+                    + blur.as_ref().map_or(0, BlurPass::allocated_bytes)
             }
             ScreenChain::FixedPcf { pcf, blur, .. } => {
                 pcf.allocated_bytes() + blur.as_ref().map_or(0, BlurPass::allocated_bytes)
@@ -668,9 +675,11 @@ impl ScreenChain {
                 resolve: resolve(),
                 targets: None,
             },
-            Chain::DistanceMap { .. } => ScreenChain::DistanceMap {
+            Chain::DistanceMap { blur, .. } => ScreenChain::DistanceMap {
                 distance: DistanceMapPass::new(device, FRAME_SIZE, params.distance_switches, kind),
                 pcf: VariablePcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind),
+                blur: (*blur && !params.batch_lights)
+                    .then(|| BlurPass::new(device, FRAME_SIZE, params.blur_switches, 1)),
                 resolve: resolve(),
             },
             Chain::FixedPcf { blur, compute: true } => ScreenChain::FixedPcfCompute {
@@ -720,11 +729,22 @@ impl ScreenChain {
                     && blur.is_some() == *wanted
                     && blur.as_ref().is_none_or(|b| b.switches() == params.blur_switches)
             }
-            (ScreenChain::DistanceMap { distance, pcf, .. }, Chain::DistanceMap { compute: false, .. }) => {
+            (
+                ScreenChain::DistanceMap {
+                    distance, pcf, blur, ..
+                },
+                Chain::DistanceMap {
+                    compute: false,
+                    blur: wanted,
+                    ..
+                },
+            ) => {
                 distance.switches() == params.distance_switches
                     && distance.light_kind() == kind
                     && pcf.switches() == params.pcf_switches
                     && pcf.light_kind() == kind
+                    && blur.is_some() == (*wanted && !params.batch_lights)
+                    && blur.as_ref().is_none_or(|b| b.switches() == params.blur_switches)
             }
             (
                 ScreenChain::FixedPcf { pcf, blur, .. },
@@ -766,9 +786,14 @@ impl ScreenChain {
             ScreenChain::MapOnly => {}
             // The shared intermediates are the screen's size (`Shadows` makes them).
             ScreenChain::DistanceMapCompute { targets, .. } => *targets = None,
-            ScreenChain::DistanceMap { distance, pcf, .. } => {
+            ScreenChain::DistanceMap {
+                distance, pcf, blur, ..
+            } => {
                 distance.resize(device, w, h);
                 pcf.resize(device, w, h);
+                if let Some(blur) = blur {
+                    blur.resize(device, w, h);
+                }
             }
             ScreenChain::FixedPcf { pcf, blur, .. } => {
                 pcf.resize(device, w, h);
@@ -792,7 +817,12 @@ impl ScreenChain {
                     blur.prepare(queue, &params.blur);
                 }
             }
-            ScreenChain::DistanceMap { pcf, .. } => pcf.prepare(queue, &params.pcf),
+            ScreenChain::DistanceMap { pcf, blur, .. } => {
+                pcf.prepare(queue, &params.pcf);
+                if let Some(blur) = blur {
+                    blur.prepare(queue, &params.blur);
+                }
+            }
             ScreenChain::FixedPcf { pcf, blur, .. } => {
                 pcf.prepare(queue, &params.pcf);
                 if let Some(blur) = blur {
@@ -873,6 +903,7 @@ impl ScreenChain {
             ScreenChain::DistanceMap {
                 distance,
                 pcf,
+                blur,
                 resolve,
             } => {
                 let Some((fattened, exit)) = &maps.fattened else {
@@ -889,7 +920,15 @@ impl ScreenChain {
                     mask,
                 );
                 pcf.bind(device, frame, depth, distance.distance_map(), shadow_map);
-                // The blur (batched over lights) is bound by `Shadows`.
+                // A blur batched over lights is bound by `Shadows`.
+                if let Some(blur) = blur {
+                    let input = BlurInput {
+                        visibility: pcf.visibility(),
+                        distance_map: distance.distance_map(),
+                        blur_sigma: pcf.blur_sigma(),
+                    };
+                    blur.bind(device, frame, (depth, mask), &[input], dummy);
+                }
                 resolve.bind(
                     device,
                     frame,
@@ -959,7 +998,7 @@ impl ScreenChain {
     /// Records `chain`'s passes in order into the light's `layer` (`maps_drawn`: the light's
     /// maps were drawn this frame), calling `mark(encoder, pass)` after each. `packed`: the
     /// light is blurred in a batch, whose packed visibility its PCF also writes (`.1`: it comes
-    /// first and clears it). The distance-map method's blur runs after every light's chain.
+    /// first and clears it); its batch's blur runs after every light's chain.
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -1000,6 +1039,7 @@ impl ScreenChain {
             ScreenChain::DistanceMap {
                 distance,
                 pcf,
+                blur,
                 resolve,
             } => {
                 run(encoder, mark, "distance map", &|e| distance.encode(e, maps_drawn));
@@ -1009,6 +1049,12 @@ impl ScreenChain {
                         pcf.encode_packed(e, classification, packed, first)
                     }),
                     None => run(encoder, mark, "pcf", &|e| pcf.encode(e, classification)),
+                }
+                // Batched, the blur runs after every light's chain (`Shadows`).
+                if let Some(blur) = blur {
+                    run(encoder, mark, "blur", &|e| {
+                        blur.encode(e, Some(classification), &[layer])
+                    });
                 }
                 if chain.resolve() {
                     run(encoder, mark, "resolve", &|e| resolve.encode(e, layer));

@@ -199,6 +199,10 @@ pub(crate) struct PassParams {
     /// The compute path classifies its tiles (`Auto` is on for every device there: a tile
     /// list costs nothing where no tile is dropped).
     pub list_tiles: bool,
+    /// The distance-map method's blur as draws serves up to four lights at once
+    /// ([`crate::PenumbraSettings::batch_lights`]): `Shadows` owns those passes, not the
+    /// lights' chains.
+    pub batch_lights: bool,
 }
 
 impl PassParams {
@@ -293,6 +297,7 @@ impl PassParams {
                 _pad: [0.0; 2],
             },
             list_tiles: tiles,
+            batch_lights: p.batch_lights,
         }
     }
 }

@@ -252,9 +252,10 @@ pub struct Shadows {
     /// The light whose chain runs last, so that its intermediates stay readable
     /// ([`Shadows::inspect`]).
     inspected: Option<LightId>,
-    /// The distance-map method's blurs: up to four lights each (one each when
-    /// [`PenumbraSettings::batch_lights`](crate::PenumbraSettings::batch_lights) is off),
-    /// with the slots of the lights they blur.
+    /// The distance-map method's blurs as draws batched over lights
+    /// ([`PenumbraSettings::batch_lights`](crate::PenumbraSettings::batch_lights)): up to
+    /// four lights each, with the slots of the lights they blur. Unbatched, each light's chain
+    /// owns its blur.
     blurs: Vec<(Vec<usize>, BlurPass)>,
     /// 1x1 stand-ins for inputs a chain does not have.
     dummy: Target,
@@ -789,27 +790,27 @@ impl Shadows {
         Ok(())
     }
 
-    /// Groups the lights whose chain blurs after the distance map (up to four per pass, in
-    /// slot order), makes or keeps a blur pass per group and points it at the lights' inputs
-    /// when they changed (`rebound`: some light's passes were made or bound again this frame).
+    /// With [`PenumbraSettings::batch_lights`], groups the lights whose chain blurs after the
+    /// distance map as draws (up to four per pass, in slot order), makes or keeps a blur pass
+    /// per group and points it at the lights' inputs when they changed (`rebound`: some light's
+    /// passes were made or bound again this frame). Without it each chain blurs on its own.
     fn plan_blurs(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, resized: bool, rebound: bool) {
         let (width, height) = self.size;
+        let batched = self.settings.penumbra.batch_lights;
         let blurred: Vec<usize> = self
             .lights
             .iter()
             .enumerate()
             .filter_map(|(slot, s)| {
                 let chain = s.as_ref()?.planned?.chain;
-                // The compute path's blur is its chain's own.
-                (chain.blur() && chain.distance_map() && !chain.compute()).then_some(slot)
+                // The compute path's blur, and an unbatched one, are the chain's own.
+                (batched && chain.blur() && chain.distance_map() && !chain.compute()).then_some(slot)
             })
             .collect();
-        let per_pass = if self.settings.penumbra.batch_lights {
-            MAX_BATCHED_LIGHTS
-        } else {
-            1
-        };
-        let groups: Vec<Vec<usize>> = blurred.chunks(per_pass).map(<[usize]>::to_vec).collect();
+        let groups: Vec<Vec<usize>> = blurred
+            .chunks(MAX_BATCHED_LIGHTS)
+            .map(<[usize]>::to_vec)
+            .collect();
         // In a batch, each light's variable PCF also writes its channel of the batch's packed
         // textures.
         for slots in &groups {
@@ -981,7 +982,7 @@ impl Shadows {
             reports.push(report);
         }
         if self.screen_space {
-            // The distance-map method's blurs, each over its group of lights.
+            // The distance-map method's batched blurs, each over its group of lights.
             for (slots, pass) in &self.blurs {
                 let targets: Vec<&wgpu::TextureView> = slots.iter().map(|&slot| &layers[slot]).collect();
                 let classification = match slots.as_slice() {
