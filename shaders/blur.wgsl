@@ -207,7 +207,12 @@ fn ends_agree(c: u32, frag: vec2<f32>, center: f32, sigma: f32) -> bool {
 // Whether the surface at `pixel` takes shadows: something was drawn there and the receiver
 // mask, when one is bound, keeps it.
 fn receives(pixel: vec2<i32>) -> bool {
-    if is_background(textureLoad(camera_depth, pixel, 0).x) {
+    return receives_at(pixel, textureLoad(camera_depth, pixel, 0).x);
+}
+
+// `receives` for a pixel whose camera depth `depth` is loaded already.
+fn receives_at(pixel: vec2<i32>, depth: f32) -> bool {
+    if is_background(depth) {
         return false;
     }
     return frame.view.has_receiver_mask == 0u || textureLoad(receiver_mask, pixel, 0).x >= 0.5;
@@ -235,13 +240,14 @@ fn depth_slope(pixel: vec2<i32>, depth: f32) -> f32 {
     return select(0.0, 0.5 * (ahead + behind), flat_here);
 }
 
-// The weight of a tap at `tap_pixel`, `offset` pixels along the axis from the blurred pixel:
+// The weight of a tap whose camera depth is `tap_depth`, `offset` pixels along the axis from
+// the blurred pixel:
 // close to 1 where its depth is where the pixel's plane would put it, falling off with the
 // difference relative to that depth (2% is one e-fold). On a receiver seen at a grazing angle
 // the depth changes a lot along a wide blur; measured against the plane, the taps on that
 // receiver keep their weight and those across a depth edge lose it.
-fn depth_weight(surface: BlurCenter, tap_pixel: vec2<i32>, offset: f32) -> f32 {
-    let tap_z = view_depth(textureLoad(camera_depth, tap_pixel, 0).x);
+fn depth_weight(surface: BlurCenter, tap_depth: f32, offset: f32) -> f32 {
+    let tap_z = view_depth(tap_depth);
     let expected = view_depth(clamp(surface.depth + surface.slope * offset, 0.0, 1.0));
     let relative = (tap_z - expected) / max(expected * 0.02, 1e-20);
     return exp(-relative * relative);
@@ -265,14 +271,19 @@ fn taps(frag: vec2<f32>, center: vec4<f32>, surface: BlurCenter, radius: i32, st
             let tap_uv = uv + direction * f32(k * s);
             var weight = 1.0;
             let tap_pixel = clamp(vec2<i32>(tap_uv * frame.view.size), vec2<i32>(0), vec2<i32>(frame.view.size) - 1);
+            // One load of the tap's depth serves both tests below.
+            var tap_depth = 0.0;
+            if DEPTH_AWARE || !FIXED_STEP {
+                tap_depth = textureLoad(camera_depth, tap_pixel, 0).x;
+            }
             if DEPTH_AWARE {
                 let offset = dot(vec2<f32>(tap_pixel - vec2<i32>(frag)), blur.axis.xy);
-                weight = depth_weight(surface, tap_pixel, offset);
+                weight = depth_weight(surface, tap_depth, offset);
             }
             // Surfaces that receive no shadow (the receiver mask's and the background: the same
             // for every light) are not blurred into those that do. Read from the depth and the
             // mask themselves: the distance map marks them only on the tiles it drew.
-            if !FIXED_STEP && !receives(tap_pixel) {
+            if !FIXED_STEP && !receives_at(tap_pixel, tap_depth) {
                 weight = 0.0;
             }
             let tap_weight = w * weight;

@@ -83,33 +83,56 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
 
 // The distance, mask and classification at pixel centre `frag` (the first draw's).
 fn distance_at(frag: vec2<f32>) -> Out {
+    return classify_at(frag).out;
+}
+
+// A pixel as the first draw sees it, and what the compute path's beside search reuses.
+struct Classified {
+    out: Out,
+    world: vec3<f32>,
+    p: vec3<f32>,
+}
+
+fn classify_at(frag: vec2<f32>) -> Classified {
+    var c: Classified;
     let pixel = vec2<i32>(frag);
     let depth = textureLoad(camera_depth, pixel, 0).x;
     if is_background(depth) {
-        return classified(0.0, -2.0, 0.0);
+        c.out = classified(0.0, -2.0, 0.0);
+        return c;
     }
     // Non-receivers are marked -1 so the blur can leave them out.
     if frame.view.has_receiver_mask != 0u && textureLoad(receiver_mask, pixel, 0).x < 0.5 {
-        return classified(0.0, -1.0, 0.0);
+        c.out = classified(0.0, -1.0, 0.0);
+        return c;
     }
     use_pixel_cascade(frag, depth);
     let world = world_position(frag, depth);
     let p = to_shadow_map(world);
+    c.world = world;
+    c.p = p;
     let texel = fattened_texel(p);
     let fattened_depth = textureLoad(fattened_map, texel, 0).x;
     let tile = frame.cascades.tile[cascade];
     let on_map = all(p.xy >= tile.xy) && all(p.xy <= tile.zw);
     let inside = on_map && fattened_depth < map_depth(p.z);
     if !inside {
-        return classified(0.0, 0.0, select(0.0, 0.5 * BESIDE, !MASK_EARLY_OUT));
+        c.out = classified(0.0, 0.0, select(0.0, 0.5 * BESIDE, !MASK_EARLY_OUT));
+        return c;
     }
     // Beside the shadow `fs_nearest_caster` takes the distance again.
-    let beside = NEAREST_CASTER && textureLoad(shadow_map, shadow_texel(p.xy), 0).x >= map_depth(p.z);
+    var own_depth = 0.0;
+    if NEAREST_CASTER {
+        own_depth = textureLoad(shadow_map, shadow_texel(p.xy), 0).x;
+    }
+    let beside = NEAREST_CASTER && own_depth >= map_depth(p.z);
     var d = fattened_distance(p, texel, fattened_depth);
     if NEAREST_CASTER && !beside {
-        d = nearest_silhouette(world, p, d, light_linear_depth(fattened_depth) + textureLoad(occluder_offset, texel, 0).x);
+        let own = light_linear_depth(p.z) - light_linear_depth(own_depth);
+        d = nearest_silhouette(world, p, d, light_linear_depth(fattened_depth) + textureLoad(occluder_offset, texel, 0).x, own);
     }
-    return classified(d, 1.0, select(0.5 * BESIDE, BESIDE, beside));
+    c.out = classified(d, 1.0, select(0.5 * BESIDE, BESIDE, beside));
+    return c;
 }
 
 // The full-screen triangle of the second draw, between the two classifications: tested with
@@ -159,9 +182,13 @@ fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gro
         return;
     }
     let frag = vec2<f32>(pixel) + 0.5;
-    var out = distance_at(frag);
+    let c = classify_at(frag);
+    var out = c.out;
+    // `beside_distance`, from what the first draw's work found: its distance beside a shadow
+    // is the fattened surface's.
     if NEAREST_CASTER && out.shadow_here >= BESIDE {
-        out.distance.x = beside_distance(frag);
+        let d = out.distance.x;
+        out.distance.x = min(d, nearest_caster(c.world, c.p, d));
     }
     textureStore(distance_out, pixel, vec4<f32>(out.distance.xy, out.shadow_here, 0.0));
 }
@@ -269,7 +296,7 @@ const SILHOUETTE_BISECTIONS: i32 = 2;
 // caster's top) nor its back face (`exit_map`: near a foot) stands for it everywhere; beside a
 // rounded body the silhouette lies between them. Searched along `SILHOUETTE_DIRECTIONS` rays out
 // to where the penumbra of the front's distance would reach (`front` the caster's light depth
-// there), with steps that widen away from the receiver, on the rays whose farthest tap is free
+// there; `own` the distance back to the caster the shadow map holds at the receiver's texel), with steps that widen away from the receiver, on the rays whose farthest tap is free
 // of casters; the nearest crossing in angle is then bisected, and the last caster texel before
 // it gives the distance. `d` where no silhouette is in reach (deep in the umbra, where the
 // width does not show). Either is at most the distance to the caster that hides the light's
@@ -277,7 +304,7 @@ const SILHOUETTE_BISECTIONS: i32 = 2;
 // farther from the receiver belongs to a caster above that one, seen past it only where it
 // ends. (Under the room's desk, the monitor's edge seen past the desk's top, read as the
 // distance, let the taps reach light through the slit between the desk and the wall.)
-fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32) -> f32 {
+fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32, own: f32) -> f32 {
     let size = vec2<f32>(textureDimensions(shadow_map));
     let tile = frame.cascades.tile[cascade];
     let receiver_depth = light_linear_depth(p.z);
@@ -288,7 +315,6 @@ fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32) -> f32
     let radius = search_radius(world, receiver_depth, uv_world_at_receiver, reach, size.x, INSIDE_REACH_TEXELS);
     // A caster texel closer than two texels along the light is the receiver's own surface.
     let texel_world = max_texel_world(world_size);
-    let own = receiver_depth - light_linear_depth(textureLoad(shadow_map, shadow_texel(p.xy), 0).x);
     if own <= 2.0 * texel_world {
         return d;
     }
@@ -318,7 +344,11 @@ fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32) -> f32
             if any(uv < tile.xy) || any(uv > tile.zw) {
                 break;
             }
-            let dt = receiver_depth - light_linear_depth(textureLoad(shadow_map, vec2<i32>(uv * size), 0).x);
+            // The last step is the ray's end, read above and found free.
+            var dt = 0.0;
+            if i < SILHOUETTE_STEPS {
+                dt = receiver_depth - light_linear_depth(textureLoad(shadow_map, vec2<i32>(uv * size), 0).x);
+            }
             if dt > 2.0 * texel_world {
                 caster = dt;
                 last = r;
