@@ -791,7 +791,8 @@ fn measure_batching(
 ) -> Result<Vec<BatchRun>> {
     let mut runs = Vec::new();
     // Equal lights, batched or not; then lights two to four a quarter of the first's size
-    // (their penumbrae smaller), batched.
+    // (their penumbrae smaller), batched and not (the default: each light's own chain, compute
+    // passes where the device has them).
     let mut configs = Vec::new();
     for (kind, apart_deg) in [("sun", 90.0f32), ("sun", 5.0), ("spot", 90.0), ("point", 90.0)] {
         for lights in [1usize, 2, 4] {
@@ -801,7 +802,9 @@ fn measure_batching(
         }
     }
     for kind in ["sun", "spot", "point"] {
-        configs.push((kind, 90.0, 4, true, 0.25));
+        for batched in [false, true] {
+            configs.push((kind, 90.0, 4, batched, 0.25));
+        }
     }
     {
         for (kind, apart_deg, lights, batched, size_ratio) in configs {
@@ -1484,14 +1487,15 @@ fn write_report(
     // batch, each added light's screen-space passes against the first light's.
     // The target's lights two to four have penumbrae smaller than the first's: a quarter of its
     // size. Lights as large as the first are shown beside it.
-    let added = |size_ratio: f32| -> Vec<(&BatchRun, f64)> {
+    let added_as = |size_ratio: f32, batched: bool| -> Vec<(&BatchRun, f64)> {
         embedding
             .batching
             .iter()
-            .filter(|r| r.lights == 4 && r.batched && r.size_ratio == size_ratio)
+            .filter(|r| r.lights == 4 && r.batched == batched && r.size_ratio == size_ratio)
             .filter_map(|r| Some((r, r.added_per_first(embedding.first_of(r)?))))
             .collect()
     };
+    let added = |size_ratio: f32| added_as(size_ratio, true);
     let list = |runs: &[(&BatchRun, f64)]| {
         runs.iter()
             .map(|(r, ratio)| format!("{} {} degrees apart {ratio:.2}x", r.kind, r.apart_deg))
@@ -1508,6 +1512,20 @@ fn write_report(
             list(&smaller),
             verdict(smaller.iter().all(|(_, ratio)| *ratio < 1.0)),
             list(&added(1.0)),
+        )?;
+    }
+    // Issue 39's form of it: at most half the first, on the default path (each light's own
+    // chain, its blur included: compute passes where the device has them).
+    let own_chains = added_as(0.25, false);
+    if !own_chains.is_empty() {
+        writeln!(
+            md,
+            "- lights two to four, a quarter of the first's size, each cost at most 0.5x the first \
+             (four still lights per type, each light's own chain as by default; screen-space \
+             passes): {} -> {} (batched: {})",
+            list(&own_chains),
+            verdict(own_chains.iter().all(|(_, ratio)| *ratio <= 0.5)),
+            list(&smaller),
         )?;
     }
     // Light-size sweep.
@@ -1582,7 +1600,9 @@ fn write_report(
          throw their shadows apart; suns 5 degrees apart throw them on top of each other. A \
          batched blur reads the lights' values packed and shares its taps among them, so it pays \
          where their penumbrae overlap; the variable PCF passes write the packed values besides \
-         their own. `sizes` is the size of lights two to four against the first's (angular \
+         their own. One blur per light is the default: each light's chain runs whole, its blur \
+         included, as compute passes where the device has them; batched blurs are draws. \
+         `sizes` is the size of lights two to four against the first's (angular \
          diameter or radius). `added` is what each light past the first adds.\n\n\
          | type | apart | sizes | lights | blur | distance map ms | pcf ms | blur ms | together ms | added ms |\n\
          |---|---|---|---|---|---|---|---|---|---|"

@@ -70,6 +70,8 @@ fn the_bench_writes_its_report() {
         "| point | 90 deg | x1 | 4 | one pass per light |",
         "| sun | 90 deg | x0.25 | 4 | batched |",
         "| point | 90 deg | x0.25 | 4 | batched |",
+        "| spot | 90 deg | x0.25 | 4 | one pass per light |",
+        "each cost at most 0.5x the first",
         "lights two to four add",
         "lights two to four, with penumbrae smaller than the first's",
         "## Compute passes against draws",
@@ -97,14 +99,15 @@ fn the_bench_writes_its_report() {
         serde_json::from_str(&std::fs::read_to_string(out.join("embedding.json")).unwrap()).unwrap();
     let batching = embedding["batching"].as_array().unwrap();
     // Suns apart and overlapping, spots, point lights; 1, 2 and 4 lights; batched or not; and
-    // four batched lights of each type whose lights two to four are a quarter of the first's size.
-    assert_eq!(batching.len(), 4 * 3 * 2 + 3);
+    // four lights of each type, batched or not, whose lights two to four are a quarter of the
+    // first's size.
+    assert_eq!(batching.len(), 4 * 3 * 2 + 6);
     assert_eq!(
         batching
             .iter()
             .filter(|r| r["size_ratio"].as_f64() == Some(0.25))
             .count(),
-        3
+        6
     );
     for run in batching {
         for pass in ["distance_map_ms", "pcf_ms", "blur_ms"] {
