@@ -1260,6 +1260,46 @@ fn write_report(
     use std::fmt::Write;
     let mut md = String::new();
     let preset = "medium";
+    let largest = *config.sizes.last().expect("a size");
+    write_header(&mut md, config, device, on_gpu)?;
+    write_fps_tables(&mut md, config, runs, preset)?;
+    write_every_run(&mut md, runs)?;
+    writeln!(md, "\n## Targets\n")?;
+    write_traditional_targets(&mut md, config, runs, preset, largest)?;
+    write_pcss_and_hard_targets(&mut md, config, runs, preset, largest)?;
+    write_size_and_front_targets(&mut md, config, runs, largest)?;
+    write_added_light_targets(&mut md, embedding)?;
+    write_light_sweep(&mut md, config, runs, largest)?;
+    write_embedding(&mut md, embedding)?;
+    write_geometry_passes(&mut md, embedding)?;
+    write_tiles(&mut md, &embedding.tiles, (embedding.width, embedding.height))?;
+    write_reduced(&mut md, &embedding.reduced, (embedding.width, embedding.height))?;
+    write_compute(&mut md, &embedding.compute, (embedding.width, embedding.height))?;
+    write_cascades(&mut md, config, embedding)?;
+    write_room(&mut md, config, embedding)?;
+    write_area(&mut md, config, embedding)?;
+    write_memory(&mut md, config, &embedding.memory)?;
+    std::fs::write(config.out_dir.join("report.md"), &md)?;
+    std::fs::write(
+        config.out_dir.join("embedding.json"),
+        serde_json::to_string_pretty(embedding)?,
+    )?;
+    std::fs::write(
+        config.out_dir.join("report.json"),
+        serde_json::to_string_pretty(runs)?,
+    )?;
+    plot_tradeoff(&config.out_dir.join("tradeoff.png"), runs, largest)?;
+    println!("{md}");
+    println!(
+        "wrote {}/report.md, report.json and tradeoff.png",
+        config.out_dir.display()
+    );
+    Ok(())
+}
+
+/// The report's title and what its figures are: the device, the frames, the reference.
+fn write_header(md: &mut String, config: &Config, device: &str, on_gpu: bool) -> Result<()> {
+    use std::fmt::Write;
     writeln!(md, "# penumbra benchmark ({} mode)\n", config.mode)?;
     writeln!(
         md,
@@ -1279,6 +1319,12 @@ fn write_report(
             "wall-clock, submit to completion"
         }
     )?;
+    Ok(())
+}
+
+/// Tables 1 and 2 of the paper: FPS per viewpoint, `ours` beside `traditional`, at every size.
+fn write_fps_tables(md: &mut String, config: &Config, runs: &[Run], preset: &str) -> Result<()> {
+    use std::fmt::Write;
     // Tables 1 and 2: FPS per viewpoint, ours beside traditional, both resolutions.
     for (k, scene) in config.scenes.iter().enumerate() {
         writeln!(md, "## Table {}: {scene}, FPS ({preset} preset)\n", k + 1)?;
@@ -1305,6 +1351,12 @@ fn write_report(
         }
         writeln!(md)?;
     }
+    Ok(())
+}
+
+/// Every configuration timed and measured, one row each.
+fn write_every_run(md: &mut String, runs: &[Run]) -> Result<()> {
+    use std::fmt::Write;
     // Every run.
     writeln!(md, "## Every configuration\n")?;
     writeln!(
@@ -1334,9 +1386,18 @@ fn write_report(
             passes.join(", ")
         )?;
     }
-    // Targets.
-    writeln!(md, "\n## Targets\n")?;
-    let largest = *config.sizes.last().expect("a size");
+    Ok(())
+}
+
+/// The targets against the traditional baseline, per scene: frame time and penumbra RMSE.
+fn write_traditional_targets(
+    md: &mut String,
+    config: &Config,
+    runs: &[Run],
+    preset: &str,
+    largest: (u32, u32),
+) -> Result<()> {
+    use std::fmt::Write;
     for scene in &config.scenes {
         let ratios: Vec<f64> = config
             .views
@@ -1380,6 +1441,19 @@ fn write_report(
             verdict(all_better)
         )?;
     }
+    Ok(())
+}
+
+/// The targets against PCSS (penumbra RMSE, own cost) and hard shadows (frame time), per
+/// scene, every viewpoint at the largest size.
+fn write_pcss_and_hard_targets(
+    md: &mut String,
+    config: &Config,
+    runs: &[Run],
+    preset: &str,
+    largest: (u32, u32),
+) -> Result<()> {
+    use std::fmt::Write;
     // Against PCSS and hard shadows (medium presets, every viewpoint at the largest size).
     for scene in &config.scenes {
         let mut rmse_ok = true;
@@ -1430,6 +1504,18 @@ fn write_report(
             )?;
         }
     }
+    Ok(())
+}
+
+/// The targets on the light-size sweep (cost within 10%) and the trade-off (`ours` on the
+/// Pareto front).
+fn write_size_and_front_targets(
+    md: &mut String,
+    config: &Config,
+    runs: &[Run],
+    largest: (u32, u32),
+) -> Result<()> {
+    use std::fmt::Write;
     // Cost against light size.
     let sweep: Vec<(f32, f64)> = config
         .light_sizes
@@ -1483,6 +1569,13 @@ fn write_report(
         },
         verdict(!ours_on_front.is_empty())
     )?;
+    Ok(())
+}
+
+/// The targets on lights two to four against the first (still lights, their screen-space
+/// passes).
+fn write_added_light_targets(md: &mut String, embedding: &Embedding) -> Result<()> {
+    use std::fmt::Write;
     // Lights two to four against the first: four still lights of each type, blurred in one
     // batch, each added light's screen-space passes against the first light's.
     // The target's lights two to four have penumbrae smaller than the first's: a quarter of its
@@ -1528,6 +1621,12 @@ fn write_report(
             list(&smaller),
         )?;
     }
+    Ok(())
+}
+
+/// `ours` and `pcss` against the light's size (at the largest size, `largest`).
+fn write_light_sweep(md: &mut String, config: &Config, runs: &[Run], largest: (u32, u32)) -> Result<()> {
+    use std::fmt::Write;
     // Light-size sweep.
     writeln!(
         md,
@@ -1543,6 +1642,13 @@ fn write_report(
         };
         writeln!(md, "| {d} | {:.2} | {:.2} |", ms("ours"), ms("pcss"))?;
     }
+    Ok(())
+}
+
+/// The embedding path: each added light's cost by type, moving and still, and the batched
+/// blur against one blur per light, pass by pass.
+fn write_embedding(md: &mut String, embedding: &Embedding) -> Result<()> {
+    use std::fmt::Write;
     writeln!(
         md,
         "\n## Embedding: cost of each added light, by type (teapot, view 0, {}x{}, ours medium; suns \
@@ -1658,6 +1764,12 @@ fn write_report(
             )?;
         }
     }
+    Ok(())
+}
+
+/// How many times a frame each path draws the scene's geometry.
+fn write_geometry_passes(md: &mut String, embedding: &Embedding) -> Result<()> {
+    use std::fmt::Write;
     writeln!(md, "\n## Geometry passes per frame\n")?;
     writeln!(md, "| path | light moving | light still |\n|---|---|---|")?;
     for g in &embedding.geometry_passes {
@@ -1670,9 +1782,12 @@ fn write_report(
          its window (each keeps 3 spare texels a side).",
         embedding.camera_moved
     )?;
-    write_tiles(&mut md, &embedding.tiles, (embedding.width, embedding.height))?;
-    write_reduced(&mut md, &embedding.reduced, (embedding.width, embedding.height))?;
-    write_compute(&mut md, &embedding.compute, (embedding.width, embedding.height))?;
+    Ok(())
+}
+
+/// The outdoor street view with one to four cascades.
+fn write_cascades(md: &mut String, config: &Config, embedding: &Embedding) -> Result<()> {
+    use std::fmt::Write;
     writeln!(
         md,
         "\n## Cascades: the outdoor scene's street view\n\n\
@@ -1684,6 +1799,12 @@ fn write_report(
     for c in &embedding.cascades {
         writeln!(md, "| {} | {:.2} | {:.4} |", c.cascades, c.frame_ms, c.near_rmse)?;
     }
+    Ok(())
+}
+
+/// The room's desk view: every method's frame and the lamp's error, with its target.
+fn write_room(md: &mut String, config: &Config, embedding: &Embedding) -> Result<()> {
+    use std::fmt::Write;
     writeln!(
         md,
         "\n## Room: a point light, a spot and a rectangle\n\n\
@@ -1712,23 +1833,6 @@ fn write_report(
             verdict(ratio <= PCSS_RMSE_TARGET)
         )?;
     }
-    write_area(&mut md, config, embedding)?;
-    write_memory(&mut md, config, &embedding.memory)?;
-    std::fs::write(config.out_dir.join("report.md"), &md)?;
-    std::fs::write(
-        config.out_dir.join("embedding.json"),
-        serde_json::to_string_pretty(embedding)?,
-    )?;
-    std::fs::write(
-        config.out_dir.join("report.json"),
-        serde_json::to_string_pretty(runs)?,
-    )?;
-    plot_tradeoff(&config.out_dir.join("tradeoff.png"), runs, largest)?;
-    println!("{md}");
-    println!(
-        "wrote {}/report.md, report.json and tradeoff.png",
-        config.out_dir.display()
-    );
     Ok(())
 }
 
