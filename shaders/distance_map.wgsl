@@ -296,8 +296,9 @@ const SILHOUETTE_BISECTIONS: i32 = 2;
 // caster's top) nor its back face (`exit_map`: near a foot) stands for it everywhere; beside a
 // rounded body the silhouette lies between them. Searched along `SILHOUETTE_DIRECTIONS` rays out
 // to where the penumbra of the front's distance would reach (`front` the caster's light depth
-// there; `own` the distance back to the caster the shadow map holds at the receiver's texel), with steps that widen away from the receiver, on the rays whose farthest tap is free
-// of casters; the nearest crossing in angle is then bisected, and the last caster texel before
+// there; `own` the distance back to the caster the shadow map holds at the receiver's texel),
+// with steps that widen away from the receiver, on the rays whose farthest tap is free of
+// casters; the nearest crossing in angle is then bisected, and the last caster texel before
 // it gives the distance. `d` where no silhouette is in reach (deep in the umbra, where the
 // width does not show). Either is at most the distance to the caster that hides the light's
 // centre (the shadow map's own texel, when not the receiver's own surface): a silhouette
