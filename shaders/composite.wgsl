@@ -117,7 +117,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
             cone *= smoothstep(l.cos_outer, l.cos_inner, dot(-to_light, l.direction));
         }
         var lit = reflected(r, to_light);
-        if l.area_u.w > 0.5 {
+        if AREA_LIGHTS && l.area_u.w > 0.5 {
             // An area light: its luminance times the light its surface sends here
             // (`area_reflected`), windowed by the range (no inverse square: the solid angle
             // holds it).

@@ -134,7 +134,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     // The shadow lookup is offset along the vertex normal; the shading uses the mapped one.
     var n_dot_l = max(dot(n, to_light), 0.0);
     var lit = reflected(r, to_light);
-    if frame.area_u.w > 0.5 {
+    if AREA_LIGHTS && frame.area_u.w > 0.5 {
         // An area light (see the composite): no inverse square, the light's solid angle.
         let offset = frame.light_position.xyz - in.world;
         let d2 = max(dot(offset, offset), 1e-8);

@@ -764,7 +764,7 @@ impl Renderer {
             } else {
                 self.shadows.visibility().cloned()
             };
-            if let Some(composite) = &self.composite {
+            if let Some(composite) = &mut self.composite {
                 let mut lights = vec![(*scene.light(), self.light.layer())];
                 if plan.reference {
                     lights.extend(scene.more_lights().iter().zip(1..).map(|(l, layer)| (*l, layer)));
@@ -777,7 +777,7 @@ impl Renderer {
                             .map(|(l, id)| (*l, id.layer())),
                     );
                 }
-                composite.set_lights(queue, &lights, scene.exposure().scale());
+                composite.set_lights(device, queue, &lights, scene.exposure().scale());
             }
             if let (Some(composite), Some(source)) = (&mut self.composite, source)
                 && self.composite_source.as_ref() != Some(&source)
@@ -811,6 +811,7 @@ impl Renderer {
                     forward.set_shadow_map(device, &view);
                     self.forward_source = Some(texture);
                 }
+                forward.shade(device, scene.light());
                 encoder.push_debug_group("forward");
                 forward.encode(
                     encoder,

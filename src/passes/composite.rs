@@ -68,9 +68,18 @@ impl CompositePass {
     }
 
     /// Sets the lights to shade, each with its layer of the visibility array (at most
-    /// [`crate::MAX_LIGHTS`]; the caller checked).
+    /// [`crate::MAX_LIGHTS`]; the caller checked), and the pipelines for them (the area lights'
+    /// shading only where one has an area).
     /// `exposure` is the camera's ([`crate::Exposure::scale`]).
-    pub fn set_lights(&self, queue: &wgpu::Queue, lights: &[(Light, u32)], exposure: f32) {
+    pub fn set_lights(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        lights: &[(Light, u32)],
+        exposure: f32,
+    ) {
+        self.pipelines
+            .shade_area_lights(device, lights.iter().any(|(l, _)| l.area().is_some()));
         queue.write_buffer(
             &self.lights,
             0,

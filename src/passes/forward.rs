@@ -161,6 +161,12 @@ impl ForwardPass {
         }
     }
 
+    /// Makes ready the pipelines for `light` (the area lights' shading only where it has an
+    /// area).
+    pub fn shade(&mut self, device: &wgpu::Device, light: &crate::scene::Light) {
+        self.pipelines.shade_area_lights(device, light.area().is_some());
+    }
+
     /// Records the pass into `target`, which must match the size given to [`ForwardPass::resize`].
     #[allow(clippy::too_many_arguments)]
     pub fn encode(

@@ -776,11 +776,65 @@ pub(crate) fn camera_pipeline(
 /// A lit pass's pipelines (the composite's, the forward pass's): opaque and, where the target
 /// can blend, blended; each made twice, with the surface maps (lightmaps, occlusion textures:
 /// `SURFACE_MAPS` in `shaders/common/surface.wgsl`) and without, for scenes that have neither.
+/// All of them leave out the area lights' shading (`AREA_LIGHTS`); a second set with it is made
+/// the first time a light with an area is shaded ([`Self::shade_area_lights`]).
 #[cfg(feature = "renderer")]
 pub(crate) struct LitPipelines {
-    /// [without, with] the surface maps.
+    recipe: LitRecipe,
+    /// Without the area lights' shading.
+    without_area: LitSet,
+    /// With it, once needed.
+    with_area: Option<LitSet>,
+    /// The pass draws with `with_area`.
+    area_lights: bool,
+}
+
+/// What a lit pass's pipelines are made from.
+#[cfg(feature = "renderer")]
+struct LitRecipe {
+    label: String,
+    shader: wgpu::ShaderModule,
+    pass_layout: wgpu::BindGroupLayout,
+    layouts: crate::layouts::SceneLayouts,
+    /// Whether the opaque pipelines write depth (blended ones never do).
+    write_depth: bool,
+    color_format: wgpu::TextureFormat,
+}
+
+/// One set of a lit pass's pipelines: [without, with] the surface maps.
+#[cfg(feature = "renderer")]
+struct LitSet {
     opaque: [wgpu::RenderPipeline; 2],
     blended: Option<[wgpu::RenderPipeline; 2]>,
+}
+
+#[cfg(feature = "renderer")]
+impl LitRecipe {
+    fn make(&self, device: &wgpu::Device, area_lights: bool) -> LitSet {
+        use crate::gpu_scene::CameraStreams;
+        let make = |write: bool, target: wgpu::ColorTargetState| {
+            [false, true].map(|maps| {
+                camera_pipeline(
+                    device,
+                    &self.label,
+                    &self.shader,
+                    &self.pass_layout,
+                    &self.layouts,
+                    CameraStreams::Lit,
+                    write,
+                    target.clone(),
+                    &[
+                        ("SURFACE_MAPS", if maps { 1.0 } else { 0.0 }),
+                        ("AREA_LIGHTS", if area_lights { 1.0 } else { 0.0 }),
+                    ],
+                )
+            })
+        };
+        LitSet {
+            opaque: make(self.write_depth, self.color_format.into()),
+            blended: blended_target(device, self.color_format).map(|target| make(false, target)),
+        }
+    }
 }
 
 #[cfg(feature = "renderer")]
@@ -795,37 +849,48 @@ impl LitPipelines {
         write_depth: bool,
         color_format: wgpu::TextureFormat,
     ) -> Self {
-        use crate::gpu_scene::CameraStreams;
-        let make = |write: bool, target: wgpu::ColorTargetState| {
-            [false, true].map(|maps| {
-                camera_pipeline(
-                    device,
-                    label,
-                    shader,
-                    pass_layout,
-                    layouts,
-                    CameraStreams::Lit,
-                    write,
-                    target.clone(),
-                    &[("SURFACE_MAPS", if maps { 1.0 } else { 0.0 })],
-                )
-            })
+        let recipe = LitRecipe {
+            label: label.to_owned(),
+            shader: shader.clone(),
+            pass_layout: pass_layout.clone(),
+            layouts: layouts.clone(),
+            write_depth,
+            color_format,
         };
         Self {
-            opaque: make(write_depth, color_format.into()),
-            blended: blended_target(device, color_format).map(|target| make(false, target)),
+            without_area: recipe.make(device, false),
+            with_area: None,
+            recipe,
+            area_lights: false,
+        }
+    }
+
+    /// Draw with the pipelines that shade area lights (`shade`: a light shaded has an area),
+    /// made now if they were not yet, or with those that leave them out.
+    pub(crate) fn shade_area_lights(&mut self, device: &wgpu::Device, shade: bool) {
+        if shade && self.with_area.is_none() {
+            self.with_area = Some(self.recipe.make(device, true));
+        }
+        self.area_lights = shade;
+    }
+
+    fn set(&self) -> &LitSet {
+        match &self.with_area {
+            Some(set) if self.area_lights => set,
+            _ => &self.without_area,
         }
     }
 
     /// The opaque pipeline for `scene`.
     pub(crate) fn opaque(&self, scene: &crate::GpuScene) -> &wgpu::RenderPipeline {
-        &self.opaque[scene.samples_surface_maps() as usize]
+        &self.set().opaque[scene.samples_surface_maps() as usize]
     }
 
     /// The blended pipeline for `scene` (the opaque one where the target cannot blend).
     pub(crate) fn blended(&self, scene: &crate::GpuScene) -> &wgpu::RenderPipeline {
+        let set = self.set();
         let maps = scene.samples_surface_maps() as usize;
-        self.blended.as_ref().map_or(&self.opaque[maps], |b| &b[maps])
+        set.blended.as_ref().map_or(&set.opaque[maps], |b| &b[maps])
     }
 }
 
