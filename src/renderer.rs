@@ -577,7 +577,7 @@ impl Renderer {
             self.forward_source = None;
         }
         if !screen || method == ShadowMethod::Reference {
-            self.shadows.drop_screen_passes();
+            self.shadows.set_maps_only(true);
         }
     }
 
@@ -734,8 +734,9 @@ impl Renderer {
             self.shadows.inspect(Some(self.debug_light_id()));
             self.shadows.prepare(device, queue, casters, &view)?;
         }
-        let (light_view, spreads) = match self.shadows.planned(self.light).filter(|_| plan.shadow_map()) {
-            Some(planned) => planned,
+        // The report of the frame just prepared.
+        let (light_view, spreads) = match self.shadows.report(self.light).filter(|_| plan.shadow_map()) {
+            Some(report) => (report.light_view, report.spreads),
             None => self.loose_fit(scene),
         };
         self.write_frame_uniform(queue, scene, camera, &light_view, spreads);
@@ -750,7 +751,7 @@ impl Renderer {
         }
         let mut maps_rendered = false;
         if plan.shadow_map() {
-            let reports = self.shadows.encode_marked(encoder, casters, mark)?;
+            let reports = self.shadows.encode_with_marks(encoder, casters, mark)?;
             maps_rendered = reports.first().is_some_and(|r| r.shadow_maps_rendered);
         }
         let result = (maps_rendered, spreads, light_view);
@@ -792,25 +793,26 @@ impl Renderer {
                 mark(encoder, "composite");
             }
         }
-        if plan.forward {
-            let shadow_map = self
+        if plan.forward
+            && let Some(texture) = self
                 .shadows
-                .shadow_map(self.light)
-                .map(|m| (m.texture().clone(), m.view().clone()));
-            if let Some((texture, view)) = shadow_map {
-                let forward = match &mut self.forward {
-                    Some(f) => f,
+                .light_texture(self.light, LightTexture::ShadowMap)
+                .cloned()
+        {
+            // Bound again when the light's maps were made again (the pass is made with them).
+            if self.forward_source.as_ref() != Some(&texture) {
+                let view = texture.create_view(&Default::default());
+                match &mut self.forward {
+                    Some(f) => f.set_shadow_map(device, &view),
                     None => {
                         let mut f = ForwardPass::new(device, &self.layouts, self.color_format, &view);
                         f.resize(device, self.size.0, self.size.1);
-                        self.forward_source = Some(texture.clone());
-                        self.forward.insert(f)
+                        self.forward = Some(f);
                     }
-                };
-                if self.forward_source.as_ref() != Some(&texture) {
-                    forward.set_shadow_map(device, &view);
-                    self.forward_source = Some(texture);
                 }
+                self.forward_source = Some(texture);
+            }
+            if let Some(forward) = &mut self.forward {
                 forward.shade(device, scene.light());
                 encoder.push_debug_group("forward");
                 forward.encode(

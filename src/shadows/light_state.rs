@@ -32,6 +32,22 @@ pub(super) struct Planned {
     pub(super) probe: Option<([f32; 3], u32)>,
 }
 
+impl Planned {
+    /// The report of light `light`'s frame as planned, with the penumbra widths last measured.
+    pub(super) fn report(&self, light: LightId, penumbra_widths: Option<PenumbraWidths>) -> LightReport {
+        LightReport {
+            light,
+            chain: self.chain,
+            shadow_maps_rendered: self.render_maps,
+            tiles_rendered: self.tiles,
+            spreads: self.spreads,
+            light_view: self.light_view,
+            map_resolution: self.light_view.tile,
+            penumbra_widths,
+        }
+    }
+}
+
 /// One light: its maps, its screen-space passes and its cache.
 pub(super) struct LightState {
     pub(super) light: Light,

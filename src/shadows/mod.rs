@@ -22,8 +22,7 @@ use crate::light_space::tile_resolution;
 use crate::light_space::{FitInputs, LightView, MAX_TILES};
 use crate::map_resolution::PenumbraWidths;
 use crate::passes::{
-    BlurInput, BlurPass, MAX_BATCHED_LIGHTS, PackedVisibility, ShadowMapPass, VISIBILITY_FORMAT,
-    screen_target,
+    BlurInput, BlurPass, MAX_BATCHED_LIGHTS, PackedVisibility, VISIBILITY_FORMAT, screen_target,
 };
 use crate::scene::{Aabb, Light, MAX_LIGHTS};
 use crate::settings::{MapResolution, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
@@ -208,24 +207,22 @@ impl Shadows {
     /// Draws only the lights' shadow maps, no screen-space pass, for an engine that shades with
     /// the maps itself (read them with [`Shadows::light_texture`] and
     /// [`LightTexture::ShadowMap`]; each light's view and cascades are in its [`LightReport`]).
-    /// The next [`Shadows::prepare`] frees the screen-space passes and the distance-map
-    /// method's fattened and exit maps; [`Shadows::visibility`] is not written while it is on.
-    /// Off by default. The convenience renderer's hard shadows use it (its forward pass).
+    /// Turning it on frees the screen-space passes and the distance-map method's fattened and
+    /// exit maps at once; [`Shadows::visibility`] is not written while it is on. Off by
+    /// default. The convenience renderer's hard shadows use it (its forward pass), and its
+    /// reference, which draws its own maps.
     pub fn set_maps_only(&mut self, maps_only: bool) {
-        self.screen_space = !maps_only;
-    }
-
-    /// Frees every light's passes but its shadow map (the convenience renderer's forward and
-    /// reference paths).
-    pub(crate) fn drop_screen_passes(&mut self) {
-        for state in self.lights.iter_mut().flatten() {
-            state.screen = ScreenChain::MapOnly;
-            if let Some(maps) = &mut state.maps {
-                maps.fattened = None;
+        if maps_only && self.screen_space {
+            for state in self.lights.iter_mut().flatten() {
+                state.screen = ScreenChain::MapOnly;
+                if let Some(maps) = &mut state.maps {
+                    maps.fattened = None;
+                }
+                state.bound = None;
             }
-            state.bound = None;
+            self.blurs.clear();
         }
-        self.blurs.clear();
+        self.screen_space = !maps_only;
     }
 
     /// Adds a shadowed light (validated). At most [`MAX_LIGHTS`].
@@ -417,7 +414,12 @@ impl Shadows {
             for state in this.lights.iter_mut().flatten() {
                 state.collect_widths(device, queue);
             }
-            for state in this.lights.iter_mut().flatten() {
+            for (slot, state) in this
+                .lights
+                .iter_mut()
+                .enumerate()
+                .filter_map(|(slot, s)| Some((slot, s.as_mut()?)))
+            {
                 let mut chain = Chain::new(&this.settings, &state.light);
                 if !this.compute {
                     chain = chain.without_compute();
@@ -581,7 +583,7 @@ impl Shadows {
                     }
                     _ => None,
                 };
-                state.planned = Some(Planned {
+                let planned = Planned {
                     chain,
                     key,
                     render_maps,
@@ -589,7 +591,9 @@ impl Shadows {
                     spreads,
                     light_view,
                     probe,
-                });
+                };
+                state.report = Some(planned.report(LightId(slot as u32), state.widths.map(|(w, _)| w)));
+                state.planned = Some(planned);
             }
             // The compute path's intermediates, one set for every light that runs it.
             let needs = this
@@ -743,11 +747,13 @@ impl Shadows {
         encoder: &mut wgpu::CommandEncoder,
         casters: &Casters,
     ) -> Result<Vec<LightReport>> {
-        self.encode_marked(encoder, casters, &mut |_, _| {})
+        self.encode_with_marks(encoder, casters, &mut |_, _| {})
     }
 
-    /// [`Shadows::encode`], calling `mark(encoder, pass)` after each pass (timing).
-    pub(crate) fn encode_marked(
+    /// [`Shadows::encode`], calling `mark(encoder, pass)` after each pass it records, `pass`
+    /// its name ("shadow map", "distance map", "pcf", "blur", ...): where an engine writes
+    /// its own GPU timestamps, to time penumbra pass by pass.
+    pub fn encode_with_marks(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         casters: &Casters,
@@ -812,16 +818,7 @@ impl Shadows {
             if let (Some((limits, resolution)), Some(probe)) = (plan.probe, state.screen.width_probe_mut()) {
                 probe.recorded(limits, resolution);
             }
-            let report = LightReport {
-                light: LightId(slot as u32),
-                chain,
-                shadow_maps_rendered: plan.render_maps,
-                tiles_rendered: plan.tiles,
-                spreads: plan.spreads,
-                light_view: plan.light_view,
-                map_resolution: plan.light_view.tile,
-                penumbra_widths: state.widths.map(|(w, _)| w),
-            };
+            let report = plan.report(LightId(slot as u32), state.widths.map(|(w, _)| w));
             state.report = Some(report);
             reports.push(report);
         }
@@ -959,7 +956,9 @@ impl Shadows {
         self.visibility.as_ref().and_then(|v| v.2.get(id.0 as usize))
     }
 
-    /// What each light did in its last frame.
+    /// What a light's frame does: written by [`Shadows::prepare`] (its fit, spreads and chain
+    /// are known before anything is encoded), kept after [`Shadows::encode`] until the next
+    /// prepare.
     pub fn report(&self, id: LightId) -> Option<&LightReport> {
         self.state(id).ok().and_then(|s| s.report.as_ref())
     }
@@ -986,19 +985,6 @@ impl Shadows {
                 _ => s.screen.blurred_visibility(),
             },
         }
-    }
-
-    /// What [`Shadows::prepare`] planned for a light: its map's fit and the frame's spreads.
-    pub(crate) fn planned(&self, id: LightId) -> Option<(LightView, DerivedSpreads)> {
-        let plan = self.state(id).ok()?.planned?;
-        Some((plan.light_view, plan.spreads))
-    }
-
-    pub(crate) fn shadow_map(&self, id: LightId) -> Option<&ShadowMapPass> {
-        self.state(id)
-            .ok()
-            .and_then(|s| s.maps.as_ref())
-            .map(|m| &m.shadow)
     }
 
     fn state(&self, id: LightId) -> Result<&LightState> {
