@@ -28,7 +28,7 @@ pub enum Chain {
     /// map; on the screen the distance map, the variable-spacing PCF, then the blur, whose
     /// vertical draw writes the light's layer (or a resolve, with `blur` false: a blur of one
     /// tap).
-    DistanceMap {
+    Ours {
         /// [`ShadowMethod::Ours`] or [`ShadowMethod::OursFast`].
         method: ShadowMethod,
         /// The blur has more than one tap.
@@ -41,7 +41,7 @@ pub enum Chain {
     },
     /// The baseline ([`ShadowMethod::Traditional`]): fixed-spacing PCF, a fixed Gaussian
     /// blur (`blur`: it has more than one tap), a resolve.
-    FixedPcf {
+    Traditional {
         /// The blur has more than one tap.
         blur: bool,
         /// PCF and both axes of the blur are compute passes over the screen, and a draw copies
@@ -82,13 +82,13 @@ impl Chain {
                     compute,
                 }
             }
-            method @ (ShadowMethod::Ours | ShadowMethod::OursFast) => Chain::DistanceMap {
+            method @ (ShadowMethod::Ours | ShadowMethod::OursFast) => Chain::Ours {
                 method,
                 blur: settings.penumbra.blur_taps > 1,
                 // Batched blurs and PCF at half resolution are draws only.
                 compute: compute && !settings.penumbra.batch_lights && !settings.penumbra.reduced_resolution,
             },
-            ShadowMethod::Traditional => Chain::FixedPcf {
+            ShadowMethod::Traditional => Chain::Traditional {
                 blur: settings.traditional.blur_taps > 1,
                 compute,
             },
@@ -110,12 +110,12 @@ impl Chain {
     /// This chain with its screen-space passes as draws (a device without compute shaders).
     pub(crate) fn without_compute(self) -> Self {
         match self {
-            Chain::DistanceMap { method, blur, .. } => Chain::DistanceMap {
+            Chain::Ours { method, blur, .. } => Chain::Ours {
                 method,
                 blur,
                 compute: false,
             },
-            Chain::FixedPcf { blur, .. } => Chain::FixedPcf { blur, compute: false },
+            Chain::Traditional { blur, .. } => Chain::Traditional { blur, compute: false },
             Chain::Pcss { .. } => Chain::Pcss { compute: false },
             Chain::Hard { method, .. } => Chain::Hard {
                 method,
@@ -131,8 +131,8 @@ impl Chain {
     pub fn compute(&self) -> bool {
         matches!(
             self,
-            Chain::DistanceMap { compute: true, .. }
-                | Chain::FixedPcf { compute: true, .. }
+            Chain::Ours { compute: true, .. }
+                | Chain::Traditional { compute: true, .. }
                 | Chain::Pcss { compute: true }
                 | Chain::Hard { compute: true, .. }
         )
@@ -142,17 +142,15 @@ impl Chain {
     /// [`ShadowMethod::Hard`] when the light has none.
     pub fn method(&self) -> ShadowMethod {
         match *self {
-            Chain::DistanceMap { method, .. } | Chain::Hard { method, .. } | Chain::MapOnly { method } => {
-                method
-            }
-            Chain::FixedPcf { .. } => ShadowMethod::Traditional,
+            Chain::Ours { method, .. } | Chain::Hard { method, .. } | Chain::MapOnly { method } => method,
+            Chain::Traditional { .. } => ShadowMethod::Traditional,
             Chain::Pcss { .. } => ShadowMethod::Pcss,
         }
     }
 
     /// The fattened map and the exit map are drawn from the light (the distance-map method).
     pub fn fattened_map(&self) -> bool {
-        matches!(self, Chain::DistanceMap { .. })
+        matches!(self, Chain::Ours { .. })
     }
 
     /// The casters' back faces from the light: how near the receiver an occluder ends, for
@@ -163,7 +161,7 @@ impl Chain {
 
     /// The screen-space distance map runs.
     pub fn distance_map(&self) -> bool {
-        matches!(self, Chain::DistanceMap { .. })
+        matches!(self, Chain::Ours { .. })
     }
 
     /// PCF runs: after the distance map its spacing follows the distance (variable-spacing
@@ -171,7 +169,7 @@ impl Chain {
     pub fn pcf(&self) -> bool {
         matches!(
             self,
-            Chain::DistanceMap { .. } | Chain::FixedPcf { .. } | Chain::Hard { .. }
+            Chain::Ours { .. } | Chain::Traditional { .. } | Chain::Hard { .. }
         )
     }
 
@@ -185,15 +183,15 @@ impl Chain {
     pub fn blur(&self) -> bool {
         matches!(
             self,
-            Chain::DistanceMap { blur: true, .. } | Chain::FixedPcf { blur: true, .. }
+            Chain::Ours { blur: true, .. } | Chain::Traditional { blur: true, .. }
         )
     }
 
     /// A resolve pass writes the light's layer (otherwise the blur's vertical draw does).
     pub fn resolve(&self) -> bool {
         match self {
-            Chain::DistanceMap { blur, .. } => !blur,
-            Chain::FixedPcf { blur, compute } => !(*blur && *compute),
+            Chain::Ours { blur, .. } => !blur,
+            Chain::Traditional { blur, compute } => !(*blur && *compute),
             Chain::MapOnly { .. } => false,
             _ => true,
         }
@@ -208,7 +206,7 @@ impl Chain {
     pub fn names(&self) -> Vec<&'static str> {
         let mut names = vec!["shadow map"];
         names.extend(match self {
-            Chain::DistanceMap { blur, .. } => vec![
+            Chain::Ours { blur, .. } => vec![
                 "fattened shadow map",
                 "exit map",
                 "distance map",
@@ -216,12 +214,12 @@ impl Chain {
                 if *blur { "blur" } else { "resolve" },
             ],
             // The compute path's blur writes the layer.
-            Chain::FixedPcf {
+            Chain::Traditional {
                 blur: true,
                 compute: true,
             } => vec!["pcf", "blur"],
-            Chain::FixedPcf { blur: true, .. } => vec!["pcf", "blur", "resolve"],
-            Chain::FixedPcf { blur: false, .. } | Chain::Hard { .. } => vec!["pcf", "resolve"],
+            Chain::Traditional { blur: true, .. } => vec!["pcf", "blur", "resolve"],
+            Chain::Traditional { blur: false, .. } | Chain::Hard { .. } => vec!["pcf", "resolve"],
             Chain::Pcss { .. } => vec!["pcss", "resolve"],
             Chain::MapOnly { .. } => vec![],
         });
@@ -578,7 +576,7 @@ impl ComputeTargets {
 pub(crate) enum ScreenChain {
     MapOnly,
     /// The distance-map method as compute passes over the distance map's tile list.
-    DistanceMapCompute {
+    OursCompute {
         distance: DistanceMapCompute,
         pcf: VariablePcfCompute,
         /// Writes the layer; without it the resolve does.
@@ -587,7 +585,7 @@ pub(crate) enum ScreenChain {
         /// The shared intermediates, as bound.
         targets: Option<ComputeTargets>,
     },
-    DistanceMap {
+    Ours {
         distance: DistanceMapPass,
         pcf: VariablePcfPass,
         /// Its vertical draw writes the layer; none without a blur, or in a batch.
@@ -595,14 +593,14 @@ pub(crate) enum ScreenChain {
         /// Writes the layer when the chain has no blur.
         resolve: ResolvePass,
     },
-    FixedPcf {
+    Traditional {
         pcf: PcfPass,
         blur: Option<BlurPass>,
         resolve: ResolvePass,
     },
     /// The baseline as compute passes over the screen (every tile listed); the blur writes the
     /// layer, the resolve only without a blur.
-    FixedPcfCompute {
+    TraditionalCompute {
         pcf: PcfPass,
         blur: Option<BlurCompute>,
         resolve: ResolvePass,
@@ -624,24 +622,24 @@ impl ScreenChain {
     pub fn allocated_bytes(&self) -> u64 {
         match self {
             ScreenChain::MapOnly => 0,
-            ScreenChain::DistanceMapCompute {
+            ScreenChain::OursCompute {
                 distance, pcf, blur, ..
             } => {
                 distance.allocated_bytes()
                     + pcf.allocated_bytes()
                     + blur.as_ref().map_or(0, BlurCompute::allocated_bytes)
             }
-            ScreenChain::DistanceMap {
+            ScreenChain::Ours {
                 distance, pcf, blur, ..
             } => {
                 distance.allocated_bytes()
                     + pcf.allocated_bytes()
                     + blur.as_ref().map_or(0, BlurPass::allocated_bytes)
             }
-            ScreenChain::FixedPcf { pcf, blur, .. } => {
+            ScreenChain::Traditional { pcf, blur, .. } => {
                 pcf.allocated_bytes() + blur.as_ref().map_or(0, BlurPass::allocated_bytes)
             }
-            ScreenChain::FixedPcfCompute { pcf, blur, .. } => {
+            ScreenChain::TraditionalCompute { pcf, blur, .. } => {
                 pcf.allocated_bytes() + blur.as_ref().map_or(0, BlurCompute::allocated_bytes)
             }
             ScreenChain::Pcss { pcss, .. } => pcss.allocated_bytes(),
@@ -661,9 +659,9 @@ impl ScreenChain {
         let resolve = || ResolvePass::new(device, FRAME_SIZE);
         let mut passes = match chain {
             Chain::MapOnly { .. } => ScreenChain::MapOnly,
-            Chain::DistanceMap {
+            Chain::Ours {
                 compute: true, blur, ..
-            } => ScreenChain::DistanceMapCompute {
+            } => ScreenChain::OursCompute {
                 distance: DistanceMapCompute::new(
                     device,
                     FRAME_SIZE,
@@ -675,20 +673,20 @@ impl ScreenChain {
                 resolve: resolve(),
                 targets: None,
             },
-            Chain::DistanceMap { blur, .. } => ScreenChain::DistanceMap {
+            Chain::Ours { blur, .. } => ScreenChain::Ours {
                 distance: DistanceMapPass::new(device, FRAME_SIZE, params.distance_switches, kind),
                 pcf: VariablePcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind),
                 blur: (*blur && !params.batch_lights)
                     .then(|| BlurPass::new(device, FRAME_SIZE, params.blur_switches, 1)),
                 resolve: resolve(),
             },
-            Chain::FixedPcf { blur, compute: true } => ScreenChain::FixedPcfCompute {
+            Chain::Traditional { blur, compute: true } => ScreenChain::TraditionalCompute {
                 pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind, true),
                 blur: blur.then(|| BlurCompute::new(device, FRAME_SIZE, params.blur_switches)),
                 resolve: resolve(),
                 targets: None,
             },
-            Chain::FixedPcf { blur, .. } => ScreenChain::FixedPcf {
+            Chain::Traditional { blur, .. } => ScreenChain::Traditional {
                 pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind, false),
                 blur: blur.then(|| BlurPass::new(device, FRAME_SIZE, params.blur_switches, 1)),
                 resolve: resolve(),
@@ -713,10 +711,10 @@ impl ScreenChain {
         match (self, chain) {
             (ScreenChain::MapOnly, Chain::MapOnly { .. }) => true,
             (
-                ScreenChain::DistanceMapCompute {
+                ScreenChain::OursCompute {
                     distance, pcf, blur, ..
                 },
-                Chain::DistanceMap {
+                Chain::Ours {
                     compute: true,
                     blur: wanted,
                     ..
@@ -730,10 +728,10 @@ impl ScreenChain {
                     && blur.as_ref().is_none_or(|b| b.switches() == params.blur_switches)
             }
             (
-                ScreenChain::DistanceMap {
+                ScreenChain::Ours {
                     distance, pcf, blur, ..
                 },
-                Chain::DistanceMap {
+                Chain::Ours {
                     compute: false,
                     blur: wanted,
                     ..
@@ -747,8 +745,8 @@ impl ScreenChain {
                     && blur.as_ref().is_none_or(|b| b.switches() == params.blur_switches)
             }
             (
-                ScreenChain::FixedPcf { pcf, blur, .. },
-                Chain::FixedPcf {
+                ScreenChain::Traditional { pcf, blur, .. },
+                Chain::Traditional {
                     blur: wanted,
                     compute: false,
                 },
@@ -759,8 +757,8 @@ impl ScreenChain {
                     && blur.as_ref().is_none_or(|b| b.switches() == params.blur_switches)
             }
             (
-                ScreenChain::FixedPcfCompute { pcf, blur, .. },
-                Chain::FixedPcf {
+                ScreenChain::TraditionalCompute { pcf, blur, .. },
+                Chain::Traditional {
                     blur: wanted,
                     compute: true,
                 },
@@ -785,8 +783,8 @@ impl ScreenChain {
         match self {
             ScreenChain::MapOnly => {}
             // The shared intermediates are the screen's size (`Shadows` makes them).
-            ScreenChain::DistanceMapCompute { targets, .. } => *targets = None,
-            ScreenChain::DistanceMap {
+            ScreenChain::OursCompute { targets, .. } => *targets = None,
+            ScreenChain::Ours {
                 distance, pcf, blur, ..
             } => {
                 distance.resize(device, w, h);
@@ -795,13 +793,13 @@ impl ScreenChain {
                     blur.resize(device, w, h);
                 }
             }
-            ScreenChain::FixedPcf { pcf, blur, .. } => {
+            ScreenChain::Traditional { pcf, blur, .. } => {
                 pcf.resize(device, w, h);
                 if let Some(blur) = blur {
                     blur.resize(device, w, h);
                 }
             }
-            ScreenChain::FixedPcfCompute { targets, .. } => *targets = None,
+            ScreenChain::TraditionalCompute { targets, .. } => *targets = None,
             ScreenChain::Pcss { pcss, .. } => pcss.resize(device, w, h),
             ScreenChain::Hard { pcf, .. } => pcf.resize(device, w, h),
         }
@@ -811,25 +809,25 @@ impl ScreenChain {
     pub fn prepare(&self, queue: &wgpu::Queue, params: &PassParams) {
         match self {
             ScreenChain::MapOnly => {}
-            ScreenChain::DistanceMapCompute { pcf, blur, .. } => {
+            ScreenChain::OursCompute { pcf, blur, .. } => {
                 pcf.prepare(queue, &params.pcf);
                 if let Some(blur) = blur {
                     blur.prepare(queue, &params.blur);
                 }
             }
-            ScreenChain::DistanceMap { pcf, blur, .. } => {
+            ScreenChain::Ours { pcf, blur, .. } => {
                 pcf.prepare(queue, &params.pcf);
                 if let Some(blur) = blur {
                     blur.prepare(queue, &params.blur);
                 }
             }
-            ScreenChain::FixedPcf { pcf, blur, .. } => {
+            ScreenChain::Traditional { pcf, blur, .. } => {
                 pcf.prepare(queue, &params.pcf);
                 if let Some(blur) = blur {
                     blur.prepare(queue, &params.blur);
                 }
             }
-            ScreenChain::FixedPcfCompute { pcf, blur, .. } => {
+            ScreenChain::TraditionalCompute { pcf, blur, .. } => {
                 pcf.prepare(queue, &params.pcf);
                 if let Some(blur) = blur {
                     blur.prepare(queue, &params.blur);
@@ -853,7 +851,7 @@ impl ScreenChain {
         let shadow_map = maps.shadow.view();
         match self {
             ScreenChain::MapOnly => {}
-            ScreenChain::DistanceMapCompute {
+            ScreenChain::OursCompute {
                 distance,
                 pcf,
                 blur,
@@ -900,7 +898,7 @@ impl ScreenChain {
                     None => resolve.bind(device, frame, depth, distance_map, visibility, mask),
                 }
             }
-            ScreenChain::DistanceMap {
+            ScreenChain::Ours {
                 distance,
                 pcf,
                 blur,
@@ -938,7 +936,7 @@ impl ScreenChain {
                     mask,
                 );
             }
-            ScreenChain::FixedPcf { pcf, blur, resolve } => {
+            ScreenChain::Traditional { pcf, blur, resolve } => {
                 pcf.bind(device, frame, depth, shadow_map, None);
                 let Some(mut visibility) = pcf.visibility() else {
                     return;
@@ -954,7 +952,7 @@ impl ScreenChain {
                 }
                 resolve.bind(device, frame, depth, dummy, visibility, mask);
             }
-            ScreenChain::FixedPcfCompute {
+            ScreenChain::TraditionalCompute {
                 pcf,
                 blur,
                 resolve,
@@ -1010,7 +1008,7 @@ impl ScreenChain {
     ) {
         match self {
             ScreenChain::MapOnly => {}
-            ScreenChain::DistanceMapCompute {
+            ScreenChain::OursCompute {
                 distance,
                 pcf,
                 blur,
@@ -1036,7 +1034,7 @@ impl ScreenChain {
                     None => run(encoder, mark, "resolve", &|e| resolve.encode(e, layer)),
                 }
             }
-            ScreenChain::DistanceMap {
+            ScreenChain::Ours {
                 distance,
                 pcf,
                 blur,
@@ -1060,14 +1058,14 @@ impl ScreenChain {
                     run(encoder, mark, "resolve", &|e| resolve.encode(e, layer));
                 }
             }
-            ScreenChain::FixedPcf { pcf, blur, resolve } => {
+            ScreenChain::Traditional { pcf, blur, resolve } => {
                 run(encoder, mark, "pcf", &|e| pcf.encode(e));
                 if let Some(blur) = blur {
                     run(encoder, mark, "blur", &|e| blur.encode(e, None, &[layer]));
                 }
                 run(encoder, mark, "resolve", &|e| resolve.encode(e, layer));
             }
-            ScreenChain::FixedPcfCompute {
+            ScreenChain::TraditionalCompute {
                 pcf,
                 blur,
                 resolve,
@@ -1100,7 +1098,7 @@ impl ScreenChain {
     /// The distance-map method's distance map and PCF (which its batched blur reads).
     pub fn distance_map(&self) -> Option<(&DistanceMapPass, &VariablePcfPass)> {
         match self {
-            ScreenChain::DistanceMap { distance, pcf, .. } => Some((distance, pcf)),
+            ScreenChain::Ours { distance, pcf, .. } => Some((distance, pcf)),
             _ => None,
         }
     }
@@ -1108,14 +1106,14 @@ impl ScreenChain {
     /// The penumbra widths the compute path's PCF counts ([`crate::map_resolution`]).
     pub(crate) fn width_probe_mut(&mut self) -> Option<&mut crate::map_resolution::WidthProbe> {
         match self {
-            ScreenChain::DistanceMapCompute { pcf, .. } => Some(pcf.probe_mut()),
+            ScreenChain::OursCompute { pcf, .. } => Some(pcf.probe_mut()),
             _ => None,
         }
     }
 
     pub fn variable_pcf_mut(&mut self) -> Option<&mut VariablePcfPass> {
         match self {
-            ScreenChain::DistanceMap { pcf, .. } => Some(pcf),
+            ScreenChain::Ours { pcf, .. } => Some(pcf),
             _ => None,
         }
     }
@@ -1123,8 +1121,8 @@ impl ScreenChain {
     /// The distance map (R distance, G mask; the compute path's B its classification).
     pub fn distance_texture(&self) -> Option<&wgpu::Texture> {
         match self {
-            ScreenChain::DistanceMap { distance, .. } => Some(distance.distance_texture()),
-            ScreenChain::DistanceMapCompute { targets, .. } => targets
+            ScreenChain::Ours { distance, .. } => Some(distance.distance_texture()),
+            ScreenChain::OursCompute { targets, .. } => targets
                 .as_ref()
                 .and_then(|t| t.distance_map.as_ref())
                 .map(|d| &d.distance.texture),
@@ -1136,8 +1134,8 @@ impl ScreenChain {
     /// lists them.
     pub fn tile_classes_texture(&self) -> Option<&wgpu::Texture> {
         match self {
-            ScreenChain::DistanceMap { distance, .. } => distance.tile_classes_texture(),
-            ScreenChain::DistanceMapCompute { targets, .. } => targets
+            ScreenChain::Ours { distance, .. } => distance.tile_classes_texture(),
+            ScreenChain::OursCompute { targets, .. } => targets
                 .as_ref()
                 .and_then(|t| t.distance_map.as_ref())
                 .map(|d| d.tiles.classes_texture()),
@@ -1149,12 +1147,10 @@ impl ScreenChain {
     pub fn raw_visibility(&self) -> Option<&wgpu::Texture> {
         match self {
             ScreenChain::MapOnly => None,
-            ScreenChain::DistanceMapCompute { targets, .. } => {
-                targets.as_ref().map(|t| &t.visibility.texture)
-            }
-            ScreenChain::DistanceMap { pcf, .. } => Some(pcf.visibility_texture()),
-            ScreenChain::FixedPcf { pcf, .. }
-            | ScreenChain::FixedPcfCompute { pcf, .. }
+            ScreenChain::OursCompute { targets, .. } => targets.as_ref().map(|t| &t.visibility.texture),
+            ScreenChain::Ours { pcf, .. } => Some(pcf.visibility_texture()),
+            ScreenChain::Traditional { pcf, .. }
+            | ScreenChain::TraditionalCompute { pcf, .. }
             | ScreenChain::Hard { pcf, .. } => pcf.visibility_texture(),
             ScreenChain::Pcss { pcss, .. } => pcss.visibility_texture(),
         }
@@ -1163,7 +1159,7 @@ impl ScreenChain {
     /// The fixed blur's own output (the distance-map method's blur writes the layer).
     pub fn blurred_visibility(&self) -> Option<&wgpu::Texture> {
         match self {
-            ScreenChain::FixedPcf { blur: Some(blur), .. } => blur.blurred_texture(),
+            ScreenChain::Traditional { blur: Some(blur), .. } => blur.blurred_texture(),
             _ => None,
         }
     }
