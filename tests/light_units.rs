@@ -6,8 +6,8 @@ mod common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{
-    Camera, DirectionalLight, Exposure, Light, Material, PointLight, Scene, ShadowMethod, ShadowSettings,
-    SpotLight, scene::primitives,
+    Camera, DirectionalLight, Exposure, GpuScene, Light, Material, PointLight, Renderer, Scene, ShadowMethod,
+    ShadowSettings, SpotLight, scene::primitives,
 };
 
 const SIZE: (u32, u32) = (160, 120);
@@ -43,13 +43,17 @@ fn render(scene: &Scene, camera: &Camera, method: ShadowMethod) -> image::RgbaIm
 }
 
 fn point(height: f32, intensity: f32) -> Light {
-    Light::Point(PointLight {
+    Light::Point(point_light(height, intensity))
+}
+
+fn point_light(height: f32, intensity: f32) -> PointLight {
+    PointLight {
         position: Vec3::new(0.0, height, 0.0),
         radius: 0.0,
         color: Vec3::ONE,
         intensity,
         range: None,
-    })
+    }
 }
 
 #[test]
@@ -295,6 +299,49 @@ fn area_lights_give_the_exact_irradiance() {
     );
     assert!((measured_centre / centre - 1.0).abs() < 0.02);
     assert!((measured_corner / corner - 1.0).abs() < 0.02);
+    // The lit passes leave the area lights' shading out until a light with an area is shaded:
+    // one renderer that first lights the floor with a point light, then with the rectangle,
+    // then with the point light again, must give what fresh renderers give (for the forward
+    // pass and for the composite).
+    for method in [ShadowMethod::Hard, ShadowMethod::Ours] {
+        let gpu = common::gpu();
+        let settings = ShadowSettings::preset(method, penumbra::Quality::Medium);
+        let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+        // A point light with a size, so that `ours` shades it in the composite too.
+        let point_scene = Scene {
+            light: Light::Point(PointLight {
+                radius: 0.1,
+                ..point_light(height, 4.0)
+            }),
+            ..scene.clone()
+        };
+        let mut gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &point_scene).unwrap();
+        let mut frame = |gpu_scene: &GpuScene| {
+            penumbra::render_to_image(&gpu, &mut renderer, gpu_scene, &camera, SIZE.0, SIZE.1).unwrap()
+        };
+        let first = frame(&gpu_scene);
+        gpu_scene.set_light(scene.light).unwrap();
+        let switched = frame(&gpu_scene);
+        gpu_scene.set_light(point_scene.light).unwrap();
+        let back = frame(&gpu_scene);
+        let fresh_rect = render(&scene, &camera, method);
+        let fresh_point = render(&point_scene, &camera, method);
+        assert!(
+            switched == fresh_rect,
+            "{}: the rectangle after a point light",
+            method.name()
+        );
+        assert!(
+            back == fresh_point && first == fresh_point,
+            "{}: the point light",
+            method.name()
+        );
+        assert!(
+            switched != first,
+            "{}: the rectangle lights as the point light did",
+            method.name()
+        );
+    }
     // Facing up, the floor below is behind it: unlit.
     if let Light::Rect(r) = &mut scene.light {
         r.direction = Vec3::Y;
