@@ -99,11 +99,11 @@ struct Setup {
     width_texels: f32,
 }
 
-// The taps' layout at pixel centre `frag` (camera depth `depth`).
-fn setup(frag: vec2<f32>, depth: f32) -> Setup {
+// The taps' layout at pixel centre `frag` (camera depth `depth`, distance to the occluder `d`:
+// the distance map's R there, which the callers have read).
+fn setup(frag: vec2<f32>, depth: f32, d: f32) -> Setup {
     let pixel = vec2<i32>(frag);
     use_pixel_cascade(frag, depth);
-    let d = textureLoad(distance_map, pixel, 0).x;
     let world = world_position(frag, depth);
     let r = receiver(pixel, depth, frame.penumbra.normal_offset);
     var side = i32(pcf.taps_per_side);
@@ -226,7 +226,7 @@ fn pcf_at(frag: vec2<f32>) -> Out {
             return out;
         }
     }
-    let s = setup(frag, depth);
+    let s = setup(frag, depth, textureLoad(distance_map, pixel, 0).x);
     out.visibility = vec4<f32>(taps(s));
     out.blur_sigma = vec4<f32>(s.blur_sigma, 0.0, 0.0);
     return out;
@@ -275,10 +275,11 @@ fn smooth_around(pixel: vec2<i32>, center: f32) -> bool {
 fn fs_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = min(2 * vec2<i32>(frag.xy), vec2<i32>(frame.view.size) - 1);
     let depth = textureLoad(camera_depth, pixel, 0).x;
-    if is_background(depth) || textureLoad(distance_map, pixel, 0).y <= 0.0 {
+    let distance = textureLoad(distance_map, pixel, 0);
+    if is_background(depth) || distance.y <= 0.0 {
         return vec4<f32>(1.0, 0.0, 0.0, 0.0);
     }
-    let s = setup(vec2<f32>(pixel) + 0.5, depth);
+    let s = setup(vec2<f32>(pixel) + 0.5, depth, distance.x);
     if !is_wide(s) || !smooth_around(pixel, 1.0 / view_depth(depth)) {
         return vec4<f32>(1.0, 0.0, 0.0, 0.0);
     }
@@ -338,12 +339,13 @@ fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gro
 // The compute path's work at `pixel`: its visibility and the blur's deviations. Returns the
 // penumbra's width in texels where the pixel lies in one (physical mode), else -1.
 fn pcf_pixel(pixel: vec2<i32>) -> f32 {
-    if textureLoad(distance_map, pixel, 0).z <= 0.0 {
+    let distance = textureLoad(distance_map, pixel, 0);
+    if distance.z <= 0.0 {
         textureStore(sigma_out, pixel, vec4<f32>(0.0));
         return -1.0;
     }
     let depth = textureLoad(camera_depth, pixel, 0).x;
-    let s = setup(vec2<f32>(pixel) + 0.5, depth);
+    let s = setup(vec2<f32>(pixel) + 0.5, depth, distance.x);
     let visibility = taps(s);
     textureStore(visibility_out, pixel, vec4<f32>(visibility));
     textureStore(sigma_out, pixel, vec4<f32>(s.blur_sigma, 0.0, 0.0));
