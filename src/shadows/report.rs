@@ -1,5 +1,6 @@
 //! What [`Shadows`](super::Shadows) names its lights by and tells of them: a light's id (its
-//! layer), its report of the last frame, and the intermediate textures a debug view reads.
+//! layer), its report of the frame last prepared, and the intermediate textures a debug view
+//! reads.
 
 use super::*;
 
@@ -14,7 +15,8 @@ impl LightId {
     }
 }
 
-/// What one light did in the last frame.
+/// What one light's frame does, from [`crate::Shadows::prepare`] on (its fit, spreads and
+/// chain are known before the frame is encoded); kept until the next prepare.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LightReport {
     /// The light reported on.
