@@ -350,6 +350,23 @@ fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gro
     textureStore(blur_out, pixel, vec4<f32>(blur_all(vec2<f32>(pixel) + 0.5).x));
 }
 
+// The tiles listed apart as turned away from the light (over that list): the horizontal axis's
+// result is 0 there, as the PCF's visibility is, so the vertical axis reads it as it would.
+@compute @workgroup_size(16, 16)
+fn cs_away(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    let pixel = listed_pixel(group, groups, local);
+    if pixel.x >= 0 {
+        textureStore(blur_out, pixel, vec4<f32>(0.0));
+    }
+}
+
+// Their quads in the light's layer: 0, except where nothing was drawn or the receiver mask
+// leaves a pixel out (1, as the resolve writes there).
+@fragment
+fn fs_away(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(select(1.0, 0.0, receives(vec2<i32>(frag.xy))));
+}
+
 // The result into the light's layer, which is the engine's render target and so is drawn:
 // the listed tiles' quads (`vs_listed_tile`), one load a pixel of what the vertical axis wrote
 // (bound as `source`), 1 where no shadow can fall.

@@ -187,11 +187,15 @@ fn may_hold_shadow(tile: vec2<i32>) -> bool {
 // The compute path (the screen-space chain as compute passes over a list of tiles):
 // `cs_reduce` is `fs_reduce` into a 32-bit float (no rounding to allow for), `cs_classify` runs
 // one invocation per screen tile and appends the tiles it keeps to the list (all of them with
-// CLASSIFY off), and `cs_finish` turns the list's length into the indirect arguments of the
-// passes over it. The list's count is zeroed before `cs_classify`.
+// CLASSIFY off), or with FACING those of them wholly turned away from the light to a second
+// list, and `cs_finish` turns the lists' lengths into the indirect arguments of the passes over
+// them. The lists' counts are zeroed before `cs_classify`.
 
 // false: every tile is listed (the classification is off)
 override CLASSIFY: bool = true;
+// true: a kept tile whose every pixel faces away from the light goes to the second list
+// (`faces_away`), where the passes write 0 without taps
+override FACING: bool = false;
 
 struct TileListOut {
     count: atomic<u32>,
@@ -211,6 +215,59 @@ struct TileArgs {
 // One texel per screen tile, 1 where it was listed (the debug views' and the bench's tile
 // share).
 @group(0) @binding(8) var classes_out: texture_storage_2d<r32float, write>;
+// The kept tiles turned away from the light, and the indirect arguments of the passes over them.
+@group(0) @binding(9) var<storage, read_write> away_out: TileListOut;
+@group(0) @binding(10) var<storage, read_write> away_args: TileArgs;
+// The engine's receiver mask (read where the frame uniform says one is bound).
+@group(0) @binding(11) var receiver_mask: texture_2d<f32>;
+
+// The least cosine, beyond the light's angular radius, between a surface's normal and the
+// direction away from the light for the surface to count as turned away from it: room for a
+// normal worked out from neighbouring depths, and for a smooth-shaded mesh whose shading normal
+// turns further toward the light than its facets.
+const AWAY_MARGIN: f32 = 0.1;
+
+// Whether every drawn pixel of screen tile `tile` lies on a surface turned away from the light
+// by more than the light's angular radius there (plus AWAY_MARGIN), so that no part of the
+// light reaches it: its normal from neighbouring depths (`neighbor_delta`, as PCF's receiver
+// plane). A pixel the receiver mask leaves out, or one whose normal is undefined, keeps the tile
+// out of the class.
+fn faces_away(tile: vec2<i32>) -> bool {
+    let size = vec2<i32>(frame.view.size);
+    let first = tile * TILE;
+    let last = min(first + TILE, size) - 1;
+    var away = true;
+    for (var y = first.y; y <= last.y && away; y++) {
+        for (var x = first.x; x <= last.x && away; x++) {
+            let pixel = vec2<i32>(x, y);
+            let depth = textureLoad(camera_depth, pixel, 0).x;
+            if is_background(depth) {
+                continue;
+            }
+            if frame.view.has_receiver_mask != 0u && textureLoad(receiver_mask, pixel, 0).x < 0.5 {
+                away = false;
+                continue;
+            }
+            let world = world_position(vec2<f32>(pixel) + 0.5, depth);
+            let n = cross(neighbor_delta(pixel, world, depth, vec2<i32>(1, 0)), neighbor_delta(pixel, world, depth, vec2<i32>(0, 1)));
+            let len = length(n);
+            let toward_camera = select(-1.0, 1.0, dot(n, to_camera(world)) >= 0.0);
+            let along_light = dot(n * toward_camera, light_ray(world)) / max(len, 1e-30);
+            away = len > 1e-30 && along_light > light_sine(world) + AWAY_MARGIN;
+        }
+    }
+    return away;
+}
+
+// The sine of the light's angular radius seen from `world`: a sun's half angle, or a spot's or
+// point light's radius (an area light's bounding sphere) over its distance.
+fn light_sine(world: vec3<f32>) -> f32 {
+    if light_kind() == 0u {
+        let t = 0.5 * frame.light.size_term;
+        return t / sqrt(1.0 + t * t);
+    }
+    return min(0.5 * frame.light.size_term / max(length(world - frame.light.position), 1e-20), 1.0);
+}
 
 @compute @workgroup_size(8, 8)
 fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -227,18 +284,30 @@ fn cs_classify(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let kept = !CLASSIFY || may_hold_shadow(vec2<i32>(id.xy));
-    textureStore(classes_out, id.xy, vec4<f32>(select(0.0, 1.0, kept)));
+    let away = FACING && kept && faces_away(vec2<i32>(id.xy));
+    textureStore(classes_out, id.xy, vec4<f32>(select(select(0.0, 1.0, kept), AWAY_CLASS, away)));
     if !kept {
+        return;
+    }
+    if away {
+        let index = atomicAdd(&away_out.count, 1u);
+        away_out.tiles[index] = id.x | (id.y << 16u);
         return;
     }
     let index = atomicAdd(&list_out.count, 1u);
     list_out.tiles[index] = id.x | (id.y << 16u);
 }
 
+// The class texel of a tile listed apart as turned away from the light.
+const AWAY_CLASS: f32 = 0.25;
+
 @compute @workgroup_size(1)
 fn cs_finish() {
-    let count = atomicLoad(&list_out.count);
+    args = arguments(atomicLoad(&list_out.count));
+    away_args = arguments(atomicLoad(&away_out.count));
+}
+
+fn arguments(count: u32) -> TileArgs {
     let across = min(count, 65535u);
-    args.dispatch = vec4<u32>(across, (count + 65534u) / 65535u, 1u, 0u);
-    args.draw = vec4<u32>(6u, count, 0u, 0u);
+    return TileArgs(vec4<u32>(across, (count + 65534u) / 65535u, 1u, 0u), vec4<u32>(6u, count, 0u, 0u));
 }

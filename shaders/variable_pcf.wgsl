@@ -336,6 +336,17 @@ fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gro
     }
 }
 
+// The tiles listed apart as turned away from the light (`faces_away` in `tile_classify.wgsl`,
+// dispatched over that list): the light reaches none of their pixels, visibility 0 without
+// taps, which the blur reads there as it would PCF's. Their deviations are never read.
+@compute @workgroup_size(16, 16)
+fn cs_away(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    let pixel = listed_pixel(group, groups, local);
+    if pixel.x >= 0 {
+        textureStore(visibility_out, pixel, vec4<f32>(0.0));
+    }
+}
+
 // The compute path's work at `pixel`: its visibility and the blur's deviations. Returns the
 // penumbra's width in texels where the pixel lies in one (physical mode), else -1.
 fn pcf_pixel(pixel: vec2<i32>) -> f32 {

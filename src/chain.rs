@@ -1022,14 +1022,16 @@ impl ScreenChain {
                     targets.clear(e, Cleared::Distance);
                     distance.encode(e, maps_drawn)
                 });
+                // The tiles turned away from the light get 0 from each pass, without taps.
+                let away = distance.away().filter(|_| distance.switches().facing_away);
                 run(encoder, mark, "pcf", &|e| {
                     targets.clear(e, Cleared::Visibility);
-                    pcf.encode(e, listed)
+                    pcf.encode(e, listed, away)
                 });
                 match blur {
                     Some(blur) => run(encoder, mark, "blur", &|e| {
                         targets.clear(e, Cleared::Blurred);
-                        blur.encode(e, listed, layer)
+                        blur.encode(e, listed, away, layer)
                     }),
                     None => run(encoder, mark, "resolve", &|e| resolve.encode(e, layer)),
                 }
@@ -1079,7 +1081,7 @@ impl ScreenChain {
                 match (blur, listed, targets) {
                     (Some(blur), Some(listed), Some(targets)) => run(encoder, mark, "blur", &|e| {
                         targets.clear(e, Cleared::Blurred);
-                        blur.encode(e, listed, layer)
+                        blur.encode(e, listed, None, layer)
                     }),
                     _ => run(encoder, mark, "resolve", &|e| resolve.encode(e, layer)),
                 }

@@ -164,6 +164,8 @@ pub(crate) struct DistanceSwitches {
     pub nearest_caster: bool,
     /// Draw only the screen tiles the tile classification keeps.
     pub tiles: bool,
+    /// The compute path: list the kept tiles turned away from the light apart (0 without taps).
+    pub facing_away: bool,
 }
 
 /// The blur's compile-time switches.
@@ -282,6 +284,7 @@ impl PassParams {
                 mask_early_out: p.mask_early_out,
                 nearest_caster: p.nearest_caster,
                 tiles,
+                facing_away: tiles && p.skip_tiles_facing_away,
             },
             blur,
             blur_switches: BlurSwitches {

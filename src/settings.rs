@@ -246,6 +246,16 @@ pub struct PenumbraSettings {
     /// [`TileClassification::Auto`].
     #[cfg_attr(feature = "serde", serde(default))]
     pub tiles: TileClassification,
+    /// On the compute path, list apart the screen tiles whose every pixel lies on a surface
+    /// turned away from the light (by more than the light's angular radius there, plus a
+    /// margin): the light reaches none of it, so the distance map, PCF and the blur skip those
+    /// tiles and their visibility is 0 (the lit passes' cosine is 0 there too). Pixels the
+    /// receiver mask leaves out keep a tile listed as before. Off: those tiles get PCF's and the
+    /// blur's values, near 0 on a closed caster's far side; an engine that lights the back of
+    /// thin surfaces through the visibility (foliage translucency) may want that. Default true
+    /// (docs/cost.md, "Tiles facing away from the light").
+    #[cfg_attr(feature = "serde", serde(default = "default_true"))]
+    pub skip_tiles_facing_away: bool,
     /// In physical mode, PCF at half resolution where the penumbra is wide (its standard
     /// deviation at least 2 pixels along both screen axes): one pixel of each 2 x 2 block takes
     /// the taps in a draw of its own and the others interpolate, except near contact and at
@@ -354,6 +364,7 @@ impl Default for PenumbraSettings {
             mask_early_out: true,
             nearest_caster: true,
             tiles: TileClassification::Auto,
+            skip_tiles_facing_away: true,
             reduced_resolution: false,
             blur_taps: 11,
             depth_aware_blur: true,

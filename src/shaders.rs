@@ -69,8 +69,9 @@ shaders! {
     /// atlas, so it can be redrawn while the others are kept.
     TILE_CLEAR: "tile_clear" after [];
     /// Tile classification (`tile_classify.wgsl`): marks the 16 x 16 pixel screen tiles where the
-    /// light's fattened shadow can fall ([`crate::TileClassification`]).
-    TILE_CLASSIFY: "tile_classify" after ["frame", "cube", "fullscreen"];
+    /// light's fattened shadow can fall ([`crate::TileClassification`]), and on the compute path
+    /// lists apart those turned away from the light.
+    TILE_CLASSIFY: "tile_classify" after ["frame", "cube", "fullscreen", "receiver"];
 }
 
 /// A shader module from one of the sources above.

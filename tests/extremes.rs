@@ -530,6 +530,7 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                     } else {
                         penumbra::TileClassification::Off
                     },
+                    skip_tiles_facing_away: !mask,
                     reduced_resolution: rotate,
                     blur_taps,
                     depth_aware_blur: aware,

@@ -664,3 +664,82 @@ fn reduced_resolution_keeps_the_penumbra_and_full_resolution_at_depth_edges() {
         "reduced resolution costs accuracy: {full:.4} -> {reduced:.4}"
     );
 }
+
+/// The tiles whose surfaces all face away from the light
+/// (`PenumbraSettings::skip_tiles_facing_away`, on by default) are listed apart and get
+/// visibility 0 without the passes' taps. The teapot's own far side is such a surface: the frame
+/// must be what the passes over those tiles give, and so must the visibility there, near 0.
+#[test]
+fn tiles_facing_away_from_the_light_get_no_light_and_the_frame_stays() {
+    let gpu = common::gpu();
+    let size = (640, 512);
+    let scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let camera = scene.view(0).unwrap();
+    let mut without = settings(ShadowMethod::Ours);
+    without.penumbra.skip_tiles_facing_away = false;
+    let (image_with, with) = render_frame(&gpu, &scene, &camera, settings(ShadowMethod::Ours), size);
+    let (image_without, without) = render_frame(&gpu, &scene, &camera, without, size);
+    let classes = |r: &Renderer| read(&gpu, r.debug_texture(LightTexture::TileClasses).unwrap()).0;
+    let (classes_with, classes_without) = (classes(&with), classes(&without));
+    let away = |c: &[f32]| c.iter().filter(|v| (**v - 0.25).abs() < 1e-3).count();
+    let listed = classes_with.iter().filter(|v| **v >= 0.5).count();
+    assert_eq!(
+        away(&classes_without),
+        0,
+        "tiles listed apart with the switch off"
+    );
+    assert_eq!(
+        classes_without.iter().filter(|v| **v >= 0.5).count(),
+        listed + away(&classes_with),
+        "the tiles listed apart are kept tiles"
+    );
+    let layer = |r: &Renderer| read(&gpu, r.debug_texture(LightTexture::BlurredVisibility).unwrap()).0;
+    let (layer_with, layer_without) = (layer(&with), layer(&without));
+    let tiles_across = size.0.div_ceil(16) as usize;
+    let (mut zero, mut sum, mut worst) = (0usize, 0.0f32, 0.0f32);
+    for (i, (a, b)) in layer_with.iter().zip(&layer_without).enumerate() {
+        let (x, y) = (i % size.0 as usize, i / size.0 as usize);
+        if (classes_with[(y / 16) * tiles_across + x / 16] - 0.25).abs() >= 1e-3 {
+            continue;
+        }
+        // Nothing drawn there reads 1, as the resolve writes.
+        assert!(
+            *a == 0.0 || *a == 1.0,
+            "pixel {x},{y} of a tile turned away reads {a}"
+        );
+        if *a == 0.0 {
+            zero += 1;
+            sum += b;
+            worst = worst.max(*b);
+        }
+    }
+    let mean = sum / zero.max(1) as f32;
+    let worst_step = image_with
+        .pixels()
+        .zip(image_without.pixels())
+        .map(|(a, b)| (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap())
+        .collect::<Vec<_>>();
+    let differing = worst_step.iter().filter(|d| **d > 2).count();
+    let away_tiles = away(&classes_with);
+    eprintln!(
+        "{away_tiles} tiles listed apart of {}, {zero} pixels at 0; the passes gave them mean {mean} max {worst}; {differing} frame pixels differ by more than 2",
+        listed + away_tiles
+    );
+    // 40 of 460 at this size (the teapot's far side; 194 of 1243 at 1280x1024).
+    assert!(
+        away_tiles * 20 >= listed + away_tiles,
+        "only {away_tiles} of {} kept tiles listed apart",
+        listed + away_tiles
+    );
+    assert!(zero > 5000, "only {zero} pixels of those tiles read 0");
+    // What the passes gave there is the surface's own shadow, near 0 (0.055 measured).
+    assert!(
+        mean < 0.1,
+        "the passes gave the tiles turned away a mean visibility of {mean}"
+    );
+    // The lit pass's cosine is 0 there: the frame stays (none differed by more than 2/255).
+    assert!(
+        differing <= 50 && worst_step.iter().all(|d| *d <= 8),
+        "{differing} frame pixels differ by more than 2/255"
+    );
+}

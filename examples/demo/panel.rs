@@ -328,6 +328,10 @@ impl DemoApp {
                     "beside a shadow, distance to the nearest caster",
                 );
                 ui.checkbox(
+                    &mut p.skip_tiles_facing_away,
+                    "skip tiles facing away from the light",
+                );
+                ui.checkbox(
                     &mut p.reduced_resolution,
                     "PCF at half resolution where the penumbra is wide",
                 );

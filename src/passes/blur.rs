@@ -433,8 +433,12 @@ pub(crate) struct BlurCompute {
     out_layout: wgpu::BindGroupLayout,
     /// Both axes (the axis uniform says which).
     axes: wgpu::ComputePipeline,
+    /// 0 into the horizontal axis's result over the tiles turned away from the light.
+    away: wgpu::ComputePipeline,
     /// The result into the light's layer.
     copy: wgpu::RenderPipeline,
+    /// 0 into the light's layer over the tiles turned away from the light.
+    copy_away: wgpu::RenderPipeline,
     sampler: wgpu::Sampler,
     axis_buffers: [wgpu::Buffer; 2],
     axis_groups: [wgpu::BindGroup; 2],
@@ -489,38 +493,44 @@ impl BlurCompute {
             ("LIGHTS", 1.0),
             ("COMPUTE_PATH", 1.0),
         ];
-        let axes = super::compute_pipeline(
-            device,
-            "BlurCompute::axes",
-            &shader,
-            &[
-                Some(&layout),
-                Some(&axis_layout),
-                Some(&out_layout),
-                Some(&list_layout),
-            ],
-            "cs_main",
-            &constants,
-        );
-        let copy = Fullscreen {
-            label: "BlurCompute::copy",
-            shader: &shader,
-            bind_group_layouts: &[Some(&layout), Some(&axis_layout), None, Some(&list_layout)],
-            targets: &[Some(VISIBILITY_FORMAT.into())],
-            depth: None,
-            constants: &constants,
-        }
-        .pipeline_with(device, "vs_listed_tile", "fs_listed_copy");
+        let axes = |label, entry| {
+            super::compute_pipeline(
+                device,
+                label,
+                &shader,
+                &[
+                    Some(&layout),
+                    Some(&axis_layout),
+                    Some(&out_layout),
+                    Some(&list_layout),
+                ],
+                entry,
+                &constants,
+            )
+        };
+        let copy = |label, fragment| {
+            Fullscreen {
+                label,
+                shader: &shader,
+                bind_group_layouts: &[Some(&layout), Some(&axis_layout), None, Some(&list_layout)],
+                targets: &[Some(VISIBILITY_FORMAT.into())],
+                depth: None,
+                constants: &constants,
+            }
+            .pipeline_with(device, "vs_listed_tile", fragment)
+        };
         let axis_buffers = ["BlurCompute::horizontal", "BlurCompute::vertical"]
             .map(|label| crate::gpu_helpers::uniform_buffer(device, label, size_of::<BlurUniform>() as u64));
         let axis_groups =
             [0, 1].map(|i| super::bind_group(device, "BlurCompute::axis", &axis_layout, &[&axis_buffers[i]]));
         Self {
             switches,
+            axes: axes("BlurCompute::axes", "cs_main"),
+            away: axes("BlurCompute::away", "cs_away"),
+            copy: copy("BlurCompute::copy", "fs_listed_copy"),
+            copy_away: copy("BlurCompute::copy_away", "fs_away"),
             layout,
             out_layout,
-            axes,
-            copy,
             sampler: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("BlurCompute::sampler"),
                 ..Default::default()
@@ -584,17 +594,27 @@ impl BlurCompute {
         write_axes(queue, &self.axis_buffers, params, true);
     }
 
-    /// Records both axes over `tiles`, and the copy of the result into `layer`.
+    /// Records both axes over `tiles`, and the copy of the result into `layer`; over the tiles
+    /// `away` from the light (if any), 0 into the horizontal axis's result and the layer.
     pub(crate) fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         tiles: super::TileList,
+        away: Option<super::TileList>,
         layer: &wgpu::TextureView,
     ) {
         // The horizontal axis's target was cleared to 1 ([`crate::chain::ComputeTargets::clear`]).
         let Some([horizontal, to_temp, vertical, to_visibility]) = &self.bind_groups else {
             return;
         };
+        if let Some(away) = &away {
+            away.dispatch(
+                encoder,
+                "BlurCompute::away",
+                &self.away,
+                &[Some(horizontal), Some(&self.axis_groups[0]), Some(to_temp)],
+            );
+        }
         tiles.dispatch(
             encoder,
             "BlurCompute::horizontal",
@@ -618,5 +638,9 @@ impl BlurCompute {
         pass.set_bind_group(0, horizontal, &[]);
         pass.set_bind_group(1, &self.axis_groups[1], &[]);
         tiles.draw(&mut pass);
+        if let Some(away) = &away {
+            pass.set_pipeline(&self.copy_away);
+            away.draw(&mut pass);
+        }
     }
 }

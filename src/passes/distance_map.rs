@@ -339,7 +339,12 @@ impl DistanceMapCompute {
             layout,
             pipeline,
             bind_group: None,
-            tiles: super::TileListPass::new(device, frame_size, light_kind, switches.tiles),
+            tiles: super::TileListPass::new(
+                device,
+                frame_size,
+                light_kind,
+                (switches.tiles, switches.facing_away),
+            ),
             reduce_pending: std::sync::atomic::AtomicBool::new(true),
         }
     }
@@ -359,8 +364,13 @@ impl DistanceMapCompute {
         camera_depth: &wgpu::TextureView,
         receiver_mask: &wgpu::TextureView,
     ) {
-        self.tiles
-            .bind(device, tiles, frame, camera_depth, fattened_map, fattened_size);
+        self.tiles.bind(
+            device,
+            tiles,
+            frame,
+            (camera_depth, receiver_mask),
+            (fattened_map, fattened_size),
+        );
         self.reduce_pending
             .store(true, std::sync::atomic::Ordering::Relaxed);
         self.bind_group = Some(super::bind_group(
@@ -391,6 +401,12 @@ impl DistanceMapCompute {
     /// The listed tiles, for the passes over them (once bound).
     pub(crate) fn listed(&self) -> Option<super::TileList<'_>> {
         self.tiles.listed()
+    }
+
+    /// The tiles turned away from the light, where the passes write 0 without taps (once
+    /// bound).
+    pub(crate) fn away(&self) -> Option<super::TileList<'_>> {
+        self.tiles.away()
     }
 
     /// Records the tile list and the distance map over it (`maps_drawn`: the light's maps

@@ -272,7 +272,8 @@ pub(crate) fn has_compute(device: &wgpu::Device) -> bool {
         && l.max_compute_workgroup_size_y >= 16
         && l.max_compute_workgroups_per_dimension >= 65535
         && l.max_storage_textures_per_shader_stage >= 2
-        && l.max_storage_buffers_per_shader_stage >= 2
+        // the tile classification's two lists and their arguments
+        && l.max_storage_buffers_per_shader_stage >= 4
         && l.max_bind_groups >= 4
 }
 

@@ -226,9 +226,13 @@ impl TileClassifyPass {
 /// the distance map, PCF and blur cost what the listed tiles do, on a GPU as on a software
 /// rasterizer.
 ///
-/// Inputs: the frame uniform, the camera depth and the fattened shadow map. Outputs: the
-/// reduced fattened map (R32F, the light's own, redrawn when its maps are) and, into
-/// [`TileListTargets`] that the lights share, the list, the arguments and the classes.
+/// With `facing_away`, a kept tile whose every pixel lies on a surface turned away from the
+/// light goes to a second list instead ([`TileListTargets::away`]): the passes write 0 there
+/// without taps (`faces_away` in the shader).
+///
+/// Inputs: the frame uniform, the camera depth, the receiver mask and the fattened shadow map.
+/// Outputs: the reduced fattened map (R32F, the light's own, redrawn when its maps are) and,
+/// into [`TileListTargets`] that the lights share, the lists, their arguments and the classes.
 pub(crate) struct TileListPass {
     classify_layout: wgpu::BindGroupLayout,
     reduce_layout: wgpu::BindGroupLayout,
@@ -243,9 +247,10 @@ pub(crate) struct TileListPass {
 }
 
 /// A tile list for one screen: the list (a count, then one `x | y << 16` per tile), the
-/// indirect arguments, the classes (R32F, one texel per tile, 1 where listed: the debug view's
-/// and the bench's tile share) and the list's bind group for the passes over it. Lights whose
-/// chains run one after the other share one.
+/// indirect arguments, the classes (R32F, one texel per tile, 1 where listed, 0.25 where listed
+/// apart as turned away from the light: the debug view's and the bench's tile share) and the
+/// list's bind group for the passes over it; the same for the tiles turned away from the light.
+/// Lights whose chains run one after the other share one.
 #[derive(Clone)]
 pub(crate) struct TileListTargets {
     list: wgpu::Buffer,
@@ -253,26 +258,36 @@ pub(crate) struct TileListTargets {
     classes: Target,
     /// The list as group [`super::TILE_LIST_GROUP`].
     group: wgpu::BindGroup,
+    /// The tiles turned away from the light: list, arguments, group.
+    away: (wgpu::Buffer, wgpu::Buffer, wgpu::BindGroup),
 }
 
 impl TileListTargets {
     /// For a `width` x `height` screen.
     pub fn new(device: &wgpu::Device, (width, height): (u32, u32)) -> Self {
         let tiles = TileClassifyPass::tiles(width, height);
-        let list = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("TileListTargets::list"),
-            size: 4 * (1 + u64::from(tiles.0 * tiles.1)),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let group = Self::list_group(device, "TileListTargets::list", &list);
-        Self {
-            args: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("TileListTargets::args"),
-                size: 32,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+        let buffer = |label, size, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage,
                 mapped_at_creation: false,
-            }),
+            })
+        };
+        let list_usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+        let args_usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT;
+        let words = 4 * (1 + u64::from(tiles.0 * tiles.1));
+        let list = buffer("TileListTargets::list", words, list_usage);
+        let group = Self::list_group(device, "TileListTargets::list", &list);
+        let away = buffer("TileListTargets::away", words, list_usage);
+        let away_group = Self::list_group(device, "TileListTargets::away", &away);
+        Self {
+            args: buffer("TileListTargets::args", 32, args_usage),
+            away: (
+                away,
+                buffer("TileListTargets::away_args", 32, args_usage),
+                away_group,
+            ),
             classes: super::storage_target(
                 device,
                 "TileListTargets::classes",
@@ -311,9 +326,18 @@ impl TileListTargets {
             &[dispatch[0], dispatch[1], dispatch[2], dispatch[3], 6, count, 0, 0],
         );
         let group = Self::list_group(device, "TileListTargets::every_tile", &list);
+        // No tile is turned away: the classification does not run.
+        let away = filled("TileListTargets::no_tile", wgpu::BufferUsages::STORAGE, &[0]);
+        let away_args = filled(
+            "TileListTargets::no_tile_args",
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+            &[0, 0, 1, 0, 6, 0, 0, 0],
+        );
+        let away_group = Self::list_group(device, "TileListTargets::no_tile", &away);
         Self {
             list,
             args,
+            away: (away, away_args, away_group),
             classes: super::storage_target(
                 device,
                 "TileListTargets::classes",
@@ -336,7 +360,11 @@ impl TileListTargets {
     }
 
     pub fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.classes.texture) + self.list.size() + self.args.size()
+        texture_bytes(&self.classes.texture)
+            + self.list.size()
+            + self.args.size()
+            + self.away.0.size()
+            + self.away.1.size()
     }
 
     /// One texel per screen tile: 1 where it was listed.
@@ -349,6 +377,14 @@ impl TileListTargets {
         super::TileList {
             group: &self.group,
             args: &self.args,
+        }
+    }
+
+    /// The tiles listed apart as turned away from the light, for the passes that write 0 there.
+    pub fn away(&self) -> super::TileList<'_> {
+        super::TileList {
+            group: &self.away.2,
+            args: &self.away.1,
         }
     }
 }
@@ -374,8 +410,13 @@ impl TileListPass {
     }
 
     /// Made for one light kind ([`crate::frame::light_kind`]); `classify` false lists every
-    /// tile.
-    pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32, classify: bool) -> Self {
+    /// tile; `facing_away` lists the kept tiles turned away from the light apart.
+    pub fn new(
+        device: &wgpu::Device,
+        frame_size: usize,
+        light_kind: u32,
+        (classify, facing_away): (bool, bool),
+    ) -> Self {
         let shader = crate::shaders::module(device, "tile_classify.wgsl", crate::shaders::TILE_CLASSIFY);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let compute = wgpu::ShaderStages::COMPUTE;
@@ -390,6 +431,9 @@ impl TileListPass {
                 entry::storage_buffer(5, compute, false),
                 entry::storage_buffer(7, compute, false),
                 entry::storage_texture(8, REDUCED_STORAGE_FORMAT),
+                entry::storage_buffer(9, compute, false),
+                entry::storage_buffer(10, compute, false),
+                entry::and_compute(entry::texture_2d(11, unfilterable)),
             ],
         );
         let reduce_layout = crate::gpu_helpers::layout(
@@ -404,6 +448,7 @@ impl TileListPass {
         let constants = [
             (LIGHT_KIND, light_kind as f64),
             ("CLASSIFY", if classify { 1.0 } else { 0.0 }),
+            ("FACING", if classify && facing_away { 1.0 } else { 0.0 }),
         ];
         let pipeline = |label, layout: &wgpu::BindGroupLayout, entry| {
             super::compute_pipeline(device, label, &shader, &[Some(layout)], entry, &constants)
@@ -431,15 +476,14 @@ impl TileListPass {
     }
 
     /// Points the pass at its inputs (`fattened_map` is `fattened_size` texels, width and
-    /// height) and the list it writes.
+    /// height) and the lists it writes.
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
         targets: &TileListTargets,
         frame: &wgpu::Buffer,
-        camera_depth: &wgpu::TextureView,
-        fattened_map: &wgpu::TextureView,
-        fattened_size: (u32, u32),
+        (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
+        (fattened_map, fattened_size): (&wgpu::TextureView, (u32, u32)),
     ) {
         let size = (fattened_size.0.div_ceil(REDUCE), fattened_size.1.div_ceil(REDUCE));
         if (self.reduced.texture.width(), self.reduced.texture.height()) != size {
@@ -462,6 +506,9 @@ impl TileListPass {
                 (5, targets.list.as_entire_binding()),
                 (7, targets.args.as_entire_binding()),
                 (8, wgpu::BindingResource::TextureView(&targets.classes.view)),
+                (9, targets.away.0.as_entire_binding()),
+                (10, targets.away.1.as_entire_binding()),
+                (11, wgpu::BindingResource::TextureView(receiver_mask)),
             ]),
         });
         let reduce = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -482,6 +529,11 @@ impl TileListPass {
         self.targets.as_ref().map(TileListTargets::listed)
     }
 
+    /// The tiles turned away from the light (once bound).
+    pub fn away(&self) -> Option<super::TileList<'_>> {
+        self.targets.as_ref().map(TileListTargets::away)
+    }
+
     /// Records the reduction of the fattened map (`maps_drawn`: the light's maps were drawn
     /// since the last one), the list's reset, the classification and the arguments.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, maps_drawn: bool) {
@@ -489,6 +541,7 @@ impl TileListPass {
             return;
         };
         encoder.clear_buffer(&targets.list, 0, Some(4));
+        encoder.clear_buffer(&targets.away.0, 0, Some(4));
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("TileListPass"),
             timestamp_writes: None,

@@ -415,6 +415,8 @@ pub(crate) struct VariablePcfCompute {
     light_kind: u32,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
+    /// Visibility 0 over the tiles turned away from the light (`cs_away`).
+    away: wgpu::ComputePipeline,
     params: wgpu::Buffer,
     sampler: wgpu::Sampler,
     bind_group: Option<wgpu::BindGroup>,
@@ -461,23 +463,26 @@ impl VariablePcfCompute {
             ],
         );
         let list_layout = super::TileListPass::list_layout(device);
-        let pipeline = super::compute_pipeline(
-            device,
-            "VariablePcfCompute::pipeline",
-            &shader,
-            &[Some(&layout), None, None, Some(&list_layout)],
-            "cs_main",
-            &[
-                ("ROTATE_TAPS", if switches.rotate_taps { 1.0 } else { 0.0 }),
-                ("HALF_RESOLUTION", 0.0),
-                (LIGHT_KIND, light_kind as f64),
-            ],
-        );
+        let pipeline = |label, entry| {
+            super::compute_pipeline(
+                device,
+                label,
+                &shader,
+                &[Some(&layout), None, None, Some(&list_layout)],
+                entry,
+                &[
+                    ("ROTATE_TAPS", if switches.rotate_taps { 1.0 } else { 0.0 }),
+                    ("HALF_RESOLUTION", 0.0),
+                    (LIGHT_KIND, light_kind as f64),
+                ],
+            )
+        };
         Self {
             switches,
             light_kind,
+            pipeline: pipeline("VariablePcfCompute::pipeline", "cs_main"),
+            away: pipeline("VariablePcfCompute::away", "cs_away"),
             layout,
-            pipeline,
             params: crate::gpu_helpers::uniform_buffer(
                 device,
                 "VariablePcfCompute::params",
@@ -534,8 +539,14 @@ impl VariablePcfCompute {
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
     }
 
-    /// Records the pass over `tiles`.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, tiles: super::TileList) {
+    /// Records the pass over `tiles`, and the visibility 0 over the tiles `away` from the
+    /// light.
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        tiles: super::TileList,
+        away: Option<super::TileList>,
+    ) {
         // The deviations are written at every listed pixel (the only ones the blur reads them
         // at); the visibility is read anywhere, and was cleared to 1
         // ([`crate::chain::ComputeTargets::clear`]).
@@ -543,5 +554,8 @@ impl VariablePcfCompute {
             return;
         };
         tiles.dispatch(encoder, "VariablePcfCompute", &self.pipeline, &[Some(group)]);
+        if let Some(away) = away {
+            away.dispatch(encoder, "VariablePcfCompute::away", &self.away, &[Some(group)]);
+        }
     }
 }
