@@ -219,6 +219,8 @@ pub struct Embedding {
     pub tiles: Vec<TileRun>,
     /// `ours` with PCF at half resolution where the penumbra is wide, and without.
     pub reduced: Vec<ReducedRun>,
+    /// `ours` with the tiles turned away from the light listed apart, and without.
+    pub facing: Vec<FacingRun>,
     /// What `Shadows` holds for one and for eight lights, per method.
     pub memory: Vec<MemoryRun>,
     /// `ours`, `pcss` and `traditional` with their screen-space passes as compute passes and as
@@ -262,6 +264,20 @@ pub struct ReducedRun {
     pub reduced: bool,
     /// The PCF pass (its half-resolution draw included).
     pub pcf_ms: f64,
+    pub frame_ms: f64,
+}
+
+/// `ours` (medium) on the teapot's view 0, light turning, with the tiles turned away from the
+/// light listed apart (`PenumbraSettings::skip_tiles_facing_away`) or not: means over two
+/// timings taken in opposite orders.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct FacingRun {
+    pub skip: bool,
+    /// The screen's tiles the passes run over, and those listed apart.
+    pub tile_share: f32,
+    pub facing_away_share: f32,
+    /// Distance map (its classification included), PCF and blur.
+    pub screen_space_ms: f64,
     pub frame_ms: f64,
 }
 
@@ -340,6 +356,8 @@ struct Timing {
     pass_ms: BTreeMap<String, f64>,
     mask_saved_share: Option<f32>,
     tile_share: Option<f32>,
+    /// The tiles listed apart as turned away from the light.
+    facing_away_share: Option<f32>,
 }
 
 /// Whether frame times are the GPU's own (a hardware adapter with timestamp queries): there
@@ -380,6 +398,7 @@ fn time_frames(
         None
     };
     let tile_share = penumbra::debug::tile_share(&gpu.device, &gpu.queue, &renderer)?;
+    let facing_away_share = penumbra::debug::facing_away_share(&gpu.device, &gpu.queue, &renderer)?;
     let wall_ms = median(timed.wall_ms.clone());
     let frame_ms = if times_on_gpu(gpu) && timed.pass_sum_ms.len() == config.frames {
         median(timed.pass_sum_ms.clone())
@@ -396,6 +415,7 @@ fn time_frames(
             .collect(),
         mask_saved_share,
         tile_share,
+        facing_away_share,
     })
 }
 
@@ -545,6 +565,7 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
     embedding.batching = measure_batching(&gpu, &teapot, &camera, size, config)?;
     embedding.tiles = measure_tiles(&gpu, &teapot, &camera, size, config)?;
     embedding.reduced = measure_reduced(&gpu, &teapot, &camera, size, config)?;
+    embedding.facing = measure_facing(&gpu, &teapot, &camera, size, config)?;
     embedding.memory = measure_memory(&gpu, &teapot, &camera, config)?;
     embedding.compute = measure_compute(&gpu, &teapot, &camera, size, config)?;
     write_report(config, &device_name, times_on_gpu(&gpu), &runs, &embedding)?;
@@ -1012,6 +1033,50 @@ fn measure_reduced(
     Ok(runs)
 }
 
+/// `ours` (medium) on `scene` from `camera`, light turning, with the tiles turned away from the
+/// light listed apart and without; each timed twice, in opposite orders.
+fn measure_facing(
+    gpu: &HeadlessGpu,
+    scene: &penumbra::Scene,
+    camera: &penumbra::Camera,
+    size: (u32, u32),
+    config: &Config,
+) -> Result<Vec<FacingRun>> {
+    let mut sums = [(0.0f32, 0.0f32, 0.0f64, 0.0f64); 2];
+    for skip in [true, false, false, true] {
+        let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+        settings.penumbra.skip_tiles_facing_away = skip;
+        let t = time_frames(gpu, scene, camera, settings, size, config)?;
+        let screen: f64 = ["distance map", "pcf", "blur"]
+            .iter()
+            .filter_map(|p| t.pass_ms.get(*p))
+            .sum();
+        let sum = &mut sums[usize::from(skip)];
+        sum.0 = t.tile_share.unwrap_or(1.0);
+        sum.1 = t.facing_away_share.unwrap_or(0.0);
+        sum.2 += screen / 2.0;
+        sum.3 += t.frame_ms / 2.0;
+    }
+    Ok([false, true]
+        .into_iter()
+        .map(|skip| {
+            let (tile_share, facing_away_share, screen_space_ms, frame_ms) = sums[usize::from(skip)];
+            println!(
+                "tiles facing away listed apart {skip}: {:.1}% of the tiles listed, {:.1}% apart, screen-space {screen_space_ms:.2} ms, frame {frame_ms:.2} ms",
+                tile_share * 100.0,
+                facing_away_share * 100.0
+            );
+            FacingRun {
+                skip,
+                tile_share,
+                facing_away_share,
+                screen_space_ms,
+                frame_ms,
+            }
+        })
+        .collect())
+}
+
 fn measure_cascades(
     gpu: &HeadlessGpu,
     assets: &Path,
@@ -1186,6 +1251,7 @@ fn measure_embedding(
         batching: Vec::new(),
         tiles: Vec::new(),
         reduced: Vec::new(),
+        facing: Vec::new(),
         memory: Vec::new(),
         compute: Vec::new(),
         geometry_passes,
@@ -1274,6 +1340,7 @@ fn write_report(
     write_geometry_passes(&mut md, embedding)?;
     write_tiles(&mut md, &embedding.tiles, (embedding.width, embedding.height))?;
     write_reduced(&mut md, &embedding.reduced, (embedding.width, embedding.height))?;
+    write_facing(&mut md, &embedding.facing, (embedding.width, embedding.height))?;
     write_compute(&mut md, &embedding.compute, (embedding.width, embedding.height))?;
     write_cascades(&mut md, config, embedding)?;
     write_room(&mut md, config, embedding)?;
@@ -1958,6 +2025,41 @@ fn write_reduced(md: &mut String, reduced: &[ReducedRun], (width, height): (u32,
             half.frame_ms / full.frame_ms.max(1e-9)
         )?;
     }
+    Ok(())
+}
+
+fn write_facing(md: &mut String, runs: &[FacingRun], (width, height): (u32, u32)) -> Result<()> {
+    use std::fmt::Write;
+    let find = |skip: bool| runs.iter().find(|r| r.skip == skip);
+    let (Some(off), Some(on)) = (find(false), find(true)) else {
+        return Ok(());
+    };
+    writeln!(
+        md,
+        "\n## Tiles turned away from the light (teapot, view 0, {width}x{height}, ours medium, light turning)\n\n\
+         With `skip_tiles_facing_away` (the default) the tile classification lists apart the kept tiles whose \
+         every pixel faces away from the light; the passes write 0 there without taps (docs/cost.md). \
+         Screen-space ms: the distance map with its classification, PCF and the blur. Each figure is the \
+         mean of two timings taken in opposite orders.\n\n\
+         | tiles turned away | tiles the passes run over | listed apart | screen-space ms | frame ms |\n\
+         |---|---|---|---|---|"
+    )?;
+    for (label, r) in [("passes run there", off), ("listed apart", on)] {
+        writeln!(
+            md,
+            "| {label} | {:.1}% | {:.1}% | {:.2} | {:.2} |",
+            r.tile_share * 100.0,
+            r.facing_away_share * 100.0,
+            r.screen_space_ms,
+            r.frame_ms
+        )?;
+    }
+    writeln!(
+        md,
+        "\nListed apart, the screen-space passes take {:.3}x their time, the frame {:.3}x.",
+        on.screen_space_ms / off.screen_space_ms.max(1e-9),
+        on.frame_ms / off.frame_ms.max(1e-9)
+    )?;
     Ok(())
 }
 

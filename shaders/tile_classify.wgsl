@@ -196,6 +196,10 @@ override CLASSIFY: bool = true;
 // true: a kept tile whose every pixel faces away from the light goes to the second list
 // (`faces_away`), where the passes write 0 without taps
 override FACING: bool = false;
+// How the pixels are tested: false, by `cs_classify`'s invocation, one after the other (a CPU
+// adapter); true, by `cs_classify_wide`, a 16 x 16 workgroup per tile, one pixel each (a GPU,
+// where one invocation's loop over 256 pixels would keep a few threads busy in turn).
+override FACING_PER_PIXEL: bool = false;
 
 struct TileListOut {
     count: atomic<u32>,
@@ -227,11 +231,9 @@ struct TileArgs {
 // turns further toward the light than its facets.
 const AWAY_MARGIN: f32 = 0.1;
 
-// Whether every drawn pixel of screen tile `tile` lies on a surface turned away from the light
-// by more than the light's angular radius there (plus AWAY_MARGIN), so that no part of the
-// light reaches it: its normal from neighbouring depths (`neighbor_delta`, as PCF's receiver
-// plane). A pixel the receiver mask leaves out, or one whose normal is undefined, keeps the tile
-// out of the class.
+// Whether every drawn pixel of screen tile `tile` is turned away from the light
+// (`pixel_turned_away`), one pixel after the other (a CPU adapter: the loop stops at the first
+// pixel that is not, and a tile lit anywhere mostly stops at its first).
 fn faces_away(tile: vec2<i32>) -> bool {
     let size = vec2<i32>(frame.view.size);
     let first = tile * TILE;
@@ -239,24 +241,30 @@ fn faces_away(tile: vec2<i32>) -> bool {
     var away = true;
     for (var y = first.y; y <= last.y && away; y++) {
         for (var x = first.x; x <= last.x && away; x++) {
-            let pixel = vec2<i32>(x, y);
-            let depth = textureLoad(camera_depth, pixel, 0).x;
-            if is_background(depth) {
-                continue;
-            }
-            if frame.view.has_receiver_mask != 0u && textureLoad(receiver_mask, pixel, 0).x < 0.5 {
-                away = false;
-                continue;
-            }
-            let world = world_position(vec2<f32>(pixel) + 0.5, depth);
-            let n = cross(neighbor_delta(pixel, world, depth, vec2<i32>(1, 0)), neighbor_delta(pixel, world, depth, vec2<i32>(0, 1)));
-            let len = length(n);
-            let toward_camera = select(-1.0, 1.0, dot(n, to_camera(world)) >= 0.0);
-            let along_light = dot(n * toward_camera, light_ray(world)) / max(len, 1e-30);
-            away = len > 1e-30 && along_light > light_sine(world) + AWAY_MARGIN;
+            away = pixel_turned_away(vec2<i32>(x, y));
         }
     }
     return away;
+}
+
+// Whether the surface at `pixel` is turned away from the light by more than the light's angular
+// radius there (plus AWAY_MARGIN), so that no part of the light reaches it: its normal from
+// neighbouring depths (`neighbor_delta`, as PCF's receiver plane). Nothing drawn counts as
+// turned away; a pixel the receiver mask leaves out, or one whose normal is undefined, does not.
+fn pixel_turned_away(pixel: vec2<i32>) -> bool {
+    let depth = textureLoad(camera_depth, pixel, 0).x;
+    if is_background(depth) {
+        return true;
+    }
+    if frame.view.has_receiver_mask != 0u && textureLoad(receiver_mask, pixel, 0).x < 0.5 {
+        return false;
+    }
+    let world = world_position(vec2<f32>(pixel) + 0.5, depth);
+    let n = cross(neighbor_delta(pixel, world, depth, vec2<i32>(1, 0)), neighbor_delta(pixel, world, depth, vec2<i32>(0, 1)));
+    let len = length(n);
+    let toward_camera = select(-1.0, 1.0, dot(n, to_camera(world)) >= 0.0);
+    let along_light = dot(n * toward_camera, light_ray(world)) / max(len, 1e-30);
+    return len > 1e-30 && along_light > light_sine(world) + AWAY_MARGIN;
 }
 
 // The sine of the light's angular radius seen from `world`: a sun's half angle, or a spot's or
@@ -285,17 +293,53 @@ fn cs_classify(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let kept = !CLASSIFY || may_hold_shadow(vec2<i32>(id.xy));
     let away = FACING && kept && faces_away(vec2<i32>(id.xy));
-    textureStore(classes_out, id.xy, vec4<f32>(select(select(0.0, 1.0, kept), AWAY_CLASS, away)));
-    if !kept {
-        return;
+    if kept {
+        list_tile(id.xy, away);
+    } else {
+        textureStore(classes_out, id.xy, vec4<f32>(0.0));
     }
+}
+
+// Appends kept tile `tile` to the list, or `away` from the light to the second list, and
+// writes its class.
+fn list_tile(tile: vec2<u32>, away: bool) {
+    textureStore(classes_out, tile, vec4<f32>(select(1.0, AWAY_CLASS, away)));
+    let packed = tile.x | (tile.y << 16u);
     if away {
-        let index = atomicAdd(&away_out.count, 1u);
-        away_out.tiles[index] = id.x | (id.y << 16u);
-        return;
+        away_out.tiles[atomicAdd(&away_out.count, 1u)] = packed;
+    } else {
+        list_out.tiles[atomicAdd(&list_out.count, 1u)] = packed;
     }
-    let index = atomicAdd(&list_out.count, 1u);
-    list_out.tiles[index] = id.x | (id.y << 16u);
+}
+
+// `cs_classify_wide`'s tile: whether it is kept (its first invocation's test), and whether any
+// of its pixels is not turned away from the light.
+var<workgroup> tile_kept: u32;
+var<workgroup> not_away: atomic<u32>;
+
+// With FACING and FACING_PER_PIXEL, in place of `cs_classify`: one 16 x 16 workgroup per screen
+// tile. The first invocation runs the tile's test, every invocation of a kept tile tests its
+// pixel for facing away from the light, and the first lists the tile.
+@compute @workgroup_size(16, 16)
+fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>, @builtin(local_invocation_index) index: u32) {
+    let tiles = (vec2<u32>(frame.view.size) + vec2<u32>(u32(TILE) - 1u)) / u32(TILE);
+    let tile = group.xy;
+    if index == 0u {
+        tile_kept = select(0u, 1u, all(tile < tiles) && may_hold_shadow(vec2<i32>(tile)));
+    }
+    let kept = workgroupUniformLoad(&tile_kept) != 0u;
+    let pixel = vec2<i32>(tile * u32(TILE) + local.xy);
+    if kept && all(pixel < vec2<i32>(frame.view.size)) && !pixel_turned_away(pixel) {
+        atomicOr(&not_away, 1u);
+    }
+    workgroupBarrier();
+    if index == 0u && all(tile < tiles) {
+        if kept {
+            list_tile(tile, atomicLoad(&not_away) == 0u);
+        } else {
+            textureStore(classes_out, tile, vec4<f32>(0.0));
+        }
+    }
 }
 
 // The class texel of a tile listed apart as turned away from the light.

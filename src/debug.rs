@@ -217,6 +217,23 @@ pub fn tile_share(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Rendere
     Ok(Some(kept as f32 / values.len().max(1) as f32))
 }
 
+/// The share of the screen's tiles the last frame's tile classification listed apart as turned
+/// away from the light ([`crate::PenumbraSettings::skip_tiles_facing_away`]: visibility 0, no
+/// pass over them), or `None` where no classification ran.
+pub fn facing_away_share(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    renderer: &Renderer,
+) -> Result<Option<f32>> {
+    let Some(classes) = renderer.debug_texture(LightTexture::TileClasses) else {
+        return Ok(None);
+    };
+    let (values, _) = read_texture_f32(device, queue, classes)?;
+    // Their class texel is 0.25 (`AWAY_CLASS` in `shaders/tile_classify.wgsl`).
+    let away = values.iter().filter(|v| (**v - 0.25).abs() < 0.01).count();
+    Ok(Some(away as f32 / values.len().max(1) as f32))
+}
+
 /// Measures [`MaskSavings`] by reading back the last frame's distance map. Errors when the
 /// renderer's method has no distance map.
 pub fn mask_savings(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Renderer) -> Result<MaskSavings> {

@@ -239,6 +239,8 @@ pub(crate) struct TileListPass {
     reduce: wgpu::ComputePipeline,
     classify: wgpu::ComputePipeline,
     finish: wgpu::ComputePipeline,
+    /// Where the facing test runs per pixel ([`facing_per_pixel`]): a workgroup per tile.
+    wide: bool,
     reduced: Target,
     /// The list written, as bound.
     targets: Option<TileListTargets>,
@@ -418,6 +420,7 @@ impl TileListPass {
         (classify, facing_away): (bool, bool),
     ) -> Self {
         let shader = crate::shaders::module(device, "tile_classify.wgsl", crate::shaders::TILE_CLASSIFY);
+        let per_pixel = classify && facing_away && facing_per_pixel(device);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let compute = wgpu::ShaderStages::COMPUTE;
         let classify_layout = crate::gpu_helpers::layout(
@@ -449,13 +452,19 @@ impl TileListPass {
             (LIGHT_KIND, light_kind as f64),
             ("CLASSIFY", if classify { 1.0 } else { 0.0 }),
             ("FACING", if classify && facing_away { 1.0 } else { 0.0 }),
+            ("FACING_PER_PIXEL", if per_pixel { 1.0 } else { 0.0 }),
         ];
         let pipeline = |label, layout: &wgpu::BindGroupLayout, entry| {
             super::compute_pipeline(device, label, &shader, &[Some(layout)], entry, &constants)
         };
         Self {
             reduce: pipeline("TileListPass::reduce", &reduce_layout, "cs_reduce"),
-            classify: pipeline("TileListPass::classify", &classify_layout, "cs_classify"),
+            classify: if per_pixel {
+                pipeline("TileListPass::classify", &classify_layout, "cs_classify_wide")
+            } else {
+                pipeline("TileListPass::classify", &classify_layout, "cs_classify")
+            },
+            wide: per_pixel,
             finish: pipeline("TileListPass::finish", &classify_layout, "cs_finish"),
             classify_layout,
             reduce_layout,
@@ -540,8 +549,9 @@ impl TileListPass {
         let (Some((classify, reduce)), Some(targets)) = (&self.groups, &self.targets) else {
             return;
         };
-        encoder.clear_buffer(&targets.list, 0, Some(4));
-        encoder.clear_buffer(&targets.away.0, 0, Some(4));
+        for list in [&targets.list, &targets.away.0] {
+            encoder.clear_buffer(list, 0, Some(4));
+        }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("TileListPass"),
             timestamp_writes: None,
@@ -555,9 +565,26 @@ impl TileListPass {
         let tiles = (targets.classes.texture.width(), targets.classes.texture.height());
         pass.set_pipeline(&self.classify);
         pass.set_bind_group(0, classify, &[]);
-        pass.dispatch_workgroups(tiles.0.div_ceil(8), tiles.1.div_ceil(8), 1);
+        if self.wide {
+            pass.dispatch_workgroups(tiles.0, tiles.1, 1);
+        } else {
+            pass.dispatch_workgroups(tiles.0.div_ceil(8), tiles.1.div_ceil(8), 1);
+        }
         pass.set_pipeline(&self.finish);
         pass.dispatch_workgroups(1, 1, 1);
+    }
+}
+
+/// Whether the classification tests the kept tiles' pixels for facing away from the light with
+/// a workgroup per tile, one pixel an invocation (a GPU), rather than one invocation per tile
+/// looping over its pixels (a CPU adapter, where the loop stops at the first pixel lit and a
+/// workgroup costs every pixel). `PENUMBRA_FACING_TEST=pixel` or `tile` picks one whatever the
+/// device (`tests/compute_clears.rs` renders both and compares).
+fn facing_per_pixel(device: &wgpu::Device) -> bool {
+    match std::env::var("PENUMBRA_FACING_TEST").as_deref() {
+        Ok("pixel") => true,
+        Ok("tile") => false,
+        _ => device.adapter_info().device_type != wgpu::DeviceType::Cpu,
     }
 }
 
