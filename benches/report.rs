@@ -876,8 +876,6 @@ fn measure_batching(
     Ok(runs)
 }
 
-/// `ours` on the outdoor scene's street view with 1, 2 and 4 cascades: frame time (the light
-/// turning, so every map is drawn every frame) and the error near the camera.
 /// `ours` (medium) on `scene` seen from `camera` pulled back to 1, 2, 4 and 8 times its
 /// distance from its target (the teapot and its shadow smaller on the screen each time), the
 /// light turning: the share of tiles kept and the screen-space passes' time.
@@ -1077,6 +1075,8 @@ fn measure_facing(
         .collect())
 }
 
+/// `ours` on the outdoor scene's street view with 1, 2 and 4 cascades: frame time (the light
+/// turning, so every map is drawn every frame) and the error near the camera.
 fn measure_cascades(
     gpu: &HeadlessGpu,
     assets: &Path,
