@@ -121,13 +121,22 @@ fn fs_classify(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 
 // Whether a pixel of screen tile `tile` may lie inside the fattened shadow.
 fn may_hold_shadow(tile: vec2<i32>) -> bool {
+    let range = tile_depth_range(tile);
+    return may_hold_shadow_between(tile, range.x, range.y);
+}
+
+// The camera depth's clear value: nothing drawn (0 with reversed depth, else 1).
+fn background_depth() -> f32 {
+    return select(1.0, 0.0, frame.view.reversed_depth != 0u);
+}
+
+// The least and greatest camera depth drawn in screen tile `tile` (the background left out;
+// least > greatest where nothing was drawn).
+fn tile_depth_range(tile: vec2<i32>) -> vec2<f32> {
     let size = vec2<i32>(frame.view.size);
     let first = tile * TILE;
     let last = min(first + TILE, size) - 1;
-    // The background's depth is the clear value, 0 or 1: left out of the range by mapping it
-    // past the other end.
-    let background = select(1.0, 0.0, frame.view.reversed_depth != 0u);
-    let past = select(-2.0, 3.0, frame.view.reversed_depth != 0u);
+    let background = background_depth();
     var lo = vec4<f32>(1e30);
     var hi = vec4<f32>(-1e30);
     for (var y = first.y; y <= last.y; y += 2) {
@@ -140,11 +149,18 @@ fn may_hold_shadow(tile: vec2<i32>) -> bool {
             hi = max(hi, select(vec4<f32>(-1e30), depths, drawn));
         }
     }
-    let near = min(min(lo.x, lo.y), min(lo.z, lo.w));
-    let far = max(max(hi.x, hi.y), max(hi.z, hi.w));
+    return vec2<f32>(min(min(lo.x, lo.y), min(lo.z, lo.w)), max(max(hi.x, hi.y), max(hi.z, hi.w)));
+}
+
+// Whether a pixel of screen tile `tile`, whose drawn pixels' camera depths lie between `near`
+// and `far`, may lie inside the fattened shadow.
+fn may_hold_shadow_between(tile: vec2<i32>, near: f32, far: f32) -> bool {
     if far < near {
         return false;
     }
+    let size = vec2<i32>(frame.view.size);
+    let first = tile * TILE;
+    let last = min(first + TILE, size) - 1;
     // The tile's edges at its two depths.
     let edge_lo = vec2<f32>(first);
     let edge_hi = vec2<f32>(last + 1);
@@ -312,24 +328,44 @@ fn list_tile(tile: vec2<u32>, away: bool) {
     }
 }
 
-// `cs_classify_wide`'s tile: whether it is kept (its first invocation's test), and whether any
-// of its pixels is not turned away from the light.
+// `cs_classify_wide`'s tile: whether any pixel was drawn, the least depth drawn (its bits
+// inverted, so that the largest is the least: the workgroup's memory starts at 0), the greatest,
+// whether it is kept (its first invocation's test), and whether any of its pixels is not turned
+// away from the light. Depths are not negative, so their bits order as they do.
+var<workgroup> any_drawn: atomic<u32>;
+var<workgroup> near_inverted: atomic<u32>;
+var<workgroup> far_bits: atomic<u32>;
 var<workgroup> tile_kept: u32;
 var<workgroup> not_away: atomic<u32>;
 
 // With FACING and FACING_PER_PIXEL, in place of `cs_classify`: one 16 x 16 workgroup per screen
-// tile. The first invocation runs the tile's test, every invocation of a kept tile tests its
-// pixel for facing away from the light, and the first lists the tile.
+// tile. Each invocation loads its pixel's depth for the tile's range, the first runs the tile's
+// test on it, every invocation of a kept tile tests its pixel for facing away from the light,
+// and the first lists the tile.
 @compute @workgroup_size(16, 16)
 fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>, @builtin(local_invocation_index) index: u32) {
-    let tiles = (vec2<u32>(frame.view.size) + vec2<u32>(u32(TILE) - 1u)) / u32(TILE);
+    let size = vec2<i32>(frame.view.size);
+    let tiles = (vec2<u32>(size) + vec2<u32>(u32(TILE) - 1u)) / u32(TILE);
     let tile = group.xy;
+    let pixel = vec2<i32>(tile * u32(TILE) + local.xy);
+    let inside = all(pixel < size);
+    let depth = textureLoad(camera_depth, min(pixel, size - 1), 0).x;
+    if inside && depth != background_depth() {
+        atomicOr(&any_drawn, 1u);
+        atomicMax(&near_inverted, ~bitcast<u32>(depth));
+        atomicMax(&far_bits, bitcast<u32>(depth));
+    }
+    workgroupBarrier();
     if index == 0u {
-        tile_kept = select(0u, 1u, all(tile < tiles) && may_hold_shadow(vec2<i32>(tile)));
+        var kept = false;
+        if all(tile < tiles) && atomicLoad(&any_drawn) != 0u {
+            let near = bitcast<f32>(~atomicLoad(&near_inverted));
+            kept = may_hold_shadow_between(vec2<i32>(tile), near, bitcast<f32>(atomicLoad(&far_bits)));
+        }
+        tile_kept = select(0u, 1u, kept);
     }
     let kept = workgroupUniformLoad(&tile_kept) != 0u;
-    let pixel = vec2<i32>(tile * u32(TILE) + local.xy);
-    if kept && all(pixel < vec2<i32>(frame.view.size)) && !pixel_turned_away(pixel) {
+    if kept && inside && !pixel_turned_away(pixel) {
         atomicOr(&not_away, 1u);
     }
     workgroupBarrier();
