@@ -48,12 +48,6 @@ fn classified(distance: f32, mask: f32, shadow_here: f32) -> Out {
     return out;
 }
 
-// The fattened map's texel for shadow-map position `p`.
-fn fattened_texel(p: vec3<f32>) -> vec2<i32> {
-    let size = vec2<i32>(textureDimensions(fattened_map));
-    return clamp(vec2<i32>(p.xy * vec2<f32>(size)), vec2<i32>(0), size - 1);
-}
-
 // The distance from the caster to a receiver at shadow-map position `p` inside the fattened
 // shadow (`texel` its fattened-map texel, `fattened_depth` the depth there).
 fn fattened_distance(p: vec3<f32>, texel: vec2<i32>, fattened_depth: f32) -> f32 {
@@ -113,10 +107,7 @@ fn classify_at(frag: vec2<f32>) -> Classified {
     c.p = p;
     let texel = fattened_texel(p);
     let fattened_depth = textureLoad(fattened_map, texel, 0).x;
-    let tile = frame.cascades.tile[cascade];
-    let on_map = all(p.xy >= tile.xy) && all(p.xy <= tile.zw);
-    let inside = on_map && fattened_depth < map_depth(p.z);
-    if !inside {
+    if !inside_fattened(p, fattened_depth) {
         c.out = classified(0.0, 0.0, select(0.0, 0.5 * BESIDE, !MASK_EARLY_OUT));
         return c;
     }

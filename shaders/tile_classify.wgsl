@@ -202,20 +202,22 @@ fn may_hold_shadow_between(tile: vec2<i32>, near: f32, far: f32) -> bool {
 
 // The compute path (the screen-space chain as compute passes over a list of tiles):
 // `cs_reduce` is `fs_reduce` into a 32-bit float (no rounding to allow for), `cs_classify` runs
-// one invocation per screen tile and appends the tiles it keeps to the list (all of them with
-// CLASSIFY off), or with FACING those of them wholly turned away from the light to a second
-// list, and `cs_finish` turns the lists' lengths into the indirect arguments of the passes over
-// them. The lists' counts are zeroed before `cs_classify`.
+// one invocation per screen tile: the tile's test above, then for a kept tile its pixels' own
+// (`pixel_flags`). A kept tile with no pixel inside the fattened shadow is dropped after all,
+// with FACING one whose every pixel is turned away from the light goes to a second list, and the
+// others to the list (all of them with CLASSIFY off). `cs_finish` turns the lists' lengths into
+// the indirect arguments of the passes over them. The lists' counts are zeroed before
+// `cs_classify`.
 
 // false: every tile is listed (the classification is off)
 override CLASSIFY: bool = true;
-// true: a kept tile whose every pixel faces away from the light goes to the second list
-// (`faces_away`), where the passes write 0 without taps
+// true: a kept tile whose every pixel faces away from the light goes to the second list, where
+// the passes write 0 without taps
 override FACING: bool = false;
 // How the pixels are tested: false, by `cs_classify`'s invocation, one after the other (a CPU
 // adapter); true, by `cs_classify_wide`, a 16 x 16 workgroup per tile, one pixel each (a GPU,
 // where one invocation's loop over 256 pixels would keep a few threads busy in turn).
-override FACING_PER_PIXEL: bool = false;
+override WIDE: bool = false;
 
 struct TileListOut {
     count: atomic<u32>,
@@ -247,40 +249,69 @@ struct TileArgs {
 // turns further toward the light than its facets.
 const AWAY_MARGIN: f32 = 0.1;
 
-// Whether every drawn pixel of screen tile `tile` is turned away from the light
-// (`pixel_turned_away`), one pixel after the other (a CPU adapter: the loop stops at the first
-// pixel that is not, and a tile lit anywhere mostly stops at its first).
-fn faces_away(tile: vec2<i32>) -> bool {
+// What the kept tile `tile`'s pixels say, one pixel after the other (a CPU adapter: the loop
+// stops as soon as one pixel lies inside the fattened shadow and one faces the light, mostly at
+// the first): DROPPED where none lies inside the fattened shadow (the distance map would find
+// no shadow anywhere in it), AWAY where all are turned away from the light (with FACING), else
+// LISTED.
+fn tile_class(tile: vec2<i32>) -> u32 {
     let size = vec2<i32>(frame.view.size);
     let first = tile * TILE;
     let last = min(first + TILE, size) - 1;
-    var away = true;
-    for (var y = first.y; y <= last.y && away; y++) {
-        for (var x = first.x; x <= last.x && away; x++) {
-            away = pixel_turned_away(vec2<i32>(x, y));
+    var all_away = FACING;
+    var all_outside = true;
+    for (var y = first.y; y <= last.y && (all_away || all_outside); y++) {
+        for (var x = first.x; x <= last.x && (all_away || all_outside); x++) {
+            let flags = pixel_flags(vec2<i32>(x, y));
+            all_away = all_away && flags.x;
+            all_outside = all_outside && flags.y;
         }
     }
-    return away;
+    return class_of(all_away, all_outside);
 }
 
-// Whether the surface at `pixel` is turned away from the light by more than the light's angular
-// radius there (plus AWAY_MARGIN), so that no part of the light reaches it: its normal from
-// neighbouring depths (`neighbor_delta`, as PCF's receiver plane). Nothing drawn counts as
-// turned away; a pixel the receiver mask leaves out, or one whose normal is undefined, does not.
-fn pixel_turned_away(pixel: vec2<i32>) -> bool {
+// A tile's class from whether all its pixels are turned away and whether all lie outside the
+// fattened shadow (which keeps its frame as it was: no pass finds a shadow there).
+fn class_of(all_away: bool, all_outside: bool) -> u32 {
+    if all_outside {
+        return DROPPED;
+    }
+    return select(LISTED, AWAY, all_away);
+}
+
+const DROPPED: u32 = 0u;
+const LISTED: u32 = 1u;
+const AWAY: u32 = 2u;
+
+// For the pixel at `pixel`: whether its surface is turned away from the light (x, with FACING)
+// and whether it lies outside the fattened shadow as the distance map tests it (y). Turned away:
+// by more than the light's angular radius there (plus AWAY_MARGIN), so that no part of the light
+// reaches it, its normal from neighbouring depths (`neighbor_delta`, as PCF's receiver plane).
+// Nothing drawn counts as both; a pixel the receiver mask leaves out as outside only (the
+// distance map leaves it out, and it keeps its tile out of the away class), as does one whose
+// normal is undefined.
+fn pixel_flags(pixel: vec2<i32>) -> vec2<bool> {
     let depth = textureLoad(camera_depth, pixel, 0).x;
     if is_background(depth) {
-        return true;
+        return vec2<bool>(true, true);
     }
     if frame.view.has_receiver_mask != 0u && textureLoad(receiver_mask, pixel, 0).x < 0.5 {
-        return false;
+        return vec2<bool>(false, true);
     }
-    let world = world_position(vec2<f32>(pixel) + 0.5, depth);
-    let n = cross(neighbor_delta(pixel, world, depth, vec2<i32>(1, 0)), neighbor_delta(pixel, world, depth, vec2<i32>(0, 1)));
-    let len = length(n);
-    let toward_camera = select(-1.0, 1.0, dot(n, to_camera(world)) >= 0.0);
-    let along_light = dot(n * toward_camera, light_ray(world)) / max(len, 1e-30);
-    return len > 1e-30 && along_light > light_sine(world) + AWAY_MARGIN;
+    let frag = vec2<f32>(pixel) + 0.5;
+    let world = world_position(frag, depth);
+    var away = false;
+    if FACING {
+        let n = cross(neighbor_delta(pixel, world, depth, vec2<i32>(1, 0)), neighbor_delta(pixel, world, depth, vec2<i32>(0, 1)));
+        let len = length(n);
+        let toward_camera = select(-1.0, 1.0, dot(n, to_camera(world)) >= 0.0);
+        let along_light = dot(n * toward_camera, light_ray(world)) / max(len, 1e-30);
+        away = len > 1e-30 && along_light > light_sine(world) + AWAY_MARGIN;
+    }
+    use_pixel_cascade(frag, depth);
+    let p = to_shadow_map(world);
+    let outside = !inside_fattened(p, textureLoad(fattened_map, fattened_texel(p), 0).x);
+    return vec2<bool>(away, outside);
 }
 
 // The sine of the light's angular radius seen from `world`: a sun's half angle, or a spot's or
@@ -307,23 +338,22 @@ fn cs_classify(@builtin(global_invocation_id) id: vec3<u32>) {
     if any(id.xy >= tiles) {
         return;
     }
-    let kept = !CLASSIFY || may_hold_shadow(vec2<i32>(id.xy));
-    let away = FACING && kept && faces_away(vec2<i32>(id.xy));
-    if kept {
-        list_tile(id.xy, away);
-    } else {
-        textureStore(classes_out, id.xy, vec4<f32>(0.0));
+    var tile_kind = DROPPED;
+    if !CLASSIFY {
+        tile_kind = LISTED;
+    } else if may_hold_shadow(vec2<i32>(id.xy)) {
+        tile_kind = tile_class(vec2<i32>(id.xy));
     }
+    list_tile(id.xy, tile_kind);
 }
 
-// Appends kept tile `tile` to the list, or `away` from the light to the second list, and
-// writes its class.
-fn list_tile(tile: vec2<u32>, away: bool) {
-    textureStore(classes_out, tile, vec4<f32>(select(1.0, AWAY_CLASS, away)));
+// Writes tile `tile`'s class, and appends it to the list (LISTED) or the second list (AWAY).
+fn list_tile(tile: vec2<u32>, tile_kind: u32) {
+    textureStore(classes_out, tile, vec4<f32>(select(select(0.0, 1.0, tile_kind == LISTED), AWAY_CLASS, tile_kind == AWAY)));
     let packed = tile.x | (tile.y << 16u);
-    if away {
+    if tile_kind == AWAY {
         away_out.tiles[atomicAdd(&away_out.count, 1u)] = packed;
-    } else {
+    } else if tile_kind == LISTED {
         list_out.tiles[atomicAdd(&list_out.count, 1u)] = packed;
     }
 }
@@ -331,17 +361,18 @@ fn list_tile(tile: vec2<u32>, away: bool) {
 // `cs_classify_wide`'s tile: whether any pixel was drawn, the least depth drawn (its bits
 // inverted, so that the largest is the least: the workgroup's memory starts at 0), the greatest,
 // whether it is kept (its first invocation's test), and whether any of its pixels is not turned
-// away from the light. Depths are not negative, so their bits order as they do.
+// away from the light, or lies inside the fattened shadow. Depths are not negative, so their
+// bits order as they do.
 var<workgroup> any_drawn: atomic<u32>;
 var<workgroup> near_inverted: atomic<u32>;
 var<workgroup> far_bits: atomic<u32>;
 var<workgroup> tile_kept: u32;
 var<workgroup> not_away: atomic<u32>;
+var<workgroup> not_outside: atomic<u32>;
 
-// With FACING and FACING_PER_PIXEL, in place of `cs_classify`: one 16 x 16 workgroup per screen
-// tile. Each invocation loads its pixel's depth for the tile's range, the first runs the tile's
-// test on it, every invocation of a kept tile tests its pixel for facing away from the light,
-// and the first lists the tile.
+// With CLASSIFY and WIDE, in place of `cs_classify`: one 16 x 16 workgroup per screen tile. Each
+// invocation loads its pixel's depth for the tile's range, the first runs the tile's test on it,
+// every invocation of a kept tile tests its own pixel, and the first lists the tile.
 @compute @workgroup_size(16, 16)
 fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>, @builtin(local_invocation_index) index: u32) {
     let size = vec2<i32>(frame.view.size);
@@ -365,16 +396,22 @@ fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invo
         tile_kept = select(0u, 1u, kept);
     }
     let kept = workgroupUniformLoad(&tile_kept) != 0u;
-    if kept && inside && !pixel_turned_away(pixel) {
-        atomicOr(&not_away, 1u);
+    if kept && inside {
+        let flags = pixel_flags(pixel);
+        if !flags.x {
+            atomicOr(&not_away, 1u);
+        }
+        if !flags.y {
+            atomicOr(&not_outside, 1u);
+        }
     }
     workgroupBarrier();
     if index == 0u && all(tile < tiles) {
+        var tile_kind = DROPPED;
         if kept {
-            list_tile(tile, atomicLoad(&not_away) == 0u);
-        } else {
-            textureStore(classes_out, tile, vec4<f32>(0.0));
+            tile_kind = class_of(FACING && atomicLoad(&not_away) == 0u, atomicLoad(&not_outside) == 0u);
         }
+        list_tile(tile, tile_kind);
     }
 }
 

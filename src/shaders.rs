@@ -1,6 +1,6 @@
 //! The passes' WGSL sources. Each pass has one file in `shaders/`; the pieces several passes
 //! share (the frame uniform and light-space helpers, a point light's cube faces, the
-//! full-screen triangle, the screen tiles' quads and list, the receiver plane, the instance and material uniforms) live in `shaders/common/` and are joined to the
+//! full-screen triangle, the screen tiles' quads and list, the receiver plane, where the fattened shadow falls, the instance and material uniforms) live in `shaders/common/` and are joined to the
 //! pass's file at compile time, so there is one copy of each.
 
 // Each entry: the const's documentation, its name, the pass's file in `shaders/` (its stem),
@@ -38,7 +38,7 @@ shaders! {
     DEPTH_PREPASS: "depth_prepass" after ["frame", "cube", "scene"];
     /// Distance map pass (`distance_map.wgsl`): full screen over the camera depth, each pixel's
     /// distance along the light to its occluder (world units) and the fattened-shadow mask.
-    DISTANCE_MAP: "distance_map" after ["frame", "cube", "fullscreen", "tiles", "tile_list"];
+    DISTANCE_MAP: "distance_map" after ["frame", "cube", "fullscreen", "tiles", "tile_list", "fattened"];
     /// The distance-map method's PCF pass (`variable_pcf.wgsl`): tap spacing that grows with the
     /// pixel's distance to its occluder.
     VARIABLE_PCF: "variable_pcf" after [
@@ -71,7 +71,7 @@ shaders! {
     /// Tile classification (`tile_classify.wgsl`): marks the 16 x 16 pixel screen tiles where the
     /// light's fattened shadow can fall ([`crate::TileClassification`]), and on the compute path
     /// lists apart those turned away from the light.
-    TILE_CLASSIFY: "tile_classify" after ["frame", "cube", "fullscreen", "receiver"];
+    TILE_CLASSIFY: "tile_classify" after ["frame", "cube", "fullscreen", "receiver", "fattened"];
 }
 
 /// A shader module from one of the sources above.

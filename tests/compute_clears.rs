@@ -1,9 +1,9 @@
 //! The compute path's shared intermediates are cleared by compute passes on a GPU and by render
 //! passes' clears on a CPU adapter (`chain::TargetClears`), and its tile classification tests
-//! the pixels of a tile for facing away from the light with a workgroup per tile on a GPU and
-//! one invocation per tile on a CPU adapter (`passes::tile_classify`). Each pair must give the
+//! the pixels of a kept tile with a workgroup per tile on a GPU and one invocation per tile on a
+//! CPU adapter (`passes::tile_classify`). Each pair must give the
 //! same frame: this test, which runs on whatever adapter the machine has, forces each way with
-//! `PENUMBRA_CLEARS` and `PENUMBRA_FACING_TEST` (read when the intermediates and passes are
+//! `PENUMBRA_CLEARS` and `PENUMBRA_TILE_PIXELS` (read when the intermediates and passes are
 //! made) and compares. One test in its own binary: the environment is the process's.
 
 mod common;
@@ -45,22 +45,16 @@ fn compute_and_render_pass_clears_give_the_same_frame() {
     // The teapot's far side: tiles listed apart either way, the same frame and lists.
     let settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
     let mut frames = Vec::new();
-    for test in ["tile", "pixel"] {
+    for test in ["loop", "workgroup"] {
         // SAFETY: as above.
-        unsafe { std::env::set_var("PENUMBRA_FACING_TEST", test) };
+        unsafe { std::env::set_var("PENUMBRA_TILE_PIXELS", test) };
         let (frame, renderer) = common::render_frame(&gpu, &scene, &camera, settings, (320, 256));
         let classes = common::read_f32(&gpu, renderer.debug_texture(LightTexture::TileClasses).unwrap()).0;
         frames.push((frame, classes));
     }
     let away = frames[0].1.iter().filter(|c| (**c - 0.25).abs() < 1e-3).count();
-    println!("facing test per tile and per pixel: {away} tiles listed apart");
+    println!("pixels tested in a loop and by a workgroup: {away} tiles listed apart");
     assert!(away > 0, "no tile listed apart as turned away from the light");
-    assert_eq!(
-        frames[0].1, frames[1].1,
-        "the two facing tests classified differently"
-    );
-    assert!(
-        frames[0].0 == frames[1].0,
-        "the two facing tests gave different frames"
-    );
+    assert_eq!(frames[0].1, frames[1].1, "the two forms classified differently");
+    assert!(frames[0].0 == frames[1].0, "the two forms gave different frames");
 }

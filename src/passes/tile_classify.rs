@@ -226,9 +226,11 @@ impl TileClassifyPass {
 /// the distance map, PCF and blur cost what the listed tiles do, on a GPU as on a software
 /// rasterizer.
 ///
-/// With `facing_away`, a kept tile whose every pixel lies on a surface turned away from the
-/// light goes to a second list instead ([`TileListTargets::away`]): the passes write 0 there
-/// without taps (`faces_away` in the shader).
+/// A kept tile's pixels are then tested one by one (`pixel_flags` in the shader): a tile none of
+/// whose pixels lies inside the fattened shadow, as the distance map tests it, is dropped after
+/// all (the passes would find no shadow there). With `facing_away`, a kept tile whose every pixel
+/// lies on a surface turned away from the light goes to a second list instead
+/// ([`TileListTargets::away`]): the passes write 0 there without taps.
 ///
 /// Inputs: the frame uniform, the camera depth, the receiver mask and the fattened shadow map.
 /// Outputs: the reduced fattened map (R32F, the light's own, redrawn when its maps are) and,
@@ -239,7 +241,7 @@ pub(crate) struct TileListPass {
     reduce: wgpu::ComputePipeline,
     classify: wgpu::ComputePipeline,
     finish: wgpu::ComputePipeline,
-    /// Where the facing test runs per pixel ([`facing_per_pixel`]): a workgroup per tile.
+    /// The pixels tested by a workgroup per tile ([`pixels_by_workgroup`]).
     wide: bool,
     reduced: Target,
     /// The list written, as bound.
@@ -420,7 +422,7 @@ impl TileListPass {
         (classify, facing_away): (bool, bool),
     ) -> Self {
         let shader = crate::shaders::module(device, "tile_classify.wgsl", crate::shaders::TILE_CLASSIFY);
-        let per_pixel = classify && facing_away && facing_per_pixel(device);
+        let per_pixel = classify && pixels_by_workgroup(device);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let compute = wgpu::ShaderStages::COMPUTE;
         let classify_layout = crate::gpu_helpers::layout(
@@ -437,6 +439,7 @@ impl TileListPass {
                 entry::storage_buffer(9, compute, false),
                 entry::storage_buffer(10, compute, false),
                 entry::and_compute(entry::texture_2d(11, unfilterable)),
+                entry::and_compute(entry::texture_2d(3, unfilterable)),
             ],
         );
         let reduce_layout = crate::gpu_helpers::layout(
@@ -452,7 +455,7 @@ impl TileListPass {
             (LIGHT_KIND, light_kind as f64),
             ("CLASSIFY", if classify { 1.0 } else { 0.0 }),
             ("FACING", if classify && facing_away { 1.0 } else { 0.0 }),
-            ("FACING_PER_PIXEL", if per_pixel { 1.0 } else { 0.0 }),
+            ("WIDE", if per_pixel { 1.0 } else { 0.0 }),
         ];
         let pipeline = |label, layout: &wgpu::BindGroupLayout, entry| {
             super::compute_pipeline(device, label, &shader, &[Some(layout)], entry, &constants)
@@ -518,6 +521,7 @@ impl TileListPass {
                 (9, targets.away.0.as_entire_binding()),
                 (10, targets.away.1.as_entire_binding()),
                 (11, wgpu::BindingResource::TextureView(receiver_mask)),
+                (3, wgpu::BindingResource::TextureView(fattened_map)),
             ]),
         });
         let reduce = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -575,15 +579,15 @@ impl TileListPass {
     }
 }
 
-/// Whether the classification tests the kept tiles' pixels for facing away from the light with
-/// a workgroup per tile, one pixel an invocation (a GPU), rather than one invocation per tile
-/// looping over its pixels (a CPU adapter, where the loop stops at the first pixel lit and a
-/// workgroup costs every pixel). `PENUMBRA_FACING_TEST=pixel` or `tile` picks one whatever the
-/// device (`tests/compute_clears.rs` renders both and compares).
-fn facing_per_pixel(device: &wgpu::Device) -> bool {
-    match std::env::var("PENUMBRA_FACING_TEST").as_deref() {
-        Ok("pixel") => true,
-        Ok("tile") => false,
+/// Whether the classification tests the kept tiles' pixels with a workgroup per tile, one pixel
+/// an invocation (a GPU), rather than one invocation per tile looping over its pixels (a CPU
+/// adapter, where the loop mostly stops at the first pixel and a workgroup costs every pixel).
+/// `PENUMBRA_TILE_PIXELS=workgroup` or `loop` picks one whatever the device
+/// (`tests/compute_clears.rs` renders both and compares).
+fn pixels_by_workgroup(device: &wgpu::Device) -> bool {
+    match std::env::var("PENUMBRA_TILE_PIXELS").as_deref() {
+        Ok("workgroup") => true,
+        Ok("loop") => false,
         _ => device.adapter_info().device_type != wgpu::DeviceType::Cpu,
     }
 }
