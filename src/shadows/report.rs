@@ -68,7 +68,8 @@ pub enum LightTexture {
     /// The tile classification (R8, one texel per 16 x 16 pixel screen tile): 1 where the
     /// distance map ran, 0 where no shadow can fall ([`crate::PenumbraSettings::tiles`]). The
     /// compute path's is R32F, 1 where a tile was listed (every tile with the classification
-    /// off).
+    /// off), 0.25 where it was listed apart as turned away from the light
+    /// ([`crate::PenumbraSettings::skip_tiles_facing_away`]).
     TileClasses,
 }
 
