@@ -336,7 +336,7 @@ fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gro
     }
 }
 
-// The tiles listed apart as turned away from the light (`faces_away` in `tile_classify.wgsl`,
+// The tiles listed apart as turned away from the light (`tile_class` in `tile_classify.wgsl`,
 // dispatched over that list): the light reaches none of their pixels, visibility 0 without
 // taps, which the blur reads there as it would PCF's. Their deviations are never read.
 @compute @workgroup_size(16, 16)
