@@ -1,3 +1,4 @@
+// after: frame cube fullscreen tiles tile_list
 // Separable Gaussian blur of the visibility of up to four lights at once, one axis per draw
 // (horizontal, then vertical). The step between taps is fixed (the baseline) or grows with the
 // pixel's distance to its occluder: distance x spread pixels (manual), or the standard

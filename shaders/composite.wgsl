@@ -1,3 +1,4 @@
+// after: frame cube scene surface
 // Composite pass of the convenience renderer: the lit scene from the camera. Each light's
 // direct light (Lambert, or glTF's metallic-roughness model: `surface.wgsl`; spot cone) times
 // its screen-space visibility (its layer of the

@@ -1,3 +1,4 @@
+// after: frame cube scene
 // Depth prepass of the convenience renderer: every instance from the camera into the camera
 // depth buffer (reversed: cleared to 0, `Greater` test), alpha-masked fragments discarded, and a
 // receiver mask beside it (1 on instances that receive shadows, 0 on the others). An engine has

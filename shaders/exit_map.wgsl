@@ -1,3 +1,4 @@
+// after: scene
 // Exit map pass: the casters' back faces seen from the light, the nearest kept. Where a
 // light ray leaves the first occluder it meets: inside a thick caster's shadow, the penumbra's
 // inner half is shaped by that near side. Which side of a triangle faces the light comes from

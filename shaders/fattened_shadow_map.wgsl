@@ -1,3 +1,4 @@
+// after: scene
 // Fattened shadow map pass: the casters seen from the light, every vertex pushed outward along
 // its smoothed normal by `fatten_distance` world units. The smoothed normal is shared by all
 // vertices at one position, so hard edges do not tear open. The fattened silhouette bounds

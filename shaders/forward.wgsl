@@ -1,3 +1,4 @@
+// after: scene cube surface
 // Forward lit pass: Lambert diffuse plus ambient on the base color (texture x factor), with the
 // direct light attenuated by a shadow-map lookup.
 //

@@ -1,3 +1,4 @@
+// after: frame cube fullscreen receiver pcf_taps
 // PCF pass (the baseline and screen-space hard shadows): a screen-space visibility texture from
 // N x N comparison taps on the real shadow map at a fixed spacing, rotated per pixel by a noise
 // angle. A receiver-plane depth bias keeps wide kernels from shadowing the receiver itself. The

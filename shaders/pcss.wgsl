@@ -1,3 +1,4 @@
+// after: frame cube fullscreen receiver
 // PCSS pass (Fernando 2005): a blocker search over a disk sized by the light and the receiver's
 // depth finds the average occluder depth; the penumbra width follows from it (the same formula
 // as the physical distance-map method), and a rotated Vogel-disk PCF of that width gives the

@@ -1,3 +1,4 @@
+// after: frame cube fullscreen receiver
 // Reference pass: the ground truth for an area light. The light is replaced by N point lights
 // spread over it (stratified on a spot's disk, a point light's sphere, or over the cone of a
 // directional light's angular diameter); for each, the caller renders a hard shadow map and this

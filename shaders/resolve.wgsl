@@ -1,3 +1,4 @@
+// after: frame cube fullscreen
 // Resolve pass: the visibility an engine samples. Reads the raw or blurred visibility and
 // writes it into this light's layer of the output array, with the indirect-light attenuation
 // applied (shadows far from their occluder receive bounced light: with indirect weight k and

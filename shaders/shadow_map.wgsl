@@ -1,3 +1,4 @@
+// after: scene
 // Shadow map pass: the depth of every shadow caster seen from the light.
 //
 // `vs_opaque` is the one minimal shader for every opaque caster, whatever its material: a

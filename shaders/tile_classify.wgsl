@@ -1,3 +1,4 @@
+// after: frame cube fullscreen receiver fattened
 // Tile classification: the 16 x 16 pixel tiles of the screen where the light's fattened shadow
 // can fall, so that the distance map (and with it PCF and the blur, which test its
 // classification depth) runs only there. Joined after the frame uniform, the cube faces and the

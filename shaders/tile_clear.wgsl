@@ -1,3 +1,4 @@
+// after:
 // Tile clear: one tile of a light-space atlas (the viewport the draw is given) set to what a
 // cleared pass leaves, the far plane in depth and 0 in a colour target (the fattened map's
 // occluder offset), so that a cascade or cube face can be redrawn while the others stay.

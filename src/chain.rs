@@ -10,8 +10,8 @@ use crate::gpu_helpers::Target;
 use crate::light_space::LightView;
 use crate::passes::{
     BlurCompute, BlurInput, BlurPass, DistanceMapCompute, DistanceMapPass, ExitMapPass,
-    FattenedShadowMapPass, PackedVisibility, PcfPass, PcssPass, ResolvePass, ShadowMapPass, StorageClear,
-    TileListTargets, VariablePcfCompute, VariablePcfPass,
+    FattenedShadowMapPass, PackedVisibility, PcfPass, PcssPass, ResolvePass, ScreenStage, ShadowMapPass,
+    StorageClear, TileListTargets, VariablePcfCompute, VariablePcfPass,
 };
 use crate::scene::Light;
 use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings};
@@ -618,33 +618,65 @@ pub(crate) enum ScreenChain {
 }
 
 impl ScreenChain {
+    /// The chain's stages, each once: what `allocated_bytes`, `resize` and `prepare` go over.
+    fn stages(&self) -> Vec<&dyn ScreenStage> {
+        match self {
+            ScreenChain::MapOnly => vec![],
+            ScreenChain::OursCompute {
+                distance,
+                pcf,
+                blur,
+                resolve,
+                ..
+            } => with_blur(vec![distance, pcf, resolve], blur.as_ref().map(|b| b as _)),
+            ScreenChain::Ours {
+                distance,
+                pcf,
+                blur,
+                resolve,
+            } => with_blur(vec![distance, pcf, resolve], blur.as_ref().map(|b| b as _)),
+            ScreenChain::Traditional { pcf, blur, resolve } => {
+                with_blur(vec![pcf, resolve], blur.as_ref().map(|b| b as _))
+            }
+            ScreenChain::TraditionalCompute {
+                pcf, blur, resolve, ..
+            } => with_blur(vec![pcf, resolve], blur.as_ref().map(|b| b as _)),
+            ScreenChain::Pcss { pcss, resolve } => vec![pcss, resolve],
+            ScreenChain::Hard { pcf, resolve } => vec![pcf, resolve],
+        }
+    }
+
+    /// [`Self::stages`], to resize.
+    fn stages_mut(&mut self) -> Vec<&mut dyn ScreenStage> {
+        match self {
+            ScreenChain::MapOnly => vec![],
+            ScreenChain::OursCompute {
+                distance,
+                pcf,
+                blur,
+                resolve,
+                ..
+            } => with_blur(vec![distance, pcf, resolve], blur.as_mut().map(|b| b as _)),
+            ScreenChain::Ours {
+                distance,
+                pcf,
+                blur,
+                resolve,
+            } => with_blur(vec![distance, pcf, resolve], blur.as_mut().map(|b| b as _)),
+            ScreenChain::Traditional { pcf, blur, resolve } => {
+                with_blur(vec![pcf, resolve], blur.as_mut().map(|b| b as _))
+            }
+            ScreenChain::TraditionalCompute {
+                pcf, blur, resolve, ..
+            } => with_blur(vec![pcf, resolve], blur.as_mut().map(|b| b as _)),
+            ScreenChain::Pcss { pcss, resolve } => vec![pcss, resolve],
+            ScreenChain::Hard { pcf, resolve } => vec![pcf, resolve],
+        }
+    }
+
     /// GPU memory the chain's passes allocated, in bytes.
     pub fn allocated_bytes(&self) -> u64 {
-        match self {
-            ScreenChain::MapOnly => 0,
-            ScreenChain::OursCompute {
-                distance, pcf, blur, ..
-            } => {
-                distance.allocated_bytes()
-                    + pcf.allocated_bytes()
-                    + blur.as_ref().map_or(0, BlurCompute::allocated_bytes)
-            }
-            ScreenChain::Ours {
-                distance, pcf, blur, ..
-            } => {
-                distance.allocated_bytes()
-                    + pcf.allocated_bytes()
-                    + blur.as_ref().map_or(0, BlurPass::allocated_bytes)
-            }
-            ScreenChain::Traditional { pcf, blur, .. } => {
-                pcf.allocated_bytes() + blur.as_ref().map_or(0, BlurPass::allocated_bytes)
-            }
-            ScreenChain::TraditionalCompute { pcf, blur, .. } => {
-                pcf.allocated_bytes() + blur.as_ref().map_or(0, BlurCompute::allocated_bytes)
-            }
-            ScreenChain::Pcss { pcss, .. } => pcss.allocated_bytes(),
-            ScreenChain::Hard { pcf, .. } => pcf.allocated_bytes(),
-        }
+        self.stages().iter().map(|s| s.allocated_bytes()).sum()
     }
 
     /// The passes of `chain` for a light of `kind` ([`crate::frame::light_kind`]), made with
@@ -780,61 +812,21 @@ impl ScreenChain {
 
     /// Sizes the screen-sized targets; the passes must then be bound again.
     pub fn resize(&mut self, device: &wgpu::Device, w: u32, h: u32) {
-        match self {
-            ScreenChain::MapOnly => {}
-            // The shared intermediates are the screen's size (`Shadows` makes them).
-            ScreenChain::OursCompute { targets, .. } => *targets = None,
-            ScreenChain::Ours {
-                distance, pcf, blur, ..
-            } => {
-                distance.resize(device, w, h);
-                pcf.resize(device, w, h);
-                if let Some(blur) = blur {
-                    blur.resize(device, w, h);
-                }
-            }
-            ScreenChain::Traditional { pcf, blur, .. } => {
-                pcf.resize(device, w, h);
-                if let Some(blur) = blur {
-                    blur.resize(device, w, h);
-                }
-            }
-            ScreenChain::TraditionalCompute { targets, .. } => *targets = None,
-            ScreenChain::Pcss { pcss, .. } => pcss.resize(device, w, h),
-            ScreenChain::Hard { pcf, .. } => pcf.resize(device, w, h),
+        for stage in self.stages_mut() {
+            stage.resize(device, w, h);
+        }
+        // The compute path's shared intermediates are the screen's size (`Shadows` makes them).
+        if let ScreenChain::OursCompute { targets, .. } | ScreenChain::TraditionalCompute { targets, .. } =
+            self
+        {
+            *targets = None;
         }
     }
 
     /// Uploads the frame's parameters of each pass.
     pub fn prepare(&self, queue: &wgpu::Queue, params: &PassParams) {
-        match self {
-            ScreenChain::MapOnly => {}
-            ScreenChain::OursCompute { pcf, blur, .. } => {
-                pcf.prepare(queue, &params.pcf);
-                if let Some(blur) = blur {
-                    blur.prepare(queue, &params.blur);
-                }
-            }
-            ScreenChain::Ours { pcf, blur, .. } => {
-                pcf.prepare(queue, &params.pcf);
-                if let Some(blur) = blur {
-                    blur.prepare(queue, &params.blur);
-                }
-            }
-            ScreenChain::Traditional { pcf, blur, .. } => {
-                pcf.prepare(queue, &params.pcf);
-                if let Some(blur) = blur {
-                    blur.prepare(queue, &params.blur);
-                }
-            }
-            ScreenChain::TraditionalCompute { pcf, blur, .. } => {
-                pcf.prepare(queue, &params.pcf);
-                if let Some(blur) = blur {
-                    blur.prepare(queue, &params.blur);
-                }
-            }
-            ScreenChain::Pcss { pcss, .. } => pcss.prepare(queue, &params.pcss),
-            ScreenChain::Hard { pcf, .. } => pcf.prepare(queue, &params.pcf),
+        for stage in self.stages() {
+            stage.prepare(queue, params);
         }
     }
 
@@ -1165,6 +1157,12 @@ impl ScreenChain {
             _ => None,
         }
     }
+}
+
+/// A chain's stages, its blur last when it has one.
+fn with_blur<T>(mut stages: Vec<T>, blur: Option<T>) -> Vec<T> {
+    stages.extend(blur);
+    stages
 }
 
 /// The compute path's distance-map switches: its tile list follows the classification setting

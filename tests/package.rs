@@ -1,6 +1,7 @@
 //! The crate as it would be published: `cargo package` lists the library's sources, every
-//! shader, the licences, the front page and the changelog, and nothing else (no pictures,
-//! benchmark reports, tests or examples); the packed `.crate` stays small.
+//! shader, the build script that composes the shaders, the licences, the front page and the
+//! changelog, and nothing else (no pictures, benchmark reports, tests or examples); the packed
+//! `.crate` stays small.
 
 mod common;
 
@@ -61,6 +62,7 @@ fn the_package_holds_the_library_its_shaders_and_licences_and_nothing_else() {
         "LICENSE-MIT",
         "LICENSE-APACHE",
         "Cargo.toml",
+        "build.rs",
         "src/lib.rs",
     ] {
         assert!(
@@ -68,7 +70,8 @@ fn the_package_holds_the_library_its_shaders_and_licences_and_nothing_else() {
             "{required} is not packaged: {listed:?}"
         );
     }
-    // The library's every source and shader: `include_str!` needs the shaders.
+    // The library's every source and shader: `include_str!` needs the shaders (in the
+    // sources `build.rs` writes).
     for file in files("src", ".rs").iter().chain(&files("shaders", ".wgsl")) {
         assert!(listed.contains(&file.as_str()), "{file} is not packaged");
     }
@@ -83,6 +86,7 @@ fn the_package_holds_the_library_its_shaders_and_licences_and_nothing_else() {
                 "LICENSE-APACHE",
                 "Cargo.toml",
                 "Cargo.toml.orig",
+                "build.rs",
                 "Cargo.lock",
                 ".cargo_vcs_info.json",
             ]

@@ -19,6 +19,8 @@
 //! a pixel gets what a pass of its own gives; where penumbrae of different widths cross, the
 //! narrower is sampled on the wider's taps (a test bounds the difference).
 
+use super::ScreenStage;
+use crate::frame::PassParams;
 use crate::gpu_helpers::{Target, texture_bytes};
 use bytemuck::{Pod, Zeroable};
 
@@ -141,18 +143,6 @@ pub struct BlurPass {
 }
 
 impl BlurPass {
-    /// GPU memory this pass allocated: its textures and buffers, in bytes.
-    pub(crate) fn allocated_bytes(&self) -> u64 {
-        let textures = [
-            Some(&self.temp.texture),
-            self.packed.as_ref().map(|p| &p.visibility.texture),
-            self.union.as_ref().map(|u| &u.texture),
-            self.output.as_ref().map(|o| &o.texture),
-        ];
-        self.axis_buffers.iter().map(wgpu::Buffer::size).sum::<u64>()
-            + textures.into_iter().flatten().map(texture_bytes).sum::<u64>()
-    }
-
     /// The pass for `lights` lights (1 to [`MAX_BATCHED_LIGHTS`]; several only after the
     /// distance map) and `switches` (compile-time: other switches need a new pass).
     pub(crate) fn new(
@@ -276,28 +266,6 @@ impl BlurPass {
         self.lights
     }
 
-    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        let temp_format = if self.lights > 1 {
-            PackedVisibility::format(self.lights)
-        } else {
-            VISIBILITY_FORMAT
-        };
-        self.packed = (self.lights > 1).then(|| PackedVisibility::new(device, width, height, self.lights));
-        self.temp = screen_target(device, "BlurPass::horizontal", width, height, temp_format);
-        self.union = (self.lights > 1)
-            .then(|| screen_target(device, "BlurPass::union", width, height, CLASSIFICATION_FORMAT));
-        self.output = (!self.switches.after_distance_map).then(|| {
-            screen_target(
-                device,
-                "BlurPass::blurred_visibility",
-                width,
-                height,
-                VISIBILITY_FORMAT,
-            )
-        });
-        self.bind_groups = None;
-    }
-
     /// Points the pass at its inputs, one per light (as many as the pass was made for; lights
     /// past `lights` are left out); `dummy` stands in for the slots no light fills. Several
     /// lights read their visibility from [`Self::packed`], which their variable PCF passes
@@ -344,16 +312,6 @@ impl BlurPass {
     /// The switches the pipeline was made with.
     pub(crate) fn switches(&self) -> BlurSwitches {
         self.switches
-    }
-
-    /// Uploads the frame's tap count, step and Gaussian weights.
-    pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &BlurParams) {
-        write_axes(
-            queue,
-            &self.axis_buffers,
-            params,
-            self.switches.after_distance_map,
-        );
     }
 
     /// Records both directions ([`Self::prepare`] and [`Self::bind`] first). After the
@@ -417,6 +375,51 @@ impl BlurPass {
     }
 }
 
+impl ScreenStage for BlurPass {
+    fn allocated_bytes(&self) -> u64 {
+        let textures = [
+            Some(&self.temp.texture),
+            self.packed.as_ref().map(|p| &p.visibility.texture),
+            self.union.as_ref().map(|u| &u.texture),
+            self.output.as_ref().map(|o| &o.texture),
+        ];
+        self.axis_buffers.iter().map(wgpu::Buffer::size).sum::<u64>()
+            + textures.into_iter().flatten().map(texture_bytes).sum::<u64>()
+    }
+
+    fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        let temp_format = if self.lights > 1 {
+            PackedVisibility::format(self.lights)
+        } else {
+            VISIBILITY_FORMAT
+        };
+        self.packed = (self.lights > 1).then(|| PackedVisibility::new(device, width, height, self.lights));
+        self.temp = screen_target(device, "BlurPass::horizontal", width, height, temp_format);
+        self.union = (self.lights > 1)
+            .then(|| screen_target(device, "BlurPass::union", width, height, CLASSIFICATION_FORMAT));
+        self.output = (!self.switches.after_distance_map).then(|| {
+            screen_target(
+                device,
+                "BlurPass::blurred_visibility",
+                width,
+                height,
+                VISIBILITY_FORMAT,
+            )
+        });
+        self.bind_groups = None;
+    }
+
+    fn prepare(&self, queue: &wgpu::Queue, params: &PassParams) {
+        let params = &params.blur;
+        write_axes(
+            queue,
+            &self.axis_buffers,
+            params,
+            self.switches.after_distance_map,
+        );
+    }
+}
+
 /// The blur of the compute path, one light, over the distance map's listed tiles (or every
 /// tile for the fixed blur): both axes are compute passes (`cs_main` in `shaders/blur.wgsl`),
 /// the horizontal one from the PCF's visibility into a texture of its own (R32F, cleared to 1
@@ -449,10 +452,6 @@ pub(crate) struct BlurCompute {
 
 impl BlurCompute {
     pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-
-    pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.axis_buffers.iter().map(wgpu::Buffer::size).sum::<u64>()
-    }
 
     /// The pass for `switches`: after the distance map (over its tile list, with its
     /// classification) or the baseline's fixed blur (over every tile).
@@ -589,11 +588,6 @@ impl BlurCompute {
         self.bind_groups = Some([group(visibility), out(temp), group(temp), out(visibility)]);
     }
 
-    /// Uploads the frame's tap count, step and Gaussian weights.
-    pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &BlurParams) {
-        write_axes(queue, &self.axis_buffers, params, true);
-    }
-
     /// Records both axes over `tiles`, and the copy of the result into `layer`; over the tiles
     /// `away` from the light (if any), 0 into the horizontal axis's result and the layer.
     pub(crate) fn encode(
@@ -642,5 +636,16 @@ impl BlurCompute {
             pass.set_pipeline(&self.copy_away);
             away.draw(&mut pass);
         }
+    }
+}
+
+impl ScreenStage for BlurCompute {
+    fn allocated_bytes(&self) -> u64 {
+        self.axis_buffers.iter().map(wgpu::Buffer::size).sum::<u64>()
+    }
+
+    fn prepare(&self, queue: &wgpu::Queue, params: &PassParams) {
+        let params = &params.blur;
+        write_axes(queue, &self.axis_buffers, params, true);
     }
 }

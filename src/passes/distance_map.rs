@@ -26,6 +26,7 @@
 //! RG16F was chosen by a precision test (this module's tests): distances from 1e-4 to 1e4 come
 //! back with a relative error below 1e-3, far below what a blur or kernel width can show.
 
+use super::ScreenStage;
 use super::{begin_pass, depth_attachment};
 use crate::frame::DistanceSwitches;
 use crate::gpu_helpers::{Target, texture_bytes};
@@ -55,13 +56,6 @@ pub struct DistanceMapPass {
 }
 
 impl DistanceMapPass {
-    /// GPU memory this pass allocated: its textures and buffers, in bytes.
-    pub(crate) fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.distance.texture)
-            + texture_bytes(&self.classification.texture)
-            + self.tiles.allocated_bytes()
-    }
-
     pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
     /// The pass; with `mask_early_out` false every receiver pixel is classified as shadowed,
@@ -159,26 +153,6 @@ impl DistanceMapPass {
         };
         pass.resize(device, 1, 1);
         pass
-    }
-
-    /// Recreates the screen-sized targets. The bind group must then be rebuilt with [`Self::bind`].
-    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.distance = screen_target(
-            device,
-            "DistanceMapPass::distance_map",
-            width,
-            height,
-            Self::DISTANCE_FORMAT,
-        );
-        self.classification = screen_target(
-            device,
-            "DistanceMapPass::classification",
-            width,
-            height,
-            CLASSIFICATION_FORMAT,
-        );
-        self.tiles.resize(device, width, height);
-        self.bind_group = None;
     }
 
     /// Points the pass at its inputs. `receiver_mask` is read only where the frame uniform
@@ -280,6 +254,33 @@ impl DistanceMapPass {
     }
 }
 
+impl ScreenStage for DistanceMapPass {
+    fn allocated_bytes(&self) -> u64 {
+        texture_bytes(&self.distance.texture)
+            + texture_bytes(&self.classification.texture)
+            + self.tiles.allocated_bytes()
+    }
+
+    fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.distance = screen_target(
+            device,
+            "DistanceMapPass::distance_map",
+            width,
+            height,
+            Self::DISTANCE_FORMAT,
+        );
+        self.classification = screen_target(
+            device,
+            "DistanceMapPass::classification",
+            width,
+            height,
+            CLASSIFICATION_FORMAT,
+        );
+        self.tiles.resize(device, width, height);
+        self.bind_group = None;
+    }
+}
+
 /// The distance map of the compute path: the tile list first ([`super::TileListPass`]), then
 /// both draws' work in one compute pass over the listed tiles (`cs_main` in
 /// `shaders/distance_map.wgsl`), into one texture (RGBA16F: R distance, G mask, B the
@@ -302,10 +303,6 @@ impl DistanceMapCompute {
     /// Its texture's format: a half float a compute pass can write everywhere (RG16F cannot be
     /// a storage texture on the web), with the same precision as [`DistanceMapPass`]'s.
     pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-
-    pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.tiles.allocated_bytes()
-    }
 
     /// As [`DistanceMapPass::new`]; `switches.tiles` off lists every tile.
     pub(crate) fn new(
@@ -422,6 +419,12 @@ impl DistanceMapCompute {
         self.tiles.encode(encoder, reduce);
         // The distance map was cleared to 0 ([`crate::chain::ComputeTargets::clear`]).
         listed.dispatch(encoder, "DistanceMapCompute", &self.pipeline, &[Some(group)]);
+    }
+}
+
+impl ScreenStage for DistanceMapCompute {
+    fn allocated_bytes(&self) -> u64 {
+        self.tiles.allocated_bytes()
     }
 }
 

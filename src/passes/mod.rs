@@ -84,6 +84,25 @@ pub(crate) use tile_clear::TileClear;
 pub(crate) use variable_pcf::VariablePcfCompute;
 pub use variable_pcf::VariablePcfPass;
 
+/// What every screen-space stage of a chain has besides its wiring and its place in the frame
+/// (`bind` and `encode`, whose inputs differ by stage and which each chain calls in its own
+/// order: `chain::ScreenChain`). A chain lists its stages once (`ScreenChain::stages`) and
+/// sizes, prepares and counts them through this, so a new stage is its module, its WGSL file
+/// and the chains that run it.
+pub(crate) trait ScreenStage {
+    /// GPU memory the stage allocated: its own textures and buffers, in bytes (the compute
+    /// path's shared intermediates are counted once, by `chain::ComputeTargets`).
+    fn allocated_bytes(&self) -> u64 {
+        0
+    }
+
+    /// Recreates the stage's screen-sized targets, if it has any; it must then be bound again.
+    fn resize(&mut self, _device: &wgpu::Device, _width: u32, _height: u32) {}
+
+    /// Uploads what the stage takes of the frame's parameters (tap counts, spacings, weights).
+    fn prepare(&self, _queue: &wgpu::Queue, _params: &crate::frame::PassParams) {}
+}
+
 /// Format of the screen-space visibility textures (filterable, for the blur's bilinear taps).
 pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 

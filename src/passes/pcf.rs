@@ -7,7 +7,9 @@
 //! method takes its distance-driven taps in [`super::DistanceMapPass`], with the same tap code
 //! (`shaders/common/pcf_taps.wgsl`).
 
+use super::ScreenStage;
 use super::{LIGHT_KIND, ScreenPipeline, entry};
+use crate::frame::PassParams;
 use crate::frame::{PcfSwitches, PcfUniform};
 use crate::gpu_helpers::Target;
 
@@ -22,11 +24,6 @@ pub struct PcfPass {
 }
 
 impl PcfPass {
-    /// GPU memory this pass allocated: its textures and buffers, in bytes.
-    pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.params.size() + self.pipeline.own_bytes()
-    }
-
     /// The pass for `switches` and one light kind ([`crate::frame::light_kind`]: the other
     /// kinds' code is compiled out), a compute pass with `compute`; other switches, another
     /// kind or the other kind of pass need a new pass.
@@ -72,10 +69,6 @@ impl PcfPass {
         }
     }
 
-    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.pipeline.resize(device, "PcfPass::visibility", width, height);
-    }
-
     /// Points the pass at its inputs; a compute pass writes `shared` (the screen's size).
     pub fn bind(
         &mut self,
@@ -109,11 +102,6 @@ impl PcfPass {
         self.light_kind
     }
 
-    /// Uploads the frame's tap count and spacing.
-    pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &PcfUniform) {
-        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
-    }
-
     /// The raw PCF visibility (once bound, for a compute pass).
     pub fn visibility(&self) -> Option<&wgpu::TextureView> {
         self.pipeline.output().map(|o| &o.view)
@@ -127,5 +115,20 @@ impl PcfPass {
         if let Some(group) = &self.bind_group {
             self.pipeline.encode(encoder, "PcfPass", group);
         }
+    }
+}
+
+impl ScreenStage for PcfPass {
+    fn allocated_bytes(&self) -> u64 {
+        self.params.size() + self.pipeline.own_bytes()
+    }
+
+    fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.pipeline.resize(device, "PcfPass::visibility", width, height);
+    }
+
+    fn prepare(&self, queue: &wgpu::Queue, params: &PassParams) {
+        let params = &params.pcf;
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
     }
 }

@@ -4,7 +4,9 @@
 //! Input: the frame uniform, the camera depth and the shadow map. Output: an R16F visibility
 //! texture, or on the compute path an R32F one the lights share ([`super::ScreenPipeline`]). Blocker and PCF tap counts come from [`crate::PcssSettings`].
 
+use super::ScreenStage;
 use super::{LIGHT_KIND, ScreenPipeline, entry};
+use crate::frame::PassParams;
 use crate::frame::PcssUniform;
 use crate::gpu_helpers::Target;
 
@@ -18,11 +20,6 @@ pub struct PcssPass {
 }
 
 impl PcssPass {
-    /// GPU memory this pass allocated: its textures and buffers, in bytes.
-    pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.params.size() + self.pipeline.own_bytes()
-    }
-
     /// The pass for one light kind ([`crate::frame::light_kind`]: the other kinds' code is
     /// compiled out, as in the distance-map method's passes), a compute pass with `compute`;
     /// another kind or the other kind of pass needs a new pass.
@@ -68,11 +65,6 @@ impl PcssPass {
         self.light_kind
     }
 
-    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.pipeline
-            .resize(device, "PcssPass::visibility", width, height);
-    }
-
     /// Points the pass at its inputs; a compute pass writes `shared` (the screen's size).
     pub fn bind(
         &mut self,
@@ -112,14 +104,25 @@ impl PcssPass {
         self.pipeline.output().map(|o| &o.texture)
     }
 
-    /// Uploads the frame's sample counts.
-    pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &PcssUniform) {
-        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
-    }
-
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
         if let Some(group) = &self.bind_group {
             self.pipeline.encode(encoder, "PcssPass", group);
         }
+    }
+}
+
+impl ScreenStage for PcssPass {
+    fn allocated_bytes(&self) -> u64 {
+        self.params.size() + self.pipeline.own_bytes()
+    }
+
+    fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.pipeline
+            .resize(device, "PcssPass::visibility", width, height);
+    }
+
+    fn prepare(&self, queue: &wgpu::Queue, params: &PassParams) {
+        let params = &params.pcss;
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
     }
 }

@@ -5,6 +5,7 @@
 //! visibility array ([`crate::Shadows::visibility`], R16F), in [0, 1], with the indirect-light
 //! attenuation already applied and 1 where nothing was drawn or the pixel receives no shadow.
 
+use super::ScreenStage;
 use super::{VISIBILITY_FORMAT, draw_fullscreen, entry, fullscreen_pipeline};
 
 pub struct ResolvePass {
@@ -68,3 +69,5 @@ impl ResolvePass {
         }
     }
 }
+
+impl ScreenStage for ResolvePass {}

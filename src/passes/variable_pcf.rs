@@ -18,12 +18,14 @@
 //! writes its visibility into its channel of that pass's packed texture ([`PackedVisibility`]),
 //! which the blur then reads with one fetch a tap for all the lights.
 
+use super::ScreenStage;
 use super::blur::PackedVisibility;
 use super::tiles_layout;
 use super::{
     Classification, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, draw_area, entry, kept, screen_target,
 };
 use super::{begin_pass, depth_attachment};
+use crate::frame::PassParams;
 use crate::frame::{PcfSwitches, PcfUniform};
 use crate::gpu_helpers::{Target, texture_bytes};
 use crate::map_resolution::WidthProbe;
@@ -55,14 +57,6 @@ pub struct VariablePcfPass {
 }
 
 impl VariablePcfPass {
-    /// GPU memory this pass allocated: its textures and buffers, in bytes.
-    pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.params.size()
-            + texture_bytes(&self.visibility.texture)
-            + texture_bytes(&self.blur_sigma.texture)
-            + texture_bytes(&self.half.texture)
-    }
-
     /// Format of the half-resolution values (R visibility, G 1 where computed, BA the blur's
     /// standard deviations).
     const HALF_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -232,30 +226,6 @@ impl VariablePcfPass {
         });
     }
 
-    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        self.visibility = screen_target(
-            device,
-            "VariablePcfPass::visibility",
-            width,
-            height,
-            VISIBILITY_FORMAT,
-        );
-        self.blur_sigma = screen_target(
-            device,
-            "VariablePcfPass::blur_sigma",
-            width,
-            height,
-            Self::SIGMA_FORMAT,
-        );
-        let (half_w, half_h) = match self.half_pipeline {
-            Some(_) => (width.div_ceil(2), height.div_ceil(2)),
-            None => (1, 1),
-        };
-        self.half = screen_target(device, "VariablePcfPass::half", half_w, half_h, Self::HALF_FORMAT);
-        self.bind_group = None;
-        self.half_group = None;
-    }
-
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
@@ -293,11 +263,6 @@ impl VariablePcfPass {
     /// The light kind the pipeline was made for ([`crate::frame::light_kind`]).
     pub(crate) fn light_kind(&self) -> u32 {
         self.light_kind
-    }
-
-    /// Uploads the frame's tap count and spacings.
-    pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &PcfUniform) {
-        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
     }
 
     /// The raw PCF visibility.
@@ -402,6 +367,44 @@ impl VariablePcfPass {
     }
 }
 
+impl ScreenStage for VariablePcfPass {
+    fn allocated_bytes(&self) -> u64 {
+        self.params.size()
+            + texture_bytes(&self.visibility.texture)
+            + texture_bytes(&self.blur_sigma.texture)
+            + texture_bytes(&self.half.texture)
+    }
+
+    fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.visibility = screen_target(
+            device,
+            "VariablePcfPass::visibility",
+            width,
+            height,
+            VISIBILITY_FORMAT,
+        );
+        self.blur_sigma = screen_target(
+            device,
+            "VariablePcfPass::blur_sigma",
+            width,
+            height,
+            Self::SIGMA_FORMAT,
+        );
+        let (half_w, half_h) = match self.half_pipeline {
+            Some(_) => (width.div_ceil(2), height.div_ceil(2)),
+            None => (1, 1),
+        };
+        self.half = screen_target(device, "VariablePcfPass::half", half_w, half_h, Self::HALF_FORMAT);
+        self.bind_group = None;
+        self.half_group = None;
+    }
+
+    fn prepare(&self, queue: &wgpu::Queue, params: &PassParams) {
+        let params = &params.pcf;
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
+    }
+}
+
 /// The variable PCF of the compute path: one compute pass over the distance map's listed
 /// tiles (`cs_main` in `shaders/variable_pcf.wgsl`), at the pixels whose classification says a
 /// shadow can fall, into the visibility (R32F, cleared to 1 first: no shadow) and the blur's
@@ -427,10 +430,6 @@ pub(crate) struct VariablePcfCompute {
 impl VariablePcfCompute {
     pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
     pub const SIGMA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
-
-    pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.params.size() + self.probe.allocated_bytes()
-    }
 
     /// The penumbra widths this pass counts.
     pub(crate) fn probe_mut(&mut self) -> &mut WidthProbe {
@@ -535,10 +534,6 @@ impl VariablePcfCompute {
         self.light_kind
     }
 
-    pub(crate) fn prepare(&self, queue: &wgpu::Queue, params: &PcfUniform) {
-        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
-    }
-
     /// Records the pass over `tiles`, and the visibility 0 over the tiles `away` from the
     /// light.
     pub fn encode(
@@ -557,5 +552,16 @@ impl VariablePcfCompute {
         if let Some(away) = away {
             away.dispatch(encoder, "VariablePcfCompute::away", &self.away, &[Some(group)]);
         }
+    }
+}
+
+impl ScreenStage for VariablePcfCompute {
+    fn allocated_bytes(&self) -> u64 {
+        self.params.size() + self.probe.allocated_bytes()
+    }
+
+    fn prepare(&self, queue: &wgpu::Queue, params: &PassParams) {
+        let params = &params.pcf;
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
     }
 }

@@ -22,7 +22,7 @@ use crate::light_space::tile_resolution;
 use crate::light_space::{FitInputs, LightView, MAX_TILES};
 use crate::map_resolution::PenumbraWidths;
 use crate::passes::{
-    BlurInput, BlurPass, MAX_BATCHED_LIGHTS, PackedVisibility, VISIBILITY_FORMAT, screen_target,
+    BlurInput, BlurPass, MAX_BATCHED_LIGHTS, PackedVisibility, ScreenStage, VISIBILITY_FORMAT, screen_target,
 };
 use crate::scene::{Aabb, Light, MAX_LIGHTS};
 use crate::settings::{MapResolution, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
@@ -709,7 +709,7 @@ impl Shadows {
                     (pass, false)
                 }
             };
-            pass.prepare(queue, &params.blur);
+            pass.prepare(queue, &params);
             if same_lights && !rebound && pass.is_bound() {
                 self.blurs.push((slots, pass));
                 continue;
