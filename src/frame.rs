@@ -706,7 +706,7 @@ mod tests {
             layout!("Pcss", PcssUniform, [blocker_samples, pcf_samples]),
             layout!(
                 "Blur",
-                crate::passes::BlurUniform,
+                crate::screen::BlurUniform,
                 [axis, weights, taps, step, resolve, kernel_sigma]
             ),
             layout!(

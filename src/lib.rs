@@ -125,6 +125,7 @@ pub(crate) mod passes;
 #[cfg(feature = "renderer")]
 mod renderer;
 pub mod scene;
+mod screen;
 pub mod settings;
 pub mod shaders;
 pub mod shadows;
@@ -149,7 +150,6 @@ pub use light_space::{Cascade, LightView, MAX_CASCADES};
 #[cfg(feature = "renderer")]
 pub use loaders::load_model;
 pub use map_resolution::PenumbraWidths;
-pub use passes::VISIBILITY_FORMAT;
 #[cfg(feature = "renderer")]
 pub use renderer::{
     FrameReport, PassPlan, Renderer, WARMUP_MIN_MS, render_to_image, render_to_image_with_progress,
@@ -163,6 +163,7 @@ pub use scene::{
     LightingMode, LightmapFilter, LightmapImage, LightmapRect, Lightmaps, MAX_LIGHTS, Material, Mesh, Model,
     OrbitCamera, PointLight, RectLight, Scene, Shading, SpotLight, TextureImage, Viewpoint,
 };
+pub use screen::VISIBILITY_FORMAT;
 pub use settings::{
     CascadeSettings, CullMode, DepthFormat, LightFit, MapResolution, PcfKernel, PcssSettings,
     PenumbraSettings, Quality, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode,

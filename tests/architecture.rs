@@ -197,3 +197,46 @@ fn the_circle_finder_finds_a_circle() {
     assert_eq!(exports.get("Light").map(String::as_str), Some("scene"));
     assert_eq!(exports.get("MAX_LIGHTS").map(String::as_str), Some("shadows"));
 }
+
+/// The screen-space stages live in `src/screen/`, one module each, declared in its `mod.rs`
+/// beside `ScreenChain`, which wires them: a file of the folder that no `mod` line names would
+/// be left out of the build without a word, and a stage no chain names would never run.
+#[test]
+fn every_screen_stage_is_declared_and_wired_beside_the_chain() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/screen");
+    let chain = std::fs::read_to_string(dir.join("mod.rs")).expect("src/screen/mod.rs");
+    assert!(
+        chain.contains("pub(crate) enum ScreenChain"),
+        "ScreenChain is not in src/screen/mod.rs"
+    );
+    let mut stages = Vec::new();
+    for entry in std::fs::read_dir(&dir).expect("src/screen") {
+        let path = entry.expect("directory entry").path();
+        let stem = path
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or_default()
+            .to_string();
+        if stem == "mod" || path.extension().is_none_or(|e| e != "rs") {
+            continue;
+        }
+        assert!(
+            chain.lines().any(|l| l.trim() == format!("mod {stem};")),
+            "{} is not declared in src/screen/mod.rs",
+            path.display()
+        );
+        let text = std::fs::read_to_string(&path).unwrap();
+        for line in text.lines() {
+            if let Some(rest) = line.strip_prefix("impl ScreenStage for ") {
+                stages.push(rest.trim_end_matches(" {").trim_end_matches(" {}").to_string());
+            }
+        }
+    }
+    assert!(stages.len() >= 6, "too few stages found: {stages:?}");
+    for stage in &stages {
+        assert!(
+            chain.contains(&format!("{stage}::new(")),
+            "{stage} is a ScreenStage, and ScreenChain::new makes none"
+        );
+    }
+}

@@ -13,18 +13,20 @@
 
 use crate::casters::Casters;
 pub use crate::chain::Chain;
-use crate::chain::{ComputeNeeds, ComputeTargets, FRAME_SIZE, LightMaps, ScreenChain, ScreenInputs};
+use crate::chain::{FRAME_SIZE, LightMaps};
 use crate::device::DeviceLoss;
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, light_kind};
+use crate::gpu_helpers::screen_target;
 use crate::gpu_helpers::{Target, scoped, texture_bytes};
 use crate::light_space::tile_resolution;
 use crate::light_space::{FitInputs, LightView, MAX_TILES};
 use crate::map_resolution::PenumbraWidths;
-use crate::passes::{
-    BlurInput, BlurPass, MAX_BATCHED_LIGHTS, PackedVisibility, ScreenStage, VISIBILITY_FORMAT, screen_target,
-};
 use crate::scene::{Aabb, Light, MAX_LIGHTS};
+use crate::screen::{
+    BlurInput, BlurPass, ComputeNeeds, ComputeTargets, MAX_BATCHED_LIGHTS, PackedVisibility, ScreenChain,
+    ScreenInputs, ScreenStage, VISIBILITY_FORMAT,
+};
 use crate::settings::{MapResolution, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
 use crate::view::CameraMatrices;
 
@@ -131,7 +133,7 @@ impl Shadows {
             screen_space: true,
             prepared: false,
             software: device.adapter_info().device_type == wgpu::DeviceType::Cpu,
-            compute: crate::passes::has_compute(device),
+            compute: crate::screen::has_compute(device),
             compute_targets: None,
             inspected: None,
             loss: None,

@@ -412,7 +412,7 @@ impl ScreenStage for VariablePcfPass {
 /// cleared: the blur reads them only at the listed pixels it blurs). 32-bit floats: a compute
 /// pass can write them everywhere (half floats only as RGBA16F, whose four-channel
 /// fetches cost the blur's taps on a software rasterizer). The textures are given at
-/// [`Self::bind`]: the lights share them ([`crate::chain::ComputeTargets`]).
+/// [`Self::bind`]: the lights share them ([`crate::screen::ComputeTargets`]).
 pub(crate) struct VariablePcfCompute {
     switches: PcfSwitches,
     light_kind: u32,
@@ -544,7 +544,7 @@ impl VariablePcfCompute {
     ) {
         // The deviations are written at every listed pixel (the only ones the blur reads them
         // at); the visibility is read anywhere, and was cleared to 1
-        // ([`crate::chain::ComputeTargets::clear`]).
+        // ([`crate::screen::ComputeTargets::clear`]).
         let Some(group) = &self.bind_group else {
             return;
         };

@@ -429,7 +429,7 @@ impl ScreenStage for BlurPass {
 /// pixel, 1 where no shadow can fall) copies the result into it. Both axes read the variable
 /// PCF's deviations and the distance map's classification (B); the values are read linearly
 /// between texels by two loads. Its textures are given at [`Self::bind`]: the lights share
-/// them ([`crate::chain::ComputeTargets`]).
+/// them ([`crate::screen::ComputeTargets`]).
 pub(crate) struct BlurCompute {
     switches: BlurSwitches,
     layout: wgpu::BindGroupLayout,
@@ -597,7 +597,7 @@ impl BlurCompute {
         away: Option<super::TileList>,
         layer: &wgpu::TextureView,
     ) {
-        // The horizontal axis's target was cleared to 1 ([`crate::chain::ComputeTargets::clear`]).
+        // The horizontal axis's target was cleared to 1 ([`crate::screen::ComputeTargets::clear`]).
         let Some([horizontal, to_temp, vertical, to_visibility]) = &self.bind_groups else {
             return;
         };

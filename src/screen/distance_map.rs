@@ -2,7 +2,7 @@
 //!
 //! Input: the frame uniform (camera matrices, light), the fattened shadow map and its occluder
 //! offset, the exit map (the casters' back faces), the real shadow map, the camera depth (the engine's, or
-//! [`super::DepthPrepass`]'s) and optionally a receiver mask. Outputs, screen-sized:
+//! [`crate::passes::DepthPrepass`]'s) and optionally a receiver mask. Outputs, screen-sized:
 //! * the distance map (RG16F): R = distance along the light from the occluder to the receiver
 //!   (world units, >= 0; to the caster's own surface, found through the fattened pass's
 //!   occluder offset, so a receiver touching its caster gets 0 and not the fatten distance;
@@ -287,7 +287,7 @@ impl ScreenStage for DistanceMapPass {
 /// classification the draws write as depth, 0, 0.5 or 1), cleared first so that the other
 /// tiles read as no shadow. The later passes read the classification instead of testing a
 /// depth. The texture is given at [`Self::bind`]: the lights share one
-/// ([`crate::chain::ComputeTargets`]).
+/// ([`crate::screen::ComputeTargets`]).
 pub(crate) struct DistanceMapCompute {
     switches: DistanceSwitches,
     light_kind: u32,
@@ -417,7 +417,7 @@ impl DistanceMapCompute {
             .swap(false, std::sync::atomic::Ordering::Relaxed)
             || maps_drawn;
         self.tiles.encode(encoder, reduce);
-        // The distance map was cleared to 0 ([`crate::chain::ComputeTargets::clear`]).
+        // The distance map was cleared to 0 ([`crate::screen::ComputeTargets::clear`]).
         listed.dispatch(encoder, "DistanceMapCompute", &self.pipeline, &[Some(group)]);
     }
 }
