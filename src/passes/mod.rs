@@ -41,12 +41,11 @@ pub use forward::ForwardPass;
 pub use reference::{GeometricNormals, ReferencePass};
 pub use shadow_map::ShadowMapPass;
 // The generic helpers the passes build on (a leaf module).
-pub(crate) use crate::gpu_helpers::{
-    Fullscreen, begin_pass, bind_group, cleared, comparison_sampler, depth_attachment, entry, kept,
-    screen_target,
-};
 #[cfg(feature = "renderer")]
-pub(crate) use crate::gpu_helpers::{POSITION, blended_target, stream, vertex_layout};
+pub(crate) use crate::gpu_helpers::{
+    Fullscreen, POSITION, bind_group, blended_target, comparison_sampler, stream, vertex_layout,
+};
+pub(crate) use crate::gpu_helpers::{begin_pass, cleared, depth_attachment, entry, kept, screen_target};
 pub(crate) use tile_clear::TileClear;
 
 /// What a full-screen draw does with a classification depth.
