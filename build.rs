@@ -49,12 +49,14 @@ fn stem(path: &Path) -> Result<&str, String> {
         .ok_or_else(|| format!("{}: a shader's file is named in lower_snake_case", path.display()))
 }
 
-/// A path as a Rust string literal.
-fn literal(path: &Path) -> Result<String, String> {
-    let text = path
-        .to_str()
-        .ok_or_else(|| format!("{}: the path is not UTF-8", path.display()))?;
-    Ok(format!("{text:?}"))
+/// `include_str!` of `relative` (a path under the crate's root), written with
+/// `CARGO_MANIFEST_DIR` rather than this checkout's absolute path: the generated list names
+/// files, and the sources come from the checkout that compiles it.
+fn include(relative: &str) -> String {
+    format!(
+        "include_str!(concat!(env!(\"CARGO_MANIFEST_DIR\"), {:?}))",
+        format!("/{relative}")
+    )
 }
 
 fn shader_consts(root: &Path) -> Result<String, String> {
@@ -111,9 +113,14 @@ fn shader_consts(root: &Path) -> Result<String, String> {
                     piece_path.display()
                 ));
             }
-            write!(code, "include_str!({}), \"\\n\", ", literal(&piece_path)?).unwrap();
+            write!(
+                code,
+                "{}, \"\\n\", ",
+                include(&format!("shaders/common/{piece}.wgsl"))
+            )
+            .unwrap();
         }
-        writeln!(code, "include_str!({}), \"\\n\");", literal(&path)?).unwrap();
+        writeln!(code, "{}, \"\\n\");", include(&format!("shaders/{stem}.wgsl"))).unwrap();
         all.push(format!("({stem:?}, {name})"));
     }
     writeln!(
