@@ -26,7 +26,7 @@
 //! of `shaders/common/` it is joined after: `build.rs` lists it), its module here (the stage's
 //! struct, with `bind` and `encode` for its own inputs and [`ScreenStage`] for its size,
 //! parameters and memory), and this file (a `mod` line, and its place in the chains that run
-//! it: their variant, [`ScreenChain::new`], `fits`, `stages`, [`ScreenChain::bind`] and
+//! it: their variant, [`ScreenChain::new`], `fits`, `stages_of!`, [`ScreenChain::bind`] and
 //! [`ScreenChain::encode`]). A stage with settings of its own also adds them to
 //! `crate::settings` and `crate::frame::PassParams`.
 
@@ -126,10 +126,12 @@ pub(crate) enum ScreenChain {
     },
 }
 
-impl ScreenChain {
-    /// The chain's stages, each once: what `allocated_bytes`, `resize` and `prepare` go over.
-    fn stages(&self) -> Vec<&dyn ScreenStage> {
-        match self {
+/// Every stage of `$chain` (a `&ScreenChain` or a `&mut ScreenChain`), each once, its blur
+/// last: the one list behind `ScreenChain::stages` and `stages_mut`. `$option` takes the
+/// optional blur as a reference of the same kind (`as_ref` or `as_mut`).
+macro_rules! stages_of {
+    ($chain:expr, $option:ident) => {
+        match $chain {
             ScreenChain::MapOnly => vec![],
             ScreenChain::OursCompute {
                 distance,
@@ -137,50 +139,34 @@ impl ScreenChain {
                 blur,
                 resolve,
                 ..
-            } => with_blur(vec![distance, pcf, resolve], blur.as_ref().map(|b| b as _)),
+            } => with_blur(vec![distance, pcf, resolve], blur.$option().map(|b| b as _)),
             ScreenChain::Ours {
                 distance,
                 pcf,
                 blur,
                 resolve,
-            } => with_blur(vec![distance, pcf, resolve], blur.as_ref().map(|b| b as _)),
+            } => with_blur(vec![distance, pcf, resolve], blur.$option().map(|b| b as _)),
             ScreenChain::Traditional { pcf, blur, resolve } => {
-                with_blur(vec![pcf, resolve], blur.as_ref().map(|b| b as _))
+                with_blur(vec![pcf, resolve], blur.$option().map(|b| b as _))
             }
             ScreenChain::TraditionalCompute {
                 pcf, blur, resolve, ..
-            } => with_blur(vec![pcf, resolve], blur.as_ref().map(|b| b as _)),
+            } => with_blur(vec![pcf, resolve], blur.$option().map(|b| b as _)),
             ScreenChain::Pcss { pcss, resolve } => vec![pcss, resolve],
             ScreenChain::Hard { pcf, resolve } => vec![pcf, resolve],
         }
+    };
+}
+
+impl ScreenChain {
+    /// The chain's stages, each once: what `allocated_bytes`, `resize` and `prepare` go over.
+    fn stages(&self) -> Vec<&dyn ScreenStage> {
+        stages_of!(self, as_ref)
     }
 
     /// [`Self::stages`], to resize.
     fn stages_mut(&mut self) -> Vec<&mut dyn ScreenStage> {
-        match self {
-            ScreenChain::MapOnly => vec![],
-            ScreenChain::OursCompute {
-                distance,
-                pcf,
-                blur,
-                resolve,
-                ..
-            } => with_blur(vec![distance, pcf, resolve], blur.as_mut().map(|b| b as _)),
-            ScreenChain::Ours {
-                distance,
-                pcf,
-                blur,
-                resolve,
-            } => with_blur(vec![distance, pcf, resolve], blur.as_mut().map(|b| b as _)),
-            ScreenChain::Traditional { pcf, blur, resolve } => {
-                with_blur(vec![pcf, resolve], blur.as_mut().map(|b| b as _))
-            }
-            ScreenChain::TraditionalCompute {
-                pcf, blur, resolve, ..
-            } => with_blur(vec![pcf, resolve], blur.as_mut().map(|b| b as _)),
-            ScreenChain::Pcss { pcss, resolve } => vec![pcss, resolve],
-            ScreenChain::Hard { pcf, resolve } => vec![pcf, resolve],
-        }
+        stages_of!(self, as_mut)
     }
 
     /// GPU memory the chain's passes allocated, in bytes.
