@@ -1,4 +1,4 @@
-// after: frame cube fullscreen receiver pcf_taps
+// after: frame cube fullscreen receiver pcf_taps workgroup_rows
 // PCF pass (the baseline and screen-space hard shadows): a screen-space visibility texture from
 // N x N comparison taps on the real shadow map at a fixed spacing, rotated per pixel by a noise
 // angle. A receiver-plane depth bias keeps wide kernels from shadowing the receiver itself. The
@@ -32,11 +32,17 @@ fn visibility_at(frag: vec2<f32>) -> f32 {
     return pcf_taps(r.p, r.slope, to_uv, i32(pcf.taps_per_side), angle);
 }
 
-// The compute path: one invocation per pixel, in 16 x 16 workgroups over the screen.
+// The compute path: one invocation per pixel, in 16 x 16 workgroups over the screen, their rows
+// in the order `screen_row` gives.
 @group(0) @binding(5) var visibility_out: texture_storage_2d<r32float, write>;
 
 @compute @workgroup_size(16, 16)
-fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+fn cs_main(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_id) local: vec3<u32>,
+) {
+    let id = vec2<u32>(group.x, screen_row(group.y, groups.y)) * 16u + local.xy;
     if any(vec2<f32>(id.xy) >= frame.view.size) {
         return;
     }

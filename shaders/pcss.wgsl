@@ -1,4 +1,4 @@
-// after: frame cube fullscreen receiver
+// after: frame cube fullscreen receiver workgroup_rows
 // PCSS pass (Fernando 2005): a blocker search over a disk sized by the light and the receiver's
 // depth finds the average occluder depth; the penumbra width follows from it (the same formula
 // as the physical distance-map method), and a rotated Vogel-disk PCF of that width gives the
@@ -99,11 +99,17 @@ fn visibility_at(frag: vec2<f32>) -> f32 {
     return sum / f32(samples);
 }
 
-// The compute path: one invocation per pixel, in 16 x 16 workgroups over the screen.
+// The compute path: one invocation per pixel, in 16 x 16 workgroups over the screen, their rows
+// in the order `screen_row` gives.
 @group(0) @binding(6) var visibility_out: texture_storage_2d<r32float, write>;
 
 @compute @workgroup_size(16, 16)
-fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+fn cs_main(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_id) local: vec3<u32>,
+) {
+    let id = vec2<u32>(group.x, screen_row(group.y, groups.y)) * 16u + local.xy;
     if any(vec2<f32>(id.xy) >= frame.view.size) {
         return;
     }

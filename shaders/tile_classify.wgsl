@@ -1,4 +1,4 @@
-// after: frame cube fullscreen receiver fattened
+// after: frame cube fullscreen receiver fattened workgroup_rows
 // Tile classification: the 16 x 16 pixel tiles of the screen where the light's fattened shadow
 // can fall, so that the distance map (and with it PCF and the blur, which test its
 // classification depth) runs only there. Joined after the frame uniform, the cube faces and the
@@ -334,7 +334,14 @@ fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 
 @compute @workgroup_size(8, 8)
-fn cs_classify(@builtin(global_invocation_id) id: vec3<u32>) {
+fn cs_classify(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_id) local: vec3<u32>,
+) {
+    // Rows of workgroups in the order `screen_row` gives: the kept tiles' pixel tests are where
+    // the shadows are.
+    let id = vec2<u32>(group.x, screen_row(group.y, groups.y)) * 8u + local.xy;
     let tiles = (vec2<u32>(frame.view.size) + vec2<u32>(u32(TILE) - 1u)) / u32(TILE);
     if any(id.xy >= tiles) {
         return;

@@ -159,6 +159,24 @@ pub(crate) fn has_compute(device: &wgpu::Device) -> bool {
         && l.max_bind_groups >= 4
 }
 
+/// The override constant `ROW_THREADS` (`shaders/common/workgroup_rows.wgsl`) of a compute pass
+/// dispatched over the screen: on a CPU adapter the threads its workgroups are shared among
+/// (Mesa's llvmpipe takes `LP_NUM_THREADS`, else one a processor), so that each thread's run of
+/// workgroups covers the screen; on a GPU 1, the rows in order.
+pub(crate) fn row_threads(device: &wgpu::Device) -> (&'static str, f64) {
+    let threads = if device.adapter_info().device_type == wgpu::DeviceType::Cpu {
+        std::env::var("LP_NUM_THREADS")
+            .ok()
+            .and_then(|n| n.trim().parse::<u32>().ok())
+            .or_else(|| std::thread::available_parallelism().ok().map(|n| n.get() as u32))
+            .unwrap_or(1)
+            .clamp(1, 64)
+    } else {
+        1
+    };
+    ("ROW_THREADS", threads as f64)
+}
+
 /// A compute pipeline with entry point `entry` and values for its override constants.
 pub(crate) fn compute_pipeline(
     device: &wgpu::Device,
@@ -238,7 +256,14 @@ impl ScreenPipeline {
     ) -> Self {
         if compute {
             ScreenPipeline::Compute {
-                pipeline: compute_pipeline(device, label, shader, &[Some(layout)], "cs_main", constants),
+                pipeline: compute_pipeline(
+                    device,
+                    label,
+                    shader,
+                    &[Some(layout)],
+                    "cs_main",
+                    &[constants, &[row_threads(device)]].concat(),
+                ),
                 output: None,
             }
         } else {

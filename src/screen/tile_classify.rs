@@ -456,6 +456,7 @@ impl TileListPass {
             ("CLASSIFY", if classify { 1.0 } else { 0.0 }),
             ("FACING", if classify && facing_away { 1.0 } else { 0.0 }),
             ("WIDE", if per_pixel { 1.0 } else { 0.0 }),
+            super::row_threads(device),
         ];
         let pipeline = |label, layout: &wgpu::BindGroupLayout, entry| {
             super::compute_pipeline(device, label, &shader, &[Some(layout)], entry, &constants)
