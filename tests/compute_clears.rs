@@ -1,7 +1,7 @@
 //! The compute path's shared intermediates are cleared by compute passes on a GPU and by render
-//! passes' clears on a CPU adapter (`chain::TargetClears`), and its tile classification tests
+//! passes' clears on a CPU adapter (`screen::targets`), and its tile classification tests
 //! the pixels of a kept tile with a workgroup per tile on a GPU and one invocation per tile on a
-//! CPU adapter (`passes::tile_classify`). Each pair must give the
+//! CPU adapter (`screen::tile_classify`). Each pair must give the
 //! same frame: this test, which runs on whatever adapter the machine has, forces each way with
 //! `PENUMBRA_CLEARS` and `PENUMBRA_TILE_PIXELS` (read when the intermediates and passes are
 //! made) and compares. One test in its own binary: the environment is the process's.

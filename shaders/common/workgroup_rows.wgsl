@@ -10,7 +10,12 @@
 override ROW_THREADS: u32 = 1u;
 
 fn screen_row(row: u32, rows: u32) -> u32 {
-    let t = max(ROW_THREADS, 1u);
+    return screen_row_among(row, rows, ROW_THREADS);
+}
+
+// `screen_row` for `threads` threads (`tests/workgroup_rows.rs` checks it for many).
+fn screen_row_among(row: u32, rows: u32, threads: u32) -> u32 {
+    let t = max(threads, 1u);
     var start = 0u;
     for (var residue = 0u; residue < t; residue++) {
         // the rows whose index leaves `residue` divided by t
