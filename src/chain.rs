@@ -5,7 +5,7 @@
 use crate::casters::Casters;
 use crate::frame::{FrameUniform, has_no_size};
 use crate::light_space::LightView;
-use crate::passes::{ExitMapPass, FattenedShadowMapPass, ShadowMapPass};
+use crate::passes::{ExitMapPass, FarPlaneFill, FattenedShadowMapPass, ShadowMapPass};
 use crate::scene::Light;
 use crate::settings::{ShadowMapSettings, ShadowMethod, ShadowSettings};
 
@@ -310,19 +310,32 @@ impl LightMaps {
         }
     }
 
-    /// Draws the maps, calling `mark(encoder, pass)` after each.
+    /// Bytes a [`FarPlaneFill`] needs to fill the largest of these maps.
+    pub fn fill_bytes(&self) -> u64 {
+        let support = self
+            .fattened
+            .as_ref()
+            .map_or(0, |(fattened, exit)| fattened.fill_bytes().max(exit.fill_bytes()));
+        self.shadow.fill_bytes().max(support)
+    }
+
+    /// Draws the maps, calling `mark(encoder, pass)` after each; `fill` sets a whole atlas to
+    /// the far plane where it can.
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         casters: &Casters,
+        fill: Option<&FarPlaneFill>,
         mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str),
     ) {
-        run(encoder, mark, "shadow map", &|e| self.shadow.encode(e, casters));
+        run(encoder, mark, "shadow map", &|e| {
+            self.shadow.encode(e, casters, fill)
+        });
         if let Some((fattened, exit)) = &self.fattened {
             run(encoder, mark, "fattened shadow map", &|e| {
-                fattened.encode(e, casters)
+                fattened.encode(e, casters, fill)
             });
-            run(encoder, mark, "exit map", &|e| exit.encode(e, casters));
+            run(encoder, mark, "exit map", &|e| exit.encode(e, casters, fill));
         }
     }
 }

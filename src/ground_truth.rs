@@ -320,7 +320,7 @@ impl GroundTruth {
                     label: Some("reference: sample"),
                 });
                 shadow_map.prepare(device, queue, casters, &view, crate::casters::ALL_LAYERS);
-                shadow_map.encode(&mut encoder, casters);
+                shadow_map.encode(&mut encoder, casters, None);
                 pass.accumulate(&mut encoder, queue, &view, &Emitter::of(light));
                 queue.submit([encoder.finish()]);
             }

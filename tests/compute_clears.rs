@@ -1,10 +1,12 @@
 //! The compute path's shared intermediates are cleared by compute passes on a GPU and by render
 //! passes' clears on a CPU adapter (`screen::targets`), and its tile classification tests
 //! the pixels of a kept tile with a workgroup per tile on a GPU and one invocation per tile on a
-//! CPU adapter (`screen::tile_classify`). Each pair must give the
-//! same frame: this test, which runs on whatever adapter the machine has, forces each way with
-//! `PENUMBRA_CLEARS` and `PENUMBRA_TILE_PIXELS` (read when the intermediates and passes are
-//! made) and compares. One test in its own binary: the environment is the process's.
+//! CPU adapter (`screen::tile_classify`); the lights' 16-bit maps are set to the far plane by a
+//! copy from a buffer rather than by their passes' clears (`passes::light_atlas::FarPlaneFill`).
+//! Each pair must give the same frame: this test, which runs on whatever adapter the machine
+//! has, forces each way with `PENUMBRA_CLEARS`, `PENUMBRA_TILE_PIXELS` and
+//! `PENUMBRA_MAP_CLEARS` (read when the intermediates and passes are made) and compares. One
+//! test in its own binary: the environment is the process's.
 
 mod common;
 
@@ -57,4 +59,59 @@ fn compute_and_render_pass_clears_give_the_same_frame() {
     assert!(away > 0, "no tile listed apart as turned away from the light");
     assert_eq!(frames[0].1, frames[1].1, "the two forms classified differently");
     assert!(frames[0].0 == frames[1].0, "the two forms gave different frames");
+
+    // The light maps set to the far plane by their passes' clears, then by the copy: the same
+    // maps and frames, and the copy's buffer counted in the memory. A sun in two cascades, the
+    // room's point light (a cube atlas) and hard shadows (the shadow map alone).
+    for (file, method) in [
+        ("scenes/teapot.ron", ShadowMethod::Ours),
+        ("scenes/room.ron", ShadowMethod::Ours),
+        ("scenes/teapot.ron", ShadowMethod::Hard),
+    ] {
+        let scene = load_scene(&common::asset(file)).unwrap();
+        let camera = scene.view(0).unwrap();
+        let settings = ShadowSettings::preset(method, Quality::Medium);
+        let mut runs = Vec::new();
+        for clears in ["pass", "copy"] {
+            // SAFETY: as above.
+            unsafe { std::env::set_var("PENUMBRA_MAP_CLEARS", clears) };
+            let (frame, renderer) = common::render_frame(&gpu, &scene, &camera, settings, (320, 256));
+            let map = |texture| {
+                renderer
+                    .debug_texture(texture)
+                    .map(|t| common::read_f32(&gpu, t).0)
+            };
+            let maps = [map(LightTexture::ShadowMap), map(LightTexture::FattenedMap)];
+            runs.push((frame, maps, renderer.shadows().allocated_bytes()));
+        }
+        let shadow_map = runs[0].1[0].as_ref().expect("a shadow map");
+        let far = shadow_map.iter().filter(|d| **d == 1.0).count();
+        let near = shadow_map.iter().filter(|d| **d < 1.0).count();
+        println!(
+            "{file} {method:?}: shadow map of {} texels, {far} at the far plane, {near} nearer; {} bytes with the passes' clears, {} with the copy",
+            shadow_map.len(),
+            runs[0].2,
+            runs[1].2
+        );
+        assert!(
+            far > 0 && near > 0,
+            "{file}: the map holds no caster, or nothing at the far plane"
+        );
+        assert!(
+            runs[0].1 == runs[1].1,
+            "{file} {method:?}: the copy gave other maps than the clears"
+        );
+        assert!(
+            runs[0].0 == runs[1].0,
+            "{file} {method:?}: the copy gave another frame than the clears"
+        );
+        // The buffer the copy reads is at least as large as the 16-bit shadow map.
+        let map_bytes = shadow_map.len() as u64 * 2;
+        assert!(
+            runs[1].2 >= runs[0].2 + map_bytes,
+            "{file} {method:?}: no buffer of {map_bytes} bytes counted ({} against {})",
+            runs[1].2,
+            runs[0].2
+        );
+    }
 }

@@ -464,6 +464,7 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
             (0.0f32..60.0).prop_map(|max_distance| LightFit::CameraFrustum { max_distance })
         ],
         (any::<bool>(), 1u32..=4, 0.0f32..=1.0, 0.0f32..=0.5),
+        any::<bool>(),
     )
         .prop_map(
             |(
@@ -473,6 +474,7 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                 cull_mode,
                 fit,
                 (snap, count, split, blend),
+                clear_by_copy,
             )| {
                 ShadowMapSettings {
                     resolution,
@@ -484,6 +486,7 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                     fit,
                     snap_to_texels: snap,
                     cascades: CascadeSettings { count, split, blend },
+                    clear_by_copy,
                 }
             },
         );

@@ -10,7 +10,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::light_atlas::{LightMapAtlas, depth_state, support_map_resolution};
+use super::light_atlas::{FarPlaneFill, LightMapAtlas, depth_state, support_map_resolution};
 use super::{CascadeUniforms, CasterPipelines, SecondStream};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
@@ -34,6 +34,11 @@ impl ExitMapPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
         self.atlas.allocated_bytes()
+    }
+
+    /// Bytes a [`FarPlaneFill`] needs to fill this pass's atlas.
+    pub(crate) fn fill_bytes(&self) -> u64 {
+        self.atlas.fill_bytes()
     }
 
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
@@ -128,9 +133,15 @@ impl ExitMapPass {
     }
 
     /// Records the pass: every caster's back faces ([`Self::prepare`] first).
-    pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
-        self.atlas.encode_depth(encoder, "ExitMapPass", |pass, cull| {
-            casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));
-        });
+    pub(crate) fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        casters: &Casters,
+        fill: Option<&FarPlaneFill>,
+    ) {
+        self.atlas
+            .encode_depth(encoder, "ExitMapPass", fill, |pass, cull| {
+                casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));
+            });
     }
 }

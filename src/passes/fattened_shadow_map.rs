@@ -14,7 +14,9 @@
 use crate::gpu_helpers::{Target, texture_bytes};
 use bytemuck::{Pod, Zeroable};
 
-use super::light_atlas::{LightMapAtlas, depth_pass_descriptor, depth_state, support_map_resolution};
+use super::light_atlas::{
+    FarPlaneFill, LightMapAtlas, depth_pass_descriptor, depth_state, support_map_resolution,
+};
 use super::{CascadeUniforms, CasterPipelines, SecondStream, cleared, kept};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
@@ -42,6 +44,11 @@ impl FattenedShadowMapPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
         self.atlas.allocated_bytes() + texture_bytes(&self.occluder_offset.texture)
+    }
+
+    /// Bytes a [`FarPlaneFill`] needs to fill this pass's atlas.
+    pub(crate) fn fill_bytes(&self) -> u64 {
+        self.atlas.fill_bytes()
     }
 
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
@@ -177,8 +184,14 @@ impl FattenedShadowMapPass {
     }
 
     /// Records the pass: every caster, inflated ([`Self::prepare`] first).
-    pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
+    pub(crate) fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        casters: &Casters,
+        fill: Option<&FarPlaneFill>,
+    ) {
         let keep = self.atlas.keeps_tiles();
+        let filled = self.atlas.begin_depth(encoder, fill);
         let offset = &self.occluder_offset.view;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("FattenedShadowMapPass"),
@@ -187,7 +200,7 @@ impl FattenedShadowMapPass {
             } else {
                 cleared(offset, wgpu::Color::TRANSPARENT)
             }],
-            ..depth_pass_descriptor(&self.atlas.map.view, keep)
+            ..depth_pass_descriptor(&self.atlas.map.view, filled)
         });
         self.atlas.draw_tiles(&mut pass, |pass, cull| {
             casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));

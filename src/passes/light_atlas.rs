@@ -82,15 +82,29 @@ impl LightMapAtlas {
     }
 
     /// Records a depth-only pass `label` that clears the atlas (or the tiles to redraw) and
-    /// `draw`s each tile to redraw.
+    /// `draw`s each tile to redraw. With `fill`, a whole atlas in 16 bits is set to the far
+    /// plane by a copy from it instead of the pass's clear ([`FarPlaneFill`]).
     pub fn encode_depth(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         label: &str,
+        fill: Option<&FarPlaneFill>,
         draw: impl FnMut(&mut wgpu::RenderPass<'_>, Cull),
     ) {
-        let mut pass = begin_depth_pass(encoder, label, &self.map.view, self.keeps_tiles());
+        let keep = self.begin_depth(encoder, fill);
+        let mut pass = begin_depth_pass(encoder, label, &self.map.view, keep);
         self.draw_tiles(&mut pass, draw);
+    }
+
+    /// Before the atlas's depth pass: whether the pass must load the atlas rather than clear
+    /// it, because it keeps tiles or because `fill` has just set it to the far plane.
+    pub fn begin_depth(&self, encoder: &mut wgpu::CommandEncoder, fill: Option<&FarPlaneFill>) -> bool {
+        self.keeps_tiles() || fill.is_some_and(|fill| fill.fill(encoder, &self.map.texture))
+    }
+
+    /// Bytes a [`FarPlaneFill`] needs to fill this atlas (0 where it cannot: not 16-bit).
+    pub fn fill_bytes(&self) -> u64 {
+        FarPlaneFill::bytes_for(&self.map.texture)
     }
 
     /// Draws each tile to redraw into `pass` ([`CascadeUniforms::draw_tiles`]).
@@ -101,6 +115,102 @@ impl LightMapAtlas {
     ) {
         self.uniform
             .draw_tiles(pass, (self.tile, self.grid, self.cascades), &self.clear, draw);
+    }
+}
+
+/// Depths at the far plane to copy over a whole 16-bit atlas in place of its depth pass's
+/// clear ([`ShadowMapSettings::clear_by_copy`]): a buffer of 0xffff (1.0 in `Depth16Unorm`), as
+/// large as the largest atlas it fills, which every light's maps share. On the NVIDIA H200 this
+/// project was measured on, a depth pass's clear runs at about 24 Gtexel/s in 16 bits, the copy
+/// at 39-45 (`examples/clear_cost.rs`, docs/bench/clears-h200.md); the depths are the same. A
+/// copy into a depth texture must cover it whole, so an atlas that keeps some of its tiles
+/// clears the others as before, and 32-bit and 24-bit maps (which cannot take a copy from a
+/// buffer) keep their clears, as does wgpu's GL backend (WebGL2 has no copy from a buffer into
+/// a depth texture). `PENUMBRA_MAP_CLEARS=pass` or `copy` in the environment overrides the
+/// setting (`tests/compute_clears.rs`, the benchmark's A/B runs).
+pub(crate) struct FarPlaneFill {
+    buffer: Option<wgpu::Buffer>,
+}
+
+impl FarPlaneFill {
+    /// A fill for maps of `settings`' depth format on `device`, or `None` where they are not
+    /// 16-bit, the backend is GL or the settings (or the environment) ask for the passes' clears.
+    pub fn new(device: &wgpu::Device, settings: &ShadowMapSettings) -> Option<Self> {
+        let wanted = match std::env::var("PENUMBRA_MAP_CLEARS").as_deref() {
+            Ok("pass") => false,
+            Ok("copy") => true,
+            _ => settings.clear_by_copy,
+        } && device.adapter_info().backend != wgpu::Backend::Gl;
+        (wanted && settings.depth_format.texture_format() == FarPlaneFill::FORMAT)
+            .then_some(Self { buffer: None })
+    }
+
+    const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth16Unorm;
+
+    /// Bytes the copy into `texture` reads: its rows at the copy's row alignment.
+    fn bytes_for(texture: &wgpu::Texture) -> u64 {
+        if texture.format() != Self::FORMAT {
+            return 0;
+        }
+        Self::row_bytes(texture.width()) as u64 * texture.height() as u64
+    }
+
+    fn row_bytes(width: u32) -> u32 {
+        (width * 2).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+    }
+
+    /// Makes the buffer at least `bytes` long (it never shrinks while in use: the lights'
+    /// atlases come and go).
+    pub fn reserve(&mut self, device: &wgpu::Device, bytes: u64) {
+        if bytes == 0 || self.buffer.as_ref().is_some_and(|b| b.size() >= bytes) {
+            return;
+        }
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("FarPlaneFill"),
+            size: bytes,
+            usage: wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: true,
+        });
+        // Should the mapping fail, the atlases keep their passes' clears.
+        let Ok(mut bytes) = buffer.slice(..).get_mapped_range_mut() else {
+            return;
+        };
+        bytes.slice(..).fill(0xff);
+        drop(bytes);
+        buffer.unmap();
+        self.buffer = Some(buffer);
+    }
+
+    /// GPU memory the buffer takes, in bytes.
+    pub fn allocated_bytes(&self) -> u64 {
+        self.buffer.as_ref().map_or(0, wgpu::Buffer::size)
+    }
+
+    /// Records the copy that sets all of `texture` to the far plane; false (nothing recorded)
+    /// where it is not 16-bit or the buffer is too small for it.
+    fn fill(&self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) -> bool {
+        let bytes = Self::bytes_for(texture);
+        let Some(buffer) = self.buffer.as_ref().filter(|b| bytes > 0 && b.size() >= bytes) else {
+            return false;
+        };
+        encoder.copy_buffer_to_texture(
+            wgpu::TexelCopyBufferInfo {
+                buffer,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(Self::row_bytes(texture.width())),
+                    rows_per_image: Some(texture.height()),
+                },
+            },
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            texture.size(),
+        );
+        true
     }
 }
 
@@ -135,12 +245,13 @@ fn light_depth_target(
     label: &str,
 ) -> Target {
     let (width, height) = grid.size(tile);
-    super::screen_target(
+    crate::gpu_helpers::texture_2d(
         device,
         label,
-        width,
-        height,
+        (width, height),
         settings.depth_format.texture_format(),
+        // The far plane can be copied in ([`FarPlaneFill`]).
+        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_DST,
     )
 }
 

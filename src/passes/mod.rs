@@ -37,15 +37,17 @@ pub use exit_map::ExitMapPass;
 pub use fattened_shadow_map::FattenedShadowMapPass;
 #[cfg(feature = "renderer")]
 pub use forward::ForwardPass;
+pub(crate) use light_atlas::FarPlaneFill;
 #[cfg(feature = "renderer")]
 pub use reference::{GeometricNormals, ReferencePass};
 pub use shadow_map::ShadowMapPass;
 // The generic helpers the passes build on (a leaf module).
 #[cfg(feature = "renderer")]
 pub(crate) use crate::gpu_helpers::{
-    Fullscreen, POSITION, bind_group, blended_target, comparison_sampler, stream, vertex_layout,
+    Fullscreen, POSITION, bind_group, blended_target, comparison_sampler, screen_target, stream,
+    vertex_layout,
 };
-pub(crate) use crate::gpu_helpers::{begin_pass, cleared, depth_attachment, entry, kept, screen_target};
+pub(crate) use crate::gpu_helpers::{begin_pass, cleared, depth_attachment, entry, kept};
 pub(crate) use tile_clear::TileClear;
 
 /// What a full-screen draw does with a classification depth.

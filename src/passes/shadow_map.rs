@@ -9,7 +9,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::light_atlas::{LightMapAtlas, depth_state};
+use super::light_atlas::{FarPlaneFill, LightMapAtlas, depth_state};
 use super::{CascadeUniforms, CasterPipelines, SecondStream};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
@@ -33,6 +33,11 @@ impl ShadowMapPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
         self.atlas.allocated_bytes()
+    }
+
+    /// Bytes a [`FarPlaneFill`] needs to fill this pass's atlas.
+    pub(crate) fn fill_bytes(&self) -> u64 {
+        self.atlas.fill_bytes()
     }
 
     /// Creates the pipelines and the shadow map texture, `grid` x `grid` tiles of the
@@ -161,10 +166,16 @@ impl ShadowMapPass {
 
     /// Records the pass: clears the map (or the tiles to redraw) and draws every caster
     /// ([`Self::prepare`] first).
-    pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, casters: &Casters) {
-        self.atlas.encode_depth(encoder, "ShadowMapPass", |pass, cull| {
-            casters.draw(pass, Streams::OpaqueDepth, cull, |l| self.opaque.get(l));
-            casters.draw(pass, Streams::MaskedDepth, cull, |l| self.masked.get(l));
-        });
+    pub(crate) fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        casters: &Casters,
+        fill: Option<&FarPlaneFill>,
+    ) {
+        self.atlas
+            .encode_depth(encoder, "ShadowMapPass", fill, |pass, cull| {
+                casters.draw(pass, Streams::OpaqueDepth, cull, |l| self.opaque.get(l));
+                casters.draw(pass, Streams::MaskedDepth, cull, |l| self.masked.get(l));
+            });
     }
 }

@@ -22,6 +22,7 @@ use crate::gpu_helpers::{Target, scoped, texture_bytes};
 use crate::light_space::tile_resolution;
 use crate::light_space::{FitInputs, LightView, MAX_TILES};
 use crate::map_resolution::PenumbraWidths;
+use crate::passes::FarPlaneFill;
 use crate::scene::{Aabb, Light, MAX_LIGHTS};
 use crate::screen::{
     BlurInput, BlurPass, ComputeNeeds, ComputeTargets, MAX_BATCHED_LIGHTS, PackedVisibility, ScreenChain,
@@ -112,6 +113,8 @@ pub struct Shadows {
     prepared: bool,
     /// Reports the device's loss ([`Shadows::watch_device_loss`]).
     loss: Option<DeviceLoss>,
+    /// Sets the lights' 16-bit atlases to the far plane by a copy ([`FarPlaneFill`]).
+    far_plane: Option<FarPlaneFill>,
 }
 
 impl Shadows {
@@ -137,6 +140,7 @@ impl Shadows {
             compute_targets: None,
             inspected: None,
             loss: None,
+            far_plane: FarPlaneFill::new(device, &settings.shadow_map),
         });
         match error {
             Some(error) => Err(PenumbraError::gpu("creating the shadows", error)),
@@ -196,6 +200,9 @@ impl Shadows {
         Self::check_settings(device, &settings)?;
         let maps_changed = settings.shadow_map != self.settings.shadow_map;
         self.settings = settings;
+        if maps_changed {
+            self.far_plane = FarPlaneFill::new(device, &self.settings.shadow_map);
+        }
         for state in self.lights.iter_mut().flatten() {
             if maps_changed {
                 *state = LightState::new(device, state.light);
@@ -313,6 +320,7 @@ impl Shadows {
         };
         own_visibility
             + texture_bytes(&self.dummy.texture)
+            + self.far_plane.as_ref().map_or(0, FarPlaneFill::allocated_bytes)
             + self
                 .compute_targets
                 .as_ref()
@@ -560,6 +568,9 @@ impl Shadows {
                     margin,
                 );
                 let render_maps = tiles != 0;
+                if render_maps && let (Some(maps), Some(fill)) = (&state.maps, &mut this.far_plane) {
+                    fill.reserve(device, maps.fill_bytes());
+                }
                 if render_maps && let Some(maps) = &mut state.maps {
                     maps.prepare(
                         device,
@@ -801,7 +812,7 @@ impl Shadows {
             let chain = plan.chain;
             if plan.render_maps {
                 if let Some(maps) = &state.maps {
-                    maps.encode(encoder, casters, mark);
+                    maps.encode(encoder, casters, self.far_plane.as_ref(), mark);
                 }
                 state.key = Some(plan.key);
                 state.drawn_with = Some(plan.light_view);
