@@ -467,6 +467,7 @@ impl DemoApp {
                     m.fit = LightFit::Scene;
                 }
                 ui.checkbox(&mut m.snap_to_texels, "snap to texels (no shimmer)");
+                ui.checkbox(&mut m.clear_by_copy, "clear 16-bit maps by a copy");
             });
     }
 
