@@ -49,12 +49,23 @@ fn classified(distance: f32, mask: f32, shadow_here: f32) -> Out {
     return out;
 }
 
+// The light-space distance to the caster under fattened-map texel `texel`, which lies
+// `occluder_offset` behind the fattened surface at `fattened_depth`. The offset is written
+// wherever a fattened caster is drawn; where none is (the map at its far plane) the texel keeps
+// what an earlier frame left, the pass does not clear it, so it is not read there.
+fn occluder_depth(texel: vec2<i32>, fattened_depth: f32) -> f32 {
+    var offset = 0.0;
+    if fattened_depth < 1.0 {
+        offset = textureLoad(occluder_offset, texel, 0).x;
+    }
+    return light_linear_depth(fattened_depth) + offset;
+}
+
 // The distance from the caster to a receiver at shadow-map position `p` inside the fattened
 // shadow (`texel` its fattened-map texel, `fattened_depth` the depth there).
 fn fattened_distance(p: vec3<f32>, texel: vec2<i32>, fattened_depth: f32) -> f32 {
-    // The fattened map says where a shadow can fall; the distance is to the caster itself,
-    // which lies `occluder_offset` behind the fattened surface.
-    let occluder = light_linear_depth(fattened_depth) + textureLoad(occluder_offset, texel, 0).x;
+    // The fattened map says where a shadow can fall; the distance is to the caster itself.
+    let occluder = occluder_depth(texel, fattened_depth);
     var d = max(light_linear_depth(p.z) - occluder, 0.0);
     // Inside a shadow, the penumbra's inner half is shaped by where the occluder ends nearest
     // the receiver (a thick caster's near side): its back face, when one lies in front.
@@ -121,7 +132,7 @@ fn classify_at(frag: vec2<f32>) -> Classified {
     var d = fattened_distance(p, texel, fattened_depth);
     if NEAREST_CASTER && !beside {
         let own = light_linear_depth(p.z) - light_linear_depth(own_depth);
-        d = nearest_silhouette(world, p, d, light_linear_depth(fattened_depth) + textureLoad(occluder_offset, texel, 0).x, own);
+        d = nearest_silhouette(world, p, d, occluder_depth(texel, fattened_depth), own);
     }
     c.out = classified(d, 1.0, select(0.5 * BESIDE, BESIDE, beside));
     return c;

@@ -15,14 +15,16 @@ struct Sample {
     cascade_end: vec4<f32>,
     // xyz: the sample light's position (a point light's), w: 1
     source: vec4<f32>,
-    // x: samples already accumulated (this one is number x + 1), y: cascades, z: tiles per
-    // side of the map atlas, w: 2 for a point light (cube faces picked by direction)
+    // x: samples already accumulated (this one is number x + 1), y: cascades, w: 2 for a point
+    // light (cube faces picked by direction)
     params: vec4<f32>,
     // The light's shape, for the sample's weight: xyz: a sun's axis (the direction it travels),
     // a spot's disk centre or a point light's sphere centre; w: 0 sun, 1 spot disk, 2 sphere.
     emitter: vec4<f32>,
     // xyz: the direction a spot's disk faces.
     facing: vec4<f32>,
+    // x, y: the map atlas's columns and rows of tiles
+    grid: vec4<f32>,
 }
 
 @group(0) @binding(1) var camera_depth: texture_2d<f32>;
@@ -173,8 +175,8 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Accumulated {
     let ndc = clip.xyz / max(clip.w, 1e-20);
     let uv = ndc.xy * vec2<f32>(0.5, -0.5) + vec2<f32>(0.5);
     // Inside the cascade's own tile of the atlas.
-    let grid = max(sample.params.z, 1.0);
-    let tile = vec2<f32>(f32(k % u32(grid)), f32(k / u32(grid))) / grid;
+    let grid = max(sample.grid.xy, vec2<f32>(1.0));
+    let tile = vec2<f32>(f32(k % u32(grid.x)), f32(k / u32(grid.x))) / grid;
     let inside = clip.w > 0.0 && all(uv >= tile) && all(uv <= tile + 1.0 / grid) && ndc.z >= 0.0;
     // Beyond the far plane: behind every caster in the map (compared as on the far plane).
     var visibility = 1.0;

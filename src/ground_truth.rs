@@ -55,14 +55,14 @@ pub(crate) struct SampleInputs<'a> {
 
 /// The shadow-map resolution the reference renders `light`'s samples at, for the real-time
 /// maps' `resolution`. A point light's cube faces get twice the real-time faces' texels a side
-/// (the whole `resolution` a face) as far as their 3 x 3 atlas fits the device's `max_side`: a
+/// (the whole `resolution` a face) as far as their 3 x 2 atlas fits the device's `max_side`: a
 /// face spans 90 degrees, so at the real-time size a penumbra at contact is only a texel or two
 /// wide, and every sample's hard edge, quantized to those texels, widened the reference's
 /// (`docs/reference.md`). Suns' and spots' maps are fitted to the view and keep `resolution`.
 pub(crate) fn sample_resolution(light: &Light, resolution: u32, max_side: u32) -> u32 {
     match light {
         l if l.uses_cube() => {
-            // Six faces in a 3 x 3 atlas.
+            // Six faces in a 3 x 2 atlas: three across.
             let face_limit = (max_side / 3).max(1);
             // The largest power of two that fits, as the settings' resolutions are.
             let face = resolution.min(1 << face_limit.ilog2());

@@ -17,6 +17,10 @@ impl AtlasGrid {
     /// One tile.
     pub const SINGLE: AtlasGrid = AtlasGrid { cols: 1, rows: 1 };
 
+    /// A point light's six cube faces: 3 x 2 tiles, every one used. (A square 3 x 3 atlas
+    /// left three unused, half as many texels again to clear and hold.)
+    pub const CUBE: AtlasGrid = AtlasGrid { cols: 3, rows: 2 };
+
     /// `n` x `n` tiles.
     pub const fn square(n: u32) -> AtlasGrid {
         AtlasGrid { cols: n, rows: n }
@@ -45,13 +49,13 @@ impl AtlasGrid {
 }
 
 /// The largest grid a light's maps can take under `cascades`: 2 x 2 for a directional light
-/// with two or more cascades, 3 x 3 for a point light's six faces (three tiles unused), one
+/// with two or more cascades, 3 x 2 for a point light's six faces ([`AtlasGrid::CUBE`]), one
 /// tile otherwise. A directional light's maps take the grid of the cascades in use
 /// ([`AtlasGrid::for_cascades`], [`LightView::grid`]).
 pub fn atlas_grid(light: &Light, cascades: &CascadeSettings) -> AtlasGrid {
     match light {
         Light::Directional(_) if cascades.count > 1 => AtlasGrid::square(2),
-        l if l.uses_cube() => AtlasGrid::square(3),
+        l if l.uses_cube() => AtlasGrid::CUBE,
         _ => AtlasGrid::SINGLE,
     }
 }

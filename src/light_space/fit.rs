@@ -256,7 +256,7 @@ pub(super) fn point_faces(inputs: &FitInputs, position: Vec3, bounds: &Aabb) -> 
         extent,
         cascade_windows: faces,
         cascade_count: 6,
-        grid: AtlasGrid::square(3),
+        grid: AtlasGrid::CUBE,
         tile,
     }
 }

@@ -17,7 +17,7 @@ use bytemuck::{Pod, Zeroable};
 use super::light_atlas::{
     FarPlaneFill, LightMapAtlas, depth_pass_descriptor, depth_state, support_map_resolution,
 };
-use super::{CascadeUniforms, CasterPipelines, SecondStream, cleared, kept};
+use super::{CascadeUniforms, CasterPipelines, SecondStream, kept};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
 use crate::light_space::{AtlasGrid, LightView};
@@ -190,17 +190,15 @@ impl FattenedShadowMapPass {
         casters: &Casters,
         fill: Option<&FarPlaneFill>,
     ) {
-        let keep = self.atlas.keeps_tiles();
-        let filled = self.atlas.begin_depth(encoder, fill);
-        let offset = &self.occluder_offset.view;
+        let keep = self.atlas.begin_depth(encoder, fill);
+        // The occluder offset is never cleared: it is read only where the depth says a
+        // fattened caster was drawn, and every such texel's offset was written with it
+        // (`occluder_depth` in `distance_map.wgsl`). On a GPU whose raster side is small, a
+        // colour clear costs what its texels do.
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("FattenedShadowMapPass"),
-            color_attachments: &[if keep {
-                kept(offset)
-            } else {
-                cleared(offset, wgpu::Color::TRANSPARENT)
-            }],
-            ..depth_pass_descriptor(&self.atlas.map.view, filled)
+            color_attachments: &[kept(&self.occluder_offset.view)],
+            ..depth_pass_descriptor(&self.atlas.map.view, keep)
         });
         self.atlas.draw_tiles(&mut pass, |pass, cull| {
             casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));

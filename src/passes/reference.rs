@@ -35,6 +35,8 @@ struct SampleUniform {
     emitter: [f32; 4],
     /// xyz: the direction a spot's disk faces.
     facing: [f32; 4],
+    /// x, y: the atlas's columns and rows of tiles.
+    grid: [f32; 4],
 }
 
 /// One ping-pong side: the mean and the weights so far.
@@ -161,13 +163,19 @@ impl ReferencePass {
             params: [
                 self.accumulated as f32,
                 light.cascades().len() as f32,
-                // square: the reference's maps keep the largest grid
-                light.grid.cols.max(1) as f32,
+                0.0,
                 // a point light: its faces are picked by direction
                 if light.cascades().len() == 6 { 2.0 } else { 0.0 },
             ],
             emitter: [0.0; 4],
             facing: [0.0; 4],
+            // The reference's maps keep the largest grid.
+            grid: [
+                light.grid.cols.max(1) as f32,
+                light.grid.rows.max(1) as f32,
+                0.0,
+                0.0,
+            ],
         };
         match *emitter {
             Emitter::Cone { axis } => uniform.emitter = axis.extend(0.0).to_array(),
