@@ -81,7 +81,6 @@ fn two_thousand_frames_of_changing_lights_and_casters_keep_the_gpu_memory_flat()
     let mut marks = Vec::new();
     // What penumbra says it allocated, at each cycle's end and at its busiest point.
     let mut own = Vec::new();
-    let mut far_plane_bytes: isize = 0;
     let mut busiest = Vec::new();
     for frame in 0..FRAMES {
         let phase = frame % CYCLE;
@@ -164,22 +163,6 @@ fn two_thousand_frames_of_changing_lights_and_casters_keep_the_gpu_memory_flat()
             )
             .unwrap();
         queue.submit([encoder.finish()]);
-        // The largest 16-bit light map so far: the buffer that sets such maps to the far
-        // plane (`ShadowMapSettings::clear_by_copy`) is as large, and never shrinks.
-        for id in lights.iter().flatten() {
-            for which in [
-                LightTexture::ShadowMap,
-                LightTexture::FattenedMap,
-                LightTexture::ExitMap,
-            ] {
-                if let Some(t) = shadows.light_texture(*id, which)
-                    && t.format() == wgpu::TextureFormat::Depth16Unorm
-                {
-                    let row = (t.width() * 2).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-                    far_plane_bytes = far_plane_bytes.max(row as isize * t.height() as isize);
-                }
-            }
-        }
         if frame % 10 == 9 {
             device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
         }
@@ -227,7 +210,23 @@ fn two_thousand_frames_of_changing_lights_and_casters_keep_the_gpu_memory_flat()
     // adds for alignment. (The device's buffer bytes are mostly wgpu's own staging.)
     let device_textures = marks.last().unwrap()[0] - (SIZE.0 * SIZE.1 * 4) as isize;
     // penumbra's count holds one buffer of more than a few kilobytes, the far-plane copy's
-    // (none on the GL backend, which keeps the passes' clears).
+    // (`ShadowMapSettings::clear_by_copy`): as large as the largest 16-bit map the lights hold
+    // (the last frame's lights, whose count `own` ends with), none on the GL backend.
+    let mut far_plane_bytes: isize = 0;
+    for id in lights.iter().flatten() {
+        for which in [
+            LightTexture::ShadowMap,
+            LightTexture::FattenedMap,
+            LightTexture::ExitMap,
+        ] {
+            if let Some(t) = shadows.light_texture(*id, which)
+                && t.format() == wgpu::TextureFormat::Depth16Unorm
+            {
+                let row = (t.width() * 2).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+                far_plane_bytes = far_plane_bytes.max(row as isize * t.height() as isize);
+            }
+        }
+    }
     if device.adapter_info().backend == wgpu::Backend::Gl {
         far_plane_bytes = 0;
     }

@@ -159,10 +159,14 @@ impl FarPlaneFill {
         (width * 2).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
     }
 
-    /// Makes the buffer at least `bytes` long (it never shrinks while in use: the lights'
-    /// atlases come and go).
-    pub fn reserve(&mut self, device: &wgpu::Device, bytes: u64) {
-        if bytes == 0 || self.buffer.as_ref().is_some_and(|b| b.size() >= bytes) {
+    /// Makes the buffer `bytes` long, the largest atlas the lights hold, or drops it for 0.
+    /// It is made again only when that size changes, as the atlases are.
+    pub fn fit(&mut self, device: &wgpu::Device, bytes: u64) {
+        if self.buffer.as_ref().map_or(0, wgpu::Buffer::size) == bytes {
+            return;
+        }
+        self.buffer = None;
+        if bytes == 0 {
             return;
         }
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {

@@ -568,9 +568,6 @@ impl Shadows {
                     margin,
                 );
                 let render_maps = tiles != 0;
-                if render_maps && let (Some(maps), Some(fill)) = (&state.maps, &mut this.far_plane) {
-                    fill.reserve(device, maps.fill_bytes());
-                }
                 if render_maps && let Some(maps) = &mut state.maps {
                     maps.prepare(
                         device,
@@ -643,6 +640,18 @@ impl Shadows {
                     state.bound = Some(chain);
                     rebound = true;
                 }
+            }
+            // The far-plane buffer as large as the largest 16-bit map the lights hold now.
+            if let Some(fill) = &mut this.far_plane {
+                let needed = this
+                    .lights
+                    .iter()
+                    .flatten()
+                    .filter_map(|s| s.maps.as_ref())
+                    .map(LightMaps::fill_bytes)
+                    .max()
+                    .unwrap_or(0);
+                fill.fit(device, needed);
             }
             this.plan_blurs(device, queue, resized, rebound);
             Ok(())
