@@ -159,14 +159,16 @@ impl FarPlaneFill {
         (width * 2).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
     }
 
-    /// Makes the buffer `bytes` long, the largest atlas the lights hold, or drops it for 0.
-    /// It is made again only when that size changes, as the atlases are.
+    /// Makes the buffer `bytes` long, the largest atlas the lights hold, or drops it for 0 (or
+    /// more than the device's largest buffer: the clears stay). It is made again only when that
+    /// size changes, as the atlases are.
     pub fn fit(&mut self, device: &wgpu::Device, bytes: u64) {
         if self.buffer.as_ref().map_or(0, wgpu::Buffer::size) == bytes {
             return;
         }
         self.buffer = None;
-        if bytes == 0 {
+        // Past the device's largest buffer the atlases keep their passes' clears.
+        if bytes == 0 || bytes > device.limits().max_buffer_size {
             return;
         }
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
