@@ -122,9 +122,9 @@ impl LightMapAtlas {
 /// clear ([`ShadowMapSettings::clear_by_copy`]): a buffer of 0xffff (1.0 in `Depth16Unorm`), as
 /// large as the largest atlas it fills, which every light's maps share. On the NVIDIA H200 this
 /// project was measured on, a depth pass's clear runs at about 24 Gtexel/s in 16 bits, the copy
-/// at 39-45 (`examples/clear_cost.rs`, docs/bench/clears-h200.md); the depths are the same. A
-/// copy into a depth texture must cover it whole, so an atlas that keeps some of its tiles
-/// clears the others as before, and 32-bit and 24-bit maps (which cannot take a copy from a
+/// at 39-45 on maps of 2048 and 4096 texels a side (`examples/clear_cost.rs`,
+/// docs/bench/clears-h200.md); the depths are the same. A copy into a depth texture must cover
+/// it whole, so an atlas that keeps some of its tiles clears the others as before, and 32-bit and 24-bit maps (which cannot take a copy from a
 /// buffer) keep their clears, as does wgpu's GL backend (WebGL2 has no copy from a buffer into
 /// a depth texture). `PENUMBRA_MAP_CLEARS=pass` or `copy` in the environment overrides the
 /// setting (`tests/compute_clears.rs`, the benchmark's A/B runs).
