@@ -1,9 +1,12 @@
 // after: scene
 // Exit map pass: the casters' back faces seen from the light, the nearest kept. Where a
 // light ray leaves the first occluder it meets: inside a thick caster's shadow, the penumbra's
-// inner half is shaped by that near side. Which side of a triangle faces the light comes from
-// its geometry (screen-space derivatives) turned outward by the smoothed normal, never from the
-// winding, which engines and file formats do not agree on.
+// inner half is shaped by that near side. Engines and file formats do not agree on which way
+// triangles wind, so the pass learns it from each mesh: where all of a mesh's triangles turn
+// one way seen from outside (its smoothed normals' side), the rasterizer culls the faces turned
+// toward the light and `vs_depth` draws the rest with no fragment stage; otherwise `vs_main` +
+// `fs_main` tell each fragment's side from its geometry (screen-space derivatives) turned
+// outward by the smoothed normal, and discard those turned toward the light.
 
 struct ExitLight {
     view_proj: mat4x4<f32>,
@@ -20,6 +23,13 @@ struct Vertex {
     @location(0) world: vec3<f32>,
     // points out of the caster
     @location(1) outward: vec3<f32>,
+}
+
+// Depth only, for the culling pipelines.
+@vertex
+fn vs_depth(@location(0) position: vec3<f32>) -> @builtin(position) vec4<f32> {
+    let world = (instance.model * vec4<f32>(position, 1.0)).xyz;
+    return exit_light.view_proj * vec4<f32>(world, 1.0);
 }
 
 @vertex

@@ -359,9 +359,13 @@ impl GpuScene {
                     &gpu.positions,
                     &gpu.smoothed_normals,
                     &gpu.indices,
-                    gpu.index_count,
-                    mesh.vertex_count() as u32,
+                    (gpu.index_count, mesh.vertex_count() as u32),
                     mesh.bounds,
+                    crate::scene::mesh::outward_winding(
+                        &mesh.positions,
+                        &mesh.indices,
+                        &mesh.smoothed_normals,
+                    ),
                 )
             })
             .collect();

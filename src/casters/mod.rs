@@ -16,6 +16,7 @@ use glam::{Mat3, Mat4, Vec3};
 use crate::error::{PenumbraError, Result};
 use crate::layouts::{InstanceUniform, MaterialUniform, SceneLayouts};
 use crate::scene::Aabb;
+pub(crate) use crate::scene::mesh::OutwardWinding;
 
 mod desc;
 mod read_back;
@@ -141,6 +142,8 @@ struct CasterMesh {
     element_count: u32,
     vertex_count: u32,
     bounds: Aabb,
+    /// Which way its triangles turn seen from outside ([`crate::scene::mesh::outward_winding`]).
+    winding: OutwardWinding,
 }
 
 struct InstanceAlpha {
@@ -401,6 +404,7 @@ impl Casters {
         };
         let bounds = Aabb::from_points(positions.iter());
         let smoothed = crate::scene::mesh::smoothed_normals(&positions, &indices, bounds, normals.as_deref());
+        let winding = crate::scene::mesh::outward_winding(&positions, &indices, &smoothed);
         let smoothed_buffer = vertex_buffer(
             device,
             "Casters::smoothed_normals",
@@ -419,10 +423,12 @@ impl Casters {
             element_count: desc.indices.map_or(desc.vertex_count, |ix| ix.count),
             vertex_count: desc.vertex_count,
             bounds,
+            winding,
         }))
     }
 
-    /// A mesh whose smoothed normals are already on the GPU (tightly packed `Float32x3`).
+    /// A mesh whose smoothed normals are already on the GPU (tightly packed `Float32x3`), and
+    /// which way its triangles turn.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn add_prepared_mesh(
         &mut self,
@@ -430,9 +436,9 @@ impl Casters {
         positions: &wgpu::Buffer,
         smoothed_normals: &wgpu::Buffer,
         indices: &wgpu::Buffer,
-        index_count: u32,
-        vertex_count: u32,
+        (index_count, vertex_count): (u32, u32),
         bounds: Aabb,
+        winding: OutwardWinding,
     ) -> MeshId {
         self.push_mesh(CasterMesh {
             label: label.to_string(),
@@ -452,6 +458,7 @@ impl Casters {
             element_count: index_count,
             vertex_count,
             bounds,
+            winding,
         })
     }
 
@@ -545,8 +552,10 @@ impl Casters {
         let bounds = Aabb::from_points(positions.iter());
         let smoothed = crate::scene::mesh::smoothed_normals(positions, indices, bounds, normals);
         queue.write_buffer(&mesh.smoothed_normals.buffer, 0, bytemuck::cast_slice(&smoothed));
+        let winding = crate::scene::mesh::outward_winding(positions, indices, &smoothed);
         if let Some(mesh) = self.meshes.get_mut(id.0 as usize).and_then(Option::as_mut) {
             mesh.bounds = bounds;
+            mesh.winding = winding;
         }
         let placed: Vec<u32> = self
             .instances
@@ -851,21 +860,29 @@ impl Casters {
 
     /// Draws every caster of `streams` that `cull` keeps into `pass`, whose group 0 is set.
     /// `pipeline` gives the pass's pipeline for a draw layout (made beforehand from
-    /// [`Casters::draw_layouts`]).
+    /// [`Casters::draw_layouts`]) and for which way the draw's triangles turn in the pass's
+    /// target seen from outside their caster (`outward_in_target`).
     pub(crate) fn draw<'p>(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         streams: Streams,
         cull: Cull,
-        pipeline: impl Fn(DrawLayout) -> Option<&'p wgpu::RenderPipeline>,
+        pipeline: impl Fn(DrawLayout, OutwardWinding) -> Option<&'p wgpu::RenderPipeline>,
     ) {
-        let mut current: Option<DrawLayout> = None;
+        let mut current: Option<(DrawLayout, OutwardWinding)> = None;
+        // A projection that mirrors turns every triangle the other way in the target.
+        let mirrors = cull
+            .clip
+            .map(|(view_projection, _)| view_projection.determinant() > 0.0);
         for (mesh, record) in self.draws(streams).filter(|(_, r)| cull.keeps(r)) {
-            let layout = draw_layout(mesh, record, streams);
-            if current != Some(layout) {
-                let Some(p) = pipeline(layout) else { continue };
+            let key = (
+                draw_layout(mesh, record, streams),
+                outward_in_target(mesh, record, mirrors),
+            );
+            if current != Some(key) {
+                let Some(p) = pipeline(key.0, key.1) else { continue };
                 pass.set_pipeline(p);
-                current = Some(layout);
+                current = Some(key);
             }
             pass.set_bind_group(1, &self.bind_group, &[record.offset]);
             bind_stream(pass, 0, &mesh.positions, mesh.vertex_count);
@@ -952,6 +969,29 @@ impl Casters {
         for record in self.instances.iter().flatten() {
             self.write(queue, record);
         }
+    }
+}
+
+/// Which way a draw's triangles turn in a light-space pass's target, seen from outside their
+/// caster: the mesh's own winding, turned the other way by an instance transform that mirrors
+/// and by a projection that does (`mirrors`; `None`, not known: [`OutwardWinding::Mixed`]).
+/// wgpu's projections (right-handed views into a left-handed clip space) have a negative
+/// determinant and do not count as mirroring: a mesh wound counter-clockwise seen from outside
+/// shows its light-facing triangles counter-clockwise.
+fn outward_in_target(mesh: &CasterMesh, record: &InstanceRecord, mirrors: Option<bool>) -> OutwardWinding {
+    let Some(projection_mirrors) = mirrors else {
+        return OutwardWinding::Mixed;
+    };
+    let ccw = match mesh.winding {
+        OutwardWinding::Ccw => true,
+        OutwardWinding::Cw => false,
+        OutwardWinding::Mixed => return OutwardWinding::Mixed,
+    };
+    let instance_mirrors = Mat3::from_mat4(record.instance.transform).determinant() < 0.0;
+    if ccw ^ instance_mirrors ^ projection_mirrors {
+        OutwardWinding::Ccw
+    } else {
+        OutwardWinding::Cw
     }
 }
 

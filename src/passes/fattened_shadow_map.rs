@@ -201,7 +201,7 @@ impl FattenedShadowMapPass {
             ..depth_pass_descriptor(&self.atlas.map.view, keep)
         });
         self.atlas.draw_tiles(&mut pass, |pass, cull| {
-            casters.draw(pass, Streams::Fattened, cull, |l| self.pipelines.get(l));
+            casters.draw(pass, Streams::Fattened, cull, |l, _| self.pipelines.get(l));
         });
     }
 }

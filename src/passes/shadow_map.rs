@@ -174,8 +174,8 @@ impl ShadowMapPass {
     ) {
         self.atlas
             .encode_depth(encoder, "ShadowMapPass", fill, |pass, cull| {
-                casters.draw(pass, Streams::OpaqueDepth, cull, |l| self.opaque.get(l));
-                casters.draw(pass, Streams::MaskedDepth, cull, |l| self.masked.get(l));
+                casters.draw(pass, Streams::OpaqueDepth, cull, |l, _| self.opaque.get(l));
+                casters.draw(pass, Streams::MaskedDepth, cull, |l, _| self.masked.get(l));
             });
     }
 }

@@ -555,6 +555,62 @@ pub(crate) fn smoothed_normals(
         .collect()
 }
 
+/// Which way a caster's triangles turn, seen from outside it (the side its smoothed normals
+/// point to), or, for one draw, seen in a light-space pass's target
+/// ([`crate::casters::Casters::draw`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) enum OutwardWinding {
+    /// Counter-clockwise, every triangle.
+    Ccw,
+    /// Clockwise, every triangle.
+    Cw,
+    /// Some one way, some the other, or a triangle whose smoothed normals do not agree on its
+    /// outside (a thin sheet's two sides welded together).
+    Mixed,
+}
+
+/// The height of the thinnest triangle [`outward_winding`] counts, over its longest edge.
+pub(crate) const SLIVER: f32 = 1e-4;
+
+/// Which way `indices`' triangles turn seen from outside: a triangle is counter-clockwise when
+/// its face normal (`(b - a) x (c - a)`) and the smoothed normals of its three vertices all
+/// point to one side, clockwise when they all point to opposite sides. Triangles without an
+/// area are passed over, as are slivers, thinner than [`SLIVER`] times their longest edge. The exit map keeps the faces turned away from the light by culling
+/// when every triangle agrees, and tests each fragment otherwise (`passes::exit_map`).
+pub(crate) fn outward_winding(positions: &[Vec3], indices: &[u32], smoothed: &[Vec3]) -> OutwardWinding {
+    let (mut ccw, mut cw) = (false, false);
+    for tri in indices.chunks_exact(3) {
+        let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| positions[i as usize]);
+        let n = (b - a).cross(c - a);
+        let longest = (b - a)
+            .length_squared()
+            .max((c - a).length_squared())
+            .max((c - b).length_squared());
+        // Slivers (a sphere's or a teapot's pole: two corners a rounding error apart) turn
+        // whichever way rounding says, cover next to no texel, and lie where their neighbours
+        // draw.
+        if !n.is_finite() || n.length() <= SLIVER * longest {
+            continue;
+        }
+        let dots = [tri[0], tri[1], tri[2]].map(|i| n.dot(smoothed[i as usize]));
+        if dots.iter().all(|d| *d > 0.0) {
+            ccw = true;
+        } else if dots.iter().all(|d| *d < 0.0) {
+            cw = true;
+        } else {
+            return OutwardWinding::Mixed;
+        }
+        if ccw && cw {
+            return OutwardWinding::Mixed;
+        }
+    }
+    if cw {
+        OutwardWinding::Cw
+    } else {
+        OutwardWinding::Ccw
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -571,6 +627,44 @@ mod tests {
             .unwrap()
             .with_tangents(vec![Vec4::new(1.0, 0.0, 0.0, 1.0); n])
             .unwrap()
+    }
+
+    #[test]
+    fn outward_winding_follows_the_triangles_and_their_smoothed_normals() {
+        let sphere = primitives::sphere(1.0, 16, 8);
+        let winding = |indices: &[u32]| outward_winding(&sphere.positions, indices, &sphere.smoothed_normals);
+        assert_eq!(winding(&sphere.indices), OutwardWinding::Ccw);
+        // Its poles' slivers are passed over, and the teapot's.
+        let teapot = crate::scene::teapot::teapot(12);
+        assert_eq!(
+            outward_winding(&teapot.positions, &teapot.indices, &teapot.smoothed_normals),
+            OutwardWinding::Ccw
+        );
+        let reversed: Vec<u32> = sphere
+            .indices
+            .chunks_exact(3)
+            .flat_map(|t| [t[0], t[2], t[1]])
+            .collect();
+        assert_eq!(winding(&reversed), OutwardWinding::Cw);
+        // One triangle at the equator turned the other way.
+        let mut one = sphere.indices.clone();
+        let k = sphere.indices.len() / 6 * 3;
+        one[k..k + 3].copy_from_slice(&reversed[k..k + 3]);
+        assert_eq!(winding(&one), OutwardWinding::Mixed);
+        // A sheet whose two sides share positions: its smoothed normals cancel to +Y, which
+        // one side's triangles agree with and the other's not.
+        let plane = primitives::plane(1.0, 1.0);
+        let both: Vec<u32> = plane
+            .indices
+            .iter()
+            .copied()
+            .chain(plane.indices.chunks_exact(3).flat_map(|t| [t[0], t[2], t[1]]))
+            .collect();
+        let smoothed = smoothed_normals(&plane.positions, &both, plane.bounds, None);
+        assert_eq!(
+            outward_winding(&plane.positions, &both, &smoothed),
+            OutwardWinding::Mixed
+        );
     }
 
     #[test]
