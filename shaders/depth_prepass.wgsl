@@ -2,7 +2,9 @@
 // Depth prepass of the convenience renderer: every instance from the camera into the camera
 // depth buffer (reversed: cleared to 0, `Greater` test), alpha-masked fragments discarded, and a
 // receiver mask beside it (1 on instances that receive shadows, 0 on the others). An engine has
-// its own; the screen-space passes read either the same way.
+// its own; the screen-space passes read either the same way. Instances whose material is not
+// alpha-masked are drawn with `fs_opaque`: no texture read and no discard, so the rasterizer can
+// test depth before it shades.
 //
 // With `NORMALS` 1 the same pass, drawn again over that depth (`GreaterEqual`, not written),
 // gives the reference its receivers' normals instead of the mask (`GeometricNormals` in
@@ -48,5 +50,10 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         }
         return vec4<f32>(n / len * select(-1.0, 1.0, dot(n, to_camera(in.world)) >= 0.0), 1.0);
     }
+    return vec4<f32>(select(0.0, 1.0, instance.flags.x > 0.5));
+}
+
+@fragment
+fn fs_opaque(in: VsOut) -> @location(0) vec4<f32> {
     return vec4<f32>(select(0.0, 1.0, instance.flags.x > 0.5));
 }

@@ -712,6 +712,15 @@ impl GpuScene {
         self.draw_instances(pass, streams, opaque);
     }
 
+    /// Draws the opaque and alpha-masked instances (not the blended ones) whose material is
+    /// alpha-masked (`masked` true) or not (false): a depth pass draws each kind with its own
+    /// pipeline.
+    pub(crate) fn draw_masked(&self, pass: &mut wgpu::RenderPass<'_>, streams: CameraStreams, masked: bool) {
+        let kind = (0..self.instances.len())
+            .filter(|&k| !self.instances[k].blended && self.instances[k].masked == masked);
+        self.draw_instances(pass, streams, kind);
+    }
+
     /// True when some instance is drawn blended.
     pub(crate) fn has_blended(&self) -> bool {
         self.instances.iter().any(|i| i.blended)

@@ -328,7 +328,8 @@ impl CasterPipelines {
 /// A pipeline that draws a [`crate::GpuScene`]'s instances from the camera with `streams`:
 /// group 0 is the pass's own, group 1 the instance data, group 2 the material. Both sides are
 /// drawn (imported models are often open or single-sided); depth is reversed (`Greater`
-/// passes), written or only tested (`GreaterEqual`) as `write_depth` says.
+/// passes), written or only tested (`GreaterEqual`) as `write_depth` says; the fragment stage
+/// is the shader's entry point `fragment_entry` with its override `constants`.
 #[cfg(feature = "renderer")]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn camera_pipeline(
@@ -340,7 +341,7 @@ pub(crate) fn camera_pipeline(
     streams: crate::gpu_scene::CameraStreams,
     write_depth: bool,
     target: wgpu::ColorTargetState,
-    constants: &[(&str, f64)],
+    (fragment_entry, constants): (&str, &[(&str, f64)]),
 ) -> wgpu::RenderPipeline {
     use crate::gpu_scene::CameraStreams;
     // Lit passes also take the instance's lightmap (group 3).
@@ -403,7 +404,7 @@ pub(crate) fn camera_pipeline(
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState {
             module: shader,
-            entry_point: Some("fs_main"),
+            entry_point: Some(fragment_entry),
             compilation_options: wgpu::PipelineCompilationOptions {
                 constants,
                 ..Default::default()
@@ -465,10 +466,13 @@ impl LitRecipe {
                     CameraStreams::Lit,
                     write,
                     target.clone(),
-                    &[
-                        ("SURFACE_MAPS", if maps { 1.0 } else { 0.0 }),
-                        ("AREA_LIGHTS", if area_lights { 1.0 } else { 0.0 }),
-                    ],
+                    (
+                        "fs_main",
+                        &[
+                            ("SURFACE_MAPS", if maps { 1.0 } else { 0.0 }),
+                            ("AREA_LIGHTS", if area_lights { 1.0 } else { 0.0 }),
+                        ],
+                    ),
                 )
             })
         };

@@ -229,13 +229,14 @@ impl GeometricNormals {
 
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, frame_size: usize) -> Self {
         // The depth prepass's own pipeline, writing normals (`NORMALS` 1) over its depth.
-        let (frame_layout, pipeline) = super::depth_prepass::prepass_pipeline(
+        use super::depth_prepass::{PrepassKind, prepass_frame_layout, prepass_pipeline};
+        let frame_layout = prepass_frame_layout(device, "GeometricNormals", frame_size);
+        let pipeline = prepass_pipeline(
             device,
             "GeometricNormals",
-            layouts,
-            frame_size,
+            (layouts, &frame_layout),
             Self::FORMAT,
-            true,
+            PrepassKind::Normals,
         );
         Self {
             frame_layout,
