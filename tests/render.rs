@@ -338,8 +338,14 @@ fn spot_light_casts_a_perspective_shadow() {
 #[test]
 fn alpha_masked_casters_cast_only_where_opaque() {
     let gpu = common::gpu();
+    // A sun of 2 degrees: with none, `ours` would draw hard shadows (the forward pass).
     let mut scene = Scene {
-        light: directional(Vec3::NEG_Y),
+        light: Light::Directional(DirectionalLight {
+            direction: Vec3::NEG_Y,
+            angular_diameter_deg: 2.0,
+            color: Vec3::ONE,
+            intensity: 1.0,
+        }),
         ..Default::default()
     };
     // A 4x1 texture: left half transparent, right half opaque.
@@ -366,9 +372,9 @@ fn alpha_masked_casters_cast_only_where_opaque() {
     scene.add_instance(floor, floor_material, Mat4::IDENTITY).caster = false;
     let camera = penumbra::Camera::look_at(Vec3::new(0.0, 0.6, 6.0), Vec3::new(0.0, 0.3, 0.0));
     let (w, h) = (320, 256);
-    // Hard shadows draw the card's shadow from their shadow map in the forward pass; `ours`
-    // through its screen-space passes over the prepass, whose masked instances have a pipeline
-    // of their own.
+    // Hard shadows draw the card in their forward pass; `ours` in the renderer's depth prepass,
+    // whose masked instances have a pipeline of their own (the others neither read a texture
+    // nor discard), and in its composite.
     for method in [ShadowMethod::Hard, ShadowMethod::Ours] {
         let (with, without) =
             common::render_with_and_without_casters(&gpu, &scene, &camera, settings(method), w, h);
@@ -387,6 +393,26 @@ fn alpha_masked_casters_cast_only_where_opaque() {
             &with,
             &without,
             right,
+        );
+        // From above, through the card's transparent half: the floor as it is with no card
+        // (green, unlike the background).
+        let above = penumbra::Camera::look_at(Vec3::new(-0.5, 4.0, 0.6), Vec3::new(-0.5, 0.0, 0.5));
+        let mut green = scene.clone();
+        green.materials[floor_material].base_color = Vec4::new(0.2, 0.6, 0.2, 1.0);
+        let mut bare = green.clone();
+        bare.instances.retain(|i| i.mesh != card);
+        let through = common::render(&gpu, &green, &above, settings(method), w, h);
+        let floor_only = common::render(&gpu, &bare, &above, settings(method), w, h);
+        let (x, y) = common::project(&above, w, h, Vec3::new(-0.5, 0.0, 0.5)).unwrap();
+        let (a, b) = (through.get_pixel(x, y).0, floor_only.get_pixel(x, y).0);
+        let off = (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0);
+        assert!(
+            b[1] > b[0] + 40,
+            "{method:?}: the floor is not green from above: {b:?}"
+        );
+        assert!(
+            off <= 8,
+            "{method:?}: through the transparent half {a:?}, the floor alone {b:?}"
         );
     }
 }
