@@ -877,7 +877,7 @@ impl Casters {
         for (mesh, record) in self.draws(streams).filter(|(_, r)| cull.keeps(r)) {
             let key = (
                 draw_layout(mesh, record, streams),
-                outward_in_target(mesh, record, mirrors),
+                outward_in_target(mesh.winding, &record.instance.transform, mirrors),
             );
             if current != Some(key) {
                 let Some(p) = pipeline(key.0, key.1) else { continue };
@@ -973,21 +973,21 @@ impl Casters {
 }
 
 /// Which way a draw's triangles turn in a light-space pass's target, seen from outside their
-/// caster: the mesh's own winding, turned the other way by an instance transform that mirrors
-/// and by a projection that does (`mirrors`; `None`, not known: [`OutwardWinding::Mixed`]).
+/// caster: the mesh's own `winding`, turned the other way by an instance `transform` that
+/// mirrors and by a projection that does (`mirrors`; `None`, not known: [`OutwardWinding::Mixed`]).
 /// wgpu's projections (right-handed views into a left-handed clip space) have a negative
 /// determinant and do not count as mirroring: a mesh wound counter-clockwise seen from outside
 /// shows its light-facing triangles counter-clockwise.
-fn outward_in_target(mesh: &CasterMesh, record: &InstanceRecord, mirrors: Option<bool>) -> OutwardWinding {
+fn outward_in_target(winding: OutwardWinding, transform: &Mat4, mirrors: Option<bool>) -> OutwardWinding {
     let Some(projection_mirrors) = mirrors else {
         return OutwardWinding::Mixed;
     };
-    let ccw = match mesh.winding {
+    let ccw = match winding {
         OutwardWinding::Ccw => true,
         OutwardWinding::Cw => false,
         OutwardWinding::Mixed => return OutwardWinding::Mixed,
     };
-    let instance_mirrors = Mat3::from_mat4(record.instance.transform).determinant() < 0.0;
+    let instance_mirrors = Mat3::from_mat4(*transform).determinant() < 0.0;
     if ccw ^ instance_mirrors ^ projection_mirrors {
         OutwardWinding::Ccw
     } else {
@@ -1086,5 +1086,26 @@ fn owned(stream: &VertexStream) -> OwnedStream {
             stride: stream.stride,
             format: stream.format,
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_mirror_in_the_instance_or_the_projection_turns_the_winding() {
+        use OutwardWinding::{Ccw, Cw, Mixed};
+        let mirror = Mat4::from_scale(Vec3::new(-1.0, 2.0, 1.0));
+        let turned = Mat4::from_rotation_y(2.0) * Mat4::from_scale(Vec3::new(3.0, 0.5, 1.0));
+        assert_eq!(outward_in_target(Ccw, &turned, Some(false)), Ccw);
+        assert_eq!(outward_in_target(Cw, &turned, Some(false)), Cw);
+        assert_eq!(outward_in_target(Ccw, &mirror, Some(false)), Cw);
+        assert_eq!(outward_in_target(Ccw, &Mat4::IDENTITY, Some(true)), Cw);
+        assert_eq!(outward_in_target(Ccw, &mirror, Some(true)), Ccw);
+        assert_eq!(outward_in_target(Cw, &mirror, Some(false)), Ccw);
+        // Not known: each fragment tests its side.
+        assert_eq!(outward_in_target(Ccw, &Mat4::IDENTITY, None), Mixed);
+        assert_eq!(outward_in_target(Mixed, &Mat4::IDENTITY, Some(false)), Mixed);
     }
 }

@@ -337,6 +337,42 @@ mod tests {
         }
     }
 
+    /// The exit map culls by each mesh's winding and counts a light's projection as mirroring
+    /// where its determinant is positive (`Casters::draw`): every tile the fit makes, a sun's
+    /// cascades, a spot's window and a point light's six faces, has a negative one.
+    #[test]
+    fn no_light_projection_mirrors() {
+        let bounds = Aabb::new(Vec3::new(-5.0, 0.0, -5.0), Vec3::new(5.0, 3.0, 5.0));
+        let lights = [
+            sun(Vec3::new(-0.5, -1.0, -0.3)),
+            sun(Vec3::NEG_Y),
+            Light::Spot(SpotLight {
+                position: Vec3::new(1.0, 8.0, 2.0),
+                direction: Vec3::new(0.1, -1.0, -0.2),
+                cone_angle_deg: 50.0,
+                radius: 0.2,
+                color: Vec3::ONE,
+                intensity: 1.0,
+                range: None,
+            }),
+            Light::Point(crate::scene::PointLight {
+                position: Vec3::new(0.5, 1.5, -0.5),
+                radius: 0.1,
+                color: Vec3::ONE,
+                intensity: 1.0,
+                range: None,
+            }),
+        ];
+        for light in lights {
+            let view = LightView::fit(&light, &bounds);
+            assert!(!view.cascades().is_empty());
+            for (i, cascade) in view.cascades().iter().enumerate() {
+                let det = cascade.view_projection.determinant();
+                assert!(det < 0.0, "{light:?}, tile {i}: determinant {det}");
+            }
+        }
+    }
+
     fn sun(direction: Vec3) -> Light {
         Light::Directional(DirectionalLight {
             direction,
