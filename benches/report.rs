@@ -146,18 +146,15 @@ pub struct LightCost {
     /// Lights nudged every frame: their maps re-rendered.
     pub frame_ms: f64,
     pub added_ms: f64,
-    /// Lights still: their maps kept, only the screen-space passes run (blur batched).
+    /// Lights still: their maps kept, only the screen-space passes run.
     pub still_ms: f64,
     pub still_added_ms: f64,
-    /// Lights still, one blur pass per light.
-    pub still_unbatched_ms: f64,
-    pub still_unbatched_added_ms: f64,
 }
 
 /// The screen-space passes of `lights` still lights of one type, per-pass medians summed over
-/// the lights: the blur batched or one pass per light.
+/// the lights.
 #[derive(Debug, Clone, serde::Serialize)]
-pub struct BatchRun {
+pub struct LightsRun {
     /// `sun`, `spot` or `point`.
     pub kind: String,
     /// Degrees between one light and the next about the vertical: 90 (shadows apart) or, for
@@ -167,21 +164,20 @@ pub struct BatchRun {
     /// 0.25 for lights whose penumbrae are smaller than the first's.
     pub size_ratio: f32,
     pub lights: usize,
-    pub batched: bool,
     pub distance_map_ms: f64,
     pub pcf_ms: f64,
     pub blur_ms: f64,
 }
 
-impl BatchRun {
+impl LightsRun {
     /// The light-dependent screen-space passes together.
     pub fn screen_space_ms(&self) -> f64 {
         self.distance_map_ms + self.pcf_ms + self.blur_ms
     }
 
     /// What each light past the first adds to the screen-space passes, against what the first
-    /// light alone costs (`first`: the one-light run of the same type, spacing and batching).
-    pub fn added_per_first(&self, first: &BatchRun) -> f64 {
+    /// light alone costs (`first`: the one-light run of the same type and spacing).
+    pub fn added_per_first(&self, first: &LightsRun) -> f64 {
         (self.screen_space_ms() - first.screen_space_ms())
             / (self.lights.max(2) - 1) as f64
             / first.screen_space_ms().max(1e-9)
@@ -213,8 +209,8 @@ pub struct Embedding {
     pub room: Vec<RoomRun>,
     /// The room's ceiling panel alone (a rectangle light) against a sphere light of its area.
     pub area: Vec<AreaRun>,
-    /// Batched against unbatched blurs.
-    pub batching: Vec<BatchRun>,
+    /// Lights two to four against the first, pass by pass.
+    pub added_lights: Vec<LightsRun>,
     /// `ours`' screen-space time against its share of penumbra tiles, camera near to far.
     pub tiles: Vec<TileRun>,
     /// `ours` with PCF at half resolution where the penumbra is wide, and without.
@@ -294,12 +290,12 @@ pub struct TileRun {
 }
 
 impl Embedding {
-    /// The one-light run of `r`'s type, spacing and batching (its one light is the same
-    /// whatever the size of the others).
-    pub fn first_of(&self, r: &BatchRun) -> Option<&BatchRun> {
-        self.batching.iter().find(|o| {
-            o.kind == r.kind && o.apart_deg == r.apart_deg && o.batched == r.batched && o.lights == 1
-        })
+    /// The one-light run of `r`'s type and spacing (its one light is the same whatever the
+    /// size of the others).
+    pub fn first_of(&self, r: &LightsRun) -> Option<&LightsRun> {
+        self.added_lights
+            .iter()
+            .find(|o| o.kind == r.kind && o.apart_deg == r.apart_deg && o.lights == 1)
     }
 }
 
@@ -562,7 +558,7 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
     embedding.cascades = measure_cascades(&gpu, &assets, size, config)?;
     embedding.room = measure_room(&gpu, &assets, size, config)?;
     embedding.area = measure_area(&gpu, &assets, size, config)?;
-    embedding.batching = measure_batching(&gpu, &teapot, &camera, size, config)?;
+    embedding.added_lights = measure_added_lights(&gpu, &teapot, &camera, size, config)?;
     embedding.tiles = measure_tiles(&gpu, &teapot, &camera, size, config)?;
     embedding.reduced = measure_reduced(&gpu, &teapot, &camera, size, config)?;
     embedding.facing = measure_facing(&gpu, &teapot, &camera, size, config)?;
@@ -801,42 +797,37 @@ fn sized_light(scene: &penumbra::Scene, kind: &str, k: usize, apart_deg: f32, si
 }
 
 /// `ours` (medium) on the teapot with one, two and four still lights of each type
-/// ([`added_light`]: suns 90 degrees apart and 5 apart, spots and point lights 90 apart), the
-/// blur batched and not: each screen-space pass's median time, summed over the lights.
-fn measure_batching(
+/// ([`added_light`]: suns 90 degrees apart and 5 apart, spots and point lights 90 apart), and
+/// with four lights whose last three are a quarter of the first's size: each screen-space
+/// pass's median time, summed over the lights.
+fn measure_added_lights(
     gpu: &HeadlessGpu,
     scene: &penumbra::Scene,
     camera: &penumbra::Camera,
     (width, height): (u32, u32),
     config: &Config,
-) -> Result<Vec<BatchRun>> {
+) -> Result<Vec<LightsRun>> {
     let mut runs = Vec::new();
-    // Equal lights, batched or not; then lights two to four a quarter of the first's size
-    // (their penumbrae smaller), batched and not (the default: each light's own chain, compute
-    // passes where the device has them).
+    // Equal lights; then lights two to four a quarter of the first's size (their penumbrae
+    // smaller). Each light's own chain, compute passes where the device has them.
     let mut configs = Vec::new();
     for (kind, apart_deg) in [("sun", 90.0f32), ("sun", 5.0), ("spot", 90.0), ("point", 90.0)] {
         for lights in [1usize, 2, 4] {
-            for batched in [false, true] {
-                configs.push((kind, apart_deg, lights, batched, 1.0f32));
-            }
+            configs.push((kind, apart_deg, lights, 1.0f32));
         }
     }
     for kind in ["sun", "spot", "point"] {
-        for batched in [false, true] {
-            configs.push((kind, 90.0, 4, batched, 0.25));
-        }
+        configs.push((kind, 90.0, 4, 0.25));
     }
     {
-        for (kind, apart_deg, lights, batched, size_ratio) in configs {
+        for (kind, apart_deg, lights, size_ratio) in configs {
             {
                 let mut scene = scene.clone();
                 scene.light = added_light(&scene, kind, 0, apart_deg);
                 scene.more_lights = (1..lights)
                     .map(|k| sized_light(&scene, kind, k, apart_deg, size_ratio))
                     .collect();
-                let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
-                settings.penumbra.batch_lights = batched;
+                let settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
                 let format = wgpu::TextureFormat::Rgba8UnormSrgb;
                 let mut renderer = Renderer::new(&gpu.device, format, settings)?;
                 let mut gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene)?;
@@ -854,19 +845,18 @@ fn measure_batching(
                 )?;
                 let ms = timed.pass_medians();
                 let pass = |name: &str| ms.get(name).copied().unwrap_or(0.0);
-                let run = BatchRun {
+                let run = LightsRun {
                     kind: kind.into(),
                     apart_deg,
                     size_ratio,
                     lights,
-                    batched,
                     distance_map_ms: pass("distance map"),
                     pcf_ms: pass("pcf"),
                     blur_ms: pass("blur"),
                 };
                 println!(
-                    "batching: {lights} {kind}(s) {apart_deg} degrees apart, sizes x{size_ratio} past \
-                     the first, batched {batched}: distance map {:.2}, pcf {:.2}, blur {:.2} ms",
+                    "added lights: {lights} {kind}(s) {apart_deg} degrees apart, sizes x{size_ratio} \
+                     past the first: distance map {:.2}, pcf {:.2}, blur {:.2} ms",
                     run.distance_map_ms, run.pcf_ms, run.blur_ms
                 );
                 runs.push(run);
@@ -1157,12 +1147,9 @@ fn measure_embedding(
     let casters = gpu_scene.casters();
     let light = |kind: &str, k: usize| added_light(scene, kind, k, 90.0);
     // One run of `frames` timed frames with `count` lights of `kind`: lights nudged every frame
-    // (their maps re-rendered) or still (only the screen-space passes run), the blur batched
-    // or one per light. Returns the median frame time and the geometry passes of a moving
+    // (their maps re-rendered) or still (only the screen-space passes run). Returns the median frame time and the geometry passes of a moving
     // frame and of the still frame that ends the run.
-    let time_lights = |kind: &str, count: usize, moving: bool, batch: bool| -> Result<(f64, (u32, u32))> {
-        let mut settings = settings;
-        settings.penumbra.batch_lights = batch;
+    let time_lights = |kind: &str, count: usize, moving: bool| -> Result<(f64, (u32, u32))> {
         let mut shadows = penumbra::Shadows::new(&gpu.device, settings)?;
         let ids = (0..count)
             .map(|k| shadows.add_light(&gpu.device, light(kind, k)))
@@ -1210,9 +1197,8 @@ fn measure_embedding(
     let mut costs: Vec<LightCost> = Vec::new();
     for kind in ["sun", "spot", "point"] {
         for count in 1..=4usize {
-            let (frame_ms, passes) = time_lights(kind, count, true, settings.penumbra.batch_lights)?;
-            let (still_ms, _) = time_lights(kind, count, false, true)?;
-            let (still_unbatched_ms, _) = time_lights(kind, count, false, false)?;
+            let (frame_ms, passes) = time_lights(kind, count, true)?;
+            let (still_ms, _) = time_lights(kind, count, false)?;
             let previous = costs.iter().rev().find(|c| c.kind == kind);
             let added = |now: f64, then: fn(&LightCost) -> f64| now - previous.map_or(0.0, then);
             let cost = LightCost {
@@ -1222,13 +1208,11 @@ fn measure_embedding(
                 added_ms: added(frame_ms, |c| c.frame_ms),
                 still_ms,
                 still_added_ms: added(still_ms, |c| c.still_ms),
-                still_unbatched_ms,
-                still_unbatched_added_ms: added(still_unbatched_ms, |c| c.still_unbatched_ms),
             };
             println!(
                 "embedding: {count} {kind}(s) {frame_ms:.2} ms (+{:.2}) moving; still {still_ms:.2} ms \
-                 (+{:.2}) batched, {still_unbatched_ms:.2} ms (+{:.2}) one blur per light",
-                cost.added_ms, cost.still_added_ms, cost.still_unbatched_added_ms
+                 (+{:.2})",
+                cost.added_ms, cost.still_added_ms
             );
             costs.push(cost);
             if kind == "sun" {
@@ -1248,7 +1232,7 @@ fn measure_embedding(
         cascades: Vec::new(),
         room: Vec::new(),
         area: Vec::new(),
-        batching: Vec::new(),
+        added_lights: Vec::new(),
         tiles: Vec::new(),
         reduced: Vec::new(),
         facing: Vec::new(),
@@ -1659,20 +1643,20 @@ fn write_size_and_front_targets(
 /// passes).
 fn write_added_light_targets(md: &mut String, embedding: &Embedding) -> Result<()> {
     use std::fmt::Write;
-    // Lights two to four against the first: four still lights of each type, blurred in one
-    // batch, each added light's screen-space passes against the first light's.
-    // The target's lights two to four have penumbrae smaller than the first's: a quarter of its
-    // size. Lights as large as the first are shown beside it.
-    let added_as = |size_ratio: f32, batched: bool| -> Vec<(&BatchRun, f64)> {
+    // Lights two to four against the first: four still lights of each type, each added
+    // light's screen-space passes against the first light's (each light's own chain, its blur
+    // included: compute passes where the device has them). The targets' lights two to four
+    // have penumbrae smaller than the first's: a quarter of its size. Lights as large as the
+    // first are shown beside them.
+    let added = |size_ratio: f32| -> Vec<(&LightsRun, f64)> {
         embedding
-            .batching
+            .added_lights
             .iter()
-            .filter(|r| r.lights == 4 && r.batched == batched && r.size_ratio == size_ratio)
+            .filter(|r| r.lights == 4 && r.size_ratio == size_ratio)
             .filter_map(|r| Some((r, r.added_per_first(embedding.first_of(r)?))))
             .collect()
     };
-    let added = |size_ratio: f32| added_as(size_ratio, true);
-    let list = |runs: &[(&BatchRun, f64)]| {
+    let list = |runs: &[(&LightsRun, f64)]| {
         runs.iter()
             .map(|(r, ratio)| format!("{} {} degrees apart {ratio:.2}x", r.kind, r.apart_deg))
             .collect::<Vec<_>>()
@@ -1683,25 +1667,19 @@ fn write_added_light_targets(md: &mut String, embedding: &Embedding) -> Result<(
         writeln!(
             md,
             "- lights two to four, with penumbrae smaller than the first's (a quarter of its size), \
-             each cost less than the first (four still lights per type, batched; screen-space \
-             passes, \"Batching the blur\" below): {} -> {} (lights as large as the first: {})",
+             each cost less than the first (four still lights per type; screen-space passes, \
+             \"Lights two to four\" below): {} -> {} (lights as large as the first: {})",
             list(&smaller),
             verdict(smaller.iter().all(|(_, ratio)| *ratio < 1.0)),
             list(&added(1.0)),
         )?;
-    }
-    // Issue 39's form of it: at most half the first, on the default path (each light's own
-    // chain, its blur included: compute passes where the device has them).
-    let own_chains = added_as(0.25, false);
-    if !own_chains.is_empty() {
+        // Issue 39's form of it: at most half the first.
         writeln!(
             md,
             "- lights two to four, a quarter of the first's size, each cost at most 0.5x the first \
-             (four still lights per type, each light's own chain as by default; screen-space \
-             passes): {} -> {} (batched: {})",
-            list(&own_chains),
-            verdict(own_chains.iter().all(|(_, ratio)| *ratio <= 0.5)),
+             (four still lights per type; screen-space passes): {} -> {}",
             list(&smaller),
+            verdict(smaller.iter().all(|(_, ratio)| *ratio <= 0.5)),
         )?;
     }
     Ok(())
@@ -1736,8 +1714,7 @@ fn write_light_sweep(md: &mut String, config: &Config, runs: &[Run], largest: (u
     Ok(())
 }
 
-/// The embedding path: each added light's cost by type, moving and still, and the batched
-/// blur against one blur per light, pass by pass.
+/// The embedding path: each added light's cost by type, moving and still, and pass by pass.
 fn write_embedding(md: &mut String, embedding: &Embedding) -> Result<()> {
     use std::fmt::Write;
     writeln!(
@@ -1749,26 +1726,18 @@ fn write_embedding(md: &mut String, embedding: &Embedding) -> Result<()> {
     writeln!(
         md,
         "Lights moving: every light's maps re-rendered each frame (default settings). Lights still: \
-         maps kept, only the screen-space passes run, with up to four lights blurred in one pass \
-         (batched, `PenumbraSettings::batch_lights`) or one blur pass per light (the default).\n"
+         maps kept, only the screen-space passes run.\n"
     )?;
     writeln!(
         md,
-        "| type | lights | moving: frame ms | added ms | still, batched: frame ms | added ms | \
-         still, one blur per light: frame ms | added ms |\n|---|---|---|---|---|---|---|---|"
+        "| type | lights | moving: frame ms | added ms | still: frame ms | added ms |\n\
+         |---|---|---|---|---|---|"
     )?;
     for c in &embedding.costs {
         writeln!(
             md,
-            "| {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
-            c.kind,
-            c.lights,
-            c.frame_ms,
-            c.added_ms,
-            c.still_ms,
-            c.still_added_ms,
-            c.still_unbatched_ms,
-            c.still_unbatched_added_ms
+            "| {} | {} | {:.2} | {:.2} | {:.2} | {:.2} |",
+            c.kind, c.lights, c.frame_ms, c.added_ms, c.still_ms, c.still_added_ms
         )?;
     }
     let at = |kind: &str, lights: usize| {
@@ -1781,30 +1750,26 @@ fn write_embedding(md: &mut String, embedding: &Embedding) -> Result<()> {
         if let (Some(one), Some(four)) = (at(kind, 1), at(kind, 4)) {
             writeln!(
                 md,
-                "\n{kind}: lights two to four add {:.2} ms each when still and batched ({:.2} ms one \
-                 blur per light), against {:.2} ms for the first.",
+                "\n{kind}: lights two to four add {:.2} ms each when still, against {:.2} ms for the \
+                 first.",
                 (four.still_ms - one.still_ms) / 3.0,
-                (four.still_unbatched_ms - one.still_unbatched_ms) / 3.0,
                 one.still_ms
             )?;
         }
     }
     writeln!(
         md,
-        "\n### Batching the blur: the screen-space passes of each added light, by type (lights \
+        "\n### Lights two to four: the screen-space passes of each added light, by type (lights \
          still, per-pass medians summed over the lights)\n\n\
          The same lights as above through the renderer, timed pass by pass. Suns 90 degrees apart \
-         throw their shadows apart; suns 5 degrees apart throw them on top of each other. A \
-         batched blur reads the lights' values packed and shares its taps among them, so it pays \
-         where their penumbrae overlap; the variable PCF passes write the packed values besides \
-         their own. One blur per light is the default: each light's chain runs whole, its blur \
-         included, as compute passes where the device has them; batched blurs are draws. \
-         `sizes` is the size of lights two to four against the first's (angular \
-         diameter or radius). `added` is what each light past the first adds.\n\n\
-         | type | apart | sizes | lights | blur | distance map ms | pcf ms | blur ms | together ms | added ms |\n\
-         |---|---|---|---|---|---|---|---|---|---|"
+         throw their shadows apart; suns 5 degrees apart throw them on top of each other. Each \
+         light's chain runs whole, its blur included, as compute passes where the device has \
+         them. `sizes` is the size of lights two to four against the first's (angular diameter \
+         or radius). `added` is what each light past the first adds.\n\n\
+         | type | apart | sizes | lights | distance map ms | pcf ms | blur ms | together ms | added ms |\n\
+         |---|---|---|---|---|---|---|---|---|"
     )?;
-    for r in &embedding.batching {
+    for r in &embedding.added_lights {
         let added = match embedding.first_of(r) {
             Some(f) if r.lights > 1 => format!(
                 "{:.2}",
@@ -1814,16 +1779,11 @@ fn write_embedding(md: &mut String, embedding: &Embedding) -> Result<()> {
         };
         writeln!(
             md,
-            "| {} | {} deg | x{} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {added} |",
+            "| {} | {} deg | x{} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {added} |",
             r.kind,
             r.apart_deg,
             r.size_ratio,
             r.lights,
-            if r.batched {
-                "batched"
-            } else {
-                "one pass per light"
-            },
             r.distance_map_ms,
             r.pcf_ms,
             r.blur_ms,
@@ -1832,20 +1792,15 @@ fn write_embedding(md: &mut String, embedding: &Embedding) -> Result<()> {
     }
     // Lights two to four against the first, by type: the screen-space passes together, and the
     // blur alone.
-    for r in embedding.batching.iter().filter(|r| r.lights == 4) {
+    for r in embedding.added_lights.iter().filter(|r| r.lights == 4) {
         if let Some(f) = embedding.first_of(r) {
             writeln!(
                 md,
-                "\n{} {} degrees apart, sizes x{}, {}: lights two to four add {:.2} ms each (blur {:.2}), \
+                "\n{} {} degrees apart, sizes x{}: lights two to four add {:.2} ms each (blur {:.2}), \
                  against {:.2} ms (blur {:.2}) for the first: {:.2}x ({:.2}x).",
                 r.kind,
                 r.apart_deg,
                 r.size_ratio,
-                if r.batched {
-                    "batched"
-                } else {
-                    "one blur per light"
-                },
                 (r.screen_space_ms() - f.screen_space_ms()) / 3.0,
                 (r.blur_ms - f.blur_ms) / 3.0,
                 f.screen_space_ms(),

@@ -55,10 +55,6 @@ struct Args {
     /// (`PenumbraSettings::reduced_resolution`), to compare its cost and its error.
     #[arg(long)]
     reduced_resolution: bool,
-    /// Blur up to four lights in one pass (`PenumbraSettings::batch_lights`; scenes with more
-    /// than one light).
-    #[arg(long)]
-    batch_lights: bool,
     /// `ours`: the screen-space passes as draws (`PenumbraSettings::fragment_passes`) instead
     /// of compute passes over the tile list, to compare their cost.
     #[arg(long)]
@@ -123,7 +119,6 @@ fn main() -> Result<()> {
     settings.shadow_map.cascades.count = args.cascades;
     settings.penumbra.nearest_caster = !args.no_nearest_caster;
     settings.penumbra.reduced_resolution = args.reduced_resolution;
-    settings.penumbra.batch_lights = args.batch_lights;
     settings.penumbra.fragment_passes = args.fragment_passes;
     settings.penumbra.map_resolution = match args.narrowest_texels {
         None => settings.penumbra.map_resolution,

@@ -1,35 +1,23 @@
 // after: frame cube fullscreen tiles tile_list
-// Separable Gaussian blur of the visibility of up to four lights at once, one axis per draw
+// Separable Gaussian blur of one light's visibility, one axis per draw or compute pass
 // (horizontal, then vertical). The step between taps is fixed (the baseline) or grows with the
 // pixel's distance to its occluder: distance x spread pixels (manual), or the standard
-// deviation the variable PCF pass worked out for this pixel, light and axis (physical). Near
-// contact the blur vanishes; far away it is wide: as few taps as keep them at most a pixel
-// apart, out to 2.5 standard deviations (at most the setting's count), and none where the
-// pixel and both ends of the kernel agree on wholly lit or wholly shadowed. With depth-aware
-// weighting, taps off the pixel's plane count less, so the blur does not bleed across depth
-// discontinuities but runs its length along a receiver seen at a grazing angle.
-//
-// Batching (several lights, after the distance map): the lights' values come packed, light c
-// in channel c of one texture (the variable PCF passes write them so, and the horizontal draw
-// writes its result so for the vertical one). The lights share the taps: each keeps its own
-// Gaussian weights (its own standard deviation), on the taps of the widest light that needs a
-// blur at the pixel, so one depth load, one depth weight and one fetch of every light's value
-// serve them all. Where a
-// single light needs a blur at a pixel, which is most pixels, its result is what a draw of its
-// own gives; where two lights' penumbrae of different widths cross, the narrower is sampled on
-// the wider's taps. After the distance map, a depth test skips the pixels where no shadow can
-// fall: one light's classification, or, for several, the union a first draw writes
-// (`fs_classify`). The vertical draw writes each light's layer of the output directly, with
-// the indirect-light attenuation applied (the resolve).
+// deviation the variable PCF pass worked out for this pixel and axis (physical). Near contact
+// the blur vanishes; far away it is wide: as few taps as keep them at most a pixel apart, out
+// to 2.5 standard deviations (at most the setting's count), and none where the pixel and both
+// ends of the kernel agree on wholly lit or wholly shadowed. With depth-aware weighting, taps
+// off the pixel's plane count less, so the blur does not bleed across depth discontinuities
+// but runs its length along a receiver seen at a grazing angle. After the distance map, a
+// depth test (draws) or its classification (compute) skips the pixels where no shadow can
+// fall, and the vertical axis writes the light's result with the indirect-light attenuation
+// applied (the resolve).
 
 // Compile-time switches (pipeline override constants).
 override FIXED_STEP: bool = false;
 override DEPTH_AWARE: bool = true;
-// how many lights this pass blurs (1 to 4): lights 0 to LIGHTS - 1; several are packed
-override LIGHTS: u32 = 1u;
-// The compute path (one light): the values are 32-bit floats, read linearly between texels
-// by two loads (not filterable everywhere; a filtered fetch also reads two texels more), and
-// the distance map's B is the classification.
+// The compute path: the values are 32-bit floats, read linearly between texels by two loads
+// (not filterable everywhere; a filtered fetch also reads two texels more), and the distance
+// map's B is the classification.
 override COMPUTE_PATH: bool = false;
 
 struct Blur {
@@ -40,7 +28,7 @@ struct Blur {
     taps: u32,
     // fixed step: pixels between taps; manual mode: pixels per world unit of distance
     step: f32,
-    // 1: this draw writes the lights' output layers (indirect attenuation applied)
+    // 1: this axis writes the light's result (indirect attenuation applied)
     resolve: u32,
     // the standard deviation of the weights, in taps (the kernel is cut at +-taps / 2)
     kernel_sigma: f32,
@@ -48,40 +36,26 @@ struct Blur {
 
 @group(0) @binding(1) var camera_depth: texture_2d<f32>;
 @group(0) @binding(2) var linear_sampler: sampler;
-// the visibility to blur: one light's in R, or light c's in channel c
+// the visibility to blur (R)
 @group(0) @binding(3) var source: texture_2d<f32>;
-// each light's distance map (R distance, G mask)
-@group(0) @binding(4) var distance0: texture_2d<f32>;
-@group(0) @binding(5) var distance1: texture_2d<f32>;
-@group(0) @binding(6) var distance2: texture_2d<f32>;
-@group(0) @binding(7) var distance3: texture_2d<f32>;
-// physical mode: each light's standard deviation to add in pixels, along screen x (R) and y (G)
-@group(0) @binding(8) var sigma0: texture_2d<f32>;
-@group(0) @binding(9) var sigma1: texture_2d<f32>;
-@group(0) @binding(10) var sigma2: texture_2d<f32>;
-@group(0) @binding(11) var sigma3: texture_2d<f32>;
+// the light's distance map (R distance, G mask; the compute path's B its classification)
+@group(0) @binding(4) var distance_map: texture_2d<f32>;
+// physical mode: the standard deviation to add in pixels, along screen x (R) and y (G)
+@group(0) @binding(5) var blur_sigma: texture_2d<f32>;
 // the engine's receiver mask (read where the frame uniform says one is bound)
-@group(0) @binding(12) var receiver_mask: texture_2d<f32>;
+@group(0) @binding(6) var receiver_mask: texture_2d<f32>;
 @group(1) @binding(0) var<uniform> blur: Blur;
 
-// Each light's distance map and deviations are named (not picked by an index), so the compiled
-// shader knows which texture every fetch reads; lights past LIGHTS are never blurred, and no
-// target takes their result.
-
-// Every light's value at `uv` (filtered).
-fn values_at(uv: vec2<f32>) -> vec4<f32> {
+// The value at `uv` (filtered).
+fn value_at(uv: vec2<f32>) -> f32 {
     if COMPUTE_PATH {
-        return vec4<f32>(along_axis(uv), 1.0, 1.0, 1.0);
+        return along_axis(uv);
     }
-    let v = textureSampleLevel(source, linear_sampler, uv, 0.0);
-    if LIGHTS > 1u {
-        return v;
-    }
-    return vec4<f32>(v.x, 1.0, 1.0, 1.0);
+    return textureSampleLevel(source, linear_sampler, uv, 0.0).x;
 }
 
-// One light's value at `uv`, which lies on a pixel centre across the draw's axis: linear
-// between the two texels along it (clamped to the edge, as the sampler is).
+// The value at `uv`, which lies on a pixel centre across the axis: linear between the two
+// texels along it (clamped to the edge, as the sampler is).
 fn along_axis(uv: vec2<f32>) -> f32 {
     let a = blur.axis.xy;
     let pos = uv * frame.view.size - 0.5;
@@ -93,55 +67,29 @@ fn along_axis(uv: vec2<f32>) -> f32 {
     return mix(textureLoad(source, p0, 0).x, textureLoad(source, p1, 0).x, t);
 }
 
-// Every light's value at `pixel`.
-fn values_of(pixel: vec2<i32>) -> vec4<f32> {
-    let v = textureLoad(source, pixel, 0);
-    if LIGHTS > 1u {
-        return v;
-    }
-    return vec4<f32>(v.x, 1.0, 1.0, 1.0);
+// The standard deviation along the axis (physical mode), in pixels.
+fn sigma_of(pixel: vec2<i32>) -> f32 {
+    let s = textureLoad(blur_sigma, pixel, 0).xy;
+    return select(s.x, s.y, blur.axis.y > 0.5);
 }
 
-// The RG of texel `pixel` of each light's texture (t0 to t3); lights past LIGHTS read (0, 0).
-fn each_light_rg(t0: texture_2d<f32>, t1: texture_2d<f32>, t2: texture_2d<f32>, t3: texture_2d<f32>, pixel: vec2<i32>) -> array<vec2<f32>, 4> {
-    var rg = array<vec2<f32>, 4>(textureLoad(t0, pixel, 0).xy, vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0));
-    if LIGHTS > 1u {
-        rg[1] = textureLoad(t1, pixel, 0).xy;
-    }
-    if LIGHTS > 2u {
-        rg[2] = textureLoad(t2, pixel, 0).xy;
-    }
-    if LIGHTS > 3u {
-        rg[3] = textureLoad(t3, pixel, 0).xy;
-    }
-    return rg;
-}
-
-// Every light's standard deviation along the draw's axis (physical mode), in pixels.
-fn sigmas_of(pixel: vec2<i32>) -> vec4<f32> {
-    let s = each_light_rg(sigma0, sigma1, sigma2, sigma3, pixel);
-    if blur.axis.y > 0.5 {
-        return vec4<f32>(s[0].y, s[1].y, s[2].y, s[3].y);
-    }
-    return vec4<f32>(s[0].x, s[1].x, s[2].x, s[3].x);
-}
-
-fn finish(v: vec4<f32>, d: vec4<f32>) -> vec4<f32> {
+// `v`, or on the axis that writes the light's result, with the indirect attenuation for
+// distance `d` applied.
+fn finish(v: f32, d: f32) -> f32 {
     if blur.resolve == 0u {
         return v;
     }
-    let k = vec4<f32>(indirect_share(d.x), indirect_share(d.y), indirect_share(d.z), indirect_share(d.w));
-    return clamp(mix(v, vec4<f32>(1.0), k), vec4<f32>(0.0), vec4<f32>(1.0));
+    return clamp(mix(v, 1.0, indirect_share(d)), 0.0, 1.0);
 }
 
-// Every light's result at this pixel (1 past LIGHTS).
-fn blur_all(frag: vec2<f32>) -> vec4<f32> {
+// The result at this pixel.
+fn blurred_at(frag: vec2<f32>) -> f32 {
     let pixel = vec2<i32>(frag);
     let depth = textureLoad(camera_depth, pixel, 0).x;
-    let center = values_of(pixel);
+    let center = textureLoad(source, pixel, 0).x;
     if is_background(depth) {
         if blur.resolve != 0u {
-            return vec4<f32>(1.0);
+            return 1.0;
         }
         return center;
     }
@@ -149,62 +97,38 @@ fn blur_all(frag: vec2<f32>) -> vec4<f32> {
     let radius = i32(blur.taps) / 2;
     if FIXED_STEP {
         if blur.step < 1e-3 || radius == 0 {
-            return finish(center, vec4<f32>(0.0));
+            return finish(center, 0.0);
         }
-        return finish(taps(frag, center, surface, radius, blur.step, vec4<f32>(0.0), vec4<bool>(false)), vec4<f32>(0.0));
+        return finish(taps(frag, center, surface, radius, blur.step, 0.0), 0.0);
     }
-    // The distance-driven blur: per light, a Gaussian of standard deviation `sigma` pixels,
-    // sampled out to 2.5 sigma with as few taps as keep them at most a pixel apart (up to the
-    // setting's).
-    // Every light's distance (R) and mask (G).
-    let dm = each_light_rg(distance0, distance1, distance2, distance3, pixel);
-    let d = vec4<f32>(dm[0].x, dm[1].x, dm[2].x, dm[3].x);
-    // Several lights: one whose distance map leaves this pixel out keeps the clear value, as a
-    // depth test against its own classification would.
-    let masks = vec4<f32>(dm[0].y, dm[1].y, dm[2].y, dm[3].y);
-    let left_out = vec4<bool>(LIGHTS > 1u) & (masks <= vec4<f32>(0.0));
+    // The distance-driven blur: a Gaussian of standard deviation `sigma` pixels, sampled out to
+    // 2.5 sigma with as few taps as keep them at most a pixel apart (up to the setting's).
+    let d = textureLoad(distance_map, pixel, 0).x;
     var sigma = d * blur.step * blur.kernel_sigma;
     if frame.penumbra.physical != 0u {
-        sigma = sigmas_of(pixel);
+        sigma = sigma_of(pixel);
     }
-    var blurred = vec4<bool>(true, LIGHTS > 1u, LIGHTS > 2u, LIGHTS > 3u) & !left_out
-        & (sigma >= vec4<f32>(0.05)) & vec4<bool>(radius > 0);
-    // A light wholly shadowed or wholly lit out to its kernel's ends on both sides has nothing
-    // to blur.
-    blurred.x = blurred.x && !ends_agree(0u, frag, center.x, sigma.x);
-    if LIGHTS > 1u {
-        blurred.y = blurred.y && !ends_agree(1u, frag, center.y, sigma.y);
+    // Wholly shadowed or wholly lit out to the kernel's ends on both sides: nothing to blur.
+    if !(sigma >= 0.05) || radius <= 0 || ends_agree(frag, center, sigma) {
+        return finish(center, d);
     }
-    if LIGHTS > 2u {
-        blurred.z = blurred.z && !ends_agree(2u, frag, center.z, sigma.z);
-    }
-    if LIGHTS > 3u {
-        blurred.w = blurred.w && !ends_agree(3u, frag, center.w, sigma.w);
-    }
-    // The taps of the widest light that needs them; none where no light does.
-    let needed = select(vec4<f32>(0.0), sigma, blurred);
-    let widest = max(max(needed.x, needed.y), max(needed.z, needed.w));
-    let n = select(0, clamp(i32(ceil(2.5 * widest)), 1, radius), any(blurred));
+    let n = clamp(i32(ceil(2.5 * sigma)), 1, radius);
     // Weights of a Gaussian 4% wider than sigma: cut at 2.5 sigma, the kernel's own spread is
     // then sigma.
-    let inv_sigma = select(vec4<f32>(0.0), 1.0 / (1.04 * sigma), blurred);
-    let result = taps(frag, center, surface, n, 2.5 * widest / f32(max(n, 1)), inv_sigma, blurred);
-    return finish(select(result, vec4<f32>(1.0), left_out), d);
+    return finish(taps(frag, center, surface, n, 2.5 * sigma / f32(n), 1.0 / (1.04 * sigma)), d);
 }
 
-// Light c (value `center`, standard deviation `sigma` pixels) is wholly shadowed or wholly lit
-// at the pixel and at both ends of its kernel.
-fn ends_agree(c: u32, frag: vec2<f32>, center: f32, sigma: f32) -> bool {
+// The value `center` (standard deviation `sigma` pixels) is wholly shadowed or wholly lit at
+// the pixel and at both ends of the kernel.
+fn ends_agree(frag: vec2<f32>, center: f32, sigma: f32) -> bool {
     if center != 0.0 && center != 1.0 {
         return false;
     }
     let reach = blur.axis.xy * (2.5 * sigma) * frame.view.inv_size;
     let uv = frag * frame.view.inv_size;
-    return values_at(uv - reach)[c] == center && values_at(uv + reach)[c] == center;
+    return value_at(uv - reach) == center && value_at(uv + reach) == center;
 }
 
-// The weighted mean of `center` and `radius` taps either side along the draw's axis, `step`
-// pixels apart, per light. The fixed blur: the uniform's weights for the one light. Otherwise
 // Whether the surface at `pixel` takes shadows: something was drawn there and the receiver
 // mask, when one is bound, keeps it.
 fn receives(pixel: vec2<i32>) -> bool {
@@ -254,19 +178,20 @@ fn depth_weight(surface: BlurCenter, tap_depth: f32, offset: f32) -> f32 {
     return exp(-relative * relative);
 }
 
-// Gaussian weights of standard deviation 1 / inv_sigma pixels for the lights in `blurred`; the
-// others keep `center`.
-fn taps(frag: vec2<f32>, center: vec4<f32>, surface: BlurCenter, radius: i32, step: f32, inv_sigma: vec4<f32>, blurred: vec4<bool>) -> vec4<f32> {
+// The weighted mean of `center` and `radius` taps either side along the axis, `step` pixels
+// apart: the uniform's weights (the fixed blur), or a Gaussian's of standard deviation
+// 1 / inv_sigma pixels.
+fn taps(frag: vec2<f32>, center: f32, surface: BlurCenter, radius: i32, step: f32, inv_sigma: f32) -> f32 {
     let direction = blur.axis.xy * step * frame.view.inv_size;
     let uv = frag * frame.view.inv_size;
     let center_weight = select(1.0, blur.weights[0].x, FIXED_STEP);
     var sum = center * center_weight;
-    var total = vec4<f32>(center_weight);
+    var total = center_weight;
     for (var k = 1; k <= radius; k++) {
-        var w = vec4<f32>(blur.weights[k / 4][k % 4]);
+        var w = blur.weights[k / 4][k % 4];
         if !FIXED_STEP {
             let x = f32(k) * step * inv_sigma;
-            w = select(vec4<f32>(0.0), exp(-0.5 * x * x), blurred);
+            w = exp(-0.5 * x * x);
         }
         for (var s = -1; s <= 1; s += 2) {
             let tap_uv = uv + direction * f32(k * s);
@@ -281,58 +206,24 @@ fn taps(frag: vec2<f32>, center: vec4<f32>, surface: BlurCenter, radius: i32, st
                 let offset = dot(vec2<f32>(tap_pixel - vec2<i32>(frag)), blur.axis.xy);
                 weight = depth_weight(surface, tap_depth, offset);
             }
-            // Surfaces that receive no shadow (the receiver mask's and the background: the same
-            // for every light) are not blurred into those that do. Read from the depth and the
-            // mask themselves: the distance map marks them only on the tiles it drew.
+            // Surfaces that receive no shadow (the receiver mask's and the background) are not
+            // blurred into those that do. Read from the depth and the mask themselves: the
+            // distance map marks them only on the tiles it drew.
             if !FIXED_STEP && !receives_at(tap_pixel, tap_depth) {
                 weight = 0.0;
             }
             let tap_weight = w * weight;
-            sum += values_at(tap_uv) * tap_weight;
+            sum += value_at(tap_uv) * tap_weight;
             total += tap_weight;
         }
     }
     return sum / total;
 }
 
-struct Out {
-    @location(0) v0: vec4<f32>,
-    @location(1) v1: vec4<f32>,
-    @location(2) v2: vec4<f32>,
-    @location(3) v3: vec4<f32>,
-}
-
-// Both draws of one light, and the vertical draw of several: light c's result to target c.
+// Both draws.
 @fragment
-fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
-    let v = blur_all(frag.xy);
-    return Out(vec4<f32>(v.x), vec4<f32>(v.y), vec4<f32>(v.z), vec4<f32>(v.w));
-}
-
-// The horizontal draw of several lights: light c's result to channel c of one target, which
-// the vertical draw reads.
-@fragment
-fn fs_packed(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    return blur_all(frag.xy);
-}
-
-// Several lights: a draw before the blur's, into the pass's own classification depth: 1 where
-// any light's distance map says a shadow can fall (its mask is 1), so both blur draws skip the
-// other pixels before their shaders run. Four loads a pixel.
-@fragment
-fn fs_classify(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
-    let pixel = vec2<i32>(frag.xy);
-    var mask = textureLoad(distance0, pixel, 0).y;
-    if LIGHTS > 1u {
-        mask = max(mask, textureLoad(distance1, pixel, 0).y);
-    }
-    if LIGHTS > 2u {
-        mask = max(mask, textureLoad(distance2, pixel, 0).y);
-    }
-    if LIGHTS > 3u {
-        mask = max(mask, textureLoad(distance3, pixel, 0).y);
-    }
-    return select(0.0, 1.0, mask > 0.0);
+fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(blurred_at(frag.xy));
 }
 
 // The compute path, one light. Either axis (the uniform's): one invocation per pixel of the
@@ -345,10 +236,10 @@ fn fs_classify(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
 @compute @workgroup_size(16, 16)
 fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
     let pixel = listed_pixel(group, groups, local);
-    if pixel.x < 0 || (!FIXED_STEP && textureLoad(distance0, pixel, 0).z <= 0.0) {
+    if pixel.x < 0 || (!FIXED_STEP && textureLoad(distance_map, pixel, 0).z <= 0.0) {
         return;
     }
-    textureStore(blur_out, pixel, vec4<f32>(blur_all(vec2<f32>(pixel) + 0.5).x));
+    textureStore(blur_out, pixel, vec4<f32>(blurred_at(vec2<f32>(pixel) + 0.5)));
 }
 
 // The tiles listed apart as turned away from the light (over that list): the horizontal axis's
@@ -380,7 +271,7 @@ fn fs_listed_copy(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> 
         if !receives(pixel) {
             return vec4<f32>(1.0);
         }
-    } else if textureLoad(distance0, pixel, 0).z <= 0.0 {
+    } else if textureLoad(distance_map, pixel, 0).z <= 0.0 {
         return vec4<f32>(1.0);
     }
     return vec4<f32>(textureLoad(source, pixel, 0).x);

@@ -68,20 +68,6 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> Out {
     return pcf_at(frag.xy);
 }
 
-// A light blurred with others in one pass: as `fs_main`, and its visibility to the pass's
-// packed texture too (the pipeline writes only this light's channel of it).
-struct PackedOut {
-    @location(0) visibility: vec4<f32>,
-    @location(1) blur_sigma: vec4<f32>,
-    @location(2) packed_visibility: vec4<f32>,
-}
-
-@fragment
-fn fs_packed(@builtin(position) frag: vec4<f32>) -> PackedOut {
-    let out = pcf_at(frag.xy);
-    return PackedOut(out.visibility, out.blur_sigma, out.visibility);
-}
-
 // What the taps at a pixel need, and the spread the blur adds.
 struct Setup {
     r: Receiver,

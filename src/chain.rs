@@ -78,8 +78,8 @@ impl Chain {
             method @ (ShadowMethod::Ours | ShadowMethod::OursFast) => Chain::Ours {
                 method,
                 blur: settings.penumbra.blur_taps > 1,
-                // Batched blurs and PCF at half resolution are draws only.
-                compute: compute && !settings.penumbra.batch_lights && !settings.penumbra.reduced_resolution,
+                // PCF at half resolution is draws only.
+                compute: compute && !settings.penumbra.reduced_resolution,
             },
             ShadowMethod::Traditional => Chain::Traditional {
                 blur: settings.traditional.blur_taps > 1,

@@ -176,8 +176,7 @@ pub(crate) struct BlurSwitches {
     /// After the distance-map pass: skip the pixels it found nothing to blur at (depth test)
     /// and write the light's output layer from the vertical draw (the resolve).
     pub after_distance_map: bool,
-    /// After the distance map: draw only the screen tiles its tile classification kept (one
-    /// light's blur; a batch of lights covers the screen).
+    /// After the distance map: draw only the screen tiles its tile classification kept.
     pub tiles: bool,
 }
 
@@ -201,10 +200,6 @@ pub(crate) struct PassParams {
     /// The compute path classifies its tiles (`Auto` is on for every device there: a tile
     /// list costs nothing where no tile is dropped).
     pub list_tiles: bool,
-    /// The distance-map method's blur as draws serves up to four lights at once
-    /// ([`crate::PenumbraSettings::batch_lights`]): `Shadows` owns those passes, not the
-    /// lights' chains.
-    pub batch_lights: bool,
 }
 
 impl PassParams {
@@ -300,7 +295,6 @@ impl PassParams {
                 _pad: [0.0; 2],
             },
             list_tiles: tiles,
-            batch_lights: p.batch_lights,
         }
     }
 }

@@ -272,25 +272,14 @@ pub struct PenumbraSettings {
     /// grazing angle (weighting by the pixel's own depth cut it short there: a wall's or a
     /// floor's penumbra came out too narrow). Default true.
     pub depth_aware_blur: bool,
-    /// Blur up to four lights' visibility in one pass: their PCF passes write it packed, one
-    /// channel each, and the lights share the draws, the depth reads and the taps (each keeps
-    /// its own Gaussian weights, on the taps of the widest light that needs a blur at the
-    /// pixel); the pass runs where any of their shadows can fall. Off: one blur pass per light.
-    /// The result is the same except where two lights' penumbrae cross, where the narrower is
-    /// sampled on the wider's taps. Default false: it saves blur time only where the lights'
-    /// shadows overlap, and the packed writes cost PCF about as much as that saves (the
-    /// benchmark's "Batching the blur" table; docs/lights.md).
-    #[cfg_attr(feature = "serde", serde(default))]
-    pub batch_lights: bool,
     /// Run the screen-space passes as draws, as before the compute path. Default false: where
     /// the device has compute shaders they are compute passes, the distance-map method's over a
     /// list of the 16 x 16 pixel screen tiles a shadow can reach (it then costs what those
     /// tiles do; on a GPU, fragment work costs many times the same work in compute), the
     /// baselines' over the screen; the writes into the light's layer (the resolve, the copy of
-    /// the blur's result over the listed tiles) stay draws. Batched blurs ([`Self::batch_lights`])
-    /// and [`Self::reduced_resolution`] are draws only: either turns the draws on for the
-    /// distance-map method, as does a device without compute shaders (WebGL 2, wgpu's GL
-    /// backend).
+    /// the blur's result over the listed tiles) stay draws. [`Self::reduced_resolution`] is
+    /// draws only: it turns the draws on for the distance-map method, as does a device without
+    /// compute shaders (WebGL 2, wgpu's GL backend).
     #[cfg_attr(feature = "serde", serde(default))]
     pub fragment_passes: bool,
     /// How much shadows far from their occluder are lightened by bounced light, in [0, 1];
@@ -368,7 +357,6 @@ impl Default for PenumbraSettings {
             reduced_resolution: false,
             blur_taps: 11,
             depth_aware_blur: true,
-            batch_lights: false,
             fragment_passes: false,
             indirect_weight: 0.0,
             map_resolution: MapResolution::default(),

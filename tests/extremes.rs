@@ -537,10 +537,8 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                     reduced_resolution: rotate,
                     blur_taps,
                     depth_aware_blur: aware,
-                    // Batched blurs and reduced resolution are draws: with neither, the compute
-                    // path runs.
-                    batch_lights: nearest && mask,
-                    fragment_passes: false,
+                    // Draws or compute passes (reduced resolution is draws either way).
+                    fragment_passes: nearest && mask,
                     indirect_weight: indirect,
                     // Either way: coarser maps where the penumbrae allow, or never.
                     map_resolution: if aware {

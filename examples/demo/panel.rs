@@ -336,7 +336,6 @@ impl DemoApp {
                     "PCF at half resolution where the penumbra is wide",
                 );
                 ui.checkbox(&mut p.depth_aware_blur, "depth-aware blur");
-                ui.checkbox(&mut p.batch_lights, "blur lights in batches of four");
                 // Every method's: draws instead of compute passes, to compare their cost.
                 ui.checkbox(
                     &mut p.fragment_passes,

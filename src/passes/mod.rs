@@ -56,8 +56,6 @@ pub(crate) enum DepthUse<'a> {
     None,
     /// Read-only: the pipeline's test skips the pixels it leaves out.
     Test(&'a wgpu::TextureView),
-    /// Cleared to 0, then written by the pipeline.
-    Write(&'a wgpu::TextureView),
 }
 
 /// The screen tiles a tile classification kept: the bind group of `shaders/common/tiles.wgsl`
@@ -99,7 +97,6 @@ pub(crate) fn draw_fullscreen_into(
     let depth_stencil_attachment = match depth {
         DepthUse::None => None,
         DepthUse::Test(view) => depth_attachment(view, None),
-        DepthUse::Write(view) => depth_attachment(view, Some(wgpu::LoadOp::Clear(0.0))),
     };
     let mut pass = begin_pass(encoder, label, &color_attachments, depth_stencil_attachment);
     pass.set_pipeline(pipeline);

@@ -1,23 +1,17 @@
-//! Separable Gaussian blur of up to four lights' visibility at once: one pass object, two draws
-//! (horizontal into a temporary texture, then vertical into the output) that differ by an axis
-//! uniform. Several lights' visibility comes packed, light `c` in channel `c` of one texture
-//! their variable PCF passes write, stays so between the draws, and goes to its own target.
+//! Separable Gaussian blur of one light's visibility: one pass object, two draws (horizontal
+//! into a temporary texture, then vertical into the output) that differ by an axis uniform;
+//! on the compute path ([`BlurCompute`]) two compute passes over the distance map's tile list
+//! and a draw that copies the result into the light's layer.
 //!
-//! Input: the frame uniform, the camera depth and, per light, the visibility to blur (one
-//! light's own, or the batch's packed texture), its distance map and, in physical mode, the
-//! standard deviations the variable PCF pass wrote.
-//! Output: R16F blurred visibility per light. Gaussian weights are computed on the CPU
+//! Input: the frame uniform, the camera depth, the light's visibility to blur, its distance
+//! map and, in physical mode, the standard deviations the variable PCF pass wrote.
+//! Output: R16F blurred visibility. Gaussian weights are computed on the CPU
 //! ([`crate::frame`]); the step between taps is per pixel (distance-driven) or fixed.
 //!
-//! After the distance map (the distance-map method), both draws test a classification depth so
-//! only pixels a shadow can reach run the shader: one light's own, or for several lights the
-//! union of theirs, which a first, cheap draw writes from their distance maps. The vertical draw writes each
-//! light's layer of the output array directly, with the indirect attenuation applied: no
-//! separate resolve. Batching lights shares the draws, the pixel's depth, the early-outs and the
-//! taps: each light keeps its own Gaussian weights, on the taps of the widest light that needs a
-//! blur at the pixel, so one depth load, one depth weight and one fetch per tap serve them all. A light alone in its penumbra at
-//! a pixel gets what a pass of its own gives; where penumbrae of different widths cross, the
-//! narrower is sampled on the wider's taps (a test bounds the difference).
+//! After the distance map (the distance-map method), both draws test its classification depth
+//! so only pixels a shadow can reach run the shader, and the vertical draw writes the light's
+//! layer of the output array directly, with the indirect attenuation applied: no separate
+//! resolve.
 
 use super::ScreenStage;
 use crate::frame::PassParams;
@@ -26,38 +20,10 @@ use bytemuck::{Pod, Zeroable};
 
 use super::tiles_layout;
 use super::{
-    CLASSIFICATION_FORMAT, Classification, DepthUse, Fullscreen, VISIBILITY_FORMAT, classified_test,
-    draw_fullscreen_into, entry, screen_target,
+    Classification, DepthUse, Fullscreen, VISIBILITY_FORMAT, classified_test, draw_fullscreen_into, entry,
+    screen_target,
 };
 use crate::frame::{BlurParams, BlurSwitches, gaussian_weights};
-
-/// The most lights one blur pass takes (one colour target each).
-pub const MAX_BATCHED_LIGHTS: usize = 4;
-
-/// A batch's visibility, written by its lights' variable PCF passes, light `c` in channel `c`.
-pub(crate) struct PackedVisibility {
-    pub visibility: Target,
-}
-
-impl PackedVisibility {
-    /// The format that holds `lights` lights' values, one a channel (also of the horizontal
-    /// draw's result): two channels for two lights (a four-channel fetch costs a software
-    /// rasterizer about twice a two-channel one), four for three or four.
-    pub(crate) fn format(lights: usize) -> wgpu::TextureFormat {
-        if lights <= 2 {
-            wgpu::TextureFormat::Rg16Float
-        } else {
-            wgpu::TextureFormat::Rgba16Float
-        }
-    }
-
-    fn new(device: &wgpu::Device, width: u32, height: u32, lights: usize) -> Self {
-        let format = Self::format(lights);
-        Self {
-            visibility: screen_target(device, "BlurPass::packed_visibility", width, height, format),
-        }
-    }
-}
 
 /// The standard deviation, in taps, of the discrete kernel `weights` makes with `taps` taps:
 /// less than the Gaussian's own, which is cut at +-taps / 2.
@@ -82,7 +48,7 @@ pub(crate) struct BlurUniform {
 }
 
 /// Uploads both axes' uniforms (horizontal, vertical) for `params`; `resolve`: the vertical
-/// axis writes the lights' layers.
+/// axis writes the light's layer.
 fn write_axes(queue: &wgpu::Queue, buffers: &[wgpu::Buffer; 2], params: &BlurParams, resolve: bool) {
     let weights = gaussian_weights(params.taps);
     for (i, axis) in [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]]
@@ -104,9 +70,35 @@ fn write_axes(queue: &wgpu::Queue, buffers: &[wgpu::Buffer; 2], params: &BlurPar
     }
 }
 
-/// One light's inputs to the blur.
+/// The bind group layout entries of `blur.wgsl`'s group 0 (both kinds of pass): the frame
+/// uniform, the camera depth, a sampler, the values to blur, the distance map, the deviations,
+/// the receiver mask; `compute`: the compute stage sees them too.
+fn input_entries(
+    frame_size: usize,
+    sampler: wgpu::SamplerBindingType,
+    source: wgpu::TextureSampleType,
+    compute: bool,
+) -> Vec<wgpu::BindGroupLayoutEntry> {
+    let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+    let mut stages = wgpu::ShaderStages::VERTEX_FRAGMENT;
+    if compute {
+        stages |= wgpu::ShaderStages::COMPUTE;
+    }
+    let also = |e: wgpu::BindGroupLayoutEntry| if compute { entry::and_compute(e) } else { e };
+    vec![
+        entry::uniform(0, stages, frame_size, false),
+        also(entry::texture_2d(1, unfilterable)),
+        also(entry::sampler(2, sampler)),
+        also(entry::texture_2d(3, source)),
+        also(entry::texture_2d(4, unfilterable)),
+        also(entry::texture_2d(5, unfilterable)),
+        also(entry::texture_2d(6, unfilterable)),
+    ]
+}
+
+/// The light's inputs to the blur.
 pub(crate) struct BlurInput<'a> {
-    /// The visibility to blur (several lights read the pass's packed texture instead).
+    /// The visibility to blur.
     pub visibility: &'a wgpu::TextureView,
     /// Its distance map (a stand-in for the fixed blur).
     pub distance_map: &'a wgpu::TextureView,
@@ -116,115 +108,63 @@ pub(crate) struct BlurInput<'a> {
 
 pub struct BlurPass {
     switches: BlurSwitches,
-    /// The draws cover only the kept screen tiles (one light, with the tile classification).
+    /// The draws cover only the kept screen tiles (with the tile classification).
     tiled: bool,
-    lights: usize,
     layout: wgpu::BindGroupLayout,
-    /// Tested against the classification (after the distance map), untested otherwise: both
-    /// draws of one light, the horizontal draw of several (into the packed temporary texture).
+    /// Tested against the classification (after the distance map), untested otherwise.
     pipeline: wgpu::RenderPipeline,
-    /// Several lights: the vertical draw, reading the packed texture.
-    vertical_pipeline: Option<wgpu::RenderPipeline>,
-    /// Several lights: a draw that writes the union of their classifications.
-    classify_pipeline: Option<wgpu::RenderPipeline>,
     sampler: wgpu::Sampler,
     axis_buffers: [wgpu::Buffer; 2],
     axis_groups: [wgpu::BindGroup; 2],
-    /// The horizontal draw's target: `VISIBILITY_FORMAT` for one light, packed (light `c` in
-    /// channel `c`) for several.
+    /// The horizontal draw's target.
     temp: Target,
-    /// Several lights: their visibility, packed.
-    packed: Option<PackedVisibility>,
-    /// Several lights: where any of them can be shadowed.
-    union: Option<Target>,
     /// The vertical draw's target, unless it writes the light's output layer.
     output: Option<Target>,
     bind_groups: Option<[wgpu::BindGroup; 2]>,
 }
 
 impl BlurPass {
-    /// The pass for `lights` lights (1 to [`MAX_BATCHED_LIGHTS`]; several only after the
-    /// distance map) and `switches` (compile-time: other switches need a new pass).
-    pub(crate) fn new(
-        device: &wgpu::Device,
-        frame_size: usize,
-        switches: BlurSwitches,
-        lights: usize,
-    ) -> Self {
-        let lights = if switches.after_distance_map {
-            lights.clamp(1, MAX_BATCHED_LIGHTS)
-        } else {
-            1
-        };
+    /// The pass for `switches` (compile-time: other switches need a new pass).
+    pub(crate) fn new(device: &wgpu::Device, frame_size: usize, switches: BlurSwitches) -> Self {
         let shader = crate::shaders::module(device, "blur.wgsl", crate::shaders::BLUR);
-        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-        let filterable = wgpu::TextureSampleType::Float { filterable: true };
-        let mut layout_entries = vec![
-            entry::uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT, frame_size, false),
-            entry::texture_2d(1, unfilterable),
-            entry::sampler(2, wgpu::SamplerBindingType::Filtering),
-        ];
-        layout_entries.push(entry::texture_2d(3, filterable));
-        for c in 0..MAX_BATCHED_LIGHTS as u32 {
-            layout_entries.push(entry::texture_2d(4 + c, unfilterable));
-        }
-        for c in 0..MAX_BATCHED_LIGHTS as u32 {
-            layout_entries.push(entry::texture_2d(8 + c, unfilterable));
-        }
-        layout_entries.push(entry::texture_2d(12, unfilterable));
-        let layout = crate::gpu_helpers::layout(device, "BlurPass::layout", &layout_entries);
+        let layout = crate::gpu_helpers::layout(
+            device,
+            "BlurPass::layout",
+            &input_entries(
+                frame_size,
+                wgpu::SamplerBindingType::Filtering,
+                wgpu::TextureSampleType::Float { filterable: true },
+                false,
+            ),
+        );
         let axis_layout = crate::gpu_helpers::layout(
             device,
             "BlurPass::axis_layout",
             &[entry::fragment_uniform(0, size_of::<BlurUniform>())],
         );
         let flag = |on: bool| if on { 1.0 } else { 0.0 };
-        let targets = vec![Some(wgpu::ColorTargetState::from(VISIBILITY_FORMAT)); lights];
         let constants = [
             ("FIXED_STEP", flag(switches.fixed_step)),
             ("DEPTH_AWARE", flag(switches.depth_aware)),
-            ("LIGHTS", lights as f64),
         ];
-        // One light's blur with the tile classification draws only the kept tiles (group 2).
-        let tiled = switches.tiles && switches.after_distance_map && lights == 1;
+        // With the tile classification the draws cover only the kept tiles (group 2).
+        let tiled = switches.tiles && switches.after_distance_map;
         let tiles = tiles_layout(device);
         let (layouts, vertex) = if tiled {
             (vec![Some(&layout), Some(&axis_layout), Some(&tiles)], "vs_tile")
         } else {
             (vec![Some(&layout), Some(&axis_layout)], "vs_fullscreen")
         };
-        let fullscreen = |targets, depth, entry| {
-            Fullscreen {
-                label: "BlurPass::pipeline",
-                shader: &shader,
-                bind_group_layouts: &layouts,
-                targets,
-                depth,
-                constants: &constants,
-            }
-            .pipeline_with(device, vertex, entry)
-        };
         // Only where the distance map says a shadow can fall.
-        let tested = || switches.after_distance_map.then(classified_test);
-        let packed = [Some(wgpu::ColorTargetState::from(PackedVisibility::format(
-            lights,
-        )))];
-        let pipeline = if lights > 1 {
-            fullscreen(&packed, tested(), "fs_packed")
-        } else {
-            fullscreen(&targets, tested(), "fs_main")
-        };
-        let vertical_pipeline = (lights > 1).then(|| fullscreen(&targets, tested(), "fs_main"));
-        let classify_pipeline = (lights > 1).then(|| {
-            let write = wgpu::DepthStencilState {
-                format: CLASSIFICATION_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Always),
-                stencil: Default::default(),
-                bias: Default::default(),
-            };
-            fullscreen(&[], Some(write), "fs_classify")
-        });
+        let pipeline = Fullscreen {
+            label: "BlurPass::pipeline",
+            shader: &shader,
+            bind_group_layouts: &layouts,
+            targets: &[Some(wgpu::ColorTargetState::from(VISIBILITY_FORMAT))],
+            depth: switches.after_distance_map.then(classified_test),
+            constants: &constants,
+        }
+        .pipeline_with(device, vertex, "fs_main");
         let axis_buffers = ["BlurPass::horizontal", "BlurPass::vertical"]
             .map(|label| crate::gpu_helpers::uniform_buffer(device, label, size_of::<BlurUniform>() as u64));
         let axis_groups =
@@ -238,17 +178,12 @@ impl BlurPass {
         let mut pass = Self {
             switches,
             tiled,
-            lights,
             layout,
             pipeline,
-            vertical_pipeline,
-            classify_pipeline,
             sampler,
             axis_buffers,
             axis_groups,
             temp: screen_target(device, "BlurPass::horizontal", 1, 1, VISIBILITY_FORMAT),
-            packed: None,
-            union: None,
             output: None,
             bind_groups: None,
         };
@@ -256,48 +191,27 @@ impl BlurPass {
         pass
     }
 
-    /// True once [`Self::bind`] pointed the pass at its inputs (a resize forgets them).
-    pub(crate) fn is_bound(&self) -> bool {
-        self.bind_groups.is_some()
-    }
-
-    /// How many lights the pass blurs.
-    pub(crate) fn lights(&self) -> usize {
-        self.lights
-    }
-
-    /// Points the pass at its inputs, one per light (as many as the pass was made for; lights
-    /// past `lights` are left out); `dummy` stands in for the slots no light fills. Several
-    /// lights read their visibility from [`Self::packed`], which their variable PCF passes
-    /// write: their distance maps and deviations are taken from `lights`.
+    /// Points the pass at the light's inputs.
     pub(crate) fn bind(
         &mut self,
         device: &wgpu::Device,
         frame: &wgpu::Buffer,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
-        lights: &[BlurInput],
-        dummy: &wgpu::TextureView,
+        light: &BlurInput,
     ) {
         let group = |source: &wgpu::TextureView| {
-            let distance = |c: usize| lights.get(c).map_or(dummy, |l| l.distance_map);
-            let sigma = |c: usize| lights.get(c).map_or(dummy, |l| l.blur_sigma);
-            let mut resources: Vec<&dyn super::Binding> = vec![frame, camera_depth, &self.sampler, source];
-            resources.extend((0..MAX_BATCHED_LIGHTS).map(|c| distance(c) as &dyn super::Binding));
-            resources.extend((0..MAX_BATCHED_LIGHTS).map(|c| sigma(c) as &dyn super::Binding));
-            resources.push(receiver_mask);
+            let resources: [&dyn super::Binding; 7] = [
+                frame,
+                camera_depth,
+                &self.sampler,
+                source,
+                light.distance_map,
+                light.blur_sigma,
+                receiver_mask,
+            ];
             super::bind_group(device, "BlurPass::bind_group", &self.layout, &resources)
         };
-        let source = match (&self.packed, lights.first()) {
-            (Some(packed), _) => &packed.visibility.view,
-            (None, Some(light)) => light.visibility,
-            (None, None) => dummy,
-        };
-        self.bind_groups = Some([group(source), group(&self.temp.view)]);
-    }
-
-    /// Several lights: the packed visibility their variable PCF passes write.
-    pub(crate) fn packed(&self) -> Option<&PackedVisibility> {
-        self.packed.as_ref()
+        self.bind_groups = Some([group(light.visibility), group(&self.temp.view)]);
     }
 
     /// The blurred visibility, unless the vertical draw writes the light's output layer.
@@ -315,14 +229,13 @@ impl BlurPass {
     }
 
     /// Records both directions ([`Self::prepare`] and [`Self::bind`] first). After the
-    /// distance-map pass, `classification` is a single light's distance-map depth (several
-    /// lights use the union the horizontal draw writes) and `layers` are the lights' output
-    /// layers, which the vertical draw writes.
+    /// distance-map pass, `classification` is the light's distance-map depth, which both draws
+    /// test, and `layer` the light's output layer, which the vertical draw writes.
     pub(crate) fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         classification: Option<Classification>,
-        layers: &[&wgpu::TextureView],
+        layer: &wgpu::TextureView,
     ) {
         let Some(groups) = &self.bind_groups else {
             return;
@@ -334,22 +247,7 @@ impl BlurPass {
         if self.tiled && tiles.is_none() {
             return;
         }
-        let tested = match (&self.classify_pipeline, &self.union) {
-            (Some(classify), Some(union)) => {
-                draw_fullscreen_into(
-                    encoder,
-                    "BlurPass::classify",
-                    classify,
-                    &[&groups[0], &self.axis_groups[0]],
-                    &[],
-                    DepthUse::Write(&union.view),
-                    None,
-                );
-                Some(&union.view)
-            }
-            _ => classification.map(|c| c.depth),
-        };
-        let depth = tested.map_or(DepthUse::None, DepthUse::Test);
+        let depth = classification.map_or(DepthUse::None, |c| DepthUse::Test(c.depth));
         draw_fullscreen_into(
             encoder,
             "BlurPass::horizontal",
@@ -359,16 +257,13 @@ impl BlurPass {
             depth,
             tiles,
         );
-        let outputs: Vec<&wgpu::TextureView> = match &self.output {
-            Some(o) => vec![&o.view],
-            None => layers.iter().take(self.lights).copied().collect(),
-        };
+        let output = self.output.as_ref().map_or(layer, |o| &o.view);
         draw_fullscreen_into(
             encoder,
             "BlurPass::vertical",
-            self.vertical_pipeline.as_ref().unwrap_or(&self.pipeline),
+            &self.pipeline,
             &[&groups[1], &self.axis_groups[1]],
-            &outputs,
+            &[output],
             depth,
             tiles,
         );
@@ -377,26 +272,13 @@ impl BlurPass {
 
 impl ScreenStage for BlurPass {
     fn allocated_bytes(&self) -> u64 {
-        let textures = [
-            Some(&self.temp.texture),
-            self.packed.as_ref().map(|p| &p.visibility.texture),
-            self.union.as_ref().map(|u| &u.texture),
-            self.output.as_ref().map(|o| &o.texture),
-        ];
+        let textures = [Some(&self.temp.texture), self.output.as_ref().map(|o| &o.texture)];
         self.axis_buffers.iter().map(wgpu::Buffer::size).sum::<u64>()
             + textures.into_iter().flatten().map(texture_bytes).sum::<u64>()
     }
 
     fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
-        let temp_format = if self.lights > 1 {
-            PackedVisibility::format(self.lights)
-        } else {
-            VISIBILITY_FORMAT
-        };
-        self.packed = (self.lights > 1).then(|| PackedVisibility::new(device, width, height, self.lights));
-        self.temp = screen_target(device, "BlurPass::horizontal", width, height, temp_format);
-        self.union = (self.lights > 1)
-            .then(|| screen_target(device, "BlurPass::union", width, height, CLASSIFICATION_FORMAT));
+        self.temp = screen_target(device, "BlurPass::horizontal", width, height, VISIBILITY_FORMAT);
         self.output = (!self.switches.after_distance_map).then(|| {
             screen_target(
                 device,
@@ -457,19 +339,13 @@ impl BlurCompute {
     /// classification) or the baseline's fixed blur (over every tile).
     pub(crate) fn new(device: &wgpu::Device, frame_size: usize, switches: BlurSwitches) -> Self {
         let shader = crate::shaders::module(device, "blur.wgsl", crate::shaders::BLUR);
-        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-        let mut entries = vec![
-            entry::uniform(
-                0,
-                wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
-                frame_size,
-                false,
-            ),
-            entry::and_compute(entry::texture_2d(1, unfilterable)),
-            // Never sampled here (the values are loaded): a sampler that does not filter.
-            entry::and_compute(entry::sampler(2, wgpu::SamplerBindingType::NonFiltering)),
-        ];
-        entries.extend((3..13).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
+        // The values are loaded, never sampled here: a sampler that does not filter.
+        let entries = input_entries(
+            frame_size,
+            wgpu::SamplerBindingType::NonFiltering,
+            wgpu::TextureSampleType::Float { filterable: false },
+            true,
+        );
         let layout = crate::gpu_helpers::layout(device, "BlurCompute::layout", &entries);
         let out_layout = crate::gpu_helpers::layout(
             device,
@@ -489,7 +365,6 @@ impl BlurCompute {
         let constants = [
             ("FIXED_STEP", flag(switches.fixed_step)),
             ("DEPTH_AWARE", flag(switches.depth_aware)),
-            ("LIGHTS", 1.0),
             ("COMPUTE_PATH", 1.0),
         ];
         let axes = |label, entry| {
@@ -545,7 +420,7 @@ impl BlurCompute {
     }
 
     /// Points the pass at its inputs: `pcf` the variable PCF's visibility and deviations,
-    /// `distance_map` the compute path's, `dummy` for the other lights' slots; the horizontal
+    /// `distance_map` the compute path's (stand-ins for the fixed blur); the horizontal
     /// axis writes `temp` ([`Self::FORMAT`], the screen's size), the vertical one `visibility`
     /// (a storage texture of that format).
     pub(crate) fn bind(
@@ -555,22 +430,15 @@ impl BlurCompute {
         frame: &wgpu::Buffer,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
         (visibility, sigma, distance_map): (&wgpu::TextureView, &wgpu::TextureView, &wgpu::TextureView),
-        dummy: &wgpu::TextureView,
     ) {
         let group = |source: &wgpu::TextureView| {
-            let resources: [&dyn super::Binding; 13] = [
+            let resources: [&dyn super::Binding; 7] = [
                 frame,
                 camera_depth,
                 &self.sampler,
                 source,
                 distance_map,
-                dummy,
-                dummy,
-                dummy,
                 sigma,
-                dummy,
-                dummy,
-                dummy,
                 receiver_mask,
             ];
             super::bind_group(device, "BlurCompute::bind_group", &self.layout, &resources)

@@ -43,7 +43,7 @@ mod variable_pcf;
 
 #[cfg(test)]
 pub(crate) use blur::BlurUniform;
-pub(crate) use blur::{BlurCompute, BlurInput, BlurPass, MAX_BATCHED_LIGHTS, PackedVisibility};
+pub(crate) use blur::{BlurCompute, BlurInput, BlurPass};
 pub(crate) use distance_map::{DistanceMapCompute, DistanceMapPass};
 pub(crate) use pcf::PcfPass;
 pub(crate) use pcss::PcssPass;
@@ -57,7 +57,7 @@ pub(crate) use variable_pcf::{VariablePcfCompute, VariablePcfPass};
 // What the stages build on besides the helpers above.
 pub(crate) use crate::gpu_helpers::{
     Binding, Fullscreen, begin_pass, bind_group, cleared, comparison_sampler, depth_attachment, entry,
-    fullscreen_pipeline, fullscreen_pipeline_with, kept, screen_target,
+    fullscreen_pipeline, fullscreen_pipeline_with, screen_target,
 };
 pub(crate) use crate::passes::{DepthUse, Tiles, draw_area, draw_fullscreen_into};
 
@@ -78,9 +78,7 @@ pub(crate) struct ScreenInputs<'a> {
 
 /// A light's screen-space passes, one variant per [`Chain`] (one value per light, made when its
 /// chain changes: their sizes differ, unboxed). Each chain owns every pass it runs, blur
-/// included, except the distance-map method's blur as draws when lights are blurred in batches
-/// ([`crate::PenumbraSettings::batch_lights`]): one blur pass then serves up to four lights,
-/// and `Shadows` owns it.
+/// included.
 #[allow(clippy::large_enum_variant)]
 pub(crate) enum ScreenChain {
     MapOnly,
@@ -97,7 +95,7 @@ pub(crate) enum ScreenChain {
     Ours {
         distance: DistanceMapPass,
         pcf: VariablePcfPass,
-        /// Its vertical draw writes the layer; none without a blur, or in a batch.
+        /// Its vertical draw writes the layer; none without a blur.
         blur: Option<BlurPass>,
         /// Writes the layer when the chain has no blur.
         resolve: ResolvePass,
@@ -203,8 +201,7 @@ impl ScreenChain {
             Chain::Ours { blur, .. } => ScreenChain::Ours {
                 distance: DistanceMapPass::new(device, FRAME_SIZE, params.distance_switches, kind),
                 pcf: VariablePcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind),
-                blur: (*blur && !params.batch_lights)
-                    .then(|| BlurPass::new(device, FRAME_SIZE, params.blur_switches, 1)),
+                blur: blur.then(|| BlurPass::new(device, FRAME_SIZE, params.blur_switches)),
                 resolve: resolve(),
             },
             Chain::Traditional { blur, compute: true } => ScreenChain::TraditionalCompute {
@@ -215,7 +212,7 @@ impl ScreenChain {
             },
             Chain::Traditional { blur, .. } => ScreenChain::Traditional {
                 pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind, false),
-                blur: blur.then(|| BlurPass::new(device, FRAME_SIZE, params.blur_switches, 1)),
+                blur: blur.then(|| BlurPass::new(device, FRAME_SIZE, params.blur_switches)),
                 resolve: resolve(),
             },
             Chain::Pcss { compute } => ScreenChain::Pcss {
@@ -268,7 +265,7 @@ impl ScreenChain {
                     && distance.light_kind() == kind
                     && pcf.switches() == params.pcf_switches
                     && pcf.light_kind() == kind
-                    && blur.is_some() == (*wanted && !params.batch_lights)
+                    && blur.is_some() == *wanted
                     && blur.as_ref().is_none_or(|b| b.switches() == params.blur_switches)
             }
             (
@@ -380,7 +377,6 @@ impl ScreenChain {
                         frame,
                         (depth, mask),
                         (visibility, sigma, distance_map),
-                        dummy,
                     ),
                     None => resolve.bind(device, frame, depth, distance_map, visibility, mask),
                 }
@@ -405,14 +401,13 @@ impl ScreenChain {
                     mask,
                 );
                 pcf.bind(device, frame, depth, distance.distance_map(), shadow_map);
-                // A blur batched over lights is bound by `Shadows`.
                 if let Some(blur) = blur {
                     let input = BlurInput {
                         visibility: pcf.visibility(),
                         distance_map: distance.distance_map(),
                         blur_sigma: pcf.blur_sigma(),
                     };
-                    blur.bind(device, frame, (depth, mask), &[input], dummy);
+                    blur.bind(device, frame, (depth, mask), &input);
                 }
                 resolve.bind(
                     device,
@@ -434,7 +429,7 @@ impl ScreenChain {
                         distance_map: dummy,
                         blur_sigma: dummy,
                     };
-                    blur.bind(device, frame, (depth, mask), &[input], dummy);
+                    blur.bind(device, frame, (depth, mask), &input);
                     visibility = blur.blurred().unwrap_or(visibility);
                 }
                 resolve.bind(device, frame, depth, dummy, visibility, mask);
@@ -458,7 +453,6 @@ impl ScreenChain {
                         frame,
                         (depth, mask),
                         (visibility, dummy, dummy),
-                        dummy,
                     ),
                     _ => resolve.bind(device, frame, depth, dummy, visibility, mask),
                 }
@@ -481,16 +475,13 @@ impl ScreenChain {
     }
 
     /// Records `chain`'s passes in order into the light's `layer` (`maps_drawn`: the light's
-    /// maps were drawn this frame), calling `mark(encoder, pass)` after each. `packed`: the
-    /// light is blurred in a batch, whose packed visibility its PCF also writes (`.1`: it comes
-    /// first and clears it); its batch's blur runs after every light's chain.
+    /// maps were drawn this frame), calling `mark(encoder, pass)` after each.
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         chain: &Chain,
         maps_drawn: bool,
         layer: &wgpu::TextureView,
-        packed: Option<(&PackedVisibility, bool)>,
         mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str),
     ) {
         match self {
@@ -531,16 +522,10 @@ impl ScreenChain {
             } => {
                 run(encoder, mark, "distance map", &|e| distance.encode(e, maps_drawn));
                 let classification = distance.classification();
-                match packed {
-                    Some((packed, first)) => run(encoder, mark, "pcf", &|e| {
-                        pcf.encode_packed(e, classification, packed, first)
-                    }),
-                    None => run(encoder, mark, "pcf", &|e| pcf.encode(e, classification)),
-                }
-                // Batched, the blur runs after every light's chain (`Shadows`).
+                run(encoder, mark, "pcf", &|e| pcf.encode(e, classification));
                 if let Some(blur) = blur {
                     run(encoder, mark, "blur", &|e| {
-                        blur.encode(e, Some(classification), &[layer])
+                        blur.encode(e, Some(classification), layer)
                     });
                 }
                 if chain.resolve() {
@@ -550,7 +535,7 @@ impl ScreenChain {
             ScreenChain::Traditional { pcf, blur, resolve } => {
                 run(encoder, mark, "pcf", &|e| pcf.encode(e));
                 if let Some(blur) = blur {
-                    run(encoder, mark, "blur", &|e| blur.encode(e, None, &[layer]));
+                    run(encoder, mark, "blur", &|e| blur.encode(e, None, layer));
                 }
                 run(encoder, mark, "resolve", &|e| resolve.encode(e, layer));
             }
@@ -584,25 +569,10 @@ impl ScreenChain {
         }
     }
 
-    /// The distance-map method's distance map and PCF (which its batched blur reads).
-    pub fn distance_map(&self) -> Option<(&DistanceMapPass, &VariablePcfPass)> {
-        match self {
-            ScreenChain::Ours { distance, pcf, .. } => Some((distance, pcf)),
-            _ => None,
-        }
-    }
-
     /// The penumbra widths the compute path's PCF counts ([`crate::map_resolution`]).
     pub(crate) fn width_probe_mut(&mut self) -> Option<&mut crate::map_resolution::WidthProbe> {
         match self {
             ScreenChain::OursCompute { pcf, .. } => Some(pcf.probe_mut()),
-            _ => None,
-        }
-    }
-
-    pub fn variable_pcf_mut(&mut self) -> Option<&mut VariablePcfPass> {
-        match self {
-            ScreenChain::Ours { pcf, .. } => Some(pcf),
             _ => None,
         }
     }

@@ -13,16 +13,11 @@
 //! standard deviation at least 2 pixels along both screen axes); the full-resolution draw
 //! interpolates those values (the visibility and the blur's deviations) there and works out its
 //! own only near contact, at depth edges and where no half-resolution value was computed.
-//!
-//! A light blurred with others in one pass ([`super::BlurPass`] for several lights) also
-//! writes its visibility into its channel of that pass's packed texture ([`PackedVisibility`]),
-//! which the blur then reads with one fetch a tap for all the lights.
 
 use super::ScreenStage;
-use super::blur::PackedVisibility;
 use super::tiles_layout;
 use super::{
-    Classification, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, draw_area, entry, kept, screen_target,
+    Classification, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, draw_area, entry, screen_target,
 };
 use super::{begin_pass, depth_attachment};
 use crate::frame::PassParams;
@@ -34,11 +29,7 @@ pub struct VariablePcfPass {
     switches: PcfSwitches,
     light_kind: u32,
     layout: wgpu::BindGroupLayout,
-    shader: wgpu::ShaderModule,
     pipeline: wgpu::RenderPipeline,
-    /// In a batch of lights: the light's channel, the packed texture's format and the pipeline
-    /// that writes it.
-    packed: Option<(usize, wgpu::TextureFormat, wgpu::RenderPipeline)>,
     params: wgpu::Buffer,
     sampler: wgpu::Sampler,
     visibility: Target,
@@ -123,9 +114,7 @@ impl VariablePcfPass {
             switches,
             light_kind,
             layout,
-            shader,
             pipeline,
-            packed: None,
             params,
             sampler: super::comparison_sampler(
                 device,
@@ -189,43 +178,6 @@ impl VariablePcfPass {
         .pipeline_with(device, vertex, entry)
     }
 
-    /// Makes the pass write channel `channel` of a batch's packed texture (`format`) besides its
-    /// own ([`Self::encode_packed`]); `None`: its own only.
-    pub(crate) fn set_packed_channel(
-        &mut self,
-        device: &wgpu::Device,
-        channel: Option<(usize, wgpu::TextureFormat)>,
-    ) {
-        if self.packed.as_ref().map(|p| (p.0, p.1)) == channel {
-            return;
-        }
-        self.packed = channel.map(|(c, format)| {
-            let only = wgpu::ColorWrites::from_bits_truncate(1 << c);
-            let packed = |format| {
-                Some(wgpu::ColorTargetState {
-                    format,
-                    blend: None,
-                    write_mask: only,
-                })
-            };
-            let targets = [
-                Some(VISIBILITY_FORMAT.into()),
-                Some(Self::SIGMA_FORMAT.into()),
-                packed(format),
-            ];
-            let pipeline = Self::make_pipeline(
-                device,
-                &self.shader,
-                &[&self.layout, &self.half_layout],
-                &targets,
-                self.switches,
-                self.light_kind,
-                "fs_packed",
-            );
-            (c, format, pipeline)
-        });
-    }
-
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
@@ -286,31 +238,6 @@ impl VariablePcfPass {
             cleared(&self.blur_sigma.view, wgpu::Color::TRANSPARENT),
         ];
         self.record(encoder, classification, &self.pipeline, &attachments);
-    }
-
-    /// In a batch ([`Self::set_packed_channel`] first): records the pass into its own targets
-    /// and its channel of `packed`. The batch's first light clears `packed` (`first`: 1 where
-    /// no light of the batch runs), the others keep what it holds.
-    pub(crate) fn encode_packed(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        classification: Classification,
-        packed: &PackedVisibility,
-        first: bool,
-    ) {
-        let Some((_, _, pipeline)) = &self.packed else {
-            return self.encode(encoder, classification);
-        };
-        let attachments = [
-            cleared(&self.visibility.view, wgpu::Color::WHITE),
-            cleared(&self.blur_sigma.view, wgpu::Color::TRANSPARENT),
-            if first {
-                cleared(&packed.visibility.view, wgpu::Color::WHITE)
-            } else {
-                kept(&packed.visibility.view)
-            },
-        ];
-        self.record(encoder, classification, pipeline, &attachments);
     }
 
     /// The half-resolution draw when reduced resolution is on, then one draw into

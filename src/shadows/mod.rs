@@ -5,11 +5,9 @@
 //! Per light and frame: the shadow map and the fattened map (only when the light, its fit or a
 //! caster it sees changed), then full-screen passes over the engine's depth. The distance-map
 //! method runs the distance map, then its PCF and blur only where the distance map says a
-//! shadow can fall; the blur's vertical draw writes the light's layer (with
-//! `PenumbraSettings::batch_lights`, one blur pass serves up to four lights: their PCF passes
-//! write their values packed into the pass's texture, one channel each, and the lights share
-//! its taps). The other methods run
-//! PCF or PCSS, the blur, and a resolve into the layer. No camera geometry is drawn.
+//! shadow can fall; the blur writes the light's layer. The other methods run PCF or PCSS, the
+//! blur, and a resolve into the layer. Each light's chain ([`ScreenChain`]) owns every pass it
+//! runs. No camera geometry is drawn.
 
 use crate::casters::Casters;
 pub use crate::chain::Chain;
@@ -24,10 +22,7 @@ use crate::light_space::{FitInputs, LightView, MAX_TILES};
 use crate::map_resolution::PenumbraWidths;
 use crate::passes::FarPlaneFill;
 use crate::scene::{Aabb, Light, MAX_LIGHTS};
-use crate::screen::{
-    BlurInput, BlurPass, ComputeNeeds, ComputeTargets, MAX_BATCHED_LIGHTS, PackedVisibility, ScreenChain,
-    ScreenInputs, ScreenStage, VISIBILITY_FORMAT,
-};
+use crate::screen::{ComputeNeeds, ComputeTargets, ScreenChain, ScreenInputs, VISIBILITY_FORMAT};
 use crate::settings::{MapResolution, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
 use crate::view::CameraMatrices;
 
@@ -98,11 +93,6 @@ pub struct Shadows {
     /// The light whose chain runs last, so that its intermediates stay readable
     /// ([`Shadows::inspect`]).
     inspected: Option<LightId>,
-    /// The distance-map method's blurs as draws batched over lights
-    /// ([`PenumbraSettings::batch_lights`](crate::PenumbraSettings::batch_lights)): up to
-    /// four lights each, with the slots of the lights they blur. Unbatched, each light's chain
-    /// owns its blur.
-    blurs: Vec<(Vec<usize>, BlurPass)>,
     /// 1x1 stand-ins for inputs a chain does not have.
     dummy: Target,
     /// Whose casters the pipelines were made for.
@@ -130,7 +120,6 @@ impl Shadows {
             visibility: None,
             target: None,
             generation: 0,
-            blurs: Vec::new(),
             dummy: screen_target(device, "Shadows::dummy", 1, 1, wgpu::TextureFormat::R16Float),
             casters_id: None,
             screen_space: true,
@@ -229,7 +218,6 @@ impl Shadows {
                 }
                 state.bound = None;
             }
-            self.blurs.clear();
         }
         self.screen_space = !maps_only;
     }
@@ -309,7 +297,7 @@ impl Shadows {
     }
 
     /// The GPU memory these shadows allocated, in bytes: every light's maps, screen-space
-    /// passes and uniforms, the batched blurs and the visibility array (not a target given to
+    /// passes and uniforms and the visibility array (not a target given to
     /// [`Shadows::set_visibility_target`], nor anything of the engine's). Texels are counted at
     /// their format's size; what a driver adds for alignment is not. It follows the lights,
     /// the methods and the view's size, and comes back to the same value when they do.
@@ -325,11 +313,6 @@ impl Shadows {
                 .compute_targets
                 .as_ref()
                 .map_or(0, ComputeTargets::allocated_bytes)
-            + self
-                .blurs
-                .iter()
-                .map(|(_, blur)| blur.allocated_bytes())
-                .sum::<u64>()
             + self
                 .lights
                 .iter()
@@ -631,14 +614,12 @@ impl Shadows {
             }
             let inputs = this.inputs.as_ref().expect("set above");
             let mask_view = inputs.mask.as_ref().map_or(&this.dummy.view, |m| &m.view);
-            let mut rebound = false;
             for state in this.lights.iter_mut().flatten() {
                 let chain = state.planned.expect("planned above").chain;
                 if state.bound != Some(chain) {
                     let compute = this.compute_targets.as_ref().filter(|_| chain.compute());
                     state.bind(device, &inputs.depth_view, mask_view, &this.dummy.view, compute);
                     state.bound = Some(chain);
-                    rebound = true;
                 }
             }
             // The far-plane buffer as large as the largest 16-bit map the lights hold now.
@@ -653,112 +634,10 @@ impl Shadows {
                     .unwrap_or(0);
                 fill.fit(device, needed);
             }
-            this.plan_blurs(device, queue, resized, rebound);
             Ok(())
         })?;
         self.prepared = true;
         Ok(())
-    }
-
-    /// With [`PenumbraSettings::batch_lights`], groups the lights whose chain blurs after the
-    /// distance map as draws (up to four per pass, in slot order), makes or keeps a blur pass
-    /// per group and points it at the lights' inputs when they changed (`rebound`: some light's
-    /// passes were made or bound again this frame). Without it each chain blurs on its own.
-    fn plan_blurs(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, resized: bool, rebound: bool) {
-        let (width, height) = self.size;
-        let batched = self.settings.penumbra.batch_lights;
-        let blurred: Vec<usize> = self
-            .lights
-            .iter()
-            .enumerate()
-            .filter_map(|(slot, s)| {
-                let chain = s.as_ref()?.planned?.chain;
-                // The compute path's blur, and an unbatched one, are the chain's own.
-                (batched && chain.blur() && chain.distance_map() && !chain.compute()).then_some(slot)
-            })
-            .collect();
-        let groups: Vec<Vec<usize>> = blurred
-            .chunks(MAX_BATCHED_LIGHTS)
-            .map(<[usize]>::to_vec)
-            .collect();
-        // In a batch, each light's variable PCF also writes its channel of the batch's packed
-        // textures.
-        for slots in &groups {
-            for (c, &slot) in slots.iter().enumerate() {
-                if let Some(p) = self.lights[slot]
-                    .as_mut()
-                    .and_then(|s| s.screen.variable_pcf_mut())
-                {
-                    let format = PackedVisibility::format(slots.len());
-                    p.set_packed_channel(device, (slots.len() > 1).then_some((c, format)));
-                }
-            }
-        }
-        let Some(&first) = blurred.first() else {
-            self.blurs.clear();
-            return;
-        };
-        let effective = ShadowSettings {
-            method: self.lights[first]
-                .as_ref()
-                .and_then(|s| s.planned)
-                .expect("planned")
-                .chain
-                .method(),
-            ..self.settings
-        };
-        let params = pass_params(&effective, self.software);
-        let mut old = std::mem::take(&mut self.blurs);
-        for slots in groups {
-            // A pass made for as many lights with the same switches is kept, the one that
-            // served the same lights first (it is still bound to them).
-            let fits = |p: &BlurPass| p.lights() == slots.len() && p.switches() == params.blur_switches;
-            let reuse = old
-                .iter()
-                .position(|(s, p)| *s == slots && fits(p))
-                .or_else(|| old.iter().position(|(_, p)| fits(p)));
-            let (mut pass, same_lights) = match reuse {
-                Some(i) => {
-                    let (was_for, mut pass) = old.swap_remove(i);
-                    if resized {
-                        pass.resize(device, width, height);
-                    }
-                    (pass, was_for == slots)
-                }
-                None => {
-                    let mut pass = BlurPass::new(device, FRAME_SIZE, params.blur_switches, slots.len());
-                    pass.resize(device, width, height);
-                    (pass, false)
-                }
-            };
-            pass.prepare(queue, &params);
-            if same_lights && !rebound && pass.is_bound() {
-                self.blurs.push((slots, pass));
-                continue;
-            }
-            let states: Vec<&LightState> = slots
-                .iter()
-                .filter_map(|&slot| self.lights[slot].as_ref())
-                .collect();
-            let lights: Vec<BlurInput> = states
-                .iter()
-                .filter_map(|s| {
-                    let (distance, pcf) = s.screen.distance_map()?;
-                    Some(BlurInput {
-                        visibility: pcf.visibility(),
-                        distance_map: distance.distance_map(),
-                        blur_sigma: pcf.blur_sigma(),
-                    })
-                })
-                .collect();
-            let inputs = self.inputs.as_ref().expect("set in prepare");
-            let depth = &inputs.depth_view;
-            let mask = inputs.mask.as_ref().map_or(&self.dummy.view, |m| &m.view);
-            // The camera and penumbra settings the blur reads are the same in every light's
-            // frame uniform: the first light's serves.
-            pass.bind(device, &states[0].frame, (depth, mask), &lights, &self.dummy.view);
-            self.blurs.push((slots, pass));
-        }
     }
 
     /// Records the frame [`Shadows::prepare`] planned: per light, the maps when they must be
@@ -790,19 +669,9 @@ impl Shadows {
         }
         self.prepared = false;
         let layers = &self.visibility.as_ref().expect("prepared").2;
-        // The light in each slot that is blurred in a batch: its batch's packed inputs, and
-        // whether it comes first in the batch (lights run in slot order).
-        let mut packed_into = vec![None; self.lights.len()];
-        for (slots, pass) in &self.blurs {
-            if let Some(packed) = pass.packed() {
-                for (c, &slot) in slots.iter().enumerate() {
-                    packed_into[slot] = Some((packed, c == 0));
-                }
-            }
-        }
         let mut reports = Vec::new();
         // Slot order, the inspected light last where its chain shares the compute path's
-        // intermediates (a batched blur's lights must keep slot order: the first clears).
+        // intermediates.
         let mut order: Vec<usize> = (0..self.lights.len()).collect();
         if let Some(id) = self.inspected
             && let Some(Some(state)) = self.lights.get(id.0 as usize)
@@ -828,14 +697,9 @@ impl Shadows {
                 state.seen_revision = casters.revision();
             }
             if self.screen_space {
-                state.screen.encode(
-                    encoder,
-                    &chain,
-                    plan.render_maps,
-                    &layers[slot],
-                    packed_into[slot],
-                    mark,
-                );
+                state
+                    .screen
+                    .encode(encoder, &chain, plan.render_maps, &layers[slot], mark);
             }
             if let (Some((limits, resolution)), Some(probe)) = (plan.probe, state.screen.width_probe_mut()) {
                 probe.recorded(limits, resolution);
@@ -843,23 +707,6 @@ impl Shadows {
             let report = plan.report(LightId(slot as u32), state.widths.map(|(w, _)| w));
             state.report = Some(report);
             reports.push(report);
-        }
-        if self.screen_space {
-            // The distance-map method's batched blurs, each over its group of lights.
-            for (slots, pass) in &self.blurs {
-                let targets: Vec<&wgpu::TextureView> = slots.iter().map(|&slot| &layers[slot]).collect();
-                let classification = match slots.as_slice() {
-                    [slot] => self.lights[*slot]
-                        .as_ref()
-                        .and_then(|s| s.screen.distance_map())
-                        .map(|(d, _)| d.classification()),
-                    _ => None,
-                };
-                encoder.push_debug_group("blur");
-                pass.encode(encoder, classification, &targets);
-                encoder.pop_debug_group();
-                mark(encoder, "blur");
-            }
         }
         reports.sort_by_key(|r| r.light.layer());
         Ok(reports)
