@@ -6,8 +6,8 @@
 //! caster it sees changed), then full-screen passes over the engine's depth. The distance-map
 //! method runs the distance map, then its PCF and blur only where the distance map says a
 //! shadow can fall; the blur writes the light's layer. The other methods run PCF or PCSS, the
-//! blur, and a resolve into the layer. Each light's chain ([`ScreenChain`]) owns every pass it
-//! runs. No camera geometry is drawn.
+//! blur, and a resolve into the layer. Each light's chain owns every pass it runs. No camera
+//! geometry is drawn.
 
 use crate::casters::Casters;
 pub use crate::chain::Chain;
