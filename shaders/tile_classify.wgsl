@@ -244,6 +244,17 @@ struct TileArgs {
 // The engine's receiver mask (read where the frame uniform says one is bound).
 @group(0) @binding(11) var receiver_mask: texture_2d<f32>;
 
+// With CLEARS (the classification by workgroups: a GPU), each invocation of `cs_classify_wide`
+// also sets its pixel of the compute path's intermediates to what the passes after it must read
+// where they write nothing: the distance map to 0 (no shadow), the visibility and, with
+// CLEAR_BLURRED, the blur's horizontal result to 1 (lit). One dispatch the classification
+// makes anyway, in place of three clears of their own.
+override CLEARS: bool = false;
+override CLEAR_BLURRED: bool = false;
+@group(0) @binding(12) var distance_cleared: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(13) var visibility_cleared: texture_storage_2d<r32float, write>;
+@group(0) @binding(14) var blurred_cleared: texture_storage_2d<r32float, write>;
+
 // The least cosine, beyond the light's angular radius, between a surface's normal and the
 // direction away from the light for the surface to count as turned away from it: room for a
 // normal worked out from neighbouring depths, and for a smooth-shaded mesh whose shading normal
@@ -379,8 +390,9 @@ var<workgroup> not_away: atomic<u32>;
 var<workgroup> not_outside: atomic<u32>;
 
 // With CLASSIFY and WIDE, in place of `cs_classify`: one 16 x 16 workgroup per screen tile. Each
-// invocation loads its pixel's depth for the tile's range, the first runs the tile's test on it,
-// every invocation of a kept tile tests its own pixel, and the first lists the tile.
+// invocation loads its pixel's depth for the tile's range (and with CLEARS clears its pixel of
+// the intermediates), the first runs the tile's test on it, every invocation of a kept tile
+// tests its own pixel, and the first lists the tile.
 @compute @workgroup_size(16, 16)
 fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>, @builtin(local_invocation_index) index: u32) {
     let size = vec2<i32>(frame.view.size);
@@ -389,6 +401,13 @@ fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invo
     let pixel = vec2<i32>(tile * u32(TILE) + local.xy);
     let inside = all(pixel < size);
     let depth = textureLoad(camera_depth, min(pixel, size - 1), 0).x;
+    if CLEARS && inside {
+        textureStore(distance_cleared, pixel, vec4<f32>(0.0));
+        textureStore(visibility_cleared, pixel, vec4<f32>(1.0));
+        if CLEAR_BLURRED {
+            textureStore(blurred_cleared, pixel, vec4<f32>(1.0));
+        }
+    }
     if inside && depth != background_depth() {
         atomicOr(&any_drawn, 1u);
         atomicMax(&near_inverted, ~bitcast<u32>(depth));

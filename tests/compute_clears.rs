@@ -1,7 +1,8 @@
 //! The compute path's shared intermediates are cleared by compute passes on a GPU and by render
 //! passes' clears on a CPU adapter (`screen::targets`), and its tile classification tests
-//! the pixels of a kept tile with a workgroup per tile on a GPU and one invocation per tile on a
-//! CPU adapter (`screen::tile_classify`); the lights' 16-bit maps are set to the far plane by a
+//! the pixels of a kept tile with a workgroup per tile on a GPU, where the same dispatch clears
+//! those intermediates instead, and one invocation per tile on a CPU adapter
+//! (`screen::tile_classify`); the lights' 16-bit maps are set to the far plane by a
 //! copy from a buffer rather than by their passes' clears (`passes::light_atlas::FarPlaneFill`).
 //! Each pair must give the same frame: this test, which runs on whatever adapter the machine
 //! has, forces each way with `PENUMBRA_CLEARS`, `PENUMBRA_TILE_PIXELS` and
@@ -44,21 +45,67 @@ fn compute_and_render_pass_clears_give_the_same_frame() {
             "{method:?}: no shadow in the frame ({dark} dark pixels)"
         );
     }
-    // The teapot's far side: tiles listed apart either way, the same frame and lists.
+    // The teapot's far side: tiles listed apart either way, the same frame and lists. Tested by
+    // a workgroup, the classification also clears the intermediates (no clears of their own):
+    // the same distance map (0 outside the listed tiles) and visibility either way, over two
+    // frames (the second finds the first's values, with the light turned).
     let settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
     let mut frames = Vec::new();
-    for test in ["loop", "workgroup"] {
-        // SAFETY: as above.
-        unsafe { std::env::set_var("PENUMBRA_TILE_PIXELS", test) };
-        let (frame, renderer) = common::render_frame(&gpu, &scene, &camera, settings, (320, 256));
-        let classes = common::read_f32(&gpu, renderer.debug_texture(LightTexture::TileClasses).unwrap()).0;
-        frames.push((frame, classes));
+    for clears in ["render", "compute"] {
+        for test in ["loop", "workgroup"] {
+            // SAFETY: as above.
+            unsafe {
+                std::env::set_var("PENUMBRA_CLEARS", clears);
+                std::env::set_var("PENUMBRA_TILE_PIXELS", test);
+            }
+            let mut renderer =
+                penumbra::Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+            let mut gpu_scene =
+                penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
+            let image = |renderer: &mut penumbra::Renderer, gpu_scene: &penumbra::GpuScene| {
+                penumbra::render_to_image(&gpu, renderer, gpu_scene, &camera, 320, 256).unwrap()
+            };
+            image(&mut renderer, &gpu_scene);
+            gpu_scene
+                .set_light(scene.light.turned(glam::Quat::from_rotation_y(0.3)))
+                .unwrap();
+            let frame = image(&mut renderer, &gpu_scene);
+            let read = |texture| common::read_f32(&gpu, renderer.debug_texture(texture).unwrap()).0;
+            let textures = [
+                LightTexture::TileClasses,
+                LightTexture::DistanceMap,
+                LightTexture::Visibility,
+            ]
+            .map(read);
+            frames.push((format!("{clears} clears, pixels by {test}"), frame, textures));
+        }
     }
-    let away = frames[0].1.iter().filter(|c| (**c - 0.25).abs() < 1e-3).count();
-    println!("pixels tested in a loop and by a workgroup: {away} tiles listed apart");
+    let classes = &frames[0].2[0];
+    let away = classes.iter().filter(|c| (**c - 0.25).abs() < 1e-3).count();
+    let listed = classes.iter().filter(|c| **c == 1.0).count();
+    let zero_distance = frames[0].2[1].iter().filter(|d| **d == 0.0).count();
+    println!(
+        "{listed} tiles listed, {away} listed apart; {zero_distance} distance-map values 0 of {}",
+        frames[0].2[1].len()
+    );
     assert!(away > 0, "no tile listed apart as turned away from the light");
-    assert_eq!(frames[0].1, frames[1].1, "the two forms classified differently");
-    assert!(frames[0].0 == frames[1].0, "the two forms gave different frames");
+    assert!(listed > 0 && zero_distance > 0);
+    for (name, frame, textures) in &frames[1..] {
+        let names = ["tile classes", "distance map", "visibility"];
+        for (k, texture) in textures.iter().enumerate() {
+            assert!(
+                *texture == frames[0].2[k],
+                "{name}: another {} than {}'s",
+                names[k],
+                frames[0].0
+            );
+        }
+        assert!(
+            *frame == frames[0].1,
+            "{name}: another frame than {}'s",
+            frames[0].0
+        );
+    }
 
     // The light maps set to the far plane by their passes' clears, then by the copy: the same
     // maps and frames, and the copy's buffer counted in the memory. A sun in two cascades, the

@@ -304,12 +304,14 @@ impl DistanceMapCompute {
     /// a storage texture on the web), with the same precision as [`DistanceMapPass`]'s.
     pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
-    /// As [`DistanceMapPass::new`]; `switches.tiles` off lists every tile.
+    /// As [`DistanceMapPass::new`]; `switches.tiles` off lists every tile; `blurred`: the
+    /// chain blurs after it ([`super::TileListPass::new`]).
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
         switches: DistanceSwitches,
         light_kind: u32,
+        blurred: bool,
     ) -> Self {
         let shader = crate::shaders::module(device, "distance_map.wgsl", crate::shaders::DISTANCE_MAP);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
@@ -341,18 +343,20 @@ impl DistanceMapCompute {
                 frame_size,
                 light_kind,
                 (switches.tiles, switches.facing_away),
+                blurred,
             ),
             reduce_pending: std::sync::atomic::AtomicBool::new(true),
         }
     }
 
-    /// As [`DistanceMapPass::bind`], writing `distance` ([`Self::FORMAT`]) over the tiles
-    /// listed into `tiles`, both the screen's size.
+    /// As [`DistanceMapPass::bind`], writing `cleared.distance` ([`Self::FORMAT`]) over the
+    /// tiles listed into `tiles`, both the screen's size (the tile list clears `cleared` where
+    /// it does, [`Self::clears`]).
     #[allow(clippy::too_many_arguments)]
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
-        (distance, tiles): (&wgpu::TextureView, &super::TileListTargets),
+        (tiles, cleared): (&super::TileListTargets, &super::ClearedByList),
         frame: &wgpu::Buffer,
         (fattened_map, fattened_size): (&wgpu::TextureView, (u32, u32)),
         occluder_offset: &wgpu::TextureView,
@@ -363,7 +367,7 @@ impl DistanceMapCompute {
     ) {
         self.tiles.bind(
             device,
-            tiles,
+            (tiles, cleared),
             frame,
             (camera_depth, receiver_mask),
             (fattened_map, fattened_size),
@@ -382,9 +386,14 @@ impl DistanceMapCompute {
                 occluder_offset,
                 exit_map,
                 shadow_map,
-                distance,
+                cleared.distance,
             ],
         ));
+    }
+
+    /// The tile classification clears the intermediates ([`super::TileListPass::clears`]).
+    pub(crate) fn clears(&self) -> bool {
+        self.tiles.clears()
     }
 
     pub(crate) fn light_kind(&self) -> u32 {
@@ -417,7 +426,8 @@ impl DistanceMapCompute {
             .swap(false, std::sync::atomic::Ordering::Relaxed)
             || maps_drawn;
         self.tiles.encode(encoder, reduce);
-        // The distance map was cleared to 0 ([`crate::screen::ComputeTargets::clear`]).
+        // The distance map was cleared to 0 (by the tile list, or
+        // [`crate::screen::ComputeTargets::clear`]).
         listed.dispatch(encoder, "DistanceMapCompute", &self.pipeline, &[Some(group)]);
     }
 }

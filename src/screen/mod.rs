@@ -52,7 +52,7 @@ pub use shared::VISIBILITY_FORMAT;
 pub(crate) use shared::*;
 pub(crate) use storage_clear::StorageClear;
 pub(crate) use targets::{Cleared, ComputeNeeds, ComputeTargets};
-pub(crate) use tile_classify::{TileListPass, TileListTargets};
+pub(crate) use tile_classify::{ClearedByList, TileListPass, TileListTargets};
 pub(crate) use variable_pcf::{VariablePcfCompute, VariablePcfPass};
 // What the stages build on besides the helpers above.
 pub(crate) use crate::gpu_helpers::{
@@ -192,6 +192,7 @@ impl ScreenChain {
                     FRAME_SIZE,
                     compute_distance_switches(params),
                     kind,
+                    *blur,
                 ),
                 pcf: VariablePcfCompute::new(device, FRAME_SIZE, params.pcf_switches, kind),
                 blur: blur.then(|| BlurCompute::new(device, FRAME_SIZE, params.blur_switches)),
@@ -350,9 +351,14 @@ impl ScreenChain {
                 };
                 *targets = Some(all.clone());
                 let distance_map = &shared.distance.view;
+                let cleared = ClearedByList {
+                    distance: distance_map,
+                    visibility: &all.visibility.view,
+                    blurred: all.blurred.as_ref().map(|b| &b.view),
+                };
                 distance.bind(
                     device,
-                    (distance_map, &shared.tiles),
+                    (&shared.tiles, &cleared),
                     frame,
                     (fattened.view(), fattened_size(fattened.texture())),
                     fattened.occluder_offset(),
@@ -496,19 +502,26 @@ impl ScreenChain {
                 let (Some(listed), Some(targets)) = (distance.listed(), targets) else {
                     return;
                 };
+                // The intermediates are cleared by the tile classification where it tests pixels
+                // by workgroups (a GPU), else each before the pass that fills it.
+                let clear = |e: &mut wgpu::CommandEncoder, which| {
+                    if !distance.clears() {
+                        targets.clear(e, which);
+                    }
+                };
                 run(encoder, mark, "distance map", &|e| {
-                    targets.clear(e, Cleared::Distance);
+                    clear(e, Cleared::Distance);
                     distance.encode(e, maps_drawn)
                 });
                 // The tiles turned away from the light get 0 from each pass, without taps.
                 let away = distance.away().filter(|_| distance.switches().facing_away);
                 run(encoder, mark, "pcf", &|e| {
-                    targets.clear(e, Cleared::Visibility);
+                    clear(e, Cleared::Visibility);
                     pcf.encode(e, listed, away)
                 });
                 match blur {
                     Some(blur) => run(encoder, mark, "blur", &|e| {
-                        targets.clear(e, Cleared::Blurred);
+                        clear(e, Cleared::Blurred);
                         blur.encode(e, listed, away, layer)
                     }),
                     None => run(encoder, mark, "resolve", &|e| resolve.encode(e, layer)),

@@ -11,7 +11,10 @@
 //! fattened depth under its footprint in each cascade or cube face it can use; 0 where none
 //! can (conservative: see `shaders/tile_classify.wgsl`).
 
-use super::{Fullscreen, LIGHT_KIND, Tiles, entry, screen_target, tiles_layout};
+use super::{
+    BlurCompute, DistanceMapCompute, Fullscreen, LIGHT_KIND, Tiles, VariablePcfCompute, entry, screen_target,
+    tiles_layout,
+};
 use crate::gpu_helpers::{Target, texture_bytes};
 
 /// Screen pixels per tile side (`TILE` in the shader).
@@ -241,13 +244,25 @@ pub(crate) struct TileListPass {
     reduce: wgpu::ComputePipeline,
     classify: wgpu::ComputePipeline,
     finish: wgpu::ComputePipeline,
-    /// The pixels tested by a workgroup per tile ([`pixels_by_workgroup`]).
+    /// The pixels tested by a workgroup per tile ([`pixels_by_workgroup`]); the same
+    /// dispatch then clears the compute path's intermediates ([`Self::clears`]).
     wide: bool,
+    /// With `wide`: the blur's horizontal result is cleared too (the chain blurs).
+    clears_blurred: bool,
     reduced: Target,
     /// The list written, as bound.
     targets: Option<TileListTargets>,
     groups: Option<(wgpu::BindGroup, wgpu::BindGroup)>,
     gather: wgpu::Sampler,
+}
+
+/// The compute path's intermediates a [`TileListPass`] clears where it does
+/// ([`TileListPass::clears`]): the distance map, the visibility and, where the chain blurs, the
+/// blur's horizontal result.
+pub(crate) struct ClearedByList<'a> {
+    pub distance: &'a wgpu::TextureView,
+    pub visibility: &'a wgpu::TextureView,
+    pub blurred: Option<&'a wgpu::TextureView>,
 }
 
 /// A tile list for one screen: the list (a count, then one `x | y << 16` per tile), the
@@ -414,34 +429,45 @@ impl TileListPass {
     }
 
     /// Made for one light kind ([`crate::frame::light_kind`]); `classify` false lists every
-    /// tile; `facing_away` lists the kept tiles turned away from the light apart.
+    /// tile; `facing_away` lists the kept tiles turned away from the light apart; `blurred`:
+    /// the chain blurs (where the classification clears the intermediates, it clears the
+    /// blur's too).
     pub fn new(
         device: &wgpu::Device,
         frame_size: usize,
         light_kind: u32,
         (classify, facing_away): (bool, bool),
+        blurred: bool,
     ) -> Self {
         let shader = crate::shaders::module(device, "tile_classify.wgsl", crate::shaders::TILE_CLASSIFY);
         let per_pixel = classify && pixels_by_workgroup(device);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let compute = wgpu::ShaderStages::COMPUTE;
-        let classify_layout = crate::gpu_helpers::layout(
-            device,
-            "TileListPass::classify_layout",
-            &[
-                entry::uniform(0, compute, frame_size, false),
-                entry::and_compute(entry::texture_2d(1, unfilterable)),
-                entry::and_compute(entry::texture_2d(2, unfilterable)),
-                entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::NonFiltering)),
-                entry::storage_buffer(5, compute, false),
-                entry::storage_buffer(7, compute, false),
-                entry::storage_texture(8, REDUCED_STORAGE_FORMAT),
-                entry::storage_buffer(9, compute, false),
-                entry::storage_buffer(10, compute, false),
-                entry::and_compute(entry::texture_2d(11, unfilterable)),
-                entry::and_compute(entry::texture_2d(3, unfilterable)),
-            ],
-        );
+        // The intermediates the classification by workgroups clears (bindings 12 to 14).
+        let mut cleared = Vec::new();
+        if per_pixel {
+            cleared.push(entry::storage_texture(12, DistanceMapCompute::FORMAT));
+            cleared.push(entry::storage_texture(13, VariablePcfCompute::VISIBILITY_FORMAT));
+            if blurred {
+                cleared.push(entry::storage_texture(14, BlurCompute::FORMAT));
+            }
+        }
+        let mut classify_entries = vec![
+            entry::uniform(0, compute, frame_size, false),
+            entry::and_compute(entry::texture_2d(1, unfilterable)),
+            entry::and_compute(entry::texture_2d(2, unfilterable)),
+            entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::NonFiltering)),
+            entry::storage_buffer(5, compute, false),
+            entry::storage_buffer(7, compute, false),
+            entry::storage_texture(8, REDUCED_STORAGE_FORMAT),
+            entry::storage_buffer(9, compute, false),
+            entry::storage_buffer(10, compute, false),
+            entry::and_compute(entry::texture_2d(11, unfilterable)),
+            entry::and_compute(entry::texture_2d(3, unfilterable)),
+        ];
+        classify_entries.extend(cleared);
+        let classify_layout =
+            crate::gpu_helpers::layout(device, "TileListPass::classify_layout", &classify_entries);
         let reduce_layout = crate::gpu_helpers::layout(
             device,
             "TileListPass::reduce_layout",
@@ -456,6 +482,8 @@ impl TileListPass {
             ("CLASSIFY", if classify { 1.0 } else { 0.0 }),
             ("FACING", if classify && facing_away { 1.0 } else { 0.0 }),
             ("WIDE", if per_pixel { 1.0 } else { 0.0 }),
+            ("CLEARS", if per_pixel { 1.0 } else { 0.0 }),
+            ("CLEAR_BLURRED", if per_pixel && blurred { 1.0 } else { 0.0 }),
             super::row_threads(device),
         ];
         let pipeline = |label, layout: &wgpu::BindGroupLayout, entry| {
@@ -469,6 +497,7 @@ impl TileListPass {
                 pipeline("TileListPass::classify", &classify_layout, "cs_classify")
             },
             wide: per_pixel,
+            clears_blurred: per_pixel && blurred,
             finish: pipeline("TileListPass::finish", &classify_layout, "cs_finish"),
             classify_layout,
             reduce_layout,
@@ -489,11 +518,12 @@ impl TileListPass {
     }
 
     /// Points the pass at its inputs (`fattened_map` is `fattened_size` texels, width and
-    /// height) and the lists it writes.
+    /// height), the lists it writes and the intermediates it clears where it does
+    /// ([`Self::clears`]).
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
-        targets: &TileListTargets,
+        (targets, cleared): (&TileListTargets, &ClearedByList),
         frame: &wgpu::Buffer,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
         (fattened_map, fattened_size): (&wgpu::TextureView, (u32, u32)),
@@ -508,22 +538,37 @@ impl TileListPass {
                 false,
             );
         }
+        let mut classify_entries = entries([
+            (0, frame.as_entire_binding()),
+            (1, wgpu::BindingResource::TextureView(camera_depth)),
+            (2, wgpu::BindingResource::TextureView(&self.reduced.view)),
+            (4, wgpu::BindingResource::Sampler(&self.gather)),
+            (5, targets.list.as_entire_binding()),
+            (7, targets.args.as_entire_binding()),
+            (8, wgpu::BindingResource::TextureView(&targets.classes.view)),
+            (9, targets.away.0.as_entire_binding()),
+            (10, targets.away.1.as_entire_binding()),
+            (11, wgpu::BindingResource::TextureView(receiver_mask)),
+            (3, wgpu::BindingResource::TextureView(fattened_map)),
+        ])
+        .to_vec();
+        if self.wide {
+            let view = wgpu::BindingResource::TextureView;
+            classify_entries.extend(entries([
+                (12, view(cleared.distance)),
+                (13, view(cleared.visibility)),
+            ]));
+            if self.clears_blurred {
+                let blurred = cleared
+                    .blurred
+                    .expect("a blurring chain's intermediates have the blur's");
+                classify_entries.extend(entries([(14, view(blurred))]));
+            }
+        }
         let classify = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("TileListPass::classify"),
             layout: &self.classify_layout,
-            entries: &entries([
-                (0, frame.as_entire_binding()),
-                (1, wgpu::BindingResource::TextureView(camera_depth)),
-                (2, wgpu::BindingResource::TextureView(&self.reduced.view)),
-                (4, wgpu::BindingResource::Sampler(&self.gather)),
-                (5, targets.list.as_entire_binding()),
-                (7, targets.args.as_entire_binding()),
-                (8, wgpu::BindingResource::TextureView(&targets.classes.view)),
-                (9, targets.away.0.as_entire_binding()),
-                (10, targets.away.1.as_entire_binding()),
-                (11, wgpu::BindingResource::TextureView(receiver_mask)),
-                (3, wgpu::BindingResource::TextureView(fattened_map)),
-            ]),
+            entries: &classify_entries,
         });
         let reduce = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("TileListPass::reduce"),
@@ -536,6 +581,16 @@ impl TileListPass {
         });
         self.groups = Some((classify, reduce));
         self.targets = Some(targets.clone());
+    }
+
+    /// The classification also sets the compute path's intermediates to what the passes after
+    /// it read where they write nothing (the distance map to 0, the visibility and the blur's
+    /// horizontal result to 1): where it tests the pixels by workgroups, one invocation a
+    /// pixel (a GPU), so that the chain needs no clears of its own. One invocation per tile (a
+    /// CPU adapter) would store every texel of its tile in turn, where a render pass's clear
+    /// is a memory fill.
+    pub fn clears(&self) -> bool {
+        self.wide
     }
 
     /// The list, for the passes over it (once bound).
