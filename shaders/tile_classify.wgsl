@@ -247,8 +247,10 @@ struct TileArgs {
 // With CLEARS (the classification by workgroups: a GPU), each invocation of `cs_classify_wide`
 // also sets its pixel of the compute path's intermediates to what the passes after it must read
 // where they write nothing: the distance map to 0 (no shadow), the visibility and, with
-// CLEAR_BLURRED, the blur's horizontal result to 1 (lit). One dispatch the classification
-// makes anyway, in place of three clears of their own.
+// CLEAR_BLURRED, the blur's horizontal result to 1 (lit), or to 0 on a tile turned away from
+// the light (what the PCF's and the blur's `cs_away` would write). One dispatch the
+// classification makes anyway, in place of three clears and two dispatches over the tiles
+// turned away.
 override CLEARS: bool = false;
 override CLEAR_BLURRED: bool = false;
 @group(0) @binding(12) var distance_cleared: texture_storage_2d<rgba16float, write>;
@@ -379,20 +381,21 @@ fn list_tile(tile: vec2<u32>, tile_kind: u32) {
 
 // `cs_classify_wide`'s tile: whether any pixel was drawn, the least depth drawn (its bits
 // inverted, so that the largest is the least: the workgroup's memory starts at 0), the greatest,
-// whether it is kept (its first invocation's test), and whether any of its pixels is not turned
-// away from the light, or lies inside the fattened shadow. Depths are not negative, so their
-// bits order as they do.
+// whether it is kept (its first invocation's test), whether any of its pixels is not turned
+// away from the light, or lies inside the fattened shadow, and its class. Depths are not
+// negative, so their bits order as they do.
 var<workgroup> any_drawn: atomic<u32>;
 var<workgroup> near_inverted: atomic<u32>;
 var<workgroup> far_bits: atomic<u32>;
 var<workgroup> tile_kept: u32;
 var<workgroup> not_away: atomic<u32>;
 var<workgroup> not_outside: atomic<u32>;
+var<workgroup> class_listed: u32;
 
 // With CLASSIFY and WIDE, in place of `cs_classify`: one 16 x 16 workgroup per screen tile. Each
-// invocation loads its pixel's depth for the tile's range (and with CLEARS clears its pixel of
-// the intermediates), the first runs the tile's test on it, every invocation of a kept tile
-// tests its own pixel, and the first lists the tile.
+// invocation loads its pixel's depth for the tile's range, the first runs the tile's test on it,
+// every invocation of a kept tile tests its own pixel, the first lists the tile, and with CLEARS
+// every invocation sets its pixel of the intermediates for the tile's class.
 @compute @workgroup_size(16, 16)
 fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>, @builtin(local_invocation_index) index: u32) {
     let size = vec2<i32>(frame.view.size);
@@ -401,13 +404,6 @@ fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invo
     let pixel = vec2<i32>(tile * u32(TILE) + local.xy);
     let inside = all(pixel < size);
     let depth = textureLoad(camera_depth, min(pixel, size - 1), 0).x;
-    if CLEARS && inside {
-        textureStore(distance_cleared, pixel, vec4<f32>(0.0));
-        textureStore(visibility_cleared, pixel, vec4<f32>(1.0));
-        if CLEAR_BLURRED {
-            textureStore(blurred_cleared, pixel, vec4<f32>(1.0));
-        }
-    }
     if inside && depth != background_depth() {
         atomicOr(&any_drawn, 1u);
         atomicMax(&near_inverted, ~bitcast<u32>(depth));
@@ -439,6 +435,18 @@ fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invo
             tile_kind = class_of(FACING && atomicLoad(&not_away) == 0u, atomicLoad(&not_outside) == 0u);
         }
         list_tile(tile, tile_kind);
+        class_listed = tile_kind;
+    }
+    // The tile's pixels of the intermediates: no shadow and lit, or on a tile turned away from
+    // the light the 0 the PCF and the blur would write there without taps.
+    let kind = workgroupUniformLoad(&class_listed);
+    if CLEARS && inside {
+        let value = select(1.0, 0.0, kind == AWAY);
+        textureStore(distance_cleared, pixel, vec4<f32>(0.0));
+        textureStore(visibility_cleared, pixel, vec4<f32>(value));
+        if CLEAR_BLURRED {
+            textureStore(blurred_cleared, pixel, vec4<f32>(value));
+        }
     }
 }
 

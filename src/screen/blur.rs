@@ -457,19 +457,21 @@ impl BlurCompute {
     }
 
     /// Records both axes over `tiles`, and the copy of the result into `layer`; over the tiles
-    /// `away` from the light (if any), 0 into the horizontal axis's result and the layer.
+    /// `away` from the light (if any), 0 into the layer, and into the horizontal axis's result
+    /// unless `.1` says it holds it already (the tile classification wrote it).
     pub(crate) fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         tiles: super::TileList,
-        away: Option<super::TileList>,
+        (away, away_written): (Option<super::TileList>, bool),
         layer: &wgpu::TextureView,
     ) {
-        // The horizontal axis's target was cleared to 1 ([`crate::screen::ComputeTargets::clear`]).
+        // The horizontal axis's target was cleared to 1 (by the tile list, or
+        // [`crate::screen::ComputeTargets::clear`]).
         let Some([horizontal, to_temp, vertical, to_visibility]) = &self.bind_groups else {
             return;
         };
-        if let Some(away) = &away {
+        if let Some(away) = away.as_ref().filter(|_| !away_written) {
             away.dispatch(
                 encoder,
                 "BlurCompute::away",

@@ -502,10 +502,13 @@ impl ScreenChain {
                 let (Some(listed), Some(targets)) = (distance.listed(), targets) else {
                     return;
                 };
-                // The intermediates are cleared by the tile classification where it tests pixels
-                // by workgroups (a GPU), else each before the pass that fills it.
+                // The tile classification sets the intermediates where it tests pixels by
+                // workgroups (a GPU): their clear values, and 0 over the tiles turned away from
+                // the light. Otherwise each is cleared before the pass that fills it, and the
+                // passes write the 0 over the tiles turned away, without taps.
+                let by_list = distance.clears();
                 let clear = |e: &mut wgpu::CommandEncoder, which| {
-                    if !distance.clears() {
+                    if !by_list {
                         targets.clear(e, which);
                     }
                 };
@@ -513,16 +516,16 @@ impl ScreenChain {
                     clear(e, Cleared::Distance);
                     distance.encode(e, maps_drawn)
                 });
-                // The tiles turned away from the light get 0 from each pass, without taps.
                 let away = distance.away().filter(|_| distance.switches().facing_away);
+                let away_passes = away.filter(|_| !by_list);
                 run(encoder, mark, "pcf", &|e| {
                     clear(e, Cleared::Visibility);
-                    pcf.encode(e, listed, away)
+                    pcf.encode(e, listed, away_passes)
                 });
                 match blur {
                     Some(blur) => run(encoder, mark, "blur", &|e| {
                         clear(e, Cleared::Blurred);
-                        blur.encode(e, listed, away, layer)
+                        blur.encode(e, listed, (away, by_list), layer)
                     }),
                     None => run(encoder, mark, "resolve", &|e| resolve.encode(e, layer)),
                 }
@@ -566,7 +569,7 @@ impl ScreenChain {
                 match (blur, listed, targets) {
                     (Some(blur), Some(listed), Some(targets)) => run(encoder, mark, "blur", &|e| {
                         targets.clear(e, Cleared::Blurred);
-                        blur.encode(e, listed, None, layer)
+                        blur.encode(e, listed, (None, false), layer)
                     }),
                     _ => run(encoder, mark, "resolve", &|e| resolve.encode(e, layer)),
                 }
