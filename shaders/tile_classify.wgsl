@@ -220,8 +220,13 @@ override FACING: bool = false;
 // where one invocation's loop over 256 pixels would keep a few threads busy in turn).
 override WIDE: bool = false;
 
+// As `TileList` in `common/tile_list.wgsl`: the tiles are appended with `appended`, which
+// starts at 0; `cs_finish` copies it into `count`, the passes' bound, and sets it back to 0, so
+// that the next classification (the next light's, the next frame's) starts from an empty list
+// with no clear of its own.
 struct TileListOut {
-    count: atomic<u32>,
+    count: u32,
+    appended: atomic<u32>,
     tiles: array<u32>,
 }
 
@@ -373,9 +378,9 @@ fn list_tile(tile: vec2<u32>, tile_kind: u32) {
     textureStore(classes_out, tile, vec4<f32>(select(select(0.0, 1.0, tile_kind == LISTED), AWAY_CLASS, tile_kind == AWAY)));
     let packed = tile.x | (tile.y << 16u);
     if tile_kind == AWAY {
-        away_out.tiles[atomicAdd(&away_out.count, 1u)] = packed;
+        away_out.tiles[atomicAdd(&away_out.appended, 1u)] = packed;
     } else if tile_kind == LISTED {
-        list_out.tiles[atomicAdd(&list_out.count, 1u)] = packed;
+        list_out.tiles[atomicAdd(&list_out.appended, 1u)] = packed;
     }
 }
 
@@ -455,8 +460,12 @@ const AWAY_CLASS: f32 = 0.25;
 
 @compute @workgroup_size(1)
 fn cs_finish() {
-    args = arguments(atomicLoad(&list_out.count));
-    away_args = arguments(atomicLoad(&away_out.count));
+    let listed = atomicExchange(&list_out.appended, 0u);
+    list_out.count = listed;
+    args = arguments(listed);
+    let away = atomicExchange(&away_out.appended, 0u);
+    away_out.count = away;
+    away_args = arguments(away);
 }
 
 fn arguments(count: u32) -> TileArgs {

@@ -3,9 +3,12 @@
 // tile in a dispatch sized by the list itself (indirect), and a draw that must stay a draw (it
 // writes the engine's render target) as one quad per listed tile (an indirect draw).
 
-// The listed tiles: how many, then each tile as x | y << 16 (in no particular order).
+// The listed tiles: how many, the classification's running count (which its last step copies
+// into `count` and sets back to 0 for the next list), then each tile as x | y << 16 (in no
+// particular order).
 struct TileList {
     count: u32,
+    appended: u32,
     tiles: array<u32>,
 }
 

@@ -293,9 +293,10 @@ impl TileListTargets {
                 mapped_at_creation: false,
             })
         };
-        let list_usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+        let list_usage = wgpu::BufferUsages::STORAGE;
         let args_usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT;
-        let words = 4 * (1 + u64::from(tiles.0 * tiles.1));
+        // The count, the running count the classification appends with, the tiles.
+        let words = 4 * (2 + u64::from(tiles.0 * tiles.1));
         let list = buffer("TileListTargets::list", words, list_usage);
         let group = Self::list_group(device, "TileListTargets::list", &list);
         let away = buffer("TileListTargets::away", words, list_usage);
@@ -323,7 +324,8 @@ impl TileListTargets {
     pub fn every_tile(device: &wgpu::Device, (width, height): (u32, u32)) -> Self {
         let (across, down) = TileClassifyPass::tiles(width, height);
         let count = across * down;
-        let words: Vec<u32> = std::iter::once(count)
+        let words: Vec<u32> = [count, 0]
+            .into_iter()
             .chain((0..down).flat_map(|y| (0..across).map(move |x| x | (y << 16))))
             .collect();
         let filled = |label, usage, contents: &[u32]| {
@@ -346,7 +348,11 @@ impl TileListTargets {
         );
         let group = Self::list_group(device, "TileListTargets::every_tile", &list);
         // No tile is turned away: the classification does not run.
-        let away = filled("TileListTargets::no_tile", wgpu::BufferUsages::STORAGE, &[0]);
+        let away = filled(
+            "TileListTargets::no_tile",
+            wgpu::BufferUsages::STORAGE,
+            &[0, 0, 0],
+        );
         let away_args = filled(
             "TileListTargets::no_tile_args",
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
@@ -604,14 +610,12 @@ impl TileListPass {
     }
 
     /// Records the reduction of the fattened map (`maps_drawn`: the light's maps were drawn
-    /// since the last one), the list's reset, the classification and the arguments.
+    /// since the last one), the classification and the arguments (which set the lists' running
+    /// counts back to 0 for the next classification: no clear of the lists).
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, maps_drawn: bool) {
         let (Some((classify, reduce)), Some(targets)) = (&self.groups, &self.targets) else {
             return;
         };
-        for list in [&targets.list, &targets.away.0] {
-            encoder.clear_buffer(list, 0, Some(4));
-        }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("TileListPass"),
             timestamp_writes: None,
