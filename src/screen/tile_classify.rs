@@ -265,10 +265,11 @@ pub(crate) struct ClearedByList<'a> {
     pub blurred: Option<&'a wgpu::TextureView>,
 }
 
-/// A tile list for one screen: the list (a count, then one `x | y << 16` per tile), the
-/// indirect arguments, the classes (R32F, one texel per tile, 1 where listed, 0.25 where listed
-/// apart as turned away from the light: the debug view's and the bench's tile share) and the
-/// list's bind group for the passes over it; the same for the tiles turned away from the light.
+/// A tile list for one screen: the list (a count, the running count the classification
+/// appends with, then one `x | y << 16` per tile), the indirect arguments, the classes (R32F,
+/// one texel per tile, 1 where listed, 0.25 where listed apart as turned away from the light:
+/// the debug view's and the bench's tile share) and the list's bind group for the passes over
+/// it; the same for the tiles turned away from the light.
 /// Lights whose chains run one after the other share one.
 #[derive(Clone)]
 pub(crate) struct TileListTargets {
