@@ -106,6 +106,36 @@ fn compute_and_render_pass_clears_give_the_same_frame() {
             frames[0].0
         );
     }
+    // The room's three lights (a point light's cube faces, a spot, a rectangle) share the
+    // intermediates and the lists, one chain after the other: both forms give the same frames,
+    // the second with the key light turned.
+    let room = load_scene(&common::asset("scenes/room.ron")).unwrap();
+    let room_camera = room.view(0).unwrap();
+    let mut room_frames = Vec::new();
+    for test in ["loop", "workgroup"] {
+        // SAFETY: as above.
+        unsafe { std::env::set_var("PENUMBRA_TILE_PIXELS", test) };
+        let mut renderer =
+            penumbra::Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+        let mut gpu_scene =
+            penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &room).unwrap();
+        let first =
+            penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &room_camera, 320, 256).unwrap();
+        gpu_scene
+            .set_light(room.light.turned(glam::Quat::from_rotation_y(0.3)))
+            .unwrap();
+        let second =
+            penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &room_camera, 320, 256).unwrap();
+        assert!(
+            first != second,
+            "{test}: turning the room's key light changed nothing"
+        );
+        room_frames.push((first, second));
+    }
+    assert!(
+        room_frames[0] == room_frames[1],
+        "the room: the two forms gave different frames"
+    );
 
     // The light maps set to the far plane by their passes' clears, then by the copy: the same
     // maps and frames, and the copy's buffer counted in the memory. A sun in two cascades, the
