@@ -1,4 +1,4 @@
-// after: frame cube fullscreen tiles tile_list receiver pcf_taps
+// after: frame cube fullscreen tiles tile_list receiver pcf_taps fattened distance
 // Variable-spacing PCF pass (the distance-map method): N x N comparison taps on the real shadow
 // map whose spacing grows with the pixel's distance to its occluder: base + distance x spread
 // texels (manual), or, in physical mode, a share of the penumbra's variance. It runs only where
@@ -303,14 +303,48 @@ const IN_PENUMBRA: f32 = 0.02;
 @compute @workgroup_size(16, 16)
 fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>, @builtin(local_invocation_index) index: u32) {
     let pixel = listed_pixel(group, groups, local);
+    var width = -1.0;
     if pixel.x >= 0 {
-        let width = pcf_pixel(pixel);
-        if width >= 0.0 {
-            atomicAdd(&group_widths[3], 1u);
-            for (var i = 0; i < 3; i += 1) {
-                if width < widths.limits[i] {
-                    atomicAdd(&group_widths[i], 1u);
-                }
+        width = pcf_pixel(pixel, textureLoad(distance_map, pixel, 0));
+    }
+    count_width(width, index);
+}
+
+// The distance map's inputs, for `cs_distance_pcf` (`common/distance.wgsl`), and its output.
+@group(0) @binding(9) var fattened_map: texture_2d<f32>;
+@group(0) @binding(10) var receiver_mask: texture_2d<f32>;
+@group(0) @binding(11) var occluder_offset: texture_2d<f32>;
+@group(0) @binding(12) var exit_map: texture_2d<f32>;
+@group(0) @binding(13) var distance_out: texture_storage_2d<rgba16float, write>;
+
+// The distance map and the variable PCF in one invocation per pixel of the listed tiles: the
+// distance map's value (`listed_distance`) into `distance_out`, for the blur, and the taps with
+// that distance. One pass where there were two saves a dispatch, and the distance's store and
+// load between them.
+@compute @workgroup_size(16, 16)
+fn cs_distance_pcf(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>, @builtin(local_invocation_index) index: u32) {
+    let pixel = listed_pixel(group, groups, local);
+    var width = -1.0;
+    if pixel.x >= 0 {
+        let distance = listed_distance(pixel);
+        textureStore(distance_out, pixel, distance);
+        // The taps take the distance at the half float's precision, as the apart passes read
+        // it (cut toward zero, as lavapipe stores it; a device that rounds to nearest stores a
+        // value at most one half-float step, 1e-3 of it, away).
+        let stored = bitcast<vec4<f32>>(bitcast<vec4<u32>>(distance) & vec4<u32>(0xffffe000u));
+        width = pcf_pixel(pixel, stored);
+    }
+    count_width(width, index);
+}
+
+// Adds a pixel's penumbra width in texels (-1: none) to its workgroup's counts, and the
+// workgroup's to `widths` (each invocation of the workgroup calls it once).
+fn count_width(width: f32, index: u32) {
+    if width >= 0.0 {
+        atomicAdd(&group_widths[3], 1u);
+        for (var i = 0; i < 3; i += 1) {
+            if width < widths.limits[i] {
+                atomicAdd(&group_widths[i], 1u);
             }
         }
     }
@@ -334,10 +368,10 @@ fn cs_away(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gro
     }
 }
 
-// The compute path's work at `pixel`: its visibility and the blur's deviations. Returns the
-// penumbra's width in texels where the pixel lies in one (physical mode), else -1.
-fn pcf_pixel(pixel: vec2<i32>) -> f32 {
-    let distance = textureLoad(distance_map, pixel, 0);
+// The compute path's work at `pixel`, whose distance map holds `distance`: its visibility and
+// the blur's deviations. Returns the penumbra's width in texels where the pixel lies in one
+// (physical mode), else -1.
+fn pcf_pixel(pixel: vec2<i32>, distance: vec4<f32>) -> f32 {
     if distance.z <= 0.0 {
         textureStore(sigma_out, pixel, vec4<f32>(0.0));
         return -1.0;

@@ -6,8 +6,10 @@
 //! copy from a buffer rather than by their passes' clears (`passes::light_atlas::FarPlaneFill`).
 //! Each pair must give the same frame: this test, which runs on whatever adapter the machine
 //! has, forces each way with `PENUMBRA_CLEARS`, `PENUMBRA_TILE_PIXELS` and
-//! `PENUMBRA_MAP_CLEARS` (read when the intermediates and passes are made) and compares. One
-//! test in its own binary: the environment is the process's.
+//! `PENUMBRA_MAP_CLEARS` (read when the intermediates and passes are made) and compares. The
+//! distance map is taken by the variable PCF's compute pass itself, or by a pass of its own
+//! (`PENUMBRA_DISTANCE_PCF=apart`): the same again. One test in its own binary: the
+//! environment is the process's.
 
 mod common;
 
@@ -136,6 +138,63 @@ fn compute_and_render_pass_clears_give_the_same_frame() {
         room_frames[0] == room_frames[1],
         "the room: the two forms gave different frames"
     );
+
+    // The distance map taken by the variable PCF's pass (the default) and by a pass of its own
+    // (`PENUMBRA_DISTANCE_PCF=apart`): the same distance map, visibility and frame, over two
+    // frames (the light turned), under the teapot's sun and the room's three lights.
+    for file in ["scenes/teapot.ron", "scenes/room.ron"] {
+        let scene = load_scene(&common::asset(file)).unwrap();
+        let camera = scene.view(0).unwrap();
+        let mut runs = Vec::new();
+        for distance in ["in pcf", "apart"] {
+            // SAFETY: as above.
+            unsafe {
+                std::env::remove_var("PENUMBRA_CLEARS");
+                std::env::remove_var("PENUMBRA_TILE_PIXELS");
+                std::env::set_var("PENUMBRA_DISTANCE_PCF", distance);
+            }
+            let mut renderer =
+                penumbra::Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+            let mut gpu_scene =
+                penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
+            let mut frames = Vec::new();
+            for turn in [0.0, 0.3] {
+                gpu_scene
+                    .set_light(scene.light.turned(glam::Quat::from_rotation_y(turn)))
+                    .unwrap();
+                let frame =
+                    penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, 320, 256).unwrap();
+                let read = |texture| common::read_f32(&gpu, renderer.debug_texture(texture).unwrap());
+                frames.push((
+                    frame,
+                    read(LightTexture::DistanceMap),
+                    read(LightTexture::Visibility).0,
+                ));
+            }
+            runs.push(frames);
+        }
+        // Both frames show a penumbra: visibility strictly between 0 and 1, and distances above 0.
+        for (frame, distance, visibility) in &runs[0] {
+            let penumbra = visibility.iter().filter(|v| **v > 0.05 && **v < 0.95).count();
+            let (distance, channels) = distance;
+            let distances = distance
+                .chunks_exact(*channels as usize)
+                .filter(|px| px[0] > 0.0)
+                .count();
+            println!(
+                "{file}, the distance in PCF: {penumbra} visibility values in a penumbra, {distances} distances above 0"
+            );
+            assert!(penumbra > 100 && distances > 100, "{file}: no penumbra");
+            assert!(frame.pixels().any(|p| p.0[0] < 128));
+        }
+        for (k, (a, b)) in runs[0].iter().zip(&runs[1]).enumerate() {
+            assert!(a.1 == b.1, "{file}, frame {k}: the distance maps differ");
+            assert!(a.2 == b.2, "{file}, frame {k}: the visibilities differ");
+            assert!(a.0 == b.0, "{file}, frame {k}: the frames differ");
+        }
+    }
+    // SAFETY: as above.
+    unsafe { std::env::remove_var("PENUMBRA_DISTANCE_PCF") };
 
     // The light maps set to the far plane by their passes' clears, then by the copy: the same
     // maps and frames, and the copy's buffer counted in the memory. A sun in two cascades, the

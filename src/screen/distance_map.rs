@@ -81,7 +81,7 @@ impl DistanceMapPass {
                 entry::texture_2d(3, unfilterable),
                 entry::texture_2d(4, unfilterable),
                 entry::texture_2d(5, unfilterable),
-                entry::texture_2d(6, unfilterable),
+                entry::texture_2d(6, wgpu::TextureSampleType::Depth),
             ],
         );
         let constants = [
@@ -281,18 +281,30 @@ impl ScreenStage for DistanceMapPass {
     }
 }
 
+/// The light's maps the distance map reads ([`super::VariablePcfCompute`] where it takes the
+/// distance itself).
+pub(crate) struct DistanceMaps<'a> {
+    pub shadow_map: &'a wgpu::TextureView,
+    pub fattened_map: &'a wgpu::TextureView,
+    pub occluder_offset: &'a wgpu::TextureView,
+    pub exit_map: &'a wgpu::TextureView,
+}
+
 /// The distance map of the compute path: the tile list first ([`super::TileListPass`]), then
 /// both draws' work in one compute pass over the listed tiles (`cs_main` in
-/// `shaders/distance_map.wgsl`), into one texture (RGBA16F: R distance, G mask, B the
-/// classification the draws write as depth, 0, 0.5 or 1), cleared first so that the other
-/// tiles read as no shadow. The later passes read the classification instead of testing a
-/// depth. The texture is given at [`Self::bind`]: the lights share one
+/// `shaders/distance_map.wgsl`, the work in `shaders/common/distance.wgsl`), into one texture
+/// (RGBA16F: R distance, G mask, B the classification the draws write as depth, 0, 0.5 or 1),
+/// cleared first so that the other tiles read as no shadow. The later passes read the
+/// classification instead of testing a depth. Where the chain's variable PCF takes the
+/// distance itself ([`super::VariablePcfCompute`], the default), this pass only lists the
+/// tiles. The texture is given at [`Self::bind`]: the lights share one
 /// ([`crate::screen::ComputeTargets`]).
 pub(crate) struct DistanceMapCompute {
     switches: DistanceSwitches,
     light_kind: u32,
     layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::ComputePipeline,
+    /// None where the variable PCF takes the distance itself.
+    pipeline: Option<wgpu::ComputePipeline>,
     bind_group: Option<wgpu::BindGroup>,
     tiles: super::TileListPass,
     /// As [`DistanceMapPass`]'s.
@@ -305,33 +317,41 @@ impl DistanceMapCompute {
     pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
     /// As [`DistanceMapPass::new`]; `switches.tiles` off lists every tile; `blurred`: the
-    /// chain blurs after it ([`super::TileListPass::new`]).
+    /// chain blurs after it ([`super::TileListPass::new`]); `own_pass` false: the variable PCF
+    /// takes the distance itself, and this pass only lists the tiles.
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
         switches: DistanceSwitches,
         light_kind: u32,
         blurred: bool,
+        own_pass: bool,
     ) -> Self {
         let shader = crate::shaders::module(device, "distance_map.wgsl", crate::shaders::DISTANCE_MAP);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let mut entries = vec![entry::uniform(0, wgpu::ShaderStages::COMPUTE, frame_size, false)];
-        entries.extend((1..=6).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
+        entries.extend((1..=5).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
+        entries.push(entry::and_compute(entry::texture_2d(
+            6,
+            wgpu::TextureSampleType::Depth,
+        )));
         entries.push(entry::storage_texture(7, Self::FORMAT));
         let layout = crate::gpu_helpers::layout(device, "DistanceMapCompute::layout", &entries);
         let list_layout = super::TileListPass::list_layout(device);
-        let pipeline = super::compute_pipeline(
-            device,
-            "DistanceMapCompute::pipeline",
-            &shader,
-            &[Some(&layout), None, None, Some(&list_layout)],
-            "cs_main",
-            &[
-                ("MASK_EARLY_OUT", if switches.mask_early_out { 1.0 } else { 0.0 }),
-                ("NEAREST_CASTER", if switches.nearest_caster { 1.0 } else { 0.0 }),
-                (LIGHT_KIND, light_kind as f64),
-            ],
-        );
+        let pipeline = own_pass.then(|| {
+            super::compute_pipeline(
+                device,
+                "DistanceMapCompute::pipeline",
+                &shader,
+                &[Some(&layout), None, None, Some(&list_layout)],
+                "cs_main",
+                &[
+                    ("MASK_EARLY_OUT", if switches.mask_early_out { 1.0 } else { 0.0 }),
+                    ("NEAREST_CASTER", if switches.nearest_caster { 1.0 } else { 0.0 }),
+                    (LIGHT_KIND, light_kind as f64),
+                ],
+            )
+        });
         Self {
             switches,
             light_kind,
@@ -374,21 +394,23 @@ impl DistanceMapCompute {
         );
         self.reduce_pending
             .store(true, std::sync::atomic::Ordering::Relaxed);
-        self.bind_group = Some(super::bind_group(
-            device,
-            "DistanceMapCompute::bind_group",
-            &self.layout,
-            &[
-                frame,
-                fattened_map,
-                camera_depth,
-                receiver_mask,
-                occluder_offset,
-                exit_map,
-                shadow_map,
-                cleared.distance,
-            ],
-        ));
+        self.bind_group = self.pipeline.is_some().then(|| {
+            super::bind_group(
+                device,
+                "DistanceMapCompute::bind_group",
+                &self.layout,
+                &[
+                    frame,
+                    fattened_map,
+                    camera_depth,
+                    receiver_mask,
+                    occluder_offset,
+                    exit_map,
+                    shadow_map,
+                    cleared.distance,
+                ],
+            )
+        });
     }
 
     /// The tile classification clears the intermediates ([`super::TileListPass::clears`]).
@@ -415,10 +437,15 @@ impl DistanceMapCompute {
         self.tiles.away()
     }
 
+    /// Whether the pass takes the distance itself (else it only lists the tiles).
+    pub(crate) fn own_pass(&self) -> bool {
+        self.pipeline.is_some()
+    }
+
     /// Records the tile list and the distance map over it (`maps_drawn`: the light's maps
-    /// were drawn this frame).
+    /// were drawn this frame), or the tile list alone where the variable PCF takes the distance.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, maps_drawn: bool) {
-        let (Some(group), Some(listed)) = (&self.bind_group, self.listed()) else {
+        let Some(listed) = self.listed() else {
             return;
         };
         let reduce = self
@@ -428,7 +455,9 @@ impl DistanceMapCompute {
         self.tiles.encode(encoder, reduce);
         // The distance map was cleared to 0 (by the tile list, or
         // [`crate::screen::ComputeTargets::clear`]).
-        listed.dispatch(encoder, "DistanceMapCompute", &self.pipeline, &[Some(group)]);
+        if let (Some(pipeline), Some(group)) = (&self.pipeline, &self.bind_group) {
+            listed.dispatch(encoder, "DistanceMapCompute", pipeline, &[Some(group)]);
+        }
     }
 }
 

@@ -44,7 +44,7 @@ mod variable_pcf;
 #[cfg(test)]
 pub(crate) use blur::BlurUniform;
 pub(crate) use blur::{BlurCompute, BlurInput, BlurPass};
-pub(crate) use distance_map::{DistanceMapCompute, DistanceMapPass};
+pub(crate) use distance_map::{DistanceMapCompute, DistanceMapPass, DistanceMaps};
 pub(crate) use pcf::PcfPass;
 pub(crate) use pcss::PcssPass;
 pub(crate) use resolve::ResolvePass;
@@ -193,8 +193,15 @@ impl ScreenChain {
                     compute_distance_switches(params),
                     kind,
                     *blur,
+                    !distance_in_pcf(),
                 ),
-                pcf: VariablePcfCompute::new(device, FRAME_SIZE, params.pcf_switches, kind),
+                pcf: VariablePcfCompute::new(
+                    device,
+                    FRAME_SIZE,
+                    params.pcf_switches,
+                    distance_in_pcf().then(|| compute_distance_switches(params)),
+                    kind,
+                ),
                 blur: blur.then(|| BlurCompute::new(device, FRAME_SIZE, params.blur_switches)),
                 resolve: resolve(),
                 targets: None,
@@ -247,6 +254,8 @@ impl ScreenChain {
             ) => {
                 distance.switches() == compute_distance_switches(params)
                     && distance.light_kind() == kind
+                    && distance.own_pass() != distance_in_pcf()
+                    && pcf.distance_switches() == distance_in_pcf().then(|| compute_distance_switches(params))
                     && pcf.switches() == params.pcf_switches
                     && pcf.light_kind() == kind
                     && blur.is_some() == *wanted
@@ -368,13 +377,19 @@ impl ScreenChain {
                     mask,
                 );
                 let (visibility, sigma) = (&all.visibility.view, &shared.sigma.view);
+                let maps = DistanceMaps {
+                    shadow_map,
+                    fattened_map: fattened.view(),
+                    occluder_offset: fattened.occluder_offset(),
+                    exit_map: exit.view(),
+                };
                 pcf.bind(
                     device,
                     (visibility, sigma),
                     frame,
-                    depth,
-                    distance_map,
-                    shadow_map,
+                    (depth, mask),
+                    (distance_map, dummy),
+                    &maps,
                 );
                 match blur {
                     Some(blur) => blur.bind(
@@ -512,6 +527,8 @@ impl ScreenChain {
                         targets.clear(e, which);
                     }
                 };
+                // Where the variable PCF takes the distance itself (the default), the mark
+                // "distance map" times the tile list, and "pcf" the distance map with PCF.
                 run(encoder, mark, "distance map", &|e| {
                     clear(e, Cleared::Distance);
                     distance.encode(e, maps_drawn)
@@ -648,6 +665,13 @@ fn with_blur<T>(mut stages: Vec<T>, blur: Option<T>) -> Vec<T> {
 
 /// The compute path's distance-map switches: its tile list follows the classification setting
 /// with `Auto` on (see [`PassParams::list_tiles`]).
+/// Whether the compute path's variable PCF takes the distance map's value itself (one pass
+/// for both, the default) or reads what the distance map's own pass wrote
+/// (`PENUMBRA_DISTANCE_PCF=apart` in the environment, to compare the two).
+fn distance_in_pcf() -> bool {
+    std::env::var("PENUMBRA_DISTANCE_PCF").as_deref() != Ok("apart")
+}
+
 fn compute_distance_switches(params: &PassParams) -> DistanceSwitches {
     DistanceSwitches {
         tiles: params.list_tiles,

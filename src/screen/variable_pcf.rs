@@ -21,7 +21,7 @@ use super::{
 };
 use super::{begin_pass, depth_attachment};
 use crate::frame::PassParams;
-use crate::frame::{PcfSwitches, PcfUniform};
+use crate::frame::{DistanceSwitches, PcfSwitches, PcfUniform};
 use crate::gpu_helpers::{Target, texture_bytes};
 use crate::map_resolution::WidthProbe;
 
@@ -333,15 +333,24 @@ impl ScreenStage for VariablePcfPass {
 }
 
 /// The variable PCF of the compute path: one compute pass over the distance map's listed
-/// tiles (`cs_main` in `shaders/variable_pcf.wgsl`), at the pixels whose classification says a
-/// shadow can fall, into the visibility (R32F, cleared to 1 first: no shadow) and the blur's
+/// tiles, at the pixels whose classification says a shadow can fall, into the visibility (R32F,
+/// cleared to 1 first: no shadow) and the blur's
 /// standard deviations along screen x and y (RG32F, 0 at the listed tiles' other pixels, not
 /// cleared: the blur reads them only at the listed pixels it blurs). 32-bit floats: a compute
 /// pass can write them everywhere (half floats only as RGBA16F, whose four-channel
 /// fetches cost the blur's taps on a software rasterizer). The textures are given at
 /// [`Self::bind`]: the lights share them ([`crate::screen::ComputeTargets`]).
+///
+/// By default the pass takes the distance map's value at each pixel itself and writes it into
+/// the distance map (`cs_distance_pcf`, with the work of `shaders/common/distance.wgsl`), so the
+/// distance map's own pass ([`super::DistanceMapCompute`]) lists the tiles and is not
+/// dispatched: one pass fewer, and a pixel's loads and setup taken once. With
+/// `PENUMBRA_DISTANCE_PCF=apart` in the environment the two run apart (`cs_main` reads the
+/// distance map), to compare them.
 pub(crate) struct VariablePcfCompute {
     switches: PcfSwitches,
+    /// The distance map's switches where the pass takes the distance itself.
+    distance: Option<DistanceSwitches>,
     light_kind: u32,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
@@ -364,31 +373,45 @@ impl VariablePcfCompute {
     }
 
     /// The pass for `switches` (its half resolution is not used: that stays a draw) and one
-    /// light kind.
+    /// light kind; with `distance`, the distance map's switches, it takes the distance map's
+    /// value itself (see the type's documentation).
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
         switches: PcfSwitches,
+        distance: Option<DistanceSwitches>,
         light_kind: u32,
     ) -> Self {
         let shader = crate::shaders::module(device, "variable_pcf.wgsl", crate::shaders::VARIABLE_PCF);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-        let layout = crate::gpu_helpers::layout(
-            device,
-            "VariablePcfCompute::layout",
-            &[
-                entry::uniform(0, wgpu::ShaderStages::COMPUTE, frame_size, false),
-                entry::and_compute(entry::texture_2d(1, unfilterable)),
-                entry::and_compute(entry::texture_2d(2, unfilterable)),
-                entry::and_compute(entry::texture_2d(3, wgpu::TextureSampleType::Depth)),
-                entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::Comparison)),
-                entry::uniform(5, wgpu::ShaderStages::COMPUTE, size_of::<PcfUniform>(), false),
-                entry::storage_texture(6, Self::VISIBILITY_FORMAT),
-                entry::storage_texture(7, Self::SIGMA_FORMAT),
-                entry::storage_buffer(8, wgpu::ShaderStages::COMPUTE, false),
-            ],
-        );
+        let mut entries = vec![
+            entry::uniform(0, wgpu::ShaderStages::COMPUTE, frame_size, false),
+            entry::and_compute(entry::texture_2d(1, unfilterable)),
+            entry::and_compute(entry::texture_2d(2, unfilterable)),
+            entry::and_compute(entry::texture_2d(3, wgpu::TextureSampleType::Depth)),
+            entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::Comparison)),
+            entry::uniform(5, wgpu::ShaderStages::COMPUTE, size_of::<PcfUniform>(), false),
+            entry::storage_texture(6, Self::VISIBILITY_FORMAT),
+            entry::storage_texture(7, Self::SIGMA_FORMAT),
+            entry::storage_buffer(8, wgpu::ShaderStages::COMPUTE, false),
+        ];
+        if distance.is_some() {
+            // The distance map's inputs (the fattened map, the receiver mask, the occluder
+            // offset, the exit map) and its texture.
+            entries.extend((9..=12).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
+            entries.push(entry::storage_texture(13, super::DistanceMapCompute::FORMAT));
+        }
+        let layout = crate::gpu_helpers::layout(device, "VariablePcfCompute::layout", &entries);
         let list_layout = super::TileListPass::list_layout(device);
+        let mut constants = vec![
+            ("ROTATE_TAPS", if switches.rotate_taps { 1.0 } else { 0.0 }),
+            ("HALF_RESOLUTION", 0.0),
+            (LIGHT_KIND, light_kind as f64),
+        ];
+        if let Some(d) = distance {
+            constants.push(("MASK_EARLY_OUT", if d.mask_early_out { 1.0 } else { 0.0 }));
+            constants.push(("NEAREST_CASTER", if d.nearest_caster { 1.0 } else { 0.0 }));
+        }
         let pipeline = |label, entry| {
             super::compute_pipeline(
                 device,
@@ -396,17 +419,19 @@ impl VariablePcfCompute {
                 &shader,
                 &[Some(&layout), None, None, Some(&list_layout)],
                 entry,
-                &[
-                    ("ROTATE_TAPS", if switches.rotate_taps { 1.0 } else { 0.0 }),
-                    ("HALF_RESOLUTION", 0.0),
-                    (LIGHT_KIND, light_kind as f64),
-                ],
+                &constants,
             )
+        };
+        let main = if distance.is_some() {
+            "cs_distance_pcf"
+        } else {
+            "cs_main"
         };
         Self {
             switches,
+            distance,
             light_kind,
-            pipeline: pipeline("VariablePcfCompute::pipeline", "cs_main"),
+            pipeline: pipeline("VariablePcfCompute::pipeline", main),
             away: pipeline("VariablePcfCompute::away", "cs_away"),
             layout,
             params: crate::gpu_helpers::uniform_buffer(
@@ -424,33 +449,58 @@ impl VariablePcfCompute {
         }
     }
 
-    /// Points the pass at its inputs (`distance_map`: the compute path's) and its outputs
-    /// ([`Self::VISIBILITY_FORMAT`] and [`Self::SIGMA_FORMAT`], the screen's size).
+    /// Points the pass at its inputs (`distance_map`: the compute path's, which the pass
+    /// writes where it takes the distance itself) and its outputs ([`Self::VISIBILITY_FORMAT`]
+    /// and [`Self::SIGMA_FORMAT`], the screen's size). `receiver_mask` is read only where the
+    /// frame uniform says one is bound.
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
         (visibility, sigma): (&wgpu::TextureView, &wgpu::TextureView),
         frame: &wgpu::Buffer,
-        camera_depth: &wgpu::TextureView,
-        distance_map: &wgpu::TextureView,
-        shadow_map: &wgpu::TextureView,
+        (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
+        (distance_map, dummy): (&wgpu::TextureView, &wgpu::TextureView),
+        maps: &super::DistanceMaps,
     ) {
+        let probe = self.probe.buffer().as_entire_binding();
+        // Where the pass writes the distance map, it reads none (a texture cannot be read and
+        // written in one dispatch): a stand-in takes the read's binding.
+        let read = if self.distance.is_some() {
+            dummy
+        } else {
+            distance_map
+        };
+        let mut resources: Vec<&dyn super::Binding> = vec![
+            frame,
+            camera_depth,
+            read,
+            maps.shadow_map,
+            &self.sampler,
+            &self.params,
+            visibility,
+            sigma,
+            &probe,
+        ];
+        if self.distance.is_some() {
+            resources.extend::<[&dyn super::Binding; 5]>([
+                maps.fattened_map,
+                receiver_mask,
+                maps.occluder_offset,
+                maps.exit_map,
+                distance_map,
+            ]);
+        }
         self.bind_group = Some(super::bind_group(
             device,
             "VariablePcfCompute::bind_group",
             &self.layout,
-            &[
-                frame,
-                camera_depth,
-                distance_map,
-                shadow_map,
-                &self.sampler,
-                &self.params,
-                visibility,
-                sigma,
-                &self.probe.buffer().as_entire_binding(),
-            ],
+            &resources,
         ));
+    }
+
+    /// The distance map's switches the pass was made with, where it takes the distance itself.
+    pub(crate) fn distance_switches(&self) -> Option<DistanceSwitches> {
+        self.distance
     }
 
     pub(crate) fn switches(&self) -> PcfSwitches {
