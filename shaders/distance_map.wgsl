@@ -22,7 +22,7 @@
 // The casters' back faces from the light: where along the light an occluder ends.
 @group(0) @binding(5) var exit_map: texture_2d<f32>;
 // The real shadow map, read as plain depths: beside a shadow, where its nearest caster is.
-@group(0) @binding(6) var shadow_map: texture_depth_2d;
+@group(0) @binding(6) var shadow_depths: texture_2d<f32>;
 // With the tile classification, the first draw covers only the tiles it kept (`vs_tile`,
 // `common/tiles.wgsl`). The pixels of the other tiles keep the cleared values (no distance,
 // mask 0, classification 0), which is what the test would give them.

@@ -316,6 +316,9 @@ fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gro
 @group(0) @binding(11) var occluder_offset: texture_2d<f32>;
 @group(0) @binding(12) var exit_map: texture_2d<f32>;
 @group(0) @binding(13) var distance_out: texture_storage_2d<rgba16float, write>;
+// The shadow map again, read as plain depths (the GL backend loads no depth texture, and the
+// distance map's shader serves it too).
+@group(0) @binding(14) var shadow_depths: texture_2d<f32>;
 
 // The distance map and the variable PCF in one invocation per pixel of the listed tiles: the
 // distance map's value (`listed_distance`) into `distance_out`, for the blur, and the taps with

@@ -2,7 +2,7 @@
 // takes the distance at each pixel itself before its taps (`cs_distance_pcf`): the distance
 // along the light from the occluder to the receiver, the mask and the classification at a
 // pixel. Needs `camera_depth`, `receiver_mask`, `fattened_map`, `occluder_offset`, `exit_map`
-// and `shadow_map` (a depth texture, read as plain depths) bound by the including pass, which
+// and `shadow_depths` (the shadow map read as plain depths) bound by the including pass, which
 // also joins `fattened`.
 
 // Compile-time switch (pipeline override constant): false classifies every receiver pixel.
@@ -59,7 +59,7 @@ fn fattened_distance(p: vec3<f32>, texel: vec2<i32>, fattened_depth: f32) -> f32
 
 // The real shadow map's texel for shadow-map position `p`.
 fn shadow_texel(p: vec2<f32>) -> vec2<i32> {
-    let size = vec2<i32>(textureDimensions(shadow_map));
+    let size = vec2<i32>(textureDimensions(shadow_depths));
     return clamp(vec2<i32>(p * vec2<f32>(size)), vec2<i32>(0), size - 1);
 }
 
@@ -97,7 +97,7 @@ fn classify_at(frag: vec2<f32>) -> Classified {
     // Beside the shadow `fs_nearest_caster` takes the distance again.
     var own_depth = 0.0;
     if NEAREST_CASTER {
-        own_depth = textureLoad(shadow_map, shadow_texel(p.xy), 0);
+        own_depth = textureLoad(shadow_depths, shadow_texel(p.xy), 0).x;
     }
     let beside = NEAREST_CASTER && own_depth >= map_depth(p.z);
     var d = fattened_distance(p, texel, fattened_depth);
@@ -180,7 +180,7 @@ const RINGS: i32 = 2;
 // rings out to where the penumbra the fattened surface's distance `d` gives would reach; `d`
 // itself where no caster texel is found.
 fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
-    let size = vec2<f32>(textureDimensions(shadow_map));
+    let size = vec2<f32>(textureDimensions(shadow_depths));
     let tile = frame.cascades.tile[cascade];
     let receiver_depth = light_linear_depth(p.z);
     // World units across the light per unit of uv at the receiver (at a caster's depth, scaled
@@ -198,7 +198,7 @@ fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
         for (var k = 0; k < RING_TAPS; k += 1) {
             let a = 6.2831853 * (f32(k) + 0.5 * f32(ring & 1)) / f32(RING_TAPS);
             let uv = clamp(p.xy + r * vec2<f32>(cos(a), sin(a)) * aspect, tile.xy, tile.zw);
-            let z = textureLoad(shadow_map, vec2<i32>(uv * size), 0);
+            let z = textureLoad(shadow_depths, vec2<i32>(uv * size), 0).x;
             let caster_depth = light_linear_depth(z);
             let dt = receiver_depth - caster_depth;
             var uv_world = uv_world_at_receiver;
@@ -237,7 +237,7 @@ const SILHOUETTE_BISECTIONS: i32 = 2;
 // ends. (Under the room's desk, the monitor's edge seen past the desk's top, read as the
 // distance, let the taps reach light through the slit between the desk and the wall.)
 fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32, own: f32) -> f32 {
-    let size = vec2<f32>(textureDimensions(shadow_map));
+    let size = vec2<f32>(textureDimensions(shadow_depths));
     let tile = frame.cascades.tile[cascade];
     let receiver_depth = light_linear_depth(p.z);
     let reach = max(receiver_depth - front, d);
@@ -264,7 +264,7 @@ fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32, own: f
         // is every ray, and the pixel takes 8 taps, not 32 (a gap narrower than the reach on
         // that ray is missed).
         let end = clamp(p.xy + radius * direction, tile.xy, tile.zw);
-        if receiver_depth - light_linear_depth(textureLoad(shadow_map, vec2<i32>(end * size), 0)) > 2.0 * texel_world {
+        if receiver_depth - light_linear_depth(textureLoad(shadow_depths, vec2<i32>(end * size), 0).x) > 2.0 * texel_world {
             continue;
         }
         var caster = own;
@@ -279,7 +279,7 @@ fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32, own: f
             // The last step is the ray's end, read above and found free.
             var dt = 0.0;
             if i < SILHOUETTE_STEPS {
-                dt = receiver_depth - light_linear_depth(textureLoad(shadow_map, vec2<i32>(uv * size), 0));
+                dt = receiver_depth - light_linear_depth(textureLoad(shadow_depths, vec2<i32>(uv * size), 0).x);
             }
             if dt > 2.0 * texel_world {
                 caster = dt;
@@ -300,7 +300,7 @@ fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32, own: f
         for (var i = 0; i < SILHOUETTE_BISECTIONS; i += 1) {
             let r = 0.5 * (best_span.x + best_span.y);
             let uv = clamp(p.xy + r * best_direction, tile.xy, tile.zw);
-            let dt = receiver_depth - light_linear_depth(textureLoad(shadow_map, vec2<i32>(uv * size), 0));
+            let dt = receiver_depth - light_linear_depth(textureLoad(shadow_depths, vec2<i32>(uv * size), 0).x);
             if dt > 2.0 * texel_world {
                 best_span.x = r;
             } else {

@@ -81,7 +81,7 @@ impl DistanceMapPass {
                 entry::texture_2d(3, unfilterable),
                 entry::texture_2d(4, unfilterable),
                 entry::texture_2d(5, unfilterable),
-                entry::texture_2d(6, wgpu::TextureSampleType::Depth),
+                entry::texture_2d(6, unfilterable),
             ],
         );
         let constants = [
@@ -330,11 +330,7 @@ impl DistanceMapCompute {
         let shader = crate::shaders::module(device, "distance_map.wgsl", crate::shaders::DISTANCE_MAP);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let mut entries = vec![entry::uniform(0, wgpu::ShaderStages::COMPUTE, frame_size, false)];
-        entries.extend((1..=5).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
-        entries.push(entry::and_compute(entry::texture_2d(
-            6,
-            wgpu::TextureSampleType::Depth,
-        )));
+        entries.extend((1..=6).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
         entries.push(entry::storage_texture(7, Self::FORMAT));
         let layout = crate::gpu_helpers::layout(device, "DistanceMapCompute::layout", &entries);
         let list_layout = super::TileListPass::list_layout(device);

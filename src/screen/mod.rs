@@ -15,10 +15,13 @@
 //! The compute path (the default where the device has compute shaders,
 //! [`crate::PenumbraSettings::fragment_passes`]): `TileListPass` (`cs_classify` in
 //! `shaders/tile_classify.wgsl`) lists the 16 x 16 tiles the distance-map method's shadows can
-//! reach and writes indirect arguments; `DistanceMapCompute`, `VariablePcfCompute` and both
-//! axes of `BlurCompute` (`cs_main` in their shaders) run over that list
+//! reach and writes indirect arguments; `VariablePcfCompute` (`cs_distance_pcf`: each pixel's
+//! distance, the work of `shaders/common/distance.wgsl`, written into the distance map, then
+//! its taps) and both axes of `BlurCompute` (`cs_main`) run over that list
 //! (`shaders/common/tile_list.wgsl`), and a draw of the listed tiles' quads copies the blurred
-//! result into the light's layer (one load a pixel). [`PcfPass`] and [`PcssPass`] run `cs_main`
+//! result into the light's layer (one load a pixel). `DistanceMapCompute` owns the list, and
+//! runs the distance map as a pass of its own (`cs_main` in its shader) only with
+//! `PENUMBRA_DISTANCE_PCF=apart` in the environment. [`PcfPass`] and [`PcssPass`] run `cs_main`
 //! over the screen ([`ScreenPipeline`]). Their screen-sized outputs are the lights' shared
 //! [`ComputeTargets`].
 //!

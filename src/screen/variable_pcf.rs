@@ -397,9 +397,10 @@ impl VariablePcfCompute {
         ];
         if distance.is_some() {
             // The distance map's inputs (the fattened map, the receiver mask, the occluder
-            // offset, the exit map) and its texture.
+            // offset, the exit map), its texture, and the shadow map read as plain depths.
             entries.extend((9..=12).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
             entries.push(entry::storage_texture(13, super::DistanceMapCompute::FORMAT));
+            entries.push(entry::and_compute(entry::texture_2d(14, unfilterable)));
         }
         let layout = crate::gpu_helpers::layout(device, "VariablePcfCompute::layout", &entries);
         let list_layout = super::TileListPass::list_layout(device);
@@ -482,12 +483,13 @@ impl VariablePcfCompute {
             &probe,
         ];
         if self.distance.is_some() {
-            resources.extend::<[&dyn super::Binding; 5]>([
+            resources.extend::<[&dyn super::Binding; 6]>([
                 maps.fattened_map,
                 receiver_mask,
                 maps.occluder_offset,
                 maps.exit_map,
                 distance_map,
+                maps.shadow_map,
             ]);
         }
         self.bind_group = Some(super::bind_group(
