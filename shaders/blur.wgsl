@@ -84,6 +84,16 @@ fn finish(v: f32, d: f32) -> f32 {
 
 // The result at this pixel.
 fn blurred_at(frag: vec2<f32>) -> f32 {
+    var d = 0.0;
+    if !FIXED_STEP {
+        d = textureLoad(distance_map, vec2<i32>(frag), 0).x;
+    }
+    return blurred_with(frag, d);
+}
+
+// The result at this pixel, whose distance to its occluder is `d` (the distance map's R;
+// unused by the fixed blur).
+fn blurred_with(frag: vec2<f32>, d: f32) -> f32 {
     let pixel = vec2<i32>(frag);
     let depth = textureLoad(camera_depth, pixel, 0).x;
     let center = textureLoad(source, pixel, 0).x;
@@ -93,17 +103,16 @@ fn blurred_at(frag: vec2<f32>) -> f32 {
         }
         return center;
     }
-    let surface = BlurCenter(depth, depth_slope(pixel, depth));
     let radius = i32(blur.taps) / 2;
     if FIXED_STEP {
         if blur.step < 1e-3 || radius == 0 {
             return finish(center, 0.0);
         }
+        let surface = BlurCenter(depth, depth_slope(pixel, depth));
         return finish(taps(frag, center, surface, radius, blur.step, 0.0), 0.0);
     }
     // The distance-driven blur: a Gaussian of standard deviation `sigma` pixels, sampled out to
     // 2.5 sigma with as few taps as keep them at most a pixel apart (up to the setting's).
-    let d = textureLoad(distance_map, pixel, 0).x;
     var sigma = d * blur.step * blur.kernel_sigma;
     if frame.penumbra.physical != 0u {
         sigma = sigma_of(pixel);
@@ -113,6 +122,8 @@ fn blurred_at(frag: vec2<f32>) -> f32 {
         return finish(center, d);
     }
     let n = clamp(i32(ceil(2.5 * sigma)), 1, radius);
+    // The receiver's plane, read only where there are taps to weigh.
+    let surface = BlurCenter(depth, depth_slope(pixel, depth));
     // Weights of a Gaussian 4% wider than sigma: cut at 2.5 sigma, the kernel's own spread is
     // then sigma.
     return finish(taps(frag, center, surface, n, 2.5 * sigma / f32(n), 1.0 / (1.04 * sigma)), d);
@@ -236,10 +247,19 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 @compute @workgroup_size(16, 16)
 fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
     let pixel = listed_pixel(group, groups, local);
-    if pixel.x < 0 || (!FIXED_STEP && textureLoad(distance_map, pixel, 0).z <= 0.0) {
+    if pixel.x < 0 {
         return;
     }
-    textureStore(blur_out, pixel, vec4<f32>(blurred_at(vec2<f32>(pixel) + 0.5)));
+    // One load of the distance map serves its classification (B) and the distance (R).
+    var d = 0.0;
+    if !FIXED_STEP {
+        let distance = textureLoad(distance_map, pixel, 0);
+        if distance.z <= 0.0 {
+            return;
+        }
+        d = distance.x;
+    }
+    textureStore(blur_out, pixel, vec4<f32>(blurred_with(vec2<f32>(pixel) + 0.5, d)));
 }
 
 // The tiles listed apart as turned away from the light (over that list): the horizontal axis's
