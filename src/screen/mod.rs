@@ -666,8 +666,6 @@ fn with_blur<T>(mut stages: Vec<T>, blur: Option<T>) -> Vec<T> {
     stages
 }
 
-/// The compute path's distance-map switches: its tile list follows the classification setting
-/// with `Auto` on (see [`PassParams::list_tiles`]).
 /// Whether the compute path's variable PCF takes the distance map's value itself (one pass
 /// for both, the default) or reads what the distance map's own pass wrote
 /// (`PENUMBRA_DISTANCE_PCF=apart` in the environment, to compare the two).
@@ -675,6 +673,8 @@ fn distance_in_pcf() -> bool {
     std::env::var("PENUMBRA_DISTANCE_PCF").as_deref() != Ok("apart")
 }
 
+/// The compute path's distance-map switches: its tile list follows the classification setting
+/// with `Auto` on (see [`PassParams::list_tiles`]).
 fn compute_distance_switches(params: &PassParams) -> DistanceSwitches {
     DistanceSwitches {
         tiles: params.list_tiles,

@@ -334,9 +334,9 @@ impl ScreenStage for VariablePcfPass {
 
 /// The variable PCF of the compute path: one compute pass over the distance map's listed
 /// tiles, at the pixels whose classification says a shadow can fall, into the visibility (R32F,
-/// cleared to 1 first: no shadow) and the blur's
-/// standard deviations along screen x and y (RG32F, 0 at the listed tiles' other pixels, not
-/// cleared: the blur reads them only at the listed pixels it blurs). 32-bit floats: a compute
+/// cleared to 1 first: no shadow) and the blur's standard deviations along screen x and y
+/// (RG32F, 0 at the listed tiles' other pixels, not cleared: the blur reads them only at the
+/// listed pixels it blurs). 32-bit floats: a compute
 /// pass can write them everywhere (half floats only as RGBA16F, whose four-channel
 /// fetches cost the blur's taps on a software rasterizer). The textures are given at
 /// [`Self::bind`]: the lights share them ([`crate::screen::ComputeTargets`]).
@@ -344,7 +344,7 @@ impl ScreenStage for VariablePcfPass {
 /// By default the pass takes the distance map's value at each pixel itself and writes it into
 /// the distance map (`cs_distance_pcf`, with the work of `shaders/common/distance.wgsl`), so the
 /// distance map's own pass ([`super::DistanceMapCompute`]) lists the tiles and is not
-/// dispatched: one pass fewer, and a pixel's loads and setup taken once. With
+/// dispatched: one pass fewer, and the distance's store and load between the two gone. With
 /// `PENUMBRA_DISTANCE_PCF=apart` in the environment the two run apart (`cs_main` reads the
 /// distance map), to compare them.
 pub(crate) struct VariablePcfCompute {
