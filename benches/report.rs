@@ -868,7 +868,10 @@ fn measure_added_lights(
 
 /// `ours` (medium) on `scene` seen from `camera` pulled back to 1, 2, 4 and 8 times its
 /// distance from its target (the teapot and its shadow smaller on the screen each time), the
-/// light turning: the share of tiles kept and the screen-space passes' time.
+/// light turning: the share of tiles kept and the screen-space passes' time. As the light-size
+/// sweep, each distance is timed twice, near to far and back (a slow drift of the machine
+/// cancels), each time the median of at least 9 frames: the verdict compares two of these
+/// times, and three frames on a software adapter moved it by a third between two runs.
 fn measure_tiles(
     gpu: &HeadlessGpu,
     scene: &penumbra::Scene,
@@ -879,13 +882,28 @@ fn measure_tiles(
     let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
     // Measured with the classification on, whatever the device's default.
     settings.penumbra.tiles = penumbra::TileClassification::On;
-    let mut runs = Vec::new();
-    for distance in [1.0f32, 2.0, 4.0, 8.0] {
+    let sweep_config = Config {
+        frames: config.frames.max(9),
+        warmup: config.warmup.max(2),
+        ..config.clone()
+    };
+    let distances = [1.0f32, 2.0, 4.0, 8.0];
+    let mut runs: Vec<TileRun> = distances
+        .iter()
+        .map(|&distance| TileRun {
+            distance,
+            tile_share: 0.0,
+            screen_space_ms: 0.0,
+            frame_ms: 0.0,
+        })
+        .collect();
+    for k in (0..distances.len()).chain((0..distances.len()).rev()) {
+        let distance = distances[k];
         let mut far = *camera;
         far.eye = camera.target + (camera.eye - camera.target) * distance;
         far.far = camera.far * distance;
-        let t = time_frames(gpu, scene, &far, settings, size, config)?;
-        let screen_space_ms = ["distance map", "pcf", "blur"]
+        let t = time_frames(gpu, scene, &far, settings, size, &sweep_config)?;
+        let screen_space_ms: f64 = ["distance map", "pcf", "blur"]
             .iter()
             .map(|p| t.pass_ms.get(*p).copied().unwrap_or(0.0))
             .sum();
@@ -894,12 +912,11 @@ fn measure_tiles(
             "tiles: camera at {distance}x: {:.1}% of tiles kept, screen-space passes {screen_space_ms:.2} ms",
             tile_share * 100.0
         );
-        runs.push(TileRun {
-            distance,
-            tile_share,
-            screen_space_ms,
-            frame_ms: t.frame_ms,
-        });
+        // The mean of the two timings; the share is the same both times.
+        let run = &mut runs[k];
+        run.tile_share = tile_share;
+        run.screen_space_ms += screen_space_ms / 2.0;
+        run.frame_ms += t.frame_ms / 2.0;
     }
     Ok(runs)
 }
@@ -1898,7 +1915,7 @@ fn write_tiles(md: &mut String, tiles: &[TileRun], (width, height): (u32, u32)) 
     use std::fmt::Write;
     writeln!(
         md,
-        "\n## Cost against the penumbra tiles (teapot, view 0 pulled back, {width}x{height}, ours medium, light turning)\n\n\
+        "\n## Cost against the penumbra tiles (teapot, view 0 pulled back, {width}x{height}, ours medium, light turning; each distance timed twice, near to far and back, median of at least 9 frames each)\n\n\
          The tile classification keeps the 16 x 16 pixel tiles where the fattened shadow can fall; the distance \
          map (its classification included), PCF and blur run there. Screen-space time: those three passes.\n\n\
          | camera distance | tiles kept | screen-space ms | frame ms |\n|---|---|---|---|"
