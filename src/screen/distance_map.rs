@@ -156,37 +156,23 @@ impl DistanceMapPass {
     }
 
     /// Points the pass at its inputs. `receiver_mask` is read only where the frame uniform
-    /// says one is bound (any texture otherwise); the fattened map is `fattened_size` texels
-    /// side.
-    #[allow(clippy::too_many_arguments)]
+    /// says one is bound (any texture otherwise).
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
         frame: &wgpu::Buffer,
-        (fattened_map, fattened_size): (&wgpu::TextureView, (u32, u32)),
-        occluder_offset: &wgpu::TextureView,
-        exit_map: &wgpu::TextureView,
-        shadow_map: &wgpu::TextureView,
-        camera_depth: &wgpu::TextureView,
-        receiver_mask: &wgpu::TextureView,
+        maps: &DistanceMaps,
+        (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
     ) {
         self.tiles
-            .bind(device, frame, camera_depth, fattened_map, fattened_size);
+            .bind(device, frame, camera_depth, maps.fattened_map, maps.fattened_size);
         self.reduce_pending
             .store(true, std::sync::atomic::Ordering::Relaxed);
         self.bind_group = Some(super::bind_group(
             device,
             "DistanceMapPass::bind_group",
             &self.layout,
-            &[
-                frame,
-                fattened_map,
-                camera_depth,
-                receiver_mask,
-                occluder_offset,
-                exit_map,
-                shadow_map,
-            ],
+            &maps.inputs(frame, (camera_depth, receiver_mask)),
         ));
     }
 
@@ -281,13 +267,35 @@ impl ScreenStage for DistanceMapPass {
     }
 }
 
-/// The light's maps the distance map reads ([`super::VariablePcfCompute`] where it takes the
-/// distance itself).
+/// The light's maps the distance map reads (its passes, and [`super::VariablePcfCompute`] where
+/// it takes the distance itself).
 pub(crate) struct DistanceMaps<'a> {
     pub shadow_map: &'a wgpu::TextureView,
     pub fattened_map: &'a wgpu::TextureView,
+    /// The fattened map's width and height in texels.
+    pub fattened_size: (u32, u32),
     pub occluder_offset: &'a wgpu::TextureView,
     pub exit_map: &'a wgpu::TextureView,
+}
+
+impl<'a> DistanceMaps<'a> {
+    /// The distance map shader's inputs at bindings 0-6: the frame uniform, the maps, the
+    /// camera depth and the receiver mask, in its order.
+    fn inputs(
+        &self,
+        frame: &'a wgpu::Buffer,
+        (camera_depth, receiver_mask): (&'a wgpu::TextureView, &'a wgpu::TextureView),
+    ) -> [&'a dyn super::Binding; 7] {
+        [
+            frame,
+            self.fattened_map,
+            camera_depth,
+            receiver_mask,
+            self.occluder_offset,
+            self.exit_map,
+            self.shadow_map,
+        ]
+    }
 }
 
 /// The distance map of the compute path: the tile list first ([`super::TileListPass`]), then
@@ -368,44 +376,27 @@ impl DistanceMapCompute {
     /// As [`DistanceMapPass::bind`], writing `cleared.distance` ([`Self::FORMAT`]) over the
     /// tiles listed into `tiles`, both the screen's size (the tile list clears `cleared` where
     /// it does, [`Self::clears`]).
-    #[allow(clippy::too_many_arguments)]
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
         (tiles, cleared): (&super::TileListTargets, &super::ClearedByList),
         frame: &wgpu::Buffer,
-        (fattened_map, fattened_size): (&wgpu::TextureView, (u32, u32)),
-        occluder_offset: &wgpu::TextureView,
-        exit_map: &wgpu::TextureView,
-        shadow_map: &wgpu::TextureView,
-        camera_depth: &wgpu::TextureView,
-        receiver_mask: &wgpu::TextureView,
+        maps: &DistanceMaps,
+        (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
     ) {
         self.tiles.bind(
             device,
             (tiles, cleared),
             frame,
             (camera_depth, receiver_mask),
-            (fattened_map, fattened_size),
+            (maps.fattened_map, maps.fattened_size),
         );
         self.reduce_pending
             .store(true, std::sync::atomic::Ordering::Relaxed);
         self.bind_group = self.pipeline.is_some().then(|| {
-            super::bind_group(
-                device,
-                "DistanceMapCompute::bind_group",
-                &self.layout,
-                &[
-                    frame,
-                    fattened_map,
-                    camera_depth,
-                    receiver_mask,
-                    occluder_offset,
-                    exit_map,
-                    shadow_map,
-                    cleared.distance,
-                ],
-            )
+            let mut resources = maps.inputs(frame, (camera_depth, receiver_mask)).to_vec();
+            resources.push(cleared.distance);
+            super::bind_group(device, "DistanceMapCompute::bind_group", &self.layout, &resources)
         });
     }
 

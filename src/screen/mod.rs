@@ -355,7 +355,7 @@ impl ScreenChain {
                 resolve,
                 targets,
             } => {
-                let (Some((fattened, exit)), Some(all)) = (&maps.fattened, compute) else {
+                let (Some(maps), Some(all)) = (distance_maps(maps), compute) else {
                     return;
                 };
                 let Some(shared) = &all.distance_map else {
@@ -368,24 +368,8 @@ impl ScreenChain {
                     visibility: &all.visibility.view,
                     blurred: all.blurred.as_ref().map(|b| &b.view),
                 };
-                distance.bind(
-                    device,
-                    (&shared.tiles, &cleared),
-                    frame,
-                    (fattened.view(), fattened_size(fattened.texture())),
-                    fattened.occluder_offset(),
-                    exit.view(),
-                    shadow_map,
-                    depth,
-                    mask,
-                );
+                distance.bind(device, (&shared.tiles, &cleared), frame, &maps, (depth, mask));
                 let (visibility, sigma) = (&all.visibility.view, &shared.sigma.view);
-                let maps = DistanceMaps {
-                    shadow_map,
-                    fattened_map: fattened.view(),
-                    occluder_offset: fattened.occluder_offset(),
-                    exit_map: exit.view(),
-                };
                 pcf.bind(
                     device,
                     (visibility, sigma),
@@ -411,19 +395,10 @@ impl ScreenChain {
                 blur,
                 resolve,
             } => {
-                let Some((fattened, exit)) = &maps.fattened else {
+                let Some(maps) = distance_maps(maps) else {
                     return;
                 };
-                distance.bind(
-                    device,
-                    frame,
-                    (fattened.view(), fattened_size(fattened.texture())),
-                    fattened.occluder_offset(),
-                    exit.view(),
-                    shadow_map,
-                    depth,
-                    mask,
-                );
+                distance.bind(device, frame, &maps, (depth, mask));
                 pcf.bind(device, frame, depth, distance.distance_map(), shadow_map);
                 if let Some(blur) = blur {
                     let input = BlurInput {
@@ -682,7 +657,15 @@ fn compute_distance_switches(params: &PassParams) -> DistanceSwitches {
     }
 }
 
-/// A fattened map's width and height in texels.
-fn fattened_size(texture: &wgpu::Texture) -> (u32, u32) {
-    (texture.width(), texture.height())
+/// The maps of `maps` the distance map reads (none without a fattened map).
+fn distance_maps(maps: &LightMaps) -> Option<DistanceMaps<'_>> {
+    let (fattened, exit) = maps.fattened.as_ref()?;
+    let texture = fattened.texture();
+    Some(DistanceMaps {
+        shadow_map: maps.shadow.view(),
+        fattened_map: fattened.view(),
+        fattened_size: (texture.width(), texture.height()),
+        occluder_offset: fattened.occluder_offset(),
+        exit_map: exit.view(),
+    })
 }
