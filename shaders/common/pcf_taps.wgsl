@@ -1,4 +1,4 @@
-// Shared by the PCF pass and the distance-map pass (which takes the method's PCF taps itself):
+// Shared by the fixed PCF pass (the baselines) and the variable PCF (the distance-map method):
 // N x N comparison taps on the shadow map. Needs `shadow_map` and `shadow_sampler` bound by the
 // including pass.
 
