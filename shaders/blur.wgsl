@@ -1,4 +1,4 @@
-// after: frame cube fullscreen tiles tile_list
+// after: frame cube fullscreen tiles tile_list layer_out
 // Separable Gaussian blur of one light's visibility, one axis per draw or compute pass
 // (horizontal, then vertical). The step between taps is fixed (the baseline) or grows with the
 // pixel's distance to its occluder: distance x spread pixels (manual), or the standard
@@ -260,6 +260,31 @@ fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gro
         d = distance.x;
     }
     textureStore(blur_out, pixel, vec4<f32>(blurred_with(vec2<f32>(pixel) + 0.5, d)));
+}
+
+// The vertical axis where it writes the light's layer itself (the device stores half floats):
+// what `cs_main` writes, and into the layer what `fs_listed_copy` would copy there. The layer
+// holds 1 before (0 over the tiles listed apart as turned away), where this pass writes nothing.
+@group(2) @binding(2) var layer_out: LayerStorage;
+
+@compute @workgroup_size(16, 16)
+fn cs_layer(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    let pixel = listed_pixel(group, groups, local);
+    if pixel.x < 0 {
+        return;
+    }
+    var d = 0.0;
+    if !FIXED_STEP {
+        let distance = textureLoad(distance_map, pixel, 0);
+        if distance.z <= 0.0 {
+            return;
+        }
+        d = distance.x;
+    }
+    let v = blurred_with(vec2<f32>(pixel) + 0.5, d);
+    textureStore(blur_out, pixel, vec4<f32>(v));
+    // The fixed blur runs over every tile: 1 where no receiver is, as the resolve writes.
+    textureStore(layer_out, pixel, vec4<f32>(select(1.0, v, !FIXED_STEP || receives(pixel))));
 }
 
 // The tiles listed apart as turned away from the light (over that list): the horizontal axis's

@@ -1,4 +1,4 @@
-// after: frame cube fullscreen receiver pcf_taps workgroup_rows
+// after: frame cube fullscreen receiver pcf_taps workgroup_rows layer_out
 // PCF pass (the baseline and screen-space hard shadows): a screen-space visibility texture from
 // N x N comparison taps on the real shadow map at a fixed spacing, rotated per pixel by a noise
 // angle. A receiver-plane depth bias keeps wide kernels from shadowing the receiver itself. The
@@ -47,4 +47,25 @@ fn cs_main(
         return;
     }
     textureStore(visibility_out, id.xy, vec4<f32>(visibility_at(vec2<f32>(id.xy) + 0.5)));
+}
+
+// The same, where the pass writes the light's layer itself (the device stores half floats): the
+// visibility as `cs_main` writes it, and into the layer what the resolve would write, so that
+// no resolve is drawn.
+@group(0) @binding(6) var layer_out: LayerStorage;
+@group(0) @binding(7) var receiver_mask: texture_2d<f32>;
+
+@compute @workgroup_size(16, 16)
+fn cs_layer(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_id) local: vec3<u32>,
+) {
+    let id = vec2<u32>(group.x, screen_row(group.y, groups.y)) * 16u + local.xy;
+    if any(vec2<f32>(id.xy) >= frame.view.size) {
+        return;
+    }
+    let v = visibility_at(vec2<f32>(id.xy) + 0.5);
+    textureStore(visibility_out, id.xy, vec4<f32>(v));
+    textureStore(layer_out, id.xy, vec4<f32>(resolved(vec2<i32>(id.xy), v)));
 }

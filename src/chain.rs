@@ -27,9 +27,9 @@ pub enum Chain {
         /// The blur has more than one tap.
         blur: bool,
         /// The screen-space passes run as compute passes over a list of the screen tiles a
-        /// shadow can reach (the copy of the blurred result into the light's layer, which is
-        /// a render target, as a draw of those tiles); otherwise as draws
-        /// ([`crate::PenumbraSettings::fragment_passes`]).
+        /// shadow can reach (the blur's vertical axis writes the light's layer where the device
+        /// stores half floats; elsewhere a draw of those tiles copies its result there);
+        /// otherwise as draws ([`crate::PenumbraSettings::fragment_passes`]).
         compute: bool,
     },
     /// The baseline ([`ShadowMethod::Traditional`]): fixed-spacing PCF, a fixed Gaussian
@@ -37,14 +37,18 @@ pub enum Chain {
     Traditional {
         /// The blur has more than one tap.
         blur: bool,
-        /// PCF and both axes of the blur are compute passes over the screen, and a draw copies
-        /// the result into the light's layer (else draws).
+        /// PCF and both axes of the blur are compute passes over the screen, the vertical axis
+        /// writing the light's layer where the device stores half floats, else a draw copying
+        /// the result there (else draws).
         compute: bool,
     },
     /// [`ShadowMethod::Pcss`]: PCSS, a resolve.
     Pcss {
         /// PCSS is a compute pass over the screen (else a draw).
         compute: bool,
+        /// A draw writes the light's layer: false where the compute pass writes it itself (the
+        /// device stores half floats, [`crate::Shadows`] decides).
+        resolve: bool,
     },
     /// Screen-space hard shadows ([`ShadowMethod::Hard`], [`ShadowMethod::Hardware2x2`], and a
     /// method that needs a light size under a light without one): one PCF tap (a bilinear
@@ -54,6 +58,8 @@ pub enum Chain {
         method: ShadowMethod,
         /// The tap is a compute pass over the screen (else a draw).
         compute: bool,
+        /// A draw writes the light's layer: false where the compute pass writes it itself.
+        resolve: bool,
     },
     /// The shadow map alone: the convenience renderer shades with it in its forward pass (or
     /// renders the reference).
@@ -73,6 +79,7 @@ impl Chain {
                 Chain::Hard {
                     method: ShadowMethod::Hard,
                     compute,
+                    resolve: true,
                 }
             }
             method @ (ShadowMethod::Ours | ShadowMethod::OursFast) => Chain::Ours {
@@ -85,8 +92,15 @@ impl Chain {
                 blur: settings.traditional.blur_taps > 1,
                 compute,
             },
-            ShadowMethod::Pcss => Chain::Pcss { compute },
-            method @ (ShadowMethod::Hard | ShadowMethod::Hardware2x2) => Chain::Hard { method, compute },
+            ShadowMethod::Pcss => Chain::Pcss {
+                compute,
+                resolve: true,
+            },
+            method @ (ShadowMethod::Hard | ShadowMethod::Hardware2x2) => Chain::Hard {
+                method,
+                compute,
+                resolve: true,
+            },
             ShadowMethod::Reference => Chain::MapOnly {
                 method: ShadowMethod::Reference,
             },
@@ -109,10 +123,32 @@ impl Chain {
                 compute: false,
             },
             Chain::Traditional { blur, .. } => Chain::Traditional { blur, compute: false },
-            Chain::Pcss { .. } => Chain::Pcss { compute: false },
+            Chain::Pcss { .. } => Chain::Pcss {
+                compute: false,
+                resolve: true,
+            },
             Chain::Hard { method, .. } => Chain::Hard {
                 method,
                 compute: false,
+                resolve: true,
+            },
+            other => other,
+        }
+    }
+
+    /// The chain where the compute passes write the light's layer themselves (`on`: the device
+    /// stores half floats and the layer allows it): PCSS's and the hard shadows' compute pass
+    /// then leave no resolve to draw.
+    pub(crate) fn writing_layers(self, on: bool) -> Self {
+        match self {
+            Chain::Pcss { compute, .. } => Chain::Pcss {
+                compute,
+                resolve: !(compute && on),
+            },
+            Chain::Hard { method, compute, .. } => Chain::Hard {
+                method,
+                compute,
+                resolve: !(compute && on),
             },
             other => other,
         }
@@ -126,7 +162,7 @@ impl Chain {
             self,
             Chain::Ours { compute: true, .. }
                 | Chain::Traditional { compute: true, .. }
-                | Chain::Pcss { compute: true }
+                | Chain::Pcss { compute: true, .. }
                 | Chain::Hard { compute: true, .. }
         )
     }
@@ -180,13 +216,14 @@ impl Chain {
         )
     }
 
-    /// A resolve pass writes the light's layer (otherwise the blur's vertical draw does).
+    /// A resolve pass writes the light's layer (otherwise the blur's vertical axis does, or
+    /// PCSS's or the hard shadows' compute pass).
     pub fn resolve(&self) -> bool {
         match self {
             Chain::Ours { blur, .. } => !blur,
             Chain::Traditional { blur, compute } => !(*blur && *compute),
+            Chain::Pcss { resolve, .. } | Chain::Hard { resolve, .. } => *resolve,
             Chain::MapOnly { .. } => false,
-            _ => true,
         }
     }
 
@@ -212,8 +249,21 @@ impl Chain {
                 compute: true,
             } => vec!["pcf", "blur"],
             Chain::Traditional { blur: true, .. } => vec!["pcf", "blur", "resolve"],
-            Chain::Traditional { blur: false, .. } | Chain::Hard { .. } => vec!["pcf", "resolve"],
-            Chain::Pcss { .. } => vec!["pcss", "resolve"],
+            Chain::Traditional { blur: false, .. } => vec!["pcf", "resolve"],
+            Chain::Hard { resolve, .. } => {
+                if *resolve {
+                    vec!["pcf", "resolve"]
+                } else {
+                    vec!["pcf"]
+                }
+            }
+            Chain::Pcss { resolve, .. } => {
+                if *resolve {
+                    vec!["pcss", "resolve"]
+                } else {
+                    vec!["pcss"]
+                }
+            }
             Chain::MapOnly { .. } => vec![],
         });
         names

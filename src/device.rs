@@ -9,12 +9,15 @@ pub fn instance_flags() -> wgpu::InstanceFlags {
 }
 
 /// The device penumbra wants from `adapter`: the timestamp-query features where the adapter
-/// has them (for per-pass GPU times; without them timing falls back to wall clock), WebGL2-era
-/// limits with the adapter's own texture size limit (shadow maps up to 8192 texels).
+/// has them (for per-pass GPU times; without them timing falls back to wall clock), the
+/// adapter's own texture format features where it has them (a compute pass then writes the
+/// visibility's half floats itself, where a draw would copy them), WebGL2-era limits with the
+/// adapter's own texture size limit (shadow maps up to 8192 texels).
 pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
     let optional = wgpu::Features::TIMESTAMP_QUERY
         | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
-        | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES;
+        | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES
+        | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
     wgpu::DeviceDescriptor {
         label: Some("penumbra device"),
         required_features: adapter.features() & optional,

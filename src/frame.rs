@@ -200,6 +200,10 @@ pub(crate) struct PassParams {
     /// The compute path classifies its tiles (`Auto` is on for every device there: a tile
     /// list costs nothing where no tile is dropped).
     pub list_tiles: bool,
+    /// The compute passes that finish a light's visibility write its layer themselves (the
+    /// device stores half floats and the layer allows it, `crate::Shadows` decides); otherwise
+    /// a draw writes it.
+    pub layer_writes: bool,
 }
 
 impl PassParams {
@@ -295,6 +299,7 @@ impl PassParams {
                 _pad: [0.0; 2],
             },
             list_tiles: tiles,
+            layer_writes: false,
         }
     }
 }

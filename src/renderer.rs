@@ -682,6 +682,15 @@ impl Renderer {
         self.timer = timer;
         let (shadow_maps_rendered, spreads, light_view) = result?;
         let _ = casters;
+        // The chain the shadows ran: whether a draw wrote the light's layer is theirs to
+        // decide (the device's storage formats).
+        let mut plan = plan;
+        if plan.shadow_map()
+            && !plan.forward
+            && let Some(report) = self.shadows.report(self.light)
+        {
+            plan.chain = report.chain;
+        }
         let light = match self.shadows.report(self.light).filter(|_| plan.shadow_map()) {
             Some(report) => *report,
             None => LightReport {

@@ -47,13 +47,13 @@ fn passes_find_their_entry_points() {
         ("depth_prepass", &["vs_main", "fs_main"][..]),
         ("distance_map", &["vs_fullscreen", "fs_main", "cs_main"][..]),
         ("resolve", &["vs_fullscreen", "fs_main"][..]),
-        ("pcf", &["vs_fullscreen", "fs_main"][..]),
+        ("pcf", &["vs_fullscreen", "fs_main", "cs_main", "cs_layer"][..]),
         (
             "variable_pcf",
             &["vs_fullscreen", "fs_main", "cs_main", "cs_distance_pcf"][..],
         ),
-        ("blur", &["vs_fullscreen", "fs_main"][..]),
-        ("pcss", &["vs_fullscreen", "fs_main"][..]),
+        ("blur", &["vs_fullscreen", "fs_main", "cs_main", "cs_layer"][..]),
+        ("pcss", &["vs_fullscreen", "fs_main", "cs_main", "cs_layer"][..]),
         ("composite", &["vs_main", "fs_main"][..]),
         ("reference", &["vs_fullscreen", "fs_main"][..]),
     ] {
@@ -66,6 +66,28 @@ fn passes_find_their_entry_points() {
             );
         }
     }
+}
+
+/// The passes whose compute pass can write the light's layer (`cs_layer`) are made, on a device
+/// that stores half floats, from their source with the layer typed R16F
+/// (`penumbra::shaders::writing_layers`): that source validates too, and every other keeps its
+/// 32-bit type (valid on the web, where no half float is a storage format).
+#[test]
+fn passes_writing_layers_validate_with_half_floats() {
+    let mut writing = Vec::new();
+    for (name, source) in penumbra::shaders::ALL {
+        assert!(
+            !source.contains("r16float, write"),
+            "{name} stores half floats as written"
+        );
+        if let Some(halves) = penumbra::shaders::writing_layers(source) {
+            assert!(halves.contains("alias LayerStorage = texture_storage_2d<r16float, write>;"));
+            let module = validate(name, &halves);
+            assert!(module.entry_points.iter().any(|e| e.name == "cs_layer"), "{name}");
+            writing.push(*name);
+        }
+    }
+    assert_eq!(writing, ["blur", "pcf", "pcss"]);
 }
 
 #[test]

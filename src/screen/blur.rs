@@ -1,7 +1,8 @@
 //! Separable Gaussian blur of one light's visibility: one pass object, two draws (horizontal
 //! into a temporary texture, then vertical into the output) that differ by an axis uniform;
-//! on the compute path ([`BlurCompute`]) two compute passes over the distance map's tile list
-//! and a draw that copies the result into the light's layer.
+//! on the compute path ([`BlurCompute`]) two compute passes over the distance map's tile list,
+//! the vertical one writing the light's layer where the device stores half floats, else a draw
+//! that copies the result into it.
 //!
 //! Input: the frame uniform, the camera depth, the light's visibility to blur, its distance
 //! map and, in physical mode, the standard deviations the variable PCF pass wrote.
@@ -312,6 +313,11 @@ impl ScreenStage for BlurPass {
 /// PCF's deviations and the distance map's classification (B); the values are read linearly
 /// between texels by two loads. Its textures are given at [`Self::bind`]: the lights share
 /// them ([`crate::screen::ComputeTargets`]).
+///
+/// Where the device stores half floats and the layer allows it ([`super::PassParams`]'s
+/// `layer_writes`), the vertical axis (`cs_layer`) also writes the layer itself: no copy is
+/// drawn, only the layer's clear to 1 (with the 0 of the tiles turned away from the light) where
+/// the list leaves tiles out.
 pub(crate) struct BlurCompute {
     switches: BlurSwitches,
     layout: wgpu::BindGroupLayout,
@@ -324,6 +330,10 @@ pub(crate) struct BlurCompute {
     copy: wgpu::RenderPipeline,
     /// 0 into the light's layer over the tiles turned away from the light.
     copy_away: wgpu::RenderPipeline,
+    /// The vertical axis writing the layer too (`cs_layer`), and its outputs' layout.
+    into_layer: Option<(wgpu::ComputePipeline, wgpu::BindGroupLayout)>,
+    /// The vertical axis's outputs with the light's layer, when bound with one.
+    layer_group: Option<wgpu::BindGroup>,
     sampler: wgpu::Sampler,
     axis_buffers: [wgpu::Buffer; 2],
     axis_groups: [wgpu::BindGroup; 2],
@@ -336,9 +346,15 @@ impl BlurCompute {
     pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
     /// The pass for `switches`: after the distance map (over its tile list, with its
-    /// classification) or the baseline's fixed blur (over every tile).
-    pub(crate) fn new(device: &wgpu::Device, frame_size: usize, switches: BlurSwitches) -> Self {
-        let shader = crate::shaders::module(device, "blur.wgsl", crate::shaders::BLUR);
+    /// classification) or the baseline's fixed blur (over every tile); with `layers` its
+    /// vertical axis can write the light's layer itself (the device stores half floats).
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        frame_size: usize,
+        switches: BlurSwitches,
+        layers: bool,
+    ) -> Self {
+        let shader = crate::shaders::module_for(device, "blur.wgsl", crate::shaders::BLUR, layers);
         // The values are loaded, never sampled here: a sampler that does not filter.
         let entries = input_entries(
             frame_size,
@@ -367,7 +383,7 @@ impl BlurCompute {
             ("DEPTH_AWARE", flag(switches.depth_aware)),
             ("COMPUTE_PATH", 1.0),
         ];
-        let axes = |label, entry| {
+        let axes = |label, entry, out_layout: &wgpu::BindGroupLayout| {
             super::compute_pipeline(
                 device,
                 label,
@@ -375,13 +391,24 @@ impl BlurCompute {
                 &[
                     Some(&layout),
                     Some(&axis_layout),
-                    Some(&out_layout),
+                    Some(out_layout),
                     Some(&list_layout),
                 ],
                 entry,
                 &constants,
             )
         };
+        let into_layer = layers.then(|| {
+            let outputs = crate::gpu_helpers::layout(
+                device,
+                "BlurCompute::layer_layout",
+                &[
+                    entry::storage_texture(1, Self::FORMAT),
+                    entry::storage_texture(2, super::VISIBILITY_FORMAT),
+                ],
+            );
+            (axes("BlurCompute::into_layer", "cs_layer", &outputs), outputs)
+        });
         let copy = |label, fragment| {
             Fullscreen {
                 label,
@@ -399,8 +426,10 @@ impl BlurCompute {
             [0, 1].map(|i| super::bind_group(device, "BlurCompute::axis", &axis_layout, &[&axis_buffers[i]]));
         Self {
             switches,
-            axes: axes("BlurCompute::axes", "cs_main"),
-            away: axes("BlurCompute::away", "cs_away"),
+            axes: axes("BlurCompute::axes", "cs_main", &out_layout),
+            away: axes("BlurCompute::away", "cs_away", &out_layout),
+            into_layer,
+            layer_group: None,
             copy: copy("BlurCompute::copy", "fs_listed_copy"),
             copy_away: copy("BlurCompute::copy_away", "fs_away"),
             layout,
@@ -419,10 +448,16 @@ impl BlurCompute {
         self.switches
     }
 
+    /// Whether the vertical axis can write the light's layer itself.
+    pub(crate) fn writes_layers(&self) -> bool {
+        self.into_layer.is_some()
+    }
+
     /// Points the pass at its inputs: `pcf` the variable PCF's visibility and deviations,
     /// `distance_map` the compute path's (stand-ins for the fixed blur); the horizontal
     /// axis writes `temp` ([`Self::FORMAT`], the screen's size), the vertical one `visibility`
-    /// (a storage texture of that format).
+    /// (a storage texture of that format), and `layer` (the light's layer, a storage texture)
+    /// where given and [`Self::writes_layers`].
     pub(crate) fn bind(
         &mut self,
         device: &wgpu::Device,
@@ -430,6 +465,7 @@ impl BlurCompute {
         frame: &wgpu::Buffer,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
         (visibility, sigma, distance_map): (&wgpu::TextureView, &wgpu::TextureView, &wgpu::TextureView),
+        layer: Option<&wgpu::TextureView>,
     ) {
         let group = |source: &wgpu::TextureView| {
             let resources: [&dyn super::Binding; 7] = [
@@ -454,6 +490,17 @@ impl BlurCompute {
             })
         };
         self.bind_groups = Some([group(visibility), out(temp), group(temp), out(visibility)]);
+        self.layer_group = match (&self.into_layer, layer) {
+            (Some((_, outputs)), Some(layer)) => Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("BlurCompute::layer"),
+                layout: outputs,
+                entries: &[(1, visibility), (2, layer)].map(|(binding, view)| wgpu::BindGroupEntry {
+                    binding,
+                    resource: wgpu::BindingResource::TextureView(view),
+                }),
+            })),
+            _ => None,
+        };
     }
 
     /// Records both axes over `tiles`, and the copy of the result into `layer`; over the tiles
@@ -485,6 +532,31 @@ impl BlurCompute {
             &self.axes,
             &[Some(horizontal), Some(&self.axis_groups[0]), Some(to_temp)],
         );
+        if let (Some((into_layer, _)), Some(outputs)) = (&self.into_layer, &self.layer_group) {
+            // The layer is 1 where the vertical axis writes nothing (0 over the tiles turned
+            // away): a clear before it, unless the list holds every tile (the fixed blur).
+            if !self.switches.fixed_step {
+                let mut pass = super::begin_pass(
+                    encoder,
+                    "BlurCompute::layer_clear",
+                    &[super::cleared(layer, wgpu::Color::WHITE)],
+                    None,
+                );
+                if let Some(away) = &away {
+                    pass.set_pipeline(&self.copy_away);
+                    pass.set_bind_group(0, horizontal, &[]);
+                    pass.set_bind_group(1, &self.axis_groups[1], &[]);
+                    away.draw(&mut pass);
+                }
+            }
+            tiles.dispatch(
+                encoder,
+                "BlurCompute::vertical",
+                into_layer,
+                &[Some(vertical), Some(&self.axis_groups[1]), Some(outputs)],
+            );
+            return;
+        }
         tiles.dispatch(
             encoder,
             "BlurCompute::vertical",

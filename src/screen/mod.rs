@@ -18,12 +18,15 @@
 //! reach and writes indirect arguments; `VariablePcfCompute` (`cs_distance_pcf`: each pixel's
 //! distance, the work of `shaders/common/distance.wgsl`, written into the distance map, then
 //! its taps) and both axes of `BlurCompute` (`cs_main`) run over that list
-//! (`shaders/common/tile_list.wgsl`), and a draw of the listed tiles' quads copies the blurred
-//! result into the light's layer (one load a pixel). `DistanceMapCompute` owns the list, and
+//! (`shaders/common/tile_list.wgsl`). Where the device stores half floats the blur's vertical
+//! axis (`cs_layer`) writes the light's layer itself, after a clear of the layer; elsewhere a
+//! draw of the listed tiles' quads copies the blurred result into it (one load a pixel).
+//! `DistanceMapCompute` owns the list, and
 //! runs the distance map as a pass of its own (`cs_main` in its shader) only with
 //! `PENUMBRA_DISTANCE_PCF=apart` in the environment. [`PcfPass`] and [`PcssPass`] run `cs_main`
-//! over the screen ([`ScreenPipeline`]). Their screen-sized outputs are the lights' shared
-//! [`ComputeTargets`].
+//! over the screen ([`ScreenPipeline`]), and where the device stores half floats `cs_layer`,
+//! which writes the light's layer as [`ResolvePass`] would (no resolve is drawn). Their
+//! screen-sized outputs are the lights' shared [`ComputeTargets`].
 //!
 //! A new stage is three files: its WGSL file in `shaders/` (whose first line names the pieces
 //! of `shaders/common/` it is joined after: `build.rs` lists it), its module here (the stage's
@@ -77,6 +80,9 @@ pub(crate) struct ScreenInputs<'a> {
     pub maps: &'a LightMaps,
     pub dummy: &'a wgpu::TextureView,
     pub compute: Option<&'a ComputeTargets>,
+    /// The light's layer of the visibility array, where the compute passes write it themselves
+    /// ([`PassParams::layer_writes`]).
+    pub layer: Option<&'a wgpu::TextureView>,
 }
 
 /// A light's screen-space passes, one variant per [`Chain`] (one value per light, made when its
@@ -185,6 +191,7 @@ impl ScreenChain {
         (w, h): (u32, u32),
     ) -> Self {
         let resolve = || ResolvePass::new(device, FRAME_SIZE);
+        let layers = params.layer_writes;
         let mut passes = match chain {
             Chain::MapOnly { .. } => ScreenChain::MapOnly,
             Chain::Ours {
@@ -205,7 +212,7 @@ impl ScreenChain {
                     distance_in_pcf().then(|| compute_distance_switches(params)),
                     kind,
                 ),
-                blur: blur.then(|| BlurCompute::new(device, FRAME_SIZE, params.blur_switches)),
+                blur: blur.then(|| BlurCompute::new(device, FRAME_SIZE, params.blur_switches, layers)),
                 resolve: resolve(),
                 targets: None,
             },
@@ -216,22 +223,28 @@ impl ScreenChain {
                 resolve: resolve(),
             },
             Chain::Traditional { blur, compute: true } => ScreenChain::TraditionalCompute {
-                pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind, true),
-                blur: blur.then(|| BlurCompute::new(device, FRAME_SIZE, params.blur_switches)),
+                pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind, (true, false)),
+                blur: blur.then(|| BlurCompute::new(device, FRAME_SIZE, params.blur_switches, layers)),
                 resolve: resolve(),
                 targets: None,
             },
             Chain::Traditional { blur, .. } => ScreenChain::Traditional {
-                pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind, false),
+                pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind, (false, false)),
                 blur: blur.then(|| BlurPass::new(device, FRAME_SIZE, params.blur_switches)),
                 resolve: resolve(),
             },
-            Chain::Pcss { compute } => ScreenChain::Pcss {
-                pcss: PcssPass::new(device, FRAME_SIZE, kind, *compute),
+            Chain::Pcss { compute, .. } => ScreenChain::Pcss {
+                pcss: PcssPass::new(device, FRAME_SIZE, kind, (*compute, *compute && layers)),
                 resolve: resolve(),
             },
             Chain::Hard { compute, .. } => ScreenChain::Hard {
-                pcf: PcfPass::new(device, FRAME_SIZE, params.pcf_switches, kind, *compute),
+                pcf: PcfPass::new(
+                    device,
+                    FRAME_SIZE,
+                    params.pcf_switches,
+                    kind,
+                    (*compute, *compute && layers),
+                ),
                 resolve: resolve(),
             },
         };
@@ -263,6 +276,9 @@ impl ScreenChain {
                     && pcf.light_kind() == kind
                     && blur.is_some() == *wanted
                     && blur.as_ref().is_none_or(|b| b.switches() == params.blur_switches)
+                    && blur
+                        .as_ref()
+                        .is_none_or(|b| b.writes_layers() == params.layer_writes)
             }
             (
                 ScreenChain::Ours {
@@ -304,12 +320,19 @@ impl ScreenChain {
                     && pcf.is_compute()
                     && blur.is_some() == *wanted
                     && blur.as_ref().is_none_or(|b| b.switches() == params.blur_switches)
+                    && blur
+                        .as_ref()
+                        .is_none_or(|b| b.writes_layers() == params.layer_writes)
             }
-            (ScreenChain::Pcss { pcss, .. }, Chain::Pcss { compute }) => {
-                pcss.light_kind() == kind && pcss.is_compute() == *compute
+            (ScreenChain::Pcss { pcss, .. }, Chain::Pcss { compute, .. }) => {
+                pcss.light_kind() == kind
+                    && pcss.is_compute() == *compute
+                    && pcss.writes_layers() == (*compute && params.layer_writes)
             }
             (ScreenChain::Hard { pcf, .. }, Chain::Hard { compute, .. }) => {
-                pcf_fits(pcf) && pcf.is_compute() == *compute
+                pcf_fits(pcf)
+                    && pcf.is_compute() == *compute
+                    && pcf.writes_layers() == (*compute && params.layer_writes)
             }
             _ => false,
         }
@@ -344,6 +367,7 @@ impl ScreenChain {
             maps,
             dummy,
             compute,
+            layer,
         } = *inputs;
         let shadow_map = maps.shadow.view();
         match self {
@@ -385,6 +409,7 @@ impl ScreenChain {
                         frame,
                         (depth, mask),
                         (visibility, sigma, distance_map),
+                        layer,
                     ),
                     None => resolve.bind(device, frame, depth, distance_map, visibility, mask),
                 }
@@ -418,7 +443,7 @@ impl ScreenChain {
                 );
             }
             ScreenChain::Traditional { pcf, blur, resolve } => {
-                pcf.bind(device, frame, depth, shadow_map, None);
+                pcf.bind(device, frame, depth, shadow_map, None, None);
                 let Some(mut visibility) = pcf.visibility() else {
                     return;
                 };
@@ -443,7 +468,7 @@ impl ScreenChain {
                     return;
                 };
                 *targets = Some(all.clone());
-                pcf.bind(device, frame, depth, shadow_map, Some(&all.visibility));
+                pcf.bind(device, frame, depth, shadow_map, Some(&all.visibility), None);
                 let visibility = &all.visibility.view;
                 match (blur, &all.blurred) {
                     (Some(blur), Some(blurred)) => blur.bind(
@@ -452,20 +477,21 @@ impl ScreenChain {
                         frame,
                         (depth, mask),
                         (visibility, dummy, dummy),
+                        layer,
                     ),
                     _ => resolve.bind(device, frame, depth, dummy, visibility, mask),
                 }
             }
             ScreenChain::Pcss { pcss, resolve } => {
                 let shared = compute.map(|c| &c.visibility);
-                pcss.bind(device, frame, depth, shadow_map, shared);
+                pcss.bind(device, frame, depth, shadow_map, shared, layer.map(|l| (l, mask)));
                 if let Some(visibility) = pcss.visibility() {
                     resolve.bind(device, frame, depth, dummy, visibility, mask);
                 }
             }
             ScreenChain::Hard { pcf, resolve } => {
                 let shared = compute.map(|c| &c.visibility);
-                pcf.bind(device, frame, depth, shadow_map, shared);
+                pcf.bind(device, frame, depth, shadow_map, shared, layer.map(|l| (l, mask)));
                 if let Some(visibility) = pcf.visibility() {
                     resolve.bind(device, frame, depth, dummy, visibility, mask);
                 }
@@ -569,13 +595,18 @@ impl ScreenChain {
                     _ => run(encoder, mark, "resolve", &|e| resolve.encode(e, layer)),
                 }
             }
+            // Where the compute pass writes the layer itself, no resolve is drawn.
             ScreenChain::Pcss { pcss, resolve } => {
                 run(encoder, mark, "pcss", &|e| pcss.encode(e));
-                run(encoder, mark, "resolve", &|e| resolve.encode(e, layer));
+                if !pcss.writes_layers() {
+                    run(encoder, mark, "resolve", &|e| resolve.encode(e, layer));
+                }
             }
             ScreenChain::Hard { pcf, resolve } => {
                 run(encoder, mark, "pcf", &|e| pcf.encode(e));
-                run(encoder, mark, "resolve", &|e| resolve.encode(e, layer));
+                if !pcf.writes_layers() {
+                    run(encoder, mark, "resolve", &|e| resolve.encode(e, layer));
+                }
             }
         }
     }

@@ -25,19 +25,20 @@ pub struct PcfPass {
 
 impl PcfPass {
     /// The pass for `switches` and one light kind ([`crate::frame::light_kind`]: the other
-    /// kinds' code is compiled out), a compute pass with `compute`; other switches, another
-    /// kind or the other kind of pass need a new pass.
+    /// kinds' code is compiled out), a compute pass with `compute`, which with `layers`
+    /// writes the light's layer too (hard shadows, whose visibility is final); other switches,
+    /// another kind or the other kind of pass need a new pass.
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
         switches: PcfSwitches,
         light_kind: u32,
-        compute: bool,
+        (compute, layers): (bool, bool),
     ) -> Self {
-        let shader = crate::shaders::module(device, "pcf.wgsl", crate::shaders::PCF);
+        let shader = crate::shaders::module_for(device, "pcf.wgsl", crate::shaders::PCF, layers);
         let entries = ScreenPipeline::layout_entries(
             entry::shadow_lookup(frame_size, &[entry::fragment_uniform(4, size_of::<PcfUniform>())]),
-            compute,
+            (compute, layers),
         );
         let layout = crate::gpu_helpers::layout(device, "PcfPass::layout", &entries);
         let flag = |on: bool| if on { 1.0 } else { 0.0 };
@@ -50,7 +51,7 @@ impl PcfPass {
                 ("ROTATE_TAPS", flag(switches.rotate_taps)),
                 (LIGHT_KIND, light_kind as f64),
             ],
-            compute,
+            (compute, layers),
         );
         let params =
             crate::gpu_helpers::uniform_buffer(device, "PcfPass::params", size_of::<PcfUniform>() as u64);
@@ -77,6 +78,7 @@ impl PcfPass {
         camera_depth: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
         shared: Option<&Target>,
+        layer: Option<(&wgpu::TextureView, &wgpu::TextureView)>,
     ) {
         self.bind_group = self.pipeline.bind_group(
             device,
@@ -84,12 +86,18 @@ impl PcfPass {
             &self.layout,
             &[frame, camera_depth, shadow_map, &self.sampler, &self.params],
             shared,
+            layer,
         );
     }
 
     /// A compute pass.
     pub(crate) fn is_compute(&self) -> bool {
         self.pipeline.is_compute()
+    }
+
+    /// The compute pass writes the light's layer itself ([`ScreenPipeline::writes_layers`]).
+    pub(crate) fn writes_layers(&self) -> bool {
+        self.pipeline.writes_layers()
     }
 
     /// The switches the pipeline was made with.

@@ -21,10 +21,16 @@ pub struct PcssPass {
 
 impl PcssPass {
     /// The pass for one light kind ([`crate::frame::light_kind`]: the other kinds' code is
-    /// compiled out, as in the distance-map method's passes), a compute pass with `compute`;
-    /// another kind or the other kind of pass needs a new pass.
-    pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32, compute: bool) -> Self {
-        let shader = crate::shaders::module(device, "pcss.wgsl", crate::shaders::PCSS);
+    /// compiled out, as in the distance-map method's passes), a compute pass with `compute`,
+    /// which with `layers` writes the light's layer too; another kind or the other kind of
+    /// pass needs a new pass.
+    pub fn new(
+        device: &wgpu::Device,
+        frame_size: usize,
+        light_kind: u32,
+        (compute, layers): (bool, bool),
+    ) -> Self {
+        let shader = crate::shaders::module_for(device, "pcss.wgsl", crate::shaders::PCSS, layers);
         let entries = ScreenPipeline::layout_entries(
             entry::shadow_lookup(
                 frame_size,
@@ -33,7 +39,7 @@ impl PcssPass {
                     entry::fragment_uniform(5, size_of::<PcssUniform>()),
                 ],
             ),
-            compute,
+            (compute, layers),
         );
         let layout = crate::gpu_helpers::layout(device, "PcssPass::layout", &entries);
         let pipeline = ScreenPipeline::new(
@@ -42,7 +48,7 @@ impl PcssPass {
             &shader,
             &layout,
             &[(LIGHT_KIND, light_kind as f64)],
-            compute,
+            (compute, layers),
         );
         let params =
             crate::gpu_helpers::uniform_buffer(device, "PcssPass::params", size_of::<PcssUniform>() as u64);
@@ -73,6 +79,7 @@ impl PcssPass {
         camera_depth: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
         shared: Option<&Target>,
+        layer: Option<(&wgpu::TextureView, &wgpu::TextureView)>,
     ) {
         self.bind_group = self.pipeline.bind_group(
             device,
@@ -87,12 +94,18 @@ impl PcssPass {
                 &self.params,
             ],
             shared,
+            layer,
         );
     }
 
     /// A compute pass.
     pub(crate) fn is_compute(&self) -> bool {
         self.pipeline.is_compute()
+    }
+
+    /// The compute pass writes the light's layer itself ([`ScreenPipeline::writes_layers`]).
+    pub(crate) fn writes_layers(&self) -> bool {
+        self.pipeline.writes_layers()
     }
 
     /// The visibility (once bound, for a compute pass).

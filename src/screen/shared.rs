@@ -231,7 +231,9 @@ pub(crate) fn storage_target(
 /// How a baseline's screen pass (PCF, PCSS) computes one visibility per pixel: a full-screen
 /// draw into its own R16F texture, or (the compute path) a compute pass over the screen in
 /// 16 x 16 workgroups (`cs_main`) into an R32F texture given at bind time, which the lights
-/// share ([`crate::screen::ComputeTargets`]).
+/// share ([`crate::screen::ComputeTargets`]). Where the device stores half floats, the
+/// compute pass (`cs_layer`) also writes the light's layer as the resolve would, and no resolve
+/// is drawn.
 pub(crate) enum ScreenPipeline {
     Draw {
         pipeline: wgpu::RenderPipeline,
@@ -240,19 +242,23 @@ pub(crate) enum ScreenPipeline {
     Compute {
         pipeline: wgpu::ComputePipeline,
         output: Option<Target>,
+        /// `cs_layer`: the layout ends with the light's layer and the receiver mask.
+        layers: bool,
     },
 }
 
 impl ScreenPipeline {
-    /// The pipeline of `shader`'s `fs_main` (or `cs_main`, with `compute`) on `layout`, which
-    /// for compute must end with the output's storage texture ([`Self::layout_entries`]).
+    /// The pipeline of `shader`'s `fs_main` (or `cs_main`, with `compute`; `cs_layer` with
+    /// `layers` too, the shader made with [`crate::shaders::module_for`]) on `layout`, which
+    /// for compute must end with the output's storage texture, and with `layers` the layer's
+    /// and the receiver mask ([`Self::layout_entries`]).
     pub fn new(
         device: &wgpu::Device,
         label: &str,
         shader: &wgpu::ShaderModule,
         layout: &wgpu::BindGroupLayout,
         constants: &[(&str, f64)],
-        compute: bool,
+        (compute, layers): (bool, bool),
     ) -> Self {
         if compute {
             ScreenPipeline::Compute {
@@ -261,10 +267,11 @@ impl ScreenPipeline {
                     label,
                     shader,
                     &[Some(layout)],
-                    "cs_main",
+                    if layers { "cs_layer" } else { "cs_main" },
                     &[constants, &[row_threads(device)]].concat(),
                 ),
                 output: None,
+                layers,
             }
         } else {
             ScreenPipeline::Draw {
@@ -282,17 +289,27 @@ impl ScreenPipeline {
     }
 
     /// `entries` (a fragment pass's) for `compute`: seen by the compute stage, then the output
-    /// at the next binding.
+    /// at the next binding; with `layers` then the light's layer (a storage texture) and the
+    /// receiver mask.
     pub fn layout_entries(
         mut entries: Vec<wgpu::BindGroupLayoutEntry>,
-        compute: bool,
+        (compute, layers): (bool, bool),
     ) -> Vec<wgpu::BindGroupLayoutEntry> {
         if compute {
             entries = entries.into_iter().map(entry::and_compute).collect();
             let next = entries.iter().map(|e| e.binding + 1).max().unwrap_or(0);
             entries.push(entry::storage_texture(next, COMPUTE_VISIBILITY_FORMAT));
+            if layers {
+                entries.push(entry::storage_texture(next + 1, VISIBILITY_FORMAT));
+                entries.push(entry::and_compute(entry::unfilterable(next + 2)));
+            }
         }
         entries
+    }
+
+    /// The pass writes the light's layer itself (no resolve is drawn).
+    pub fn writes_layers(&self) -> bool {
+        matches!(self, ScreenPipeline::Compute { layers: true, .. })
     }
 
     pub fn is_compute(&self) -> bool {
@@ -307,7 +324,8 @@ impl ScreenPipeline {
     }
 
     /// A bind group of `resources` (bindings 0, 1, ...), and for compute the output
-    /// `shared` after them.
+    /// `shared` after them, then with [`Self::writes_layers`] `layer`: the light's layer and
+    /// the receiver mask (none without them).
     pub fn bind_group(
         &mut self,
         device: &wgpu::Device,
@@ -315,13 +333,19 @@ impl ScreenPipeline {
         layout: &wgpu::BindGroupLayout,
         resources: &[&dyn Binding],
         shared: Option<&Target>,
+        layer: Option<(&wgpu::TextureView, &wgpu::TextureView)>,
     ) -> Option<wgpu::BindGroup> {
         match self {
             ScreenPipeline::Draw { .. } => Some(bind_group(device, label, layout, resources)),
-            ScreenPipeline::Compute { output, .. } => {
+            ScreenPipeline::Compute { output, layers, .. } => {
                 let shared = shared?;
                 let mut all = resources.to_vec();
                 all.push(&shared.view);
+                if *layers {
+                    let (layer, mask) = layer?;
+                    all.push(layer);
+                    all.push(mask);
+                }
                 *output = Some(shared.clone());
                 Some(bind_group(device, label, layout, &all))
             }
@@ -353,6 +377,7 @@ impl ScreenPipeline {
             ScreenPipeline::Compute {
                 pipeline,
                 output: Some(output),
+                ..
             } => {
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some(label),

@@ -143,7 +143,20 @@ pub(super) fn layer_views(
     (texture, array, layer_views)
 }
 
-pub(super) fn visibility_array(device: &wgpu::Device, width: u32, height: u32, layers: u32) -> wgpu::Texture {
+/// Penumbra's own visibility texture, `layers` layers; with `storage` the compute passes can
+/// write it too (the device stores half floats).
+pub(super) fn visibility_array(
+    device: &wgpu::Device,
+    width: u32,
+    height: u32,
+    layers: u32,
+    storage: bool,
+) -> wgpu::Texture {
+    let storage = if storage {
+        wgpu::TextureUsages::STORAGE_BINDING
+    } else {
+        wgpu::TextureUsages::empty()
+    };
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some("Shadows::visibility"),
         size: wgpu::Extent3d {
@@ -157,7 +170,8 @@ pub(super) fn visibility_array(device: &wgpu::Device, width: u32, height: u32, l
         format: VISIBILITY_FORMAT,
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
+            | wgpu::TextureUsages::COPY_SRC
+            | storage,
         view_formats: &[],
     })
 }

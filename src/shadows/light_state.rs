@@ -154,14 +154,16 @@ impl LightState {
         changed
     }
 
-    /// Points every pass of the chain at its inputs.
+    /// Points every pass of the chain at its inputs: the engine's depth and receiver mask, a
+    /// stand-in, the compute path's intermediates and the light's layer where the compute
+    /// passes write it themselves.
     pub(super) fn bind(
         &mut self,
         device: &wgpu::Device,
-        depth: &wgpu::TextureView,
-        mask: &wgpu::TextureView,
+        (depth, mask): (&wgpu::TextureView, &wgpu::TextureView),
         dummy: &wgpu::TextureView,
         compute: Option<&ComputeTargets>,
+        layer: Option<&wgpu::TextureView>,
     ) {
         let Some(maps) = &self.maps else { return };
         let inputs = ScreenInputs {
@@ -171,6 +173,7 @@ impl LightState {
             maps,
             dummy,
             compute,
+            layer,
         };
         self.screen.bind(device, &inputs);
     }

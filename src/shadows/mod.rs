@@ -88,6 +88,9 @@ pub struct Shadows {
     software: bool,
     /// The device runs compute passes ([`crate::PenumbraSettings::fragment_passes`]).
     compute: bool,
+    /// The device can write the visibility's half floats from a compute pass, so the compute
+    /// passes that finish a light write its layer themselves ([`layer_storage`]).
+    layer_storage: bool,
     /// The compute path's intermediates, shared by the lights.
     compute_targets: Option<ComputeTargets>,
     /// The light whose chain runs last, so that its intermediates stay readable
@@ -126,6 +129,7 @@ impl Shadows {
             prepared: false,
             software: device.adapter_info().device_type == wgpu::DeviceType::Cpu,
             compute: crate::screen::has_compute(device),
+            layer_storage: layer_storage(device),
             compute_targets: None,
             inspected: None,
             loss: None,
@@ -373,7 +377,8 @@ impl Shadows {
             if let Some(target) = &this.target {
                 check_target(target, Some(((width, height), this.lights.len())))?;
             }
-            if resized || this.visibility.is_none() {
+            let replaced = resized || this.visibility.is_none();
+            if replaced {
                 this.visibility = Some(match &this.target {
                     Some(target) => layer_views(target.clone()),
                     None => layer_views(visibility_array(
@@ -381,11 +386,20 @@ impl Shadows {
                         width,
                         height,
                         this.lights.len().max(1) as u32,
+                        this.layer_storage,
                     )),
                 });
                 this.generation += 1;
             }
-            let rebind_all = resized || inputs_changed;
+            // The compute passes write the layers themselves where the device and the texture
+            // (an engine's may lack the usage) allow it.
+            let layer_writes = this.layer_storage
+                && this
+                    .visibility
+                    .as_ref()
+                    .is_some_and(|v| v.0.usage().contains(wgpu::TextureUsages::STORAGE_BINDING));
+            // The passes that write the layers hold them.
+            let rebind_all = resized || inputs_changed || (replaced && layer_writes);
             this.casters_id = Some(casters.id());
 
             let shadow_bounds = casters.shadow_bounds();
@@ -413,7 +427,7 @@ impl Shadows {
                 .enumerate()
                 .filter_map(|(slot, s)| Some((slot, s.as_mut()?)))
             {
-                let mut chain = Chain::new(&this.settings, &state.light);
+                let mut chain = Chain::new(&this.settings, &state.light).writing_layers(layer_writes);
                 if !this.compute {
                     chain = chain.without_compute();
                 }
@@ -425,7 +439,10 @@ impl Shadows {
                     method: chain.method(),
                     ..this.settings
                 };
-                let params = pass_params(&effective, software);
+                let params = PassParams {
+                    layer_writes,
+                    ..pass_params(&effective, software)
+                };
                 // The maps' resolution: the configured one, or a coarser one the light's
                 // penumbrae allow (`MapResolution::FromPenumbra`).
                 let level = state.wanted_level(&this.settings, &chain);
@@ -614,11 +631,24 @@ impl Shadows {
             }
             let inputs = this.inputs.as_ref().expect("set above");
             let mask_view = inputs.mask.as_ref().map_or(&this.dummy.view, |m| &m.view);
-            for state in this.lights.iter_mut().flatten() {
+            let layers = &this.visibility.as_ref().expect("set above").2;
+            for (slot, state) in this
+                .lights
+                .iter_mut()
+                .enumerate()
+                .filter_map(|(slot, s)| Some((slot, s.as_mut()?)))
+            {
                 let chain = state.planned.expect("planned above").chain;
                 if state.bound != Some(chain) {
                     let compute = this.compute_targets.as_ref().filter(|_| chain.compute());
-                    state.bind(device, &inputs.depth_view, mask_view, &this.dummy.view, compute);
+                    let layer = layers.get(slot).filter(|_| layer_writes);
+                    state.bind(
+                        device,
+                        (&inputs.depth_view, mask_view),
+                        &this.dummy.view,
+                        compute,
+                        layer,
+                    );
                     state.bound = Some(chain);
                 }
             }
@@ -875,6 +905,25 @@ const _: () = {
     shared::<Shadows>();
     shared::<Casters>();
 };
+
+/// Whether the compute passes can write the lights' layers of the visibility (R16F) as
+/// storage textures: the device has the adapter's own format features and they include that
+/// (desktop Vulkan and Metal do, lavapipe too; the web and wgpu's GL backend do not), unless
+/// `PENUMBRA_LAYER_WRITES=draw` in the environment keeps the draws that write them (to compare
+/// the two in one binary). Tried on a 1 x 1 texture: the format's features are the adapter's,
+/// which a `Shadows` does not see.
+fn layer_storage(device: &wgpu::Device) -> bool {
+    if std::env::var("PENUMBRA_LAYER_WRITES").as_deref() == Ok("draw")
+        || !device
+            .features()
+            .contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
+        || !crate::screen::has_compute(device)
+    {
+        return false;
+    }
+    let (_, error) = scoped(device, || visibility_array(device, 1, 1, 1, true));
+    error.is_none()
+}
 
 /// The passes' parameters for `settings`, the tile classification's `Auto` decided for the
 /// device (`software`: a CPU rasterizer).
