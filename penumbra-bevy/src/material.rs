@@ -9,6 +9,7 @@ use bevy::render::render_resource::{
     AsBindGroup, Extent3d, TextureDimension, TextureFormat, TextureUsages, TextureViewDescriptor,
     TextureViewDimension,
 };
+use bevy::render::renderer::RenderDevice;
 use bevy::render::storage::ShaderBuffer;
 use bevy::shader::ShaderRef;
 
@@ -147,6 +148,10 @@ pub struct PenumbraTargets {
     pub(crate) visibility: Handle<Image>,
     pub(crate) lights: Handle<ShaderBuffer>,
     pub(crate) size: UVec2,
+    /// The array takes `STORAGE_BINDING` too, so penumbra's compute passes write its layers
+    /// themselves ([`penumbra::Shadows::visibility_usages`]); decided once the render device
+    /// is known.
+    storage: Option<bool>,
     converted: HashMap<AssetId<StandardMaterial>, Handle<PenumbraMaterial>>,
 }
 
@@ -154,7 +159,7 @@ impl FromWorld for PenumbraTargets {
     fn from_world(world: &mut World) -> Self {
         let visibility = world
             .resource_mut::<Assets<Image>>()
-            .add(visibility_image(UVec2::ONE));
+            .add(visibility_image(UVec2::ONE, false));
         let lights = world
             .resource_mut::<Assets<ShaderBuffer>>()
             .add(ShaderBuffer::new(
@@ -165,12 +170,21 @@ impl FromWorld for PenumbraTargets {
             visibility,
             lights,
             size: UVec2::ONE,
+            storage: None,
             converted: HashMap::default(),
         }
     }
 }
 
 impl PenumbraTargets {
+    /// The visibility array penumbra's passes write and the materials read (`R16Float`, one
+    /// layer per light). Where the render device lets a compute pass store half floats
+    /// ([`penumbra::Shadows::visibility_usages`]) it has `STORAGE_BINDING` too, and penumbra's
+    /// compute passes write its layers themselves.
+    pub fn visibility(&self) -> &Handle<Image> {
+        &self.visibility
+    }
+
     /// The extension a hand-made [`PenumbraMaterial`] needs.
     pub fn shading(&self) -> PenumbraShading {
         PenumbraShading {
@@ -182,7 +196,8 @@ impl PenumbraTargets {
 
 /// The visibility array: `R16Float`, [`penumbra::MAX_LIGHTS`] layers, written by penumbra's
 /// passes (its content before the first frame is never read: the light table is empty).
-fn visibility_image(size: UVec2) -> Image {
+/// With `storage`, penumbra's compute passes can write it (the device stores half floats).
+fn visibility_image(size: UVec2, storage: bool) -> Image {
     let mut image = Image::new_target_texture(size.x, size.y, TextureFormat::R16Float, None);
     image.data = None;
     image.texture_descriptor.label = Some("penumbra visibility");
@@ -196,6 +211,9 @@ fn visibility_image(size: UVec2) -> Image {
         | TextureUsages::RENDER_ATTACHMENT
         | TextureUsages::COPY_SRC
         | TextureUsages::COPY_DST;
+    if storage {
+        image.texture_descriptor.usage |= TextureUsages::STORAGE_BINDING;
+    }
     image.texture_view_descriptor = Some(TextureViewDescriptor {
         dimension: Some(TextureViewDimension::D2Array),
         ..Default::default()
@@ -253,6 +271,7 @@ pub(crate) fn fit_targets(
     mut images: ResMut<Assets<Image>>,
     mut materials: ResMut<Assets<PenumbraMaterial>>,
     mut targets: ResMut<PenumbraTargets>,
+    device: Option<Res<RenderDevice>>,
 ) {
     let Some(size) = cameras
         .iter()
@@ -265,7 +284,17 @@ pub(crate) fn fit_targets(
     if size == targets.size || size.x == 0 || size.y == 0 {
         return;
     }
-    let old = std::mem::replace(&mut targets.visibility, images.add(visibility_image(size)));
+    if targets.storage.is_none()
+        && let Some(device) = &device
+    {
+        let usages = penumbra::Shadows::visibility_usages(device.wgpu_device());
+        targets.storage = Some(usages.contains(TextureUsages::STORAGE_BINDING));
+    }
+    let storage = targets.storage.unwrap_or(false);
+    let old = std::mem::replace(
+        &mut targets.visibility,
+        images.add(visibility_image(size, storage)),
+    );
     images.remove(&old);
     targets.size = size;
     for (_, material) in materials.iter_mut() {

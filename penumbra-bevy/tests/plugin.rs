@@ -506,6 +506,20 @@ fn a_moving_box_moves_its_shadow() {
     let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
     let mut scene = box_above_plane(sun(4.0), false);
     let before = scene.headless.render(10);
+    // Where the device stores half floats, penumbra's compute passes write the visibility
+    // array's layers themselves: the array is made with the usage they need.
+    let world = scene.headless.app.world();
+    let device = world.resource::<bevy::render::renderer::RenderDevice>();
+    let wanted = penumbra::Shadows::visibility_usages(device.wgpu_device());
+    let handle = world.resource::<penumbra_bevy::PenumbraTargets>().visibility();
+    let usage = world
+        .resource::<Assets<Image>>()
+        .get(handle)
+        .unwrap()
+        .texture_descriptor
+        .usage;
+    println!("visibility array usage {usage:?}, the device's {wanted:?}");
+    assert!(usage.contains(wanted), "{usage:?} lacks {wanted:?}");
     scene
         .headless
         .app

@@ -822,7 +822,9 @@ impl Shadows {
     /// Writes the visibility into the engine's own texture from the next frame on (`None`:
     /// into one of penumbra's). It must be an `R16Float` 2D texture with `RENDER_ATTACHMENT`
     /// usage; each frame, its size must be the depth's and it needs a layer for every light
-    /// slot ([`LightId::layer`]). Layers of slots with no light are left as they are.
+    /// slot ([`LightId::layer`]). Layers of slots with no light are left as they are. With
+    /// `STORAGE_BINDING` too, where the device allows it ([`Shadows::visibility_usages`]),
+    /// the compute passes write its layers themselves, saving a draw per light.
     pub fn set_visibility_target(&mut self, target: Option<wgpu::Texture>) -> Result<()> {
         if let Some(t) = &target {
             check_target(t, None)?;
@@ -832,6 +834,21 @@ impl Shadows {
             self.visibility = None;
         }
         Ok(())
+    }
+
+    /// The usages an engine's visibility target ([`Shadows::set_visibility_target`]) should
+    /// have on `device`: `RENDER_ATTACHMENT` and `TEXTURE_BINDING`, and `STORAGE_BINDING`
+    /// where a compute pass can write its half floats (the device has
+    /// `TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES` and the adapter allows it): the compute
+    /// passes that finish a light then write its layer themselves instead of a draw copying
+    /// their result there.
+    pub fn visibility_usages(device: &wgpu::Device) -> wgpu::TextureUsages {
+        let usages = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        if stores_half_floats(device) {
+            usages | wgpu::TextureUsages::STORAGE_BINDING
+        } else {
+            usages
+        }
     }
 
     /// The bind group layout entry an engine's lit shader declares for [`Shadows::visibility`]:
@@ -907,16 +924,20 @@ const _: () = {
 };
 
 /// Whether the compute passes can write the lights' layers of the visibility (R16F) as
-/// storage textures: the device has the adapter's own format features and they include that
-/// (desktop Vulkan and Metal do, lavapipe too; the web and wgpu's GL backend do not), unless
-/// `PENUMBRA_LAYER_WRITES=draw` in the environment keeps the draws that write them (to compare
-/// the two in one binary). Tried on a 1 x 1 texture: the format's features are the adapter's,
-/// which a `Shadows` does not see.
+/// storage textures ([`stores_half_floats`]), unless `PENUMBRA_LAYER_WRITES=draw` in the
+/// environment keeps the draws that write them (to compare the two in one binary).
 fn layer_storage(device: &wgpu::Device) -> bool {
-    if std::env::var("PENUMBRA_LAYER_WRITES").as_deref() == Ok("draw")
-        || !device
-            .features()
-            .contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
+    std::env::var("PENUMBRA_LAYER_WRITES").as_deref() != Ok("draw") && stores_half_floats(device)
+}
+
+/// Whether a compute pass on `device` can write the visibility's half floats: the device has
+/// the adapter's own format features and they include that (desktop Vulkan and Metal do,
+/// lavapipe too; the web and wgpu's GL backend do not). Tried on a 1 x 1 texture: the format's
+/// features are the adapter's, which a `Shadows` does not see.
+fn stores_half_floats(device: &wgpu::Device) -> bool {
+    if !device
+        .features()
+        .contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
         || !crate::screen::has_compute(device)
     {
         return false;
