@@ -973,8 +973,9 @@ fn write_compute(md: &mut String, runs: &[ComputeRun], (width, height): (u32, u3
         md,
         "\n## Compute passes against draws (teapot, view 0, {width}x{height}, medium, light turning)\n\n\
          The screen-space chain as compute passes (the default: `ours` over its list of penumbra tiles, \
-         the baselines over the screen; the resolve and the copy of the blur's result, which write the \
-         light's layer, stay draws) and as draws (`PenumbraSettings::fragment_passes`). Screen-space ms: the distance map \
+         the baselines over the screen; where the device stores half floats the compute passes write the \
+         light's layer themselves, elsewhere the resolve and the copy of the blur's result into it stay \
+         draws) and as draws (`PenumbraSettings::fragment_passes`). Screen-space ms: the distance map \
          with its tile list, PCF, blur, PCSS and the resolve. Each figure is the mean of two timings taken \
          in opposite orders.\n\n\
          | method | screen-space ms, compute | screen-space ms, draws | ratio | frame ms, compute | frame ms, draws |\n\
