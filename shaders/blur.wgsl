@@ -244,22 +244,39 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 // visibility, is read by the copy only where this pass wrote).
 @group(2) @binding(1) var blur_out: texture_storage_2d<r32float, write>;
 
-@compute @workgroup_size(16, 16)
-fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+// What invocation `local` of workgroup `group` works on: its pixel of the listed tiles and
+// the result there, or a value of -1 past the list's end or the screen's edge and where the
+// distance map's classification says no shadow can fall (this axis writes nothing there).
+struct Listed {
+    pixel: vec2<i32>,
+    value: f32,
+}
+
+fn listed_blurred(group: vec3<u32>, groups: vec3<u32>, local: vec3<u32>) -> Listed {
     let pixel = listed_pixel(group, groups, local);
+    var out = Listed(pixel, -1.0);
     if pixel.x < 0 {
-        return;
+        return out;
     }
     // One load of the distance map serves its classification (B) and the distance (R).
     var d = 0.0;
     if !FIXED_STEP {
         let distance = textureLoad(distance_map, pixel, 0);
         if distance.z <= 0.0 {
-            return;
+            return out;
         }
         d = distance.x;
     }
-    textureStore(blur_out, pixel, vec4<f32>(blurred_with(vec2<f32>(pixel) + 0.5, d)));
+    out.value = blurred_with(vec2<f32>(pixel) + 0.5, d);
+    return out;
+}
+
+@compute @workgroup_size(16, 16)
+fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    let listed = listed_blurred(group, groups, local);
+    if listed.value >= 0.0 {
+        textureStore(blur_out, listed.pixel, vec4<f32>(listed.value));
+    }
 }
 
 // The vertical axis where it writes the light's layer itself (the device stores half floats):
@@ -269,22 +286,13 @@ fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gro
 
 @compute @workgroup_size(16, 16)
 fn cs_layer(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
-    let pixel = listed_pixel(group, groups, local);
-    if pixel.x < 0 {
-        return;
+    let listed = listed_blurred(group, groups, local);
+    if listed.value >= 0.0 {
+        textureStore(blur_out, listed.pixel, vec4<f32>(listed.value));
+        // The fixed blur runs over every tile: 1 where no receiver is, as the resolve writes.
+        let receiver = !FIXED_STEP || receives(listed.pixel);
+        textureStore(layer_out, listed.pixel, vec4<f32>(select(1.0, listed.value, receiver)));
     }
-    var d = 0.0;
-    if !FIXED_STEP {
-        let distance = textureLoad(distance_map, pixel, 0);
-        if distance.z <= 0.0 {
-            return;
-        }
-        d = distance.x;
-    }
-    let v = blurred_with(vec2<f32>(pixel) + 0.5, d);
-    textureStore(blur_out, pixel, vec4<f32>(v));
-    // The fixed blur runs over every tile: 1 where no receiver is, as the resolve writes.
-    textureStore(layer_out, pixel, vec4<f32>(select(1.0, v, !FIXED_STEP || receives(pixel))));
 }
 
 // The tiles listed apart as turned away from the light (over that list): the horizontal axis's

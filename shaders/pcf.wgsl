@@ -1,4 +1,4 @@
-// after: frame cube fullscreen receiver pcf_taps workgroup_rows layer_out
+// after: frame cube fullscreen receiver pcf_taps workgroup_rows layer_out screen_compute
 // PCF pass (the baseline and screen-space hard shadows): a screen-space visibility texture from
 // N x N comparison taps on the real shadow map at a fixed spacing, rotated per pixel by a noise
 // angle. A receiver-plane depth bias keeps wide kernels from shadowing the receiver itself. The
@@ -32,40 +32,8 @@ fn visibility_at(frag: vec2<f32>) -> f32 {
     return pcf_taps(r.p, r.slope, to_uv, i32(pcf.taps_per_side), angle);
 }
 
-// The compute path: one invocation per pixel, in 16 x 16 workgroups over the screen, their rows
-// in the order `screen_row` gives.
+// The compute path (`common/screen_compute.wgsl`): its output, and where the pass writes the
+// light's layer itself, the layer and the receiver mask the resolve would read.
 @group(0) @binding(5) var visibility_out: texture_storage_2d<r32float, write>;
-
-@compute @workgroup_size(16, 16)
-fn cs_main(
-    @builtin(workgroup_id) group: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_id) local: vec3<u32>,
-) {
-    let id = vec2<u32>(group.x, screen_row(group.y, groups.y)) * 16u + local.xy;
-    if any(vec2<f32>(id.xy) >= frame.view.size) {
-        return;
-    }
-    textureStore(visibility_out, id.xy, vec4<f32>(visibility_at(vec2<f32>(id.xy) + 0.5)));
-}
-
-// The same, where the pass writes the light's layer itself (the device stores half floats): the
-// visibility as `cs_main` writes it, and into the layer what the resolve would write, so that
-// no resolve is drawn.
 @group(0) @binding(6) var layer_out: LayerStorage;
 @group(0) @binding(7) var receiver_mask: texture_2d<f32>;
-
-@compute @workgroup_size(16, 16)
-fn cs_layer(
-    @builtin(workgroup_id) group: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_id) local: vec3<u32>,
-) {
-    let id = vec2<u32>(group.x, screen_row(group.y, groups.y)) * 16u + local.xy;
-    if any(vec2<f32>(id.xy) >= frame.view.size) {
-        return;
-    }
-    let v = visibility_at(vec2<f32>(id.xy) + 0.5);
-    textureStore(visibility_out, id.xy, vec4<f32>(v));
-    textureStore(layer_out, id.xy, vec4<f32>(resolved(vec2<i32>(id.xy), v)));
-}

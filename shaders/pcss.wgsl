@@ -1,4 +1,4 @@
-// after: frame cube fullscreen receiver workgroup_rows layer_out
+// after: frame cube fullscreen receiver workgroup_rows layer_out screen_compute
 // PCSS pass (Fernando 2005): a blocker search over a disk sized by the light and the receiver's
 // depth finds the average occluder depth; the penumbra width follows from it (the same formula
 // as the physical distance-map method), and a rotated Vogel-disk PCF of that width gives the
@@ -99,40 +99,8 @@ fn visibility_at(frag: vec2<f32>) -> f32 {
     return sum / f32(samples);
 }
 
-// The compute path: one invocation per pixel, in 16 x 16 workgroups over the screen, their rows
-// in the order `screen_row` gives.
+// The compute path (`common/screen_compute.wgsl`): its output, and where the pass writes the
+// light's layer itself, the layer and the receiver mask the resolve would read.
 @group(0) @binding(6) var visibility_out: texture_storage_2d<r32float, write>;
-
-@compute @workgroup_size(16, 16)
-fn cs_main(
-    @builtin(workgroup_id) group: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_id) local: vec3<u32>,
-) {
-    let id = vec2<u32>(group.x, screen_row(group.y, groups.y)) * 16u + local.xy;
-    if any(vec2<f32>(id.xy) >= frame.view.size) {
-        return;
-    }
-    textureStore(visibility_out, id.xy, vec4<f32>(visibility_at(vec2<f32>(id.xy) + 0.5)));
-}
-
-// The same, where the pass writes the light's layer itself (the device stores half floats): the
-// visibility as `cs_main` writes it, and into the layer what the resolve would write, so that
-// no resolve is drawn.
 @group(0) @binding(7) var layer_out: LayerStorage;
 @group(0) @binding(8) var receiver_mask: texture_2d<f32>;
-
-@compute @workgroup_size(16, 16)
-fn cs_layer(
-    @builtin(workgroup_id) group: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_id) local: vec3<u32>,
-) {
-    let id = vec2<u32>(group.x, screen_row(group.y, groups.y)) * 16u + local.xy;
-    if any(vec2<f32>(id.xy) >= frame.view.size) {
-        return;
-    }
-    let v = visibility_at(vec2<f32>(id.xy) + 0.5);
-    textureStore(visibility_out, id.xy, vec4<f32>(v));
-    textureStore(layer_out, id.xy, vec4<f32>(resolved(vec2<i32>(id.xy), v)));
-}
