@@ -1,22 +1,26 @@
 #!/usr/bin/env bash
-# Adds to .gpu/ (made by ../shared/scripts/pack-bench.sh, which runs first) the pass-by-pass
-# diagnostics issue 39 leaves for a GPU: a `render` built with docs/bench/passes-split-marks.patch
-# (each step of the compute chain marked; PULL_BACK and DEPTH32 knobs) and
-# docs/bench/blur-workgroup-cache.patch (PENUMBRA_BLUR_CACHE=1: the blur reading its tile and
-# apron from workgroup memory), and .gpu/diag.sh, which times the A/B pairs the library's
-# environment switches give in that one binary. The patches are applied to this checkout's
-# working tree for the build and taken off again (the tree must have no changes of its own);
-# target/release/examples/render is then the patched build until the next build of it.
+# Adds to .gpu/ (where the workplace's bench-packing script put the benchmark, the scenes and the
+# Vulkan loader packages; run it first) the pass-by-pass diagnostics issue 39 leaves for a GPU:
+# a `render` built with docs/bench/passes-split-marks.patch (each step of the compute chain
+# marked; PULL_BACK and DEPTH32 knobs) and docs/bench/blur-workgroup-cache.patch
+# (PENUMBRA_BLUR_CACHE=1: the blur reading its tile and apron from workgroup memory), and
+# .gpu/diag.sh, which times the A/B pairs the library's environment switches give in that one
+# binary. The patches are applied to this checkout's working tree for the build and taken off
+# again (the tree must have no changes of its own); target/release/examples/render is then the
+# patched build until the next build of it.
 #
-# Here:            bash tools/pack-gpu-diag.sh [--bevy]
-# On the GPU:      bash .gpu/diag.sh OUT_DIR      (about 3 minutes; then .gpu/run.sh for the bench)
+# Here:            bash tools/pack-gpu-diag.sh       (after the benchmark is packed into .gpu/)
+# On the GPU:      bash .gpu/diag.sh OUT_DIR         (about 3 minutes; then .gpu/run.sh)
 set -euo pipefail
 root=$(git rev-parse --show-toplevel); cd "$root"
 if ! git diff --quiet || ! git diff --cached --quiet; then
   echo "pack-gpu-diag: the working tree has changes; commit or stash them first" >&2
   exit 1
 fi
-bash ../shared/scripts/pack-bench.sh "$@"
+if [ ! -d .gpu/debs ] || [ ! -f .gpu/run.sh ]; then
+  echo "pack-gpu-diag: no packed benchmark in .gpu/: run the workplace's bench-packing script first" >&2
+  exit 1
+fi
 patches=(docs/bench/passes-split-marks.patch docs/bench/blur-workgroup-cache.patch)
 git apply "${patches[@]}"
 trap 'git apply -R "${patches[@]}"' EXIT

@@ -503,7 +503,8 @@ impl BlurCompute {
         };
     }
 
-    /// Records both axes over `tiles`, and the copy of the result into `layer`; over the tiles
+    /// Records both axes over `tiles`, and the copy of the result into `layer` (or, where the
+    /// vertical axis writes the layer itself, the layer's clear before it); over the tiles
     /// `away` from the light (if any), 0 into the layer, and into the horizontal axis's result
     /// unless `.1` says it holds it already (the tile classification wrote it).
     pub(crate) fn encode(
