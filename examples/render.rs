@@ -203,6 +203,14 @@ fn main() -> Result<()> {
             report.map_resolution, widths.pixels, widths.limits_texels, widths.narrower
         );
     }
+    if let Some(unheld) = renderer.last_report().and_then(|r| r.light.unheld_caster) {
+        eprintln!(
+            "warning: a caster {:.3} units across at {:.1} units from the camera is narrower than a texel of the \
+             sun's map ({:.3} units): its shadow is lost; give the sun a shadow distance \
+             (shadow_map.fit: CameraFrustum(max_distance: ...)) or a finer map",
+            unheld.size, unheld.view_distance, unheld.texel
+        );
+    }
     if renderer
         .last_report()
         .is_some_and(|r| r.plan.chain.distance_map())

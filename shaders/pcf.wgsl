@@ -26,6 +26,9 @@ fn visibility_at(frag: vec2<f32>) -> f32 {
     }
     use_pixel_cascade(frag, depth);
     let r = receiver(pixel, depth, frame.penumbra.normal_offset);
+    if r.past_centre {
+        return 1.0;
+    }
     let spacing = pcf.spread / atlas_texels();
     let angle = select(0.0, pixel_noise(frag) * 6.2831853, ROTATE_TAPS);
     let to_uv = mat2x2<f32>(spacing.x, 0.0, 0.0, spacing.y);

@@ -38,6 +38,9 @@ fn visibility_at(frag: vec2<f32>) -> f32 {
     }
     use_pixel_cascade(frag, depth);
     let r = receiver(pixel, depth, frame.penumbra.normal_offset);
+    if r.past_centre {
+        return 1.0;
+    }
     let world = r.world;
     let p = r.p;
     let slope = r.slope;

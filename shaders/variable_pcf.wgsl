@@ -192,6 +192,9 @@ fn area_setup(frag: vec2<f32>, r: Receiver, world: vec3<f32>, d: f32, most_side:
 
 // The taps' mean.
 fn taps(s: Setup) -> f32 {
+    if s.r.past_centre {
+        return 1.0;
+    }
     return pcf_taps(s.r.p, s.r.slope, s.to_uv, s.side, s.angle);
 }
 

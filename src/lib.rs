@@ -146,7 +146,7 @@ pub use gpu_scene::GpuScene;
 #[cfg(feature = "renderer")]
 pub use ground_truth::ReferenceProgress;
 pub use layouts::SceneLayouts;
-pub use light_space::{Cascade, LightView, MAX_CASCADES};
+pub use light_space::{Cascade, LightView, MAX_CASCADES, UnheldCaster};
 #[cfg(feature = "renderer")]
 pub use loaders::load_model;
 pub use map_resolution::PenumbraWidths;

@@ -702,6 +702,7 @@ impl Renderer {
                 light_view,
                 map_resolution: light_view.tile,
                 penumbra_widths: None,
+                unheld_caster: None,
             },
         };
         let report = FrameReport { plan, light };

@@ -596,6 +596,12 @@ pub struct CascadeSettings {
     /// band (an ordered dither the blur smooths over), so the boundary does not show as a
     /// line. Default 0.1.
     pub blend: f32,
+    /// The view distance where the first cascade ends, in world units (0, the default: where
+    /// `split` puts it). The others then split the rest of the range by `split`. An engine's
+    /// own cascade setting carries over this way (Bevy's `first_cascade_far_bound`); a value
+    /// outside the range the scene takes in the view is not used.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub first_end: f32,
 }
 
 impl Default for CascadeSettings {
@@ -604,6 +610,7 @@ impl Default for CascadeSettings {
             count: 4,
             split: 0.8,
             blend: 0.1,
+            first_end: 0.0,
         }
     }
 }
@@ -725,6 +732,12 @@ impl ShadowSettings {
         }
         check_range("shadow_map.cascades.split", sm.cascades.split, 0.0, 1.0)?;
         check_range("shadow_map.cascades.blend", sm.cascades.blend, 0.0, 0.5)?;
+        if !(sm.cascades.first_end >= 0.0 && sm.cascades.first_end.is_finite()) {
+            return Err(PenumbraError::setting(
+                "shadow_map.cascades.first_end",
+                format!("{} must be finite and >= 0", sm.cascades.first_end),
+            ));
+        }
         if !(0.0..=8.0).contains(&sm.normal_offset) {
             return Err(PenumbraError::setting(
                 "shadow_map.normal_offset",

@@ -485,7 +485,12 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                     cull_mode,
                     fit,
                     snap_to_texels: snap,
-                    cascades: CascadeSettings { count, split, blend },
+                    cascades: CascadeSettings {
+                        count,
+                        split,
+                        blend,
+                        ..Default::default()
+                    },
                     clear_by_copy,
                 }
             },

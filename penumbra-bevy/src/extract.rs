@@ -10,7 +10,7 @@ use bevy::light::{
 use bevy::mesh::morph::{MeshMorphWeights, MorphWeights};
 use bevy::mesh::skinning::{SkinnedMesh, SkinnedMeshInverseBindposes};
 use bevy::mesh::{Indices, PrimitiveTopology, VertexAttributeValues};
-use bevy::platform::collections::HashSet;
+use bevy::platform::collections::{HashMap, HashSet};
 use bevy::prelude::*;
 use bevy::render::Extract;
 use bevy::render::storage::ShaderBuffer;
@@ -27,7 +27,8 @@ pub const SUN_ANGULAR_DIAMETER: f32 = 0.0093;
 #[derive(Clone, Debug)]
 pub(crate) struct ExtractedPenumbraCamera {
     pub render_entity: Entity,
-    pub main_entity: Entity,
+    /// How messages name it: `camera 12v0 "Main"` (its `Name`, where it has one).
+    pub label: String,
     pub settings: penumbra::ShadowSettings,
     /// Why penumbra cannot run on this camera (no depth prepass), logged once.
     pub refused: Option<String>,
@@ -77,6 +78,8 @@ pub(crate) struct ExtractedMask {
 #[derive(Clone, Debug)]
 pub(crate) struct ExtractedLight {
     pub entity: Entity,
+    /// How messages name it: `DirectionalLight 7v0 "Sun"` (its `Name`, where it has one).
+    pub label: String,
     pub render_entity: Entity,
     pub light: Light,
     /// Its render layers as penumbra's mask ([`layer_mask`]): it shadows the casters it shares
@@ -101,8 +104,13 @@ pub(crate) struct Extracted {
     pub cameras: Vec<ExtractedPenumbraCamera>,
     pub casters: Vec<ExtractedCaster>,
     pub lights: Vec<ExtractedLight>,
+    /// The lights whose shadows the app asked for (`shadow_maps_enabled`, `RectLightShadows`).
+    pub lights_shadowed: usize,
     /// Shadow-mapped lights past penumbra's limit (they keep Bevy's shadows).
     pub lights_over_limit: usize,
+    /// The names of the cameras that have one (for messages about a camera without a
+    /// `PenumbraCamera`).
+    pub camera_names: HashMap<Entity, String>,
     /// The render entities of the lights whose Bevy shadow maps the app asked for.
     pub bevy_shadowed: Vec<Entity>,
     /// Geometry of meshes new or changed since the last frame (or why it cannot be read).
@@ -133,6 +141,14 @@ pub(crate) fn layer_mask(layers: Option<&RenderLayers>) -> (u32, bool) {
         }
     }
     (mask, high)
+}
+
+/// How a message names an entity: its kind, its id and its `Name` where it has one.
+pub(crate) fn label(kind: &str, entity: Entity, name: Option<&Name>) -> String {
+    match name {
+        Some(name) => format!("{kind} {entity} \"{name}\""),
+        None => format!("{kind} {entity}"),
+    }
 }
 
 /// Meshes whose geometry the render world holds (so it is not copied again).
@@ -171,6 +187,7 @@ type SunQuery<'w, 's> = Query<
         Option<&'static PenumbraLightSize>,
         Option<&'static CascadeShadowConfig>,
         Option<&'static RenderLayers>,
+        Option<&'static Name>,
     ),
 >;
 
@@ -193,8 +210,10 @@ pub(crate) fn extract_penumbra(
             &PenumbraCamera,
             Has<DepthPrepass>,
             Has<DeferredPrepass>,
+            Option<&Name>,
         )>,
     >,
+    named_cameras: Extract<Query<(Entity, &Name), With<Camera>>>,
     bevy_maps: Extract<(Res<DirectionalLightShadowMap>, Res<PointLightShadowMap>)>,
     casters: Extract<CasterQuery>,
     suns: Extract<SunQuery>,
@@ -206,6 +225,7 @@ pub(crate) fn extract_penumbra(
             &GlobalTransform,
             Option<&PenumbraLightSize>,
             Option<&RenderLayers>,
+            Option<&Name>,
         )>,
     >,
     points: Extract<
@@ -216,6 +236,7 @@ pub(crate) fn extract_penumbra(
             &GlobalTransform,
             Option<&PenumbraLightSize>,
             Option<&RenderLayers>,
+            Option<&Name>,
         )>,
     >,
     rects: Extract<
@@ -226,6 +247,7 @@ pub(crate) fn extract_penumbra(
             &GlobalTransform,
             Has<RectLightShadows>,
             Option<&RenderLayers>,
+            Option<&Name>,
         )>,
     >,
     meshes: Extract<Res<Assets<Mesh>>>,
@@ -244,35 +266,33 @@ pub(crate) fn extract_penumbra(
     extracted.cameras = shaded
         .into_iter()
         .map(
-            |(main_entity, render_entity, _, penumbra, depth_prepass, deferred)| {
-                // MSAA is served: the render world resolves the multisampled depth prepass.
-                let refused = if !depth_prepass {
-                    Some(format!(
-                        "penumbra: camera {main_entity} has no DepthPrepass; penumbra's passes read it. \
-                     Bevy's own shadows are used meanwhile."
-                    ))
-                } else {
-                    // Bevy's deferred lighting pass shades without penumbra's material.
-                    deferred.then(|| {
+            |(main_entity, render_entity, _, penumbra, depth_prepass, _deferred, name)| {
+                let label = label("camera", main_entity, name);
+                // MSAA is served: the render world resolves the multisampled depth prepass. With
+                // `DeferredPrepass` the plugin's materials still draw in the forward pass (they
+                // are made `OpaqueRendererMethod::Forward`), on the same depth prepass.
+                let refused = (!depth_prepass).then(|| {
                     format!(
-                        "penumbra: camera {main_entity} has DeferredPrepass; penumbra shades in the forward \
-                         pass's material, which deferred rendering does not run. Bevy's own shadows are used \
-                         meanwhile."
+                        "penumbra: {label} has no DepthPrepass; penumbra's passes read it. \
+                         Bevy's own shadows are used meanwhile."
                     )
-                })
-                };
+                });
                 let mut settings = penumbra.settings;
                 if penumbra.bevy_shadow_settings {
                     take_bevy_shadow_settings(&mut settings, &bevy_maps, &suns);
                 }
                 ExtractedPenumbraCamera {
                     render_entity,
-                    main_entity,
+                    label,
                     settings,
                     refused,
                 }
             },
         )
+        .collect();
+    extracted.camera_names = named_cameras
+        .iter()
+        .map(|(entity, name)| (entity, name.to_string()))
         .collect();
     extracted.visibility = targets.visibility.clone();
     extracted.lights_buffer = targets.lights.clone();
@@ -398,7 +418,8 @@ pub(crate) fn extract_penumbra(
                    render_entity: Entity,
                    shadow_maps_enabled: bool,
                    light: Light,
-                   layers: Option<&RenderLayers>| {
+                   layers: Option<&RenderLayers>,
+                   label: String| {
         if shadow_maps_enabled {
             extracted.bevy_shadowed.push(render_entity);
             let (mask, high) = layer_mask(layers);
@@ -407,13 +428,14 @@ pub(crate) fn extract_penumbra(
             }
             lights.push(ExtractedLight {
                 entity,
+                label,
                 render_entity,
                 light,
                 mask,
             });
         }
     };
-    for (entity, render_entity, sun, transform, disk, size, _, layers) in &suns {
+    for (entity, render_entity, sun, transform, disk, size, _, layers, name) in &suns {
         let diameter = size
             .map(|s| s.0)
             .or(disk.map(|d| d.angular_size))
@@ -424,9 +446,17 @@ pub(crate) fn extract_penumbra(
             color: linear(sun.color),
             intensity: sun.illuminance,
         });
-        add(entity, render_entity, sun.shadow_maps_enabled, light, layers);
+        let label = label("DirectionalLight", entity, name);
+        add(
+            entity,
+            render_entity,
+            sun.shadow_maps_enabled,
+            light,
+            layers,
+            label,
+        );
     }
-    for (entity, render_entity, spot, transform, size, layers) in &spots {
+    for (entity, render_entity, spot, transform, size, layers, name) in &spots {
         let light = Light::Spot(Spot {
             position: vec3(transform.translation()),
             direction: vec3(transform.forward().as_vec3()),
@@ -437,9 +467,17 @@ pub(crate) fn extract_penumbra(
             // Shadows' visibility is unitless: the range and units are Bevy's to shade.
             range: None,
         });
-        add(entity, render_entity, spot.shadow_maps_enabled, light, layers);
+        let label = label("SpotLight", entity, name);
+        add(
+            entity,
+            render_entity,
+            spot.shadow_maps_enabled,
+            light,
+            layers,
+            label,
+        );
     }
-    for (entity, render_entity, point, transform, size, layers) in &points {
+    for (entity, render_entity, point, transform, size, layers, name) in &points {
         let light = Light::Point(Point {
             position: vec3(transform.translation()),
             radius: size.map_or(point.radius, |s| s.0).max(0.0),
@@ -447,9 +485,17 @@ pub(crate) fn extract_penumbra(
             intensity: point.intensity,
             range: None,
         });
-        add(entity, render_entity, point.shadow_maps_enabled, light, layers);
+        let label = label("PointLight", entity, name);
+        add(
+            entity,
+            render_entity,
+            point.shadow_maps_enabled,
+            light,
+            layers,
+            label,
+        );
     }
-    for (entity, render_entity, rect, transform, shadows, layers) in &rects {
+    for (entity, render_entity, rect, transform, shadows, layers, name) in &rects {
         // Bevy's frame: the rectangle in the local xy plane, facing local -z; its sides scaled
         // by the transform as Bevy scales them.
         let affine = transform.affine();
@@ -468,10 +514,12 @@ pub(crate) fn extract_penumbra(
             intensity: rect.intensity / (std::f32::consts::PI * width * height).max(1e-12),
             range: None,
         });
-        add(entity, render_entity, shadows, light, layers);
+        let label = label("RectLight", entity, name);
+        add(entity, render_entity, shadows, light, layers, label);
     }
     // A stable order: the same lights keep the same layers while they live.
     lights.sort_by_key(|l| l.entity);
+    extracted.lights_shadowed = lights.len();
     extracted.lights_over_limit = lights.len().saturating_sub(penumbra::MAX_LIGHTS);
     lights.truncate(penumbra::MAX_LIGHTS);
     extracted.lights = lights;
@@ -494,15 +542,40 @@ fn take_bevy_shadow_settings(
     };
     let sm = &mut settings.shadow_map;
     match sun {
-        Some((_, _, light, _, _, _, cascades, _)) => {
+        Some((_, _, light, _, _, _, cascades, _, _)) => {
             sm.resolution = power_of_two(directional.size);
             if let Some(cascades) = cascades {
-                sm.cascades.count = (cascades.bounds.len() as u32).clamp(1, penumbra::MAX_CASCADES as u32);
+                take_cascades(sm, cascades);
             }
             sm.normal_offset = light.shadow_normal_bias.clamp(0.0, 8.0);
         }
         None => sm.resolution = power_of_two(2 * point.size),
     }
+}
+
+/// A sun's `CascadeShadowConfig` as penumbra's: its maximum distance is the shadow distance
+/// (the maps cover the view up to it, whatever the scene's extent: a 500,000-unit ground under
+/// a small character), its first cascade's far bound the first cascade's end (the others split
+/// the rest geometrically, as Bevy's do), its overlap the blend band, and its number of bounds
+/// the number of cascades (at most penumbra's 4).
+fn take_cascades(sm: &mut penumbra::ShadowMapSettings, config: &CascadeShadowConfig) {
+    let count = (config.bounds.len() as u32).clamp(1, penumbra::MAX_CASCADES as u32);
+    sm.cascades.count = count;
+    if let Some(&last) = config.bounds.last()
+        && last > 0.0
+        && last.is_finite()
+    {
+        sm.fit = penumbra::LightFit::CameraFrustum { max_distance: last };
+    }
+    if count > 1
+        && let Some(&first) = config.bounds.first()
+        && first > 0.0
+        && first.is_finite()
+    {
+        sm.cascades.first_end = first;
+        sm.cascades.split = 1.0;
+    }
+    sm.cascades.blend = config.overlap_proportion.clamp(0.0, 0.5);
 }
 
 /// `rest` (`mesh`'s vertices, morphed) as `weights` morph it, as Bevy's morphing does: each

@@ -55,7 +55,8 @@ pub use penumbra::{Quality, ShadowMethod, ShadowSettings};
 pub struct PenumbraPlugin;
 
 /// Turns penumbra on for a 3D camera, with or without MSAA (with it, penumbra reads the
-/// nearest sample of each pixel of the depth prepass). Several cameras may have one (split
+/// nearest sample of each pixel of the depth prepass), forward or deferred (penumbra's
+/// materials draw in the forward pass either way). Several cameras may have one (split
 /// screen with `Camera::viewport`, a view rendered to a texture beside the window's): each gets
 /// shadows of its own, fitted to its view and drawn before its main pass. A 3D camera without
 /// one sees penumbra's lights unshadowed (a warning names it).
@@ -68,12 +69,17 @@ pub struct PenumbraCamera {
     pub enabled: bool,
     /// True (the default): Bevy's shadow settings replace these where they mean the same:
     /// `DirectionalLightShadowMap::size` the map resolution (with no sun shaded, twice
-    /// `PointLightShadowMap::size`: penumbra's cube faces are half its resolution), the first
-    /// shaded sun's `CascadeShadowConfig` the number of cascades (its bounds are not taken:
-    /// penumbra splits the view its own way) and its `shadow_normal_bias` the normal offset
-    /// (both in texels of the map). Bevy's depth biases are not taken (world units along the
-    /// light; penumbra's are in units of the depth format), nor spot and point lights' normal
-    /// biases (penumbra has one normal offset for every light).
+    /// `PointLightShadowMap::size`: penumbra's cube faces are half its resolution); the first
+    /// shaded sun's `CascadeShadowConfig`: its number of bounds the number of cascades (at most
+    /// 4), its maximum distance the shadow distance (the maps cover the view up to it, whatever
+    /// the scene's extent: a 500,000-unit ground under a small character keeps its shadow),
+    /// its first cascade's far bound the first cascade's end (the others split the rest
+    /// geometrically, as Bevy's) and its overlap the blend band; and its `shadow_normal_bias`
+    /// the normal offset (texels of the map in both). Bevy's depth biases are not taken (world
+    /// units along the light; penumbra's are in units of the depth format), nor spot and point
+    /// lights' normal biases (penumbra has one normal offset for every light). Off, penumbra's
+    /// own settings fit a sun's maps up to Bevy's infinite far plane, that is to the farthest
+    /// corner of the scene: over a huge ground a message says which caster's shadow is lost.
     pub bevy_shadow_settings: bool,
 }
 

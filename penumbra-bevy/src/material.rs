@@ -2,6 +2,7 @@
 //! `StandardMaterial`s to it.
 
 use bevy::asset::RenderAssetUsages;
+use bevy::material::OpaqueRendererMethod;
 use bevy::pbr::{ExtendedMaterial, Material, MaterialExtension};
 use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
@@ -238,7 +239,7 @@ pub(crate) fn convert_standard_materials(
             && let (Some(handle), Some(base)) = (targets.converted.get(id), standard.get(*id))
             && let Some(mut material) = penumbra.get_mut(handle)
         {
-            material.base = base.clone();
+            material.base = forward(base);
         }
     }
     for (entity, material) in &meshes {
@@ -249,7 +250,7 @@ pub(crate) fn convert_standard_materials(
                 // Not loaded yet: switched once it is.
                 let Some(base) = standard.get(id) else { continue };
                 let handle = penumbra.add(ExtendedMaterial {
-                    base: base.clone(),
+                    base: forward(base),
                     extension: targets.shading(),
                 });
                 targets.converted.insert(id, handle.clone());
@@ -261,6 +262,21 @@ pub(crate) fn convert_standard_materials(
             .remove::<MeshMaterial3d<StandardMaterial>>()
             .insert(MeshMaterial3d(handle));
     }
+}
+
+/// A copy of `base` for a [`PenumbraMaterial`], drawn in the forward pass, where penumbra's
+/// shading runs, whatever `DefaultOpaqueRendererMethod` says: Bevy decides an `Auto` material's
+/// method only when it prepares the material, and the copy is prepared a frame after the app
+/// switches its default (its edits are followed a frame late), so an app switching a camera
+/// from deferred to forward + prepass found a copy still deferred and Bevy's prepass queue
+/// panicked. A material the app made `Deferred` itself stays deferred (Bevy's deferred
+/// lighting, without penumbra's shadows).
+fn forward(base: &StandardMaterial) -> StandardMaterial {
+    let mut base = base.clone();
+    if base.opaque_render_method == OpaqueRendererMethod::Auto {
+        base.opaque_render_method = OpaqueRendererMethod::Forward;
+    }
+    base
 }
 
 /// Keeps the visibility array the size of the largest penumbra camera's target (each camera's

@@ -68,7 +68,8 @@ struct Instance {
 /// One penumbra camera's shadows: a `Shadows` of its own (the lights' fits to its view, their
 /// maps, the screen-space passes) over the casters every camera shares.
 struct ViewShadows {
-    main_entity: Entity,
+    /// How messages name the camera (its `Name` where it has one).
+    label: String,
     shadows: Shadows,
     /// Main-world light entity -> its light id in this camera's `Shadows`, the light and its
     /// layer mask as last given. Only the lights sharing a render layer with the camera.
@@ -237,7 +238,10 @@ fn prepare_penumbra(
     }
     if extracted.lights_over_limit > 0 {
         state.warn_once(format!(
-            "penumbra: {} shadow-mapped lights are past penumbra's limit of {}; they keep Bevy's own shadows",
+            "penumbra: {} shadowed lights: penumbra shadows {}, the other {} keep Bevy's own shadows \
+             (penumbra's limit is {} lights)",
+            extracted.lights_shadowed,
+            extracted.lights_shadowed - extracted.lights_over_limit,
             extracted.lights_over_limit,
             penumbra::MAX_LIGHTS
         ));
@@ -254,13 +258,11 @@ fn prepare_penumbra(
     for camera in &extracted.cameras {
         match state.views.get_mut(&camera.render_entity) {
             Some(view) => {
+                view.label.clone_from(&camera.label);
                 if view.shadows.settings() != &camera.settings
                     && let Err(e) = view.shadows.set_settings(device, camera.settings)
                 {
-                    messages.push(format!(
-                        "penumbra: camera {}'s settings are refused: {e}",
-                        camera.main_entity
-                    ));
+                    messages.push(format!("penumbra: {}'s settings are refused: {e}", camera.label));
                     state.views.remove(&camera.render_entity);
                 }
             }
@@ -269,7 +271,7 @@ fn prepare_penumbra(
                     state.views.insert(
                         camera.render_entity,
                         ViewShadows {
-                            main_entity: camera.main_entity,
+                            label: camera.label.clone(),
                             shadows,
                             lights: HashMap::default(),
                             table: GpuLights::default(),
@@ -281,10 +283,7 @@ fn prepare_penumbra(
                         },
                     );
                 }
-                Err(e) => messages.push(format!(
-                    "penumbra: camera {}'s settings are refused: {e}",
-                    camera.main_entity
-                )),
+                Err(e) => messages.push(format!("penumbra: {}'s settings are refused: {e}", camera.label)),
             },
         }
     }
@@ -772,9 +771,9 @@ fn sync_lights(
                 // it clusters them (with storage buffers): elsewhere it always leaves them out.
                 if matches!(extracted.light, Light::Rect(_)) {
                     messages.push(format!(
-                        "penumbra: RectLight {} is not among Bevy's clustered lights (it clusters \
+                        "penumbra: {} is not among Bevy's clustered lights (it clusters \
                          rectangle lights only with storage buffers, and only visible ones): not shadowed",
-                        extracted.entity
+                        extracted.label
                     ));
                 }
                 continue;
@@ -814,7 +813,7 @@ fn sync_view_lights(
                 Some((id, light, mask)) => {
                     if *light != extracted.light {
                         if let Err(e) = shadows.set_light(*id, extracted.light) {
-                            messages.push(format!("penumbra: light {}: {e}", extracted.entity));
+                            messages.push(format!("penumbra: {}: {e}", extracted.label));
                             return None;
                         }
                         *light = extracted.light;
@@ -822,7 +821,7 @@ fn sync_view_lights(
                     if *mask != extracted.mask {
                         // Its casters are those sharing a render layer with it.
                         if let Err(e) = shadows.set_light_layers(*id, extracted.mask) {
-                            messages.push(format!("penumbra: light {}: {e}", extracted.entity));
+                            messages.push(format!("penumbra: {}: {e}", extracted.label));
                             return None;
                         }
                         *mask = extracted.mask;
@@ -840,7 +839,7 @@ fn sync_view_lights(
                             id
                         }
                         Err(e) => {
-                            messages.push(format!("penumbra: light {}: {e}", extracted.entity));
+                            messages.push(format!("penumbra: {}: {e}", extracted.label));
                             return None;
                         }
                     }
@@ -910,8 +909,8 @@ fn prepare_shadows(
         };
         let Some(depth) = prepass.depth.as_ref() else {
             messages.push(format!(
-                "penumbra: camera {} has no depth prepass texture; add DepthPrepass to it",
-                view.main_entity
+                "penumbra: {} has no depth prepass texture; add DepthPrepass to it",
+                view.label
             ));
             continue;
         };
@@ -931,7 +930,7 @@ fn prepare_shadows(
             .shadows
             .set_visibility_target(direct.then(|| (*shared.texture).clone()))
         {
-            messages.push(format!("penumbra: camera {}: {e}", view.main_entity));
+            messages.push(format!("penumbra: {}: {e}", view.label));
             continue;
         }
         view.copied = (!direct).then_some(size);
@@ -948,8 +947,30 @@ fn prepare_shadows(
             .shadows
             .prepare(device, queue, casters, &ViewInputs::new(camera_matrices, &depth))
         {
-            Ok(()) => view.prepared = true,
-            Err(e) => messages.push(format!("penumbra: camera {}: {e}", view.main_entity)),
+            Ok(()) => {
+                view.prepared = true;
+                // A sun whose maps cannot hold a caster in view (spread over a ground far
+                // wider than the view, with no shadow distance): said once.
+                for (entity, (id, ..)) in &view.lights {
+                    let Some(unheld) = view.shadows.report(*id).and_then(|r| r.unheld_caster) else {
+                        continue;
+                    };
+                    let light = extracted
+                        .lights
+                        .iter()
+                        .find(|l| l.entity == *entity)
+                        .map_or_else(|| format!("light {entity}"), |l| l.label.clone());
+                    messages.push(format!(
+                        "penumbra: in {}, {light}'s shadow map cannot hold a caster {:.2} units across \
+                         {:.0} units from the camera (a texel is {:.2} units): its shadow is lost. Give the \
+                         light a CascadeShadowConfig whose maximum_distance covers what needs shadows \
+                         (PenumbraCamera::bevy_shadow_settings), or set the camera's \
+                         settings.shadow_map.fit max_distance",
+                        view.label, unheld.size, unheld.view_distance, unheld.texel
+                    ));
+                }
+            }
+            Err(e) => messages.push(format!("penumbra: {}: {e}", view.label)),
         }
     }
     for message in messages {
@@ -1005,10 +1026,12 @@ fn penumbra_pass(
     let shaded = state.active && state.views.get(&entity).is_some_and(|v| v.prepared);
     if !shaded {
         if state.active && is_camera && !state.views.contains_key(&entity) {
+            let main = main_entity.map_or(entity, |m| m.id());
+            let name = extracted.camera_names.get(&main).map(|n| Name::new(n.clone()));
             state.warn_once(format!(
-                "penumbra: camera {} has no enabled PenumbraCamera; penumbra's lights cast no shadow in it \
+                "penumbra: {} has no enabled PenumbraCamera; penumbra's lights cast no shadow in it \
                  (Bevy's shadow maps are off for them). Add PenumbraCamera to it.",
-                main_entity.map_or(entity, |m| m.id())
+                crate::extract::label("camera", main, name.as_ref())
             ));
         }
         ctx.command_encoder()
@@ -1070,7 +1093,7 @@ fn penumbra_pass(
             .copy_buffer_to_buffer(&view.table_buffer, 0, &table, 0, size),
         // The lights are shaded unshadowed in this camera this frame.
         Err(e) => {
-            let message = format!("penumbra: camera {}: {e}", view.main_entity);
+            let message = format!("penumbra: {}: {e}", view.label);
             view.prepared = false;
             ctx.command_encoder()
                 .copy_buffer_to_buffer(&empty, 0, &table, 0, size);

@@ -594,27 +594,288 @@ fn misuse_is_reported_and_leaves_bevys_shadows() {
     save("too_many_lights.png", &frame);
     let messages = scene.messages();
     assert!(
-        messages.iter().any(|m| m.contains("past penumbra's limit of 8")),
+        messages
+            .iter()
+            .any(|m| m.contains("9 shadowed lights: penumbra shadows 8, the other 1 keep Bevy's")),
         "{messages:?}"
     );
 
-    // Deferred rendering: refused, the camera named (its lighting pass does not run
-    // penumbra's material).
-    let mut scene = box_above_plane(sun(4.0), false);
+    // A camera with a `Name` is named by it.
     scene
         .headless
         .app
         .world_mut()
         .entity_mut(scene.camera)
-        .insert(bevy::core_pipeline::prepass::DeferredPrepass);
+        .insert(Name::new("Main view"))
+        .remove::<bevy::core_pipeline::prepass::DepthPrepass>();
     scene.headless.render(4);
     let messages = scene.messages();
-    let camera = format!("camera {}", scene.camera);
+    let named = format!("camera {} \"Main view\" has no DepthPrepass", scene.camera);
+    assert!(messages.iter().any(|m| m.contains(&named)), "{messages:?}");
+}
+
+/// The shadowed pixels (darkness over a half) of a darkness map, and their intersection over
+/// union with another's.
+fn iou(a: &[Option<f32>], b: &[Option<f32>]) -> f32 {
+    let dark = |d: &Option<f32>| d.is_some_and(|d| d > 0.5);
+    let both = a.iter().zip(b).filter(|(a, b)| dark(a) && dark(b)).count();
+    let either = a.iter().zip(b).filter(|(a, b)| dark(a) || dark(b)).count();
+    both as f32 / either.max(1) as f32
+}
+
+/// Bevy's `animation/animated_mesh` puts the Fox on a 500,000-unit plane, a caster like every
+/// mesh, under a sun whose `CascadeShadowConfig` ends at 400 units. The box here stands on such
+/// a plane under a sun whose cascades end at 40: the sun's maps cover the view up to there, not
+/// the plane, and the box's shadow is Bevy's (it was lost: the maps were spread over the
+/// plane). Without Bevy's settings the maps reach as far as the plane, and a message names
+/// the caster they lose.
+#[test]
+fn a_sun_over_a_ground_far_wider_than_the_view_keeps_a_small_casters_shadow() {
+    use bevy::light::CascadeShadowConfigBuilder;
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let cascades = CascadeShadowConfigBuilder {
+        first_cascade_far_bound: 15.0,
+        maximum_distance: 40.0,
+        ..default()
+    }
+    .build();
+    let mut scene = box_above_plane((sun(2.0), Name::new("Sun"), cascades), false);
+    let world = scene.headless.app.world_mut();
+    let ground = world
+        .resource_mut::<Assets<Mesh>>()
+        .add(Plane3d::default().mesh().size(500_000.0, 500_000.0));
+    world.entity_mut(scene.plane).insert(Mesh3d(ground));
+    let (ours, bevy) = scene.penumbra_and_bevy("huge_ground", 10);
+    let messages = scene.messages();
+    assert!(messages.is_empty(), "the plugin reported {messages:?}");
+    let settings = scene
+        .headless
+        .app
+        .world()
+        .resource::<PenumbraDiagnostics>()
+        .settings()
+        .expect("penumbra ran");
+    assert_eq!(
+        settings.shadow_map.fit,
+        penumbra::LightFit::CameraFrustum { max_distance: 40.0 }
+    );
+    assert_eq!(settings.shadow_map.cascades.first_end, 15.0);
+    // Without Bevy's settings: up to the plane's far corner, and said.
+    scene
+        .headless
+        .app
+        .world_mut()
+        .get_mut::<PenumbraCamera>(scene.camera)
+        .unwrap()
+        .bevy_shadow_settings = false;
+    let unfitted = scene.headless.render(6);
+    save("huge_ground_unfitted.png", &unfitted);
+    let messages = scene.messages();
     assert!(
-        messages
-            .iter()
-            .any(|m| m.contains("DeferredPrepass") && m.contains(&camera)),
+        messages.iter().any(|m| m.contains("DirectionalLight")
+            && m.contains("\"Sun\"")
+            && m.contains("cannot hold a caster")),
         "{messages:?}"
+    );
+    scene.headless.app.world_mut().despawn(scene.box_entity);
+    let empty = scene.headless.render(4);
+    let (ours, bevy) = (darkness(&ours, &empty), darkness(&bevy, &empty));
+    let overlap = iou(&ours, &bevy);
+    println!("huge ground: IoU {overlap:.3} with Bevy's shadow");
+    like_bevys_within("huge ground", &ours, &bevy, (2.0, 0.3));
+    assert!(overlap >= 0.85, "IoU {overlap} with Bevy's shadow");
+}
+
+/// Bevy's `3d/deferred_rendering` switches its camera between deferred, forward and forward +
+/// prepass (`DefaultOpaqueRendererMethod`, the prepass components, every `StandardMaterial`
+/// touched). With the plugin its switch to forward + prepass panicked in Bevy's prepass queue
+/// (penumbra's copies of the materials were still deferred). Ten switches here, each frame
+/// rendered; on the deferred camera penumbra's materials draw in the forward pass, so its
+/// shadow is the forward frame's.
+#[test]
+fn a_camera_switched_between_deferred_and_forward_keeps_penumbras_shadows() {
+    use bevy::core_pipeline::prepass::{DeferredPrepass, DepthPrepass, MotionVectorPrepass, NormalPrepass};
+    use bevy::pbr::DefaultOpaqueRendererMethod;
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let mut scene = box_above_plane(sun(2.0), false);
+    let forward = scene.headless.render(8);
+    save("modes_forward.png", &forward);
+    #[derive(Clone, Copy, Debug)]
+    enum Mode {
+        Deferred,
+        Forward,
+        ForwardPrepass,
+    }
+    let switch = |scene: &mut Scene, mode: Mode| {
+        let world = scene.headless.app.world_mut();
+        let mut default = world.resource_mut::<DefaultOpaqueRendererMethod>();
+        match mode {
+            Mode::Deferred => default.set_to_deferred(),
+            _ => default.set_to_forward(),
+        }
+        let mut camera = world.entity_mut(scene.camera);
+        match mode {
+            Mode::Deferred => {
+                camera.remove::<NormalPrepass>();
+                camera.insert((DepthPrepass, MotionVectorPrepass, DeferredPrepass));
+            }
+            Mode::Forward => {
+                camera.remove::<(NormalPrepass, DepthPrepass, MotionVectorPrepass, DeferredPrepass)>();
+            }
+            Mode::ForwardPrepass => {
+                camera.insert((NormalPrepass, DepthPrepass, MotionVectorPrepass));
+                camera.remove::<DeferredPrepass>();
+            }
+        }
+        // As the example does: every material prepared again with the new default.
+        for _ in world.resource_mut::<Assets<StandardMaterial>>().iter_mut() {}
+    };
+    let modes = [
+        Mode::Deferred,
+        Mode::ForwardPrepass,
+        Mode::Forward,
+        Mode::Deferred,
+        Mode::Forward,
+        Mode::ForwardPrepass,
+        Mode::Deferred,
+        Mode::ForwardPrepass,
+        Mode::Deferred,
+        Mode::ForwardPrepass,
+    ];
+    let mut deferred = None;
+    for (i, mode) in modes.into_iter().enumerate() {
+        switch(&mut scene, mode);
+        let frame = scene.headless.render(3);
+        save(&format!("modes_{i}_{mode:?}.png"), &frame);
+        if matches!(mode, Mode::Deferred) {
+            deferred = Some(frame);
+        }
+    }
+    let last = scene.headless.render(4);
+    // Only the forward camera without a depth prepass is refused (named), as penumbra needs it.
+    let messages = scene.messages();
+    assert!(
+        messages.iter().all(|m| m.contains("no DepthPrepass")),
+        "{messages:?}"
+    );
+    scene.headless.app.world_mut().despawn(scene.box_entity);
+    let empty = scene.headless.render(4);
+    let forward_dark = darkness(&forward, &empty);
+    for (name, frame) in [("deferred", deferred.unwrap()), ("forward + prepass", last)] {
+        let dark = darkness(&frame, &empty);
+        let overlap = iou(&dark, &forward_dark);
+        println!("{name}: IoU {overlap:.3} with the forward frame's shadow");
+        assert!(
+            overlap >= 0.85,
+            "{name}: IoU {overlap} with the forward frame's shadow"
+        );
+    }
+}
+
+/// Bevy's `3d/shadow_caster_receiver` with MSAA (Bevy's default): a `NotShadowReceiver` sphere
+/// above a receiving plane. penumbra computes one visibility a pixel, on the pixel's nearest
+/// sample; the plane's samples beside the sphere's silhouette took the sphere's visibility,
+/// dark where the sphere turns from the sun: a dark line around it (94 pixels, up to 54 levels
+/// in the example). Now the plane's fragments there read a neighbour's visibility computed on
+/// the plane: along the silhouette the frame darkens no more pixels than without MSAA.
+#[test]
+fn msaa_draws_no_dark_line_around_a_non_receiver() {
+    use bevy::light::NotShadowReceiver;
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let mut scene = box_above_plane(sun(2.0), false);
+    let world = scene.headless.app.world_mut();
+    let sphere = world
+        .resource_mut::<Assets<Mesh>>()
+        .add(Sphere::new(0.5).mesh().uv(48, 24));
+    world
+        .entity_mut(scene.box_entity)
+        .insert((Mesh3d(sphere), NotShadowReceiver));
+    let sun = {
+        let mut suns = world.query_filtered::<Entity, With<DirectionalLight>>();
+        suns.single(world).unwrap()
+    };
+    // Each MSAA setting with penumbra's shadow and with none (the sun's shadows off): the
+    // pixels that darken are the shadow's, and along the silhouette a line's.
+    let mut frames = Vec::new();
+    for msaa in [Msaa::Off, Msaa::Sample4] {
+        let world = scene.headless.app.world_mut();
+        world.entity_mut(scene.camera).insert(msaa);
+        world
+            .get_mut::<DirectionalLight>(sun)
+            .unwrap()
+            .shadow_maps_enabled = true;
+        let shadowed = scene.headless.render(8);
+        let world = scene.headless.app.world_mut();
+        world
+            .get_mut::<DirectionalLight>(sun)
+            .unwrap()
+            .shadow_maps_enabled = false;
+        let unshadowed = scene.headless.render(6);
+        save(&format!("non_receiver_{msaa:?}.png"), &shadowed);
+        save(&format!("non_receiver_{msaa:?}_unshadowed.png"), &unshadowed);
+        frames.push((shadowed, unshadowed));
+    }
+    let messages = scene.messages();
+    assert!(messages.is_empty(), "the plugin reported {messages:?}");
+    // The sphere's pixels (red) without MSAA; the silhouette's pixels: those within two pixels
+    // of both the sphere and the plane.
+    let (off, _) = &frames[0];
+    let width = SIZE.x as i32;
+    let red = |x: i32, y: i32| {
+        (0..width).contains(&x) && (0..SIZE.y as i32).contains(&y) && {
+            let p = off.get_pixel(x as u32, y as u32).0;
+            p[0] as i32 > p[1] as i32 + 30
+        }
+    };
+    let near = |x: i32, y: i32, want: bool| (-2..=2).any(|dy| (-2..=2).any(|dx| red(x + dx, y + dy) == want));
+    let silhouette: Vec<(u32, u32)> = (0..SIZE.y as i32)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .filter(|&(x, y)| near(x, y, true) && near(x, y, false))
+        .map(|(x, y)| (x as u32, y as u32))
+        .collect();
+    assert!(silhouette.len() > 100, "{} silhouette pixels", silhouette.len());
+    // Darkened by more than 6 levels, where the frame without MSAA darkens nothing within a
+    // pixel (the sphere's real shadow on the plane lies away from its silhouette, past x 0.7).
+    let drop = |(shadowed, unshadowed): &(image::RgbaImage, image::RgbaImage), x: u32, y: u32| {
+        let (s, u) = (shadowed.get_pixel(x, y).0, unshadowed.get_pixel(x, y).0);
+        (0..3).map(|c| u[c] as i32 - s[c] as i32).max().unwrap()
+    };
+    let real_shadow = |x: u32, y: u32| {
+        (-1i32..=1).any(|dy| {
+            (-1i32..=1).any(|dx| {
+                let (px, py) = (x as i32 + dx, y as i32 + dy);
+                (0..width).contains(&px)
+                    && (0..SIZE.y as i32).contains(&py)
+                    && drop(&frames[0], px as u32, py as u32) > 3
+            })
+        })
+    };
+    let lines: Vec<usize> = frames
+        .iter()
+        .map(|frame| {
+            silhouette
+                .iter()
+                .filter(|&&(x, y)| !real_shadow(x, y) && drop(frame, x, y) > 6)
+                .count()
+        })
+        .collect();
+    let worst = silhouette
+        .iter()
+        .filter(|&&(x, y)| !real_shadow(x, y))
+        .map(|&(x, y)| drop(&frames[1], x, y))
+        .max()
+        .unwrap_or(0);
+    println!(
+        "{} silhouette pixels: darkened by more than 6 levels: {} without MSAA, {} with (at most {worst} levels)",
+        silhouette.len(),
+        lines[0],
+        lines[1]
+    );
+    assert!(
+        lines[1] <= lines[0] + 15,
+        "a dark line along the silhouette with MSAA: {} pixels against {} without",
+        lines[1],
+        lines[0]
     );
 }
 
@@ -1650,4 +1911,139 @@ fn a_gltf_scene_spawned_as_bevy_spawns_it_gets_penumbras_shadows_with_its_materi
     let b_sum: f32 = b.iter().flatten().sum();
     assert!(b_sum > 150.0, "no shadow in Bevy's frame ({b_sum})");
     like_bevys_within("glTF scene", &o, &b, (4.0, 0.3));
+}
+
+/// Bevy's `3d/rect_light`: a unit sphere on the floor under two rectangle lights, a red one
+/// above it and a tall blue one beside it, seen from above and to the side (the example's
+/// layout; the floor matte green here, to tell it from the sphere). A convex sphere
+/// shadows no part of itself, and the lights reach its upper half over no other caster, so
+/// there penumbra's frame is Bevy's unshadowed one (Bevy casts no rectangle light's shadow):
+/// no staircase-edged patch, line or speckles where the sphere turns from a light (within 4 of
+/// 255 levels). The sphere's shadow on the floor is penumbra's.
+#[test]
+fn a_sphere_under_rectangle_lights_does_not_shadow_itself() {
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let mut headless = common::Headless::new(SIZE, |app| {
+        app.add_plugins(PenumbraPlugin);
+    });
+    let world = headless.app.world_mut();
+    world.insert_resource(GlobalAmbientLight {
+        brightness: 80.0,
+        ..default()
+    });
+    let floor = world
+        .resource_mut::<Assets<Mesh>>()
+        .add(Plane3d::default().mesh().size(20.0, 20.0));
+    let ball = world.resource_mut::<Assets<Mesh>>().add(Sphere::new(1.0));
+    let green = world
+        .resource_mut::<Assets<StandardMaterial>>()
+        .add(StandardMaterial {
+            base_color: Color::srgb(0.1, 0.5, 0.1),
+            perceptual_roughness: 1.0,
+            ..default()
+        });
+    let white = world
+        .resource_mut::<Assets<StandardMaterial>>()
+        .add(StandardMaterial {
+            base_color: Color::WHITE,
+            perceptual_roughness: 0.8,
+            ..default()
+        });
+    world.spawn((Mesh3d(floor), MeshMaterial3d(green)));
+    world.spawn((
+        Mesh3d(ball),
+        MeshMaterial3d(white),
+        Transform::from_xyz(0.0, 1.0, 0.0),
+    ));
+    let red = world
+        .spawn((
+            RectLight {
+                color: Color::srgb(1.0, 0.3, 0.2),
+                intensity: 100_000.0,
+                width: 2.0,
+                height: 1.0,
+                range: 20.0,
+            },
+            RectLightShadows,
+            Transform::from_xyz(1.0, 3.0, 1.0).looking_at(Vec3::Y, Vec3::Y),
+        ))
+        .id();
+    let blue = world
+        .spawn((
+            RectLight {
+                color: Color::srgb(0.5, 0.7, 1.0),
+                intensity: 800_000.0,
+                width: 1.5,
+                height: 4.0,
+                range: 20.0,
+            },
+            RectLightShadows,
+            // The example's is at height 1.5, a quarter of it below the floor, which then shadows
+            // that quarter from every point above: 0.6 higher here, so that only the sphere
+            // stands between the lights and its upper half.
+            Transform::from_xyz(-2.0, 2.1, -3.0).with_rotation(Quat::from_rotation_y(std::f32::consts::PI)),
+        ))
+        .id();
+    let bundle = headless.camera(Vec3::new(-8.0, 5.0, 8.0), Vec3::Y);
+    headless.app.world_mut().spawn((
+        bundle,
+        PenumbraCamera::default(),
+        Projection::from(PerspectiveProjection {
+            fov: 0.35,
+            ..default()
+        }),
+    ));
+    let ours = headless.render(10);
+    save("rect_sphere_penumbra.png", &ours);
+    let messages = headless.app.world().resource::<PenumbraDiagnostics>().messages();
+    assert!(messages.is_empty(), "the plugin reported {messages:?}");
+    for light in [red, blue] {
+        headless
+            .app
+            .world_mut()
+            .entity_mut(light)
+            .remove::<RectLightShadows>();
+    }
+    let unshadowed = headless.render(6);
+    save("rect_sphere_unshadowed.png", &unshadowed);
+    // The sphere's pixels (not the green floor's, nor the black background's), two pixels in
+    // from its silhouette, in its upper half (above its centre's row).
+    let width = SIZE.x as i32;
+    let sphere = |x: i32, y: i32| {
+        (0..width).contains(&x) && (0..SIZE.y as i32).contains(&y) && {
+            let p = unshadowed.get_pixel(x as u32, y as u32).0;
+            let floor = p[1] as i32 > p[0] as i32 + 20 && p[1] as i32 > p[2] as i32 + 20;
+            !floor && p[0].max(p[1]).max(p[2]) > 12
+        }
+    };
+    let inside: Vec<(u32, u32)> = (0..SIZE.y as i32)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .filter(|&(x, y)| (-2..=2).all(|dy| (-2..=2).all(|dx| sphere(x + dx, y + dy))))
+        .map(|(x, y)| (x as u32, y as u32))
+        .collect();
+    assert!(inside.len() > 500, "{} sphere pixels", inside.len());
+    let centre_row = inside.iter().map(|p| p.1 as f32).sum::<f32>() / inside.len() as f32;
+    let upper: Vec<(u32, u32)> = inside
+        .iter()
+        .copied()
+        .filter(|p| (p.1 as f32) < centre_row)
+        .collect();
+    let differences: Vec<i32> = upper
+        .iter()
+        .map(|&(x, y)| {
+            let (a, b) = (ours.get_pixel(x, y).0, unshadowed.get_pixel(x, y).0);
+            (0..3).map(|c| (a[c] as i32 - b[c] as i32).abs()).max().unwrap()
+        })
+        .collect();
+    let worst = differences.iter().copied().max().unwrap_or(0);
+    let off = differences.iter().filter(|d| **d > 4).count();
+    println!(
+        "sphere under rectangle lights: {} upper-half pixels, {off} differ from the unshadowed frame by more than 4 levels, at most {worst}",
+        upper.len()
+    );
+    assert!(
+        off == 0,
+        "the sphere shadows itself: {off} of {} pixels differ by more than 4 levels (at most {worst})",
+        upper.len()
+    );
 }

@@ -3,6 +3,15 @@
 
 // The steepest receiver plane whose slope is taken as it is: tan(87 degrees).
 const GRAZING_TAN: f32 = 19.08;
+// The same under an area light, where the pixels show the plane well (it is not edge-on to
+// the camera): tan(89.5 degrees). The light's map is drawn from its centre, which a convex
+// receiver near the centre's terminator sees at grazing incidence while the rest of the light
+// lies well in front of its plane: cut to 87 degrees, the plane's slope put its own surface in
+// front of the wide filter's taps (speckles and a line along the terminator of a sphere under
+// Bevy's rectangle lights).
+const AREA_GRAZING_TAN: f32 = 114.6;
+// Receivers whose normal is within this cosine of edge-on to the camera keep GRAZING_TAN.
+const EDGE_ON_COS: f32 = 0.2;
 
 struct Receiver {
     // World position pushed off the surface along its normal (normal-offset bias).
@@ -14,6 +23,26 @@ struct Receiver {
     // World offsets to the next pixel along screen x and y, on the receiver's plane.
     dx: vec3<f32>,
     dy: vec3<f32>,
+    // An area light's centre lies behind the receiver's plane while part of the light lies in
+    // front of it: the map, drawn from the centre, holds only what lies behind that plane
+    // (on a convex receiver, its own far side), which cannot shadow the part of the light the
+    // receiver sees. The passes take such a receiver as lit.
+    past_centre: bool,
+}
+
+// Whether an area light's centre lies behind the plane through `world` with unit normal
+// `normal` (toward the camera) while some of the light lies in front of it.
+fn past_area_centre(world: vec3<f32>, normal: vec3<f32>) -> bool {
+    let shape = area_shape();
+    if shape == 0u {
+        return false;
+    }
+    let height = dot(normal, frame.light.position - world);
+    let along = vec2<f32>(dot(normal, frame.light.area_u.xyz), dot(normal, frame.light.area_v.xyz));
+    // How far the light's outline reaches along the normal from its centre: a rectangle's
+    // corner, a disk's rim.
+    let reach = select(length(along), abs(along.x) + abs(along.y), shape == 1u);
+    return height <= 0.0 && height + reach > 0.0;
 }
 
 // The difference to the neighbor pixel along `axis` on the side whose depth is closer, so a
@@ -42,10 +71,12 @@ fn receiver(pixel: vec2<i32>, depth: f32, texels: f32) -> Receiver {
     out.world = center;
     out.dx = dx;
     out.dy = dy;
+    out.past_centre = false;
     let n = cross(dx, dy);
     let len = length(n);
     if len > 1e-30 {
         let facing = select(-1.0, 1.0, dot(n, to_camera(center)) >= 0.0);
+        out.past_centre = past_area_centre(center, n / len * facing);
         let texel_world = shadow_map_world_size(center).x / frame.light.resolution;
         out.world = center + n / len * facing * texel_world * texels;
     }
@@ -63,7 +94,9 @@ fn receiver(pixel: vec2<i32>, depth: f32, texels: f32) -> Receiver {
         // large a window the map was fitted to, and cut some planes and not others.
         let cos_incidence = abs(dot(n / len, light_ray(center)));
         let tan_incidence = sqrt(max(1.0 - cos_incidence * cos_incidence, 0.0)) / max(cos_incidence, 1e-6);
-        out.slope = slope * min(1.0, GRAZING_TAN / max(tan_incidence, 1e-6));
+        let seen_well = abs(dot(n / len, normalize(to_camera(center)))) > EDGE_ON_COS;
+        let limit = select(GRAZING_TAN, AREA_GRAZING_TAN, area_shape() != 0u && seen_well);
+        out.slope = slope * min(1.0, limit / max(tan_incidence, 1e-6));
     }
     // The push keeps its bias but not its sideways shift, which would move every shadow edge
     // by a fraction of a texel: look up at the surface's own map position, with the reference

@@ -109,6 +109,12 @@ impl LightView {
                     Vec4::new(0.0, -1.0, 0.0, max.y),
                 ];
                 let (near, far) = clipped_depth_range(&view, &bounds, inputs.parts, &planes);
+                // Depths counted from the nearest part the window holds, not from the eye: a
+                // ground hundreds of thousands of units wide puts the eye that far back, where
+                // f32 depths keep a tenth of a unit and the map's precision is lost. Only the
+                // view's z moves, so the texel grid stays where it was.
+                let view = Mat4::from_translation(Vec3::new(0.0, 0.0, near)) * view;
+                let (near, far) = (0.0, far - near);
                 // The margin also pads the depth range: the fattened casters reach that far
                 // toward the light.
                 let pad_z = ((far - near) * 0.01).max(radius * 1e-4) + inputs.margin.max(0.0);
@@ -489,10 +495,17 @@ pub(super) fn directional_cascades(
     }
     let (scene_near, scene_far) = rounded((scene_near, scene_far));
     let lambda = settings.split.clamp(0.0, 1.0);
+    // A first cascade's end given (an engine's own setting): the others split the rest.
+    let first_end = settings.first_end;
+    let given_first = first_end > scene_near && first_end < scene_far;
     let split = |i: u32| {
+        let (n, f, i, count) = match (given_first, i) {
+            (true, 1) => return first_end,
+            (true, _) => (first_end, scene_far, i - 1, count - 1),
+            (false, _) => (scene_near, scene_far, i, count),
+        };
         let t = i as f32 / count as f32;
-        lambda * scene_near * (scene_far / scene_near).powf(t)
-            + (1.0 - lambda) * (scene_near + (scene_far - scene_near) * t)
+        lambda * n * (f / n).powf(t) + (1.0 - lambda) * (n + (f - n) * t)
     };
     let window = casters_window(inputs, view, casters, radius);
     let mut cascades = [Cascade {
@@ -569,4 +582,65 @@ pub(super) fn round_up_to_step(x: f32) -> f32 {
         return x;
     }
     ((x.log2() * 8.0).ceil() / 8.0).exp2()
+}
+
+/// A caster in the camera's view whose shadow a sun's map cannot hold: seen along the light it
+/// is narrower than a texel of the map (cascade) its view distance falls in, so its shadow
+/// falls between texels or vanishes. [`crate::LightReport::unheld_caster`] names the smallest
+/// one of a frame; a shadow distance ([`LightFit::CameraFrustum`]'s `max_distance`) or a finer
+/// map gives it texels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UnheldCaster {
+    /// The caster's box's larger side seen along the light, world units.
+    pub size: f32,
+    /// A texel of the map its shadow falls in, world units.
+    pub texel: f32,
+    /// Its nearest view distance from the camera, world units.
+    pub view_distance: f32,
+}
+
+impl LightView {
+    /// For a directional light: the smallest of `caster_parts` (the boxes of the instances
+    /// that cast) inside the camera's view that its map cannot hold ([`UnheldCaster`]); `None`
+    /// when every one has a texel or more, and for other lights.
+    pub fn unheld_caster(&self, camera: &CameraMatrices, caster_parts: &[Aabb]) -> Option<UnheldCaster> {
+        if self.kind != ProjectionKind::Orthographic {
+            return None;
+        }
+        let view_projection = camera.view_projection();
+        let eye = camera.eye();
+        let forward = -camera.backward();
+        let perspective = camera.is_perspective();
+        let cascades = self.cascades();
+        let tile = self.tile.max(1) as f32;
+        let mut smallest: Option<UnheldCaster> = None;
+        for part in caster_parts {
+            if part.is_empty() || !box_reaches_clip(&view_projection, part, 0.0) {
+                continue;
+            }
+            let view_distance = if perspective {
+                part.corners()
+                    .iter()
+                    .map(|c| (*c - eye).dot(forward))
+                    .fold(f32::INFINITY, f32::min)
+                    .max(0.0)
+            } else {
+                0.0
+            };
+            let cascade = cascades
+                .iter()
+                .find(|c| view_distance < c.end)
+                .unwrap_or(&cascades[cascades.len() - 1]);
+            let texel = cascade.extent.max_element() / tile;
+            let size = part.transformed(&cascade.view).size().truncate().max_element();
+            if size < texel && smallest.is_none_or(|s| size < s.size) {
+                smallest = Some(UnheldCaster {
+                    size,
+                    texel,
+                    view_distance,
+                });
+            }
+        }
+        smallest
+    }
 }

@@ -26,7 +26,7 @@ pub(crate) use clip::box_reaches_clip;
 #[cfg(test)]
 pub(crate) use clip::frustum_corners;
 use clip::*;
-pub use fit::{CASCADE_RATIO, FitInputs};
+pub use fit::{CASCADE_RATIO, FitInputs, UnheldCaster};
 
 /// Whether the light's projection is orthographic or perspective.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -94,6 +94,12 @@ impl Camera {
             .max(Vec3::ZERO)
             .length();
         self.near = (to_box * 0.9).max(self.far * 1e-3).max(1e-6);
+        // A far plane set by a ground far wider than the view (thousands of units) must not
+        // push the near plane past what stands in front of the camera: with reversed depth a
+        // float buffer keeps its precision down to a millionth of far.
+        if to_box > 0.0 {
+            self.near = self.near.min(to_box * 0.9).max(self.far * 1e-6).max(1e-6);
+        }
         if self.near >= self.far {
             self.near = self.far * 1e-3;
         }

@@ -30,6 +30,8 @@ pub(super) struct Planned {
     /// The limits the PCF pass counts penumbra widths below, and the tile resolution drawn
     /// ([`crate::MapResolution::FromPenumbra`]).
     pub(super) probe: Option<([f32; 3], u32)>,
+    /// A sun's smallest caster in view that its map cannot hold.
+    pub(super) unheld_caster: Option<crate::light_space::UnheldCaster>,
 }
 
 impl Planned {
@@ -44,6 +46,7 @@ impl Planned {
             light_view: self.light_view,
             map_resolution: self.light_view.tile,
             penumbra_widths,
+            unheld_caster: self.unheld_caster,
         }
     }
 }

@@ -23,7 +23,9 @@ use crate::map_resolution::PenumbraWidths;
 use crate::passes::FarPlaneFill;
 use crate::scene::{Aabb, Light, MAX_LIGHTS};
 use crate::screen::{ComputeNeeds, ComputeTargets, ScreenChain, ScreenInputs, VISIBILITY_FORMAT};
-use crate::settings::{MapResolution, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
+use crate::settings::{
+    CascadeSettings, LightFit, MapResolution, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode,
+};
 use crate::view::CameraMatrices;
 
 mod inputs;
@@ -486,8 +488,28 @@ impl Shadows {
                         }
                     }
                 };
-                // Fitted again to what it sees, so that nothing outside changes it.
+                // Fitted again to what it sees, so that nothing outside changes it. A sun fitted
+                // to the view: its penumbrae and texels are those of the window the view needs,
+                // not of the whole scene's (a ground hundreds of thousands of units wide made the
+                // fatten distance, and with it every cascade's margin, as wide as the ground).
                 let loose = match light {
+                    Light::Directional(_) if matches!(sm.fit, LightFit::CameraFrustum { .. }) => {
+                        LightView::fit_with(&FitInputs {
+                            light: &light,
+                            casters: caster_bounds,
+                            casters_and_receivers: shadow_bounds,
+                            parts,
+                            margin: 0.0,
+                            fit: sm.fit,
+                            camera: Some(view.camera),
+                            resolution: sm.resolution,
+                            snap_to_texels: false,
+                            cascades: CascadeSettings {
+                                count: 1,
+                                ..sm.cascades
+                            },
+                        })
+                    }
                     Light::Directional(_) => loose,
                     _ => LightView::fit(&light, &shadow_bounds),
                 };
@@ -601,6 +623,7 @@ impl Shadows {
                     spreads,
                     light_view,
                     probe,
+                    unheld_caster: light_view.unheld_caster(&view.camera, caster_parts),
                 };
                 state.report = Some(planned.report(LightId(slot as u32), state.widths.map(|(w, _)| w)));
                 state.planned = Some(planned);

@@ -42,6 +42,10 @@ pub struct LightReport {
     /// ([`crate::MapResolution::FromPenumbra`] on the compute path; `None` before the first
     /// comes back, and for the other methods).
     pub penumbra_widths: Option<PenumbraWidths>,
+    /// A sun's smallest caster in view whose shadow its map cannot hold (narrower than a
+    /// texel, typically under a map spread over a ground far wider than the view: set a shadow
+    /// distance). `None` when every caster in view has a texel or more, and for other lights.
+    pub unheld_caster: Option<crate::light_space::UnheldCaster>,
 }
 
 /// An intermediate texture of one light, for debug views.

@@ -1,0 +1,148 @@
+//! A sun over a ground far wider than the view (a terrain, a game's 500,000-unit plane) that
+//! casts as every mesh of an engine does: the teapot on its 18-unit floor, made a caster, then
+//! on a 2,000- and a 500,000-unit one. The camera keeps the teapot in view (its near plane
+//! follows what stands in front of it, not the ground's extent), and with a shadow distance
+//! the sun's maps cover the view, not the ground: the penumbra error against each floor's own
+//! reference stays within 1.1x the 18-unit floor's. Without one, the frame's report names the
+//! caster whose shadow the maps cannot hold. The visibility images are written to
+//! `target/penumbra-test-output/large-ground-*.png`.
+
+mod common;
+
+use glam::{Mat4, Vec3};
+use penumbra::{
+    Camera, LightFit, Quality, Renderer, Scene, ShadowMethod, ShadowSettings,
+    metrics::{measure_visibility, visibility_error},
+};
+
+const SIZE: (u32, u32) = (320, 256);
+/// World units from the camera that the sun's maps cover.
+const SHADOW_DISTANCE: f32 = 30.0;
+
+/// The teapot scene with its floor scaled to `size` units a side and made a caster, and its
+/// front view's camera with near and far fitted as a scene file fits them.
+fn teapot_on(size: f32) -> (Scene, Camera) {
+    let mut scene = penumbra::load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let floor = scene
+        .instances
+        .iter_mut()
+        .find(|i| !i.caster)
+        .expect("the teapot scene's floor");
+    floor.caster = true;
+    floor.transform = Mat4::from_scale(Vec3::new(size / 18.0, 1.0, size / 18.0)) * floor.transform;
+    let view = &scene.views[0].camera;
+    let mut camera = Camera {
+        near: 0.1,
+        far: 100.0,
+        ..*view
+    };
+    camera.fit_depth_range(&scene.bounds());
+    (scene, camera)
+}
+
+fn settings(method: ShadowMethod, max_distance: f32) -> ShadowSettings {
+    let mut settings = if method == ShadowMethod::Reference {
+        let mut s = ShadowSettings {
+            method,
+            ..Default::default()
+        };
+        s.reference.samples = 64;
+        s
+    } else {
+        ShadowSettings::preset(method, Quality::Medium)
+    };
+    settings.shadow_map.fit = LightFit::CameraFrustum { max_distance };
+    settings
+}
+
+fn save(name: &str, v: &penumbra::metrics::VisibilityImage) {
+    let grey = image::GrayImage::from_fn(v.width, v.height, |x, y| {
+        let value = v.visibility[(y * v.width + x) as usize].unwrap_or(0.0);
+        image::Luma([(value * 255.0).round() as u8])
+    });
+    grey.save(common::output_dir().join(format!("large-ground-{name}.png")))
+        .unwrap();
+}
+
+#[test]
+fn a_ground_far_wider_than_the_view_keeps_the_teapots_shadow() {
+    let gpu = common::gpu();
+    let mut errors = Vec::new();
+    for size in [18.0, 2_000.0, 500_000.0] {
+        let (scene, camera) = teapot_on(size);
+        assert!(
+            camera.near < 5.0,
+            "{size}-unit floor: the camera's near plane at {} clips the teapot",
+            camera.near
+        );
+        let truth = measure_visibility(
+            &gpu,
+            &scene,
+            &camera,
+            settings(ShadowMethod::Reference, SHADOW_DISTANCE),
+            SIZE,
+        )
+        .unwrap();
+        save(&format!("{size}-reference"), &truth);
+        // The teapot's shadow is in the picture: some of the floor is in the umbra, most lit.
+        let measured = truth.visibility.iter().flatten().count();
+        let shadowed = truth.visibility.iter().flatten().filter(|&&v| v < 0.05).count();
+        assert!(
+            shadowed > measured / 100 && shadowed < measured / 3,
+            "{size}-unit floor: {shadowed} of {measured} pixels shadowed in the reference"
+        );
+        let ours = measure_visibility(
+            &gpu,
+            &scene,
+            &camera,
+            settings(ShadowMethod::Ours, SHADOW_DISTANCE),
+            SIZE,
+        )
+        .unwrap();
+        save(&format!("{size}-ours"), &ours);
+        let error = visibility_error(&truth, &ours).unwrap();
+        eprintln!(
+            "{size}-unit floor: near {:.3} far {:.0}; ours penumbra RMSE {:.4} over {} pixels (RMSE {:.4})",
+            camera.near, camera.far, error.penumbra_rmse, error.penumbra_pixels, error.rmse
+        );
+        assert!(
+            error.penumbra_pixels > 200,
+            "{size}-unit floor: no penumbra measured"
+        );
+        errors.push((size, error.penumbra_rmse));
+    }
+    let base = errors[0].1;
+    for (size, e) in &errors[1..] {
+        assert!(
+            *e <= 1.1 * base,
+            "{size}-unit floor: penumbra RMSE {e:.4} against the 18-unit floor's {base:.4}"
+        );
+    }
+}
+
+#[test]
+fn a_map_spread_over_a_huge_ground_names_the_caster_it_loses() {
+    let gpu = common::gpu();
+    let report = |size: f32, max_distance: f32| {
+        let (scene, camera) = teapot_on(size);
+        let mut renderer = Renderer::new(
+            &gpu.device,
+            wgpu::TextureFormat::Rgba8UnormSrgb,
+            settings(ShadowMethod::Ours, max_distance),
+        )
+        .unwrap();
+        let gpu_scene = penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
+        penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, 160, 128).unwrap();
+        renderer.last_report().unwrap().light.unheld_caster
+    };
+    // Up to the far plane of a 500,000-unit ground: a texel of the map is wider than the teapot.
+    let lost = report(500_000.0, 0.0).expect("the teapot's shadow lost without a report");
+    eprintln!("unheld: {lost:?}");
+    assert!(
+        lost.size < lost.texel && lost.size > 1.0 && lost.size < 10.0,
+        "{lost:?}"
+    );
+    // With a shadow distance, and on the 18-unit floor, nothing is lost.
+    assert_eq!(report(500_000.0, SHADOW_DISTANCE), None);
+    assert_eq!(report(18.0, 0.0), None);
+}
