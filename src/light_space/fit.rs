@@ -109,12 +109,21 @@ impl LightView {
                     Vec4::new(0.0, -1.0, 0.0, max.y),
                 ];
                 let (near, far) = clipped_depth_range(&view, &bounds, inputs.parts, &planes);
-                // Depths counted from the nearest part the window holds, not from the eye: a
-                // ground hundreds of thousands of units wide puts the eye that far back, where
-                // f32 depths keep a tenth of a unit and the map's precision is lost. Only the
-                // view's z moves, so the texel grid stays where it was.
-                let view = Mat4::from_translation(Vec3::new(0.0, 0.0, near)) * view;
-                let (near, far) = (0.0, far - near);
+                // A ground hundreds of thousands of units wide puts the eye that far back, where
+                // f32 depths keep a tenth of a unit and the map's precision is lost: there the
+                // depths are counted from near the nearest part the window holds. The shift is
+                // a whole number of steps (a power of two, four times the depth range or more),
+                // so it changes only when the view moves a step and the maps drawn before stay
+                // valid (their matrices are compared); only the view's z moves, so the texel
+                // grid stays where it was. A scene as deep as it is wide keeps its eye.
+                let step = (4.0 * (far - near).max(radius * 1e-6)).log2().ceil().exp2();
+                let shift = if near > 64.0 * step {
+                    (near / step).floor() * step
+                } else {
+                    0.0
+                };
+                let view = Mat4::from_translation(Vec3::new(0.0, 0.0, shift)) * view;
+                let (near, far) = (near - shift, far - shift);
                 // The margin also pads the depth range: the fattened casters reach that far
                 // toward the light.
                 let pad_z = ((far - near) * 0.01).max(radius * 1e-4) + inputs.margin.max(0.0);

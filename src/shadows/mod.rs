@@ -38,6 +38,11 @@ pub(crate) use light_state::spreads;
 use light_state::{LightState, Planned, ShadowKey, narrowest_texels, redrawn_tiles, sees};
 pub use report::{LightId, LightReport, LightTexture};
 
+/// How many times a sun's fatten distance over the whole scene may exceed the one over the
+/// window its view needs before the window's is taken: a scene far wider or deeper than the
+/// view (a huge ground) takes the window's; one that fits its view keeps the scene's.
+const SCENE_FATTEN_RATIO: f32 = 8.0;
+
 /// Soft shadows for several lights on an engine's depth buffer. See the module docs and the
 /// `docs/embedding.md` page.
 ///
@@ -488,40 +493,43 @@ impl Shadows {
                         }
                     }
                 };
-                // Fitted again to what it sees, so that nothing outside changes it. A sun fitted
-                // to the view: its penumbrae and texels are those of the window the view needs,
-                // not of the whole scene's (a ground hundreds of thousands of units wide made the
-                // fatten distance, and with it every cascade's margin, as wide as the ground).
+                // Fitted again to what it sees, so that nothing outside changes it.
                 let loose = match light {
-                    Light::Directional(_) if matches!(sm.fit, LightFit::CameraFrustum { .. }) => {
-                        LightView::fit_with(&FitInputs {
-                            light: &light,
-                            casters: caster_bounds,
-                            casters_and_receivers: shadow_bounds,
-                            parts,
-                            margin: 0.0,
-                            fit: sm.fit,
-                            camera: Some(view.camera),
-                            resolution: sm.resolution,
-                            snap_to_texels: false,
-                            cascades: CascadeSettings {
-                                count: 1,
-                                ..sm.cascades
-                            },
-                        })
-                    }
                     Light::Directional(_) => loose,
                     _ => LightView::fit(&light, &shadow_bounds),
                 };
                 let map_scale = (1u32 << state.map_level) as f32;
-                let spreads = spreads(
-                    &effective,
-                    &light,
-                    &loose,
-                    &shadow_bounds,
-                    caster_parts,
-                    map_scale,
-                );
+                let spreads_of = |view: &LightView| {
+                    spreads(&effective, &light, view, &shadow_bounds, caster_parts, map_scale)
+                };
+                let mut spreads = spreads_of(&loose);
+                // A sun fitted to the view over a scene far wider or deeper than the view needs
+                // (a ground hundreds of thousands of units wide): its penumbrae and texels are
+                // those of the window the view needs. The whole scene's made the fatten
+                // distance, and with it every cascade's margin, as wide as the ground. Where
+                // the scene's fatten distance is within `SCENE_FATTEN_RATIO` of the window's it
+                // is kept (the scenes that fit their view, as before).
+                if let (Light::Directional(_), LightFit::CameraFrustum { .. }) = (light, sm.fit) {
+                    let window = LightView::fit_with(&FitInputs {
+                        light: &light,
+                        casters: caster_bounds,
+                        casters_and_receivers: shadow_bounds,
+                        parts,
+                        margin: 0.0,
+                        fit: sm.fit,
+                        camera: Some(view.camera),
+                        resolution: sm.resolution,
+                        snap_to_texels: false,
+                        cascades: CascadeSettings {
+                            count: 1,
+                            ..sm.cascades
+                        },
+                    });
+                    let fitted = spreads_of(&window);
+                    if spreads.fatten_distance > SCENE_FATTEN_RATIO * fitted.fatten_distance {
+                        spreads = fitted;
+                    }
+                }
                 // The margin keeps the fattened casters, pushed toward a spot or point light, in
                 // front of its near plane; a chain that draws no fattened map keeps the tightest
                 // near plane (PCSS searches for blockers from it). A sun's cascades are widened
