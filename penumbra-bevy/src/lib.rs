@@ -79,7 +79,8 @@ pub struct PenumbraCamera {
     /// units along the light; penumbra's are in units of the depth format), nor spot and point
     /// lights' normal biases (penumbra has one normal offset for every light). Off, penumbra's
     /// own settings fit a sun's maps up to Bevy's infinite far plane, that is to the farthest
-    /// corner of the scene: over a huge ground a message says which caster's shadow is lost.
+    /// corner of the scene: over a huge ground a message names the sun whose map loses a
+    /// caster's shadow.
     pub bevy_shadow_settings: bool,
 }
 

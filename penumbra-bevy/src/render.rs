@@ -952,21 +952,24 @@ fn prepare_shadows(
                 // A sun whose maps cannot hold a caster in view (spread over a ground far
                 // wider than the view, with no shadow distance): said once.
                 for (entity, (id, ..)) in &view.lights {
-                    let Some(unheld) = view.shadows.report(*id).and_then(|r| r.unheld_caster) else {
+                    if view.shadows.report(*id).is_none_or(|r| r.unheld_caster.is_none()) {
                         continue;
-                    };
+                    }
                     let light = extracted
                         .lights
                         .iter()
                         .find(|l| l.entity == *entity)
                         .map_or_else(|| format!("light {entity}"), |l| l.label.clone());
+                    // Said once: the text holds no figure that changes as the camera moves
+                    // (`LightReport::unheld_caster` has them).
                     messages.push(format!(
-                        "penumbra: in {}, {light}'s shadow map cannot hold a caster {:.2} units across \
-                         {:.0} units from the camera (a texel is {:.2} units): its shadow is lost. Give the \
-                         light a CascadeShadowConfig whose maximum_distance covers what needs shadows \
+                        "penumbra: in {}, {light}'s shadow map cannot hold a caster in view: one is \
+                         narrower than a texel of the map (spread over a scene far wider than the \
+                         view), and its shadow is lost. Give the light a CascadeShadowConfig whose \
+                         maximum_distance covers what needs shadows \
                          (PenumbraCamera::bevy_shadow_settings), or set the camera's \
                          settings.shadow_map.fit max_distance",
-                        view.label, unheld.size, unheld.view_distance, unheld.texel
+                        view.label
                     ));
                 }
             }
