@@ -1920,11 +1920,12 @@ fn a_gltf_scene_spawned_as_bevy_spawns_it_gets_penumbras_shadows_with_its_materi
 /// penumbra's frame should be Bevy's unshadowed one (Bevy casts no rectangle light's shadow).
 /// Each light's map is drawn from its centre: where the centre lies behind the sphere's plane
 /// but part of the light in front, the sphere's far side stood in front of the filter's taps (a
-/// staircase-edged patch), and near that terminator the receiver plane's slope, cut at 87
-/// degrees, put its own surface in front of them. Before those fixes 2295 of 5198 pixels of the
-/// upper half differed by more than 4 levels, by up to 57; now 318, by up to 17: blobs along
-/// the red light's terminator and a streak on the blue-lit side remain, and the 4
-/// levels are not met. This holds what is reached.
+/// staircase-edged patch); near that terminator the receiver plane's slope, cut at 87 degrees,
+/// put its own surface in front of them; and taps off the pixel's cube face, clamped to its
+/// edge, compared the edge's depth with the plane's far past it. Before those fixes 2295 of
+/// 5198 pixels of the upper half differed by more than 4 levels, by up to 57; now 288, by up to
+/// 10: blobs along the red light's terminator and a streak on the blue-lit side remain, and the
+/// issue's 4 levels are not met. This holds what is reached.
 #[test]
 fn a_sphere_under_rectangle_lights_shadows_itself_less() {
     let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
@@ -2038,7 +2039,7 @@ fn a_sphere_under_rectangle_lights_shadows_itself_less() {
         upper.len()
     );
     assert!(
-        off * 10 <= upper.len() && worst <= 24,
+        off * 10 <= upper.len() && worst <= 16,
         "the sphere shadows itself: {off} of {} pixels differ by more than 4 levels (at most {worst})",
         upper.len()
     );
