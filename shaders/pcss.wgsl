@@ -97,7 +97,7 @@ fn visibility_at(frag: vec2<f32>) -> f32 {
     var sum = 0.0;
     for (var k = 0; k < samples; k++) {
         let offset = filter_uv * vogel(k, samples, angle);
-        sum += textureSampleCompareLevel(shadow_map, shadow_sampler, in_tile(p.xy + offset), map_depth(p.z + dot(slope, offset)));
+        sum += textureSampleCompareLevel(shadow_map, shadow_sampler, in_tile(p.xy + offset), tap_reference(p, slope, offset));
     }
     return sum / f32(samples);
 }

@@ -1916,18 +1916,20 @@ fn a_gltf_scene_spawned_as_bevy_spawns_it_gets_penumbras_shadows_with_its_materi
 /// Bevy's `3d/rect_light`: a unit sphere on the floor under two rectangle lights, a red one
 /// above it and a tall blue one beside it, seen from above and to the side (the example's
 /// layout; the floor matte green here, to tell it from the sphere). A convex sphere shadows no
-/// part of itself, and the lights reach its upper half over no other caster, so there
-/// penumbra's frame should be Bevy's unshadowed one (Bevy casts no rectangle light's shadow).
-/// Each light's map is drawn from its centre: where the centre lies behind the sphere's plane
-/// but part of the light in front, the sphere's far side stood in front of the filter's taps (a
-/// staircase-edged patch); near that terminator the receiver plane's slope, cut at 87 degrees,
-/// put its own surface in front of them; and taps off the pixel's cube face, clamped to its
-/// edge, compared the edge's depth with the plane's far past it. Before those fixes 2295 of
-/// 5198 pixels of the upper half differed by more than 4 levels, by up to 57; now 288, by up to
-/// 10: blobs along the red light's terminator and a streak on the blue-lit side remain, and the
-/// issue's 4 levels are not met. This holds what is reached.
+/// part of itself, and the lights, wholly above the floor, reach it over no other caster, so
+/// penumbra's frame of the sphere should be Bevy's unshadowed one (Bevy casts no rectangle
+/// light's shadow) within 4 levels. Each light's map is drawn from its centre, and the filter
+/// is as wide as the light. Before this fixes the upper half showed a staircase-edged
+/// patch, blobs along the red light's terminator and a streak on the blue-lit side (2295 of its
+/// 5198 pixels off by more than 4 levels, by up to 57). Their causes, one at a time: the
+/// sphere's far side in front of the taps where the centre lies behind its plane; the plane's
+/// slope cut at 87 degrees; taps off the pixel's cube face clamped to its edge; the floor
+/// behind the terminator taken for an occluder (a tap's reference deeper than the receiver);
+/// a facet in the centre's own plane; the dark of the side that faces away from the light
+/// blurred into the lit side. Measured on lavapipe after them: 0 of 10405 pixels off by more
+/// than 4 levels, at most 1.
 #[test]
-fn a_sphere_under_rectangle_lights_shadows_itself_less() {
+fn a_sphere_under_rectangle_lights_does_not_shadow_itself() {
     let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
     let mut headless = common::Headless::new(SIZE, |app| {
         app.add_plugins(PenumbraPlugin);
@@ -2013,19 +2015,16 @@ fn a_sphere_under_rectangle_lights_shadows_itself_less() {
     let unshadowed = headless.render(6);
     save("rect_sphere_unshadowed.png", &unshadowed);
     // The sphere's pixels three in from its silhouette (it lies at the middle of the view: the
-    // camera looks at its centre), in its upper half (above its centre's row).
+    // camera looks at its centre).
     let distance = Vec3::new(-8.0, 5.0, 8.0).distance(Vec3::Y);
     let radius_px = (1.0 / distance).asin().tan() / (0.35f32 / 2.0).tan() * SIZE.y as f32 / 2.0;
     let centre = SIZE.as_vec2() / 2.0;
-    let upper: Vec<(u32, u32)> = (0..SIZE.y)
+    let sphere: Vec<(u32, u32)> = (0..SIZE.y)
         .flat_map(|y| (0..SIZE.x).map(move |x| (x, y)))
-        .filter(|&(x, y)| {
-            let p = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-            p.distance(centre) < radius_px - 3.0 && p.y < centre.y
-        })
+        .filter(|&(x, y)| Vec2::new(x as f32 + 0.5, y as f32 + 0.5).distance(centre) < radius_px - 3.0)
         .collect();
-    assert!(upper.len() > 2000, "{} sphere pixels", upper.len());
-    let differences: Vec<i32> = upper
+    assert!(sphere.len() > 8000, "{} sphere pixels", sphere.len());
+    let differences: Vec<i32> = sphere
         .iter()
         .map(|&(x, y)| {
             let (a, b) = (ours.get_pixel(x, y).0, unshadowed.get_pixel(x, y).0);
@@ -2035,12 +2034,12 @@ fn a_sphere_under_rectangle_lights_shadows_itself_less() {
     let worst = differences.iter().copied().max().unwrap_or(0);
     let off = differences.iter().filter(|d| **d > 4).count();
     println!(
-        "sphere under rectangle lights: {} upper-half pixels, {off} differ from the unshadowed frame by more than 4 levels, at most {worst}",
-        upper.len()
+        "sphere under rectangle lights: {} pixels, {off} differ from the unshadowed frame by more than 4 levels, at most {worst}",
+        sphere.len()
     );
     assert!(
-        off * 10 <= upper.len() && worst <= 16,
+        worst <= 4,
         "the sphere shadows itself: {off} of {} pixels differ by more than 4 levels (at most {worst})",
-        upper.len()
+        sphere.len()
     );
 }

@@ -15,7 +15,8 @@ struct Pcf {
 // one unit apart before `to_uv` (a unit step's shadow-map uv: a spacing times the identity, or
 // world units across the light mapped into the map), turned by `angle` radians; each tap
 // compares against the receiver's plane (`slope`: depth per uv) at its own position, so wide
-// kernels do not shadow the receiver itself.
+// kernels do not shadow the receiver itself, and never deeper than the receiver
+// (`tap_reference`).
 //
 // Under an area light a tap that falls off the pixel's cube face (past its guard texels) is left
 // out: clamped to the face's edge it compared the edge's depth with the plane's depth far past
@@ -36,7 +37,7 @@ fn pcf_taps(p: vec3<f32>, slope: vec2<f32>, to_uv: mat2x2<f32>, side: i32, angle
             if only_on_face && (any(uv < tile.xy) || any(uv > tile.zw)) {
                 continue;
             }
-            let reference = map_depth(p.z + dot(slope, offset));
+            let reference = tap_reference(p, slope, offset);
             sum += textureSampleCompareLevel(shadow_map, shadow_sampler, in_tile(uv), reference);
             taken += 1.0;
         }

@@ -23,26 +23,24 @@ struct Receiver {
     // World offsets to the next pixel along screen x and y, on the receiver's plane.
     dx: vec3<f32>,
     dy: vec3<f32>,
-    // An area light's centre lies behind the receiver's plane while part of the light lies in
-    // front of it: the map, drawn from the centre, holds only what lies behind that plane
-    // (on a convex receiver, its own far side), which cannot shadow the part of the light the
-    // receiver sees. The passes take such a receiver as lit.
+    // An area light's centre lies behind the receiver's plane (or in it): the map, drawn from
+    // the centre, holds only what lies behind that plane (on a convex receiver, its own far
+    // side), which cannot shadow the part of the light the receiver sees, if any. The passes
+    // take such a receiver as lit.
     past_centre: bool,
 }
 
 // Whether an area light's centre lies behind the plane through `world` with unit normal
-// `normal` (toward the camera) while some of the light lies in front of it.
-fn past_area_centre(world: vec3<f32>, normal: vec3<f32>) -> bool {
-    let shape = area_shape();
-    if shape == 0u {
+// `normal` (toward the camera), or in it (`grazing`: the plane is steeper from the centre than
+// AREA_GRAZING_TAN). Where all of the light lies behind the plane too, the shading gives the
+// receiver none of its light whatever the visibility; taken as lit there as well, its taps'
+// darkness (the receiver's own front in the map) is not blurred into the lit side next to it
+// (a dark streak along a sphere's terminator).
+fn past_area_centre(world: vec3<f32>, normal: vec3<f32>, grazing: bool) -> bool {
+    if area_shape() == 0u {
         return false;
     }
-    let height = dot(normal, frame.light.position - world);
-    let along = vec2<f32>(dot(normal, frame.light.area_u.xyz), dot(normal, frame.light.area_v.xyz));
-    // How far the light's outline reaches along the normal from its centre: a rectangle's
-    // corner, a disk's rim.
-    let reach = select(length(along), abs(along.x) + abs(along.y), shape == 1u);
-    return height <= 0.0 && height + reach > 0.0;
+    return grazing || dot(normal, frame.light.position - world) <= 0.0;
 }
 
 // The difference to the neighbor pixel along `axis` on the side whose depth is closer, so a
@@ -76,7 +74,13 @@ fn receiver(pixel: vec2<i32>, depth: f32, texels: f32) -> Receiver {
     let len = length(n);
     if len > 1e-30 {
         let facing = select(-1.0, 1.0, dot(n, to_camera(center)) >= 0.0);
-        out.past_centre = past_area_centre(center, n / len * facing);
+        // Past AREA_GRAZING_TAN the plane's slope is cut below its own, so its surface on the
+        // side toward the light would stand in front of the taps' references (a dark speckle
+        // where a sphere's facet lies in the light's centre): such a receiver counts as past
+        // the centre.
+        let cos_incidence = abs(dot(n / len, light_ray(center)));
+        let grazing = cos_incidence * AREA_GRAZING_TAN < sqrt(max(1.0 - cos_incidence * cos_incidence, 0.0));
+        out.past_centre = past_area_centre(center, n / len * facing, grazing);
         let texel_world = shadow_map_world_size(center).x / frame.light.resolution;
         out.world = center + n / len * facing * texel_world * texels;
     }
@@ -104,4 +108,17 @@ fn receiver(pixel: vec2<i32>, depth: f32, texels: f32) -> Receiver {
     let own = to_shadow_map(center);
     out.p = vec3<f32>(own.xy, out.p.z - dot(out.slope, out.p.xy - own.xy));
     return out;
+}
+
+// The depth a tap `offset` (shadow-map uv) away from the receiver compares against: the
+// receiver's plane there (`p.z + slope . offset`), but never deeper than the receiver itself. An
+// occluder lies on a segment from the receiver to a point of the light, so it is no farther
+// from the light than the receiver (a light's own extent aside): what the map holds behind the
+// receiver's depth cannot shadow it. The plane alone, continued far out under a wide kernel,
+// took a floor behind a sphere's terminator, in front of the plane there, for an occluder
+// (blobs along the terminator of a sphere under Bevy's rectangle lights). On the side where the
+// plane comes toward the light the plane decides, as before, so the receiver's own surface
+// still never shadows itself.
+fn tap_reference(p: vec3<f32>, slope: vec2<f32>, offset: vec2<f32>) -> f32 {
+    return map_depth(min(p.z + dot(slope, offset), p.z));
 }
