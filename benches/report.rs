@@ -1372,6 +1372,16 @@ fn write_header(md: &mut String, config: &Config, device: &str, on_gpu: bool) ->
     writeln!(md, "# penumbra benchmark ({} mode)\n", config.mode)?;
     writeln!(
         md,
+        "Run {} at commit {}: `{}`.\n",
+        utc_now(),
+        commit(),
+        match config.mode {
+            "full" => "cargo bench --bench methods".to_string(),
+            mode => format!("PENUMBRA_BENCH={mode} cargo bench --bench methods"),
+        }
+    )?;
+    writeln!(
+        md,
         "Device: {device}. Frames: {} after {} warm-up (more where those took under {} ms: a GPU raises its clock under sustained load), light turning 0.01 degrees per frame so every pass runs. \
          Errors against a {}-sample reference at {}x{}. Frame times are {}. Software adapters' absolute \
          times mean little; the ratios, measured in one run, do.\n",
@@ -1389,6 +1399,50 @@ fn write_header(md: &mut String, config: &Config, device: &str, on_gpu: bool) ->
         }
     )?;
     Ok(())
+}
+
+/// The time now, UTC, as `YYYY-MM-DD HH:MM UTC`.
+fn utc_now() -> String {
+    let seconds = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let (days, rest) = ((seconds / 86_400) as i64, seconds % 86_400);
+    // Days since 1970-01-01 to a civil date (proleptic Gregorian, eras of 400 years).
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02} {:02}:{:02} UTC",
+        rest / 3600,
+        rest % 3600 / 60
+    )
+}
+
+/// The commit the bench runs from, with "+ changes" where the working tree has some; where no
+/// git checkout is at hand (a packed bench on a lent machine), a note to name it when the report
+/// is committed.
+fn commit() -> String {
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    match git(&["rev-parse", "--short", "HEAD"]) {
+        Some(head) if !head.is_empty() => {
+            let changed = git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
+            format!("{head}{}", if changed { " + changes" } else { "" })
+        }
+        _ => "not known here (no git checkout: name it when the report is committed)".to_string(),
+    }
 }
 
 /// Tables 1 and 2 of the paper: FPS per viewpoint, `ours` beside `traditional`, at every size.

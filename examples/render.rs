@@ -12,7 +12,8 @@ use clap::Parser;
 use penumbra::debug::DebugView;
 use penumbra::timing::TimedFrames;
 use penumbra::{
-    GpuScene, HeadlessGpu, Light, MapResolution, Quality, Renderer, ShadowMethod, ShadowSettings,
+    DevicePath, ExitFaces, GpuScene, HeadlessGpu, Light, MapResolution, Quality, Renderer, ShadowMethod,
+    ShadowSettings, TilePixels,
 };
 
 #[derive(Parser)]
@@ -59,6 +60,30 @@ struct Args {
     /// of compute passes over the tile list, to compare their cost.
     #[arg(long)]
     fragment_passes: bool,
+    /// How the compute path clears its intermediates (`ExecutionSettings::clears`): auto,
+    /// compute or render (the same frame; to compare their cost).
+    #[arg(long, default_value = "auto")]
+    clears: String,
+    /// How the tile classification tests a tile's pixels (`ExecutionSettings::tile_pixels`):
+    /// auto, workgroup or loop.
+    #[arg(long, default_value = "auto")]
+    tile_pixels: String,
+    /// `ours`: the distance map in a compute pass of its own, not read by the variable PCF's
+    /// (`ExecutionSettings::distance_in_pcf` off).
+    #[arg(long)]
+    distance_apart: bool,
+    /// Draws write the lights' visibility layers, not the compute passes
+    /// (`ExecutionSettings::compute_layer_writes` off).
+    #[arg(long)]
+    draw_layer_writes: bool,
+    /// The light maps cleared by their passes, not by a copy (`ShadowMapSettings::clear_by_copy`
+    /// off).
+    #[arg(long)]
+    map_clears_by_pass: bool,
+    /// `ours`: the exit map tests every fragment's side (`ExitFaces::Fragment`) instead of
+    /// culling by winding.
+    #[arg(long)]
+    exit_faces_by_fragment: bool,
     /// `ours`: the narrowest penumbra, in texels, the light's maps may be coarsened to
     /// (`MapResolution::FromPenumbra`); 0 keeps the maps at `--shadow-map` texels
     /// (`MapResolution::Configured`). Default: the preset's.
@@ -120,6 +145,24 @@ fn main() -> Result<()> {
     settings.penumbra.nearest_caster = !args.no_nearest_caster;
     settings.penumbra.reduced_resolution = args.reduced_resolution;
     settings.penumbra.fragment_passes = args.fragment_passes;
+    settings.execution.clears = match args.clears.as_str() {
+        "auto" => DevicePath::Auto,
+        "compute" => DevicePath::Compute,
+        "render" => DevicePath::RenderPass,
+        other => bail!("--clears: unknown value {other:?} (auto, compute or render)"),
+    };
+    settings.execution.tile_pixels = match args.tile_pixels.as_str() {
+        "auto" => TilePixels::Auto,
+        "workgroup" => TilePixels::Workgroup,
+        "loop" => TilePixels::Loop,
+        other => bail!("--tile-pixels: unknown value {other:?} (auto, workgroup or loop)"),
+    };
+    settings.execution.distance_in_pcf = !args.distance_apart;
+    settings.execution.compute_layer_writes = !args.draw_layer_writes;
+    settings.shadow_map.clear_by_copy = !args.map_clears_by_pass;
+    if args.exit_faces_by_fragment {
+        settings.shadow_map.exit_faces = ExitFaces::Fragment;
+    }
     settings.penumbra.map_resolution = match args.narrowest_texels {
         None => settings.penumbra.map_resolution,
         Some(t) if t <= 0.0 => MapResolution::Configured,

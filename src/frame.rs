@@ -166,6 +166,8 @@ pub(crate) struct DistanceSwitches {
     pub tiles: bool,
     /// The compute path: list the kept tiles turned away from the light apart (0 without taps).
     pub facing_away: bool,
+    /// The compute path: how the tile classification tests the kept tiles' pixels.
+    pub tile_pixels: crate::settings::TilePixels,
 }
 
 /// The blur's compile-time switches.
@@ -204,6 +206,9 @@ pub(crate) struct PassParams {
     /// device stores half floats and the layer allows it, `crate::Shadows` decides); otherwise
     /// a draw writes it.
     pub layer_writes: bool,
+    /// The compute path's variable PCF reads the distance to the occluder itself
+    /// ([`crate::ExecutionSettings::distance_in_pcf`]).
+    pub distance_in_pcf: bool,
 }
 
 impl PassParams {
@@ -284,6 +289,7 @@ impl PassParams {
                 nearest_caster: p.nearest_caster,
                 tiles,
                 facing_away: tiles && p.skip_tiles_facing_away,
+                tile_pixels: s.execution.tile_pixels,
             },
             blur,
             blur_switches: BlurSwitches {
@@ -300,6 +306,7 @@ impl PassParams {
             },
             list_tiles: tiles,
             layer_writes: false,
+            distance_in_pcf: s.execution.distance_in_pcf,
         }
     }
 }

@@ -190,7 +190,7 @@ impl PcfKernel {
 /// Measured on the teapot at 1280x1024: on Mesa's software rasterizer, where a full-screen pass
 /// costs about the same whatever its shader does, the distance map went from 48 to 36 ms; on an
 /// NVIDIA H200, whose depth test already skips the pixels cheaply, it went from 0.60 to 0.69 ms
-/// (the classification's own cost), at every camera distance (`docs/bench/report-full-h200.md`).
+/// (the classification's own cost), at every camera distance (`docs/bench/archive/report-full-h200.md`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum TileClassification {
@@ -427,7 +427,7 @@ impl Default for PcssSettings {
 ///
 /// The default is 16 bits: half the bytes, and a GPU clears and writes a map in proportion to
 /// its texels (on an NVIDIA H100 the shadow-map pass took 0.12 / 0.42 / 1.55 ms at 1024 /
-/// 2048 / 4096 texels a cascade, `docs/bench/report-full-h100.md`); what 16 bits save there
+/// 2048 / 4096 texels a cascade, `docs/bench/archive/report-full-h100.md`); what 16 bits save there
 /// has not been timed yet.
 /// Its precision holds where measured on the software adapter: the room's lamp and monitor
 /// (a point and a spot light, `tests/near_blocker.rs`) gave penumbra RMSE 0.0530 against
@@ -568,6 +568,25 @@ pub struct ShadowMapSettings {
     /// keeps some of its tiles this frame (it clears the others as before). Default true.
     #[cfg_attr(feature = "serde", serde(default = "default_true"))]
     pub clear_by_copy: bool,
+    /// How the distance-map method's exit map finds the faces turned away from the light (the
+    /// same map either way). Default [`ExitFaces::Winding`].
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub exit_faces: ExitFaces,
+}
+
+/// How the exit map ([`ShadowMapSettings::exit_faces`]) finds the faces turned away from the
+/// light. Both give the same map (`tests/execution.rs` compares them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum ExitFaces {
+    /// Draws of meshes whose triangles all turn one way cull the faces toward the light; the
+    /// others test each fragment's side. On an NVIDIA H200 the teapot's exit map took 0.11 ms
+    /// against 0.16 with [`ExitFaces::Fragment`] (`docs/cost.md`); on lavapipe 2.7 ms against
+    /// 6.3: with no fragment stage the rasterizer tests depth before shading.
+    #[default]
+    Winding,
+    /// Every draw tests each fragment's side.
+    Fragment,
 }
 
 /// The largest [`ShadowMapSettings::resolution`] with two or more cascades: an atlas of 2 x 2
@@ -628,6 +647,7 @@ impl Default for ShadowMapSettings {
             snap_to_texels: true,
             cascades: CascadeSettings::default(),
             clear_by_copy: true,
+            exit_faces: ExitFaces::default(),
         }
     }
 }
@@ -672,6 +692,96 @@ pub struct ShadowSettings {
     pub pcss: PcssSettings,
     /// Read by the ground truth ([`ShadowMethod::Reference`]).
     pub reference: ReferenceSettings,
+    /// How some passes do their work on the device: each choice gives the same shadows. The
+    /// defaults choose by device; the benchmark and the tests set them to compare.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub execution: ExecutionSettings,
+}
+
+/// How some screen-space passes do their work ([`ShadowSettings::execution`]). Every choice
+/// gives the same shadows (`tests/execution.rs` renders each way and compares); they differ in
+/// cost, which depends on the device. The defaults are what measured cheaper on each kind of
+/// device.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(default))]
+pub struct ExecutionSettings {
+    /// How the compute path clears its screen-space intermediates. Default
+    /// [`DevicePath::Auto`]: compute passes on a GPU (an H100's screen-space passes 0.37 ms less
+    /// on the teapot's first view), render passes' clears on a CPU adapter (a memory fill
+    /// there; lavapipe's frame took 4-7% longer with compute clears).
+    pub clears: DevicePath,
+    /// How the tile classification tests the kept tiles' pixels: a workgroup per tile, one
+    /// pixel an invocation, or one invocation per tile looping over its pixels. Default
+    /// [`TilePixels::Auto`].
+    pub tile_pixels: TilePixels,
+    /// The compute path's variable PCF reads the distance to the occluder itself, in the same
+    /// pass (true), or reads what a distance-map pass of its own wrote (false). Default true.
+    pub distance_in_pcf: bool,
+    /// The compute passes that finish a light's visibility write its layer themselves where
+    /// the device can store half floats and the layer allows it (true), or a draw writes it
+    /// (false). Default true.
+    pub compute_layer_writes: bool,
+}
+
+impl Default for ExecutionSettings {
+    fn default() -> Self {
+        Self {
+            clears: DevicePath::Auto,
+            tile_pixels: TilePixels::Auto,
+            distance_in_pcf: true,
+            compute_layer_writes: true,
+        }
+    }
+}
+
+/// A choice of [`ExecutionSettings::clears`]: by device, or one whatever the device.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum DevicePath {
+    /// Compute on a GPU, render passes on a CPU adapter.
+    #[default]
+    Auto,
+    /// Compute passes.
+    Compute,
+    /// Render passes.
+    RenderPass,
+}
+
+impl DevicePath {
+    /// Whether compute is used on `device`.
+    pub(crate) fn compute(self, device: &wgpu::Device) -> bool {
+        match self {
+            DevicePath::Auto => device.adapter_info().device_type != wgpu::DeviceType::Cpu,
+            DevicePath::Compute => true,
+            DevicePath::RenderPass => false,
+        }
+    }
+}
+
+/// A choice of [`ExecutionSettings::tile_pixels`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum TilePixels {
+    /// A workgroup per tile on a GPU; a loop on a CPU adapter, where the loop mostly stops at
+    /// the first pixel and a workgroup costs every pixel.
+    #[default]
+    Auto,
+    /// A workgroup per tile, one pixel an invocation.
+    Workgroup,
+    /// One invocation per tile, looping over its pixels.
+    Loop,
+}
+
+impl TilePixels {
+    /// Whether `device` tests the pixels with a workgroup per tile.
+    pub(crate) fn by_workgroup(self, device: &wgpu::Device) -> bool {
+        match self {
+            TilePixels::Auto => device.adapter_info().device_type != wgpu::DeviceType::Cpu,
+            TilePixels::Workgroup => true,
+            TilePixels::Loop => false,
+        }
+    }
 }
 
 impl ShadowSettings {

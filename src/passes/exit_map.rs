@@ -17,7 +17,7 @@ use super::{CascadeUniforms, CasterPipelines, SecondStream};
 use crate::casters::{Casters, OutwardWinding, Streams};
 use crate::layouts::SceneLayouts;
 use crate::light_space::{AtlasGrid, LightView};
-use crate::settings::ShadowMapSettings;
+use crate::settings::{ExitFaces, ShadowMapSettings};
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -38,28 +38,6 @@ pub struct ExitMapPass {
     cull_back: CasterPipelines,
     /// Whether draws whose winding is known cull ([`ExitFaces`]).
     faces: ExitFaces,
-}
-
-/// How the exit map finds the faces turned away from the light. `PENUMBRA_EXIT_FACES=fragment`
-/// or `winding` in the environment picks one (tests, A/B runs); the default is `Winding`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum ExitFaces {
-    /// Every draw tests each fragment's side (the pass before the culling).
-    Fragment,
-    /// Draws of meshes whose triangles all turn one way cull; the others test each fragment.
-    /// Same maps: a triangle's side is the same for all its fragments. On an NVIDIA H200 the
-    /// teapot's exit map took 0.11 ms against 0.16 (`docs/cost.md`); on lavapipe 2.7 ms
-    /// against 6.3: with no fragment stage the rasterizer tests depth before shading.
-    Winding,
-}
-
-impl ExitFaces {
-    fn from_env() -> Self {
-        match std::env::var("PENUMBRA_EXIT_FACES").as_deref() {
-            Ok("fragment") => ExitFaces::Fragment,
-            _ => ExitFaces::Winding,
-        }
-    }
 }
 
 impl ExitMapPass {
@@ -132,7 +110,7 @@ impl ExitMapPass {
             by_fragment,
             cull_front,
             cull_back,
-            faces: ExitFaces::from_env(),
+            faces: settings.exit_faces,
         }
     }
 

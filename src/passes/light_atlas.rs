@@ -123,24 +123,19 @@ impl LightMapAtlas {
 /// large as the largest atlas it fills, which every light's maps share. On the NVIDIA H200 this
 /// project was measured on, a depth pass's clear runs at about 24 Gtexel/s in 16 bits, the copy
 /// at 39-45 on maps of 2048 and 4096 texels a side (`examples/clear_cost.rs`,
-/// docs/bench/clears-h200.md); the depths are the same. A copy into a depth texture must cover
+/// docs/bench/archive/clears-h200.md); the depths are the same. A copy into a depth texture must cover
 /// it whole, so an atlas that keeps some of its tiles clears the others as before, and 32-bit and 24-bit maps (which cannot take a copy from a
 /// buffer) keep their clears, as does wgpu's GL backend (WebGL2 has no copy from a buffer into
-/// a depth texture). `PENUMBRA_MAP_CLEARS=pass` or `copy` in the environment overrides the
-/// setting (`tests/compute_clears.rs`, the benchmark's A/B runs).
+/// a depth texture).
 pub(crate) struct FarPlaneFill {
     buffer: Option<wgpu::Buffer>,
 }
 
 impl FarPlaneFill {
     /// A fill for maps of `settings`' depth format on `device`, or `None` where they are not
-    /// 16-bit, the backend is GL or the settings (or the environment) ask for the passes' clears.
+    /// 16-bit, the backend is GL or the settings ask for the passes' clears.
     pub fn new(device: &wgpu::Device, settings: &ShadowMapSettings) -> Option<Self> {
-        let wanted = match std::env::var("PENUMBRA_MAP_CLEARS").as_deref() {
-            Ok("pass") => false,
-            Ok("copy") => true,
-            _ => settings.clear_by_copy,
-        } && device.adapter_info().backend != wgpu::Backend::Gl;
+        let wanted = settings.clear_by_copy && device.adapter_info().backend != wgpu::Backend::Gl;
         (wanted && settings.depth_format.texture_format() == FarPlaneFill::FORMAT)
             .then_some(Self { buffer: None })
     }

@@ -368,6 +368,7 @@ impl DistanceMapCompute {
                 light_kind,
                 (switches.tiles, switches.facing_away),
                 blurred,
+                switches.tile_pixels,
             ),
             reduce_pending: std::sync::atomic::AtomicBool::new(true),
         }

@@ -23,7 +23,7 @@
 //! draw of the listed tiles' quads copies the blurred result into it (one load a pixel).
 //! `DistanceMapCompute` owns the list, and
 //! runs the distance map as a pass of its own (`cs_main` in its shader) only with
-//! `PENUMBRA_DISTANCE_PCF=apart` in the environment. [`PcfPass`] and [`PcssPass`] run `cs_main`
+//! [`crate::ExecutionSettings::distance_in_pcf`] off. [`PcfPass`] and [`PcssPass`] run `cs_main`
 //! over the screen ([`ScreenPipeline`]), and where the device stores half floats `cs_layer`,
 //! which writes the light's layer as [`ResolvePass`] would (no resolve is drawn). Their
 //! screen-sized outputs are the lights' shared [`ComputeTargets`].
@@ -203,13 +203,13 @@ impl ScreenChain {
                     compute_distance_switches(params),
                     kind,
                     *blur,
-                    !distance_in_pcf(),
+                    !params.distance_in_pcf,
                 ),
                 pcf: VariablePcfCompute::new(
                     device,
                     FRAME_SIZE,
                     params.pcf_switches,
-                    distance_in_pcf().then(|| compute_distance_switches(params)),
+                    params.distance_in_pcf.then(|| compute_distance_switches(params)),
                     kind,
                 ),
                 blur: blur.then(|| BlurCompute::new(device, FRAME_SIZE, params.blur_switches, layers)),
@@ -270,8 +270,8 @@ impl ScreenChain {
             ) => {
                 distance.switches() == compute_distance_switches(params)
                     && distance.light_kind() == kind
-                    && distance.own_pass() != distance_in_pcf()
-                    && pcf.distance_switches() == distance_in_pcf().then(|| compute_distance_switches(params))
+                    && distance.own_pass() != params.distance_in_pcf
+                    && pcf.distance_switches() == params.distance_in_pcf.then(|| compute_distance_switches(params))
                     && pcf.switches() == params.pcf_switches
                     && pcf.light_kind() == kind
                     && blur.is_some() == *wanted
@@ -670,13 +670,6 @@ impl ScreenChain {
 fn with_blur<T>(mut stages: Vec<T>, blur: Option<T>) -> Vec<T> {
     stages.extend(blur);
     stages
-}
-
-/// Whether the compute path's variable PCF takes the distance map's value itself (one pass
-/// for both, the default) or reads what the distance map's own pass wrote
-/// (`PENUMBRA_DISTANCE_PCF=apart` in the environment, to compare the two).
-fn distance_in_pcf() -> bool {
-    std::env::var("PENUMBRA_DISTANCE_PCF").as_deref() != Ok("apart")
 }
 
 /// The compute path's distance-map switches: its tile list follows the classification setting

@@ -161,15 +161,13 @@ pub(crate) fn has_compute(device: &wgpu::Device) -> bool {
 
 /// The override constant `ROW_THREADS` (`shaders/common/workgroup_rows.wgsl`) of a compute pass
 /// dispatched over the screen: on a CPU adapter the threads its workgroups are shared among
-/// (Mesa's llvmpipe takes `LP_NUM_THREADS`, else one a processor), so that each thread's run of
-/// workgroups covers the screen; on a GPU 1, the rows in order.
+/// (Mesa's llvmpipe runs one a processor unless its own `LP_NUM_THREADS` says otherwise, which
+/// penumbra does not read: a different count costs time, not shadows), so that each thread's
+/// run of workgroups covers the screen; on a GPU 1, the rows in order.
 pub(crate) fn row_threads(device: &wgpu::Device) -> (&'static str, f64) {
     let threads = if device.adapter_info().device_type == wgpu::DeviceType::Cpu {
-        std::env::var("LP_NUM_THREADS")
-            .ok()
-            .and_then(|n| n.trim().parse::<u32>().ok())
-            .or_else(|| std::thread::available_parallelism().ok().map(|n| n.get() as u32))
-            .unwrap_or(1)
+        std::thread::available_parallelism()
+            .map_or(1, |n| n.get() as u32)
             .clamp(1, 64)
     } else {
         1

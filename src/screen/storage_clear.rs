@@ -3,7 +3,7 @@
 //! A render pass that only clears (`LoadOp::Clear`) a texture the compute passes write took,
 //! on an NVIDIA H100, 0.09 ms for a 1280x1024 `R32Float` texture and 0.19 ms for an
 //! `Rgba16Float` one: more than the compute passes that fill them over the tile list
-//! (`docs/bench/passes-h100.md`). A compute pass that stores one value a texel costs about what
+//! (`docs/bench/archive/passes-h100.md`). A compute pass that stores one value a texel costs about what
 //! the texels' bytes do. Input: the texture (its view and size); output: every texel set to
 //! the value.
 

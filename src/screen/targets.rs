@@ -4,6 +4,7 @@
 use super::{BlurCompute, DistanceMapCompute, StorageClear, TileListTargets, VariablePcfCompute};
 use crate::chain::Chain;
 use crate::gpu_helpers::Target;
+use crate::settings::DevicePath;
 
 /// The compute path's screen-sized intermediates. Each light's chain runs whole, blur
 /// included, before the next light's starts, so one set serves every light: a light adds only
@@ -21,6 +22,8 @@ pub(crate) struct ComputeTargets {
     pub every_tile: Option<TileListTargets>,
     /// Compute clears of the textures above ([`ComputeTargets::clear`]).
     clears: TargetClears,
+    /// Whether they clear by compute passes.
+    compute_clears: bool,
 }
 
 /// [`ComputeTargets`]' clears, one per cleared texture.
@@ -34,8 +37,7 @@ struct TargetClears {
 /// One texture's clear: a compute pass on a GPU, a render pass's clear on a CPU adapter (where a
 /// render pass's clear is a memory fill and a compute pass runs a shader per texel: lavapipe's
 /// frame took 4-7% longer with compute clears, an H100's screen-space passes 0.37 ms less on
-/// teapot view 0; `PENUMBRA_CLEARS=compute` or `render` in the environment picks one whatever
-/// the device, for tests).
+/// teapot view 0; [`crate::ExecutionSettings::clears`] picks one whatever the device).
 #[derive(Clone)]
 enum OneClear {
     Compute(StorageClear),
@@ -43,15 +45,6 @@ enum OneClear {
 }
 
 impl OneClear {
-    /// Whether `device` clears with compute passes.
-    fn compute(device: &wgpu::Device) -> bool {
-        match std::env::var("PENUMBRA_CLEARS").as_deref() {
-            Ok("compute") => true,
-            Ok("render") => false,
-            _ => device.adapter_info().device_type != wgpu::DeviceType::Cpu,
-        }
-    }
-
     fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
         match self {
             OneClear::Compute(clear) => clear.encode(encoder),
@@ -118,9 +111,9 @@ impl ComputeNeeds {
 }
 
 impl ComputeTargets {
-    /// For a screen of `size`, with the parts `needs` names.
-    pub fn new(device: &wgpu::Device, size: (u32, u32), needs: ComputeNeeds) -> Self {
-        let compute_clears = OneClear::compute(device);
+    /// For a screen of `size`, with the parts `needs` names, cleared as `clears` says.
+    pub fn new(device: &wgpu::Device, size: (u32, u32), needs: ComputeNeeds, clears: DevicePath) -> Self {
+        let compute_clears = clears.compute(device);
         let target = |label, format| super::storage_target(device, label, size, format, !compute_clears);
         let visibility = target(
             "ComputeTargets::visibility",
@@ -172,6 +165,7 @@ impl ComputeTargets {
                 .every_tile
                 .then(|| TileListTargets::every_tile(device, size)),
             clears,
+            compute_clears,
         }
     }
 
@@ -188,14 +182,17 @@ impl ComputeTargets {
         }
     }
 
-    /// These are a screen of `size`'s, with exactly the parts `needs` names.
-    pub fn fit(&self, size: (u32, u32), needs: ComputeNeeds) -> bool {
+    /// These are a screen of `size`'s, with exactly the parts `needs` names, cleared as
+    /// `clears` says on `device`.
+    pub fn fit(&self, device: &wgpu::Device, size: (u32, u32), needs: ComputeNeeds, clears: DevicePath) -> bool {
         let have = ComputeNeeds {
             blur: self.blurred.is_some(),
             distance_map: self.distance_map.is_some(),
             every_tile: self.every_tile.is_some(),
         };
-        (self.visibility.texture.width(), self.visibility.texture.height()) == size && have == needs
+        (self.visibility.texture.width(), self.visibility.texture.height()) == size
+            && have == needs
+            && self.compute_clears == clears.compute(device)
     }
 
     pub fn allocated_bytes(&self) -> u64 {

@@ -438,16 +438,18 @@ impl TileListPass {
     /// Made for one light kind ([`crate::frame::light_kind`]); `classify` false lists every
     /// tile; `facing_away` lists the kept tiles turned away from the light apart; `blurred`:
     /// the chain blurs (where the classification clears the intermediates, it clears the
-    /// blur's too).
+    /// blur's too); `pixels`: how the kept tiles' pixels are tested
+    /// ([`crate::ExecutionSettings::tile_pixels`]).
     pub fn new(
         device: &wgpu::Device,
         frame_size: usize,
         light_kind: u32,
         (classify, facing_away): (bool, bool),
         blurred: bool,
+        pixels: crate::settings::TilePixels,
     ) -> Self {
         let shader = crate::shaders::module(device, "tile_classify.wgsl", crate::shaders::TILE_CLASSIFY);
-        let per_pixel = classify && pixels_by_workgroup(device);
+        let per_pixel = classify && pixels.by_workgroup(device);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let compute = wgpu::ShaderStages::COMPUTE;
         // The intermediates the classification by workgroups clears (bindings 12 to 14).
@@ -637,19 +639,6 @@ impl TileListPass {
         }
         pass.set_pipeline(&self.finish);
         pass.dispatch_workgroups(1, 1, 1);
-    }
-}
-
-/// Whether the classification tests the kept tiles' pixels with a workgroup per tile, one pixel
-/// an invocation (a GPU), rather than one invocation per tile looping over its pixels (a CPU
-/// adapter, where the loop mostly stops at the first pixel and a workgroup costs every pixel).
-/// `PENUMBRA_TILE_PIXELS=workgroup` or `loop` picks one whatever the device
-/// (`tests/compute_clears.rs` renders both and compares).
-fn pixels_by_workgroup(device: &wgpu::Device) -> bool {
-    match std::env::var("PENUMBRA_TILE_PIXELS").as_deref() {
-        Ok("workgroup") => true,
-        Ok("loop") => false,
-        _ => device.adapter_info().device_type != wgpu::DeviceType::Cpu,
     }
 }
 

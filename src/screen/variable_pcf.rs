@@ -345,7 +345,7 @@ impl ScreenStage for VariablePcfPass {
 /// the distance map (`cs_distance_pcf`, with the work of `shaders/common/distance.wgsl`), so the
 /// distance map's own pass ([`super::DistanceMapCompute`]) lists the tiles and is not
 /// dispatched: one pass fewer, and the distance's store and load between the two gone. With
-/// `PENUMBRA_DISTANCE_PCF=apart` in the environment the two run apart (`cs_main` reads the
+/// [`crate::ExecutionSettings::distance_in_pcf`] off the two run apart (`cs_main` reads the
 /// distance map), to compare them.
 pub(crate) struct VariablePcfCompute {
     switches: PcfSwitches,

@@ -96,7 +96,8 @@ pub struct Shadows {
     /// The device runs compute passes ([`crate::PenumbraSettings::fragment_passes`]).
     compute: bool,
     /// The device can write the visibility's half floats from a compute pass, so the compute
-    /// passes that finish a light write its layer themselves ([`layer_storage`]).
+    /// passes that finish a light write its layer themselves ([`stores_half_floats`]), where
+    /// [`crate::ExecutionSettings::compute_layer_writes`] is on.
     layer_storage: bool,
     /// The compute path's intermediates, shared by the lights.
     compute_targets: Option<ComputeTargets>,
@@ -136,7 +137,7 @@ impl Shadows {
             prepared: false,
             software: device.adapter_info().device_type == wgpu::DeviceType::Cpu,
             compute: crate::screen::has_compute(device),
-            layer_storage: layer_storage(device),
+            layer_storage: stores_half_floats(device),
             compute_targets: None,
             inspected: None,
             loss: None,
@@ -401,6 +402,7 @@ impl Shadows {
             // The compute passes write the layers themselves where the device and the texture
             // (an engine's may lack the usage) allow it.
             let layer_writes = this.layer_storage
+                && this.settings.execution.compute_layer_writes
                 && this
                     .visibility
                     .as_ref()
@@ -653,9 +655,14 @@ impl Shadows {
             } else if this
                 .compute_targets
                 .as_ref()
-                .is_none_or(|t| !t.fit((width, height), needs))
+                .is_none_or(|t| !t.fit(device, (width, height), needs, this.settings.execution.clears))
             {
-                this.compute_targets = Some(ComputeTargets::new(device, (width, height), needs));
+                this.compute_targets = Some(ComputeTargets::new(
+                    device,
+                    (width, height),
+                    needs,
+                    this.settings.execution.clears,
+                ));
                 for state in this.lights.iter_mut().flatten() {
                     state.bound = None;
                 }
@@ -953,13 +960,6 @@ const _: () = {
     shared::<Shadows>();
     shared::<Casters>();
 };
-
-/// Whether the compute passes can write the lights' layers of the visibility (R16F) as
-/// storage textures ([`stores_half_floats`]), unless `PENUMBRA_LAYER_WRITES=draw` in the
-/// environment keeps the draws that write them (to compare the two in one binary).
-fn layer_storage(device: &wgpu::Device) -> bool {
-    std::env::var("PENUMBRA_LAYER_WRITES").as_deref() != Ok("draw") && stores_half_floats(device)
-}
 
 /// Whether a compute pass on `device` can write the visibility's half floats: the device has
 /// the adapter's own format features and they include that (desktop Vulkan and Metal do,

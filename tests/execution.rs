@@ -1,0 +1,423 @@
+//! Each choice of `ExecutionSettings` (and the light maps' `clear_by_copy` and `exit_faces`)
+//! must give the same shadows: these tests, which run on whatever adapter the machine has, make
+//! one frame each way and compare, texel for texel.
+//! - The compute path's shared intermediates are cleared by compute passes or by render
+//!   passes' clears (`ExecutionSettings::clears`, `screen::targets`).
+//! - The tile classification tests a kept tile's pixels with a workgroup per tile, where the
+//!   same dispatch clears those intermediates instead, or with one invocation per tile
+//!   (`ExecutionSettings::tile_pixels`, `screen::tile_classify`).
+//! - The variable PCF's compute pass takes the distance map itself, or a pass of its own does
+//!   (`ExecutionSettings::distance_in_pcf`).
+//! - The lights' 16-bit maps are set to the far plane by a copy from a buffer or by their
+//!   passes' clears (`ShadowMapSettings::clear_by_copy`, `passes::light_atlas::FarPlaneFill`).
+//! - The exit map culls by winding or tests each fragment's side
+//!   (`ShadowMapSettings::exit_faces`, `passes::exit_map`).
+//! - The compute passes that finish a light's visibility write its layer themselves, or draws
+//!   do (`ExecutionSettings::compute_layer_writes`).
+
+mod common;
+
+use glam::{Mat4, Vec3};
+use penumbra::{
+    DevicePath, ExitFaces, LightTexture, Quality, Scene, ShadowMethod, ShadowSettings, TilePixels, load_scene,
+};
+
+/// The intermediates cleared by render passes' clears and by compute passes: the same frame,
+/// which shows the teapot's shadow, under `ours` and the baseline.
+#[test]
+fn compute_and_render_pass_clears_give_the_same_frame() {
+    let gpu = common::gpu();
+    let scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let camera = scene.view(0).unwrap();
+    for method in [ShadowMethod::Ours, ShadowMethod::Traditional] {
+        let mut frames = Vec::new();
+        for clears in [DevicePath::RenderPass, DevicePath::Compute] {
+            let mut settings = ShadowSettings::preset(method, Quality::Medium);
+            settings.execution.clears = clears;
+            frames.push(common::render(&gpu, &scene, &camera, settings, 320, 256));
+        }
+        let differing = frames[0]
+            .pixels()
+            .zip(frames[1].pixels())
+            .filter(|(a, b)| a.0 != b.0)
+            .count();
+        // The frame shows a shadow: pixels under half the brightest one.
+        let luminance = |p: &image::Rgba<u8>| p.0[..3].iter().map(|c| *c as u32).sum::<u32>();
+        let brightest = frames[1].pixels().map(luminance).max().unwrap_or(0);
+        let dark = frames[1]
+            .pixels()
+            .filter(|p| luminance(p) * 2 < brightest)
+            .count();
+        println!("{method:?}: {differing} pixels differ; {dark} pixels under half the brightest");
+        assert_eq!(differing, 0, "{method:?}: the two clears gave different frames");
+        assert!(
+            dark > 500,
+            "{method:?}: no shadow in the frame ({dark} dark pixels)"
+        );
+    }
+}
+
+/// The teapot's far side: tiles listed apart either way, the same frame and lists. Tested by
+/// a workgroup, the classification also clears the intermediates (no clears of their own): the
+/// same distance map (0 outside the listed tiles) and visibility either way, over two frames
+/// (the second finds the first's values, with the light turned).
+#[test]
+fn the_tile_pixels_by_workgroup_or_by_loop_give_the_same_lists_and_frames() {
+    let gpu = common::gpu();
+    let scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let camera = scene.view(0).unwrap();
+    let mut frames = Vec::new();
+    for clears in [DevicePath::RenderPass, DevicePath::Compute] {
+        for test in [TilePixels::Loop, TilePixels::Workgroup] {
+            let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+            settings.execution.clears = clears;
+            settings.execution.tile_pixels = test;
+            let mut renderer =
+                penumbra::Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+            let mut gpu_scene =
+                penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
+            let image = |renderer: &mut penumbra::Renderer, gpu_scene: &penumbra::GpuScene| {
+                penumbra::render_to_image(&gpu, renderer, gpu_scene, &camera, 320, 256).unwrap()
+            };
+            image(&mut renderer, &gpu_scene);
+            gpu_scene
+                .set_light(scene.light.turned(glam::Quat::from_rotation_y(0.3)))
+                .unwrap();
+            let frame = image(&mut renderer, &gpu_scene);
+            let read = |texture| common::read_f32(&gpu, renderer.debug_texture(texture).unwrap()).0;
+            let textures = [
+                LightTexture::TileClasses,
+                LightTexture::DistanceMap,
+                LightTexture::Visibility,
+            ]
+            .map(read);
+            frames.push((format!("{clears:?} clears, pixels by {test:?}"), frame, textures));
+        }
+    }
+    let classes = &frames[0].2[0];
+    let away = classes.iter().filter(|c| (**c - 0.25).abs() < 1e-3).count();
+    let listed = classes.iter().filter(|c| **c == 1.0).count();
+    let zero_distance = frames[0].2[1].iter().filter(|d| **d == 0.0).count();
+    println!(
+        "{listed} tiles listed, {away} listed apart; {zero_distance} distance-map values 0 of {}",
+        frames[0].2[1].len()
+    );
+    assert!(away > 0, "no tile listed apart as turned away from the light");
+    assert!(listed > 0 && zero_distance > 0);
+    for (name, frame, textures) in &frames[1..] {
+        let names = ["tile classes", "distance map", "visibility"];
+        for (k, texture) in textures.iter().enumerate() {
+            assert!(
+                *texture == frames[0].2[k],
+                "{name}: another {} than {}'s",
+                names[k],
+                frames[0].0
+            );
+        }
+        assert!(
+            *frame == frames[0].1,
+            "{name}: another frame than {}'s",
+            frames[0].0
+        );
+    }
+    // The room's three lights (a point light's cube faces, a spot, a rectangle) share the
+    // intermediates and the lists, one chain after the other: both forms give the same frames,
+    // the second with the key light turned.
+    let room = load_scene(&common::asset("scenes/room.ron")).unwrap();
+    let room_camera = room.view(0).unwrap();
+    let mut room_frames = Vec::new();
+    for test in [TilePixels::Loop, TilePixels::Workgroup] {
+        let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+        settings.execution.tile_pixels = test;
+        let mut renderer =
+            penumbra::Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+        let mut gpu_scene =
+            penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &room).unwrap();
+        let first =
+            penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &room_camera, 320, 256).unwrap();
+        gpu_scene
+            .set_light(room.light.turned(glam::Quat::from_rotation_y(0.3)))
+            .unwrap();
+        let second =
+            penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &room_camera, 320, 256).unwrap();
+        assert!(
+            first != second,
+            "{test:?}: turning the room's key light changed nothing"
+        );
+        room_frames.push((first, second));
+    }
+    assert!(
+        room_frames[0] == room_frames[1],
+        "the room: the two forms gave different frames"
+    );
+}
+
+/// The distance map taken by the variable PCF's pass (the default) and by a pass of its own:
+/// the same distance map, visibility and frame, over two frames (the light turned), under the
+/// teapot's sun and the room's three lights.
+#[test]
+fn the_distance_in_the_pcf_or_in_its_own_pass_gives_the_same_frames() {
+    let gpu = common::gpu();
+    for file in ["scenes/teapot.ron", "scenes/room.ron"] {
+        let scene = load_scene(&common::asset(file)).unwrap();
+        let camera = scene.view(0).unwrap();
+        let mut runs = Vec::new();
+        for in_pcf in [true, false] {
+            let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+            settings.execution.distance_in_pcf = in_pcf;
+            let mut renderer =
+                penumbra::Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+            let mut gpu_scene =
+                penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
+            let mut frames = Vec::new();
+            for turn in [0.0, 0.3] {
+                gpu_scene
+                    .set_light(scene.light.turned(glam::Quat::from_rotation_y(turn)))
+                    .unwrap();
+                let frame =
+                    penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, 320, 256).unwrap();
+                let read = |texture| common::read_f32(&gpu, renderer.debug_texture(texture).unwrap());
+                frames.push((
+                    frame,
+                    read(LightTexture::DistanceMap),
+                    read(LightTexture::Visibility).0,
+                ));
+            }
+            runs.push(frames);
+        }
+        // Both frames show a penumbra: visibility strictly between 0 and 1, and distances above 0.
+        for (frame, distance, visibility) in &runs[0] {
+            let penumbra = visibility.iter().filter(|v| **v > 0.05 && **v < 0.95).count();
+            let (distance, channels) = distance;
+            let distances = distance
+                .chunks_exact(*channels as usize)
+                .filter(|px| px[0] > 0.0)
+                .count();
+            println!(
+                "{file}, the distance in PCF: {penumbra} visibility values in a penumbra, {distances} distances above 0"
+            );
+            assert!(penumbra > 100 && distances > 100, "{file}: no penumbra");
+            assert!(frame.pixels().any(|p| p.0[0] < 128));
+        }
+        for (k, (a, b)) in runs[0].iter().zip(&runs[1]).enumerate() {
+            assert!(a.1 == b.1, "{file}, frame {k}: the distance maps differ");
+            assert!(a.2 == b.2, "{file}, frame {k}: the visibilities differ");
+            assert!(a.0 == b.0, "{file}, frame {k}: the frames differ");
+        }
+    }
+}
+
+/// The light maps set to the far plane by their passes' clears, then by the copy: the same maps
+/// and frames, and the copy's buffer counted in the memory. A sun in two cascades, the room's
+/// point light (a cube atlas) and hard shadows (the shadow map alone).
+#[test]
+fn the_light_maps_cleared_by_copy_or_by_their_passes_are_the_same() {
+    let gpu = common::gpu();
+    for (file, method) in [
+        ("scenes/teapot.ron", ShadowMethod::Ours),
+        ("scenes/room.ron", ShadowMethod::Ours),
+        ("scenes/teapot.ron", ShadowMethod::Hard),
+    ] {
+        let scene = load_scene(&common::asset(file)).unwrap();
+        let camera = scene.view(0).unwrap();
+        let mut runs = Vec::new();
+        for by_copy in [false, true] {
+            let mut settings = ShadowSettings::preset(method, Quality::Medium);
+            settings.shadow_map.clear_by_copy = by_copy;
+            let (frame, renderer) = common::render_frame(&gpu, &scene, &camera, settings, (320, 256));
+            let map = |texture| {
+                renderer
+                    .debug_texture(texture)
+                    .map(|t| common::read_f32(&gpu, t).0)
+            };
+            let maps = [map(LightTexture::ShadowMap), map(LightTexture::FattenedMap)];
+            runs.push((frame, maps, renderer.shadows().allocated_bytes()));
+        }
+        let shadow_map = runs[0].1[0].as_ref().expect("a shadow map");
+        let far = shadow_map.iter().filter(|d| **d == 1.0).count();
+        let near = shadow_map.iter().filter(|d| **d < 1.0).count();
+        println!(
+            "{file} {method:?}: shadow map of {} texels, {far} at the far plane, {near} nearer; {} bytes with the passes' clears, {} with the copy",
+            shadow_map.len(),
+            runs[0].2,
+            runs[1].2
+        );
+        assert!(
+            far > 0 && near > 0,
+            "{file}: the map holds no caster, or nothing at the far plane"
+        );
+        assert!(
+            runs[0].1 == runs[1].1,
+            "{file} {method:?}: the copy gave other maps than the clears"
+        );
+        assert!(
+            runs[0].0 == runs[1].0,
+            "{file} {method:?}: the copy gave another frame than the clears"
+        );
+        // The buffer the copy reads is at least as large as the 16-bit shadow map.
+        let map_bytes = shadow_map.len() as u64 * 2;
+        assert!(
+            runs[1].2 >= runs[0].2 + map_bytes,
+            "{file} {method:?}: no buffer of {map_bytes} bytes counted ({} against {})",
+            runs[1].2,
+            runs[0].2
+        );
+    }
+}
+
+/// The frame and each light's exit map, with the exit faces found `faces`' way.
+fn exit_maps(gpu: &penumbra::HeadlessGpu, scene: &Scene, faces: ExitFaces) -> (image::RgbaImage, Vec<Vec<f32>>) {
+    let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+    settings.shadow_map.exit_faces = faces;
+    let camera = scene.view(0).unwrap();
+    let (frame, renderer) = common::render_frame(gpu, scene, &camera, settings, (320, 256));
+    let shadows = renderer.shadows();
+    let maps = shadows
+        .light_ids()
+        .into_iter()
+        .filter_map(|id| shadows.light_texture(id, LightTexture::ExitMap))
+        .map(|t| common::read_f32(gpu, t).0)
+        .collect();
+    (frame, maps)
+}
+
+/// Where all of a mesh's triangles turn one way seen from outside, the exit map's rasterizer
+/// culls the others; otherwise each fragment tests its side. Both give the same maps and frames
+/// whichever way the mesh is wound, for an instance that mirrors, and under a sun's cascades, a
+/// point light's cube faces and a spot light's perspective.
+#[test]
+fn culling_by_winding_gives_the_maps_each_fragment_finds() {
+    let gpu = common::gpu();
+    let teapot = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let room = load_scene(&common::asset("scenes/room.ron")).unwrap();
+    // The room again with its teapot wound the other way, the lamp's shade mirrored, and one
+    // triangle of the box every piece of furniture is made of turned (those draws test each
+    // fragment).
+    let mut turned = room.clone();
+    let mesh = |name: &str| turned.meshes.iter().position(|m| m.name == name).unwrap();
+    let (pot, unit, shade) = (mesh("teapot"), mesh("unit"), mesh("shade"));
+    for tri in turned.meshes[pot].indices.chunks_exact_mut(3) {
+        tri.swap(1, 2);
+    }
+    turned.meshes[unit].indices.swap(1, 2);
+    for instance in turned.instances.iter_mut().filter(|i| i.mesh == shade) {
+        // The shade is a sphere scaled about its centre: mirrored in x, it is the same solid.
+        instance.transform *= Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
+    }
+    for (name, scene) in [("teapot", &teapot), ("room", &room), ("room turned", &turned)] {
+        let by_fragment = exit_maps(&gpu, scene, ExitFaces::Fragment);
+        let by_winding = exit_maps(&gpu, scene, ExitFaces::Winding);
+        let maps = &by_fragment.1;
+        assert!(!maps.is_empty(), "{name}: no exit map");
+        for (k, map) in maps.iter().enumerate() {
+            let near = map.iter().filter(|d| **d < 1.0).count();
+            let differing = map.iter().zip(&by_winding.1[k]).filter(|(a, b)| a != b).count();
+            println!(
+                "{name}, light {k}: {near} of {} exit-map texels hold a back face; {differing} differ",
+                map.len()
+            );
+            assert!(near > 0, "{name}, light {k}: the exit map holds no back face");
+            assert_eq!(differing, 0, "{name}, light {k}: culling gave another exit map");
+        }
+        assert!(
+            by_fragment.0 == by_winding.0,
+            "{name}: culling gave another frame"
+        );
+    }
+}
+
+/// The visibility array's texels (R16F), the pass names of the frame, and the frame.
+fn layers(
+    gpu: &penumbra::HeadlessGpu,
+    scene: &penumbra::Scene,
+    method: ShadowMethod,
+    compute_writes: bool,
+) -> (Vec<u8>, Vec<&'static str>, image::RgbaImage) {
+    let mut settings = ShadowSettings::preset(method, Quality::Medium);
+    settings.execution.compute_layer_writes = compute_writes;
+    let camera = scene.view(0).unwrap();
+    let (image, renderer) = common::render_frame(gpu, scene, &camera, settings, (320, 256));
+    let visibility = renderer
+        .composited_visibility()
+        .unwrap_or_else(|| panic!("{method:?}: no visibility composited"));
+    assert_eq!(visibility.format(), wgpu::TextureFormat::R16Float);
+    let texels = penumbra::read_texture_bytes(&gpu.device, &gpu.queue, visibility).unwrap();
+    (texels, renderer.last_report().unwrap().plan.names(), image)
+}
+
+/// Where the device can store half floats, the compute passes that finish a light's visibility
+/// write its layer of the visibility array themselves: the blur's vertical axis (`ours`,
+/// `traditional`), PCSS's pass and the hard shadows' tap, where otherwise a draw copies or
+/// resolves their result into it. Both ways give the same layers, texel for texel, and the same
+/// frame.
+#[test]
+fn compute_passes_write_the_layers_as_the_draws_did() {
+    let gpu = common::gpu();
+    let features = gpu
+        .adapter
+        .get_texture_format_features(wgpu::TextureFormat::R16Float);
+    let stores_halves = features
+        .allowed_usages
+        .contains(wgpu::TextureUsages::STORAGE_BINDING)
+        && gpu.adapter.get_info().backend != wgpu::Backend::Gl;
+    println!("{}: stores half floats: {stores_halves}", gpu.describe());
+    let teapot = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    // The room's three lights: under hard shadows each runs its screen-space chain (one tap)
+    // and the composite shades them, where one light is shaded in the forward pass.
+    let room = load_scene(&common::asset("scenes/room.ron")).unwrap();
+    let cases = [
+        (&teapot, ShadowMethod::Ours),
+        (&teapot, ShadowMethod::Traditional),
+        (&teapot, ShadowMethod::Pcss),
+        (&room, ShadowMethod::Ours),
+        (&room, ShadowMethod::Hard),
+    ];
+    for (scene, method) in cases {
+        let (drawn, drawn_names, drawn_frame) = layers(&gpu, scene, method, false);
+        let (stored, stored_names, stored_frame) = layers(&gpu, scene, method, true);
+        let halves = |bytes: &[u8]| -> Vec<f32> {
+            bytes
+                .chunks_exact(2)
+                .map(|b| half::f16::from_le_bytes([b[0], b[1]]).to_f32())
+                .collect()
+        };
+        let (a, b) = (halves(&drawn), halves(&stored));
+        let differing = a
+            .iter()
+            .zip(&b)
+            .filter(|(x, y)| x.to_bits() != y.to_bits())
+            .count();
+        let shadowed = b.iter().filter(|v| **v < 0.5).count();
+        let partial = b.iter().filter(|v| **v > 0.02 && **v < 0.98).count();
+        println!(
+            "{method:?}: {differing} of {} texels differ; {shadowed} under 0.5, {partial} in a penumbra; passes {stored_names:?}",
+            b.len()
+        );
+        assert_eq!(differing, 0, "{method:?}: the layers differ");
+        assert_eq!(drawn_frame, stored_frame, "{method:?}: the frames differ");
+        assert!(
+            shadowed > 500 && partial > 100,
+            "{method:?}: the layers show no soft shadow ({shadowed} under 0.5, {partial} in a penumbra)"
+        );
+        // The draws resolve or copy; the compute pass writes the layer where the device can.
+        assert_eq!(
+            drawn_names.contains(&"resolve"),
+            method == ShadowMethod::Pcss || method == ShadowMethod::Hard,
+            "{method:?}: {drawn_names:?}"
+        );
+        assert_eq!(
+            stored_names.contains(&"resolve"),
+            !stores_halves && (method == ShadowMethod::Pcss || method == ShadowMethod::Hard),
+            "{method:?}: {stored_names:?}"
+        );
+    }
+    // A debug view of the blurred visibility reads the layer either way.
+    let (_, renderer) = common::render_frame(
+        &gpu,
+        &teapot,
+        &teapot.view(0).unwrap(),
+        ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium),
+        (160, 128),
+    );
+    assert!(renderer.debug_texture(LightTexture::BlurredVisibility).is_some());
+}
