@@ -1,6 +1,6 @@
 //! Rendering tests on the software adapter: what the pictures must show, and golden images.
 //!
-//! Golden images live in `tests/reference/`. They are compared with NVIDIA's FLIP perceptual
+//! Golden images live in `tests/golden/`. They are compared with NVIDIA's FLIP perceptual
 //! metric; a test passes when the mean FLIP error is at most [`MEAN_FLIP_TOLERANCE`] **and**
 //! at most [`BAD_PIXEL_SHARE`] of the pixels have an error above [`BAD_PIXEL_FLIP`]. The second
 //! bound is what catches a lost or moved shadow, which covers only a few percent of the image
@@ -29,7 +29,7 @@ fn settings(method: ShadowMethod) -> ShadowSettings {
 
 fn compare_with_reference(name: &str, actual: &image::RgbaImage) {
     let reference_path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/reference")
+        .join("tests/golden")
         .join(format!("{name}.png"));
     if std::env::var_os("PENUMBRA_UPDATE_REFERENCES").is_some() {
         std::fs::create_dir_all(reference_path.parent().unwrap()).unwrap();
@@ -138,7 +138,7 @@ fn every_reference_image_has_its_case() {
         .iter()
         .map(|(scene, view, method)| format!("{scene}_view{view}_{}.png", method.name()))
         .collect();
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/reference");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
     let mut on_disk: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
