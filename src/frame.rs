@@ -421,7 +421,7 @@ pub(crate) fn derive_spreads(
             let nearest = ((nearest.log2() * 8.0).floor() / 8.0).exp2();
             // No caster pushed toward the light by the fatten distance reaches it (at half, a
             // plate touching the light lost the outer half of its penumbra past 0.45 of its
-            // 1.15 units: tests/light_extremes.rs).
+            // 1.15 units: tests/robustness/light_extremes.rs).
             cap = cap.min(0.8 * nearest);
             // Where the fattened map marks it, at the caster's own distance from the light, a
             // penumbra reaches only R (D - d) / D beside the caster (D the receiver's distance,

@@ -185,229 +185,17 @@ impl GpuScene {
         let meshes: Vec<GpuMesh> = scene
             .meshes
             .iter()
-            .map(|mesh| {
-                let make = |label: &str, contents: &[u8], usage| {
-                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some(label),
-                        contents,
-                        usage,
-                    })
-                };
-                let vertex = wgpu::BufferUsages::VERTEX;
-                // wgpu rejects zero-sized vertex buffers being bound; pad empty meshes.
-                let pad = |bytes: &[u8]| {
-                    if bytes.is_empty() {
-                        vec![0u8; 16]
-                    } else {
-                        bytes.to_vec()
-                    }
-                };
-                // A stream a mesh may lack: its own `count` values (bytes `own`), one per
-                // vertex, or `fallback` (one vertex's bytes) for every vertex.
-                fn bytes<T: bytemuck::Pod>(values: &[T]) -> (&[u8], usize) {
-                    (bytemuck::cast_slice(values), values.len())
-                }
-                let optional = |label, (own, count): (&[u8], usize), fallback: &[u8]| {
-                    if count == mesh.positions.len() {
-                        make(label, &pad(own), vertex)
-                    } else {
-                        make(label, &pad(&fallback.repeat(mesh.positions.len())), vertex)
-                    }
-                };
-                GpuMesh {
-                    positions: make(
-                        "GpuMesh::positions",
-                        &pad(bytemuck::cast_slice(&mesh.positions)),
-                        vertex,
-                    ),
-                    normals: make(
-                        "GpuMesh::normals",
-                        &pad(bytemuck::cast_slice(&mesh.normals)),
-                        vertex,
-                    ),
-                    uvs: make("GpuMesh::uvs", &pad(bytemuck::cast_slice(&mesh.uvs)), vertex),
-                    lightmap_uvs: optional("GpuMesh::lightmap_uvs", bytes(&mesh.lightmap_uvs), &[0u8; 8]),
-                    colors: optional(
-                        "GpuMesh::colors",
-                        bytes(&mesh.colors),
-                        bytemuck::bytes_of(&Vec4::ONE),
-                    ),
-                    tangents: optional("GpuMesh::tangents", bytes(&mesh.tangents), &[0u8; 16]),
-                    smoothed_normals: make(
-                        "GpuMesh::smoothed_normals",
-                        &pad(bytemuck::cast_slice(&mesh.smoothed_normals)),
-                        vertex,
-                    ),
-                    indices: make(
-                        "GpuMesh::indices",
-                        &pad(bytemuck::cast_slice(&mesh.indices)),
-                        wgpu::BufferUsages::INDEX,
-                    ),
-                    index_count: mesh.indices.len() as u32,
-                }
-            })
+            .map(|mesh| upload_mesh(device, mesh))
             .collect();
 
-        // One sampler per distinct setting (glTF's samplers).
-        let mut samplers: std::collections::HashMap<TextureSampler, wgpu::Sampler> = Default::default();
-        for m in &scene.materials {
-            samplers
-                .entry(m.sampler)
-                .or_insert_with(|| make_sampler(device, &m.sampler));
-        }
-        let max_side = device.limits().max_texture_dimension_2d;
-        // Each texture as sRGB (base colour) and, when a material reads data from it (occlusion,
-        // metallic-roughness, normals), as linear data too (a second upload: view formats are
-        // not on every backend).
-        let data_textures: std::collections::HashSet<usize> = scene
-            .materials
-            .iter()
-            .flat_map(|m| {
-                [
-                    m.occlusion_texture,
-                    m.metallic_roughness_texture,
-                    m.normal_texture,
-                ]
-            })
-            .flatten()
-            .collect();
-        let textures: Vec<(wgpu::TextureView, Option<wgpu::TextureView>)> = scene
-            .textures
-            .iter()
-            .enumerate()
-            .map(|(k, t)| {
-                if t.width > max_side || t.height > max_side {
-                    return Err(PenumbraError::Texture {
-                        name: t.name.clone(),
-                        reason: format!("{}x{} exceeds the device limit of {max_side}", t.width, t.height),
-                    });
-                }
-                let upload =
-                    |format| upload_texture(device, queue, &t.name, t.width, t.height, &t.rgba8, format);
-                Ok((
-                    upload(wgpu::TextureFormat::Rgba8UnormSrgb),
-                    data_textures
-                        .contains(&k)
-                        .then(|| upload(wgpu::TextureFormat::Rgba8Unorm)),
-                ))
-            })
-            .collect::<Result<_>>()?;
-        let white = upload_texture(
-            device,
-            queue,
-            "white",
-            1,
-            1,
-            &[255; 4],
-            wgpu::TextureFormat::Rgba8Unorm,
-        );
-        let white = (white.clone(), Some(white));
-        // A normal map's "no change": (0.5, 0.5, 1) is the unperturbed normal.
-        let flat_normal = upload_texture(
-            device,
-            queue,
-            "flat normal",
-            1,
-            1,
-            &[128, 128, 255, 255],
-            wgpu::TextureFormat::Rgba8Unorm,
-        );
+        let tex = SceneTextures::upload(device, queue, scene)?;
         let materials = scene
             .materials
             .iter()
-            .map(|m| {
-                let uniform = MaterialUniform {
-                    base_color: m.base_color.to_array(),
-                    alpha: [
-                        match m.alpha_mode {
-                            AlphaMode::Opaque | AlphaMode::Blend => -1.0,
-                            AlphaMode::Mask { cutoff } => cutoff,
-                        },
-                        if m.alpha_mode == AlphaMode::Blend {
-                            1.0
-                        } else {
-                            0.0
-                        },
-                        0.0,
-                        0.0,
-                    ],
-                };
-                let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("GpuScene::material"),
-                    contents: bytemuck::bytes_of(&uniform),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
-                let view = m.base_color_texture.map_or(&white.0, |t| &textures[t].0);
-                let sampler = &samplers[&m.sampler];
-                crate::gpu_helpers::bind_group(
-                    device,
-                    "GpuScene::material",
-                    &layouts.material,
-                    &[&buffer, view, sampler],
-                )
-            })
+            .map(|m| material_group(device, layouts, m, &tex))
             .collect();
 
-        let mut casters = crate::casters::Casters::with_layouts(device, layouts.clone());
-        let mesh_ids: Vec<crate::casters::MeshId> = scene
-            .meshes
-            .iter()
-            .zip(&meshes)
-            .map(|(mesh, gpu): (&crate::scene::Mesh, &GpuMesh)| {
-                casters.add_prepared_mesh(
-                    &mesh.name,
-                    &gpu.positions,
-                    &gpu.smoothed_normals,
-                    &gpu.indices,
-                    (gpu.index_count, mesh.vertex_count() as u32),
-                    mesh.bounds,
-                    crate::scene::mesh::outward_winding(
-                        &mesh.positions,
-                        &mesh.indices,
-                        &mesh.smoothed_normals,
-                    ),
-                )
-            })
-            .collect();
-        let mut instances = Vec::with_capacity(scene.instances.len());
-        for inst in &scene.instances {
-            let placed = crate::casters::CasterInstance {
-                mesh: mesh_ids[inst.mesh],
-                transform: inst.transform,
-                caster: inst.caster,
-                receiver: inst.receiver,
-            };
-            let material = &scene.materials[inst.material];
-            let id = match material.alpha_mode.shadow_cutoff() {
-                Some(cutoff) => {
-                    let mesh: &GpuMesh = &meshes[inst.mesh];
-                    let mask = crate::casters::AlphaMask {
-                        uvs: crate::casters::VertexStream {
-                            buffer: &mesh.uvs,
-                            offset: 0,
-                            stride: 8,
-                            format: wgpu::VertexFormat::Float32x2,
-                        },
-                        texture: material.base_color_texture.map_or(&white.0, |t| &textures[t].0),
-                        alpha_factor: material.base_color.w,
-                        cutoff,
-                    };
-                    casters.add_masked_instance(device, queue, placed, &mask)?
-                }
-                None => casters.add_instance(device, queue, placed)?,
-            };
-            instances.push(GpuInstance {
-                mesh: inst.mesh,
-                material: inst.material,
-                id,
-                caster: inst.caster,
-                receiver: inst.receiver,
-                masked: material.is_masked(),
-                blended: material.alpha_mode == AlphaMode::Blend,
-                center: scene.meshes[inst.mesh].bounds.center(),
-                transform: inst.transform,
-            });
-        }
+        let (casters, instances) = add_casters(device, queue, layouts, scene, &meshes, &tex)?;
         let lightmaps = GpuLightmaps {
             layout: layouts.surface.clone(),
             atlases: scene
@@ -440,50 +228,7 @@ impl GpuScene {
             surfaces: scene
                 .instances
                 .iter()
-                .map(|inst| {
-                    let m = &scene.materials[inst.material];
-                    let view = m
-                        .occlusion_texture
-                        .and_then(|t| textures[t].1.as_ref())
-                        .or(white.1.as_ref())
-                        .expect("white has a linear view");
-                    let strength = if m.occlusion_texture.is_some() {
-                        m.occlusion_strength
-                    } else {
-                        0.0
-                    };
-                    let t = m.occlusion_uv_transform;
-                    // The emissive texture is sRGB, like the base colour's.
-                    let emissive_view = m.emissive_texture.map_or(&white.0, |t| &textures[t].0);
-                    let linear = |t: Option<usize>, none: &wgpu::TextureView| {
-                        t.and_then(|t| textures[t].1.clone())
-                            .unwrap_or_else(|| none.clone())
-                    };
-                    let white_linear = white.1.as_ref().expect("white has a linear view");
-                    let (model, metallic, roughness) = match m.shading {
-                        Shading::Lambert => (0.0, 0.0, 1.0),
-                        Shading::MetallicRoughness { metallic, roughness } => (1.0, metallic, roughness),
-                    };
-                    let normal_scale = if m.normal_texture.is_some() {
-                        m.normal_scale
-                    } else {
-                        0.0
-                    };
-                    InstanceSurface {
-                        metallic_roughness_view: linear(m.metallic_roughness_texture, white_linear),
-                        normal_view: linear(m.normal_texture, &flat_normal),
-                        shading: [metallic, roughness, model, normal_scale],
-                        view: view.clone(),
-                        sampler: samplers[&m.sampler].clone(),
-                        emissive_view: emissive_view.clone(),
-                        emissive: [m.emissive.x, m.emissive.y, m.emissive.z, 0.0],
-                        params: [strength, m.occlusion_uv_set as f32, 0.0, 0.0],
-                        transform: [
-                            [t.matrix2.x_axis.x, t.matrix2.y_axis.x, t.translation.x, 0.0],
-                            [t.matrix2.x_axis.y, t.matrix2.y_axis.y, t.translation.y, 0.0],
-                        ],
-                    }
-                })
+                .map(|inst| instance_surface(&scene.materials[inst.material], &tex))
                 .collect(),
             uniforms: (0..scene.instances.len())
                 .map(|_| {
@@ -808,6 +553,310 @@ impl GpuScene {
     /// Triangles drawn per camera pass.
     pub fn triangle_count(&self) -> usize {
         self.triangle_count
+    }
+}
+
+/// One mesh's vertex and index buffers.
+fn upload_mesh(device: &wgpu::Device, mesh: &crate::scene::Mesh) -> GpuMesh {
+    let make = |label: &str, contents: &[u8], usage| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents,
+            usage,
+        })
+    };
+    let vertex = wgpu::BufferUsages::VERTEX;
+    // wgpu rejects zero-sized vertex buffers being bound; pad empty meshes.
+    let pad = |bytes: &[u8]| {
+        if bytes.is_empty() {
+            vec![0u8; 16]
+        } else {
+            bytes.to_vec()
+        }
+    };
+    // A stream a mesh may lack: its own `count` values (bytes `own`), one per
+    // vertex, or `fallback` (one vertex's bytes) for every vertex.
+    fn bytes<T: bytemuck::Pod>(values: &[T]) -> (&[u8], usize) {
+        (bytemuck::cast_slice(values), values.len())
+    }
+    let optional = |label, (own, count): (&[u8], usize), fallback: &[u8]| {
+        if count == mesh.positions.len() {
+            make(label, &pad(own), vertex)
+        } else {
+            make(label, &pad(&fallback.repeat(mesh.positions.len())), vertex)
+        }
+    };
+    GpuMesh {
+        positions: make(
+            "GpuMesh::positions",
+            &pad(bytemuck::cast_slice(&mesh.positions)),
+            vertex,
+        ),
+        normals: make(
+            "GpuMesh::normals",
+            &pad(bytemuck::cast_slice(&mesh.normals)),
+            vertex,
+        ),
+        uvs: make("GpuMesh::uvs", &pad(bytemuck::cast_slice(&mesh.uvs)), vertex),
+        lightmap_uvs: optional("GpuMesh::lightmap_uvs", bytes(&mesh.lightmap_uvs), &[0u8; 8]),
+        colors: optional(
+            "GpuMesh::colors",
+            bytes(&mesh.colors),
+            bytemuck::bytes_of(&Vec4::ONE),
+        ),
+        tangents: optional("GpuMesh::tangents", bytes(&mesh.tangents), &[0u8; 16]),
+        smoothed_normals: make(
+            "GpuMesh::smoothed_normals",
+            &pad(bytemuck::cast_slice(&mesh.smoothed_normals)),
+            vertex,
+        ),
+        indices: make(
+            "GpuMesh::indices",
+            &pad(bytemuck::cast_slice(&mesh.indices)),
+            wgpu::BufferUsages::INDEX,
+        ),
+        index_count: mesh.indices.len() as u32,
+    }
+}
+
+/// The scene's samplers and textures, and the stand-ins for a texture a material lacks.
+struct SceneTextures {
+    samplers: std::collections::HashMap<TextureSampler, wgpu::Sampler>,
+    /// Each texture as sRGB, and as linear data where a material reads data from it.
+    textures: Vec<(wgpu::TextureView, Option<wgpu::TextureView>)>,
+    /// A white texel, sRGB and linear.
+    white: (wgpu::TextureView, Option<wgpu::TextureView>),
+    /// A normal map's "no change".
+    flat_normal: wgpu::TextureView,
+}
+
+impl SceneTextures {
+    fn upload(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Self> {
+        // One sampler per distinct setting (glTF's samplers).
+        let mut samplers: std::collections::HashMap<TextureSampler, wgpu::Sampler> = Default::default();
+        for m in &scene.materials {
+            samplers
+                .entry(m.sampler)
+                .or_insert_with(|| make_sampler(device, &m.sampler));
+        }
+        let max_side = device.limits().max_texture_dimension_2d;
+        // Each texture as sRGB (base colour) and, when a material reads data from it (occlusion,
+        // metallic-roughness, normals), as linear data too (a second upload: view formats are
+        // not on every backend).
+        let data_textures: std::collections::HashSet<usize> = scene
+            .materials
+            .iter()
+            .flat_map(|m| {
+                [
+                    m.occlusion_texture,
+                    m.metallic_roughness_texture,
+                    m.normal_texture,
+                ]
+            })
+            .flatten()
+            .collect();
+        let textures: Vec<(wgpu::TextureView, Option<wgpu::TextureView>)> = scene
+            .textures
+            .iter()
+            .enumerate()
+            .map(|(k, t)| {
+                if t.width > max_side || t.height > max_side {
+                    return Err(PenumbraError::Texture {
+                        name: t.name.clone(),
+                        reason: format!("{}x{} exceeds the device limit of {max_side}", t.width, t.height),
+                    });
+                }
+                let upload =
+                    |format| upload_texture(device, queue, &t.name, t.width, t.height, &t.rgba8, format);
+                Ok((
+                    upload(wgpu::TextureFormat::Rgba8UnormSrgb),
+                    data_textures
+                        .contains(&k)
+                        .then(|| upload(wgpu::TextureFormat::Rgba8Unorm)),
+                ))
+            })
+            .collect::<Result<_>>()?;
+        let white = upload_texture(
+            device,
+            queue,
+            "white",
+            1,
+            1,
+            &[255; 4],
+            wgpu::TextureFormat::Rgba8Unorm,
+        );
+        let white = (white.clone(), Some(white));
+        // A normal map's "no change": (0.5, 0.5, 1) is the unperturbed normal.
+        let flat_normal = upload_texture(
+            device,
+            queue,
+            "flat normal",
+            1,
+            1,
+            &[128, 128, 255, 255],
+            wgpu::TextureFormat::Rgba8Unorm,
+        );
+        Ok(Self {
+            samplers,
+            textures,
+            white,
+            flat_normal,
+        })
+    }
+
+    /// The sRGB view of texture `t`, or white.
+    fn srgb(&self, t: Option<usize>) -> &wgpu::TextureView {
+        t.map_or(&self.white.0, |t| &self.textures[t].0)
+    }
+}
+
+/// A material's bind group: its uniform, its base colour texture and sampler.
+fn material_group(device: &wgpu::Device, layouts: &SceneLayouts, m: &crate::scene::Material, tex: &SceneTextures) -> wgpu::BindGroup {
+    let uniform = MaterialUniform {
+        base_color: m.base_color.to_array(),
+        alpha: [
+            match m.alpha_mode {
+                AlphaMode::Opaque | AlphaMode::Blend => -1.0,
+                AlphaMode::Mask { cutoff } => cutoff,
+            },
+            if m.alpha_mode == AlphaMode::Blend {
+                1.0
+            } else {
+                0.0
+            },
+            0.0,
+            0.0,
+        ],
+    };
+    let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("GpuScene::material"),
+        contents: bytemuck::bytes_of(&uniform),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let view = tex.srgb(m.base_color_texture);
+    let sampler = &tex.samplers[&m.sampler];
+    crate::gpu_helpers::bind_group(
+        device,
+        "GpuScene::material",
+        &layouts.material,
+        &[&buffer, view, sampler],
+    )
+}
+
+/// The scene's meshes as casters and its instances placed among them.
+fn add_casters(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    layouts: &SceneLayouts,
+    scene: &Scene,
+    meshes: &[GpuMesh],
+    tex: &SceneTextures,
+) -> Result<(crate::casters::Casters, Vec<GpuInstance>)> {
+    let mut casters = crate::casters::Casters::with_layouts(device, layouts.clone());
+    let mesh_ids: Vec<crate::casters::MeshId> = scene
+        .meshes
+        .iter()
+        .zip(meshes)
+        .map(|(mesh, gpu): (&crate::scene::Mesh, &GpuMesh)| {
+            casters.add_prepared_mesh(
+                &mesh.name,
+                &gpu.positions,
+                &gpu.smoothed_normals,
+                &gpu.indices,
+                (gpu.index_count, mesh.vertex_count() as u32),
+                mesh.bounds,
+                crate::scene::mesh::outward_winding(
+                    &mesh.positions,
+                    &mesh.indices,
+                    &mesh.smoothed_normals,
+                ),
+            )
+        })
+        .collect();
+    let mut instances = Vec::with_capacity(scene.instances.len());
+    for inst in &scene.instances {
+        let placed = crate::casters::CasterInstance {
+            mesh: mesh_ids[inst.mesh],
+            transform: inst.transform,
+            caster: inst.caster,
+            receiver: inst.receiver,
+        };
+        let material = &scene.materials[inst.material];
+        let id = match material.alpha_mode.shadow_cutoff() {
+            Some(cutoff) => {
+                let mesh: &GpuMesh = &meshes[inst.mesh];
+                let mask = crate::casters::AlphaMask {
+                    uvs: crate::casters::VertexStream {
+                        buffer: &mesh.uvs,
+                        offset: 0,
+                        stride: 8,
+                        format: wgpu::VertexFormat::Float32x2,
+                    },
+                    texture: tex.srgb(material.base_color_texture),
+                    alpha_factor: material.base_color.w,
+                    cutoff,
+                };
+                casters.add_masked_instance(device, queue, placed, &mask)?
+            }
+            None => casters.add_instance(device, queue, placed)?,
+        };
+        instances.push(GpuInstance {
+            mesh: inst.mesh,
+            material: inst.material,
+            id,
+            caster: inst.caster,
+            receiver: inst.receiver,
+            masked: material.is_masked(),
+            blended: material.alpha_mode == AlphaMode::Blend,
+            center: scene.meshes[inst.mesh].bounds.center(),
+            transform: inst.transform,
+        });
+    }
+    Ok((casters, instances))
+}
+
+/// What the lit pass reads of material `m` beside its lightmap.
+fn instance_surface(m: &crate::scene::Material, tex: &SceneTextures) -> InstanceSurface {
+    let view = m
+        .occlusion_texture
+        .and_then(|t| tex.textures[t].1.as_ref())
+        .or(tex.white.1.as_ref())
+        .expect("white has a linear view");
+    let strength = if m.occlusion_texture.is_some() {
+        m.occlusion_strength
+    } else {
+        0.0
+    };
+    let t = m.occlusion_uv_transform;
+    // The emissive texture is sRGB, like the base colour's.
+    let emissive_view = tex.srgb(m.emissive_texture);
+    let linear = |t: Option<usize>, none: &wgpu::TextureView| {
+        t.and_then(|t| tex.textures[t].1.clone())
+            .unwrap_or_else(|| none.clone())
+    };
+    let white_linear = tex.white.1.as_ref().expect("white has a linear view");
+    let (model, metallic, roughness) = match m.shading {
+        Shading::Lambert => (0.0, 0.0, 1.0),
+        Shading::MetallicRoughness { metallic, roughness } => (1.0, metallic, roughness),
+    };
+    let normal_scale = if m.normal_texture.is_some() {
+        m.normal_scale
+    } else {
+        0.0
+    };
+    InstanceSurface {
+        metallic_roughness_view: linear(m.metallic_roughness_texture, white_linear),
+        normal_view: linear(m.normal_texture, &tex.flat_normal),
+        shading: [metallic, roughness, model, normal_scale],
+        view: view.clone(),
+        sampler: tex.samplers[&m.sampler].clone(),
+        emissive_view: emissive_view.clone(),
+        emissive: [m.emissive.x, m.emissive.y, m.emissive.z, 0.0],
+        params: [strength, m.occlusion_uv_set as f32, 0.0, 0.0],
+        transform: [
+            [t.matrix2.x_axis.x, t.matrix2.y_axis.x, t.translation.x, 0.0],
+            [t.matrix2.x_axis.y, t.matrix2.y_axis.y, t.translation.y, 0.0],
+        ],
     }
 }
 

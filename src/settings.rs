@@ -433,7 +433,7 @@ impl Default for PcssSettings {
 /// (a point and a spot light, `tests/near_blocker.rs`) gave penumbra RMSE 0.0530 against
 /// 0.0543 in 32 bits and wall widths within 0.002 of them; the truth scene's widths under a
 /// spot, a sphere and a sun light (`tests/truth.rs`) moved by at most 0.002 of the ratio; and
-/// no acne nor detached shadow at a grazing sun in 16 bits (`tests/robustness.rs`). The
+/// no acne nor detached shadow at a grazing sun in 16 bits (`tests/robustness/grazing.rs`). The
 /// reference renders its samples in 32 bits whatever this says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -374,7 +374,100 @@ impl SceneFile {
             light.validate().map_err(|e| bad(format!("light {k}: {e}")))?;
         }
 
-        // Materials by name.
+        let material_index = self.add_materials(&mut scene, base_dir, path)?;
+
+        let models = self.models(&mut scene, base_dir, path)?;
+
+        // The model, transform and sizes `lights_from` takes its lights from.
+        let mut lights_placed = None;
+        for (k, inst) in self.instances.iter().enumerate() {
+            let model = models.get(&inst.mesh).ok_or_else(|| {
+                bad(format!(
+                    "instance {k} uses mesh `{}`, which is not in `meshes`",
+                    inst.mesh
+                ))
+            })?;
+            let material = match &inst.material {
+                None => None,
+                Some(name) => Some(*material_index.get(name).ok_or_else(|| {
+                    bad(format!(
+                        "instance {k} uses material `{name}`, which is not in `materials`"
+                    ))
+                })?),
+            };
+            let r = inst.rotation_deg;
+            let transform = Mat4::from_scale_rotation_translation(
+                inst.scale,
+                Quat::from_euler(
+                    EulerRot::YXZ,
+                    r.y.to_radians(),
+                    r.x.to_radians(),
+                    r.z.to_radians(),
+                ),
+                inst.translation,
+            );
+            if !transform.is_finite() || transform.determinant().abs() < 1e-20 {
+                return Err(bad(format!(
+                    "instance {k}: transform is not finite or has a zero scale"
+                )));
+            }
+            scene.add_model(model, transform, material, inst.caster, inst.receiver);
+            if let Some(from) = self.lights_from.as_ref().filter(|f| f.mesh == inst.mesh) {
+                lights_placed.get_or_insert((model, transform, from.sizes));
+            }
+        }
+        if let Some(from) = &self.lights_from {
+            let Some((model, place, sizes)) = lights_placed else {
+                return Err(bad(format!(
+                    "`lights_from` names mesh `{}`, which no instance places",
+                    from.mesh
+                )));
+            };
+            let center = place.transform_point3(model.bounds().center());
+            let lights = super::lights_from_model(&model.lights, place, center, sizes, &mut scene.warnings);
+            let Some((key, more)) = lights.split_first() else {
+                return Err(bad(format!(
+                    "`lights_from`: mesh `{}`'s file has no directional or spot light",
+                    from.mesh
+                )));
+            };
+            scene.light = *key;
+            scene.more_lights = more.to_vec();
+            for (k, light) in scene.lights().enumerate() {
+                light
+                    .validate()
+                    .map_err(|e| bad(format!("`lights_from` light {k}: {e}")))?;
+            }
+        }
+
+        self.add_lightmaps(&mut scene, base_dir, path)?;
+        scene.lighting = self.lighting;
+        scene.lightmap_exposure = self.lightmap_exposure;
+        scene.lightmap_filter = self.lightmap_filter;
+        scene.exposure = self.exposure.unwrap_or(if self.lights_from.is_some() {
+            Exposure::Ev100(Exposure::EV100_DEFAULT)
+        } else {
+            Exposure::default()
+        });
+        scene.exposure.validate().map_err(|e| bad(e.to_string()))?;
+        scene.validate_lightmaps().map_err(|e| bad(e.to_string()))?;
+
+        self.add_views(&mut scene, path)?;
+        scene.validate().map_err(|e| bad(e.to_string()))?;
+        Ok(scene)
+    }
+
+    /// The file's materials added to `scene`, by name.
+    fn add_materials(
+        &self,
+        scene: &mut Scene,
+        base_dir: &Path,
+        path: &Path,
+    ) -> Result<std::collections::HashMap<String, usize>> {
+        let bad = |reason: String| PenumbraError::SceneFile {
+            path: path.to_path_buf(),
+            reason,
+        };
         let mut material_index = std::collections::HashMap::new();
         for entry in &self.materials {
             if !entry.base_color.is_finite() {
@@ -429,8 +522,20 @@ impl SceneFile {
                 return Err(bad(format!("material `{}` is defined twice", entry.name)));
             }
         }
+        Ok(material_index)
+    }
 
-        // Meshes by name: built-ins become one-part models.
+    /// The file's meshes as models, by name (built-ins become one-part models).
+    fn models(
+        &self,
+        scene: &mut Scene,
+        base_dir: &Path,
+        path: &Path,
+    ) -> Result<std::collections::HashMap<String, Model>> {
+        let bad = |reason: String| PenumbraError::SceneFile {
+            path: path.to_path_buf(),
+            reason,
+        };
         let mut models = std::collections::HashMap::new();
         for entry in &self.meshes {
             // A built-in mesh takes its entry's name (what lightmaps are assigned by).
@@ -499,69 +604,15 @@ impl SceneFile {
                 return Err(bad(format!("mesh `{}` is defined twice", entry.name)));
             }
         }
+        Ok(models)
+    }
 
-        // The model, transform and sizes `lights_from` takes its lights from.
-        let mut lights_placed = None;
-        for (k, inst) in self.instances.iter().enumerate() {
-            let model = models.get(&inst.mesh).ok_or_else(|| {
-                bad(format!(
-                    "instance {k} uses mesh `{}`, which is not in `meshes`",
-                    inst.mesh
-                ))
-            })?;
-            let material = match &inst.material {
-                None => None,
-                Some(name) => Some(*material_index.get(name).ok_or_else(|| {
-                    bad(format!(
-                        "instance {k} uses material `{name}`, which is not in `materials`"
-                    ))
-                })?),
-            };
-            let r = inst.rotation_deg;
-            let transform = Mat4::from_scale_rotation_translation(
-                inst.scale,
-                Quat::from_euler(
-                    EulerRot::YXZ,
-                    r.y.to_radians(),
-                    r.x.to_radians(),
-                    r.z.to_radians(),
-                ),
-                inst.translation,
-            );
-            if !transform.is_finite() || transform.determinant().abs() < 1e-20 {
-                return Err(bad(format!(
-                    "instance {k}: transform is not finite or has a zero scale"
-                )));
-            }
-            scene.add_model(model, transform, material, inst.caster, inst.receiver);
-            if let Some(from) = self.lights_from.as_ref().filter(|f| f.mesh == inst.mesh) {
-                lights_placed.get_or_insert((model, transform, from.sizes));
-            }
-        }
-        if let Some(from) = &self.lights_from {
-            let Some((model, place, sizes)) = lights_placed else {
-                return Err(bad(format!(
-                    "`lights_from` names mesh `{}`, which no instance places",
-                    from.mesh
-                )));
-            };
-            let center = place.transform_point3(model.bounds().center());
-            let lights = super::lights_from_model(&model.lights, place, center, sizes, &mut scene.warnings);
-            let Some((key, more)) = lights.split_first() else {
-                return Err(bad(format!(
-                    "`lights_from`: mesh `{}`'s file has no directional or spot light",
-                    from.mesh
-                )));
-            };
-            scene.light = *key;
-            scene.more_lights = more.to_vec();
-            for (k, light) in scene.lights().enumerate() {
-                light
-                    .validate()
-                    .map_err(|e| bad(format!("`lights_from` light {k}: {e}")))?;
-            }
-        }
-
+    /// The file's lightmaps, loaded and added to `scene`.
+    fn add_lightmaps(&self, scene: &mut Scene, base_dir: &Path, path: &Path) -> Result<()> {
+        let bad = |reason: String| PenumbraError::SceneFile {
+            path: path.to_path_buf(),
+            reason,
+        };
         for atlas in &self.lightmaps {
             if atlas.mode == LightingMode::Dynamic {
                 return Err(bad(format!(
@@ -598,17 +649,15 @@ impl SceneFile {
                 rects,
             });
         }
-        scene.lighting = self.lighting;
-        scene.lightmap_exposure = self.lightmap_exposure;
-        scene.lightmap_filter = self.lightmap_filter;
-        scene.exposure = self.exposure.unwrap_or(if self.lights_from.is_some() {
-            Exposure::Ev100(Exposure::EV100_DEFAULT)
-        } else {
-            Exposure::default()
-        });
-        scene.exposure.validate().map_err(|e| bad(e.to_string()))?;
-        scene.validate_lightmaps().map_err(|e| bad(e.to_string()))?;
+        Ok(())
+    }
 
+    /// The file's viewpoints added to `scene`, their depth ranges fitted to it.
+    fn add_views(&self, scene: &mut Scene, path: &Path) -> Result<()> {
+        let bad = |reason: String| PenumbraError::SceneFile {
+            path: path.to_path_buf(),
+            reason,
+        };
         let bounds = scene.bounds();
         for v in &self.views {
             let mut camera = Camera {
@@ -640,8 +689,7 @@ impl SceneFile {
                 camera,
             });
         }
-        scene.validate().map_err(|e| bad(e.to_string()))?;
-        Ok(scene)
+        Ok(())
     }
 }
 

@@ -30,12 +30,14 @@ use crate::view::CameraMatrices;
 
 mod inputs;
 mod light_state;
+mod plan;
 mod report;
 
 pub use inputs::ViewInputs;
 use inputs::{Inputs, check_depth, check_mask, check_target, layer_views, visibility_array};
 pub(crate) use light_state::spreads;
-use light_state::{LightState, Planned, ShadowKey, narrowest_texels, redrawn_tiles, sees};
+use light_state::{LightState, Planned, ShadowKey};
+use plan::{FramePlan, plan_light};
 pub use report::{LightId, LightReport, LightTexture};
 
 /// How many times a sun's fatten distance over the whole scene may exceed the one over the
@@ -411,12 +413,6 @@ impl Shadows {
             let rebind_all = resized || inputs_changed || (replaced && layer_writes);
             this.casters_id = Some(casters.id());
 
-            let shadow_bounds = casters.shadow_bounds();
-            let caster_bounds = casters.caster_bounds();
-            let parts = casters.shadow_parts();
-            let caster_parts = casters.caster_parts();
-            let has_mask = view.receiver_mask.is_some();
-            let software = this.software;
             // The penumbra widths earlier frames measured, before anything is written for this
             // one (their read-back submits a copy of its own).
             if this
@@ -430,213 +426,32 @@ impl Shadows {
             for state in this.lights.iter_mut().flatten() {
                 state.collect_widths(device, queue);
             }
+            let frame = FramePlan {
+                device,
+                queue,
+                casters,
+                camera: &view.camera,
+                settings: &this.settings,
+                size: (width, height),
+                resized,
+                rebind_all,
+                layer_writes,
+                software: this.software,
+                compute: this.compute,
+                screen_space: this.screen_space,
+                has_mask: view.receiver_mask.is_some(),
+                shadow_bounds: casters.shadow_bounds(),
+                caster_bounds: casters.caster_bounds(),
+                parts: casters.shadow_parts(),
+                caster_parts: casters.caster_parts(),
+            };
             for (slot, state) in this
                 .lights
                 .iter_mut()
                 .enumerate()
                 .filter_map(|(slot, s)| Some((slot, s.as_mut()?)))
             {
-                let mut chain = Chain::new(&this.settings, &state.light).writing_layers(layer_writes);
-                if !this.compute {
-                    chain = chain.without_compute();
-                }
-                if !this.screen_space {
-                    // Only the light-space map: the renderer shades in its forward pass.
-                    chain = chain.map_only();
-                }
-                let effective = ShadowSettings {
-                    method: chain.method(),
-                    ..this.settings
-                };
-                let params = PassParams {
-                    layer_writes,
-                    ..pass_params(&effective, software)
-                };
-                // The maps' resolution: the configured one, or a coarser one the light's
-                // penumbrae allow (`MapResolution::FromPenumbra`).
-                let level = state.wanted_level(&this.settings, &chain);
-                if level != state.map_level {
-                    // Windows snapped to the old texel grid are not kept.
-                    state.drawn_with = None;
-                    state.map_level = level;
-                }
-                if let Some((_, taken)) = &mut state.widths {
-                    *taken = true;
-                }
-                let sm = ShadowMapSettings {
-                    resolution: this.settings.shadow_map.resolution >> state.map_level,
-                    ..this.settings.shadow_map
-                };
-                let effective = ShadowSettings {
-                    shadow_map: sm,
-                    ..effective
-                };
-                if state.allocate_screen(device, &chain, &params, (width, height), resized) || rebind_all {
-                    state.bound = None;
-                }
-                let light = state.light;
-                // Fit once to find the depth range (and so the widest penumbra), then fit the sides
-                // to the casters widened by that penumbra.
-                let loose = LightView::fit(&light, &shadow_bounds);
-                // A spot's or point light's maps depend only on what lies in its reach (within its
-                // size of its frustum): a caster moving elsewhere changes neither its fit nor its
-                // penumbra widths. A sun sees the whole scene.
-                let own;
-                let everything = (shadow_bounds, caster_bounds, &parts[..], &caster_parts[..]);
-                let (shadow_bounds, caster_bounds, parts, caster_parts) = match light {
-                    Light::Directional(_) => everything,
-                    _ => {
-                        let radius = light.enclosing_radius();
-                        own = casters.seen_by(|b| sees(&loose, b, radius));
-                        if own.all.is_empty() {
-                            everything
-                        } else {
-                            (own.all, own.casters, &own.parts[..], &own.caster_parts[..])
-                        }
-                    }
-                };
-                // Fitted again to what it sees, so that nothing outside changes it.
-                let loose = match light {
-                    Light::Directional(_) => loose,
-                    _ => LightView::fit(&light, &shadow_bounds),
-                };
-                let map_scale = (1u32 << state.map_level) as f32;
-                let spreads_of = |view: &LightView| {
-                    spreads(&effective, &light, view, &shadow_bounds, caster_parts, map_scale)
-                };
-                let mut spreads = spreads_of(&loose);
-                // A sun fitted to the view over a scene far wider or deeper than the view needs
-                // (a ground hundreds of thousands of units wide): its penumbrae and texels are
-                // those of the window the view needs. The whole scene's made the fatten
-                // distance, and with it every cascade's margin, as wide as the ground. Where
-                // the scene's fatten distance is within `SCENE_FATTEN_RATIO` of the window's it
-                // is kept (the scenes that fit their view, as before).
-                if let (Light::Directional(_), LightFit::CameraFrustum { .. }) = (light, sm.fit) {
-                    let window = LightView::fit_with(&FitInputs {
-                        light: &light,
-                        casters: caster_bounds,
-                        casters_and_receivers: shadow_bounds,
-                        parts,
-                        margin: 0.0,
-                        fit: sm.fit,
-                        camera: Some(view.camera),
-                        resolution: sm.resolution,
-                        snap_to_texels: false,
-                        cascades: CascadeSettings {
-                            count: 1,
-                            ..sm.cascades
-                        },
-                    });
-                    let fitted = spreads_of(&window);
-                    if spreads.fatten_distance > SCENE_FATTEN_RATIO * fitted.fatten_distance {
-                        spreads = fitted;
-                    }
-                }
-                // The margin keeps the fattened casters, pushed toward a spot or point light, in
-                // front of its near plane; a chain that draws no fattened map keeps the tightest
-                // near plane (PCSS searches for blockers from it). A sun's cascades are widened
-                // by it for every method: penumbrae reach in from casters beside them.
-                let margin = match light {
-                    Light::Directional(_) => spreads.fatten_distance * 2.0,
-                    _ if chain.fattened_map() => spreads.fatten_distance * 2.0,
-                    _ => 0.0,
-                };
-                let light_view = LightView::fit_with(&FitInputs {
-                    light: &light,
-                    casters: caster_bounds,
-                    casters_and_receivers: shadow_bounds,
-                    parts,
-                    margin,
-                    fit: sm.fit,
-                    camera: Some(view.camera),
-                    resolution: sm.resolution,
-                    snap_to_texels: sm.snap_to_texels,
-                    cascades: sm.cascades,
-                });
-                // Cascades whose maps still hold what they must stay as drawn.
-                let light_view = match &state.drawn_with {
-                    Some(previous) => light_view.keeping_windows_of(previous, sm.resolution),
-                    None => light_view,
-                };
-                // The maps hold the tiles the fit uses (a sun's cascades in use).
-                if LightMaps::allocate(&mut state.maps, device, casters, &sm, &light_view, &chain) {
-                    state.key = None;
-                    state.bound = None;
-                }
-                queue.write_buffer(
-                    &state.frame,
-                    0,
-                    bytemuck::bytes_of(&FrameUniform::new(&FrameInputs {
-                        camera: &view.camera,
-                        width,
-                        height,
-                        light: &light,
-                        ambient: glam::Vec3::ZERO,
-                        light_view: &light_view,
-                        settings: &effective,
-                        spreads,
-                        caster_radius: caster_bounds.radius(),
-                        receiver_mask: has_mask,
-                        distance_map: chain.distance_map(),
-                        map_scale,
-                    })),
-                );
-                let key = ShadowKey {
-                    casters: casters.id(),
-                    light,
-                    light_view: light_view.map_matrices(),
-                    shadow_map: sm,
-                    fatten_distance: chain.fattened_map().then_some(spreads.fatten_distance),
-                    layers: state.layers,
-                };
-                let margin = spreads.fatten_distance * 2.0;
-                let tiles = redrawn_tiles(
-                    state,
-                    &key,
-                    &light_view,
-                    &view.camera,
-                    casters,
-                    !caster_bounds.is_empty(),
-                    margin,
-                );
-                let render_maps = tiles != 0;
-                if render_maps && let Some(maps) = &mut state.maps {
-                    maps.prepare(
-                        device,
-                        queue,
-                        casters,
-                        &light_view,
-                        spreads.fatten_distance,
-                        tiles,
-                        state.layers,
-                    );
-                }
-                state.screen.prepare(queue, &params);
-                // The PCF pass counts the penumbra widths below these limits, in texels of the
-                // map as drawn.
-                let probe = match (
-                    narrowest_texels(&this.settings, &chain),
-                    state.screen.width_probe_mut(),
-                ) {
-                    (Some(t), Some(probe)) => {
-                        let limits = [t, 2.0 * t, 4.0 * t];
-                        probe.reset(queue, limits);
-                        Some((limits, light_view.tile))
-                    }
-                    _ => None,
-                };
-                let planned = Planned {
-                    chain,
-                    key,
-                    render_maps,
-                    tiles,
-                    spreads,
-                    light_view,
-                    probe,
-                    unheld_caster: light_view.unheld_caster(&view.camera, caster_parts),
-                };
-                state.report = Some(planned.report(LightId(slot as u32), state.widths.map(|(w, _)| w)));
-                state.planned = Some(planned);
+                plan_light(&frame, slot, state);
             }
             // The compute path's intermediates, one set for every light that runs it.
             let needs = this

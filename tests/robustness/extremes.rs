@@ -1,7 +1,7 @@
 //! Numerical stability at the extremes: the same scene at very different scales, extreme sizes
 //! and settings, odd geometry, and random settings and light directions (proptest).
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::metrics::measure_visibility;

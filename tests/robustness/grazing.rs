@@ -1,7 +1,7 @@
 //! Shadow-map hygiene at the extremes: a light grazing the floor, where depth precision and
 //! biases are tested hardest.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::metrics::measure_visibility;

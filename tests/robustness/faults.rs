@@ -4,9 +4,9 @@
 //! software adapter: resources of a second device (of the same adapter) handed to the first (a
 //! misuse no argument check sees), and `Device::destroy`.
 
-mod common;
+use crate::common;
 
-use common::RawMesh;
+use crate::common::RawMesh;
 use glam::{Mat4, Vec3};
 use penumbra::{
     CameraMatrices, CasterInstance, CasterMeshDesc, Casters, DirectionalLight, HeadlessGpu, Light,

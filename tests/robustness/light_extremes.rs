@@ -9,7 +9,7 @@
 //! (steps that the exact profile does not have) and for seams (an error that jumps where one
 //! cube face meets the next).
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::metrics::{VisibilityImage, measure_visibility};

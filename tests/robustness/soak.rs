@@ -6,7 +6,7 @@
 //! (`Shadows::allocated_bytes`, `Casters::allocated_bytes`) says the same and matches the
 //! device's.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{
