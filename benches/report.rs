@@ -1438,7 +1438,8 @@ fn commit() -> String {
     };
     match git(&["rev-parse", "--short", "HEAD"]) {
         Some(head) if !head.is_empty() => {
-            let changed = git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
+            let changed =
+                git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
             format!("{head}{}", if changed { " + changes" } else { "" })
         }
         _ => "not known here (no git checkout: name it when the report is committed)".to_string(),

@@ -711,7 +711,12 @@ impl SceneTextures {
 }
 
 /// A material's bind group: its uniform, its base colour texture and sampler.
-fn material_group(device: &wgpu::Device, layouts: &SceneLayouts, m: &crate::scene::Material, tex: &SceneTextures) -> wgpu::BindGroup {
+fn material_group(
+    device: &wgpu::Device,
+    layouts: &SceneLayouts,
+    m: &crate::scene::Material,
+    tex: &SceneTextures,
+) -> wgpu::BindGroup {
     let uniform = MaterialUniform {
         base_color: m.base_color.to_array(),
         alpha: [
@@ -765,11 +770,7 @@ fn add_casters(
                 &gpu.indices,
                 (gpu.index_count, mesh.vertex_count() as u32),
                 mesh.bounds,
-                crate::scene::mesh::outward_winding(
-                    &mesh.positions,
-                    &mesh.indices,
-                    &mesh.smoothed_normals,
-                ),
+                crate::scene::mesh::outward_winding(&mesh.positions, &mesh.indices, &mesh.smoothed_normals),
             )
         })
         .collect();

@@ -165,9 +165,9 @@ pub use scene::{
 };
 pub use screen::VISIBILITY_FORMAT;
 pub use settings::{
-    CascadeSettings, CullMode, DepthFormat, DevicePath, ExecutionSettings, ExitFaces, LightFit, MapResolution,
-    PcfKernel, PcssSettings, PenumbraSettings, Quality, ShadowMapSettings, ShadowMethod, ShadowSettings,
-    SpreadMode, TileClassification, TilePixels, TraditionalSettings,
+    CascadeSettings, CullMode, DepthFormat, DevicePath, ExecutionSettings, ExitFaces, LightFit,
+    MapResolution, PcfKernel, PcssSettings, PenumbraSettings, Quality, ShadowMapSettings, ShadowMethod,
+    ShadowSettings, SpreadMode, TileClassification, TilePixels, TraditionalSettings,
 };
 pub use shadows::{Chain, LightId, LightReport, LightTexture, Shadows, ViewInputs};
 pub use view::{CameraMatrices, DepthConvention};

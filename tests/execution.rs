@@ -22,6 +22,11 @@ use penumbra::{
     DevicePath, ExitFaces, LightTexture, Quality, Scene, ShadowMethod, ShadowSettings, TilePixels, load_scene,
 };
 
+/// The compute pipelines `gpu`'s device holds now (wgpu's counters: made and not yet dropped).
+fn compute_pipelines(gpu: &penumbra::HeadlessGpu) -> isize {
+    gpu.device.get_internal_counters().hal.compute_pipelines.read()
+}
+
 /// The intermediates cleared by render passes' clears and by compute passes: the same frame,
 /// which shows the teapot's shadow, under `ours` and the baseline.
 #[test]
@@ -31,11 +36,22 @@ fn compute_and_render_pass_clears_give_the_same_frame() {
     let camera = scene.view(0).unwrap();
     for method in [ShadowMethod::Ours, ShadowMethod::Traditional] {
         let mut frames = Vec::new();
+        let mut made = Vec::new();
         for clears in [DevicePath::RenderPass, DevicePath::Compute] {
             let mut settings = ShadowSettings::preset(method, Quality::Medium);
             settings.execution.clears = clears;
-            frames.push(common::render(&gpu, &scene, &camera, settings, 320, 256));
+            let before = compute_pipelines(&gpu);
+            let (frame, renderer) = common::render_frame(&gpu, &scene, &camera, settings, (320, 256));
+            made.push(compute_pipelines(&gpu) - before);
+            drop(renderer);
+            frames.push(frame);
         }
+        // The setting reached the intermediates: the compute clears are pipelines of their own.
+        println!("{method:?}: compute pipelines made {made:?} (render-pass clears, compute clears)");
+        assert!(
+            made[1] > made[0],
+            "{method:?}: the compute clears made no pipeline ({made:?})"
+        );
         let differing = frames[0]
             .pixels()
             .zip(frames[1].pixels())
@@ -162,9 +178,11 @@ fn the_distance_in_the_pcf_or_in_its_own_pass_gives_the_same_frames() {
         let scene = load_scene(&common::asset(file)).unwrap();
         let camera = scene.view(0).unwrap();
         let mut runs = Vec::new();
+        let mut made = Vec::new();
         for in_pcf in [true, false] {
             let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
             settings.execution.distance_in_pcf = in_pcf;
+            let before = compute_pipelines(&gpu);
             let mut renderer =
                 penumbra::Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
             let mut gpu_scene =
@@ -183,8 +201,15 @@ fn the_distance_in_the_pcf_or_in_its_own_pass_gives_the_same_frames() {
                     read(LightTexture::Visibility).0,
                 ));
             }
+            made.push(compute_pipelines(&gpu) - before);
             runs.push(frames);
         }
+        // The setting reached the chain: apart, the distance map is a pipeline of its own.
+        println!("{file}: compute pipelines made {made:?} (the distance in the PCF, apart)");
+        assert!(
+            made[1] > made[0],
+            "{file}: the distance map apart made no pipeline ({made:?})"
+        );
         // Both frames show a penumbra: visibility strictly between 0 and 1, and distances above 0.
         for (frame, distance, visibility) in &runs[0] {
             let penumbra = visibility.iter().filter(|v| **v > 0.05 && **v < 0.95).count();
@@ -266,7 +291,11 @@ fn the_light_maps_cleared_by_copy_or_by_their_passes_are_the_same() {
 }
 
 /// The frame and each light's exit map, with the exit faces found `faces`' way.
-fn exit_maps(gpu: &penumbra::HeadlessGpu, scene: &Scene, faces: ExitFaces) -> (image::RgbaImage, Vec<Vec<f32>>) {
+fn exit_maps(
+    gpu: &penumbra::HeadlessGpu,
+    scene: &Scene,
+    faces: ExitFaces,
+) -> (image::RgbaImage, Vec<Vec<f32>>) {
     let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
     settings.shadow_map.exit_faces = faces;
     let camera = scene.view(0).unwrap();

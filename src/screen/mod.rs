@@ -271,7 +271,8 @@ impl ScreenChain {
                 distance.switches() == compute_distance_switches(params)
                     && distance.light_kind() == kind
                     && distance.own_pass() != params.distance_in_pcf
-                    && pcf.distance_switches() == params.distance_in_pcf.then(|| compute_distance_switches(params))
+                    && pcf.distance_switches()
+                        == params.distance_in_pcf.then(|| compute_distance_switches(params))
                     && pcf.switches() == params.pcf_switches
                     && pcf.light_kind() == kind
                     && blur.is_some() == *wanted

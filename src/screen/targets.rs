@@ -184,7 +184,13 @@ impl ComputeTargets {
 
     /// These are a screen of `size`'s, with exactly the parts `needs` names, cleared as
     /// `clears` says on `device`.
-    pub fn fit(&self, device: &wgpu::Device, size: (u32, u32), needs: ComputeNeeds, clears: DevicePath) -> bool {
+    pub fn fit(
+        &self,
+        device: &wgpu::Device,
+        size: (u32, u32),
+        needs: ComputeNeeds,
+        clears: DevicePath,
+    ) -> bool {
         let have = ComputeNeeds {
             blur: self.blurred.is_some(),
             distance_map: self.distance_map.is_some(),

@@ -14,18 +14,16 @@ pub use crate::chain::Chain;
 use crate::chain::{FRAME_SIZE, LightMaps};
 use crate::device::DeviceLoss;
 use crate::error::{PenumbraError, Result};
-use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads, light_kind};
+use crate::frame::{DerivedSpreads, PassParams, derive_spreads, light_kind};
 use crate::gpu_helpers::screen_target;
 use crate::gpu_helpers::{Target, scoped, texture_bytes};
 use crate::light_space::tile_resolution;
-use crate::light_space::{FitInputs, LightView, MAX_TILES};
+use crate::light_space::{LightView, MAX_TILES};
 use crate::map_resolution::PenumbraWidths;
 use crate::passes::FarPlaneFill;
 use crate::scene::{Aabb, Light, MAX_LIGHTS};
 use crate::screen::{ComputeNeeds, ComputeTargets, ScreenChain, ScreenInputs, VISIBILITY_FORMAT};
-use crate::settings::{
-    CascadeSettings, LightFit, MapResolution, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode,
-};
+use crate::settings::{MapResolution, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
 use crate::view::CameraMatrices;
 
 mod inputs;
@@ -35,8 +33,9 @@ mod report;
 
 pub use inputs::ViewInputs;
 use inputs::{Inputs, check_depth, check_mask, check_target, layer_views, visibility_array};
+use light_state::LightState;
+#[cfg(feature = "renderer")]
 pub(crate) use light_state::spreads;
-use light_state::{LightState, Planned, ShadowKey};
 use plan::{FramePlan, plan_light};
 pub use report::{LightId, LightReport, LightTexture};
 

@@ -129,9 +129,24 @@ pub(super) fn plan_light(frame: &FramePlan, slot: usize, state: &mut LightState)
         _ => LightView::fit(&light, &seen.shadow_bounds),
     };
     let map_scale = (1u32 << state.map_level) as f32;
-    let (light_view, spreads) = fit_light(frame, state, (&light, &chain), (&effective, &sm), &seen, &loose, map_scale);
+    let (light_view, spreads) = fit_light(
+        frame,
+        state,
+        (&light, &chain),
+        (&effective, &sm),
+        &seen,
+        &loose,
+        map_scale,
+    );
     // The maps hold the tiles the fit uses (a sun's cascades in use).
-    if LightMaps::allocate(&mut state.maps, frame.device, frame.casters, &sm, &light_view, &chain) {
+    if LightMaps::allocate(
+        &mut state.maps,
+        frame.device,
+        frame.casters,
+        &sm,
+        &light_view,
+        &chain,
+    ) {
         state.key = None;
         state.bound = None;
     }
@@ -214,7 +229,14 @@ fn fit_light(
     map_scale: f32,
 ) -> (LightView, DerivedSpreads) {
     let spreads_of = |view: &LightView| {
-        spreads(effective, light, view, &seen.shadow_bounds, seen.caster_parts, map_scale)
+        spreads(
+            effective,
+            light,
+            view,
+            &seen.shadow_bounds,
+            seen.caster_parts,
+            map_scale,
+        )
     };
     let mut spreads = spreads_of(loose);
     // A sun fitted to the view over a scene far wider or deeper than the view needs

@@ -7,9 +7,9 @@ use glam::{Mat4, Vec3};
 use penumbra::metrics::measure_visibility;
 use penumbra::scene::primitives;
 use penumbra::{
-    Camera, CascadeSettings, CullMode, DepthFormat, DirectionalLight, Light, LightFit, Material, PcfKernel,
-    PcssSettings, PenumbraSettings, Scene, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode,
-    TraditionalSettings, load_scene,
+    Camera, CascadeSettings, CullMode, DepthFormat, DirectionalLight, ExitFaces, Light, LightFit, Material,
+    PcfKernel, PcssSettings, PenumbraSettings, Scene, ShadowMapSettings, ShadowMethod, ShadowSettings,
+    SpreadMode, TraditionalSettings, load_scene,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config as ProptestConfig, TestRunner};
@@ -464,7 +464,7 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
             (0.0f32..60.0).prop_map(|max_distance| LightFit::CameraFrustum { max_distance })
         ],
         (any::<bool>(), 1u32..=4, 0.0f32..=1.0, 0.0f32..=0.5),
-        any::<bool>(),
+        (any::<bool>(), any::<bool>()),
     )
         .prop_map(
             |(
@@ -474,7 +474,7 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                 cull_mode,
                 fit,
                 (snap, count, split, blend),
-                clear_by_copy,
+                (clear_by_copy, exit_faces_by_fragment),
             )| {
                 ShadowMapSettings {
                     resolution,
@@ -492,6 +492,11 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                         ..Default::default()
                     },
                     clear_by_copy,
+                    exit_faces: if exit_faces_by_fragment {
+                        ExitFaces::Fragment
+                    } else {
+                        ExitFaces::Winding
+                    },
                 }
             },
         );
