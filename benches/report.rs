@@ -1377,6 +1377,7 @@ fn write_header(md: &mut String, config: &Config, device: &str, on_gpu: bool) ->
         commit(),
         match config.mode {
             "full" => "cargo bench --bench methods".to_string(),
+            "smoke" => "cargo test --test bench_report".to_string(),
             mode => format!("PENUMBRA_BENCH={mode} cargo bench --bench methods"),
         }
     )?;
