@@ -283,9 +283,9 @@ pub(crate) struct LightMaps {
 impl LightMaps {
     /// GPU memory the maps take, in bytes.
     pub fn allocated_bytes(&self) -> u64 {
-        self.shadow.allocated_bytes()
+        self.shadow.atlas.allocated_bytes()
             + self.fattened.as_ref().map_or(0, |(fattened, exit)| {
-                fattened.allocated_bytes() + exit.allocated_bytes()
+                fattened.allocated_bytes() + exit.atlas.allocated_bytes()
             })
     }
 
@@ -306,7 +306,7 @@ impl LightMaps {
             Some(m) if m.casters == casters.id() => {
                 // Another layout (the cascades in use) or resolution
                 // (`crate::MapResolution::FromPenumbra`): new textures, the same pipelines.
-                if (m.shadow.grid(), m.shadow.tile()) != (grid, tile) {
+                if (m.shadow.atlas.grid, m.shadow.atlas.tile) != (grid, tile) {
                     m.shadow.resize(device, settings, grid, tile);
                     if let Some((fattened, exit)) = &mut m.fattened {
                         fattened.resize(device, settings, grid, tile);
@@ -351,12 +351,12 @@ impl LightMaps {
         layers: u32,
     ) {
         self.shadow.prepare(device, queue, casters, light_view, layers);
-        self.shadow.redraw_only(tiles);
+        self.shadow.atlas.redraw_only(tiles);
         if let Some((fattened, exit)) = &mut self.fattened {
             fattened.prepare(device, queue, casters, light_view, fatten_distance, layers);
-            fattened.redraw_only(tiles);
+            fattened.atlas.redraw_only(tiles);
             exit.prepare(device, queue, casters, light_view, layers);
-            exit.redraw_only(tiles);
+            exit.atlas.redraw_only(tiles);
         }
     }
 
@@ -365,8 +365,8 @@ impl LightMaps {
         let support = self
             .fattened
             .as_ref()
-            .map_or(0, |(fattened, exit)| fattened.fill_bytes().max(exit.fill_bytes()));
-        self.shadow.fill_bytes().max(support)
+            .map_or(0, |(fattened, exit)| fattened.atlas.fill_bytes().max(exit.atlas.fill_bytes()));
+        self.shadow.atlas.fill_bytes().max(support)
     }
 
     /// Draws the maps, calling `mark(encoder, pass)` after each; `fill` sets a whole atlas to

@@ -265,7 +265,7 @@ impl GroundTruth {
             .get_or_insert_with(|| GeometricNormals::new(device, scene.casters().layouts(), self.frame_size));
         normals.prepare(device, frame, size.0, size.1);
         for (pass, (map, _)) in self.passes.iter_mut().zip(&self.maps) {
-            pass.bind(device, frame, prepass.depth(), map.view(), normals.view());
+            pass.bind(device, frame, prepass.depth(), map.atlas.view(), normals.view());
         }
         if self.key.as_ref() != Some(&key) {
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -313,7 +313,7 @@ impl GroundTruth {
                 // The map keeps the largest grid the light can need (square), whatever the
                 // cascades in use: their tiles lie at the same columns and rows in it.
                 let view = LightView {
-                    grid: shadow_map.grid(),
+                    grid: shadow_map.atlas.grid,
                     ..view
                 };
                 let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {

@@ -28,7 +28,7 @@ struct ExitLightUniform {
 
 pub struct ExitMapPass {
     /// The atlas's tiles: half the shadow map's texels a side.
-    atlas: LightMapAtlas,
+    pub(crate) atlas: LightMapAtlas,
     /// Each fragment's side from its geometry: any mesh.
     by_fragment: CasterPipelines,
     /// Depth only, culling the faces turned toward the light: [`Self::cull_front`] where a draw's
@@ -41,15 +41,6 @@ pub struct ExitMapPass {
 }
 
 impl ExitMapPass {
-    /// GPU memory this pass allocated: its textures and buffers, in bytes.
-    pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.atlas.allocated_bytes()
-    }
-
-    /// Bytes a [`FarPlaneFill`] needs to fill this pass's atlas.
-    pub(crate) fn fill_bytes(&self) -> u64 {
-        self.atlas.fill_bytes()
-    }
 
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
     /// resolution.
@@ -127,15 +118,6 @@ impl ExitMapPass {
             .resize(device, settings, grid, support_map_resolution(tile));
     }
 
-    /// The exit depth map.
-    pub fn view(&self) -> &wgpu::TextureView {
-        &self.atlas.map.view
-    }
-
-    pub fn texture(&self) -> &wgpu::Texture {
-        &self.atlas.map.texture
-    }
-
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view.
     pub(crate) fn prepare(
         &mut self,
@@ -160,12 +142,6 @@ impl ExitMapPass {
             self.atlas.uniform.write(queue, i, bytemuck::bytes_of(&uniform));
         }
         self.atlas.prepared(light, 0.0, layers);
-    }
-
-    /// The next [`Self::encode`] redraws only the tiles whose bit is set (see
-    /// [`super::ShadowMapPass::redraw_only`]).
-    pub(crate) fn redraw_only(&mut self, tiles: u32) {
-        self.atlas.uniform.redraw_only(tiles);
     }
 
     /// Records the pass: every caster's back faces ([`Self::prepare`] first).

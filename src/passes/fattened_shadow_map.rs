@@ -34,7 +34,7 @@ struct FattenUniform {
 
 pub struct FattenedShadowMapPass {
     /// The atlas's tiles: half the shadow map's texels a side.
-    atlas: LightMapAtlas,
+    pub(crate) atlas: LightMapAtlas,
     /// World units from the fattened surface back to the caster's own surface, along the light.
     occluder_offset: Target,
     pipelines: CasterPipelines,
@@ -44,11 +44,6 @@ impl FattenedShadowMapPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
         self.atlas.allocated_bytes() + texture_bytes(&self.occluder_offset.texture)
-    }
-
-    /// Bytes a [`FarPlaneFill`] needs to fill this pass's atlas.
-    pub(crate) fn fill_bytes(&self) -> u64 {
-        self.atlas.fill_bytes()
     }
 
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
@@ -135,19 +130,10 @@ impl FattenedShadowMapPass {
         self.occluder_offset = Self::occluder_offset_target(device, &self.atlas);
     }
 
-    /// The fattened depth map.
-    pub fn view(&self) -> &wgpu::TextureView {
-        &self.atlas.map.view
-    }
-
     /// The occluder offset ([`Self::OFFSET_FORMAT`]): how far behind the fattened surface the
     /// true caster lies, texel by texel of the fattened map.
     pub fn occluder_offset(&self) -> &wgpu::TextureView {
         &self.occluder_offset.view
-    }
-
-    pub fn texture(&self) -> &wgpu::Texture {
-        &self.atlas.map.texture
     }
 
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view and
@@ -175,12 +161,6 @@ impl FattenedShadowMapPass {
         }
         // Pushed out, a caster reaches `fatten_distance` past its box.
         self.atlas.prepared(light, fatten_distance, layers);
-    }
-
-    /// The next [`Self::encode`] redraws only the tiles whose bit is set (see
-    /// [`super::ShadowMapPass::redraw_only`]).
-    pub(crate) fn redraw_only(&mut self, tiles: u32) {
-        self.atlas.uniform.redraw_only(tiles);
     }
 
     /// Records the pass: every caster, inflated ([`Self::prepare`] first).

@@ -49,6 +49,23 @@ impl LightMapAtlas {
         }
     }
 
+    /// The depth atlas.
+    pub fn view(&self) -> &wgpu::TextureView {
+        &self.map.view
+    }
+
+    /// The depth atlas's texture.
+    pub fn texture(&self) -> &wgpu::Texture {
+        &self.map.texture
+    }
+
+    /// The next draw redraws only the tiles (cascades, cube faces) whose bit is set; the others
+    /// keep what they hold. [`LightMapAtlas::prepared`] resets it to all (through
+    /// [`CascadeUniforms::cull_to`]).
+    pub fn redraw_only(&mut self, tiles: u32) {
+        self.uniform.redraw_only(tiles);
+    }
+
     /// GPU memory the atlas and its uniforms take, in bytes.
     pub fn allocated_bytes(&self) -> u64 {
         texture_bytes(&self.map.texture) + self.uniform.allocated_bytes()

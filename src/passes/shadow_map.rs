@@ -1,8 +1,8 @@
 //! Shadow map pass: renders the casters' depth from the light.
 //!
 //! Input: the casters ([`crate::Casters`]) and the [`LightView`]. Output: a square depth texture
-//! ([`ShadowMapPass::view`]) of the configured resolution and format, cleared to the far plane;
-//! with cascades an atlas of `grid` x `grid` such tiles, one cascade drawn into each.
+//! (its `atlas`, a [`LightMapAtlas`]) of the configured resolution and format, cleared to the
+//! far plane; with cascades an atlas of `grid` x `grid` such tiles, one cascade drawn into each.
 //! Opaque casters use one position-only pipeline whatever their material; alpha-masked casters
 //! use a second minimal pipeline that reads alpha. Constant and slope-scaled depth bias are
 //! applied by the rasterizer.
@@ -24,21 +24,12 @@ struct LightUniform {
 
 pub struct ShadowMapPass {
     /// The atlas's tiles: the configured resolution a side.
-    atlas: LightMapAtlas,
+    pub(crate) atlas: LightMapAtlas,
     opaque: CasterPipelines,
     masked: CasterPipelines,
 }
 
 impl ShadowMapPass {
-    /// GPU memory this pass allocated: its textures and buffers, in bytes.
-    pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.atlas.allocated_bytes()
-    }
-
-    /// Bytes a [`FarPlaneFill`] needs to fill this pass's atlas.
-    pub(crate) fn fill_bytes(&self) -> u64 {
-        self.atlas.fill_bytes()
-    }
 
     /// Creates the pipelines and the shadow map texture, `grid` x `grid` tiles of the
     /// configured resolution ([`crate::light_space::atlas_grid`]). `settings` must have been
@@ -114,25 +105,6 @@ impl ShadowMapPass {
         self.atlas.resize(device, settings, grid, tile);
     }
 
-    /// How the atlas lays out its tiles.
-    pub fn grid(&self) -> AtlasGrid {
-        self.atlas.grid
-    }
-
-    /// Texels per side of one tile.
-    pub fn tile(&self) -> u32 {
-        self.atlas.tile
-    }
-
-    /// The depth shadow map.
-    pub fn view(&self) -> &wgpu::TextureView {
-        &self.atlas.map.view
-    }
-
-    pub fn texture(&self) -> &wgpu::Texture {
-        &self.atlas.map.texture
-    }
-
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view.
     pub(crate) fn prepare(
         &mut self,
@@ -156,12 +128,6 @@ impl ShadowMapPass {
             );
         }
         self.atlas.prepared(light, 0.0, layers);
-    }
-
-    /// The next [`Self::encode`] redraws only the tiles (cascades, cube faces) whose bit is
-    /// set; the others keep what they hold. [`Self::prepare`] resets it to all.
-    pub(crate) fn redraw_only(&mut self, tiles: u32) {
-        self.atlas.uniform.redraw_only(tiles);
     }
 
     /// Records the pass: clears the map (or the tiles to redraw) and draws every caster

@@ -370,7 +370,7 @@ impl ScreenChain {
             compute,
             layer,
         } = *inputs;
-        let shadow_map = maps.shadow.view();
+        let shadow_map = maps.shadow.atlas.view();
         match self {
             ScreenChain::MapOnly => {}
             ScreenChain::OursCompute {
@@ -685,12 +685,12 @@ fn compute_distance_switches(params: &PassParams) -> DistanceSwitches {
 /// The maps of `maps` the distance map reads (none without a fattened map).
 fn distance_maps(maps: &LightMaps) -> Option<DistanceMaps<'_>> {
     let (fattened, exit) = maps.fattened.as_ref()?;
-    let texture = fattened.texture();
+    let texture = fattened.atlas.texture();
     Some(DistanceMaps {
-        shadow_map: maps.shadow.view(),
-        fattened_map: fattened.view(),
+        shadow_map: maps.shadow.atlas.view(),
+        fattened_map: fattened.atlas.view(),
         fattened_size: (texture.width(), texture.height()),
         occluder_offset: fattened.occluder_offset(),
-        exit_map: exit.view(),
+        exit_map: exit.atlas.view(),
     })
 }

@@ -739,9 +739,9 @@ impl Shadows {
         let s = self.state(id).ok()?;
         let fattened = s.maps.as_ref().and_then(|m| m.fattened.as_ref());
         match which {
-            LightTexture::ShadowMap => s.maps.as_ref().map(|m| m.shadow.texture()),
-            LightTexture::FattenedMap => fattened.map(|(f, _)| f.texture()),
-            LightTexture::ExitMap => fattened.map(|(_, e)| e.texture()),
+            LightTexture::ShadowMap => s.maps.as_ref().map(|m| m.shadow.atlas.texture()),
+            LightTexture::FattenedMap => fattened.map(|(f, _)| f.atlas.texture()),
+            LightTexture::ExitMap => fattened.map(|(_, e)| e.atlas.texture()),
             LightTexture::DistanceMap => s.screen.distance_texture(),
             LightTexture::TileClasses => s.screen.tile_classes_texture(),
             LightTexture::Visibility => s.screen.raw_visibility(),
