@@ -362,10 +362,9 @@ impl LightMaps {
 
     /// Bytes a [`FarPlaneFill`] needs to fill the largest of these maps.
     pub fn fill_bytes(&self) -> u64 {
-        let support = self
-            .fattened
-            .as_ref()
-            .map_or(0, |(fattened, exit)| fattened.atlas.fill_bytes().max(exit.atlas.fill_bytes()));
+        let support = self.fattened.as_ref().map_or(0, |(fattened, exit)| {
+            fattened.atlas.fill_bytes().max(exit.atlas.fill_bytes())
+        });
         self.shadow.atlas.fill_bytes().max(support)
     }
 

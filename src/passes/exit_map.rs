@@ -41,7 +41,6 @@ pub struct ExitMapPass {
 }
 
 impl ExitMapPass {
-
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
     /// resolution.
     pub fn new(

@@ -30,7 +30,6 @@ pub struct ShadowMapPass {
 }
 
 impl ShadowMapPass {
-
     /// Creates the pipelines and the shadow map texture, `grid` x `grid` tiles of the
     /// configured resolution ([`crate::light_space::atlas_grid`]). `settings` must have been
     /// validated.
