@@ -19,6 +19,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use penumbra::metrics::{self, VisibilityImage};
+use penumbra::timing::PassStage;
 use penumbra::{GpuScene, HeadlessGpu, Light, Quality, Renderer, ShadowMethod, ShadowSettings};
 
 /// What to measure.
@@ -130,6 +131,9 @@ pub struct Run {
     pub wall_ms: f64,
     pub fps: f64,
     pub pass_ms: BTreeMap<String, f64>,
+    /// The method's own cost: its light-space and screen-space passes, without the camera's
+    /// depth prepass and the lit pass (composite or forward), which every method shares.
+    pub own_ms: f64,
     pub mask_saved_share: Option<f32>,
     pub rmse: Option<f32>,
     pub penumbra_rmse: Option<f32>,
@@ -350,6 +354,10 @@ struct Timing {
     /// Submit to completion, measured with the CPU clock.
     wall_ms: f64,
     pass_ms: BTreeMap<String, f64>,
+    /// The screen-space passes' time (the lights' chains after their maps).
+    screen_ms: f64,
+    /// The light-space and screen-space passes' time (the method's own cost).
+    own_ms: f64,
     mask_saved_share: Option<f32>,
     tile_share: Option<f32>,
     /// The tiles listed apart as turned away from the light.
@@ -409,6 +417,8 @@ fn time_frames(
             .into_iter()
             .map(|(k, v)| (k.to_string(), v))
             .collect(),
+        screen_ms: timed.stage_ms(&[PassStage::ScreenSpace]),
+        own_ms: timed.stage_ms(&[PassStage::LightSpace, PassStage::ScreenSpace]),
         mask_saved_share,
         tile_share,
         facing_away_share,
@@ -470,6 +480,7 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
                             wall_ms: t.wall_ms,
                             fps: 1e3 / t.frame_ms,
                             pass_ms: t.pass_ms,
+                            own_ms: t.own_ms,
                             mask_saved_share: t.mask_saved_share,
                             rmse: Some(error.rmse),
                             penumbra_rmse: Some(error.penumbra_rmse),
@@ -505,7 +516,7 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
         .collect();
     // Per light size (its bits) and method: summed frame and pass times, the mask's savings,
     // how many timings were summed and the summed wall-clock times.
-    type Sums = (f64, BTreeMap<String, f64>, Option<f32>, u32, f64);
+    type Sums = (f64, BTreeMap<String, f64>, Option<f32>, u32, f64, f64);
     let mut sums: BTreeMap<(u32, &'static str), Sums> = BTreeMap::new();
     for &degrees in &order {
         let mut scene = teapot.clone();
@@ -521,9 +532,11 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
                 t.mask_saved_share,
                 0,
                 0.0,
+                0.0,
             ));
             e.0 += t.frame_ms;
             e.4 += t.wall_ms;
+            e.5 += t.own_ms;
             for (pass, ms) in t.pass_ms {
                 *e.1.entry(pass).or_insert(0.0) += ms;
             }
@@ -532,7 +545,7 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
     }
     for &degrees in &config.light_sizes {
         for method in [ShadowMethod::Ours, ShadowMethod::Pcss] {
-            let (total, passes, mask_saved_share, n, wall) = &sums[&(degrees.to_bits(), method.name())];
+            let (total, passes, mask_saved_share, n, wall, own) = &sums[&(degrees.to_bits(), method.name())];
             let n = *n as f64;
             runs.push(Run {
                 scene: "teapot".into(),
@@ -546,6 +559,7 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
                 wall_ms: wall / n,
                 fps: n * 1e3 / total,
                 pass_ms: passes.iter().map(|(k, v)| (k.clone(), v / n)).collect(),
+                own_ms: own / n,
                 mask_saved_share: *mask_saved_share,
                 rmse: None,
                 penumbra_rmse: None,
@@ -903,10 +917,7 @@ fn measure_tiles(
         far.eye = camera.target + (camera.eye - camera.target) * distance;
         far.far = camera.far * distance;
         let t = time_frames(gpu, scene, &far, settings, size, &sweep_config)?;
-        let screen_space_ms: f64 = ["distance map", "pcf", "blur"]
-            .iter()
-            .map(|p| t.pass_ms.get(*p).copied().unwrap_or(0.0))
-            .sum();
+        let screen_space_ms = t.screen_ms;
         let tile_share = t.tile_share.unwrap_or(1.0);
         println!(
             "tiles: camera at {distance}x: {:.1}% of tiles kept, screen-space passes {screen_space_ms:.2} ms",
@@ -938,10 +949,7 @@ fn measure_compute(
             let mut settings = ShadowSettings::preset(method, Quality::Medium);
             settings.penumbra.fragment_passes = !compute;
             let t = time_frames(gpu, scene, camera, settings, size, config)?;
-            let screen: f64 = ["distance map", "pcf", "blur", "pcss", "resolve"]
-                .iter()
-                .map(|p| t.pass_ms.get(*p).copied().unwrap_or(0.0))
-                .sum();
+            let screen = t.screen_ms;
             let sum = &mut sums[usize::from(compute)];
             sum.0 += screen / 2.0;
             sum.1 += t.frame_ms / 2.0;
@@ -1053,10 +1061,7 @@ fn measure_facing(
         let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
         settings.penumbra.skip_tiles_facing_away = skip;
         let t = time_frames(gpu, scene, camera, settings, size, config)?;
-        let screen: f64 = ["distance map", "pcf", "blur"]
-            .iter()
-            .filter_map(|p| t.pass_ms.get(*p))
-            .sum();
+        let screen = t.screen_ms;
         let sum = &mut sums[usize::from(skip)];
         sum.0 = t.tile_share.unwrap_or(1.0);
         sum.1 = t.facing_away_share.unwrap_or(0.0);
@@ -1304,14 +1309,10 @@ const PCSS_RMSE_TARGET: f32 = 0.8;
 const OWN_COST_TARGET: f64 = 0.6;
 const HARD_FRAME_TARGET: f64 = 1.5;
 
-/// A method's own cost: its passes' times but the camera's depth prepass and the lit pass
-/// (composite or forward), which every method shares.
+/// A method's own cost: its light-space and screen-space passes' times (without the camera's
+/// depth prepass and the lit pass, composite or forward, which every method shares).
 fn own_cost(run: &Run) -> f64 {
-    run.pass_ms
-        .iter()
-        .filter(|(pass, _)| !matches!(pass.as_str(), "depth prepass" | "composite" | "forward"))
-        .map(|(_, ms)| ms)
-        .sum()
+    run.own_ms
 }
 
 fn verdict(met: bool) -> &'static str {

@@ -231,43 +231,6 @@ impl Chain {
     pub fn light_maps(&self) -> u32 {
         if self.fattened_map() { 3 } else { 1 }
     }
-
-    /// The names of the passes, in the order they run.
-    pub fn names(&self) -> Vec<&'static str> {
-        let mut names = vec!["shadow map"];
-        names.extend(match self {
-            Chain::Ours { blur, .. } => vec![
-                "fattened shadow map",
-                "exit map",
-                "distance map",
-                "pcf",
-                if *blur { "blur" } else { "resolve" },
-            ],
-            // The compute path's blur writes the layer.
-            Chain::Traditional {
-                blur: true,
-                compute: true,
-            } => vec!["pcf", "blur"],
-            Chain::Traditional { blur: true, .. } => vec!["pcf", "blur", "resolve"],
-            Chain::Traditional { blur: false, .. } => vec!["pcf", "resolve"],
-            Chain::Hard { resolve, .. } => {
-                if *resolve {
-                    vec!["pcf", "resolve"]
-                } else {
-                    vec!["pcf"]
-                }
-            }
-            Chain::Pcss { resolve, .. } => {
-                if *resolve {
-                    vec!["pcss", "resolve"]
-                } else {
-                    vec!["pcss"]
-                }
-            }
-            Chain::MapOnly { .. } => vec![],
-        });
-        names
-    }
 }
 
 /// A light's maps drawn from the light: the shadow map, and for the distance-map method the

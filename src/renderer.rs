@@ -17,6 +17,7 @@ use crate::passes::{CompositePass, DepthPrepass, ForwardPass};
 use crate::scene::{Camera, Light};
 use crate::settings::{ShadowMethod, ShadowSettings};
 use crate::shadows::{Chain, LightId, LightReport, LightTexture, Shadows, ViewInputs};
+use crate::timing::PassStage;
 use crate::view::CameraMatrices;
 
 /// Which passes a frame of the [`Renderer`] runs: the key light's [`Chain`] (each further
@@ -95,24 +96,6 @@ impl PassPlan {
         !self.reference
     }
 
-    /// The names of the passes, in the order they run.
-    pub fn names(&self) -> Vec<&'static str> {
-        let mut names = Vec::new();
-        if self.depth_prepass {
-            names.push("depth prepass");
-        }
-        if self.shadow_map() {
-            names.extend(self.chain.names());
-        }
-        if self.composite {
-            names.push("composite");
-        }
-        if self.forward {
-            names.push("forward");
-        }
-        names
-    }
-
     /// How many times the frame draws the scene's geometry: the light-space maps (when they
     /// are re-rendered), the prepass, the composite or the forward pass.
     pub fn geometry_passes(&self, shadow_maps_rendered: bool) -> u32 {
@@ -126,10 +109,12 @@ impl PassPlan {
 }
 
 /// What a frame of the [`Renderer`] did.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct FrameReport {
-    /// The passes it ran.
+    /// The passes it planned.
     pub plan: PassPlan,
+    /// The names of the passes it recorded, in order (a light's passes once per light).
+    pub passes: Vec<&'static str>,
     /// What the key light did. For the reference, which draws its own maps, its chain is
     /// [`Chain::MapOnly`], nothing is reported rendered, and the light's view and spreads are
     /// those of a fit to the scene's bounds.
@@ -432,6 +417,7 @@ impl Renderer {
                 let mut frame = std::collections::BTreeMap::<&'static str, f64>::new();
                 for p in times {
                     *frame.entry(p.pass).or_default() += p.milliseconds;
+                    timed.stages.insert(p.pass, p.stage);
                 }
                 for (pass, ms) in frame {
                     timed.passes.entry(pass).or_default().push(ms);
@@ -670,9 +656,11 @@ impl Renderer {
         if let Some(t) = &mut timer {
             t.begin(encoder);
         }
-        let mut mark = |encoder: &mut wgpu::CommandEncoder, label: &'static str| {
+        let mut passes = Vec::new();
+        let mut mark = |encoder: &mut wgpu::CommandEncoder, label: &'static str, stage: PassStage| {
+            passes.push(label);
             if let Some(t) = &mut timer {
-                t.mark(encoder, label);
+                t.mark(encoder, label, stage);
             }
         };
         let result = self.encode_frame(&device, queue, encoder, scene, &matrices, target, plan, &mut mark);
@@ -705,8 +693,8 @@ impl Renderer {
                 unheld_caster: None,
             },
         };
-        let report = FrameReport { plan, light };
-        self.last_report = Some(report);
+        let report = FrameReport { plan, passes, light };
+        self.last_report = Some(report.clone());
         Ok(Some(report))
     }
 
@@ -722,7 +710,7 @@ impl Renderer {
         camera: &CameraMatrices,
         target: &wgpu::TextureView,
         plan: PassPlan,
-        mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str),
+        mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str, PassStage),
     ) -> Result<(bool, DerivedSpreads, LightView)> {
         let casters = scene.casters();
         // Decide the light's frame first (CPU and uniform writes only), so the camera's uniform
@@ -757,7 +745,7 @@ impl Renderer {
             encoder.push_debug_group("depth prepass");
             prepass.encode(encoder, scene);
             encoder.pop_debug_group();
-            mark(encoder, "depth prepass");
+            mark(encoder, "depth prepass", PassStage::Scene);
         }
         let mut maps_rendered = false;
         if plan.shadow_map() {
@@ -800,7 +788,7 @@ impl Renderer {
                 encoder.push_debug_group("composite");
                 composite.encode(encoder, scene, camera.eye(), prepass.depth(), target);
                 encoder.pop_debug_group();
-                mark(encoder, "composite");
+                mark(encoder, "composite", PassStage::Scene);
             }
         }
         if plan.forward
@@ -836,7 +824,7 @@ impl Renderer {
                     target,
                 );
                 encoder.pop_debug_group();
-                mark(encoder, "forward");
+                mark(encoder, "forward", PassStage::Scene);
             }
         }
         Ok(result)

@@ -21,6 +21,8 @@ pub struct TimedFrames {
     pub pass_sum_ms: Vec<f64>,
     /// Each pass's times (ms), by name: per frame, the sum over the lights that ran it.
     pub passes: std::collections::BTreeMap<&'static str, Vec<f64>>,
+    /// Each pass's stage, by name.
+    pub stages: std::collections::BTreeMap<&'static str, PassStage>,
 }
 
 impl TimedFrames {
@@ -35,14 +37,37 @@ impl TimedFrames {
     pub fn pass_medians(&self) -> std::collections::BTreeMap<&'static str, f64> {
         self.passes.iter().map(|(k, v)| (*k, Self::median(v))).collect()
     }
+
+    /// The sum of the medians of the passes of `stages` (ms).
+    pub fn stage_ms(&self, stages: &[PassStage]) -> f64 {
+        self.pass_medians()
+            .iter()
+            .filter(|(pass, _)| self.stages.get(*pass).is_some_and(|s| stages.contains(s)))
+            .map(|(_, ms)| ms)
+            .sum()
+    }
+}
+
+/// Where a pass works: what a frame's passes are grouped by when they are timed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum PassStage {
+    /// Drawn from a light: its shadow map and the maps beside it.
+    LightSpace,
+    /// Over the screen: a light's screen-space chain (distance map, PCF, blur, PCSS, resolve).
+    ScreenSpace,
+    /// The convenience renderer's own passes over the scene (depth prepass, composite,
+    /// forward), which every method shares.
+    Scene,
 }
 
 /// One pass's GPU time.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PassTime {
-    /// The pass's name, e.g. `depth prepass` or `composite` (the names a frame report's pass
-    /// plan lists).
+    /// The pass's name, e.g. `depth prepass` or `composite` (the names a frame report's
+    /// `passes` lists).
     pub pass: &'static str,
+    /// Where it works.
+    pub stage: PassStage,
     /// Time from the end of the previous pass (or the frame's start) to the end of this one.
     pub milliseconds: f64,
 }
@@ -71,10 +96,10 @@ impl Timer {
         }
     }
 
-    pub(crate) fn mark(&mut self, encoder: &mut wgpu::CommandEncoder, label: &'static str) {
+    pub(crate) fn mark(&mut self, encoder: &mut wgpu::CommandEncoder, label: &'static str, stage: PassStage) {
         match self {
-            Timer::Gpu(t) => t.mark(encoder, label),
-            Timer::WallClock(t) => t.mark(encoder, label),
+            Timer::Gpu(t) => t.mark(encoder, label, stage),
+            Timer::WallClock(t) => t.mark(encoder, label, stage),
         }
     }
 
@@ -134,11 +159,12 @@ impl WallClockTimer {
         self.last = std::time::Instant::now();
     }
 
-    fn mark(&mut self, encoder: &mut wgpu::CommandEncoder, label: &'static str) {
+    fn mark(&mut self, encoder: &mut wgpu::CommandEncoder, label: &'static str, stage: PassStage) {
         self.flush(encoder);
         let now = std::time::Instant::now();
         self.times.push(PassTime {
             pass: label,
+            stage,
             milliseconds: (now - self.last).as_secs_f64() * 1e3,
         });
         self.last = now;
@@ -152,7 +178,7 @@ pub struct GpuTimer {
     queries: wgpu::QuerySet,
     resolve: wgpu::Buffer,
     readback: wgpu::Buffer,
-    labels: Vec<&'static str>,
+    labels: Vec<(&'static str, PassStage)>,
     period_ns: f64,
     resolved: usize,
 }
@@ -193,15 +219,15 @@ impl GpuTimer {
     pub(crate) fn begin(&mut self, encoder: &mut wgpu::CommandEncoder) {
         self.labels.clear();
         encoder.write_timestamp(&self.queries, 0);
-        self.labels.push("start");
+        self.labels.push(("start", PassStage::Scene));
     }
 
     /// Marks the end of the pass `label`.
-    pub(crate) fn mark(&mut self, encoder: &mut wgpu::CommandEncoder, label: &'static str) {
+    pub(crate) fn mark(&mut self, encoder: &mut wgpu::CommandEncoder, label: &'static str, stage: PassStage) {
         let index = self.labels.len() as u32;
         if index < CAPACITY {
             encoder.write_timestamp(&self.queries, index);
-            self.labels.push(label);
+            self.labels.push((label, stage));
         }
     }
 
@@ -250,8 +276,9 @@ impl GpuTimer {
         Ok(self.labels[1..self.resolved]
             .iter()
             .zip(ticks.windows(2))
-            .map(|(pass, w)| PassTime {
+            .map(|(&(pass, stage), w)| PassTime {
                 pass,
+                stage,
                 milliseconds: w[1].saturating_sub(w[0]) as f64 * self.period_ns * 1e-6,
             })
             .collect())

@@ -198,16 +198,22 @@ fn the_circle_finder_finds_a_circle() {
     assert_eq!(exports.get("MAX_LIGHTS").map(String::as_str), Some("shadows"));
 }
 
-/// The screen-space stages live in `src/screen/`, one module each, declared in its `mod.rs`
-/// beside `ScreenChain`, which wires them: a file of the folder that no `mod` line names would
-/// be left out of the build without a word, and a stage no chain names would never run.
+/// The screen-space stages live in `src/screen/`, one module each, declared in its `mod.rs`,
+/// and each method's chain in `src/screen/chains/`, which makes and wires them: a file of the
+/// folder that no `mod` line names would be left out of the build without a word, and a stage
+/// no chain makes would never run.
 #[test]
-fn every_screen_stage_is_declared_and_wired_beside_the_chain() {
+fn every_screen_stage_is_declared_and_made_by_a_chain() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/screen");
-    let chain = std::fs::read_to_string(dir.join("mod.rs")).expect("src/screen/mod.rs");
+    let front = std::fs::read_to_string(dir.join("mod.rs")).expect("src/screen/mod.rs");
+    let mut chains = String::new();
+    for entry in std::fs::read_dir(dir.join("chains")).expect("src/screen/chains") {
+        let path = entry.expect("directory entry").path();
+        chains += &std::fs::read_to_string(&path).unwrap();
+    }
     assert!(
-        chain.contains("pub(crate) enum ScreenChain"),
-        "ScreenChain is not in src/screen/mod.rs"
+        chains.contains("pub(crate) struct ScreenChain"),
+        "ScreenChain is not in src/screen/chains/"
     );
     let mut stages = Vec::new();
     for entry in std::fs::read_dir(&dir).expect("src/screen") {
@@ -221,7 +227,7 @@ fn every_screen_stage_is_declared_and_wired_beside_the_chain() {
             continue;
         }
         assert!(
-            chain.lines().any(|l| l.trim() == format!("mod {stem};")),
+            front.lines().any(|l| l.trim() == format!("mod {stem};")),
             "{} is not declared in src/screen/mod.rs",
             path.display()
         );
@@ -235,8 +241,44 @@ fn every_screen_stage_is_declared_and_wired_beside_the_chain() {
     assert!(stages.len() >= 6, "too few stages found: {stages:?}");
     for stage in &stages {
         assert!(
-            chain.contains(&format!("{stage}::new(")),
-            "{stage} is a ScreenStage, and ScreenChain::new makes none"
+            chains.contains(&format!("{stage}::new(")),
+            "{stage} is a ScreenStage, and no chain of src/screen/chains/ makes one"
         );
+    }
+}
+
+/// A new screen-space stage is four files (`docs/code.md`): its shader, its module, the `mod`
+/// line in `src/screen/mod.rs` and the chain that runs it. Two real stages, the
+/// variable-spacing PCF's draw and PCSS, are named in the code (comments aside) of no other file
+/// of `src/`: nothing else has to know them.
+#[test]
+fn a_screen_stage_is_named_in_its_module_the_front_and_its_chain_only() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let src = root.join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    for (stage, shader, chain) in [
+        ("VariablePcfPass", "variable_pcf", "ours"),
+        ("PcssPass", "pcss", "single_pass"),
+    ] {
+        let mut naming: Vec<String> = files
+            .iter()
+            .filter(|f| {
+                let text = std::fs::read_to_string(f).unwrap();
+                text.lines()
+                    .map(|l| l.split("//").next().unwrap_or_default())
+                    .any(|code| code.contains(stage))
+            })
+            .map(|f| f.strip_prefix(&src).unwrap().display().to_string())
+            .collect();
+        naming.sort();
+        let mut expected = vec![
+            format!("screen/chains/{chain}.rs"),
+            "screen/mod.rs".to_string(),
+            format!("screen/{shader}.rs"),
+        ];
+        expected.sort();
+        assert_eq!(naming, expected, "the files of src/ whose code names {stage}");
+        assert!(root.join(format!("shaders/{shader}.wgsl")).exists());
     }
 }

@@ -27,6 +27,7 @@ fn the_bench_writes_its_report() {
         "frame_ms",
         "fps",
         "pass_ms",
+        "own_ms",
         "rmse",
         "penumbra_rmse",
     ] {
@@ -37,6 +38,22 @@ fn the_bench_writes_its_report() {
             .iter()
             .all(|e| e["frame_ms"].as_f64().is_some_and(|t| t > 0.0))
     );
+    // A method's own cost is its light-space and screen-space passes: more than nothing (every
+    // method draws a shadow map), less than all its passes (the depth prepass and the lit pass
+    // are not its own).
+    for e in entries {
+        let own = e["own_ms"].as_f64().unwrap();
+        let all: f64 = e["pass_ms"]
+            .as_object()
+            .unwrap()
+            .values()
+            .map(|v| v.as_f64().unwrap())
+            .sum();
+        assert!(
+            own > 0.0 && own < all,
+            "own cost {own} ms of {all} ms of passes: {e}"
+        );
+    }
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     for needle in [
         "Table 1: teapot",

@@ -1158,7 +1158,7 @@ fn moving_a_gpu_scene_instance_re_renders_the_maps_and_moves_the_shadow() {
     let frame =
         |renderer: &mut penumbra::Renderer, gpu_scene: &penumbra::GpuScene, camera: &penumbra::Camera| {
             let image = penumbra::render_to_image(&gpu, renderer, gpu_scene, camera, 160, 120).unwrap();
-            (image, *renderer.last_report().unwrap())
+            (image, renderer.last_report().unwrap().clone())
         };
     let (before, first) = frame(&mut renderer, &gpu_scene, &camera);
     assert!(first.light.shadow_maps_rendered);

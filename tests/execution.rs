@@ -371,7 +371,7 @@ fn layers(
         .unwrap_or_else(|| panic!("{method:?}: no visibility composited"));
     assert_eq!(visibility.format(), wgpu::TextureFormat::R16Float);
     let texels = penumbra::read_texture_bytes(&gpu.device, &gpu.queue, visibility).unwrap();
-    (texels, renderer.last_report().unwrap().plan.names(), image)
+    (texels, renderer.last_report().unwrap().passes.clone(), image)
 }
 
 /// Where the device can store half floats, the compute passes that finish a light's visibility

@@ -3,6 +3,7 @@
 
 mod common;
 
+use penumbra::timing::PassStage;
 use penumbra::{GpuScene, Renderer, ShadowMethod, ShadowSettings, load_scene};
 
 #[test]
@@ -31,9 +32,19 @@ fn both_timers_time_every_pass_the_frame_ran() {
         let names: Vec<&str> = times.iter().map(|t| t.pass).collect();
         assert_eq!(
             names,
-            renderer.last_report().unwrap().plan.names(),
+            renderer.last_report().unwrap().passes,
             "wall clock: {wall_clock}"
         );
+        // Each pass is timed with its stage: the maps from the light, the chain over the
+        // screen, the renderer's own passes over the scene.
+        for t in &times {
+            let expected = match t.pass {
+                "shadow map" | "fattened shadow map" | "exit map" => PassStage::LightSpace,
+                "depth prepass" | "composite" | "forward" => PassStage::Scene,
+                _ => PassStage::ScreenSpace,
+            };
+            assert_eq!(t.stage, expected, "{}", t.pass);
+        }
         assert!(
             times
                 .iter()

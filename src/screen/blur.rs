@@ -224,11 +224,6 @@ impl BlurPass {
         self.output.as_ref().map(|o| &o.texture)
     }
 
-    /// The switches the pipeline was made with.
-    pub(crate) fn switches(&self) -> BlurSwitches {
-        self.switches
-    }
-
     /// Records both directions ([`Self::prepare`] and [`Self::bind`] first). After the
     /// distance-map pass, `classification` is the light's distance-map depth, which both draws
     /// test, and `layer` the light's output layer, which the vertical draw writes.
@@ -442,15 +437,6 @@ impl BlurCompute {
             axis_groups,
             bind_groups: None,
         }
-    }
-
-    pub(crate) fn switches(&self) -> BlurSwitches {
-        self.switches
-    }
-
-    /// Whether the vertical axis can write the light's layer itself.
-    pub(crate) fn writes_layers(&self) -> bool {
-        self.into_layer.is_some()
     }
 
     /// Points the pass at its inputs: `pcf` the variable PCF's visibility and deviations,

@@ -39,7 +39,6 @@ use super::{
 
 pub struct DistanceMapPass {
     switches: DistanceSwitches,
-    light_kind: u32,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     /// The second draw: beside a shadow, the distance to the nearest caster (when switched on).
@@ -129,7 +128,6 @@ impl DistanceMapPass {
         });
         let mut pass = Self {
             switches,
-            light_kind,
             layout,
             pipeline,
             nearest_caster,
@@ -174,16 +172,6 @@ impl DistanceMapPass {
             &self.layout,
             &maps.inputs(frame, (camera_depth, receiver_mask)),
         ));
-    }
-
-    /// The light kind the pass was made for.
-    pub(crate) fn light_kind(&self) -> u32 {
-        self.light_kind
-    }
-
-    /// The switches the pass was made with (see [`Self::new`]).
-    pub(crate) fn switches(&self) -> DistanceSwitches {
-        self.switches
     }
 
     /// Distance (R) and mask (G).
@@ -309,7 +297,6 @@ impl<'a> DistanceMaps<'a> {
 /// ([`crate::screen::ComputeTargets`]).
 pub(crate) struct DistanceMapCompute {
     switches: DistanceSwitches,
-    light_kind: u32,
     layout: wgpu::BindGroupLayout,
     /// None where the variable PCF takes the distance itself.
     pipeline: Option<wgpu::ComputePipeline>,
@@ -358,7 +345,6 @@ impl DistanceMapCompute {
         });
         Self {
             switches,
-            light_kind,
             layout,
             pipeline,
             bind_group: None,
@@ -406,10 +392,6 @@ impl DistanceMapCompute {
         self.tiles.clears()
     }
 
-    pub(crate) fn light_kind(&self) -> u32 {
-        self.light_kind
-    }
-
     pub(crate) fn switches(&self) -> DistanceSwitches {
         self.switches
     }
@@ -423,11 +405,6 @@ impl DistanceMapCompute {
     /// bound).
     pub(crate) fn away(&self) -> Option<super::TileList<'_>> {
         self.tiles.away()
-    }
-
-    /// Whether the pass takes the distance itself (else it only lists the tiles).
-    pub(crate) fn own_pass(&self) -> bool {
-        self.pipeline.is_some()
     }
 
     /// Records the tile list and the distance map over it (`maps_drawn`: the light's maps

@@ -7,15 +7,13 @@
 //! method takes its distance-driven taps in [`super::DistanceMapPass`], with the same tap code
 //! (`shaders/common/pcf_taps.wgsl`).
 
-use super::ScreenStage;
 use super::{LIGHT_KIND, ScreenPipeline, entry};
+use super::{ScreenStage, VisibilityPass};
 use crate::frame::PassParams;
 use crate::frame::{PcfSwitches, PcfUniform};
 use crate::gpu_helpers::Target;
 
 pub struct PcfPass {
-    switches: PcfSwitches,
-    light_kind: u32,
     layout: wgpu::BindGroupLayout,
     pipeline: ScreenPipeline,
     params: wgpu::Buffer,
@@ -56,8 +54,6 @@ impl PcfPass {
         let params =
             crate::gpu_helpers::uniform_buffer(device, "PcfPass::params", size_of::<PcfUniform>() as u64);
         Self {
-            switches,
-            light_kind,
             layout,
             pipeline,
             params,
@@ -69,9 +65,12 @@ impl PcfPass {
             bind_group: None,
         }
     }
+}
 
-    /// Points the pass at its inputs; a compute pass writes `shared` (the screen's size).
-    pub fn bind(
+impl VisibilityPass for PcfPass {
+    const NAME: &'static str = "pcf";
+
+    fn bind(
         &mut self,
         device: &wgpu::Device,
         frame: &wgpu::Buffer,
@@ -90,36 +89,19 @@ impl PcfPass {
         );
     }
 
-    /// A compute pass.
-    pub(crate) fn is_compute(&self) -> bool {
-        self.pipeline.is_compute()
-    }
-
-    /// The compute pass writes the light's layer itself ([`ScreenPipeline::writes_layers`]).
-    pub(crate) fn writes_layers(&self) -> bool {
+    fn writes_layers(&self) -> bool {
         self.pipeline.writes_layers()
     }
 
-    /// The switches the pipeline was made with.
-    pub(crate) fn switches(&self) -> PcfSwitches {
-        self.switches
-    }
-
-    /// The light kind the pipeline was made for ([`crate::frame::light_kind`]).
-    pub(crate) fn light_kind(&self) -> u32 {
-        self.light_kind
-    }
-
-    /// The raw PCF visibility (once bound, for a compute pass).
-    pub fn visibility(&self) -> Option<&wgpu::TextureView> {
+    fn visibility(&self) -> Option<&wgpu::TextureView> {
         self.pipeline.output().map(|o| &o.view)
     }
 
-    pub fn visibility_texture(&self) -> Option<&wgpu::Texture> {
+    fn visibility_texture(&self) -> Option<&wgpu::Texture> {
         self.pipeline.output().map(|o| &o.texture)
     }
 
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
         if let Some(group) = &self.bind_group {
             self.pipeline.encode(encoder, "PcfPass", group);
         }

@@ -4,14 +4,13 @@
 //! Input: the frame uniform, the camera depth and the shadow map. Output: an R16F visibility
 //! texture, or on the compute path an R32F one the lights share ([`super::ScreenPipeline`]). Blocker and PCF tap counts come from [`crate::PcssSettings`].
 
-use super::ScreenStage;
 use super::{LIGHT_KIND, ScreenPipeline, entry};
+use super::{ScreenStage, VisibilityPass};
 use crate::frame::PassParams;
 use crate::frame::PcssUniform;
 use crate::gpu_helpers::Target;
 
 pub struct PcssPass {
-    light_kind: u32,
     layout: wgpu::BindGroupLayout,
     pipeline: ScreenPipeline,
     params: wgpu::Buffer,
@@ -53,7 +52,6 @@ impl PcssPass {
         let params =
             crate::gpu_helpers::uniform_buffer(device, "PcssPass::params", size_of::<PcssUniform>() as u64);
         Self {
-            light_kind,
             layout,
             pipeline,
             params,
@@ -65,14 +63,12 @@ impl PcssPass {
             bind_group: None,
         }
     }
+}
 
-    /// The light kind the pipeline was made for.
-    pub(crate) fn light_kind(&self) -> u32 {
-        self.light_kind
-    }
+impl VisibilityPass for PcssPass {
+    const NAME: &'static str = "pcss";
 
-    /// Points the pass at its inputs; a compute pass writes `shared` (the screen's size).
-    pub fn bind(
+    fn bind(
         &mut self,
         device: &wgpu::Device,
         frame: &wgpu::Buffer,
@@ -98,26 +94,19 @@ impl PcssPass {
         );
     }
 
-    /// A compute pass.
-    pub(crate) fn is_compute(&self) -> bool {
-        self.pipeline.is_compute()
-    }
-
-    /// The compute pass writes the light's layer itself ([`ScreenPipeline::writes_layers`]).
-    pub(crate) fn writes_layers(&self) -> bool {
+    fn writes_layers(&self) -> bool {
         self.pipeline.writes_layers()
     }
 
-    /// The visibility (once bound, for a compute pass).
-    pub fn visibility(&self) -> Option<&wgpu::TextureView> {
+    fn visibility(&self) -> Option<&wgpu::TextureView> {
         self.pipeline.output().map(|o| &o.view)
     }
 
-    pub fn visibility_texture(&self) -> Option<&wgpu::Texture> {
+    fn visibility_texture(&self) -> Option<&wgpu::Texture> {
         self.pipeline.output().map(|o| &o.texture)
     }
 
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
         if let Some(group) = &self.bind_group {
             self.pipeline.encode(encoder, "PcssPass", group);
         }

@@ -7,10 +7,10 @@ use crate::gpu_helpers::Target;
 use crate::passes::{DepthUse, Tiles};
 
 /// What every screen-space stage of a chain has besides its wiring and its place in the frame
-/// (`bind` and `encode`, whose inputs differ by stage and which each chain calls in its own
-/// order: `ScreenChain`). A chain lists its stages once (`ScreenChain::stages`) and
-/// sizes, prepares and counts them through this, so a new stage is its module, its WGSL file
-/// and the chains that run it.
+/// (`bind` and `encode`, whose inputs differ by stage and which each method's chain calls in its
+/// own order: `chains/`). A chain lists its stages once (`MethodChain::stages`), and
+/// `ScreenChain` sizes, prepares and counts them through this, so a new stage needs no code for
+/// these beyond its own.
 pub(crate) trait ScreenStage {
     /// GPU memory the stage allocated: its own textures and buffers, in bytes (the compute
     /// path's shared intermediates are counted once, by [`ComputeTargets`](super::ComputeTargets)).
@@ -23,6 +23,38 @@ pub(crate) trait ScreenStage {
 
     /// Uploads what the stage takes of the frame's parameters (tap counts, spacings, weights).
     fn prepare(&self, _queue: &wgpu::Queue, _params: &crate::frame::PassParams) {}
+}
+
+/// A stage that takes a light's visibility from its shadow map in one pass, over the screen:
+/// fixed-spacing PCF ([`PcfPass`](super::PcfPass)) or PCSS ([`PcssPass`](super::PcssPass)). As
+/// a compute pass it writes the chains' shared visibility, and where it is given the light's
+/// layer that layer too.
+pub(crate) trait VisibilityPass: ScreenStage {
+    /// The pass's name in the frame's marks.
+    const NAME: &'static str;
+
+    /// Points the pass at its inputs; a compute pass writes `shared` (the screen's size), and
+    /// with `layer` the light's layer (beside it, the receiver mask it reads).
+    fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        frame: &wgpu::Buffer,
+        camera_depth: &wgpu::TextureView,
+        shadow_map: &wgpu::TextureView,
+        shared: Option<&crate::gpu_helpers::Target>,
+        layer: Option<(&wgpu::TextureView, &wgpu::TextureView)>,
+    );
+
+    /// The visibility (once bound, for a compute pass).
+    fn visibility(&self) -> Option<&wgpu::TextureView>;
+
+    fn visibility_texture(&self) -> Option<&wgpu::Texture>;
+
+    /// The compute pass writes the light's layer itself ([`ScreenPipeline::writes_layers`]):
+    /// no resolve is drawn after it.
+    fn writes_layers(&self) -> bool;
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder);
 }
 
 /// Format of the screen-space visibility textures (filterable, for the blur's bilinear taps).
@@ -308,10 +340,6 @@ impl ScreenPipeline {
     /// The pass writes the light's layer itself (no resolve is drawn).
     pub fn writes_layers(&self) -> bool {
         matches!(self, ScreenPipeline::Compute { layers: true, .. })
-    }
-
-    pub fn is_compute(&self) -> bool {
-        matches!(self, ScreenPipeline::Compute { .. })
     }
 
     /// Sizes a draw's own texture (a compute pass's is given at bind time).

@@ -27,7 +27,6 @@ use crate::map_resolution::WidthProbe;
 
 pub struct VariablePcfPass {
     switches: PcfSwitches,
-    light_kind: u32,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     params: wgpu::Buffer,
@@ -112,7 +111,6 @@ impl VariablePcfPass {
         );
         Self {
             switches,
-            light_kind,
             layout,
             pipeline,
             params,
@@ -205,16 +203,6 @@ impl VariablePcfPass {
             &self.half_layout,
             &[&self.half.view, &self.half_sampler],
         ));
-    }
-
-    /// The switches the pipeline was made with.
-    pub(crate) fn switches(&self) -> PcfSwitches {
-        self.switches
-    }
-
-    /// The light kind the pipeline was made for ([`crate::frame::light_kind`]).
-    pub(crate) fn light_kind(&self) -> u32 {
-        self.light_kind
     }
 
     /// The raw PCF visibility.
@@ -348,10 +336,8 @@ impl ScreenStage for VariablePcfPass {
 /// [`crate::ExecutionSettings::distance_in_pcf`] off the two run apart (`cs_main` reads the
 /// distance map), to compare them.
 pub(crate) struct VariablePcfCompute {
-    switches: PcfSwitches,
     /// The distance map's switches where the pass takes the distance itself.
     distance: Option<DistanceSwitches>,
-    light_kind: u32,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
     /// Visibility 0 over the tiles turned away from the light (`cs_away`).
@@ -429,9 +415,7 @@ impl VariablePcfCompute {
             "cs_main"
         };
         Self {
-            switches,
             distance,
-            light_kind,
             pipeline: pipeline("VariablePcfCompute::pipeline", main),
             away: pipeline("VariablePcfCompute::away", "cs_away"),
             layout,
@@ -498,19 +482,6 @@ impl VariablePcfCompute {
             &self.layout,
             &resources,
         ));
-    }
-
-    /// The distance map's switches the pass was made with, where it takes the distance itself.
-    pub(crate) fn distance_switches(&self) -> Option<DistanceSwitches> {
-        self.distance
-    }
-
-    pub(crate) fn switches(&self) -> PcfSwitches {
-        self.switches
-    }
-
-    pub(crate) fn light_kind(&self) -> u32 {
-        self.light_kind
     }
 
     /// Records the pass over `tiles`, and the visibility 0 over the tiles `away` from the

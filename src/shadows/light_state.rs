@@ -89,7 +89,7 @@ impl LightState {
             light,
             frame: crate::gpu_helpers::uniform_buffer(device, "Shadows::frame", FRAME_SIZE as u64),
             maps: None,
-            screen: ScreenChain::MapOnly,
+            screen: ScreenChain::map_only(),
             bound: None,
             key: None,
             drawn_with: None,

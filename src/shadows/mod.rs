@@ -24,6 +24,7 @@ use crate::passes::FarPlaneFill;
 use crate::scene::{Aabb, Light, MAX_LIGHTS};
 use crate::screen::{ComputeNeeds, ComputeTargets, ScreenChain, ScreenInputs, VISIBILITY_FORMAT};
 use crate::settings::{MapResolution, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
+use crate::timing::PassStage;
 use crate::view::CameraMatrices;
 
 mod inputs;
@@ -225,7 +226,7 @@ impl Shadows {
     pub fn set_maps_only(&mut self, maps_only: bool) {
         if maps_only && self.screen_space {
             for state in self.lights.iter_mut().flatten() {
-                state.screen = ScreenChain::MapOnly;
+                state.screen = ScreenChain::map_only();
                 if let Some(maps) = &mut state.maps {
                     maps.fattened = None;
                 }
@@ -530,17 +531,18 @@ impl Shadows {
         encoder: &mut wgpu::CommandEncoder,
         casters: &Casters,
     ) -> Result<Vec<LightReport>> {
-        self.encode_with_marks(encoder, casters, &mut |_, _| {})
+        self.encode_with_marks(encoder, casters, &mut |_, _, _| {})
     }
 
-    /// [`Shadows::encode`], calling `mark(encoder, pass)` after each pass it records, `pass`
-    /// its name ("shadow map", "distance map", "pcf", "blur", ...): where an engine writes
-    /// its own GPU timestamps, to time penumbra pass by pass.
+    /// [`Shadows::encode`], calling `mark(encoder, pass, stage)` after each pass it records,
+    /// `pass` its name ("shadow map", "distance map", "pcf", "blur", ...) and `stage` whether
+    /// it draws from the light or runs over the screen: where an engine writes its own GPU
+    /// timestamps, to time penumbra pass by pass.
     pub fn encode_with_marks(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         casters: &Casters,
-        mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str),
+        mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str, PassStage),
     ) -> Result<Vec<LightReport>> {
         self.check_device()?;
         if !self.prepared || self.casters_id != Some(casters.id()) {
@@ -569,19 +571,22 @@ impl Shadows {
             let Some(plan) = state.planned.take() else {
                 continue;
             };
-            let chain = plan.chain;
             if plan.render_maps {
                 if let Some(maps) = &state.maps {
-                    maps.encode(encoder, casters, self.far_plane.as_ref(), mark);
+                    let light_space =
+                        &mut |e: &mut wgpu::CommandEncoder, pass| mark(e, pass, PassStage::LightSpace);
+                    maps.encode(encoder, casters, self.far_plane.as_ref(), light_space);
                 }
                 state.key = Some(plan.key);
                 state.drawn_with = Some(plan.light_view);
                 state.seen_revision = casters.revision();
             }
             if self.screen_space {
+                let screen_space =
+                    &mut |e: &mut wgpu::CommandEncoder, pass| mark(e, pass, PassStage::ScreenSpace);
                 state
                     .screen
-                    .encode(encoder, &chain, plan.render_maps, &layers[slot], mark);
+                    .encode(encoder, plan.render_maps, &layers[slot], screen_space);
             }
             if let (Some((limits, resolution)), Some(probe)) = (plan.probe, state.screen.width_probe_mut()) {
                 probe.recorded(limits, resolution);

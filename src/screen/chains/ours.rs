@@ -1,0 +1,327 @@
+//! The distance-map method's screen-space chain: the distance map, the variable-spacing PCF,
+//! then the blur whose width follows the distance (or a resolve without a blur). As compute
+//! passes over the distance map's tile list ([`OursChain`]), or as draws ([`OursDrawChain`]).
+
+use super::screen_chain::{ChainKey, Mark, MethodChain, ScreenInputs, with_blur};
+use crate::chain::{Chain, FRAME_SIZE, LightMaps, run};
+use crate::frame::{DistanceSwitches, PassParams};
+use crate::map_resolution::WidthProbe;
+use crate::screen::{
+    BlurCompute, BlurInput, BlurPass, Cleared, ClearedByList, ComputeTargets, DistanceMapCompute,
+    DistanceMapPass, DistanceMaps, ResolvePass, ScreenStage, VariablePcfCompute, VariablePcfPass,
+};
+
+/// The distance-map method as compute passes over the distance map's tile list.
+pub(crate) struct OursChain {
+    distance: DistanceMapCompute,
+    pcf: VariablePcfCompute,
+    /// Writes the layer; without it the resolve does.
+    blur: Option<BlurCompute>,
+    resolve: ResolvePass,
+    /// The shared intermediates, as bound.
+    targets: Option<ComputeTargets>,
+}
+
+impl OursChain {
+    /// What the chain is made for: the distance switches of the compute path, the PCF's, the
+    /// blur's and whether it writes the layer, and where the distance is taken.
+    pub fn key(chain: Chain, params: &PassParams, kind: u32) -> ChainKey {
+        let blur = chain.blur();
+        ChainKey {
+            distance: compute_distance_switches(params),
+            pcf: params.pcf_switches,
+            blur: blur.then_some(params.blur_switches),
+            layer_writes: blur && params.layer_writes,
+            distance_in_pcf: params.distance_in_pcf,
+            ..ChainKey::bare(chain, kind)
+        }
+    }
+
+    pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
+        let in_pcf = key.distance_in_pcf;
+        Self {
+            distance: DistanceMapCompute::new(
+                device,
+                FRAME_SIZE,
+                key.distance,
+                key.kind,
+                key.blur.is_some(),
+                !in_pcf,
+            ),
+            pcf: VariablePcfCompute::new(
+                device,
+                FRAME_SIZE,
+                key.pcf,
+                in_pcf.then_some(key.distance),
+                key.kind,
+            ),
+            blur: key
+                .blur
+                .map(|switches| BlurCompute::new(device, FRAME_SIZE, switches, key.layer_writes)),
+            resolve: ResolvePass::new(device, FRAME_SIZE),
+            targets: None,
+        }
+    }
+}
+
+impl MethodChain for OursChain {
+    fn stages(&self) -> Vec<&dyn ScreenStage> {
+        with_blur(
+            vec![&self.distance, &self.pcf, &self.resolve],
+            self.blur.as_ref().map(|b| b as _),
+        )
+    }
+
+    fn stages_mut(&mut self) -> Vec<&mut dyn ScreenStage> {
+        with_blur(
+            vec![&mut self.distance, &mut self.pcf, &mut self.resolve],
+            self.blur.as_mut().map(|b| b as _),
+        )
+    }
+
+    fn unbind(&mut self) {
+        self.targets = None;
+    }
+
+    fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
+        let ScreenInputs {
+            frame,
+            depth,
+            mask,
+            maps,
+            dummy,
+            compute,
+            layer,
+        } = *inputs;
+        let (Some(maps), Some(all)) = (distance_maps(maps), compute) else {
+            return;
+        };
+        let Some(shared) = &all.distance_map else {
+            return;
+        };
+        self.targets = Some(all.clone());
+        let distance_map = &shared.distance.view;
+        let cleared = ClearedByList {
+            distance: distance_map,
+            visibility: &all.visibility.view,
+            blurred: all.blurred.as_ref().map(|b| &b.view),
+        };
+        self.distance
+            .bind(device, (&shared.tiles, &cleared), frame, &maps, (depth, mask));
+        let (visibility, sigma) = (&all.visibility.view, &shared.sigma.view);
+        self.pcf.bind(
+            device,
+            (visibility, sigma),
+            frame,
+            (depth, mask),
+            (distance_map, dummy),
+            &maps,
+        );
+        match &mut self.blur {
+            Some(blur) => blur.bind(
+                device,
+                &all.blurred.as_ref().expect("made for a blurring chain").view,
+                frame,
+                (depth, mask),
+                (visibility, sigma, distance_map),
+                layer,
+            ),
+            None => self
+                .resolve
+                .bind(device, frame, depth, distance_map, visibility, mask),
+        }
+    }
+
+    fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        maps_drawn: bool,
+        layer: &wgpu::TextureView,
+        mark: Mark,
+    ) {
+        let (Some(listed), Some(targets)) = (self.distance.listed(), &self.targets) else {
+            return;
+        };
+        // The tile classification sets the intermediates where it tests pixels by workgroups
+        // (a GPU): their clear values, and 0 over the tiles turned away from the light.
+        // Otherwise each is cleared before the pass that fills it, and the passes write the 0
+        // over the tiles turned away, without taps.
+        let by_list = self.distance.clears();
+        let clear = |e: &mut wgpu::CommandEncoder, which| {
+            if !by_list {
+                targets.clear(e, which);
+            }
+        };
+        // Where the variable PCF takes the distance itself (the default), the mark "distance
+        // map" times the tile list, and "pcf" the distance map with PCF.
+        run(encoder, mark, "distance map", &|e| {
+            clear(e, Cleared::Distance);
+            self.distance.encode(e, maps_drawn)
+        });
+        let away = self
+            .distance
+            .away()
+            .filter(|_| self.distance.switches().facing_away);
+        let away_passes = away.filter(|_| !by_list);
+        run(encoder, mark, "pcf", &|e| {
+            clear(e, Cleared::Visibility);
+            self.pcf.encode(e, listed, away_passes)
+        });
+        match &self.blur {
+            Some(blur) => run(encoder, mark, "blur", &|e| {
+                clear(e, Cleared::Blurred);
+                blur.encode(e, listed, (away, by_list), layer)
+            }),
+            None => run(encoder, mark, "resolve", &|e| self.resolve.encode(e, layer)),
+        }
+    }
+
+    fn width_probe_mut(&mut self) -> Option<&mut WidthProbe> {
+        Some(self.pcf.probe_mut())
+    }
+
+    fn distance_texture(&self) -> Option<&wgpu::Texture> {
+        let shared = self.targets.as_ref()?.distance_map.as_ref()?;
+        Some(&shared.distance.texture)
+    }
+
+    fn tile_classes_texture(&self) -> Option<&wgpu::Texture> {
+        let shared = self.targets.as_ref()?.distance_map.as_ref()?;
+        Some(shared.tiles.classes_texture())
+    }
+
+    fn raw_visibility(&self) -> Option<&wgpu::Texture> {
+        self.targets.as_ref().map(|t| &t.visibility.texture)
+    }
+}
+
+/// The distance-map method as draws (a device without compute shaders, or PCF at half
+/// resolution).
+pub(crate) struct OursDrawChain {
+    distance: DistanceMapPass,
+    pcf: VariablePcfPass,
+    /// Its vertical draw writes the layer; none without a blur.
+    blur: Option<BlurPass>,
+    /// Writes the layer when the chain has no blur.
+    resolve: ResolvePass,
+}
+
+impl OursDrawChain {
+    /// What the chain is made for: the distance map's, the PCF's and the blur's switches.
+    pub fn key(chain: Chain, params: &PassParams, kind: u32) -> ChainKey {
+        ChainKey {
+            distance: params.distance_switches,
+            pcf: params.pcf_switches,
+            blur: chain.blur().then_some(params.blur_switches),
+            ..ChainKey::bare(chain, kind)
+        }
+    }
+
+    pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
+        Self {
+            distance: DistanceMapPass::new(device, FRAME_SIZE, key.distance, key.kind),
+            pcf: VariablePcfPass::new(device, FRAME_SIZE, key.pcf, key.kind),
+            blur: key
+                .blur
+                .map(|switches| BlurPass::new(device, FRAME_SIZE, switches)),
+            resolve: ResolvePass::new(device, FRAME_SIZE),
+        }
+    }
+}
+
+impl MethodChain for OursDrawChain {
+    fn stages(&self) -> Vec<&dyn ScreenStage> {
+        with_blur(
+            vec![&self.distance, &self.pcf, &self.resolve],
+            self.blur.as_ref().map(|b| b as _),
+        )
+    }
+
+    fn stages_mut(&mut self) -> Vec<&mut dyn ScreenStage> {
+        with_blur(
+            vec![&mut self.distance, &mut self.pcf, &mut self.resolve],
+            self.blur.as_mut().map(|b| b as _),
+        )
+    }
+
+    fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
+        let ScreenInputs {
+            frame,
+            depth,
+            mask,
+            maps,
+            ..
+        } = *inputs;
+        let Some(distance_maps) = distance_maps(maps) else {
+            return;
+        };
+        self.distance.bind(device, frame, &distance_maps, (depth, mask));
+        let distance_map = self.distance.distance_map();
+        self.pcf
+            .bind(device, frame, depth, distance_map, maps.shadow.atlas.view());
+        if let Some(blur) = &mut self.blur {
+            let input = BlurInput {
+                visibility: self.pcf.visibility(),
+                distance_map,
+                blur_sigma: self.pcf.blur_sigma(),
+            };
+            blur.bind(device, frame, (depth, mask), &input);
+        }
+        self.resolve
+            .bind(device, frame, depth, distance_map, self.pcf.visibility(), mask);
+    }
+
+    fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        maps_drawn: bool,
+        layer: &wgpu::TextureView,
+        mark: Mark,
+    ) {
+        run(encoder, mark, "distance map", &|e| {
+            self.distance.encode(e, maps_drawn)
+        });
+        let classification = self.distance.classification();
+        run(encoder, mark, "pcf", &|e| self.pcf.encode(e, classification));
+        match &self.blur {
+            Some(blur) => run(encoder, mark, "blur", &|e| {
+                blur.encode(e, Some(classification), layer)
+            }),
+            None => run(encoder, mark, "resolve", &|e| self.resolve.encode(e, layer)),
+        }
+    }
+
+    fn distance_texture(&self) -> Option<&wgpu::Texture> {
+        Some(self.distance.distance_texture())
+    }
+
+    fn tile_classes_texture(&self) -> Option<&wgpu::Texture> {
+        self.distance.tile_classes_texture()
+    }
+
+    fn raw_visibility(&self) -> Option<&wgpu::Texture> {
+        Some(self.pcf.visibility_texture())
+    }
+}
+
+/// The compute path's distance-map switches: its tile list follows the classification setting
+/// with `Auto` on (see [`PassParams::list_tiles`]).
+fn compute_distance_switches(params: &PassParams) -> DistanceSwitches {
+    DistanceSwitches {
+        tiles: params.list_tiles,
+        ..params.distance_switches
+    }
+}
+
+/// The maps of `maps` the distance map reads (none without a fattened map).
+fn distance_maps(maps: &LightMaps) -> Option<DistanceMaps<'_>> {
+    let (fattened, exit) = maps.fattened.as_ref()?;
+    let texture = fattened.atlas.texture();
+    Some(DistanceMaps {
+        shadow_map: maps.shadow.atlas.view(),
+        fattened_map: fattened.atlas.view(),
+        fattened_size: (texture.width(), texture.height()),
+        occluder_offset: fattened.occluder_offset(),
+        exit_map: exit.atlas.view(),
+    })
+}
