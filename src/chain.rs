@@ -340,14 +340,14 @@ impl LightMaps {
         fill: Option<&FarPlaneFill>,
         mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str),
     ) {
-        run(encoder, mark, "shadow map", &|e| {
+        run(encoder, mark, "shadow map", |e| {
             self.shadow.encode(e, casters, fill)
         });
         if let Some((fattened, exit)) = &self.fattened {
-            run(encoder, mark, "fattened shadow map", &|e| {
+            run(encoder, mark, "fattened shadow map", |e| {
                 fattened.encode(e, casters, fill)
             });
-            run(encoder, mark, "exit map", &|e| exit.encode(e, casters, fill));
+            run(encoder, mark, "exit map", |e| exit.encode(e, casters, fill));
         }
     }
 }
@@ -357,7 +357,7 @@ pub(crate) fn run(
     encoder: &mut wgpu::CommandEncoder,
     mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str),
     name: &'static str,
-    pass: &dyn Fn(&mut wgpu::CommandEncoder),
+    pass: impl FnOnce(&mut wgpu::CommandEncoder),
 ) {
     encoder.push_debug_group(name);
     pass(encoder);

@@ -2,7 +2,10 @@
 //! classification's depth test, the tile list they run over, and the pipeline of a pass that
 //! is a draw or a compute pass over the screen.
 
-use super::{Binding, bind_group, draw_fullscreen_into, entry, fullscreen_pipeline_with, screen_target};
+use super::{
+    Binding, bind_group, comparison_sampler, draw_fullscreen_into, entry, fullscreen_pipeline_with,
+    screen_target,
+};
 use crate::gpu_helpers::Target;
 use crate::passes::{DepthUse, Tiles};
 
@@ -26,35 +29,119 @@ pub(crate) trait ScreenStage {
 }
 
 /// A stage that takes a light's visibility from its shadow map in one pass, over the screen:
-/// fixed-spacing PCF ([`PcfPass`](super::PcfPass)) or PCSS ([`PcssPass`](super::PcssPass)). As
-/// a compute pass it writes the chains' shared visibility, and where it is given the light's
-/// layer that layer too.
+/// fixed-spacing PCF ([`PcfPass`](super::PcfPass)) or PCSS ([`PcssPass`](super::PcssPass)),
+/// each a [`ShadowLookup`] with its own shader, parameters and bindings.
 pub(crate) trait VisibilityPass: ScreenStage {
     /// The pass's name in the frame's marks.
     const NAME: &'static str;
 
+    fn lookup(&self) -> &ShadowLookup;
+
+    fn lookup_mut(&mut self) -> &mut ShadowLookup;
+}
+
+/// A pass over the screen that looks a light's shadow map up from each pixel's depth (the
+/// frame uniform, the camera depth, the shadow map with a comparison sampler, then its own
+/// bindings and its parameters): a draw, or a compute pass that writes the chains' shared
+/// visibility, and where it is given the light's layer that layer too.
+pub(crate) struct ShadowLookup {
+    label: &'static str,
+    layout: wgpu::BindGroupLayout,
+    pipeline: ScreenPipeline,
+    params: wgpu::Buffer,
+    sampler: wgpu::Sampler,
+    /// The shadow map is bound a second time before the parameters, to be read unfiltered
+    /// (PCSS's blocker search).
+    map_twice: bool,
+    bind_group: Option<wgpu::BindGroup>,
+}
+
+impl ShadowLookup {
+    /// The pass `label` of `shader`, whose parameters (`params_size` bytes) follow the shadow
+    /// map's sampler (after a second, unfiltered binding of the map with `map_twice`), compiled
+    /// with `constants`; a compute pass with `compute`, which with `layers` writes the light's
+    /// layer too.
+    pub fn new(
+        device: &wgpu::Device,
+        label: &'static str,
+        (shader, constants): (&wgpu::ShaderModule, &[(&str, f64)]),
+        (frame_size, params_size, map_twice): (usize, usize, bool),
+        (compute, layers): (bool, bool),
+    ) -> Self {
+        let params_at = 4 + u32::from(map_twice);
+        let mut own = vec![entry::fragment_uniform(params_at, params_size)];
+        if map_twice {
+            own.insert(0, entry::unfilterable(4));
+        }
+        let entries =
+            ScreenPipeline::layout_entries(entry::shadow_lookup(frame_size, &own), (compute, layers));
+        let layout = crate::gpu_helpers::layout(device, label, &entries);
+        let pipeline = ScreenPipeline::new(device, label, shader, &layout, constants, (compute, layers));
+        Self {
+            label,
+            params: crate::gpu_helpers::uniform_buffer(device, label, params_size as u64),
+            sampler: comparison_sampler(device, label, wgpu::FilterMode::Linear),
+            layout,
+            pipeline,
+            map_twice,
+            bind_group: None,
+        }
+    }
+
     /// Points the pass at its inputs; a compute pass writes `shared` (the screen's size), and
     /// with `layer` the light's layer (beside it, the receiver mask it reads).
-    fn bind(
+    pub fn bind(
         &mut self,
         device: &wgpu::Device,
-        frame: &wgpu::Buffer,
-        camera_depth: &wgpu::TextureView,
-        shadow_map: &wgpu::TextureView,
-        shared: Option<&crate::gpu_helpers::Target>,
+        (frame, camera_depth, shadow_map): (&wgpu::Buffer, &wgpu::TextureView, &wgpu::TextureView),
+        shared: Option<&Target>,
         layer: Option<(&wgpu::TextureView, &wgpu::TextureView)>,
-    );
-
-    /// The visibility (once bound, for a compute pass).
-    fn visibility(&self) -> Option<&wgpu::TextureView>;
-
-    fn visibility_texture(&self) -> Option<&wgpu::Texture>;
+    ) {
+        let mut inputs: Vec<&dyn Binding> = vec![frame, camera_depth, shadow_map, &self.sampler];
+        if self.map_twice {
+            inputs.push(shadow_map);
+        }
+        inputs.push(&self.params);
+        self.bind_group = self
+            .pipeline
+            .bind_group(device, self.label, &self.layout, &inputs, shared, layer);
+    }
 
     /// The compute pass writes the light's layer itself ([`ScreenPipeline::writes_layers`]):
     /// no resolve is drawn after it.
-    fn writes_layers(&self) -> bool;
+    pub fn writes_layers(&self) -> bool {
+        self.pipeline.writes_layers()
+    }
 
-    fn encode(&self, encoder: &mut wgpu::CommandEncoder);
+    /// The visibility (once bound, for a compute pass).
+    pub fn visibility(&self) -> Option<&wgpu::TextureView> {
+        self.pipeline.output().map(|o| &o.view)
+    }
+
+    pub fn visibility_texture(&self) -> Option<&wgpu::Texture> {
+        self.pipeline.output().map(|o| &o.texture)
+    }
+
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
+        if let Some(group) = &self.bind_group {
+            self.pipeline.encode(encoder, self.label, group);
+        }
+    }
+
+    /// GPU memory of its parameters and its own output.
+    pub fn allocated_bytes(&self) -> u64 {
+        self.params.size() + self.pipeline.own_bytes()
+    }
+
+    /// Sizes its own output (a draw's).
+    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+        self.pipeline.resize(device, self.label, width, height);
+    }
+
+    /// Uploads its parameters.
+    pub fn write_params(&self, queue: &wgpu::Queue, bytes: &[u8]) {
+        queue.write_buffer(&self.params, 0, bytes);
+    }
 }
 
 /// Format of the screen-space visibility textures (filterable, for the blur's bilinear taps).

@@ -2,8 +2,8 @@
 //! then the blur whose width follows the distance (or a resolve without a blur). As compute
 //! passes over the distance map's tile list ([`OursChain`]), or as draws ([`OursDrawChain`]).
 
-use super::screen_chain::{ChainKey, Mark, MethodChain, ScreenInputs, with_blur};
-use crate::chain::{Chain, FRAME_SIZE, LightMaps, run};
+use super::screen_chain::{ChainKey, MethodChain, Recorder, ScreenInputs, stage_lists};
+use crate::chain::{Chain, FRAME_SIZE, LightMaps};
 use crate::frame::{DistanceSwitches, PassParams};
 use crate::map_resolution::WidthProbe;
 use crate::screen::{
@@ -26,35 +26,22 @@ impl OursChain {
     /// What the chain is made for: the distance switches of the compute path, the PCF's, the
     /// blur's and whether it writes the layer, and where the distance is taken.
     pub fn key(chain: Chain, params: &PassParams, kind: u32) -> ChainKey {
-        let blur = chain.blur();
         ChainKey {
-            distance: compute_distance_switches(params),
-            pcf: params.pcf_switches,
-            blur: blur.then_some(params.blur_switches),
-            layer_writes: blur && params.layer_writes,
+            distance: DistanceSwitches {
+                tiles: params.list_tiles,
+                ..params.distance_switches
+            },
             distance_in_pcf: params.distance_in_pcf,
-            ..ChainKey::bare(chain, kind)
+            ..ChainKey::bare(chain, kind).pcf(params).blur(params, true)
         }
     }
 
     pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
-        let in_pcf = key.distance_in_pcf;
+        let (kind, in_pcf) = (key.kind, key.distance_in_pcf);
+        let blur = key.blur.is_some();
         Self {
-            distance: DistanceMapCompute::new(
-                device,
-                FRAME_SIZE,
-                key.distance,
-                key.kind,
-                key.blur.is_some(),
-                !in_pcf,
-            ),
-            pcf: VariablePcfCompute::new(
-                device,
-                FRAME_SIZE,
-                key.pcf,
-                in_pcf.then_some(key.distance),
-                key.kind,
-            ),
+            distance: DistanceMapCompute::new(device, FRAME_SIZE, key.distance, kind, blur, !in_pcf),
+            pcf: VariablePcfCompute::new(device, FRAME_SIZE, key.pcf, in_pcf.then_some(key.distance), kind),
             blur: key
                 .blur
                 .map(|switches| BlurCompute::new(device, FRAME_SIZE, switches, key.layer_writes)),
@@ -65,35 +52,15 @@ impl OursChain {
 }
 
 impl MethodChain for OursChain {
-    fn stages(&self) -> Vec<&dyn ScreenStage> {
-        with_blur(
-            vec![&self.distance, &self.pcf, &self.resolve],
-            self.blur.as_ref().map(|b| b as _),
-        )
-    }
-
-    fn stages_mut(&mut self) -> Vec<&mut dyn ScreenStage> {
-        with_blur(
-            vec![&mut self.distance, &mut self.pcf, &mut self.resolve],
-            self.blur.as_mut().map(|b| b as _),
-        )
-    }
+    stage_lists!(distance, pcf, resolve; blur);
 
     fn unbind(&mut self) {
         self.targets = None;
     }
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
-        let ScreenInputs {
-            frame,
-            depth,
-            mask,
-            maps,
-            dummy,
-            compute,
-            layer,
-        } = *inputs;
-        let (Some(maps), Some(all)) = (distance_maps(maps), compute) else {
+        let (frame, depth, mask, _) = inputs.common();
+        let (Some(maps), Some(all)) = (distance_maps(inputs.maps), inputs.compute) else {
             return;
         };
         let Some(shared) = &all.distance_map else {
@@ -101,44 +68,29 @@ impl MethodChain for OursChain {
         };
         self.targets = Some(all.clone());
         let distance_map = &shared.distance.view;
+        let (visibility, sigma) = (&all.visibility.view, &shared.sigma.view);
         let cleared = ClearedByList {
             distance: distance_map,
-            visibility: &all.visibility.view,
+            visibility,
             blurred: all.blurred.as_ref().map(|b| &b.view),
         };
         self.distance
             .bind(device, (&shared.tiles, &cleared), frame, &maps, (depth, mask));
-        let (visibility, sigma) = (&all.visibility.view, &shared.sigma.view);
-        self.pcf.bind(
-            device,
-            (visibility, sigma),
-            frame,
-            (depth, mask),
-            (distance_map, dummy),
-            &maps,
-        );
-        match &mut self.blur {
-            Some(blur) => blur.bind(
-                device,
-                &all.blurred.as_ref().expect("made for a blurring chain").view,
-                frame,
-                (depth, mask),
-                (visibility, sigma, distance_map),
-                layer,
-            ),
-            None => self
+        let distance = (distance_map, inputs.dummy);
+        self.pcf
+            .bind(device, (visibility, sigma), frame, (depth, mask), distance, &maps);
+        match (&mut self.blur, &all.blurred) {
+            (Some(blur), Some(blurred)) => {
+                let read = (visibility, sigma, distance_map);
+                blur.bind(device, &blurred.view, frame, (depth, mask), read, inputs.layer)
+            }
+            _ => self
                 .resolve
                 .bind(device, frame, depth, distance_map, visibility, mask),
         }
     }
 
-    fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        maps_drawn: bool,
-        layer: &wgpu::TextureView,
-        mark: Mark,
-    ) {
+    fn encode(&self, recorder: &mut Recorder) {
         let (Some(listed), Some(targets)) = (self.distance.listed(), &self.targets) else {
             return;
         };
@@ -154,7 +106,8 @@ impl MethodChain for OursChain {
         };
         // Where the variable PCF takes the distance itself (the default), the mark "distance
         // map" times the tile list, and "pcf" the distance map with PCF.
-        run(encoder, mark, "distance map", &|e| {
+        let maps_drawn = recorder.maps_drawn;
+        recorder.pass("distance map", |e| {
             clear(e, Cleared::Distance);
             self.distance.encode(e, maps_drawn)
         });
@@ -163,16 +116,17 @@ impl MethodChain for OursChain {
             .away()
             .filter(|_| self.distance.switches().facing_away);
         let away_passes = away.filter(|_| !by_list);
-        run(encoder, mark, "pcf", &|e| {
+        recorder.pass("pcf", |e| {
             clear(e, Cleared::Visibility);
             self.pcf.encode(e, listed, away_passes)
         });
+        let layer = recorder.layer;
         match &self.blur {
-            Some(blur) => run(encoder, mark, "blur", &|e| {
+            Some(blur) => recorder.pass("blur", |e| {
                 clear(e, Cleared::Blurred);
                 blur.encode(e, listed, (away, by_list), layer)
             }),
-            None => run(encoder, mark, "resolve", &|e| self.resolve.encode(e, layer)),
+            None => recorder.pass("resolve", |e| self.resolve.encode(e, layer)),
         }
     }
 
@@ -211,9 +165,7 @@ impl OursDrawChain {
     pub fn key(chain: Chain, params: &PassParams, kind: u32) -> ChainKey {
         ChainKey {
             distance: params.distance_switches,
-            pcf: params.pcf_switches,
-            blur: chain.blur().then_some(params.blur_switches),
-            ..ChainKey::bare(chain, kind)
+            ..ChainKey::bare(chain, kind).pcf(params).blur(params, false)
         }
     }
 
@@ -230,64 +182,39 @@ impl OursDrawChain {
 }
 
 impl MethodChain for OursDrawChain {
-    fn stages(&self) -> Vec<&dyn ScreenStage> {
-        with_blur(
-            vec![&self.distance, &self.pcf, &self.resolve],
-            self.blur.as_ref().map(|b| b as _),
-        )
-    }
-
-    fn stages_mut(&mut self) -> Vec<&mut dyn ScreenStage> {
-        with_blur(
-            vec![&mut self.distance, &mut self.pcf, &mut self.resolve],
-            self.blur.as_mut().map(|b| b as _),
-        )
-    }
+    stage_lists!(distance, pcf, resolve; blur);
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
-        let ScreenInputs {
-            frame,
-            depth,
-            mask,
-            maps,
-            ..
-        } = *inputs;
-        let Some(distance_maps) = distance_maps(maps) else {
+        let (frame, depth, mask, _) = inputs.common();
+        let Some(maps) = distance_maps(inputs.maps) else {
             return;
         };
-        self.distance.bind(device, frame, &distance_maps, (depth, mask));
+        self.distance.bind(device, frame, &maps, (depth, mask));
         let distance_map = self.distance.distance_map();
-        self.pcf
-            .bind(device, frame, depth, distance_map, maps.shadow.atlas.view());
+        self.pcf.bind(device, frame, depth, distance_map, maps.shadow_map);
+        let visibility = self.pcf.visibility();
         if let Some(blur) = &mut self.blur {
+            let blur_sigma = self.pcf.blur_sigma();
             let input = BlurInput {
-                visibility: self.pcf.visibility(),
+                visibility,
                 distance_map,
-                blur_sigma: self.pcf.blur_sigma(),
+                blur_sigma,
             };
             blur.bind(device, frame, (depth, mask), &input);
         }
         self.resolve
-            .bind(device, frame, depth, distance_map, self.pcf.visibility(), mask);
+            .bind(device, frame, depth, distance_map, visibility, mask);
     }
 
-    fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        maps_drawn: bool,
-        layer: &wgpu::TextureView,
-        mark: Mark,
-    ) {
-        run(encoder, mark, "distance map", &|e| {
-            self.distance.encode(e, maps_drawn)
-        });
+    fn encode(&self, recorder: &mut Recorder) {
+        let maps_drawn = recorder.maps_drawn;
+        recorder.pass("distance map", |e| self.distance.encode(e, maps_drawn));
         let classification = self.distance.classification();
-        run(encoder, mark, "pcf", &|e| self.pcf.encode(e, classification));
+        recorder.pass("pcf", |e| self.pcf.encode(e, classification));
+        let layer = recorder.layer;
         match &self.blur {
-            Some(blur) => run(encoder, mark, "blur", &|e| {
-                blur.encode(e, Some(classification), layer)
-            }),
-            None => run(encoder, mark, "resolve", &|e| self.resolve.encode(e, layer)),
+            Some(blur) => recorder.pass("blur", |e| blur.encode(e, Some(classification), layer)),
+            None => recorder.pass("resolve", |e| self.resolve.encode(e, layer)),
         }
     }
 
@@ -301,15 +228,6 @@ impl MethodChain for OursDrawChain {
 
     fn raw_visibility(&self) -> Option<&wgpu::Texture> {
         Some(self.pcf.visibility_texture())
-    }
-}
-
-/// The compute path's distance-map switches: its tile list follows the classification setting
-/// with `Auto` on (see [`PassParams::list_tiles`]).
-fn compute_distance_switches(params: &PassParams) -> DistanceSwitches {
-    DistanceSwitches {
-        tiles: params.list_tiles,
-        ..params.distance_switches
     }
 }
 

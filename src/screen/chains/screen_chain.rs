@@ -24,6 +24,21 @@ pub(crate) struct ScreenInputs<'a> {
     pub layer: Option<&'a wgpu::TextureView>,
 }
 
+impl<'a> ScreenInputs<'a> {
+    /// What most passes read: the frame uniform, the camera's depth, the receiver mask and the
+    /// stand-in.
+    pub fn common(
+        &self,
+    ) -> (
+        &'a wgpu::Buffer,
+        &'a wgpu::TextureView,
+        &'a wgpu::TextureView,
+        &'a wgpu::TextureView,
+    ) {
+        (self.frame, self.depth, self.mask, self.dummy)
+    }
+}
+
 /// What a light's screen-space passes are made for: its chain, its light's kind
 /// ([`crate::frame::light_kind`]) and the compile-time switches of the stages that chain runs.
 /// Each method's chain fills in only what it reads (the rest stays at its default), so a
@@ -57,6 +72,26 @@ impl ChainKey {
         }
     }
 
+    /// This key with the PCF's switches of `params`.
+    pub fn pcf(self, params: &PassParams) -> Self {
+        Self {
+            pcf: params.pcf_switches,
+            ..self
+        }
+    }
+
+    /// This key with the blur's switches of `params` where the chain blurs, and whether the
+    /// blur writes the layer where `compute` (its compute form does, on a device that stores
+    /// half floats).
+    pub fn blur(self, params: &PassParams, compute: bool) -> Self {
+        let blur = self.chain.blur();
+        Self {
+            blur: blur.then_some(params.blur_switches),
+            layer_writes: blur && compute && params.layer_writes,
+            ..self
+        }
+    }
+
     /// The key of `chain` for a light of `kind` under `params`, as its method's chain reads it.
     pub fn new(chain: &Chain, params: &PassParams, kind: u32) -> Self {
         let chain = *chain;
@@ -75,6 +110,52 @@ impl ChainKey {
 /// How a chain marks the end of each pass it records (`mark(encoder, pass)`).
 pub(crate) type Mark<'a> = &'a mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str);
 
+/// What a chain records its passes into: the frame's encoder, the light's layer of the
+/// visibility array, whether the light's maps were drawn this frame, and the mark each pass
+/// ends with, which names it (the frame's list of passes and their timings come from these).
+pub(crate) struct Recorder<'a> {
+    encoder: &'a mut wgpu::CommandEncoder,
+    /// The light's layer, which the chain's last pass writes.
+    pub layer: &'a wgpu::TextureView,
+    /// The light's maps were drawn this frame.
+    pub maps_drawn: bool,
+    mark: Mark<'a>,
+}
+
+impl Recorder<'_> {
+    /// Records one pass, `name`, in a debug group of its name, then marks its end.
+    pub fn pass(&mut self, name: &'static str, pass: impl FnOnce(&mut wgpu::CommandEncoder)) {
+        crate::chain::run(self.encoder, &mut *self.mark, name, pass);
+    }
+}
+
+/// A chain's `stages` and `stages_mut`: its stages (fields) each once, its optional blur last.
+macro_rules! stage_lists {
+    ($($stage:ident),+ ; $blur:ident) => {
+        fn stages(&self) -> Vec<&dyn ScreenStage> {
+            let mut stages: Vec<&dyn ScreenStage> = vec![$(&self.$stage),+];
+            stages.extend(self.$blur.as_ref().map(|b| b as &dyn ScreenStage));
+            stages
+        }
+
+        fn stages_mut(&mut self) -> Vec<&mut dyn ScreenStage> {
+            let mut stages: Vec<&mut dyn ScreenStage> = vec![$(&mut self.$stage),+];
+            stages.extend(self.$blur.as_mut().map(|b| b as &mut dyn ScreenStage));
+            stages
+        }
+    };
+    ($($stage:ident),+) => {
+        fn stages(&self) -> Vec<&dyn ScreenStage> {
+            vec![$(&self.$stage),+]
+        }
+
+        fn stages_mut(&mut self) -> Vec<&mut dyn ScreenStage> {
+            vec![$(&mut self.$stage),+]
+        }
+    };
+}
+pub(super) use stage_lists;
+
 /// One method's screen-space chain: it owns every pass it runs, blur included, connects them
 /// ([`MethodChain::bind`]) and records them in order ([`MethodChain::encode`]).
 pub(crate) trait MethodChain: wgpu::WasmNotSendSync {
@@ -90,15 +171,8 @@ pub(crate) trait MethodChain: wgpu::WasmNotSendSync {
     /// Points each pass at its inputs: the chain's wiring, pass by pass.
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs);
 
-    /// Records the passes in order into the light's `layer` (`maps_drawn`: the light's maps
-    /// were drawn this frame), marking the end of each.
-    fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        maps_drawn: bool,
-        layer: &wgpu::TextureView,
-        mark: Mark,
-    );
+    /// Records the passes in order, each through `recorder`.
+    fn encode(&self, recorder: &mut Recorder);
 
     /// The penumbra widths the compute path's PCF counts ([`crate::map_resolution`]).
     fn width_probe_mut(&mut self) -> Option<&mut WidthProbe> {
@@ -221,7 +295,12 @@ impl ScreenChain {
         mark: Mark,
     ) {
         if let Some(passes) = &self.passes {
-            passes.encode(encoder, maps_drawn, layer, mark);
+            passes.encode(&mut Recorder {
+                encoder,
+                layer,
+                maps_drawn,
+                mark,
+            });
         }
     }
 
@@ -244,10 +323,4 @@ impl ScreenChain {
     pub fn blurred_visibility(&self) -> Option<&wgpu::Texture> {
         self.passes.as_ref()?.blurred_visibility()
     }
-}
-
-/// A chain's stages, its blur last when it has one.
-pub(super) fn with_blur<T>(mut stages: Vec<T>, blur: Option<T>) -> Vec<T> {
-    stages.extend(blur);
-    stages
 }

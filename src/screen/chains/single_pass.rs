@@ -2,8 +2,8 @@
 //! hard shadows (one PCF tap), each followed by a resolve unless its compute pass writes the
 //! light's layer itself.
 
-use super::screen_chain::{ChainKey, Mark, MethodChain, ScreenInputs};
-use crate::chain::{Chain, FRAME_SIZE, run};
+use super::screen_chain::{ChainKey, MethodChain, Recorder, ScreenInputs, stage_lists};
+use crate::chain::{Chain, FRAME_SIZE};
 use crate::frame::PassParams;
 use crate::screen::{PcfPass, PcssPass, ResolvePass, ScreenStage, VisibilityPass};
 
@@ -28,11 +28,9 @@ impl PcssChain {
     }
 
     pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
-        let compute = key.chain.compute();
-        Self {
-            pass: PcssPass::new(device, FRAME_SIZE, key.kind, (compute, key.layer_writes)),
-            resolve: ResolvePass::new(device, FRAME_SIZE),
-        }
+        let path = (key.chain.compute(), key.layer_writes);
+        let pass = PcssPass::new(device, FRAME_SIZE, key.kind, path);
+        Self::with(device, pass)
     }
 }
 
@@ -41,63 +39,52 @@ impl HardChain {
     /// layer.
     pub fn key(chain: Chain, params: &PassParams, kind: u32) -> ChainKey {
         ChainKey {
-            pcf: params.pcf_switches,
             layer_writes: chain.compute() && params.layer_writes,
-            ..ChainKey::bare(chain, kind)
+            ..ChainKey::bare(chain, kind).pcf(params)
         }
     }
 
     pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
-        let compute = key.chain.compute();
+        let path = (key.chain.compute(), key.layer_writes);
+        let pass = PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, path);
+        Self::with(device, pass)
+    }
+}
+
+impl<P> SinglePassChain<P> {
+    fn with(device: &wgpu::Device, pass: P) -> Self {
         Self {
-            pass: PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, (compute, key.layer_writes)),
+            pass,
             resolve: ResolvePass::new(device, FRAME_SIZE),
         }
     }
 }
 
 impl<P: VisibilityPass + wgpu::WasmNotSendSync> MethodChain for SinglePassChain<P> {
-    fn stages(&self) -> Vec<&dyn ScreenStage> {
-        vec![&self.pass, &self.resolve]
-    }
-
-    fn stages_mut(&mut self) -> Vec<&mut dyn ScreenStage> {
-        vec![&mut self.pass, &mut self.resolve]
-    }
+    stage_lists!(pass, resolve);
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
-        let ScreenInputs {
-            frame,
-            depth,
-            mask,
-            maps,
-            dummy,
-            compute,
-            layer,
-        } = *inputs;
-        let shared = compute.map(|c| &c.visibility);
-        let shadow_map = maps.shadow.atlas.view();
+        let (frame, depth, mask, dummy) = inputs.common();
+        let shared = inputs.compute.map(|c| &c.visibility);
+        let layer = inputs.layer.map(|l| (l, mask));
+        let shadow_map = inputs.maps.shadow.atlas.view();
         self.pass
-            .bind(device, frame, depth, shadow_map, shared, layer.map(|l| (l, mask)));
-        if let Some(visibility) = self.pass.visibility() {
+            .lookup_mut()
+            .bind(device, (frame, depth, shadow_map), shared, layer);
+        if let Some(visibility) = self.pass.lookup().visibility() {
             self.resolve.bind(device, frame, depth, dummy, visibility, mask);
         }
     }
 
-    fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        _maps_drawn: bool,
-        layer: &wgpu::TextureView,
-        mark: Mark,
-    ) {
-        run(encoder, mark, P::NAME, &|e| self.pass.encode(e));
-        if !self.pass.writes_layers() {
-            run(encoder, mark, "resolve", &|e| self.resolve.encode(e, layer));
+    fn encode(&self, recorder: &mut Recorder) {
+        recorder.pass(P::NAME, |e| self.pass.lookup().encode(e));
+        if !self.pass.lookup().writes_layers() {
+            let layer = recorder.layer;
+            recorder.pass("resolve", |e| self.resolve.encode(e, layer));
         }
     }
 
     fn raw_visibility(&self) -> Option<&wgpu::Texture> {
-        self.pass.visibility_texture()
+        self.pass.lookup().visibility_texture()
     }
 }

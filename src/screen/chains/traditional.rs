@@ -2,8 +2,8 @@
 //! compute passes over the screen ([`TraditionalChain`]), or as draws
 //! ([`TraditionalDrawChain`]).
 
-use super::screen_chain::{ChainKey, Mark, MethodChain, ScreenInputs, with_blur};
-use crate::chain::{Chain, FRAME_SIZE, run};
+use super::screen_chain::{ChainKey, MethodChain, Recorder, ScreenInputs, stage_lists};
+use crate::chain::{Chain, FRAME_SIZE};
 use crate::frame::PassParams;
 use crate::screen::{
     BlurCompute, BlurInput, BlurPass, Cleared, ComputeTargets, PcfPass, ResolvePass, ScreenStage,
@@ -24,21 +24,14 @@ impl TraditionalChain {
     /// What the chain is made for: the PCF's switches, the blur's and whether it writes the
     /// layer.
     pub fn key(chain: Chain, params: &PassParams, kind: u32) -> ChainKey {
-        let blur = chain.blur();
-        ChainKey {
-            pcf: params.pcf_switches,
-            blur: blur.then_some(params.blur_switches),
-            layer_writes: blur && params.layer_writes,
-            ..ChainKey::bare(chain, kind)
-        }
+        ChainKey::bare(chain, kind).pcf(params).blur(params, true)
     }
 
     pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
+        let layers = key.layer_writes;
         Self {
             pcf: PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, (true, false)),
-            blur: key
-                .blur
-                .map(|switches| BlurCompute::new(device, FRAME_SIZE, switches, key.layer_writes)),
+            blur: key.blur.map(|s| BlurCompute::new(device, FRAME_SIZE, s, layers)),
             resolve: ResolvePass::new(device, FRAME_SIZE),
             targets: None,
         }
@@ -46,75 +39,50 @@ impl TraditionalChain {
 }
 
 impl MethodChain for TraditionalChain {
-    fn stages(&self) -> Vec<&dyn ScreenStage> {
-        with_blur(vec![&self.pcf, &self.resolve], self.blur.as_ref().map(|b| b as _))
-    }
-
-    fn stages_mut(&mut self) -> Vec<&mut dyn ScreenStage> {
-        with_blur(
-            vec![&mut self.pcf, &mut self.resolve],
-            self.blur.as_mut().map(|b| b as _),
-        )
-    }
+    stage_lists!(pcf, resolve; blur);
 
     fn unbind(&mut self) {
         self.targets = None;
     }
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
-        let ScreenInputs {
-            frame,
-            depth,
-            mask,
-            maps,
-            dummy,
-            compute,
-            layer,
-        } = *inputs;
-        let Some(all) = compute else {
+        let (frame, depth, mask, dummy) = inputs.common();
+        let Some(all) = inputs.compute else {
             return;
         };
         self.targets = Some(all.clone());
-        let shadow_map = maps.shadow.atlas.view();
+        let shadow_map = inputs.maps.shadow.atlas.view();
         self.pcf
-            .bind(device, frame, depth, shadow_map, Some(&all.visibility), None);
+            .lookup_mut()
+            .bind(device, (frame, depth, shadow_map), Some(&all.visibility), None);
         let visibility = &all.visibility.view;
         match (&mut self.blur, &all.blurred) {
-            (Some(blur), Some(blurred)) => blur.bind(
-                device,
-                &blurred.view,
-                frame,
-                (depth, mask),
-                (visibility, dummy, dummy),
-                layer,
-            ),
+            (Some(blur), Some(blurred)) => {
+                let read = (visibility, dummy, dummy);
+                blur.bind(device, &blurred.view, frame, (depth, mask), read, inputs.layer)
+            }
             _ => self.resolve.bind(device, frame, depth, dummy, visibility, mask),
         }
     }
 
-    fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        _maps_drawn: bool,
-        layer: &wgpu::TextureView,
-        mark: Mark,
-    ) {
-        run(encoder, mark, "pcf", &|e| self.pcf.encode(e));
+    fn encode(&self, recorder: &mut Recorder) {
+        recorder.pass("pcf", |e| self.pcf.lookup().encode(e));
         let targets = self.targets.as_ref();
         let listed = targets
             .and_then(|t| t.every_tile.as_ref())
             .map(TileListTargets::listed);
+        let layer = recorder.layer;
         match (&self.blur, listed, targets) {
-            (Some(blur), Some(listed), Some(targets)) => run(encoder, mark, "blur", &|e| {
+            (Some(blur), Some(listed), Some(targets)) => recorder.pass("blur", |e| {
                 targets.clear(e, Cleared::Blurred);
                 blur.encode(e, listed, (None, false), layer)
             }),
-            _ => run(encoder, mark, "resolve", &|e| self.resolve.encode(e, layer)),
+            _ => recorder.pass("resolve", |e| self.resolve.encode(e, layer)),
         }
     }
 
     fn raw_visibility(&self) -> Option<&wgpu::Texture> {
-        self.pcf.visibility_texture()
+        self.pcf.lookup().visibility_texture()
     }
 }
 
@@ -128,55 +96,36 @@ pub(crate) struct TraditionalDrawChain {
 impl TraditionalDrawChain {
     /// What the chain is made for: the PCF's switches and the blur's.
     pub fn key(chain: Chain, params: &PassParams, kind: u32) -> ChainKey {
-        ChainKey {
-            pcf: params.pcf_switches,
-            blur: chain.blur().then_some(params.blur_switches),
-            ..ChainKey::bare(chain, kind)
-        }
+        ChainKey::bare(chain, kind).pcf(params).blur(params, false)
     }
 
     pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
         Self {
             pcf: PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, (false, false)),
-            blur: key
-                .blur
-                .map(|switches| BlurPass::new(device, FRAME_SIZE, switches)),
+            blur: key.blur.map(|s| BlurPass::new(device, FRAME_SIZE, s)),
             resolve: ResolvePass::new(device, FRAME_SIZE),
         }
     }
 }
 
 impl MethodChain for TraditionalDrawChain {
-    fn stages(&self) -> Vec<&dyn ScreenStage> {
-        with_blur(vec![&self.pcf, &self.resolve], self.blur.as_ref().map(|b| b as _))
-    }
-
-    fn stages_mut(&mut self) -> Vec<&mut dyn ScreenStage> {
-        with_blur(
-            vec![&mut self.pcf, &mut self.resolve],
-            self.blur.as_mut().map(|b| b as _),
-        )
-    }
+    stage_lists!(pcf, resolve; blur);
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
-        let ScreenInputs {
-            frame,
-            depth,
-            mask,
-            maps,
-            dummy,
-            ..
-        } = *inputs;
+        let (frame, depth, mask, dummy) = inputs.common();
+        let shadow_map = inputs.maps.shadow.atlas.view();
         self.pcf
-            .bind(device, frame, depth, maps.shadow.atlas.view(), None, None);
-        let Some(mut visibility) = self.pcf.visibility() else {
+            .lookup_mut()
+            .bind(device, (frame, depth, shadow_map), None, None);
+        let Some(mut visibility) = self.pcf.lookup().visibility() else {
             return;
         };
         if let Some(blur) = &mut self.blur {
+            let (distance_map, blur_sigma) = (dummy, dummy);
             let input = BlurInput {
                 visibility,
-                distance_map: dummy,
-                blur_sigma: dummy,
+                distance_map,
+                blur_sigma,
             };
             blur.bind(device, frame, (depth, mask), &input);
             visibility = blur.blurred().unwrap_or(visibility);
@@ -184,22 +133,17 @@ impl MethodChain for TraditionalDrawChain {
         self.resolve.bind(device, frame, depth, dummy, visibility, mask);
     }
 
-    fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        _maps_drawn: bool,
-        layer: &wgpu::TextureView,
-        mark: Mark,
-    ) {
-        run(encoder, mark, "pcf", &|e| self.pcf.encode(e));
+    fn encode(&self, recorder: &mut Recorder) {
+        recorder.pass("pcf", |e| self.pcf.lookup().encode(e));
+        let layer = recorder.layer;
         if let Some(blur) = &self.blur {
-            run(encoder, mark, "blur", &|e| blur.encode(e, None, layer));
+            recorder.pass("blur", |e| blur.encode(e, None, layer));
         }
-        run(encoder, mark, "resolve", &|e| self.resolve.encode(e, layer));
+        recorder.pass("resolve", |e| self.resolve.encode(e, layer));
     }
 
     fn raw_visibility(&self) -> Option<&wgpu::Texture> {
-        self.pcf.visibility_texture()
+        self.pcf.lookup().visibility_texture()
     }
 
     fn blurred_visibility(&self) -> Option<&wgpu::Texture> {
