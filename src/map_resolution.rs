@@ -43,7 +43,7 @@ pub const TOO_NARROW_SHARE: f32 = 2.0 * NARROW_SHARE;
 pub const LEAST_PIXELS: u32 = 64;
 
 /// The coarsest level: half the configured resolution. At a quarter, the room's lamp shade
-/// (`tests/near_blocker.rs`), a thin rim right under a small light, was found less precisely by
+/// (`tests/accuracy/near_blocker.rs`), a thin rim right under a small light, was found less precisely by
 /// the distance map's silhouette search: its penumbra on the wall came out 0.89x the
 /// reference's width on one line (0.93x at half, 0.93-0.99x at the configured 1024 texels a
 /// cube face).

@@ -222,7 +222,7 @@ pub struct PenumbraSettings {
     /// blur), in [0, 1]. Default 0.75: PCF filters the shadow map across the light, where a
     /// caster's shape and a receiver's slant are what they are, and the screen-space blur only
     /// smooths its taps. With 0.5, penumbrae on walls the light grazes were 0.83-0.87x as wide
-    /// as the reference's (tests/near_blocker.rs), and the bench scenes' penumbra error was
+    /// as the reference's (tests/accuracy/near_blocker.rs), and the bench scenes' penumbra error was
     /// higher (docs/benchmark.md). The fast mode uses 0.
     pub pcf_variance_share: f32,
     /// Rotate the PCF taps per pixel by a noise angle to break up banding. Default true.
@@ -234,7 +234,7 @@ pub struct PenumbraSettings {
     /// of the real shadow map, only at those pixels. Without it the distance there is the
     /// fattened surface's, which beside a thick caster's foot is too far: without the search
     /// the penumbra there is more than 1.3x the reference's width, with it within 15%
-    /// (`tests/truth.rs`). Inside a shadow (the light's centre hidden) it takes the distance to
+    /// (`tests/accuracy/truth.rs`). Inside a shadow (the light's centre hidden) it takes the distance to
     /// the silhouette the receiver sees nearest the light's centre: 8 rays of up to 4 taps of the
     /// real shadow map, 2 more to bisect the nearest crossing and 2 of the exit map. Without it
     /// the distance there is to the back face under the receiver, which beside a rounded body
@@ -311,8 +311,8 @@ pub enum MapResolution {
     /// narrow to nothing where a caster touches its receiver, so a contact seen close keeps
     /// the configured resolution (the benchmark's teapot and character do at 1280x1024).
     ///
-    /// What half the resolution costs, where it was taken (`tests/map_resolution.rs`,
-    /// `tests/truth.rs`, `tests/near_blocker.rs`): a floating box's penumbra keeps its width;
+    /// What half the resolution costs, where it was taken (`tests/lights/map_resolution.rs`,
+    /// `tests/accuracy/truth.rs`, `tests/accuracy/near_blocker.rs`): a floating box's penumbra keeps its width;
     /// under the truth scene's sphere light the mean signed error in the penumbrae's inner
     /// halves went from +0.017 to +0.032 and one width from 1.07x to 1.11x the reference's;
     /// the room's lamp kept its wall widths within 0.93x of the reference's and its penumbra
@@ -430,9 +430,9 @@ impl Default for PcssSettings {
 /// 2048 / 4096 texels a cascade, `docs/bench/archive/report-full-h100.md`); what 16 bits save there
 /// has not been timed yet.
 /// Its precision holds where measured on the software adapter: the room's lamp and monitor
-/// (a point and a spot light, `tests/near_blocker.rs`) gave penumbra RMSE 0.0530 against
+/// (a point and a spot light, `tests/accuracy/near_blocker.rs`) gave penumbra RMSE 0.0530 against
 /// 0.0543 in 32 bits and wall widths within 0.002 of them; the truth scene's widths under a
-/// spot, a sphere and a sun light (`tests/truth.rs`) moved by at most 0.002 of the ratio; and
+/// spot, a sphere and a sun light (`tests/accuracy/truth.rs`) moved by at most 0.002 of the ratio; and
 /// no acne nor detached shadow at a grazing sun in 16 bits (`tests/robustness/grazing.rs`). The
 /// reference renders its samples in 32 bits whatever this says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

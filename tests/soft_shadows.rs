@@ -383,7 +383,7 @@ fn camera_moves_reuse_the_shadow_maps() {
     let gpu = common::gpu();
     let scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
     // One map: the camera-fitted window covers every caster from both views. (Cascades
-    // follow the camera: tests/embedding.rs checks that a small move keeps them.)
+    // follow the camera: tests/embedding/embedding.rs checks that a small move keeps them.)
     let mut one_map = settings(ShadowMethod::Ours);
     one_map.shadow_map.cascades.count = 1;
     let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, one_map).unwrap();

@@ -1,7 +1,7 @@
 //! The engine example (`examples/engine.rs`): its own meshes, camera, depth and lit shader,
 //! with penumbra's shadows for two lights through the public embedding API.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

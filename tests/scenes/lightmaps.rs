@@ -5,7 +5,7 @@
 //! lightmapped floor. Misuse is an error naming what is wrong. Frames are written to
 //! `target/penumbra-test-output/lightmaps-*.png`.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{Camera, LightingMode, Scene, ShadowMethod, ShadowSettings, scene::SceneFile};

@@ -15,7 +15,7 @@
 //! it and cast nothing, so the floor before the desk read up to 0.7 where rays find it dark
 //! (an RMSE of 0.41 over the pixels compared).
 
-mod common;
+use crate::common;
 
 use glam::{Vec3, Vec4};
 use penumbra::metrics::measure_visibility;

@@ -4,7 +4,7 @@
 //! cone (`LightFit::Scene`), at the same resolution. The visibility images are written to
 //! `target/penumbra-test-output/spot-fit-*.png`.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{

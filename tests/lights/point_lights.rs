@@ -11,7 +11,7 @@
 //!   10%, and the lit floor beside the edge and the umbra inside it stay lit and dark across
 //!   the boundary, with no line.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{

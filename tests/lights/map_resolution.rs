@@ -5,7 +5,7 @@
 //! penumbrae, and its maps stay at the configured resolution; the configured
 //! setting, the draws and the other methods never move.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{

@@ -2,7 +2,7 @@
 //! has converged (doubling the samples changes it less than any method's error), and its
 //! penumbra matches the analytic width `2 R d / D`.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::metrics::{measure_visibility, visibility_error};
@@ -37,7 +37,7 @@ fn a_tiny_light_converges_to_hard_shadows() {
     assert!(e.pixels > 10_000);
     // 25 of the 26869 pixels differ by more than 0.5: hard edges a pixel apart on the floor,
     // and 7 teapot pixels whose triangle faces away from the sun (smooth shading lights them),
-    // which the reference reads 0 as rays do (`tests/ray_traced_reference.rs`) and hard's
+    // which the reference reads 0 as rays do (`tests/accuracy/ray_traced_reference.rs`) and hard's
     // normal offset reads lit. Those 7 took the RMSE from about 0.026 to 0.030.
     assert!(
         e.rmse < 0.035,

@@ -2,7 +2,7 @@
 //! own scenes, and on broken files made here: every failure is an `Err` naming the file and the
 //! reason, never a panic.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -2,7 +2,7 @@
 //! buffer drawn by the test (orthographic, standard depth), the per-light cache, winding
 //! independence, and misuse answered with errors.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3, Vec4};
 use penumbra::{

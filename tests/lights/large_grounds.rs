@@ -7,7 +7,7 @@
 //! caster whose shadow the maps cannot hold. The visibility images are written to
 //! `target/penumbra-test-output/large-ground-*.png`.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{

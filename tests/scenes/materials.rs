@@ -3,7 +3,7 @@
 //! base colour, and a glTF file written here with all of these (and an emissive panel) loads
 //! with its factors, textures and generated tangents, and renders as it says.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 
@@ -346,7 +346,7 @@ fn write_material_gltf(dir: &Path) -> PathBuf {
         base64::engine::general_purpose::STANDARD.encode(&buffer.bytes)
     );
     let json = format!(
-        r#"{{"asset":{{"version":"2.0","generator":"penumbra tests/materials.rs"}},
+        r#"{{"asset":{{"version":"2.0","generator":"penumbra tests/scenes/materials.rs"}},
         "extensionsUsed":["KHR_materials_emissive_strength"],
         "scene":0,"scenes":[{{"nodes":[0,1,2,3,4]}}],
         "nodes":[{{"mesh":0,"name":"floor"}},

@@ -18,7 +18,7 @@
 //! light (the boundary between the -y and +x faces) and higher up (the +x face). A second test
 //! holds `ours` to 0.8x `pcss`' penumbra RMSE in the room itself.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{

@@ -5,7 +5,7 @@
 //! be added and removed between frames; misuse is refused with an error naming the lights. The two-sun frames are
 //! written to `target/penumbra-test-output/two-suns-<method>.png`.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{

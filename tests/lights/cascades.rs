@@ -7,7 +7,7 @@
 //! - On the built-in outdoor scene (340 units across) the visibility near the camera is far
 //!   closer to the reference with four cascades than with one map.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{

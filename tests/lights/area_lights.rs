@@ -17,7 +17,7 @@
 //! each weighted by its solid angle and the receiver's cosine, tested against the plank's box):
 //! the reference must agree with it within 5%, and `ours` with the reference within 10%.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{

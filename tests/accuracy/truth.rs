@@ -14,7 +14,7 @@
 //! `PENUMBRA_TRUTH_METHODS=ours,pcss,traditional` prints the same table for other methods
 //! (nothing is asserted on them).
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Quat, Vec3};
 use penumbra::{

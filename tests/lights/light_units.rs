@@ -2,7 +2,7 @@
 //! distance, lights add up (the renderer is linear in them), and a glTF file's lights keep
 //! their intensities, so dimming them all dims the frame down to its ambient light.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{
