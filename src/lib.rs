@@ -101,29 +101,15 @@
 
 pub mod casters;
 mod chain;
-#[cfg(feature = "renderer")]
-pub mod debug;
 pub mod device;
 pub mod error;
 mod frame;
-#[cfg(feature = "renderer")]
-pub mod gpu;
 mod gpu_helpers;
-#[cfg(feature = "renderer")]
-mod gpu_scene;
-#[cfg(feature = "renderer")]
-mod ground_truth;
 mod layouts;
 pub mod light_samples;
 pub mod light_space;
 pub mod map_resolution;
-#[cfg(feature = "renderer")]
-pub use scene::loaders;
-#[cfg(feature = "renderer")]
-pub mod metrics;
 pub(crate) mod passes;
-#[cfg(feature = "renderer")]
-mod renderer;
 pub mod scene;
 mod screen;
 pub mod settings;
@@ -132,6 +118,22 @@ pub mod shadows;
 pub mod timing;
 pub mod view;
 
+// The convenience layer: the renderer, its scene on the GPU, the ground truth, the loaders and
+// the tools around them (`src/renderer/`, `src/scene/loaders/`, `src/scene/file.rs`).
+#[cfg(feature = "renderer")]
+mod renderer;
+#[cfg(feature = "renderer")]
+pub use renderer::{
+    debug, gpu,
+    gpu::{HeadlessGpu, read_texture_bytes, read_texture_f32, read_texture_rgba8},
+    gpu_scene::GpuScene,
+    ground_truth::ReferenceProgress,
+    metrics,
+    render::{FrameReport, PassPlan, Renderer, WARMUP_MIN_MS, render_to_image, render_to_image_with_progress},
+};
+#[cfg(feature = "renderer")]
+pub use scene::{SceneFile, file::load_scene, loaders, loaders::load_model};
+
 pub use casters::{
     ALL_LAYERS, AlphaMask, CasterInstance, CasterMeshDesc, Casters, IndexStream, InstanceId, MeshGeometry,
     MeshId, VertexStream,
@@ -139,25 +141,9 @@ pub use casters::{
 pub use device::{DeviceLoss, device_descriptor, instance_flags};
 pub use error::{PenumbraError, Result};
 pub use frame::DerivedSpreads;
-#[cfg(feature = "renderer")]
-pub use gpu::{HeadlessGpu, read_texture_bytes, read_texture_f32, read_texture_rgba8};
-#[cfg(feature = "renderer")]
-pub use gpu_scene::GpuScene;
-#[cfg(feature = "renderer")]
-pub use ground_truth::ReferenceProgress;
 pub use layouts::SceneLayouts;
 pub use light_space::{Cascade, LightView, MAX_CASCADES, UnheldCaster};
-#[cfg(feature = "renderer")]
-pub use loaders::load_model;
 pub use map_resolution::PenumbraWidths;
-#[cfg(feature = "renderer")]
-pub use renderer::{
-    FrameReport, PassPlan, Renderer, WARMUP_MIN_MS, render_to_image, render_to_image_with_progress,
-};
-#[cfg(feature = "renderer")]
-pub use scene::SceneFile;
-#[cfg(feature = "renderer")]
-pub use scene::file::load_scene;
 pub use scene::{
     Aabb, AlphaMode, AreaLight, AreaShape, Camera, DirectionalLight, DiskLight, Exposure, Instance, Light,
     LightingMode, LightmapFilter, LightmapImage, LightmapRect, Lightmaps, MAX_LIGHTS, Material, Mesh, Model,

@@ -6,10 +6,12 @@
 
 use crate::error::{PenumbraError, Result};
 use crate::gpu_helpers::Target;
-use crate::gpu_scene::GpuScene;
+use super::gpu_scene::GpuScene;
 use crate::light_samples::{Emitter, light_sample};
 use crate::light_space::{AtlasGrid, FitInputs, LightView, atlas_grid, tile_resolution};
-use crate::passes::{DepthPrepass, GeometricNormals, ReferencePass, ShadowMapPass};
+use super::depth_prepass::DepthPrepass;
+use super::reference::{GeometricNormals, ReferencePass};
+use crate::passes::ShadowMapPass;
 use crate::scene::{Camera, Light};
 use crate::settings::{ShadowMapSettings, ShadowSettings};
 use crate::view::CameraMatrices;

@@ -6,9 +6,9 @@
 //! layer per light, indirect attenuation already applied; or the reference's mean) and the
 //! prepass's camera depth (tested, not written). Output: the lit color in the caller's target.
 
-use super::entry;
-use super::{begin_pass, cleared, depth_attachment};
-use crate::gpu_scene::{CameraStreams, GpuScene};
+use crate::gpu_helpers::entry;
+use crate::gpu_helpers::{begin_pass, cleared, depth_attachment};
+use super::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
 
 use crate::frame::ShadedLights;
@@ -18,7 +18,7 @@ pub struct CompositePass {
     lights: wgpu::Buffer,
     layout: wgpu::BindGroupLayout,
     /// Opaque, then blended instances (drawn after the opaque ones).
-    pipelines: super::LitPipelines,
+    pipelines: super::camera_pipelines::LitPipelines,
     bind_group: Option<wgpu::BindGroup>,
 }
 
@@ -50,7 +50,7 @@ impl CompositePass {
             size_of::<ShadedLights>() as u64,
         );
         // Depth tested against the prepass, not written; blended surfaces over the opaque ones.
-        let pipelines = super::LitPipelines::new(
+        let pipelines = super::camera_pipelines::LitPipelines::new(
             device,
             "CompositePass::pipeline",
             &shader,
@@ -89,7 +89,7 @@ impl CompositePass {
 
     /// Binds the frame uniform and the visibility array (a 2D-array view).
     pub fn bind(&mut self, device: &wgpu::Device, frame: &wgpu::Buffer, visibility: &wgpu::TextureView) {
-        self.bind_group = Some(super::bind_group(
+        self.bind_group = Some(crate::gpu_helpers::bind_group(
             device,
             "CompositePass::bind_group",
             &self.layout,

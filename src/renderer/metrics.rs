@@ -11,7 +11,7 @@
 //! feature, NVIDIA's FLIP perceptual metric compares final images.
 
 use crate::error::{PenumbraError, Result};
-use crate::gpu::{HeadlessGpu, read_texture_f32};
+use super::gpu::{HeadlessGpu, read_texture_f32};
 use crate::scene::{Camera, Scene};
 use crate::settings::{ShadowMethod, ShadowSettings};
 use crate::{GpuScene, Renderer};
@@ -75,7 +75,7 @@ fn render_linear(
     let (device, queue) = gpu;
     let mut renderer = Renderer::new(device, format, settings)?;
     let gpu_scene = GpuScene::new(device, queue, renderer.layouts(), scene)?;
-    let target = crate::gpu::color_target(device, "metrics::target", (width, height), format);
+    let target = super::gpu::color_target(device, "metrics::target", (width, height), format);
     let view = target.create_view(&Default::default());
     renderer.resize(device, width, height);
     if settings.method == ShadowMethod::Reference {

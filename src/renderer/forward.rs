@@ -7,11 +7,11 @@
 //! tap), [`ShadowMethod::Hardware2x2`] a linear one (the hardware's 2x2 PCF); the pipeline is
 //! the same.
 
-use super::{begin_pass, cleared, depth_attachment};
+use crate::gpu_helpers::{begin_pass, cleared, depth_attachment};
 use bytemuck::{Pod, Zeroable};
 
-use super::{entry, screen_target};
-use crate::gpu_scene::{CameraStreams, GpuScene};
+use crate::gpu_helpers::{entry, screen_target};
+use super::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
 use crate::layouts::vec4;
 use crate::light_space::{LightView, MAX_TILES, tile_matrix};
@@ -57,14 +57,14 @@ pub struct ForwardPass {
     hard_bind_group: wgpu::BindGroup,
     pcf_bind_group: wgpu::BindGroup,
     /// Opaque, then blended instances (drawn after the opaque ones).
-    pipelines: super::LitPipelines,
+    pipelines: super::camera_pipelines::LitPipelines,
     depth: wgpu::TextureView,
     size: (u32, u32),
 }
 
 impl ForwardPass {
     /// Camera depth buffer format.
-    pub const DEPTH_FORMAT: wgpu::TextureFormat = super::CAMERA_DEPTH_FORMAT;
+    pub const DEPTH_FORMAT: wgpu::TextureFormat = super::camera_pipelines::CAMERA_DEPTH_FORMAT;
 
     pub fn new(
         device: &wgpu::Device,
@@ -93,11 +93,11 @@ impl ForwardPass {
             size_of::<FrameUniform>() as u64,
         );
         let hard_sampler =
-            super::comparison_sampler(device, "ForwardPass::hard_sampler", wgpu::FilterMode::Nearest);
+            crate::gpu_helpers::comparison_sampler(device, "ForwardPass::hard_sampler", wgpu::FilterMode::Nearest);
         let pcf_sampler =
-            super::comparison_sampler(device, "ForwardPass::pcf_sampler", wgpu::FilterMode::Linear);
+            crate::gpu_helpers::comparison_sampler(device, "ForwardPass::pcf_sampler", wgpu::FilterMode::Linear);
         // Opaque surfaces write depth; blended ones over them are depth tested, not written.
-        let pipelines = super::LitPipelines::new(
+        let pipelines = super::camera_pipelines::LitPipelines::new(
             device,
             "ForwardPass::pipeline",
             &shader,

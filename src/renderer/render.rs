@@ -9,11 +9,13 @@
 
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform};
-use crate::gpu_scene::GpuScene;
-use crate::ground_truth::{GroundTruth, ReferenceProgress, SampleInputs};
+use super::gpu_scene::GpuScene;
+use super::ground_truth::{GroundTruth, ReferenceProgress, SampleInputs};
 use crate::layouts::SceneLayouts;
 use crate::light_space::LightView;
-use crate::passes::{CompositePass, DepthPrepass, ForwardPass};
+use super::composite::CompositePass;
+use super::depth_prepass::DepthPrepass;
+use super::forward::ForwardPass;
 use crate::scene::{Camera, Light};
 use crate::settings::{ShadowMethod, ShadowSettings};
 use crate::shadows::{Chain, LightId, LightReport, LightTexture, Shadows, ViewInputs};
@@ -368,8 +370,8 @@ impl Renderer {
         frames: usize,
         mut before_frame: impl FnMut(&mut GpuScene, usize) -> Result<()>,
     ) -> Result<crate::timing::TimedFrames> {
-        crate::gpu::check_target_size(device, (width, height))?;
-        let target = crate::gpu::color_target(
+        super::gpu::check_target_size(device, (width, height))?;
+        let target = super::gpu::color_target(
             device,
             "Renderer::time_frames target",
             (width, height),
@@ -1026,7 +1028,7 @@ fn keep<T>(slot: &mut Option<T>, wanted: bool, make: impl FnOnce() -> T) {
 /// Renders one frame of `scene` from `camera` into a new `width` x `height` sRGB texture and
 /// returns it as an image. The renderer must have been made for `Rgba8UnormSrgb`.
 pub fn render_to_image(
-    gpu: &crate::gpu::HeadlessGpu,
+    gpu: &super::gpu::HeadlessGpu,
     renderer: &mut Renderer,
     scene: &GpuScene,
     camera: &Camera,
@@ -1039,7 +1041,7 @@ pub fn render_to_image(
 /// As [`render_to_image`]; for the reference method `progress(done, total)` is called after
 /// every light sample.
 pub fn render_to_image_with_progress(
-    gpu: &crate::gpu::HeadlessGpu,
+    gpu: &super::gpu::HeadlessGpu,
     renderer: &mut Renderer,
     scene: &GpuScene,
     camera: &Camera,
@@ -1059,15 +1061,15 @@ pub fn render_to_image_with_progress(
 }
 
 fn render_to_image_now(
-    gpu: &crate::gpu::HeadlessGpu,
+    gpu: &super::gpu::HeadlessGpu,
     renderer: &mut Renderer,
     scene: &GpuScene,
     camera: &Camera,
     (width, height): (u32, u32),
     progress: impl FnMut(u32, u32),
 ) -> Result<image::RgbaImage> {
-    crate::gpu::check_target_size(&gpu.device, (width, height))?;
-    let target = crate::gpu::color_target(
+    super::gpu::check_target_size(&gpu.device, (width, height))?;
+    let target = super::gpu::color_target(
         &gpu.device,
         "penumbra::render_to_image target",
         (width, height),
@@ -1098,7 +1100,7 @@ fn render_to_image_now(
         // penumbrae ask for (`MapResolution::FromPenumbra`).
         renderer.settle(&gpu.device, &gpu.queue, scene, camera, &view)?;
     }
-    let pixels = crate::gpu::read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;
+    let pixels = super::gpu::read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;
     image::RgbaImage::from_raw(width, height, pixels).ok_or_else(|| PenumbraError::Gpu {
         during: "reading back the frame".into(),
         reason: "size mismatch".into(),

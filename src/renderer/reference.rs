@@ -10,10 +10,9 @@
 use crate::gpu_helpers::Target;
 use bytemuck::{Pod, Zeroable};
 
-use super::{
-    DepthUse, Fullscreen, begin_pass, cleared, depth_attachment, draw_fullscreen_into, entry, screen_target,
-};
-use crate::gpu_scene::{CameraStreams, GpuScene};
+use crate::gpu_helpers::{Fullscreen, begin_pass, cleared, depth_attachment, entry, screen_target};
+use crate::passes::{DepthUse, draw_fullscreen_into};
+use super::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
 use crate::light_samples::Emitter;
 use crate::light_space::{LightView, MAX_TILES, tile_matrix};
@@ -115,7 +114,7 @@ impl ReferencePass {
         normals: &wgpu::TextureView,
     ) {
         let group = |previous: &Side| {
-            super::bind_group(
+            crate::gpu_helpers::bind_group(
                 device,
                 "ReferencePass::bind_group",
                 &self.layout,
@@ -253,7 +252,7 @@ impl GeometricNormals {
         if (size.width, size.height) != (width, height) {
             self.target = screen_target(device, "GeometricNormals::target", width, height, Self::FORMAT);
         }
-        self.bind_group = Some(super::bind_group(
+        self.bind_group = Some(crate::gpu_helpers::bind_group(
             device,
             "GeometricNormals::bind_group",
             &self.frame_layout,

@@ -5,10 +5,10 @@
 //! depth (Depth32Float, reversed: cleared to 0, `Greater` test; tested `Equal` by the
 //! composite) and a receiver mask (R8Unorm: 1 on instances that receive shadows).
 
-use super::{begin_pass, cleared, depth_attachment};
-use super::{entry, screen_target};
+use crate::gpu_helpers::{begin_pass, cleared, depth_attachment};
+use crate::gpu_helpers::{entry, screen_target};
 use crate::gpu_helpers::Target;
-use crate::gpu_scene::{CameraStreams, GpuScene};
+use super::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
 
 pub struct DepthPrepass {
@@ -23,7 +23,7 @@ pub struct DepthPrepass {
 }
 
 impl DepthPrepass {
-    pub const DEPTH_FORMAT: wgpu::TextureFormat = super::CAMERA_DEPTH_FORMAT;
+    pub const DEPTH_FORMAT: wgpu::TextureFormat = super::camera_pipelines::CAMERA_DEPTH_FORMAT;
     pub const RECEIVER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, frame_size: usize) -> Self {
@@ -68,7 +68,7 @@ impl DepthPrepass {
 
     /// Points the pass at the frame uniform.
     pub fn bind(&mut self, device: &wgpu::Device, frame: &wgpu::Buffer) {
-        self.bind_group = Some(super::bind_group(
+        self.bind_group = Some(crate::gpu_helpers::bind_group(
             device,
             "DepthPrepass::bind_group",
             &self.frame_layout,
@@ -151,7 +151,7 @@ pub(super) fn prepass_pipeline(
     kind: PrepassKind,
 ) -> wgpu::RenderPipeline {
     let shader = crate::shaders::module(device, "depth_prepass.wgsl", crate::shaders::DEPTH_PREPASS);
-    super::camera_pipeline(
+    super::camera_pipelines::camera_pipeline(
         device,
         &format!("{label}::pipeline"),
         &shader,
