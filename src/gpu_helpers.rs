@@ -540,3 +540,59 @@ pub(crate) fn comparison_sampler(
         ..Default::default()
     })
 }
+
+/// What a full-screen draw does with a classification depth.
+#[derive(Clone, Copy)]
+pub(crate) enum DepthUse<'a> {
+    None,
+    /// Read-only: the pipeline's test skips the pixels it leaves out.
+    Test(&'a wgpu::TextureView),
+}
+
+/// The screen tiles a tile classification kept: the bind group of `shaders/common/tiles.wgsl`
+/// (group [`TILES_GROUP`]) and how many tiles the screen has, one quad instance each. A pass
+/// draws them with a pipeline whose vertex entry point is `vs_tile`.
+#[derive(Clone, Copy)]
+pub(crate) struct Tiles<'a> {
+    pub group: &'a wgpu::BindGroup,
+    pub count: u32,
+}
+
+/// The bind group index of the kept tiles (`shaders/common/tiles.wgsl`).
+pub(crate) const TILES_GROUP: u32 = 2;
+
+/// Draws the screen: the kept `tiles` when given (the pipeline's vertex stage is then
+/// `vs_tile`), else the full-screen triangle.
+pub(crate) fn draw_area(pass: &mut wgpu::RenderPass<'_>, tiles: Option<Tiles>) {
+    match tiles {
+        Some(tiles) => {
+            pass.set_bind_group(TILES_GROUP, tiles.group, &[]);
+            pass.draw(0..6, 0..tiles.count);
+        }
+        None => pass.draw(0..3, 0..1),
+    }
+}
+
+/// Draws `pipeline` over the screen (the kept `tiles` when given, see [`draw_area`]) into
+/// `targets` (each cleared to white first), with a classification depth used as `depth` says.
+pub(crate) fn draw_fullscreen_into(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    pipeline: &wgpu::RenderPipeline,
+    bind_groups: &[&wgpu::BindGroup],
+    targets: &[&wgpu::TextureView],
+    depth: DepthUse,
+    tiles: Option<Tiles>,
+) {
+    let color_attachments: Vec<_> = targets.iter().map(|t| cleared(t, wgpu::Color::WHITE)).collect();
+    let depth_stencil_attachment = match depth {
+        DepthUse::None => None,
+        DepthUse::Test(view) => depth_attachment(view, None),
+    };
+    let mut pass = begin_pass(encoder, label, &color_attachments, depth_stencil_attachment);
+    pass.set_pipeline(pipeline);
+    for (i, group) in bind_groups.iter().enumerate() {
+        pass.set_bind_group(i as u32, *group, &[]);
+    }
+    draw_area(&mut pass, tiles);
+}

@@ -106,10 +106,10 @@ pub mod error;
 mod frame;
 mod gpu_helpers;
 mod layouts;
+mod light_maps;
 pub mod light_samples;
 pub mod light_space;
 pub mod map_resolution;
-pub(crate) mod passes;
 pub mod scene;
 mod screen;
 pub mod settings;
@@ -129,7 +129,9 @@ pub use renderer::{
     gpu_scene::GpuScene,
     ground_truth::ReferenceProgress,
     metrics,
-    render::{FrameReport, PassPlan, Renderer, WARMUP_MIN_MS, render_to_image, render_to_image_with_progress},
+    render::{
+        FrameReport, PassPlan, Renderer, WARMUP_MIN_MS, render_to_image, render_to_image_with_progress,
+    },
 };
 #[cfg(feature = "renderer")]
 pub use scene::{SceneFile, file::load_scene, loaders, loaders::load_model};

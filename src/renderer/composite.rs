@@ -6,9 +6,9 @@
 //! layer per light, indirect attenuation already applied; or the reference's mean) and the
 //! prepass's camera depth (tested, not written). Output: the lit color in the caller's target.
 
+use super::gpu_scene::{CameraStreams, GpuScene};
 use crate::gpu_helpers::entry;
 use crate::gpu_helpers::{begin_pass, cleared, depth_attachment};
-use super::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
 
 use crate::frame::ShadedLights;

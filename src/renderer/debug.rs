@@ -1,8 +1,8 @@
 //! Debug views: an intermediate texture of the last frame read back and shown in false color.
 
-use crate::error::{PenumbraError, Result};
 use super::gpu::read_texture_f32;
 use super::render::Renderer;
+use crate::error::{PenumbraError, Result};
 use crate::shadows::LightTexture;
 
 /// What a debug view shows.

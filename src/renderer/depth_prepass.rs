@@ -5,10 +5,10 @@
 //! depth (Depth32Float, reversed: cleared to 0, `Greater` test; tested `Equal` by the
 //! composite) and a receiver mask (R8Unorm: 1 on instances that receive shadows).
 
+use super::gpu_scene::{CameraStreams, GpuScene};
+use crate::gpu_helpers::Target;
 use crate::gpu_helpers::{begin_pass, cleared, depth_attachment};
 use crate::gpu_helpers::{entry, screen_target};
-use crate::gpu_helpers::Target;
-use super::gpu_scene::{CameraStreams, GpuScene};
 use crate::layouts::SceneLayouts;
 
 pub struct DepthPrepass {

@@ -10,8 +10,8 @@
 use crate::gpu_helpers::{begin_pass, cleared, depth_attachment};
 use bytemuck::{Pod, Zeroable};
 
-use crate::gpu_helpers::{entry, screen_target};
 use super::gpu_scene::{CameraStreams, GpuScene};
+use crate::gpu_helpers::{entry, screen_target};
 use crate::layouts::SceneLayouts;
 use crate::layouts::vec4;
 use crate::light_space::{LightView, MAX_TILES, tile_matrix};
@@ -92,10 +92,16 @@ impl ForwardPass {
             "ForwardPass::frame",
             size_of::<FrameUniform>() as u64,
         );
-        let hard_sampler =
-            crate::gpu_helpers::comparison_sampler(device, "ForwardPass::hard_sampler", wgpu::FilterMode::Nearest);
-        let pcf_sampler =
-            crate::gpu_helpers::comparison_sampler(device, "ForwardPass::pcf_sampler", wgpu::FilterMode::Linear);
+        let hard_sampler = crate::gpu_helpers::comparison_sampler(
+            device,
+            "ForwardPass::hard_sampler",
+            wgpu::FilterMode::Nearest,
+        );
+        let pcf_sampler = crate::gpu_helpers::comparison_sampler(
+            device,
+            "ForwardPass::pcf_sampler",
+            wgpu::FilterMode::Linear,
+        );
         // Opaque surfaces write depth; blended ones over them are depth tested, not written.
         let pipelines = super::camera_pipelines::LitPipelines::new(
             device,

@@ -1,17 +1,17 @@
 //! The ground truth, kept apart from the real-time chain: each area light replaced by N point
 //! lights on it, one hard shadow map each, the hard visibilities averaged per pixel (weighted
 //! as [`crate::light_samples`] says) by
-//! [`crate::passes::ReferencePass`], one average per light of the scene. The convenience [`crate::Renderer`] drives it
+//! [`crate::light_maps::ReferencePass`], one average per light of the scene. The convenience [`crate::Renderer`] drives it
 //! ([`crate::Renderer::render_reference`]); [`crate::Shadows`] never does.
 
+use super::depth_prepass::DepthPrepass;
+use super::gpu_scene::GpuScene;
+use super::reference::{GeometricNormals, ReferencePass};
 use crate::error::{PenumbraError, Result};
 use crate::gpu_helpers::Target;
-use super::gpu_scene::GpuScene;
+use crate::light_maps::ShadowMapPass;
 use crate::light_samples::{Emitter, light_sample};
 use crate::light_space::{AtlasGrid, FitInputs, LightView, atlas_grid, tile_resolution};
-use super::depth_prepass::DepthPrepass;
-use super::reference::{GeometricNormals, ReferencePass};
-use crate::passes::ShadowMapPass;
 use crate::scene::{Camera, Light};
 use crate::settings::{ShadowMapSettings, ShadowSettings};
 use crate::view::CameraMatrices;

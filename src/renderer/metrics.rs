@@ -10,8 +10,8 @@
 //! reference is strictly between 0.02 and 0.98) and the maximum absolute error. With the `flip`
 //! feature, NVIDIA's FLIP perceptual metric compares final images.
 
-use crate::error::{PenumbraError, Result};
 use super::gpu::{HeadlessGpu, read_texture_f32};
+use crate::error::{PenumbraError, Result};
 use crate::scene::{Camera, Scene};
 use crate::settings::{ShadowMethod, ShadowSettings};
 use crate::{GpuScene, Renderer};

@@ -10,9 +10,9 @@
 use crate::gpu_helpers::Target;
 use bytemuck::{Pod, Zeroable};
 
-use crate::gpu_helpers::{Fullscreen, begin_pass, cleared, depth_attachment, entry, screen_target};
-use crate::passes::{DepthUse, draw_fullscreen_into};
 use super::gpu_scene::{CameraStreams, GpuScene};
+use crate::gpu_helpers::{DepthUse, draw_fullscreen_into};
+use crate::gpu_helpers::{Fullscreen, begin_pass, cleared, depth_attachment, entry, screen_target};
 use crate::layouts::SceneLayouts;
 use crate::light_samples::Emitter;
 use crate::light_space::{LightView, MAX_TILES, tile_matrix};

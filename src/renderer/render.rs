@@ -7,15 +7,15 @@
 //! shade in one forward pass with the light's shadow map instead, and the ground truth
 //! accumulates one hard shadow map per light sample and light ([`Renderer::render_reference`]).
 
-use crate::error::{PenumbraError, Result};
-use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform};
-use super::gpu_scene::GpuScene;
-use super::ground_truth::{GroundTruth, ReferenceProgress, SampleInputs};
-use crate::layouts::SceneLayouts;
-use crate::light_space::LightView;
 use super::composite::CompositePass;
 use super::depth_prepass::DepthPrepass;
 use super::forward::ForwardPass;
+use super::gpu_scene::GpuScene;
+use super::ground_truth::{GroundTruth, ReferenceProgress, SampleInputs};
+use crate::error::{PenumbraError, Result};
+use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform};
+use crate::layouts::SceneLayouts;
+use crate::light_space::LightView;
 use crate::scene::{Camera, Light};
 use crate::settings::{ShadowMethod, ShadowSettings};
 use crate::shadows::{Chain, LightId, LightReport, LightTexture, Shadows, ViewInputs};

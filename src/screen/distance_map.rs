@@ -2,7 +2,7 @@
 //!
 //! Input: the frame uniform (camera matrices, light), the fattened shadow map and its occluder
 //! offset, the exit map (the casters' back faces), the real shadow map, the camera depth (the engine's, or
-//! [`crate::passes::DepthPrepass`]'s) and optionally a receiver mask. Outputs, screen-sized:
+//! [`crate::light_maps::DepthPrepass`]'s) and optionally a receiver mask. Outputs, screen-sized:
 //! * the distance map (RG16F): R = distance along the light from the occluder to the receiver
 //!   (world units, >= 0; to the caster's own surface, found through the fattened pass's
 //!   occluder offset, so a receiver touching its caster gets 0 and not the fatten distance;

@@ -67,6 +67,6 @@ pub(crate) use crate::gpu_helpers::{
     Binding, Fullscreen, begin_pass, bind_group, cleared, comparison_sampler, depth_attachment, entry,
     fullscreen_pipeline, fullscreen_pipeline_with, screen_target,
 };
-pub(crate) use crate::passes::{DepthUse, Tiles, draw_area, draw_fullscreen_into};
+pub(crate) use crate::gpu_helpers::{DepthUse, Tiles, draw_area, draw_fullscreen_into};
 
 pub(crate) use chains::{ScreenChain, ScreenInputs};

@@ -7,7 +7,7 @@ use super::{
     screen_target,
 };
 use crate::gpu_helpers::Target;
-use crate::passes::{DepthUse, Tiles};
+use crate::gpu_helpers::{DepthUse, Tiles};
 
 /// What every screen-space stage of a chain has besides its wiring and its place in the frame
 /// (`bind` and `encode`, whose inputs differ by stage and which each method's chain calls in its
@@ -204,7 +204,7 @@ pub(crate) struct Classification<'a> {
     pub tiles: Option<Tiles<'a>>,
 }
 
-/// The layout of the kept tiles' bind group ([`TILES_GROUP`](crate::passes::TILES_GROUP), `shaders/common/tiles.wgsl`):
+/// The layout of the kept tiles' bind group ([`TILES_GROUP`](crate::gpu_helpers::TILES_GROUP), `shaders/common/tiles.wgsl`):
 /// the classes, read by the vertex stage. wgpu gives equal layouts one identity, so each pass
 /// that draws tiles makes its own and uses the group the tile classification makes.
 pub(crate) fn tiles_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {

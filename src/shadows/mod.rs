@@ -11,16 +11,17 @@
 
 use crate::casters::Casters;
 pub use crate::chain::Chain;
-use crate::chain::{FRAME_SIZE, LightMaps};
+use crate::chain::FRAME_SIZE;
 use crate::device::DeviceLoss;
 use crate::error::{PenumbraError, Result};
 use crate::frame::{DerivedSpreads, PassParams, derive_spreads, light_kind};
 use crate::gpu_helpers::screen_target;
 use crate::gpu_helpers::{Target, scoped, texture_bytes};
+use crate::light_maps::FarPlaneFill;
+use crate::light_maps::LightMaps;
 use crate::light_space::tile_resolution;
 use crate::light_space::{LightView, MAX_TILES};
 use crate::map_resolution::PenumbraWidths;
-use crate::passes::FarPlaneFill;
 use crate::scene::{Aabb, Light, MAX_LIGHTS};
 use crate::screen::{ComputeNeeds, ComputeTargets, ScreenChain, ScreenInputs, VISIBILITY_FORMAT};
 use crate::settings::{MapResolution, ShadowMapSettings, ShadowMethod, ShadowSettings, SpreadMode};
@@ -711,7 +712,7 @@ impl Shadows {
     /// The bind group layout entry an engine's lit shader declares for [`Shadows::visibility`]:
     /// a filterable float 2D array texture read in the fragment stage.
     pub fn visibility_layout_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-        crate::passes::entry::texture(
+        crate::gpu_helpers::entry::texture(
             binding,
             wgpu::TextureSampleType::Float { filterable: true },
             wgpu::TextureViewDimension::D2Array,

@@ -5,8 +5,9 @@
 use super::light_state::{LightState, Planned, ShadowKey, narrowest_texels, redrawn_tiles, sees, spreads};
 use super::{LightId, SCENE_FATTEN_RATIO, pass_params};
 use crate::casters::Casters;
-use crate::chain::{Chain, LightMaps};
+use crate::chain::Chain;
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams};
+use crate::light_maps::LightMaps;
 use crate::light_space::{FitInputs, LightView};
 use crate::scene::{Aabb, Light};
 use crate::settings::{CascadeSettings, LightFit, ShadowMapSettings, ShadowSettings};

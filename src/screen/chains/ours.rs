@@ -3,8 +3,9 @@
 //! passes over the distance map's tile list ([`OursChain`]), or as draws ([`OursDrawChain`]).
 
 use super::screen_chain::{ChainKey, MethodChain, Recorder, ScreenInputs, stage_lists};
-use crate::chain::{Chain, FRAME_SIZE, LightMaps};
+use crate::chain::{Chain, FRAME_SIZE};
 use crate::frame::{DistanceSwitches, PassParams};
+use crate::light_maps::LightMaps;
 use crate::map_resolution::WidthProbe;
 use crate::screen::{
     BlurCompute, BlurInput, BlurPass, Cleared, ClearedByList, ComputeTargets, DistanceMapCompute,

@@ -4,8 +4,9 @@
 use super::ours::{OursChain, OursDrawChain};
 use super::single_pass::{HardChain, PcssChain};
 use super::traditional::{TraditionalChain, TraditionalDrawChain};
-use crate::chain::{Chain, LightMaps};
+use crate::chain::Chain;
 use crate::frame::{BlurSwitches, DistanceSwitches, PassParams, PcfSwitches};
+use crate::light_maps::LightMaps;
 use crate::map_resolution::WidthProbe;
 use crate::screen::{ComputeTargets, ScreenStage};
 

@@ -9,8 +9,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::light_atlas::{FarPlaneFill, LightMapAtlas, depth_state};
-use super::{CascadeUniforms, CasterPipelines, SecondStream};
+use super::atlas::{FarPlaneFill, LightMapAtlas, depth_state};
+use super::pipelines::{CascadeUniforms, CasterPipelines, SecondStream};
 use crate::casters::{Casters, Streams};
 use crate::layouts::SceneLayouts;
 use crate::light_space::{AtlasGrid, LightView};

@@ -12,8 +12,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::light_atlas::{FarPlaneFill, LightMapAtlas, depth_state, support_map_resolution};
-use super::{CascadeUniforms, CasterPipelines, SecondStream};
+use super::atlas::{FarPlaneFill, LightMapAtlas, depth_state, support_map_resolution};
+use super::pipelines::{CascadeUniforms, CasterPipelines, SecondStream};
 use crate::casters::{Casters, OutwardWinding, Streams};
 use crate::layouts::SceneLayouts;
 use crate::light_space::{AtlasGrid, LightView};

@@ -5,8 +5,10 @@
 
 use crate::gpu_helpers::{Target, texture_bytes};
 
-use super::{CascadeUniforms, TileClear, depth_attachment};
+use super::pipelines::CascadeUniforms;
+use super::tile_clear::TileClear;
 use crate::casters::Cull;
+use crate::gpu_helpers::depth_attachment;
 use crate::light_space::{AtlasGrid, LightView};
 use crate::settings::ShadowMapSettings;
 

@@ -14,11 +14,10 @@
 use crate::gpu_helpers::{Target, texture_bytes};
 use bytemuck::{Pod, Zeroable};
 
-use super::light_atlas::{
-    FarPlaneFill, LightMapAtlas, depth_pass_descriptor, depth_state, support_map_resolution,
-};
-use super::{CascadeUniforms, CasterPipelines, SecondStream, kept};
+use super::atlas::{FarPlaneFill, LightMapAtlas, depth_pass_descriptor, depth_state, support_map_resolution};
+use super::pipelines::{CascadeUniforms, CasterPipelines, SecondStream};
 use crate::casters::{Casters, Streams};
+use crate::gpu_helpers::kept;
 use crate::layouts::SceneLayouts;
 use crate::light_space::{AtlasGrid, LightView};
 use crate::settings::ShadowMapSettings;
