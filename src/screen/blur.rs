@@ -20,11 +20,9 @@ use crate::gpu_helpers::{Target, texture_bytes};
 use bytemuck::{Pod, Zeroable};
 
 use super::tiles_layout;
-use super::{
-    Classification, DepthUse, Fullscreen, VISIBILITY_FORMAT, classified_test, draw_fullscreen_into, entry,
-    screen_target,
-};
+use super::{Classification, VISIBILITY_FORMAT, classified_test};
 use crate::frame::{BlurParams, BlurSwitches, gaussian_weights};
+use crate::gpu_helpers::{DepthUse, Fullscreen, draw_fullscreen_into, entry, screen_target};
 
 /// The standard deviation, in taps, of the discrete kernel `weights` makes with `taps` taps:
 /// less than the Gaussian's own, which is cut at +-taps / 2.
@@ -168,8 +166,9 @@ impl BlurPass {
         .pipeline_with(device, vertex, "fs_main");
         let axis_buffers = ["BlurPass::horizontal", "BlurPass::vertical"]
             .map(|label| crate::gpu_helpers::uniform_buffer(device, label, size_of::<BlurUniform>() as u64));
-        let axis_groups =
-            [0, 1].map(|i| super::bind_group(device, "BlurPass::axis", &axis_layout, &[&axis_buffers[i]]));
+        let axis_groups = [0, 1].map(|i| {
+            crate::gpu_helpers::bind_group(device, "BlurPass::axis", &axis_layout, &[&axis_buffers[i]])
+        });
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("BlurPass::linear_sampler"),
             mag_filter: wgpu::FilterMode::Linear,
@@ -201,7 +200,7 @@ impl BlurPass {
         light: &BlurInput,
     ) {
         let group = |source: &wgpu::TextureView| {
-            let resources: [&dyn super::Binding; 7] = [
+            let resources: [&dyn crate::gpu_helpers::Binding; 7] = [
                 frame,
                 camera_depth,
                 &self.sampler,
@@ -210,7 +209,7 @@ impl BlurPass {
                 light.blur_sigma,
                 receiver_mask,
             ];
-            super::bind_group(device, "BlurPass::bind_group", &self.layout, &resources)
+            crate::gpu_helpers::bind_group(device, "BlurPass::bind_group", &self.layout, &resources)
         };
         self.bind_groups = Some([group(light.visibility), group(&self.temp.view)]);
     }
@@ -417,8 +416,9 @@ impl BlurCompute {
         };
         let axis_buffers = ["BlurCompute::horizontal", "BlurCompute::vertical"]
             .map(|label| crate::gpu_helpers::uniform_buffer(device, label, size_of::<BlurUniform>() as u64));
-        let axis_groups =
-            [0, 1].map(|i| super::bind_group(device, "BlurCompute::axis", &axis_layout, &[&axis_buffers[i]]));
+        let axis_groups = [0, 1].map(|i| {
+            crate::gpu_helpers::bind_group(device, "BlurCompute::axis", &axis_layout, &[&axis_buffers[i]])
+        });
         Self {
             switches,
             axes: axes("BlurCompute::axes", "cs_main", &out_layout),
@@ -454,7 +454,7 @@ impl BlurCompute {
         layer: Option<&wgpu::TextureView>,
     ) {
         let group = |source: &wgpu::TextureView| {
-            let resources: [&dyn super::Binding; 7] = [
+            let resources: [&dyn crate::gpu_helpers::Binding; 7] = [
                 frame,
                 camera_depth,
                 &self.sampler,
@@ -463,7 +463,7 @@ impl BlurCompute {
                 sigma,
                 receiver_mask,
             ];
-            super::bind_group(device, "BlurCompute::bind_group", &self.layout, &resources)
+            crate::gpu_helpers::bind_group(device, "BlurCompute::bind_group", &self.layout, &resources)
         };
         let out = |target: &wgpu::TextureView| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -523,10 +523,10 @@ impl BlurCompute {
             // The layer is 1 where the vertical axis writes nothing (0 over the tiles turned
             // away): a clear before it, unless the list holds every tile (the fixed blur).
             if !self.switches.fixed_step {
-                let mut pass = super::begin_pass(
+                let mut pass = crate::gpu_helpers::begin_pass(
                     encoder,
                     "BlurCompute::layer_clear",
-                    &[super::cleared(layer, wgpu::Color::WHITE)],
+                    &[crate::gpu_helpers::cleared(layer, wgpu::Color::WHITE)],
                     None,
                 );
                 if let Some(away) = &away {
@@ -550,10 +550,10 @@ impl BlurCompute {
             &self.axes,
             &[Some(vertical), Some(&self.axis_groups[1]), Some(to_visibility)],
         );
-        let mut pass = super::begin_pass(
+        let mut pass = crate::gpu_helpers::begin_pass(
             encoder,
             "BlurCompute::copy",
-            &[super::cleared(layer, wgpu::Color::WHITE)],
+            &[crate::gpu_helpers::cleared(layer, wgpu::Color::WHITE)],
             None,
         );
         pass.set_pipeline(&self.copy);

@@ -27,15 +27,14 @@
 //! back with a relative error below 1e-3, far below what a blur or kernel width can show.
 
 use super::ScreenStage;
-use super::{begin_pass, depth_attachment};
 use crate::frame::DistanceSwitches;
 use crate::gpu_helpers::{Target, texture_bytes};
+use crate::gpu_helpers::{begin_pass, depth_attachment};
 
 use super::tile_classify::TileClassifyPass;
 use super::tiles_layout;
-use super::{
-    CLASSIFICATION_FORMAT, Classification, Fullscreen, LIGHT_KIND, cleared, draw_area, entry, screen_target,
-};
+use super::{CLASSIFICATION_FORMAT, Classification, LIGHT_KIND};
+use crate::gpu_helpers::{Fullscreen, cleared, draw_area, entry, screen_target};
 
 pub struct DistanceMapPass {
     switches: DistanceSwitches,
@@ -166,7 +165,7 @@ impl DistanceMapPass {
             .bind(device, frame, camera_depth, maps.fattened_map, maps.fattened_size);
         self.reduce_pending
             .store(true, std::sync::atomic::Ordering::Relaxed);
-        self.bind_group = Some(super::bind_group(
+        self.bind_group = Some(crate::gpu_helpers::bind_group(
             device,
             "DistanceMapPass::bind_group",
             &self.layout,
@@ -273,7 +272,7 @@ impl<'a> DistanceMaps<'a> {
         &self,
         frame: &'a wgpu::Buffer,
         (camera_depth, receiver_mask): (&'a wgpu::TextureView, &'a wgpu::TextureView),
-    ) -> [&'a dyn super::Binding; 7] {
+    ) -> [&'a dyn crate::gpu_helpers::Binding; 7] {
         [
             frame,
             self.fattened_map,
@@ -383,7 +382,7 @@ impl DistanceMapCompute {
         self.bind_group = self.pipeline.is_some().then(|| {
             let mut resources = maps.inputs(frame, (camera_depth, receiver_mask)).to_vec();
             resources.push(cleared.distance);
-            super::bind_group(device, "DistanceMapCompute::bind_group", &self.layout, &resources)
+            crate::gpu_helpers::bind_group(device, "DistanceMapCompute::bind_group", &self.layout, &resources)
         });
     }
 

@@ -52,6 +52,7 @@ mod variable_pcf;
 #[cfg(test)]
 pub(crate) use blur::BlurUniform;
 pub(crate) use blur::{BlurCompute, BlurInput, BlurPass};
+pub(crate) use chains::{ScreenChain, ScreenInputs};
 pub(crate) use distance_map::{DistanceMapCompute, DistanceMapPass, DistanceMaps};
 pub(crate) use pcf::PcfPass;
 pub(crate) use pcss::PcssPass;
@@ -62,11 +63,3 @@ pub(crate) use storage_clear::StorageClear;
 pub(crate) use targets::{Cleared, ComputeNeeds, ComputeTargets};
 pub(crate) use tile_classify::{ClearedByList, TileListPass, TileListTargets};
 pub(crate) use variable_pcf::{VariablePcfCompute, VariablePcfPass};
-// What the stages build on besides the helpers above.
-pub(crate) use crate::gpu_helpers::{
-    Binding, Fullscreen, begin_pass, bind_group, cleared, comparison_sampler, depth_attachment, entry,
-    fullscreen_pipeline, fullscreen_pipeline_with, screen_target,
-};
-pub(crate) use crate::gpu_helpers::{DepthUse, Tiles, draw_area, draw_fullscreen_into};
-
-pub(crate) use chains::{ScreenChain, ScreenInputs};

@@ -6,7 +6,8 @@
 //! attenuation already applied and 1 where nothing was drawn or the pixel receives no shadow.
 
 use super::ScreenStage;
-use super::{VISIBILITY_FORMAT, draw_fullscreen, entry, fullscreen_pipeline};
+use super::{VISIBILITY_FORMAT, draw_fullscreen};
+use crate::gpu_helpers::{entry, fullscreen_pipeline};
 
 pub struct ResolvePass {
     layout: wgpu::BindGroupLayout,
@@ -54,7 +55,7 @@ impl ResolvePass {
         visibility: &wgpu::TextureView,
         receiver_mask: &wgpu::TextureView,
     ) {
-        self.bind_group = Some(super::bind_group(
+        self.bind_group = Some(crate::gpu_helpers::bind_group(
             device,
             "ResolvePass::bind_group",
             &self.layout,

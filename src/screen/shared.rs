@@ -2,11 +2,11 @@
 //! classification's depth test, the tile list they run over, and the pipeline of a pass that
 //! is a draw or a compute pass over the screen.
 
-use super::{
+use crate::gpu_helpers::Target;
+use crate::gpu_helpers::{
     Binding, bind_group, comparison_sampler, draw_fullscreen_into, entry, fullscreen_pipeline_with,
     screen_target,
 };
-use crate::gpu_helpers::Target;
 use crate::gpu_helpers::{DepthUse, Tiles};
 
 /// What every screen-space stage of a chain has besides its wiring and its place in the frame

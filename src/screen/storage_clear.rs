@@ -47,7 +47,11 @@ impl StorageClear {
             label: Some(label),
             source: wgpu::ShaderSource::Wgsl(source.into()),
         });
-        let layout = crate::gpu_helpers::layout(device, label, &[super::entry::storage_texture(0, format)]);
+        let layout = crate::gpu_helpers::layout(
+            device,
+            label,
+            &[crate::gpu_helpers::entry::storage_texture(0, format)],
+        );
         let pipeline = super::compute_pipeline(
             device,
             label,

@@ -48,10 +48,10 @@ impl OneClear {
     fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
         match self {
             OneClear::Compute(clear) => clear.encode(encoder),
-            OneClear::RenderPass(view, value) => drop(super::begin_pass(
+            OneClear::RenderPass(view, value) => drop(crate::gpu_helpers::begin_pass(
                 encoder,
                 "ComputeTargets::clear",
-                &[super::cleared(view, *value)],
+                &[crate::gpu_helpers::cleared(view, *value)],
                 None,
             )),
         }

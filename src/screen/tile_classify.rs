@@ -11,10 +11,8 @@
 //! fattened depth under its footprint in each cascade or cube face it can use; 0 where none
 //! can (conservative: see `shaders/tile_classify.wgsl`).
 
-use super::{
-    BlurCompute, DistanceMapCompute, Fullscreen, LIGHT_KIND, Tiles, VariablePcfCompute, entry, screen_target,
-    tiles_layout,
-};
+use super::{BlurCompute, DistanceMapCompute, LIGHT_KIND, VariablePcfCompute, tiles_layout};
+use crate::gpu_helpers::{Fullscreen, Tiles, entry, screen_target};
 use crate::gpu_helpers::{Target, texture_bytes};
 
 /// Screen pixels per tile side (`TILE` in the shader).
@@ -126,7 +124,7 @@ impl TileClassifyPass {
         layout: &wgpu::BindGroupLayout,
         classes: &wgpu::TextureView,
     ) -> wgpu::BindGroup {
-        super::bind_group(device, "TileClassifyPass::tiles", layout, &[classes])
+        crate::gpu_helpers::bind_group(device, "TileClassifyPass::tiles", layout, &[classes])
     }
 
     /// The kept tiles, for the passes that draw only them.
@@ -377,7 +375,7 @@ impl TileListTargets {
 
     /// `list` as group [`super::TILE_LIST_GROUP`] of the passes over it.
     fn list_group(device: &wgpu::Device, label: &str, list: &wgpu::Buffer) -> wgpu::BindGroup {
-        super::bind_group(
+        crate::gpu_helpers::bind_group(
             device,
             label,
             &TileListPass::list_layout(device),

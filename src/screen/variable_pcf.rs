@@ -16,13 +16,12 @@
 
 use super::ScreenStage;
 use super::tiles_layout;
-use super::{
-    Classification, Fullscreen, LIGHT_KIND, VISIBILITY_FORMAT, cleared, draw_area, entry, screen_target,
-};
-use super::{begin_pass, depth_attachment};
+use super::{Classification, LIGHT_KIND, VISIBILITY_FORMAT};
 use crate::frame::PassParams;
 use crate::frame::{DistanceSwitches, PcfSwitches, PcfUniform};
+use crate::gpu_helpers::{Fullscreen, cleared, draw_area, entry, screen_target};
 use crate::gpu_helpers::{Target, texture_bytes};
+use crate::gpu_helpers::{begin_pass, depth_attachment};
 use crate::map_resolution::WidthProbe;
 
 pub struct VariablePcfPass {
@@ -114,7 +113,7 @@ impl VariablePcfPass {
             layout,
             pipeline,
             params,
-            sampler: super::comparison_sampler(
+            sampler: crate::gpu_helpers::comparison_sampler(
                 device,
                 "VariablePcfPass::comparison_sampler",
                 wgpu::FilterMode::Linear,
@@ -184,7 +183,7 @@ impl VariablePcfPass {
         distance_map: &wgpu::TextureView,
         shadow_map: &wgpu::TextureView,
     ) {
-        self.bind_group = Some(super::bind_group(
+        self.bind_group = Some(crate::gpu_helpers::bind_group(
             device,
             "VariablePcfPass::bind_group",
             &self.layout,
@@ -197,7 +196,7 @@ impl VariablePcfPass {
                 &self.params,
             ],
         ));
-        self.half_group = Some(super::bind_group(
+        self.half_group = Some(crate::gpu_helpers::bind_group(
             device,
             "VariablePcfPass::half_group",
             &self.half_layout,
@@ -424,7 +423,7 @@ impl VariablePcfCompute {
                 "VariablePcfCompute::params",
                 size_of::<PcfUniform>() as u64,
             ),
-            sampler: super::comparison_sampler(
+            sampler: crate::gpu_helpers::comparison_sampler(
                 device,
                 "VariablePcfCompute::comparison_sampler",
                 wgpu::FilterMode::Linear,
@@ -455,7 +454,7 @@ impl VariablePcfCompute {
         } else {
             distance_map
         };
-        let mut resources: Vec<&dyn super::Binding> = vec![
+        let mut resources: Vec<&dyn crate::gpu_helpers::Binding> = vec![
             frame,
             camera_depth,
             read,
@@ -467,7 +466,7 @@ impl VariablePcfCompute {
             &probe,
         ];
         if self.distance.is_some() {
-            resources.extend::<[&dyn super::Binding; 6]>([
+            resources.extend::<[&dyn crate::gpu_helpers::Binding; 6]>([
                 maps.fattened_map,
                 receiver_mask,
                 maps.occluder_offset,
@@ -476,7 +475,7 @@ impl VariablePcfCompute {
                 maps.shadow_map,
             ]);
         }
-        self.bind_group = Some(super::bind_group(
+        self.bind_group = Some(crate::gpu_helpers::bind_group(
             device,
             "VariablePcfCompute::bind_group",
             &self.layout,
