@@ -7,7 +7,7 @@ use crate::gpu_helpers::{Target, texture_bytes};
 
 use super::pipelines::CascadeUniforms;
 use super::tile_clear::TileClear;
-use crate::casters::Cull;
+use crate::casters::{Casters, Cull};
 use crate::gpu_helpers::depth_attachment;
 use crate::light_space::{AtlasGrid, LightView};
 use crate::settings::ShadowMapSettings;
@@ -306,3 +306,21 @@ fn begin_depth_pass<'e>(
         ..depth_pass_descriptor(view, keep)
     })
 }
+
+/// A map's layout: the light maps' settings (format, bias, culling), its atlas's grid of
+/// tiles and each tile's texels a side.
+pub(crate) type MapLayout<'a> = (&'a ShadowMapSettings, AtlasGrid, u32);
+
+/// What a light's maps are drawn from this frame: the casters on `layers` (a mask of caster
+/// layers) seen from the light's fit, uploaded through `queue`.
+pub(crate) struct MapUpload<'a> {
+    pub device: &'a wgpu::Device,
+    pub queue: &'a wgpu::Queue,
+    pub casters: &'a Casters,
+    pub light: &'a LightView,
+    pub layers: u32,
+}
+
+/// What a light's maps draw: the casters, and where a whole atlas can be set to the far plane
+/// by a copy, the fill that does it.
+pub(crate) type MapDraw<'a> = (&'a Casters, Option<&'a FarPlaneFill>);

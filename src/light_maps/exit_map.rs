@@ -12,12 +12,11 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::atlas::{FarPlaneFill, LightMapAtlas, depth_state, support_map_resolution};
+use super::atlas::{LightMapAtlas, MapDraw, MapLayout, MapUpload, depth_state, support_map_resolution};
 use super::pipelines::{CascadeUniforms, CasterPipelines, SecondStream};
-use crate::casters::{Casters, OutwardWinding, Streams};
+use crate::casters::{OutwardWinding, Streams};
 use crate::layouts::SceneLayouts;
-use crate::light_space::{AtlasGrid, LightView};
-use crate::settings::{ExitFaces, ShadowMapSettings};
+use crate::settings::ExitFaces;
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -43,13 +42,8 @@ pub struct ExitMapPass {
 impl ExitMapPass {
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
     /// resolution.
-    pub fn new(
-        device: &wgpu::Device,
-        layouts: &SceneLayouts,
-        settings: &ShadowMapSettings,
-        grid: AtlasGrid,
-        tile: u32,
-    ) -> Self {
+    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, map: MapLayout) -> Self {
+        let (settings, grid, tile) = map;
         let shader = crate::shaders::module(device, "exit_map.wgsl", crate::shaders::EXIT_MAP);
         let uniform = CascadeUniforms::new(
             device,
@@ -106,26 +100,21 @@ impl ExitMapPass {
 
     /// Makes the map again for a shadow map of `tile` texels a tile (the pipelines stay); it
     /// must then be drawn and bound again.
-    pub(crate) fn resize(
-        &mut self,
-        device: &wgpu::Device,
-        settings: &ShadowMapSettings,
-        grid: AtlasGrid,
-        tile: u32,
-    ) {
+    pub(crate) fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
+        let (settings, grid, tile) = map;
         self.atlas
             .resize(device, settings, grid, support_map_resolution(tile));
     }
 
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view.
-    pub(crate) fn prepare(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        casters: &Casters,
-        light: &LightView,
-        layers: u32,
-    ) {
+    pub(crate) fn prepare(&mut self, upload: &MapUpload) {
+        let MapUpload {
+            device,
+            queue,
+            casters,
+            light,
+            layers,
+        } = *upload;
         let layouts = casters.draw_layouts(Streams::Fattened);
         self.by_fragment.prepare(device, &layouts);
         if self.faces == ExitFaces::Winding {
@@ -144,12 +133,7 @@ impl ExitMapPass {
     }
 
     /// Records the pass: every caster's back faces ([`Self::prepare`] first).
-    pub(crate) fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        casters: &Casters,
-        fill: Option<&FarPlaneFill>,
-    ) {
+    pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, (casters, fill): MapDraw) {
         self.atlas
             .encode_depth(encoder, "ExitMapPass", fill, |pass, cull| {
                 casters.draw(pass, Streams::Fattened, cull, |layout, outward| {

@@ -14,13 +14,13 @@
 use crate::gpu_helpers::{Target, texture_bytes};
 use bytemuck::{Pod, Zeroable};
 
-use super::atlas::{FarPlaneFill, LightMapAtlas, depth_pass_descriptor, depth_state, support_map_resolution};
+use super::atlas::{
+    LightMapAtlas, MapDraw, MapLayout, MapUpload, depth_pass_descriptor, depth_state, support_map_resolution,
+};
 use super::pipelines::{CascadeUniforms, CasterPipelines, SecondStream};
-use crate::casters::{Casters, Streams};
+use crate::casters::Streams;
 use crate::gpu_helpers::kept;
 use crate::layouts::SceneLayouts;
-use crate::light_space::{AtlasGrid, LightView};
-use crate::settings::ShadowMapSettings;
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -47,13 +47,8 @@ impl FattenedShadowMapPass {
 
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
     /// resolution.
-    pub fn new(
-        device: &wgpu::Device,
-        layouts: &SceneLayouts,
-        settings: &ShadowMapSettings,
-        grid: AtlasGrid,
-        tile: u32,
-    ) -> Self {
+    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, map: MapLayout) -> Self {
+        let (settings, grid, tile) = map;
         let shader = crate::shaders::module(
             device,
             "fattened_shadow_map.wgsl",
@@ -117,13 +112,8 @@ impl FattenedShadowMapPass {
 
     /// Makes the maps again for a shadow map of `tile` texels a tile (the pipelines stay); they
     /// must then be drawn and bound again.
-    pub(crate) fn resize(
-        &mut self,
-        device: &wgpu::Device,
-        settings: &ShadowMapSettings,
-        grid: AtlasGrid,
-        tile: u32,
-    ) {
+    pub(crate) fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
+        let (settings, grid, tile) = map;
         self.atlas
             .resize(device, settings, grid, support_map_resolution(tile));
         self.occluder_offset = Self::occluder_offset_target(device, &self.atlas);
@@ -137,15 +127,14 @@ impl FattenedShadowMapPass {
 
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view and
     /// the fatten distance (world units).
-    pub(crate) fn prepare(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        casters: &Casters,
-        light: &LightView,
-        fatten_distance: f32,
-        layers: u32,
-    ) {
+    pub(crate) fn prepare(&mut self, upload: &MapUpload, fatten_distance: f32) {
+        let MapUpload {
+            device,
+            queue,
+            casters,
+            light,
+            layers,
+        } = *upload;
         self.pipelines
             .prepare(device, &casters.draw_layouts(Streams::Fattened));
         let light_position = light.source();
@@ -163,12 +152,7 @@ impl FattenedShadowMapPass {
     }
 
     /// Records the pass: every caster, inflated ([`Self::prepare`] first).
-    pub(crate) fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        casters: &Casters,
-        fill: Option<&FarPlaneFill>,
-    ) {
+    pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, (casters, fill): MapDraw) {
         let keep = self.atlas.begin_depth(encoder, fill);
         // The occluder offset is never cleared: it is read only where the depth says a
         // fattened caster was drawn, and every such texel's offset was written with it

@@ -1,6 +1,6 @@
 //! [`LightMaps`]: the maps one light's chain draws from the light.
 
-use super::atlas::FarPlaneFill;
+use super::atlas::{FarPlaneFill, MapUpload};
 use super::exit_map::ExitMapPass;
 use super::fattened_shadow_map::FattenedShadowMapPass;
 use super::shadow_map::ShadowMapPass;
@@ -46,10 +46,10 @@ impl LightMaps {
                 // Another layout (the cascades in use) or resolution
                 // (`crate::MapResolution::FromPenumbra`): new textures, the same pipelines.
                 if (m.shadow.atlas.grid, m.shadow.atlas.tile) != (grid, tile) {
-                    m.shadow.resize(device, settings, grid, tile);
+                    m.shadow.resize(device, (settings, grid, tile));
                     if let Some((fattened, exit)) = &mut m.fattened {
-                        fattened.resize(device, settings, grid, tile);
-                        exit.resize(device, settings, grid, tile);
+                        fattened.resize(device, (settings, grid, tile));
+                        exit.resize(device, (settings, grid, tile));
                     }
                     made = true;
                 }
@@ -58,7 +58,7 @@ impl LightMaps {
             _ => {
                 made = true;
                 maps.insert(LightMaps {
-                    shadow: ShadowMapPass::new(device, layouts, settings, grid, tile),
+                    shadow: ShadowMapPass::new(device, layouts, (settings, grid, tile)),
                     fattened: None,
                     casters: casters.id(),
                 })
@@ -67,8 +67,8 @@ impl LightMaps {
         if chain.fattened_map() != maps.fattened.is_some() {
             maps.fattened = chain.fattened_map().then(|| {
                 (
-                    FattenedShadowMapPass::new(device, layouts, settings, grid, tile),
-                    ExitMapPass::new(device, layouts, settings, grid, tile),
+                    FattenedShadowMapPass::new(device, layouts, (settings, grid, tile)),
+                    ExitMapPass::new(device, layouts, (settings, grid, tile)),
                 )
             });
             made = true;
@@ -79,22 +79,13 @@ impl LightMaps {
     /// Uploads the light's fit (and fatten distance) for the next draw, which redraws only the
     /// tiles (cascades, cube faces) whose bit is set in `tiles` and draws only the casters on
     /// `layers`.
-    pub fn prepare(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        casters: &Casters,
-        light_view: &LightView,
-        fatten_distance: f32,
-        tiles: u32,
-        layers: u32,
-    ) {
-        self.shadow.prepare(device, queue, casters, light_view, layers);
+    pub fn prepare(&mut self, upload: &MapUpload, fatten_distance: f32, tiles: u32) {
+        self.shadow.prepare(upload);
         self.shadow.atlas.redraw_only(tiles);
         if let Some((fattened, exit)) = &mut self.fattened {
-            fattened.prepare(device, queue, casters, light_view, fatten_distance, layers);
+            fattened.prepare(upload, fatten_distance);
             fattened.atlas.redraw_only(tiles);
-            exit.prepare(device, queue, casters, light_view, layers);
+            exit.prepare(upload);
             exit.atlas.redraw_only(tiles);
         }
     }
@@ -117,13 +108,13 @@ impl LightMaps {
         mark: &mut dyn FnMut(&mut wgpu::CommandEncoder, &'static str),
     ) {
         run(encoder, mark, "shadow map", |e| {
-            self.shadow.encode(e, casters, fill)
+            self.shadow.encode(e, (casters, fill))
         });
         if let Some((fattened, exit)) = &self.fattened {
             run(encoder, mark, "fattened shadow map", |e| {
-                fattened.encode(e, casters, fill)
+                fattened.encode(e, (casters, fill))
             });
-            run(encoder, mark, "exit map", |e| exit.encode(e, casters, fill));
+            run(encoder, mark, "exit map", |e| exit.encode(e, (casters, fill)));
         }
     }
 }

@@ -18,6 +18,6 @@ mod pipelines;
 mod shadow_map;
 mod tile_clear;
 
-pub(crate) use atlas::FarPlaneFill;
+pub(crate) use atlas::{FarPlaneFill, MapUpload};
 pub(crate) use maps::LightMaps;
 pub use shadow_map::ShadowMapPass;

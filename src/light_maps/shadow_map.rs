@@ -9,12 +9,10 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::atlas::{FarPlaneFill, LightMapAtlas, depth_state};
+use super::atlas::{LightMapAtlas, MapDraw, MapLayout, MapUpload, depth_state};
 use super::pipelines::{CascadeUniforms, CasterPipelines, SecondStream};
-use crate::casters::{Casters, Streams};
+use crate::casters::Streams;
 use crate::layouts::SceneLayouts;
-use crate::light_space::{AtlasGrid, LightView};
-use crate::settings::ShadowMapSettings;
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -33,13 +31,8 @@ impl ShadowMapPass {
     /// Creates the pipelines and the shadow map texture, `grid` x `grid` tiles of the
     /// configured resolution ([`crate::light_space::atlas_grid`]). `settings` must have been
     /// validated.
-    pub fn new(
-        device: &wgpu::Device,
-        layouts: &SceneLayouts,
-        settings: &ShadowMapSettings,
-        grid: AtlasGrid,
-        tile: u32,
-    ) -> Self {
+    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, map: MapLayout) -> Self {
+        let (settings, grid, tile) = map;
         let shader = crate::shaders::module(device, "shadow_map.wgsl", crate::shaders::SHADOW_MAP);
         let light = CascadeUniforms::new(
             device,
@@ -94,25 +87,20 @@ impl ShadowMapPass {
 
     /// Makes the map again as `grid`'s tiles of `tile` texels a side (the pipelines stay); it
     /// must then be drawn and bound again.
-    pub(crate) fn resize(
-        &mut self,
-        device: &wgpu::Device,
-        settings: &ShadowMapSettings,
-        grid: AtlasGrid,
-        tile: u32,
-    ) {
+    pub(crate) fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
+        let (settings, grid, tile) = map;
         self.atlas.resize(device, settings, grid, tile);
     }
 
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view.
-    pub(crate) fn prepare(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        casters: &Casters,
-        light: &LightView,
-        layers: u32,
-    ) {
+    pub(crate) fn prepare(&mut self, upload: &MapUpload) {
+        let MapUpload {
+            device,
+            queue,
+            casters,
+            light,
+            layers,
+        } = *upload;
         self.opaque
             .prepare(device, &casters.draw_layouts(Streams::OpaqueDepth));
         self.masked
@@ -131,12 +119,7 @@ impl ShadowMapPass {
 
     /// Records the pass: clears the map (or the tiles to redraw) and draws every caster
     /// ([`Self::prepare`] first).
-    pub(crate) fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        casters: &Casters,
-        fill: Option<&FarPlaneFill>,
-    ) {
+    pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, (casters, fill): MapDraw) {
         self.atlas
             .encode_depth(encoder, "ShadowMapPass", fill, |pass, cull| {
                 casters.draw(pass, Streams::OpaqueDepth, cull, |l, _| self.opaque.get(l));

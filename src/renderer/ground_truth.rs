@@ -9,7 +9,7 @@ use super::gpu_scene::GpuScene;
 use super::reference::{GeometricNormals, ReferencePass};
 use crate::error::{PenumbraError, Result};
 use crate::gpu_helpers::Target;
-use crate::light_maps::ShadowMapPass;
+use crate::light_maps::{MapUpload, ShadowMapPass};
 use crate::light_samples::{Emitter, light_sample};
 use crate::light_space::{AtlasGrid, FitInputs, LightView, atlas_grid, tile_resolution};
 use crate::scene::{Camera, Light};
@@ -253,7 +253,7 @@ impl GroundTruth {
                 continue;
             }
             let map = (
-                ShadowMapPass::new(device, scene.casters().layouts(), &sm, grid, tile),
+                ShadowMapPass::new(device, scene.casters().layouts(), (&sm, grid, tile)),
                 wanted,
             );
             if i < self.maps.len() {
@@ -321,8 +321,15 @@ impl GroundTruth {
                 let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("reference: sample"),
                 });
-                shadow_map.prepare(device, queue, casters, &view, crate::casters::ALL_LAYERS);
-                shadow_map.encode(&mut encoder, casters, None);
+                let layers = crate::casters::ALL_LAYERS;
+                shadow_map.prepare(&MapUpload {
+                    device,
+                    queue,
+                    casters,
+                    light: &view,
+                    layers,
+                });
+                shadow_map.encode(&mut encoder, (casters, None));
                 pass.accumulate(&mut encoder, queue, &view, &Emitter::of(light));
                 queue.submit([encoder.finish()]);
             }

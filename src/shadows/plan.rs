@@ -7,7 +7,7 @@ use super::{LightId, SCENE_FATTEN_RATIO, pass_params};
 use crate::casters::Casters;
 use crate::chain::Chain;
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams};
-use crate::light_maps::LightMaps;
+use crate::light_maps::{LightMaps, MapUpload};
 use crate::light_space::{FitInputs, LightView};
 use crate::scene::{Aabb, Light};
 use crate::settings::{CascadeSettings, LightFit, ShadowMapSettings, ShadowSettings};
@@ -180,15 +180,14 @@ pub(super) fn plan_light(frame: &FramePlan, slot: usize, state: &mut LightState)
     );
     let render_maps = tiles != 0;
     if render_maps && let Some(maps) = &mut state.maps {
-        maps.prepare(
-            frame.device,
-            frame.queue,
-            frame.casters,
-            &light_view,
-            spreads.fatten_distance,
-            tiles,
-            state.layers,
-        );
+        let upload = MapUpload {
+            device: frame.device,
+            queue: frame.queue,
+            casters: frame.casters,
+            light: &light_view,
+            layers: state.layers,
+        };
+        maps.prepare(&upload, spreads.fatten_distance, tiles);
     }
     state.screen.prepare(frame.queue, &params);
     // The PCF pass counts the penumbra widths below these limits, in texels of the
