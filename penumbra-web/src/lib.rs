@@ -5,6 +5,10 @@
 //! Build and serve it with `cargo run -p penumbra-web --bin serve` (see `docs/web.md`). The page
 //! reads its first settings from the address's query (`?scene=teapot&view=0&method=ours`), so a
 //! link or a test can open a given view.
+//!
+//! Natively the library is empty (the serve command needs none of it); its unit tests build it
+//! natively.
+#![cfg(any(target_arch = "wasm32", test))]
 
 use penumbra::{Light, Scene, SceneFile, ShadowMethod};
 
