@@ -282,3 +282,73 @@ fn a_screen_stage_is_named_in_its_module_the_front_and_its_chain_only() {
         assert!(root.join(format!("shaders/{shader}.wgsl")).exists());
     }
 }
+
+/// The lines of each function of `text` (from its `fn` line to its closing brace), by name. A
+/// function is a line that starts, after `pub`, `pub(crate)` and the like, with `fn `.
+fn function_lengths(text: &str) -> Vec<(String, usize)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut found = Vec::new();
+    let mut i = 0;
+    while i < lines.len() {
+        let mut rest = lines[i].trim_start();
+        for prefix in ["pub(crate) ", "pub(super) ", "pub ", "const ", "unsafe "] {
+            rest = rest.strip_prefix(prefix).unwrap_or(rest);
+        }
+        let Some(signature) = rest.strip_prefix("fn ") else {
+            i += 1;
+            continue;
+        };
+        let name: String = signature
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        let (mut depth, mut opened, mut j) = (0i32, false, i);
+        while j < lines.len() {
+            for c in lines[j].chars() {
+                match c {
+                    '{' => (depth, opened) = (depth + 1, true),
+                    '}' => depth -= 1,
+                    _ => {}
+                }
+            }
+            if (opened && depth == 0) || (!opened && lines[j].trim_end().ends_with(';')) {
+                break;
+            }
+            j += 1;
+        }
+        if opened {
+            found.push((name, j - i + 1));
+        }
+        i = j + 1;
+    }
+    found
+}
+
+/// No function of `src/` is longer than 150 lines: a longer one does several things, each of
+/// which wants its own name.
+#[test]
+fn no_function_in_src_is_longer_than_150_lines() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut long = Vec::new();
+    let mut counted = 0;
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        for (name, lines) in function_lengths(&text) {
+            counted += 1;
+            if lines > 150 {
+                long.push(format!("{}: {name} ({lines} lines)", file.display()));
+            }
+        }
+    }
+    assert!(counted > 500, "too few functions found: {counted}");
+    assert!(long.is_empty(), "functions over 150 lines: {long:#?}");
+    // The counter counts: a function of 3 lines and one of 152.
+    let long_one = format!("fn long() {{\n{}}}\n", "    let _ = 1;\n".repeat(150));
+    let sample = format!("pub(crate) fn short(a: u32) -> u32 {{\n    a\n}}\n{long_one}");
+    assert_eq!(
+        function_lengths(&sample),
+        [("short".to_string(), 3), ("long".to_string(), 152)]
+    );
+}

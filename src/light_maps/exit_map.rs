@@ -45,12 +45,8 @@ impl ExitMapPass {
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, map: MapLayout) -> Self {
         let (settings, grid, tile) = map;
         let shader = crate::shaders::module(device, "exit_map.wgsl", crate::shaders::EXIT_MAP);
-        let uniform = CascadeUniforms::new(
-            device,
-            "ExitMapPass::uniform",
-            wgpu::ShaderStages::VERTEX_FRAGMENT,
-            size_of::<ExitLightUniform>(),
-        );
+        let stages = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let uniform = CascadeUniforms::of::<ExitLightUniform>(device, "ExitMapPass::uniform", stages);
         let groups = [Some(&uniform.layout), Some(&layouts.instance)];
         let by_fragment = CasterPipelines::new(
             device,
@@ -108,13 +104,7 @@ impl ExitMapPass {
 
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view.
     pub(crate) fn prepare(&mut self, upload: &MapUpload) {
-        let MapUpload {
-            device,
-            queue,
-            casters,
-            light,
-            layers,
-        } = *upload;
+        let (device, casters, light) = (upload.device, upload.casters, upload.light);
         let layouts = casters.draw_layouts(Streams::Fattened);
         self.by_fragment.prepare(device, &layouts);
         if self.faces == ExitFaces::Winding {
@@ -122,14 +112,13 @@ impl ExitMapPass {
             self.cull_back.prepare(device, &layouts);
         }
         let position = light.source();
-        for (i, cascade) in light.cascades().iter().enumerate() {
-            let uniform = ExitLightUniform {
+        self.atlas
+            .uniform
+            .write_cascades(upload.queue, light, |cascade| ExitLightUniform {
                 view_proj: cascade.view_projection.to_cols_array_2d(),
                 light: position.to_array(),
-            };
-            self.atlas.uniform.write(queue, i, bytemuck::bytes_of(&uniform));
-        }
-        self.atlas.prepared(light, 0.0, layers);
+            });
+        self.atlas.prepared(light, 0.0, upload.layers);
     }
 
     /// Records the pass: every caster's back faces ([`Self::prepare`] first).

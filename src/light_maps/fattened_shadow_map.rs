@@ -54,12 +54,8 @@ impl FattenedShadowMapPass {
             "fattened_shadow_map.wgsl",
             crate::shaders::FATTENED_SHADOW_MAP,
         );
-        let uniform = CascadeUniforms::new(
-            device,
-            "FattenedShadowMapPass::uniform",
-            wgpu::ShaderStages::VERTEX_FRAGMENT,
-            size_of::<FattenUniform>(),
-        );
+        let stages = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let uniform = CascadeUniforms::of::<FattenUniform>(device, "FattenedShadowMapPass::uniform", stages);
         let pipelines = CasterPipelines::new(
             device,
             "FattenedShadowMapPass::pipeline",
@@ -128,27 +124,20 @@ impl FattenedShadowMapPass {
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view and
     /// the fatten distance (world units).
     pub(crate) fn prepare(&mut self, upload: &MapUpload, fatten_distance: f32) {
-        let MapUpload {
-            device,
-            queue,
-            casters,
-            light,
-            layers,
-        } = *upload;
+        let (device, casters, light) = (upload.device, upload.casters, upload.light);
         self.pipelines
             .prepare(device, &casters.draw_layouts(Streams::Fattened));
         let light_position = light.source();
-        for (i, cascade) in light.cascades().iter().enumerate() {
-            let uniform = FattenUniform {
+        self.atlas
+            .uniform
+            .write_cascades(upload.queue, light, |cascade| FattenUniform {
                 view_proj: cascade.view_projection.to_cols_array_2d(),
                 view: cascade.view.to_cols_array_2d(),
                 light: light_position.to_array(),
                 params: [fatten_distance, 0.0, 0.0, 0.0],
-            };
-            self.atlas.uniform.write(queue, i, bytemuck::bytes_of(&uniform));
-        }
+            });
         // Pushed out, a caster reaches `fatten_distance` past its box.
-        self.atlas.prepared(light, fatten_distance, layers);
+        self.atlas.prepared(light, fatten_distance, upload.layers);
     }
 
     /// Records the pass: every caster, inflated ([`Self::prepare`] first).

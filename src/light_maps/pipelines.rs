@@ -24,6 +24,11 @@ impl CascadeUniforms {
         self.buffer.size()
     }
 
+    /// Uniforms of `T` seen by the `visibility` stages.
+    pub fn of<T>(device: &wgpu::Device, label: &str, visibility: wgpu::ShaderStages) -> Self {
+        Self::new(device, label, visibility, size_of::<T>())
+    }
+
     pub fn new(device: &wgpu::Device, label: &str, visibility: wgpu::ShaderStages, size: usize) -> Self {
         let align = u64::from(device.limits().min_uniform_buffer_offset_alignment).max(1);
         let stride = (size as u64).div_ceil(align) * align;
@@ -71,6 +76,18 @@ impl CascadeUniforms {
     /// Uploads cascade `index`'s data.
     pub fn write(&self, queue: &wgpu::Queue, index: usize, bytes: &[u8]) {
         queue.write_buffer(&self.buffer, self.stride * index as u64, bytes);
+    }
+
+    /// Writes each cascade's uniform of `light`, made by `uniform` from the cascade.
+    pub fn write_cascades<T: bytemuck::Pod>(
+        &self,
+        queue: &wgpu::Queue,
+        light: &crate::light_space::LightView,
+        uniform: impl Fn(&crate::light_space::Cascade) -> T,
+    ) {
+        for (i, cascade) in light.cascades().iter().enumerate() {
+            self.write(queue, i, bytemuck::bytes_of(&uniform(cascade)));
+        }
     }
 
     /// From now on only the tiles whose bit is set in `tiles` are redrawn; the others keep

@@ -34,12 +34,8 @@ impl ShadowMapPass {
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, map: MapLayout) -> Self {
         let (settings, grid, tile) = map;
         let shader = crate::shaders::module(device, "shadow_map.wgsl", crate::shaders::SHADOW_MAP);
-        let light = CascadeUniforms::new(
-            device,
-            "ShadowMapPass::light",
-            wgpu::ShaderStages::VERTEX,
-            size_of::<LightUniform>(),
-        );
+        let light =
+            CascadeUniforms::of::<LightUniform>(device, "ShadowMapPass::light", wgpu::ShaderStages::VERTEX);
         let light_layout = &light.layout;
         let primitive = wgpu::PrimitiveState {
             cull_mode: settings.cull_mode.face(),
@@ -94,27 +90,17 @@ impl ShadowMapPass {
 
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view.
     pub(crate) fn prepare(&mut self, upload: &MapUpload) {
-        let MapUpload {
-            device,
-            queue,
-            casters,
-            light,
-            layers,
-        } = *upload;
+        let (device, casters, light) = (upload.device, upload.casters, upload.light);
         self.opaque
             .prepare(device, &casters.draw_layouts(Streams::OpaqueDepth));
         self.masked
             .prepare(device, &casters.draw_layouts(Streams::MaskedDepth));
-        for (i, cascade) in light.cascades().iter().enumerate() {
-            self.atlas.uniform.write(
-                queue,
-                i,
-                bytemuck::bytes_of(&LightUniform {
-                    view_proj: cascade.view_projection.to_cols_array_2d(),
-                }),
-            );
-        }
-        self.atlas.prepared(light, 0.0, layers);
+        self.atlas
+            .uniform
+            .write_cascades(upload.queue, light, |cascade| LightUniform {
+                view_proj: cascade.view_projection.to_cols_array_2d(),
+            });
+        self.atlas.prepared(light, 0.0, upload.layers);
     }
 
     /// Records the pass: clears the map (or the tiles to redraw) and draws every caster

@@ -357,51 +357,8 @@ impl Shadows {
     ) -> Result<()> {
         self.prepared = false;
         self.guarded(device, "preparing the shadows", |this| {
-            view.camera.validate()?;
-            let (width, height) = check_depth(view.depth)?;
-            if let Some(mask) = view.receiver_mask {
-                check_mask(mask, (width, height))?;
-            }
-            let resized = this.size != (width, height);
-            this.size = (width, height);
-            let inputs_changed = match &this.inputs {
-                Some(inputs) => {
-                    inputs.depth != *view.depth
-                        || inputs.mask.as_ref().map(|m| &m.texture) != view.receiver_mask
-                }
-                None => true,
-            };
-            if inputs_changed {
-                this.inputs = Some(Inputs {
-                    depth: view.depth.clone(),
-                    depth_view: view.depth.create_view(&wgpu::TextureViewDescriptor {
-                        label: Some("Shadows::depth"),
-                        aspect: wgpu::TextureAspect::DepthOnly,
-                        ..Default::default()
-                    }),
-                    mask: view.receiver_mask.map(|m| Target {
-                        texture: m.clone(),
-                        view: m.create_view(&Default::default()),
-                    }),
-                });
-            }
-            if let Some(target) = &this.target {
-                check_target(target, Some(((width, height), this.lights.len())))?;
-            }
-            let replaced = resized || this.visibility.is_none();
-            if replaced {
-                this.visibility = Some(match &this.target {
-                    Some(target) => layer_views(target.clone()),
-                    None => layer_views(visibility_array(
-                        device,
-                        width,
-                        height,
-                        this.lights.len().max(1) as u32,
-                        this.layer_storage,
-                    )),
-                });
-                this.generation += 1;
-            }
+            let taken = this.take_view(device, view)?;
+            let (width, height) = this.size;
             // The compute passes write the layers themselves where the device and the texture
             // (an engine's may lack the usage) allow it.
             let layer_writes = this.layer_storage
@@ -411,7 +368,7 @@ impl Shadows {
                     .as_ref()
                     .is_some_and(|v| v.0.usage().contains(wgpu::TextureUsages::STORAGE_BINDING));
             // The passes that write the layers hold them.
-            let rebind_all = resized || inputs_changed || (replaced && layer_writes);
+            let rebind_all = taken.resized || taken.inputs_changed || (taken.replaced && layer_writes);
             this.casters_id = Some(casters.id());
 
             // The penumbra widths earlier frames measured, before anything is written for this
@@ -434,7 +391,7 @@ impl Shadows {
                 camera: &view.camera,
                 settings: &this.settings,
                 size: (width, height),
-                resized,
+                resized: taken.resized,
                 rebind_all,
                 layer_writes,
                 software: this.software,
@@ -454,58 +411,8 @@ impl Shadows {
             {
                 plan_light(&frame, slot, state);
             }
-            // The compute path's intermediates, one set for every light that runs it.
-            let needs = this
-                .lights
-                .iter()
-                .flatten()
-                .filter_map(|s| s.planned.map(|p| ComputeNeeds::of(&p.chain)))
-                .fold(ComputeNeeds::default(), ComputeNeeds::union);
-            let any_compute = this
-                .lights
-                .iter()
-                .flatten()
-                .any(|s| s.planned.is_some_and(|p| p.chain.compute()));
-            if !any_compute {
-                this.compute_targets = None;
-            } else if this
-                .compute_targets
-                .as_ref()
-                .is_none_or(|t| !t.fit(device, (width, height), needs, this.settings.execution.clears))
-            {
-                this.compute_targets = Some(ComputeTargets::new(
-                    device,
-                    (width, height),
-                    needs,
-                    this.settings.execution.clears,
-                ));
-                for state in this.lights.iter_mut().flatten() {
-                    state.bound = None;
-                }
-            }
-            let inputs = this.inputs.as_ref().expect("set above");
-            let mask_view = inputs.mask.as_ref().map_or(&this.dummy.view, |m| &m.view);
-            let layers = &this.visibility.as_ref().expect("set above").2;
-            for (slot, state) in this
-                .lights
-                .iter_mut()
-                .enumerate()
-                .filter_map(|(slot, s)| Some((slot, s.as_mut()?)))
-            {
-                let chain = state.planned.expect("planned above").chain;
-                if state.bound != Some(chain) {
-                    let compute = this.compute_targets.as_ref().filter(|_| chain.compute());
-                    let layer = layers.get(slot).filter(|_| layer_writes);
-                    state.bind(
-                        device,
-                        (&inputs.depth_view, mask_view),
-                        &this.dummy.view,
-                        compute,
-                        layer,
-                    );
-                    state.bound = Some(chain);
-                }
-            }
+            this.fit_compute_targets(device);
+            this.bind_lights(device, layer_writes);
             // The far-plane buffer as large as the largest 16-bit map the lights hold now.
             if let Some(fill) = &mut this.far_plane {
                 let needed = this
@@ -522,6 +429,105 @@ impl Shadows {
         })?;
         self.prepared = true;
         Ok(())
+    }
+
+    /// Takes the engine's view for this frame: checks its depth and mask, keeps views of them
+    /// when they changed, and makes the visibility layers again when the size changed.
+    fn take_view(&mut self, device: &wgpu::Device, view: &ViewInputs) -> Result<ViewTaken> {
+        view.camera.validate()?;
+        let (width, height) = check_depth(view.depth)?;
+        if let Some(mask) = view.receiver_mask {
+            check_mask(mask, (width, height))?;
+        }
+        let resized = self.size != (width, height);
+        self.size = (width, height);
+        let inputs_changed = match &self.inputs {
+            Some(inputs) => {
+                inputs.depth != *view.depth || inputs.mask.as_ref().map(|m| &m.texture) != view.receiver_mask
+            }
+            None => true,
+        };
+        if inputs_changed {
+            self.inputs = Some(Inputs {
+                depth: view.depth.clone(),
+                depth_view: view.depth.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some("Shadows::depth"),
+                    aspect: wgpu::TextureAspect::DepthOnly,
+                    ..Default::default()
+                }),
+                mask: view.receiver_mask.map(|m| Target {
+                    texture: m.clone(),
+                    view: m.create_view(&Default::default()),
+                }),
+            });
+        }
+        if let Some(target) = &self.target {
+            check_target(target, Some(((width, height), self.lights.len())))?;
+        }
+        let replaced = resized || self.visibility.is_none();
+        if replaced {
+            self.visibility = Some(match &self.target {
+                Some(target) => layer_views(target.clone()),
+                None => layer_views(visibility_array(
+                    device,
+                    width,
+                    height,
+                    self.lights.len().max(1) as u32,
+                    self.layer_storage,
+                )),
+            });
+            self.generation += 1;
+        }
+        Ok(ViewTaken {
+            resized,
+            inputs_changed,
+            replaced,
+        })
+    }
+
+    /// Makes or keeps the compute path's intermediates, one set for every light that runs it
+    /// (none when no light does); the lights are bound again when they are made.
+    fn fit_compute_targets(&mut self, device: &wgpu::Device) {
+        let planned = || self.lights.iter().flatten().filter_map(|s| s.planned);
+        let needs = planned()
+            .map(|p| ComputeNeeds::of(&p.chain))
+            .fold(ComputeNeeds::default(), ComputeNeeds::union);
+        let clears = self.settings.execution.clears;
+        if !planned().any(|p| p.chain.compute()) {
+            self.compute_targets = None;
+        } else if self
+            .compute_targets
+            .as_ref()
+            .is_none_or(|t| !t.fit(device, self.size, needs, clears))
+        {
+            self.compute_targets = Some(ComputeTargets::new(device, self.size, needs, clears));
+            for state in self.lights.iter_mut().flatten() {
+                state.bound = None;
+            }
+        }
+    }
+
+    /// Points each light's passes whose chain changed at their inputs (the compute passes at
+    /// the light's layer where they write it, `layer_writes`).
+    fn bind_lights(&mut self, device: &wgpu::Device, layer_writes: bool) {
+        let inputs = self.inputs.as_ref().expect("taken before");
+        let mask_view = inputs.mask.as_ref().map_or(&self.dummy.view, |m| &m.view);
+        let layers = &self.visibility.as_ref().expect("taken before").2;
+        for (slot, state) in self
+            .lights
+            .iter_mut()
+            .enumerate()
+            .filter_map(|(slot, s)| Some((slot, s.as_mut()?)))
+        {
+            let chain = state.planned.expect("planned before").chain;
+            if state.bound != Some(chain) {
+                let compute = self.compute_targets.as_ref().filter(|_| chain.compute());
+                let layer = layers.get(slot).filter(|_| layer_writes);
+                let depth = (&inputs.depth_view, mask_view);
+                state.bind(device, depth, &self.dummy.view, compute, layer);
+                state.bound = Some(chain);
+            }
+        }
     }
 
     /// Records the frame [`Shadows::prepare`] planned: per light, the maps when they must be
@@ -807,4 +813,13 @@ fn pass_params(settings: &ShadowSettings, software: bool) -> PassParams {
         params.blur_switches.tiles = false;
     }
     params
+}
+/// What [`Shadows::prepare`] found of the engine's view.
+struct ViewTaken {
+    /// The depth's size changed.
+    resized: bool,
+    /// Another depth or mask texture.
+    inputs_changed: bool,
+    /// The visibility layers were made again.
+    replaced: bool,
 }

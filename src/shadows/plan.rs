@@ -55,22 +55,7 @@ struct Seen<'a> {
 /// Plans the light in `slot` for the frame: sets `state.planned` and `state.report`, uploads
 /// its frame uniform and prepares the maps' draws it needs.
 pub(super) fn plan_light(frame: &FramePlan, slot: usize, state: &mut LightState) {
-    let mut chain = Chain::new(frame.settings, &state.light).writing_layers(frame.layer_writes);
-    if !frame.compute {
-        chain = chain.without_compute();
-    }
-    if !frame.screen_space {
-        // Only the light-space map: the renderer shades in its forward pass.
-        chain = chain.map_only();
-    }
-    let effective = ShadowSettings {
-        method: chain.method(),
-        ..*frame.settings
-    };
-    let params = PassParams {
-        layer_writes: frame.layer_writes,
-        ..pass_params(&effective, frame.software)
-    };
+    let (chain, effective, params) = chain_of(frame, &state.light);
     // The maps' resolution: the configured one, or a coarser one the light's
     // penumbrae allow (`MapResolution::FromPenumbra`).
     let level = state.wanted_level(frame.settings, &chain);
@@ -190,19 +175,7 @@ pub(super) fn plan_light(frame: &FramePlan, slot: usize, state: &mut LightState)
         maps.prepare(&upload, spreads.fatten_distance, tiles);
     }
     state.screen.prepare(frame.queue, &params);
-    // The PCF pass counts the penumbra widths below these limits, in texels of the
-    // map as drawn.
-    let probe = match (
-        narrowest_texels(frame.settings, &chain),
-        state.screen.width_probe_mut(),
-    ) {
-        (Some(t), Some(probe)) => {
-            let limits = [t, 2.0 * t, 4.0 * t];
-            probe.reset(frame.queue, limits);
-            Some((limits, light_view.tile))
-        }
-        _ => None,
-    };
+    let probe = reset_probe(frame, state, &chain, light_view.tile);
     let planned = Planned {
         chain,
         key,
@@ -215,6 +188,43 @@ pub(super) fn plan_light(frame: &FramePlan, slot: usize, state: &mut LightState)
     };
     state.report = Some(planned.report(LightId(slot as u32), state.widths.map(|(w, _)| w)));
     state.planned = Some(planned);
+}
+
+/// The chain `light` runs this frame (on this device, with the renderer's choices), the
+/// settings it is drawn with and its passes' parameters.
+fn chain_of(frame: &FramePlan, light: &Light) -> (Chain, ShadowSettings, PassParams) {
+    let mut chain = Chain::new(frame.settings, light).writing_layers(frame.layer_writes);
+    if !frame.compute {
+        chain = chain.without_compute();
+    }
+    if !frame.screen_space {
+        // Only the light-space map: the renderer shades in its forward pass.
+        chain = chain.map_only();
+    }
+    let effective = ShadowSettings {
+        method: chain.method(),
+        ..*frame.settings
+    };
+    let params = PassParams {
+        layer_writes: frame.layer_writes,
+        ..pass_params(&effective, frame.software)
+    };
+    (chain, effective, params)
+}
+
+/// Resets the PCF pass's count of the penumbra widths below its limits (in texels of the map
+/// as drawn, `tile` a side), where the chain counts them; the limits and the map's size.
+fn reset_probe(
+    frame: &FramePlan,
+    state: &mut LightState,
+    chain: &Chain,
+    tile: u32,
+) -> Option<([f32; 3], u32)> {
+    let texels = narrowest_texels(frame.settings, chain)?;
+    let probe = state.screen.width_probe_mut()?;
+    let limits = [texels, 2.0 * texels, 4.0 * texels];
+    probe.reset(frame.queue, limits);
+    Some((limits, tile))
 }
 
 /// The light's view for this frame (fitted to what it sees, widened by its fatten distance,
