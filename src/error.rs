@@ -152,6 +152,39 @@ pub type Result<T, E = PenumbraError> = std::result::Result<T, E>;
 
 /// What slot `index` of `slots` holds: [`PenumbraError::no_such`] `kind` where it is empty or
 /// beyond the end (an id removed or never handed out).
+/// Waits until the GPU has done all the work submitted to `device`; a wait that fails is a
+/// [`PenumbraError::Gpu`] while `during`.
+pub(crate) fn wait_for_gpu(device: &wgpu::Device, during: &str) -> Result<()> {
+    let wait = wgpu::PollType::Wait {
+        submission_index: None,
+        timeout: None,
+    };
+    match device.poll(wait) {
+        Ok(_) => Ok(()),
+        Err(e) => Err(PenumbraError::Gpu {
+            during: during.into(),
+            reason: e.to_string(),
+        }),
+    }
+}
+
+/// Maps `slice` for reading and waits until it is mapped (or `during` fails).
+pub(crate) fn map_for_reading(device: &wgpu::Device, slice: wgpu::BufferSlice, during: &str) -> Result<()> {
+    let (sender, receiver) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = sender.send(r);
+    });
+    wait_for_gpu(device, during)?;
+    let failed = |reason: String| PenumbraError::Gpu {
+        during: during.into(),
+        reason,
+    };
+    receiver
+        .recv()
+        .map_err(|e| failed(e.to_string()))?
+        .map_err(|e| failed(e.to_string()))
+}
+
 pub(crate) fn slot<'a, T>(slots: &'a [Option<T>], kind: &str, index: u32) -> Result<&'a T> {
     slots
         .get(index as usize)

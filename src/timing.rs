@@ -147,10 +147,7 @@ impl WallClockTimer {
         let done = std::mem::replace(encoder, fresh);
         self.queue.submit([done.finish()]);
         // A failed wait only makes the measurement wrong, not the frame.
-        let _ = self.device.poll(wgpu::PollType::Wait {
-            submission_index: None,
-            timeout: None,
-        });
+        let _ = crate::error::wait_for_gpu(&self.device, "timing a pass");
     }
 
     fn begin(&mut self, encoder: &mut wgpu::CommandEncoder) {
@@ -249,20 +246,7 @@ impl GpuTimer {
             return Ok(Vec::new());
         }
         let bytes = self.resolved as u64 * 8;
-        let (sender, receiver) = std::sync::mpsc::channel();
-        self.readback.map_async(wgpu::MapMode::Read, 0..bytes, move |r| {
-            let _ = sender.send(r);
-        });
-        device
-            .poll(wgpu::PollType::Wait {
-                submission_index: None,
-                timeout: None,
-            })
-            .map_err(|e| gpu_error(e.to_string()))?;
-        receiver
-            .recv()
-            .map_err(|e| gpu_error(e.to_string()))?
-            .map_err(|e| gpu_error(e.to_string()))?;
+        crate::error::map_for_reading(device, self.readback.slice(0..bytes), "reading timestamps")?;
         let ticks: Vec<u64> = {
             let view = self
                 .readback

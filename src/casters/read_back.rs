@@ -33,24 +33,9 @@ pub(super) fn read_buffer(
     });
     encoder.copy_buffer_to_buffer(buffer, start, &staging, 0, size);
     queue.submit([encoder.finish()]);
-    let (sender, receiver) = std::sync::mpsc::channel();
-    staging.map_async(wgpu::MapMode::Read, .., move |r| {
-        let _ = sender.send(r);
-    });
-    let gpu = |e: String| PenumbraError::Gpu {
-        during: format!("reading back {what}"),
-        reason: e,
-    };
-    device
-        .poll(wgpu::PollType::Wait {
-            submission_index: None,
-            timeout: None,
-        })
-        .map_err(|e| gpu(e.to_string()))?;
-    receiver
-        .recv()
-        .map_err(|e| gpu(e.to_string()))?
-        .map_err(|e| gpu(e.to_string()))?;
+    let during = format!("reading back {what}");
+    crate::error::map_for_reading(device, staging.slice(..), &during)?;
+    let gpu = |e: String| PenumbraError::Gpu { during, reason: e };
     let data = staging.get_mapped_range(..).map_err(|e| gpu(e.to_string()))?;
     let skip = (offset - start) as usize;
     Ok(data[skip..skip + len as usize].to_vec())

@@ -186,12 +186,7 @@ pub fn read_texture_bytes(
     if let Some(error) = error {
         return Err(gpu_error("mapping a read-back buffer", error.to_string()));
     }
-    device
-        .poll(wgpu::PollType::Wait {
-            submission_index: None,
-            timeout: None,
-        })
-        .map_err(|e| gpu_error("waiting for a read-back", e.to_string()))?;
+    crate::error::wait_for_gpu(device, "waiting for a read-back")?;
     receiver
         .recv()
         .map_err(|e| gpu_error("mapping a read-back buffer", e.to_string()))?

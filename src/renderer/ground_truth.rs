@@ -7,7 +7,7 @@
 use super::depth_prepass::DepthPrepass;
 use super::gpu_scene::GpuScene;
 use super::reference::{GeometricNormals, ReferencePass};
-use crate::error::{PenumbraError, Result};
+use crate::error::Result;
 use crate::gpu_helpers::Target;
 use crate::light_maps::{MapUpload, ShadowMapPass};
 use crate::light_samples::{Emitter, light_sample};
@@ -334,15 +334,7 @@ impl GroundTruth {
                 queue.submit([encoder.finish()]);
             }
             if k % 16 == 15 {
-                device
-                    .poll(wgpu::PollType::Wait {
-                        submission_index: None,
-                        timeout: None,
-                    })
-                    .map_err(|e| PenumbraError::Gpu {
-                        during: "rendering the reference".into(),
-                        reason: e.to_string(),
-                    })?;
+                crate::error::wait_for_gpu(device, "rendering the reference")?;
             }
             progress(k + 1, total);
         }

@@ -390,15 +390,7 @@ impl Renderer {
             let mut encoder = device.create_command_encoder(&Default::default());
             self.render(queue, &mut encoder, scene, camera, &view)?;
             queue.submit([encoder.finish()]);
-            device
-                .poll(wgpu::PollType::Wait {
-                    submission_index: None,
-                    timeout: None,
-                })
-                .map_err(|e| PenumbraError::Gpu {
-                    during: "waiting for a timed frame".into(),
-                    reason: e.to_string(),
-                })?;
+            crate::error::wait_for_gpu(device, "waiting for a timed frame")?;
             if i < warmup {
                 // The timed frames draw the maps at the resolution they settle to.
                 if i == 0 {

@@ -44,17 +44,11 @@ impl ResolvePass {
         }
     }
 
-    /// Points the pass at its inputs (`distance_map` and `receiver_mask` are read only where
-    /// the frame uniform says they are real).
-    pub fn bind(
-        &mut self,
-        device: &wgpu::Device,
-        frame: &wgpu::Buffer,
-        camera_depth: &wgpu::TextureView,
-        distance_map: &wgpu::TextureView,
-        visibility: &wgpu::TextureView,
-        receiver_mask: &wgpu::TextureView,
-    ) {
+    /// Points the pass at its inputs: `views` are the camera depth, the distance map, the
+    /// visibility and the receiver mask, in that order (the distance map and the mask are read
+    /// only where the frame uniform says they are real).
+    pub fn bind(&mut self, device: &wgpu::Device, frame: &wgpu::Buffer, views: [&wgpu::TextureView; 4]) {
+        let [camera_depth, distance_map, visibility, receiver_mask] = views;
         self.bind_group = Some(crate::gpu_helpers::bind_group(
             device,
             "ResolvePass::bind_group",

@@ -175,14 +175,10 @@ impl VariablePcfPass {
         .pipeline_with(device, vertex, entry)
     }
 
-    pub fn bind(
-        &mut self,
-        device: &wgpu::Device,
-        frame: &wgpu::Buffer,
-        camera_depth: &wgpu::TextureView,
-        distance_map: &wgpu::TextureView,
-        shadow_map: &wgpu::TextureView,
-    ) {
+    /// Points the pass at its inputs: `views` are the camera depth, the distance map and the
+    /// shadow map, in that order.
+    pub fn bind(&mut self, device: &wgpu::Device, frame: &wgpu::Buffer, views: [&wgpu::TextureView; 3]) {
+        let [camera_depth, distance_map, shadow_map] = views;
         self.bind_group = Some(crate::gpu_helpers::bind_group(
             device,
             "VariablePcfPass::bind_group",

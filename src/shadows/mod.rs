@@ -631,15 +631,7 @@ impl Shadows {
             .flatten()
             .any(|s| s.screen.width_probe_mut().is_some_and(|p| p.pending()))
         {
-            device
-                .poll(wgpu::PollType::Wait {
-                    submission_index: None,
-                    timeout: None,
-                })
-                .map_err(|e| PenumbraError::Gpu {
-                    during: "waiting for the penumbra widths".into(),
-                    reason: e.to_string(),
-                })?;
+            crate::error::wait_for_gpu(device, "waiting for the penumbra widths")?;
         }
         let mut changes = false;
         for state in self.lights.iter_mut().flatten() {

@@ -87,7 +87,7 @@ impl MethodChain for OursChain {
             }
             _ => self
                 .resolve
-                .bind(device, frame, depth, distance_map, visibility, mask),
+                .bind(device, frame, [depth, distance_map, visibility, mask]),
         }
     }
 
@@ -192,7 +192,8 @@ impl MethodChain for OursDrawChain {
         };
         self.distance.bind(device, frame, &maps, (depth, mask));
         let distance_map = self.distance.distance_map();
-        self.pcf.bind(device, frame, depth, distance_map, maps.shadow_map);
+        self.pcf
+            .bind(device, frame, [depth, distance_map, maps.shadow_map]);
         let visibility = self.pcf.visibility();
         if let Some(blur) = &mut self.blur {
             let blur_sigma = self.pcf.blur_sigma();
@@ -204,7 +205,7 @@ impl MethodChain for OursDrawChain {
             blur.bind(device, frame, (depth, mask), &input);
         }
         self.resolve
-            .bind(device, frame, depth, distance_map, visibility, mask);
+            .bind(device, frame, [depth, distance_map, visibility, mask]);
     }
 
     fn encode(&self, recorder: &mut Recorder) {

@@ -72,7 +72,7 @@ impl<P: VisibilityPass + wgpu::WasmNotSendSync> MethodChain for SinglePassChain<
             .lookup_mut()
             .bind(device, (frame, depth, shadow_map), shared, layer);
         if let Some(visibility) = self.pass.lookup().visibility() {
-            self.resolve.bind(device, frame, depth, dummy, visibility, mask);
+            self.resolve.bind(device, frame, [depth, dummy, visibility, mask]);
         }
     }
 

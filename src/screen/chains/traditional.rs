@@ -61,7 +61,7 @@ impl MethodChain for TraditionalChain {
                 let read = (visibility, dummy, dummy);
                 blur.bind(device, &blurred.view, frame, (depth, mask), read, inputs.layer)
             }
-            _ => self.resolve.bind(device, frame, depth, dummy, visibility, mask),
+            _ => self.resolve.bind(device, frame, [depth, dummy, visibility, mask]),
         }
     }
 
@@ -130,7 +130,7 @@ impl MethodChain for TraditionalDrawChain {
             blur.bind(device, frame, (depth, mask), &input);
             visibility = blur.blurred().unwrap_or(visibility);
         }
-        self.resolve.bind(device, frame, depth, dummy, visibility, mask);
+        self.resolve.bind(device, frame, [depth, dummy, visibility, mask]);
     }
 
     fn encode(&self, recorder: &mut Recorder) {
