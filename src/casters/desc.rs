@@ -248,12 +248,10 @@ pub(super) fn check_stream(
     } else {
         s.offset + s.stride * (count as u64 - 1) + s.format.size()
     };
-    if needed > s.buffer.size() {
+    let (offset, stride, size) = (s.offset, s.stride, s.buffer.size());
+    if needed > size {
         return fail(format!(
-            "{count} vertices from offset {} with stride {} need {needed} bytes; the buffer has {}",
-            s.offset,
-            s.stride,
-            s.buffer.size()
+            "{count} vertices from offset {offset} with stride {stride} need {needed} bytes; the buffer has {size}"
         ));
     }
     Ok(())
@@ -282,12 +280,10 @@ pub(super) fn check_indices(what: &str, ix: &IndexStream) -> Result<()> {
         ));
     }
     let needed = ix.offset + ix.count as u64 * size;
-    if needed > ix.buffer.size() {
+    let (count, offset, size) = (ix.count, ix.offset, ix.buffer.size());
+    if needed > size {
         return fail(format!(
-            "{} indices from offset {} need {needed} bytes; the buffer has {}",
-            ix.count,
-            ix.offset,
-            ix.buffer.size()
+            "{count} indices from offset {offset} need {needed} bytes; the buffer has {size}"
         ));
     }
     Ok(())

@@ -13,7 +13,7 @@ use super::forward::ForwardPass;
 use super::gpu_scene::GpuScene;
 use super::ground_truth::{GroundTruth, ReferenceProgress, SampleInputs};
 use crate::error::{PenumbraError, Result};
-use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform};
+use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, derive_spreads};
 use crate::layouts::SceneLayouts;
 use crate::light_space::LightView;
 use crate::scene::{Camera, Light};
@@ -945,14 +945,8 @@ impl Renderer {
     fn loose_fit(&self, scene: &GpuScene) -> (LightView, DerivedSpreads) {
         let light = *scene.light();
         let loose = LightView::fit(&light, &scene.shadow_bounds());
-        let spreads = crate::shadows::spreads(
-            &self.settings,
-            &light,
-            &loose,
-            &scene.shadow_bounds(),
-            &scene.caster_parts(),
-            1.0,
-        );
+        let derived = derive_spreads(&light, &loose, &scene.shadow_bounds(), &scene.caster_parts(), 1.0);
+        let spreads = crate::shadows::spreads(&self.settings, derived);
         (loose, spreads)
     }
 

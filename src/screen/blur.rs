@@ -199,17 +199,17 @@ impl BlurPass {
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
         light: &BlurInput,
     ) {
-        let group = |source: &wgpu::TextureView| {
-            let resources: [&dyn crate::gpu_helpers::Binding; 7] = [
+        let own = ("BlurPass::bind_group", &self.layout, &self.sampler);
+        let screen = (camera_depth, receiver_mask);
+        let group = |source| {
+            axis_group(
+                device,
+                own,
                 frame,
-                camera_depth,
-                &self.sampler,
+                screen,
+                (light.distance_map, light.blur_sigma),
                 source,
-                light.distance_map,
-                light.blur_sigma,
-                receiver_mask,
-            ];
-            crate::gpu_helpers::bind_group(device, "BlurPass::bind_group", &self.layout, &resources)
+            )
         };
         self.bind_groups = Some([group(light.visibility), group(&self.temp.view)]);
     }
@@ -453,18 +453,9 @@ impl BlurCompute {
         (visibility, sigma, distance_map): (&wgpu::TextureView, &wgpu::TextureView, &wgpu::TextureView),
         layer: Option<&wgpu::TextureView>,
     ) {
-        let group = |source: &wgpu::TextureView| {
-            let resources: [&dyn crate::gpu_helpers::Binding; 7] = [
-                frame,
-                camera_depth,
-                &self.sampler,
-                source,
-                distance_map,
-                sigma,
-                receiver_mask,
-            ];
-            crate::gpu_helpers::bind_group(device, "BlurCompute::bind_group", &self.layout, &resources)
-        };
+        let own = ("BlurCompute::bind_group", &self.layout, &self.sampler);
+        let screen = (camera_depth, receiver_mask);
+        let group = |source| axis_group(device, own, frame, screen, (distance_map, sigma), source);
         let out = |target: &wgpu::TextureView| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("BlurCompute::out"),
@@ -577,4 +568,26 @@ impl ScreenStage for BlurCompute {
         let params = &params.blur;
         write_axes(queue, &self.axis_buffers, params, true);
     }
+}
+
+/// One axis's bind group: `source` blurred, with the frame uniform, the camera depth and the
+/// receiver mask (`screen`), and the light's distance map and standard deviations (`light`).
+fn axis_group(
+    device: &wgpu::Device,
+    (label, layout, sampler): (&str, &wgpu::BindGroupLayout, &wgpu::Sampler),
+    frame: &wgpu::Buffer,
+    (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
+    (distance_map, sigma): (&wgpu::TextureView, &wgpu::TextureView),
+    source: &wgpu::TextureView,
+) -> wgpu::BindGroup {
+    let resources: [&dyn crate::gpu_helpers::Binding; 7] = [
+        frame,
+        camera_depth,
+        sampler,
+        source,
+        distance_map,
+        sigma,
+        receiver_mask,
+    ];
+    crate::gpu_helpers::bind_group(device, label, layout, &resources)
 }

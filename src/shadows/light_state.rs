@@ -182,17 +182,9 @@ impl LightState {
     }
 }
 
-/// The fatten distance and penumbra scale for a frame: derived from the light in physical
-/// mode, the user's fatten distance in manual mode.
-pub(crate) fn spreads(
-    settings: &ShadowSettings,
-    light: &Light,
-    light_view: &LightView,
-    shadow_bounds: &Aabb,
-    caster_parts: &[Aabb],
-    map_scale: f32,
-) -> DerivedSpreads {
-    let derived = derive_spreads(light, light_view, shadow_bounds, caster_parts, map_scale);
+/// The fatten distance and penumbra scale for a frame: those `derived` from the light in
+/// physical mode, with the user's fatten distance in manual mode.
+pub(crate) fn spreads(settings: &ShadowSettings, derived: DerivedSpreads) -> DerivedSpreads {
     match settings.penumbra.spreads {
         SpreadMode::Physical => derived,
         SpreadMode::Manual { fatten_distance, .. } => DerivedSpreads {

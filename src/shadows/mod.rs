@@ -14,7 +14,7 @@ pub use crate::chain::Chain;
 use crate::chain::FRAME_SIZE;
 use crate::device::DeviceLoss;
 use crate::error::{PenumbraError, Result};
-use crate::frame::{DerivedSpreads, PassParams, derive_spreads, light_kind};
+use crate::frame::{DerivedSpreads, PassParams, light_kind};
 use crate::gpu_helpers::screen_target;
 use crate::gpu_helpers::{Target, scoped, texture_bytes};
 use crate::light_maps::FarPlaneFill;

@@ -6,7 +6,7 @@ use super::light_state::{LightState, Planned, ShadowKey, narrowest_texels, redra
 use super::{LightId, SCENE_FATTEN_RATIO, pass_params};
 use crate::casters::Casters;
 use crate::chain::Chain;
-use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams};
+use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads};
 use crate::light_maps::{LightMaps, MapUpload};
 use crate::light_space::{FitInputs, LightView};
 use crate::scene::{Aabb, Light};
@@ -239,14 +239,8 @@ fn fit_light(
     map_scale: f32,
 ) -> (LightView, DerivedSpreads) {
     let spreads_of = |view: &LightView| {
-        spreads(
-            effective,
-            light,
-            view,
-            &seen.shadow_bounds,
-            seen.caster_parts,
-            map_scale,
-        )
+        let derived = derive_spreads(light, view, &seen.shadow_bounds, seen.caster_parts, map_scale);
+        spreads(effective, derived)
     };
     let mut spreads = spreads_of(loose);
     // A sun fitted to the view over a scene far wider or deeper than the view needs
