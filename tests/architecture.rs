@@ -352,3 +352,52 @@ fn no_function_in_src_is_longer_than_150_lines() {
         [("short".to_string(), 3), ("long".to_string(), 152)]
     );
 }
+
+/// Whether `text` is a plain front: module docs, `mod` lines and re-exports (with their
+/// attributes and comments), nothing defined.
+fn is_front(text: &str) -> Result<(), String> {
+    let mut in_use = false;
+    for (number, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if in_use {
+            in_use = !line.ends_with(';');
+            continue;
+        }
+        let allowed = line.is_empty()
+            || line.starts_with("//")
+            || line.starts_with("#[")
+            || line.starts_with("mod ")
+            || line.starts_with("pub mod ")
+            || line.starts_with("pub(crate) mod ")
+            || line.starts_with("use ")
+            || line.starts_with("pub use ")
+            || line.starts_with("pub(crate) use ");
+        if !allowed {
+            return Err(format!("line {}: {line}", number + 1));
+        }
+        in_use = (line.contains("use ") && !line.starts_with("//")) && !line.ends_with(';');
+    }
+    Ok(())
+}
+
+/// Each folder of `src/` opens with a `mod.rs` that is a plain front (its modules and what it
+/// re-exports), so that what the folder holds is read in one screen and its code lives in
+/// files named for it.
+#[test]
+fn every_mod_rs_is_a_plain_front() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let fronts: Vec<_> = files.iter().filter(|f| f.ends_with("mod.rs")).collect();
+    assert!(fronts.len() >= 8, "too few folders found: {fronts:?}");
+    let not: Vec<String> = fronts
+        .iter()
+        .filter_map(|f| {
+            let text = std::fs::read_to_string(f).unwrap();
+            is_front(&text).err().map(|e| format!("{}: {e}", f.display()))
+        })
+        .collect();
+    assert!(not.is_empty(), "mod.rs files that define things: {not:#?}");
+    assert!(is_front("//! Docs.\n\nmod a;\npub use a::{\n    B, C,\n};\n").is_ok());
+    assert!(is_front("mod a;\n\npub struct S;\n").is_err());
+}

@@ -2,7 +2,8 @@
 //! its own buffers, its geometry for the CPU's one read, an alpha mask, an instance's transform
 //! and flags, and the ids it gets back; and the checks made of them.
 
-use super::*;
+use crate::error::{PenumbraError, Result};
+use glam::{Mat4, Vec3};
 
 /// One vertex attribute inside an engine's buffer: where the first vertex's value starts,
 /// the bytes from one vertex to the next, and its format.

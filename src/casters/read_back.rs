@@ -1,7 +1,10 @@
 //! A mesh's geometry read back from the engine's GPU buffers, once, for its bounds and smoothed
 //! normals (`MeshGeometry::Gpu`), and decoded from the vertex formats penumbra accepts.
 
-use super::*;
+use super::desc::index_size;
+use super::desc::{IndexStream, VertexStream};
+use crate::error::{PenumbraError, Result};
+use glam::Vec3;
 
 /// Copies `len` bytes at `offset` of `buffer` back to the CPU.
 pub(super) fn read_buffer(

@@ -20,4 +20,5 @@ mod tile_clear;
 
 pub(crate) use atlas::{FarPlaneFill, MapUpload};
 pub(crate) use maps::LightMaps;
+#[cfg(feature = "renderer")]
 pub use shadow_map::ShadowMapPass;

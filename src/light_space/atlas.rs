@@ -1,6 +1,8 @@
 //! How a light's maps lay out their tiles (cascades, cube faces) in one atlas.
 
-use super::*;
+use crate::scene::Light;
+use crate::settings::CascadeSettings;
+use glam::{Mat4, Vec4};
 
 /// How a light's maps lay out their tiles (cascades, cube faces): `cols` x `rows` square tiles
 /// of the same size, tile `i` at column `i % cols`, row `i / cols` (row 0 at the top, like

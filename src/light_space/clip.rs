@@ -1,7 +1,10 @@
 //! Clipping boxes against a light's frustum: the depth range the scene takes in it, and
 //! whether a caster's box can reach a tile.
 
-use super::*;
+use crate::scene::Aabb;
+#[cfg(test)]
+use crate::scene::Camera;
+use glam::{Mat4, Vec3, Vec4};
 
 /// The eight world-space corners of the camera's frustum from its near plane to
 #[cfg(test)]

@@ -1,7 +1,13 @@
 //! Fitting a light's view and projection to the scene and the camera: a directional light's
 //! window and cascades, a spot's cone, a point light's cube faces.
 
-use super::*;
+use super::atlas::{AtlasGrid, tile_resolution};
+use super::clip::*;
+use super::view::*;
+use crate::scene::{Aabb, Light};
+use crate::settings::{CascadeSettings, LightFit};
+use crate::view::CameraMatrices;
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// What [`LightView::fit_with`] fits the light to.
 #[derive(Debug, Clone, Copy)]

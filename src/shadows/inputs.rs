@@ -2,7 +2,10 @@
 //! receiver mask), the checks it makes of them and of a visibility target the engine gives,
 //! and the visibility array penumbra makes otherwise.
 
-use super::*;
+use crate::error::{PenumbraError, Result};
+use crate::gpu_helpers::Target;
+use crate::screen::VISIBILITY_FORMAT;
+use crate::view::CameraMatrices;
 
 /// What the engine gives each frame.
 #[derive(Debug, Clone, Copy)]

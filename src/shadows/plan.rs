@@ -2,8 +2,9 @@
 //! what it sees, its spreads, its frame uniform and whether its maps must be drawn again.
 //! [`super::Shadows::prepare`] runs it for each light after the frame-wide checks.
 
+use super::api::{SCENE_FATTEN_RATIO, pass_params};
 use super::light_state::{LightState, Planned, ShadowKey, narrowest_texels, redrawn_tiles, sees, spreads};
-use super::{LightId, SCENE_FATTEN_RATIO, pass_params};
+use super::report::LightId;
 use crate::casters::Casters;
 use crate::chain::Chain;
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads};

@@ -2,7 +2,10 @@
 //! layer), its report of the frame last prepared, and the intermediate textures a debug view
 //! reads.
 
-use super::*;
+use crate::chain::Chain;
+use crate::frame::DerivedSpreads;
+use crate::light_space::LightView;
+use crate::map_resolution::PenumbraWidths;
 
 /// A light added to [`Shadows`]; also its layer in [`Shadows::visibility`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
