@@ -60,7 +60,7 @@ impl MethodChain for OursChain {
     }
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
-        let (frame, depth, mask, _) = inputs.common();
+        let (frame, [depth, mask, _]) = inputs.common();
         let (Some(maps), Some(all)) = (distance_maps(inputs.maps), inputs.compute) else {
             return;
         };
@@ -186,7 +186,7 @@ impl MethodChain for OursDrawChain {
     stage_lists!(distance, pcf, resolve; blur);
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
-        let (frame, depth, mask, _) = inputs.common();
+        let (frame, [depth, mask, _]) = inputs.common();
         let Some(maps) = distance_maps(inputs.maps) else {
             return;
         };

@@ -26,17 +26,10 @@ pub(crate) struct ScreenInputs<'a> {
 }
 
 impl<'a> ScreenInputs<'a> {
-    /// What most passes read: the frame uniform, the camera's depth, the receiver mask and the
-    /// stand-in.
-    pub fn common(
-        &self,
-    ) -> (
-        &'a wgpu::Buffer,
-        &'a wgpu::TextureView,
-        &'a wgpu::TextureView,
-        &'a wgpu::TextureView,
-    ) {
-        (self.frame, self.depth, self.mask, self.dummy)
+    /// What most passes read: the frame uniform, and the camera's depth, the receiver mask and
+    /// the stand-in.
+    pub fn common(&self) -> (&'a wgpu::Buffer, [&'a wgpu::TextureView; 3]) {
+        (self.frame, [self.depth, self.mask, self.dummy])
     }
 }
 

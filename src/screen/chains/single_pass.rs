@@ -64,7 +64,7 @@ impl<P: VisibilityPass + wgpu::WasmNotSendSync> MethodChain for SinglePassChain<
     stage_lists!(pass, resolve);
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
-        let (frame, depth, mask, dummy) = inputs.common();
+        let (frame, [depth, mask, dummy]) = inputs.common();
         let shared = inputs.compute.map(|c| &c.visibility);
         let layer = inputs.layer.map(|l| (l, mask));
         let shadow_map = inputs.maps.shadow.atlas.view();

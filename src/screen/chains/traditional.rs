@@ -46,7 +46,7 @@ impl MethodChain for TraditionalChain {
     }
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
-        let (frame, depth, mask, dummy) = inputs.common();
+        let (frame, [depth, mask, dummy]) = inputs.common();
         let Some(all) = inputs.compute else {
             return;
         };
@@ -112,7 +112,7 @@ impl MethodChain for TraditionalDrawChain {
     stage_lists!(pcf, resolve; blur);
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
-        let (frame, depth, mask, dummy) = inputs.common();
+        let (frame, [depth, mask, dummy]) = inputs.common();
         let shadow_map = inputs.maps.shadow.atlas.view();
         self.pcf
             .lookup_mut()
