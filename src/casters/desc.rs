@@ -85,7 +85,7 @@ pub enum MeshGeometry<'a> {
     },
 }
 
-/// A mesh in the engine's buffers, as [`Casters::add_mesh`] takes it.
+/// A mesh in the engine's buffers, as [`Casters::add_mesh`](crate::Casters::add_mesh) takes it.
 #[derive(Debug, Clone, Copy)]
 pub struct CasterMeshDesc<'a> {
     /// Named in errors.
@@ -175,7 +175,7 @@ pub struct InstanceId(pub(super) u32);
 /// Where an instance is and what it does.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CasterInstance {
-    /// The registered mesh it places ([`Casters::add_mesh`]).
+    /// The registered mesh it places ([`Casters::add_mesh`](crate::Casters::add_mesh)).
     pub mesh: MeshId,
     /// Model to world.
     pub transform: Mat4,

@@ -53,7 +53,7 @@ impl AtlasGrid {
 /// The largest grid a light's maps can take under `cascades`: 2 x 2 for a directional light
 /// with two or more cascades, 3 x 2 for a point light's six faces ([`AtlasGrid::CUBE`]), one
 /// tile otherwise. A directional light's maps take the grid of the cascades in use
-/// ([`AtlasGrid::for_cascades`], [`LightView::grid`]).
+/// ([`AtlasGrid::for_cascades`], [`LightView::grid`](crate::LightView::grid)).
 pub fn atlas_grid(light: &Light, cascades: &CascadeSettings) -> AtlasGrid {
     match light {
         Light::Directional(_) if cascades.count > 1 => AtlasGrid::square(2),

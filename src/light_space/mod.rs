@@ -1,7 +1,7 @@
 //! The light's view and projection.
 //!
 //! Directional lights get an orthographic projection. Its sides enclose where shadows can fall
-//! (the casters, seen along the light) and, with [`LightFit::CameraFrustum`], only the part the
+//! (the casters, seen along the light) and, with [`LightFit::CameraFrustum`](crate::LightFit::CameraFrustum), only the part the
 //! camera sees. With texel snapping its texel size stays fixed while the camera moves and its
 //! window moves in whole texels, so a static shadow samples the same texels every frame. Spot
 //! lights get a perspective projection covering their cone.

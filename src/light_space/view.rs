@@ -49,7 +49,7 @@ pub struct LightView {
     /// How the maps' atlas lays out its tiles: as many as the cascades in use need (a
     /// directional light), the six cube faces (a point light) or one.
     pub grid: AtlasGrid,
-    /// Texels per side of one tile ([`tile_resolution`]).
+    /// Texels per side of one tile ([`tile_resolution`](super::tile_resolution)).
     pub tile: u32,
 }
 

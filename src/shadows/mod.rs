@@ -1,5 +1,5 @@
 //! Soft shadows inside an engine's frame: [`Shadows`] takes the engine's camera matrices, its
-//! depth buffer, its casters ([`Casters`]) and a list of lights, and writes one visibility per
+//! depth buffer, its casters ([`Casters`](crate::Casters)) and a list of lights, and writes one visibility per
 //! light into a texture array the engine samples in its own lit shader.
 //!
 //! Per light and frame: the shadow map and the fattened map (only when the light, its fit or a

@@ -1,4 +1,4 @@
-//! What [`Shadows`](super::Shadows) names its lights by and tells of them: a light's id (its
+//! What [`Shadows`](crate::Shadows)(super::Shadows) names its lights by and tells of them: a light's id (its
 //! layer), its report of the frame last prepared, and the intermediate textures a debug view
 //! reads.
 
@@ -7,7 +7,7 @@ use crate::frame::DerivedSpreads;
 use crate::light_space::LightView;
 use crate::map_resolution::PenumbraWidths;
 
-/// A light added to [`Shadows`]; also its layer in [`Shadows::visibility`].
+/// A light added to [`Shadows`](crate::Shadows); also its layer in [`Shadows::visibility`](crate::Shadows::visibility).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct LightId(pub(super) u32);
 
@@ -70,7 +70,7 @@ pub enum LightTexture {
     /// Raw PCF or PCSS visibility (R16F; the compute path's is R32F).
     Visibility,
     /// Blurred visibility (R16F). After the distance map, the blur writes the light's layer
-    /// directly: this is then the whole visibility array ([`Shadows::visibility_texture`]).
+    /// directly: this is then the whole visibility array ([`Shadows::visibility_texture`](crate::Shadows::visibility_texture)).
     BlurredVisibility,
     /// The tile classification (R8, one texel per 16 x 16 pixel screen tile): 1 where the
     /// distance map ran, 0 where no shadow can fall ([`crate::PenumbraSettings::tiles`]). The
