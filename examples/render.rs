@@ -12,7 +12,7 @@ use clap::Parser;
 use penumbra::debug::DebugView;
 use penumbra::timing::TimedFrames;
 use penumbra::{
-    DevicePath, ExitFaces, GpuScene, HeadlessGpu, Light, MapResolution, Quality, Renderer, ShadowMethod,
+    DevicePath, ExitFaces, Fattening, GpuScene, HeadlessGpu, Light, MapResolution, Quality, Renderer, ShadowMethod,
     ShadowSettings, TilePixels,
 };
 
@@ -52,6 +52,14 @@ struct Args {
     /// (`PenumbraSettings::nearest_caster`), to compare its cost and its error.
     #[arg(long)]
     no_nearest_caster: bool,
+    /// `ours`: how the fattened map is made (`PenumbraSettings::fattening`): geometry (the
+    /// casters drawn again, pushed out) or dilation (derived from the shadow map in compute).
+    #[arg(long, default_value = "geometry")]
+    fattening: String,
+    /// `ours`: leave out the exit map (`PenumbraSettings::exit_map`), to compare its cost and
+    /// its error.
+    #[arg(long)]
+    no_exit_map: bool,
     /// `ours`: PCF at half resolution where the penumbra is wide
     /// (`PenumbraSettings::reduced_resolution`), to compare its cost and its error.
     #[arg(long)]
@@ -144,6 +152,12 @@ fn main() -> Result<()> {
     settings.shadow_map.cascades.count = args.cascades;
     settings.penumbra.nearest_caster = !args.no_nearest_caster;
     settings.penumbra.reduced_resolution = args.reduced_resolution;
+    settings.penumbra.fattening = match args.fattening.as_str() {
+        "geometry" => Fattening::Geometry,
+        "dilation" => Fattening::Dilation,
+        other => anyhow::bail!("--fattening: unknown `{other}`; choose geometry or dilation"),
+    };
+    settings.penumbra.exit_map = !args.no_exit_map;
     settings.penumbra.fragment_passes = args.fragment_passes;
     settings.execution.clears = match args.clears.as_str() {
         "auto" => DevicePath::Auto,

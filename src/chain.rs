@@ -28,6 +28,12 @@ pub enum Chain {
         /// stores half floats; elsewhere a draw of those tiles copies its result there);
         /// otherwise as draws ([`crate::PenumbraSettings::fragment_passes`]).
         compute: bool,
+        /// The fattened map is derived from the shadow map in compute
+        /// ([`crate::Fattening::Dilation`], the compute path only); otherwise the casters are
+        /// drawn again, pushed out.
+        dilated: bool,
+        /// The exit map is drawn ([`crate::PenumbraSettings::exit_map`]).
+        exit_map: bool,
     },
     /// The baseline ([`ShadowMethod::Traditional`]): fixed-spacing PCF, a fixed Gaussian
     /// blur (`blur`: it has more than one tap), a resolve.
@@ -79,12 +85,17 @@ impl Chain {
                     resolve: true,
                 }
             }
-            method @ (ShadowMethod::Ours | ShadowMethod::OursFast) => Chain::Ours {
-                method,
-                blur: settings.penumbra.blur_taps > 1,
+            method @ (ShadowMethod::Ours | ShadowMethod::OursFast) => {
                 // PCF at half resolution is draws only.
-                compute: compute && !settings.penumbra.reduced_resolution,
-            },
+                let compute = compute && !settings.penumbra.reduced_resolution;
+                Chain::Ours {
+                    method,
+                    blur: settings.penumbra.blur_taps > 1,
+                    compute,
+                    dilated: compute && settings.penumbra.fattening == crate::Fattening::Dilation,
+                    exit_map: settings.penumbra.exit_map,
+                }
+            }
             ShadowMethod::Traditional => Chain::Traditional {
                 blur: settings.traditional.blur_taps > 1,
                 compute,
@@ -114,10 +125,15 @@ impl Chain {
     /// This chain with its screen-space passes as draws (a device without compute shaders).
     pub(crate) fn without_compute(self) -> Self {
         match self {
-            Chain::Ours { method, blur, .. } => Chain::Ours {
+            Chain::Ours {
+                method, blur, exit_map, ..
+            } => Chain::Ours {
                 method,
                 blur,
                 compute: false,
+                // The dilation is a compute pass: the casters are drawn pushed out instead.
+                dilated: false,
+                exit_map,
             },
             Chain::Traditional { blur, .. } => Chain::Traditional { blur, compute: false },
             Chain::Pcss { .. } => Chain::Pcss {
@@ -174,15 +190,22 @@ impl Chain {
         }
     }
 
-    /// The fattened map and the exit map are drawn from the light (the distance-map method).
+    /// The light has a fattened map (the distance-map method), drawn or derived.
     pub fn fattened_map(&self) -> bool {
         matches!(self, Chain::Ours { .. })
     }
 
+    /// The fattened map is drawn: the casters again, pushed out (not derived from the shadow
+    /// map, [`crate::Fattening::Dilation`]).
+    pub fn draws_fattened_map(&self) -> bool {
+        matches!(self, Chain::Ours { dilated: false, .. })
+    }
+
     /// The casters' back faces from the light: how near the receiver an occluder ends, for
-    /// the distance inside thick occluders' shadows (the distance-map method).
+    /// the distance inside thick occluders' shadows (the distance-map method, unless
+    /// [`crate::PenumbraSettings::exit_map`] is off).
     pub fn exit_map(&self) -> bool {
-        self.fattened_map()
+        matches!(self, Chain::Ours { exit_map: true, .. })
     }
 
     /// The screen-space distance map runs.
@@ -224,9 +247,10 @@ impl Chain {
         }
     }
 
-    /// How many maps are drawn from the light when they are redrawn.
+    /// How many maps are drawn from the light (geometry passes) when they are redrawn: the
+    /// shadow map, and the fattened map and the exit map where they are drawn.
     pub fn light_maps(&self) -> u32 {
-        if self.fattened_map() { 3 } else { 1 }
+        1 + self.draws_fattened_map() as u32 + self.exit_map() as u32
     }
 }
 

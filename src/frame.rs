@@ -168,6 +168,20 @@ pub(crate) struct DistanceSwitches {
     pub facing_away: bool,
     /// The compute path: how the tile classification tests the kept tiles' pixels.
     pub tile_pixels: crate::settings::TilePixels,
+    /// Inside a shadow, the exit map's back faces are read (it is drawn).
+    pub exit_map: bool,
+}
+
+impl DistanceSwitches {
+    /// The override constants of the distance's shader code (`common/distance.wgsl`).
+    pub fn constants(&self) -> [(&'static str, f64); 3] {
+        let on = |b: bool| if b { 1.0 } else { 0.0 };
+        [
+            ("MASK_EARLY_OUT", on(self.mask_early_out)),
+            ("NEAREST_CASTER", on(self.nearest_caster)),
+            ("EXIT_MAP", on(self.exit_map)),
+        ]
+    }
 }
 
 /// The blur's compile-time switches.
@@ -290,6 +304,7 @@ impl PassParams {
                 tiles,
                 facing_away: tiles && p.skip_tiles_facing_away,
                 tile_pixels: s.execution.tile_pixels,
+                exit_map: p.exit_map,
             },
             blur,
             blur_switches: BlurSwitches {
@@ -320,6 +335,10 @@ pub struct DerivedSpreads {
     /// Penumbra width per world unit of receiver-to-occluder distance, at the nearest
     /// occluder distance for a spot light.
     pub penumbra_per_distance: f32,
+    /// A spot or point light's nearest caster, its distance from the light (world units,
+    /// rounded down to steps of 2^(1/8)): where the fattened map's texels are narrowest across
+    /// the light. 0 for a directional light.
+    pub nearest_caster: f32,
 }
 
 /// The light's kind as the shaders take it: 0 directional, 1 spot, 2 point.
@@ -388,6 +407,7 @@ pub(crate) fn derive_spreads(
     // A spot or point light's casters, pushed out past half their distance from it, would
     // swallow the light itself.
     let mut cap = shadow_bounds.radius().max(1e-6);
+    let mut nearest_caster = 0.0;
     let (per_distance, widest) = match light {
         Light::Directional(_) => {
             // The deepest receiver lies at most `far`, the nearest caster no nearer than the
@@ -419,6 +439,7 @@ pub(crate) fn derive_spreads(
             // Down to steps of 2^(1/8), so a caster moving a little elsewhere does not change
             // every light's fatten distance (and with it its maps).
             let nearest = ((nearest.log2() * 8.0).floor() / 8.0).exp2();
+            nearest_caster = nearest;
             // No caster pushed toward the light by the fatten distance reaches it (at half, a
             // plate touching the light lost the outer half of its penumbra past 0.45 of its
             // 1.15 units: tests/robustness/light_extremes.rs).
@@ -444,6 +465,7 @@ pub(crate) fn derive_spreads(
     DerivedSpreads {
         fatten_distance: fatten,
         penumbra_per_distance: per_distance,
+        nearest_caster,
     }
 }
 

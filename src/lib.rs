@@ -153,7 +153,7 @@ pub use scene::{
 };
 pub use screen::VISIBILITY_FORMAT;
 pub use settings::{
-    CascadeSettings, CullMode, DepthFormat, DevicePath, ExecutionSettings, ExitFaces, LightFit,
+    CascadeSettings, CullMode, DepthFormat, DevicePath, ExecutionSettings, ExitFaces, Fattening, LightFit,
     MapResolution, PcfKernel, PcssSettings, PenumbraSettings, Quality, ShadowMapSettings, ShadowMethod,
     ShadowSettings, SpreadMode, TileClassification, TilePixels, TraditionalSettings,
 };

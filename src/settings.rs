@@ -207,6 +207,27 @@ pub enum TileClassification {
     Off,
 }
 
+/// How the distance-map method makes its fattened map ([`PenumbraSettings::fattening`]): the
+/// map of where a penumbra can fall beside a caster, which the tile classification and the
+/// distance map test each pixel against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Fattening {
+    /// The method's own: the casters drawn again from the light, each vertex pushed out along
+    /// its smoothed normal by the fatten distance (a second geometry pass per light). The
+    /// default, and what the draws use (a device without compute shaders, or
+    /// [`PenumbraSettings::fragment_passes`]).
+    #[default]
+    Geometry,
+    /// Derived from the shadow map in compute, with no second geometry pass: each texel of
+    /// the fattened map takes the least depth the shadow map holds within the fatten distance
+    /// of it across the light (at the nearest caster's distance from a spot or point light),
+    /// read from a pyramid of least depths (`light_maps::dilated_map`). It covers at least
+    /// what the geometric fattening covers beside a caster, and up to one coarse texel of the
+    /// pyramid more. The draws fall back to [`Fattening::Geometry`].
+    Dilation,
+}
+
 /// Settings of the distance-map method ([`ShadowMethod::Ours`] and [`ShadowMethod::OursFast`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -289,6 +310,17 @@ pub struct PenumbraSettings {
     /// cost accuracy where measured (see [`MapResolution::FromPenumbra`]).
     #[cfg_attr(feature = "serde", serde(default))]
     pub map_resolution: MapResolution,
+    /// How the fattened map is made: the casters drawn again, pushed out (the default), or
+    /// derived from the shadow map in compute ([`Fattening`]).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub fattening: Fattening,
+    /// Draw the exit map: the casters' back faces from the light, a geometry pass of its own.
+    /// Inside a shadow, the distance map extrapolates where the rays leave the occluder to the
+    /// silhouette nearest the light's centre, and takes the distance to the back face under
+    /// the receiver when that is nearer than the front's. Off: the distance there is to the
+    /// silhouette's caster as the shadow map holds it (its front). Default true.
+    #[cfg_attr(feature = "serde", serde(default = "default_true"))]
+    pub exit_map: bool,
 }
 
 /// The resolution the distance-map method draws a light's maps at
@@ -360,6 +392,8 @@ impl Default for PenumbraSettings {
             fragment_passes: false,
             indirect_weight: 0.0,
             map_resolution: MapResolution::default(),
+            fattening: Fattening::Geometry,
+            exit_map: true,
         }
     }
 }

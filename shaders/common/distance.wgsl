@@ -9,6 +9,9 @@
 override MASK_EARLY_OUT: bool = true;
 // false: no second draw, the distance beside a shadow stays the fattened surface's
 override NEAREST_CASTER: bool = true;
+// false: no exit map is drawn (`exit_map` is bound to a stand-in): inside a shadow the distance
+// is to the silhouette's caster as the shadow map holds it, its front
+override EXIT_MAP: bool = true;
 
 // What the distance map holds at a pixel.
 struct PixelDistance {
@@ -51,7 +54,7 @@ fn fattened_distance(p: vec3<f32>, texel: vec2<i32>, fattened_depth: f32) -> f32
     // Inside a shadow, the penumbra's inner half is shaped by where the occluder ends nearest
     // the receiver (a thick caster's near side): its back face, when one lies in front.
     let exit = textureLoad(exit_map, texel, 0).x;
-    if exit < map_depth(p.z) {
+    if EXIT_MAP && exit < map_depth(p.z) {
         d = min(d, max(light_linear_depth(p.z) - light_linear_depth(exit), 0.0));
     }
     return d;
@@ -312,11 +315,15 @@ fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32, own: f
         // depth inside it (the chord shrinks), beside a face seen edge-on it stays. Extrapolated
         // to the silhouette, it gives the caster point the penumbra follows in both.
         let silhouette = 0.5 * (best_span.x + best_span.y);
-        let exit_texel = 1.0 / f32(textureDimensions(exit_map).x);
+        let exit_texel = 1.0 / f32(textureDimensions(fattened_map).x);
         let near = at_exit(clamp(p.xy + max(silhouette - 1.5 * exit_texel, 0.0) * best_direction, tile.xy, tile.zw), receiver_depth);
         let far = at_exit(clamp(p.xy + max(silhouette - 6.0 * exit_texel, 0.0) * best_direction, tile.xy, tile.zw), receiver_depth);
-        if near > 2.0 * texel_world && far > 2.0 * texel_world {
+        if EXIT_MAP && near > 2.0 * texel_world && far > 2.0 * texel_world {
             best = clamp(2.0 * near - far, near, max(best, near));
+        } else if !EXIT_MAP && near > 2.0 * texel_world {
+            // Without the exit map, the front the shadow map holds one and a half fattened-map
+            // texels inside the silhouette.
+            best = min(best, near);
         }
     }
     return min(best, own);
@@ -325,6 +332,9 @@ fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32, own: f
 // The distance from a receiver at light depth `receiver_depth` back to the exit map's back face
 // at `uv` (<= 0 where none lies in front of it).
 fn at_exit(uv: vec2<f32>, receiver_depth: f32) -> f32 {
+    if !EXIT_MAP {
+        return receiver_depth - light_linear_depth(textureLoad(shadow_depths, shadow_texel(uv), 0).x);
+    }
     return receiver_depth - light_linear_depth(textureLoad(exit_map, fattened_texel(vec3<f32>(uv, 0.0)), 0).x);
 }
 

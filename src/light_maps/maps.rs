@@ -1,31 +1,93 @@
 //! [`LightMaps`]: the maps one light's chain draws from the light.
 
-use super::atlas::{FarPlaneFill, MapUpload};
+use super::atlas::{FarPlaneFill, MapLayout, MapUpload};
+use super::dilated_map::DilatedMapPass;
 use super::exit_map::ExitMapPass;
 use super::fattened_shadow_map::FattenedShadowMapPass;
 use super::shadow_map::ShadowMapPass;
 use crate::casters::Casters;
 use crate::chain::{Chain, run};
+use crate::frame::DerivedSpreads;
 use crate::light_space::LightView;
 use crate::settings::ShadowMapSettings;
 
 /// A light's maps drawn from the light: the shadow map, and for the distance-map method the
-/// fattened map and the exit map, all made with one set of casters' vertex layouts and one
-/// atlas layout.
+/// fattened map (drawn, or derived from the shadow map) and the exit map, all made with one set
+/// of casters' vertex layouts and one atlas layout.
 pub(crate) struct LightMaps {
     pub shadow: ShadowMapPass,
-    pub fattened: Option<(FattenedShadowMapPass, ExitMapPass)>,
+    pub fattened: Option<FattenedMap>,
+    pub exit: Option<ExitMapPass>,
     /// The casters (id) the passes were made for.
     casters: u64,
+}
+
+/// A light's fattened map: the casters drawn again, pushed out, or derived from the shadow map
+/// in compute ([`crate::Fattening`]).
+pub(crate) enum FattenedMap {
+    Drawn(FattenedShadowMapPass),
+    Dilated(DilatedMapPass),
+}
+
+impl FattenedMap {
+    fn new(device: &wgpu::Device, layouts: &crate::layouts::SceneLayouts, map: MapLayout, chain: &Chain) -> Self {
+        if chain.draws_fattened_map() {
+            FattenedMap::Drawn(FattenedShadowMapPass::new(device, layouts, map))
+        } else {
+            FattenedMap::Dilated(DilatedMapPass::new(device, map))
+        }
+    }
+
+    /// Whether this is the kind `chain` uses.
+    fn fits(&self, chain: &Chain) -> bool {
+        matches!(self, FattenedMap::Drawn(_)) == chain.draws_fattened_map()
+    }
+
+    fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
+        match self {
+            FattenedMap::Drawn(f) => f.resize(device, map),
+            FattenedMap::Dilated(d) => d.resize(device, map),
+        }
+    }
+
+    fn allocated_bytes(&self) -> u64 {
+        match self {
+            FattenedMap::Drawn(f) => f.allocated_bytes(),
+            FattenedMap::Dilated(d) => d.allocated_bytes(),
+        }
+    }
+
+    /// The map the distance map and the tile classification test against.
+    pub fn view(&self) -> &wgpu::TextureView {
+        match self {
+            FattenedMap::Drawn(f) => f.atlas.view(),
+            FattenedMap::Dilated(d) => d.view(),
+        }
+    }
+
+    /// The map's texture.
+    pub fn texture(&self) -> &wgpu::Texture {
+        match self {
+            FattenedMap::Drawn(f) => f.atlas.texture(),
+            FattenedMap::Dilated(d) => d.texture(),
+        }
+    }
+
+    /// How far behind the fattened surface the caster lies, texel by texel.
+    pub fn occluder_offset(&self) -> &wgpu::TextureView {
+        match self {
+            FattenedMap::Drawn(f) => f.occluder_offset(),
+            FattenedMap::Dilated(d) => d.occluder_offset(),
+        }
+    }
 }
 
 impl LightMaps {
     /// GPU memory the maps take, in bytes.
     pub fn allocated_bytes(&self) -> u64 {
         self.shadow.atlas.allocated_bytes()
-            + self.fattened.as_ref().map_or(0, |(fattened, exit)| {
-                fattened.allocated_bytes() + exit.atlas.allocated_bytes()
-            })
+            + self.fattened.as_ref().map_or(0, FattenedMap::allocated_bytes)
+            + self.exit.as_ref().map_or(0, |exit| exit.atlas.allocated_bytes())
     }
 
     /// Makes or keeps the maps `chain` needs for a light fitted as `light_view` (its atlas's
@@ -47,8 +109,10 @@ impl LightMaps {
                 // (`crate::MapResolution::FromPenumbra`): new textures, the same pipelines.
                 if (m.shadow.atlas.grid, m.shadow.atlas.tile) != (grid, tile) {
                     m.shadow.resize(device, (settings, grid, tile));
-                    if let Some((fattened, exit)) = &mut m.fattened {
+                    if let Some(fattened) = &mut m.fattened {
                         fattened.resize(device, (settings, grid, tile));
+                    }
+                    if let Some(exit) = &mut m.exit {
                         exit.resize(device, (settings, grid, tile));
                     }
                     made = true;
@@ -60,31 +124,43 @@ impl LightMaps {
                 maps.insert(LightMaps {
                     shadow: ShadowMapPass::new(device, layouts, (settings, grid, tile)),
                     fattened: None,
+                    exit: None,
                     casters: casters.id(),
                 })
             }
         };
-        if chain.fattened_map() != maps.fattened.is_some() {
-            maps.fattened = chain.fattened_map().then(|| {
-                (
-                    FattenedShadowMapPass::new(device, layouts, (settings, grid, tile)),
-                    ExitMapPass::new(device, layouts, (settings, grid, tile)),
-                )
-            });
+        let map = (settings, grid, tile);
+        if chain.fattened_map() != maps.fattened.as_ref().is_some_and(|f| f.fits(chain)) {
+            maps.fattened = chain
+                .fattened_map()
+                .then(|| FattenedMap::new(device, layouts, map, chain));
+            made = true;
+        }
+        if chain.exit_map() != maps.exit.is_some() {
+            maps.exit = chain.exit_map().then(|| ExitMapPass::new(device, layouts, map));
             made = true;
         }
         made
     }
 
-    /// Uploads the light's fit (and fatten distance) for the next draw, which redraws only the
-    /// tiles (cascades, cube faces) whose bit is set in `tiles` and draws only the casters on
-    /// `layers`.
-    pub fn prepare(&mut self, upload: &MapUpload, fatten_distance: f32, tiles: u32) {
+    /// Uploads the light's fit (and `spreads`' fatten distance) for the next draw, which
+    /// redraws only the tiles (cascades, cube faces) whose bit is set in `tiles` and draws only
+    /// the casters on `layers`. A derived fattened map is made again whole.
+    pub fn prepare(&mut self, upload: &MapUpload, spreads: &DerivedSpreads, tiles: u32) {
         self.shadow.prepare(upload);
         self.shadow.atlas.redraw_only(tiles);
-        if let Some((fattened, exit)) = &mut self.fattened {
-            fattened.prepare(upload, fatten_distance);
-            fattened.atlas.redraw_only(tiles);
+        match &mut self.fattened {
+            Some(FattenedMap::Drawn(fattened)) => {
+                fattened.prepare(upload, spreads.fatten_distance);
+                fattened.atlas.redraw_only(tiles);
+            }
+            Some(FattenedMap::Dilated(dilated)) => {
+                let gpu = (upload.device, upload.queue);
+                dilated.prepare(gpu, upload.light, spreads, self.shadow.atlas.view());
+            }
+            None => {}
+        }
+        if let Some(exit) = &mut self.exit {
             exit.prepare(upload);
             exit.atlas.redraw_only(tiles);
         }
@@ -92,10 +168,12 @@ impl LightMaps {
 
     /// Bytes a [`FarPlaneFill`] needs to fill the largest of these maps.
     pub fn fill_bytes(&self) -> u64 {
-        let support = self.fattened.as_ref().map_or(0, |(fattened, exit)| {
-            fattened.atlas.fill_bytes().max(exit.atlas.fill_bytes())
-        });
-        self.shadow.atlas.fill_bytes().max(support)
+        let fattened = match &self.fattened {
+            Some(FattenedMap::Drawn(fattened)) => fattened.atlas.fill_bytes(),
+            _ => 0,
+        };
+        let exit = self.exit.as_ref().map_or(0, |exit| exit.atlas.fill_bytes());
+        self.shadow.atlas.fill_bytes().max(fattened).max(exit)
     }
 
     /// Draws the maps, calling `mark(encoder, pass)` after each; `fill` sets a whole atlas to
@@ -110,10 +188,14 @@ impl LightMaps {
         run(encoder, mark, "shadow map", |e| {
             self.shadow.encode(e, (casters, fill))
         });
-        if let Some((fattened, exit)) = &self.fattened {
-            run(encoder, mark, "fattened shadow map", |e| {
+        match &self.fattened {
+            Some(FattenedMap::Drawn(fattened)) => run(encoder, mark, "fattened shadow map", |e| {
                 fattened.encode(e, (casters, fill))
-            });
+            }),
+            Some(FattenedMap::Dilated(dilated)) => run(encoder, mark, "dilated shadow map", |e| dilated.encode(e)),
+            None => {}
+        }
+        if let Some(exit) = &self.exit {
             run(encoder, mark, "exit map", |e| exit.encode(e, (casters, fill)));
         }
     }

@@ -82,11 +82,8 @@ impl DistanceMapPass {
                 entry::texture_2d(6, unfilterable),
             ],
         );
-        let constants = [
-            ("MASK_EARLY_OUT", if switches.mask_early_out { 1.0 } else { 0.0 }),
-            ("NEAREST_CASTER", if switches.nearest_caster { 1.0 } else { 0.0 }),
-            (LIGHT_KIND, light_kind as f64),
-        ];
+        let [a, b, c] = switches.constants();
+        let constants = [a, b, c, (LIGHT_KIND, light_kind as f64)];
         // With the tile classification the draws cover only the kept tiles (group 2).
         let tiles = tiles_layout(device);
         let layouts = if switches.tiles {
@@ -335,11 +332,10 @@ impl DistanceMapCompute {
                 &shader,
                 &[Some(&layout), None, None, Some(&list_layout)],
                 "cs_main",
-                &[
-                    ("MASK_EARLY_OUT", if switches.mask_early_out { 1.0 } else { 0.0 }),
-                    ("NEAREST_CASTER", if switches.nearest_caster { 1.0 } else { 0.0 }),
-                    (LIGHT_KIND, light_kind as f64),
-                ],
+                &{
+                    let [a, b, c] = switches.constants();
+                    [a, b, c, (LIGHT_KIND, light_kind as f64)]
+                },
             )
         });
         Self {

@@ -294,32 +294,7 @@ pub(crate) fn row_threads(device: &wgpu::Device) -> (&'static str, f64) {
     ("ROW_THREADS", threads as f64)
 }
 
-/// A compute pipeline with entry point `entry` and values for its override constants.
-pub(crate) fn compute_pipeline(
-    device: &wgpu::Device,
-    label: &str,
-    shader: &wgpu::ShaderModule,
-    bind_group_layouts: &[Option<&wgpu::BindGroupLayout>],
-    entry: &str,
-    constants: &[(&str, f64)],
-) -> wgpu::ComputePipeline {
-    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(label),
-        bind_group_layouts,
-        immediate_size: 0,
-    });
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(label),
-        layout: Some(&layout),
-        module: shader,
-        entry_point: Some(entry),
-        compilation_options: wgpu::PipelineCompilationOptions {
-            constants,
-            ..Default::default()
-        },
-        cache: None,
-    })
-}
+pub(crate) use crate::gpu_helpers::compute_pipeline;
 
 /// A texture a compute pass writes and later passes read, which a render pass can also clear
 /// when `clearable` (a format some devices cannot render to, R32F on GL, is not). The compute

@@ -391,8 +391,7 @@ impl VariablePcfCompute {
             (LIGHT_KIND, light_kind as f64),
         ];
         if let Some(d) = distance {
-            constants.push(("MASK_EARLY_OUT", if d.mask_early_out { 1.0 } else { 0.0 }));
-            constants.push(("NEAREST_CASTER", if d.nearest_caster { 1.0 } else { 0.0 }));
+            constants.extend(d.constants());
         }
         let pipeline = |label, entry| {
             super::compute_pipeline(

@@ -211,6 +211,7 @@ impl Shadows {
                 state.screen = ScreenChain::map_only();
                 if let Some(maps) = &mut state.maps {
                     maps.fattened = None;
+                    maps.exit = None;
                 }
                 state.bound = None;
             }
@@ -722,11 +723,11 @@ impl Shadows {
     /// ran last, which [`Shadows::inspect`] chooses (by default the last light in slot order).
     pub fn light_texture(&self, id: LightId, which: LightTexture) -> Option<&wgpu::Texture> {
         let s = self.state(id).ok()?;
-        let fattened = s.maps.as_ref().and_then(|m| m.fattened.as_ref());
+        let maps = s.maps.as_ref();
         match which {
-            LightTexture::ShadowMap => s.maps.as_ref().map(|m| m.shadow.atlas.texture()),
-            LightTexture::FattenedMap => fattened.map(|(f, _)| f.atlas.texture()),
-            LightTexture::ExitMap => fattened.map(|(_, e)| e.atlas.texture()),
+            LightTexture::ShadowMap => maps.map(|m| m.shadow.atlas.texture()),
+            LightTexture::FattenedMap => maps.and_then(|m| m.fattened.as_ref()).map(|f| f.texture()),
+            LightTexture::ExitMap => maps.and_then(|m| m.exit.as_ref()).map(|e| e.atlas.texture()),
             LightTexture::DistanceMap => s.screen.distance_texture(),
             LightTexture::TileClasses => s.screen.tile_classes_texture(),
             LightTexture::Visibility => s.screen.raw_visibility(),

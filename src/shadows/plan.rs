@@ -173,7 +173,7 @@ pub(super) fn plan_light(frame: &FramePlan, slot: usize, state: &mut LightState)
             light: &light_view,
             layers: state.layers,
         };
-        maps.prepare(&upload, spreads.fatten_distance, tiles);
+        maps.prepare(&upload, &spreads, tiles);
     }
     state.screen.prepare(frame.queue, &params);
     let probe = reset_probe(frame, state, &chain, light_view.tile);

@@ -235,13 +235,14 @@ impl MethodChain for OursDrawChain {
 
 /// The maps of `maps` the distance map reads (none without a fattened map).
 fn distance_maps(maps: &LightMaps) -> Option<DistanceMaps<'_>> {
-    let (fattened, exit) = maps.fattened.as_ref()?;
-    let texture = fattened.atlas.texture();
+    let fattened = maps.fattened.as_ref()?;
+    let texture = fattened.texture();
     Some(DistanceMaps {
         shadow_map: maps.shadow.atlas.view(),
-        fattened_map: fattened.atlas.view(),
+        fattened_map: fattened.view(),
         fattened_size: (texture.width(), texture.height()),
         occluder_offset: fattened.occluder_offset(),
-        exit_map: exit.atlas.view(),
+        // Without an exit map the shader reads none (`EXIT_MAP`): a stand-in is bound.
+        exit_map: maps.exit.as_ref().map_or(maps.shadow.atlas.view(), |exit| exit.atlas.view()),
     })
 }

@@ -1,0 +1,300 @@
+//! The fattened map derived from the shadow map, in compute ([`crate::Fattening::Dilation`]):
+//! no second geometry pass.
+//!
+//! Input: the light's shadow map (its atlas of cascades or cube faces), the [`LightView`] and
+//! the fatten distance (with a spot or point light's nearest caster). Output, at the geometric
+//! fattened map's resolution (half the shadow map's) and read where it is: an R32F map, each
+//! texel the least depth the shadow map holds within the fatten distance of it across the
+//! light, within its own tile; and an R32F occluder offset, how far behind that least depth the
+//! shadow map's own caster lies at the texel (world units along the light, 0 where it has
+//! none). One compute pass (`shaders/dilated_map.wgsl`): the shadow map at half its
+//! resolution, then levels of least depths over squares of 2, 4, 8, ... texels (as many as the
+//! widest tile's window needs, in two textures used in turn), then the dilation, four reads of
+//! the last level that cover each texel's window exactly.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::atlas::{MapLayout, support_map_resolution};
+use crate::frame::DerivedSpreads;
+use crate::gpu_helpers::{Target, compute_pipeline, entry, texture_bytes};
+use crate::light_space::{AtlasGrid, LightView, MAX_TILES, ProjectionKind};
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct DilationUniform {
+    shape: [u32; 4],
+    depth: [f32; 4],
+    tiles: [[f32; 4]; MAX_TILES],
+}
+
+/// The most levels a fattened map's side can use (a tile of 2^13 texels).
+const MAX_LEVELS: u32 = 14;
+
+/// The bytes between two levels' `Step` uniforms (a dynamic offset's alignment).
+const STEP_STRIDE: u64 = 256;
+
+/// The derived fattened map of one light.
+pub(crate) struct DilatedMapPass {
+    /// The fattened map: R32F, the least depth within the fatten distance of each texel.
+    map: Target,
+    /// World units from the least depth back to the texel's own caster.
+    occluder_offset: Target,
+    /// The levels, used in turn: level 0 in the second, level k in the first for odd k.
+    scratch: [Target; 2],
+    reduce: wgpu::ComputePipeline,
+    step: wgpu::ComputePipeline,
+    dilate: wgpu::ComputePipeline,
+    io_layout: wgpu::BindGroupLayout,
+    shared_layout: wgpu::BindGroupLayout,
+    /// The dilation's uniform, then each level's `Step` at `STEP_STRIDE` apart.
+    uniform: wgpu::Buffer,
+    steps: wgpu::Buffer,
+    /// Made at [`Self::prepare`] for the shadow map it is given, dropped when the textures are
+    /// made again.
+    groups: Option<Groups>,
+    /// The last level any tile needs this frame.
+    levels: u32,
+    /// The atlas's layout, and a tile's side in the map's texels.
+    grid: AtlasGrid,
+    tile: u32,
+}
+
+/// The bind groups of one shadow map: level 0 from it, each level from the one before (second
+/// to first, first to second), the dilation from each texture, and what the steps and the
+/// dilation share.
+struct Groups {
+    reduce: wgpu::BindGroup,
+    /// Level 1 from level 0, then from the first into the second and back.
+    steps: [wgpu::BindGroup; 3],
+    /// The dilation from the second (level 0 or an even level) or the first (an odd level).
+    dilate: [wgpu::BindGroup; 2],
+    shared: wgpu::BindGroup,
+}
+
+impl DilatedMapPass {
+    /// The maps' format: 32-bit float, which every compute device can store.
+    const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+    pub fn new(device: &wgpu::Device, map: MapLayout) -> Self {
+        let (_, grid, tile) = map;
+        let shader = crate::shaders::module(device, "dilated_map.wgsl", crate::shaders::DILATED_MAP);
+        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let io_layout = crate::gpu_helpers::layout(
+            device,
+            "DilatedMapPass::io",
+            &[
+                entry::and_compute(entry::texture_2d(0, unfilterable)),
+                entry::storage_texture(1, Self::FORMAT),
+                entry::uniform(2, compute, 16, true),
+            ],
+        );
+        let shared_layout = crate::gpu_helpers::layout(
+            device,
+            "DilatedMapPass::shared",
+            &[
+                entry::uniform(0, compute, size_of::<DilationUniform>(), false),
+                entry::and_compute(entry::texture_2d(1, unfilterable)),
+                entry::storage_texture(2, Self::FORMAT),
+            ],
+        );
+        let pipeline = |entry: &str| {
+            let label = format!("DilatedMapPass::{entry}");
+            compute_pipeline(device, &label, &shader, &[Some(&io_layout), Some(&shared_layout)], entry, &[])
+        };
+        let uniform = crate::gpu_helpers::uniform_buffer(
+            device,
+            "DilatedMapPass::uniform",
+            size_of::<DilationUniform>() as u64,
+        );
+        // Each level's number, `STEP_STRIDE` bytes apart.
+        let mut bytes = vec![0u8; (STEP_STRIDE * MAX_LEVELS as u64) as usize];
+        for level in 0..MAX_LEVELS {
+            let at = (level as u64 * STEP_STRIDE) as usize;
+            bytes[at..at + 4].copy_from_slice(&level.to_le_bytes());
+        }
+        let steps = wgpu::util::DeviceExt::create_buffer_init(
+            device,
+            &wgpu::util::BufferInitDescriptor {
+                label: Some("DilatedMapPass::steps"),
+                contents: &bytes,
+                usage: wgpu::BufferUsages::UNIFORM,
+            },
+        );
+        let (map, occluder_offset, scratch) = Self::textures(device, grid, tile);
+        Self {
+            map,
+            occluder_offset,
+            scratch,
+            reduce: pipeline("cs_reduce"),
+            step: pipeline("cs_step"),
+            dilate: pipeline("cs_dilate"),
+            io_layout,
+            shared_layout,
+            uniform,
+            steps,
+            groups: None,
+            levels: 0,
+            grid,
+            tile: support_map_resolution(tile),
+        }
+    }
+
+    /// The map, the offset and the two levels' textures for `grid`'s tiles of a shadow map
+    /// `tile` texels a side.
+    fn textures(device: &wgpu::Device, grid: AtlasGrid, tile: u32) -> (Target, Target, [Target; 2]) {
+        let size = grid.size(support_map_resolution(tile));
+        let make = |label| {
+            crate::gpu_helpers::texture_2d(device, label, size, Self::FORMAT, wgpu::TextureUsages::STORAGE_BINDING)
+        };
+        (
+            make("DilatedMapPass::map"),
+            make("DilatedMapPass::occluder_offset"),
+            [make("DilatedMapPass::level"), make("DilatedMapPass::level")],
+        )
+    }
+
+    /// GPU memory this pass allocated: its textures and uniforms.
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        [&self.map, &self.occluder_offset, &self.scratch[0], &self.scratch[1]]
+            .iter()
+            .map(|t| texture_bytes(&t.texture))
+            .sum::<u64>()
+            + self.uniform.size()
+            + self.steps.size()
+    }
+
+    /// Makes the textures again for a shadow map of `tile` texels a tile; they must then be
+    /// made and bound again.
+    pub(crate) fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
+        let (_, grid, tile) = map;
+        (self.map, self.occluder_offset, self.scratch) = Self::textures(device, grid, tile);
+        self.grid = grid;
+        self.tile = support_map_resolution(tile);
+        self.groups = None;
+    }
+
+    /// The derived fattened map (R32F).
+    pub fn view(&self) -> &wgpu::TextureView {
+        &self.map.view
+    }
+
+    /// The derived fattened map's texture.
+    pub fn texture(&self) -> &wgpu::Texture {
+        &self.map.texture
+    }
+
+    /// The occluder offset (R32F): how far behind the least depth the texel's own caster lies.
+    pub fn occluder_offset(&self) -> &wgpu::TextureView {
+        &self.occluder_offset.view
+    }
+
+    /// Uploads each tile's radius for `light`'s fit and `spreads`, and makes the bind groups for
+    /// `shadow_map` (the shadow map's atlas) where they are not made.
+    pub(crate) fn prepare(
+        &mut self,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        light: &LightView,
+        spreads: &DerivedSpreads,
+        shadow_map: &wgpu::TextureView,
+    ) {
+        let mut tiles = [[0.0; 4]; MAX_TILES];
+        self.levels = 0;
+        for (slot, cascade) in tiles.iter_mut().zip(light.cascades()) {
+            let radius = dilation_radius(light, cascade, spreads, self.tile);
+            // The widest square of a level that fits in the window, 2 r + 1 texels a side.
+            let window = (2 * radius.ceil() as u32 + 1).min(self.tile.max(1));
+            let level = (31 - window.leading_zeros()).min(MAX_LEVELS - 1);
+            self.levels = self.levels.max(level);
+            *slot = [radius, level as f32, 0.0, 0.0];
+        }
+        let uniform = DilationUniform {
+            shape: [
+                self.tile,
+                self.grid.cols,
+                0,
+                (light.kind == ProjectionKind::Perspective) as u32,
+            ],
+            depth: [light.near, light.far, 0.0, 0.0],
+            tiles,
+        };
+        queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
+        if self.groups.is_none() {
+            self.groups = Some(self.bind_groups(device, shadow_map));
+        }
+    }
+
+    fn bind_groups(&self, device: &wgpu::Device, shadow_map: &wgpu::TextureView) -> Groups {
+        let step = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer: &self.steps,
+            offset: 0,
+            size: wgpu::BufferSize::new(16),
+        });
+        let io = |from: &wgpu::TextureView, to: &wgpu::TextureView| {
+            crate::gpu_helpers::bind_group(device, "DilatedMapPass::io", &self.io_layout, &[from, to, &step])
+        };
+        let [first, second] = [&self.scratch[0].view, &self.scratch[1].view];
+        Groups {
+            reduce: io(shadow_map, second),
+            steps: [io(second, first), io(first, second), io(second, first)],
+            dilate: [io(second, &self.map.view), io(first, &self.map.view)],
+            shared: crate::gpu_helpers::bind_group(
+                device,
+                "DilatedMapPass::shared",
+                &self.shared_layout,
+                &[&self.uniform, shadow_map, &self.occluder_offset.view],
+            ),
+        }
+    }
+
+    /// Records level 0, each level up to the last a tile needs, and the dilation
+    /// ([`Self::prepare`] first).
+    pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
+        let Some(groups) = &self.groups else {
+            return;
+        };
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("DilatedMapPass"),
+            timestamp_writes: None,
+        });
+        let (x, y) = (self.map.texture.width().div_ceil(8), self.map.texture.height().div_ceil(8));
+        pass.set_bind_group(1, &groups.shared, &[]);
+        pass.set_pipeline(&self.reduce);
+        pass.set_bind_group(0, &groups.reduce, &[0]);
+        pass.dispatch_workgroups(x, y, 1);
+        pass.set_pipeline(&self.step);
+        for level in 1..=self.levels {
+            // Level 1 from level 0 (in the second), then back and forth.
+            let group = if level == 1 { 0 } else { 1 + (level as usize % 2) };
+            pass.set_bind_group(0, &groups.steps[group], &[(level as u64 * STEP_STRIDE) as u32]);
+            pass.dispatch_workgroups(x, y, 1);
+        }
+        pass.set_pipeline(&self.dilate);
+        pass.set_bind_group(0, &groups.dilate[self.levels as usize % 2], &[0]);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+}
+
+/// How far, in texels of a fattened map whose tiles are `tile` texels a side, the fatten
+/// distance reaches across the light in `cascade` (a cascade or cube face of `light`): at a spot
+/// or point light's nearest caster, where a texel is narrowest, so no caster's fattening is
+/// missed. At most a tile.
+fn dilation_radius(light: &LightView, cascade: &crate::light_space::Cascade, spreads: &DerivedSpreads, tile: u32) -> f32 {
+    // The tile's projection: its clip space per unit of its view, x and y.
+    let projection = cascade.view_projection * cascade.view.inverse();
+    let scale = projection.x_axis.x.abs().min(projection.y_axis.y.abs()).max(1e-20);
+    // World units across the tile (its widest axis) at the nearest caster.
+    let across = match light.kind {
+        ProjectionKind::Orthographic => 2.0 / scale,
+        ProjectionKind::Perspective => {
+            let distance = if spreads.nearest_caster > 0.0 {
+                spreads.nearest_caster
+            } else {
+                light.near.max(1e-6)
+            };
+            2.0 * distance / scale
+        }
+    };
+    let texel = across / tile.max(1) as f32;
+    (spreads.fatten_distance / texel.max(1e-20)).clamp(0.0, tile as f32)
+}
