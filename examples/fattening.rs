@@ -27,6 +27,10 @@ struct Args {
     /// The scenes of `assets/scenes` to measure, comma-separated (the room: its desk view).
     #[arg(long, default_value = "teapot,character,room")]
     scenes: String,
+    /// Also write each view's reference and each form's error heat map (red: too dark, blue: too
+    /// light) as PNGs into this folder.
+    #[arg(long)]
+    dump: Option<std::path::PathBuf>,
 }
 
 /// The forms measured: the fattening, whether the exit map is drawn.
@@ -103,6 +107,11 @@ fn main() -> Result<()> {
                 let image = metrics::measure_visibility(&gpu, &scene, &camera, settings_of(form), (w, h))?;
                 let error = metrics::visibility_error(&reference, &image)?;
                 let missed = missed_penumbra(&reference, &image);
+                if let Some(dir) = &args.dump {
+                    std::fs::create_dir_all(dir)?;
+                    let form = form_name(form).replace(" + ", "-").replace(' ', "-");
+                    metrics::error_heat_map(&reference, &image).save(dir.join(format!("{name}-{view}-{form}.png")))?;
+                }
                 print!(
                     " {:.4} (RMSE {:.4}, missed {:.2}%) |",
                     error.penumbra_rmse,

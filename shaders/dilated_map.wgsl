@@ -12,9 +12,11 @@
 // up to the level of the widest square that fits in a tile's window (a tile whose window is
 // narrower keeps its own last level). `cs_dilate` takes the least of four squares of that
 // level, which together cover the texel's window exactly (a sparse table of least depths: two
-// textures used in turn, whatever the radius; level 0 is written into the second). It also writes how far behind that least depth
-// the caster under the texel lies (world units along the light, 0 where it has none), which the
-// distance map adds as the geometric fattening's occluder offset.
+// textures used in turn, whatever the radius; level 0 is written into the second).
+//
+// The distance map takes the distance beside a shadow from that least depth: no occluder offset
+// is added (one back to the caster under the texel gave no distance where that caster is the
+// receiver itself, beside a shadow on a caster: the teapot's handle's on its body).
 
 // The level read and the level written (`cs_dilate`: the last level read, the fattened map
 // written).
@@ -29,19 +31,13 @@ struct Step {
 @group(0) @binding(2) var<uniform> step: Step;
 
 struct Dilation {
-    // x: a tile's side in texels of the fattened map; y: the atlas's tiles per row; w: 1 for a
-    // perspective map (spot, point), 0 for an orthographic one
+    // x: a tile's side in texels of the fattened map; y: the atlas's tiles per row
     shape: vec4<u32>,
-    // x, y: the light's near and far planes, world units (as `light_linear_depth` takes them)
-    depth: vec4<f32>,
     // per tile: x the radius in texels of the fattened map, y the last level it needs
     tiles: array<vec4<f32>, 6>,
 }
 
 @group(1) @binding(0) var<uniform> dilation: Dilation;
-// The shadow map: the caster under each texel.
-@group(1) @binding(1) var shadow_map: texture_2d<f32>;
-@group(1) @binding(2) var offset_out: texture_storage_2d<r32float, write>;
 
 // The least depth of the texels of `map` that texel `texel` of a map `size` texels covers (two
 // a side where `map` is twice as large).
@@ -110,16 +106,6 @@ fn cs_step(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(destination, id.xy, vec4<f32>(least, 0.0, 0.0, 0.0));
 }
 
-// World units from the light's near plane along its axis, for depth `z`.
-fn linear_depth(z: f32) -> f32 {
-    let near = dilation.depth.x;
-    let far = dilation.depth.y;
-    if dilation.shape.w != 0u {
-        return near * far / max(far - z * (far - near), 1e-20);
-    }
-    return near + z * (far - near);
-}
-
 // The fattened map: the least depth in the texel's window, `radius` texels each way within its
 // tile, from four squares of the tile's last level (`source`), the first at the window's lower
 // corner and the last ending at its upper corner. Where the window is narrower than a square
@@ -142,11 +128,4 @@ fn cs_dilate(@builtin(global_invocation_id) id: vec3<u32>) {
     least = min(least, textureLoad(source, vec2<u32>(lo.x, last.y), 0).x);
     least = min(least, textureLoad(source, last, 0).x);
     textureStore(destination, id.xy, vec4<f32>(least, 0.0, 0.0, 0.0));
-    // The caster under the texel lies this far behind the least depth.
-    let own = covered_least(shadow_map, id.xy, size);
-    var offset = 0.0;
-    if own < 1.0 {
-        offset = max(linear_depth(own) - linear_depth(least), 0.0);
-    }
-    textureStore(offset_out, id.xy, vec4<f32>(offset, 0.0, 0.0, 0.0));
 }

@@ -5,9 +5,7 @@
 //! the fatten distance (with a spot or point light's nearest caster). Output, at the geometric
 //! fattened map's resolution (half the shadow map's) and read where it is: an R32F map, each
 //! texel the least depth the shadow map holds within the fatten distance of it across the
-//! light, within its own tile; and an R32F occluder offset, how far behind that least depth the
-//! shadow map's own caster lies at the texel (world units along the light, 0 where it has
-//! none). One compute pass (`shaders/dilated_map.wgsl`): the shadow map at half its
+//! light, within its own tile; no occluder offset (a texel of 0, see the shader). One compute pass (`shaders/dilated_map.wgsl`): the shadow map at half its
 //! resolution, then levels of least depths over squares of 2, 4, 8, ... texels (as many as the
 //! widest tile's window needs, in two textures used in turn), then the dilation, four reads of
 //! the last level that cover each texel's window exactly.
@@ -23,7 +21,6 @@ use crate::light_space::{AtlasGrid, LightView, MAX_TILES, ProjectionKind};
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct DilationUniform {
     shape: [u32; 4],
-    depth: [f32; 4],
     tiles: [[f32; 4]; MAX_TILES],
 }
 
@@ -37,7 +34,7 @@ const STEP_STRIDE: u64 = 256;
 pub(crate) struct DilatedMapPass {
     /// The fattened map: R32F, the least depth within the fatten distance of each texel.
     map: Target,
-    /// World units from the least depth back to the texel's own caster.
+    /// No occluder offset: one texel of 0 (the distance map reads it at any texel, 0 there).
     occluder_offset: Target,
     /// The levels, used in turn: level 0 in the second, level k in the first for odd k.
     scratch: [Target; 2],
@@ -92,11 +89,7 @@ impl DilatedMapPass {
         let shared_layout = crate::gpu_helpers::layout(
             device,
             "DilatedMapPass::shared",
-            &[
-                entry::uniform(0, compute, size_of::<DilationUniform>(), false),
-                entry::and_compute(entry::texture_2d(1, unfilterable)),
-                entry::storage_texture(2, Self::FORMAT),
-            ],
+            &[entry::uniform(0, compute, size_of::<DilationUniform>(), false)],
         );
         let pipeline = |entry: &str| {
             let label = format!("DilatedMapPass::{entry}");
@@ -147,9 +140,17 @@ impl DilatedMapPass {
         let make = |label| {
             crate::gpu_helpers::texture_2d(device, label, size, Self::FORMAT, wgpu::TextureUsages::STORAGE_BINDING)
         };
+        // Textures start zeroed.
+        let offset = crate::gpu_helpers::texture_2d(
+            device,
+            "DilatedMapPass::occluder_offset",
+            (1, 1),
+            wgpu::TextureFormat::R16Float,
+            wgpu::TextureUsages::empty(),
+        );
         (
             make("DilatedMapPass::map"),
-            make("DilatedMapPass::occluder_offset"),
+            offset,
             [make("DilatedMapPass::level"), make("DilatedMapPass::level")],
         )
     }
@@ -184,7 +185,7 @@ impl DilatedMapPass {
         &self.map.texture
     }
 
-    /// The occluder offset (R32F): how far behind the least depth the texel's own caster lies.
+    /// The occluder offset: none (one texel of 0).
     pub fn occluder_offset(&self) -> &wgpu::TextureView {
         &self.occluder_offset.view
     }
@@ -209,13 +210,7 @@ impl DilatedMapPass {
             *slot = [radius, level as f32, 0.0, 0.0];
         }
         let uniform = DilationUniform {
-            shape: [
-                self.tile,
-                self.grid.cols,
-                0,
-                (light.kind == ProjectionKind::Perspective) as u32,
-            ],
-            depth: [light.near, light.far, 0.0, 0.0],
+            shape: [self.tile, self.grid.cols, 0, 0],
             tiles,
         };
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
@@ -242,7 +237,7 @@ impl DilatedMapPass {
                 device,
                 "DilatedMapPass::shared",
                 &self.shared_layout,
-                &[&self.uniform, shadow_map, &self.occluder_offset.view],
+                &[&self.uniform],
             ),
         }
     }
