@@ -170,16 +170,19 @@ pub(crate) struct DistanceSwitches {
     pub tile_pixels: crate::settings::TilePixels,
     /// Inside a shadow, the exit map's back faces are read (it is drawn).
     pub exit_map: bool,
+    /// The fattened map is derived from the shadow map ([`crate::Fattening::Dilation`]).
+    pub dilated_map: bool,
 }
 
 impl DistanceSwitches {
     /// The override constants of the distance's shader code (`common/distance.wgsl`).
-    pub fn constants(&self) -> [(&'static str, f64); 3] {
+    pub fn constants(&self) -> [(&'static str, f64); 4] {
         let on = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("MASK_EARLY_OUT", on(self.mask_early_out)),
             ("NEAREST_CASTER", on(self.nearest_caster)),
             ("EXIT_MAP", on(self.exit_map)),
+            ("DILATED_MAP", on(self.dilated_map)),
         ]
     }
 }
@@ -305,6 +308,8 @@ impl PassParams {
                 facing_away: tiles && p.skip_tiles_facing_away,
                 tile_pixels: s.execution.tile_pixels,
                 exit_map: p.exit_map,
+                // The chain decides (`crate::Chain::Ours`'s `dilated`).
+                dilated_map: false,
             },
             blur,
             blur_switches: BlurSwitches {

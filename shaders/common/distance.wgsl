@@ -12,6 +12,10 @@ override NEAREST_CASTER: bool = true;
 // false: no exit map is drawn (`exit_map` is bound to a stand-in): inside a shadow the distance
 // is to the silhouette's caster as the shadow map holds it, its front
 override EXIT_MAP: bool = true;
+// true: the fattened map is derived from the shadow map (`Fattening::Dilation`), its depth the
+// least within the fatten distance and no occluder offset: inside a shadow the caster under the
+// receiver is the shadow map's own texel
+override DILATED_MAP: bool = false;
 
 // What the distance map holds at a pixel.
 struct PixelDistance {
@@ -106,7 +110,13 @@ fn classify_at(frag: vec2<f32>) -> Classified {
     var d = fattened_distance(p, texel, fattened_depth);
     if NEAREST_CASTER && !beside {
         let own = light_linear_depth(p.z) - light_linear_depth(own_depth);
-        d = nearest_silhouette(world, p, d, occluder_depth(texel, fattened_depth), own);
+        var front = occluder_depth(texel, fattened_depth);
+        if DILATED_MAP {
+            // The least depth nearby may be another caster's, nearer the light.
+            front = light_linear_depth(own_depth);
+            d = min(d, own);
+        }
+        d = nearest_silhouette(world, p, d, front, own);
     }
     c.out = classified(d, 1.0, select(0.5 * BESIDE, BESIDE, beside));
     return c;

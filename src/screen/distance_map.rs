@@ -82,8 +82,8 @@ impl DistanceMapPass {
                 entry::texture_2d(6, unfilterable),
             ],
         );
-        let [a, b, c] = switches.constants();
-        let constants = [a, b, c, (LIGHT_KIND, light_kind as f64)];
+        let [a, b, c, d] = switches.constants();
+        let constants = [a, b, c, d, (LIGHT_KIND, light_kind as f64)];
         // With the tile classification the draws cover only the kept tiles (group 2).
         let tiles = tiles_layout(device);
         let layouts = if switches.tiles {
@@ -333,8 +333,8 @@ impl DistanceMapCompute {
                 &[Some(&layout), None, None, Some(&list_layout)],
                 "cs_main",
                 &{
-                    let [a, b, c] = switches.constants();
-                    [a, b, c, (LIGHT_KIND, light_kind as f64)]
+                    let [a, b, c, d] = switches.constants();
+                    [a, b, c, d, (LIGHT_KIND, light_kind as f64)]
                 },
             )
         });

@@ -206,10 +206,13 @@ fn chain_of(frame: &FramePlan, light: &Light) -> (Chain, ShadowSettings, PassPar
         method: chain.method(),
         ..*frame.settings
     };
-    let params = PassParams {
+    let mut params = PassParams {
         layer_writes: frame.layer_writes,
         ..pass_params(&effective, frame.software)
     };
+    // Which fattened map and whether an exit map: as the chain draws them.
+    params.distance_switches.exit_map = chain.exit_map();
+    params.distance_switches.dilated_map = chain.fattened_map() && !chain.draws_fattened_map();
     (chain, effective, params)
 }
 
