@@ -1157,6 +1157,31 @@ fn measure_embedding(
         light_moving: moving,
         light_still: still,
     }];
+    // The fattened map derived from the shadow map (`Fattening::Dilation`), with and without
+    // the exit map (`PenumbraSettings::exit_map`).
+    for exit_map in [true, false] {
+        let mut form = settings;
+        form.penumbra.fattening = penumbra::Fattening::Dilation;
+        form.penumbra.exit_map = exit_map;
+        let mut r = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, form)?;
+        let mut g = GpuScene::new(&gpu.device, &gpu.queue, r.layouts(), scene)?;
+        // The first frame draws the light's maps, the second (nothing moved) keeps them.
+        g.set_light(nudged(&scene.light, 1))?;
+        let mut passes = [0; 2];
+        for count in &mut passes {
+            penumbra::render_to_image(gpu, &mut r, &g, camera, width, height)?;
+            let report = r.last_report().context("a frame")?;
+            *count = report.plan.geometry_passes(report.light.shadow_maps_rendered);
+        }
+        geometry_passes.push(GeometryPasses {
+            path: format!(
+                "Renderer (ours, fattened map derived{})",
+                if exit_map { "" } else { ", no exit map" }
+            ),
+            light_moving: passes[0],
+            light_still: passes[1],
+        });
+    }
     // The embedding path on the renderer's depth.
     let depth = renderer
         .camera_depth_texture()

@@ -6,8 +6,8 @@
 // texels of the fattened map: the fatten distance at the nearest caster's distance from the
 // light), in the texel's own tile (cascade or cube face).
 //
-// `cs_reduce` takes the shadow map to the fattened map's resolution (half the shadow map's),
-// each texel the least of the four it covers: level 0. Each `cs_step` k then makes level k, each
+// `cs_reduce` takes the shadow map to the fattened map's resolution (a quarter of the shadow
+// map's), each texel the least of the sixteen it covers: level 0. Each `cs_step` k then makes level k, each
 // texel the least of the 2^k x 2^k square whose lower corner it is (four texels of level k - 1),
 // up to the level of the widest square that fits in a tile's window (a tile whose window is
 // narrower keeps its own last level). `cs_dilate` takes the least of four squares of that

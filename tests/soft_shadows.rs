@@ -6,7 +6,7 @@ mod common;
 
 use glam::{Mat4, Quat, Vec3};
 use penumbra::{
-    Camera, DirectionalLight, GpuScene, HeadlessGpu, Light, LightTexture, Material, Renderer, Scene,
+    Camera, DirectionalLight, Fattening, GpuScene, HeadlessGpu, Light, LightTexture, Material, Renderer, Scene,
     ShadowMethod, ShadowSettings, SpreadMode, load_scene, scene::primitives,
 };
 
@@ -223,6 +223,54 @@ fn mask_contains_every_hard_shadowed_pixel() {
             assert_eq!(
                 outside, 0,
                 "{name} view {view}: {outside} of {shadowed} hard-shadowed pixels lie outside the mask"
+            );
+        }
+    }
+}
+
+/// Both fattened maps, drawn and derived from the shadow map (`Fattening::Dilation`), bound
+/// every penumbra: no pixel where the reference is in a penumbra lies outside the mask, under a
+/// sun (the teapot's views 0 and 2, the character's 1) and under the room's lamp (a point
+/// light's cube, its near casters fattened most). Without the exit map too, whose absence
+/// changes only the distances.
+#[test]
+fn every_fattened_map_holds_the_references_penumbrae() {
+    let gpu = common::gpu();
+    let size = (200, 160);
+    let views = [("teapot", 0), ("teapot", 2), ("character", 1), ("room", 0)];
+    for (name, view) in views {
+        let scene = load_scene(&common::asset(&format!("scenes/{name}.ron"))).unwrap();
+        let camera = scene.view(view).unwrap();
+        let mut reference = settings(ShadowMethod::Reference);
+        reference.reference.samples = 64;
+        let reference = penumbra::metrics::measure_visibility(&gpu, &scene, &camera, reference, size).unwrap();
+        for (fattening, exit_map) in [(Fattening::Geometry, true), (Fattening::Dilation, false)] {
+            let mut s = settings(ShadowMethod::Ours);
+            s.penumbra.fattening = fattening;
+            s.penumbra.exit_map = exit_map;
+            let (_, renderer) = render_frame(&gpu, &scene, &camera, s, size);
+            let chain = renderer.last_report().unwrap().plan.chain;
+            assert_eq!(
+                chain.light_maps(),
+                if fattening == Fattening::Dilation { 1 } else { 3 },
+                "{name} view {view}: {chain:?}"
+            );
+            let (distance, channels) = read(&gpu, renderer.debug_texture(LightTexture::DistanceMap).unwrap());
+            let channels = channels as usize;
+            let (mut penumbra, mut outside) = (0, 0);
+            for (i, r) in reference.visibility.iter().enumerate() {
+                if r.is_some_and(|r| r > 0.02 && r < 0.98) {
+                    penumbra += 1;
+                    // The mask: 1 inside, 0 outside, below 0 where nothing receives.
+                    if distance[i * channels + 1] == 0.0 {
+                        outside += 1;
+                    }
+                }
+            }
+            assert!(penumbra > 100, "{name} view {view}: only {penumbra} penumbra pixels");
+            assert_eq!(
+                outside, 0,
+                "{name} view {view}, {fattening:?}: {outside} of {penumbra} penumbra pixels of the reference lie outside the mask"
             );
         }
     }

@@ -57,7 +57,7 @@ fn fattened_distance(p: vec3<f32>, texel: vec2<i32>, fattened_depth: f32) -> f32
     var d = max(light_linear_depth(p.z) - occluder, 0.0);
     // Inside a shadow, the penumbra's inner half is shaped by where the occluder ends nearest
     // the receiver (a thick caster's near side): its back face, when one lies in front.
-    let exit = textureLoad(exit_map, texel, 0).x;
+    let exit = textureLoad(exit_map, exit_texel_of(p.xy), 0).x;
     if EXIT_MAP && exit < map_depth(p.z) {
         d = min(d, max(light_linear_depth(p.z) - light_linear_depth(exit), 0.0));
     }
@@ -325,7 +325,8 @@ fn nearest_silhouette(world: vec3<f32>, p: vec3<f32>, d: f32, front: f32, own: f
         // depth inside it (the chord shrinks), beside a face seen edge-on it stays. Extrapolated
         // to the silhouette, it gives the caster point the penumbra follows in both.
         let silhouette = 0.5 * (best_span.x + best_span.y);
-        let exit_texel = 1.0 / f32(textureDimensions(fattened_map).x);
+        // The exit map's texel: half the shadow map's resolution.
+        let exit_texel = 2.0 / f32(textureDimensions(shadow_depths).x);
         let near = at_exit(clamp(p.xy + max(silhouette - 1.5 * exit_texel, 0.0) * best_direction, tile.xy, tile.zw), receiver_depth);
         let far = at_exit(clamp(p.xy + max(silhouette - 6.0 * exit_texel, 0.0) * best_direction, tile.xy, tile.zw), receiver_depth);
         if EXIT_MAP && near > 2.0 * texel_world && far > 2.0 * texel_world {
@@ -345,7 +346,14 @@ fn at_exit(uv: vec2<f32>, receiver_depth: f32) -> f32 {
     if !EXIT_MAP {
         return receiver_depth - light_linear_depth(textureLoad(shadow_depths, shadow_texel(uv), 0).x);
     }
-    return receiver_depth - light_linear_depth(textureLoad(exit_map, fattened_texel(vec3<f32>(uv, 0.0)), 0).x);
+    return receiver_depth - light_linear_depth(textureLoad(exit_map, exit_texel_of(uv), 0).x);
+}
+
+// The exit map's texel for shadow-map position `uv` (the fattened map can be coarser: derived,
+// `DILATED_MAP`).
+fn exit_texel_of(uv: vec2<f32>) -> vec2<i32> {
+    let size = vec2<i32>(textureDimensions(exit_map));
+    return clamp(vec2<i32>(uv * vec2<f32>(size)), vec2<i32>(0), size - 1);
 }
 
 // World units across the light per unit of shadow-map uv at a caster `caster` in front of a
