@@ -110,7 +110,8 @@ fn main() -> Result<()> {
                 if let Some(dir) = &args.dump {
                     std::fs::create_dir_all(dir)?;
                     let form = form_name(form).replace(" + ", "-").replace(' ', "-");
-                    metrics::error_heat_map(&reference, &image).save(dir.join(format!("{name}-{view}-{form}.png")))?;
+                    metrics::error_heat_map(&reference, &image)
+                        .save(dir.join(format!("{name}-{view}-{form}.png")))?;
                 }
                 print!(
                     " {:.4} (RMSE {:.4}, missed {:.2}%) |",

@@ -12,8 +12,8 @@ use clap::Parser;
 use penumbra::debug::DebugView;
 use penumbra::timing::TimedFrames;
 use penumbra::{
-    DevicePath, ExitFaces, Fattening, GpuScene, HeadlessGpu, Light, MapResolution, Quality, Renderer, ShadowMethod,
-    ShadowSettings, TilePixels,
+    DevicePath, ExitFaces, Fattening, GpuScene, HeadlessGpu, Light, MapResolution, Quality, Renderer,
+    ShadowMethod, ShadowSettings, TilePixels,
 };
 
 #[derive(Parser)]

@@ -126,7 +126,10 @@ impl Chain {
     pub(crate) fn without_compute(self) -> Self {
         match self {
             Chain::Ours {
-                method, blur, exit_map, ..
+                method,
+                blur,
+                exit_map,
+                ..
             } => Chain::Ours {
                 method,
                 blur,

@@ -93,7 +93,14 @@ impl DilatedMapPass {
         );
         let pipeline = |entry: &str| {
             let label = format!("DilatedMapPass::{entry}");
-            compute_pipeline(device, &label, &shader, &[Some(&io_layout), Some(&shared_layout)], entry, &[])
+            compute_pipeline(
+                device,
+                &label,
+                &shader,
+                &[Some(&io_layout), Some(&shared_layout)],
+                entry,
+                &[],
+            )
         };
         let uniform = crate::gpu_helpers::uniform_buffer(
             device,
@@ -138,7 +145,13 @@ impl DilatedMapPass {
     fn textures(device: &wgpu::Device, grid: AtlasGrid, tile: u32) -> (Target, Target, [Target; 2]) {
         let size = grid.size(dilated_resolution(tile));
         let make = |label| {
-            crate::gpu_helpers::texture_2d(device, label, size, Self::FORMAT, wgpu::TextureUsages::STORAGE_BINDING)
+            crate::gpu_helpers::texture_2d(
+                device,
+                label,
+                size,
+                Self::FORMAT,
+                wgpu::TextureUsages::STORAGE_BINDING,
+            )
         };
         // Textures start zeroed.
         let offset = crate::gpu_helpers::texture_2d(
@@ -157,10 +170,15 @@ impl DilatedMapPass {
 
     /// GPU memory this pass allocated: its textures and uniforms.
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        [&self.map, &self.occluder_offset, &self.scratch[0], &self.scratch[1]]
-            .iter()
-            .map(|t| texture_bytes(&t.texture))
-            .sum::<u64>()
+        [
+            &self.map,
+            &self.occluder_offset,
+            &self.scratch[0],
+            &self.scratch[1],
+        ]
+        .iter()
+        .map(|t| texture_bytes(&t.texture))
+        .sum::<u64>()
             + self.uniform.size()
             + self.steps.size()
     }
@@ -252,7 +270,10 @@ impl DilatedMapPass {
             label: Some("DilatedMapPass"),
             timestamp_writes: None,
         });
-        let (x, y) = (self.map.texture.width().div_ceil(8), self.map.texture.height().div_ceil(8));
+        let (x, y) = (
+            self.map.texture.width().div_ceil(8),
+            self.map.texture.height().div_ceil(8),
+        );
         pass.set_bind_group(1, &groups.shared, &[]);
         pass.set_pipeline(&self.reduce);
         pass.set_bind_group(0, &groups.reduce, &[0]);
@@ -284,10 +305,20 @@ fn dilated_resolution(tile: u32) -> u32 {
 /// distance reaches across the light in `cascade` (a cascade or cube face of `light`): at a spot
 /// or point light's nearest caster, where a texel is narrowest, so no caster's fattening is
 /// missed. At most a tile.
-fn dilation_radius(light: &LightView, cascade: &crate::light_space::Cascade, spreads: &DerivedSpreads, tile: u32) -> f32 {
+fn dilation_radius(
+    light: &LightView,
+    cascade: &crate::light_space::Cascade,
+    spreads: &DerivedSpreads,
+    tile: u32,
+) -> f32 {
     // The tile's projection: its clip space per unit of its view, x and y.
     let projection = cascade.view_projection * cascade.view.inverse();
-    let scale = projection.x_axis.x.abs().min(projection.y_axis.y.abs()).max(1e-20);
+    let scale = projection
+        .x_axis
+        .x
+        .abs()
+        .min(projection.y_axis.y.abs())
+        .max(1e-20);
     // World units across the tile (its widest axis) at the nearest caster.
     let across = match light.kind {
         ProjectionKind::Orthographic => 2.0 / scale,

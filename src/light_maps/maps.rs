@@ -30,7 +30,12 @@ pub(crate) enum FattenedMap {
 }
 
 impl FattenedMap {
-    fn new(device: &wgpu::Device, layouts: &crate::layouts::SceneLayouts, map: MapLayout, chain: &Chain) -> Self {
+    fn new(
+        device: &wgpu::Device,
+        layouts: &crate::layouts::SceneLayouts,
+        map: MapLayout,
+        chain: &Chain,
+    ) -> Self {
         if chain.draws_fattened_map() {
             FattenedMap::Drawn(FattenedShadowMapPass::new(device, layouts, map))
         } else {
@@ -130,7 +135,11 @@ impl LightMaps {
             }
         };
         let map = (settings, grid, tile);
-        if chain.fattened_map() != maps.fattened.as_ref().is_some_and(|f| f.fits(chain)) {
+        let fattened_fits = match &maps.fattened {
+            Some(fattened) => chain.fattened_map() && fattened.fits(chain),
+            None => !chain.fattened_map(),
+        };
+        if !fattened_fits {
             maps.fattened = chain
                 .fattened_map()
                 .then(|| FattenedMap::new(device, layouts, map, chain));
@@ -192,7 +201,9 @@ impl LightMaps {
             Some(FattenedMap::Drawn(fattened)) => run(encoder, mark, "fattened shadow map", |e| {
                 fattened.encode(e, (casters, fill))
             }),
-            Some(FattenedMap::Dilated(dilated)) => run(encoder, mark, "dilated shadow map", |e| dilated.encode(e)),
+            Some(FattenedMap::Dilated(dilated)) => {
+                run(encoder, mark, "dilated shadow map", |e| dilated.encode(e))
+            }
             None => {}
         }
         if let Some(exit) = &self.exit {
