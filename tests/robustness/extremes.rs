@@ -558,6 +558,14 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                     } else {
                         penumbra::MapResolution::Configured
                     },
+                    // Either way: the fattened map drawn or derived, with the exit map or
+                    // without.
+                    fattening: if mask != aware {
+                        penumbra::Fattening::Dilation
+                    } else {
+                        penumbra::Fattening::Geometry
+                    },
+                    exit_map: rotate || !nearest,
                 }
             },
         );
