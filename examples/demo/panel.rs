@@ -336,6 +336,15 @@ impl DemoApp {
                     "PCF at half resolution where the penumbra is wide",
                 );
                 ui.checkbox(&mut p.depth_aware_blur, "depth-aware blur");
+                // The light's maps: the fattened map drawn or derived, the exit map or none.
+                let mut derived = p.fattening == penumbra::Fattening::Dilation;
+                ui.checkbox(&mut derived, "fattened map derived from the shadow map (no geometry)");
+                p.fattening = if derived {
+                    penumbra::Fattening::Dilation
+                } else {
+                    penumbra::Fattening::Geometry
+                };
+                ui.checkbox(&mut p.exit_map, "exit map (the casters' back faces)");
                 // Every method's: draws instead of compute passes, to compare their cost.
                 ui.checkbox(
                     &mut p.fragment_passes,
