@@ -48,7 +48,9 @@ fn serve(root: &Path, out: &Path) -> (Running, String) {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let mut child = Command::new(cargo)
         .current_dir(root)
-        .args(["run", "--locked", "-p", "penumbra-web", "--bin", "serve"])
+        // Its own profile: the bindings generator unoptimised, which builds in a third of the
+        // time (Cargo.toml, `profile.web-serve`).
+        .args(["run", "--locked", "--profile", "web-serve", "-p", "penumbra-web", "--bin", "serve"])
         .args(["--", "--port", "0", "--out"])
         .arg(out)
         .env("CARGO_TARGET_DIR", root.join("target").join("web-demo"))
