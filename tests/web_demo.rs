@@ -50,7 +50,16 @@ fn serve(root: &Path, out: &Path) -> (Running, String) {
         .current_dir(root)
         // Its own profile: the bindings generator unoptimised, which builds in a third of the
         // time (Cargo.toml, `profile.web-serve`).
-        .args(["run", "--locked", "--profile", "web-serve", "-p", "penumbra-web", "--bin", "serve"])
+        .args([
+            "run",
+            "--locked",
+            "--profile",
+            "web-serve",
+            "-p",
+            "penumbra-web",
+            "--bin",
+            "serve",
+        ])
         .args(["--", "--port", "0", "--out"])
         .arg(out)
         .env("CARGO_TARGET_DIR", root.join("target").join("web-demo"))

@@ -338,7 +338,10 @@ impl DemoApp {
                 ui.checkbox(&mut p.depth_aware_blur, "depth-aware blur");
                 // The light's maps: the fattened map drawn or derived, the exit map or none.
                 let mut derived = p.fattening == penumbra::Fattening::Dilation;
-                ui.checkbox(&mut derived, "fattened map derived from the shadow map (no geometry)");
+                ui.checkbox(
+                    &mut derived,
+                    "fattened map derived from the shadow map (no geometry)",
+                );
                 p.fattening = if derived {
                     penumbra::Fattening::Dilation
                 } else {
