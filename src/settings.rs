@@ -323,7 +323,8 @@ pub struct PenumbraSettings {
     /// silhouette nearest the light's centre, and takes the distance to the back face under
     /// the receiver when that is nearer than the front's. Off: the distance there is to the
     /// silhouette's caster as the shadow map holds it (its front): beside a pillar's foot under
-    /// a sun the penumbra was then 1.49x the reference's width (`docs/bench/fattening-lavapipe.md`).
+    /// a sun the penumbra was then 1.49x the reference's width (with the derived fattened map,
+    /// `docs/bench/fattening-lavapipe.md`).
     /// Default true.
     #[cfg_attr(feature = "serde", serde(default = "default_true"))]
     pub exit_map: bool,
