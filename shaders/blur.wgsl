@@ -1,4 +1,4 @@
-// after: frame cube fullscreen tiles tile_list layer_out
+// after: frame cube fullscreen tiles tile_list layer_out screen_storage
 // Separable Gaussian blur of one light's visibility, one axis per draw or compute pass
 // (horizontal, then vertical). The step between taps is fixed (the baseline) or grows with the
 // pixel's distance to its occluder: distance x spread pixels (manual), or the standard
@@ -242,7 +242,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 // can fall (the fixed blur: every tile, every pixel), into `blur_out`; the other pixels keep
 // what they held (the horizontal axis's target was cleared to 1; the vertical axis's, the PCF's
 // visibility, is read by the copy only where this pass wrote).
-@group(2) @binding(1) var blur_out: texture_storage_2d<r32float, write>;
+@group(2) @binding(1) var blur_out: VisibilityStorage;
 
 // What invocation `local` of workgroup `group` works on: its pixel of the listed tiles and
 // the result there, or a value of -1 past the list's end or the screen's edge and where the

@@ -1,4 +1,4 @@
-// after: frame cube fullscreen receiver pcf_taps workgroup_rows layer_out screen_compute
+// after: frame cube fullscreen receiver pcf_taps workgroup_rows layer_out screen_storage screen_compute
 // PCF pass (the baseline and screen-space hard shadows): a screen-space visibility texture from
 // N x N comparison taps on the real shadow map at a fixed spacing, rotated per pixel by a noise
 // angle. A receiver-plane depth bias keeps wide kernels from shadowing the receiver itself. The
@@ -37,6 +37,6 @@ fn visibility_at(frag: vec2<f32>) -> f32 {
 
 // The compute path (`common/screen_compute.wgsl`): its output, and where the pass writes the
 // light's layer itself, the layer and the receiver mask the resolve would read.
-@group(0) @binding(5) var visibility_out: texture_storage_2d<r32float, write>;
+@group(0) @binding(5) var visibility_out: VisibilityStorage;
 @group(0) @binding(6) var layer_out: LayerStorage;
 @group(0) @binding(7) var receiver_mask: texture_2d<f32>;

@@ -1,4 +1,4 @@
-// after: frame cube fullscreen receiver workgroup_rows layer_out screen_compute
+// after: frame cube fullscreen receiver workgroup_rows layer_out screen_storage screen_compute
 // PCSS pass (Fernando 2005): a blocker search over a disk sized by the light and the receiver's
 // depth finds the average occluder depth; the penumbra width follows from it (the same formula
 // as the physical distance-map method), and a rotated Vogel-disk PCF of that width gives the
@@ -104,6 +104,6 @@ fn visibility_at(frag: vec2<f32>) -> f32 {
 
 // The compute path (`common/screen_compute.wgsl`): its output, and where the pass writes the
 // light's layer itself, the layer and the receiver mask the resolve would read.
-@group(0) @binding(6) var visibility_out: texture_storage_2d<r32float, write>;
+@group(0) @binding(6) var visibility_out: VisibilityStorage;
 @group(0) @binding(7) var layer_out: LayerStorage;
 @group(0) @binding(8) var receiver_mask: texture_2d<f32>;

@@ -1,4 +1,4 @@
-// after: frame cube fullscreen receiver fattened workgroup_rows
+// after: frame cube fullscreen receiver fattened workgroup_rows screen_storage
 // Tile classification: the 16 x 16 pixel tiles of the screen where the light's fattened shadow
 // can fall, so that the distance map (and with it PCF and the blur, which test its
 // classification depth) runs only there. Joined after the frame uniform, the cube faces and the
@@ -259,8 +259,8 @@ struct TileArgs {
 override CLEARS: bool = false;
 override CLEAR_BLURRED: bool = false;
 @group(0) @binding(12) var distance_cleared: texture_storage_2d<rgba16float, write>;
-@group(0) @binding(13) var visibility_cleared: texture_storage_2d<r32float, write>;
-@group(0) @binding(14) var blurred_cleared: texture_storage_2d<r32float, write>;
+@group(0) @binding(13) var visibility_cleared: VisibilityStorage;
+@group(0) @binding(14) var blurred_cleared: VisibilityStorage;
 
 // The least cosine, beyond the light's angular radius, between a surface's normal and the
 // direction away from the light for the surface to count as turned away from it: room for a

@@ -1,4 +1,4 @@
-// after: frame cube fullscreen tiles tile_list receiver pcf_taps fattened distance
+// after: frame cube fullscreen tiles tile_list receiver pcf_taps fattened distance screen_storage
 // Variable-spacing PCF pass (the distance-map method): N x N comparison taps on the real shadow
 // map whose spacing grows with the pixel's distance to its occluder: base + distance x spread
 // texels (manual), or, in physical mode, a share of the penumbra's variance. It runs only where
@@ -282,8 +282,8 @@ fn fs_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 // other pixels get no blur, and keep the visibility it was cleared to (1): the blur reads a
 // neighbour's visibility anywhere, its deviations only at the listed pixels it blurs, so only
 // the visibility is cleared. Reduced resolution stays a draw.
-@group(0) @binding(6) var visibility_out: texture_storage_2d<r32float, write>;
-@group(0) @binding(7) var sigma_out: texture_storage_2d<rg32float, write>;
+@group(0) @binding(6) var visibility_out: VisibilityStorage;
+@group(0) @binding(7) var sigma_out: SigmaStorage;
 
 // The penumbra widths the compute path measured, for the choice of the light's map resolution
 // (`PenumbraSettings::map_resolution`): how many of the pixels in a penumbra (its PCF

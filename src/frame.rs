@@ -226,6 +226,9 @@ pub(crate) struct PassParams {
     /// The compute path's variable PCF reads the distance to the occluder itself
     /// ([`crate::ExecutionSettings::distance_in_pcf`]).
     pub distance_in_pcf: bool,
+    /// The compute path's intermediates are stored in half floats (the device stores them and
+    /// [`crate::ExecutionSettings::half_intermediates`] is on; `crate::Shadows` decides).
+    pub half_intermediates: bool,
 }
 
 impl PassParams {
@@ -326,6 +329,7 @@ impl PassParams {
             },
             list_tiles: tiles,
             layer_writes: false,
+            half_intermediates: false,
             distance_in_pcf: s.execution.distance_in_pcf,
         }
     }

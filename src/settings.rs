@@ -733,15 +733,17 @@ pub struct ShadowSettings {
     pub pcss: PcssSettings,
     /// Read by the ground truth ([`ShadowMethod::Reference`]).
     pub reference: ReferenceSettings,
-    /// How some passes do their work on the device: each choice gives the same shadows. The
-    /// defaults choose by device; the benchmark and the tests set them to compare.
+    /// How some passes do their work on the device: each choice gives the same shadows (but
+    /// for a half float's rounding). The defaults choose by device; the benchmark and the
+    /// tests set them to compare.
     #[cfg_attr(feature = "serde", serde(default))]
     pub execution: ExecutionSettings,
 }
 
 /// How some screen-space passes do their work ([`ShadowSettings::execution`]). Every choice
-/// gives the same shadows (`tests/execution.rs` renders each way and compares); they differ in
-/// cost, which depends on the device. The defaults are what measured cheaper on each kind of
+/// gives the same shadows (`tests/execution.rs` renders each way and compares), but for
+/// [`ExecutionSettings::half_intermediates`]' rounding; they differ in cost and memory, which
+/// depend on the device. The defaults are what measured cheaper on each kind of
 /// device.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -763,6 +765,14 @@ pub struct ExecutionSettings {
     /// the device can store half floats and the layer allows it (true), or a draw writes it
     /// (false). Default true.
     pub compute_layer_writes: bool,
+    /// The compute path keeps its screen-space intermediates (the visibility before the blur
+    /// and between its axes, the blur's deviations along x and y) in half floats where the
+    /// device can store them (true: for `ours` 8 bytes a pixel where 32-bit floats take 16),
+    /// or in 32-bit floats (false). Unlike the other choices here, the two differ by a half
+    /// float's rounding: the layers within 2e-3 but at about one texel in 10,000, the frames
+    /// within 2 of 255 (`tests/execution.rs`). The draws keep half floats either way. Default
+    /// true.
+    pub half_intermediates: bool,
 }
 
 impl Default for ExecutionSettings {
@@ -772,6 +782,7 @@ impl Default for ExecutionSettings {
             tile_pixels: TilePixels::Auto,
             distance_in_pcf: true,
             compute_layer_writes: true,
+            half_intermediates: true,
         }
     }
 }

@@ -17,29 +17,68 @@ pub(crate) fn module(device: &wgpu::Device, label: &str, source: &'static str) -
 }
 
 /// The line of `shaders/common/layer_out.wgsl` that types the light's layer as a storage
-/// texture, as written (32-bit, which every device can store).
-const LAYER_AS_WRITTEN: &str = "alias LayerStorage = texture_storage_2d<r32float, write>;";
+/// texture, as written (32-bit, which every device can store), and the line it becomes on a
+/// device that stores half floats.
+const LAYER_AS_WRITTEN: (&str, &str) = (
+    "alias LayerStorage = texture_storage_2d<r32float, write>;",
+    "alias LayerStorage = texture_storage_2d<r16float, write>;",
+);
 
-/// `source` (a pass joined after `shaders/common/layer_out.wgsl`) with the light's layer typed
-/// as the visibility array's half float, for a device that stores half floats: its `cs_layer`
-/// entry point then writes the layer itself. `None` for a source without that piece.
-pub fn writing_layers(source: &str) -> Option<String> {
-    source.contains(LAYER_AS_WRITTEN).then(|| {
-        source.replace(
-            LAYER_AS_WRITTEN,
-            "alias LayerStorage = texture_storage_2d<r16float, write>;",
-        )
-    })
+/// The lines of `shaders/common/screen_storage.wgsl` that type the compute path's visibility
+/// and deviations as storage textures, as written (32-bit), and as half floats.
+const INTERMEDIATES_AS_WRITTEN: [(&str, &str); 2] = [
+    (
+        "alias VisibilityStorage = texture_storage_2d<r32float, write>;",
+        "alias VisibilityStorage = texture_storage_2d<r16float, write>;",
+    ),
+    (
+        "alias SigmaStorage = texture_storage_2d<rg32float, write>;",
+        "alias SigmaStorage = texture_storage_2d<rg16float, write>;",
+    ),
+];
+
+/// How a pass's module types the storage textures it writes, on a device that stores half
+/// floats ([`with_half_floats`]); both false everywhere else.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct HalfFloats {
+    /// The light's layer (`LayerStorage`, R16F): the pass's `cs_layer` entry point then writes
+    /// the layer itself.
+    pub layers: bool,
+    /// The compute path's visibility and the blur's deviations (`VisibilityStorage` R16F,
+    /// `SigmaStorage` RG16F), in place of 32-bit floats.
+    pub intermediates: bool,
 }
 
-/// [`module`], writing layers ([`writing_layers`]) with `layers`.
+/// `source` (a pass joined after `shaders/common/layer_out.wgsl` or
+/// `shaders/common/screen_storage.wgsl`) with the storage textures `half` names typed as half
+/// floats. `None` where the source has none of them.
+pub fn with_half_floats(source: &str, half: HalfFloats) -> Option<String> {
+    let mut lines: Vec<(&str, &str)> = Vec::new();
+    if half.layers {
+        lines.push(LAYER_AS_WRITTEN);
+    }
+    if half.intermediates {
+        lines.extend(INTERMEDIATES_AS_WRITTEN);
+    }
+    lines
+        .iter()
+        .any(|(written, _)| source.contains(written))
+        .then(|| {
+            lines
+                .iter()
+                .fold(source.to_owned(), |s, (written, half)| s.replace(written, half))
+        })
+}
+
+/// [`module`], with the storage textures `half` names typed as half floats
+/// ([`with_half_floats`]).
 pub(crate) fn module_for(
     device: &wgpu::Device,
     label: &str,
     source: &'static str,
-    layers: bool,
+    half: HalfFloats,
 ) -> wgpu::ShaderModule {
-    match writing_layers(source).filter(|_| layers) {
+    match with_half_floats(source, half) {
         Some(source) => device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(label),
             source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Owned(source)),

@@ -14,6 +14,9 @@
 //!   (`ShadowMapSettings::exit_faces`, `passes::exit_map`).
 //! - The compute passes that finish a light's visibility write its layer themselves, or draws
 //!   do (`ExecutionSettings::compute_layer_writes`).
+//! - The compute path's intermediates are half floats or 32-bit floats
+//!   (`ExecutionSettings::half_intermediates`): the one choice whose shadows differ, by a half
+//!   float's rounding, so its test holds them within that rather than texel for texel.
 
 mod common;
 
@@ -449,4 +452,91 @@ fn compute_passes_write_the_layers_as_the_draws_did() {
         (160, 128),
     );
     assert!(renderer.debug_texture(LightTexture::BlurredVisibility).is_some());
+}
+
+/// Where the device stores half floats, the compute path keeps its intermediates (the
+/// visibility before the blur and between its axes, the blur's deviations) in half floats
+/// (`ExecutionSettings::half_intermediates`): 8 bytes a pixel fewer for `ours` (its visibility,
+/// the blur's axis, the deviations), 4 for the baseline (no deviations), 2 for PCSS, and the same shadows but for a half float's rounding of those
+/// values: the layers within 2e-3 of each other but at one texel in 10,000 (within 0.05
+/// there), the frames within 2 of 255 at every pixel.
+#[test]
+fn half_float_intermediates_keep_the_shadows_in_less_memory() {
+    let gpu = common::gpu();
+    let features = |format| gpu.adapter.get_texture_format_features(format).allowed_usages;
+    let stores_halves = [wgpu::TextureFormat::R16Float, wgpu::TextureFormat::Rg16Float]
+        .into_iter()
+        .all(|f| features(f).contains(wgpu::TextureUsages::STORAGE_BINDING))
+        && gpu.adapter.get_info().backend != wgpu::Backend::Gl;
+    println!("{}: stores half floats: {stores_halves}", gpu.describe());
+    let teapot = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let camera = teapot.view(0).unwrap();
+    let size = (320u32, 256u32);
+    let pixels = (size.0 * size.1) as u64;
+    for (method, saved_per_pixel) in [
+        (ShadowMethod::Ours, 8),
+        (ShadowMethod::Traditional, 4),
+        (ShadowMethod::Pcss, 2),
+    ] {
+        let mut runs = Vec::new();
+        for half in [false, true] {
+            let mut settings = ShadowSettings::preset(method, Quality::Medium);
+            settings.execution.half_intermediates = half;
+            let (frame, renderer) = common::render_frame(&gpu, &teapot, &camera, settings, size);
+            let raw = renderer
+                .debug_texture(LightTexture::Visibility)
+                .unwrap_or_else(|| panic!("{method:?}: no raw visibility"))
+                .format();
+            let layer = renderer.composited_visibility().unwrap();
+            let texels = penumbra::read_texture_f32(&gpu.device, &gpu.queue, layer).unwrap().0;
+            let bytes = renderer.shadows().allocated_bytes();
+            runs.push((frame, texels, bytes, raw));
+        }
+        let [(frame32, layer32, bytes32, raw32), (frame16, layer16, bytes16, raw16)] = &runs[..] else {
+            unreachable!()
+        };
+        let worst = layer32
+            .iter()
+            .zip(layer16)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0f32, f32::max);
+        let over: Vec<(usize, f32, f32)> = layer32
+            .iter()
+            .zip(layer16)
+            .enumerate()
+            .filter(|(_, (a, b))| (*a - *b).abs() > 2e-3)
+            .map(|(i, (a, b))| (i, *a, *b))
+            .collect();
+        let frame_worst = frame32
+            .pixels()
+            .zip(frame16.pixels())
+            .flat_map(|(a, b)| (0..3).map(move |c| (a.0[c] as i32 - b.0[c] as i32).abs()))
+            .max()
+            .unwrap_or(0);
+        let differing = frame32.pixels().zip(frame16.pixels()).filter(|(a, b)| a != b).count();
+        let partial = layer16.iter().filter(|v| **v > 0.02 && **v < 0.98).count();
+        println!(
+            "{method:?}: raw visibility {raw32:?} / {raw16:?}; {bytes32} / {bytes16} bytes; layers within \
+             {worst:.2e}, {} texels over 2e-3 {:?}; {differing} pixels differ, by at most {frame_worst}; \
+             {partial} layer texels in a penumbra",
+            over.len(),
+            &over[..over.len().min(8)]
+        );
+        assert!(partial > 100, "{method:?}: no penumbra in the layer ({partial} texels)");
+        assert_eq!(*raw32, wgpu::TextureFormat::R32Float, "{method:?}");
+        if stores_halves {
+            assert_eq!(*raw16, wgpu::TextureFormat::R16Float, "{method:?}: the setting did not reach the intermediates");
+            assert_eq!(bytes32 - bytes16, saved_per_pixel * pixels, "{method:?}: {bytes32} against {bytes16} bytes");
+        } else {
+            assert_eq!(raw16, raw32, "{method:?}: half floats on a device that cannot store them");
+            assert_eq!(bytes32, bytes16, "{method:?}");
+        }
+        // A texel where the rounding tips a blur tap's weight moves more: a handful a frame.
+        assert!(
+            over.len() <= layer16.len() / 10_000 && worst <= 0.05,
+            "{method:?}: {} layer texels differ by over 2e-3, the most by {worst}",
+            over.len()
+        );
+        assert!(frame_worst <= 2, "{method:?}: the frames differ by {frame_worst} of 255");
+    }
 }

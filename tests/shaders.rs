@@ -68,26 +68,46 @@ fn passes_find_their_entry_points() {
     }
 }
 
-/// The passes whose compute pass can write the light's layer (`cs_layer`) are made, on a device
-/// that stores half floats, from their source with the layer typed R16F
-/// (`penumbra::shaders::writing_layers`): that source validates too, and every other keeps its
-/// 32-bit type (valid on the web, where no half float is a storage format).
+/// On a device that stores half floats, the passes whose compute pass can write the light's
+/// layer (`cs_layer`) are made from their source with the layer typed R16F, and the compute
+/// path's intermediates typed R16F and RG16F (`penumbra::shaders::with_half_floats`): those
+/// sources validate too, and every source as written keeps 32-bit types (valid on the web,
+/// where no half float is a storage format).
 #[test]
-fn passes_writing_layers_validate_with_half_floats() {
-    let mut writing = Vec::new();
+fn passes_validate_with_half_float_storage() {
+    use penumbra::shaders::{HalfFloats, with_half_floats};
+    let layers = HalfFloats {
+        layers: true,
+        intermediates: false,
+    };
+    let intermediates = HalfFloats {
+        layers: false,
+        intermediates: true,
+    };
+    let (mut writing, mut storing) = (Vec::new(), Vec::new());
     for (name, source) in penumbra::shaders::ALL {
+        // RGBA16F is a storage format everywhere (the distance map's); R16F and RG16F are not.
         assert!(
-            !source.contains("r16float, write"),
+            !source.contains("<r16float, write") && !source.contains("<rg16float, write"),
             "{name} stores half floats as written"
         );
-        if let Some(halves) = penumbra::shaders::writing_layers(source) {
+        if let Some(halves) = with_half_floats(source, layers) {
             assert!(halves.contains("alias LayerStorage = texture_storage_2d<r16float, write>;"));
             let module = validate(name, &halves);
             assert!(module.entry_points.iter().any(|e| e.name == "cs_layer"), "{name}");
             writing.push(*name);
         }
+        if let Some(halves) = with_half_floats(source, intermediates) {
+            assert!(halves.contains("alias VisibilityStorage = texture_storage_2d<r16float, write>;"));
+            assert!(halves.contains("alias SigmaStorage = texture_storage_2d<rg16float, write>;"));
+            validate(name, &halves);
+            let both = with_half_floats(source, HalfFloats { layers: true, intermediates: true }).unwrap();
+            validate(name, &both);
+            storing.push(*name);
+        }
     }
     assert_eq!(writing, ["blur", "pcf", "pcss"]);
+    assert_eq!(storing, ["blur", "pcf", "pcss", "tile_classify", "variable_pcf"]);
 }
 
 #[test]

@@ -11,8 +11,9 @@ use crate::error::Result;
 use crate::gpu_helpers::Target;
 use crate::light_maps::{MapUpload, ShadowMapPass};
 use crate::light_samples::{Emitter, light_sample};
-use crate::light_space::{AtlasGrid, FitInputs, LightView, atlas_grid, tile_resolution};
-use crate::scene::{Camera, Light};
+use crate::light_space::{AtlasGrid, CUBE_AXES, FitInputs, LightView, atlas_grid, tile_resolution};
+use crate::scene::{Aabb, Camera, Light};
+use glam::Vec3;
 use crate::settings::{ShadowMapSettings, ShadowSettings};
 use crate::view::CameraMatrices;
 
@@ -71,6 +72,64 @@ pub(crate) fn sample_resolution(light: &Light, resolution: u32, max_side: u32) -
             (2 * face).max(resolution)
         }
         _ => resolution,
+    }
+}
+
+/// Every face of a cube map, as bits in [`CUBE_AXES`]' order.
+const ALL_FACES: u32 = (1 << 6) - 1;
+
+/// The cube faces (bits in [`CUBE_AXES`]' order) that a point of `region` can fall in as seen
+/// from `source`, by the rule the reference's shader picks a face with (`cube_face`: the axis
+/// along which the point lies farthest). A face holds the points whose coordinate along its
+/// axis is at least the absolute value of the other two; it is left out only when the whole of
+/// `region` lies on the wrong side of one of the four planes through `source` that bound it, so
+/// no face a point of `region` falls in is ever left out. An empty region keeps every face.
+fn faces_holding(source: Vec3, region: &Aabb) -> u32 {
+    if region.is_empty() {
+        return ALL_FACES;
+    }
+    let (low, high) = (region.min - source, region.max - source);
+    // The largest value of `n . p` over the box.
+    let largest = |n: Vec3| (n * low).max(n * high).element_sum();
+    let scale = low.abs().max(high.abs()).max_element();
+    let tolerance = 1e-4 * scale;
+    let mut faces = 0;
+    for (face, axis) in CUBE_AXES.iter().enumerate() {
+        let across = [Vec3::X, Vec3::Y, Vec3::Z].into_iter().filter(|e| e.dot(*axis) == 0.0);
+        let holds = across
+            .flat_map(|e| [*axis - e, *axis + e])
+            .all(|n| largest(n) >= -tolerance);
+        if holds {
+            faces |= 1 << face;
+        }
+    }
+    faces
+}
+
+/// The part of the scene `camera` can see, as a box: its frustum's corners (an infinite far
+/// plane stopped beyond the scene's farthest corner) within the scene's bounds, grown by a
+/// hundredth of its size for the reference's small offset of each receiver toward the light.
+fn seen_region(camera: &CameraMatrices, scene: &Aabb) -> Aabb {
+    if scene.is_empty() {
+        return Aabb::EMPTY;
+    }
+    let eye = camera.view.inverse().w_axis.truncate();
+    let beyond = scene
+        .corners()
+        .iter()
+        .map(|c| c.distance(eye))
+        .fold(0.0, f32::max)
+        * 1.01
+        + 1.0;
+    let frustum = Aabb::from_points(&camera.frustum_corners(0.0, beyond));
+    let region = frustum.intersection(scene);
+    if region.is_empty() {
+        return region;
+    }
+    let grow = Vec3::splat(0.01 * (region.max - region.min).max_element() + 1e-3);
+    Aabb {
+        min: region.min - grow,
+        max: region.max + grow,
     }
 }
 
@@ -287,6 +346,9 @@ impl GroundTruth {
         // maps take them. The whole scene's box alone put a spot inside a room at its nearest
         // wall: the desk under the room's monitor lay before the near plane and cast nothing.
         let parts = scene.shadow_parts();
+        // A point light's sample draws only the cube faces a point the camera sees can fall in
+        // (the others keep what they held, which no pixel reads).
+        let seen = seen_region(&matrices, &scene.bounds());
         let first = self.passes[0].accumulated();
         let last = first.saturating_add(max_samples).min(total);
         for k in first..last {
@@ -329,6 +391,9 @@ impl GroundTruth {
                     light: &view,
                     layers,
                 });
+                if let (true, Some(source)) = (light.uses_cube(), sample.position()) {
+                    shadow_map.atlas.redraw_only(faces_holding(source, &seen));
+                }
                 shadow_map.encode(&mut encoder, (casters, None));
                 pass.accumulate(&mut encoder, queue, &view, &Emitter::of(light));
                 queue.submit([encoder.finish()]);
@@ -347,6 +412,60 @@ mod tests {
     use super::*;
     use crate::scene::{PointLight, SpotLight};
     use glam::Vec3;
+
+    /// The face `cube_face` (shaders/common/cube.wgsl) picks for `v`.
+    fn cube_face(v: Vec3) -> usize {
+        let a = v.abs();
+        if a.x >= a.y && a.x >= a.z {
+            return if v.x >= 0.0 { 0 } else { 1 };
+        }
+        if a.y >= a.z {
+            return if v.y >= 0.0 { 2 } else { 3 };
+        }
+        if v.z >= 0.0 { 4 } else { 5 }
+    }
+
+    /// Every point of a box falls in a face the box's mask keeps, and a box below the light
+    /// keeps only the faces it reaches.
+    #[test]
+    fn a_sample_keeps_every_face_a_point_of_the_seen_region_falls_in() {
+        let source = Vec3::new(0.3, 2.0, -0.4);
+        // Straight below, narrower than its depth: the lower face alone.
+        let below = Aabb {
+            min: Vec3::new(-0.5, 0.0, -1.0),
+            max: Vec3::new(1.0, 0.5, 0.2),
+        };
+        assert_eq!(faces_holding(source, &below), 1 << 3);
+        // Around the light: every face.
+        let around = Aabb {
+            min: Vec3::splat(-4.0),
+            max: Vec3::splat(4.0),
+        };
+        assert_eq!(faces_holding(source, &around), ALL_FACES);
+        assert_eq!(faces_holding(source, &Aabb::EMPTY), ALL_FACES);
+        // Boxes of every size and place: each point's face is kept.
+        let mut seed = 7u32;
+        let mut next = move || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let mut fewer = 0;
+        for _ in 0..400 {
+            let a = Vec3::new(next(), next(), next()) * 8.0 - 4.0;
+            let size = Vec3::new(next(), next(), next()) * 3.0;
+            let region = Aabb { min: a, max: a + size };
+            let faces = faces_holding(source, &region);
+            fewer += usize::from(faces != ALL_FACES);
+            for _ in 0..64 {
+                let t = Vec3::new(next(), next(), next());
+                let p = region.min + (region.max - region.min) * t;
+                let face = cube_face(p - source);
+                assert!(faces & (1 << face) != 0, "{p} in face {face}, not in {faces:#b} of {region:?}");
+            }
+        }
+        // The mask leaves faces out of most boxes that do not surround the light.
+        assert!(fewer > 200, "only {fewer} of 400 boxes left a face out");
+    }
 
     #[test]
     fn a_point_lights_samples_get_twice_the_faces_the_atlas_allowing() {

@@ -337,18 +337,19 @@ pub(crate) struct BlurCompute {
 }
 
 impl BlurCompute {
-    pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-
     /// The pass for `switches`: after the distance map (over its tile list, with its
-    /// classification) or the baseline's fixed blur (over every tile); with `layers` its
-    /// vertical axis can write the light's layer itself (the device stores half floats).
+    /// classification) or the baseline's fixed blur (over every tile); with `half.layers` its
+    /// vertical axis can write the light's layer itself (the device stores half floats), and
+    /// with `half.intermediates` both axes write R16F ([`super::visibility_storage`]).
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
         switches: BlurSwitches,
-        layers: bool,
+        half: crate::shaders::HalfFloats,
     ) -> Self {
-        let shader = crate::shaders::module_for(device, "blur.wgsl", crate::shaders::BLUR, layers);
+        let layers = half.layers;
+        let format = super::visibility_storage(half.intermediates);
+        let shader = crate::shaders::module_for(device, "blur.wgsl", crate::shaders::BLUR, half);
         // The values are loaded, never sampled here: a sampler that does not filter.
         let entries = input_entries(
             frame_size,
@@ -360,7 +361,7 @@ impl BlurCompute {
         let out_layout = crate::gpu_helpers::layout(
             device,
             "BlurCompute::out_layout",
-            &[entry::storage_texture(1, Self::FORMAT)],
+            &[entry::storage_texture(1, format)],
         );
         let axis_layout = crate::gpu_helpers::layout(
             device,
@@ -397,7 +398,7 @@ impl BlurCompute {
                 device,
                 "BlurCompute::layer_layout",
                 &[
-                    entry::storage_texture(1, Self::FORMAT),
+                    entry::storage_texture(1, format),
                     entry::storage_texture(2, super::VISIBILITY_FORMAT),
                 ],
             );
@@ -441,7 +442,7 @@ impl BlurCompute {
 
     /// Points the pass at its inputs: `pcf` the variable PCF's visibility and deviations,
     /// `distance_map` the compute path's (stand-ins for the fixed blur); the horizontal
-    /// axis writes `temp` ([`Self::FORMAT`], the screen's size), the vertical one `visibility`
+    /// axis writes `temp` ([`super::visibility_storage`] as made, the screen's size), the vertical one `visibility`
     /// (a storage texture of that format), and `layer` (the light's layer, a storage texture)
     /// where given and [`Self::writes_layers`].
     pub(crate) fn bind(

@@ -308,14 +308,15 @@ impl DistanceMapCompute {
     pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
     /// As [`DistanceMapPass::new`]; `switches.tiles` off lists every tile; `blurred`: the
-    /// chain blurs after it ([`super::TileListPass::new`]); `own_pass` false: the variable PCF
-    /// takes the distance itself, and this pass only lists the tiles.
+    /// chain blurs after it, and `half` how the intermediates the tile list clears are stored
+    /// ([`super::TileListPass::new`]); `own_pass` false: the variable PCF takes the distance
+    /// itself, and this pass only lists the tiles.
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
         switches: DistanceSwitches,
         light_kind: u32,
-        blurred: bool,
+        (blurred, half): (bool, crate::shaders::HalfFloats),
         own_pass: bool,
     ) -> Self {
         let shader = crate::shaders::module(device, "distance_map.wgsl", crate::shaders::DISTANCE_MAP);
@@ -348,7 +349,7 @@ impl DistanceMapCompute {
                 frame_size,
                 light_kind,
                 (switches.tiles, switches.facing_away),
-                blurred,
+                (blurred, half.intermediates),
                 switches.tile_pixels,
             ),
             reduce_pending: std::sync::atomic::AtomicBool::new(true),

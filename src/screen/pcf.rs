@@ -3,7 +3,7 @@
 //!
 //! Input: the frame uniform, the camera depth (world positions are reconstructed from it) and
 //! the shadow map. Output: an R16F visibility texture (1 lit, 0 shadowed), or on the compute
-//! path an R32F one the lights share, written by a compute pass ([`super::ScreenPipeline`]). The distance-map
+//! path one the lights share (R16F where the device stores half floats, else R32F), written by a compute pass ([`super::ScreenPipeline`]). The distance-map
 //! method takes its distance-driven taps in [`super::DistanceMapPass`], with the same tap code
 //! (`shaders/common/pcf_taps.wgsl`).
 
@@ -14,17 +14,17 @@ pub struct PcfPass(ShadowLookup);
 
 impl PcfPass {
     /// The pass for `switches` and one light kind ([`crate::frame::light_kind`]: the other
-    /// kinds' code is compiled out), a compute pass with `compute`, which with `layers`
-    /// writes the light's layer too (hard shadows, whose visibility is final); other switches,
+    /// kinds' code is compiled out), run and stored as `path` says (a compute pass writing the
+    /// light's layer too with layers: hard shadows, whose visibility is final); other switches,
     /// another kind or the other kind of pass need a new pass.
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
         switches: PcfSwitches,
         light_kind: u32,
-        path: (bool, bool),
+        path: super::PassPath,
     ) -> Self {
-        let shader = crate::shaders::module_for(device, "pcf.wgsl", crate::shaders::PCF, path.1);
+        let shader = crate::shaders::module_for(device, "pcf.wgsl", crate::shaders::PCF, path.half);
         let rotate = if switches.rotate_taps { 1.0 } else { 0.0 };
         let constants = [("ROTATE_TAPS", rotate), (LIGHT_KIND, light_kind as f64)];
         let sizes = (frame_size, size_of::<PcfUniform>(), false);

@@ -2,7 +2,7 @@
 //! sized by the light.
 //!
 //! Input: the frame uniform, the camera depth and the shadow map. Output: an R16F visibility
-//! texture, or on the compute path an R32F one the lights share ([`super::ScreenPipeline`]). Blocker and PCF tap counts come from [`crate::PcssSettings`].
+//! texture, or on the compute path one the lights share (R16F where the device stores half floats, else R32F) ([`super::ScreenPipeline`]). Blocker and PCF tap counts come from [`crate::PcssSettings`].
 
 use super::{LIGHT_KIND, ScreenStage, ShadowLookup, VisibilityPass};
 use crate::frame::{PassParams, PcssUniform};
@@ -11,12 +11,12 @@ pub struct PcssPass(ShadowLookup);
 
 impl PcssPass {
     /// The pass for one light kind ([`crate::frame::light_kind`]: the other kinds' code is
-    /// compiled out, as in the distance-map method's passes), a compute pass with `compute`,
-    /// which with `layers` writes the light's layer too; another kind or the other kind of
+    /// compiled out, as in the distance-map method's passes), run and stored as `path` says
+    /// (a compute pass writing the light's layer too with layers); another kind or the other kind of
     /// pass needs a new pass. The blocker search reads the shadow map unfiltered, a second
     /// binding beside the comparison sampler's.
-    pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32, path: (bool, bool)) -> Self {
-        let shader = crate::shaders::module_for(device, "pcss.wgsl", crate::shaders::PCSS, path.1);
+    pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32, path: super::PassPath) -> Self {
+        let shader = crate::shaders::module_for(device, "pcss.wgsl", crate::shaders::PCSS, path.half);
         let constants = [(LIGHT_KIND, light_kind as f64)];
         let sizes = (frame_size, size_of::<PcssUniform>(), true);
         Self(ShadowLookup::new(

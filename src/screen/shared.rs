@@ -2,6 +2,7 @@
 //! classification's depth test, the tile list they run over, and the pipeline of a pass that
 //! is a draw or a compute pass over the screen.
 
+use crate::shaders::HalfFloats;
 use crate::gpu_helpers::Target;
 use crate::gpu_helpers::{
     Binding, bind_group, comparison_sampler, draw_fullscreen_into, entry, fullscreen_pipeline_with,
@@ -59,14 +60,14 @@ pub(crate) struct ShadowLookup {
 impl ShadowLookup {
     /// The pass `label` of `shader`, whose parameters (`params_size` bytes) follow the shadow
     /// map's sampler (after a second, unfiltered binding of the map with `map_twice`), compiled
-    /// with `constants`; a compute pass with `compute`, which with `layers` writes the light's
-    /// layer too.
+    /// with `constants`, as `path` says (a compute pass writing the light's layer too with
+    /// `path.half.layers`).
     pub fn new(
         device: &wgpu::Device,
         label: &'static str,
         (shader, constants): (&wgpu::ShaderModule, &[(&str, f64)]),
         (frame_size, params_size, map_twice): (usize, usize, bool),
-        (compute, layers): (bool, bool),
+        path: PassPath,
     ) -> Self {
         let params_at = 4 + u32::from(map_twice);
         let mut own = vec![entry::fragment_uniform(params_at, params_size)];
@@ -74,9 +75,9 @@ impl ShadowLookup {
             own.insert(0, entry::unfilterable(4));
         }
         let entries =
-            ScreenPipeline::layout_entries(entry::shadow_lookup(frame_size, &own), (compute, layers));
+            ScreenPipeline::layout_entries(entry::shadow_lookup(frame_size, &own), path);
         let layout = crate::gpu_helpers::layout(device, label, &entries);
-        let pipeline = ScreenPipeline::new(device, label, shader, &layout, constants, (compute, layers));
+        let pipeline = ScreenPipeline::new(device, label, shader, &layout, constants, path);
         Self {
             label,
             params: crate::gpu_helpers::uniform_buffer(device, label, params_size as u64),
@@ -340,19 +341,20 @@ pub(crate) enum ScreenPipeline {
 }
 
 impl ScreenPipeline {
-    /// The pipeline of `shader`'s `fs_main` (or `cs_main`, with `compute`; `cs_layer` with
-    /// `layers` too, the shader made with [`crate::shaders::module_for`]) on `layout`, which
-    /// for compute must end with the output's storage texture, and with `layers` the layer's
-    /// and the receiver mask ([`Self::layout_entries`]).
+    /// The pipeline of `shader`'s `fs_main` (or `cs_main`, with `path.compute`; `cs_layer`
+    /// with `path.half.layers` too, the shader made with [`crate::shaders::module_for`]) on
+    /// `layout`, which for compute must end with the output's storage texture, and with
+    /// layers the layer's and the receiver mask ([`Self::layout_entries`]).
     pub fn new(
         device: &wgpu::Device,
         label: &str,
         shader: &wgpu::ShaderModule,
         layout: &wgpu::BindGroupLayout,
         constants: &[(&str, f64)],
-        (compute, layers): (bool, bool),
+        path: PassPath,
     ) -> Self {
-        if compute {
+        let layers = path.half.layers;
+        if path.compute {
             ScreenPipeline::Compute {
                 pipeline: compute_pipeline(
                     device,
@@ -380,18 +382,18 @@ impl ScreenPipeline {
         }
     }
 
-    /// `entries` (a fragment pass's) for `compute`: seen by the compute stage, then the output
-    /// at the next binding; with `layers` then the light's layer (a storage texture) and the
-    /// receiver mask.
+    /// `entries` (a fragment pass's) for `path`: for compute seen by the compute stage, then
+    /// the output ([`visibility_storage`]) at the next binding; with layers then the light's
+    /// layer (a storage texture) and the receiver mask.
     pub fn layout_entries(
         mut entries: Vec<wgpu::BindGroupLayoutEntry>,
-        (compute, layers): (bool, bool),
+        path: PassPath,
     ) -> Vec<wgpu::BindGroupLayoutEntry> {
-        if compute {
+        if path.compute {
             entries = entries.into_iter().map(entry::and_compute).collect();
             let next = entries.iter().map(|e| e.binding + 1).max().unwrap_or(0);
-            entries.push(entry::storage_texture(next, COMPUTE_VISIBILITY_FORMAT));
-            if layers {
+            entries.push(entry::storage_texture(next, visibility_storage(path.half.intermediates)));
+            if path.half.layers {
                 entries.push(entry::storage_texture(next + 1, VISIBILITY_FORMAT));
                 entries.push(entry::and_compute(entry::unfilterable(next + 2)));
             }
@@ -484,6 +486,50 @@ impl ScreenPipeline {
     }
 }
 
-/// The compute path's visibility before any blur: 32-bit, which a compute pass can write
-/// everywhere (a single half float cannot be a storage texture on the web).
-pub(crate) const COMPUTE_VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// How a screen pass runs: as a compute pass or a draw, and for compute which storage
+/// textures it writes as half floats ([`HalfFloats`]: the light's layer, which its `cs_layer`
+/// then writes itself; the compute path's intermediates).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct PassPath {
+    pub compute: bool,
+    pub half: HalfFloats,
+}
+
+impl PassPath {
+    /// A draw.
+    pub const DRAW: PassPath = PassPath {
+        compute: false,
+        half: HalfFloats {
+            layers: false,
+            intermediates: false,
+        },
+    };
+
+    /// A compute pass storing as `half` says.
+    pub fn compute(half: HalfFloats) -> Self {
+        Self { compute: true, half }
+    }
+}
+
+/// The compute path's visibility (before the blur, and between its axes) as it is stored: 32-bit,
+/// which a compute pass can write everywhere (a half float cannot be a storage texture on the
+/// web), or with `half` (a device that stores half floats) R16F, half the memory. Every
+/// compute pass that writes it is made from a module typed the same way
+/// ([`crate::shaders::with_half_floats`]).
+pub(crate) fn visibility_storage(half: bool) -> wgpu::TextureFormat {
+    if half {
+        wgpu::TextureFormat::R16Float
+    } else {
+        wgpu::TextureFormat::R32Float
+    }
+}
+
+/// The blur's deviations along each axis as the compute path stores them: RG32F, or with `half`
+/// RG16F (as the draws keep them).
+pub(crate) fn sigma_storage(half: bool) -> wgpu::TextureFormat {
+    if half {
+        wgpu::TextureFormat::Rg16Float
+    } else {
+        wgpu::TextureFormat::Rg32Float
+    }
+}

@@ -25,8 +25,10 @@ impl StorageClear {
     ) -> Self {
         let name = match format {
             wgpu::TextureFormat::R32Float => "r32float",
+            wgpu::TextureFormat::R16Float => "r16float",
             wgpu::TextureFormat::Rgba16Float => "rgba16float",
             wgpu::TextureFormat::Rg32Float => "rg32float",
+            wgpu::TextureFormat::Rg16Float => "rg16float",
             other => unreachable!("no compute clear for {other:?}: add its WGSL name"),
         };
         let source = format!(

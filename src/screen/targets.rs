@@ -1,7 +1,7 @@
 //! The compute path's screen-sized intermediates, which every light's chain shares
 //! ([`ComputeTargets`]), and their clears.
 
-use super::{BlurCompute, DistanceMapCompute, StorageClear, TileListTargets, VariablePcfCompute};
+use super::{DistanceMapCompute, StorageClear, TileListTargets, sigma_storage, visibility_storage};
 use crate::chain::Chain;
 use crate::gpu_helpers::Target;
 use crate::settings::DevicePath;
@@ -24,6 +24,9 @@ pub(crate) struct ComputeTargets {
     clears: TargetClears,
     /// Whether they clear by compute passes.
     compute_clears: bool,
+    /// Whether the visibility, the blur's axis and the deviations are half floats
+    /// ([`visibility_storage`], [`sigma_storage`]).
+    half: bool,
 }
 
 /// [`ComputeTargets`]' clears, one per cleared texture.
@@ -111,20 +114,26 @@ impl ComputeNeeds {
 }
 
 impl ComputeTargets {
-    /// For a screen of `size`, with the parts `needs` names, cleared as `clears` says.
-    pub fn new(device: &wgpu::Device, size: (u32, u32), needs: ComputeNeeds, clears: DevicePath) -> Self {
+    /// For a screen of `size`, with the parts `needs` names, cleared as `clears` says, in half
+    /// floats with `half` (the device stores them and the lights' chains were made so).
+    pub fn new(
+        device: &wgpu::Device,
+        size: (u32, u32),
+        needs: ComputeNeeds,
+        (clears, half): (DevicePath, bool),
+    ) -> Self {
         let compute_clears = clears.compute(device);
         let target = |label, format| super::storage_target(device, label, size, format, !compute_clears);
         let visibility = target(
             "ComputeTargets::visibility",
-            VariablePcfCompute::VISIBILITY_FORMAT,
+            visibility_storage(half),
         );
         let blurred = needs
             .blur
-            .then(|| target("ComputeTargets::blurred", BlurCompute::FORMAT));
+            .then(|| target("ComputeTargets::blurred", visibility_storage(half)));
         let distance_map = needs.distance_map.then(|| DistanceMapTargets {
             distance: target("ComputeTargets::distance_map", DistanceMapCompute::FORMAT),
-            sigma: target("ComputeTargets::sigma", VariablePcfCompute::SIGMA_FORMAT),
+            sigma: target("ComputeTargets::sigma", sigma_storage(half)),
             tiles: TileListTargets::new(device, size),
         });
         let clear = |label, Target { texture, view }: &Target, value: wgpu::Color| {
@@ -166,6 +175,7 @@ impl ComputeTargets {
                 .then(|| TileListTargets::every_tile(device, size)),
             clears,
             compute_clears,
+            half,
         }
     }
 
@@ -183,13 +193,13 @@ impl ComputeTargets {
     }
 
     /// These are a screen of `size`'s, with exactly the parts `needs` names, cleared as
-    /// `clears` says on `device`.
+    /// `clears` says on `device`, in half floats exactly with `half`.
     pub fn fit(
         &self,
         device: &wgpu::Device,
         size: (u32, u32),
         needs: ComputeNeeds,
-        clears: DevicePath,
+        (clears, half): (DevicePath, bool),
     ) -> bool {
         let have = ComputeNeeds {
             blur: self.blurred.is_some(),
@@ -199,6 +209,7 @@ impl ComputeTargets {
         (self.visibility.texture.width(), self.visibility.texture.height()) == size
             && have == needs
             && self.compute_clears == clears.compute(device)
+            && self.half == half
     }
 
     pub fn allocated_bytes(&self) -> u64 {

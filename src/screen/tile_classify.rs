@@ -11,7 +11,7 @@
 //! fattened depth under its footprint in each cascade or cube face it can use; 0 where none
 //! can (conservative: see `shaders/tile_classify.wgsl`).
 
-use super::{BlurCompute, DistanceMapCompute, LIGHT_KIND, VariablePcfCompute, tiles_layout};
+use super::{DistanceMapCompute, LIGHT_KIND, tiles_layout};
 use crate::gpu_helpers::{Fullscreen, Tiles, entry, screen_target};
 use crate::gpu_helpers::{Target, texture_bytes};
 
@@ -436,17 +436,27 @@ impl TileListPass {
     /// Made for one light kind ([`crate::frame::light_kind`]); `classify` false lists every
     /// tile; `facing_away` lists the kept tiles turned away from the light apart; `blurred`:
     /// the chain blurs (where the classification clears the intermediates, it clears the
-    /// blur's too); `pixels`: how the kept tiles' pixels are tested
+    /// blur's too), `half`: they are stored in half floats ([`super::visibility_storage`]);
+    /// `pixels`: how the kept tiles' pixels are tested
     /// ([`crate::ExecutionSettings::tile_pixels`]).
     pub fn new(
         device: &wgpu::Device,
         frame_size: usize,
         light_kind: u32,
         (classify, facing_away): (bool, bool),
-        blurred: bool,
+        (blurred, half): (bool, bool),
         pixels: crate::settings::TilePixels,
     ) -> Self {
-        let shader = crate::shaders::module(device, "tile_classify.wgsl", crate::shaders::TILE_CLASSIFY);
+        let storage = crate::shaders::HalfFloats {
+            layers: false,
+            intermediates: half,
+        };
+        let shader = crate::shaders::module_for(
+            device,
+            "tile_classify.wgsl",
+            crate::shaders::TILE_CLASSIFY,
+            storage,
+        );
         let per_pixel = classify && pixels.by_workgroup(device);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let compute = wgpu::ShaderStages::COMPUTE;
@@ -454,9 +464,9 @@ impl TileListPass {
         let mut cleared = Vec::new();
         if per_pixel {
             cleared.push(entry::storage_texture(12, DistanceMapCompute::FORMAT));
-            cleared.push(entry::storage_texture(13, VariablePcfCompute::VISIBILITY_FORMAT));
+            cleared.push(entry::storage_texture(13, super::visibility_storage(half)));
             if blurred {
-                cleared.push(entry::storage_texture(14, BlurCompute::FORMAT));
+                cleared.push(entry::storage_texture(14, super::visibility_storage(half)));
             }
         }
         let mut classify_entries = vec![

@@ -319,9 +319,9 @@ impl ScreenStage for VariablePcfPass {
 /// tiles, at the pixels whose classification says a shadow can fall, into the visibility (R32F,
 /// cleared to 1 first: no shadow) and the blur's standard deviations along screen x and y
 /// (RG32F, 0 at the listed tiles' other pixels, not cleared: the blur reads them only at the
-/// listed pixels it blurs). 32-bit floats: a compute
-/// pass can write them everywhere (half floats only as RGBA16F, whose four-channel
-/// fetches cost the blur's taps on a software rasterizer). The textures are given at
+/// listed pixels it blurs). 32-bit floats, which a compute pass can write everywhere, or R16F
+/// and RG16F where the device stores half floats (half the memory: [`super::visibility_storage`],
+/// [`super::sigma_storage`]). The textures are given at
 /// [`Self::bind`]: the lights share them ([`crate::screen::ComputeTargets`]).
 ///
 /// By default the pass takes the distance map's value at each pixel itself and writes it into
@@ -345,9 +345,6 @@ pub(crate) struct VariablePcfCompute {
 }
 
 impl VariablePcfCompute {
-    pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-    pub const SIGMA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
-
     /// The penumbra widths this pass counts.
     pub(crate) fn probe_mut(&mut self) -> &mut WidthProbe {
         &mut self.probe
@@ -355,15 +352,24 @@ impl VariablePcfCompute {
 
     /// The pass for `switches` (its half resolution is not used: that stays a draw) and one
     /// light kind; with `distance`, the distance map's switches, it takes the distance map's
-    /// value itself (see the type's documentation).
+    /// value itself (see the type's documentation); with `half` it stores half floats.
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
-        switches: PcfSwitches,
-        distance: Option<DistanceSwitches>,
+        (switches, distance): (PcfSwitches, Option<DistanceSwitches>),
         light_kind: u32,
+        half: bool,
     ) -> Self {
-        let shader = crate::shaders::module(device, "variable_pcf.wgsl", crate::shaders::VARIABLE_PCF);
+        let storage = crate::shaders::HalfFloats {
+            layers: false,
+            intermediates: half,
+        };
+        let shader = crate::shaders::module_for(
+            device,
+            "variable_pcf.wgsl",
+            crate::shaders::VARIABLE_PCF,
+            storage,
+        );
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let mut entries = vec![
             entry::uniform(0, wgpu::ShaderStages::COMPUTE, frame_size, false),
@@ -372,8 +378,8 @@ impl VariablePcfCompute {
             entry::and_compute(entry::texture_2d(3, wgpu::TextureSampleType::Depth)),
             entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::Comparison)),
             entry::uniform(5, wgpu::ShaderStages::COMPUTE, size_of::<PcfUniform>(), false),
-            entry::storage_texture(6, Self::VISIBILITY_FORMAT),
-            entry::storage_texture(7, Self::SIGMA_FORMAT),
+            entry::storage_texture(6, super::visibility_storage(half)),
+            entry::storage_texture(7, super::sigma_storage(half)),
             entry::storage_buffer(8, wgpu::ShaderStages::COMPUTE, false),
         ];
         if distance.is_some() {
@@ -429,8 +435,8 @@ impl VariablePcfCompute {
     }
 
     /// Points the pass at its inputs (`distance_map`: the compute path's, which the pass
-    /// writes where it takes the distance itself) and its outputs ([`Self::VISIBILITY_FORMAT`]
-    /// and [`Self::SIGMA_FORMAT`], the screen's size). `receiver_mask` is read only where the
+    /// writes where it takes the distance itself) and its outputs ([`super::visibility_storage`]
+    /// and [`super::sigma_storage`] as made, the screen's size). `receiver_mask` is read only where the
     /// frame uniform says one is bound.
     pub fn bind(
         &mut self,

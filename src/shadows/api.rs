@@ -83,6 +83,10 @@ pub struct Shadows {
     /// passes that finish a light write its layer themselves ([`stores_half_floats`]), where
     /// [`crate::ExecutionSettings::compute_layer_writes`] is on.
     layer_storage: bool,
+    /// The device can also write two half floats a texel (RG16F) from a compute pass, so the
+    /// compute path's intermediates are stored in half floats ([`stores_half_float_pairs`]),
+    /// where [`crate::ExecutionSettings::half_intermediates`] is on.
+    intermediate_storage: bool,
     /// The compute path's intermediates, shared by the lights.
     compute_targets: Option<ComputeTargets>,
     /// The light whose chain runs last, so that its intermediates stay readable
@@ -122,6 +126,7 @@ impl Shadows {
             software: device.adapter_info().device_type == wgpu::DeviceType::Cpu,
             compute: crate::screen::has_compute(device),
             layer_storage: stores_half_floats(device),
+            intermediate_storage: stores_half_floats(device) && stores_half_float_pairs(device),
             compute_targets: None,
             inspected: None,
             loss: None,
@@ -376,6 +381,7 @@ impl Shadows {
                 resized: taken.resized,
                 rebind_all,
                 layer_writes,
+                half_intermediates: this.half_intermediates(),
                 software: this.software,
                 compute: this.compute,
                 screen_space: this.screen_space,
@@ -474,7 +480,7 @@ impl Shadows {
         let needs = planned()
             .map(|p| ComputeNeeds::of(&p.chain))
             .fold(ComputeNeeds::default(), ComputeNeeds::union);
-        let clears = self.settings.execution.clears;
+        let clears = (self.settings.execution.clears, self.half_intermediates());
         if !planned().any(|p| p.chain.compute()) {
             self.compute_targets = None;
         } else if self
@@ -487,6 +493,12 @@ impl Shadows {
                 state.bound = None;
             }
         }
+    }
+
+    /// The compute path's intermediates are stored in half floats: the device stores them and
+    /// the settings ask for it.
+    fn half_intermediates(&self) -> bool {
+        self.intermediate_storage && self.settings.execution.half_intermediates
     }
 
     /// Points each light's passes whose chain changed at their inputs (the compute passes at
@@ -774,6 +786,28 @@ fn stores_half_floats(device: &wgpu::Device) -> bool {
         return false;
     }
     let (_, error) = scoped(device, || visibility_array(device, 1, 1, 1, true));
+    error.is_none()
+}
+
+/// Whether a compute pass on `device` can write two half floats a texel (RG16F, the blur's
+/// deviations), as [`stores_half_floats`] tries one.
+fn stores_half_float_pairs(device: &wgpu::Device) -> bool {
+    if !device
+        .features()
+        .contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
+        || !crate::screen::has_compute(device)
+    {
+        return false;
+    }
+    let (_, error) = scoped(device, || {
+        crate::gpu_helpers::texture_2d(
+            device,
+            "Shadows::half_float_pairs",
+            (1, 1),
+            crate::screen::sigma_storage(true),
+            wgpu::TextureUsages::STORAGE_BINDING,
+        )
+    });
     error.is_none()
 }
 

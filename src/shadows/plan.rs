@@ -30,6 +30,8 @@ pub(super) struct FramePlan<'a> {
     pub rebind_all: bool,
     /// The compute passes write the lights' layers themselves.
     pub layer_writes: bool,
+    /// The compute path's intermediates are stored in half floats.
+    pub half_intermediates: bool,
     /// The device is a software rasterizer (its adapter a CPU).
     pub software: bool,
     /// The device runs compute passes.
@@ -208,6 +210,7 @@ fn chain_of(frame: &FramePlan, light: &Light) -> (Chain, ShadowSettings, PassPar
     };
     let mut params = PassParams {
         layer_writes: frame.layer_writes,
+        half_intermediates: frame.half_intermediates,
         ..pass_params(&effective, frame.software)
     };
     // Which fattened map and whether an exit map: as the chain draws them.

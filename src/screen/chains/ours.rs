@@ -40,12 +40,19 @@ impl OursChain {
     pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
         let (kind, in_pcf) = (key.kind, key.distance_in_pcf);
         let blur = key.blur.is_some();
+        let half = key.half_floats();
         Self {
-            distance: DistanceMapCompute::new(device, FRAME_SIZE, key.distance, kind, blur, !in_pcf),
-            pcf: VariablePcfCompute::new(device, FRAME_SIZE, key.pcf, in_pcf.then_some(key.distance), kind),
+            distance: DistanceMapCompute::new(device, FRAME_SIZE, key.distance, kind, (blur, half), !in_pcf),
+            pcf: VariablePcfCompute::new(
+                device,
+                FRAME_SIZE,
+                (key.pcf, in_pcf.then_some(key.distance)),
+                kind,
+                half.intermediates,
+            ),
             blur: key
                 .blur
-                .map(|switches| BlurCompute::new(device, FRAME_SIZE, switches, key.layer_writes)),
+                .map(|switches| BlurCompute::new(device, FRAME_SIZE, switches, half)),
             resolve: ResolvePass::new(device, FRAME_SIZE),
             targets: None,
         }

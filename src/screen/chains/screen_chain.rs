@@ -8,7 +8,8 @@ use crate::chain::Chain;
 use crate::frame::{BlurSwitches, DistanceSwitches, PassParams, PcfSwitches};
 use crate::light_maps::LightMaps;
 use crate::map_resolution::WidthProbe;
-use crate::screen::{ComputeTargets, ScreenStage};
+use crate::screen::{ComputeTargets, PassPath, ScreenStage};
+use crate::shaders::HalfFloats;
 
 /// What a light's screen-space passes read besides their own: the frame uniform, the engine's
 /// depth and receiver mask (or a stand-in), the light's maps, and a 1 x 1 stand-in for inputs
@@ -50,6 +51,9 @@ pub(crate) struct ChainKey {
     /// The compute path's variable PCF takes the distance itself
     /// ([`crate::ExecutionSettings::distance_in_pcf`]).
     pub distance_in_pcf: bool,
+    /// The compute passes store the intermediates in half floats
+    /// ([`PassParams::half_intermediates`]).
+    pub half_intermediates: bool,
 }
 
 impl ChainKey {
@@ -63,6 +67,25 @@ impl ChainKey {
             blur: None,
             layer_writes: false,
             distance_in_pcf: false,
+            half_intermediates: false,
+        }
+    }
+
+    /// How the chain's compute passes store what they write: the layer where they write it,
+    /// the intermediates as [`PassParams::half_intermediates`] says.
+    pub fn half_floats(&self) -> HalfFloats {
+        HalfFloats {
+            layers: self.layer_writes,
+            intermediates: self.half_intermediates,
+        }
+    }
+
+    /// How the chain's passes run: compute or draws, storing as [`Self::half_floats`] says.
+    pub fn path(&self) -> PassPath {
+        if self.chain.compute() {
+            PassPath::compute(self.half_floats())
+        } else {
+            PassPath::DRAW
         }
     }
 
@@ -89,7 +112,7 @@ impl ChainKey {
     /// The key of `chain` for a light of `kind` under `params`, as its method's chain reads it.
     pub fn new(chain: &Chain, params: &PassParams, kind: u32) -> Self {
         let chain = *chain;
-        match chain {
+        let key = match chain {
             Chain::MapOnly { .. } => Self::bare(chain, 0),
             Chain::Ours { compute: true, .. } => OursChain::key(chain, params, kind),
             Chain::Ours { .. } => OursDrawChain::key(chain, params, kind),
@@ -97,6 +120,11 @@ impl ChainKey {
             Chain::Traditional { .. } => TraditionalDrawChain::key(chain, params, kind),
             Chain::Pcss { .. } => PcssChain::key(chain, params, kind),
             Chain::Hard { .. } => HardChain::key(chain, params, kind),
+        };
+        // Every compute chain writes the intermediates the lights share, in one format.
+        Self {
+            half_intermediates: chain.compute() && params.half_intermediates,
+            ..key
         }
     }
 }

@@ -28,8 +28,7 @@ impl PcssChain {
     }
 
     pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
-        let path = (key.chain.compute(), key.layer_writes);
-        let pass = PcssPass::new(device, FRAME_SIZE, key.kind, path);
+        let pass = PcssPass::new(device, FRAME_SIZE, key.kind, key.path());
         Self::with(device, pass)
     }
 }
@@ -45,8 +44,7 @@ impl HardChain {
     }
 
     pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
-        let path = (key.chain.compute(), key.layer_writes);
-        let pass = PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, path);
+        let pass = PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, key.path());
         Self::with(device, pass)
     }
 }

@@ -6,9 +6,10 @@ use super::screen_chain::{ChainKey, MethodChain, Recorder, ScreenInputs, stage_l
 use crate::chain::{Chain, FRAME_SIZE};
 use crate::frame::PassParams;
 use crate::screen::{
-    BlurCompute, BlurInput, BlurPass, Cleared, ComputeTargets, PcfPass, ResolvePass, ScreenStage,
-    TileListTargets, VisibilityPass,
+    BlurCompute, BlurInput, BlurPass, Cleared, ComputeTargets, PassPath, PcfPass, ResolvePass,
+    ScreenStage, TileListTargets, VisibilityPass,
 };
+use crate::shaders::HalfFloats;
 
 /// The baseline as compute passes over the screen (every tile listed); the blur writes the
 /// layer, the resolve only without a blur.
@@ -28,10 +29,13 @@ impl TraditionalChain {
     }
 
     pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
-        let layers = key.layer_writes;
+        let half = key.half_floats();
+        // The PCF writes the intermediate visibility, never the layer (the blur or the
+        // resolve does).
+        let pcf_path = PassPath::compute(HalfFloats { layers: false, ..half });
         Self {
-            pcf: PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, (true, false)),
-            blur: key.blur.map(|s| BlurCompute::new(device, FRAME_SIZE, s, layers)),
+            pcf: PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, pcf_path),
+            blur: key.blur.map(|s| BlurCompute::new(device, FRAME_SIZE, s, half)),
             resolve: ResolvePass::new(device, FRAME_SIZE),
             targets: None,
         }
@@ -101,7 +105,7 @@ impl TraditionalDrawChain {
 
     pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
         Self {
-            pcf: PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, (false, false)),
+            pcf: PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, PassPath::DRAW),
             blur: key.blur.map(|s| BlurPass::new(device, FRAME_SIZE, s)),
             resolve: ResolvePass::new(device, FRAME_SIZE),
         }
