@@ -488,11 +488,17 @@ fn half_float_intermediates_keep_the_shadows_in_less_memory() {
                 .unwrap_or_else(|| panic!("{method:?}: no raw visibility"))
                 .format();
             let layer = renderer.composited_visibility().unwrap();
-            let texels = penumbra::read_texture_f32(&gpu.device, &gpu.queue, layer).unwrap().0;
+            let texels = penumbra::read_texture_f32(&gpu.device, &gpu.queue, layer)
+                .unwrap()
+                .0;
             let bytes = renderer.shadows().allocated_bytes();
             runs.push((frame, texels, bytes, raw));
         }
-        let [(frame32, layer32, bytes32, raw32), (frame16, layer16, bytes16, raw16)] = &runs[..] else {
+        let [
+            (frame32, layer32, bytes32, raw32),
+            (frame16, layer16, bytes16, raw16),
+        ] = &runs[..]
+        else {
             unreachable!()
         };
         let worst = layer32
@@ -513,7 +519,11 @@ fn half_float_intermediates_keep_the_shadows_in_less_memory() {
             .flat_map(|(a, b)| (0..3).map(move |c| (a.0[c] as i32 - b.0[c] as i32).abs()))
             .max()
             .unwrap_or(0);
-        let differing = frame32.pixels().zip(frame16.pixels()).filter(|(a, b)| a != b).count();
+        let differing = frame32
+            .pixels()
+            .zip(frame16.pixels())
+            .filter(|(a, b)| a != b)
+            .count();
         let partial = layer16.iter().filter(|v| **v > 0.02 && **v < 0.98).count();
         println!(
             "{method:?}: raw visibility {raw32:?} / {raw16:?}; {bytes32} / {bytes16} bytes; layers within \
@@ -522,13 +532,27 @@ fn half_float_intermediates_keep_the_shadows_in_less_memory() {
             over.len(),
             &over[..over.len().min(8)]
         );
-        assert!(partial > 100, "{method:?}: no penumbra in the layer ({partial} texels)");
+        assert!(
+            partial > 100,
+            "{method:?}: no penumbra in the layer ({partial} texels)"
+        );
         assert_eq!(*raw32, wgpu::TextureFormat::R32Float, "{method:?}");
         if stores_halves {
-            assert_eq!(*raw16, wgpu::TextureFormat::R16Float, "{method:?}: the setting did not reach the intermediates");
-            assert_eq!(bytes32 - bytes16, saved_per_pixel * pixels, "{method:?}: {bytes32} against {bytes16} bytes");
+            assert_eq!(
+                *raw16,
+                wgpu::TextureFormat::R16Float,
+                "{method:?}: the setting did not reach the intermediates"
+            );
+            assert_eq!(
+                bytes32 - bytes16,
+                saved_per_pixel * pixels,
+                "{method:?}: {bytes32} against {bytes16} bytes"
+            );
         } else {
-            assert_eq!(raw16, raw32, "{method:?}: half floats on a device that cannot store them");
+            assert_eq!(
+                raw16, raw32,
+                "{method:?}: half floats on a device that cannot store them"
+            );
             assert_eq!(bytes32, bytes16, "{method:?}");
         }
         // A texel where the rounding tips a blur tap's weight moves more: a handful a frame.
@@ -537,6 +561,9 @@ fn half_float_intermediates_keep_the_shadows_in_less_memory() {
             "{method:?}: {} layer texels differ by over 2e-3, the most by {worst}",
             over.len()
         );
-        assert!(frame_worst <= 2, "{method:?}: the frames differ by {frame_worst} of 255");
+        assert!(
+            frame_worst <= 2,
+            "{method:?}: the frames differ by {frame_worst} of 255"
+        );
     }
 }

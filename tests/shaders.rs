@@ -101,7 +101,14 @@ fn passes_validate_with_half_float_storage() {
             assert!(halves.contains("alias VisibilityStorage = texture_storage_2d<r16float, write>;"));
             assert!(halves.contains("alias SigmaStorage = texture_storage_2d<rg16float, write>;"));
             validate(name, &halves);
-            let both = with_half_floats(source, HalfFloats { layers: true, intermediates: true }).unwrap();
+            let both = with_half_floats(
+                source,
+                HalfFloats {
+                    layers: true,
+                    intermediates: true,
+                },
+            )
+            .unwrap();
             validate(name, &both);
             storing.push(*name);
         }

@@ -13,9 +13,9 @@ use crate::light_maps::{MapUpload, ShadowMapPass};
 use crate::light_samples::{Emitter, light_sample};
 use crate::light_space::{AtlasGrid, CUBE_AXES, FitInputs, LightView, atlas_grid, tile_resolution};
 use crate::scene::{Aabb, Camera, Light};
-use glam::Vec3;
 use crate::settings::{ShadowMapSettings, ShadowSettings};
 use crate::view::CameraMatrices;
+use glam::Vec3;
 
 /// How far a progressive reference has come.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -95,7 +95,9 @@ fn faces_holding(source: Vec3, region: &Aabb) -> u32 {
     let tolerance = 1e-4 * scale;
     let mut faces = 0;
     for (face, axis) in CUBE_AXES.iter().enumerate() {
-        let across = [Vec3::X, Vec3::Y, Vec3::Z].into_iter().filter(|e| e.dot(*axis) == 0.0);
+        let across = [Vec3::X, Vec3::Y, Vec3::Z]
+            .into_iter()
+            .filter(|e| e.dot(*axis) == 0.0);
         let holds = across
             .flat_map(|e| [*axis - e, *axis + e])
             .all(|n| largest(n) >= -tolerance);
@@ -453,14 +455,20 @@ mod tests {
         for _ in 0..400 {
             let a = Vec3::new(next(), next(), next()) * 8.0 - 4.0;
             let size = Vec3::new(next(), next(), next()) * 3.0;
-            let region = Aabb { min: a, max: a + size };
+            let region = Aabb {
+                min: a,
+                max: a + size,
+            };
             let faces = faces_holding(source, &region);
             fewer += usize::from(faces != ALL_FACES);
             for _ in 0..64 {
                 let t = Vec3::new(next(), next(), next());
                 let p = region.min + (region.max - region.min) * t;
                 let face = cube_face(p - source);
-                assert!(faces & (1 << face) != 0, "{p} in face {face}, not in {faces:#b} of {region:?}");
+                assert!(
+                    faces & (1 << face) != 0,
+                    "{p} in face {face}, not in {faces:#b} of {region:?}"
+                );
             }
         }
         // The mask leaves faces out of most boxes that do not surround the light.

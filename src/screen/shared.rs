@@ -2,13 +2,13 @@
 //! classification's depth test, the tile list they run over, and the pipeline of a pass that
 //! is a draw or a compute pass over the screen.
 
-use crate::shaders::HalfFloats;
 use crate::gpu_helpers::Target;
 use crate::gpu_helpers::{
     Binding, bind_group, comparison_sampler, draw_fullscreen_into, entry, fullscreen_pipeline_with,
     screen_target,
 };
 use crate::gpu_helpers::{DepthUse, Tiles};
+use crate::shaders::HalfFloats;
 
 /// What every screen-space stage of a chain has besides its wiring and its place in the frame
 /// (`bind` and `encode`, whose inputs differ by stage and which each method's chain calls in its
@@ -74,8 +74,7 @@ impl ShadowLookup {
         if map_twice {
             own.insert(0, entry::unfilterable(4));
         }
-        let entries =
-            ScreenPipeline::layout_entries(entry::shadow_lookup(frame_size, &own), path);
+        let entries = ScreenPipeline::layout_entries(entry::shadow_lookup(frame_size, &own), path);
         let layout = crate::gpu_helpers::layout(device, label, &entries);
         let pipeline = ScreenPipeline::new(device, label, shader, &layout, constants, path);
         Self {
@@ -392,7 +391,10 @@ impl ScreenPipeline {
         if path.compute {
             entries = entries.into_iter().map(entry::and_compute).collect();
             let next = entries.iter().map(|e| e.binding + 1).max().unwrap_or(0);
-            entries.push(entry::storage_texture(next, visibility_storage(path.half.intermediates)));
+            entries.push(entry::storage_texture(
+                next,
+                visibility_storage(path.half.intermediates),
+            ));
             if path.half.layers {
                 entries.push(entry::storage_texture(next + 1, VISIBILITY_FORMAT));
                 entries.push(entry::and_compute(entry::unfilterable(next + 2)));

@@ -124,10 +124,7 @@ impl ComputeTargets {
     ) -> Self {
         let compute_clears = clears.compute(device);
         let target = |label, format| super::storage_target(device, label, size, format, !compute_clears);
-        let visibility = target(
-            "ComputeTargets::visibility",
-            visibility_storage(half),
-        );
+        let visibility = target("ComputeTargets::visibility", visibility_storage(half));
         let blurred = needs
             .blur
             .then(|| target("ComputeTargets::blurred", visibility_storage(half)));

@@ -364,12 +364,8 @@ impl VariablePcfCompute {
             layers: false,
             intermediates: half,
         };
-        let shader = crate::shaders::module_for(
-            device,
-            "variable_pcf.wgsl",
-            crate::shaders::VARIABLE_PCF,
-            storage,
-        );
+        let shader =
+            crate::shaders::module_for(device, "variable_pcf.wgsl", crate::shaders::VARIABLE_PCF, storage);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let mut entries = vec![
             entry::uniform(0, wgpu::ShaderStages::COMPUTE, frame_size, false),

@@ -6,8 +6,8 @@ use super::screen_chain::{ChainKey, MethodChain, Recorder, ScreenInputs, stage_l
 use crate::chain::{Chain, FRAME_SIZE};
 use crate::frame::PassParams;
 use crate::screen::{
-    BlurCompute, BlurInput, BlurPass, Cleared, ComputeTargets, PassPath, PcfPass, ResolvePass,
-    ScreenStage, TileListTargets, VisibilityPass,
+    BlurCompute, BlurInput, BlurPass, Cleared, ComputeTargets, PassPath, PcfPass, ResolvePass, ScreenStage,
+    TileListTargets, VisibilityPass,
 };
 use crate::shaders::HalfFloats;
 
@@ -32,7 +32,10 @@ impl TraditionalChain {
         let half = key.half_floats();
         // The PCF writes the intermediate visibility, never the layer (the blur or the
         // resolve does).
-        let pcf_path = PassPath::compute(HalfFloats { layers: false, ..half });
+        let pcf_path = PassPath::compute(HalfFloats {
+            layers: false,
+            ..half
+        });
         Self {
             pcf: PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, pcf_path),
             blur: key.blur.map(|s| BlurCompute::new(device, FRAME_SIZE, s, half)),
