@@ -773,11 +773,12 @@ const _: () = {
     shared::<Casters>();
 };
 
-/// Whether a compute pass on `device` can write the visibility's half floats: the device has
-/// the adapter's own format features and they include that (desktop Vulkan and Metal do,
-/// lavapipe too; the web and wgpu's GL backend do not). Tried on a 1 x 1 texture: the format's
-/// features are the adapter's, which a `Shadows` does not see.
-fn stores_half_floats(device: &wgpu::Device) -> bool {
+/// Whether a compute pass on `device` can write the texture `probe` makes (a 1 x 1 storage
+/// texture of the format tried): the device has the adapter's own format features and they
+/// include that format's storage (desktop Vulkan and Metal do for half floats, lavapipe too; the
+/// web and wgpu's GL backend do not). Tried, since the format's features are the adapter's,
+/// which a `Shadows` does not see.
+fn stores<T>(device: &wgpu::Device, probe: impl FnOnce() -> T) -> bool {
     if !device
         .features()
         .contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
@@ -785,21 +786,19 @@ fn stores_half_floats(device: &wgpu::Device) -> bool {
     {
         return false;
     }
-    let (_, error) = scoped(device, || visibility_array(device, 1, 1, 1, true));
+    let (_, error) = scoped(device, probe);
     error.is_none()
 }
 
+/// Whether a compute pass on `device` can write the visibility's half floats (R16F).
+fn stores_half_floats(device: &wgpu::Device) -> bool {
+    stores(device, || visibility_array(device, 1, 1, 1, true))
+}
+
 /// Whether a compute pass on `device` can write two half floats a texel (RG16F, the blur's
-/// deviations), as [`stores_half_floats`] tries one.
+/// deviations).
 fn stores_half_float_pairs(device: &wgpu::Device) -> bool {
-    if !device
-        .features()
-        .contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
-        || !crate::screen::has_compute(device)
-    {
-        return false;
-    }
-    let (_, error) = scoped(device, || {
+    stores(device, || {
         crate::gpu_helpers::texture_2d(
             device,
             "Shadows::half_float_pairs",
@@ -807,8 +806,7 @@ fn stores_half_float_pairs(device: &wgpu::Device) -> bool {
             crate::screen::sigma_storage(true),
             wgpu::TextureUsages::STORAGE_BINDING,
         )
-    });
-    error.is_none()
+    })
 }
 
 /// The passes' parameters for `settings`, the tile classification's `Auto` decided for the
