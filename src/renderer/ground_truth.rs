@@ -110,7 +110,8 @@ fn faces_holding(source: Vec3, region: &Aabb) -> u32 {
 
 /// The part of the scene `camera` can see, as a box: its frustum's corners (an infinite far
 /// plane stopped beyond the scene's farthest corner) within the scene's bounds, grown by a
-/// hundredth of its size for the reference's small offset of each receiver toward the light.
+/// hundredth of its size and a thousandth of its farthest view distance: more than the
+/// reference's offset of each receiver toward the light (2e-4 of its view distance).
 fn seen_region(camera: &CameraMatrices, scene: &Aabb) -> Aabb {
     if scene.is_empty() {
         return Aabb::EMPTY;
@@ -128,7 +129,7 @@ fn seen_region(camera: &CameraMatrices, scene: &Aabb) -> Aabb {
     if region.is_empty() {
         return region;
     }
-    let grow = Vec3::splat(0.01 * (region.max - region.min).max_element() + 1e-3);
+    let grow = Vec3::splat(0.01 * (region.max - region.min).max_element() + 1e-3 * beyond);
     Aabb {
         min: region.min - grow,
         max: region.max + grow,
