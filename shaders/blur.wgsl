@@ -15,9 +15,9 @@
 // Compile-time switches (pipeline override constants).
 override FIXED_STEP: bool = false;
 override DEPTH_AWARE: bool = true;
-// The compute path: the values are 32-bit floats, read linearly between texels by two loads
-// (not filterable everywhere; a filtered fetch also reads two texels more), and the distance
-// map's B is the classification.
+// The compute path: the values are read linearly between texels by two loads (32-bit floats
+// are not filterable everywhere; a filtered fetch also reads two texels more), and the
+// distance map holds one value (`common/screen_storage.wgsl`).
 override COMPUTE_PATH: bool = false;
 
 struct Blur {
@@ -38,7 +38,8 @@ struct Blur {
 @group(0) @binding(2) var linear_sampler: sampler;
 // the visibility to blur (R)
 @group(0) @binding(3) var source: texture_2d<f32>;
-// the light's distance map (R distance, G mask; the compute path's B its classification)
+// the light's distance map (R distance, G mask; the compute path's one value,
+// `common/screen_storage.wgsl`)
 @group(0) @binding(4) var distance_map: texture_2d<f32>;
 // physical mode: the standard deviation to add in pixels, along screen x (R) and y (G)
 @group(0) @binding(5) var blur_sigma: texture_2d<f32>;
@@ -258,14 +259,14 @@ fn listed_blurred(group: vec3<u32>, groups: vec3<u32>, local: vec3<u32>) -> List
     if pixel.x < 0 {
         return out;
     }
-    // One load of the distance map serves its classification (B) and the distance (R).
+    // One load of the distance map serves where a shadow can fall and the distance.
     var d = 0.0;
     if !FIXED_STEP {
-        let distance = textureLoad(distance_map, pixel, 0);
-        if distance.z <= 0.0 {
+        let v = textureLoad(distance_map, pixel, 0).x;
+        if !shadow_can_fall(v) {
             return out;
         }
-        d = distance.x;
+        d = distance_of(v);
     }
     out.value = blurred_with(vec2<f32>(pixel) + 0.5, d);
     return out;
@@ -324,7 +325,7 @@ fn fs_listed_copy(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> 
         if !receives(pixel) {
             return vec4<f32>(1.0);
         }
-    } else if textureLoad(distance_map, pixel, 0).z <= 0.0 {
+    } else if !shadow_can_fall(textureLoad(distance_map, pixel, 0).x) {
         return vec4<f32>(1.0);
     }
     return vec4<f32>(textureLoad(source, pixel, 0).x);

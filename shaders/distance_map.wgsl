@@ -1,4 +1,4 @@
-// after: frame cube fullscreen tiles tile_list fattened distance
+// after: frame cube fullscreen tiles tile_list fattened distance screen_storage
 // Distance map pass: a full-screen pass over the camera's depth (the engine's, or the
 // renderer's own prepass), or on the compute path (`cs_main`, below) a compute pass over the
 // tiles the tile classification listed. No geometry is drawn: world positions come from the depth and the
@@ -87,7 +87,7 @@ fn beside_distance(frag: vec2<f32>) -> f32 {
 // (`common/tile_list.wgsl`), into one texture (`listed_distance`). Where the chain has a
 // variable PCF, that pass takes the distance itself (`cs_distance_pcf` in `variable_pcf.wgsl`)
 // and this one is not dispatched.
-@group(0) @binding(7) var distance_out: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(7) var distance_out: DistanceStorage;
 
 @compute @workgroup_size(16, 16)
 fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {

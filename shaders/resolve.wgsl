@@ -22,7 +22,9 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     }
     var v = textureLoad(visibility, pixel, 0).x;
     if frame.view.has_distance_map != 0u {
-        let d = textureLoad(distance_map, pixel, 0).x;
+        // The compute path's map holds a negative value where no occluder is
+        // (`common/screen_storage.wgsl`), the draws' 0.
+        let d = max(textureLoad(distance_map, pixel, 0).x, 0.0);
         v = mix(v, 1.0, indirect_share(d));
     }
     return vec4<f32>(clamp(v, 0.0, 1.0));

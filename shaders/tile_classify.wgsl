@@ -258,7 +258,7 @@ struct TileArgs {
 // turned away.
 override CLEARS: bool = false;
 override CLEAR_BLURRED: bool = false;
-@group(0) @binding(12) var distance_cleared: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(12) var distance_cleared: DistanceStorage;
 @group(0) @binding(13) var visibility_cleared: VisibilityStorage;
 @group(0) @binding(14) var blurred_cleared: VisibilityStorage;
 
@@ -447,7 +447,7 @@ fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invo
     let kind = workgroupUniformLoad(&class_listed);
     if CLEARS && inside {
         let value = select(1.0, 0.0, kind == AWAY);
-        textureStore(distance_cleared, pixel, vec4<f32>(0.0));
+        textureStore(distance_cleared, pixel, vec4<f32>(NO_SHADOW_HERE));
         textureStore(visibility_cleared, pixel, vec4<f32>(value));
         if CLEAR_BLURRED {
             textureStore(blurred_cleared, pixel, vec4<f32>(value));

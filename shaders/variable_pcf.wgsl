@@ -277,7 +277,7 @@ fn fs_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 }
 
 // The compute path: one invocation per pixel of the listed tiles (`common/tile_list.wgsl`)
-// where the distance map's classification (its B) says a shadow can fall, into the visibility
+// where the distance map's value (`shadow_can_fall`) says a shadow can fall, into the visibility
 // (R32F) and the blur's standard deviations along screen x and y (RG32F). The listed tiles'
 // other pixels get no blur, and keep the visibility it was cleared to (1): the blur reads a
 // neighbour's visibility anywhere, its deviations only at the listed pixels it blurs, so only
@@ -318,7 +318,7 @@ fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gro
 @group(0) @binding(10) var receiver_mask: texture_2d<f32>;
 @group(0) @binding(11) var occluder_offset: texture_2d<f32>;
 @group(0) @binding(12) var exit_map: texture_2d<f32>;
-@group(0) @binding(13) var distance_out: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(13) var distance_out: DistanceStorage;
 // The shadow map again, read as plain depths (the GL backend loads no depth texture, and the
 // distance map's shader serves it too).
 @group(0) @binding(14) var shadow_depths: texture_2d<f32>;
@@ -332,13 +332,10 @@ fn cs_distance_pcf(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgro
     let pixel = listed_pixel(group, groups, local);
     var width = -1.0;
     if pixel.x >= 0 {
+        // At the half float's precision, as the apart passes read it (`listed_distance`).
         let distance = listed_distance(pixel);
         textureStore(distance_out, pixel, distance);
-        // The taps take the distance at the half float's precision, as the apart passes read
-        // it (cut toward zero, as lavapipe stores it; a device that rounds to nearest stores a
-        // value at most one half-float step, 1e-3 of it, away).
-        let stored = bitcast<vec4<f32>>(bitcast<vec4<u32>>(distance) & vec4<u32>(0xffffe000u));
-        width = pcf_pixel(pixel, stored);
+        width = pcf_pixel(pixel, distance);
     }
     count_width(width, index);
 }
@@ -378,12 +375,12 @@ fn cs_away(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gro
 // the blur's deviations. Returns the penumbra's width in texels where the pixel lies in one
 // (physical mode), else -1.
 fn pcf_pixel(pixel: vec2<i32>, distance: vec4<f32>) -> f32 {
-    if distance.z <= 0.0 {
+    if !shadow_can_fall(distance.x) {
         textureStore(sigma_out, pixel, vec4<f32>(0.0));
         return -1.0;
     }
     let depth = textureLoad(camera_depth, pixel, 0).x;
-    let s = setup(vec2<f32>(pixel) + 0.5, depth, distance.x);
+    let s = setup(vec2<f32>(pixel) + 0.5, depth, distance_of(distance.x));
     let visibility = taps(s);
     textureStore(visibility_out, pixel, vec4<f32>(visibility));
     textureStore(sigma_out, pixel, vec4<f32>(s.blur_sigma, 0.0, 0.0));

@@ -766,9 +766,9 @@ pub struct ExecutionSettings {
     /// (false). Default true.
     pub compute_layer_writes: bool,
     /// The compute path keeps its screen-space intermediates (the visibility before the blur
-    /// and between its axes, the blur's deviations along x and y) in half floats where the
-    /// device can store them (true: for `ours` 8 bytes a pixel where 32-bit floats take 16),
-    /// or in 32-bit floats (false). Unlike the other choices here, the two differ by a half
+    /// and between its axes, the blur's deviations along x and y, the distance map) in single
+    /// or paired half floats where the device can store them (true: for `ours` 10 bytes a
+    /// pixel where 32-bit floats take 20), or in 32-bit floats (false). Unlike the other choices here, the two differ by a half
     /// float's rounding: the layers within 2e-3 but at about one texel in 10,000, the frames
     /// within 2 of 255 (`tests/execution.rs`). The draws keep half floats either way. Default
     /// true.

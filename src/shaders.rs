@@ -24,9 +24,10 @@ const LAYER_AS_WRITTEN: (&str, &str) = (
     "alias LayerStorage = texture_storage_2d<r16float, write>;",
 );
 
-/// The lines of `shaders/common/screen_storage.wgsl` that type the compute path's visibility
-/// and deviations as storage textures, as written (32-bit), and as half floats.
-const INTERMEDIATES_AS_WRITTEN: [(&str, &str); 2] = [
+/// The lines of `shaders/common/screen_storage.wgsl` that type the compute path's visibility,
+/// deviations and distance map as storage textures, as written (32-bit), and as single or
+/// paired half floats.
+const INTERMEDIATES_AS_WRITTEN: [(&str, &str); 3] = [
     (
         "alias VisibilityStorage = texture_storage_2d<r32float, write>;",
         "alias VisibilityStorage = texture_storage_2d<r16float, write>;",
@@ -34,6 +35,10 @@ const INTERMEDIATES_AS_WRITTEN: [(&str, &str); 2] = [
     (
         "alias SigmaStorage = texture_storage_2d<rg32float, write>;",
         "alias SigmaStorage = texture_storage_2d<rg16float, write>;",
+    ),
+    (
+        "alias DistanceStorage = texture_storage_2d<r32float, write>;",
+        "alias DistanceStorage = texture_storage_2d<r16float, write>;",
     ),
 ];
 
@@ -44,8 +49,9 @@ pub struct HalfFloats {
     /// The light's layer (`LayerStorage`, R16F): the pass's `cs_layer` entry point then writes
     /// the layer itself.
     pub layers: bool,
-    /// The compute path's visibility and the blur's deviations (`VisibilityStorage` R16F,
-    /// `SigmaStorage` RG16F), in place of 32-bit floats.
+    /// The compute path's visibility, the blur's deviations and the distance map
+    /// (`VisibilityStorage` R16F, `SigmaStorage` RG16F, `DistanceStorage` R16F), in place of
+    /// 32-bit floats.
     pub intermediates: bool,
 }
 

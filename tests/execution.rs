@@ -455,10 +455,11 @@ fn compute_passes_write_the_layers_as_the_draws_did() {
 }
 
 /// Where the device stores half floats, the compute path keeps its intermediates (the
-/// visibility before the blur and between its axes, the blur's deviations) in half floats
-/// (`ExecutionSettings::half_intermediates`): 8 bytes a pixel fewer for `ours` (its visibility,
-/// the blur's axis, the deviations), 4 for the baseline (no deviations), 2 for PCSS, and the same shadows but for a half float's rounding of those
-/// values: the layers within 2e-3 of each other but at one texel in 10,000 (within 0.05
+/// visibility before the blur and between its axes, the blur's deviations, the distance map)
+/// in single or paired half floats (`ExecutionSettings::half_intermediates`): 10 bytes a pixel
+/// fewer for `ours` (its visibility, the blur's axis, the deviations, the distance map), 4 for
+/// the baseline (no deviations, no distance map), 2 for PCSS, and the same shadows but for a
+/// half float's rounding of those values: the layers within 2e-3 of each other but at one texel in 10,000 (within 0.05
 /// there), the frames within 2 of 255 at every pixel.
 #[test]
 fn half_float_intermediates_keep_the_shadows_in_less_memory() {
@@ -474,7 +475,7 @@ fn half_float_intermediates_keep_the_shadows_in_less_memory() {
     let size = (320u32, 256u32);
     let pixels = (size.0 * size.1) as u64;
     for (method, saved_per_pixel) in [
-        (ShadowMethod::Ours, 8),
+        (ShadowMethod::Ours, 10),
         (ShadowMethod::Traditional, 4),
         (ShadowMethod::Pcss, 2),
     ] {
@@ -492,6 +493,22 @@ fn half_float_intermediates_keep_the_shadows_in_less_memory() {
                 .unwrap()
                 .0;
             let bytes = renderer.shadows().allocated_bytes();
+            let distance = renderer
+                .debug_texture(LightTexture::DistanceMap)
+                .map(|t| t.format());
+            assert_eq!(
+                distance.is_some(),
+                method == ShadowMethod::Ours,
+                "{method:?}: {distance:?}"
+            );
+            if let Some(format) = distance {
+                let expected = if half && stores_halves {
+                    wgpu::TextureFormat::R16Float
+                } else {
+                    wgpu::TextureFormat::R32Float
+                };
+                assert_eq!(format, expected, "{method:?}: the distance map, half {half}");
+            }
             runs.push((frame, texels, bytes, raw));
         }
         let [

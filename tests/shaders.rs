@@ -86,7 +86,7 @@ fn passes_validate_with_half_float_storage() {
     };
     let (mut writing, mut storing) = (Vec::new(), Vec::new());
     for (name, source) in penumbra::shaders::ALL {
-        // RGBA16F is a storage format everywhere (the distance map's); R16F and RG16F are not.
+        // R16F and RG16F are not storage formats everywhere (the web has neither).
         assert!(
             !source.contains("<r16float, write") && !source.contains("<rg16float, write"),
             "{name} stores half floats as written"
@@ -100,6 +100,7 @@ fn passes_validate_with_half_float_storage() {
         if let Some(halves) = with_half_floats(source, intermediates) {
             assert!(halves.contains("alias VisibilityStorage = texture_storage_2d<r16float, write>;"));
             assert!(halves.contains("alias SigmaStorage = texture_storage_2d<rg16float, write>;"));
+            assert!(halves.contains("alias DistanceStorage = texture_storage_2d<r16float, write>;"));
             validate(name, &halves);
             let both = with_half_floats(
                 source,
@@ -114,7 +115,17 @@ fn passes_validate_with_half_float_storage() {
         }
     }
     assert_eq!(writing, ["blur", "pcf", "pcss"]);
-    assert_eq!(storing, ["blur", "pcf", "pcss", "tile_classify", "variable_pcf"]);
+    assert_eq!(
+        storing,
+        [
+            "blur",
+            "distance_map",
+            "pcf",
+            "pcss",
+            "tile_classify",
+            "variable_pcf"
+        ]
+    );
 }
 
 #[test]

@@ -122,9 +122,22 @@ fn classify_at(frag: vec2<f32>) -> Classified {
     return c;
 }
 
-// The compute path's value at `pixel`: both draws' work in one invocation, R distance, G mask,
-// B the classification the draws write as depth (0, 0.5 or 1), which the later passes read
-// instead of testing it.
+// The one value the compute path's distance map holds (`common/screen_storage.wgsl`) for a
+// pixel at distance `d` of `mask` (the draws' G: -2 background, -1 not a receiver, 0 outside
+// the fattened shadow, 1 inside it) and classification `shadow_here` (the depth the draws
+// write).
+fn distance_value(d: f32, mask: f32, shadow_here: f32) -> f32 {
+    if shadow_here > 0.0 {
+        return select(OUTSIDE_CAN_FALL, d, mask > 0.5);
+    }
+    return select(select(NO_SHADOW_HERE, NOT_RECEIVER, mask < -0.5), BACKGROUND, mask < -1.5);
+}
+
+// The compute path's value at `pixel` (R; `distance_value`): both draws' work in one
+// invocation, which the later passes read instead of testing a depth. Cut to a half float's
+// precision (toward zero, as lavapipe stores it; a device that rounds to nearest then stores
+// it as it is): where the map is 32-bit, or the variable PCF takes the value before it is
+// stored (`cs_distance_pcf`), the taps see what they see after a half-float map.
 fn listed_distance(pixel: vec2<i32>) -> vec4<f32> {
     let c = classify_at(vec2<f32>(pixel) + 0.5);
     var out = c.out;
@@ -134,7 +147,8 @@ fn listed_distance(pixel: vec2<i32>) -> vec4<f32> {
         let d = out.distance.x;
         out.distance.x = min(d, nearest_caster(c.world, c.p, d));
     }
-    return vec4<f32>(out.distance.xy, out.shadow_here, 0.0);
+    let v = distance_value(out.distance.x, out.distance.y, out.shadow_here);
+    return vec4<f32>(bitcast<f32>(bitcast<u32>(v) & 0xffffe000u), 0.0, 0.0, 0.0);
 }
 
 // How far (shadow-map uv) a search around a receiver at `world` (light depth `receiver_depth`,

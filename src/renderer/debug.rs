@@ -135,7 +135,10 @@ pub fn debug_image_with_legend(
     })?;
     let (values, channels) = read_texture_f32(device, queue, texture)?;
     let (w, h) = (texture.width(), texture.height());
-    let pixel = |i: usize, k: usize| values[i * channels as usize + k];
+    let channels = channels as usize;
+    let pixel = |i: usize, k: usize| values[i * channels + k];
+    // The distance map's (distance, mask), from either path's layout.
+    let distance = |i: usize| distance_and_mask(&values[i * channels..(i + 1) * channels]);
     let n = (w * h) as usize;
     let mut img = image::RgbaImage::new(w, h);
     match view {
@@ -156,8 +159,9 @@ pub fn debug_image_with_legend(
         }
         DebugView::Distance => {
             let max = (0..n)
-                .filter(|i| pixel(*i, 1) > 0.5)
-                .map(|i| pixel(i, 0))
+                .map(distance)
+                .filter(|(_, mask)| *mask > 0.5)
+                .map(|(d, _)| d)
                 .fold(0.0f32, f32::max)
                 .max(1e-20);
             legend = Some(Legend {
@@ -166,8 +170,9 @@ pub fn debug_image_with_legend(
                 unit: "world units to the occluder",
             });
             for (i, p) in img.pixels_mut().enumerate() {
-                let [r, g, b] = if pixel(i, 1) > 0.5 {
-                    false_color(pixel(i, 0) / max)
+                let (d, mask) = distance(i);
+                let [r, g, b] = if mask > 0.5 {
+                    false_color(d / max)
                 } else {
                     [40, 40, 40]
                 };
@@ -176,7 +181,7 @@ pub fn debug_image_with_legend(
         }
         DebugView::Mask => {
             for (i, p) in img.pixels_mut().enumerate() {
-                let g = if pixel(i, 1) > 0.5 { 255 } else { 0 };
+                let g = if distance(i).1 > 0.5 { 255 } else { 0 };
                 *p = image::Rgba([g, g, g, 255]);
             }
         }
@@ -188,6 +193,22 @@ pub fn debug_image_with_legend(
         }
     }
     Ok(DebugImage { image: img, legend })
+}
+
+/// The distance to the occluder and the mask at one texel `px` of a distance map
+/// ([`crate::LightTexture::DistanceMap`]) as [`crate::read_texture_f32`] reads it: the draws'
+/// (two channels or more: R the distance, G the mask) or the compute path's (one value: the
+/// distance where at least 0, else a code). The mask is 1 inside the fattened shadow, 0
+/// outside it, -1 on surfaces the receiver mask leaves out and -2 where nothing was drawn;
+/// the distance is 0 outside the fattened shadow.
+pub fn distance_and_mask(px: &[f32]) -> (f32, f32) {
+    match *px {
+        [v] if v >= 0.0 => (v, 1.0),
+        // -0.25: a shadow can still fall; -1: none can; -2, -3: not a receiver, nothing drawn.
+        [v] => (0.0, if v > -1.5 { 0.0 } else { v + 1.0 }),
+        [d, mask, ..] => (d, mask),
+        [] => (0.0, -2.0),
+    }
 }
 
 /// How much work the mask saved in the last frame of a distance-map method.
@@ -244,23 +265,23 @@ pub fn mask_savings(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Rende
         )
     })?;
     let (values, channels) = read_texture_f32(device, queue, distance)?;
+    let masks: Vec<f32> = values
+        .chunks_exact(channels as usize)
+        .map(|px| distance_and_mask(px).1)
+        .collect();
     // The receivers from the prepass's own mask: the distance map marks the others (-1, -2)
     // only on the screen tiles it drew.
     let receivers = match renderer.receiver_mask_texture() {
         Some(mask) => read_texture_f32(device, queue, mask)?.0,
-        None => values
-            .chunks_exact(channels.max(2) as usize)
-            .map(|px| if px[1] > -0.5 { 1.0 } else { 0.0 })
+        None => masks
+            .iter()
+            .map(|mask| if *mask > -0.5 { 1.0 } else { 0.0 })
             .collect(),
     };
     let mut receiver_pixels = 0;
     let mut skipped_pixels = 0;
     // Mask: 1 inside the fattened shadow, below 1 elsewhere.
-    for (mask, receiver) in values
-        .chunks_exact(channels.max(2) as usize)
-        .map(|px| px[1])
-        .zip(receivers)
-    {
+    for (mask, receiver) in masks.into_iter().zip(receivers) {
         if receiver >= 0.5 {
             receiver_pixels += 1;
             if mask < 0.5 {

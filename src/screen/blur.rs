@@ -304,7 +304,7 @@ impl ScreenStage for BlurPass {
 /// axis has finished reading (the indirect attenuation applied). The light's layer is the
 /// engine's render target, so a draw of the listed tiles' quads (`fs_listed_copy`: one load a
 /// pixel, 1 where no shadow can fall) copies the result into it. Both axes read the variable
-/// PCF's deviations and the distance map's classification (B); the values are read linearly
+/// PCF's deviations and where the distance map says a shadow can fall; the values are read linearly
 /// between texels by two loads. Its textures are given at [`Self::bind`]: the lights share
 /// them ([`crate::screen::ComputeTargets`]).
 ///

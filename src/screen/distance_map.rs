@@ -285,9 +285,10 @@ impl<'a> DistanceMaps<'a> {
 /// The distance map of the compute path: the tile list first ([`super::TileListPass`]), then
 /// both draws' work in one compute pass over the listed tiles (`cs_main` in
 /// `shaders/distance_map.wgsl`, the work in `shaders/common/distance.wgsl`), into one texture
-/// (RGBA16F: R distance, G mask, B the classification the draws write as depth, 0, 0.5 or 1),
-/// cleared first so that the other tiles read as no shadow. The later passes read the
-/// classification instead of testing a depth. Where the chain's variable PCF takes the
+/// ([`Self::format`], one value a pixel where the draws keep two and a depth: the distance
+/// inside the fattened shadow, negative codes elsewhere, `shaders/common/screen_storage.wgsl`),
+/// cleared first so that the other tiles read as no shadow. The later passes read the value
+/// instead of testing a depth. Where the chain's variable PCF takes the
 /// distance itself ([`super::VariablePcfCompute`], the default), this pass only lists the
 /// tiles. The texture is given at [`Self::bind`]: the lights share one
 /// ([`crate::screen::ComputeTargets`]).
@@ -303,9 +304,19 @@ pub(crate) struct DistanceMapCompute {
 }
 
 impl DistanceMapCompute {
-    /// Its texture's format: a half float a compute pass can write everywhere (RG16F cannot be
-    /// a storage texture on the web), with the same precision as [`DistanceMapPass`]'s.
-    pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+    /// Its texture's format: R16F where the device stores half floats (`half`,
+    /// [`crate::ExecutionSettings::half_intermediates`]), else R32F, which a compute pass can
+    /// write everywhere (R16F cannot be a storage texture on the web). Either holds a half
+    /// float's precision, as [`DistanceMapPass`]'s RG16F: the passes cut the value to it.
+    /// Every pass that writes it is made from a module typed the same way (`DistanceStorage`,
+    /// [`crate::shaders::with_half_floats`]).
+    pub fn format(half: bool) -> wgpu::TextureFormat {
+        super::visibility_storage(half)
+    }
+
+    /// The value its texture is cleared to: no shadow can fall (`NO_SHADOW_HERE` in
+    /// `shaders/common/screen_storage.wgsl`).
+    pub const CLEARED: f64 = -1.0;
 
     /// As [`DistanceMapPass::new`]; `switches.tiles` off lists every tile; `blurred`: the
     /// chain blurs after it, and `half` how the intermediates the tile list clears are stored
@@ -319,11 +330,19 @@ impl DistanceMapCompute {
         (blurred, half): (bool, crate::shaders::HalfFloats),
         own_pass: bool,
     ) -> Self {
-        let shader = crate::shaders::module(device, "distance_map.wgsl", crate::shaders::DISTANCE_MAP);
+        let shader = crate::shaders::module_for(
+            device,
+            "distance_map.wgsl",
+            crate::shaders::DISTANCE_MAP,
+            crate::shaders::HalfFloats {
+                layers: false,
+                intermediates: half.intermediates,
+            },
+        );
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let mut entries = vec![entry::uniform(0, wgpu::ShaderStages::COMPUTE, frame_size, false)];
         entries.extend((1..=6).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
-        entries.push(entry::storage_texture(7, Self::FORMAT));
+        entries.push(entry::storage_texture(7, Self::format(half.intermediates)));
         let layout = crate::gpu_helpers::layout(device, "DistanceMapCompute::layout", &entries);
         let list_layout = super::TileListPass::list_layout(device);
         let pipeline = own_pass.then(|| {

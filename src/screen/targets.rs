@@ -68,14 +68,15 @@ pub(crate) enum Cleared {
     Visibility,
     /// The blur's horizontal axis, to 1: its vertical axis reads beyond the tiles it wrote.
     Blurred,
-    /// The distance map, to 0: no shadow outside the listed tiles.
+    /// The distance map, to [`DistanceMapCompute::CLEARED`]: no shadow outside the listed tiles.
     Distance,
 }
 
 /// The distance-map method's part of [`ComputeTargets`].
 #[derive(Clone)]
 pub(crate) struct DistanceMapTargets {
-    /// R distance, G mask, B classification ([`DistanceMapCompute::FORMAT`]).
+    /// One value a pixel: the distance, or where none is a negative code
+    /// ([`DistanceMapCompute::format`]).
     pub distance: Target,
     /// The blur's deviations from the variable PCF.
     pub sigma: Target,
@@ -129,7 +130,7 @@ impl ComputeTargets {
             .blur
             .then(|| target("ComputeTargets::blurred", visibility_storage(half)));
         let distance_map = needs.distance_map.then(|| DistanceMapTargets {
-            distance: target("ComputeTargets::distance_map", DistanceMapCompute::FORMAT),
+            distance: target("ComputeTargets::distance_map", DistanceMapCompute::format(half)),
             sigma: target("ComputeTargets::sigma", sigma_storage(half)),
             tiles: TileListTargets::new(device, size),
         });
@@ -159,7 +160,10 @@ impl ComputeTargets {
                 clear(
                     "ComputeTargets::clear_distance",
                     &d.distance,
-                    wgpu::Color::TRANSPARENT,
+                    wgpu::Color {
+                        r: DistanceMapCompute::CLEARED,
+                        ..wgpu::Color::TRANSPARENT
+                    },
                 )
             }),
         };

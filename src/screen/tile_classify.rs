@@ -463,7 +463,7 @@ impl TileListPass {
         // The intermediates the classification by workgroups clears (bindings 12 to 14).
         let mut cleared = Vec::new();
         if per_pixel {
-            cleared.push(entry::storage_texture(12, DistanceMapCompute::FORMAT));
+            cleared.push(entry::storage_texture(12, DistanceMapCompute::format(half)));
             cleared.push(entry::storage_texture(13, super::visibility_storage(half)));
             if blurred {
                 cleared.push(entry::storage_texture(14, super::visibility_storage(half)));

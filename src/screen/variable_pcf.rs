@@ -382,7 +382,10 @@ impl VariablePcfCompute {
             // The distance map's inputs (the fattened map, the receiver mask, the occluder
             // offset, the exit map), its texture, and the shadow map read as plain depths.
             entries.extend((9..=12).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
-            entries.push(entry::storage_texture(13, super::DistanceMapCompute::FORMAT));
+            entries.push(entry::storage_texture(
+                13,
+                super::DistanceMapCompute::format(half),
+            ));
             entries.push(entry::and_compute(entry::texture_2d(14, unfilterable)));
         }
         let layout = crate::gpu_helpers::layout(device, "VariablePcfCompute::layout", &entries);

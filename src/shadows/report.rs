@@ -63,11 +63,14 @@ pub enum LightTexture {
     ExitMap,
     /// R = distance to the occluder (world units), G = mask (1 inside the fattened shadow, 0
     /// outside, -1 on non-receivers, -2 where nothing was drawn; with the tile classification,
-    /// -1 and -2 only on the tiles it kept, the others 0). RG16F; the compute path's is
-    /// RGBA16F, B the classification (0 where no pass runs, 0.5 where a shadow can fall, 1
-    /// beside a shadow).
+    /// -1 and -2 only on the tiles it kept, the others 0). RG16F. The compute path's holds one
+    /// value a pixel (R16F where the device stores half floats, else R32F): the distance
+    /// inside the fattened shadow, and elsewhere -0.25 where a shadow can still fall (the
+    /// mask's early out off), -1 where none can (its clear value), -2 on non-receivers, -3
+    /// where nothing was drawn. [`crate::debug::distance_and_mask`] reads either.
     DistanceMap,
-    /// Raw PCF or PCSS visibility (R16F; the compute path's is R32F).
+    /// Raw PCF or PCSS visibility (R16F; the compute path's is R32F where the device cannot
+    /// store half floats, [`crate::ExecutionSettings::half_intermediates`]).
     Visibility,
     /// Blurred visibility (R16F). After the distance map, the blur writes the light's layer
     /// directly: this is then the whole visibility array ([`Shadows::visibility_texture`](crate::Shadows::visibility_texture)).

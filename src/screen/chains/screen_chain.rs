@@ -201,7 +201,8 @@ pub(crate) trait MethodChain: wgpu::WasmNotSendSync {
         None
     }
 
-    /// The distance map (R distance, G mask; the compute path's B its classification).
+    /// The distance map (R distance, G mask; the compute path's one value, distance or code,
+    /// [`crate::LightTexture::DistanceMap`]).
     fn distance_texture(&self) -> Option<&wgpu::Texture> {
         None
     }
