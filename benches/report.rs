@@ -40,6 +40,11 @@ pub struct Config {
     /// Two view sizes at which the memory table measures what `Shadows` holds: the screen-space
     /// bytes per pixel are the difference between them, the light maps the rest.
     pub memory_sizes: [(u32, u32); 2],
+    /// The size the "Growth" section times every method at (3840x2160).
+    pub large_size: (u32, u32),
+    /// The caster sweep: how many times the teapot's triangles are each split in four (0: its
+    /// 9k triangles; 2: 147k; 4: 2.4M), timed at the largest of `sizes`.
+    pub caster_levels: Vec<u32>,
     pub out_dir: PathBuf,
 }
 
@@ -59,6 +64,8 @@ impl Config {
             metric_size: (400, 320),
             light_sizes: vec![0.5, 2.0, 8.0],
             memory_sizes: [(1920, 1080), (3840, 2160)],
+            large_size: (3840, 2160),
+            caster_levels: vec![0, 2, 4],
             out_dir,
         }
     }
@@ -110,6 +117,8 @@ impl Config {
             metric_size: (96, 72),
             light_sizes: vec![2.0],
             memory_sizes: [(160, 90), (320, 180)],
+            large_size: (320, 180),
+            caster_levels: vec![0, 1],
             ..Self::quick(out_dir)
         }
     }
@@ -226,6 +235,24 @@ pub struct Embedding {
     /// `ours`, `pcss` and `traditional` with their screen-space passes as compute passes and as
     /// draws.
     pub compute: Vec<ComputeRun>,
+    /// Every method at [`Config::large_size`].
+    pub large: Vec<GrowthRun>,
+    /// Every method with the teapot's triangles split [`Config::caster_levels`] times.
+    pub casters: Vec<GrowthRun>,
+}
+
+/// One method (medium) on the teapot's view 0, light turning (every map drawn every frame): at
+/// [`Config::large_size`], or at the largest of [`Config::sizes`] with the teapot's triangles
+/// split into more (the same shape, so the same shadow: only the geometry's cost grows).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct GrowthRun {
+    pub method: String,
+    pub width: u32,
+    pub height: u32,
+    /// The casters' triangles.
+    pub triangles: usize,
+    pub frame_ms: f64,
+    pub own_ms: f64,
 }
 
 /// One method (medium) on the teapot's view 0, light turning, with the screen-space passes as
@@ -578,8 +605,109 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
     embedding.facing = measure_facing(&gpu, &teapot, &camera, size, config)?;
     embedding.memory = measure_memory(&gpu, &teapot, &camera, config)?;
     embedding.compute = measure_compute(&gpu, &teapot, &camera, size, config)?;
+    (embedding.large, embedding.casters) = measure_growth(&gpu, &teapot, &camera, size, config)?;
     write_report(config, &device_name, times_on_gpu(&gpu), &runs, &embedding)?;
     Ok(runs)
+}
+
+/// The methods (medium) on `scene` from `camera`, light turning: at [`Config::large_size`], and
+/// at `size` with the scene's largest mesh split [`Config::caster_levels`] times.
+fn measure_growth(
+    gpu: &HeadlessGpu,
+    scene: &penumbra::Scene,
+    camera: &penumbra::Camera,
+    size: (u32, u32),
+    config: &Config,
+) -> Result<(Vec<GrowthRun>, Vec<GrowthRun>)> {
+    let methods = [
+        ShadowMethod::Ours,
+        ShadowMethod::Traditional,
+        ShadowMethod::Pcss,
+        ShadowMethod::Hard,
+    ];
+    let timed =
+        |scene: &penumbra::Scene, method: ShadowMethod, (width, height): (u32, u32)| -> Result<GrowthRun> {
+            let settings = ShadowSettings::preset(method, Quality::Medium);
+            let t = time_frames(gpu, scene, camera, settings, (width, height), config)?;
+            let run = GrowthRun {
+                method: method.name().into(),
+                width,
+                height,
+                triangles: caster_triangles(scene),
+                frame_ms: t.frame_ms,
+                own_ms: t.own_ms,
+            };
+            println!(
+                "growth: {} at {width}x{height}, {} caster triangles: frame {:.2} ms, own {:.2} ms",
+                run.method, run.triangles, run.frame_ms, run.own_ms
+            );
+            Ok(run)
+        };
+    let large = methods
+        .iter()
+        .map(|m| timed(scene, *m, config.large_size))
+        .collect::<Result<Vec<_>>>()?;
+    let largest = (0..scene.meshes.len())
+        .max_by_key(|&m| scene.meshes[m].indices.len())
+        .context("a mesh")?;
+    let mut casters = Vec::new();
+    for &levels in &config.caster_levels {
+        let mut split = scene.clone();
+        split.meshes[largest] = split_triangles(&scene.meshes[largest], levels)?;
+        for m in methods {
+            casters.push(timed(&split, m, size)?);
+        }
+    }
+    Ok((large, casters))
+}
+
+/// The triangles of the scene's casting instances.
+fn caster_triangles(scene: &penumbra::Scene) -> usize {
+    scene
+        .instances
+        .iter()
+        .filter(|i| i.caster)
+        .map(|i| scene.meshes[i.mesh].indices.len() / 3)
+        .sum()
+}
+
+/// `mesh` with each triangle split into four at its edges' midpoints, `levels` times: the same
+/// surface (flat between the old vertices), 4^levels times the triangles. Positions, normals
+/// (renormalised) and the first UV set are carried; the mesh's other sets are left out (the
+/// sweep times geometry, not shading).
+fn split_triangles(mesh: &penumbra::Mesh, levels: u32) -> Result<penumbra::Mesh> {
+    let (mut positions, mut normals, mut uvs, mut indices) = (
+        mesh.positions.clone(),
+        mesh.normals.clone(),
+        mesh.uvs.clone(),
+        mesh.indices.clone(),
+    );
+    for _ in 0..levels {
+        let mut midpoints: std::collections::HashMap<(u32, u32), u32> = Default::default();
+        let mut midpoint = |a: u32, b: u32| {
+            *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let (a, b) = (a as usize, b as usize);
+                positions.push((positions[a] + positions[b]) * 0.5);
+                normals.push((normals[a] + normals[b]).normalize_or(normals[a]));
+                uvs.push((uvs[a] + uvs[b]) * 0.5);
+                (positions.len() - 1) as u32
+            })
+        };
+        let mut split = Vec::with_capacity(indices.len() * 4);
+        for t in indices.chunks_exact(3) {
+            let (a, b, c) = (t[0], t[1], t[2]);
+            let (ab, bc, ca) = (midpoint(a, b), midpoint(b, c), midpoint(c, a));
+            split.extend_from_slice(&[a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca]);
+        }
+        indices = split;
+    }
+    Ok(penumbra::Mesh::new(
+        mesh.name.clone(),
+        positions,
+        Some(normals),
+        Some(uvs),
+        indices,
+    )?)
 }
 
 /// What `Shadows` holds for one and for eight spot lights of each real-time method (medium),
@@ -1286,6 +1414,8 @@ fn measure_embedding(
         facing: Vec::new(),
         memory: Vec::new(),
         compute: Vec::new(),
+        large: Vec::new(),
+        casters: Vec::new(),
         geometry_passes,
     })
 }
@@ -1362,6 +1492,7 @@ fn write_report(
     write_traditional_targets(&mut md, config, runs, preset, largest)?;
     write_pcss_and_hard_targets(&mut md, config, runs, preset, largest)?;
     write_size_and_front_targets(&mut md, config, runs, largest)?;
+    write_matched_error(&mut md, config, runs, largest)?;
     write_added_light_targets(&mut md, embedding)?;
     write_light_sweep(&mut md, config, runs, largest)?;
     write_embedding(&mut md, embedding)?;
@@ -1374,6 +1505,7 @@ fn write_report(
     write_room(&mut md, config, embedding)?;
     write_area(&mut md, config, embedding)?;
     write_memory(&mut md, config, &embedding.memory)?;
+    write_growth(&mut md, config, embedding)?;
     std::fs::write(config.out_dir.join("report.md"), &md)?;
     std::fs::write(
         config.out_dir.join("embedding.json"),
@@ -2242,6 +2374,9 @@ fn plot_tradeoff(path: &Path, runs: &[Run], size: (u32, u32)) -> Result<()> {
 /// At most this many bytes a pixel of screen-space memory per light after the first (issue 39).
 const ADDED_LIGHT_BYTES_PER_PIXEL: f64 = 2.0;
 
+/// At most this many bytes a pixel of screen-space memory for one light (issue 64).
+const ONE_LIGHT_BYTES_PER_PIXEL: f64 = 12.0;
+
 /// The "Area light" section: the room's ceiling panel against a sphere light of its area.
 fn write_area(md: &mut String, config: &Config, embedding: &Embedding) -> Result<()> {
     use std::fmt::Write;
@@ -2324,6 +2459,197 @@ fn write_memory(md: &mut String, config: &Config, memory: &[MemoryRun]) -> Resul
             // The bytes are whole: a difference of totals divided by pixels leaves a rounding
             // error of about 1e-12, which must not decide the verdict.
             verdict(added <= ADDED_LIGHT_BYTES_PER_PIXEL + 1e-6)
+        )?;
+        writeln!(
+            md,
+            "- `ours`: at most {ONE_LIGHT_BYTES_PER_PIXEL} bytes a pixel of screen-space memory for one light: {:.2} -> {}",
+            one.bytes_per_pixel,
+            verdict(one.bytes_per_pixel <= ONE_LIGHT_BYTES_PER_PIXEL + 1e-6)
+        )?;
+    }
+    Ok(())
+}
+
+/// The "Growth" section: every method at [`Config::large_size`], and the caster sweep with its
+/// target (`ours`' own cost over PCSS's no higher with the most triangles than with the fewest).
+fn write_growth(md: &mut String, config: &Config, embedding: &Embedding) -> Result<()> {
+    use std::fmt::Write;
+    let (w, h) = config.large_size;
+    writeln!(
+        md,
+        "\n## Growth\n\nTeapot, view 0, medium, light turning (every map drawn every frame). At {w}x{h}:\n"
+    )?;
+    writeln!(
+        md,
+        "| method | frame ms | own cost ms | frame / `hard`'s | own cost / `pcss`' |"
+    )?;
+    writeln!(md, "|---|---|---|---|---|")?;
+    let of = |runs: &[GrowthRun], method: &str, triangles: Option<usize>| {
+        runs.iter()
+            .find(|r| r.method == method && triangles.is_none_or(|t| r.triangles == t))
+            .cloned()
+    };
+    let large = &embedding.large;
+    for r in large {
+        let hard = of(large, "hard", None).map_or(f64::NAN, |h| r.frame_ms / h.frame_ms);
+        let pcss = of(large, "pcss", None).map_or(f64::NAN, |p| r.own_ms / p.own_ms);
+        writeln!(
+            md,
+            "| {} | {:.2} | {:.2} | {hard:.3} | {pcss:.3} |",
+            r.method, r.frame_ms, r.own_ms
+        )?;
+    }
+    let mut counts: Vec<usize> = embedding.casters.iter().map(|r| r.triangles).collect();
+    counts.dedup();
+    let Some(first) = embedding.casters.first() else {
+        return Ok(());
+    };
+    writeln!(
+        md,
+        "\nThe caster sweep at {}x{}: the teapot's triangles split in four {} times (the same shape, \
+         so the same shadow; only the geometry's cost grows). Frame / own cost, ms:\n",
+        first.width,
+        first.height,
+        config
+            .caster_levels
+            .iter()
+            .map(u32::to_string)
+            .collect::<Vec<_>>()
+            .join(", ")
+    )?;
+    let mut methods: Vec<&str> = Vec::new();
+    for r in &embedding.casters {
+        if !methods.contains(&r.method.as_str()) {
+            methods.push(&r.method);
+        }
+    }
+    writeln!(
+        md,
+        "| caster triangles | {} | `ours`' own cost / `pcss`' |",
+        methods.join(" | ")
+    )?;
+    writeln!(md, "|---|{}---|", "---|".repeat(methods.len()))?;
+    let mut ratios = Vec::new();
+    for &t in &counts {
+        let cells: Vec<String> = methods
+            .iter()
+            .map(|m| {
+                of(&embedding.casters, m, Some(t))
+                    .map_or("-".into(), |r| format!("{:.2} / {:.2}", r.frame_ms, r.own_ms))
+            })
+            .collect();
+        let ratio = match (
+            of(&embedding.casters, "ours", Some(t)),
+            of(&embedding.casters, "pcss", Some(t)),
+        ) {
+            (Some(o), Some(p)) => o.own_ms / p.own_ms,
+            _ => f64::NAN,
+        };
+        ratios.push((t, ratio));
+        writeln!(md, "| {t} | {} | {ratio:.3} |", cells.join(" | "))?;
+    }
+    if let (Some(few), Some(many)) = (ratios.first(), ratios.last())
+        && ratios.len() > 1
+    {
+        writeln!(
+            md,
+            "\n- `ours`' own cost over `pcss`' no higher at {} caster triangles than at {}: {:.3} against {:.3} -> {}",
+            many.0,
+            few.0,
+            many.1,
+            few.1,
+            verdict(many.1 <= few.1)
+        )?;
+    }
+    Ok(())
+}
+
+/// Per scene at `size`: what PCSS costs at `ours` medium's penumbra RMSE (its presets' own cost
+/// against their error, means over the views, read linearly between the two presets that bracket
+/// `ours`' error), and the target on PCSS's most accurate preset measured: `ours` medium at most
+/// half its own cost, at a lower error.
+fn write_matched_error(md: &mut String, config: &Config, runs: &[Run], size: (u32, u32)) -> Result<()> {
+    use std::fmt::Write;
+    for &scene in &config.scenes {
+        // Mean (penumbra RMSE, own cost) of a method and preset over the views.
+        let mean = |method: &str, preset: &'static str| {
+            let hits: Vec<&Run> = runs
+                .iter()
+                .filter(|r| {
+                    r.scene == scene
+                        && r.method == method
+                        && r.preset == preset
+                        && r.light_size_deg.is_none()
+                        && (r.width, r.height) == size
+                })
+                .collect();
+            (!hits.is_empty()).then(|| {
+                let n = hits.len() as f64;
+                (
+                    hits.iter()
+                        .map(|r| r.penumbra_rmse.unwrap_or(f32::NAN) as f64)
+                        .sum::<f64>()
+                        / n,
+                    hits.iter().map(|r| r.own_ms).sum::<f64>() / n,
+                    preset,
+                )
+            })
+        };
+        let Some((ours_error, ours_cost, _)) = mean("ours", "medium") else {
+            continue;
+        };
+        // PCSS's presets from the least accurate to the most.
+        let mut pcss: Vec<(f64, f64, &str)> = config
+            .presets
+            .iter()
+            .filter_map(|p| mean("pcss", p.name()))
+            .collect();
+        pcss.sort_by(|a, b| b.0.total_cmp(&a.0));
+        let Some(&(best_error, best_cost, best)) = pcss.last() else {
+            continue;
+        };
+        let matched = pcss.iter().position(|p| p.0 <= ours_error).map(|i| {
+            if i == 0 {
+                let (error, ms, preset) = pcss[0];
+                (
+                    ms,
+                    format!(
+                        "PCSS's least accurate preset measured, `{preset}`, reaches it already ({error:.4} at {ms:.2} ms)"
+                    ),
+                )
+            } else {
+                let (a, b) = (pcss[i - 1], pcss[i]);
+                let t = (a.0 - ours_error) / (a.0 - b.0).max(1e-12);
+                let ms = a.1 + t * (b.1 - a.1);
+                (
+                    ms,
+                    format!("PCSS needs {ms:.2} ms for it (between `{}` and `{}`)", a.2, b.2),
+                )
+            }
+        });
+        writeln!(
+            md,
+            "- {scene} at {}x{}: `ours` medium's penumbra RMSE {ours_error:.4} at {ours_cost:.2} ms of own cost; {}",
+            size.0,
+            size.1,
+            match matched {
+                Some((ms, said)) => format!("{said}: `ours` takes {:.3}x that", ours_cost / ms.max(1e-9)),
+                None => format!(
+                    "PCSS does not reach it: its most accurate preset measured, `{best}`, has {best_error:.4} at {best_cost:.2} ms (`ours` takes {:.3}x that)",
+                    ours_cost / best_cost.max(1e-9)
+                ),
+            }
+        )?;
+        writeln!(
+            md,
+            "  - `ours` medium's own cost at most 0.5x PCSS `{best}`'s, at a lower penumbra RMSE: {:.3}x, {ours_error:.4} against {best_error:.4} -> {}{}",
+            ours_cost / best_cost.max(1e-9),
+            verdict(ours_cost <= 0.5 * best_cost && ours_error < best_error),
+            if best == "ultra" {
+                ""
+            } else {
+                " (the target names `ultra`, which this mode does not run)"
+            }
         )?;
     }
     Ok(())

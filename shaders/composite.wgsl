@@ -36,7 +36,8 @@ struct ShadedLights {
     _pad0: u32,
     _pad1: u32,
     _pad2: u32,
-    lights: array<ShadedLight, 8>,
+    // `penumbra::MAX_LIGHTS`
+    lights: array<ShadedLight, 16>,
 }
 
 @group(0) @binding(1) var visibility: texture_2d_array<f32>;
@@ -104,7 +105,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     var light = indirect;
     var specular = indirect * r.f0;
     let pixel = vec2<i32>(in.clip.xy);
-    for (var k = 0u; k < min(shaded.count, 8u); k++) {
+    for (var k = 0u; k < min(shaded.count, 16u); k++) {
         let l = shaded.lights[k];
         var to_light = -l.direction;
         var cone = 1.0;

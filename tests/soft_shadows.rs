@@ -211,7 +211,8 @@ fn mask_contains_every_hard_shadowed_pixel() {
             for (i, (a, b)) in hard.pixels().zip(without.pixels()).enumerate() {
                 if (a[1] as f32) < 0.9 * b[1] as f32 {
                     shadowed += 1;
-                    if distance[i * channels + 1] < 0.5 {
+                    let px = &distance[i * channels..(i + 1) * channels];
+                    if penumbra::debug::distance_and_mask(px).1 < 0.5 {
                         outside += 1;
                     }
                 }
@@ -263,7 +264,8 @@ fn every_fattened_map_holds_the_references_penumbrae() {
                 if r.is_some_and(|r| r > 0.02 && r < 0.98) {
                     penumbra += 1;
                     // The mask: 1 inside, 0 outside, below 0 where nothing receives.
-                    if distance[i * channels + 1] == 0.0 {
+                    let px = &distance[i * channels..(i + 1) * channels];
+                    if penumbra::debug::distance_and_mask(px).1 == 0.0 {
                         outside += 1;
                     }
                 }

@@ -14,7 +14,7 @@ use bevy::render::renderer::RenderDevice;
 use bevy::render::storage::ShaderBuffer;
 use bevy::shader::ShaderRef;
 
-use crate::PenumbraCamera;
+use crate::{PenumbraCamera, RectLightShadows};
 
 /// Bevy's `StandardMaterial` with penumbra's shadows: the same PBR shading, with the direct
 /// term of each light penumbra shades scaled by that light's visibility at the pixel.
@@ -142,13 +142,15 @@ fn bind_targets<M: PenumbraBindings>(
 #[derive(Component, Clone, Copy, Debug, Default)]
 pub struct KeepStandardMaterial;
 
-/// The textures and buffers penumbra's shading reads: the visibility array (one layer per
-/// light, the largest penumbra camera's target size) and the light table.
+/// The textures and buffers penumbra's shading reads: the visibility array (a layer per
+/// shadowed light, the largest penumbra camera's target size) and the light table.
 #[derive(Resource)]
 pub struct PenumbraTargets {
     pub(crate) visibility: Handle<Image>,
     pub(crate) lights: Handle<ShaderBuffer>,
     pub(crate) size: UVec2,
+    /// The visibility array's layers ([`visibility_layers`]).
+    pub(crate) layers: u32,
     /// The array takes `STORAGE_BINDING` too, so penumbra's compute passes write its layers
     /// themselves ([`penumbra::Shadows::visibility_usages`]); decided once the render device
     /// is known.
@@ -158,9 +160,11 @@ pub struct PenumbraTargets {
 
 impl FromWorld for PenumbraTargets {
     fn from_world(world: &mut World) -> Self {
-        let visibility = world
-            .resource_mut::<Assets<Image>>()
-            .add(visibility_image(UVec2::ONE, false));
+        let visibility = world.resource_mut::<Assets<Image>>().add(visibility_image(
+            UVec2::ONE,
+            visibility_layers(0),
+            false,
+        ));
         let lights = world
             .resource_mut::<Assets<ShaderBuffer>>()
             .add(ShaderBuffer::new(
@@ -171,6 +175,7 @@ impl FromWorld for PenumbraTargets {
             visibility,
             lights,
             size: UVec2::ONE,
+            layers: visibility_layers(0),
             storage: None,
             converted: HashMap::default(),
         }
@@ -178,8 +183,8 @@ impl FromWorld for PenumbraTargets {
 }
 
 impl PenumbraTargets {
-    /// The visibility array penumbra's passes write and the materials read (`R16Float`, one
-    /// layer per light). Where the render device lets a compute pass store half floats
+    /// The visibility array penumbra's passes write and the materials read (`R16Float`, a
+    /// layer per shadowed light: [`visibility_layers`] of them). Where the render device lets a compute pass store half floats
     /// ([`penumbra::Shadows::visibility_usages`]) it has `STORAGE_BINDING` too, and penumbra's
     /// compute passes write its layers themselves.
     pub fn visibility(&self) -> &Handle<Image> {
@@ -195,17 +200,29 @@ impl PenumbraTargets {
     }
 }
 
-/// The visibility array: `R16Float`, [`penumbra::MAX_LIGHTS`] layers, written by penumbra's
-/// passes (its content before the first frame is never read: the light table is empty).
-/// With `storage`, penumbra's compute passes can write it (the device stores half floats).
-fn visibility_image(size: UVec2, storage: bool) -> Image {
+/// The visibility array's layers for `lights` shadowed lights: at least that many, at most
+/// [`penumbra::MAX_LIGHTS`], in powers of two from 2 (a light more or less does not make a
+/// new array each time; a single layer would be a plain 2D texture on WebGL2). Each layer is
+/// 2 bytes a pixel, so an app with one light keeps 4 a pixel where [`penumbra::MAX_LIGHTS`]
+/// layers would take 32.
+pub(crate) fn visibility_layers(lights: usize) -> u32 {
+    lights
+        .clamp(2, penumbra::MAX_LIGHTS)
+        .next_power_of_two()
+        .min(penumbra::MAX_LIGHTS) as u32
+}
+
+/// The visibility array: `R16Float`, `layers` layers, written by penumbra's passes (its content
+/// before the first frame is never read: the light table is empty). With `storage`,
+/// penumbra's compute passes can write it (the device stores half floats).
+fn visibility_image(size: UVec2, layers: u32, storage: bool) -> Image {
     let mut image = Image::new_target_texture(size.x, size.y, TextureFormat::R16Float, None);
     image.data = None;
     image.texture_descriptor.label = Some("penumbra visibility");
     image.texture_descriptor.size = Extent3d {
         width: size.x,
         height: size.y,
-        depth_or_array_layers: penumbra::MAX_LIGHTS as u32,
+        depth_or_array_layers: layers,
     };
     image.texture_descriptor.dimension = TextureDimension::D2;
     image.texture_descriptor.usage = TextureUsages::TEXTURE_BINDING
@@ -279,11 +296,32 @@ fn forward(base: &StandardMaterial) -> StandardMaterial {
     base
 }
 
+/// The lights that ask for shadows (`shadow_maps_enabled`, [`RectLightShadows`]): the most
+/// penumbra may shade.
+#[derive(bevy::ecs::system::SystemParam)]
+pub(crate) struct ShadowedLights<'w, 's> {
+    suns: Query<'w, 's, &'static DirectionalLight>,
+    spots: Query<'w, 's, &'static SpotLight>,
+    points: Query<'w, 's, &'static PointLight>,
+    rects: Query<'w, 's, (), (With<RectLight>, With<RectLightShadows>)>,
+}
+
+impl ShadowedLights<'_, '_> {
+    fn count(&self) -> usize {
+        self.suns.iter().filter(|l| l.shadow_maps_enabled).count()
+            + self.spots.iter().filter(|l| l.shadow_maps_enabled).count()
+            + self.points.iter().filter(|l| l.shadow_maps_enabled).count()
+            + self.rects.iter().count()
+    }
+}
+
 /// Keeps the visibility array the size of the largest penumbra camera's target (each camera's
-/// passes write their visibility into its top-left corner before that camera's main pass). A
-/// new size makes a new image, which every [`PenumbraMaterial`] is pointed at.
+/// passes write their visibility into its top-left corner before that camera's main pass),
+/// with a layer for each light that asks for shadows ([`visibility_layers`]). A new size or
+/// layer count makes a new image, which every [`PenumbraMaterial`] is pointed at.
 pub(crate) fn fit_targets(
     cameras: Query<(&Camera, &PenumbraCamera)>,
+    lights: ShadowedLights,
     mut images: ResMut<Assets<Image>>,
     mut materials: ResMut<Assets<PenumbraMaterial>>,
     mut targets: ResMut<PenumbraTargets>,
@@ -297,7 +335,8 @@ pub(crate) fn fit_targets(
     else {
         return;
     };
-    if size == targets.size || size.x == 0 || size.y == 0 {
+    let layers = visibility_layers(lights.count());
+    if (size == targets.size && layers == targets.layers) || size.x == 0 || size.y == 0 {
         return;
     }
     if targets.storage.is_none()
@@ -309,10 +348,11 @@ pub(crate) fn fit_targets(
     let storage = targets.storage.unwrap_or(false);
     let old = std::mem::replace(
         &mut targets.visibility,
-        images.add(visibility_image(size, storage)),
+        images.add(visibility_image(size, layers, storage)),
     );
     images.remove(&old);
     targets.size = size;
+    targets.layers = layers;
     for (_, material) in materials.iter_mut() {
         material.extension.visibility = targets.visibility.clone();
     }

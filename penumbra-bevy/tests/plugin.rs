@@ -540,6 +540,67 @@ fn a_moving_box_moves_its_shadow() {
     );
 }
 
+/// The visibility array's layers follow the lights that ask for shadows (2, then 8 for six
+/// suns, then 2 again), and a light whose slot is left past the array's layers when others are
+/// removed is still shadowed: the frame is the one its lights give when their slots fit.
+#[test]
+fn the_visibility_array_grows_and_shrinks_with_the_lights() {
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let mut scene = box_above_plane(sun(4.0), false);
+    let layers = |scene: &Scene| {
+        let world = scene.headless.app.world();
+        let handle = world.resource::<penumbra_bevy::PenumbraTargets>().visibility();
+        let image = world.resource::<Assets<Image>>().get(handle).unwrap();
+        image.texture_descriptor.size.depth_or_array_layers
+    };
+    // A dim second sun from the other side, with a shadow of its own.
+    let extra = |k: usize| {
+        (
+            DirectionalLight {
+                illuminance: 300.0,
+                shadow_maps_enabled: true,
+                ..default()
+            },
+            Transform::default().looking_to(Vec3::new(-0.5, -1.0, 0.1 * k as f32), Vec3::Y),
+        )
+    };
+    let lit = scene.headless.render(6);
+    assert_eq!(layers(&scene), 2, "one light");
+    let extras: Vec<Entity> = (0..5)
+        .map(|k| scene.headless.app.world_mut().spawn(extra(k)).id())
+        .collect();
+    scene.headless.render(6);
+    assert_eq!(layers(&scene), 8, "six lights");
+    // The first four extra suns go: the last keeps its slot, 5, past the two layers.
+    for e in &extras[..4] {
+        scene.headless.app.world_mut().despawn(*e);
+    }
+    let high_slot = scene.headless.render(6);
+    assert_eq!(layers(&scene), 2, "two lights");
+    // The same two lights with slots 0 and 1.
+    scene.headless.app.world_mut().despawn(extras[4]);
+    scene.headless.app.world_mut().spawn(extra(4));
+    let low_slot = scene.headless.render(6);
+    save("high_slot.png", &high_slot);
+    save("low_slot.png", &low_slot);
+    let messages = scene.messages();
+    assert!(!messages.iter().any(|m| m.contains("layers")), "{messages:?}");
+    let differ = high_slot
+        .pixels()
+        .zip(low_slot.pixels())
+        .filter(|(a, b)| (0..3).any(|c| a.0[c].abs_diff(b.0[c]) > 2))
+        .count();
+    // The second sun changed the frame: its light and its shadow of the box.
+    let changed = high_slot
+        .pixels()
+        .zip(lit.pixels())
+        .filter(|(a, b)| (0..3).any(|c| a.0[c].abs_diff(b.0[c]) > 8))
+        .count();
+    println!("{differ} pixels differ by more than 2; {changed} differ from one sun's frame by over 8");
+    assert!(changed > 1000, "the second sun shows in {changed} pixels");
+    assert_eq!(differ, 0, "the slots changed the frame");
+}
+
 #[test]
 fn a_spot_lights_shadow_lies_where_bevys_does_even_from_a_wider_vertex_layout() {
     let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
@@ -593,12 +654,12 @@ fn misuse_is_reported_and_leaves_bevys_shadows() {
     let frame = scene.headless.render(6);
     save("too_many_lights.png", &frame);
     let messages = scene.messages();
-    assert!(
-        messages
-            .iter()
-            .any(|m| m.contains("9 shadowed lights: penumbra shadows 8, the other 1 keep Bevy's")),
-        "{messages:?}"
+    let over = format!(
+        "{} shadowed lights: penumbra shadows {}, the other 1 keep Bevy's",
+        penumbra::MAX_LIGHTS + 1,
+        penumbra::MAX_LIGHTS
     );
+    assert!(messages.iter().any(|m| m.contains(&over)), "{messages:?}");
 
     // A camera with a `Name` is named by it.
     scene

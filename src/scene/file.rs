@@ -261,7 +261,7 @@ pub struct SceneFile {
     /// The one light, or the key light when `lights` lists more.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub light: Option<Light>,
-    /// The lights (at most 8), the first the key light; use one of `light`, `lights` and
+    /// The lights (at most 16, [`crate::MAX_LIGHTS`]), the first the key light; use one of `light`, `lights` and
     /// `lights_from`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub lights: Vec<Light>,
@@ -814,9 +814,9 @@ mod tests {
             &format!("light: {sun}, lights: [{sun}],"),
         );
         let neither = MINI.replace(&format!("light: {sun},"), "");
-        let nine = MINI.replace(
+        let seventeen = MINI.replace(
             &format!("light: {sun}"),
-            &format!("lights: [{}]", [sun; 9].join(", ")),
+            &format!("lights: [{}]", [sun; 17].join(", ")),
         );
         let bad = MINI.replace(
             &format!("light: {sun}"),
@@ -825,7 +825,7 @@ mod tests {
         for (text, expected) in [
             (both, "more than one of `light`, `lights`"),
             (neither, "no light"),
-            (nine, "at most 8"),
+            (seventeen, "at most 16"),
             (bad, "light 1"),
         ] {
             let file = SceneFile::parse(&text, Path::new("l.ron")).unwrap();

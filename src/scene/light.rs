@@ -5,8 +5,9 @@
 use glam::Vec3;
 
 /// The most lights one frame shades: the lights one [`crate::Shadows`] holds (layers of its
-/// visibility array), and the lights a scene may have.
-pub const MAX_LIGHTS: usize = 8;
+/// visibility array), and the lights a scene may have. 16: the spot lights of Bevy's
+/// `spotlight` example. Each light has its own maps and chain of passes (`docs/lights.md`).
+pub const MAX_LIGHTS: usize = 16;
 
 /// A light that casts shadows. Its size sets how soft the shadows are.
 ///

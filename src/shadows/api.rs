@@ -286,10 +286,15 @@ impl Shadows {
         self.state(id).map(|s| s.layers)
     }
 
-    /// Removes a light; its layer keeps its last content until the slot is reused.
+    /// Removes a light; its layer keeps its last content until the slot is reused. The slots
+    /// past the highest one still in use are given up, so an engine's visibility target
+    /// ([`Shadows::set_visibility_target`]) needs layers only up to that one.
     pub fn remove_light(&mut self, id: LightId) -> Result<()> {
         self.state_mut(id)?;
         self.lights[id.0 as usize] = None;
+        while self.lights.last().is_some_and(Option::is_none) {
+            self.lights.pop();
+        }
         Ok(())
     }
 
@@ -672,7 +677,8 @@ impl Shadows {
     /// Writes the visibility into the engine's own texture from the next frame on (`None`:
     /// into one of penumbra's). It must be an `R16Float` 2D texture with `RENDER_ATTACHMENT`
     /// usage; each frame, its size must be the depth's and it needs a layer for every light
-    /// slot ([`LightId::layer`]). Layers of slots with no light are left as they are. With
+    /// slot up to the highest in use ([`LightId::layer`]). Layers of slots with no light are
+    /// left as they are. With
     /// `STORAGE_BINDING` too, where the device allows it ([`Shadows::visibility_usages`]),
     /// the compute passes write its layers themselves, saving a draw per light.
     pub fn set_visibility_target(&mut self, target: Option<wgpu::Texture>) -> Result<()> {

@@ -188,7 +188,7 @@ fn misuse_of_several_lights_is_refused_with_a_clear_error() {
     // More than MAX_LIGHTS.
     let crowded = scene(a, vec![b; penumbra::MAX_LIGHTS]);
     let err = crowded.validate().unwrap_err().to_string();
-    assert!(err.contains("lights") && err.contains("at most 8"), "{err}");
+    assert!(err.contains("lights") && err.contains("at most 16"), "{err}");
     let settings = ShadowSettings::preset(ShadowMethod::Ours, penumbra::Quality::Medium);
     let renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
     let mut gpu_scene =
@@ -197,7 +197,7 @@ fn misuse_of_several_lights_is_refused_with_a_clear_error() {
         .set_more_lights(vec![b; penumbra::MAX_LIGHTS])
         .unwrap_err()
         .to_string();
-    assert!(err.contains("at most 8"), "{err}");
+    assert!(err.contains("at most 16"), "{err}");
     // An invalid further light names its field.
     let bad = sun(Vec3::ZERO, 1.0);
     assert!(gpu_scene.set_more_lights(vec![b, bad]).is_err());

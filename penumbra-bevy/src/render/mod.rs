@@ -341,8 +341,11 @@ fn prepare_shadows(
             (**source).clone()
         };
         let size = (depth.width(), depth.height());
-        // Straight into the material's visibility where it fits; otherwise copied into it.
-        let direct = (shared.texture.width(), shared.texture.height()) == size;
+        // Straight into the material's visibility where it fits, its size and a layer for each
+        // of this camera's light slots (every light its shadows hold); otherwise copied into it.
+        let layers = shared.texture.depth_or_array_layers();
+        let direct = (shared.texture.width(), shared.texture.height()) == size
+            && view.lights.values().all(|(id, ..)| id.layer() < layers);
         if let Err(e) = view
             .shadows
             .set_visibility_target(direct.then(|| (*shared.texture).clone()))
@@ -351,6 +354,15 @@ fn prepare_shadows(
             continue;
         }
         view.copied = (!direct).then_some(size);
+        if !direct && view.copy_in_table_order(layers) {
+            messages.push(format!(
+                "penumbra: {}: {} shadowed lights this frame, but the visibility array has {layers} \
+                 layers; the others are shaded unshadowed until it grows",
+                view.label,
+                view.layers.len()
+            ));
+        }
+        queue.write_buffer(&view.table_buffer, 0, bytemuck::bytes_of(&view.table));
         let camera_matrices = CameraMatrices {
             view: mat4(extracted_view.world_from_view.to_matrix().inverse()),
             projection: mat4(whole_target(
@@ -395,6 +407,24 @@ fn prepare_shadows(
     }
     for message in messages {
         state.log_once(message);
+    }
+}
+
+impl ViewShadows {
+    /// Where this camera's visibility is copied into the material's array: each light's row of
+    /// the table names the layer at its own index, so the copies fill layers 0, 1, ... whatever
+    /// the slots (a light's slot can lie past the array's layers, which grow with the lights'
+    /// count: after lights are removed the others keep theirs). Rows past the array's `layers`
+    /// are left out (the array grows the next frame); returns whether any was.
+    fn copy_in_table_order(&mut self, layers: u32) -> bool {
+        let rows = (self.table.count).min(layers);
+        let cut = rows < self.table.count;
+        self.table.count = rows;
+        self.layers.truncate(rows as usize);
+        for (row, light) in self.table.lights[..rows as usize].iter_mut().enumerate() {
+            light.layer = row as u32;
+        }
+        cut
     }
 }
 
@@ -488,19 +518,19 @@ fn penumbra_pass(
             height: size.1.min(shared.texture.height()),
             depth_or_array_layers: 1,
         };
-        for layer in &view.layers {
-            let at = |texture| wgpu::TexelCopyTextureInfo {
+        // Each light's slot into the layer its table row names (`copy_in_table_order`).
+        for (row, slot) in view.layers.iter().enumerate() {
+            let at = |texture, z| wgpu::TexelCopyTextureInfo {
                 texture,
                 mip_level: 0,
-                origin: wgpu::Origin3d {
-                    x: 0,
-                    y: 0,
-                    z: *layer,
-                },
+                origin: wgpu::Origin3d { x: 0, y: 0, z },
                 aspect: wgpu::TextureAspect::All,
             };
-            ctx.command_encoder()
-                .copy_texture_to_texture(at(own), at(&shared.texture), extent);
+            ctx.command_encoder().copy_texture_to_texture(
+                at(own, *slot),
+                at(&shared.texture, row as u32),
+                extent,
+            );
         }
     }
     if let Some(span) = span {
