@@ -231,6 +231,9 @@ fn main() -> Result<()> {
         scene.exposure.validate().context("--ev100")?;
     }
     let camera = scene.view(args.view).context("--view")?;
+    // The raw PCF view reads `ours`' visibility before the blur, kept apart only when asked.
+    let mut settings = settings;
+    settings.execution.raw_visibility |= debug_view == Some(DebugView::Pcf);
     let gpu = HeadlessGpu::new()?;
     eprintln!("adapter: {}", gpu.describe());
     let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings)?;

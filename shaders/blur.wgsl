@@ -296,6 +296,18 @@ fn cs_layer(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) gr
     }
 }
 
+// The vertical axis where the variable PCF wrote the light's layer, which the horizontal axis
+// read (`penumbra::Chain::pcf_in_layer`, the distance-map method only): the result into the layer
+// alone, over the values the horizontal axis has finished reading. Where it writes nothing the
+// layer holds what it was set to before the PCF: 1, 0 over the tiles turned away.
+@compute @workgroup_size(16, 16)
+fn cs_layer_only(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    let listed = listed_blurred(group, groups, local);
+    if listed.value >= 0.0 {
+        textureStore(layer_out, listed.pixel, vec4<f32>(listed.value));
+    }
+}
+
 // The tiles listed apart as turned away from the light (over that list): the horizontal axis's
 // result is 0 there, as the PCF's visibility is, so the vertical axis reads it as it would.
 @compute @workgroup_size(16, 16)

@@ -258,6 +258,10 @@ struct TileArgs {
 // turned away.
 override CLEARS: bool = false;
 override CLEAR_BLURRED: bool = false;
+// With CLEARS: the visibility cleared is the light's layer, which the variable PCF writes
+// (`penumbra::Chain::pcf_in_layer`): on a tile turned away from the light 0 only where a receiver
+// is and 1 elsewhere, as the layer must end (the blur's `fs_away`); the blur weighs no other.
+override CLEAR_LAYER: bool = false;
 @group(0) @binding(12) var distance_cleared: DistanceStorage;
 @group(0) @binding(13) var visibility_cleared: VisibilityStorage;
 @group(0) @binding(14) var blurred_cleared: VisibilityStorage;
@@ -448,11 +452,24 @@ fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invo
     if CLEARS && inside {
         let value = select(1.0, 0.0, kind == AWAY);
         textureStore(distance_cleared, pixel, vec4<f32>(NO_SHADOW_HERE));
-        textureStore(visibility_cleared, pixel, vec4<f32>(value));
+        var visibility = value;
+        if CLEAR_LAYER && !layer_receives(pixel, depth) {
+            visibility = 1.0;
+        }
+        textureStore(visibility_cleared, pixel, vec4<f32>(visibility));
         if CLEAR_BLURRED {
             textureStore(blurred_cleared, pixel, vec4<f32>(value));
         }
     }
+}
+
+// Whether the light's layer takes a shadow at `pixel` (camera depth `depth`): something is drawn
+// there and the receiver mask, where one is bound, keeps it.
+fn layer_receives(pixel: vec2<i32>, depth: f32) -> bool {
+    if depth == background_depth() {
+        return false;
+    }
+    return frame.view.has_receiver_mask == 0u || textureLoad(receiver_mask, pixel, 0).x >= 0.5;
 }
 
 // The class texel of a tile listed apart as turned away from the light.

@@ -34,6 +34,11 @@ pub enum Chain {
         dilated: bool,
         /// The exit map is drawn ([`crate::PenumbraSettings::exit_map`]).
         exit_map: bool,
+        /// The variable PCF writes the light's layer, which the blur reads back (the compute
+        /// path with a blur, where the compute passes write the layer in half floats, and
+        /// [`crate::ExecutionSettings::raw_visibility`] is off): no visibility texture of its
+        /// own.
+        pcf_in_layer: bool,
     },
     /// The baseline ([`ShadowMethod::Traditional`]): fixed-spacing PCF, a fixed Gaussian
     /// blur (`blur`: it has more than one tap), a resolve.
@@ -94,6 +99,7 @@ impl Chain {
                     compute,
                     dilated: compute && settings.penumbra.fattening == crate::Fattening::Dilation,
                     exit_map: settings.penumbra.exit_map,
+                    pcf_in_layer: false,
                 }
             }
             ShadowMethod::Traditional => Chain::Traditional {
@@ -137,6 +143,7 @@ impl Chain {
                 // The dilation is a compute pass: the casters are drawn pushed out instead.
                 dilated: false,
                 exit_map,
+                pcf_in_layer: false,
             },
             Chain::Traditional { blur, .. } => Chain::Traditional { blur, compute: false },
             Chain::Pcss { .. } => Chain::Pcss {
@@ -168,6 +175,42 @@ impl Chain {
             },
             other => other,
         }
+    }
+
+    /// The chain where `on` (the compute passes write the layer in half floats and
+    /// [`crate::ExecutionSettings::raw_visibility`] is off): the distance-map method's variable
+    /// PCF then writes the light's layer, which its blur reads back.
+    pub(crate) fn pcf_writing_layer(self, on: bool) -> Self {
+        match self {
+            Chain::Ours {
+                method,
+                blur,
+                compute,
+                dilated,
+                exit_map,
+                ..
+            } => Chain::Ours {
+                method,
+                blur,
+                compute,
+                dilated,
+                exit_map,
+                pcf_in_layer: on && compute && blur,
+            },
+            other => other,
+        }
+    }
+
+    /// The distance-map method's variable PCF writes the light's layer, which its blur reads
+    /// back: there is no visibility texture of its own ([`Chain::Ours`]'s `pcf_in_layer`).
+    pub fn pcf_in_layer(&self) -> bool {
+        matches!(
+            self,
+            Chain::Ours {
+                pcf_in_layer: true,
+                ..
+            }
+        )
     }
 
     /// The screen-space passes run as compute passes (the distance-map method's over a tile

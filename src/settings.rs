@@ -773,6 +773,14 @@ pub struct ExecutionSettings {
     /// within 2 of 255 (`tests/execution.rs`). The draws keep half floats either way. Default
     /// true.
     pub half_intermediates: bool,
+    /// Keep `ours`' visibility before the blur in a texture of its own, which
+    /// [`crate::LightTexture::Visibility`] (the `pcf` debug view) reads (true). Off (the
+    /// default), where the compute passes write the light's layer and keep half floats
+    /// ([`Self::compute_layer_writes`], [`Self::half_intermediates`]), the variable PCF writes
+    /// straight into the light's layer, which the blur's horizontal axis reads and its vertical
+    /// axis then overwrites: the same shadows in 2 bytes a pixel less, with no raw visibility
+    /// left to read.
+    pub raw_visibility: bool,
 }
 
 impl Default for ExecutionSettings {
@@ -783,6 +791,7 @@ impl Default for ExecutionSettings {
             distance_in_pcf: true,
             compute_layer_writes: true,
             half_intermediates: true,
+            raw_visibility: false,
         }
     }
 }

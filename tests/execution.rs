@@ -104,10 +104,12 @@ fn the_tile_pixels_by_workgroup_or_by_loop_give_the_same_lists_and_frames() {
                 .unwrap();
             let frame = image(&mut renderer, &gpu_scene);
             let read = |texture| common::read_f32(&gpu, renderer.debug_texture(texture).unwrap()).0;
+            // The light's layer: where the classification clears, it sets the layer the variable
+            // PCF writes (`Chain::pcf_in_layer`), as the draws set it otherwise.
             let textures = [
                 LightTexture::TileClasses,
                 LightTexture::DistanceMap,
-                LightTexture::Visibility,
+                LightTexture::BlurredVisibility,
             ]
             .map(read);
             frames.push((format!("{clears:?} clears, pixels by {test:?}"), frame, textures));
@@ -128,7 +130,7 @@ fn the_tile_pixels_by_workgroup_or_by_loop_give_the_same_lists_and_frames() {
     assert!(away > 0, "no tile listed apart as turned away from the light");
     assert!(listed > 0 && outside > 0);
     for (name, frame, textures) in &frames[1..] {
-        let names = ["tile classes", "distance map", "visibility"];
+        let names = ["tile classes", "distance map", "light's layer"];
         for (k, texture) in textures.iter().enumerate() {
             assert!(
                 *texture == frames[0].2[k],
@@ -205,7 +207,8 @@ fn the_distance_in_the_pcf_or_in_its_own_pass_gives_the_same_frames() {
                 frames.push((
                     frame,
                     read(LightTexture::DistanceMap),
-                    read(LightTexture::Visibility).0,
+                    // The lights' layers (the variable PCF writes there, the blur after it).
+                    read(LightTexture::BlurredVisibility).0,
                 ));
             }
             made.push(compute_pipelines(&gpu) - before);
@@ -487,6 +490,9 @@ fn half_float_intermediates_keep_the_shadows_in_less_memory() {
         for half in [false, true] {
             let mut settings = ShadowSettings::preset(method, Quality::Medium);
             settings.execution.half_intermediates = half;
+            // `ours`' raw visibility kept apart, so that both runs have it (its PCF writes the
+            // light's layer otherwise where the device stores half floats: the next test).
+            settings.execution.raw_visibility = true;
             let (frame, renderer) = common::render_frame(&gpu, &teapot, &camera, settings, size);
             let raw = renderer
                 .debug_texture(LightTexture::Visibility)
@@ -586,5 +592,89 @@ fn half_float_intermediates_keep_the_shadows_in_less_memory() {
             frame_worst <= 2,
             "{method:?}: the frames differ by {frame_worst} of 255"
         );
+    }
+}
+
+/// Where the compute passes write the light's layer in half floats, `ours`' variable PCF
+/// writes the layer itself (`Chain::pcf_in_layer`), which the blur's horizontal axis reads and
+/// its vertical axis overwrites: with `ExecutionSettings::raw_visibility` off (the default) the
+/// same layers and frames as with the visibility kept apart (on), 2 bytes a pixel less, and no
+/// raw visibility. On the teapot (one sun, tiles turned away listed apart) and in the room (a
+/// point light, a spot and a rectangle sharing the intermediates), with each form of clears.
+#[test]
+fn the_pcf_writing_the_layer_keeps_the_shadows_in_less_memory() {
+    let gpu = common::gpu();
+    // The compute passes write the layers, and keep the intermediates in half floats.
+    let features = |format| gpu.adapter.get_texture_format_features(format).allowed_usages;
+    let stores = penumbra::Shadows::visibility_usages(&gpu.device)
+        .contains(wgpu::TextureUsages::STORAGE_BINDING)
+        && [wgpu::TextureFormat::R16Float, wgpu::TextureFormat::Rg16Float]
+            .into_iter()
+            .all(|f| features(f).contains(wgpu::TextureUsages::STORAGE_BINDING));
+    println!("{}: the PCF can write the layers: {stores}", gpu.describe());
+    for file in ["scenes/teapot.ron", "scenes/room.ron"] {
+        let scene = load_scene(&common::asset(file)).unwrap();
+        let camera = scene.view(0).unwrap();
+        let size = (320u32, 256u32);
+        for clears in [DevicePath::RenderPass, DevicePath::Compute] {
+            let mut runs = Vec::new();
+            for raw in [true, false] {
+                let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+                settings.execution.raw_visibility = raw;
+                settings.execution.clears = clears;
+                settings.execution.tile_pixels = match clears {
+                    // The classification by workgroups clears the intermediates, the layer
+                    // among them.
+                    DevicePath::Compute => TilePixels::Workgroup,
+                    _ => TilePixels::Loop,
+                };
+                let (frame, renderer) = common::render_frame(&gpu, &scene, &camera, settings, size);
+                let chain = renderer.last_report().unwrap().plan.chain;
+                let layers = renderer.composited_visibility().unwrap();
+                let texels = penumbra::read_texture_f32(&gpu.device, &gpu.queue, layers)
+                    .unwrap()
+                    .0;
+                let bytes = renderer.shadows().allocated_bytes();
+                let raw_texture = renderer.debug_texture(LightTexture::Visibility).is_some();
+                runs.push((frame, texels, bytes, chain, raw_texture));
+            }
+            let [
+                (frame_raw, layers_raw, bytes_raw, chain_raw, kept),
+                (frame, layers, bytes, chain, raw_left),
+            ] = &runs[..]
+            else {
+                unreachable!()
+            };
+            let differing = layers_raw.iter().zip(layers).filter(|(a, b)| a != b).count();
+            let partial = layers.iter().filter(|v| **v > 0.02 && **v < 0.98).count();
+            println!(
+                "{file}, {clears:?} clears: {bytes_raw} / {bytes} bytes; {differing} layer texels differ; \
+                 {partial} in a penumbra; chains {chain_raw:?} / {chain:?}"
+            );
+            assert!(
+                !chain_raw.pcf_in_layer() && *kept,
+                "{file}: the raw visibility was not kept"
+            );
+            assert_eq!(chain.pcf_in_layer(), stores, "{file}: {chain:?}");
+            assert!(
+                partial > 100,
+                "{file}: no penumbra in the layers ({partial} texels)"
+            );
+            assert_eq!(differing, 0, "{file}, {clears:?} clears: the layers differ");
+            assert!(frame_raw == frame, "{file}, {clears:?} clears: the frames differ");
+            if stores {
+                assert!(
+                    !raw_left,
+                    "{file}: a raw visibility where the PCF writes the layer"
+                );
+                assert_eq!(
+                    bytes_raw - bytes,
+                    2 * u64::from(size.0 * size.1),
+                    "{file}: {bytes_raw} against {bytes} bytes"
+                );
+            } else {
+                assert_eq!(bytes_raw, bytes, "{file}");
+            }
+        }
     }
 }

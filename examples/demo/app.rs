@@ -736,6 +736,9 @@ impl DemoApp {
             1
         };
         let mut drew = false;
+        // The raw PCF view reads `ours`' visibility before the blur, kept apart only when asked.
+        let mut shared = self.shared;
+        shared.execution.raw_visibility |= self.map == MapView::Debug(DebugView::Pcf);
         for i in 0..count {
             let measure_mask = self.sides[i].stats.redraws.is_multiple_of(15);
             let result = self.sides[i].draw(
@@ -743,7 +746,7 @@ impl DemoApp {
                 &self.layouts,
                 &self.gpu_scene,
                 &camera,
-                &self.shared,
+                &shared,
                 size,
                 self.continuous,
                 measure_mask,

@@ -124,13 +124,17 @@ pub fn debug_image_with_legend(
 ) -> Result<DebugImage> {
     let mut legend = None;
     let texture = renderer.debug_texture(view.texture()).ok_or_else(|| {
+        let method = renderer.settings().method;
+        // `ours`' PCF writes the light's layer unless its visibility is kept apart.
+        let ours = matches!(method, crate::ShadowMethod::Ours | crate::ShadowMethod::OursFast);
+        let keep = if view == DebugView::Pcf && ours {
+            " (its PCF writes the light's layer: set ExecutionSettings::raw_visibility to keep it apart)"
+        } else {
+            ""
+        };
         PenumbraError::setting(
             "debug_view",
-            format!(
-                "method `{}` has no {} texture",
-                renderer.settings().method.name(),
-                view.name()
-            ),
+            format!("method `{}` has no {} texture{keep}", method.name(), view.name()),
         )
     })?;
     let (values, channels) = read_texture_f32(device, queue, texture)?;

@@ -311,7 +311,10 @@ impl ScreenStage for BlurPass {
 /// Where the device stores half floats and the layer allows it ([`super::PassParams`]'s
 /// `layer_writes`), the vertical axis (`cs_layer`) also writes the layer itself: no copy is
 /// drawn, only the layer's clear to 1 (with the 0 of the tiles turned away from the light) where
-/// the list leaves tiles out.
+/// the list leaves tiles out. Where the variable PCF writes the layer
+/// ([`crate::Chain::pcf_in_layer`]), the horizontal axis reads it there and the vertical one
+/// (`cs_layer_only`) writes it alone; the layer is set before the PCF
+/// ([`Self::encode_layer_init`], or the tile list's clears).
 pub(crate) struct BlurCompute {
     switches: BlurSwitches,
     layout: wgpu::BindGroupLayout,
@@ -324,8 +327,11 @@ pub(crate) struct BlurCompute {
     copy: wgpu::RenderPipeline,
     /// 0 into the light's layer over the tiles turned away from the light.
     copy_away: wgpu::RenderPipeline,
-    /// The vertical axis writing the layer too (`cs_layer`), and its outputs' layout.
+    /// The vertical axis writing the layer too (`cs_layer`), or the layer alone
+    /// (`cs_layer_only`, with `pcf_in_layer`), and its outputs' layout.
     into_layer: Option<(wgpu::ComputePipeline, wgpu::BindGroupLayout)>,
+    /// The variable PCF writes the light's layer, which the horizontal axis reads.
+    pcf_in_layer: bool,
     /// The vertical axis's outputs with the light's layer, when bound with one.
     layer_group: Option<wgpu::BindGroup>,
     sampler: wgpu::Sampler,
@@ -340,12 +346,15 @@ impl BlurCompute {
     /// The pass for `switches`: after the distance map (over its tile list, with its
     /// classification) or the baseline's fixed blur (over every tile); with `half.layers` its
     /// vertical axis can write the light's layer itself (the device stores half floats), and
-    /// with `half.intermediates` both axes write R16F ([`super::visibility_storage`]).
+    /// with `half.intermediates` both axes write R16F ([`super::visibility_storage`]); with
+    /// `pcf_in_layer` (and `half.layers`) the variable PCF writes the layer, which the
+    /// horizontal axis reads and the vertical one then writes alone.
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
         switches: BlurSwitches,
         half: crate::shaders::HalfFloats,
+        pcf_in_layer: bool,
     ) -> Self {
         let layers = half.layers;
         let format = super::visibility_storage(half.intermediates);
@@ -393,16 +402,23 @@ impl BlurCompute {
                 &constants,
             )
         };
+        let pcf_in_layer = pcf_in_layer && layers;
         let into_layer = layers.then(|| {
-            let outputs = crate::gpu_helpers::layout(
-                device,
-                "BlurCompute::layer_layout",
-                &[
-                    entry::storage_texture(1, format),
-                    entry::storage_texture(2, super::VISIBILITY_FORMAT),
-                ],
-            );
-            (axes("BlurCompute::into_layer", "cs_layer", &outputs), outputs)
+            let layer = entry::storage_texture(2, super::VISIBILITY_FORMAT);
+            if pcf_in_layer {
+                let outputs = crate::gpu_helpers::layout(device, "BlurCompute::layer_only_layout", &[layer]);
+                (
+                    axes("BlurCompute::into_layer", "cs_layer_only", &outputs),
+                    outputs,
+                )
+            } else {
+                let outputs = crate::gpu_helpers::layout(
+                    device,
+                    "BlurCompute::layer_layout",
+                    &[entry::storage_texture(1, format), layer],
+                );
+                (axes("BlurCompute::into_layer", "cs_layer", &outputs), outputs)
+            }
         });
         let copy = |label, fragment| {
             Fullscreen {
@@ -425,6 +441,7 @@ impl BlurCompute {
             axes: axes("BlurCompute::axes", "cs_main", &out_layout),
             away: axes("BlurCompute::away", "cs_away", &out_layout),
             into_layer,
+            pcf_in_layer,
             layer_group: None,
             copy: copy("BlurCompute::copy", "fs_listed_copy"),
             copy_away: copy("BlurCompute::copy_away", "fs_away"),
@@ -444,7 +461,8 @@ impl BlurCompute {
     /// `distance_map` the compute path's (stand-ins for the fixed blur); the horizontal
     /// axis writes `temp` ([`super::visibility_storage`] as made, the screen's size), the vertical one `visibility`
     /// (a storage texture of that format), and `layer` (the light's layer, a storage texture)
-    /// where given and [`Self::writes_layers`].
+    /// where given and made to. Where the PCF writes the layer, `visibility` is the layer, and
+    /// the vertical axis writes it alone.
     pub(crate) fn bind(
         &mut self,
         device: &wgpu::Device,
@@ -468,15 +486,25 @@ impl BlurCompute {
             })
         };
         self.bind_groups = Some([group(visibility), out(temp), group(temp), out(visibility)]);
+        let outputs: &[(u32, &wgpu::TextureView)] = match layer {
+            Some(layer) if self.pcf_in_layer => &[(2, layer)],
+            Some(layer) => &[(1, visibility), (2, layer)],
+            None => &[],
+        };
         self.layer_group = match (&self.into_layer, layer) {
-            (Some((_, outputs)), Some(layer)) => Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("BlurCompute::layer"),
-                layout: outputs,
-                entries: &[(1, visibility), (2, layer)].map(|(binding, view)| wgpu::BindGroupEntry {
-                    binding,
-                    resource: wgpu::BindingResource::TextureView(view),
+            (Some((_, layout)), Some(_)) => Some(
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("BlurCompute::layer"),
+                    layout,
+                    entries: &outputs
+                        .iter()
+                        .map(|(binding, view)| wgpu::BindGroupEntry {
+                            binding: *binding,
+                            resource: wgpu::BindingResource::TextureView(view),
+                        })
+                        .collect::<Vec<_>>(),
                 }),
-            })),
+            ),
             _ => None,
         };
     }
@@ -513,20 +541,10 @@ impl BlurCompute {
         );
         if let (Some((into_layer, _)), Some(outputs)) = (&self.into_layer, &self.layer_group) {
             // The layer is 1 where the vertical axis writes nothing (0 over the tiles turned
-            // away): a clear before it, unless the list holds every tile (the fixed blur).
-            if !self.switches.fixed_step {
-                let mut pass = crate::gpu_helpers::begin_pass(
-                    encoder,
-                    "BlurCompute::layer_clear",
-                    &[crate::gpu_helpers::cleared(layer, wgpu::Color::WHITE)],
-                    None,
-                );
-                if let Some(away) = &away {
-                    pass.set_pipeline(&self.copy_away);
-                    pass.set_bind_group(0, horizontal, &[]);
-                    pass.set_bind_group(1, &self.axis_groups[1], &[]);
-                    away.draw(&mut pass);
-                }
+            // away): a clear before it, unless the list holds every tile (the fixed blur), or
+            // the layer was set before the PCF wrote it.
+            if !self.switches.fixed_step && !self.pcf_in_layer {
+                self.encode_layer_init(encoder, layer, away);
             }
             tiles.dispatch(
                 encoder,
@@ -555,6 +573,36 @@ impl BlurCompute {
         tiles.draw(&mut pass);
         if let Some(away) = &away {
             pass.set_pipeline(&self.copy_away);
+            away.draw(&mut pass);
+        }
+    }
+}
+
+impl BlurCompute {
+    /// Sets `layer` to what it holds where the vertical axis writes nothing: 1, and 0 over the
+    /// tiles `away` from the light where a receiver is (`fs_away`). Before the vertical axis,
+    /// or where the variable PCF writes the layer, before the PCF.
+    pub(crate) fn encode_layer_init(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        layer: &wgpu::TextureView,
+        away: Option<super::TileList>,
+    ) {
+        // The vertical axis's inputs: they hold no view of the layer (the horizontal axis's
+        // read it where the PCF writes it), which this pass draws into.
+        let Some([_, _, vertical, _]) = &self.bind_groups else {
+            return;
+        };
+        let mut pass = crate::gpu_helpers::begin_pass(
+            encoder,
+            "BlurCompute::layer_clear",
+            &[crate::gpu_helpers::cleared(layer, wgpu::Color::WHITE)],
+            None,
+        );
+        if let Some(away) = &away {
+            pass.set_pipeline(&self.copy_away);
+            pass.set_bind_group(0, vertical, &[]);
+            pass.set_bind_group(1, &self.axis_groups[1], &[]);
             away.draw(&mut pass);
         }
     }

@@ -319,15 +319,16 @@ impl DistanceMapCompute {
     pub const CLEARED: f64 = -1.0;
 
     /// As [`DistanceMapPass::new`]; `switches.tiles` off lists every tile; `blurred`: the
-    /// chain blurs after it, and `half` how the intermediates the tile list clears are stored
-    /// ([`super::TileListPass::new`]); `own_pass` false: the variable PCF takes the distance
+    /// chain blurs after it, `half` how the intermediates the tile list clears are stored and
+    /// `into_layer` whether its visibility is the light's layer ([`super::TileListPass::new`]);
+    /// `own_pass` false: the variable PCF takes the distance
     /// itself, and this pass only lists the tiles.
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
         switches: DistanceSwitches,
         light_kind: u32,
-        (blurred, half): (bool, crate::shaders::HalfFloats),
+        (blurred, half, into_layer): (bool, crate::shaders::HalfFloats, bool),
         own_pass: bool,
     ) -> Self {
         let shader = crate::shaders::module_for(
@@ -368,14 +369,14 @@ impl DistanceMapCompute {
                 frame_size,
                 light_kind,
                 (switches.tiles, switches.facing_away),
-                (blurred, half.intermediates),
+                (blurred, half.intermediates, into_layer),
                 switches.tile_pixels,
             ),
             reduce_pending: std::sync::atomic::AtomicBool::new(true),
         }
     }
 
-    /// As [`DistanceMapPass::bind`], writing `cleared.distance` ([`Self::FORMAT`]) over the
+    /// As [`DistanceMapPass::bind`], writing `cleared.distance` ([`Self::format`]) over the
     /// tiles listed into `tiles`, both the screen's size (the tile list clears `cleared` where
     /// it does, [`Self::clears`]).
     pub fn bind(

@@ -12,8 +12,11 @@ use crate::settings::DevicePath;
 /// last light's values (see `Shadows::inspect`).
 #[derive(Clone)]
 pub(crate) struct ComputeTargets {
-    /// The visibility before any blur (PCF, PCSS).
-    pub visibility: Target,
+    /// The visibility before any blur (PCF, PCSS); none where only the distance-map method's
+    /// chains run, each writing its PCF into its light's layer ([`crate::Chain::pcf_in_layer`]).
+    pub visibility: Option<Target>,
+    /// The screen's size.
+    size: (u32, u32),
     /// The blur's horizontal axis, where a chain blurs.
     pub blurred: Option<Target>,
     /// The distance-map method's, where a light runs it.
@@ -32,7 +35,7 @@ pub(crate) struct ComputeTargets {
 /// [`ComputeTargets`]' clears, one per cleared texture.
 #[derive(Clone)]
 struct TargetClears {
-    visibility: OneClear,
+    visibility: Option<OneClear>,
     blurred: Option<OneClear>,
     distance: Option<OneClear>,
 }
@@ -87,6 +90,7 @@ pub(crate) struct DistanceMapTargets {
 /// Which parts of [`ComputeTargets`] the lights' chains use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub(crate) struct ComputeNeeds {
+    pub visibility: bool,
     pub blur: bool,
     pub distance_map: bool,
     pub every_tile: bool,
@@ -99,6 +103,7 @@ impl ComputeNeeds {
             return Self::default();
         }
         Self {
+            visibility: !chain.pcf_in_layer(),
             blur: chain.blur(),
             distance_map: chain.distance_map(),
             every_tile: chain.blur() && !chain.distance_map(),
@@ -107,6 +112,7 @@ impl ComputeNeeds {
 
     pub fn union(self, other: Self) -> Self {
         Self {
+            visibility: self.visibility || other.visibility,
             blur: self.blur || other.blur,
             distance_map: self.distance_map || other.distance_map,
             every_tile: self.every_tile || other.every_tile,
@@ -125,7 +131,9 @@ impl ComputeTargets {
     ) -> Self {
         let compute_clears = clears.compute(device);
         let target = |label, format| super::storage_target(device, label, size, format, !compute_clears);
-        let visibility = target("ComputeTargets::visibility", visibility_storage(half));
+        let visibility = needs
+            .visibility
+            .then(|| target("ComputeTargets::visibility", visibility_storage(half)));
         let blurred = needs
             .blur
             .then(|| target("ComputeTargets::blurred", visibility_storage(half)));
@@ -148,11 +156,9 @@ impl ComputeTargets {
             }
         };
         let clears = TargetClears {
-            visibility: clear(
-                "ComputeTargets::clear_visibility",
-                &visibility,
-                wgpu::Color::WHITE,
-            ),
+            visibility: visibility
+                .as_ref()
+                .map(|v| clear("ComputeTargets::clear_visibility", v, wgpu::Color::WHITE)),
             blurred: blurred
                 .as_ref()
                 .map(|b| clear("ComputeTargets::clear_blurred", b, wgpu::Color::WHITE)),
@@ -169,6 +175,7 @@ impl ComputeTargets {
         };
         Self {
             visibility,
+            size,
             blurred,
             distance_map,
             every_tile: needs
@@ -184,7 +191,7 @@ impl ComputeTargets {
     /// clear of these storage textures costs more than the passes that fill them).
     pub fn clear(&self, encoder: &mut wgpu::CommandEncoder, which: Cleared) {
         let clear = match which {
-            Cleared::Visibility => Some(&self.clears.visibility),
+            Cleared::Visibility => self.clears.visibility.as_ref(),
             Cleared::Blurred => self.clears.blurred.as_ref(),
             Cleared::Distance => self.clears.distance.as_ref(),
         };
@@ -203,11 +210,12 @@ impl ComputeTargets {
         (clears, half): (DevicePath, bool),
     ) -> bool {
         let have = ComputeNeeds {
+            visibility: self.visibility.is_some(),
             blur: self.blurred.is_some(),
             distance_map: self.distance_map.is_some(),
             every_tile: self.every_tile.is_some(),
         };
-        (self.visibility.texture.width(), self.visibility.texture.height()) == size
+        self.size == size
             && have == needs
             && self.compute_clears == clears.compute(device)
             && self.half == half
@@ -215,7 +223,7 @@ impl ComputeTargets {
 
     pub fn allocated_bytes(&self) -> u64 {
         let bytes = |t: &Target| crate::gpu_helpers::texture_bytes(&t.texture);
-        bytes(&self.visibility)
+        self.visibility.as_ref().map_or(0, bytes)
             + self.blurred.as_ref().map_or(0, bytes)
             + self.distance_map.as_ref().map_or(0, |d| {
                 bytes(&d.distance) + bytes(&d.sigma) + d.tiles.allocated_bytes()

@@ -255,8 +255,8 @@ pub(crate) struct TileListPass {
 }
 
 /// The compute path's intermediates a [`TileListPass`] clears where it does
-/// ([`TileListPass::clears`]): the distance map, the visibility and, where the chain blurs, the
-/// blur's horizontal result.
+/// ([`TileListPass::clears`]): the distance map, the visibility (the light's layer where the
+/// variable PCF writes there) and, where the chain blurs, the blur's horizontal result.
 pub(crate) struct ClearedByList<'a> {
     pub distance: &'a wgpu::TextureView,
     pub visibility: &'a wgpu::TextureView,
@@ -436,15 +436,16 @@ impl TileListPass {
     /// Made for one light kind ([`crate::frame::light_kind`]); `classify` false lists every
     /// tile; `facing_away` lists the kept tiles turned away from the light apart; `blurred`:
     /// the chain blurs (where the classification clears the intermediates, it clears the
-    /// blur's too), `half`: they are stored in half floats ([`super::visibility_storage`]);
-    /// `pixels`: how the kept tiles' pixels are tested
+    /// blur's too), `half`: they are stored in half floats ([`super::visibility_storage`]),
+    /// `layer`: the visibility it clears is the light's layer (the variable PCF writes there,
+    /// [`crate::Chain::pcf_in_layer`]); `pixels`: how the kept tiles' pixels are tested
     /// ([`crate::ExecutionSettings::tile_pixels`]).
     pub fn new(
         device: &wgpu::Device,
         frame_size: usize,
         light_kind: u32,
         (classify, facing_away): (bool, bool),
-        (blurred, half): (bool, bool),
+        (blurred, half, layer): (bool, bool, bool),
         pixels: crate::settings::TilePixels,
     ) -> Self {
         let storage = crate::shaders::HalfFloats {
@@ -501,6 +502,7 @@ impl TileListPass {
             ("WIDE", if per_pixel { 1.0 } else { 0.0 }),
             ("CLEARS", if per_pixel { 1.0 } else { 0.0 }),
             ("CLEAR_BLURRED", if per_pixel && blurred { 1.0 } else { 0.0 }),
+            ("CLEAR_LAYER", if per_pixel && layer { 1.0 } else { 0.0 }),
             super::row_threads(device),
         ];
         let pipeline = |label, layout: &wgpu::BindGroupLayout, entry| {

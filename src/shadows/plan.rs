@@ -196,7 +196,11 @@ pub(super) fn plan_light(frame: &FramePlan, slot: usize, state: &mut LightState)
 /// The chain `light` runs this frame (on this device, with the renderer's choices), the
 /// settings it is drawn with and its passes' parameters.
 fn chain_of(frame: &FramePlan, light: &Light) -> (Chain, ShadowSettings, PassParams) {
-    let mut chain = Chain::new(frame.settings, light).writing_layers(frame.layer_writes);
+    let mut chain = Chain::new(frame.settings, light)
+        .writing_layers(frame.layer_writes)
+        .pcf_writing_layer(
+            frame.layer_writes && frame.half_intermediates && !frame.settings.execution.raw_visibility,
+        );
     if !frame.compute {
         chain = chain.without_compute();
     }

@@ -70,7 +70,9 @@ pub enum LightTexture {
     /// where nothing was drawn. [`crate::debug::distance_and_mask`] reads either.
     DistanceMap,
     /// Raw PCF or PCSS visibility (R16F; the compute path's is R32F where the device cannot
-    /// store half floats, [`crate::ExecutionSettings::half_intermediates`]).
+    /// store half floats, [`crate::ExecutionSettings::half_intermediates`]). `None` for the
+    /// distance-map method where its PCF writes the light's layer ([`crate::Chain::pcf_in_layer`],
+    /// unless [`crate::ExecutionSettings::raw_visibility`]).
     Visibility,
     /// Blurred visibility (R16F). After the distance map, the blur writes the light's layer
     /// directly: this is then the whole visibility array ([`Shadows::visibility_texture`](crate::Shadows::visibility_texture)).

@@ -14,6 +14,8 @@ use crate::screen::{
 
 /// The distance-map method as compute passes over the distance map's tile list.
 pub(crate) struct OursChain {
+    /// The variable PCF writes the light's layer ([`Chain::pcf_in_layer`]).
+    into_layer: bool,
     distance: DistanceMapCompute,
     pcf: VariablePcfCompute,
     /// Writes the layer; without it the resolve does.
@@ -41,8 +43,16 @@ impl OursChain {
         let (kind, in_pcf) = (key.kind, key.distance_in_pcf);
         let blur = key.blur.is_some();
         let half = key.half_floats();
+        let into_layer = key.chain.pcf_in_layer();
         Self {
-            distance: DistanceMapCompute::new(device, FRAME_SIZE, key.distance, kind, (blur, half), !in_pcf),
+            distance: DistanceMapCompute::new(
+                device,
+                FRAME_SIZE,
+                key.distance,
+                kind,
+                (blur, half, into_layer),
+                !in_pcf,
+            ),
             pcf: VariablePcfCompute::new(
                 device,
                 FRAME_SIZE,
@@ -52,9 +62,10 @@ impl OursChain {
             ),
             blur: key
                 .blur
-                .map(|switches| BlurCompute::new(device, FRAME_SIZE, switches, half)),
+                .map(|switches| BlurCompute::new(device, FRAME_SIZE, switches, half, into_layer)),
             resolve: ResolvePass::new(device, FRAME_SIZE),
             targets: None,
+            into_layer,
         }
     }
 }
@@ -74,9 +85,18 @@ impl MethodChain for OursChain {
         let Some(shared) = &all.distance_map else {
             return;
         };
+        // The PCF's visibility: the light's layer where it writes there, else the targets'.
+        let visibility = if self.into_layer {
+            inputs.layer
+        } else {
+            all.visibility.as_ref().map(|v| &v.view)
+        };
+        let Some(visibility) = visibility else {
+            return;
+        };
         self.targets = Some(all.clone());
         let distance_map = &shared.distance.view;
-        let (visibility, sigma) = (&all.visibility.view, &shared.sigma.view);
+        let sigma = &shared.sigma.view;
         let cleared = ClearedByList {
             distance: distance_map,
             visibility,
@@ -124,11 +144,21 @@ impl MethodChain for OursChain {
             .away()
             .filter(|_| self.distance.switches().facing_away);
         let away_passes = away.filter(|_| !by_list);
-        recorder.pass("pcf", |e| {
-            clear(e, Cleared::Visibility);
-            self.pcf.encode(e, listed, away_passes)
-        });
         let layer = recorder.layer;
+        recorder.pass("pcf", |e| match &self.blur {
+            // The PCF writes the layer: set first as it must end where nothing writes it (by
+            // the tile list's clears where they run).
+            Some(blur) if self.into_layer => {
+                if !by_list {
+                    blur.encode_layer_init(e, layer, away);
+                }
+                self.pcf.encode(e, listed, None)
+            }
+            _ => {
+                clear(e, Cleared::Visibility);
+                self.pcf.encode(e, listed, away_passes)
+            }
+        });
         match &self.blur {
             Some(blur) => recorder.pass("blur", |e| {
                 clear(e, Cleared::Blurred);
@@ -152,8 +182,12 @@ impl MethodChain for OursChain {
         Some(shared.tiles.classes_texture())
     }
 
+    /// None where the PCF writes the light's layer: the blur overwrites it there.
     fn raw_visibility(&self) -> Option<&wgpu::Texture> {
-        self.targets.as_ref().map(|t| &t.visibility.texture)
+        if self.into_layer {
+            return None;
+        }
+        self.targets.as_ref()?.visibility.as_ref().map(|v| &v.texture)
     }
 }
 

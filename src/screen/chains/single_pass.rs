@@ -63,7 +63,7 @@ impl<P: VisibilityPass + wgpu::WasmNotSendSync> MethodChain for SinglePassChain<
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
         let (frame, [depth, mask, dummy]) = inputs.common();
-        let shared = inputs.compute.map(|c| &c.visibility);
+        let shared = inputs.compute.and_then(|c| c.visibility.as_ref());
         let layer = inputs.layer.map(|l| (l, mask));
         let shadow_map = inputs.maps.shadow.atlas.view();
         self.pass

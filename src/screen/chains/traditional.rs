@@ -38,7 +38,9 @@ impl TraditionalChain {
         });
         Self {
             pcf: PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, pcf_path),
-            blur: key.blur.map(|s| BlurCompute::new(device, FRAME_SIZE, s, half)),
+            blur: key
+                .blur
+                .map(|s| BlurCompute::new(device, FRAME_SIZE, s, half, false)),
             resolve: ResolvePass::new(device, FRAME_SIZE),
             targets: None,
         }
@@ -54,15 +56,17 @@ impl MethodChain for TraditionalChain {
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
         let (frame, [depth, mask, dummy]) = inputs.common();
-        let Some(all) = inputs.compute else {
+        // The compute path's targets hold a visibility wherever a chain other than the
+        // distance-map method's writing its layer runs (`ComputeNeeds`).
+        let Some((all, shared)) = inputs.compute.and_then(|c| Some((c, c.visibility.as_ref()?))) else {
             return;
         };
         self.targets = Some(all.clone());
         let shadow_map = inputs.maps.shadow.atlas.view();
         self.pcf
             .lookup_mut()
-            .bind(device, (frame, depth, shadow_map), Some(&all.visibility), None);
-        let visibility = &all.visibility.view;
+            .bind(device, (frame, depth, shadow_map), Some(shared), None);
+        let visibility = &shared.view;
         match (&mut self.blur, &all.blurred) {
             (Some(blur), Some(blurred)) => {
                 let read = (visibility, dummy, dummy);
