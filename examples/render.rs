@@ -232,7 +232,6 @@ fn main() -> Result<()> {
     }
     let camera = scene.view(args.view).context("--view")?;
     // The raw PCF view reads `ours`' visibility before the blur, kept apart only when asked.
-    let mut settings = settings;
     settings.execution.raw_visibility |= debug_view == Some(DebugView::Pcf);
     let gpu = HeadlessGpu::new()?;
     eprintln!("adapter: {}", gpu.describe());
