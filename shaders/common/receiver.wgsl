@@ -43,15 +43,32 @@ fn past_area_centre(world: vec3<f32>, normal: vec3<f32>, grazing: bool) -> bool 
     return grazing || dot(normal, frame.light.position - world) <= 0.0;
 }
 
-// The difference to the neighbor pixel along `axis` on the side whose depth is closer, so a
-// pixel next to a silhouette never mixes two surfaces.
+// The difference to the neighbor pixel along `axis` on the side where the pixel's own surface
+// goes on, so a pixel next to a silhouette or a crease never mixes two surfaces: the side whose
+// depth is closer, unless the other side's two pixels lie on a line through the pixel's depth
+// and this side's do not by far. A plane's depth (standard or reversed) changes by the same step
+// from pixel to pixel across the screen, and a crease breaks the step on its side while both
+// neighbors' depths may differ alike (the closer one alone mixed a box's two faces at their
+// edge: dark dots along the lit face's edge); on a curved surface or a feature a pixel or two
+// wide, where neither side keeps a line, the closer depth decides as before.
 fn neighbor_delta(pixel: vec2<i32>, world: vec3<f32>, depth: f32, axis: vec2<i32>) -> vec3<f32> {
     let size = vec2<i32>(frame.view.size);
     let a = clamp(pixel + axis, vec2<i32>(0), size - 1);
     let b = clamp(pixel - axis, vec2<i32>(0), size - 1);
     let depth_a = textureLoad(camera_depth, a, 0).x;
     let depth_b = textureLoad(camera_depth, b, 0).x;
-    if abs(depth_a - depth) <= abs(depth_b - depth) {
+    let depth_a2 = textureLoad(camera_depth, clamp(pixel + 2 * axis, vec2<i32>(0), size - 1), 0).x;
+    let depth_b2 = textureLoad(camera_depth, clamp(pixel - 2 * axis, vec2<i32>(0), size - 1), 0).x;
+    // How far the pixel's depth lies off the line through each side's two neighbors.
+    let off_a = abs(2.0 * depth_a - depth_a2 - depth);
+    let off_b = abs(2.0 * depth_b - depth_b2 - depth);
+    var side_a = abs(depth_a - depth) <= abs(depth_b - depth);
+    if off_b > 4.0 * off_a {
+        side_a = true;
+    } else if off_a > 4.0 * off_b {
+        side_a = false;
+    }
+    if side_a {
         return world_position(vec2<f32>(a) + 0.5, depth_a) - world;
     }
     return world - world_position(vec2<f32>(b) + 0.5, depth_b);
