@@ -354,15 +354,18 @@ fn prepare_shadows(
             continue;
         }
         view.copied = (!direct).then_some(size);
-        if !direct && view.copy_in_table_order(layers) {
-            messages.push(format!(
-                "penumbra: {}: {} shadowed lights this frame, but the visibility array has {layers} \
-                 layers; the others are shaded unshadowed until it grows",
-                view.label,
-                view.layers.len()
-            ));
+        if !direct {
+            // Copied in table order: the table names other layers than the one written before.
+            let shadowed = view.layers.len();
+            if view.copy_in_table_order(layers) {
+                messages.push(format!(
+                    "penumbra: {}: {shadowed} shadowed lights this frame, but the visibility array has \
+                     {layers} layers; the others are shaded unshadowed until it grows",
+                    view.label,
+                ));
+            }
+            queue.write_buffer(&view.table_buffer, 0, bytemuck::bytes_of(&view.table));
         }
-        queue.write_buffer(&view.table_buffer, 0, bytemuck::bytes_of(&view.table));
         let camera_matrices = CameraMatrices {
             view: mat4(extracted_view.world_from_view.to_matrix().inverse()),
             projection: mat4(whole_target(
