@@ -1285,12 +1285,19 @@ fn measure_embedding(
         light_moving: moving,
         light_still: still,
     }];
-    // The fattened map derived from the shadow map (`Fattening::Dilation`), with and without
+    // The exit map drawn by a pass of its own (`ExecutionSettings::exit_in_shadow_pass` off);
+    // the fattened map derived from the shadow map (`Fattening::Dilation`), with and without
     // the exit map (`PenumbraSettings::exit_map`).
-    for exit_map in [true, false] {
+    let forms = [
+        (penumbra::Fattening::Geometry, true, false, "exit map in a pass of its own"),
+        (penumbra::Fattening::Dilation, true, true, "fattened map derived"),
+        (penumbra::Fattening::Dilation, false, true, "fattened map derived, no exit map"),
+    ];
+    for (fattening, exit_map, exit_in_shadow_pass, name) in forms {
         let mut form = settings;
-        form.penumbra.fattening = penumbra::Fattening::Dilation;
+        form.penumbra.fattening = fattening;
         form.penumbra.exit_map = exit_map;
+        form.execution.exit_in_shadow_pass = exit_in_shadow_pass;
         let mut r = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, form)?;
         let mut g = GpuScene::new(&gpu.device, &gpu.queue, r.layouts(), scene)?;
         // The first frame draws the light's maps, the second (nothing moved) keeps them.
@@ -1302,10 +1309,7 @@ fn measure_embedding(
             *count = report.plan.geometry_passes(report.light.shadow_maps_rendered);
         }
         geometry_passes.push(GeometryPasses {
-            path: format!(
-                "Renderer (ours, fattened map derived{})",
-                if exit_map { "" } else { ", no exit map" }
-            ),
+            path: format!("Renderer (ours, {name})"),
             light_moving: passes[0],
             light_still: passes[1],
         });

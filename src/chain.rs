@@ -34,6 +34,10 @@ pub enum Chain {
         dilated: bool,
         /// The exit map is drawn ([`crate::PenumbraSettings::exit_map`]).
         exit_map: bool,
+        /// The shadow map's pass keeps the exit map (fragment atomics beside its depth test),
+        /// which then has no pass of its own ([`crate::ExecutionSettings::exit_in_shadow_pass`],
+        /// where the device's fragment shaders write storage and the shadow map culls no face).
+        exit_in_shadow_pass: bool,
         /// The variable PCF writes the light's layer, which the blur reads back (the compute
         /// path with a blur, where the compute passes write the layer in half floats, and
         /// [`crate::ExecutionSettings::raw_visibility`] is off): no visibility texture of its
@@ -99,6 +103,7 @@ impl Chain {
                     compute,
                     dilated: compute && settings.penumbra.fattening == crate::Fattening::Dilation,
                     exit_map: settings.penumbra.exit_map,
+                    exit_in_shadow_pass: false,
                     pcf_in_layer: false,
                 }
             }
@@ -143,6 +148,8 @@ impl Chain {
                 // The dilation is a compute pass: the casters are drawn pushed out instead.
                 dilated: false,
                 exit_map,
+                // So is the resolve of the exit map the shadow map's pass keeps.
+                exit_in_shadow_pass: false,
                 pcf_in_layer: false,
             },
             Chain::Traditional { blur, .. } => Chain::Traditional { blur, compute: false },
@@ -188,6 +195,7 @@ impl Chain {
                 compute,
                 dilated,
                 exit_map,
+                exit_in_shadow_pass,
                 ..
             } => Chain::Ours {
                 method,
@@ -195,10 +203,50 @@ impl Chain {
                 compute,
                 dilated,
                 exit_map,
+                exit_in_shadow_pass,
                 pcf_in_layer: on && compute && blur,
             },
             other => other,
         }
+    }
+
+    /// The chain where `on` (the device's fragment shaders write storage, it runs compute
+    /// passes, the shadow map culls no face and
+    /// [`crate::ExecutionSettings::exit_in_shadow_pass`] is on): the distance-map method's
+    /// exit map is then kept by the shadow map's pass.
+    pub(crate) fn exit_in_shadow_pass_where(self, on: bool) -> Self {
+        match self {
+            Chain::Ours {
+                method,
+                blur,
+                compute,
+                dilated,
+                exit_map,
+                pcf_in_layer,
+                ..
+            } => Chain::Ours {
+                method,
+                blur,
+                compute,
+                dilated,
+                exit_map,
+                exit_in_shadow_pass: on && exit_map,
+                pcf_in_layer,
+            },
+            other => other,
+        }
+    }
+
+    /// The shadow map's pass keeps the exit map: it has no pass of its own
+    /// ([`Chain::Ours`]'s `exit_in_shadow_pass`).
+    pub fn exit_in_shadow_pass(&self) -> bool {
+        matches!(
+            self,
+            Chain::Ours {
+                exit_in_shadow_pass: true,
+                ..
+            }
+        )
     }
 
     /// The distance-map method's variable PCF writes the light's layer, which its blur reads
@@ -293,10 +341,11 @@ impl Chain {
         }
     }
 
-    /// How many maps are drawn from the light (geometry passes) when they are redrawn: the
-    /// shadow map, and the fattened map and the exit map where they are drawn.
+    /// How many passes draw the casters from the light (geometry passes) when the maps are
+    /// redrawn: the shadow map's, and the fattened map's and the exit map's where each is drawn
+    /// by a pass of its own.
     pub fn light_maps(&self) -> u32 {
-        1 + self.draws_fattened_map() as u32 + self.exit_map() as u32
+        1 + self.draws_fattened_map() as u32 + (self.exit_map() && !self.exit_in_shadow_pass()) as u32
     }
 }
 

@@ -742,7 +742,8 @@ pub struct ShadowSettings {
 
 /// How some screen-space passes do their work ([`ShadowSettings::execution`]). Every choice
 /// gives the same shadows (`tests/execution.rs` renders each way and compares), but for
-/// [`ExecutionSettings::half_intermediates`]' rounding; they differ in cost and memory, which
+/// [`ExecutionSettings::half_intermediates`]' rounding and the few exit-map texels
+/// [`ExecutionSettings::exit_in_shadow_pass`] sees otherwise; they differ in cost and memory, which
 /// depend on the device. The defaults are what measured cheaper on each kind of
 /// device.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -781,6 +782,16 @@ pub struct ExecutionSettings {
     /// axis then overwrites: the same shadows in 2 bytes a pixel less, with no raw visibility
     /// left to read.
     pub raw_visibility: bool,
+    /// The distance-map method's exit map (the casters' faces turned away from the light) is
+    /// kept by the shadow map's pass, which takes each such fragment's depth into a buffer with
+    /// an atomic minimum beside its depth test, then a compute pass copies it into the map
+    /// (true, the default): one geometry pass a light fewer. Where the device's fragment
+    /// shaders cannot write storage (wgpu's GL backend), it has no compute passes, or the
+    /// shadow map culls faces ([`ShadowMapSettings::cull_mode`] other than `None`), or the
+    /// buffer would pass the device's largest storage binding, the exit map is drawn by a pass
+    /// of its own, as with false. The two maps differ only where a texel's four shadow-map
+    /// texels see different back faces and by the depth bias (`tests/execution.rs`).
+    pub exit_in_shadow_pass: bool,
 }
 
 impl Default for ExecutionSettings {
@@ -792,6 +803,7 @@ impl Default for ExecutionSettings {
             compute_layer_writes: true,
             half_intermediates: true,
             raw_visibility: false,
+            exit_in_shadow_pass: true,
         }
     }
 }

@@ -40,7 +40,21 @@ fn every_shader_file_belongs_to_a_pass() {
 #[test]
 fn passes_find_their_entry_points() {
     for (name, entry_points) in [
-        ("shadow_map", &["vs_opaque", "vs_masked", "fs_masked"][..]),
+        (
+            "shadow_map",
+            &[
+                "vs_opaque",
+                "vs_masked",
+                "fs_masked",
+                "fs_exit_ccw",
+                "fs_exit_cw",
+                "fs_masked_exit_ccw",
+                "fs_masked_exit_cw",
+                "vs_exit_any",
+                "fs_exit_any",
+            ][..],
+        ),
+        ("exit_resolve", &["cs_main"][..]),
         ("forward", &["vs_main", "fs_main"][..]),
         ("fattened_shadow_map", &["vs_main", "fs_main"][..]),
         ("exit_map", &["vs_main", "fs_main"][..]),

@@ -2,6 +2,7 @@
 
 use super::atlas::{FarPlaneFill, MapLayout, MapUpload};
 use super::dilated_map::DilatedMapPass;
+use super::exit_in_shadow_pass;
 use super::exit_map::ExitMapPass;
 use super::fattened_shadow_map::FattenedShadowMapPass;
 use super::shadow_map::ShadowMapPass;
@@ -12,11 +13,13 @@ use crate::light_space::LightView;
 use crate::settings::ShadowMapSettings;
 
 /// A light's maps drawn from the light: the shadow map, and for the distance-map method the
-/// fattened map (drawn, or derived from the shadow map) and the exit map, all made with one set
-/// of casters' vertex layouts and one atlas layout.
+/// fattened map (drawn, or derived from the shadow map) and the exit map (kept by the shadow
+/// map's pass, or drawn by a pass of its own), all made with one set of casters' vertex layouts
+/// and one atlas layout.
 pub(crate) struct LightMaps {
     pub shadow: ShadowMapPass,
     pub fattened: Option<FattenedMap>,
+    /// The exit map's own pass, where the shadow map's does not keep it.
     pub exit: Option<ExitMapPass>,
     /// The casters (id) the passes were made for.
     casters: u64,
@@ -90,7 +93,7 @@ impl FattenedMap {
 impl LightMaps {
     /// GPU memory the maps take, in bytes.
     pub fn allocated_bytes(&self) -> u64 {
-        self.shadow.atlas.allocated_bytes()
+        self.shadow.allocated_bytes()
             + self.fattened.as_ref().map_or(0, FattenedMap::allocated_bytes)
             + self.exit.as_ref().map_or(0, |exit| exit.atlas.allocated_bytes())
     }
@@ -145,11 +148,32 @@ impl LightMaps {
                 .then(|| FattenedMap::new(device, layouts, map, chain));
             made = true;
         }
-        if chain.exit_map() != maps.exit.is_some() {
-            maps.exit = chain.exit_map().then(|| ExitMapPass::new(device, layouts, map));
+        // The shadow map's pass keeps the exit map where the chain asks it to and its buffer
+        // fits the device's storage bindings; otherwise a pass of its own draws it.
+        let kept = chain.exit_in_shadow_pass() && exit_in_shadow_pass::fits(device, map);
+        made |= maps.shadow.keep_exit(device, layouts, map, kept);
+        let drawn = chain.exit_map() && !kept;
+        if drawn != maps.exit.is_some() {
+            maps.exit = drawn.then(|| ExitMapPass::new(device, layouts, map));
             made = true;
         }
         made
+    }
+
+    /// The exit map, wherever it is drawn.
+    pub fn exit_view(&self) -> Option<&wgpu::TextureView> {
+        match (&self.shadow.exit, &self.exit) {
+            (Some(kept), _) => Some(kept.view()),
+            (None, drawn) => drawn.as_ref().map(|exit| exit.atlas.view()),
+        }
+    }
+
+    /// The exit map's texture, wherever it is drawn.
+    pub fn exit_texture(&self) -> Option<&wgpu::Texture> {
+        match (&self.shadow.exit, &self.exit) {
+            (Some(kept), _) => Some(kept.texture()),
+            (None, drawn) => drawn.as_ref().map(|exit| exit.atlas.texture()),
+        }
     }
 
     /// Uploads the light's fit (and `spreads`' fatten distance) for the next draw, which
@@ -157,7 +181,7 @@ impl LightMaps {
     /// the casters on `layers`. A derived fattened map is made again whole.
     pub fn prepare(&mut self, upload: &MapUpload, spreads: &DerivedSpreads, tiles: u32) {
         self.shadow.prepare(upload);
-        self.shadow.atlas.redraw_only(tiles);
+        self.shadow.redraw_only(upload.queue, tiles);
         match &mut self.fattened {
             Some(FattenedMap::Drawn(fattened)) => {
                 fattened.prepare(upload, spreads.fatten_distance);

@@ -10,9 +10,11 @@
 //! | [`fattened_shadow_map::FattenedShadowMapPass`] | `shaders/fattened_shadow_map.wgsl` | casters, smoothed normals, light view | fattened depth map |
 //! | [`dilated_map::DilatedMapPass`] | `shaders/dilated_map.wgsl` | the shadow map, light view, fatten distance | the fattened map derived in compute (no geometry): the least depth within the fatten distance |
 //! | [`exit_map::ExitMapPass`] | `shaders/exit_map.wgsl` | casters, smoothed normals, light view | depth of the casters' back faces (where rays leave the first occluder) |
+//! | [`exit_in_shadow_pass::ExitInShadowPass`] | `shaders/shadow_map.wgsl` (`fs_exit_*`), `shaders/exit_resolve.wgsl` | the shadow map pass's draws | the same exit map, kept by the shadow map's pass: no drawing of its own |
 
 mod atlas;
 mod dilated_map;
+mod exit_in_shadow_pass;
 mod exit_map;
 mod fattened_shadow_map;
 mod maps;
@@ -21,6 +23,7 @@ mod shadow_map;
 mod tile_clear;
 
 pub(crate) use atlas::{FarPlaneFill, MapUpload};
+pub(crate) use exit_in_shadow_pass::supported as exit_in_shadow_pass_supported;
 pub(crate) use maps::LightMaps;
 #[cfg(feature = "renderer")]
 pub use shadow_map::ShadowMapPass;

@@ -5,11 +5,13 @@
 //! far plane; with cascades an atlas of `grid` x `grid` such tiles, one cascade drawn into each.
 //! Opaque casters use one position-only pipeline whatever their material; alpha-masked casters
 //! use a second minimal pipeline that reads alpha. Constant and slope-scaled depth bias are
-//! applied by the rasterizer.
+//! applied by the rasterizer. For the distance-map method the same pass can keep the exit map
+//! too ([`ExitInShadowPass`]).
 
 use bytemuck::{Pod, Zeroable};
 
 use super::atlas::{LightMapAtlas, MapDraw, MapLayout, MapUpload, depth_state};
+use super::exit_in_shadow_pass::ExitInShadowPass;
 use super::pipelines::{CascadeUniforms, CasterPipelines, SecondStream};
 use crate::casters::Streams;
 use crate::layouts::SceneLayouts;
@@ -18,6 +20,9 @@ use crate::layouts::SceneLayouts;
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct LightUniform {
     view_proj: [[f32; 4]; 4],
+    /// The light's position or direction (`LightView::source`), which the draws that keep the
+    /// exit map test faces against.
+    light: [f32; 4],
 }
 
 pub struct ShadowMapPass {
@@ -25,6 +30,9 @@ pub struct ShadowMapPass {
     pub(crate) atlas: LightMapAtlas,
     opaque: CasterPipelines,
     masked: CasterPipelines,
+    shader: wgpu::ShaderModule,
+    /// The exit map, where this pass keeps it.
+    pub(crate) exit: Option<ExitInShadowPass>,
 }
 
 impl ShadowMapPass {
@@ -34,8 +42,11 @@ impl ShadowMapPass {
     pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, map: MapLayout) -> Self {
         let (settings, grid, tile) = map;
         let shader = crate::shaders::module(device, "shadow_map.wgsl", crate::shaders::SHADOW_MAP);
-        let light =
-            CascadeUniforms::of::<LightUniform>(device, "ShadowMapPass::light", wgpu::ShaderStages::VERTEX);
+        let light = CascadeUniforms::of::<LightUniform>(
+            device,
+            "ShadowMapPass::light",
+            wgpu::ShaderStages::VERTEX_FRAGMENT,
+        );
         let light_layout = &light.layout;
         let primitive = wgpu::PrimitiveState {
             cull_mode: settings.cull_mode.face(),
@@ -78,7 +89,32 @@ impl ShadowMapPass {
             ),
             opaque,
             masked,
+            shader,
+            exit: None,
         }
+    }
+
+    /// Keeps the exit map in this pass (`on`), or not; true when that changed (the maps must
+    /// then be drawn and bound again).
+    pub(crate) fn keep_exit(
+        &mut self,
+        device: &wgpu::Device,
+        layouts: &SceneLayouts,
+        map: MapLayout,
+        on: bool,
+    ) -> bool {
+        if on == self.exit.is_some() {
+            return false;
+        }
+        self.exit = on.then(|| {
+            ExitInShadowPass::new(device, layouts, (&self.shader, &self.atlas.uniform.layout), map)
+        });
+        true
+    }
+
+    /// GPU memory the atlas, its uniforms and the exit map kept here take, in bytes.
+    pub(crate) fn allocated_bytes(&self) -> u64 {
+        self.atlas.allocated_bytes() + self.exit.as_ref().map_or(0, ExitInShadowPass::allocated_bytes)
     }
 
     /// Makes the map again as `grid`'s tiles of `tile` texels a side (the pipelines stay); it
@@ -86,6 +122,9 @@ impl ShadowMapPass {
     pub(crate) fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
         let (settings, grid, tile) = map;
         self.atlas.resize(device, settings, grid, tile);
+        if let Some(exit) = &mut self.exit {
+            exit.resize(device, map);
+        }
     }
 
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view.
@@ -95,21 +134,42 @@ impl ShadowMapPass {
             .prepare(device, &casters.draw_layouts(Streams::OpaqueDepth));
         self.masked
             .prepare(device, &casters.draw_layouts(Streams::MaskedDepth));
+        if let Some(exit) = &mut self.exit {
+            exit.prepare_pipelines(device, casters);
+        }
+        let source = light.source().to_array();
         self.atlas
             .uniform
             .write_cascades(upload.queue, light, |cascade| LightUniform {
                 view_proj: cascade.view_projection.to_cols_array_2d(),
+                light: source,
             });
         self.atlas.prepared(light, 0.0, upload.layers);
+    }
+
+    /// The next draw redraws only the tiles (cascades, cube faces) whose bit is set in `tiles`
+    /// ([`LightMapAtlas::redraw_only`]), the exit map kept here too.
+    pub(crate) fn redraw_only(&mut self, queue: &wgpu::Queue, tiles: u32) {
+        self.atlas.redraw_only(tiles);
+        if let Some(exit) = &self.exit {
+            let all = (1u32 << self.atlas.cascades.clamp(1, 31)) - 1;
+            exit.prepare(queue, tiles & all);
+        }
     }
 
     /// Records the pass: clears the map (or the tiles to redraw) and draws every caster
     /// ([`Self::prepare`] first).
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, (casters, fill): MapDraw) {
         self.atlas
-            .encode_depth(encoder, "ShadowMapPass", fill, |pass, cull| {
-                casters.draw(pass, Streams::OpaqueDepth, cull, |l, _| self.opaque.get(l));
-                casters.draw(pass, Streams::MaskedDepth, cull, |l, _| self.masked.get(l));
+            .encode_depth(encoder, "ShadowMapPass", fill, |pass, cull| match &self.exit {
+                Some(exit) => exit.draw(pass, casters, cull, (&self.opaque, &self.masked)),
+                None => {
+                    casters.draw(pass, Streams::OpaqueDepth, cull, |l, _| self.opaque.get(l));
+                    casters.draw(pass, Streams::MaskedDepth, cull, |l, _| self.masked.get(l));
+                }
             });
+        if let Some(exit) = &self.exit {
+            exit.encode_resolve(encoder);
+        }
     }
 }

@@ -79,6 +79,9 @@ pub struct Shadows {
     software: bool,
     /// The device runs compute passes ([`crate::PenumbraSettings::fragment_passes`]).
     compute: bool,
+    /// The device's fragment shaders write storage buffers: the shadow map's pass can keep the
+    /// exit map ([`crate::ExecutionSettings::exit_in_shadow_pass`]).
+    fragment_storage: bool,
     /// The device can write the visibility's half floats from a compute pass, so the compute
     /// passes that finish a light write its layer themselves ([`stores_half_floats`]), where
     /// [`crate::ExecutionSettings::compute_layer_writes`] is on.
@@ -125,6 +128,7 @@ impl Shadows {
             prepared: false,
             software: device.adapter_info().device_type == wgpu::DeviceType::Cpu,
             compute: crate::screen::has_compute(device),
+            fragment_storage: crate::light_maps::exit_in_shadow_pass_supported(device),
             layer_storage: stores_half_floats(device),
             intermediate_storage: stores_half_floats(device) && stores_half_float_pairs(device),
             compute_targets: None,
@@ -217,6 +221,7 @@ impl Shadows {
                 if let Some(maps) = &mut state.maps {
                     maps.fattened = None;
                     maps.exit = None;
+                    maps.shadow.exit = None;
                 }
                 state.bound = None;
             }
@@ -389,6 +394,10 @@ impl Shadows {
                 half_intermediates: this.half_intermediates(),
                 software: this.software,
                 compute: this.compute,
+                exit_in_shadow_pass: this.fragment_storage
+                    && this.compute
+                    && this.settings.execution.exit_in_shadow_pass
+                    && this.settings.shadow_map.cull_mode == crate::CullMode::None,
                 screen_space: this.screen_space,
                 has_mask: view.receiver_mask.is_some(),
                 shadow_bounds: casters.shadow_bounds(),
@@ -745,7 +754,7 @@ impl Shadows {
         match which {
             LightTexture::ShadowMap => maps.map(|m| m.shadow.atlas.texture()),
             LightTexture::FattenedMap => maps.and_then(|m| m.fattened.as_ref()).map(|f| f.texture()),
-            LightTexture::ExitMap => maps.and_then(|m| m.exit.as_ref()).map(|e| e.atlas.texture()),
+            LightTexture::ExitMap => maps.and_then(|m| m.exit_texture()),
             LightTexture::DistanceMap => s.screen.distance_texture(),
             LightTexture::TileClasses => s.screen.tile_classes_texture(),
             LightTexture::Visibility => s.screen.raw_visibility(),

@@ -36,6 +36,8 @@ pub(super) struct FramePlan<'a> {
     pub software: bool,
     /// The device runs compute passes.
     pub compute: bool,
+    /// The shadow map's pass keeps the exit map (the device and the settings allow it).
+    pub exit_in_shadow_pass: bool,
     /// False: only the light-space maps ([`super::Shadows::set_maps_only`]).
     pub screen_space: bool,
     /// The engine gave a receiver mask.
@@ -200,7 +202,8 @@ fn chain_of(frame: &FramePlan, light: &Light) -> (Chain, ShadowSettings, PassPar
         .writing_layers(frame.layer_writes)
         .pcf_writing_layer(
             frame.layer_writes && frame.half_intermediates && !frame.settings.execution.raw_visibility,
-        );
+        )
+        .exit_in_shadow_pass_where(frame.exit_in_shadow_pass);
     if !frame.compute {
         chain = chain.without_compute();
     }

@@ -284,9 +284,6 @@ fn distance_maps(maps: &LightMaps) -> Option<DistanceMaps<'_>> {
         fattened_size: (texture.width(), texture.height()),
         occluder_offset: fattened.occluder_offset(),
         // Without an exit map the shader reads none (`EXIT_MAP`): a stand-in is bound.
-        exit_map: maps
-            .exit
-            .as_ref()
-            .map_or(maps.shadow.atlas.view(), |exit| exit.atlas.view()),
+        exit_map: maps.exit_view().unwrap_or(maps.shadow.atlas.view()),
     })
 }
