@@ -625,28 +625,59 @@ fn measure_growth(
         ShadowMethod::Pcss,
         ShadowMethod::Hard,
     ];
-    let timed =
-        |scene: &penumbra::Scene, method: ShadowMethod, (width, height): (u32, u32)| -> Result<GrowthRun> {
-            let settings = ShadowSettings::preset(method, Quality::Medium);
-            let t = time_frames(gpu, scene, camera, settings, (width, height), config)?;
-            let run = GrowthRun {
-                method: method.name().into(),
-                width,
-                height,
-                triangles: caster_triangles(scene),
-                frame_ms: t.frame_ms,
-                own_ms: t.own_ms,
-            };
-            println!(
-                "growth: {} at {width}x{height}, {} caster triangles: frame {:.2} ms, own {:.2} ms",
-                run.method, run.triangles, run.frame_ms, run.own_ms
-            );
-            Ok(run)
+    let timed = |scene: &penumbra::Scene,
+                 (name, settings): (&str, ShadowSettings),
+                 (width, height): (u32, u32)|
+     -> Result<GrowthRun> {
+        let t = time_frames(gpu, scene, camera, settings, (width, height), config)?;
+        let run = GrowthRun {
+            method: name.into(),
+            width,
+            height,
+            triangles: caster_triangles(scene),
+            frame_ms: t.frame_ms,
+            own_ms: t.own_ms,
         };
+        println!(
+            "growth: {} at {width}x{height}, {} caster triangles: frame {:.2} ms, own {:.2} ms",
+            run.method, run.triangles, run.frame_ms, run.own_ms
+        );
+        Ok(run)
+    };
+    let preset = |method: ShadowMethod| (method.name(), ShadowSettings::preset(method, Quality::Medium));
     let large = methods
         .iter()
-        .map(|m| timed(scene, *m, config.large_size))
+        .map(|m| timed(scene, preset(*m), config.large_size))
         .collect::<Result<Vec<_>>>()?;
+    // `ours` besides in three forms: the exit map kept by the shadow map's pass and drawn by a
+    // pass of its own, whatever the casters (`ExitMapDraw`; `ours` itself chooses by their
+    // triangles), and the fattened map derived from the shadow map with the exit map kept (one
+    // geometry pass a light).
+    let ours_with = |draw: penumbra::ExitMapDraw, fattening: penumbra::Fattening| {
+        let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+        settings.execution.exit_map_draw = draw;
+        settings.penumbra.fattening = fattening;
+        settings
+    };
+    let (geometry, dilation) = (penumbra::Fattening::Geometry, penumbra::Fattening::Dilation);
+    let forms: Vec<_> = methods
+        .iter()
+        .map(|m| preset(*m))
+        .chain([
+            (
+                "ours, exit map kept",
+                ours_with(penumbra::ExitMapDraw::ShadowMapPass, geometry),
+            ),
+            (
+                "ours, exit map's own pass",
+                ours_with(penumbra::ExitMapDraw::OwnPass, geometry),
+            ),
+            (
+                "ours, derived",
+                ours_with(penumbra::ExitMapDraw::ShadowMapPass, dilation),
+            ),
+        ])
+        .collect();
     let largest = (0..scene.meshes.len())
         .max_by_key(|&m| scene.meshes[m].indices.len())
         .context("a mesh")?;
@@ -654,8 +685,8 @@ fn measure_growth(
     for &levels in &config.caster_levels {
         let mut split = scene.clone();
         split.meshes[largest] = split_triangles(&scene.meshes[largest], levels)?;
-        for m in methods {
-            casters.push(timed(&split, m, size)?);
+        for form in &forms {
+            casters.push(timed(&split, *form, size)?);
         }
     }
     Ok((large, casters))
@@ -1285,19 +1316,29 @@ fn measure_embedding(
         light_moving: moving,
         light_still: still,
     }];
-    // The exit map drawn by a pass of its own (`ExecutionSettings::exit_in_shadow_pass` off);
-    // the fattened map derived from the shadow map (`Fattening::Dilation`), with and without
-    // the exit map (`PenumbraSettings::exit_map`).
+    // `ours` as it chooses (its own pass for the exit map under `ExitMapDraw::Auto` for the
+    // teapot's 9k triangles) and with the exit map kept by the shadow map's pass whatever the
+    // casters (`ExitMapDraw::ShadowMapPass`); the fattened map derived from the shadow map
+    // (`Fattening::Dilation`) as well, with and without the exit map
+    // (`PenumbraSettings::exit_map`).
     let forms = [
-        (penumbra::Fattening::Geometry, true, false, "exit map in a pass of its own"),
-        (penumbra::Fattening::Dilation, true, true, "fattened map derived"),
-        (penumbra::Fattening::Dilation, false, true, "fattened map derived, no exit map"),
+        (penumbra::Fattening::Geometry, true, "exit map kept"),
+        (
+            penumbra::Fattening::Dilation,
+            true,
+            "fattened map derived, exit map kept",
+        ),
+        (
+            penumbra::Fattening::Dilation,
+            false,
+            "fattened map derived, no exit map",
+        ),
     ];
-    for (fattening, exit_map, exit_in_shadow_pass, name) in forms {
+    for (fattening, exit_map, name) in forms {
         let mut form = settings;
         form.penumbra.fattening = fattening;
         form.penumbra.exit_map = exit_map;
-        form.execution.exit_in_shadow_pass = exit_in_shadow_pass;
+        form.execution.exit_map_draw = penumbra::ExitMapDraw::ShadowMapPass;
         let mut r = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, form)?;
         let mut g = GpuScene::new(&gpu.device, &gpu.queue, r.layouts(), scene)?;
         // The first frame draws the light's maps, the second (nothing moved) keeps them.
@@ -2511,7 +2552,11 @@ fn write_growth(md: &mut String, config: &Config, embedding: &Embedding) -> Resu
     writeln!(
         md,
         "\nThe caster sweep at {}x{}: the teapot's triangles split in four {} times (the same shape, \
-         so the same shadow; only the geometry's cost grows). Frame / own cost, ms:\n",
+         so the same shadow; only the geometry's cost grows). `ours` keeps the exit map in the \
+         shadow map's pass from {} caster triangles (`ExitMapDraw::Auto`; two geometry passes a \
+         light, three below); \"exit map kept\" and \"exit map's own pass\" force either way, \
+         \"derived\" derives the fattened map from the shadow map too (one). Frame / own cost, ms:\n",
+        penumbra::ExitMapDraw::AUTO_TRIANGLES,
         first.width,
         first.height,
         config

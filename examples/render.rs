@@ -12,8 +12,8 @@ use clap::Parser;
 use penumbra::debug::DebugView;
 use penumbra::timing::TimedFrames;
 use penumbra::{
-    DevicePath, ExitFaces, Fattening, GpuScene, HeadlessGpu, Light, MapResolution, Quality, Renderer,
-    ShadowMethod, ShadowSettings, TilePixels,
+    DevicePath, ExitFaces, ExitMapDraw, Fattening, GpuScene, HeadlessGpu, Light, MapResolution, Quality,
+    Renderer, ShadowMethod, ShadowSettings, TilePixels,
 };
 
 #[derive(Parser)]
@@ -92,6 +92,11 @@ struct Args {
     /// culling by winding.
     #[arg(long)]
     exit_faces_by_fragment: bool,
+    /// `ours`: which pass makes the exit map (`ExecutionSettings::exit_map_draw`): auto (by
+    /// the casters' triangles), shadow-map (kept by the shadow map's pass) or own (a pass of
+    /// its own), to compare their cost.
+    #[arg(long, default_value = "auto")]
+    exit_map_draw: String,
     /// `ours`: the narrowest penumbra, in texels, the light's maps may be coarsened to
     /// (`MapResolution::FromPenumbra`); 0 keeps the maps at `--shadow-map` texels
     /// (`MapResolution::Configured`). Default: the preset's.
@@ -177,6 +182,12 @@ fn main() -> Result<()> {
     if args.exit_faces_by_fragment {
         settings.shadow_map.exit_faces = ExitFaces::Fragment;
     }
+    settings.execution.exit_map_draw = match args.exit_map_draw.as_str() {
+        "auto" => ExitMapDraw::Auto,
+        "shadow-map" => ExitMapDraw::ShadowMapPass,
+        "own" => ExitMapDraw::OwnPass,
+        other => bail!("--exit-map-draw: unknown value {other:?} (auto, shadow-map or own)"),
+    };
     settings.penumbra.map_resolution = match args.narrowest_texels {
         None => settings.penumbra.map_resolution,
         Some(t) if t <= 0.0 => MapResolution::Configured,

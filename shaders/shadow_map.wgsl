@@ -7,7 +7,7 @@
 //
 // Where the distance-map method keeps the exit map in this pass (`ExitBits`), the same draws
 // also keep, texel by texel of the exit map (half this map's side), the nearest depth of the
-// casters' faces turned away from the light: a fragment shader's atomic maximum beside the
+// casters' faces turned away from the light: a fragment shader's atomic minimum beside the
 // depth test, which runs for every fragment, hidden or not (its side effect keeps the test
 // after it). Which faces turn away comes from the winding where all of a mesh's triangles turn
 // one way seen from outside (`fs_exit_ccw`, `fs_exit_cw` and their masked twins); otherwise
@@ -28,11 +28,11 @@ struct LightUniform {
 @group(2) @binding(1) var base_color_texture: texture_2d<f32>;
 @group(2) @binding(2) var base_color_sampler: sampler;
 
-// The exit map's texels, a row of `exit_layout.x` each: the bits of the nearest depth kept,
-// inverted (a depth in [0, 1] orders as its bits do, so the nearest has the largest inverted
-// bits), 0 where no face turned away was drawn.
+// The exit map's texels, tile by tile (cascades, cube faces), each tile's rows in order: the
+// bits of the nearest depth kept (a depth in [0, 1] orders as its bits do), 1.0's where no face
+// turned away was drawn.
 @group(3) @binding(0) var<storage, read_write> exit_bits: array<atomic<u32>>;
-// x: texels a row of `exit_bits`
+// x: texels a side of one of the exit map's tiles; y: tiles a row of the atlas
 @group(3) @binding(1) var<uniform> exit_layout: vec4<u32>;
 
 @vertex
@@ -69,9 +69,13 @@ fn fs_masked(in: MaskedOut) {
 // the one whose 2 x 2 of this map's texels the fragment falls in.
 fn keep_exit(position: vec4<f32>) {
     let texel = vec2<u32>(position.xy) / 2u;
+    let side = exit_layout.x;
+    let tile = texel / side;
+    let within = texel % side;
+    let index = (tile.y * exit_layout.y + tile.x) * side * side + within.y * side + within.x;
     // The sign bit cleared: a depth of -0.0 orders as 0.
     let bits = bitcast<u32>(clamp(position.z, 0.0, 1.0)) & 0x7fffffffu;
-    atomicMax(&exit_bits[texel.y * exit_layout.x + texel.x], ~bits);
+    atomicMin(&exit_bits[index], bits);
 }
 
 // A mesh whose triangles all turn counter-clockwise seen from outside: in the map, the faces

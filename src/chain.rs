@@ -35,7 +35,7 @@ pub enum Chain {
         /// The exit map is drawn ([`crate::PenumbraSettings::exit_map`]).
         exit_map: bool,
         /// The shadow map's pass keeps the exit map (fragment atomics beside its depth test),
-        /// which then has no pass of its own ([`crate::ExecutionSettings::exit_in_shadow_pass`],
+        /// which then has no pass of its own ([`crate::ExecutionSettings::exit_map_draw`],
         /// where the device's fragment shaders write storage and the shadow map culls no face).
         exit_in_shadow_pass: bool,
         /// The variable PCF writes the light's layer, which the blur reads back (the compute
@@ -212,7 +212,7 @@ impl Chain {
 
     /// The chain where `on` (the device's fragment shaders write storage, it runs compute
     /// passes, the shadow map culls no face and
-    /// [`crate::ExecutionSettings::exit_in_shadow_pass`] is on): the distance-map method's
+    /// [`crate::ExecutionSettings::exit_map_draw`] is on): the distance-map method's
     /// exit map is then kept by the shadow map's pass.
     pub(crate) fn exit_in_shadow_pass_where(self, on: bool) -> Self {
         match self {

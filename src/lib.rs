@@ -153,9 +153,9 @@ pub use scene::{
 };
 pub use screen::VISIBILITY_FORMAT;
 pub use settings::{
-    CascadeSettings, CullMode, DepthFormat, DevicePath, ExecutionSettings, ExitFaces, Fattening, LightFit,
-    MapResolution, PcfKernel, PcssSettings, PenumbraSettings, Quality, ShadowMapSettings, ShadowMethod,
-    ShadowSettings, SpreadMode, TileClassification, TilePixels, TraditionalSettings,
+    CascadeSettings, CullMode, DepthFormat, DevicePath, ExecutionSettings, ExitFaces, ExitMapDraw, Fattening,
+    LightFit, MapResolution, PcfKernel, PcssSettings, PenumbraSettings, Quality, ShadowMapSettings,
+    ShadowMethod, ShadowSettings, SpreadMode, TileClassification, TilePixels, TraditionalSettings,
 };
 pub use shadows::{Chain, LightId, LightReport, LightTexture, Shadows, ViewInputs};
 pub use view::{CameraMatrices, DepthConvention};

@@ -743,7 +743,7 @@ pub struct ShadowSettings {
 /// How some screen-space passes do their work ([`ShadowSettings::execution`]). Every choice
 /// gives the same shadows (`tests/execution.rs` renders each way and compares), but for
 /// [`ExecutionSettings::half_intermediates`]' rounding and the few exit-map texels
-/// [`ExecutionSettings::exit_in_shadow_pass`] sees otherwise; they differ in cost and memory, which
+/// [`ExecutionSettings::exit_map_draw`] sees otherwise; they differ in cost and memory, which
 /// depend on the device. The defaults are what measured cheaper on each kind of
 /// device.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -782,16 +782,54 @@ pub struct ExecutionSettings {
     /// axis then overwrites: the same shadows in 2 bytes a pixel less, with no raw visibility
     /// left to read.
     pub raw_visibility: bool,
-    /// The distance-map method's exit map (the casters' faces turned away from the light) is
-    /// kept by the shadow map's pass, which takes each such fragment's depth into a buffer with
-    /// an atomic minimum beside its depth test, then a compute pass copies it into the map
-    /// (true, the default): one geometry pass a light fewer. Where the device's fragment
-    /// shaders cannot write storage (wgpu's GL backend), it has no compute passes, or the
-    /// shadow map culls faces ([`ShadowMapSettings::cull_mode`] other than `None`), or the
-    /// buffer would pass the device's largest storage binding, the exit map is drawn by a pass
-    /// of its own, as with false. The two maps differ only where a texel's four shadow-map
-    /// texels see different back faces and by the depth bias (`tests/execution.rs`).
-    pub exit_in_shadow_pass: bool,
+    /// Which pass makes the distance-map method's exit map (the casters' faces turned away
+    /// from the light). Default [`ExitMapDraw::Auto`].
+    pub exit_map_draw: ExitMapDraw,
+}
+
+/// A choice of [`ExecutionSettings::exit_map_draw`]: the exit map kept by the shadow map's pass,
+/// which takes each fragment of a face turned away from the light into a buffer with an atomic
+/// minimum beside its depth test (one geometry pass a light fewer, a fragment stage on every
+/// fragment of the shadow map), or drawn by a pass of its own (the casters drawn again, at half
+/// the side, with no fragment stage where a mesh's winding is known). The two maps differ only
+/// where a texel's four shadow-map texels see different back faces and by the depth bias
+/// (`tests/execution.rs`). Where the device's fragment shaders cannot write storage (wgpu's GL
+/// backend), it has no compute passes, the shadow map culls faces
+/// ([`ShadowMapSettings::cull_mode`] other than `None`), its tiles are under 128 texels or the
+/// buffer would pass the device's largest storage binding, the exit map has its own pass
+/// whatever the choice.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum ExitMapDraw {
+    /// The shadow map's pass where the casters have at least
+    /// [`ExitMapDraw::AUTO_TRIANGLES`] triangles, its own pass below: the fragment stage costs
+    /// by the fragment and by the triangle, the second drawing by the vertex. On lavapipe
+    /// (the bench's caster sweep, teapot split, 1280x1024) `ours`' own cost with the exit map
+    /// kept against drawn apart was 1.11x at 9,216 triangles, 1.31x at 147,456 and 0.81x at
+    /// 2,359,296; not measured on a GPU (`docs/bench/quick-lavapipe.md`, "Growth").
+    #[default]
+    Auto,
+    /// The shadow map's pass, whatever the casters.
+    ShadowMapPass,
+    /// A pass of its own, whatever the casters.
+    OwnPass,
+}
+
+impl ExitMapDraw {
+    /// Casters' triangles from which [`ExitMapDraw::Auto`] keeps the exit map in the shadow map's
+    /// pass: about where the two crossed on lavapipe (between 147,456 and 2,359,296 triangles,
+    /// about 560,000 taken as linear between them).
+    pub const AUTO_TRIANGLES: usize = 500_000;
+
+    /// Whether the shadow map's pass keeps the exit map for casters of `triangles` triangles
+    /// (where the device allows it).
+    pub fn in_shadow_pass(self, triangles: usize) -> bool {
+        match self {
+            ExitMapDraw::Auto => triangles >= Self::AUTO_TRIANGLES,
+            ExitMapDraw::ShadowMapPass => true,
+            ExitMapDraw::OwnPass => false,
+        }
+    }
 }
 
 impl Default for ExecutionSettings {
@@ -803,7 +841,7 @@ impl Default for ExecutionSettings {
             compute_layer_writes: true,
             half_intermediates: true,
             raw_visibility: false,
-            exit_in_shadow_pass: true,
+            exit_map_draw: ExitMapDraw::Auto,
         }
     }
 }

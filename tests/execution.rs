@@ -13,7 +13,7 @@
 //! - The exit map culls by winding or tests each fragment's side
 //!   (`ShadowMapSettings::exit_faces`, `passes::exit_map`).
 //! - The exit map is kept by the shadow map's pass or drawn by its own
-//!   (`ExecutionSettings::exit_in_shadow_pass`): the maps differ where a texel's four shadow-map
+//!   (`ExecutionSettings::exit_map_draw`): the maps differ where a texel's four shadow-map
 //!   texels see different back faces and by the depth bias, so that test holds them within
 //!   that.
 //! - The compute passes that finish a light's visibility write its layer themselves, or draws
@@ -26,7 +26,8 @@ mod common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{
-    DevicePath, ExitFaces, LightTexture, Quality, Scene, ShadowMethod, ShadowSettings, TilePixels, load_scene,
+    DevicePath, ExitFaces, ExitMapDraw, LightTexture, Quality, Scene, ShadowMethod, ShadowSettings,
+    TilePixels, load_scene,
 };
 
 /// The compute pipelines `gpu`'s device holds now (wgpu's counters: made and not yet dropped).
@@ -314,7 +315,11 @@ fn exit_maps(
 ) -> (image::RgbaImage, Vec<Vec<f32>>) {
     let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
     settings.shadow_map.exit_faces = faces;
-    settings.execution.exit_in_shadow_pass = in_shadow_pass;
+    settings.execution.exit_map_draw = if in_shadow_pass {
+        ExitMapDraw::ShadowMapPass
+    } else {
+        ExitMapDraw::OwnPass
+    };
     let camera = scene.view(0).unwrap();
     let (frame, renderer) = common::render_frame(gpu, scene, &camera, settings, (320, 256));
     let shadows = renderer.shadows();
@@ -392,7 +397,11 @@ fn the_shadow_map_pass_keeps_the_exit_map_its_own_pass_draws() {
             assert_eq!(a.len(), b.len(), "{name}, light {k}: another size of exit map");
             let held = |m: &[f32]| m.iter().filter(|d| **d < 1.0).count();
             let (held_a, held_b) = (held(a), held(b));
-            let one_only = a.iter().zip(b).filter(|(x, y)| (**x < 1.0) != (**y < 1.0)).count();
+            let one_only = a
+                .iter()
+                .zip(b)
+                .filter(|(x, y)| (**x < 1.0) != (**y < 1.0))
+                .count();
             let mut gaps: Vec<f32> = a
                 .iter()
                 .zip(b)
@@ -407,7 +416,10 @@ fn the_shadow_map_pass_keeps_the_exit_map_its_own_pass_draws() {
                 at(0.99),
                 at(1.0)
             );
-            assert!(held_b > 0, "{name}, light {k}: the drawn exit map holds no back face");
+            assert!(
+                held_b > 0,
+                "{name}, light {k}: the drawn exit map holds no back face"
+            );
             // Measured on lavapipe: 0.07-0.40% of the texels held in one only (the kept map
             // takes the nearest of four texels, the drawn one the texel at their centre);
             // median gaps 2.6e-6 to 9.9e-4, 99th percentiles 1.1e-4 to 9.1e-3 (the drawn map
@@ -437,6 +449,51 @@ fn the_shadow_map_pass_keeps_the_exit_map_its_own_pass_draws() {
             "{name}: {differing} of {pixels} pixels differ by more than 2 of 255"
         );
     }
+}
+
+/// `ExitMapDraw::Auto` keeps the exit map in the shadow map's pass from
+/// `ExitMapDraw::AUTO_TRIANGLES` caster triangles, and gives it its own pass below: the teapot
+/// alone (9,216 triangles) has its own, the teapot drawn 55 times over in one place (506,880)
+/// has it kept, with the frame that `ExitMapDraw::ShadowMapPass` gives.
+#[test]
+fn the_exit_map_moves_into_the_shadow_map_pass_for_many_triangles() {
+    let gpu = common::gpu();
+    let teapot = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let mut crowded = teapot.clone();
+    let pot = crowded.meshes.iter().position(|m| m.name == "teapot").unwrap();
+    let instance = crowded.instances.iter().find(|i| i.mesh == pot).unwrap().clone();
+    let per_pot = crowded.meshes[pot].indices.len() / 3;
+    let copies = ExitMapDraw::AUTO_TRIANGLES.div_ceil(per_pot);
+    crowded.instances.extend(std::iter::repeat_n(instance, copies));
+    let camera = teapot.view(0).unwrap();
+    let frame = |scene: &Scene, draw: ExitMapDraw| {
+        let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+        settings.execution.exit_map_draw = draw;
+        let (image, renderer) = common::render_frame(&gpu, scene, &camera, settings, (96, 64));
+        let chain = renderer.last_report().unwrap().plan.chain;
+        (image, chain.exit_in_shadow_pass(), chain.light_maps())
+    };
+    let (_, kept, maps) = frame(&teapot, ExitMapDraw::Auto);
+    assert!(
+        !kept,
+        "{per_pot} triangles: the exit map was kept by the shadow map's pass"
+    );
+    assert_eq!(maps, 3, "{per_pot} triangles");
+    let (auto, kept, maps) = frame(&crowded, ExitMapDraw::Auto);
+    let triangles = per_pot * (copies + 1);
+    assert!(kept, "{triangles} triangles: the exit map has a pass of its own");
+    assert_eq!(maps, 2, "{triangles} triangles");
+    let (forced, kept, _) = frame(&crowded, ExitMapDraw::ShadowMapPass);
+    assert!(kept);
+    assert!(
+        auto == forced,
+        "{triangles} triangles: Auto drew another frame than ShadowMapPass"
+    );
+    let (_, kept, maps) = frame(&crowded, ExitMapDraw::OwnPass);
+    assert!(
+        !kept && maps == 3,
+        "OwnPass kept the exit map in the shadow map's pass"
+    );
 }
 
 /// The visibility array's texels (R16F), the pass names of the frame, and the frame.

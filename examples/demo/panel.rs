@@ -348,6 +348,19 @@ impl DemoApp {
                     penumbra::Fattening::Geometry
                 };
                 ui.checkbox(&mut p.exit_map, "exit map (the casters' back faces)");
+                let draw = &mut self.shared.execution.exit_map_draw;
+                egui::ComboBox::from_label("exit map drawn by")
+                    .selected_text(format!("{draw:?}"))
+                    .show_ui(ui, |ui| {
+                        for choice in [
+                            penumbra::ExitMapDraw::Auto,
+                            penumbra::ExitMapDraw::ShadowMapPass,
+                            penumbra::ExitMapDraw::OwnPass,
+                        ] {
+                            ui.selectable_value(draw, choice, format!("{choice:?}"));
+                        }
+                    });
+                let p = &mut self.shared.penumbra;
                 // Every method's: draws instead of compute passes, to compare their cost.
                 ui.checkbox(
                     &mut p.fragment_passes,

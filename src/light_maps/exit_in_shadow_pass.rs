@@ -4,22 +4,21 @@
 //! Output: an R32F texture of half the shadow map's texels a side, like the exit map's own pass
 //! ([`super::exit_map::ExitMapPass`]) draws: the nearest depth of the casters' faces turned
 //! away from the light, texel by texel. While the shadow map's pass draws, each fragment of such
-//! a face takes the atomic maximum of its depth's bits inverted into a buffer of one `u32` a
-//! texel (a depth in [0, 1] orders as its bits do, so the largest inverted bits are the nearest
-//! depth, and 0, a buffer's first value, is no face at all); after the pass a compute pass
-//! (`shaders/exit_resolve.wgsl`) copies the tiles drawn into the texture and sets them back to 0
-//! for the next draw.
+//! a face takes the atomic minimum of its depth's bits into a buffer of one `u32` a texel (a
+//! depth in [0, 1] orders as its bits do), tile by tile (cascades, cube faces). Before the pass
+//! each tile to redraw is set to the far plane by a copy from a buffer of 1.0's; after it, each
+//! is copied into the texture. Copies, not compute passes: on lavapipe a compute pass over the
+//! teapot's 2048 x 2048 exit atlas took 40 ms, as long as the shadow map's whole pass.
 //!
-//! It needs a device whose fragment shaders can write storage buffers, and a shadow map that
-//! culls no face ([`crate::ShadowMapSettings::cull_mode`] `None`, the default): elsewhere the
-//! exit map's own pass draws it ([`crate::ExecutionSettings::exit_in_shadow_pass`]). It differs
-//! from that pass's map where a texel's 2 x 2 texels of the shadow map see different back faces
-//! (it keeps the nearest of the four where the other keeps the one at its centre), by the
-//! rounding of the shadow map's depth format (this one keeps 32-bit floats), and on a device
-//! whose fragment shaders read the depth before the rasterizer adds the depth bias, by that
-//! bias (`tests/execution.rs` compares the two).
-
-use bytemuck::{Pod, Zeroable};
+//! It needs a device whose fragment shaders can write storage buffers, a shadow map that culls
+//! no face ([`crate::ShadowMapSettings::cull_mode`] `None`, the default), and tiles of at least
+//! 128 texels (the copies' rows are 256 bytes or more): elsewhere the exit map's own pass draws
+//! it ([`crate::ExecutionSettings::exit_map_draw`]). It differs from that pass's map
+//! where a texel's 2 x 2 texels of the shadow map see different back faces (it keeps the
+//! nearest of the four where the other keeps the one at its centre), by the rounding of the
+//! shadow map's depth format (this one keeps 32-bit floats), and on a device whose fragment
+//! shaders read the depth before the rasterizer adds the depth bias, by that bias
+//! (`tests/execution.rs` compares the two).
 
 use super::atlas::{MapLayout, depth_state, support_map_resolution};
 use super::pipelines::{CasterPipelines, SecondStream};
@@ -29,13 +28,8 @@ use crate::layouts::SceneLayouts;
 use crate::light_space::AtlasGrid;
 use crate::settings::ExitFaces;
 
-/// What the resolve reads besides the buffer (`shaders/exit_resolve.wgsl`'s `Resolve`).
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct ResolveUniform {
-    /// Texels a row of the buffer, texels a side of one tile, tiles a row, the tiles redrawn.
-    layout: [u32; 4],
-}
+/// A depth of 1.0 (the far plane) as the buffer keeps it: no face turned away from the light.
+const NO_EXIT: u32 = 0x3f80_0000;
 
 /// Whether `device` can keep the exit map in the shadow map's pass: its fragment shaders write
 /// storage buffers (not wgpu's GL backend, where OpenGL ES 3.0 and WebGL2 have none).
@@ -44,17 +38,24 @@ pub(crate) fn supported(device: &wgpu::Device) -> bool {
         && device.limits().max_storage_buffers_per_shader_stage >= 1
 }
 
-/// Whether the buffer for `grid`'s tiles of `tile` shadow-map texels fits `device`'s storage
+/// Whether `map`'s atlas can keep its exit map in the shadow map's pass on `device`: each
+/// tile's rows can be copied (a multiple of 256 bytes) and the buffer fits the device's storage
 /// bindings.
 pub(crate) fn fits(device: &wgpu::Device, (_, grid, tile): MapLayout) -> bool {
     let side = support_map_resolution(tile);
-    let bytes = u64::from(grid.cols.max(1) * side) * u64::from(grid.rows.max(1) * side) * 4;
     let limits = device.limits();
-    bytes <= u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size)
+    (side * 4).is_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+        && buffer_bytes(grid, side)
+            <= u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size)
+}
+
+/// Bytes of the buffer for `grid`'s tiles of `side` texels.
+fn buffer_bytes(grid: AtlasGrid, side: u32) -> u64 {
+    u64::from(grid.cols.max(1) * grid.rows.max(1)) * u64::from(side) * u64::from(side) * 4
 }
 
 /// The shadow map's pipelines that keep the back faces too, the buffer they keep them in, the
-/// exit map it is resolved into, and the bind groups of both.
+/// exit map it is copied into, and the far plane the buffer is set to.
 pub(crate) struct ExitInShadowPass {
     /// Opaque casters whose outward faces turn counter-clockwise in the map (`fs_exit_ccw`),
     /// clockwise (`fs_exit_cw`), and the masked casters' twins.
@@ -67,34 +68,34 @@ pub(crate) struct ExitInShadowPass {
     /// test or write.
     any: CasterPipelines,
     faces: ExitFaces,
-    /// The layout of the draws' group 3: the buffer and its row length.
-    pub draw_layout: wgpu::BindGroupLayout,
+    /// The layout of the draws' group 3: the buffer and its layout.
+    draw_layout: wgpu::BindGroupLayout,
     draw_group: wgpu::BindGroup,
-    /// One `u32` a texel of `map`, rows of `stride` texels.
+    /// One `u32` a texel of `map`, tile by tile.
     bits: wgpu::Buffer,
-    stride: u32,
+    /// 1.0's, one tile's worth: what each tile to redraw is set to first.
+    far: wgpu::Buffer,
     /// The exit map: R32F, half the shadow map's texels a side.
     map: Target,
-    /// Its row length for the draws (`exit_layout`).
+    /// Texels a side of one tile, and tiles a row, for the draws (`exit_layout`).
     draw_uniform: wgpu::Buffer,
-    resolve: wgpu::ComputePipeline,
-    resolve_layout: wgpu::BindGroupLayout,
-    resolve_group: wgpu::BindGroup,
-    resolve_uniform: wgpu::Buffer,
-    /// Tiles a row, and texels a side of one tile of `map`.
     grid: AtlasGrid,
-    tile: u32,
+    /// Texels a side of one tile of `map`.
+    side: u32,
+    /// The tiles the next draw redraws, a bit each.
+    redrawn: u32,
 }
 
 impl ExitInShadowPass {
     /// The pipelines of the shadow map's `shader` (its light uniform's layout `light`) that
-    /// keep the back faces, and the buffer and map for `map`'s atlas.
+    /// keep the back faces, and the buffers and the map for `map`'s atlas; `None` where the
+    /// buffer of 1.0's cannot be written.
     pub fn new(
         device: &wgpu::Device,
         layouts: &SceneLayouts,
         (shader, light): (&wgpu::ShaderModule, &wgpu::BindGroupLayout),
         map: MapLayout,
-    ) -> Self {
+    ) -> Option<Self> {
         let (settings, grid, tile) = map;
         let fragment = wgpu::ShaderStages::FRAGMENT;
         let draw_layout = crate::gpu_helpers::layout(
@@ -154,37 +155,11 @@ impl ExitInShadowPass {
                 ..depth_state(settings)
             },
         );
-        let resolve_layout = crate::gpu_helpers::layout(
-            device,
-            "ExitInShadowPass::resolve",
-            &[
-                entry::storage_buffer(0, wgpu::ShaderStages::COMPUTE, false),
-                entry::storage_texture(1, wgpu::TextureFormat::R32Float),
-                entry::uniform(2, wgpu::ShaderStages::COMPUTE, size_of::<ResolveUniform>(), false),
-            ],
-        );
-        let shader = crate::shaders::module(device, "exit_resolve.wgsl", crate::shaders::EXIT_RESOLVE);
-        let resolve = crate::gpu_helpers::compute_pipeline(
-            device,
-            "ExitInShadowPass::resolve",
-            &shader,
-            &[Some(&resolve_layout)],
-            "cs_main",
-            &[],
-        );
+        let side = support_map_resolution(tile);
         let draw_uniform = crate::gpu_helpers::uniform_buffer(device, "ExitInShadowPass::draw", 16);
-        let resolve_uniform = crate::gpu_helpers::uniform_buffer(
-            device,
-            "ExitInShadowPass::resolve",
-            size_of::<ResolveUniform>() as u64,
-        );
-        let (bits, stride, map_target) = Self::targets(device, grid, support_map_resolution(tile));
-        let (draw_group, resolve_group) = Self::groups(
-            device,
-            (&draw_layout, &resolve_layout),
-            (&bits, &map_target, &draw_uniform, &resolve_uniform),
-        );
-        Self {
+        let (bits, far, map_target) = Self::targets(device, grid, side)?;
+        let draw_group = Self::draw_group(device, &draw_layout, &bits, &draw_uniform);
+        Some(Self {
             opaque_ccw: opaque("ExitInShadowPass::opaque_ccw", "fs_exit_ccw"),
             opaque_cw: opaque("ExitInShadowPass::opaque_cw", "fs_exit_cw"),
             masked_ccw: masked("ExitInShadowPass::masked_ccw", "fs_masked_exit_ccw"),
@@ -194,71 +169,75 @@ impl ExitInShadowPass {
             draw_layout,
             draw_group,
             bits,
-            stride,
+            far,
             map: map_target,
             draw_uniform,
-            resolve,
-            resolve_layout,
-            resolve_group,
-            resolve_uniform,
             grid,
-            tile: support_map_resolution(tile),
-        }
+            side,
+            redrawn: u32::MAX,
+        })
     }
 
-    /// The buffer (no face kept), its row length, and the exit map, for `grid`'s tiles
-    /// of `tile` texels a side.
-    fn targets(device: &wgpu::Device, grid: AtlasGrid, tile: u32) -> (wgpu::Buffer, u32, Target) {
-        let (width, height) = (grid.cols.max(1) * tile, grid.rows.max(1) * tile);
-        // Zeros, as wgpu makes every buffer: no face kept.
+    /// The buffer, the far plane's buffer (`None` where it cannot be written) and the exit map,
+    /// for `grid`'s tiles of `side` texels.
+    fn targets(
+        device: &wgpu::Device,
+        grid: AtlasGrid,
+        side: u32,
+    ) -> Option<(wgpu::Buffer, wgpu::Buffer, Target)> {
         let bits = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("ExitInShadowPass::bits"),
-            size: u64::from(width) * u64::from(height) * 4,
-            usage: wgpu::BufferUsages::STORAGE,
+            size: buffer_bytes(grid, side),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let far = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ExitInShadowPass::far"),
+            size: buffer_bytes(AtlasGrid::SINGLE, side),
+            usage: wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: true,
+        });
+        {
+            let mut range = far.slice(..).get_mapped_range_mut().ok()?;
+            let bytes = buffer_bytes(AtlasGrid::SINGLE, side) as usize;
+            range
+                .slice(..)
+                .write_iter(std::iter::repeat(NO_EXIT.to_le_bytes()).flatten().take(bytes));
+        }
+        far.unmap();
+        let (width, height) = (grid.cols.max(1) * side, grid.rows.max(1) * side);
         let map = crate::gpu_helpers::texture_2d(
             device,
             "ExitInShadowPass::exit_map",
             (width, height),
             wgpu::TextureFormat::R32Float,
-            wgpu::TextureUsages::STORAGE_BINDING,
+            wgpu::TextureUsages::COPY_DST,
         );
-        (bits, width, map)
+        Some((bits, far, map))
     }
 
-    fn groups(
+    fn draw_group(
         device: &wgpu::Device,
-        (draw_layout, resolve_layout): (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
-        (bits, map, draw_uniform, resolve_uniform): (&wgpu::Buffer, &Target, &wgpu::Buffer, &wgpu::Buffer),
-    ) -> (wgpu::BindGroup, wgpu::BindGroup) {
-        let draw = crate::gpu_helpers::bind_group(
-            device,
-            "ExitInShadowPass::draw",
-            draw_layout,
-            &[bits, draw_uniform],
-        );
-        let resolve = crate::gpu_helpers::bind_group(
-            device,
-            "ExitInShadowPass::resolve",
-            resolve_layout,
-            &[bits, &map.view, resolve_uniform],
-        );
-        (draw, resolve)
+        layout: &wgpu::BindGroupLayout,
+        bits: &wgpu::Buffer,
+        uniform: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        crate::gpu_helpers::bind_group(device, "ExitInShadowPass::draw", layout, &[bits, uniform])
     }
 
-    /// Makes the buffer and the map again for a shadow map of `grid`'s tiles of `tile` texels;
-    /// the map must then be drawn and bound again.
-    pub fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
+    /// Makes the buffers and the map again for a shadow map of `grid`'s tiles of `tile`
+    /// texels; false where the buffer of 1.0's cannot be written (the exit map must then be
+    /// drawn by its own pass). The map must then be drawn and bound again.
+    pub fn resize(&mut self, device: &wgpu::Device, map: MapLayout) -> bool {
         let (_, grid, tile) = map;
-        let tile = support_map_resolution(tile);
-        (self.bits, self.stride, self.map) = Self::targets(device, grid, tile);
-        (self.draw_group, self.resolve_group) = Self::groups(
-            device,
-            (&self.draw_layout, &self.resolve_layout),
-            (&self.bits, &self.map, &self.draw_uniform, &self.resolve_uniform),
-        );
-        (self.grid, self.tile) = (grid, tile);
+        let side = support_map_resolution(tile);
+        let Some((bits, far, target)) = Self::targets(device, grid, side) else {
+            return false;
+        };
+        (self.bits, self.far, self.map) = (bits, far, target);
+        self.draw_group = Self::draw_group(device, &self.draw_layout, &self.bits, &self.draw_uniform);
+        (self.grid, self.side) = (grid, side);
+        true
     }
 
     /// Makes the pipelines for the vertex layouts of `casters`.
@@ -271,8 +250,7 @@ impl ExitInShadowPass {
             self.masked_ccw.prepare(device, &masked);
             self.masked_cw.prepare(device, &masked);
         }
-        self.any
-            .prepare(device, &casters.draw_layouts(Streams::Fattened));
+        self.any.prepare(device, &casters.draw_layouts(Streams::Fattened));
     }
 
     /// Draws one tile's casters into the shadow map's `pass` keeping their back faces:
@@ -311,29 +289,58 @@ impl ExitInShadowPass {
 
     /// Uploads the layout for the next draw, which redraws the tiles whose bit is set in
     /// `redrawn`.
-    pub fn prepare(&self, queue: &wgpu::Queue, redrawn: u32) {
-        queue.write_buffer(
-            &self.draw_uniform,
-            0,
-            bytemuck::bytes_of(&[self.stride, 0, 0, 0]),
-        );
-        let resolve = ResolveUniform {
-            layout: [self.stride, self.tile, self.grid.cols.max(1), redrawn],
-        };
-        queue.write_buffer(&self.resolve_uniform, 0, bytemuck::bytes_of(&resolve));
+    pub fn prepare(&mut self, queue: &wgpu::Queue, redrawn: u32) {
+        let layout = [self.side, self.grid.cols.max(1), 0, 0];
+        queue.write_buffer(&self.draw_uniform, 0, bytemuck::bytes_of(&layout));
+        self.redrawn = redrawn;
     }
 
-    /// Records the resolve, after the shadow map's pass: the tiles drawn into the exit map,
-    /// the buffer back to 0.
-    pub fn encode_resolve(&self, encoder: &mut wgpu::CommandEncoder) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("ExitInShadowPass::resolve"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&self.resolve);
-        pass.set_bind_group(0, &self.resolve_group, &[]);
-        let (w, h) = (self.map.texture.width(), self.map.texture.height());
-        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+    /// The tiles the next draw redraws, and each one's place in the buffer and the map.
+    fn tiles(&self) -> impl Iterator<Item = (u64, wgpu::Origin3d)> + '_ {
+        let tile_bytes = buffer_bytes(AtlasGrid::SINGLE, self.side);
+        let count = self.grid.cols.max(1) * self.grid.rows.max(1);
+        (0..count.min(32))
+            .filter(|index| self.redrawn & (1 << index) != 0)
+            .map(move |index| {
+                let [x, y, _, _] = crate::light_space::tile_viewport(self.grid, index, self.side);
+                (u64::from(index) * tile_bytes, wgpu::Origin3d { x, y, z: 0 })
+            })
+    }
+
+    /// Records, before the shadow map's pass, the copies that set each tile to redraw to the
+    /// far plane.
+    pub fn encode_reset(&self, encoder: &mut wgpu::CommandEncoder) {
+        let tile_bytes = buffer_bytes(AtlasGrid::SINGLE, self.side);
+        for (offset, _) in self.tiles() {
+            encoder.copy_buffer_to_buffer(&self.far, 0, &self.bits, offset, tile_bytes);
+        }
+    }
+
+    /// Records, after the shadow map's pass, the copies of each tile drawn into the exit map.
+    pub fn encode_copy(&self, encoder: &mut wgpu::CommandEncoder) {
+        for (offset, origin) in self.tiles() {
+            encoder.copy_buffer_to_texture(
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &self.bits,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset,
+                        bytes_per_row: Some(self.side * 4),
+                        rows_per_image: Some(self.side),
+                    },
+                },
+                wgpu::TexelCopyTextureInfo {
+                    texture: &self.map.texture,
+                    mip_level: 0,
+                    origin,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::Extent3d {
+                    width: self.side,
+                    height: self.side,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
     }
 
     /// The exit map.
@@ -346,8 +353,8 @@ impl ExitInShadowPass {
         &self.map.texture
     }
 
-    /// GPU memory the buffer and the map take, in bytes.
+    /// GPU memory the buffers and the map take, in bytes.
     pub fn allocated_bytes(&self) -> u64 {
-        self.bits.size() + texture_bytes(&self.map.texture) + 16 + size_of::<ResolveUniform>() as u64
+        self.bits.size() + self.far.size() + texture_bytes(&self.map.texture) + self.draw_uniform.size()
     }
 }

@@ -152,7 +152,7 @@ impl LightMaps {
         // fits the device's storage bindings; otherwise a pass of its own draws it.
         let kept = chain.exit_in_shadow_pass() && exit_in_shadow_pass::fits(device, map);
         made |= maps.shadow.keep_exit(device, layouts, map, kept);
-        let drawn = chain.exit_map() && !kept;
+        let drawn = chain.exit_map() && !maps.shadow.keeps_exit();
         if drawn != maps.exit.is_some() {
             maps.exit = drawn.then(|| ExitMapPass::new(device, layouts, map));
             made = true;

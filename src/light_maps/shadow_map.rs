@@ -106,10 +106,15 @@ impl ShadowMapPass {
         if on == self.exit.is_some() {
             return false;
         }
-        self.exit = on.then(|| {
-            ExitInShadowPass::new(device, layouts, (&self.shader, &self.atlas.uniform.layout), map)
-        });
+        self.exit = on
+            .then(|| ExitInShadowPass::new(device, layouts, (&self.shader, &self.atlas.uniform.layout), map))
+            .flatten();
         true
+    }
+
+    /// Whether this pass keeps the exit map.
+    pub(crate) fn keeps_exit(&self) -> bool {
+        self.exit.is_some()
     }
 
     /// GPU memory the atlas, its uniforms and the exit map kept here take, in bytes.
@@ -122,8 +127,10 @@ impl ShadowMapPass {
     pub(crate) fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
         let (settings, grid, tile) = map;
         self.atlas.resize(device, settings, grid, tile);
-        if let Some(exit) = &mut self.exit {
-            exit.resize(device, map);
+        if let Some(exit) = &mut self.exit
+            && !exit.resize(device, map)
+        {
+            self.exit = None;
         }
     }
 
@@ -151,7 +158,7 @@ impl ShadowMapPass {
     /// ([`LightMapAtlas::redraw_only`]), the exit map kept here too.
     pub(crate) fn redraw_only(&mut self, queue: &wgpu::Queue, tiles: u32) {
         self.atlas.redraw_only(tiles);
-        if let Some(exit) = &self.exit {
+        if let Some(exit) = &mut self.exit {
             let all = (1u32 << self.atlas.cascades.clamp(1, 31)) - 1;
             exit.prepare(queue, tiles & all);
         }
@@ -160,6 +167,9 @@ impl ShadowMapPass {
     /// Records the pass: clears the map (or the tiles to redraw) and draws every caster
     /// ([`Self::prepare`] first).
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, (casters, fill): MapDraw) {
+        if let Some(exit) = &self.exit {
+            exit.encode_reset(encoder);
+        }
         self.atlas
             .encode_depth(encoder, "ShadowMapPass", fill, |pass, cull| match &self.exit {
                 Some(exit) => exit.draw(pass, casters, cull, (&self.opaque, &self.masked)),
@@ -169,7 +179,7 @@ impl ShadowMapPass {
                 }
             });
         if let Some(exit) = &self.exit {
-            exit.encode_resolve(encoder);
+            exit.encode_copy(encoder);
         }
     }
 }

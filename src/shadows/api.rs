@@ -80,7 +80,7 @@ pub struct Shadows {
     /// The device runs compute passes ([`crate::PenumbraSettings::fragment_passes`]).
     compute: bool,
     /// The device's fragment shaders write storage buffers: the shadow map's pass can keep the
-    /// exit map ([`crate::ExecutionSettings::exit_in_shadow_pass`]).
+    /// exit map ([`crate::ExecutionSettings::exit_map_draw`]).
     fragment_storage: bool,
     /// The device can write the visibility's half floats from a compute pass, so the compute
     /// passes that finish a light write its layer themselves ([`stores_half_floats`]), where
@@ -396,7 +396,11 @@ impl Shadows {
                 compute: this.compute,
                 exit_in_shadow_pass: this.fragment_storage
                     && this.compute
-                    && this.settings.execution.exit_in_shadow_pass
+                    && this
+                        .settings
+                        .execution
+                        .exit_map_draw
+                        .in_shadow_pass(casters.caster_triangle_count())
                     && this.settings.shadow_map.cull_mode == crate::CullMode::None,
                 screen_space: this.screen_space,
                 has_mask: view.receiver_mask.is_some(),
