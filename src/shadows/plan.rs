@@ -141,6 +141,11 @@ pub(super) fn plan_light(frame: &FramePlan, slot: usize, state: &mut LightState)
         state.key = None;
         state.bound = None;
     }
+    // Where the shadow map's pass could not keep the exit map after all (tiles under 128
+    // texels, a buffer past the device's storage bindings), the exit map has its own pass: the
+    // report counts it.
+    let kept = state.maps.as_ref().is_some_and(|m| m.shadow.keeps_exit());
+    let chain = chain.exit_in_shadow_pass_where(chain.exit_in_shadow_pass() && kept);
     upload_frame(
         frame,
         state,
