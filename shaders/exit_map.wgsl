@@ -1,4 +1,4 @@
-// after: scene
+// after: scene exit_faces
 // Exit map pass: the casters' back faces seen from the light, the nearest kept. Where a
 // light ray leaves the first occluder it meets: inside a thick caster's shadow, the penumbra's
 // inner half is shaped by that near side. Engines and file formats do not agree on which way
@@ -18,13 +18,6 @@ struct ExitLight {
 @group(0) @binding(0) var<uniform> exit_light: ExitLight;
 @group(1) @binding(0) var<uniform> instance: Instance;
 
-struct Vertex {
-    @builtin(position) position: vec4<f32>,
-    @location(0) world: vec3<f32>,
-    // points out of the caster
-    @location(1) outward: vec3<f32>,
-}
-
 // Depth only, for the culling pipelines.
 @vertex
 fn vs_depth(@location(0) position: vec3<f32>) -> @builtin(position) vec4<f32> {
@@ -33,24 +26,14 @@ fn vs_depth(@location(0) position: vec3<f32>) -> @builtin(position) vec4<f32> {
 }
 
 @vertex
-fn vs_main(@location(0) position: vec3<f32>, @location(1) smoothed_normal: vec3<f32>) -> Vertex {
-    var out: Vertex;
-    out.world = (instance.model * vec4<f32>(position, 1.0)).xyz;
-    out.outward = (instance.normal * vec4<f32>(smoothed_normal, 0.0)).xyz;
-    out.position = exit_light.view_proj * vec4<f32>(out.world, 1.0);
-    return out;
+fn vs_main(@location(0) position: vec3<f32>, @location(1) smoothed_normal: vec3<f32>) -> ExitVertex {
+    return exit_vertex(position, smoothed_normal, exit_light.view_proj);
 }
 
 @fragment
-fn fs_main(in: Vertex) {
-    var ray = exit_light.light.xyz;
-    if exit_light.light.w > 0.5 {
-        ray = in.world - exit_light.light.xyz;
-    }
-    let face = cross(dpdx(in.world), dpdy(in.world));
-    let outward = face * select(-1.0, 1.0, dot(face, in.outward) >= 0.0);
+fn fs_main(in: ExitVertex) {
     // Faces turned toward the light are not where a ray leaves the caster.
-    if dot(outward, ray) <= 0.0 {
+    if !turned_away(in, exit_light.light) {
         discard;
     }
 }

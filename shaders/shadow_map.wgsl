@@ -1,4 +1,4 @@
-// after: scene
+// after: scene exit_faces
 // Shadow map pass: the depth of every shadow caster seen from the light.
 //
 // `vs_opaque` is the one minimal shader for every opaque caster, whatever its material: a
@@ -115,32 +115,14 @@ fn fs_masked_exit_cw(in: MaskedOut, @builtin(front_facing) front: bool) {
     }
 }
 
-struct AnyOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
-    // points out of the caster
-    @location(1) outward: vec3<f32>,
-}
-
 @vertex
-fn vs_exit_any(@location(0) position: vec3<f32>, @location(1) smoothed_normal: vec3<f32>) -> AnyOut {
-    var out: AnyOut;
-    out.world = (instance.model * vec4<f32>(position, 1.0)).xyz;
-    out.outward = (instance.normal * vec4<f32>(smoothed_normal, 0.0)).xyz;
-    out.clip = light.view_proj * vec4<f32>(out.world, 1.0);
-    return out;
+fn vs_exit_any(@location(0) position: vec3<f32>, @location(1) smoothed_normal: vec3<f32>) -> ExitVertex {
+    return exit_vertex(position, smoothed_normal, light.view_proj);
 }
 
 @fragment
-fn fs_exit_any(in: AnyOut) {
-    var ray = light.light.xyz;
-    if light.light.w > 0.5 {
-        ray = in.world - light.light.xyz;
-    }
-    let face = cross(dpdx(in.world), dpdy(in.world));
-    let outward = face * select(-1.0, 1.0, dot(face, in.outward) >= 0.0);
-    // Faces turned toward the light are not where a ray leaves the caster.
-    if dot(outward, ray) > 0.0 {
-        keep_exit(in.clip);
+fn fs_exit_any(in: ExitVertex) {
+    if turned_away(in, light.light) {
+        keep_exit(in.position);
     }
 }

@@ -187,54 +187,33 @@ impl Chain {
     /// The chain where `on` (the compute passes write the layer in half floats and
     /// [`crate::ExecutionSettings::raw_visibility`] is off): the distance-map method's variable
     /// PCF then writes the light's layer, which its blur reads back.
-    pub(crate) fn pcf_writing_layer(self, on: bool) -> Self {
-        match self {
-            Chain::Ours {
-                method,
-                blur,
-                compute,
-                dilated,
-                exit_map,
-                exit_in_shadow_pass,
-                ..
-            } => Chain::Ours {
-                method,
-                blur,
-                compute,
-                dilated,
-                exit_map,
-                exit_in_shadow_pass,
-                pcf_in_layer: on && compute && blur,
-            },
-            other => other,
+    pub(crate) fn pcf_writing_layer(mut self, on: bool) -> Self {
+        if let Chain::Ours {
+            blur,
+            compute,
+            pcf_in_layer,
+            ..
+        } = &mut self
+        {
+            *pcf_in_layer = on && *compute && *blur;
         }
+        self
     }
 
     /// The chain where `on` (the device's fragment shaders write storage, it runs compute
     /// passes, the shadow map culls no face and
     /// [`crate::ExecutionSettings::exit_map_draw`] is on): the distance-map method's
     /// exit map is then kept by the shadow map's pass.
-    pub(crate) fn exit_in_shadow_pass_where(self, on: bool) -> Self {
-        match self {
-            Chain::Ours {
-                method,
-                blur,
-                compute,
-                dilated,
-                exit_map,
-                pcf_in_layer,
-                ..
-            } => Chain::Ours {
-                method,
-                blur,
-                compute,
-                dilated,
-                exit_map,
-                exit_in_shadow_pass: on && exit_map,
-                pcf_in_layer,
-            },
-            other => other,
+    pub(crate) fn exit_in_shadow_pass_where(mut self, on: bool) -> Self {
+        if let Chain::Ours {
+            exit_map,
+            exit_in_shadow_pass,
+            ..
+        } = &mut self
+        {
+            *exit_in_shadow_pass = on && *exit_map;
         }
+        self
     }
 
     /// The shadow map's pass keeps the exit map: it has no pass of its own

@@ -54,7 +54,6 @@ fn passes_find_their_entry_points() {
                 "fs_exit_any",
             ][..],
         ),
-        ("exit_resolve", &["cs_main"][..]),
         ("forward", &["vs_main", "fs_main"][..]),
         ("fattened_shadow_map", &["vs_main", "fs_main"][..]),
         ("exit_map", &["vs_main", "fs_main"][..]),
