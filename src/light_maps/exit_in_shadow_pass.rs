@@ -45,8 +45,7 @@ pub(crate) fn fits(device: &wgpu::Device, (_, grid, tile): MapLayout) -> bool {
     let side = support_map_resolution(tile);
     let limits = device.limits();
     (side * 4).is_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-        && buffer_bytes(grid, side)
-            <= u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size)
+        && buffer_bytes(grid, side) <= limits.max_storage_buffer_binding_size.min(limits.max_buffer_size)
 }
 
 /// Bytes of the buffer for `grid`'s tiles of `side` texels.
