@@ -10,7 +10,7 @@
 //! | [`fattened_shadow_map::FattenedShadowMapPass`] | `shaders/fattened_shadow_map.wgsl` | casters, smoothed normals, light view | fattened depth map |
 //! | [`dilated_map::DilatedMapPass`] | `shaders/dilated_map.wgsl` | the shadow map, light view, fatten distance | the fattened map derived in compute (no geometry): the least depth within the fatten distance |
 //! | [`exit_map::ExitMapPass`] | `shaders/exit_map.wgsl` | casters, smoothed normals, light view | depth of the casters' back faces (where rays leave the first occluder) |
-//! | [`exit_in_shadow_pass::ExitInShadowPass`] | `shaders/shadow_map.wgsl` (`fs_exit_*`), `shaders/exit_resolve.wgsl` | the shadow map pass's draws | the same exit map, kept by the shadow map's pass: no drawing of its own |
+//! | [`exit_in_shadow_pass::ExitInShadowPass`] | `shaders/shadow_map.wgsl` (`fs_exit_*`, with `shaders/common/exit_faces.wgsl`) | the shadow map pass's draws | the same exit map, kept by the shadow map's pass (a buffer the fragments' atomics fill, copied into an R32F map): no drawing of its own |
 
 mod atlas;
 mod dilated_map;
