@@ -1,8 +1,9 @@
 //! What the distance-map method's fattened map and exit map buy, against the reference: each
 //! benchmark view (the teapot's and the character's three, the room's desk under its lamp) with
-//! `ours` medium in four forms, the fattened map drawn (`Fattening::Geometry`) or derived from
+//! `ours` medium in five forms, the fattened map drawn (`Fattening::Geometry`) or derived from
 //! the shadow map (`Fattening::Dilation`), with and without the exit map
-//! (`PenumbraSettings::exit_map`). Prints a markdown table of the penumbra RMSE, the RMSE, and
+//! (`PenumbraSettings::exit_map`), and derived with the exit map kept by the shadow map's pass
+//! (`ExitMapDraw::ShadowMapPass`: one geometry pass a light). Prints a markdown table of the penumbra RMSE, the RMSE, and
 //! the geometry passes a light's maps take, and the share of pixels each form's mask leaves
 //! out where the reference has a penumbra (the mask must leave out none).
 //!
@@ -13,7 +14,7 @@
 use anyhow::{Context, Result};
 use clap::Parser;
 use penumbra::metrics::{self, VisibilityImage};
-use penumbra::{Fattening, HeadlessGpu, Quality, ShadowMethod, ShadowSettings};
+use penumbra::{ExitMapDraw, Fattening, HeadlessGpu, Quality, ShadowMethod, ShadowSettings};
 
 #[derive(Parser)]
 #[command(about = "The fattened map's and the exit map's forms against the reference")]
@@ -33,27 +34,44 @@ struct Args {
     dump: Option<std::path::PathBuf>,
 }
 
-/// The forms measured: the fattening, whether the exit map is drawn.
-const FORMS: [(Fattening, bool); 4] = [
-    (Fattening::Geometry, true),
-    (Fattening::Geometry, false),
-    (Fattening::Dilation, true),
-    (Fattening::Dilation, false),
+/// The forms measured: the fattening, and the exit map's pass (none: no exit map).
+type Form = (Fattening, Option<ExitMapDraw>);
+
+const FORMS: [Form; 5] = [
+    (Fattening::Geometry, Some(ExitMapDraw::OwnPass)),
+    (Fattening::Geometry, None),
+    (Fattening::Dilation, Some(ExitMapDraw::OwnPass)),
+    (Fattening::Dilation, Some(ExitMapDraw::ShadowMapPass)),
+    (Fattening::Dilation, None),
 ];
 
-fn form_name((fattening, exit): (Fattening, bool)) -> String {
+fn form_name((fattening, exit): Form) -> String {
     let f = match fattening {
-        Fattening::Geometry => "geometry",
-        Fattening::Dilation => "dilation",
+        Fattening::Auto => "auto",
+        Fattening::Geometry => "drawn",
+        Fattening::Dilation => "derived",
     };
-    format!("{f}{}", if exit { " + exit map" } else { "" })
+    let exit = match exit {
+        None => "",
+        Some(ExitMapDraw::ShadowMapPass) => " + exit map kept",
+        Some(_) => " + exit map",
+    };
+    format!("{f}{exit}")
 }
 
-fn settings_of((fattening, exit): (Fattening, bool)) -> ShadowSettings {
+fn settings_of((fattening, exit): Form) -> ShadowSettings {
     let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
     settings.penumbra.fattening = fattening;
-    settings.penumbra.exit_map = exit;
+    settings.penumbra.exit_map = exit.is_some();
+    settings.execution.exit_map_draw = exit.unwrap_or_default();
     settings
+}
+
+/// The passes that draw the casters from the light when its maps are redrawn
+/// (`Chain::light_maps` on a device that keeps the exit map in the shadow map's pass): the
+/// shadow map's, the drawn fattened map's and the exit map's own.
+fn geometry_passes((fattening, exit): Form) -> u32 {
+    1 + (fattening == Fattening::Geometry) as u32 + (exit == Some(ExitMapDraw::OwnPass)) as u32
 }
 
 /// The share of the reference's penumbra pixels (visibility strictly between 0.02 and 0.98)
@@ -125,10 +143,7 @@ fn main() -> Result<()> {
     }
     println!("\nGeometry passes per light when its maps are drawn:");
     for form in FORMS {
-        let settings = settings_of(form);
-        let scene = penumbra::load_scene(&assets.join("teapot.ron"))?;
-        let chain = penumbra::Chain::new(&settings, &scene.light);
-        println!("- {}: {}", form_name(form), chain.light_maps());
+        println!("- {}: {}", form_name(form), geometry_passes(form));
     }
     Ok(())
 }

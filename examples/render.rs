@@ -52,9 +52,10 @@ struct Args {
     /// (`PenumbraSettings::nearest_caster`), to compare its cost and its error.
     #[arg(long)]
     no_nearest_caster: bool,
-    /// `ours`: how the fattened map is made (`PenumbraSettings::fattening`): geometry (the
-    /// casters drawn again, pushed out) or dilation (derived from the shadow map in compute).
-    #[arg(long, default_value = "geometry")]
+    /// `ours`: how the fattened map is made (`PenumbraSettings::fattening`): auto (by the
+    /// casters' triangles), geometry (the casters drawn again, pushed out) or dilation (derived
+    /// from the shadow map in compute).
+    #[arg(long, default_value = "auto")]
     fattening: String,
     /// `ours`: leave out the exit map (`PenumbraSettings::exit_map`), to compare its cost and
     /// its error.
@@ -158,9 +159,10 @@ fn main() -> Result<()> {
     settings.penumbra.nearest_caster = !args.no_nearest_caster;
     settings.penumbra.reduced_resolution = args.reduced_resolution;
     settings.penumbra.fattening = match args.fattening.as_str() {
+        "auto" => Fattening::Auto,
         "geometry" => Fattening::Geometry,
         "dilation" => Fattening::Dilation,
-        other => anyhow::bail!("--fattening: unknown `{other}`; choose geometry or dilation"),
+        other => anyhow::bail!("--fattening: unknown `{other}`; choose auto, geometry or dilation"),
     };
     settings.penumbra.exit_map = !args.no_exit_map;
     settings.penumbra.fragment_passes = args.fragment_passes;

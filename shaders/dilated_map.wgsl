@@ -1,22 +1,29 @@
 // after:
 // The fattened map derived from the shadow map, in compute (`PenumbraSettings::fattening`,
-// `Fattening::Dilation`): no caster is drawn again. Where a penumbra can fall beside a caster is
-// where the caster lies within the fatten distance across the light, so each texel of the
-// fattened map holds the least depth the shadow map has within that distance of it (`radius`
-// texels of the fattened map: the fatten distance at the nearest caster's distance from the
-// light), in the texel's own tile (cascade or cube face).
+// `Fattening::Dilation`): no caster is drawn again. A penumbra can fall beside a caster within
+// the fatten distance of its outline across the light: as the drawn map pushes each caster out
+// along its normals, a surface spreads at its silhouettes, not where it faces the light. So each
+// texel of the fattened map holds (x) the least depth of the shadow map's silhouettes within
+// that distance of it (`radius` texels of the fattened map: the fatten distance at the nearest
+// caster's distance from the light), in the texel's own tile (cascade or cube face), and of the
+// caster under it; and (y) the depth of the silhouette nearest it, where the distance beside a
+// shadow is taken from.
 //
 // `cs_reduce` takes the shadow map to the fattened map's resolution (a quarter of the shadow
-// map's), each texel the least of the sixteen it covers: level 0. Each `cs_step` k then makes level k, each
-// texel the least of the 2^k x 2^k square whose lower corner it is (four texels of level k - 1),
-// up to the level of the widest square that fits in a tile's window (a tile whose window is
-// narrower keeps its own last level). `cs_dilate` takes the least of four squares of that
-// level, which together cover the texel's window exactly (a sparse table of least depths: two
-// textures used in turn, whatever the radius; level 0 is written into the second).
+// map's): level 0, each texel the least of the texels it covers where a silhouette (a depth step
+// of more than `EDGE_TEXELS` texels between neighbours) lies among them, the far plane
+// elsewhere. Each `cs_step` k then makes level k, each texel the least of the 2^k x 2^k square
+// whose lower corner it is (four texels of level k - 1), up to the level of the widest square
+// that fits in a tile's window (a tile whose window is narrower keeps its own last level); on
+// the way each tries the window level k - 1 covers (2^(k-1) - 1 texels each way) for the
+// nearest silhouette, where none was found in a narrower one. `cs_dilate` takes the least of
+// four squares of the last level, which together cover the texel's window exactly (a sparse
+// table of least depths: two textures used in turn, whatever the radius; level 0 is written
+// into the second).
 //
-// The distance map takes the distance beside a shadow from that least depth: no occluder offset
-// is added (one back to the caster under the texel gave no distance where that caster is the
-// receiver itself, beside a shadow on a caster: the teapot's handle's on its body).
+// The distance map takes the distance from those depths: no occluder offset is added (one back
+// to the caster under the texel gave no distance where that caster is the receiver itself,
+// beside a shadow on a caster: the teapot's handle's on its body).
 
 // The level read and the level written (`cs_dilate`: the last level read, the fattened map
 // written).
@@ -33,35 +40,89 @@ struct Step {
 struct Dilation {
     // x: a tile's side in texels of the fattened map; y: the atlas's tiles per row
     shape: vec4<u32>,
-    // per tile: x the radius in texels of the fattened map, y the last level it needs
+    // x, y: the light's near and far planes (world units); z: 1 for a perspective map
+    depth: vec4<f32>,
+    // per tile: x the radius in texels of the fattened map, y the last level it needs, z the
+    // world units across a shadow-map texel (a perspective map's: per unit of distance)
     tiles: array<vec4<f32>, 6>,
 }
 
 @group(1) @binding(0) var<uniform> dilation: Dilation;
+// Per texel of the fattened map (row by row): x the least depth of the shadow-map texels it
+// covers (the caster under it), y the least depth of the silhouettes in the narrowest window
+// that holds one, 1 where none is found yet.
+@group(1) @binding(1) var<storage, read_write> nearest: array<vec2<f32>>;
+// The fattened map (`cs_dilate`): x the least depth, y the nearest silhouette's.
+@group(1) @binding(2) var fattened: texture_storage_2d<rg32float, write>;
 
-// The least depth of the texels of `map` that texel `texel` of a map `size` texels covers (two
-// a side where `map` is twice as large).
-fn covered_least(map: texture_2d<f32>, texel: vec2<u32>, size: vec2<u32>) -> f32 {
-    let from_size = textureDimensions(map);
-    let lo = (texel * from_size) / size;
-    let hi = max(min(((texel + 1u) * from_size + size - 1u) / size, from_size), lo + 1u) - 1u;
-    var least = 1.0;
-    for (var y = lo.y; y <= hi.y; y += 1u) {
-        for (var x = lo.x; x <= hi.x; x += 1u) {
-            least = min(least, textureLoad(map, vec2<u32>(x, y), 0).x);
-        }
+// A depth step between two neighbouring shadow-map texels wider than this many texels along the
+// light is a silhouette: the nearer side spreads by the fatten distance, as the drawn map pushes
+// a silhouette out. A surface that turns less steeply than that does not spread.
+const EDGE_TEXELS: f32 = 4.0;
+
+// Distance along the light from its near plane, world units, for a shadow-map depth.
+fn linear_depth(z: f32) -> f32 {
+    let near = dilation.depth.x;
+    let far = dilation.depth.y;
+    if dilation.depth.z > 0.5 {
+        return near * far / max(far - z * (far - near), 1e-20);
     }
-    return least;
+    return near + z * (far - near);
 }
 
-// Level 0: the shadow map (`source`) at the fattened map's resolution.
+// Level 0: the silhouettes of the shadow map (`source`) at the fattened map's resolution. A
+// texel looks at the shadow-map texels it covers and the next column and row (within its
+// tile), so that each pair of neighbouring texels is looked at once: where a depth step of a
+// silhouette lies among them, the least of them (the nearer side's), else the far plane. The
+// texels are read once, into a square of at most 5 x 5 (a texel covers at most 4 x 4).
 @compute @workgroup_size(8, 8)
 fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(destination);
     if id.x >= size.x || id.y >= size.y {
         return;
     }
-    textureStore(destination, id.xy, vec4<f32>(covered_least(source, id.xy, size), 0.0, 0.0, 0.0));
+    let from_size = textureDimensions(source);
+    let tile = tile_of(id.xy, size);
+    let scale = max(from_size / size, vec2<u32>(1u));
+    let lo = id.xy * scale;
+    let tile_hi = min((tile.hi + 1u) * scale, from_size) - 1u;
+    let hi = min(min((id.xy + 1u) * scale, tile_hi), lo + 4u);
+    let perspective = dilation.depth.z > 0.5;
+    var depths: array<f32, 25>;
+    var least = 1.0;
+    // The least of the texels covered alone (not the next column and row).
+    var covered = 1.0;
+    let covered_hi = (id.xy + 1u) * scale;
+    for (var y = lo.y; y <= hi.y; y += 1u) {
+        for (var x = lo.x; x <= hi.x; x += 1u) {
+            let z = textureLoad(source, vec2<u32>(x, y), 0).x;
+            depths[(y - lo.y) * 5u + x - lo.x] = linear_depth(z);
+            least = min(least, z);
+            if x < covered_hi.x && y < covered_hi.y {
+                covered = min(covered, z);
+            }
+        }
+    }
+    var silhouette = false;
+    let extent = hi - lo;
+    for (var y = 0u; y <= extent.y; y += 1u) {
+        for (var x = 0u; x <= extent.x; x += 1u) {
+            let z = depths[y * 5u + x];
+            let step = EDGE_TEXELS * tile.texel * select(1.0, z, perspective);
+            if x < extent.x && abs(depths[y * 5u + x + 1u] - z) > step {
+                silhouette = true;
+            }
+            if y < extent.y && abs(depths[(y + 1u) * 5u + x] - z) > step {
+                silhouette = true;
+            }
+        }
+    }
+    var value = 1.0;
+    if least < 1.0 && silhouette {
+        value = least;
+    }
+    textureStore(destination, id.xy, vec4<f32>(value, 0.0, 0.0, 0.0));
+    nearest[id.y * size.x + id.x] = vec2<f32>(covered, value);
 }
 
 // The tile of texel `texel` of a map `size` texels: its lower and upper texels (x, y), and its
@@ -71,6 +132,8 @@ struct Tile {
     hi: vec2<u32>,
     radius: f32,
     level: u32,
+    // world units across a shadow-map texel (per unit of distance for a perspective map)
+    texel: f32,
 }
 
 fn tile_of(texel: vec2<u32>, size: vec2<u32>) -> Tile {
@@ -82,12 +145,14 @@ fn tile_of(texel: vec2<u32>, size: vec2<u32>) -> Tile {
     t.hi = min(t.lo + side, size) - 1u;
     t.radius = entry.x;
     t.level = u32(entry.y);
+    t.texel = entry.z;
     return t;
 }
 
 // Level `step.level.x` from the one before: the least of the four squares of half its side
 // whose union is the texel's square, clamped to the tile. A tile that needs no such level
-// keeps the one before.
+// keeps the one before. Where no silhouette was found nearer, the least of the window the level
+// before covers (radius its square's side less one) is the nearest silhouette's depth.
 @compute @workgroup_size(8, 8)
 fn cs_step(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(destination);
@@ -104,28 +169,53 @@ fn cs_step(@builtin(global_invocation_id) id: vec3<u32>) {
         least = min(least, textureLoad(source, far, 0).x);
     }
     textureStore(destination, id.xy, vec4<f32>(least, 0.0, 0.0, 0.0));
+    let square = 1u << (level - 1u);
+    let index = id.y * size.x + id.x;
+    if level >= 2u && level - 1u <= tile.level && square - 1u < tile_radius(tile) && nearest[index].y >= 1.0 {
+        nearest[index].y = window_least(id.xy, square - 1u, square, tile);
+    }
 }
 
-// The fattened map: the least depth in the texel's window, `radius` texels each way within its
-// tile, from four squares of the tile's last level (`source`), the first at the window's lower
-// corner and the last ending at its upper corner. Where the window is narrower than a square
-// (at a tile's edge) the squares reach past it, within the tile.
+// A tile's radius in whole texels.
+fn tile_radius(tile: Tile) -> u32 {
+    return u32(ceil(max(tile.radius, 0.0)));
+}
+
+// The least depth over the window `radius` texels each way around `texel` within `tile`, from
+// four squares `square` texels a side of the level in `source` (at least half the window's
+// side), the first at the window's lower corner and the last ending at its upper corner. Where
+// the window is narrower than a square (at a tile's edge) the squares reach past it, within the
+// tile.
+fn window_least(texel: vec2<u32>, radius: u32, square: u32, tile: Tile) -> f32 {
+    let lo = vec2<u32>(max(vec2<i32>(texel) - i32(radius), vec2<i32>(tile.lo)));
+    let hi = min(texel + radius, tile.hi);
+    let side = vec2<u32>(square);
+    // The last square's lower corner: where it ends at `hi`, not before `lo`.
+    let last = select(lo, hi + 1u - side, hi + 1u >= lo + side);
+    var least = textureLoad(source, lo, 0).x;
+    least = min(least, textureLoad(source, vec2<u32>(last.x, lo.y), 0).x);
+    least = min(least, textureLoad(source, vec2<u32>(lo.x, last.y), 0).x);
+    return min(least, textureLoad(source, last, 0).x);
+}
+
+// The fattened map: x the least depth in the texel's window, `radius` texels each way within
+// its tile, from the tile's last level (`source`), and of the caster under the texel itself
+// (where the tile classification and the distance map test a receiver); y the nearest
+// silhouette's depth (`nearest`, else the window's), from which the distance beside a shadow
+// is taken.
 @compute @workgroup_size(8, 8)
 fn cs_dilate(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(destination);
+    let size = textureDimensions(fattened);
     if id.x >= size.x || id.y >= size.y {
         return;
     }
     let tile = tile_of(id.xy, size);
-    let radius = u32(ceil(max(tile.radius, 0.0)));
-    let lo = vec2<u32>(max(vec2<i32>(id.xy) - i32(radius), vec2<i32>(tile.lo)));
-    let hi = min(id.xy + radius, tile.hi);
-    let square = vec2<u32>(1u << tile.level);
-    // The last square's lower corner: where it ends at `hi`, not before `lo`.
-    let last = select(lo, hi + 1u - square, hi + 1u >= lo + square);
-    var least = textureLoad(source, lo, 0).x;
-    least = min(least, textureLoad(source, vec2<u32>(last.x, lo.y), 0).x);
-    least = min(least, textureLoad(source, vec2<u32>(lo.x, last.y), 0).x);
-    least = min(least, textureLoad(source, last, 0).x);
-    textureStore(destination, id.xy, vec4<f32>(least, 0.0, 0.0, 0.0));
+    let window = window_least(id.xy, tile_radius(tile), 1u << tile.level, tile);
+    let found = nearest[id.y * size.x + id.x];
+    let least = min(window, found.x);
+    var near = found.y;
+    if near >= 1.0 {
+        near = window;
+    }
+    textureStore(fattened, id.xy, vec4<f32>(least, near, 0.0, 0.0));
 }

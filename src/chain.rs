@@ -101,6 +101,7 @@ impl Chain {
                     method,
                     blur: settings.penumbra.blur_taps > 1,
                     compute,
+                    // `Fattening::Auto` by the casters: `fattening_derived_where` when they are known.
                     dilated: compute && settings.penumbra.fattening == crate::Fattening::Dilation,
                     exit_map: settings.penumbra.exit_map,
                     exit_in_shadow_pass: false,
@@ -196,6 +197,15 @@ impl Chain {
         } = &mut self
         {
             *pcf_in_layer = on && *compute && *blur;
+        }
+        self
+    }
+
+    /// The chain with its fattened map derived from the shadow map where `on` (what
+    /// [`crate::Fattening::derived`] says for the casters) and it runs compute passes.
+    pub(crate) fn fattening_derived_where(mut self, on: bool) -> Self {
+        if let Chain::Ours { compute, dilated, .. } = &mut self {
+            *dilated = on && *compute;
         }
         self
     }

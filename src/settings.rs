@@ -213,23 +213,45 @@ pub enum TileClassification {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Fattening {
-    /// The method's own: the casters drawn again from the light, each vertex pushed out along
-    /// its smoothed normal by the fatten distance (a second geometry pass per light). The
-    /// default, and what the draws use (a device without compute shaders, or
-    /// [`PenumbraSettings::fragment_passes`]).
+    /// [`Fattening::Dilation`] where the casters have at least [`Fattening::AUTO_TRIANGLES`]
+    /// triangles, [`Fattening::Geometry`] below: the drawn map costs by the vertex, the derived
+    /// one by the texel whatever the casters. With the exit map kept by the shadow map's pass
+    /// ([`crate::ExitMapDraw::Auto`], from the same count) a light then draws its casters once.
+    /// On lavapipe (the bench's caster sweep, `docs/bench/quick-lavapipe.md`, "Growth") the
+    /// derived map cost more than the drawn one at 9,216 and 147,456 triangles and less at
+    /// 2,359,296; not measured on a GPU.
     #[default]
+    Auto,
+    /// The method's own: the casters drawn again from the light, each vertex pushed out along
+    /// its smoothed normal by the fatten distance (a second geometry pass per light). What the
+    /// draws use (a device without compute shaders, or [`PenumbraSettings::fragment_passes`]).
     Geometry,
-    /// Derived from the shadow map in compute, with no second geometry pass: each texel of
-    /// the fattened map (a quarter of the shadow map's resolution) takes the least depth the
-    /// shadow map holds within the fatten distance of it across the light (at the nearest
-    /// caster's distance from a spot or point light), from a sparse table of least depths
-    /// (`light_maps::dilated_map`). Measured against the reference
-    /// (`docs/bench/fattening-lavapipe.md`): under the benchmark's suns within 0-4% of
-    /// [`Fattening::Geometry`]'s penumbra RMSE, under the room's lamp (a point light whose
-    /// shade lies 5 cm from it) 1.85x: beside a shadow the distance is to the least depth in
-    /// the window, not to the caster's own plane. The draws fall back to
-    /// [`Fattening::Geometry`].
+    /// Derived from the shadow map in compute, with no second geometry pass
+    /// (`light_maps::dilated_map`), at a quarter of the shadow map's resolution. Each texel
+    /// holds the least depth of the shadow map's silhouettes (its steps of more than four
+    /// texels along the light) within the fatten distance of it across the light (at the
+    /// nearest caster's distance from a spot or point light) and of the caster under it: where
+    /// a shadow can fall. Beside a shadow the distance is taken to the silhouette nearest the
+    /// texel, found in windows that double in width. Measured against the reference
+    /// (`docs/bench/fattening-lavapipe.md`). The draws fall back to [`Fattening::Geometry`].
     Dilation,
+}
+
+impl Fattening {
+    /// Casters' triangles from which [`Fattening::Auto`] derives the fattened map: the
+    /// exit map's ([`crate::ExitMapDraw::AUTO_TRIANGLES`]), so that both leave the casters'
+    /// second and third drawing together.
+    pub const AUTO_TRIANGLES: usize = crate::ExitMapDraw::AUTO_TRIANGLES;
+
+    /// Whether the fattened map is derived for casters of `triangles` triangles (where the
+    /// device runs compute passes).
+    pub fn derived(self, triangles: usize) -> bool {
+        match self {
+            Fattening::Auto => triangles >= Self::AUTO_TRIANGLES,
+            Fattening::Geometry => false,
+            Fattening::Dilation => true,
+        }
+    }
 }
 
 /// Settings of the distance-map method ([`ShadowMethod::Ours`] and [`ShadowMethod::OursFast`]).
@@ -314,8 +336,9 @@ pub struct PenumbraSettings {
     /// cost accuracy where measured (see [`MapResolution::FromPenumbra`]).
     #[cfg_attr(feature = "serde", serde(default))]
     pub map_resolution: MapResolution,
-    /// How the fattened map is made: the casters drawn again, pushed out (the default), or
-    /// derived from the shadow map in compute ([`Fattening`]).
+    /// How the fattened map is made: the casters drawn again, pushed out, or derived from the
+    /// shadow map in compute ([`Fattening`]). Default [`Fattening::Auto`]: derived from
+    /// [`Fattening::AUTO_TRIANGLES`] caster triangles.
     #[cfg_attr(feature = "serde", serde(default))]
     pub fattening: Fattening,
     /// Draw the exit map: the casters' back faces from the light, a geometry pass of its own.
@@ -399,7 +422,7 @@ impl Default for PenumbraSettings {
             fragment_passes: false,
             indirect_weight: 0.0,
             map_resolution: MapResolution::default(),
-            fattening: Fattening::Geometry,
+            fattening: Fattening::Auto,
             exit_map: true,
         }
     }

@@ -26,8 +26,8 @@ mod common;
 
 use glam::{Mat4, Vec3};
 use penumbra::{
-    DevicePath, ExitFaces, ExitMapDraw, LightTexture, Quality, Scene, ShadowMethod, ShadowSettings,
-    TilePixels, load_scene,
+    DevicePath, ExitFaces, ExitMapDraw, Fattening, LightTexture, Quality, Scene, ShadowMethod,
+    ShadowSettings, TilePixels, load_scene,
 };
 
 /// The compute pipelines `gpu`'s device holds now (wgpu's counters: made and not yet dropped).
@@ -451,48 +451,60 @@ fn the_shadow_map_pass_keeps_the_exit_map_its_own_pass_draws() {
     }
 }
 
-/// `ExitMapDraw::Auto` keeps the exit map in the shadow map's pass from
-/// `ExitMapDraw::AUTO_TRIANGLES` caster triangles, and gives it its own pass below: the teapot
-/// alone (9,216 triangles) has its own, the teapot drawn 55 times over in one place (506,880)
-/// has it kept, with the frame that `ExitMapDraw::ShadowMapPass` gives.
+/// `ExitMapDraw::Auto` keeps the exit map in the shadow map's pass and `Fattening::Auto`
+/// derives the fattened map from the shadow map from `ExitMapDraw::AUTO_TRIANGLES` caster
+/// triangles (`Fattening::AUTO_TRIANGLES`, the same count), and both draw apart below: the
+/// teapot alone (9,216 triangles) draws its casters three times, the teapot drawn 55 times over
+/// in one place (506,880) once, with the frame that `ExitMapDraw::ShadowMapPass` and
+/// `Fattening::Dilation` give.
 #[test]
-fn the_exit_map_moves_into_the_shadow_map_pass_for_many_triangles() {
+fn the_light_draws_its_casters_once_for_many_triangles() {
     let gpu = common::gpu();
     let teapot = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
     let mut crowded = teapot.clone();
     let pot = crowded.meshes.iter().position(|m| m.name == "teapot").unwrap();
     let instance = crowded.instances.iter().find(|i| i.mesh == pot).unwrap().clone();
     let per_pot = crowded.meshes[pot].indices.len() / 3;
+    assert_eq!(Fattening::AUTO_TRIANGLES, ExitMapDraw::AUTO_TRIANGLES);
     let copies = ExitMapDraw::AUTO_TRIANGLES.div_ceil(per_pot);
     crowded.instances.extend(std::iter::repeat_n(instance, copies));
     let camera = teapot.view(0).unwrap();
-    let frame = |scene: &Scene, draw: ExitMapDraw| {
+    let frame = |scene: &Scene, draw: ExitMapDraw, fattening: Fattening| {
         let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
         settings.execution.exit_map_draw = draw;
+        settings.penumbra.fattening = fattening;
         let (image, renderer) = common::render_frame(&gpu, scene, &camera, settings, (96, 64));
         let chain = renderer.last_report().unwrap().plan.chain;
-        (image, chain.exit_in_shadow_pass(), chain.light_maps())
+        (
+            image,
+            chain.exit_in_shadow_pass(),
+            !chain.draws_fattened_map(),
+            chain.light_maps(),
+        )
     };
-    let (_, kept, maps) = frame(&teapot, ExitMapDraw::Auto);
+    let (_, kept, derived, maps) = frame(&teapot, ExitMapDraw::Auto, Fattening::Auto);
     assert!(
-        !kept,
-        "{per_pot} triangles: the exit map was kept by the shadow map's pass"
+        !kept && !derived,
+        "{per_pot} triangles: exit map kept {kept}, fattened map derived {derived}"
     );
     assert_eq!(maps, 3, "{per_pot} triangles");
-    let (auto, kept, maps) = frame(&crowded, ExitMapDraw::Auto);
+    let (auto, kept, derived, maps) = frame(&crowded, ExitMapDraw::Auto, Fattening::Auto);
     let triangles = per_pot * (copies + 1);
-    assert!(kept, "{triangles} triangles: the exit map has a pass of its own");
-    assert_eq!(maps, 2, "{triangles} triangles");
-    let (forced, kept, _) = frame(&crowded, ExitMapDraw::ShadowMapPass);
-    assert!(kept);
+    assert!(
+        kept && derived,
+        "{triangles} triangles: exit map kept {kept}, fattened map derived {derived}"
+    );
+    assert_eq!(maps, 1, "{triangles} triangles");
+    let (forced, kept, derived, _) = frame(&crowded, ExitMapDraw::ShadowMapPass, Fattening::Dilation);
+    assert!(kept && derived);
     assert!(
         auto == forced,
-        "{triangles} triangles: Auto drew another frame than ShadowMapPass"
+        "{triangles} triangles: Auto drew another frame than ShadowMapPass with Dilation"
     );
-    let (_, kept, maps) = frame(&crowded, ExitMapDraw::OwnPass);
+    let (_, kept, derived, maps) = frame(&crowded, ExitMapDraw::OwnPass, Fattening::Geometry);
     assert!(
-        !kept && maps == 3,
-        "OwnPass kept the exit map in the shadow map's pass"
+        !kept && !derived && maps == 3,
+        "OwnPass and Geometry: exit map kept {kept}, fattened map derived {derived}"
     );
 }
 

@@ -337,16 +337,23 @@ impl DemoApp {
                 );
                 ui.checkbox(&mut p.depth_aware_blur, "depth-aware blur");
                 // The light's maps: the fattened map drawn or derived, the exit map or none.
-                let mut derived = p.fattening == penumbra::Fattening::Dilation;
-                ui.checkbox(
-                    &mut derived,
-                    "fattened map derived from the shadow map (no geometry)",
-                );
-                p.fattening = if derived {
-                    penumbra::Fattening::Dilation
-                } else {
-                    penumbra::Fattening::Geometry
-                };
+                egui::ComboBox::from_label("fattened map")
+                    .selected_text(format!("{:?}", p.fattening))
+                    .show_ui(ui, |ui| {
+                        for (choice, text) in [
+                            (penumbra::Fattening::Auto, "Auto (by the casters' triangles)"),
+                            (
+                                penumbra::Fattening::Geometry,
+                                "Geometry (the casters drawn again)",
+                            ),
+                            (
+                                penumbra::Fattening::Dilation,
+                                "Dilation (derived from the shadow map)",
+                            ),
+                        ] {
+                            ui.selectable_value(&mut p.fattening, choice, text);
+                        }
+                    });
                 ui.checkbox(&mut p.exit_map, "exit map (the casters' back faces)");
                 let draw = &mut self.shared.execution.exit_map_draw;
                 egui::ComboBox::from_label("exit map drawn by")

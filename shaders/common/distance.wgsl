@@ -107,7 +107,18 @@ fn classify_at(frag: vec2<f32>) -> Classified {
         own_depth = textureLoad(shadow_depths, shadow_texel(p.xy), 0).x;
     }
     let beside = NEAREST_CASTER && own_depth >= map_depth(p.z);
-    var d = fattened_distance(p, texel, fattened_depth);
+    // The derived map's least depth says where a shadow can fall; its nearest silhouette (y)
+    // gives the distance where it lies in front of the receiver by more than two texels (one
+    // nearer is the receiver's own outline).
+    var distance_depth = fattened_depth;
+    if DILATED_MAP {
+        let nearest = textureLoad(fattened_map, texel, 0).y;
+        let margin = 2.0 * max_texel_world(shadow_map_world_size(world));
+        if light_linear_depth(p.z) - light_linear_depth(nearest) > margin {
+            distance_depth = nearest;
+        }
+    }
+    var d = fattened_distance(p, texel, distance_depth);
     if NEAREST_CASTER && !beside {
         let own = light_linear_depth(p.z) - light_linear_depth(own_depth);
         var front = occluder_depth(texel, fattened_depth);

@@ -3,12 +3,22 @@
 //!
 //! Input: the light's shadow map (its atlas of cascades or cube faces), the [`LightView`] and
 //! the fatten distance (with a spot or point light's nearest caster). Output, at a quarter of the
-//! shadow map's resolution (the geometric fattened map has half) and read where it is: an R32F map, each
-//! texel the least depth the shadow map holds within the fatten distance of it across the
-//! light, within its own tile; no occluder offset (a texel of 0, see the shader). One compute pass (`shaders/dilated_map.wgsl`): the shadow map at half its
-//! resolution, then levels of least depths over squares of 2, 4, 8, ... texels (as many as the
-//! widest tile's window needs, in two textures used in turn), then the dilation, four reads of
-//! the last level that cover each texel's window exactly.
+//! shadow map's resolution (the geometric fattened map has half) and read where it is: an RG32F
+//! map. x: the least depth of the shadow map's silhouettes within the fatten distance of the
+//! texel across the light (its own tile's), and of the caster under it: where a shadow can
+//! fall. y: the depth of the silhouette nearest the texel, from which the distance map takes
+//! the distance beside a shadow. No occluder offset (a texel of 0, see the shader).
+//!
+//! One compute pass (`shaders/dilated_map.wgsl`):
+//! - level 0: the shadow map at a quarter of its resolution, where a silhouette (a step of more
+//!   than four texels along the light between two neighbouring texels) lies among the texels
+//!   it covers or beside them; the far plane elsewhere. A surface seen from the light spreads
+//!   only at its outline, as the drawn map pushes a caster out along its normals;
+//! - levels of least depths over squares of 2, 4, 8, ... texels (as many as the widest tile's
+//!   window needs, in two textures used in turn), each also trying the window the level before
+//!   covers for the nearest silhouette (a buffer of two floats a texel: the least depth under
+//!   the texel, and the nearest silhouette's);
+//! - the dilation: four reads of the last level that cover each texel's window exactly.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -21,6 +31,7 @@ use crate::light_space::{AtlasGrid, LightView, MAX_TILES, ProjectionKind};
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct DilationUniform {
     shape: [u32; 4],
+    depth: [f32; 4],
     tiles: [[f32; 4]; MAX_TILES],
 }
 
@@ -32,8 +43,13 @@ const STEP_STRIDE: u64 = 256;
 
 /// The derived fattened map of one light.
 pub(crate) struct DilatedMapPass {
-    /// The fattened map: R32F, the least depth within the fatten distance of each texel.
+    /// The fattened map: RG32F, the least depth within the fatten distance of each texel (and
+    /// of the caster under it), and the depth of the silhouette nearest it within that distance.
     map: Target,
+    /// Per texel of the map, row by row: the least depth of the shadow-map texels it covers,
+    /// and of the silhouettes in the narrowest window the levels have tried that holds one
+    /// (two f32).
+    nearest: wgpu::Buffer,
     /// No occluder offset: one texel of 0 (the distance map reads it at any texel, 0 there).
     occluder_offset: Target,
     /// The levels, used in turn: level 0 in the second, level k in the first for odd k.
@@ -69,8 +85,10 @@ struct Groups {
 }
 
 impl DilatedMapPass {
-    /// The maps' format: 32-bit float, which every compute device can store.
+    /// The levels' format: 32-bit float, which every compute device can store.
     const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+    /// The fattened map's: the least depth and the nearest silhouette's.
+    const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 
     pub fn new(device: &wgpu::Device, map: MapLayout) -> Self {
         let (_, grid, tile) = map;
@@ -89,7 +107,11 @@ impl DilatedMapPass {
         let shared_layout = crate::gpu_helpers::layout(
             device,
             "DilatedMapPass::shared",
-            &[entry::uniform(0, compute, size_of::<DilationUniform>(), false)],
+            &[
+                entry::uniform(0, compute, size_of::<DilationUniform>(), false),
+                entry::storage_buffer(1, compute, false),
+                entry::storage_texture(2, Self::MAP_FORMAT),
+            ],
         );
         let pipeline = |entry: &str| {
             let label = format!("DilatedMapPass::{entry}");
@@ -122,8 +144,10 @@ impl DilatedMapPass {
             },
         );
         let (map, occluder_offset, scratch) = Self::textures(device, grid, tile);
+        let nearest = Self::nearest_buffer(device, grid, tile);
         Self {
             map,
+            nearest,
             occluder_offset,
             scratch,
             reduce: pipeline("cs_reduce"),
@@ -140,18 +164,23 @@ impl DilatedMapPass {
         }
     }
 
+    /// The nearest silhouettes' buffer for `grid`'s tiles of a shadow map `tile` texels a side.
+    fn nearest_buffer(device: &wgpu::Device, grid: AtlasGrid, tile: u32) -> wgpu::Buffer {
+        let (width, height) = grid.size(dilated_resolution(tile));
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("DilatedMapPass::nearest"),
+            size: (width as u64 * height as u64 * 8).max(8),
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        })
+    }
+
     /// The map, the offset and the two levels' textures for `grid`'s tiles of a shadow map
     /// `tile` texels a side.
     fn textures(device: &wgpu::Device, grid: AtlasGrid, tile: u32) -> (Target, Target, [Target; 2]) {
         let size = grid.size(dilated_resolution(tile));
-        let make = |label| {
-            crate::gpu_helpers::texture_2d(
-                device,
-                label,
-                size,
-                Self::FORMAT,
-                wgpu::TextureUsages::STORAGE_BINDING,
-            )
+        let make = |label, format| {
+            crate::gpu_helpers::texture_2d(device, label, size, format, wgpu::TextureUsages::STORAGE_BINDING)
         };
         // Textures start zeroed.
         let offset = crate::gpu_helpers::texture_2d(
@@ -162,9 +191,12 @@ impl DilatedMapPass {
             wgpu::TextureUsages::empty(),
         );
         (
-            make("DilatedMapPass::map"),
+            make("DilatedMapPass::map", Self::MAP_FORMAT),
             offset,
-            [make("DilatedMapPass::level"), make("DilatedMapPass::level")],
+            [
+                make("DilatedMapPass::level", Self::FORMAT),
+                make("DilatedMapPass::level", Self::FORMAT),
+            ],
         )
     }
 
@@ -179,6 +211,7 @@ impl DilatedMapPass {
         .iter()
         .map(|t| texture_bytes(&t.texture))
         .sum::<u64>()
+            + self.nearest.size()
             + self.uniform.size()
             + self.steps.size()
     }
@@ -188,12 +221,13 @@ impl DilatedMapPass {
     pub(crate) fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
         let (_, grid, tile) = map;
         (self.map, self.occluder_offset, self.scratch) = Self::textures(device, grid, tile);
+        self.nearest = Self::nearest_buffer(device, grid, tile);
         self.grid = grid;
         self.tile = dilated_resolution(tile);
         self.groups = None;
     }
 
-    /// The derived fattened map (R32F).
+    /// The derived fattened map (RG32F).
     pub fn view(&self) -> &wgpu::TextureView {
         &self.map.view
     }
@@ -220,15 +254,19 @@ impl DilatedMapPass {
         let mut tiles = [[0.0; 4]; MAX_TILES];
         self.levels = 0;
         for (slot, cascade) in tiles.iter_mut().zip(light.cascades()) {
-            let radius = dilation_radius(light, cascade, spreads, self.tile);
+            let texel = texel_across(cascade, self.tile);
+            let radius = dilation_radius(light, spreads, self.tile, texel);
             // The widest square of a level that fits in the window, 2 r + 1 texels a side.
             let window = (2 * radius.ceil() as u32 + 1).min(self.tile.max(1));
             let level = (31 - window.leading_zeros()).min(MAX_LEVELS - 1);
             self.levels = self.levels.max(level);
-            *slot = [radius, level as f32, 0.0, 0.0];
+            // The shadow map's texel: a quarter of the fattened map's.
+            *slot = [radius, level as f32, texel / 4.0, 0.0];
         }
+        let perspective = matches!(light.kind, ProjectionKind::Perspective);
         let uniform = DilationUniform {
             shape: [self.tile, self.grid.cols, 0, 0],
+            depth: [light.near, light.far, if perspective { 1.0 } else { 0.0 }, 0.0],
             tiles,
         };
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
@@ -250,12 +288,13 @@ impl DilatedMapPass {
         Groups {
             reduce: io(shadow_map, second),
             steps: [io(second, first), io(first, second), io(second, first)],
-            dilate: [io(second, &self.map.view), io(first, &self.map.view)],
+            // The levels' destination is not written by the dilation.
+            dilate: [io(second, first), io(first, second)],
             shared: crate::gpu_helpers::bind_group(
                 device,
                 "DilatedMapPass::shared",
                 &self.shared_layout,
-                &[&self.uniform],
+                &[&self.uniform, &self.nearest, &self.map.view],
             ),
         }
     }
@@ -301,16 +340,10 @@ fn dilated_resolution(tile: u32) -> u32 {
     (tile / 4).max(1)
 }
 
-/// How far, in texels of a fattened map whose tiles are `tile` texels a side, the fatten
-/// distance reaches across the light in `cascade` (a cascade or cube face of `light`): at a spot
-/// or point light's nearest caster, where a texel is narrowest, so no caster's fattening is
-/// missed. At most a tile.
-fn dilation_radius(
-    light: &LightView,
-    cascade: &crate::light_space::Cascade,
-    spreads: &DerivedSpreads,
-    tile: u32,
-) -> f32 {
+/// World units across a texel of a fattened map whose tiles are `tile` texels a side in
+/// `cascade` (a cascade or cube face), its widest axis: for a spot or point light per
+/// unit of distance from it.
+fn texel_across(cascade: &crate::light_space::Cascade, tile: u32) -> f32 {
     // The tile's projection: its clip space per unit of its view, x and y.
     let projection = cascade.view_projection * cascade.view.inverse();
     let scale = projection
@@ -319,18 +352,25 @@ fn dilation_radius(
         .abs()
         .min(projection.y_axis.y.abs())
         .max(1e-20);
-    // World units across the tile (its widest axis) at the nearest caster.
-    let across = match light.kind {
-        ProjectionKind::Orthographic => 2.0 / scale,
+    // World units across the tile (at a unit distance for a perspective map).
+    2.0 / scale / tile.max(1) as f32
+}
+
+/// How far, in texels of a fattened map whose tiles are `tile` texels a side and `texel` world
+/// units across ([`texel_across`]), the fatten distance reaches across the light: at a spot or
+/// point light's nearest caster, where a texel is narrowest, so no caster's fattening is
+/// missed. At most a tile.
+fn dilation_radius(light: &LightView, spreads: &DerivedSpreads, tile: u32, texel: f32) -> f32 {
+    let texel = match light.kind {
+        ProjectionKind::Orthographic => texel,
         ProjectionKind::Perspective => {
             let distance = if spreads.nearest_caster > 0.0 {
                 spreads.nearest_caster
             } else {
                 light.near.max(1e-6)
             };
-            2.0 * distance / scale
+            texel * distance
         }
     };
-    let texel = across / tile.max(1) as f32;
     (spreads.fatten_distance / texel.max(1e-20)).clamp(0.0, tile as f32)
 }

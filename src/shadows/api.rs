@@ -402,6 +402,12 @@ impl Shadows {
                         .exit_map_draw
                         .in_shadow_pass(casters.caster_triangle_count())
                     && this.settings.shadow_map.cull_mode == crate::CullMode::None,
+                derived_fattening: this.compute
+                    && this
+                        .settings
+                        .penumbra
+                        .fattening
+                        .derived(casters.caster_triangle_count()),
                 screen_space: this.screen_space,
                 has_mask: view.receiver_mask.is_some(),
                 shadow_bounds: casters.shadow_bounds(),

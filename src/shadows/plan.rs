@@ -38,6 +38,9 @@ pub(super) struct FramePlan<'a> {
     pub compute: bool,
     /// The shadow map's pass keeps the exit map (the device and the settings allow it).
     pub exit_in_shadow_pass: bool,
+    /// The fattened map is derived from the shadow map (the device runs compute passes and
+    /// [`crate::Fattening::derived`] says so for the casters).
+    pub derived_fattening: bool,
     /// False: only the light-space maps ([`super::Shadows::set_maps_only`]).
     pub screen_space: bool,
     /// The engine gave a receiver mask.
@@ -208,7 +211,8 @@ fn chain_of(frame: &FramePlan, light: &Light) -> (Chain, ShadowSettings, PassPar
         .pcf_writing_layer(
             frame.layer_writes && frame.half_intermediates && !frame.settings.execution.raw_visibility,
         )
-        .exit_in_shadow_pass_where(frame.exit_in_shadow_pass);
+        .exit_in_shadow_pass_where(frame.exit_in_shadow_pass)
+        .fattening_derived_where(frame.derived_fattening);
     if !frame.compute {
         chain = chain.without_compute();
     }

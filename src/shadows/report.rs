@@ -56,8 +56,9 @@ pub struct LightReport {
 pub enum LightTexture {
     /// Depth of the casters from the light (an atlas of cascades or cube faces).
     ShadowMap,
-    /// Depth of the casters fattened by the penumbra's reach, at half resolution (the
-    /// distance-map method).
+    /// Depth of the casters fattened by the penumbra's reach (the distance-map method): drawn,
+    /// at half the shadow map's resolution; derived ([`crate::Fattening::Dilation`]), RG32F at a
+    /// quarter, x the least depth within the reach and y the nearest silhouette's.
     FattenedMap,
     /// Depth of the casters' back faces (the distance-map method).
     ExitMap,
