@@ -80,7 +80,7 @@ fn beside_distance(frag: vec2<f32>) -> f32 {
     let p = to_shadow_map(world);
     let texel = fattened_texel(p);
     let d = fattened_distance(p, texel, textureLoad(fattened_map, texel, 0).x);
-    return min(d, nearest_caster(world, p, d));
+    return min(d, nearest_caster(world, p, d, d));
 }
 
 // The compute path: both draws in one invocation per pixel of the listed tiles

@@ -75,6 +75,10 @@ struct Classified {
     out: PixelDistance,
     world: vec3<f32>,
     p: vec3<f32>,
+    // Beside a shadow, the distance the nearest caster's search reaches with: the fattened
+    // surface's (the derived map's least depth, `DILATED_MAP`), where the distance itself may
+    // be the nearest silhouette's.
+    reach: f32,
 }
 
 fn classify_at(frag: vec2<f32>) -> Classified {
@@ -107,18 +111,22 @@ fn classify_at(frag: vec2<f32>) -> Classified {
         own_depth = textureLoad(shadow_depths, shadow_texel(p.xy), 0).x;
     }
     let beside = NEAREST_CASTER && own_depth >= map_depth(p.z);
-    // The derived map's least depth says where a shadow can fall; its nearest silhouette (y)
-    // gives the distance where it lies in front of the receiver by more than two texels (one
-    // nearer is the receiver's own outline).
-    var distance_depth = fattened_depth;
-    if DILATED_MAP {
+    var d = fattened_distance(p, texel, fattened_depth);
+    c.reach = d;
+    // The derived map's least depth says where a shadow can fall. Beside it, its nearest
+    // silhouette (y) gives the distance where it lies in front of the receiver by more than two
+    // texels (one nearer is the receiver's own outline): the nearest caster is searched for as
+    // far as that distance's penumbra reaches, then as far as the least depth's, and the
+    // distance is the silhouette's where neither search finds one. The least depth lies as far as the fatten
+    // distance at the nearest caster reaches: under the room's lamp, the shade's rim across
+    // the bulb.
+    if DILATED_MAP && beside {
         let nearest = textureLoad(fattened_map, texel, 0).y;
         let margin = 2.0 * max_texel_world(shadow_map_world_size(world));
         if light_linear_depth(p.z) - light_linear_depth(nearest) > margin {
-            distance_depth = nearest;
+            d = fattened_distance(p, texel, nearest);
         }
     }
-    var d = fattened_distance(p, texel, distance_depth);
     if NEAREST_CASTER && !beside {
         let own = light_linear_depth(p.z) - light_linear_depth(own_depth);
         var front = occluder_depth(texel, fattened_depth);
@@ -156,7 +164,20 @@ fn listed_distance(pixel: vec2<i32>) -> vec4<f32> {
     // is the fattened surface's.
     if NEAREST_CASTER && out.shadow_here >= BESIDE {
         let d = out.distance.x;
-        out.distance.x = min(d, nearest_caster(c.world, c.p, d));
+        if DILATED_MAP {
+            // First as far as the nearest silhouette's penumbra reaches, then as far as the
+            // least depth's.
+            var found = -1.0;
+            if d < c.reach {
+                found = nearest_caster(c.world, c.p, d, -1.0);
+            }
+            if found < 0.0 {
+                found = nearest_caster(c.world, c.p, c.reach, d);
+            }
+            out.distance.x = found;
+        } else {
+            out.distance.x = min(d, nearest_caster(c.world, c.p, d, d));
+        }
     }
     let v = distance_value(out.distance.x, out.distance.y, out.shadow_here);
     return vec4<f32>(bitcast<f32>(bitcast<u32>(v) & 0xffffe000u), 0.0, 0.0, 0.0);
@@ -215,9 +236,9 @@ const RINGS: i32 = 2;
 
 // Beside a shadow: the distance to the caster texel of the real shadow map that the receiver at
 // `world` (shadow-map position `p`) sees nearest, in angle, to the light's centre. Searched on
-// rings out to where the penumbra the fattened surface's distance `d` gives would reach; `d`
-// itself where no caster texel is found.
-fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
+// rings out to where the penumbra the fattened surface's distance `d` gives would reach;
+// `otherwise` where no caster texel is found.
+fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32, otherwise: f32) -> f32 {
     let size = vec2<f32>(textureDimensions(shadow_depths));
     let tile = frame.cascades.tile[cascade];
     let receiver_depth = light_linear_depth(p.z);
@@ -230,7 +251,7 @@ fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32) -> f32 {
     // A caster texel closer than two texels along the light is the receiver's own surface.
     let texel_world = max_texel_world(world_size);
     var best_angle = 1e30;
-    var best = d;
+    var best = otherwise;
     for (var ring = 1; ring <= RINGS; ring += 1) {
         let r = radius * f32(ring) / f32(RINGS);
         for (var k = 0; k < RING_TAPS; k += 1) {
