@@ -654,10 +654,10 @@ fn measure_growth(
         .iter()
         .map(|m| timed(scene, preset(*m), config.large_size))
         .collect::<Result<Vec<_>>>()?;
-    // `ours` besides in three forms: the exit map kept by the shadow map's pass and drawn by a
-    // pass of its own, whatever the casters (`ExitMapDraw`; `ours` itself chooses by their
-    // triangles), and the fattened map derived from the shadow map with the exit map kept (one
-    // geometry pass a light).
+    // `ours` besides in three forms, whatever the casters (`ours` itself chooses by their
+    // triangles, `ExitMapDraw::Auto` and `Fattening::Auto`): the fattened map drawn with the exit
+    // map kept by the shadow map's pass and drawn by a pass of its own, and the fattened map
+    // derived from the shadow map with the exit map kept (one geometry pass a light).
     let ours_with = |draw: penumbra::ExitMapDraw, fattening: penumbra::Fattening| {
         let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
         settings.execution.exit_map_draw = draw;
@@ -2557,10 +2557,12 @@ fn write_growth(md: &mut String, config: &Config, embedding: &Embedding) -> Resu
     writeln!(
         md,
         "\nThe caster sweep at {}x{}: the teapot's triangles split in four {} times (the same shape, \
-         so the same shadow; only the geometry's cost grows). `ours` keeps the exit map in the \
-         shadow map's pass from {} caster triangles (`ExitMapDraw::Auto`; two geometry passes a \
-         light, three below); \"exit map kept\" and \"exit map's own pass\" force either way, \
-         \"derived\" derives the fattened map from the shadow map too (one). Frame / own cost, ms:\n",
+         so the same shadow; only the geometry's cost grows). From {} caster triangles `ours` keeps \
+         the exit map in the shadow map's pass and derives the fattened map from the shadow map \
+         (`ExitMapDraw::Auto`, `Fattening::Auto`: one geometry pass a light, three below). \
+         \"exit map kept\" and \"exit map's own pass\" draw the fattened map and force the exit \
+         map's pass either way; \"derived\" derives the fattened map and keeps the exit map \
+         whatever the casters (one pass). Frame / own cost, ms:\n",
         first.width,
         first.height,
         config

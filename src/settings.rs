@@ -217,9 +217,9 @@ pub enum Fattening {
     /// triangles, [`Fattening::Geometry`] below: the drawn map costs by the vertex, the derived
     /// one by the texel whatever the casters. With the exit map kept by the shadow map's pass
     /// ([`crate::ExitMapDraw::Auto`], from the same count) a light then draws its casters once.
-    /// On lavapipe (the bench's caster sweep, `docs/bench/quick-lavapipe.md`, "Growth") the
-    /// derived map cost more than the drawn one at 9,216 and 147,456 triangles and less at
-    /// 2,359,296; not measured on a GPU.
+    /// On lavapipe (the bench's caster sweep, `docs/bench/quick-lavapipe.md`, "Growth") `ours`'
+    /// own cost with the derived map was 1.76x / 1.60x / 0.68x that with the drawn one (both with
+    /// the exit map kept) at 9,216 / 147,456 / 2,359,296 triangles; not measured on a GPU.
     #[default]
     Auto,
     /// The method's own: the casters drawn again from the light, each vertex pushed out along
@@ -829,7 +829,9 @@ pub enum ExitMapDraw {
     /// by the fragment and by the triangle, the second drawing by the vertex. On lavapipe
     /// (the bench's caster sweep, teapot split, 1280x1024) `ours`' own cost with the exit map
     /// kept against drawn apart was 1.11x at 9,216 triangles, 1.31x at 147,456 and 0.81x at
-    /// 2,359,296; not measured on a GPU (`docs/bench/quick-lavapipe.md`, "Growth").
+    /// 2,359,296 (the first of the two runs in `docs/cost.md`'s table; lavapipe's timings are
+    /// noisy, the quick runs since read 1.08x / 1.02x / 0.88x and 1.60x / 0.93x / 0.95x); not
+    /// measured on a GPU.
     #[default]
     Auto,
     /// The shadow map's pass, whatever the casters.
