@@ -117,9 +117,9 @@ fn classify_at(frag: vec2<f32>) -> Classified {
     // silhouette (y) gives the distance where it lies in front of the receiver by more than two
     // texels (one nearer is the receiver's own outline): the nearest caster is searched for as
     // far as that distance's penumbra reaches, then as far as the least depth's, and the
-    // distance is the silhouette's where neither search finds one. The least depth lies as far as the fatten
-    // distance at the nearest caster reaches: under the room's lamp, the shade's rim across
-    // the bulb.
+    // distance is the silhouette's where neither search finds one. (The least depth lies as far
+    // as the fatten distance at the nearest caster reaches: under the room's lamp, the shade's
+    // inside across the bulb, not its rim.)
     if DILATED_MAP && beside {
         let nearest = textureLoad(fattened_map, texel, 0).y;
         let margin = 2.0 * max_texel_world(shadow_map_world_size(world));
