@@ -4,10 +4,14 @@
 // the fatten distance of its outline across the light: as the drawn map pushes each caster out
 // along its normals, a surface spreads at its silhouettes, not where it faces the light. So each
 // texel of the fattened map holds (x) the least depth of the shadow map's silhouettes within
-// that distance of it (`radius` texels of the fattened map: the fatten distance at the nearest
-// caster's distance from the light), in the texel's own tile (cascade or cube face), and of the
-// caster under it; and (y) the depth of the silhouette nearest it, where the distance beside a
-// shadow is taken from.
+// that distance of it, in the texel's own tile (cascade or cube face), and of the caster under
+// it; and (y) the depth of the silhouette nearest it, where the distance beside a shadow is
+// taken from. Under a sun the fatten distance is the same number of texels (`radius`) for every
+// silhouette. A spot or point light's texels widen with the distance from it, so a silhouette
+// spreads by the fatten distance at its own distance: `radius` texels (the fatten distance at
+// the nearest caster) for the nearest, fewer for those farther away. The windows the levels try
+// double, and a window's least depth counts for x where it spreads as far as the nearest texel
+// of the window's outer shell: never less than the drawn map's fattening, at most twice as far.
 //
 // `cs_reduce` takes the shadow map to the fattened map's resolution (a quarter of the shadow
 // map's): level 0, each texel the least of the texels it covers where a silhouette (a depth step
@@ -16,7 +20,8 @@
 // whose lower corner it is (four texels of level k - 1), up to the level of the widest square
 // that fits in a tile's window (a tile whose window is narrower keeps its own last level); on
 // the way each tries the window level k - 1 covers (2^(k-1) - 1 texels each way) for the
-// nearest silhouette, where none was found in a narrower one. `cs_dilate` takes the least of
+// nearest silhouette, where none was found in a narrower one, and, for a spot or point light,
+// for x. `cs_dilate` takes the least of
 // four squares of the last level, which together cover the texel's window exactly (a sparse
 // table of least depths: two textures used in turn, whatever the radius; level 0 is written
 // into the second).
@@ -43,7 +48,9 @@ struct Dilation {
     // x, y: the light's near and far planes (world units); z: 1 for a perspective map
     depth: vec4<f32>,
     // per tile: x the radius in texels of the fattened map, y the last level it needs, z the
-    // world units across a shadow-map texel (a perspective map's: per unit of distance)
+    // world units across a shadow-map texel (a perspective map's: per unit of distance), w a
+    // perspective map's radius in texels of the fattened map at a unit distance from the light
+    // (the fatten distance over a texel's width there; 0 for an orthographic map)
     tiles: array<vec4<f32>, 6>,
 }
 
@@ -70,11 +77,24 @@ fn linear_depth(z: f32) -> f32 {
     return near + z * (far - near);
 }
 
-// Level 0: the silhouettes of the shadow map (`source`) at the fattened map's resolution. A
-// texel looks at the shadow-map texels it covers and the next column and row (within its
-// tile), so that each pair of neighbouring texels is looked at once: where a depth step of a
-// silhouette lies among them, the least of them (the nearer side's), else the far plane. The
-// texels are read once, into a square of at most 5 x 5 (a texel covers at most 4 x 4).
+// Linear depths (`linear_depth`) of four shadow-map depths.
+fn linear_depths(z: vec4<f32>) -> vec4<f32> {
+    let near = dilation.depth.x;
+    let far = dilation.depth.y;
+    if dilation.depth.z > 0.5 {
+        return near * far / max(far - z * (far - near), vec4<f32>(1e-20));
+    }
+    return near + z * (far - near);
+}
+
+// Level 0: the silhouettes of the shadow map (`source`) at the fattened map's resolution (a
+// quarter of the shadow map's: a texel covers 4 x 4 of its texels). A texel looks at the
+// shadow-map texels it covers and the next column and row (within its tile: past its last
+// texel the last is read again, which makes no step), so that each pair of neighbouring texels
+// is looked at once: where a depth step of a silhouette lies among them, the least of them (the
+// nearer side's), else the far plane. It reads them a row of five at a time (four and one), in
+// vectors, comparing each row with the one before: no array, so a CPU adapter keeps them in
+// registers.
 @compute @workgroup_size(8, 8)
 fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(destination);
@@ -83,39 +103,47 @@ fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let from_size = textureDimensions(source);
     let tile = tile_of(id.xy, size);
-    let scale = max(from_size / size, vec2<u32>(1u));
-    let lo = id.xy * scale;
-    let tile_hi = min((tile.hi + 1u) * scale, from_size) - 1u;
-    let hi = min(min((id.xy + 1u) * scale, tile_hi), lo + 4u);
+    let lo = id.xy * 4u;
+    let tile_hi = min((tile.hi + 1u) * 4u, from_size) - 1u;
+    let xs = min(vec4<u32>(lo.x) + vec4<u32>(0u, 1u, 2u, 3u), vec4<u32>(tile_hi.x));
+    let x_next = min(lo.x + 4u, tile_hi.x);
     let perspective = dilation.depth.z > 0.5;
-    var depths: array<f32, 25>;
+    let edge = EDGE_TEXELS * tile.texel;
     var least = 1.0;
     // The least of the texels covered alone (not the next column and row).
     var covered = 1.0;
-    let covered_hi = (id.xy + 1u) * scale;
-    for (var y = lo.y; y <= hi.y; y += 1u) {
-        for (var x = lo.x; x <= hi.x; x += 1u) {
-            let z = textureLoad(source, vec2<u32>(x, y), 0).x;
-            depths[(y - lo.y) * 5u + x - lo.x] = linear_depth(z);
-            least = min(least, z);
-            if x < covered_hi.x && y < covered_hi.y {
-                covered = min(covered, z);
-            }
-        }
-    }
     var silhouette = false;
-    let extent = hi - lo;
-    for (var y = 0u; y <= extent.y; y += 1u) {
-        for (var x = 0u; x <= extent.x; x += 1u) {
-            let z = depths[y * 5u + x];
-            let step = EDGE_TEXELS * tile.texel * select(1.0, z, perspective);
-            if x < extent.x && abs(depths[y * 5u + x + 1u] - z) > step {
-                silhouette = true;
-            }
-            if y < extent.y && abs(depths[(y + 1u) * 5u + x] - z) > step {
-                silhouette = true;
-            }
+    var above = vec4<f32>(0.0);
+    var above_next = 0.0;
+    for (var row = 0u; row < 5u; row += 1u) {
+        let y = min(lo.y + row, tile_hi.y);
+        let raw = vec4<f32>(
+            textureLoad(source, vec2<u32>(xs.x, y), 0).x,
+            textureLoad(source, vec2<u32>(xs.y, y), 0).x,
+            textureLoad(source, vec2<u32>(xs.z, y), 0).x,
+            textureLoad(source, vec2<u32>(xs.w, y), 0).x,
+        );
+        let raw_next = textureLoad(source, vec2<u32>(x_next, y), 0).x;
+        let row_least = min(min(raw.x, raw.y), min(raw.z, raw.w));
+        least = min(least, min(row_least, raw_next));
+        if row < 4u {
+            covered = min(covered, row_least);
         }
+        let z = linear_depths(raw);
+        let next = linear_depths(vec4<f32>(raw_next)).x;
+        let step = edge * select(vec4<f32>(1.0), z, perspective);
+        // Along the row: each texel against the one after it.
+        let after = vec4<f32>(z.yzw, next);
+        silhouette = silhouette || any(abs(after - z) > step);
+        // Across rows: the row before against this one.
+        if row > 0u {
+            let step_above = edge * select(vec4<f32>(1.0), above, perspective);
+            let step_above_next = edge * select(1.0, above_next, perspective);
+            silhouette = silhouette || any(abs(z - above) > step_above)
+                || abs(next - above_next) > step_above_next;
+        }
+        above = z;
+        above_next = next;
     }
     var value = 1.0;
     if least < 1.0 && silhouette {
@@ -134,6 +162,8 @@ struct Tile {
     level: u32,
     // world units across a shadow-map texel (per unit of distance for a perspective map)
     texel: f32,
+    // a perspective map's radius at a unit distance (texels of the fattened map), 0 otherwise
+    unit_radius: f32,
 }
 
 fn tile_of(texel: vec2<u32>, size: vec2<u32>) -> Tile {
@@ -146,13 +176,36 @@ fn tile_of(texel: vec2<u32>, size: vec2<u32>) -> Tile {
     t.radius = entry.x;
     t.level = u32(entry.y);
     t.texel = entry.z;
+    t.unit_radius = entry.w;
     return t;
+}
+
+// How far, in whole texels of the fattened map, a silhouette at shadow-map depth `z` spreads:
+// the fatten distance at its own distance from the light (a perspective map's texels widen with
+// it), at most the tile's radius (the fatten distance at the nearest caster). An orthographic
+// map's silhouettes all spread by the tile's radius.
+fn spread_of(z: f32, tile: Tile) -> u32 {
+    if tile.unit_radius <= 0.0 || z >= 1.0 {
+        return tile_radius(tile);
+    }
+    let r = tile.unit_radius / max(linear_depth(z), 1e-20);
+    return min(u32(ceil(min(r, 1e9))), tile_radius(tile));
+}
+
+// Whether the least depth `z` of a window whose texels lie more than `inner` texels from its
+// centre (all of them but the inner window's, already tried) can be a silhouette that spreads
+// to the centre: conservative, since the least of the window's shell is at least `z` and so
+// spreads no farther than `z` does, and the nearest texel of the shell lies `inner` + 1 away.
+fn spreads_to(z: f32, inner: u32, tile: Tile) -> bool {
+    return z < 1.0 && spread_of(z, tile) >= inner + 1u;
 }
 
 // Level `step.level.x` from the one before: the least of the four squares of half its side
 // whose union is the texel's square, clamped to the tile. A tile that needs no such level
 // keeps the one before. Where no silhouette was found nearer, the least of the window the level
-// before covers (radius its square's side less one) is the nearest silhouette's depth.
+// before covers (radius its square's side less one) is the nearest silhouette's depth; for a
+// spot or point light that least also counts for x where it spreads to the window's outer
+// shell.
 @compute @workgroup_size(8, 8)
 fn cs_step(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(destination);
@@ -171,9 +224,29 @@ fn cs_step(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(destination, id.xy, vec4<f32>(least, 0.0, 0.0, 0.0));
     let square = 1u << (level - 1u);
     let index = id.y * size.x + id.x;
-    if level >= 2u && level - 1u <= tile.level && square - 1u < tile_radius(tile) && nearest[index].y >= 1.0 {
-        nearest[index].y = window_least(id.xy, square - 1u, square, tile);
+    if level < 2u || level - 1u > tile.level || square - 1u >= tile_radius(tile) {
+        return;
     }
+    // The window `square` - 1 texels each way; the one before it reached `square` / 2 - 1.
+    let found = nearest[index];
+    if tile.unit_radius <= 0.0 {
+        // Every silhouette spreads by the tile's radius: the dilation's window holds them all.
+        if found.y >= 1.0 {
+            nearest[index].y = window_least(id.xy, square - 1u, square, tile);
+        }
+        return;
+    }
+    // A spot or point light's: the window's least counts for x where it spreads past the inner
+    // window (a nearer silhouette spreads farther, so none that reaches the texel is missed).
+    // The nearest silhouette stays the narrowest window's, whatever its spread: beside the
+    // lamp's shade, a nearer silhouette that does not spread this far gave the better distance
+    // (the room's penumbra RMSE 0.0548 against 0.0614 with the spreading one).
+    let shell = window_least(id.xy, square - 1u, square, tile);
+    var x = found.x;
+    if spreads_to(shell, square / 2u - 1u, tile) {
+        x = min(found.x, shell);
+    }
+    nearest[index] = vec2<f32>(x, select(found.y, shell, found.y >= 1.0));
 }
 
 // A tile's radius in whole texels.
@@ -199,10 +272,11 @@ fn window_least(texel: vec2<u32>, radius: u32, square: u32, tile: Tile) -> f32 {
 }
 
 // The fattened map: x the least depth in the texel's window, `radius` texels each way within
-// its tile, from the tile's last level (`source`), and of the caster under the texel itself
-// (where the tile classification and the distance map test a receiver); y the nearest
-// silhouette's depth (`nearest`, else the window's), from which the distance beside a shadow
-// is taken.
+// its tile, from the tile's last level (`source`; a spot or point light's: of the silhouettes
+// that spread to the texel, the levels' and the window's outer shell's), and of the caster
+// under the texel itself (where the tile classification and the distance map test a receiver);
+// y the nearest silhouette's depth (`nearest`, else the window's), from which the distance
+// beside a shadow is taken.
 @compute @workgroup_size(8, 8)
 fn cs_dilate(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(fattened);
@@ -210,12 +284,24 @@ fn cs_dilate(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let tile = tile_of(id.xy, size);
-    let window = window_least(id.xy, tile_radius(tile), 1u << tile.level, tile);
+    let radius = tile_radius(tile);
+    var window = window_least(id.xy, radius, 1u << tile.level, tile);
+    let full = window;
     let found = nearest[id.y * size.x + id.x];
+    if tile.unit_radius > 0.0 {
+        // A perspective map: the silhouettes tried by the levels that spread to the texel are in
+        // `found.x`; the window's shell past the last of them (half the radius or more each way)
+        // counts where its least depth spreads that far (the levels tried windows up to the
+        // widest of 2^j - 1 texels narrower than the radius).
+        let inner = (1u << (31u - countLeadingZeros(max(radius, 1u)))) - 1u;
+        if !spreads_to(window, inner, tile) {
+            window = 1.0;
+        }
+    }
     let least = min(window, found.x);
     var near = found.y;
     if near >= 1.0 {
-        near = window;
+        near = full;
     }
     textureStore(fattened, id.xy, vec4<f32>(least, near, 0.0, 0.0));
 }

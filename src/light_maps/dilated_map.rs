@@ -5,8 +5,9 @@
 //! the fatten distance (with a spot or point light's nearest caster). Output, at a quarter of the
 //! shadow map's resolution (the geometric fattened map has half) and read where it is: an RG32F
 //! map. x: the least depth of the shadow map's silhouettes within the fatten distance of the
-//! texel across the light (its own tile's), and of the caster under it: where a shadow can
-//! fall. y: the depth of the silhouette nearest the texel, from which the distance map takes
+//! texel across the light (its own tile's; for a spot or point light, the fatten distance at
+//! each silhouette's own distance from the light, up to twice that), and of the caster under
+//! it: where a shadow can fall. y: the depth of the silhouette nearest the texel, from which the distance map takes
 //! the distance beside a shadow. No occluder offset (a texel of 0, see the shader).
 //!
 //! One compute pass (`shaders/dilated_map.wgsl`):
@@ -260,8 +261,14 @@ impl DilatedMapPass {
             let window = (2 * radius.ceil() as u32 + 1).min(self.tile.max(1));
             let level = (31 - window.leading_zeros()).min(MAX_LEVELS - 1);
             self.levels = self.levels.max(level);
+            // A perspective map's silhouettes spread by the fatten distance at their own
+            // distance: the radius at a unit distance.
+            let unit_radius = match light.kind {
+                ProjectionKind::Orthographic => 0.0,
+                ProjectionKind::Perspective => spreads.fatten_distance / texel.max(1e-20),
+            };
             // The shadow map's texel: a quarter of the fattened map's.
-            *slot = [radius, level as f32, texel / 4.0, 0.0];
+            *slot = [radius, level as f32, texel / 4.0, unit_radius];
         }
         let perspective = matches!(light.kind, ProjectionKind::Perspective);
         let uniform = DilationUniform {
