@@ -5,8 +5,8 @@
 // along its normals, a surface spreads at its silhouettes, not where it faces the light. So each
 // texel of the fattened map holds (x) the least depth of the shadow map's silhouettes within
 // that distance of it, in the texel's own tile (cascade or cube face), and of the caster under
-// it; and (y) the depth of the silhouette nearest it, where the distance beside a shadow is
-// taken from. Under a sun the fatten distance is the same number of texels (`radius`) for every
+// it; and (y) the depth of the silhouette nearest it (in texels), where the distance beside a
+// shadow is taken from. Under a sun the fatten distance is the same number of texels (`radius`) for every
 // silhouette. A spot or point light's texels widen with the distance from it, so a silhouette
 // spreads by the fatten distance at its own distance: `radius` texels (the fatten distance at
 // the nearest caster) for the nearest, fewer for those farther away. The windows the levels try
@@ -18,13 +18,19 @@
 // of more than `EDGE_TEXELS` texels between neighbours) lies among them, the far plane
 // elsewhere. Each `cs_step` k then makes level k, each texel the least of the 2^k x 2^k square
 // whose lower corner it is (four texels of level k - 1), up to the level of the widest square
-// that fits in a tile's window (a tile whose window is narrower keeps its own last level); on
-// the way each tries the window level k - 1 covers (2^(k-1) - 1 texels each way) for the
-// nearest silhouette, where none was found in a narrower one, and, for a spot or point light,
-// for x. `cs_dilate` takes the least of
-// four squares of the last level, which together cover the texel's window exactly (a sparse
-// table of least depths: two textures used in turn, whatever the radius; level 0 is written
-// into the second).
+// that fits in a tile's window (a tile whose window is narrower keeps its own last level); for a
+// spot or point light each also tries, for x, the window level k - 1 covers (2^(k-1) - 1 texels
+// each way). `cs_flood` then finds each texel's nearest silhouette: a jump flood seeded by
+// level 0's silhouettes, in as many rounds as levels. `cs_dilate` takes the least of four
+// squares of the last level, which together cover the texel's window exactly (a sparse table
+// of least depths: two textures used in turn, whatever the radius; level 0 is written into the
+// second), and the nearest silhouette where it lies within the radius.
+//
+// The nearest silhouette was the least depth of the narrowest window, doubling, that held one
+// until commit aca88de. Where a caster's outline runs away from the light (a plate seen almost
+// edge-on, 6 cm from a sphere light), that least depth is the outline's end nearest the light,
+// not the part beside the texel: the wall's penumbra came out 1.38x the reference's width,
+// 1.01x with the nearest silhouette (`tests/accuracy/near_blocker.rs`, the derived map forced).
 //
 // The distance map takes the distance from those depths: no occluder offset is added (one back
 // to the caster under the texel gave no distance where that caster is the receiver itself,
@@ -36,7 +42,7 @@
 @group(0) @binding(1) var destination: texture_storage_2d<r32float, write>;
 
 struct Step {
-    // x: the level `cs_step` makes
+    // x: the level `cs_step` makes, or the jump of `cs_flood`'s round (texels)
     level: vec4<u32>,
 }
 
@@ -55,12 +61,21 @@ struct Dilation {
 }
 
 @group(1) @binding(0) var<uniform> dilation: Dilation;
-// Per texel of the fattened map (row by row): x the least depth of the shadow-map texels it
-// covers (the caster under it), y the least depth of the silhouettes in the narrowest window
-// that holds one, 1 where none is found yet.
-@group(1) @binding(1) var<storage, read_write> nearest: array<vec2<f32>>;
+// Per texel of the fattened map (row by row): the least depth of the shadow-map texels it
+// covers (the caster under it), and for a spot or point light of the silhouettes the levels
+// found spreading to it.
+@group(1) @binding(1) var<storage, read_write> covered: array<f32>;
 // The fattened map (`cs_dilate`): x the least depth, y the nearest silhouette's.
 @group(1) @binding(2) var fattened: texture_storage_2d<rg32float, write>;
+
+// The nearest silhouette (a jump flood over level 0's silhouettes, `cs_flood`): per texel of the
+// fattened map, x the texel of the nearest silhouette found so far (its column and row in 16
+// bits each, as the float's bits; `NO_SEED` where none is), y its depth. Read (`seeds_in`) and
+// written (`seeds_out`) in turn.
+@group(2) @binding(0) var seeds_in: texture_2d<f32>;
+@group(2) @binding(1) var seeds_out: texture_storage_2d<rg32float, write>;
+
+const NO_SEED: u32 = 0xffffffffu;
 
 // A depth step between two neighbouring shadow-map texels wider than this many texels along the
 // light is a silhouette: the nearer side spreads by the fatten distance, as the drawn map pushes
@@ -111,7 +126,7 @@ fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
     let edge = EDGE_TEXELS * tile.texel;
     var least = 1.0;
     // The least of the texels covered alone (not the next column and row).
-    var covered = 1.0;
+    var under = 1.0;
     var silhouette = false;
     var above = vec4<f32>(0.0);
     var above_next = 0.0;
@@ -127,7 +142,7 @@ fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
         let row_least = min(min(raw.x, raw.y), min(raw.z, raw.w));
         least = min(least, min(row_least, raw_next));
         if row < 4u {
-            covered = min(covered, row_least);
+            under = min(under, row_least);
         }
         let z = linear_depths(raw);
         let next = linear_depths(vec4<f32>(raw_next)).x;
@@ -150,7 +165,58 @@ fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
         value = least;
     }
     textureStore(destination, id.xy, vec4<f32>(value, 0.0, 0.0, 0.0));
-    nearest[id.y * size.x + id.x] = vec2<f32>(covered, value);
+    covered[id.y * size.x + id.x] = under;
+    var seed = NO_SEED;
+    if value < 1.0 {
+        seed = id.x | (id.y << 16u);
+    }
+    textureStore(seeds_out, id.xy, vec4<f32>(bitcast<f32>(seed), value, 0.0, 0.0));
+}
+
+// One round of the jump flood (`step.level.x` texels apart): each texel takes, of its own
+// seed and those of the eight texels that far from it (within its tile), the silhouette
+// nearest it (Euclidean distance; the least depth between two as near). After rounds of
+// halving steps, from about the widest tile radius down to one, each texel holds the
+// silhouette nearest it, or nearly (a jump flood can settle on one a little farther than the
+// nearest).
+@compute @workgroup_size(8, 8)
+fn cs_flood(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(seeds_out);
+    if id.x >= size.x || id.y >= size.y {
+        return;
+    }
+    let tile = tile_of(id.xy, size);
+    let jump = i32(step.level.x);
+    var best = textureLoad(seeds_in, id.xy, 0).xy;
+    var best_distance = seed_distance(bitcast<u32>(best.x), id.xy);
+    for (var dy = -1; dy <= 1; dy += 1) {
+        for (var dx = -1; dx <= 1; dx += 1) {
+            if dx == 0 && dy == 0 {
+                continue;
+            }
+            let q = vec2<i32>(id.xy) + jump * vec2<i32>(dx, dy);
+            if any(q < vec2<i32>(tile.lo)) || any(q > vec2<i32>(tile.hi)) {
+                continue;
+            }
+            let other = textureLoad(seeds_in, vec2<u32>(q), 0).xy;
+            let distance = seed_distance(bitcast<u32>(other.x), id.xy);
+            if distance < best_distance || (distance == best_distance && other.y < best.y) {
+                best = other;
+                best_distance = distance;
+            }
+        }
+    }
+    textureStore(seeds_out, id.xy, vec4<f32>(best, 0.0, 0.0));
+}
+
+// The squared distance in texels from `texel` to the silhouette `seed` (`NO_SEED`: farther
+// than any).
+fn seed_distance(seed: u32, texel: vec2<u32>) -> u32 {
+    if seed == NO_SEED {
+        return 0xffffffffu;
+    }
+    let d = vec2<i32>(vec2<u32>(seed & 0xffffu, seed >> 16u)) - vec2<i32>(texel);
+    return u32(d.x * d.x + d.y * d.y);
 }
 
 // The tile of texel `texel` of a map `size` texels: its lower and upper texels (x, y), and its
@@ -202,10 +268,9 @@ fn spreads_to(z: f32, inner: u32, tile: Tile) -> bool {
 
 // Level `step.level.x` from the one before: the least of the four squares of half its side
 // whose union is the texel's square, clamped to the tile. A tile that needs no such level
-// keeps the one before. Where no silhouette was found nearer, the least of the window the level
-// before covers (radius its square's side less one) is the nearest silhouette's depth; for a
-// spot or point light that least also counts for x where it spreads to the window's outer
-// shell.
+// keeps the one before. For a spot or point light the least of the window the level before
+// covers (radius its square's side less one) counts for x where it spreads to the window's
+// outer shell.
 @compute @workgroup_size(8, 8)
 fn cs_step(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(destination);
@@ -222,31 +287,19 @@ fn cs_step(@builtin(global_invocation_id) id: vec3<u32>) {
         least = min(least, textureLoad(source, far, 0).x);
     }
     textureStore(destination, id.xy, vec4<f32>(least, 0.0, 0.0, 0.0));
+    // A spot or point light's: the window the level before covers (`square` - 1 texels each
+    // way) counts for x where its least depth spreads past the inner window (`square` / 2 - 1):
+    // a nearer silhouette spreads farther, so none that reaches the texel is missed. A sun's
+    // silhouettes all spread by the tile's radius: the dilation's window holds them all.
     let square = 1u << (level - 1u);
+    if tile.unit_radius <= 0.0 || level < 2u || level - 1u > tile.level || square - 1u >= tile_radius(tile) {
+        return;
+    }
     let index = id.y * size.x + id.x;
-    if level < 2u || level - 1u > tile.level || square - 1u >= tile_radius(tile) {
-        return;
-    }
-    // The window `square` - 1 texels each way; the one before it reached `square` / 2 - 1.
-    let found = nearest[index];
-    if tile.unit_radius <= 0.0 {
-        // Every silhouette spreads by the tile's radius: the dilation's window holds them all.
-        if found.y >= 1.0 {
-            nearest[index].y = window_least(id.xy, square - 1u, square, tile);
-        }
-        return;
-    }
-    // A spot or point light's: the window's least counts for x where it spreads past the inner
-    // window (a nearer silhouette spreads farther, so none that reaches the texel is missed).
-    // The nearest silhouette stays the narrowest window's, whatever its spread: beside the
-    // lamp's shade, a nearer silhouette that does not spread this far gave the better distance
-    // (the room's penumbra RMSE 0.0548 against 0.0614 with the spreading one).
     let shell = window_least(id.xy, square - 1u, square, tile);
-    var x = found.x;
     if spreads_to(shell, square / 2u - 1u, tile) {
-        x = min(found.x, shell);
+        covered[index] = min(covered[index], shell);
     }
-    nearest[index] = vec2<f32>(x, select(found.y, shell, found.y >= 1.0));
 }
 
 // A tile's radius in whole texels.
@@ -275,8 +328,8 @@ fn window_least(texel: vec2<u32>, radius: u32, square: u32, tile: Tile) -> f32 {
 // its tile, from the tile's last level (`source`; a spot or point light's: of the silhouettes
 // that spread to the texel, the levels' and the window's outer shell's), and of the caster
 // under the texel itself (where the tile classification and the distance map test a receiver);
-// y the nearest silhouette's depth (`nearest`, else the window's), from which the distance
-// beside a shadow is taken.
+// y the nearest silhouette's depth (the flood's, where it lies within the radius; else the
+// window's least), from which the distance beside a shadow is taken.
 @compute @workgroup_size(8, 8)
 fn cs_dilate(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(fattened);
@@ -287,7 +340,6 @@ fn cs_dilate(@builtin(global_invocation_id) id: vec3<u32>) {
     let radius = tile_radius(tile);
     var window = window_least(id.xy, radius, 1u << tile.level, tile);
     let full = window;
-    let found = nearest[id.y * size.x + id.x];
     if tile.unit_radius > 0.0 {
         // A perspective map: the silhouettes tried by the levels that spread to the texel are in
         // `found.x`; the window's shell past the last of them (half the radius or more each way)
@@ -298,10 +350,16 @@ fn cs_dilate(@builtin(global_invocation_id) id: vec3<u32>) {
             window = 1.0;
         }
     }
-    let least = min(window, found.x);
-    var near = found.y;
-    if near >= 1.0 {
-        near = full;
+    let least = min(window, covered[id.y * size.x + id.x]);
+    // The nearest silhouette, where it lies within the radius; else the window's least.
+    var near = full;
+    let seed = textureLoad(seeds_in, id.xy, 0).xy;
+    let at = bitcast<u32>(seed.x);
+    if at != NO_SEED {
+        let d = abs(vec2<i32>(vec2<u32>(at & 0xffffu, at >> 16u)) - vec2<i32>(id.xy));
+        if u32(max(d.x, d.y)) <= radius {
+            near = seed.y;
+        }
     }
     textureStore(fattened, id.xy, vec4<f32>(least, near, 0.0, 0.0));
 }

@@ -7,8 +7,9 @@
 //! map. x: the least depth of the shadow map's silhouettes within the fatten distance of the
 //! texel across the light (its own tile's; for a spot or point light, the fatten distance at
 //! each silhouette's own distance from the light, up to twice that), and of the caster under
-//! it: where a shadow can fall. y: the depth of the silhouette nearest the texel, from which the distance map takes
-//! the distance beside a shadow. No occluder offset (a texel of 0, see the shader).
+//! it: where a shadow can fall. y: the depth of the silhouette nearest the texel (in texels of
+//! the map), from which the distance map takes the distance beside a shadow. No occluder offset
+//! (a texel of 0, see the shader).
 //!
 //! One compute pass (`shaders/dilated_map.wgsl`):
 //! - level 0: the shadow map at a quarter of its resolution, where a silhouette (a step of more
@@ -16,10 +17,14 @@
 //!   it covers or beside them; the far plane elsewhere. A surface seen from the light spreads
 //!   only at its outline, as the drawn map pushes a caster out along its normals;
 //! - levels of least depths over squares of 2, 4, 8, ... texels (as many as the widest tile's
-//!   window needs, in two textures used in turn), each also trying the window the level before
-//!   covers for the nearest silhouette (a buffer of two floats a texel: the least depth under
-//!   the texel, and the nearest silhouette's);
-//! - the dilation: four reads of the last level that cover each texel's window exactly.
+//!   window needs, in two textures used in turn); for a spot or point light each also tries the
+//!   window the level before covers for silhouettes that spread to the texel (a buffer of one
+//!   float a texel: the least depth under the texel, and of those silhouettes);
+//! - a jump flood from level 0's silhouettes, in as many rounds as levels (jumps of 2^(levels-1)
+//!   texels down to one, two RG32F textures used in turn): the nearest silhouette's texel and
+//!   depth;
+//! - the dilation: four reads of the last level that cover each texel's window exactly, and the
+//!   nearest silhouette where it lies within the radius.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -47,21 +52,27 @@ pub(crate) struct DilatedMapPass {
     /// The fattened map: RG32F, the least depth within the fatten distance of each texel (and
     /// of the caster under it), and the depth of the silhouette nearest it within that distance.
     map: Target,
-    /// Per texel of the map, row by row: the least depth of the shadow-map texels it covers,
-    /// and of the silhouettes in the narrowest window the levels have tried that holds one
-    /// (two f32).
-    nearest: wgpu::Buffer,
+    /// Per texel of the map, row by row: the least depth of the shadow-map texels it covers
+    /// (and, for a spot or point light, of the silhouettes the levels found spreading to it;
+    /// one f32).
+    covered: wgpu::Buffer,
+    /// The jump flood's two textures, used in turn (RG32F: the nearest silhouette's texel, as
+    /// the float's bits, and its depth).
+    seeds: [Target; 2],
     /// No occluder offset: one texel of 0 (the distance map reads it at any texel, 0 there).
     occluder_offset: Target,
     /// The levels, used in turn: level 0 in the second, level k in the first for odd k.
     scratch: [Target; 2],
     reduce: wgpu::ComputePipeline,
     step: wgpu::ComputePipeline,
+    flood: wgpu::ComputePipeline,
     dilate: wgpu::ComputePipeline,
     io_layout: wgpu::BindGroupLayout,
     shared_layout: wgpu::BindGroupLayout,
-    /// The dilation's uniform, then each level's `Step` at `STEP_STRIDE` apart.
+    seeds_layout: wgpu::BindGroupLayout,
+    /// The dilation's uniform.
     uniform: wgpu::Buffer,
+    /// Each level's `Step` at `STEP_STRIDE` apart, then each jump of the flood (2^i).
     steps: wgpu::Buffer,
     /// Made at [`Self::prepare`] for the shadow map it is given, dropped when the textures are
     /// made again.
@@ -83,6 +94,8 @@ struct Groups {
     /// The dilation from the second (level 0 or an even level) or the first (an odd level).
     dilate: [wgpu::BindGroup; 2],
     shared: wgpu::BindGroup,
+    /// The flood's textures: the first written (the second read), the second written.
+    seeds: [wgpu::BindGroup; 2],
 }
 
 impl DilatedMapPass {
@@ -114,13 +127,21 @@ impl DilatedMapPass {
                 entry::storage_texture(2, Self::MAP_FORMAT),
             ],
         );
+        let seeds_layout = crate::gpu_helpers::layout(
+            device,
+            "DilatedMapPass::seeds",
+            &[
+                entry::and_compute(entry::texture_2d(0, unfilterable)),
+                entry::storage_texture(1, Self::MAP_FORMAT),
+            ],
+        );
         let pipeline = |entry: &str| {
             let label = format!("DilatedMapPass::{entry}");
             compute_pipeline(
                 device,
                 &label,
                 &shader,
-                &[Some(&io_layout), Some(&shared_layout)],
+                &[Some(&io_layout), Some(&shared_layout), Some(&seeds_layout)],
                 entry,
                 &[],
             )
@@ -130,11 +151,13 @@ impl DilatedMapPass {
             "DilatedMapPass::uniform",
             size_of::<DilationUniform>() as u64,
         );
-        // Each level's number, `STEP_STRIDE` bytes apart.
-        let mut bytes = vec![0u8; (STEP_STRIDE * MAX_LEVELS as u64) as usize];
+        // Each level's number, then each jump of the flood, `STEP_STRIDE` bytes apart.
+        let mut bytes = vec![0u8; (STEP_STRIDE * 2 * MAX_LEVELS as u64) as usize];
         for level in 0..MAX_LEVELS {
             let at = (level as u64 * STEP_STRIDE) as usize;
             bytes[at..at + 4].copy_from_slice(&level.to_le_bytes());
+            let at = ((MAX_LEVELS + level) as u64 * STEP_STRIDE) as usize;
+            bytes[at..at + 4].copy_from_slice(&(1u32 << level).to_le_bytes());
         }
         let steps = wgpu::util::DeviceExt::create_buffer_init(
             device,
@@ -144,18 +167,21 @@ impl DilatedMapPass {
                 usage: wgpu::BufferUsages::UNIFORM,
             },
         );
-        let (map, occluder_offset, scratch) = Self::textures(device, grid, tile);
-        let nearest = Self::nearest_buffer(device, grid, tile);
+        let (map, occluder_offset, scratch, seeds) = Self::textures(device, grid, tile);
+        let covered = Self::covered_buffer(device, grid, tile);
         Self {
             map,
-            nearest,
+            covered,
+            seeds,
             occluder_offset,
             scratch,
             reduce: pipeline("cs_reduce"),
             step: pipeline("cs_step"),
+            flood: pipeline("cs_flood"),
             dilate: pipeline("cs_dilate"),
             io_layout,
             shared_layout,
+            seeds_layout,
             uniform,
             steps,
             groups: None,
@@ -165,20 +191,24 @@ impl DilatedMapPass {
         }
     }
 
-    /// The nearest silhouettes' buffer for `grid`'s tiles of a shadow map `tile` texels a side.
-    fn nearest_buffer(device: &wgpu::Device, grid: AtlasGrid, tile: u32) -> wgpu::Buffer {
+    /// The least depths' buffer for `grid`'s tiles of a shadow map `tile` texels a side.
+    fn covered_buffer(device: &wgpu::Device, grid: AtlasGrid, tile: u32) -> wgpu::Buffer {
         let (width, height) = grid.size(dilated_resolution(tile));
         device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("DilatedMapPass::nearest"),
-            size: (width as u64 * height as u64 * 8).max(8),
+            label: Some("DilatedMapPass::covered"),
+            size: (width as u64 * height as u64 * 4).max(4),
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         })
     }
 
-    /// The map, the offset and the two levels' textures for `grid`'s tiles of a shadow map
-    /// `tile` texels a side.
-    fn textures(device: &wgpu::Device, grid: AtlasGrid, tile: u32) -> (Target, Target, [Target; 2]) {
+    /// The map, the offset, the two levels' textures and the flood's two for `grid`'s tiles of
+    /// a shadow map `tile` texels a side.
+    fn textures(
+        device: &wgpu::Device,
+        grid: AtlasGrid,
+        tile: u32,
+    ) -> (Target, Target, [Target; 2], [Target; 2]) {
         let size = grid.size(dilated_resolution(tile));
         let make = |label, format| {
             crate::gpu_helpers::texture_2d(device, label, size, format, wgpu::TextureUsages::STORAGE_BINDING)
@@ -198,6 +228,10 @@ impl DilatedMapPass {
                 make("DilatedMapPass::level", Self::FORMAT),
                 make("DilatedMapPass::level", Self::FORMAT),
             ],
+            [
+                make("DilatedMapPass::seeds", Self::MAP_FORMAT),
+                make("DilatedMapPass::seeds", Self::MAP_FORMAT),
+            ],
         )
     }
 
@@ -208,11 +242,13 @@ impl DilatedMapPass {
             &self.occluder_offset,
             &self.scratch[0],
             &self.scratch[1],
+            &self.seeds[0],
+            &self.seeds[1],
         ]
         .iter()
         .map(|t| texture_bytes(&t.texture))
         .sum::<u64>()
-            + self.nearest.size()
+            + self.covered.size()
             + self.uniform.size()
             + self.steps.size()
     }
@@ -221,8 +257,8 @@ impl DilatedMapPass {
     /// made and bound again.
     pub(crate) fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
         let (_, grid, tile) = map;
-        (self.map, self.occluder_offset, self.scratch) = Self::textures(device, grid, tile);
-        self.nearest = Self::nearest_buffer(device, grid, tile);
+        (self.map, self.occluder_offset, self.scratch, self.seeds) = Self::textures(device, grid, tile);
+        self.covered = Self::covered_buffer(device, grid, tile);
         self.grid = grid;
         self.tile = dilated_resolution(tile);
         self.groups = None;
@@ -301,8 +337,22 @@ impl DilatedMapPass {
                 device,
                 "DilatedMapPass::shared",
                 &self.shared_layout,
-                &[&self.uniform, &self.nearest, &self.map.view],
+                &[&self.uniform, &self.covered, &self.map.view],
             ),
+            seeds: [
+                crate::gpu_helpers::bind_group(
+                    device,
+                    "DilatedMapPass::seeds",
+                    &self.seeds_layout,
+                    &[&self.seeds[1].view, &self.seeds[0].view],
+                ),
+                crate::gpu_helpers::bind_group(
+                    device,
+                    "DilatedMapPass::seeds",
+                    &self.seeds_layout,
+                    &[&self.seeds[0].view, &self.seeds[1].view],
+                ),
+            ],
         }
     }
 
@@ -323,6 +373,8 @@ impl DilatedMapPass {
         pass.set_bind_group(1, &groups.shared, &[]);
         pass.set_pipeline(&self.reduce);
         pass.set_bind_group(0, &groups.reduce, &[0]);
+        // Level 0's silhouettes seed the first of the flood's textures.
+        pass.set_bind_group(2, &groups.seeds[0], &[]);
         pass.dispatch_workgroups(x, y, 1);
         pass.set_pipeline(&self.step);
         for level in 1..=self.levels {
@@ -331,8 +383,21 @@ impl DilatedMapPass {
             pass.set_bind_group(0, &groups.steps[group], &[(level as u64 * STEP_STRIDE) as u32]);
             pass.dispatch_workgroups(x, y, 1);
         }
+        // The flood: jumps of 2^(levels - 1) texels (about the widest radius) down to 1, each
+        // round from the texture the last wrote into the other.
+        pass.set_pipeline(&self.flood);
+        let rounds = self.levels;
+        for round in 0..rounds {
+            let jump = rounds - 1 - round;
+            let step = ((MAX_LEVELS + jump) as u64 * STEP_STRIDE) as u32;
+            pass.set_bind_group(0, &groups.reduce, &[step]);
+            pass.set_bind_group(2, &groups.seeds[(round as usize + 1) % 2], &[]);
+            pass.dispatch_workgroups(x, y, 1);
+        }
         pass.set_pipeline(&self.dilate);
         pass.set_bind_group(0, &groups.dilate[self.levels as usize % 2], &[0]);
+        // The flood's last texture read (the other one is not written).
+        pass.set_bind_group(2, &groups.seeds[1 - rounds as usize % 2], &[]);
         pass.dispatch_workgroups(x, y, 1);
     }
 }
