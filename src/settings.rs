@@ -229,10 +229,10 @@ pub enum Fattening {
     /// Derived from the shadow map in compute, with no second geometry pass
     /// (`light_maps::dilated_map`), at a quarter of the shadow map's resolution. Each texel
     /// holds the least depth of the shadow map's silhouettes (its steps of more than four
-    /// texels along the light) within the fatten distance of it across the light (at the
-    /// nearest caster's distance from a spot or point light) and of the caster under it: where
-    /// a shadow can fall. Beside a shadow the distance is taken to the silhouette nearest the
-    /// texel, found in windows that double in width. Measured against the reference
+    /// texels along the light) within the fatten distance of it across the light (for a spot or
+    /// point light, at each silhouette's own distance from it) and of the caster under it:
+    /// where a shadow can fall. Beside a shadow the distance is taken to the silhouette nearest
+    /// the texel, found by a jump flood. Measured against the reference
     /// (`docs/bench/fattening-lavapipe.md`). The draws fall back to [`Fattening::Geometry`].
     Dilation,
 }
