@@ -70,10 +70,10 @@ struct Dilation {
 
 // The nearest silhouette (a jump flood over level 0's silhouettes, `cs_flood`): per texel of the
 // fattened map, x the texel of the nearest silhouette found so far (its column and row in 16
-// bits each, as the float's bits; `NO_SEED` where none is), y its depth. Read (`seeds_in`) and
-// written (`seeds_out`) in turn.
-@group(2) @binding(0) var seeds_in: texture_2d<f32>;
-@group(2) @binding(1) var seeds_out: texture_storage_2d<rg32float, write>;
+// bits each; `NO_SEED` where none is), y its depth's bits. Read (`seeds_in`) and written
+// (`seeds_out`) in turn.
+@group(2) @binding(0) var seeds_in: texture_2d<u32>;
+@group(2) @binding(1) var seeds_out: texture_storage_2d<rg32uint, write>;
 
 const NO_SEED: u32 = 0xffffffffu;
 
@@ -170,7 +170,7 @@ fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
     if value < 1.0 {
         seed = id.x | (id.y << 16u);
     }
-    textureStore(seeds_out, id.xy, vec4<f32>(bitcast<f32>(seed), value, 0.0, 0.0));
+    textureStore(seeds_out, id.xy, vec4<u32>(seed, bitcast<u32>(value), 0u, 0u));
 }
 
 // One round of the jump flood (`step.level.x` texels apart): each texel takes, of its own
@@ -188,7 +188,7 @@ fn cs_flood(@builtin(global_invocation_id) id: vec3<u32>) {
     let tile = tile_of(id.xy, size);
     let jump = i32(step.level.x);
     var best = textureLoad(seeds_in, id.xy, 0).xy;
-    var best_distance = seed_distance(bitcast<u32>(best.x), id.xy);
+    var best_distance = seed_distance(best.x, id.xy);
     for (var dy = -1; dy <= 1; dy += 1) {
         for (var dx = -1; dx <= 1; dx += 1) {
             if dx == 0 && dy == 0 {
@@ -199,14 +199,15 @@ fn cs_flood(@builtin(global_invocation_id) id: vec3<u32>) {
                 continue;
             }
             let other = textureLoad(seeds_in, vec2<u32>(q), 0).xy;
-            let distance = seed_distance(bitcast<u32>(other.x), id.xy);
-            if distance < best_distance || (distance == best_distance && other.y < best.y) {
+            let distance = seed_distance(other.x, id.xy);
+            let nearer_light = bitcast<f32>(other.y) < bitcast<f32>(best.y);
+            if distance < best_distance || (distance == best_distance && nearer_light) {
                 best = other;
                 best_distance = distance;
             }
         }
     }
-    textureStore(seeds_out, id.xy, vec4<f32>(best, 0.0, 0.0));
+    textureStore(seeds_out, id.xy, vec4<u32>(best, 0u, 0u));
 }
 
 // The squared distance in texels from `texel` to the silhouette `seed` (`NO_SEED`: farther
@@ -342,7 +343,7 @@ fn cs_dilate(@builtin(global_invocation_id) id: vec3<u32>) {
     let full = window;
     if tile.unit_radius > 0.0 {
         // A perspective map: the silhouettes tried by the levels that spread to the texel are in
-        // `found.x`; the window's shell past the last of them (half the radius or more each way)
+        // `covered`; the window's shell past the last of them (half the radius or more each way)
         // counts where its least depth spreads that far (the levels tried windows up to the
         // widest of 2^j - 1 texels narrower than the radius).
         let inner = (1u << (31u - countLeadingZeros(max(radius, 1u)))) - 1u;
@@ -354,11 +355,10 @@ fn cs_dilate(@builtin(global_invocation_id) id: vec3<u32>) {
     // The nearest silhouette, where it lies within the radius; else the window's least.
     var near = full;
     let seed = textureLoad(seeds_in, id.xy, 0).xy;
-    let at = bitcast<u32>(seed.x);
-    if at != NO_SEED {
-        let d = abs(vec2<i32>(vec2<u32>(at & 0xffffu, at >> 16u)) - vec2<i32>(id.xy));
+    if seed.x != NO_SEED {
+        let d = abs(vec2<i32>(vec2<u32>(seed.x & 0xffffu, seed.x >> 16u)) - vec2<i32>(id.xy));
         if u32(max(d.x, d.y)) <= radius {
-            near = seed.y;
+            near = bitcast<f32>(seed.y);
         }
     }
     textureStore(fattened, id.xy, vec4<f32>(least, near, 0.0, 0.0));

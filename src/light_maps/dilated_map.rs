@@ -21,7 +21,7 @@
 //!   window the level before covers for silhouettes that spread to the texel (a buffer of one
 //!   float a texel: the least depth under the texel, and of those silhouettes);
 //! - a jump flood from level 0's silhouettes, in as many rounds as levels (jumps of 2^(levels-1)
-//!   texels down to one, two RG32F textures used in turn): the nearest silhouette's texel and
+//!   texels down to one, two RG32Uint textures used in turn): the nearest silhouette's texel and
 //!   depth;
 //! - the dilation: four reads of the last level that cover each texel's window exactly, and the
 //!   nearest silhouette where it lies within the radius.
@@ -56,8 +56,8 @@ pub(crate) struct DilatedMapPass {
     /// (and, for a spot or point light, of the silhouettes the levels found spreading to it;
     /// one f32).
     covered: wgpu::Buffer,
-    /// The jump flood's two textures, used in turn (RG32F: the nearest silhouette's texel, as
-    /// the float's bits, and its depth).
+    /// The jump flood's two textures, used in turn (RG32Uint: the nearest silhouette's texel,
+    /// and its depth's bits).
     seeds: [Target; 2],
     /// No occluder offset: one texel of 0 (the distance map reads it at any texel, 0 there).
     occluder_offset: Target,
@@ -103,6 +103,9 @@ impl DilatedMapPass {
     const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
     /// The fattened map's: the least depth and the nearest silhouette's.
     const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+    /// The flood's: the nearest silhouette's texel and its depth's bits, as integers so that no
+    /// device flushes or canonicalizes them as floats.
+    const SEEDS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
 
     pub fn new(device: &wgpu::Device, map: MapLayout) -> Self {
         let (_, grid, tile) = map;
@@ -131,8 +134,8 @@ impl DilatedMapPass {
             device,
             "DilatedMapPass::seeds",
             &[
-                entry::and_compute(entry::texture_2d(0, unfilterable)),
-                entry::storage_texture(1, Self::MAP_FORMAT),
+                entry::and_compute(entry::texture_2d(0, wgpu::TextureSampleType::Uint)),
+                entry::storage_texture(1, Self::SEEDS_FORMAT),
             ],
         );
         let pipeline = |entry: &str| {
@@ -229,8 +232,8 @@ impl DilatedMapPass {
                 make("DilatedMapPass::level", Self::FORMAT),
             ],
             [
-                make("DilatedMapPass::seeds", Self::MAP_FORMAT),
-                make("DilatedMapPass::seeds", Self::MAP_FORMAT),
+                make("DilatedMapPass::seeds", Self::SEEDS_FORMAT),
+                make("DilatedMapPass::seeds", Self::SEEDS_FORMAT),
             ],
         )
     }
