@@ -28,8 +28,9 @@ pub(crate) struct LightMaps {
 /// A light's fattened map: the casters drawn again, pushed out, or derived from the shadow map
 /// in compute ([`crate::Fattening`]).
 pub(crate) enum FattenedMap {
-    Drawn(FattenedShadowMapPass),
-    Dilated(DilatedMapPass),
+    // Both boxed: each pass holds hundreds of bytes of handles, and they differ by more.
+    Drawn(Box<FattenedShadowMapPass>),
+    Dilated(Box<DilatedMapPass>),
 }
 
 impl FattenedMap {
@@ -40,9 +41,9 @@ impl FattenedMap {
         chain: &Chain,
     ) -> Self {
         if chain.draws_fattened_map() {
-            FattenedMap::Drawn(FattenedShadowMapPass::new(device, layouts, map))
+            FattenedMap::Drawn(Box::new(FattenedShadowMapPass::new(device, layouts, map)))
         } else {
-            FattenedMap::Dilated(DilatedMapPass::new(device, map))
+            FattenedMap::Dilated(Box::new(DilatedMapPass::new(device, map)))
         }
     }
 
