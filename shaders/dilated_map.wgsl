@@ -16,15 +16,23 @@
 // `cs_reduce` takes the shadow map to the fattened map's resolution (a quarter of the shadow
 // map's): level 0, each texel the least of the texels it covers where a silhouette (a depth step
 // of more than `EDGE_TEXELS` texels between neighbours) lies among them, the far plane
-// elsewhere. Each `cs_step` k then makes level k, each texel the least of the 2^k x 2^k square
+// elsewhere. Each `cs_level` k then makes level k, each texel the least of the 2^k x 2^k square
 // whose lower corner it is (four texels of level k - 1), up to the level of the widest square
 // that fits in a tile's window (a tile whose window is narrower keeps its own last level); for a
 // spot or point light each also tries, for x, the window level k - 1 covers (2^(k-1) - 1 texels
-// each way). `cs_flood` then finds each texel's nearest silhouette: a jump flood seeded by
-// level 0's silhouettes, in as many rounds as levels. `cs_dilate` takes the least of four
-// squares of the last level, which together cover the texel's window exactly (a sparse table
-// of least depths: two textures used in turn, whatever the radius; level 0 is written into the
-// second), and the nearest silhouette where it lies within the radius.
+// each way). Each also takes a round of a jump flood seeded by level 0's silhouettes, which
+// finds each texel's nearest silhouette in as many rounds as levels. `cs_dilate` takes the
+// least of four squares of the last level, which together cover the texel's window exactly (a
+// sparse table of least depths: two textures used in turn, whatever the radius; level 0 is
+// written into the second), and the nearest silhouette where it lies within the radius.
+//
+// The levels and the dilation run only over the blocks of 8 x 8 texels within reach of a
+// silhouette (`blocks`: `cs_reduce` marks the blocks that hold one, `cs_near_rows` and
+// `cs_near_columns` list those within reach and the others, `cs_list_args` makes the
+// dispatches); `cs_fill` stores over the others what the work would find there. A dispatch a
+// CPU adapter makes runs each workgroup's code whole, whatever its invocations skip: only the
+// workgroups left out of the dispatch cost nothing (on lavapipe, a branch that skipped the
+// teapot's far blocks saved none of the levels' time).
 //
 // The nearest silhouette was the least depth of the narrowest window, doubling, that held one
 // until commit aca88de. Where a caster's outline runs away from the light (a plate seen almost
@@ -42,14 +50,16 @@
 @group(0) @binding(1) var destination: texture_storage_2d<r32float, write>;
 
 struct Step {
-    // x: the level `cs_step` makes, or the jump of `cs_flood`'s round (texels)
+    // x: the level `cs_level` makes
     level: vec4<u32>,
 }
 
 @group(0) @binding(2) var<uniform> step: Step;
 
 struct Dilation {
-    // x: a tile's side in texels of the fattened map; y: the atlas's tiles per row
+    // x: a tile's side in texels of the fattened map; y: the atlas's tiles per row; z: the
+    // levels made (the last any tile needs), as many as the flood's rounds; w: how many blocks
+    // of 8 x 8 texels from a silhouette a texel's work can find it (`blocks`)
     shape: vec4<u32>,
     // x, y: the light's near and far planes (world units); z: 1 for a perspective map
     depth: vec4<f32>,
@@ -67,6 +77,27 @@ struct Dilation {
 @group(1) @binding(1) var<storage, read_write> covered: array<f32>;
 // The fattened map (`cs_dilate`): x the least depth, y the nearest silhouette's.
 @group(1) @binding(2) var fattened: texture_storage_2d<rg32float, write>;
+// The map's blocks of 8 x 8 texels (a workgroup's), n of them row by row: per block whether a
+// silhouette lies in it (`cs_reduce`, [0, n); `cs_near_columns` then keeps its own sweep
+// there) and whether one lies within `dilation.shape.w`
+// blocks along its row (`cs_near_rows`, [n, 2n)); the list of the blocks within that many
+// along both axes ([2n, 3n)) and of the others ([3n, 4n)), in no order, each block its column
+// and row in 16 bits each (`cs_near_columns`);
+// and the two lists' lengths (4n and 4n + 1, `cs_list_args`). The levels, the flood and the
+// dilation are dispatched over the first list only: elsewhere each texel's level is the far
+// plane and no silhouette lies within its window, which `cs_fill` stores.
+@group(1) @binding(3) var<storage, read_write> blocks: array<u32>;
+// The two lists' running lengths as `cs_near_columns` fills them (`cs_list_args` sets them
+// back to 0).
+@group(1) @binding(4) var<storage, read_write> counts: array<atomic<u32>, 2>;
+// `cs_list_args`' output: the indirect dispatches over the two lists and over every texel (x,
+// y, z and one unused word each).
+@group(3) @binding(0) var<storage, read_write> list_args: array<u32, 12>;
+
+const NO_TEXEL: u32 = 0xffffffffu;
+// The lists, by their place in `blocks`.
+const NEAR: u32 = 0u;
+const FAR: u32 = 1u;
 
 // The nearest silhouette (a jump flood over level 0's silhouettes, `cs_flood`): per texel of the
 // fattened map, x the texel of the nearest silhouette found so far (its column and row in 16
@@ -110,15 +141,30 @@ fn linear_depths(z: vec4<f32>) -> vec4<f32> {
 // nearer side's), else the far plane. It reads them a row of five at a time (four and one), in
 // vectors, comparing each row with the one before: no array, so a CPU adapter keeps them in
 // registers.
+//
+// A workgroup is a block of 8 x 8 texels: it also notes whether a silhouette lies in the block.
 @compute @workgroup_size(8, 8)
-fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
+fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_index) index: u32) {
     let size = textureDimensions(destination);
-    if id.x >= size.x || id.y >= size.y {
-        return;
+    if all(id.xy < size) && reduce_texel(id.xy, size) {
+        atomicOr(&block_silhouette, 1u);
     }
+    workgroupBarrier();
+    if index == 0u {
+        let grid = block_grid(size);
+        blocks[group.y * grid.x + group.x] = atomicLoad(&block_silhouette);
+    }
+}
+
+// Whether a silhouette lies in this workgroup's block (`cs_reduce`).
+var<workgroup> block_silhouette: atomic<u32>;
+
+// Level 0 at texel `id` of a map `size` texels (and `covered` and the flood's seed there);
+// true where a silhouette lies there.
+fn reduce_texel(id: vec2<u32>, size: vec2<u32>) -> bool {
     let from_size = textureDimensions(source);
-    let tile = tile_of(id.xy, size);
-    let lo = id.xy * 4u;
+    let tile = tile_of(id, size);
+    let lo = id * 4u;
     let tile_hi = min((tile.hi + 1u) * 4u, from_size) - 1u;
     let xs = min(vec4<u32>(lo.x) + vec4<u32>(0u, 1u, 2u, 3u), vec4<u32>(tile_hi.x));
     let x_next = min(lo.x + 4u, tile_hi.x);
@@ -164,42 +210,169 @@ fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
     if least < 1.0 && silhouette {
         value = least;
     }
-    textureStore(destination, id.xy, vec4<f32>(value, 0.0, 0.0, 0.0));
+    textureStore(destination, id, vec4<f32>(value, 0.0, 0.0, 0.0));
     covered[id.y * size.x + id.x] = under;
     var seed = NO_SEED;
     if value < 1.0 {
         seed = id.x | (id.y << 16u);
     }
-    textureStore(seeds_out, id.xy, vec4<u32>(seed, bitcast<u32>(value), 0u, 0u));
+    textureStore(seeds_out, id, vec4<u32>(seed, bitcast<u32>(value), 0u, 0u));
+    return value < 1.0;
 }
 
-// One round of the jump flood (`step.level.x` texels apart): each texel takes, of its own
+// The blocks of 8 x 8 texels of a map `size` texels: columns and rows.
+fn block_grid(size: vec2<u32>) -> vec2<u32> {
+    return (size + 7u) / 8u;
+}
+
+// The texel this invocation works on (`local` in its workgroup): of the block at the
+// workgroup's place in list `list` (`NEAR` or `FAR`); x `NO_TEXEL` past the list's end or the
+// map's edge.
+fn listed_texel(group: vec3<u32>, local: vec3<u32>, list: u32) -> vec2<u32> {
+    let size = textureDimensions(fattened);
+    let grid = block_grid(size);
+    let n = grid.x * grid.y;
+    let at = group.x + group.y * 65535u;
+    if at >= blocks[4u * n + list] {
+        return vec2<u32>(NO_TEXEL);
+    }
+    let block = blocks[(2u + list) * n + at];
+    let texel = vec2<u32>(block & 0xffffu, block >> 16u) * 8u + local.xy;
+    if any(texel >= size) {
+        return vec2<u32>(NO_TEXEL);
+    }
+    return texel;
+}
+
+// Per block: whether a block within `dilation.shape.w` of it along its row holds a silhouette.
+// One invocation a row of blocks, two sweeps along it: the nearest such block on the left, then
+// on the right.
+@compute @workgroup_size(64)
+fn cs_near_rows(@builtin(global_invocation_id) id: vec3<u32>) {
+    let grid = block_grid(textureDimensions(fattened));
+    if id.x >= grid.y {
+        return;
+    }
+    let reach = i32(dilation.shape.w);
+    let n = grid.x * grid.y;
+    let row = id.x * grid.x;
+    var last = -reach - 1;
+    for (var x = 0; x < i32(grid.x); x += 1) {
+        if blocks[row + u32(x)] != 0u {
+            last = x;
+        }
+        blocks[n + row + u32(x)] = select(0u, 1u, x - last <= reach);
+    }
+    var next = i32(grid.x) + reach;
+    for (var x = i32(grid.x) - 1; x >= 0; x -= 1) {
+        if blocks[row + u32(x)] != 0u {
+            next = x;
+        }
+        if next - x <= reach {
+            blocks[n + row + u32(x)] = 1u;
+        }
+    }
+}
+
+// Per block: whether a block within `dilation.shape.w` of it along both axes holds a
+// silhouette (from `cs_near_rows`' flags along its column, swept as they are along a row); the
+// block joins the list of those that do or of those that do not. One invocation a column.
+@compute @workgroup_size(64)
+fn cs_near_columns(@builtin(global_invocation_id) id: vec3<u32>) {
+    let grid = block_grid(textureDimensions(fattened));
+    if id.x >= grid.x {
+        return;
+    }
+    let reach = i32(dilation.shape.w);
+    let n = grid.x * grid.y;
+    let column = id.x;
+    // How far the nearest flagged block below each block lies, then above it (the second sweep
+    // lists). The first is kept in the block's silhouette flag, which `cs_near_rows` has read.
+    var next = i32(grid.y) + reach;
+    for (var y = i32(grid.y) - 1; y >= 0; y -= 1) {
+        if blocks[n + u32(y) * grid.x + column] != 0u {
+            next = y;
+        }
+        blocks[u32(y) * grid.x + column] = u32(next - y);
+    }
+    var last = -reach - 1;
+    for (var y = 0; y < i32(grid.y); y += 1) {
+        let at = u32(y) * grid.x + column;
+        if blocks[n + at] != 0u {
+            last = y;
+        }
+        let near = y - last <= reach || i32(blocks[at]) <= reach;
+        let list = select(FAR, NEAR, near);
+        let place = atomicAdd(&counts[list], 1u);
+        blocks[(2u + list) * n + place] = column | (u32(y) << 16u);
+    }
+}
+
+// The lists' lengths where the passes over them read them, the indirect dispatches over them
+// (one workgroup a block, at most 65535 along x), and the running lengths set back to 0 for the
+// next frame. Where more than three blocks in four are near a silhouette, the dispatches over
+// the lists are empty and the one over every texel is not (`cs_level_all`, `cs_dilate_all`):
+// on lavapipe the lists' indirection made the room's pass, every block near, 1.2x as long.
+@compute @workgroup_size(1)
+fn cs_list_args() {
+    let grid = block_grid(textureDimensions(fattened));
+    let n = grid.x * grid.y;
+    let near = atomicExchange(&counts[NEAR], 0u);
+    let far = atomicExchange(&counts[FAR], 0u);
+    blocks[4u * n + NEAR] = near;
+    blocks[4u * n + FAR] = far;
+    let every = near * 4u > n * 3u;
+    let lengths = select(vec2<u32>(near, far), vec2<u32>(0u), every);
+    for (var list = 0u; list < 2u; list += 1u) {
+        list_args[4u * list] = min(lengths[list], 65535u);
+        list_args[4u * list + 1u] = (lengths[list] + 65534u) / 65535u;
+        list_args[4u * list + 2u] = 1u;
+    }
+    list_args[8] = select(0u, grid.x, every);
+    list_args[9] = select(0u, grid.y, every);
+    list_args[10] = 1u;
+}
+
+// Over the blocks far from every silhouette: what the levels, the flood and the dilation would
+// find there, stored (the far plane in the level texture `cs_reduce` does not write, no seed in
+// the flood's texture it does not write; the fattened map: the caster under the texel, no
+// silhouette within the radius). `cs_reduce` stored the far plane and no seed in the others.
+@compute @workgroup_size(8, 8)
+fn cs_fill(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    let texel = listed_texel(group, local, FAR);
+    if texel.x == NO_TEXEL {
+        return;
+    }
+    let size = textureDimensions(fattened);
+    textureStore(destination, texel, vec4<f32>(1.0, 0.0, 0.0, 0.0));
+    textureStore(seeds_out, texel, vec4<u32>(NO_SEED, bitcast<u32>(1.0), 0u, 0u));
+    let covered_here = covered[texel.y * size.x + texel.x];
+    textureStore(fattened, texel, vec4<f32>(min(1.0, covered_here), 1.0, 0.0, 0.0));
+}
+
+
+
+// One round of the jump flood (`jump_texels` apart) at `texel`: it takes, of its own
 // seed and those of the eight texels that far from it (within its tile), the silhouette
 // nearest it (Euclidean distance; the least depth between two as near). After rounds of
 // halving steps, from about the widest tile radius down to one, each texel holds the
 // silhouette nearest it, or nearly (a jump flood can settle on one a little farther than the
 // nearest).
-@compute @workgroup_size(8, 8)
-fn cs_flood(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(seeds_out);
-    if id.x >= size.x || id.y >= size.y {
-        return;
-    }
-    let tile = tile_of(id.xy, size);
-    let jump = i32(step.level.x);
-    var best = textureLoad(seeds_in, id.xy, 0).xy;
-    var best_distance = seed_distance(best.x, id.xy);
+fn flood_round(texel: vec2<u32>, tile: Tile, jump_texels: u32) {
+    let jump = i32(jump_texels);
+    var best = textureLoad(seeds_in, texel, 0).xy;
+    var best_distance = seed_distance(best.x, texel);
     for (var dy = -1; dy <= 1; dy += 1) {
         for (var dx = -1; dx <= 1; dx += 1) {
             if dx == 0 && dy == 0 {
                 continue;
             }
-            let q = vec2<i32>(id.xy) + jump * vec2<i32>(dx, dy);
+            let q = vec2<i32>(texel) + jump * vec2<i32>(dx, dy);
             if any(q < vec2<i32>(tile.lo)) || any(q > vec2<i32>(tile.hi)) {
                 continue;
             }
             let other = textureLoad(seeds_in, vec2<u32>(q), 0).xy;
-            let distance = seed_distance(other.x, id.xy);
+            let distance = seed_distance(other.x, texel);
             let nearer_light = bitcast<f32>(other.y) < bitcast<f32>(best.y);
             if distance < best_distance || (distance == best_distance && nearer_light) {
                 best = other;
@@ -207,7 +380,7 @@ fn cs_flood(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
     }
-    textureStore(seeds_out, id.xy, vec4<u32>(best, 0u, 0u));
+    textureStore(seeds_out, texel, vec4<u32>(best, 0u, 0u));
 }
 
 // The squared distance in texels from `texel` to the silhouette `seed` (`NO_SEED`: farther
@@ -271,14 +444,33 @@ fn spreads_to(z: f32, inner: u32, tile: Tile) -> bool {
 // whose union is the texel's square, clamped to the tile. A tile that needs no such level
 // keeps the one before. For a spot or point light the least of the window the level before
 // covers (radius its square's side less one) counts for x where it spreads to the window's
-// outer shell.
+// outer shell. And in the same invocation a round of the flood, which reads and writes
+// textures of its own: one dispatch where there were two (on lavapipe, teapot at 1280x1024,
+// the pass took 280 ms with them apart).
 @compute @workgroup_size(8, 8)
-fn cs_step(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(destination);
-    if id.x >= size.x || id.y >= size.y {
-        return;
+fn cs_level(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    let texel = listed_texel(group, local, NEAR);
+    if texel.x != NO_TEXEL {
+        level_at(texel);
     }
+}
+
+// `cs_level` over every texel (`cs_list_args`' choice where nearly every block is near a
+// silhouette: the list's indirection then costs more than the blocks it leaves out save).
+@compute @workgroup_size(8, 8)
+fn cs_level_all(@builtin(global_invocation_id) id: vec3<u32>) {
+    if all(id.xy < textureDimensions(fattened)) {
+        level_at(id.xy);
+    }
+}
+
+fn level_at(texel: vec2<u32>) {
+    let size = textureDimensions(destination);
+    let id = vec3<u32>(texel, 0u);
     let tile = tile_of(id.xy, size);
+    // Round `level - 1` of the flood: jumps of 2^(levels - 1) texels at level 1, down to one at
+    // the last level.
+    flood_round(id.xy, tile, 1u << (dilation.shape.z - step.level.x));
     var least = textureLoad(source, id.xy, 0).x;
     let level = step.level.x;
     if level <= tile.level {
@@ -332,11 +524,25 @@ fn window_least(texel: vec2<u32>, radius: u32, square: u32, tile: Tile) -> f32 {
 // y the nearest silhouette's depth (the flood's, where it lies within the radius; else the
 // window's least), from which the distance beside a shadow is taken.
 @compute @workgroup_size(8, 8)
-fn cs_dilate(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(fattened);
-    if id.x >= size.x || id.y >= size.y {
-        return;
+fn cs_dilate(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    let texel = listed_texel(group, local, NEAR);
+    if texel.x != NO_TEXEL {
+        dilate_at(texel);
     }
+}
+
+// `cs_dilate` over every texel (as `cs_level_all`).
+@compute @workgroup_size(8, 8)
+fn cs_dilate_all(@builtin(global_invocation_id) id: vec3<u32>) {
+    if all(id.xy < textureDimensions(fattened)) {
+        dilate_at(id.xy);
+    }
+}
+
+fn dilate_at(texel: vec2<u32>) {
+    let size = textureDimensions(fattened);
+    let id = vec3<u32>(texel, 0u);
+    let index = id.y * size.x + id.x;
     let tile = tile_of(id.xy, size);
     let radius = tile_radius(tile);
     var window = window_least(id.xy, radius, 1u << tile.level, tile);
@@ -351,7 +557,7 @@ fn cs_dilate(@builtin(global_invocation_id) id: vec3<u32>) {
             window = 1.0;
         }
     }
-    let least = min(window, covered[id.y * size.x + id.x]);
+    let least = min(window, covered[index]);
     // The nearest silhouette, where it lies within the radius; else the window's least.
     var near = full;
     let seed = textureLoad(seeds_in, id.xy, 0).xy;
