@@ -445,8 +445,8 @@ fn spreads_to(z: f32, inner: u32, tile: Tile) -> bool {
 // keeps the one before. For a spot or point light the least of the window the level before
 // covers (radius its square's side less one) counts for x where it spreads to the window's
 // outer shell. And in the same invocation a round of the flood, which reads and writes
-// textures of its own: one dispatch where there were two (on lavapipe, teapot at 1280x1024,
-// the pass took 280 ms with them apart).
+// textures of its own: one dispatch where there were two (on lavapipe that took as long; on a
+// GPU it is one dependent dispatch fewer a level).
 @compute @workgroup_size(8, 8)
 fn cs_level(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
     let texel = listed_texel(group, local, NEAR);
