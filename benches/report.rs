@@ -235,6 +235,8 @@ pub struct Embedding {
     pub reduced: Vec<ReducedRun>,
     /// `ours` with the tiles turned away from the light listed apart, and without.
     pub facing: Vec<FacingRun>,
+    /// `ours` with the tiles deep in the umbra listed apart, and without.
+    pub umbra: Vec<UmbraRun>,
     /// What `Shadows` holds for one and for eight lights, per method.
     pub memory: Vec<MemoryRun>,
     /// `ours`, `pcss` and `traditional` with their screen-space passes as compute passes and as
@@ -308,6 +310,22 @@ pub struct FacingRun {
     /// The screen's tiles the passes run over, and those listed apart.
     pub tile_share: f32,
     pub facing_away_share: f32,
+    /// Distance map (its classification included), PCF and blur.
+    pub screen_space_ms: f64,
+    pub frame_ms: f64,
+}
+
+/// `ours` (medium), light turning, with the tiles deep in the umbra listed apart
+/// (`PenumbraSettings::skip_umbra_tiles`) or not, on one scene and light: means over two timings
+/// taken in opposite orders.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct UmbraRun {
+    /// The scene, its view and its light.
+    pub case: String,
+    pub skip: bool,
+    /// The screen's tiles the passes run over, and those listed apart as deep in the umbra.
+    pub tile_share: f32,
+    pub umbra_share: f32,
     /// Distance map (its classification included), PCF and blur.
     pub screen_space_ms: f64,
     pub frame_ms: f64,
@@ -394,6 +412,8 @@ struct Timing {
     tile_share: Option<f32>,
     /// The tiles listed apart as turned away from the light.
     facing_away_share: Option<f32>,
+    /// The tiles listed apart as deep in the umbra.
+    umbra_share: Option<f32>,
 }
 
 /// Whether frame times are the GPU's own (a hardware adapter with timestamp queries): there
@@ -435,6 +455,7 @@ fn time_frames(
     };
     let tile_share = penumbra::debug::tile_share(&gpu.device, &gpu.queue, &renderer)?;
     let facing_away_share = penumbra::debug::facing_away_share(&gpu.device, &gpu.queue, &renderer)?;
+    let umbra_share = penumbra::debug::umbra_share(&gpu.device, &gpu.queue, &renderer)?;
     let wall_ms = median(timed.wall_ms.clone());
     let frame_ms = if times_on_gpu(gpu) && timed.pass_sum_ms.len() == config.frames {
         median(timed.pass_sum_ms.clone())
@@ -454,6 +475,7 @@ fn time_frames(
         mask_saved_share,
         tile_share,
         facing_away_share,
+        umbra_share,
     })
 }
 
@@ -608,6 +630,7 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
     embedding.tiles = measure_tiles(&gpu, &teapot, &camera, size, config)?;
     embedding.reduced = measure_reduced(&gpu, &teapot, &camera, size, config)?;
     embedding.facing = measure_facing(&gpu, &teapot, &camera, size, config)?;
+    embedding.umbra = measure_umbra(&gpu, &assets, size, config)?;
     embedding.memory = measure_memory(&gpu, &teapot, &camera, config)?;
     embedding.compute = measure_compute(&gpu, &teapot, &camera, size, config)?;
     (embedding.large, embedding.casters) = measure_growth(&gpu, &teapot, &camera, size, config)?;
@@ -1252,6 +1275,69 @@ fn measure_facing(
         .collect())
 }
 
+/// `ours` (medium), light turning, with the tiles deep in the umbra listed apart and without: the
+/// teapot's view 0 under its 3-degree sun and under a 0.75-degree one, the room's desk view
+/// under its lamp (a point light) and the outdoor scene's view 2; each timed twice, in opposite
+/// orders.
+fn measure_umbra(
+    gpu: &HeadlessGpu,
+    assets: &Path,
+    size: (u32, u32),
+    config: &Config,
+) -> Result<Vec<UmbraRun>> {
+    let teapot = penumbra::load_scene(&assets.join("teapot.ron"))?;
+    let mut small = teapot.clone();
+    if let penumbra::Light::Directional(l) = &mut small.light {
+        l.angular_diameter_deg = 0.75;
+    }
+    let cases = [
+        ("teapot, view 0, 3-degree sun", teapot, 0),
+        ("teapot, view 0, 0.75-degree sun", small, 0),
+        (
+            "room, view 0, lamp",
+            penumbra::load_scene(&assets.join("room.ron"))?,
+            0,
+        ),
+        (
+            "outdoor, view 2, sun",
+            penumbra::load_scene(&assets.join("outdoor.ron"))?,
+            2,
+        ),
+    ];
+    let mut runs = Vec::new();
+    for (case, scene, view) in cases {
+        let camera = scene.view(view)?;
+        let mut sums = [(0.0f32, 0.0f32, 0.0f64, 0.0f64); 2];
+        for skip in [true, false, false, true] {
+            let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+            settings.penumbra.skip_umbra_tiles = skip;
+            let t = time_frames(gpu, &scene, &camera, settings, size, config)?;
+            let sum = &mut sums[usize::from(skip)];
+            sum.0 = t.tile_share.unwrap_or(1.0);
+            sum.1 = t.umbra_share.unwrap_or(0.0);
+            sum.2 += t.screen_ms / 2.0;
+            sum.3 += t.frame_ms / 2.0;
+        }
+        for skip in [false, true] {
+            let (tile_share, umbra_share, screen_space_ms, frame_ms) = sums[usize::from(skip)];
+            println!(
+                "{case}: tiles deep in the umbra listed apart {skip}: {:.1}% of the tiles listed, {:.1}% apart, screen-space {screen_space_ms:.2} ms, frame {frame_ms:.2} ms",
+                tile_share * 100.0,
+                umbra_share * 100.0
+            );
+            runs.push(UmbraRun {
+                case: case.to_string(),
+                skip,
+                tile_share,
+                umbra_share,
+                screen_space_ms,
+                frame_ms,
+            });
+        }
+    }
+    Ok(runs)
+}
+
 /// `ours` on the outdoor scene's street view with `config.cascade_counts` cascades (1, 2 and 4): frame time (the light
 /// turning, so every map is drawn every frame) and the error near the camera.
 fn measure_cascades(
@@ -1462,6 +1548,7 @@ fn measure_embedding(
         tiles: Vec::new(),
         reduced: Vec::new(),
         facing: Vec::new(),
+        umbra: Vec::new(),
         memory: Vec::new(),
         compute: Vec::new(),
         large: Vec::new(),
@@ -1550,6 +1637,7 @@ fn write_report(
     write_tiles(&mut md, &embedding.tiles, (embedding.width, embedding.height))?;
     write_reduced(&mut md, &embedding.reduced, (embedding.width, embedding.height))?;
     write_facing(&mut md, &embedding.facing, (embedding.width, embedding.height))?;
+    write_umbra(&mut md, &embedding.umbra, (embedding.width, embedding.height))?;
     write_compute(&mut md, &embedding.compute, (embedding.width, embedding.height))?;
     write_cascades(&mut md, config, embedding)?;
     write_room(&mut md, config, embedding)?;
@@ -2261,6 +2349,59 @@ fn write_reduced(md: &mut String, reduced: &[ReducedRun], (width, height): (u32,
             half.frame_ms / full.frame_ms.max(1e-9)
         )?;
     }
+    Ok(())
+}
+
+fn write_umbra(md: &mut String, runs: &[UmbraRun], (width, height): (u32, u32)) -> Result<()> {
+    use std::fmt::Write;
+    if runs.is_empty() {
+        return Ok(());
+    }
+    writeln!(
+        md,
+        "\n## Tiles deep in the umbra ({width}x{height}, ours medium, light turning)\n\n\
+         With `skip_umbra_tiles` the tile classification lists apart the kept tiles that lie so deep in a \
+         shadow that every tap finds a caster in front; the passes write 0 there without taps, which is what \
+         they give there (docs/cost.md). Its cost: a reduction of the shadow map to its least and greatest \
+         depth per 32 x 32 texels when the maps are drawn, and the test of each kept tile. Screen-space ms: \
+         the distance map with its classification, PCF and the blur. Each figure is the mean of two timings \
+         taken in opposite orders.\n\n\
+         | scene | tiles in the umbra | tiles the passes run over | listed apart | screen-space ms | frame ms |\n\
+         |---|---|---|---|---|---|"
+    )?;
+    let mut case_names: Vec<&str> = Vec::new();
+    for r in runs {
+        if !case_names.contains(&r.case.as_str()) {
+            case_names.push(&r.case);
+        }
+    }
+    let mut ratios = Vec::new();
+    for case in case_names {
+        let find = |skip: bool| runs.iter().find(|r| r.case == case && r.skip == skip);
+        let (Some(off), Some(on)) = (find(false), find(true)) else {
+            continue;
+        };
+        for (label, r) in [("passes run there", off), ("listed apart", on)] {
+            writeln!(
+                md,
+                "| {case} | {label} | {:.1}% | {:.1}% | {:.2} | {:.2} |",
+                r.tile_share * 100.0,
+                r.umbra_share * 100.0,
+                r.screen_space_ms,
+                r.frame_ms
+            )?;
+        }
+        ratios.push(format!(
+            "{case} {:.3}x (frame {:.3}x)",
+            on.screen_space_ms / off.screen_space_ms.max(1e-9),
+            on.frame_ms / off.frame_ms.max(1e-9)
+        ));
+    }
+    writeln!(
+        md,
+        "\nListed apart, the screen-space passes take: {}.",
+        ratios.join("; ")
+    )?;
     Ok(())
 }
 

@@ -61,6 +61,10 @@ struct Args {
     /// its error.
     #[arg(long)]
     no_exit_map: bool,
+    /// `ours`: list the tiles deep in the umbra apart, the passes writing 0 there without taps
+    /// (`PenumbraSettings::skip_umbra_tiles`), to compare their cost and the frame.
+    #[arg(long)]
+    umbra_tiles: bool,
     /// `ours`: PCF at half resolution where the penumbra is wide
     /// (`PenumbraSettings::reduced_resolution`), to compare its cost and its error.
     #[arg(long)]
@@ -165,6 +169,7 @@ fn main() -> Result<()> {
         other => anyhow::bail!("--fattening: unknown `{other}`; choose auto, geometry or dilation"),
     };
     settings.penumbra.exit_map = !args.no_exit_map;
+    settings.penumbra.skip_umbra_tiles = args.umbra_tiles;
     settings.penumbra.fragment_passes = args.fragment_passes;
     settings.execution.clears = match args.clears.as_str() {
         "auto" => DevicePath::Auto,

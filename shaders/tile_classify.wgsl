@@ -1,4 +1,4 @@
-// after: frame cube fullscreen receiver fattened workgroup_rows screen_storage
+// after: frame cube fullscreen receiver fattened workgroup_rows screen_storage umbra
 // Tile classification: the 16 x 16 pixel tiles of the screen where the light's fattened shadow
 // can fall, so that the distance map (and with it PCF and the blur, which test its
 // classification depth) runs only there. Joined after the frame uniform, the cube faces and the
@@ -237,15 +237,23 @@ struct TileArgs {
     draw: vec4<u32>,
 }
 
+// Every indirect argument the classification writes, in one buffer (a device may bind as few as
+// four storage buffers a stage): the list's (bytes 0-31), the tiles turned away's (32-63) and,
+// with UMBRA on a CPU adapter, `cs_umbra`'s dispatch (64-79).
+struct AllArgs {
+    listed: TileArgs,
+    away: TileArgs,
+    candidates: vec4<u32>,
+}
+
 @group(0) @binding(5) var<storage, read_write> list_out: TileListOut;
 @group(0) @binding(6) var reduced_out: texture_storage_2d<r32float, write>;
-@group(0) @binding(7) var<storage, read_write> args: TileArgs;
+@group(0) @binding(7) var<storage, read_write> args: AllArgs;
 // One texel per screen tile, 1 where it was listed (the debug views' and the bench's tile
 // share).
 @group(0) @binding(8) var classes_out: texture_storage_2d<r32float, write>;
-// The kept tiles turned away from the light, and the indirect arguments of the passes over them.
+// The kept tiles turned away from the light (or deep in the umbra).
 @group(0) @binding(9) var<storage, read_write> away_out: TileListOut;
-@group(0) @binding(10) var<storage, read_write> away_args: TileArgs;
 // The engine's receiver mask (read where the frame uniform says one is bound).
 @group(0) @binding(11) var receiver_mask: texture_2d<f32>;
 
@@ -305,6 +313,11 @@ fn class_of(all_away: bool, all_outside: bool) -> u32 {
 const DROPPED: u32 = 0u;
 const LISTED: u32 = 1u;
 const AWAY: u32 = 2u;
+// Kept, and deep in the umbra (`deep_in_umbra`, with UMBRA): listed apart with the tiles turned
+// away from the light, where the passes write 0 without taps.
+const UMBRA_KIND: u32 = 3u;
+// `cs_classify_wide`'s: kept and on one plane, for the umbra test to decide.
+const UMBRA_CANDIDATE: u32 = 4u;
 
 // For the pixel at `pixel`: whether its surface is turned away from the light (x, with FACING)
 // and whether it lies outside the fattened shadow as the distance map tests it (y). Turned away:
@@ -355,6 +368,34 @@ fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(reduced_out, id.xy, vec4<f32>(least_in_block(vec2<f32>(id.xy))));
 }
 
+// The shadow map read as plain depths, and its least (R) and greatest (G) depth per UMBRA_BLOCK
+// x UMBRA_BLOCK texels (the umbra test's, `common/umbra.wgsl`): written by `cs_depth_range` when
+// the light's maps are drawn, read by the classification.
+@group(0) @binding(15) var shadow_depths: texture_2d<f32>;
+@group(0) @binding(16) var depth_range_out: texture_storage_2d<rg32float, write>;
+@group(0) @binding(17) var depth_range_map: texture_2d<f32>;
+
+@compute @workgroup_size(8, 8)
+fn cs_depth_range(@builtin(global_invocation_id) id: vec3<u32>) {
+    if any(id.xy >= textureDimensions(depth_range_out)) {
+        return;
+    }
+    let inv_size = 1.0 / vec2<f32>(textureDimensions(shadow_depths));
+    let first = vec2<f32>(id.xy) * f32(UMBRA_BLOCK);
+    var least = vec4<f32>(1.0);
+    var greatest = vec4<f32>(0.0);
+    for (var y = 0; y < UMBRA_BLOCK; y += 2) {
+        for (var x = 0; x < UMBRA_BLOCK; x += 2) {
+            let uv = (first + vec2<f32>(f32(x) + 1.0, f32(y) + 1.0)) * inv_size;
+            let depths = textureGather(0, shadow_depths, gather_sampler, uv);
+            least = min(least, depths);
+            greatest = max(greatest, depths);
+        }
+    }
+    let range = vec2<f32>(min(min(least.x, least.y), min(least.z, least.w)), max(max(greatest.x, greatest.y), max(greatest.z, greatest.w)));
+    textureStore(depth_range_out, id.xy, vec4<f32>(range, 0.0, 0.0));
+}
+
 @compute @workgroup_size(8, 8)
 fn cs_classify(
     @builtin(workgroup_id) group: vec3<u32>,
@@ -374,14 +415,56 @@ fn cs_classify(
     } else if may_hold_shadow(vec2<i32>(id.xy)) {
         tile_kind = tile_class(vec2<i32>(id.xy));
     }
+    if UMBRA && tile_kind == LISTED {
+        // `cs_umbra` decides, over these tiles alone.
+        candidates.tiles[atomicAdd(&candidates.appended, 1u)] = id.x | (id.y << 16u);
+        return;
+    }
     list_tile(id.xy, tile_kind);
 }
 
-// Writes tile `tile`'s class, and appends it to the list (LISTED) or the second list (AWAY).
+// With UMBRA, one invocation per tile (a CPU adapter): `cs_classify` lists the kept tiles to
+// test here, `cs_candidates_finish` turns their count into `cs_umbra`'s dispatch, and `cs_umbra`
+// lists each apart as deep in the umbra or with the others. Apart from the classification, whose
+// invocations run together in turn on such an adapter, the test costs what the kept tiles need.
+@group(0) @binding(10) var<storage, read_write> candidates: TileListOut;
+
+const UMBRA_GROUP: u32 = 64u;
+
+@compute @workgroup_size(1)
+fn cs_candidates_finish() {
+    let count = atomicExchange(&candidates.appended, 0u);
+    candidates.count = count;
+    args.candidates = vec4<u32>((count + UMBRA_GROUP - 1u) / UMBRA_GROUP, 1u, 1u, 0u);
+}
+
+@compute @workgroup_size(64)
+fn cs_umbra(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= candidates.count {
+        return;
+    }
+    let packed = candidates.tiles[id.x];
+    let tile = vec2<u32>(packed & 0xffffu, packed >> 16u);
+    let t = vec2<i32>(tile);
+    var tile_kind = LISTED;
+    if tile_on_plane(t, tile_screen_plane(t)) && deep_in_umbra(t) {
+        tile_kind = UMBRA_KIND;
+    }
+    list_tile(tile, tile_kind);
+}
+
+// Writes tile `tile`'s class, and appends it to the list (LISTED) or the second list (AWAY,
+// UMBRA_KIND).
 fn list_tile(tile: vec2<u32>, tile_kind: u32) {
-    textureStore(classes_out, tile, vec4<f32>(select(select(0.0, 1.0, tile_kind == LISTED), AWAY_CLASS, tile_kind == AWAY)));
-    let packed = tile.x | (tile.y << 16u);
+    var texel = select(0.0, 1.0, tile_kind == LISTED);
     if tile_kind == AWAY {
+        texel = AWAY_CLASS;
+    } else if tile_kind == UMBRA_KIND {
+        texel = UMBRA_CLASS;
+    }
+    textureStore(classes_out, tile, vec4<f32>(texel));
+    let packed = tile.x | (tile.y << 16u);
+    if tile_kind == AWAY || tile_kind == UMBRA_KIND {
         away_out.tiles[atomicAdd(&away_out.appended, 1u)] = packed;
     } else if tile_kind == LISTED {
         list_out.tiles[atomicAdd(&list_out.appended, 1u)] = packed;
@@ -400,6 +483,8 @@ var<workgroup> tile_kept: u32;
 var<workgroup> not_away: atomic<u32>;
 var<workgroup> not_outside: atomic<u32>;
 var<workgroup> class_listed: u32;
+// With UMBRA: whether a pixel of the tile lies off the plane through its corners.
+var<workgroup> off_plane: atomic<u32>;
 
 // With CLASSIFY and WIDE, in place of `cs_classify`: one 16 x 16 workgroup per screen tile. Each
 // invocation loads its pixel's depth for the tile's range, the first runs the tile's test on it,
@@ -436,21 +521,36 @@ fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invo
         if !flags.y {
             atomicOr(&not_outside, 1u);
         }
+        if UMBRA && !on_plane_with_ring(tile_screen_plane(vec2<i32>(tile)), pixel, vec2<i32>(local.xy), depth) {
+            atomicOr(&off_plane, 1u);
+        }
     }
     workgroupBarrier();
-    if index == 0u && all(tile < tiles) {
+    if index == 0u {
         var tile_kind = DROPPED;
-        if kept {
+        if kept && all(tile < tiles) {
             tile_kind = class_of(FACING && atomicLoad(&not_away) == 0u, atomicLoad(&not_outside) == 0u);
         }
-        list_tile(tile, tile_kind);
+        if UMBRA && tile_kind == LISTED && atomicLoad(&off_plane) == 0u && tile_screen_plane(vec2<i32>(tile)).valid {
+            tile_kind = UMBRA_CANDIDATE;
+        }
         class_listed = tile_kind;
     }
+    if UMBRA {
+        let candidate = workgroupUniformLoad(&class_listed) == UMBRA_CANDIDATE;
+        let deep = deep_in_umbra_by_workgroup(vec2<i32>(tile), index, candidate);
+        if index == 0u && candidate {
+            class_listed = select(LISTED, UMBRA_KIND, deep);
+        }
+    }
+    if index == 0u && all(tile < tiles) {
+        list_tile(tile, class_listed);
+    }
     // The tile's pixels of the intermediates: no shadow and lit, or on a tile turned away from
-    // the light the 0 the PCF and the blur would write there without taps.
+    // the light or deep in the umbra the 0 the PCF and the blur would write there without taps.
     let kind = workgroupUniformLoad(&class_listed);
     if CLEARS && inside {
-        let value = select(1.0, 0.0, kind == AWAY);
+        let value = select(1.0, 0.0, kind == AWAY || kind == UMBRA_KIND);
         textureStore(distance_cleared, pixel, vec4<f32>(NO_SHADOW_HERE));
         var visibility = value;
         if CLEAR_LAYER && !layer_receives(pixel, depth) {
@@ -472,17 +572,19 @@ fn layer_receives(pixel: vec2<i32>, depth: f32) -> bool {
     return frame.view.has_receiver_mask == 0u || textureLoad(receiver_mask, pixel, 0).x >= 0.5;
 }
 
-// The class texel of a tile listed apart as turned away from the light.
+// The class texel of a tile listed apart as turned away from the light, and of one listed apart
+// as deep in the umbra.
 const AWAY_CLASS: f32 = 0.25;
+const UMBRA_CLASS: f32 = 0.375;
 
 @compute @workgroup_size(1)
 fn cs_finish() {
     let listed = atomicExchange(&list_out.appended, 0u);
     list_out.count = listed;
-    args = arguments(listed);
+    args.listed = arguments(listed);
     let away = atomicExchange(&away_out.appended, 0u);
     away_out.count = away;
-    away_args = arguments(away);
+    args.away = arguments(away);
 }
 
 fn arguments(count: u32) -> TileArgs {

@@ -67,6 +67,13 @@ pub(crate) struct PenumbraUniform {
     pub normal_offset: f32,
     /// The configured map resolution over the one drawn.
     pub map_scale: f32,
+    /// The variable PCF's taps per side and least spacing (texels): the umbra test's reach.
+    pub taps_per_side: u32,
+    pub base_spacing: f32,
+    /// 1: the tile classification may list tiles deep in the umbra apart
+    /// ([`crate::PenumbraSettings::skip_umbra_tiles`] and a light and mode the test serves).
+    pub umbra_tiles: u32,
+    pub _pad: f32,
 }
 
 /// Mirrors `struct Cascades`.
@@ -166,6 +173,8 @@ pub(crate) struct DistanceSwitches {
     pub tiles: bool,
     /// The compute path: list the kept tiles turned away from the light apart (0 without taps).
     pub facing_away: bool,
+    /// The compute path: list the kept tiles deep in the umbra apart (0 without taps).
+    pub umbra: bool,
     /// The compute path: how the tile classification tests the kept tiles' pixels.
     pub tile_pixels: crate::settings::TilePixels,
     /// Inside a shadow, the exit map's back faces are read (it is drawn).
@@ -309,6 +318,7 @@ impl PassParams {
                 nearest_caster: p.nearest_caster,
                 tiles,
                 facing_away: tiles && p.skip_tiles_facing_away,
+                umbra: tiles && p.skip_umbra_tiles,
                 tile_pixels: s.execution.tile_pixels,
                 exit_map: p.exit_map,
                 // The chain decides (`crate::Chain::Ours`'s `dilated`).
@@ -574,6 +584,15 @@ impl FrameUniform {
                 sigma_per_width: SIGMA_PER_WIDTH,
                 normal_offset: s.shadow_map.normal_offset,
                 map_scale: f.map_scale,
+                taps_per_side: if fast { 1 } else { p.pcf_kernel.side() },
+                base_spacing: p.pcf_base_spacing,
+                umbra_tiles: (p.skip_umbra_tiles
+                    && p.nearest_caster
+                    && physical == 1
+                    && p.indirect_weight == 0.0
+                    && matches!(s.method, ShadowMethod::Ours | ShadowMethod::OursFast)
+                    && area_axes(light).0[3] == 0.0) as u32,
+                _pad: 0.0,
             },
             ambient: f.ambient.extend(0.0).to_array(),
             cascades: CascadesUniform::new(lv, lv.tile),
@@ -728,7 +747,11 @@ mod tests {
                     indirect_half_distance,
                     pcf_share,
                     sigma_per_width,
-                    normal_offset
+                    normal_offset,
+                    map_scale,
+                    taps_per_side,
+                    base_spacing,
+                    umbra_tiles
                 ]
             ),
             layout!(

@@ -331,6 +331,7 @@ impl DemoApp {
                     &mut p.skip_tiles_facing_away,
                     "skip tiles facing away from the light",
                 );
+                ui.checkbox(&mut p.skip_umbra_tiles, "skip tiles deep in the umbra");
                 ui.checkbox(
                     &mut p.reduced_resolution,
                     "PCF at half resolution where the penumbra is wide",

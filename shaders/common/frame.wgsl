@@ -70,6 +70,12 @@ struct Penumbra {
     // the configured resolution of the light's maps over the one drawn (1, 2 or 4: the
     // distance-map method coarsens them where its penumbrae allow)
     map_scale: f32,
+    // the variable PCF's taps per side and least spacing (texels), as its own uniform has them
+    taps_per_side: u32,
+    base_spacing: f32,
+    // 1: the tile classification may list tiles deep in the umbra apart (`common/umbra.wgsl`)
+    umbra_tiles: u32,
+    _pad: f32,
 }
 
 // A directional light's cascades or a point light's six cube faces (one tile for other lights:

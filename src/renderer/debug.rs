@@ -259,6 +259,19 @@ pub fn facing_away_share(
     Ok(Some(away as f32 / values.len().max(1) as f32))
 }
 
+/// The share of the screen's tiles the last frame's tile classification listed apart as deep in
+/// the umbra ([`crate::PenumbraSettings::skip_umbra_tiles`]: visibility 0, no pass over them), or
+/// `None` where no classification ran.
+pub fn umbra_share(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Renderer) -> Result<Option<f32>> {
+    let Some(classes) = renderer.debug_texture(LightTexture::TileClasses) else {
+        return Ok(None);
+    };
+    let (values, _) = read_texture_f32(device, queue, classes)?;
+    // Their class texel is 0.375 (`UMBRA_CLASS` in `shaders/tile_classify.wgsl`).
+    let umbra = values.iter().filter(|v| (**v - 0.375).abs() < 0.01).count();
+    Ok(Some(umbra as f32 / values.len().max(1) as f32))
+}
+
 /// Measures [`MaskSavings`] by reading back the last frame's distance map. Errors when the
 /// renderer's method has no distance map.
 pub fn mask_savings(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Renderer) -> Result<MaskSavings> {

@@ -258,6 +258,8 @@ pub(crate) struct DistanceMaps<'a> {
     pub fattened_map: &'a wgpu::TextureView,
     /// The fattened map's width and height in texels.
     pub fattened_size: (u32, u32),
+    /// The shadow map's width and height in texels.
+    pub shadow_size: (u32, u32),
     pub occluder_offset: &'a wgpu::TextureView,
     pub exit_map: &'a wgpu::TextureView,
 }
@@ -368,7 +370,7 @@ impl DistanceMapCompute {
                 device,
                 frame_size,
                 light_kind,
-                (switches.tiles, switches.facing_away),
+                (switches.tiles, switches.facing_away, switches.umbra),
                 (blurred, half.intermediates, into_layer),
                 switches.tile_pixels,
             ),
@@ -393,6 +395,7 @@ impl DistanceMapCompute {
             frame,
             (camera_depth, receiver_mask),
             (maps.fattened_map, maps.fattened_size),
+            (maps.shadow_map, maps.shadow_size),
         );
         self.reduce_pending
             .store(true, std::sync::atomic::Ordering::Relaxed);

@@ -223,12 +223,13 @@ pub(crate) const TILE_LIST_GROUP: u32 = 3;
 
 /// The screen tiles a [`TileListPass`](super::TileListPass) listed, for the passes that run over them: the list's
 /// bind group (group [`TILE_LIST_GROUP`], `shaders/common/tile_list.wgsl`) and the indirect
-/// arguments the list's length gives (a dispatch of one 16 x 16 workgroup per tile at offset
-/// 0, a draw of one quad per tile at offset 16).
+/// arguments the list's length gives (a dispatch of one 16 x 16 workgroup per tile at `offset`,
+/// a draw of one quad per tile 16 bytes after it).
 #[derive(Clone, Copy)]
 pub(crate) struct TileList<'a> {
     pub group: &'a wgpu::BindGroup,
     pub args: &'a wgpu::Buffer,
+    pub offset: u64,
 }
 
 impl TileList<'_> {
@@ -251,13 +252,13 @@ impl TileList<'_> {
             }
         }
         pass.set_bind_group(TILE_LIST_GROUP, self.group, &[]);
-        pass.dispatch_workgroups_indirect(self.args, 0);
+        pass.dispatch_workgroups_indirect(self.args, self.offset);
     }
 
     /// Draws one quad per listed tile (the pipeline's vertex stage is `vs_listed_tile`).
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_bind_group(TILE_LIST_GROUP, self.group, &[]);
-        pass.draw_indirect(self.args, 16);
+        pass.draw_indirect(self.args, self.offset + 16);
     }
 }
 

@@ -240,17 +240,32 @@ pub(crate) struct TileListPass {
     classify_layout: wgpu::BindGroupLayout,
     reduce_layout: wgpu::BindGroupLayout,
     reduce: wgpu::ComputePipeline,
+    /// The shadow map's least and greatest depth per block, for the umbra test (with `umbra`).
+    depth_range_pass: Option<(wgpu::ComputePipeline, wgpu::BindGroupLayout)>,
     classify: wgpu::ComputePipeline,
     finish: wgpu::ComputePipeline,
+    /// One invocation per tile with the umbra test: the kept tiles' count into the test's
+    /// dispatch, and the test over them (`cs_candidates_finish`, `cs_umbra`).
+    umbra_pass: Option<(wgpu::ComputePipeline, wgpu::ComputePipeline)>,
+    /// `cs_umbra`'s bindings: the classification's but the arguments, which its dispatch reads.
+    umbra_layout: wgpu::BindGroupLayout,
+    umbra_group: Option<wgpu::BindGroup>,
+    /// The kept tiles the umbra test decides (one invocation per tile; its dispatch's arguments
+    /// at [`CANDIDATE_ARGS`] in the lists' arguments).
+    candidates: wgpu::Buffer,
     /// The pixels tested by a workgroup per tile ([`pixels_by_workgroup`]); the same
     /// dispatch then clears the compute path's intermediates ([`Self::clears`]).
     wide: bool,
     /// With `wide`: the blur's horizontal result is cleared too (the chain blurs).
     clears_blurred: bool,
     reduced: Target,
+    /// The shadow map's least and greatest depth per [`UMBRA_BLOCK`] x [`UMBRA_BLOCK`] texels
+    /// (RG32F; 1 x 1 without the umbra test).
+    depth_range: Target,
     /// The list written, as bound.
     targets: Option<TileListTargets>,
     groups: Option<(wgpu::BindGroup, wgpu::BindGroup)>,
+    depth_range_group: Option<wgpu::BindGroup>,
     gather: wgpu::Sampler,
 }
 
@@ -276,8 +291,9 @@ pub(crate) struct TileListTargets {
     classes: Target,
     /// The list as group [`super::TILE_LIST_GROUP`].
     group: wgpu::BindGroup,
-    /// The tiles turned away from the light: list, arguments, group.
-    away: (wgpu::Buffer, wgpu::Buffer, wgpu::BindGroup),
+    /// The tiles turned away from the light (or deep in the umbra): list, group (their
+    /// arguments at [`AWAY_ARGS`] in `args`).
+    away: (wgpu::Buffer, wgpu::BindGroup),
 }
 
 impl TileListTargets {
@@ -301,12 +317,9 @@ impl TileListTargets {
         let away = buffer("TileListTargets::away", words, list_usage);
         let away_group = Self::list_group(device, "TileListTargets::away", &away);
         Self {
-            args: buffer("TileListTargets::args", 32, args_usage),
-            away: (
-                away,
-                buffer("TileListTargets::away_args", 32, args_usage),
-                away_group,
-            ),
+            // The list's arguments, the tiles turned away's, the umbra test's dispatch.
+            args: buffer("TileListTargets::args", CANDIDATE_ARGS + 16, args_usage),
+            away: (away, away_group),
             classes: super::storage_target(
                 device,
                 "TileListTargets::classes",
@@ -340,10 +353,32 @@ impl TileListTargets {
         let list = filled("TileListTargets::every_tile", wgpu::BufferUsages::STORAGE, &words);
         // As `cs_finish` writes them.
         let dispatch = [count.min(65535), count.div_ceil(65535), 1, 0];
+        // No tile is turned away (the classification does not run): none at AWAY_ARGS.
         let args = filled(
             "TileListTargets::every_tile_args",
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
-            &[dispatch[0], dispatch[1], dispatch[2], dispatch[3], 6, count, 0, 0],
+            &[
+                dispatch[0],
+                dispatch[1],
+                dispatch[2],
+                dispatch[3],
+                6,
+                count,
+                0,
+                0,
+                0,
+                0,
+                1,
+                0,
+                6,
+                0,
+                0,
+                0,
+                0,
+                1,
+                1,
+                0,
+            ],
         );
         let group = Self::list_group(device, "TileListTargets::every_tile", &list);
         // No tile is turned away: the classification does not run.
@@ -352,16 +387,11 @@ impl TileListTargets {
             wgpu::BufferUsages::STORAGE,
             &[0, 0, 0],
         );
-        let away_args = filled(
-            "TileListTargets::no_tile_args",
-            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
-            &[0, 0, 1, 0, 6, 0, 0, 0],
-        );
         let away_group = Self::list_group(device, "TileListTargets::no_tile", &away);
         Self {
             list,
             args,
-            away: (away, away_args, away_group),
+            away: (away, away_group),
             classes: super::storage_target(
                 device,
                 "TileListTargets::classes",
@@ -384,11 +414,7 @@ impl TileListTargets {
     }
 
     pub fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.classes.texture)
-            + self.list.size()
-            + self.args.size()
-            + self.away.0.size()
-            + self.away.1.size()
+        texture_bytes(&self.classes.texture) + self.list.size() + self.args.size() + self.away.0.size()
     }
 
     /// One texel per screen tile: 1 where it was listed.
@@ -401,22 +427,26 @@ impl TileListTargets {
         super::TileList {
             group: &self.group,
             args: &self.args,
+            offset: 0,
         }
     }
 
     /// The tiles listed apart as turned away from the light, for the passes that write 0 there.
     pub fn away(&self) -> super::TileList<'_> {
         super::TileList {
-            group: &self.away.2,
-            args: &self.away.1,
+            group: &self.away.1,
+            args: &self.args,
+            offset: AWAY_ARGS,
         }
     }
 }
 
 impl TileListPass {
-    /// GPU memory this pass allocated (its reduced map), in bytes.
+    /// GPU memory this pass allocated (its reduced maps), in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
         texture_bytes(&self.reduced.texture)
+            + texture_bytes(&self.depth_range.texture)
+            + self.candidates.size()
     }
 
     /// The layout of the list's bind group (`shaders/common/tile_list.wgsl`), for the passes
@@ -434,7 +464,9 @@ impl TileListPass {
     }
 
     /// Made for one light kind ([`crate::frame::light_kind`]); `classify` false lists every
-    /// tile; `facing_away` lists the kept tiles turned away from the light apart; `blurred`:
+    /// tile; `facing_away` lists the kept tiles turned away from the light apart, `umbra` those
+    /// deep in the umbra (`shaders/common/umbra.wgsl`, where the frame uniform allows it);
+    /// `blurred`:
     /// the chain blurs (where the classification clears the intermediates, it clears the
     /// blur's too), `half`: they are stored in half floats ([`super::visibility_storage`]),
     /// `layer`: the visibility it clears is the light's layer (the variable PCF writes there,
@@ -444,7 +476,7 @@ impl TileListPass {
         device: &wgpu::Device,
         frame_size: usize,
         light_kind: u32,
-        (classify, facing_away): (bool, bool),
+        (classify, facing_away, umbra): (bool, bool, bool),
         (blurred, half, layer): (bool, bool, bool),
         pixels: crate::settings::TilePixels,
     ) -> Self {
@@ -482,10 +514,17 @@ impl TileListPass {
             entry::storage_buffer(10, compute, false),
             entry::and_compute(entry::texture_2d(11, unfilterable)),
             entry::and_compute(entry::texture_2d(3, unfilterable)),
+            entry::and_compute(entry::texture_2d(17, unfilterable)),
         ];
         classify_entries.extend(cleared);
         let classify_layout =
             crate::gpu_helpers::layout(device, "TileListPass::classify_layout", &classify_entries);
+        let umbra_entries: Vec<_> = classify_entries
+            .iter()
+            .filter(|e| e.binding != 7)
+            .cloned()
+            .collect();
+        let umbra_layout = crate::gpu_helpers::layout(device, "TileListPass::umbra_layout", &umbra_entries);
         let reduce_layout = crate::gpu_helpers::layout(
             device,
             "TileListPass::reduce_layout",
@@ -499,6 +538,7 @@ impl TileListPass {
             (LIGHT_KIND, light_kind as f64),
             ("CLASSIFY", if classify { 1.0 } else { 0.0 }),
             ("FACING", if classify && facing_away { 1.0 } else { 0.0 }),
+            ("UMBRA", if classify && umbra { 1.0 } else { 0.0 }),
             ("WIDE", if per_pixel { 1.0 } else { 0.0 }),
             ("CLEARS", if per_pixel { 1.0 } else { 0.0 }),
             ("CLEAR_BLURRED", if per_pixel && blurred { 1.0 } else { 0.0 }),
@@ -508,8 +548,22 @@ impl TileListPass {
         let pipeline = |label, layout: &wgpu::BindGroupLayout, entry| {
             super::compute_pipeline(device, label, &shader, &[Some(layout)], entry, &constants)
         };
+        let depth_range_pass = (classify && umbra).then(|| {
+            let layout = crate::gpu_helpers::layout(
+                device,
+                "TileListPass::depth_range_layout",
+                &[
+                    entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::NonFiltering)),
+                    entry::and_compute(entry::texture_2d(15, unfilterable)),
+                    entry::storage_texture(16, DEPTH_RANGE_FORMAT),
+                ],
+            );
+            let pipeline = pipeline("TileListPass::depth_range", &layout, "cs_depth_range");
+            (pipeline, layout)
+        });
         Self {
             reduce: pipeline("TileListPass::reduce", &reduce_layout, "cs_reduce"),
+            depth_range_pass,
             classify: if per_pixel {
                 pipeline("TileListPass::classify", &classify_layout, "cs_classify_wide")
             } else {
@@ -518,6 +572,19 @@ impl TileListPass {
             wide: per_pixel,
             clears_blurred: per_pixel && blurred,
             finish: pipeline("TileListPass::finish", &classify_layout, "cs_finish"),
+            umbra_pass: (classify && umbra && !per_pixel).then(|| {
+                (
+                    pipeline(
+                        "TileListPass::candidates_finish",
+                        &classify_layout,
+                        "cs_candidates_finish",
+                    ),
+                    pipeline("TileListPass::umbra", &umbra_layout, "cs_umbra"),
+                )
+            }),
+            umbra_layout,
+            umbra_group: None,
+            candidates: candidate_list(device, (1, 1)),
             classify_layout,
             reduce_layout,
             reduced: super::storage_target(
@@ -527,8 +594,16 @@ impl TileListPass {
                 REDUCED_STORAGE_FORMAT,
                 false,
             ),
+            depth_range: super::storage_target(
+                device,
+                "TileListPass::depth_range",
+                (1, 1),
+                DEPTH_RANGE_FORMAT,
+                false,
+            ),
             targets: None,
             groups: None,
+            depth_range_group: None,
             gather: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("TileListPass::gather"),
                 ..Default::default()
@@ -537,8 +612,8 @@ impl TileListPass {
     }
 
     /// Points the pass at its inputs (`fattened_map` is `fattened_size` texels, width and
-    /// height), the lists it writes and the intermediates it clears where it does
-    /// ([`Self::clears`]).
+    /// height, `shadow_map` `shadow_size`), the lists it writes and the intermediates it clears
+    /// where it does ([`Self::clears`]).
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
@@ -546,6 +621,7 @@ impl TileListPass {
         frame: &wgpu::Buffer,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
         (fattened_map, fattened_size): (&wgpu::TextureView, (u32, u32)),
+        (shadow_map, shadow_size): (&wgpu::TextureView, (u32, u32)),
     ) {
         let size = (fattened_size.0.div_ceil(REDUCE), fattened_size.1.div_ceil(REDUCE));
         if (self.reduced.texture.width(), self.reduced.texture.height()) != size {
@@ -557,6 +633,38 @@ impl TileListPass {
                 false,
             );
         }
+        if let Some((_, layout)) = &self.depth_range_pass {
+            let size = (
+                shadow_size.0.div_ceil(UMBRA_BLOCK),
+                shadow_size.1.div_ceil(UMBRA_BLOCK),
+            );
+            if (
+                self.depth_range.texture.width(),
+                self.depth_range.texture.height(),
+            ) != size
+            {
+                self.depth_range = super::storage_target(
+                    device,
+                    "TileListPass::depth_range",
+                    size,
+                    DEPTH_RANGE_FORMAT,
+                    false,
+                );
+            }
+            self.depth_range_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("TileListPass::depth_range"),
+                layout,
+                entries: &entries([
+                    (4, wgpu::BindingResource::Sampler(&self.gather)),
+                    (15, wgpu::BindingResource::TextureView(shadow_map)),
+                    (16, wgpu::BindingResource::TextureView(&self.depth_range.view)),
+                ]),
+            }));
+        }
+        let tiles = (targets.classes.texture.width(), targets.classes.texture.height());
+        if self.candidates.size() != list_bytes(tiles) {
+            self.candidates = candidate_list(device, tiles);
+        }
         let mut classify_entries = entries([
             (0, frame.as_entire_binding()),
             (1, wgpu::BindingResource::TextureView(camera_depth)),
@@ -566,9 +674,10 @@ impl TileListPass {
             (7, targets.args.as_entire_binding()),
             (8, wgpu::BindingResource::TextureView(&targets.classes.view)),
             (9, targets.away.0.as_entire_binding()),
-            (10, targets.away.1.as_entire_binding()),
+            (10, self.candidates.as_entire_binding()),
             (11, wgpu::BindingResource::TextureView(receiver_mask)),
             (3, wgpu::BindingResource::TextureView(fattened_map)),
+            (17, wgpu::BindingResource::TextureView(&self.depth_range.view)),
         ])
         .to_vec();
         if self.wide {
@@ -588,6 +697,18 @@ impl TileListPass {
             label: Some("TileListPass::classify"),
             layout: &self.classify_layout,
             entries: &classify_entries,
+        });
+        self.umbra_group = self.umbra_pass.is_some().then(|| {
+            let umbra_entries: Vec<_> = classify_entries
+                .iter()
+                .filter(|e| e.binding != 7)
+                .cloned()
+                .collect();
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("TileListPass::umbra"),
+                layout: &self.umbra_layout,
+                entries: &umbra_entries,
+            })
         });
         let reduce = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("TileListPass::reduce"),
@@ -638,6 +759,15 @@ impl TileListPass {
             pass.set_pipeline(&self.reduce);
             pass.set_bind_group(0, reduce, &[]);
             pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+            if let (Some((pipeline, _)), Some(group)) = (&self.depth_range_pass, &self.depth_range_group) {
+                let (w, h) = (
+                    self.depth_range.texture.width(),
+                    self.depth_range.texture.height(),
+                );
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, group, &[]);
+                pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+            }
         }
         let tiles = (targets.classes.texture.width(), targets.classes.texture.height());
         pass.set_pipeline(&self.classify);
@@ -647,6 +777,14 @@ impl TileListPass {
         } else {
             pass.dispatch_workgroups(tiles.0.div_ceil(8), tiles.1.div_ceil(8), 1);
         }
+        if let (Some((finish, umbra)), Some(group)) = (&self.umbra_pass, &self.umbra_group) {
+            pass.set_pipeline(finish);
+            pass.dispatch_workgroups(1, 1, 1);
+            pass.set_pipeline(umbra);
+            pass.set_bind_group(0, group, &[]);
+            pass.dispatch_workgroups_indirect(&targets.args, CANDIDATE_ARGS);
+            pass.set_bind_group(0, classify, &[]);
+        }
         pass.set_pipeline(&self.finish);
         pass.dispatch_workgroups(1, 1, 1);
     }
@@ -655,6 +793,34 @@ impl TileListPass {
 /// The compute path's reduced fattened map: 32-bit, which a compute pass can write everywhere
 /// (a half float cannot be a storage texture on the web).
 const REDUCED_STORAGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+/// The bytes of a list of tiles for `tiles` (across, down): a count, the running count the
+/// classification appends with, one word a tile.
+fn list_bytes(tiles: (u32, u32)) -> u64 {
+    4 * (2 + u64::from(tiles.0 * tiles.1))
+}
+
+/// The umbra test's list of kept tiles for `tiles`.
+fn candidate_list(device: &wgpu::Device, tiles: (u32, u32)) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("TileListPass::candidates"),
+        size: list_bytes(tiles),
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    })
+}
+
+/// Where the lists' arguments (`AllArgs` in `shaders/tile_classify.wgsl`) hold the tiles turned
+/// away's, and the umbra test's dispatch.
+const AWAY_ARGS: u64 = 32;
+const CANDIDATE_ARGS: u64 = 64;
+
+/// The umbra test's reduced shadow map: its least and greatest depth per block.
+const DEPTH_RANGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+
+/// Shadow-map texels per side of a block of the umbra test's reduced map (`UMBRA_BLOCK` in
+/// `shaders/common/umbra.wgsl`).
+const UMBRA_BLOCK: u32 = 32;
 
 /// Bind group entries at the given bindings.
 fn entries<'a, const N: usize>(

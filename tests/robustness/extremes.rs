@@ -544,6 +544,8 @@ fn any_settings() -> impl Strategy<Value = ShadowSettings> {
                         penumbra::TileClassification::Off
                     },
                     skip_tiles_facing_away: !mask,
+                    // Either way, as the tiles turned away.
+                    skip_umbra_tiles: mask,
                     reduced_resolution: rotate,
                     blur_taps,
                     depth_aware_blur: aware,

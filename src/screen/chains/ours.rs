@@ -139,10 +139,10 @@ impl MethodChain for OursChain {
             clear(e, Cleared::Distance);
             self.distance.encode(e, maps_drawn)
         });
-        let away = self
-            .distance
-            .away()
-            .filter(|_| self.distance.switches().facing_away);
+        let away = self.distance.away().filter(|_| {
+            let switches = self.distance.switches();
+            switches.facing_away || switches.umbra
+        });
         let away_passes = away.filter(|_| !by_list);
         let layer = recorder.layer;
         recorder.pass("pcf", |e| match &self.blur {
@@ -278,10 +278,12 @@ impl MethodChain for OursDrawChain {
 fn distance_maps(maps: &LightMaps) -> Option<DistanceMaps<'_>> {
     let fattened = maps.fattened.as_ref()?;
     let texture = fattened.texture();
+    let shadow = maps.shadow.atlas.texture();
     Some(DistanceMaps {
         shadow_map: maps.shadow.atlas.view(),
         fattened_map: fattened.view(),
         fattened_size: (texture.width(), texture.height()),
+        shadow_size: (shadow.width(), shadow.height()),
         occluder_offset: fattened.occluder_offset(),
         // Without an exit map the shader reads none (`EXIT_MAP`): a stand-in is bound.
         exit_map: maps.exit_view().unwrap_or(maps.shadow.atlas.view()),
