@@ -251,7 +251,8 @@ pub(crate) struct TileListPass {
     umbra_layout: wgpu::BindGroupLayout,
     umbra_group: Option<wgpu::BindGroup>,
     /// The kept tiles the umbra test decides (one invocation per tile; its dispatch's arguments
-    /// at [`CANDIDATE_ARGS`] in the lists' arguments).
+    /// at [`CANDIDATE_ARGS`] in the lists' arguments): one tile's room where the test does not
+    /// run so.
     candidates: wgpu::Buffer,
     /// The pixels tested by a workgroup per tile ([`pixels_by_workgroup`]); the same
     /// dispatch then clears the compute path's intermediates ([`Self::clears`]).
@@ -661,7 +662,10 @@ impl TileListPass {
                 ]),
             }));
         }
+        // Sized for the screen only where the umbra test runs by a dispatch of its own: where it
+        // does not, none is read, and the light's memory is as without it.
         let tiles = (targets.classes.texture.width(), targets.classes.texture.height());
+        let tiles = if self.umbra_pass.is_some() { tiles } else { (1, 1) };
         if self.candidates.size() != list_bytes(tiles) {
             self.candidates = candidate_list(device, tiles);
         }
