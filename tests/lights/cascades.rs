@@ -204,7 +204,8 @@ fn cascades_sharpen_the_outdoor_scene_near_the_camera() {
 }
 
 /// The maps hold the cascades the view uses: the teapot's view 0 uses two, side by side in a
-/// 2 x 1 atlas (the fattened and exit maps the same at half the texels); the roof's view uses
+/// 2 x 1 atlas (the exit map the same at half the texels, the fattened map at half or, derived,
+/// at a quarter); the roof's view uses
 /// four in 2 x 2. A renderer whose view goes from one layout to the other makes its maps again
 /// and draws what a new renderer draws.
 #[test]
@@ -230,6 +231,18 @@ fn the_maps_hold_the_cascades_the_view_uses() {
             size(LightTexture::ExitMap),
         )
     };
+    // The fattened map: drawn at half the shadow map's texels a side, derived at a quarter
+    // (`Fattening::Dilation`, which `Fattening::Auto` takes from its count of caster triangles).
+    let triangles = {
+        let renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+        let scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &teapot).unwrap();
+        scene.casters().caster_triangle_count()
+    };
+    let fattened = if settings.penumbra.fattening.derived(triangles) {
+        (tile / 2, tile / 4)
+    } else {
+        (tile, tile / 2)
+    };
     let (_, renderer) = common::render_frame(&gpu, &teapot, &teapot_camera, settings, SIZE);
     assert_eq!(
         sizes(&renderer),
@@ -237,7 +250,7 @@ fn the_maps_hold_the_cascades_the_view_uses() {
             AtlasGrid { cols: 2, rows: 1 },
             2,
             (2 * tile, tile),
-            (tile, tile / 2),
+            fattened,
             (tile, tile / 2)
         )
     );
