@@ -176,7 +176,7 @@ pub struct LightsRun {
     /// `sun`, `spot` or `point`.
     pub kind: String,
     /// Degrees between one light and the next about the vertical: 90 (shadows apart) or, for
-    /// suns, 5 (shadows overlapping).
+    /// suns, 5 (shadows overlapping); 22.5 for eight and sixteen spots.
     pub apart_deg: f32,
     /// The size of lights two to four against the first's (angular diameter or radius): 1, or
     /// 0.25 for lights whose penumbrae are smaller than the first's.
@@ -998,9 +998,10 @@ fn sized_light(scene: &penumbra::Scene, kind: &str, k: usize, apart_deg: f32, si
 }
 
 /// `ours` (medium) on the teapot with one, two and four still lights of each type
-/// ([`added_light`]: suns 90 degrees apart and 5 apart, spots and point lights 90 apart), and
-/// with four lights whose last three are a quarter of the first's size: each screen-space
-/// pass's median time, summed over the lights.
+/// ([`added_light`]: suns 90 degrees apart and 5 apart, spots and point lights 90 apart), with
+/// four lights whose last three are a quarter of the first's size, and with one, eight and
+/// sixteen spots 22.5 degrees apart: each screen-space pass's median time, summed over the
+/// lights.
 fn measure_added_lights(
     gpu: &HeadlessGpu,
     scene: &penumbra::Scene,
@@ -1019,6 +1020,12 @@ fn measure_added_lights(
     }
     for kind in ["sun", "spot", "point"] {
         configs.push((kind, 90.0, 4, 0.25));
+    }
+    // Eight and sixteen (`MAX_LIGHTS`) spots 22.5 degrees apart on the circle, each where no
+    // other is: how each added light's cost holds up past four (issue 64's 1, 4, 8 lights, and
+    // its 16 shadowed lights in one frame).
+    for lights in [1usize, 8, penumbra::MAX_LIGHTS] {
+        configs.push(("spot", 22.5, lights, 1.0));
     }
     {
         for (kind, apart_deg, lights, size_ratio) in configs {
@@ -2139,7 +2146,8 @@ fn write_embedding(md: &mut String, embedding: &Embedding) -> Result<()> {
          throw their shadows apart; suns 5 degrees apart throw them on top of each other. Each \
          light's chain runs whole, its blur included, as compute passes where the device has \
          them. `sizes` is the size of lights two to four against the first's (angular diameter \
-         or radius). `added` is what each light past the first adds.\n\n\
+         or radius). `added` is what each light past the first adds. Eight and sixteen spots \
+         stand 22.5 degrees apart on the circle, each light as large as the first.\n\n\
          | type | apart | sizes | lights | distance map ms | pcf ms | blur ms | together ms | added ms |\n\
          |---|---|---|---|---|---|---|---|---|"
     )?;
@@ -2181,6 +2189,23 @@ fn write_embedding(md: &mut String, embedding: &Embedding) -> Result<()> {
                 f.blur_ms,
                 r.added_per_first(f),
                 (r.blur_ms - f.blur_ms) / 3.0 / f.blur_ms.max(1e-9),
+            )?;
+        }
+    }
+    // Past four: eight and sixteen spots, every light as large as the first.
+    for r in embedding.added_lights.iter().filter(|r| r.lights > 4) {
+        if let Some(f) = embedding.first_of(r) {
+            writeln!(
+                md,
+                "\n{} {}s {} degrees apart in one frame: lights two to {} add {:.2} ms each, against \
+                 {:.2} ms for the first: {:.2}x.",
+                r.lights,
+                r.kind,
+                r.apart_deg,
+                r.lights,
+                (r.screen_space_ms() - f.screen_space_ms()) / (r.lights - 1) as f64,
+                f.screen_space_ms(),
+                r.added_per_first(f),
             )?;
         }
     }

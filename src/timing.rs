@@ -9,8 +9,16 @@
 
 use crate::error::{PenumbraError, Result};
 
-/// The most timestamps one frame writes.
-const CAPACITY: u32 = 32;
+/// The most passes a light's chain marks: its shadow map, fattened (or derived) and exit maps,
+/// the distance map, PCF, the blur and a resolve.
+const PASSES_PER_LIGHT: u32 = 8;
+/// The most passes a frame marks besides its lights': the camera's depth prepass, the lit pass
+/// and room to spare.
+const FRAME_PASSES: u32 = 8;
+/// The most timestamps one frame writes: the frame's start, then one after each pass of
+/// [`crate::MAX_LIGHTS`] lights and the frame's own. (32 once, which sixteen lights passed:
+/// the last passes went untimed.)
+const CAPACITY: u32 = 1 + FRAME_PASSES + PASSES_PER_LIGHT * crate::MAX_LIGHTS as u32;
 
 /// What [`crate::Renderer::time_frames`] measured, one entry per timed frame.
 #[derive(Debug, Clone, Default)]
@@ -168,8 +176,9 @@ impl WallClockTimer {
     }
 }
 
-/// Times passes with GPU timestamps written inside the command encoder (up to 32 a frame: the
-/// frame's start and 31 passes); needs `TIMESTAMP_QUERY` and
+/// Times passes with GPU timestamps written inside the command encoder (up to `CAPACITY` a
+/// frame: the frame's start and a timestamp after each pass; a frame with more passes is an
+/// error when read, not a shorter list); needs `TIMESTAMP_QUERY` and
 /// `TIMESTAMP_QUERY_INSIDE_ENCODERS`.
 pub struct GpuTimer {
     queries: wgpu::QuerySet,
@@ -178,6 +187,8 @@ pub struct GpuTimer {
     labels: Vec<(&'static str, PassStage)>,
     period_ns: f64,
     resolved: usize,
+    /// Passes the last frame marked past `CAPACITY` timestamps (untimed).
+    untimed: usize,
 }
 
 impl GpuTimer {
@@ -209,12 +220,14 @@ impl GpuTimer {
             labels: Vec::with_capacity(CAPACITY as usize),
             period_ns: queue.get_timestamp_period() as f64,
             resolved: 0,
+            untimed: 0,
         })
     }
 
     /// Starts a frame: the first timestamp.
     pub(crate) fn begin(&mut self, encoder: &mut wgpu::CommandEncoder) {
         self.labels.clear();
+        self.untimed = 0;
         encoder.write_timestamp(&self.queries, 0);
         self.labels.push(("start", PassStage::Scene));
     }
@@ -225,6 +238,8 @@ impl GpuTimer {
         if index < CAPACITY {
             encoder.write_timestamp(&self.queries, index);
             self.labels.push((label, stage));
+        } else {
+            self.untimed += 1;
         }
     }
 
@@ -242,6 +257,14 @@ impl GpuTimer {
             during: "reading timestamps".into(),
             reason,
         };
+        if self.untimed > 0 {
+            return Err(gpu_error(format!(
+                "the frame ran {} passes, {} more than the timer holds ({CAPACITY} timestamps): \
+                 their times would be missing",
+                self.labels.len() - 1 + self.untimed,
+                self.untimed
+            )));
+        }
         if self.resolved < 2 {
             return Ok(Vec::new());
         }

@@ -100,6 +100,10 @@ fn the_bench_writes_its_report() {
         "| sun | 90 deg | x0.25 | 4 |",
         "| point | 90 deg | x0.25 | 4 |",
         "| spot | 90 deg | x0.25 | 4 |",
+        // Past four: eight and sixteen spots in one frame.
+        "| spot | 22.5 deg | x1 | 8 |",
+        "| spot | 22.5 deg | x1 | 16 |",
+        "16 spots 22.5 degrees apart in one frame: lights two to 16 add",
         "each cost at most 0.5x the first",
         "lights two to four add",
         "lights two to four, with penumbrae smaller than the first's",
@@ -141,8 +145,9 @@ fn the_bench_writes_its_report() {
         serde_json::from_str(&std::fs::read_to_string(out.join("embedding.json")).unwrap()).unwrap();
     let added = embedding["added_lights"].as_array().unwrap();
     // Suns apart and overlapping, spots, point lights; 1, 2 and 4 lights; and four lights of
-    // each type whose lights two to four are a quarter of the first's size.
-    assert_eq!(added.len(), 4 * 3 + 3);
+    // each type whose lights two to four are a quarter of the first's size; one, eight and
+    // sixteen spots 22.5 degrees apart.
+    assert_eq!(added.len(), 4 * 3 + 3 + 3);
     assert_eq!(
         added
             .iter()

@@ -122,3 +122,47 @@ fn time_frames_times_each_frame_and_refuses_impossible_sizes() {
         assert!(error.contains("size"), "{size:?}: {error}");
     }
 }
+
+/// A frame with `MAX_LIGHTS` lights, every one's chain whole: each pass it ran is timed (the
+/// timer once held 32 timestamps, and sixteen lights' last passes and the lit pass went
+/// untimed without a word).
+#[test]
+fn every_pass_of_sixteen_lights_is_timed() {
+    let gpu = common::gpu();
+    let mut scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let camera = scene.view(0).unwrap();
+    let center = scene.bounds().center();
+    let reach = scene.bounds().radius();
+    scene.more_lights = (1..penumbra::MAX_LIGHTS)
+        .map(|k| {
+            let turn = glam::Quat::from_rotation_y((k as f32 * 22.5).to_radians());
+            let position = center + turn * glam::Vec3::new(reach, 1.5 * reach, reach);
+            penumbra::Light::Spot(penumbra::SpotLight {
+                position,
+                direction: center - position,
+                cone_angle_deg: 45.0,
+                radius: 0.02 * reach,
+                color: glam::Vec3::ONE,
+                intensity: 1.0,
+                range: None,
+            })
+        })
+        .collect();
+    let settings = ShadowSettings {
+        method: ShadowMethod::Ours,
+        ..Default::default()
+    };
+    let mut renderer = Renderer::new(&gpu.device, wgpu::TextureFormat::Rgba8UnormSrgb, settings).unwrap();
+    assert!(renderer.enable_timing(&gpu.device, &gpu.queue));
+    let gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
+    penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, 96, 80).unwrap();
+    let times = renderer.pass_times(&gpu.device).unwrap().unwrap();
+    let names: Vec<&str> = times.iter().map(|t| t.pass).collect();
+    let ran = &renderer.last_report().unwrap().passes;
+    assert_eq!(&names, ran);
+    // Every light's screen-space chain, and the lit pass last.
+    let count = |name: &str| names.iter().filter(|&&n| n == name).count();
+    assert_eq!(count("distance map"), penumbra::MAX_LIGHTS, "{names:?}");
+    assert!(names.len() > 32, "{} passes", names.len());
+    assert_eq!(names.last(), Some(&"composite"), "{names:?}");
+}
