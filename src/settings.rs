@@ -217,9 +217,10 @@ pub enum Fattening {
     /// triangles, [`Fattening::Geometry`] below: the drawn map costs by the vertex, the derived
     /// one by the texel whatever the casters. With the exit map kept by the shadow map's pass
     /// ([`crate::ExitMapDraw::Auto`], from the same count) a light then draws its casters once.
-    /// On lavapipe (the bench's caster sweep, `docs/bench/quick-lavapipe.md`, "Growth") `ours`'
-    /// own cost with the derived map was 1.76x / 1.60x / 0.68x that with the drawn one (both with
-    /// the exit map kept) at 9,216 / 147,456 / 2,359,296 triangles; not measured on a GPU.
+    /// On lavapipe (the bench's caster sweep, `docs/bench/quick-lavapipe.md`, "Growth", the run
+    /// at 135769a) `ours`' own cost with the derived map was 1.72x / 1.08x / 0.66x that with the
+    /// drawn one (both with the exit map kept) at 9,216 / 147,456 / 2,359,296 triangles; not
+    /// measured on a GPU.
     #[default]
     Auto,
     /// The method's own: the casters drawn again from the light, each vertex pushed out along
