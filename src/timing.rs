@@ -16,8 +16,8 @@ const PASSES_PER_LIGHT: u32 = 8;
 /// and room to spare.
 const FRAME_PASSES: u32 = 8;
 /// The most timestamps one frame writes: the frame's start, then one after each pass of
-/// [`crate::MAX_LIGHTS`] lights and the frame's own. (32 once, which sixteen lights passed:
-/// the last passes went untimed.)
+/// [`crate::MAX_LIGHTS`] lights and the frame's own. (32 once: from five lights of `ours` whose
+/// maps were drawn, the last passes went untimed.)
 const CAPACITY: u32 = 1 + FRAME_PASSES + PASSES_PER_LIGHT * crate::MAX_LIGHTS as u32;
 
 /// What [`crate::Renderer::time_frames`] measured, one entry per timed frame.
