@@ -77,7 +77,7 @@ fn the_bench_writes_its_report() {
         // Issue 64's target, one a light: three with the defaults at 9k triangles; one in the
         // forms that derive the fattened map and keep the exit map.
         "- geometry passes per light for `ours` with its defaults (`Shadows`, 4 lights moving, \
-         the teapot's 9216 caster triangles) at most 1: 3 -> **missed** (one a light in the \
+         the teapot's 9216 caster triangles) at most 1: 3.00 -> **missed** (one a light in the \
          renderer's forms: fattened map derived, exit map kept; fattened map derived, no exit map;",
         "| spot | 4 |",
         "| point | 4 |",
