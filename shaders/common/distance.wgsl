@@ -219,7 +219,7 @@ fn search_aspect(world_size: vec2<f32>) -> vec2<f32> {
 }
 
 // The searches' reach, in shadow-map texels, beside a shadow and inside it. Their taps are
-// few (16 beside, 4 per ray inside), so the reach bounds how far apart they fall. Inside, a
+// few (at most 16 beside, 4 per ray inside), so the reach bounds how far apart they fall. Inside, a
 // blocker right under a small light (the room's lamp) casts penumbrae hundreds of texels wide:
 // at 48 texels the search missed the lamp shade's rim and the wall's widths were 0.82-0.87x
 // the reference's; at 256 they are 0.97-1.12x (with `pcf_variance_share` 0.5; 0.93-0.99x at
@@ -230,7 +230,10 @@ fn search_aspect(world_size: vec2<f32>) -> vec2<f32> {
 const BESIDE_REACH_TEXELS: f32 = 48.0;
 const INSIDE_REACH_TEXELS: f32 = 256.0;
 
-// The ring search: taps per ring, and rings.
+// The ring search: the most taps per ring, and rings. A search less than `RINGS` texels wide
+// takes fewer rings, and a ring less than 8 / (2 pi) texels round fewer taps (at least 4): their
+// taps then stay about a texel apart, where the whole pattern read the same texels again (a
+// small light's search, and every light's near contact).
 const RING_TAPS: i32 = 8;
 const RINGS: i32 = 2;
 
@@ -252,10 +255,15 @@ fn nearest_caster(world: vec3<f32>, p: vec3<f32>, d: f32, otherwise: f32) -> f32
     let texel_world = max_texel_world(world_size);
     var best_angle = 1e30;
     var best = otherwise;
-    for (var ring = 1; ring <= RINGS; ring += 1) {
-        let r = radius * f32(ring) / f32(RINGS);
-        for (var k = 0; k < RING_TAPS; k += 1) {
-            let a = 6.2831853 * (f32(k) + 0.5 * f32(ring & 1)) / f32(RING_TAPS);
+    // As few rings and taps as keep them about a texel apart (a small light's search spans a
+    // texel or two, where the whole pattern read the same texels again).
+    let radius_texels = radius * size.x;
+    let rings = clamp(i32(ceil(radius_texels)), 1, RINGS);
+    for (var ring = 1; ring <= rings; ring += 1) {
+        let r = radius * f32(ring) / f32(rings);
+        let ring_taps = clamp(i32(ceil(6.2831853 * radius_texels * f32(ring) / f32(rings))), 4, RING_TAPS);
+        for (var k = 0; k < ring_taps; k += 1) {
+            let a = 6.2831853 * (f32(k) + 0.5 * f32(ring & 1)) / f32(ring_taps);
             let uv = clamp(p.xy + r * vec2<f32>(cos(a), sin(a)) * aspect, tile.xy, tile.zw);
             let z = textureLoad(shadow_depths, vec2<i32>(uv * size), 0).x;
             let caster_depth = light_linear_depth(z);
