@@ -218,7 +218,7 @@ pub enum Fattening {
     /// one by the texel whatever the casters. With the exit map kept by the shadow map's pass
     /// ([`crate::ExitMapDraw::Auto`], from the same count) a light then draws its casters once.
     /// On lavapipe (the bench's caster sweep, `docs/bench/quick-lavapipe.md`, "Growth", the run
-    /// at 135769a) `ours`' own cost with the derived map was 1.72x / 1.08x / 0.66x that with the
+    /// at 28fe8e5) `ours`' own cost with the derived map was 1.69x / 1.14x / 0.65x that with the
     /// drawn one (both with the exit map kept) at 9,216 / 147,456 / 2,359,296 triangles; not
     /// measured on a GPU.
     #[default]
