@@ -1,6 +1,6 @@
 //! `cargo bench`: every real-time method on the project's scenes, measured for speed and
-//! accuracy in one run (see `report.rs`). `PENUMBRA_BENCH=quick` runs the quick mode (under
-//! 3 minutes on a software adapter); `PENUMBRA_BENCH=accuracy` the full run's accuracy on every
+//! accuracy in one run (see `report.rs`). `PENUMBRA_BENCH=quick` runs the quick mode (about 12
+//! minutes on lavapipe with two cores); `PENUMBRA_BENCH=accuracy` the full run's accuracy on every
 //! viewpoint with the quick run's timing. Writes target/penumbra-bench/report.md, report.json and
 //! tradeoff.png, or into `PENUMBRA_BENCH_OUT` where that is set.
 

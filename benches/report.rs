@@ -31,6 +31,9 @@ pub struct Config {
     pub sizes: Vec<(u32, u32)>,
     pub methods: Vec<ShadowMethod>,
     pub presets: Vec<Quality>,
+    /// Presets run for one method beside `presets` (the quick run's PCSS `ultra`, which issue
+    /// 64's matched-error target names).
+    pub extra_presets: Vec<(ShadowMethod, Quality)>,
     pub warmup: usize,
     pub frames: usize,
     pub reference_samples: u32,
@@ -51,6 +54,17 @@ pub struct Config {
 }
 
 impl Config {
+    /// The presets run for `method`: `presets`, then its `extra_presets`.
+    pub fn presets_for(&self, method: ShadowMethod) -> Vec<Quality> {
+        let mut presets = self.presets.clone();
+        for &(m, preset) in &self.extra_presets {
+            if m == method && !presets.contains(&preset) {
+                presets.push(preset);
+            }
+        }
+        presets
+    }
+
     /// Every scene, viewpoint, size, method and preset.
     pub fn full(out_dir: PathBuf) -> Self {
         Self {
@@ -60,6 +74,7 @@ impl Config {
             sizes: vec![(800, 600), (1280, 1024)],
             methods: ShadowMethod::REAL_TIME.to_vec(),
             presets: Quality::ALL.to_vec(),
+            extra_presets: Vec::new(),
             warmup: 3,
             frames: 10,
             reference_samples: 256,
@@ -73,13 +88,14 @@ impl Config {
         }
     }
 
-    /// One viewpoint, the medium and high presets, few frames: under 3 minutes on a software
-    /// adapter.
+    /// One viewpoint, the medium and high presets (and PCSS's `ultra`, for the target against
+    /// it), few frames.
     pub fn quick(out_dir: PathBuf) -> Self {
         Self {
             mode: "quick",
             views: vec![0],
             presets: vec![Quality::Medium, Quality::High],
+            extra_presets: vec![(ShadowMethod::Pcss, Quality::Ultra)],
             warmup: 1,
             frames: 3,
             reference_samples: 64,
@@ -97,6 +113,7 @@ impl Config {
             mode: "accuracy",
             views: vec![0, 1, 2],
             presets: vec![Quality::Medium],
+            extra_presets: Vec::new(),
             reference_samples: 256,
             metric_size: (400, 320),
             ..Self::quick(out_dir)
@@ -115,6 +132,8 @@ impl Config {
                 ShadowMethod::Hard,
             ],
             presets: vec![Quality::Medium],
+            // PCSS `ultra`'s 4096-texel map would lengthen the test, which CI runs.
+            extra_presets: Vec::new(),
             frames: 1,
             reference_samples: 8,
             metric_size: (96, 72),
@@ -513,7 +532,7 @@ pub fn run(config: &Config) -> Result<Vec<Run>> {
             let reference_image =
                 render_image(&gpu, &scene, &camera, reference_settings, config.metric_size)?;
             for &method in &config.methods {
-                for &preset in &config.presets {
+                for preset in config.presets_for(method) {
                     let settings = ShadowSettings::preset(method, preset);
                     let measured =
                         metrics::measure_visibility(&gpu, &scene, &camera, settings, config.metric_size)?;
@@ -2876,7 +2895,7 @@ fn write_matched_error(md: &mut String, config: &Config, runs: &[Run], size: (u3
         };
         // PCSS's presets from the least accurate to the most.
         let mut pcss: Vec<(f64, f64, &str)> = config
-            .presets
+            .presets_for(ShadowMethod::Pcss)
             .iter()
             .filter_map(|p| mean("pcss", p.name()))
             .collect();
@@ -2916,12 +2935,18 @@ fn write_matched_error(md: &mut String, config: &Config, runs: &[Run], size: (u3
                 ),
             }
         )?;
+        // The target names `ultra`; without it, PCSS's most accurate preset measured.
+        let (target_error, target_cost, target) = pcss
+            .iter()
+            .copied()
+            .find(|p| p.2 == "ultra")
+            .unwrap_or((best_error, best_cost, best));
         writeln!(
             md,
-            "  - `ours` medium's own cost at most 0.5x PCSS `{best}`'s, at a lower penumbra RMSE: {:.3}x, {ours_error:.4} against {best_error:.4} -> {}{}",
-            ours_cost / best_cost.max(1e-9),
-            verdict(ours_cost <= 0.5 * best_cost && ours_error < best_error),
-            if best == "ultra" {
+            "  - `ours` medium's own cost at most 0.5x PCSS `{target}`'s, at a lower penumbra RMSE: {:.3}x, {ours_error:.4} against {target_error:.4} -> {}{}",
+            ours_cost / target_cost.max(1e-9),
+            verdict(ours_cost <= 0.5 * target_cost && ours_error < target_error),
+            if target == "ultra" {
                 ""
             } else {
                 " (the target names `ultra`, which this mode does not run)"

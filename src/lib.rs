@@ -125,7 +125,10 @@ mod renderer;
 #[cfg(feature = "renderer")]
 pub use renderer::{
     debug, gpu,
-    gpu::{HeadlessGpu, read_texture_bytes, read_texture_f32, read_texture_rgba8},
+    gpu::{
+        HeadlessGpu, read_texture_bytes, read_texture_f32, read_texture_layer_bytes, read_texture_layer_f32,
+        read_texture_rgba8,
+    },
     gpu_scene::GpuScene,
     ground_truth::ReferenceProgress,
     metrics,

@@ -266,9 +266,10 @@ fn the_light_maps_cleared_by_copy_or_by_their_passes_are_the_same() {
             settings.shadow_map.clear_by_copy = by_copy;
             let (frame, renderer) = common::render_frame(&gpu, &scene, &camera, settings, (320, 256));
             let map = |texture| {
+                let layer = renderer.debug_texture_layer(texture).unwrap_or(0);
                 renderer
                     .debug_texture(texture)
-                    .map(|t| common::read_f32(&gpu, t).0)
+                    .map(|t| common::read_layer_f32(&gpu, t, layer).0)
             };
             let maps = [map(LightTexture::ShadowMap), map(LightTexture::FattenedMap)];
             runs.push((frame, maps, renderer.shadows().allocated_bytes()));
@@ -326,8 +327,13 @@ fn exit_maps(
     let maps = shadows
         .light_ids()
         .into_iter()
-        .filter_map(|id| shadows.light_texture(id, LightTexture::ExitMap))
-        .map(|t| common::read_f32(gpu, t).0)
+        .filter_map(|id| {
+            let layer = shadows.light_texture_layer(id, LightTexture::ExitMap)?;
+            shadows
+                .light_texture(id, LightTexture::ExitMap)
+                .map(|t| (t, layer))
+        })
+        .map(|(t, layer)| common::read_layer_f32(gpu, t, layer).0)
         .collect();
     (frame, maps)
 }

@@ -3,9 +3,8 @@
 //! casters' draw, the clear of one tile where the others are kept, and the depth pass they
 //! begin. Each pass keeps its own pipelines and whatever else it writes.
 
-use crate::gpu_helpers::{Target, texture_bytes};
-
 use super::pipelines::CascadeUniforms;
+use super::pool::{MapPools, MapSlot, PoolKey};
 use super::tile_clear::TileClear;
 use crate::casters::{Casters, Cull};
 use crate::gpu_helpers::depth_attachment;
@@ -14,8 +13,9 @@ use crate::settings::ShadowMapSettings;
 
 /// A light-space pass's atlas and the per-tile state its draws need.
 pub(crate) struct LightMapAtlas {
-    /// The depth atlas, in the shadow map's format.
-    pub map: Target,
+    /// The depth atlas, in the shadow map's format: a layer of an array every light's atlas of
+    /// this kind and size shares ([`MapPools`]).
+    pub map: MapSlot,
     /// One uniform slot per tile, and the casters each tile draws.
     pub uniform: CascadeUniforms,
     /// How the atlas lays out its tiles.
@@ -33,7 +33,7 @@ impl LightMapAtlas {
     /// `uniform`; `color`: the format of a color target the pass also draws, which a kept
     /// tile's clear clears too.
     pub fn new(
-        device: &wgpu::Device,
+        (device, pools): (&wgpu::Device, &mut MapPools),
         settings: &ShadowMapSettings,
         (grid, tile): (AtlasGrid, u32),
         label: &'static str,
@@ -41,7 +41,7 @@ impl LightMapAtlas {
         color: Option<wgpu::TextureFormat>,
     ) -> Self {
         Self {
-            map: light_depth_target(device, settings, (grid, tile), label),
+            map: pools.slot(device, light_depth_key(settings, (grid, tile), label)),
             uniform,
             grid,
             tile,
@@ -51,14 +51,30 @@ impl LightMapAtlas {
         }
     }
 
-    /// The depth atlas.
+    /// The depth atlas (its layer, as a 2D texture).
     pub fn view(&self) -> &wgpu::TextureView {
-        &self.map.view
+        &self.map.target.view
     }
 
-    /// The depth atlas's texture.
+    /// The array the depth atlas is a layer of ([`LightMapAtlas::layer`]).
     pub fn texture(&self) -> &wgpu::Texture {
-        &self.map.texture
+        &self.map.target.texture
+    }
+
+    /// The depth atlas's layer of [`LightMapAtlas::texture`].
+    pub fn layer(&self) -> u32 {
+        self.map.layer
+    }
+
+    /// Whether the atlas's view is of its array as it is now.
+    pub fn is_current(&self, pools: &MapPools) -> bool {
+        pools.is_current(&self.map)
+    }
+
+    /// Points the atlas at its array as it is now; true when the array was made again (the
+    /// atlas must then be drawn whole and bound again).
+    pub fn refresh(&mut self, pools: &MapPools) -> bool {
+        pools.refresh(&mut self.map)
     }
 
     /// The next draw redraws only the tiles (cascades, cube faces) whose bit is set; the others
@@ -68,21 +84,22 @@ impl LightMapAtlas {
         self.uniform.redraw_only(tiles);
     }
 
-    /// GPU memory the atlas and its uniforms take, in bytes.
+    /// GPU memory the atlas's layer and its uniforms take, in bytes.
     pub fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.map.texture) + self.uniform.allocated_bytes()
+        self.map.allocated_bytes() + self.uniform.allocated_bytes()
     }
 
     /// Makes the atlas again as `grid`'s tiles of `tile` texels; it must then be drawn and
     /// bound again.
     pub fn resize(
         &mut self,
-        device: &wgpu::Device,
+        (device, pools): (&wgpu::Device, &mut MapPools),
         settings: &ShadowMapSettings,
         grid: AtlasGrid,
         tile: u32,
     ) {
-        self.map = light_depth_target(device, settings, (grid, tile), self.label);
+        // The old layer is freed as the new one is taken.
+        self.map = pools.slot(device, light_depth_key(settings, (grid, tile), self.label));
         (self.grid, self.tile) = (grid, tile);
     }
 
@@ -111,19 +128,19 @@ impl LightMapAtlas {
         draw: impl FnMut(&mut wgpu::RenderPass<'_>, Cull),
     ) {
         let keep = self.begin_depth(encoder, fill);
-        let mut pass = begin_depth_pass(encoder, label, &self.map.view, keep);
+        let mut pass = begin_depth_pass(encoder, label, self.view(), keep);
         self.draw_tiles(&mut pass, draw);
     }
 
     /// Before the atlas's depth pass: whether the pass must load the atlas rather than clear
     /// it, because it keeps tiles or because `fill` has just set it to the far plane.
     pub fn begin_depth(&self, encoder: &mut wgpu::CommandEncoder, fill: Option<&FarPlaneFill>) -> bool {
-        self.keeps_tiles() || fill.is_some_and(|fill| fill.fill(encoder, &self.map.texture))
+        self.keeps_tiles() || fill.is_some_and(|fill| fill.fill(encoder, self.texture(), self.layer()))
     }
 
     /// Bytes a [`FarPlaneFill`] needs to fill this atlas (0 where it cannot: not 16-bit).
     pub fn fill_bytes(&self) -> u64 {
-        FarPlaneFill::bytes_for(&self.map.texture)
+        FarPlaneFill::bytes_for(self.texture())
     }
 
     /// Draws each tile to redraw into `pass` ([`CascadeUniforms::draw_tiles`]).
@@ -206,9 +223,9 @@ impl FarPlaneFill {
         self.buffer.as_ref().map_or(0, wgpu::Buffer::size)
     }
 
-    /// Records the copy that sets all of `texture` to the far plane; false (nothing recorded)
-    /// where it is not 16-bit or the buffer is too small for it.
-    fn fill(&self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) -> bool {
+    /// Records the copy that sets all of `texture`'s layer `layer` to the far plane; false
+    /// (nothing recorded) where it is not 16-bit or the buffer is too small for it.
+    fn fill(&self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture, layer: u32) -> bool {
         let bytes = Self::bytes_for(texture);
         let Some(buffer) = self.buffer.as_ref().filter(|b| bytes > 0 && b.size() >= bytes) else {
             return false;
@@ -225,10 +242,13 @@ impl FarPlaneFill {
             wgpu::TexelCopyTextureInfo {
                 texture,
                 mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
+                origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
                 aspect: wgpu::TextureAspect::All,
             },
-            texture.size(),
+            wgpu::Extent3d {
+                depth_or_array_layers: 1,
+                ..texture.size()
+            },
         );
         true
     }
@@ -256,23 +276,20 @@ pub(super) fn depth_state(settings: &ShadowMapSettings) -> wgpu::DepthStencilSta
     }
 }
 
-/// A depth texture of the shadow map's format holding `grid`'s tiles of `tile` texels a side,
-/// readable by shaders.
-fn light_depth_target(
-    device: &wgpu::Device,
+/// What a depth atlas of the shadow map's format holding `grid`'s tiles of `tile` texels a
+/// side, readable by shaders, is a layer of.
+fn light_depth_key(
     settings: &ShadowMapSettings,
     (grid, tile): (AtlasGrid, u32),
-    label: &str,
-) -> Target {
-    let (width, height) = grid.size(tile);
-    crate::gpu_helpers::texture_2d(
-        device,
+    label: &'static str,
+) -> PoolKey {
+    PoolKey {
         label,
-        (width, height),
-        settings.depth_format.texture_format(),
+        format: settings.depth_format.texture_format(),
+        size: grid.size(tile),
         // The far plane can be copied in ([`FarPlaneFill`]).
-        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_DST,
-    )
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_DST,
+    }
 }
 
 /// A depth-only pass that clears `view` to the far plane, or with `keep` loads what it holds.

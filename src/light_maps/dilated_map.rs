@@ -335,6 +335,11 @@ impl DilatedMapPass {
         self.groups = None;
     }
 
+    /// Makes the bind groups again at the next prepare (the shadow map's view changed).
+    pub(crate) fn unbind(&mut self) {
+        self.groups = None;
+    }
+
     /// The derived fattened map (RG32F).
     pub fn view(&self) -> &wgpu::TextureView {
         &self.map.view

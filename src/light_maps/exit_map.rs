@@ -14,6 +14,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::atlas::{LightMapAtlas, MapDraw, MapLayout, MapUpload, depth_state, support_map_resolution};
 use super::pipelines::{CascadeUniforms, CasterPipelines, SecondStream};
+use super::pool::MapPools;
 use crate::casters::{OutwardWinding, Streams};
 use crate::layouts::SceneLayouts;
 use crate::settings::ExitFaces;
@@ -42,7 +43,11 @@ pub struct ExitMapPass {
 impl ExitMapPass {
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
     /// resolution.
-    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, map: MapLayout) -> Self {
+    pub fn new(
+        (device, pools): (&wgpu::Device, &mut MapPools),
+        layouts: &SceneLayouts,
+        map: MapLayout,
+    ) -> Self {
         let (settings, grid, tile) = map;
         let shader = crate::shaders::module(device, "exit_map.wgsl", crate::shaders::EXIT_MAP);
         let stages = wgpu::ShaderStages::VERTEX_FRAGMENT;
@@ -80,7 +85,7 @@ impl ExitMapPass {
         let cull_back = culling("ExitMapPass::cull_back", wgpu::Face::Back);
         Self {
             atlas: LightMapAtlas::new(
-                device,
+                (device, pools),
                 settings,
                 (grid, support_map_resolution(tile)),
                 "ExitMapPass::exit_map",
@@ -96,10 +101,10 @@ impl ExitMapPass {
 
     /// Makes the map again for a shadow map of `tile` texels a tile (the pipelines stay); it
     /// must then be drawn and bound again.
-    pub(crate) fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
+    pub(crate) fn resize(&mut self, (device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) {
         let (settings, grid, tile) = map;
         self.atlas
-            .resize(device, settings, grid, support_map_resolution(tile));
+            .resize((device, pools), settings, grid, support_map_resolution(tile));
     }
 
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view.

@@ -18,6 +18,7 @@ use super::atlas::{
     LightMapAtlas, MapDraw, MapLayout, MapUpload, depth_pass_descriptor, depth_state, support_map_resolution,
 };
 use super::pipelines::{CascadeUniforms, CasterPipelines, SecondStream};
+use super::pool::MapPools;
 use crate::casters::Streams;
 use crate::gpu_helpers::kept;
 use crate::layouts::SceneLayouts;
@@ -47,7 +48,11 @@ impl FattenedShadowMapPass {
 
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
     /// resolution.
-    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, map: MapLayout) -> Self {
+    pub fn new(
+        (device, pools): (&wgpu::Device, &mut MapPools),
+        layouts: &SceneLayouts,
+        map: MapLayout,
+    ) -> Self {
         let (settings, grid, tile) = map;
         let shader = crate::shaders::module(
             device,
@@ -69,7 +74,7 @@ impl FattenedShadowMapPass {
             depth_state(settings),
         );
         let atlas = LightMapAtlas::new(
-            device,
+            (device, pools),
             settings,
             (grid, support_map_resolution(tile)),
             "FattenedShadowMapPass::fattened_map",
@@ -96,7 +101,10 @@ impl FattenedShadowMapPass {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::TEXTURE_BINDING
                 | wgpu::TextureUsages::COPY_SRC,
-            size: atlas.map.texture.size(),
+            size: wgpu::Extent3d {
+                depth_or_array_layers: 1,
+                ..atlas.texture().size()
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -108,10 +116,10 @@ impl FattenedShadowMapPass {
 
     /// Makes the maps again for a shadow map of `tile` texels a tile (the pipelines stay); they
     /// must then be drawn and bound again.
-    pub(crate) fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
+    pub(crate) fn resize(&mut self, (device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) {
         let (settings, grid, tile) = map;
         self.atlas
-            .resize(device, settings, grid, support_map_resolution(tile));
+            .resize((device, pools), settings, grid, support_map_resolution(tile));
         self.occluder_offset = Self::occluder_offset_target(device, &self.atlas);
     }
 
@@ -150,7 +158,7 @@ impl FattenedShadowMapPass {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("FattenedShadowMapPass"),
             color_attachments: &[kept(&self.occluder_offset.view)],
-            ..depth_pass_descriptor(&self.atlas.map.view, keep)
+            ..depth_pass_descriptor(self.atlas.view(), keep)
         });
         self.atlas.draw_tiles(&mut pass, |pass, cull| {
             casters.draw(pass, Streams::Fattened, cull, |l, _| self.pipelines.get(l));

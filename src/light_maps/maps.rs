@@ -5,6 +5,7 @@ use super::dilated_map::DilatedMapPass;
 use super::exit_in_shadow_pass;
 use super::exit_map::ExitMapPass;
 use super::fattened_shadow_map::FattenedShadowMapPass;
+use super::pool::MapPools;
 use super::shadow_map::ShadowMapPass;
 use crate::casters::Casters;
 use crate::chain::{Chain, run};
@@ -35,13 +36,17 @@ pub(crate) enum FattenedMap {
 
 impl FattenedMap {
     fn new(
-        device: &wgpu::Device,
+        (device, pools): (&wgpu::Device, &mut MapPools),
         layouts: &crate::layouts::SceneLayouts,
         map: MapLayout,
         chain: &Chain,
     ) -> Self {
         if chain.draws_fattened_map() {
-            FattenedMap::Drawn(Box::new(FattenedShadowMapPass::new(device, layouts, map)))
+            FattenedMap::Drawn(Box::new(FattenedShadowMapPass::new(
+                (device, pools),
+                layouts,
+                map,
+            )))
         } else {
             FattenedMap::Dilated(Box::new(DilatedMapPass::new(device, map)))
         }
@@ -52,9 +57,9 @@ impl FattenedMap {
         matches!(self, FattenedMap::Drawn(_)) == chain.draws_fattened_map()
     }
 
-    fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
+    fn resize(&mut self, (device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) {
         match self {
-            FattenedMap::Drawn(f) => f.resize(device, map),
+            FattenedMap::Drawn(f) => f.resize((device, pools), map),
             FattenedMap::Dilated(d) => d.resize(device, map),
         }
     }
@@ -71,6 +76,14 @@ impl FattenedMap {
         match self {
             FattenedMap::Drawn(f) => f.atlas.view(),
             FattenedMap::Dilated(d) => d.view(),
+        }
+    }
+
+    /// The layer of [`FattenedMap::texture`] that holds this light's map.
+    pub fn layer(&self) -> u32 {
+        match self {
+            FattenedMap::Drawn(f) => f.atlas.layer(),
+            FattenedMap::Dilated(_) => 0,
         }
     }
 
@@ -103,7 +116,7 @@ impl LightMaps {
     /// tiles and their size); true when any was made (they must then be drawn and bound again).
     pub fn allocate(
         maps: &mut Option<LightMaps>,
-        device: &wgpu::Device,
+        (device, pools): (&wgpu::Device, &mut MapPools),
         casters: &Casters,
         settings: &ShadowMapSettings,
         light_view: &LightView,
@@ -117,12 +130,12 @@ impl LightMaps {
                 // Another layout (the cascades in use) or resolution
                 // (`crate::MapResolution::FromPenumbra`): new textures, the same pipelines.
                 if (m.shadow.atlas.grid, m.shadow.atlas.tile) != (grid, tile) {
-                    m.shadow.resize(device, (settings, grid, tile));
+                    m.shadow.resize((device, pools), (settings, grid, tile));
                     if let Some(fattened) = &mut m.fattened {
-                        fattened.resize(device, (settings, grid, tile));
+                        fattened.resize((device, pools), (settings, grid, tile));
                     }
                     if let Some(exit) = &mut m.exit {
-                        exit.resize(device, (settings, grid, tile));
+                        exit.resize((device, pools), (settings, grid, tile));
                     }
                     made = true;
                 }
@@ -131,7 +144,7 @@ impl LightMaps {
             _ => {
                 made = true;
                 maps.insert(LightMaps {
-                    shadow: ShadowMapPass::new(device, layouts, (settings, grid, tile)),
+                    shadow: ShadowMapPass::new((device, pools), layouts, (settings, grid, tile)),
                     fattened: None,
                     exit: None,
                     casters: casters.id(),
@@ -146,7 +159,7 @@ impl LightMaps {
         if !fattened_fits {
             maps.fattened = chain
                 .fattened_map()
-                .then(|| FattenedMap::new(device, layouts, map, chain));
+                .then(|| FattenedMap::new((device, pools), layouts, map, chain));
             made = true;
         }
         // The shadow map's pass keeps the exit map where the chain asks it to and its buffer
@@ -155,10 +168,39 @@ impl LightMaps {
         made |= maps.shadow.keep_exit(device, layouts, map, kept);
         let drawn = chain.exit_map() && !maps.shadow.keeps_exit();
         if drawn != maps.exit.is_some() {
-            maps.exit = drawn.then(|| ExitMapPass::new(device, layouts, map));
+            maps.exit = drawn.then(|| ExitMapPass::new((device, pools), layouts, map));
             made = true;
         }
+        // An array another light's map grew since: the views are made again, the maps drawn
+        // whole and bound again.
+        made |= maps.refresh(pools);
         made
+    }
+
+    /// Whether an atlas's view is of an array made again since.
+    pub fn stale(&self, pools: &MapPools) -> bool {
+        let fattened = match &self.fattened {
+            Some(FattenedMap::Drawn(fattened)) => fattened.atlas.is_current(pools),
+            _ => true,
+        };
+        !(self.shadow.atlas.is_current(pools)
+            && fattened
+            && self.exit.as_ref().is_none_or(|exit| exit.atlas.is_current(pools)))
+    }
+
+    /// Points every atlas at its array as it is now; true when one was made again.
+    fn refresh(&mut self, pools: &MapPools) -> bool {
+        let mut changed = self.shadow.atlas.refresh(pools);
+        if changed && let Some(FattenedMap::Dilated(dilated)) = &mut self.fattened {
+            dilated.unbind();
+        }
+        if let Some(FattenedMap::Drawn(fattened)) = &mut self.fattened {
+            changed |= fattened.atlas.refresh(pools);
+        }
+        if let Some(exit) = &mut self.exit {
+            changed |= exit.atlas.refresh(pools);
+        }
+        changed
     }
 
     /// The exit map, wherever it is drawn.
@@ -166,6 +208,14 @@ impl LightMaps {
         match (&self.shadow.exit, &self.exit) {
             (Some(kept), _) => Some(kept.view()),
             (None, drawn) => drawn.as_ref().map(|exit| exit.atlas.view()),
+        }
+    }
+
+    /// The layer of [`LightMaps::exit_texture`] that holds this light's exit map.
+    pub fn exit_layer(&self) -> Option<u32> {
+        match (&self.shadow.exit, &self.exit) {
+            (Some(_), _) => Some(0),
+            (None, drawn) => drawn.as_ref().map(|exit| exit.atlas.layer()),
         }
     }
 

@@ -19,11 +19,13 @@ mod exit_map;
 mod fattened_shadow_map;
 mod maps;
 mod pipelines;
+mod pool;
 mod shadow_map;
 mod tile_clear;
 
 pub(crate) use atlas::{FarPlaneFill, MapUpload};
 pub(crate) use exit_in_shadow_pass::supported as exit_in_shadow_pass_supported;
 pub(crate) use maps::LightMaps;
+pub(crate) use pool::MapPools;
 #[cfg(feature = "renderer")]
 pub use shadow_map::ShadowMapPass;

@@ -13,6 +13,7 @@ use bytemuck::{Pod, Zeroable};
 use super::atlas::{LightMapAtlas, MapDraw, MapLayout, MapUpload, depth_state};
 use super::exit_in_shadow_pass::ExitInShadowPass;
 use super::pipelines::{CascadeUniforms, CasterPipelines, SecondStream};
+use super::pool::MapPools;
 use crate::casters::Streams;
 use crate::layouts::SceneLayouts;
 
@@ -38,8 +39,12 @@ pub struct ShadowMapPass {
 impl ShadowMapPass {
     /// Creates the pipelines and the shadow map texture, `grid` x `grid` tiles of the
     /// configured resolution ([`crate::light_space::atlas_grid`]). `settings` must have been
-    /// validated.
-    pub fn new(device: &wgpu::Device, layouts: &SceneLayouts, map: MapLayout) -> Self {
+    /// validated. The map is a layer of one of `pools`' arrays.
+    pub fn new(
+        (device, pools): (&wgpu::Device, &mut MapPools),
+        layouts: &SceneLayouts,
+        map: MapLayout,
+    ) -> Self {
         let (settings, grid, tile) = map;
         let shader = crate::shaders::module(device, "shadow_map.wgsl", crate::shaders::SHADOW_MAP);
         let light = CascadeUniforms::of::<LightUniform>(
@@ -80,7 +85,7 @@ impl ShadowMapPass {
         );
         Self {
             atlas: LightMapAtlas::new(
-                device,
+                (device, pools),
                 settings,
                 (grid, tile),
                 "ShadowMapPass::shadow_map",
@@ -124,9 +129,9 @@ impl ShadowMapPass {
 
     /// Makes the map again as `grid`'s tiles of `tile` texels a side (the pipelines stay); it
     /// must then be drawn and bound again.
-    pub(crate) fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
+    pub(crate) fn resize(&mut self, (device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) {
         let (settings, grid, tile) = map;
-        self.atlas.resize(device, settings, grid, tile);
+        self.atlas.resize((device, pools), settings, grid, tile);
         if let Some(exit) = &mut self.exit
             && !exit.resize(device, map)
         {

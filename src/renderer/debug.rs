@@ -1,6 +1,6 @@
 //! Debug views: an intermediate texture of the last frame read back and shown in false color.
 
-use super::gpu::read_texture_f32;
+use super::gpu::{read_texture_f32, read_texture_layer_f32};
 use super::render::Renderer;
 use crate::error::{PenumbraError, Result};
 use crate::shadows::LightTexture;
@@ -137,7 +137,8 @@ pub fn debug_image_with_legend(
             format!("method `{}` has no {} texture{keep}", method.name(), view.name()),
         )
     })?;
-    let (values, channels) = read_texture_f32(device, queue, texture)?;
+    let layer = renderer.debug_texture_layer(view.texture()).unwrap_or(0);
+    let (values, channels) = read_texture_layer_f32(device, queue, texture, layer)?;
     let (w, h) = (texture.width(), texture.height());
     let channels = channels as usize;
     let pixel = |i: usize, k: usize| values[i * channels + k];

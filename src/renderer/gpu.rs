@@ -110,13 +110,25 @@ pub fn read_texture_rgba8(
     Ok(pixels)
 }
 
-/// Copies mip level 0 of a 2D texture to the CPU, rows tightly packed, top row first. The
-/// texture needs `COPY_SRC` usage; depth formats are read as their depth aspect (Depth24Plus
-/// cannot be copied at all, and on the GL backend no depth texture can).
+/// Copies mip level 0 of a 2D texture to the CPU (its first layer: see
+/// [`read_texture_layer_bytes`]), rows tightly packed, top row first. The texture needs
+/// `COPY_SRC` usage; depth formats are read as their depth aspect (Depth24Plus cannot be copied
+/// at all, and on the GL backend no depth texture can).
 pub fn read_texture_bytes(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     texture: &wgpu::Texture,
+) -> Result<Vec<u8>> {
+    read_texture_layer_bytes(device, queue, texture, 0)
+}
+
+/// [`read_texture_bytes`] of layer `layer` of a 2D array texture (a light's map in
+/// [`crate::Shadows::light_texture`], at [`crate::Shadows::light_texture_layer`]).
+pub fn read_texture_layer_bytes(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    layer: u32,
 ) -> Result<Vec<u8>> {
     let gpu_error = |during: &str, reason: String| PenumbraError::Gpu {
         during: during.into(),
@@ -152,7 +164,7 @@ pub fn read_texture_bytes(
         wgpu::TexelCopyTextureInfo {
             texture,
             mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
+            origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
             aspect,
         },
         wgpu::TexelCopyBufferInfo {
@@ -211,8 +223,18 @@ pub fn read_texture_f32(
     queue: &wgpu::Queue,
     texture: &wgpu::Texture,
 ) -> Result<(Vec<f32>, u32)> {
+    read_texture_layer_f32(device, queue, texture, 0)
+}
+
+/// [`read_texture_f32`] of layer `layer` of a 2D array texture.
+pub fn read_texture_layer_f32(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    layer: u32,
+) -> Result<(Vec<f32>, u32)> {
     use wgpu::TextureFormat as F;
-    let bytes = read_texture_bytes(device, queue, texture)?;
+    let bytes = read_texture_layer_bytes(device, queue, texture, layer)?;
     let halves = |b: &[u8]| -> Vec<f32> {
         b.chunks_exact(2)
             .map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32())

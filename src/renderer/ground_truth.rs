@@ -9,7 +9,7 @@ use super::gpu_scene::GpuScene;
 use super::reference::{GeometricNormals, ReferencePass};
 use crate::error::Result;
 use crate::gpu_helpers::Target;
-use crate::light_maps::{MapUpload, ShadowMapPass};
+use crate::light_maps::{MapPools, MapUpload, ShadowMapPass};
 use crate::light_samples::{Emitter, light_sample};
 use crate::light_space::{AtlasGrid, CUBE_AXES, FitInputs, LightView, atlas_grid, tile_resolution};
 use crate::scene::{Aabb, Camera, Light};
@@ -315,7 +315,11 @@ impl GroundTruth {
                 continue;
             }
             let map = (
-                ShadowMapPass::new(device, scene.casters().layouts(), (&sm, grid, tile)),
+                ShadowMapPass::new(
+                    (device, &mut MapPools::unshared()),
+                    scene.casters().layouts(),
+                    (&sm, grid, tile),
+                ),
                 wanted,
             );
             if i < self.maps.len() {

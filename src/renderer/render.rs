@@ -465,6 +465,15 @@ impl Renderer {
         }
     }
 
+    /// The layer of [`Renderer::debug_texture`]'s texture that holds its light's
+    /// ([`Shadows::light_texture_layer`]; 0 for the reference's mean).
+    pub fn debug_texture_layer(&self, which: LightTexture) -> Option<u32> {
+        match (which, self.settings.method) {
+            (LightTexture::Visibility, ShadowMethod::Reference) => self.reference.as_ref().map(|_| 0),
+            _ => self.shadows.light_texture_layer(self.debug_light_id(), which),
+        }
+    }
+
     /// The camera depth of the renderer's own prepass (the depth the lights' screen-space
     /// passes read), once a frame has run it.
     pub fn camera_depth_texture(&self) -> Option<&wgpu::Texture> {
@@ -499,7 +508,9 @@ impl Renderer {
         }
     }
 
-    /// The depth shadow map of the last frame.
+    /// The depth shadow map of the last frame: the key light's, at its layer
+    /// [`Renderer::debug_texture_layer`] (`LightTexture::ShadowMap`) where the lights' maps
+    /// share an array.
     pub fn shadow_map_texture(&self) -> Option<&wgpu::Texture> {
         self.shadows.light_texture(self.light, LightTexture::ShadowMap)
     }

@@ -9,7 +9,7 @@ use crate::frame::PassParams;
 use crate::gpu_helpers::screen_target;
 use crate::gpu_helpers::{Target, scoped, texture_bytes};
 use crate::light_maps::FarPlaneFill;
-use crate::light_maps::LightMaps;
+use crate::light_maps::{LightMaps, MapPools};
 use crate::scene::{Light, MAX_LIGHTS};
 use crate::screen::{ComputeNeeds, ComputeTargets, ScreenChain};
 use crate::settings::{ShadowMethod, ShadowSettings};
@@ -107,6 +107,8 @@ pub struct Shadows {
     loss: Option<DeviceLoss>,
     /// Sets the lights' 16-bit atlases to the far plane by a copy ([`FarPlaneFill`]).
     far_plane: Option<FarPlaneFill>,
+    /// The arrays the lights' maps are layers of.
+    map_pools: MapPools,
 }
 
 impl Shadows {
@@ -135,6 +137,7 @@ impl Shadows {
             inspected: None,
             loss: None,
             far_plane: FarPlaneFill::new(device, &settings.shadow_map),
+            map_pools: MapPools::new(device, crate::screen::has_compute(device)),
         });
         match error {
             Some(error) => Err(PenumbraError::gpu("creating the shadows", error)),
@@ -320,6 +323,7 @@ impl Shadows {
         };
         own_visibility
             + texture_bytes(&self.dummy.texture)
+            + self.map_pools.unused_bytes()
             + self.far_plane.as_ref().map_or(0, FarPlaneFill::allocated_bytes)
             + self
                 .compute_targets
@@ -415,13 +419,31 @@ impl Shadows {
                 parts: casters.shadow_parts(),
                 caster_parts: casters.caster_parts(),
             };
+            // The layers of lights removed or resized since the last frame given back first.
+            this.map_pools.trim(device);
+            let generation = this.map_pools.generation();
             for (slot, state) in this
                 .lights
                 .iter_mut()
                 .enumerate()
                 .filter_map(|(slot, s)| Some((slot, s.as_mut()?)))
             {
-                plan_light(&frame, slot, state);
+                plan_light(&frame, slot, state, &mut this.map_pools);
+            }
+            // An array made again while the lights were planned (a light needed one more
+            // layer): the lights planned before hold views of the old one, and are planned
+            // again onto the new (their maps drawn whole).
+            if this.map_pools.generation() != generation {
+                for (slot, state) in this
+                    .lights
+                    .iter_mut()
+                    .enumerate()
+                    .filter_map(|(slot, s)| Some((slot, s.as_mut()?)))
+                {
+                    if state.maps.as_ref().is_some_and(|m| m.stale(&this.map_pools)) {
+                        plan_light(&frame, slot, state, &mut this.map_pools);
+                    }
+                }
             }
             this.fit_compute_targets(device);
             this.bind_lights(device, layer_writes);
@@ -754,10 +776,14 @@ impl Shadows {
         self.state(id).ok().and_then(|s| s.report.as_ref())
     }
 
-    /// An intermediate texture of a light's last frame, if its chain has it. The compute
-    /// path's screen-space intermediates ([`LightTexture::DistanceMap`],
-    /// [`LightTexture::Visibility`]) are shared by the lights: they hold the light whose chain
-    /// ran last, which [`Shadows::inspect`] chooses (by default the last light in slot order).
+    /// An intermediate texture of a light's last frame, if its chain has it, which may hold
+    /// other lights' too: the light's is its layer [`Shadows::light_texture_layer`]. The
+    /// lights' maps ([`LightTexture::ShadowMap`], a drawn [`LightTexture::FattenedMap`] and
+    /// [`LightTexture::ExitMap`]) are layers of arrays that the lights whose maps have the same
+    /// size share, where the device runs compute passes. The compute path's screen-space
+    /// intermediates ([`LightTexture::DistanceMap`], [`LightTexture::Visibility`]) are shared by
+    /// the lights: they hold the light whose chain ran last, which [`Shadows::inspect`] chooses
+    /// (by default the last light in slot order).
     pub fn light_texture(&self, id: LightId, which: LightTexture) -> Option<&wgpu::Texture> {
         let s = self.state(id).ok()?;
         let maps = s.maps.as_ref();
@@ -776,6 +802,24 @@ impl Shadows {
                 _ => s.screen.blurred_visibility(),
             },
         }
+    }
+
+    /// The layer of [`Shadows::light_texture`]'s texture that holds light `id`'s (0 for a
+    /// texture of one layer), if it has that texture.
+    pub fn light_texture_layer(&self, id: LightId, which: LightTexture) -> Option<u32> {
+        let texture = self.light_texture(id, which)?;
+        let s = self.state(id).ok()?;
+        let maps = s.maps.as_ref();
+        let layer = match which {
+            LightTexture::ShadowMap => maps.map(|m| m.shadow.atlas.layer()),
+            LightTexture::FattenedMap => maps.and_then(|m| m.fattened.as_ref()).map(|f| f.layer()),
+            LightTexture::ExitMap => maps.and_then(|m| m.exit_layer()),
+            LightTexture::BlurredVisibility if self.visibility.as_ref().is_some_and(|v| &v.0 == texture) => {
+                Some(id.0)
+            }
+            _ => Some(0),
+        };
+        layer.filter(|&l| l < texture.depth_or_array_layers())
     }
 
     fn state(&self, id: LightId) -> Result<&LightState> {

@@ -8,7 +8,7 @@ use super::report::LightId;
 use crate::casters::Casters;
 use crate::chain::Chain;
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads};
-use crate::light_maps::{LightMaps, MapUpload};
+use crate::light_maps::{LightMaps, MapPools, MapUpload};
 use crate::light_space::{FitInputs, LightView};
 use crate::scene::{Aabb, Light};
 use crate::settings::{CascadeSettings, LightFit, ShadowMapSettings, ShadowSettings};
@@ -61,8 +61,9 @@ struct Seen<'a> {
 }
 
 /// Plans the light in `slot` for the frame: sets `state.planned` and `state.report`, uploads
-/// its frame uniform and prepares the maps' draws it needs.
-pub(super) fn plan_light(frame: &FramePlan, slot: usize, state: &mut LightState) {
+/// its frame uniform and prepares the maps' draws it needs (its maps layers of `pools`'
+/// arrays).
+pub(super) fn plan_light(frame: &FramePlan, slot: usize, state: &mut LightState, pools: &mut MapPools) {
     let (chain, effective, params) = chain_of(frame, &state.light);
     // The maps' resolution: the configured one, or a coarser one the light's
     // penumbrae allow (`MapResolution::FromPenumbra`).
@@ -135,7 +136,7 @@ pub(super) fn plan_light(frame: &FramePlan, slot: usize, state: &mut LightState)
     // The maps hold the tiles the fit uses (a sun's cascades in use).
     if LightMaps::allocate(
         &mut state.maps,
-        frame.device,
+        (frame.device, pools),
         frame.casters,
         &sm,
         &light_view,

@@ -129,6 +129,11 @@ pub fn read_f32(gpu: &HeadlessGpu, texture: &wgpu::Texture) -> (Vec<f32>, u32) {
     penumbra::read_texture_f32(&gpu.device, &gpu.queue, texture).unwrap()
 }
 
+/// Layer `layer` of a 2D array texture, as [`read_f32`] reads a texture of one layer.
+pub fn read_layer_f32(gpu: &HeadlessGpu, texture: &wgpu::Texture, layer: u32) -> (Vec<f32>, u32) {
+    penumbra::read_texture_layer_f32(&gpu.device, &gpu.queue, texture, layer).unwrap()
+}
+
 /// Renders `scene` as it is and with no casters (every pixel as if fully lit), so a test can
 /// ask of any pixel whether a shadow darkened it.
 pub fn render_with_and_without_casters(

@@ -509,6 +509,92 @@ fn sixteen_lights_share_one_orthographic_depth_and_each_shadows_its_own_layer() 
     }
 }
 
+/// Lights whose maps have one size keep them as layers of one array (where the device runs
+/// compute passes, off GL): each layer holds its own light's map. A light removed gives its
+/// layer back: the array is made again without it, the layers above moved down and drawn again,
+/// and each light left shadows as it did before.
+#[test]
+fn lights_of_one_size_keep_their_maps_in_layers_of_one_array() {
+    let gpu = common::gpu();
+    let device = &gpu.device;
+    if gpu.adapter.get_info().backend == wgpu::Backend::Gl {
+        return;
+    }
+    let w = world(&gpu);
+    let depth = DepthPass::new(device);
+    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+    let ids: Vec<_> = [0.0, 120.0, 240.0]
+        .iter()
+        .map(|a| shadows.add_light(device, sun(*a)).unwrap())
+        .collect();
+    render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+    let maps = |shadows: &Shadows, ids: &[penumbra::LightId]| -> (wgpu::Texture, Vec<u32>, Vec<Vec<f32>>) {
+        let texture = shadows
+            .light_texture(ids[0], LightTexture::ShadowMap)
+            .unwrap()
+            .clone();
+        let mut layers = Vec::new();
+        let mut depths = Vec::new();
+        for id in ids {
+            assert_eq!(
+                shadows.light_texture(*id, LightTexture::ShadowMap),
+                Some(&texture),
+                "every sun's shadow map in one array"
+            );
+            let layer = shadows.light_texture_layer(*id, LightTexture::ShadowMap).unwrap();
+            layers.push(layer);
+            depths.push(common::read_layer_f32(&gpu, &texture, layer).0);
+        }
+        (texture, layers, depths)
+    };
+    let (texture, layers, depths) = maps(&shadows, &ids);
+    assert_eq!(texture.depth_or_array_layers(), 3);
+    assert_eq!(layers, vec![0, 1, 2]);
+    for (i, a) in depths.iter().enumerate() {
+        assert!(a.iter().any(|d| *d < 1.0), "sun {i}'s map is empty");
+        for (j, b) in depths.iter().enumerate().skip(i + 1) {
+            assert!(differing_texels(a, b) > 100, "suns {i} and {j} hold one map");
+        }
+    }
+    let visibility: Vec<Vec<f32>> = ids
+        .iter()
+        .map(|id| read_layer(&gpu, &shadows, id.layer()))
+        .collect();
+    let before = shadows.allocated_bytes();
+
+    // The first sun removed: its layer goes; the others move down, drawn again at the next
+    // frame, and shadow as before.
+    shadows.remove_light(ids[0]).unwrap();
+    render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+    render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+    let (texture, layers, moved) = maps(&shadows, &ids[1..]);
+    assert_eq!(texture.depth_or_array_layers(), 2);
+    assert_eq!(layers, vec![0, 1]);
+    assert_eq!(
+        moved,
+        depths[1..].to_vec(),
+        "the moved maps differ from the lights' own"
+    );
+    for (k, id) in ids.iter().enumerate().skip(1) {
+        let now = read_layer(&gpu, &shadows, id.layer());
+        assert_eq!(
+            differing_texels(&now, &visibility[k]),
+            0,
+            "sun {k} shadows otherwise"
+        );
+    }
+    let depth_bytes = texture
+        .format()
+        .block_copy_size(Some(wgpu::TextureAspect::DepthOnly))
+        .unwrap() as u64;
+    let layer_bytes = texture.width() as u64 * texture.height() as u64 * depth_bytes;
+    let after = shadows.allocated_bytes();
+    assert!(
+        after + layer_bytes <= before,
+        "{before} bytes with three suns, {after} with two: a shadow map's layer is {layer_bytes}"
+    );
+}
+
 /// Four suns, a spot and a point light, each with its own chain (blur included): in a second
 /// frame with every light turned a little (the passes kept as bound), each light's layer is
 /// what a fresh `Shadows` gives for the turned lights in its first frame, as compute passes

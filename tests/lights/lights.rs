@@ -149,7 +149,10 @@ fn lights_are_added_and_removed_between_frames_and_metrics_measure_the_key_light
     let map = |renderer: &mut Renderer, light: usize| {
         renderer.set_debug_light(light);
         let texture = renderer.debug_texture(penumbra::LightTexture::ShadowMap).unwrap();
-        common::read_f32(&gpu, texture).0
+        let layer = renderer
+            .debug_texture_layer(penumbra::LightTexture::ShadowMap)
+            .unwrap();
+        common::read_layer_f32(&gpu, texture, layer).0
     };
     let (key_map, second_map, missing_map) = (
         map(&mut renderer, 0),
