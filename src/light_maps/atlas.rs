@@ -4,7 +4,7 @@
 //! begin. Each pass keeps its own pipelines and whatever else it writes.
 
 use super::pipelines::CascadeUniforms;
-use super::pool::{MapPools, MapSlot, PoolKey};
+use super::pool::{MapPools, MapSlot, Moved, PoolKey};
 use super::tile_clear::TileClear;
 use crate::casters::{Casters, Cull};
 use crate::gpu_helpers::depth_attachment;
@@ -66,14 +66,8 @@ impl LightMapAtlas {
         self.map.layer
     }
 
-    /// Whether the atlas's view is of its array as it is now.
-    pub fn is_current(&self, pools: &MapPools) -> bool {
-        pools.is_current(&self.map)
-    }
-
-    /// Points the atlas at its array as it is now; true when the array was made again (the
-    /// atlas must then be drawn whole and bound again).
-    pub fn refresh(&mut self, pools: &MapPools) -> bool {
+    /// Points the atlas at its array as it is now ([`MapPools::refresh`]).
+    pub fn refresh(&mut self, pools: &MapPools) -> Moved {
         pools.refresh(&mut self.map)
     }
 

@@ -37,6 +37,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::atlas::MapLayout;
+use super::pool::{MapPools, MapSlot, Moved, PoolKey};
 use crate::frame::DerivedSpreads;
 use crate::gpu_helpers::{Target, compute_pipeline, entry, texture_bytes};
 use crate::light_space::{AtlasGrid, LightView, MAX_TILES, ProjectionKind};
@@ -59,7 +60,8 @@ const STEP_STRIDE: u64 = 256;
 pub(crate) struct DilatedMapPass {
     /// The fattened map: RG32F, the least depth within the fatten distance of each texel (and
     /// of the caster under it), and the depth of the silhouette nearest it within that distance.
-    map: Target,
+    /// A layer of an array the lights' derived maps of this size share.
+    map: MapSlot,
     /// Per texel of the map, row by row: the least depth of the shadow-map texels it covers
     /// (and, for a spot or point light, of the silhouettes the levels found spreading to it;
     /// one f32).
@@ -132,7 +134,7 @@ impl DilatedMapPass {
     /// device flushes or canonicalizes them as floats.
     const SEEDS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
 
-    pub fn new(device: &wgpu::Device, map: MapLayout) -> Self {
+    pub fn new((device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) -> Self {
         let (_, grid, tile) = map;
         let shader = crate::shaders::module(device, "dilated_map.wgsl", crate::shaders::DILATED_MAP);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
@@ -200,7 +202,7 @@ impl DilatedMapPass {
                 usage: wgpu::BufferUsages::UNIFORM,
             },
         );
-        let (map, occluder_offset, scratch, seeds) = Self::textures(device, grid, tile);
+        let (map, occluder_offset, scratch, seeds) = Self::textures((device, pools), grid, tile);
         let (covered, blocks) = Self::buffers(device, grid, tile);
         let small = |label, bytes, usage| {
             device.create_buffer(&wgpu::BufferDescriptor {
@@ -273,10 +275,10 @@ impl DilatedMapPass {
     /// The map, the offset, the two levels' textures and the flood's two for `grid`'s tiles of
     /// a shadow map `tile` texels a side.
     fn textures(
-        device: &wgpu::Device,
+        (device, pools): (&wgpu::Device, &mut MapPools),
         grid: AtlasGrid,
         tile: u32,
-    ) -> (Target, Target, [Target; 2], [Target; 2]) {
+    ) -> (MapSlot, Target, [Target; 2], [Target; 2]) {
         let size = grid.size(dilated_resolution(tile));
         let make = |label, format| {
             crate::gpu_helpers::texture_2d(device, label, size, format, wgpu::TextureUsages::STORAGE_BINDING)
@@ -289,8 +291,17 @@ impl DilatedMapPass {
             wgpu::TextureFormat::R16Float,
             wgpu::TextureUsages::empty(),
         );
+        let map = pools.slot(
+            device,
+            PoolKey {
+                label: "DilatedMapPass::map",
+                format: Self::MAP_FORMAT,
+                size,
+                usage: wgpu::TextureUsages::STORAGE_BINDING,
+            },
+        );
         (
-            make("DilatedMapPass::map", Self::MAP_FORMAT),
+            map,
             offset,
             [
                 make("DilatedMapPass::level", Self::FORMAT),
@@ -305,17 +316,17 @@ impl DilatedMapPass {
 
     /// GPU memory this pass allocated: its textures and uniforms.
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        [
-            &self.map,
-            &self.occluder_offset,
-            &self.scratch[0],
-            &self.scratch[1],
-            &self.seeds[0],
-            &self.seeds[1],
-        ]
-        .iter()
-        .map(|t| texture_bytes(&t.texture))
-        .sum::<u64>()
+        self.map.allocated_bytes()
+            + [
+                &self.occluder_offset,
+                &self.scratch[0],
+                &self.scratch[1],
+                &self.seeds[0],
+                &self.seeds[1],
+            ]
+            .iter()
+            .map(|t| texture_bytes(&t.texture))
+            .sum::<u64>()
             + self.covered.size()
             + self.blocks.size()
             + self.counts.size()
@@ -326,9 +337,10 @@ impl DilatedMapPass {
 
     /// Makes the textures again for a shadow map of `tile` texels a tile; they must then be
     /// made and bound again.
-    pub(crate) fn resize(&mut self, device: &wgpu::Device, map: MapLayout) {
+    pub(crate) fn resize(&mut self, (device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) {
         let (_, grid, tile) = map;
-        (self.map, self.occluder_offset, self.scratch, self.seeds) = Self::textures(device, grid, tile);
+        (self.map, self.occluder_offset, self.scratch, self.seeds) =
+            Self::textures((device, pools), grid, tile);
         (self.covered, self.blocks) = Self::buffers(device, grid, tile);
         self.grid = grid;
         self.tile = dilated_resolution(tile);
@@ -340,14 +352,25 @@ impl DilatedMapPass {
         self.groups = None;
     }
 
-    /// The derived fattened map (RG32F).
+    /// The derived fattened map (RG32F; its layer, as a 2D texture).
     pub fn view(&self) -> &wgpu::TextureView {
-        &self.map.view
+        &self.map.target.view
     }
 
-    /// The derived fattened map's texture.
+    /// The array the derived fattened map is a layer of ([`DilatedMapPass::layer`]).
     pub fn texture(&self) -> &wgpu::Texture {
-        &self.map.texture
+        &self.map.target.texture
+    }
+
+    /// The derived map's layer of [`DilatedMapPass::texture`].
+    pub fn layer(&self) -> u32 {
+        self.map.layer
+    }
+
+    /// Points the map at its array as it is now ([`MapPools::refresh`]; where it moved, its bind
+    /// groups must be made again: [`DilatedMapPass::unbind`]).
+    pub(crate) fn refresh(&mut self, pools: &MapPools) -> Moved {
+        pools.refresh(&mut self.map)
     }
 
     /// The occluder offset: none (one texel of 0).
@@ -423,7 +446,7 @@ impl DilatedMapPass {
                 &[
                     &self.uniform,
                     &self.covered,
-                    &self.map.view,
+                    &self.map.target.view,
                     &self.blocks,
                     &self.counts,
                 ],
@@ -456,8 +479,8 @@ impl DilatedMapPass {
             timestamp_writes: None,
         });
         let (x, y) = (
-            self.map.texture.width().div_ceil(8),
-            self.map.texture.height().div_ceil(8),
+            self.map.target.texture.width().div_ceil(8),
+            self.map.target.texture.height().div_ceil(8),
         );
         pass.set_bind_group(1, &groups.shared, &[]);
         pass.set_pipeline(&self.reduce);

@@ -22,8 +22,9 @@
 
 use super::atlas::{MapLayout, depth_state, support_map_resolution};
 use super::pipelines::{CasterPipelines, SecondStream};
+use super::pool::{MapPools, MapSlot, Moved, PoolKey};
 use crate::casters::{Casters, Cull, OutwardWinding, Streams};
-use crate::gpu_helpers::{Target, entry, texture_bytes};
+use crate::gpu_helpers::entry;
 use crate::layouts::SceneLayouts;
 use crate::light_space::AtlasGrid;
 use crate::settings::ExitFaces;
@@ -74,8 +75,9 @@ pub(crate) struct ExitInShadowPass {
     bits: wgpu::Buffer,
     /// 1.0's, one tile's worth: what each tile to redraw is set to first.
     far: wgpu::Buffer,
-    /// The exit map: R32F, half the shadow map's texels a side.
-    map: Target,
+    /// The exit map: R32F, half the shadow map's texels a side, a layer of an array the lights'
+    /// kept exit maps of this size share.
+    map: MapSlot,
     /// Texels a side of one tile, and tiles a row, for the draws (`exit_layout`).
     draw_uniform: wgpu::Buffer,
     grid: AtlasGrid,
@@ -90,7 +92,7 @@ impl ExitInShadowPass {
     /// keep the back faces, and the buffers and the map for `map`'s atlas; `None` where the
     /// buffer of 1.0's cannot be written.
     pub fn new(
-        device: &wgpu::Device,
+        (device, pools): (&wgpu::Device, &mut MapPools),
         layouts: &SceneLayouts,
         (shader, light): (&wgpu::ShaderModule, &wgpu::BindGroupLayout),
         map: MapLayout,
@@ -156,7 +158,7 @@ impl ExitInShadowPass {
         );
         let side = support_map_resolution(tile);
         let draw_uniform = crate::gpu_helpers::uniform_buffer(device, "ExitInShadowPass::draw", 16);
-        let (bits, far, map_target) = Self::targets(device, grid, side)?;
+        let (bits, far, map_target) = Self::targets((device, pools), grid, side)?;
         let draw_group = Self::draw_group(device, &draw_layout, &bits, &draw_uniform);
         Some(Self {
             opaque_ccw: opaque("ExitInShadowPass::opaque_ccw", "fs_exit_ccw"),
@@ -180,10 +182,10 @@ impl ExitInShadowPass {
     /// The buffer, the far plane's buffer (`None` where it cannot be written) and the exit map,
     /// for `grid`'s tiles of `side` texels.
     fn targets(
-        device: &wgpu::Device,
+        (device, pools): (&wgpu::Device, &mut MapPools),
         grid: AtlasGrid,
         side: u32,
-    ) -> Option<(wgpu::Buffer, wgpu::Buffer, Target)> {
+    ) -> Option<(wgpu::Buffer, wgpu::Buffer, MapSlot)> {
         let bits = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("ExitInShadowPass::bits"),
             size: buffer_bytes(grid, side),
@@ -205,12 +207,14 @@ impl ExitInShadowPass {
         }
         far.unmap();
         let (width, height) = (grid.cols.max(1) * side, grid.rows.max(1) * side);
-        let map = crate::gpu_helpers::texture_2d(
+        let map = pools.slot(
             device,
-            "ExitInShadowPass::exit_map",
-            (width, height),
-            wgpu::TextureFormat::R32Float,
-            wgpu::TextureUsages::COPY_DST,
+            PoolKey {
+                label: "ExitInShadowPass::exit_map",
+                format: wgpu::TextureFormat::R32Float,
+                size: (width, height),
+                usage: wgpu::TextureUsages::COPY_DST,
+            },
         );
         Some((bits, far, map))
     }
@@ -227,10 +231,10 @@ impl ExitInShadowPass {
     /// Makes the buffers and the map again for a shadow map of `grid`'s tiles of `tile`
     /// texels; false where the buffer of 1.0's cannot be written (the exit map must then be
     /// drawn by its own pass). The map must then be drawn and bound again.
-    pub fn resize(&mut self, device: &wgpu::Device, map: MapLayout) -> bool {
+    pub fn resize(&mut self, (device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) -> bool {
         let (_, grid, tile) = map;
         let side = support_map_resolution(tile);
-        let Some((bits, far, target)) = Self::targets(device, grid, side) else {
+        let Some((bits, far, target)) = Self::targets((device, pools), grid, side) else {
             return false;
         };
         (self.bits, self.far, self.map) = (bits, far, target);
@@ -302,7 +306,14 @@ impl ExitInShadowPass {
             .filter(|index| self.redrawn & (1 << index) != 0)
             .map(move |index| {
                 let [x, y, _, _] = crate::light_space::tile_viewport(self.grid, index, self.side);
-                (u64::from(index) * tile_bytes, wgpu::Origin3d { x, y, z: 0 })
+                (
+                    u64::from(index) * tile_bytes,
+                    wgpu::Origin3d {
+                        x,
+                        y,
+                        z: self.map.layer,
+                    },
+                )
             })
     }
 
@@ -328,7 +339,7 @@ impl ExitInShadowPass {
                     },
                 },
                 wgpu::TexelCopyTextureInfo {
-                    texture: &self.map.texture,
+                    texture: &self.map.target.texture,
                     mip_level: 0,
                     origin,
                     aspect: wgpu::TextureAspect::All,
@@ -342,18 +353,28 @@ impl ExitInShadowPass {
         }
     }
 
-    /// The exit map.
+    /// The exit map (its layer, as a 2D texture).
     pub fn view(&self) -> &wgpu::TextureView {
-        &self.map.view
+        &self.map.target.view
     }
 
-    /// The exit map's texture.
+    /// The array the exit map is a layer of ([`ExitInShadowPass::layer`]).
     pub fn texture(&self) -> &wgpu::Texture {
-        &self.map.texture
+        &self.map.target.texture
     }
 
-    /// GPU memory the buffers and the map take, in bytes.
+    /// The exit map's layer of [`ExitInShadowPass::texture`].
+    pub fn layer(&self) -> u32 {
+        self.map.layer
+    }
+
+    /// Points the exit map at its array as it is now ([`MapPools::refresh`]).
+    pub fn refresh(&mut self, pools: &MapPools) -> Moved {
+        pools.refresh(&mut self.map)
+    }
+
+    /// GPU memory the buffers and the map's layer take, in bytes.
     pub fn allocated_bytes(&self) -> u64 {
-        self.bits.size() + self.far.size() + texture_bytes(&self.map.texture) + self.draw_uniform.size()
+        self.bits.size() + self.far.size() + self.map.allocated_bytes() + self.draw_uniform.size()
     }
 }

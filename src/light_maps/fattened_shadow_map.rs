@@ -11,14 +11,13 @@
 //! casters are fattened whole (a superset of their real shadow, so the mask stays
 //! conservative).
 
-use crate::gpu_helpers::{Target, texture_bytes};
 use bytemuck::{Pod, Zeroable};
 
 use super::atlas::{
     LightMapAtlas, MapDraw, MapLayout, MapUpload, depth_pass_descriptor, depth_state, support_map_resolution,
 };
 use super::pipelines::{CascadeUniforms, CasterPipelines, SecondStream};
-use super::pool::MapPools;
+use super::pool::{MapPools, MapSlot, Moved, PoolKey};
 use crate::casters::Streams;
 use crate::gpu_helpers::kept;
 use crate::layouts::SceneLayouts;
@@ -36,14 +35,14 @@ pub struct FattenedShadowMapPass {
     /// The atlas's tiles: half the shadow map's texels a side.
     pub(crate) atlas: LightMapAtlas,
     /// World units from the fattened surface back to the caster's own surface, along the light.
-    occluder_offset: Target,
+    occluder_offset: MapSlot,
     pipelines: CasterPipelines,
 }
 
 impl FattenedShadowMapPass {
     /// GPU memory this pass allocated: its textures and buffers, in bytes.
     pub(crate) fn allocated_bytes(&self) -> u64 {
-        self.atlas.allocated_bytes() + texture_bytes(&self.occluder_offset.texture)
+        self.atlas.allocated_bytes() + self.occluder_offset.allocated_bytes()
     }
 
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
@@ -82,7 +81,7 @@ impl FattenedShadowMapPass {
             Some(Self::OFFSET_FORMAT),
         );
         Self {
-            occluder_offset: Self::occluder_offset_target(device, &atlas),
+            occluder_offset: Self::occluder_offset_target((device, pools), &atlas),
             atlas,
             pipelines,
         }
@@ -93,25 +92,28 @@ impl FattenedShadowMapPass {
     /// fatten distance needs (a relative 1e-3).
     pub const OFFSET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 
-    /// The occluder offsets, as large as `atlas`'s map.
-    fn occluder_offset_target(device: &wgpu::Device, atlas: &LightMapAtlas) -> Target {
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("FattenedShadowMapPass::occluder_offset"),
-            format: Self::OFFSET_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            size: wgpu::Extent3d {
-                depth_or_array_layers: 1,
-                ..atlas.texture().size()
+    /// The occluder offsets, as large as `atlas`'s map: a layer of an array the lights' drawn
+    /// fattened maps of this size share.
+    fn occluder_offset_target(
+        (device, pools): (&wgpu::Device, &mut MapPools),
+        atlas: &LightMapAtlas,
+    ) -> MapSlot {
+        let size = atlas.texture().size();
+        pools.slot(
+            device,
+            PoolKey {
+                label: "FattenedShadowMapPass::occluder_offset",
+                format: Self::OFFSET_FORMAT,
+                size: (size.width, size.height),
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
             },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            view_formats: &[],
-        });
-        let view = texture.create_view(&Default::default());
-        Target { texture, view }
+        )
+    }
+
+    /// Points the maps at their arrays as they are now ([`MapPools::refresh`]).
+    pub(crate) fn refresh(&mut self, pools: &MapPools) -> Moved {
+        let atlas = self.atlas.refresh(pools);
+        pools.refresh(&mut self.occluder_offset).max(atlas)
     }
 
     /// Makes the maps again for a shadow map of `tile` texels a tile (the pipelines stay); they
@@ -120,13 +122,13 @@ impl FattenedShadowMapPass {
         let (settings, grid, tile) = map;
         self.atlas
             .resize((device, pools), settings, grid, support_map_resolution(tile));
-        self.occluder_offset = Self::occluder_offset_target(device, &self.atlas);
+        self.occluder_offset = Self::occluder_offset_target((device, pools), &self.atlas);
     }
 
     /// The occluder offset ([`Self::OFFSET_FORMAT`]): how far behind the fattened surface the
     /// true caster lies, texel by texel of the fattened map.
     pub fn occluder_offset(&self) -> &wgpu::TextureView {
-        &self.occluder_offset.view
+        &self.occluder_offset.target.view
     }
 
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view and
@@ -157,7 +159,7 @@ impl FattenedShadowMapPass {
         // colour clear costs what its texels do.
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("FattenedShadowMapPass"),
-            color_attachments: &[kept(&self.occluder_offset.view)],
+            color_attachments: &[kept(&self.occluder_offset.target.view)],
             ..depth_pass_descriptor(self.atlas.view(), keep)
         });
         self.atlas.draw_tiles(&mut pass, |pass, cull| {

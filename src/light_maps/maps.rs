@@ -5,7 +5,7 @@ use super::dilated_map::DilatedMapPass;
 use super::exit_in_shadow_pass;
 use super::exit_map::ExitMapPass;
 use super::fattened_shadow_map::FattenedShadowMapPass;
-use super::pool::MapPools;
+use super::pool::{MapPools, Moved};
 use super::shadow_map::ShadowMapPass;
 use crate::casters::Casters;
 use crate::chain::{Chain, run};
@@ -48,7 +48,7 @@ impl FattenedMap {
                 map,
             )))
         } else {
-            FattenedMap::Dilated(Box::new(DilatedMapPass::new(device, map)))
+            FattenedMap::Dilated(Box::new(DilatedMapPass::new((device, pools), map)))
         }
     }
 
@@ -60,7 +60,7 @@ impl FattenedMap {
     fn resize(&mut self, (device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) {
         match self {
             FattenedMap::Drawn(f) => f.resize((device, pools), map),
-            FattenedMap::Dilated(d) => d.resize(device, map),
+            FattenedMap::Dilated(d) => d.resize((device, pools), map),
         }
     }
 
@@ -83,7 +83,22 @@ impl FattenedMap {
     pub fn layer(&self) -> u32 {
         match self {
             FattenedMap::Drawn(f) => f.atlas.layer(),
-            FattenedMap::Dilated(_) => 0,
+            FattenedMap::Dilated(d) => d.layer(),
+        }
+    }
+
+    /// Points the map at its arrays as they are now ([`MapPools::refresh`]); `shadow`: what
+    /// became of the shadow map (a derived map reads it).
+    fn refresh(&mut self, pools: &MapPools, shadow: Moved) -> Moved {
+        match self {
+            FattenedMap::Drawn(f) => f.refresh(pools),
+            FattenedMap::Dilated(d) => {
+                let moved = d.refresh(pools);
+                if moved != Moved::No || shadow != Moved::No {
+                    d.unbind();
+                }
+                moved
+            }
         }
     }
 
@@ -165,42 +180,31 @@ impl LightMaps {
         // The shadow map's pass keeps the exit map where the chain asks it to and its buffer
         // fits the device's storage bindings; otherwise a pass of its own draws it.
         let kept = chain.exit_in_shadow_pass() && exit_in_shadow_pass::fits(device, map);
-        made |= maps.shadow.keep_exit(device, layouts, map, kept);
+        made |= maps.shadow.keep_exit((device, pools), layouts, map, kept);
         let drawn = chain.exit_map() && !maps.shadow.keeps_exit();
         if drawn != maps.exit.is_some() {
             maps.exit = drawn.then(|| ExitMapPass::new((device, pools), layouts, map));
             made = true;
         }
-        // An array another light's map grew since: the views are made again, the maps drawn
-        // whole and bound again.
-        made |= maps.refresh(pools);
         made
     }
 
-    /// Whether an atlas's view is of an array made again since.
-    pub fn stale(&self, pools: &MapPools) -> bool {
-        let fattened = match &self.fattened {
-            Some(FattenedMap::Drawn(fattened)) => fattened.atlas.is_current(pools),
-            _ => true,
-        };
-        !(self.shadow.atlas.is_current(pools)
-            && fattened
-            && self.exit.as_ref().is_none_or(|exit| exit.atlas.is_current(pools)))
-    }
-
-    /// Points every atlas at its array as it is now; true when one was made again.
-    fn refresh(&mut self, pools: &MapPools) -> bool {
-        let mut changed = self.shadow.atlas.refresh(pools);
-        if changed && let Some(FattenedMap::Dilated(dilated)) = &mut self.fattened {
-            dilated.unbind();
+    /// Points every map at its array as it is now: where an array was made again for another
+    /// light's (its maps copied in, [`Moved::Copied`]) the passes must be bound again, and where
+    /// the maps could not be copied ([`Moved::Lost`]) drawn again whole too.
+    pub fn refresh(&mut self, pools: &MapPools) -> Moved {
+        let shadow = self.shadow.atlas.refresh(pools);
+        let mut moved = shadow;
+        if let Some(kept) = &mut self.shadow.exit {
+            moved = moved.max(kept.refresh(pools));
         }
-        if let Some(FattenedMap::Drawn(fattened)) = &mut self.fattened {
-            changed |= fattened.atlas.refresh(pools);
+        if let Some(fattened) = &mut self.fattened {
+            moved = moved.max(fattened.refresh(pools, shadow));
         }
         if let Some(exit) = &mut self.exit {
-            changed |= exit.atlas.refresh(pools);
+            moved = moved.max(exit.atlas.refresh(pools));
         }
-        changed
+        moved
     }
 
     /// The exit map, wherever it is drawn.
@@ -214,7 +218,7 @@ impl LightMaps {
     /// The layer of [`LightMaps::exit_texture`] that holds this light's exit map.
     pub fn exit_layer(&self) -> Option<u32> {
         match (&self.shadow.exit, &self.exit) {
-            (Some(_), _) => Some(0),
+            (Some(kept), _) => Some(kept.layer()),
             (None, drawn) => drawn.as_ref().map(|exit| exit.atlas.layer()),
         }
     }

@@ -5,14 +5,16 @@
 //! pass that draws or reads one light binds a 2D view of its layer (so the light-space passes
 //! and the screen-space chains see a texture of their own, as before), and a pass that reads
 //! several lights at once can bind the whole array. Lights of another size (another cascade
-//! count, or a resolution `crate::MapResolution::FromPenumbra` chose) get an array of their own.
+//! count, or a resolution `MapResolution::FromPenumbra` chose) get an array of their own.
 //!
 //! An array grows by a layer when a light needs one and none is free: it is made again, each
-//! holder keeps its layer number and finds its map's view outdated ([`MapPools::refresh`]): its
-//! maps must then be drawn and bound again. A layer is free again once its [`MapSlot`] is
-//! dropped; [`MapPools::trim`] then moves the layers above it down and makes the array again
-//! without it (those maps are drawn again), and drops an array no map holds, so that the memory
-//! follows the lights.
+//! map copied into its layer of the new array, and each holder finds its view outdated
+//! ([`MapPools::refresh`]): its passes must then be bound again, and the maps are kept. A layer
+//! is free again once its [`MapSlot`] is dropped; [`MapPools::trim`] then copies the layers above
+//! it one down into an array made without it, and drops an array no map holds, so that the
+//! memory follows the lights. The copies are recorded as the arrays are made and submitted by
+//! [`MapPools::flush`], before the frame's passes. A format that cannot be copied (24-bit depth)
+//! loses its maps instead: they must be drawn again.
 //!
 //! Where the device runs no compute passes, or its backend is GL (which cannot bind one layer of
 //! an array as a 2D texture), each map keeps a texture of its own.
@@ -53,6 +55,19 @@ impl MapSlot {
     }
 }
 
+/// What became of a map's array since its view was made ([`MapPools::refresh`]), the worse
+/// last.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) enum Moved {
+    /// The view is current.
+    No,
+    /// The array was made again with the map copied in: bind the new view.
+    Copied,
+    /// The array was made again without the map's texels (a format that cannot be copied): bind
+    /// the new view and draw the map again.
+    Lost,
+}
+
 /// One array and who holds its layers.
 struct Pool {
     key: PoolKey,
@@ -60,6 +75,8 @@ struct Pool {
     /// Layer `i` is taken while `holders[i]` lives (and holds `i`).
     holders: Vec<Weak<AtomicU32>>,
     generation: u64,
+    /// The generation before which the maps' texels were lost (a format copies cannot move).
+    lost_before: u64,
 }
 
 impl Pool {
@@ -72,6 +89,10 @@ impl Pool {
     }
 }
 
+/// A layer to copy from an array made again into its successor: (from, to, from layer, to
+/// layer).
+type LayerCopy = (wgpu::Texture, wgpu::Texture, u32, u32);
+
 /// The arrays every light's maps are layers of ([`MapSlot`]).
 pub(crate) struct MapPools {
     /// false: each map a texture of its own.
@@ -79,6 +100,8 @@ pub(crate) struct MapPools {
     pools: Vec<Pool>,
     /// The last generation handed out (each array made gets the next).
     generation: u64,
+    /// The copies the arrays made again since the last [`MapPools::flush`] need.
+    copies: Vec<LayerCopy>,
 }
 
 impl MapPools {
@@ -89,15 +112,17 @@ impl MapPools {
             share: compute && device.adapter_info().backend != wgpu::Backend::Gl,
             pools: Vec::new(),
             generation: 0,
+            copies: Vec::new(),
         }
     }
 
-    /// Each map a texture of its own (a pass outside [`crate::Shadows`]).
+    /// Each map a texture of its own (a pass outside the shadows, the reference's).
     pub fn unshared() -> Self {
         Self {
             share: false,
             pools: Vec::new(),
             generation: 0,
+            copies: Vec::new(),
         }
     }
 
@@ -124,6 +149,7 @@ impl MapPools {
                     texture: array_texture(device, key, 1),
                     holders: vec![Weak::new()],
                     generation: self.generation,
+                    lost_before: 0,
                 });
                 self.pools.len() - 1
             }
@@ -132,9 +158,11 @@ impl MapPools {
             let layers = self.pools[index].holders.len() as u32 + 1;
             self.generation += 1;
             let pool = &mut self.pools[index];
-            pool.texture = array_texture(device, key, layers);
+            let texture = array_texture(device, key, layers);
+            // Every layer is held (none was free): each keeps its number.
+            let moves: Vec<(u32, u32)> = (0..layers - 1).map(|l| (l, l)).collect();
+            move_layers(pool, texture, &moves, self.generation, &mut self.copies);
             pool.holders.resize(layers as usize, Weak::new());
-            pool.generation = self.generation;
         }
         let pool = &mut self.pools[index];
         let layer = pool.free_layer().expect("a free layer after growing");
@@ -154,32 +182,47 @@ impl MapPools {
         self.generation
     }
 
-    /// Whether `slot`'s view is of its array as it is now.
-    pub fn is_current(&self, slot: &MapSlot) -> bool {
-        slot.generation == 0
-            || self
-                .pools
-                .iter()
-                .find(|p| p.key == slot.key)
-                .is_none_or(|p| p.generation == slot.generation)
+    /// Records the copies of the arrays made again since the last flush, in order, and
+    /// submits them: call it before the frame's passes are submitted.
+    pub fn flush(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) {
+        if self.copies.is_empty() {
+            return;
+        }
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("MapPools::copies"),
+        });
+        for (from, to, from_layer, to_layer) in self.copies.drain(..) {
+            let at = |texture, layer| wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
+                aspect: wgpu::TextureAspect::All,
+            };
+            let size = wgpu::Extent3d {
+                depth_or_array_layers: 1,
+                ..from.size()
+            };
+            encoder.copy_texture_to_texture(at(&from, from_layer), at(&to, to_layer), size);
+        }
+        queue.submit([encoder.finish()]);
     }
 
-    /// Points `slot` at its array as it is now; true when the array was made again since (its
-    /// map must then be drawn and bound again).
-    pub fn refresh(&self, slot: &mut MapSlot) -> bool {
+    /// Points `slot` at its array as it is now, and says what became of its map since.
+    pub fn refresh(&self, slot: &mut MapSlot) -> Moved {
         if slot.generation == 0 {
-            return false;
+            return Moved::No;
         }
         let Some(pool) = self.pools.iter().find(|p| p.key == slot.key) else {
-            return false;
+            return Moved::No;
         };
         if pool.generation == slot.generation {
-            return false;
+            return Moved::No;
         }
+        let lost = slot.generation < pool.lost_before;
         slot.layer = slot.holder.load(Ordering::Relaxed);
         slot.target = layer_target(pool.texture.clone(), slot.layer);
         slot.generation = pool.generation;
-        true
+        if lost { Moved::Lost } else { Moved::Copied }
     }
 
     /// Makes each array with free layers again without them, the layers above each moved
@@ -193,13 +236,14 @@ impl MapPools {
             if held.len() == pool.holders.len() {
                 continue;
             }
+            let mut moves = Vec::new();
             for (layer, holder) in held.iter().enumerate() {
-                holder.store(layer as u32, Ordering::Relaxed);
+                moves.push((holder.swap(layer as u32, Ordering::Relaxed), layer as u32));
             }
             pool.holders = held.iter().map(Arc::downgrade).collect();
-            pool.texture = array_texture(device, pool.key, held.len() as u32);
             self.generation += 1;
-            pool.generation = self.generation;
+            let texture = array_texture(device, pool.key, held.len() as u32);
+            move_layers(pool, texture, &moves, self.generation, &mut self.copies);
         }
     }
 
@@ -228,7 +272,37 @@ impl MapPools {
     }
 }
 
-/// A 2D texture of `layers` layers for maps of `key`, readable by shaders and copyable out.
+/// Whether `format`'s texels can be copied between textures (24-bit depth cannot).
+fn copyable(format: wgpu::TextureFormat) -> bool {
+    !matches!(
+        format,
+        wgpu::TextureFormat::Depth24Plus | wgpu::TextureFormat::Depth24PlusStencil8
+    )
+}
+
+/// Makes `texture` `pool`'s array of generation `generation`, its layers moved as `moves` says
+/// ((from, to) layer numbers), the copies pushed on `copies` (or the texels lost where the
+/// format cannot be copied).
+fn move_layers(
+    pool: &mut Pool,
+    texture: wgpu::Texture,
+    moves: &[(u32, u32)],
+    generation: u64,
+    copies: &mut Vec<LayerCopy>,
+) {
+    if copyable(pool.key.format) {
+        for &(from, to) in moves {
+            copies.push((pool.texture.clone(), texture.clone(), from, to));
+        }
+    } else {
+        pool.lost_before = generation;
+    }
+    pool.texture = texture;
+    pool.generation = generation;
+}
+
+/// A 2D texture of `layers` layers for maps of `key`, readable by shaders, copyable out and
+/// into (from the array it succeeds).
 fn array_texture(device: &wgpu::Device, key: PoolKey, layers: u32) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(key.label),
@@ -241,7 +315,10 @@ fn array_texture(device: &wgpu::Device, key: PoolKey, layers: u32) -> wgpu::Text
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: key.format,
-        usage: key.usage | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+        usage: key.usage
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     })
 }
@@ -261,6 +338,18 @@ fn layer_target(texture: wgpu::Texture, layer: u32) -> Target {
 mod tests {
     use super::*;
 
+    /// A device of the adapter the environment names (as the crate's headless GPU picks it).
+    fn device() -> wgpu::Device {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env());
+        let adapter = pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(
+            &instance, None,
+        ))
+        .expect("an adapter");
+        pollster::block_on(adapter.request_device(&Default::default()))
+            .expect("a device")
+            .0
+    }
+
     fn key(size: u32) -> PoolKey {
         PoolKey {
             label: "test map",
@@ -272,12 +361,12 @@ mod tests {
 
     #[test]
     fn layers_are_shared_grown_freed_and_trimmed() {
-        let gpu = crate::HeadlessGpu::new().expect("a device");
-        let device = &gpu.device;
+        let device = &device();
         let mut pools = MapPools {
             share: true,
             pools: Vec::new(),
             generation: 0,
+            copies: Vec::new(),
         };
         let mut a = pools.slot(device, key(64));
         assert_eq!((a.layer, pools.layout()), (0, vec![("test map", (64, 64), 1, 1)]));
@@ -285,8 +374,17 @@ mod tests {
         let b = pools.slot(device, key(64));
         assert_eq!(b.layer, 1);
         assert_eq!(pools.layout(), vec![("test map", (64, 64), 2, 2)]);
-        assert!(pools.refresh(&mut a), "the first map's view is of the old array");
-        assert!(!pools.refresh(&mut a));
+        assert_eq!(
+            pools.refresh(&mut a),
+            Moved::Copied,
+            "the first map's view is of the old array"
+        );
+        assert_eq!(pools.refresh(&mut a), Moved::No);
+        assert_eq!(
+            pools.copies.len(),
+            1,
+            "the first map's layer copied into the new array"
+        );
         assert_eq!(a.target.texture.depth_or_array_layers(), 2);
         // Another size: an array of its own.
         let c = pools.slot(device, key(32));
@@ -306,19 +404,40 @@ mod tests {
         pools.trim(device);
         assert_eq!(pools.layout(), vec![("test map", (64, 64), 1, 1)]);
         assert_eq!(pools.unused_bytes(), 0);
-        assert!(pools.refresh(&mut b));
+        assert_eq!(pools.refresh(&mut b), Moved::Copied);
         assert_eq!((b.layer, b.target.texture.depth_or_array_layers()), (0, 1));
+        let (_, _, from, to) = pools.copies.last().unwrap();
+        assert_eq!((*from, *to), (1, 0), "the second map's layer moved down");
         drop(b);
         pools.trim(device);
         assert!(pools.layout().is_empty());
     }
 
     #[test]
+    fn maps_of_a_format_that_cannot_be_copied_are_lost_when_their_array_grows() {
+        let device = &device();
+        let mut pools = MapPools {
+            share: true,
+            pools: Vec::new(),
+            generation: 0,
+            copies: Vec::new(),
+        };
+        let depth24 = PoolKey {
+            format: wgpu::TextureFormat::Depth24Plus,
+            ..key(64)
+        };
+        let mut a = pools.slot(device, depth24);
+        let _b = pools.slot(device, depth24);
+        assert_eq!(pools.refresh(&mut a), Moved::Lost);
+        assert!(pools.copies.is_empty());
+    }
+
+    #[test]
     fn unshared_maps_each_get_a_texture() {
-        let gpu = crate::HeadlessGpu::new().expect("a device");
+        let device = device();
         let mut pools = MapPools::unshared();
-        let a = pools.slot(&gpu.device, key(16));
-        let b = pools.slot(&gpu.device, key(16));
+        let a = pools.slot(&device, key(16));
+        let b = pools.slot(&device, key(16));
         assert_eq!((a.layer, b.layer), (0, 0));
         assert_ne!(a.target.texture, b.target.texture);
         assert_eq!(a.target.texture.depth_or_array_layers(), 1);

@@ -103,7 +103,7 @@ impl ShadowMapPass {
     /// then be drawn and bound again).
     pub(crate) fn keep_exit(
         &mut self,
-        device: &wgpu::Device,
+        (device, pools): (&wgpu::Device, &mut MapPools),
         layouts: &SceneLayouts,
         map: MapLayout,
         on: bool,
@@ -112,7 +112,10 @@ impl ShadowMapPass {
             return false;
         }
         self.exit = on
-            .then(|| ExitInShadowPass::new(device, layouts, (&self.shader, &self.atlas.uniform.layout), map))
+            .then(|| {
+                let light = (&self.shader, &self.atlas.uniform.layout);
+                ExitInShadowPass::new((device, pools), layouts, light, map)
+            })
             .flatten();
         true
     }
@@ -133,7 +136,7 @@ impl ShadowMapPass {
         let (settings, grid, tile) = map;
         self.atlas.resize((device, pools), settings, grid, tile);
         if let Some(exit) = &mut self.exit
-            && !exit.resize(device, map)
+            && !exit.resize((device, pools), map)
         {
             self.exit = None;
         }

@@ -9,7 +9,7 @@ use crate::frame::PassParams;
 use crate::gpu_helpers::screen_target;
 use crate::gpu_helpers::{Target, scoped, texture_bytes};
 use crate::light_maps::FarPlaneFill;
-use crate::light_maps::{LightMaps, MapPools};
+use crate::light_maps::{LightMaps, MapPools, Moved};
 use crate::scene::{Light, MAX_LIGHTS};
 use crate::screen::{ComputeNeeds, ComputeTargets, ScreenChain};
 use crate::settings::{ShadowMethod, ShadowSettings};
@@ -431,8 +431,9 @@ impl Shadows {
                 plan_light(&frame, slot, state, &mut this.map_pools);
             }
             // An array made again while the lights were planned (a light needed one more
-            // layer): the lights planned before hold views of the old one, and are planned
-            // again onto the new (their maps drawn whole).
+            // layer): the lights planned before hold views of the old one. They are planned
+            // again onto the new one, where their maps were copied (bound again, and a derived
+            // map's pass made for the new view) or could not be (drawn again whole).
             if this.map_pools.generation() != generation {
                 for (slot, state) in this
                     .lights
@@ -440,11 +441,21 @@ impl Shadows {
                     .enumerate()
                     .filter_map(|(slot, s)| Some((slot, s.as_mut()?)))
                 {
-                    if state.maps.as_ref().is_some_and(|m| m.stale(&this.map_pools)) {
-                        plan_light(&frame, slot, state, &mut this.map_pools);
+                    let Some(maps) = &mut state.maps else {
+                        continue;
+                    };
+                    let moved = maps.refresh(&this.map_pools);
+                    if moved == Moved::No {
+                        continue;
                     }
+                    state.bound = None;
+                    if moved == Moved::Lost {
+                        state.key = None;
+                    }
+                    plan_light(&frame, slot, state, &mut this.map_pools);
                 }
             }
+            this.map_pools.flush(device, queue);
             this.fit_compute_targets(device);
             this.bind_lights(device, layer_writes);
             // The far-plane buffer as large as the largest 16-bit map the lights hold now.

@@ -8,7 +8,7 @@ use super::report::LightId;
 use crate::casters::Casters;
 use crate::chain::Chain;
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads};
-use crate::light_maps::{LightMaps, MapPools, MapUpload};
+use crate::light_maps::{LightMaps, MapPools, MapUpload, Moved};
 use crate::light_space::{FitInputs, LightView};
 use crate::scene::{Aabb, Light};
 use crate::settings::{CascadeSettings, LightFit, ShadowMapSettings, ShadowSettings};
@@ -144,6 +144,16 @@ pub(super) fn plan_light(frame: &FramePlan, slot: usize, state: &mut LightState,
     ) {
         state.key = None;
         state.bound = None;
+    }
+    // An array made again for another light's maps: these maps copied into it (bound again),
+    // or lost (drawn again whole).
+    match state.maps.as_mut().map_or(Moved::No, |m| m.refresh(pools)) {
+        Moved::No => {}
+        Moved::Copied => state.bound = None,
+        Moved::Lost => {
+            state.key = None;
+            state.bound = None;
+        }
     }
     // Where the shadow map's pass could not keep the exit map after all (tiles under 128
     // texels, a buffer past the device's storage bindings), the exit map has its own pass: the

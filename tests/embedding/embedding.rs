@@ -509,8 +509,8 @@ fn sixteen_lights_share_one_orthographic_depth_and_each_shadows_its_own_layer() 
     }
 }
 
-/// Lights whose maps have one size keep them as layers of one array (where the device runs
-/// compute passes, off GL): each layer holds its own light's map. A light removed gives its
+/// Lights whose maps have one size keep them as layers of one array per kind of map (where
+/// the device runs compute passes, off GL): each layer holds its own light's map. A light removed gives its
 /// layer back: the array is made again without it, the layers above moved down and drawn again,
 /// and each light left shadows as it did before.
 #[test]
@@ -550,6 +550,21 @@ fn lights_of_one_size_keep_their_maps_in_layers_of_one_array() {
     let (texture, layers, depths) = maps(&shadows, &ids);
     assert_eq!(texture.depth_or_array_layers(), 3);
     assert_eq!(layers, vec![0, 1, 2]);
+    // The fattened and exit maps too, each kind in an array of its own.
+    for which in [LightTexture::FattenedMap, LightTexture::ExitMap] {
+        let array = shadows.light_texture(ids[0], which).unwrap();
+        assert_ne!(array, &texture);
+        assert_eq!(array.depth_or_array_layers(), 3, "{which:?}");
+        let mut layers: Vec<u32> = ids
+            .iter()
+            .map(|id| {
+                assert_eq!(shadows.light_texture(*id, which), Some(array), "{which:?}");
+                shadows.light_texture_layer(*id, which).unwrap()
+            })
+            .collect();
+        layers.sort();
+        assert_eq!(layers, vec![0, 1, 2], "{which:?}");
+    }
     for (i, a) in depths.iter().enumerate() {
         assert!(a.iter().any(|d| *d < 1.0), "sun {i}'s map is empty");
         for (j, b) in depths.iter().enumerate().skip(i + 1) {
