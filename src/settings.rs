@@ -218,9 +218,10 @@ pub enum Fattening {
     /// one by the texel whatever the casters. With the exit map kept by the shadow map's pass
     /// ([`crate::ExitMapDraw::Auto`], from the same count) a light then draws its casters once.
     /// On lavapipe (the bench's caster sweep, `docs/bench/quick-lavapipe.md`, "Growth", the run
-    /// at 28fe8e5) `ours`' own cost with the derived map was 1.69x / 1.14x / 0.65x that with the
-    /// drawn one (both with the exit map kept) at 9,216 / 147,456 / 2,359,296 triangles; not
-    /// measured on a GPU.
+    /// at f5a481c) `ours`' own cost with the derived map was 1.50x / 1.11x / 0.82x that with the
+    /// drawn one (both with the exit map kept) at 9,216 / 147,456 / 2,359,296 triangles (1.69x /
+    /// 1.14x / 0.65x in the run before, at 28fe8e5: three frames a figure); not measured on a
+    /// GPU.
     #[default]
     Auto,
     /// The method's own: the casters drawn again from the light, each vertex pushed out along
