@@ -350,6 +350,16 @@ mod tests {
             .0
     }
 
+    /// Arrays shared as on a device with compute passes.
+    fn shared() -> MapPools {
+        MapPools {
+            share: true,
+            pools: Vec::new(),
+            generation: 0,
+            copies: Vec::new(),
+        }
+    }
+
     fn key(size: u32) -> PoolKey {
         PoolKey {
             label: "test map",
@@ -362,12 +372,7 @@ mod tests {
     #[test]
     fn layers_are_shared_grown_freed_and_trimmed() {
         let device = &device();
-        let mut pools = MapPools {
-            share: true,
-            pools: Vec::new(),
-            generation: 0,
-            copies: Vec::new(),
-        };
+        let mut pools = shared();
         let mut a = pools.slot(device, key(64));
         assert_eq!((a.layer, pools.layout()), (0, vec![("test map", (64, 64), 1, 1)]));
         // A second map of the same key grows the array; the first keeps its layer and is told.
@@ -416,12 +421,7 @@ mod tests {
     #[test]
     fn maps_of_a_format_that_cannot_be_copied_are_lost_when_their_array_grows() {
         let device = &device();
-        let mut pools = MapPools {
-            share: true,
-            pools: Vec::new(),
-            generation: 0,
-            copies: Vec::new(),
-        };
+        let mut pools = shared();
         let depth24 = PoolKey {
             format: wgpu::TextureFormat::Depth24Plus,
             ..key(64)
