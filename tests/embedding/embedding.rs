@@ -510,103 +510,134 @@ fn sixteen_lights_share_one_orthographic_depth_and_each_shadows_its_own_layer() 
 }
 
 /// Lights whose maps have one size keep them as layers of one array per kind of map (where
-/// the device runs compute passes, off GL): each layer holds its own light's map. A light removed gives its
-/// layer back: the array is made again without it, the layers above moved down and drawn again,
-/// and each light left shadows as it did before.
+/// the device runs compute passes, off GL): each layer holds its own light's map. A light
+/// removed gives its layer back: the array is made again without it, the layers above copied
+/// one down (drawn again where the format cannot be copied, 24-bit depth), and each light left
+/// shadows as it did before. With the maps drawn (the defaults at the box's few triangles), with
+/// the fattened map derived and the exit map kept by the shadow map's pass, and with 24-bit maps.
 #[test]
 fn lights_of_one_size_keep_their_maps_in_layers_of_one_array() {
     let gpu = common::gpu();
-    let device = &gpu.device;
     if gpu.adapter.get_info().backend == wgpu::Backend::Gl {
         return;
     }
-    let w = world(&gpu);
+    let mut derived = ShadowSettings::default();
+    derived.penumbra.fattening = penumbra::Fattening::Dilation;
+    derived.execution.exit_map_draw = penumbra::ExitMapDraw::ShadowMapPass;
+    let mut depth24 = ShadowSettings::default();
+    depth24.shadow_map.depth_format = penumbra::DepthFormat::Depth24;
+    for (settings, what, copied) in [
+        (ShadowSettings::default(), "drawn maps", true),
+        (derived, "derived and kept maps", true),
+        (depth24, "24-bit maps", false),
+    ] {
+        maps_share_arrays(&gpu, settings, what, copied);
+    }
+}
+
+/// [`lights_of_one_size_keep_their_maps_in_layers_of_one_array`] with `settings`; `copied`:
+/// the maps can be copied (and read back).
+fn maps_share_arrays(gpu: &penumbra::HeadlessGpu, settings: ShadowSettings, what: &str, copied: bool) {
+    let device = &gpu.device;
+    let w = world(gpu);
     let depth = DepthPass::new(device);
-    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
+    let mut shadows = Shadows::new(device, settings).unwrap();
     let ids: Vec<_> = [0.0, 120.0, 240.0]
         .iter()
         .map(|a| shadows.add_light(device, sun(*a)).unwrap())
         .collect();
-    render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
-    let maps = |shadows: &Shadows, ids: &[penumbra::LightId]| -> (wgpu::Texture, Vec<u32>, Vec<Vec<f32>>) {
-        let texture = shadows
-            .light_texture(ids[0], LightTexture::ShadowMap)
-            .unwrap()
-            .clone();
-        let mut layers = Vec::new();
+    render_on_box_and_floor(gpu, &w, &depth, &mut shadows, None);
+    // Each light's layer of the one array each kind of map has, and (where they can be read)
+    // the shadow maps' depths.
+    let maps = |shadows: &Shadows, ids: &[penumbra::LightId]| {
+        let mut arrays = Vec::new();
         let mut depths = Vec::new();
-        for id in ids {
-            assert_eq!(
-                shadows.light_texture(*id, LightTexture::ShadowMap),
-                Some(&texture),
-                "every sun's shadow map in one array"
-            );
-            let layer = shadows.light_texture_layer(*id, LightTexture::ShadowMap).unwrap();
-            layers.push(layer);
-            depths.push(common::read_layer_f32(&gpu, &texture, layer).0);
+        for which in [
+            LightTexture::ShadowMap,
+            LightTexture::FattenedMap,
+            LightTexture::ExitMap,
+        ] {
+            let array = shadows.light_texture(ids[0], which).unwrap().clone();
+            let mut layers = Vec::new();
+            for id in ids {
+                assert_eq!(
+                    shadows.light_texture(*id, which),
+                    Some(&array),
+                    "{what}: every sun's {which:?} in one array"
+                );
+                let layer = shadows.light_texture_layer(*id, which).unwrap();
+                if which == LightTexture::ShadowMap && copied {
+                    depths.push(common::read_layer_f32(gpu, &array, layer).0);
+                }
+                layers.push(layer);
+            }
+            layers.sort();
+            arrays.push((array, layers));
         }
-        (texture, layers, depths)
+        (arrays, depths)
     };
-    let (texture, layers, depths) = maps(&shadows, &ids);
-    assert_eq!(texture.depth_or_array_layers(), 3);
-    assert_eq!(layers, vec![0, 1, 2]);
-    // The fattened and exit maps too, each kind in an array of its own.
-    for which in [LightTexture::FattenedMap, LightTexture::ExitMap] {
-        let array = shadows.light_texture(ids[0], which).unwrap();
-        assert_ne!(array, &texture);
-        assert_eq!(array.depth_or_array_layers(), 3, "{which:?}");
-        let mut layers: Vec<u32> = ids
-            .iter()
-            .map(|id| {
-                assert_eq!(shadows.light_texture(*id, which), Some(array), "{which:?}");
-                shadows.light_texture_layer(*id, which).unwrap()
-            })
-            .collect();
-        layers.sort();
-        assert_eq!(layers, vec![0, 1, 2], "{which:?}");
+    let (arrays, depths) = maps(&shadows, &ids);
+    assert_ne!(arrays[0].0, arrays[1].0, "{what}");
+    for (array, layers) in &arrays {
+        assert_eq!(array.depth_or_array_layers(), 3, "{what}");
+        assert_eq!(layers, &vec![0, 1, 2], "{what}");
     }
     for (i, a) in depths.iter().enumerate() {
-        assert!(a.iter().any(|d| *d < 1.0), "sun {i}'s map is empty");
+        assert!(a.iter().any(|d| *d < 1.0), "{what}: sun {i}'s map is empty");
         for (j, b) in depths.iter().enumerate().skip(i + 1) {
-            assert!(differing_texels(a, b) > 100, "suns {i} and {j} hold one map");
+            assert!(
+                differing_texels(a, b) > 100,
+                "{what}: suns {i} and {j} hold one map"
+            );
         }
     }
     let visibility: Vec<Vec<f32>> = ids
         .iter()
-        .map(|id| read_layer(&gpu, &shadows, id.layer()))
+        .map(|id| read_layer(gpu, &shadows, id.layer()))
         .collect();
     let before = shadows.allocated_bytes();
 
-    // The first sun removed: its layer goes; the others move down, drawn again at the next
-    // frame, and shadow as before.
+    // The first sun removed: its layer goes, the others move down (copied, or drawn again),
+    // and shadow as before.
     shadows.remove_light(ids[0]).unwrap();
-    render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
-    render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
-    let (texture, layers, moved) = maps(&shadows, &ids[1..]);
-    assert_eq!(texture.depth_or_array_layers(), 2);
-    assert_eq!(layers, vec![0, 1]);
-    assert_eq!(
-        moved,
-        depths[1..].to_vec(),
-        "the moved maps differ from the lights' own"
+    let reports = render_on_box_and_floor(gpu, &w, &depth, &mut shadows, None);
+    assert_eq!(reports.len(), 2);
+    assert!(
+        reports.iter().all(|r| r.shadow_maps_rendered != copied),
+        "{what}: the moved maps drawn again: {:?}",
+        reports.iter().map(|r| r.shadow_maps_rendered).collect::<Vec<_>>()
     );
+    render_on_box_and_floor(gpu, &w, &depth, &mut shadows, None);
+    let (arrays, moved) = maps(&shadows, &ids[1..]);
+    for (array, layers) in &arrays {
+        assert_eq!(array.depth_or_array_layers(), 2, "{what}");
+        assert_eq!(layers, &vec![0, 1], "{what}");
+    }
+    if copied {
+        assert_eq!(
+            moved,
+            depths[1..].to_vec(),
+            "{what}: the moved maps differ from the lights' own"
+        );
+    }
     for (k, id) in ids.iter().enumerate().skip(1) {
-        let now = read_layer(&gpu, &shadows, id.layer());
+        let now = read_layer(gpu, &shadows, id.layer());
         assert_eq!(
             differing_texels(&now, &visibility[k]),
             0,
-            "sun {k} shadows otherwise"
+            "{what}: sun {k} shadows otherwise"
         );
     }
+    let texture = &arrays[0].0;
     let depth_bytes = texture
         .format()
         .block_copy_size(Some(wgpu::TextureAspect::DepthOnly))
-        .unwrap() as u64;
+        .unwrap_or(4) as u64;
     let layer_bytes = texture.width() as u64 * texture.height() as u64 * depth_bytes;
     let after = shadows.allocated_bytes();
     assert!(
         after + layer_bytes <= before,
-        "{before} bytes with three suns, {after} with two: a shadow map's layer is {layer_bytes}"
+        "{what}: {before} bytes with three suns, {after} with two: a shadow map's layer is {layer_bytes}"
     );
 }
 
