@@ -130,6 +130,18 @@ pub(crate) struct FrameUniform {
     pub penumbra: PenumbraUniform,
     pub ambient: [f32; 4],
     pub cascades: CascadesUniform,
+    pub maps: MapLayersUniform,
+}
+
+/// Mirrors `struct MapLayers`: the layer of each of the light's maps in the array it shares
+/// with other lights ([`crate::light_maps::LightMaps::layers`]; 0 for a texture of its own).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug, Default, PartialEq, Eq)]
+pub(crate) struct MapLayersUniform {
+    pub shadow: u32,
+    pub fattened: u32,
+    pub occluder_offset: u32,
+    pub exit: u32,
 }
 
 /// Mirrors `struct Pcf` in `shaders/common/pcf_taps.wgsl`.
@@ -238,6 +250,10 @@ pub(crate) struct PassParams {
     /// The compute path's intermediates are stored in half floats (the device stores them and
     /// [`crate::ExecutionSettings::half_intermediates`] is on; `crate::Shadows` decides).
     pub half_intermediates: bool,
+    /// The compute path's passes bind the light's maps as the arrays every light's maps are
+    /// layers of, and read the light's layers (the maps share arrays; `crate::Shadows`
+    /// decides).
+    pub map_arrays: bool,
 }
 
 impl PassParams {
@@ -340,6 +356,7 @@ impl PassParams {
             list_tiles: tiles,
             layer_writes: false,
             half_intermediates: false,
+            map_arrays: false,
             distance_in_pcf: s.execution.distance_in_pcf,
         }
     }
@@ -516,6 +533,8 @@ pub(crate) struct FrameInputs<'a> {
     /// The configured map resolution over the one drawn (1, 2 or 4:
     /// [`crate::MapResolution::FromPenumbra`]).
     pub map_scale: f32,
+    /// The layers of the light's maps in their arrays.
+    pub map_layers: MapLayersUniform,
 }
 
 impl FrameUniform {
@@ -596,6 +615,7 @@ impl FrameUniform {
             },
             ambient: f.ambient.extend(0.0).to_array(),
             cascades: CascadesUniform::new(lv, lv.tile),
+            maps: f.map_layers,
         }
     }
 }
@@ -693,7 +713,16 @@ mod tests {
 
     fn layouts() -> Vec<Layout> {
         vec![
-            layout!("Frame", FrameUniform, [view, light, penumbra, ambient, cascades]),
+            layout!(
+                "Frame",
+                FrameUniform,
+                [view, light, penumbra, ambient, cascades, maps]
+            ),
+            layout!(
+                "MapLayers",
+                MapLayersUniform,
+                [shadow, fattened, occluder_offset, exit]
+            ),
             layout!(
                 "Cascades",
                 CascadesUniform,

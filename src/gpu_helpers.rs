@@ -141,6 +141,26 @@ pub(crate) mod entry {
         uniform(binding, wgpu::ShaderStages::FRAGMENT, size, false)
     }
 
+    /// A float texture read with `textureLoad` (not filterable).
+    pub(crate) const UNFILTERABLE: wgpu::TextureSampleType =
+        wgpu::TextureSampleType::Float { filterable: false };
+
+    /// One of a light's maps read in the fragment stage: a 2D texture, or with `array` the
+    /// array every light's map of its kind is a layer of
+    /// ([`crate::shaders::with_map_arrays`]).
+    pub(crate) fn light_map(
+        binding: u32,
+        sample_type: wgpu::TextureSampleType,
+        array: bool,
+    ) -> wgpu::BindGroupLayoutEntry {
+        let dimension = if array {
+            wgpu::TextureViewDimension::D2Array
+        } else {
+            wgpu::TextureViewDimension::D2
+        };
+        texture(binding, sample_type, dimension)
+    }
+
     /// A 2D float texture read with `textureLoad` in the fragment stage (not filterable).
     pub(crate) fn unfilterable(binding: u32) -> wgpu::BindGroupLayoutEntry {
         texture_2d(binding, wgpu::TextureSampleType::Float { filterable: false })

@@ -76,15 +76,119 @@ pub fn with_half_floats(source: &str, half: HalfFloats) -> Option<String> {
         })
 }
 
+/// The light's maps the screen passes read, each with the field of the frame uniform's
+/// `MapLayers` (`shaders/common/frame.wgsl`) that names its layer: the shadow map (compared,
+/// and read as depths), the fattened map, its occluder offsets and the exit map.
+const LIGHT_MAPS: [(&str, &str); 5] = [
+    ("shadow_map", "frame.maps.shadow"),
+    ("shadow_depths", "frame.maps.shadow"),
+    ("fattened_map", "frame.maps.fattened"),
+    ("occluder_offset", "frame.maps.occluder_offset"),
+    ("exit_map", "frame.maps.exit"),
+];
+
+/// The texture types of the light's maps as written, and as layers of an array.
+const MAP_TYPES: [(&str, &str); 2] = [
+    ("texture_depth_2d;", "texture_depth_2d_array;"),
+    ("texture_2d<f32>;", "texture_2d_array<f32>;"),
+];
+
+/// `source` (a pass joined after `shaders/common/frame.wgsl`) with the light's maps it declares
+/// (`shadow_map`, `shadow_depths`, `fattened_map`, `occluder_offset`, `exit_map`) typed as 2D
+/// arrays and every read of them taking the light's layer from the frame uniform
+/// (`frame.maps`): a light's maps are then bound as the arrays every light's maps are layers of
+/// ([`crate::light_maps`]'s pools), which passes over several lights need. `textureLoad`,
+/// `textureSampleCompareLevel`, `textureGather` and `textureDimensions` are the reads the
+/// passes make. `None` where the source declares none of the maps or has no frame uniform.
+pub fn with_map_arrays(source: &str) -> Option<String> {
+    if !source.contains("struct MapLayers") {
+        return None;
+    }
+    let mut out = source.to_owned();
+    let mut declared = Vec::new();
+    for (name, layer) in LIGHT_MAPS {
+        for (written, arrayed) in MAP_TYPES {
+            let declaration = format!("var {name}: {written}");
+            if out.contains(&declaration) {
+                out = out.replace(&declaration, &format!("var {name}: {arrayed}"));
+                declared.push((name, layer));
+            }
+        }
+    }
+    if declared.is_empty() {
+        return None;
+    }
+    for builtin in ["textureLoad", "textureSampleCompareLevel", "textureGather"] {
+        out = with_layer_arguments(&out, builtin, &declared);
+    }
+    Some(out)
+}
+
+/// `source` with each call of `builtin` on one of `maps` (name, layer expression) given the
+/// layer: before the last argument (`textureLoad`'s level, `textureSampleCompareLevel`'s
+/// reference depth), or after it (`textureGather`'s coordinates).
+fn with_layer_arguments(source: &str, builtin: &str, maps: &[(&str, &str)]) -> String {
+    let call = format!("{builtin}(");
+    let mut out = String::with_capacity(source.len());
+    let mut rest = source;
+    while let Some(at) = rest.find(&call) {
+        let open = at + call.len();
+        out.push_str(&rest[..open]);
+        rest = &rest[open..];
+        // The arguments' commas and the closing parenthesis at depth 0 (byte offsets in rest).
+        let (mut depth, mut commas, mut close) = (0usize, Vec::new(), None);
+        for (i, c) in rest.char_indices() {
+            match c {
+                '(' | '[' => depth += 1,
+                ')' | ']' if depth > 0 => depth -= 1,
+                ')' => {
+                    close = Some(i);
+                    break;
+                }
+                ',' if depth == 0 => commas.push(i),
+                _ => {}
+            }
+        }
+        let Some(close) = close else {
+            continue;
+        };
+        let mut starts = vec![0];
+        starts.extend(commas.iter().map(|c| c + 1));
+        let argument = |k: usize| {
+            let end = commas.get(k).copied().unwrap_or(close);
+            rest[starts[k]..end].trim()
+        };
+        // `textureGather(component, map, ...)` names the map second.
+        let named = (0..starts.len().min(2)).find_map(|k| maps.iter().find(|(name, _)| argument(k) == *name));
+        let Some((_, layer)) = named else {
+            continue;
+        };
+        let (insert, text) = if builtin == "textureGather" {
+            (close, format!(", {layer}"))
+        } else {
+            (commas.last().map_or(close, |c| c + 1), format!(" {layer},"))
+        };
+        out.push_str(&rest[..insert]);
+        out.push_str(&text);
+        rest = &rest[insert..];
+    }
+    out.push_str(rest);
+    out
+}
+
 /// [`module`], with the storage textures `half` names typed as half floats
-/// ([`with_half_floats`]).
+/// ([`with_half_floats`]) and, with `arrays`, the light's maps read as layers of arrays
+/// ([`with_map_arrays`]).
 pub(crate) fn module_for(
     device: &wgpu::Device,
     label: &str,
     source: &'static str,
-    half: HalfFloats,
+    (half, arrays): (HalfFloats, bool),
 ) -> wgpu::ShaderModule {
-    match with_half_floats(source, half) {
+    let halves = with_half_floats(source, half);
+    let text = halves.as_deref().unwrap_or(source);
+    let arrayed = arrays.then(|| with_map_arrays(text)).flatten();
+    match arrayed.or(halves) {
         Some(source) => device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(label),
             source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Owned(source)),

@@ -156,3 +156,77 @@ fn opaque_shadow_shader_is_depth_only() {
         "vs_opaque should take the position only"
     );
 }
+
+/// Where the lights' maps share arrays, the compute passes read them as layers of those arrays
+/// (`penumbra::shaders::with_map_arrays`): the screen passes that read a light's maps validate
+/// so too, every map they declare is typed as an array, and every read of a map takes the
+/// light's layer from the frame uniform (none is left reading a 2D map).
+#[test]
+fn passes_validate_with_the_maps_as_arrays() {
+    use penumbra::shaders::{HalfFloats, with_half_floats, with_map_arrays};
+    let maps = [
+        "shadow_map",
+        "shadow_depths",
+        "fattened_map",
+        "occluder_offset",
+        "exit_map",
+    ];
+    let mut arrayed = Vec::new();
+    for (name, source) in penumbra::shaders::ALL {
+        let Some(arrays) = with_map_arrays(source) else {
+            continue;
+        };
+        arrayed.push(*name);
+        let module = validate(name, &arrays);
+        for (_, var) in module.global_variables.iter() {
+            let Some(var_name) = var.name.as_deref() else {
+                continue;
+            };
+            if maps.contains(&var_name) {
+                assert!(
+                    matches!(
+                        module.types[var.ty].inner,
+                        naga::TypeInner::Image { arrayed: true, .. }
+                    ),
+                    "{name}: {var_name} is not an array"
+                );
+            }
+        }
+        // Each read of a map as written gains the layer: as many layer expressions as reads.
+        let reads: usize = maps
+            .iter()
+            .map(|map| {
+                ["textureLoad(", "textureSampleCompareLevel(", "textureGather(0, "]
+                    .iter()
+                    .map(|call| source.matches(&format!("{call}{map},")).count())
+                    .sum::<usize>()
+            })
+            .sum();
+        assert!(reads > 0, "{name} reads none of the maps");
+        assert_eq!(
+            arrays.matches("frame.maps.").count(),
+            source.matches("frame.maps.").count() + reads,
+            "{name}: not every read of a map takes its layer"
+        );
+        // With the storage textures as half floats as well, as a device that stores them makes
+        // the passes.
+        let half = HalfFloats {
+            layers: true,
+            intermediates: true,
+        };
+        if let Some(halves) = with_half_floats(source, half) {
+            validate(name, &with_map_arrays(&halves).unwrap());
+        }
+    }
+    assert_eq!(
+        arrayed,
+        [
+            "distance_map",
+            "pcf",
+            "pcss",
+            "reference",
+            "tile_classify",
+            "variable_pcf"
+        ]
+    );
+}

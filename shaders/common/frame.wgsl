@@ -97,6 +97,20 @@ struct Cascades {
     _pad: f32,
 }
 
+// The layer of each of the light's maps in the array it shares with other lights (0 where the
+// map is a texture of its own): the screen passes read the maps as layers where their module
+// was made so (`penumbra::shaders::with_map_arrays`), and as 2D textures as written.
+struct MapLayers {
+    // the shadow map (`shadow_map`, and `shadow_depths`, the same map read as depths)
+    shadow: u32,
+    // the fattened map, drawn or derived (`fattened_map`)
+    fattened: u32,
+    // the drawn fattened map's occluder offsets (`occluder_offset`)
+    occluder_offset: u32,
+    // the exit map (`exit_map`)
+    exit: u32,
+}
+
 struct Frame {
     view: View,
     light: ShadowLight,
@@ -104,6 +118,7 @@ struct Frame {
     // rgb: ambient light (the convenience renderer's composite)
     ambient: vec4<f32>,
     cascades: Cascades,
+    maps: MapLayers,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -378,6 +378,11 @@ impl DilatedMapPass {
         &self.occluder_offset.view
     }
 
+    /// The occluder offset's texture (one texel, one layer) and its layer, 0.
+    pub fn occluder_offset_layer(&self) -> (&wgpu::Texture, u32) {
+        (&self.occluder_offset.texture, 0)
+    }
+
     /// Uploads each tile's radius for `light`'s fit and `spreads`, and makes the bind groups for
     /// `shadow_map` (the shadow map's atlas) where they are not made.
     pub(crate) fn prepare(

@@ -131,6 +131,11 @@ impl FattenedShadowMapPass {
         &self.occluder_offset.target.view
     }
 
+    /// The occluder offsets' array and this light's layer of it.
+    pub fn occluder_offset_layer(&self) -> (&wgpu::Texture, u32) {
+        (&self.occluder_offset.target.texture, self.occluder_offset.layer)
+    }
+
     /// Makes the pipelines for the vertex layouts of `casters` and uploads the light's view and
     /// the fatten distance (world units).
     pub(crate) fn prepare(&mut self, upload: &MapUpload, fatten_distance: f32) {

@@ -9,7 +9,7 @@ use super::pool::{MapPools, Moved};
 use super::shadow_map::ShadowMapPass;
 use crate::casters::Casters;
 use crate::chain::{Chain, run};
-use crate::frame::DerivedSpreads;
+use crate::frame::{DerivedSpreads, MapLayersUniform};
 use crate::light_space::LightView;
 use crate::settings::ShadowMapSettings;
 
@@ -24,6 +24,16 @@ pub(crate) struct LightMaps {
     pub exit: Option<ExitMapPass>,
     /// The casters (id) the passes were made for.
     casters: u64,
+}
+
+/// A light's maps as its screen passes bind them ([`LightMaps::screen_views`]).
+pub(crate) struct MapViews {
+    /// The shadow map (compared, and read as depths).
+    pub shadow: wgpu::TextureView,
+    /// The fattened map and its occluder offsets, for the distance-map method.
+    pub fattened: Option<(wgpu::TextureView, wgpu::TextureView)>,
+    /// The exit map, where the light has one.
+    pub exit: Option<wgpu::TextureView>,
 }
 
 /// A light's fattened map: the casters drawn again, pushed out, or derived from the shadow map
@@ -115,6 +125,15 @@ impl FattenedMap {
         match self {
             FattenedMap::Drawn(f) => f.occluder_offset(),
             FattenedMap::Dilated(d) => d.occluder_offset(),
+        }
+    }
+
+    /// The occluder offsets' array (a stand-in of one texel for a derived map) and this
+    /// light's layer of it.
+    fn occluder_offset_layer(&self) -> (&wgpu::Texture, u32) {
+        match self {
+            FattenedMap::Drawn(f) => f.occluder_offset_layer(),
+            FattenedMap::Dilated(d) => d.occluder_offset_layer(),
         }
     }
 }
@@ -220,6 +239,53 @@ impl LightMaps {
         match (&self.shadow.exit, &self.exit) {
             (Some(kept), _) => Some(kept.layer()),
             (None, drawn) => drawn.as_ref().map(|exit| exit.atlas.layer()),
+        }
+    }
+
+    /// The layer of each map in its array ([`MapLayersUniform`], the frame uniform's `maps`):
+    /// a map the light lacks reads as the shadow map's layer, whose array stands in for it.
+    pub fn layers(&self) -> MapLayersUniform {
+        let shadow = self.shadow.atlas.layer();
+        let fattened = self.fattened.as_ref();
+        MapLayersUniform {
+            shadow,
+            fattened: fattened.map_or(shadow, FattenedMap::layer),
+            occluder_offset: fattened.map_or(shadow, |f| f.occluder_offset_layer().1),
+            exit: self.exit_layer().unwrap_or(shadow),
+        }
+    }
+
+    /// The maps as a screen pass binds them (`arrays`: the arrays whole, each read at the
+    /// light's layer, [`LightMaps::layers`]; else 2D views of the light's layers). Only for
+    /// maps that share arrays ([`MapPools`]) may `arrays` be set: a texture of its own has no
+    /// array view on every backend.
+    pub fn screen_views(&self, arrays: bool) -> MapViews {
+        let view = |texture: &wgpu::Texture, layer_view: &wgpu::TextureView| {
+            if arrays {
+                texture.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some("LightMaps::screen_views"),
+                    dimension: Some(wgpu::TextureViewDimension::D2Array),
+                    ..Default::default()
+                })
+            } else {
+                layer_view.clone()
+            }
+        };
+        let shadow = view(self.shadow.atlas.texture(), self.shadow.atlas.view());
+        let fattened = self.fattened.as_ref().map(|f| {
+            (
+                view(f.texture(), f.view()),
+                view(f.occluder_offset_layer().0, f.occluder_offset()),
+            )
+        });
+        let exit = match (self.exit_texture(), self.exit_view()) {
+            (Some(texture), Some(layer_view)) => Some(view(texture, layer_view)),
+            _ => None,
+        };
+        MapViews {
+            shadow,
+            fattened,
+            exit,
         }
     }
 

@@ -25,7 +25,7 @@ mod tile_clear;
 
 pub(crate) use atlas::{FarPlaneFill, MapUpload};
 pub(crate) use exit_in_shadow_pass::supported as exit_in_shadow_pass_supported;
-pub(crate) use maps::LightMaps;
+pub(crate) use maps::{LightMaps, MapViews};
 pub(crate) use pool::{MapPools, Moved};
 #[cfg(feature = "renderer")]
 pub use shadow_map::ShadowMapPass;

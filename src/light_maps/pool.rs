@@ -177,6 +177,12 @@ impl MapPools {
         }
     }
 
+    /// Whether the maps share arrays: their screen passes can then read them as arrays
+    /// ([`crate::light_maps::LightMaps::screen_views`]).
+    pub fn shares(&self) -> bool {
+        self.share
+    }
+
     /// The last generation handed out: it changes whenever an array is made.
     pub fn generation(&self) -> u64 {
         self.generation

@@ -986,6 +986,7 @@ impl Renderer {
                 receiver_mask: false,
                 distance_map: false,
                 map_scale: 1.0,
+                map_layers: Default::default(),
             })),
         );
     }

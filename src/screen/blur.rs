@@ -358,7 +358,7 @@ impl BlurCompute {
     ) -> Self {
         let layers = half.layers;
         let format = super::visibility_storage(half.intermediates);
-        let shader = crate::shaders::module_for(device, "blur.wgsl", crate::shaders::BLUR, half);
+        let shader = crate::shaders::module_for(device, "blur.wgsl", crate::shaders::BLUR, (half, false));
         // The values are loaded, never sampled here: a sampler that does not filter.
         let entries = input_entries(
             frame_size,

@@ -324,27 +324,36 @@ impl DistanceMapCompute {
     /// chain blurs after it, `half` how the intermediates the tile list clears are stored and
     /// `into_layer` whether its visibility is the light's layer ([`super::TileListPass::new`]);
     /// `own_pass` false: the variable PCF takes the distance
-    /// itself, and this pass only lists the tiles.
+    /// itself, and this pass only lists the tiles; `arrays`: it and the tile list read the
+    /// light's maps as layers of arrays ([`crate::shaders::with_map_arrays`]).
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
         switches: DistanceSwitches,
         light_kind: u32,
         (blurred, half, into_layer): (bool, crate::shaders::HalfFloats, bool),
-        own_pass: bool,
+        (own_pass, arrays): (bool, bool),
     ) -> Self {
         let shader = crate::shaders::module_for(
             device,
             "distance_map.wgsl",
             crate::shaders::DISTANCE_MAP,
-            crate::shaders::HalfFloats {
-                layers: false,
-                intermediates: half.intermediates,
-            },
+            (
+                crate::shaders::HalfFloats {
+                    layers: false,
+                    intermediates: half.intermediates,
+                },
+                arrays,
+            ),
         );
-        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let unfilterable = entry::UNFILTERABLE;
         let mut entries = vec![entry::uniform(0, wgpu::ShaderStages::COMPUTE, frame_size, false)];
-        entries.extend((1..=6).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
+        // The maps (fattened, occluder offset, exit, the shadow map as depths) at 1 and 4-6,
+        // the camera depth and the receiver mask at 2 and 3.
+        entries.extend((1..=6).map(|b| {
+            let map = b == 1 || b >= 4;
+            entry::and_compute(entry::light_map(b, unfilterable, map && arrays))
+        }));
         entries.push(entry::storage_texture(7, Self::format(half.intermediates)));
         let layout = crate::gpu_helpers::layout(device, "DistanceMapCompute::layout", &entries);
         let list_layout = super::TileListPass::list_layout(device);
@@ -368,7 +377,7 @@ impl DistanceMapCompute {
             bind_group: None,
             tiles: super::TileListPass::new(
                 device,
-                frame_size,
+                (frame_size, arrays),
                 light_kind,
                 (switches.tiles, switches.facing_away, switches.umbra),
                 (blurred, half.intermediates, into_layer),

@@ -24,7 +24,7 @@ impl PcfPass {
         light_kind: u32,
         path: super::PassPath,
     ) -> Self {
-        let shader = crate::shaders::module_for(device, "pcf.wgsl", crate::shaders::PCF, path.half);
+        let shader = crate::shaders::module_for(device, "pcf.wgsl", crate::shaders::PCF, path.module());
         let rotate = if switches.rotate_taps { 1.0 } else { 0.0 };
         let constants = [("ROTATE_TAPS", rotate), (LIGHT_KIND, light_kind as f64)];
         let sizes = (frame_size, size_of::<PcfUniform>(), false);

@@ -16,7 +16,7 @@ impl PcssPass {
     /// pass needs a new pass. The blocker search reads the shadow map unfiltered, a second
     /// binding beside the comparison sampler's.
     pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32, path: super::PassPath) -> Self {
-        let shader = crate::shaders::module_for(device, "pcss.wgsl", crate::shaders::PCSS, path.half);
+        let shader = crate::shaders::module_for(device, "pcss.wgsl", crate::shaders::PCSS, path.module());
         let constants = [(LIGHT_KIND, light_kind as f64)];
         let sizes = (frame_size, size_of::<PcssUniform>(), true);
         Self(ShadowLookup::new(

@@ -72,9 +72,11 @@ impl ShadowLookup {
         let params_at = 4 + u32::from(map_twice);
         let mut own = vec![entry::fragment_uniform(params_at, params_size)];
         if map_twice {
-            own.insert(0, entry::unfilterable(4));
+            own.insert(0, entry::light_map(4, entry::UNFILTERABLE, path.map_arrays));
         }
-        let entries = ScreenPipeline::layout_entries(entry::shadow_lookup(frame_size, &own), path);
+        let mut lookup = entry::shadow_lookup(frame_size, &own);
+        lookup[2] = entry::light_map(2, wgpu::TextureSampleType::Depth, path.map_arrays);
+        let entries = ScreenPipeline::layout_entries(lookup, path);
         let layout = crate::gpu_helpers::layout(device, label, &entries);
         let pipeline = ScreenPipeline::new(device, label, shader, &layout, constants, path);
         Self {
@@ -496,6 +498,9 @@ impl ScreenPipeline {
 pub(crate) struct PassPath {
     pub compute: bool,
     pub half: HalfFloats,
+    /// A compute pass binds the light's maps as the arrays they are layers of, and reads the
+    /// light's layers ([`crate::shaders::with_map_arrays`]).
+    pub map_arrays: bool,
 }
 
 impl PassPath {
@@ -506,11 +511,21 @@ impl PassPath {
             layers: false,
             intermediates: false,
         },
+        map_arrays: false,
     };
 
-    /// A compute pass storing as `half` says.
-    pub fn compute(half: HalfFloats) -> Self {
-        Self { compute: true, half }
+    /// A compute pass storing as `half` says, reading the maps as arrays with `map_arrays`.
+    pub fn compute(half: HalfFloats, map_arrays: bool) -> Self {
+        Self {
+            compute: true,
+            half,
+            map_arrays,
+        }
+    }
+
+    /// How its module is made ([`crate::shaders::module_for`]).
+    pub fn module(&self) -> (HalfFloats, bool) {
+        (self.half, self.map_arrays)
     }
 }
 

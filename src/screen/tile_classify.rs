@@ -472,10 +472,11 @@ impl TileListPass {
     /// blur's too), `half`: they are stored in half floats ([`super::visibility_storage`]),
     /// `layer`: the visibility it clears is the light's layer (the variable PCF writes there,
     /// [`crate::Chain::pcf_in_layer`]); `pixels`: how the kept tiles' pixels are tested
-    /// ([`crate::ExecutionSettings::tile_pixels`]).
+    /// ([`crate::ExecutionSettings::tile_pixels`]); `arrays`: it reads the light's maps as
+    /// layers of arrays ([`crate::shaders::with_map_arrays`]).
     pub fn new(
         device: &wgpu::Device,
-        frame_size: usize,
+        (frame_size, arrays): (usize, bool),
         light_kind: u32,
         (classify, facing_away, umbra): (bool, bool, bool),
         (blurred, half, layer): (bool, bool, bool),
@@ -489,7 +490,7 @@ impl TileListPass {
             device,
             "tile_classify.wgsl",
             crate::shaders::TILE_CLASSIFY,
-            storage,
+            (storage, arrays),
         );
         let per_pixel = classify && pixels.by_workgroup(device);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
@@ -514,7 +515,7 @@ impl TileListPass {
             entry::storage_buffer(9, compute, false),
             entry::storage_buffer(10, compute, false),
             entry::and_compute(entry::texture_2d(11, unfilterable)),
-            entry::and_compute(entry::texture_2d(3, unfilterable)),
+            entry::and_compute(entry::light_map(3, unfilterable, arrays)),
             entry::and_compute(entry::texture_2d(17, unfilterable)),
         ];
         classify_entries.extend(cleared);
@@ -530,7 +531,9 @@ impl TileListPass {
             device,
             "TileListPass::reduce_layout",
             &[
-                entry::and_compute(entry::texture_2d(3, unfilterable)),
+                // The frame uniform: the light's layers where the maps are read as arrays.
+                entry::uniform(0, compute, frame_size, false),
+                entry::and_compute(entry::light_map(3, unfilterable, arrays)),
                 entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::NonFiltering)),
                 entry::storage_texture(6, REDUCED_STORAGE_FORMAT),
             ],
@@ -554,8 +557,9 @@ impl TileListPass {
                 device,
                 "TileListPass::depth_range_layout",
                 &[
+                    entry::uniform(0, compute, frame_size, false),
                     entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::NonFiltering)),
-                    entry::and_compute(entry::texture_2d(15, unfilterable)),
+                    entry::and_compute(entry::light_map(15, unfilterable, arrays)),
                     entry::storage_texture(16, DEPTH_RANGE_FORMAT),
                 ],
             );
@@ -656,6 +660,7 @@ impl TileListPass {
                 label: Some("TileListPass::depth_range"),
                 layout,
                 entries: &entries([
+                    (0, frame.as_entire_binding()),
                     (4, wgpu::BindingResource::Sampler(&self.gather)),
                     (15, wgpu::BindingResource::TextureView(shadow_map)),
                     (16, wgpu::BindingResource::TextureView(&self.depth_range.view)),
@@ -718,6 +723,7 @@ impl TileListPass {
             label: Some("TileListPass::reduce"),
             layout: &self.reduce_layout,
             entries: &entries([
+                (0, frame.as_entire_binding()),
                 (3, wgpu::BindingResource::TextureView(fattened_map)),
                 (4, wgpu::BindingResource::Sampler(&self.gather)),
                 (6, wgpu::BindingResource::TextureView(&self.reduced.view)),

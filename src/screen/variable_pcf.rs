@@ -352,26 +352,33 @@ impl VariablePcfCompute {
 
     /// The pass for `switches` (its half resolution is not used: that stays a draw) and one
     /// light kind; with `distance`, the distance map's switches, it takes the distance map's
-    /// value itself (see the type's documentation); with `half` it stores half floats.
+    /// value itself (see the type's documentation); with `half` it stores half floats; with
+    /// `arrays` it reads the light's maps as layers of arrays
+    /// ([`crate::shaders::with_map_arrays`]).
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
         (switches, distance): (PcfSwitches, Option<DistanceSwitches>),
         light_kind: u32,
-        half: bool,
+        (half, arrays): (bool, bool),
     ) -> Self {
         let storage = crate::shaders::HalfFloats {
             layers: false,
             intermediates: half,
         };
-        let shader =
-            crate::shaders::module_for(device, "variable_pcf.wgsl", crate::shaders::VARIABLE_PCF, storage);
-        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let shader = crate::shaders::module_for(
+            device,
+            "variable_pcf.wgsl",
+            crate::shaders::VARIABLE_PCF,
+            (storage, arrays),
+        );
+        let unfilterable = entry::UNFILTERABLE;
+        let map = |binding, sample_type| entry::and_compute(entry::light_map(binding, sample_type, arrays));
         let mut entries = vec![
             entry::uniform(0, wgpu::ShaderStages::COMPUTE, frame_size, false),
             entry::and_compute(entry::texture_2d(1, unfilterable)),
             entry::and_compute(entry::texture_2d(2, unfilterable)),
-            entry::and_compute(entry::texture_2d(3, wgpu::TextureSampleType::Depth)),
+            map(3, wgpu::TextureSampleType::Depth),
             entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::Comparison)),
             entry::uniform(5, wgpu::ShaderStages::COMPUTE, size_of::<PcfUniform>(), false),
             entry::storage_texture(6, super::visibility_storage(half)),
@@ -381,12 +388,14 @@ impl VariablePcfCompute {
         if distance.is_some() {
             // The distance map's inputs (the fattened map, the receiver mask, the occluder
             // offset, the exit map), its texture, and the shadow map read as plain depths.
-            entries.extend((9..=12).map(|b| entry::and_compute(entry::texture_2d(b, unfilterable))));
-            entries.push(entry::storage_texture(
-                13,
-                super::DistanceMapCompute::format(half),
-            ));
-            entries.push(entry::and_compute(entry::texture_2d(14, unfilterable)));
+            entries.extend([
+                map(9, unfilterable),
+                entry::and_compute(entry::texture_2d(10, unfilterable)),
+                map(11, unfilterable),
+                map(12, unfilterable),
+                entry::storage_texture(13, super::DistanceMapCompute::format(half)),
+                map(14, unfilterable),
+            ]);
         }
         let layout = crate::gpu_helpers::layout(device, "VariablePcfCompute::layout", &entries);
         let list_layout = super::TileListPass::list_layout(device);

@@ -396,6 +396,7 @@ impl Shadows {
                 rebind_all,
                 layer_writes,
                 half_intermediates: this.half_intermediates(),
+                map_arrays: this.map_pools.shares(),
                 software: this.software,
                 compute: this.compute,
                 exit_in_shadow_pass: this.fragment_storage

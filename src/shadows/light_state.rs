@@ -182,11 +182,13 @@ impl LightState {
         layer: Option<&wgpu::TextureView>,
     ) {
         let Some(maps) = &self.maps else { return };
+        let views = maps.screen_views(self.screen.map_arrays());
         let inputs = ScreenInputs {
             frame: &self.frame,
             depth,
             mask,
             maps,
+            views: &views,
             dummy,
             compute,
             layer,

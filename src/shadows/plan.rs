@@ -32,6 +32,9 @@ pub(super) struct FramePlan<'a> {
     pub layer_writes: bool,
     /// The compute path's intermediates are stored in half floats.
     pub half_intermediates: bool,
+    /// The lights' maps share arrays, which the compute passes bind whole
+    /// ([`MapPools::shares`]).
+    pub map_arrays: bool,
     /// The device is a software rasterizer (its adapter a CPU).
     pub software: bool,
     /// The device runs compute passes.
@@ -238,6 +241,7 @@ fn chain_of(frame: &FramePlan, light: &Light) -> (Chain, ShadowSettings, PassPar
     let mut params = PassParams {
         layer_writes: frame.layer_writes,
         half_intermediates: frame.half_intermediates,
+        map_arrays: frame.map_arrays,
         ..pass_params(&effective, frame.software)
     };
     // Which fattened map and whether an exit map: as the chain draws them.
@@ -359,6 +363,7 @@ fn upload_frame(
             receiver_mask: frame.has_mask,
             distance_map,
             map_scale,
+            map_layers: state.maps.as_ref().map(LightMaps::layers).unwrap_or_default(),
         })),
     );
 }

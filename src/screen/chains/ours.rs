@@ -5,7 +5,6 @@
 use super::screen_chain::{ChainKey, MethodChain, Recorder, ScreenInputs, stage_lists};
 use crate::chain::{Chain, FRAME_SIZE};
 use crate::frame::{DistanceSwitches, PassParams};
-use crate::light_maps::LightMaps;
 use crate::map_resolution::WidthProbe;
 use crate::screen::{
     BlurCompute, BlurInput, BlurPass, Cleared, ClearedByList, ComputeTargets, DistanceMapCompute,
@@ -51,14 +50,14 @@ impl OursChain {
                 key.distance,
                 kind,
                 (blur, half, into_layer),
-                !in_pcf,
+                (!in_pcf, key.map_arrays),
             ),
             pcf: VariablePcfCompute::new(
                 device,
                 FRAME_SIZE,
                 (key.pcf, in_pcf.then_some(key.distance)),
                 kind,
-                half.intermediates,
+                (half.intermediates, key.map_arrays),
             ),
             blur: key
                 .blur
@@ -79,7 +78,7 @@ impl MethodChain for OursChain {
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
         let (frame, [depth, mask, _]) = inputs.common();
-        let (Some(maps), Some(all)) = (distance_maps(inputs.maps), inputs.compute) else {
+        let (Some(maps), Some(all)) = (distance_maps(inputs), inputs.compute) else {
             return;
         };
         let Some(shared) = &all.distance_map else {
@@ -228,7 +227,7 @@ impl MethodChain for OursDrawChain {
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
         let (frame, [depth, mask, _]) = inputs.common();
-        let Some(maps) = distance_maps(inputs.maps) else {
+        let Some(maps) = distance_maps(inputs) else {
             return;
         };
         self.distance.bind(device, frame, &maps, (depth, mask));
@@ -274,18 +273,20 @@ impl MethodChain for OursDrawChain {
     }
 }
 
-/// The maps of `maps` the distance map reads (none without a fattened map).
-fn distance_maps(maps: &LightMaps) -> Option<DistanceMaps<'_>> {
-    let fattened = maps.fattened.as_ref()?;
-    let texture = fattened.texture();
+/// The light's maps the distance map reads, as its chain binds them (none without a fattened
+/// map).
+fn distance_maps<'a>(inputs: &ScreenInputs<'a>) -> Option<DistanceMaps<'a>> {
+    let (maps, views) = (inputs.maps, inputs.views);
+    let texture = maps.fattened.as_ref()?.texture();
+    let (fattened_map, occluder_offset) = views.fattened.as_ref()?;
     let shadow = maps.shadow.atlas.texture();
     Some(DistanceMaps {
-        shadow_map: maps.shadow.atlas.view(),
-        fattened_map: fattened.view(),
+        shadow_map: &views.shadow,
+        fattened_map,
         fattened_size: (texture.width(), texture.height()),
         shadow_size: (shadow.width(), shadow.height()),
-        occluder_offset: fattened.occluder_offset(),
+        occluder_offset,
         // Without an exit map the shader reads none (`EXIT_MAP`): a stand-in is bound.
-        exit_map: maps.exit_view().unwrap_or(maps.shadow.atlas.view()),
+        exit_map: views.exit.as_ref().unwrap_or(&views.shadow),
     })
 }

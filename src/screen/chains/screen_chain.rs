@@ -6,7 +6,7 @@ use super::single_pass::{HardChain, PcssChain};
 use super::traditional::{TraditionalChain, TraditionalDrawChain};
 use crate::chain::Chain;
 use crate::frame::{BlurSwitches, DistanceSwitches, PassParams, PcfSwitches};
-use crate::light_maps::LightMaps;
+use crate::light_maps::{LightMaps, MapViews};
 use crate::map_resolution::WidthProbe;
 use crate::screen::{ComputeTargets, PassPath, ScreenStage};
 use crate::shaders::HalfFloats;
@@ -19,6 +19,8 @@ pub(crate) struct ScreenInputs<'a> {
     pub depth: &'a wgpu::TextureView,
     pub mask: &'a wgpu::TextureView,
     pub maps: &'a LightMaps,
+    /// The light's maps as the chain's passes bind them ([`ScreenChain::map_arrays`]).
+    pub views: &'a MapViews,
     pub dummy: &'a wgpu::TextureView,
     pub compute: Option<&'a ComputeTargets>,
     /// The light's layer of the visibility array, where the compute passes write it themselves
@@ -54,6 +56,8 @@ pub(crate) struct ChainKey {
     /// The compute passes store the intermediates in half floats
     /// ([`PassParams::half_intermediates`]).
     pub half_intermediates: bool,
+    /// The compute passes bind the light's maps as arrays ([`PassParams::map_arrays`]).
+    pub map_arrays: bool,
 }
 
 impl ChainKey {
@@ -68,6 +72,7 @@ impl ChainKey {
             layer_writes: false,
             distance_in_pcf: false,
             half_intermediates: false,
+            map_arrays: false,
         }
     }
 
@@ -83,7 +88,7 @@ impl ChainKey {
     /// How the chain's passes run: compute or draws, storing as [`Self::half_floats`] says.
     pub fn path(&self) -> PassPath {
         if self.chain.compute() {
-            PassPath::compute(self.half_floats())
+            PassPath::compute(self.half_floats(), self.map_arrays)
         } else {
             PassPath::DRAW
         }
@@ -124,6 +129,7 @@ impl ChainKey {
         // Every compute chain writes the intermediates the lights share, in one format.
         Self {
             half_intermediates: chain.compute() && params.half_intermediates,
+            map_arrays: chain.compute() && params.map_arrays,
             ..key
         }
     }
@@ -299,6 +305,12 @@ impl ScreenChain {
         for stage in self.passes.iter().flat_map(|p| p.stages()) {
             stage.prepare(queue, params);
         }
+    }
+
+    /// The compute passes bind the light's maps as the arrays they are layers of
+    /// ([`crate::light_maps::LightMaps::screen_views`]).
+    pub fn map_arrays(&self) -> bool {
+        self.key.map_arrays
     }
 
     /// Points each pass at its inputs.

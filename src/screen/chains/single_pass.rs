@@ -65,7 +65,7 @@ impl<P: VisibilityPass + wgpu::WasmNotSendSync> MethodChain for SinglePassChain<
         let (frame, [depth, mask, dummy]) = inputs.common();
         let shared = inputs.compute.and_then(|c| c.visibility.as_ref());
         let layer = inputs.layer.map(|l| (l, mask));
-        let shadow_map = inputs.maps.shadow.atlas.view();
+        let shadow_map = &inputs.views.shadow;
         self.pass
             .lookup_mut()
             .bind(device, (frame, depth, shadow_map), shared, layer);

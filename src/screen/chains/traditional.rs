@@ -32,10 +32,13 @@ impl TraditionalChain {
         let half = key.half_floats();
         // The PCF writes the intermediate visibility, never the layer (the blur or the
         // resolve does).
-        let pcf_path = PassPath::compute(HalfFloats {
-            layers: false,
-            ..half
-        });
+        let pcf_path = PassPath::compute(
+            HalfFloats {
+                layers: false,
+                ..half
+            },
+            key.map_arrays,
+        );
         Self {
             pcf: PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, pcf_path),
             blur: key
@@ -62,7 +65,7 @@ impl MethodChain for TraditionalChain {
             return;
         };
         self.targets = Some(all.clone());
-        let shadow_map = inputs.maps.shadow.atlas.view();
+        let shadow_map = &inputs.views.shadow;
         self.pcf
             .lookup_mut()
             .bind(device, (frame, depth, shadow_map), Some(shared), None);
@@ -124,7 +127,7 @@ impl MethodChain for TraditionalDrawChain {
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
         let (frame, [depth, mask, dummy]) = inputs.common();
-        let shadow_map = inputs.maps.shadow.atlas.view();
+        let shadow_map = &inputs.views.shadow;
         self.pcf
             .lookup_mut()
             .bind(device, (frame, depth, shadow_map), None, None);
