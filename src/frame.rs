@@ -131,6 +131,70 @@ pub(crate) struct FrameUniform {
     pub ambient: [f32; 4],
     pub cascades: CascadesUniform,
     pub maps: MapLayersUniform,
+    pub _pad: [[f32; 4]; 9],
+}
+
+/// The bytes between two lights' frames in [`FrameSlots`]: a multiple of 256, the largest
+/// offset alignment a device may ask of a uniform binding, and the frame's own size, so that an
+/// array of frames in WGSL has the same stride.
+pub(crate) const FRAME_STRIDE: u64 = size_of::<FrameUniform>() as u64;
+const _: () = assert!(
+    FRAME_STRIDE % 256 == 0,
+    "pad `struct Frame` (shaders/common/frame.wgsl) and FrameUniform to a multiple of 256 bytes"
+);
+
+/// Every light's frame uniform, one slot a light ([`crate::MAX_LIGHTS`] slots), in one buffer.
+pub(crate) struct FrameSlots {
+    buffer: wgpu::Buffer,
+}
+
+impl FrameSlots {
+    pub fn new(device: &wgpu::Device) -> Self {
+        Self {
+            buffer: crate::gpu_helpers::uniform_buffer(
+                device,
+                "Shadows::frames",
+                FRAME_STRIDE * crate::MAX_LIGHTS as u64,
+            ),
+        }
+    }
+
+    /// Light slot `slot`'s frame.
+    pub fn slot(&self, slot: usize) -> FrameSlot {
+        FrameSlot {
+            buffer: self.buffer.clone(),
+            offset: FRAME_STRIDE * slot as u64,
+        }
+    }
+
+    /// GPU memory the slots take, in bytes.
+    pub fn allocated_bytes(&self) -> u64 {
+        self.buffer.size()
+    }
+}
+
+/// One light's frame uniform: its slot of [`FrameSlots`], which the light's passes bind.
+#[derive(Clone, Debug)]
+pub(crate) struct FrameSlot {
+    buffer: wgpu::Buffer,
+    offset: u64,
+}
+
+impl FrameSlot {
+    /// Uploads `frame` into the slot.
+    pub fn write(&self, queue: &wgpu::Queue, frame: &FrameUniform) {
+        queue.write_buffer(&self.buffer, self.offset, bytemuck::bytes_of(frame));
+    }
+}
+
+impl crate::gpu_helpers::Binding for FrameSlot {
+    fn resource(&self) -> wgpu::BindingResource<'_> {
+        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer: &self.buffer,
+            offset: self.offset,
+            size: wgpu::BufferSize::new(FRAME_STRIDE),
+        })
+    }
 }
 
 /// Mirrors `struct MapLayers`: the layer of each of the light's maps in the array it shares
@@ -616,6 +680,7 @@ impl FrameUniform {
             ambient: f.ambient.extend(0.0).to_array(),
             cascades: CascadesUniform::new(lv, lv.tile),
             maps: f.map_layers,
+            _pad: [[0.0; 4]; 9],
         }
     }
 }

@@ -119,6 +119,10 @@ struct Frame {
     ambient: vec4<f32>,
     cascades: Cascades,
     maps: MapLayers,
+    // To a multiple of 256 bytes (1280): every light's frame is a slot of one buffer, which a
+    // pass over one light binds at its slot's offset (offsets are multiples of 256) and a pass
+    // over several lights binds whole, as an array of frames.
+    _pad: array<vec4<f32>, 9>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;

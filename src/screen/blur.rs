@@ -15,6 +15,7 @@
 //! resolve.
 
 use super::ScreenStage;
+use crate::frame::FrameSlot;
 use crate::frame::PassParams;
 use crate::gpu_helpers::{Target, texture_bytes};
 use bytemuck::{Pod, Zeroable};
@@ -195,7 +196,7 @@ impl BlurPass {
     pub(crate) fn bind(
         &mut self,
         device: &wgpu::Device,
-        frame: &wgpu::Buffer,
+        frame: &FrameSlot,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
         light: &BlurInput,
     ) {
@@ -467,7 +468,7 @@ impl BlurCompute {
         &mut self,
         device: &wgpu::Device,
         temp: &wgpu::TextureView,
-        frame: &wgpu::Buffer,
+        frame: &FrameSlot,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
         (visibility, sigma, distance_map): (&wgpu::TextureView, &wgpu::TextureView, &wgpu::TextureView),
         layer: Option<&wgpu::TextureView>,
@@ -624,7 +625,7 @@ impl ScreenStage for BlurCompute {
 fn axis_group(
     device: &wgpu::Device,
     (label, layout, sampler): (&str, &wgpu::BindGroupLayout, &wgpu::Sampler),
-    frame: &wgpu::Buffer,
+    frame: &FrameSlot,
     (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
     (distance_map, sigma): (&wgpu::TextureView, &wgpu::TextureView),
     source: &wgpu::TextureView,

@@ -28,6 +28,7 @@
 
 use super::ScreenStage;
 use crate::frame::DistanceSwitches;
+use crate::frame::FrameSlot;
 use crate::gpu_helpers::{Target, texture_bytes};
 use crate::gpu_helpers::{begin_pass, depth_attachment};
 
@@ -154,7 +155,7 @@ impl DistanceMapPass {
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
-        frame: &wgpu::Buffer,
+        frame: &FrameSlot,
         maps: &DistanceMaps,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
     ) {
@@ -269,7 +270,7 @@ impl<'a> DistanceMaps<'a> {
     /// camera depth and the receiver mask, in its order.
     fn inputs(
         &self,
-        frame: &'a wgpu::Buffer,
+        frame: &'a FrameSlot,
         (camera_depth, receiver_mask): (&'a wgpu::TextureView, &'a wgpu::TextureView),
     ) -> [&'a dyn crate::gpu_helpers::Binding; 7] {
         [
@@ -394,7 +395,7 @@ impl DistanceMapCompute {
         &mut self,
         device: &wgpu::Device,
         (tiles, cleared): (&super::TileListTargets, &super::ClearedByList),
-        frame: &wgpu::Buffer,
+        frame: &FrameSlot,
         maps: &DistanceMaps,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
     ) {

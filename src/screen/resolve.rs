@@ -7,6 +7,7 @@
 
 use super::ScreenStage;
 use super::{VISIBILITY_FORMAT, draw_fullscreen};
+use crate::frame::FrameSlot;
 use crate::gpu_helpers::{entry, fullscreen_pipeline};
 
 pub struct ResolvePass {
@@ -47,7 +48,7 @@ impl ResolvePass {
     /// Points the pass at its inputs: `views` are the camera depth, the distance map, the
     /// visibility and the receiver mask, in that order (the distance map and the mask are read
     /// only where the frame uniform says they are real).
-    pub fn bind(&mut self, device: &wgpu::Device, frame: &wgpu::Buffer, views: [&wgpu::TextureView; 4]) {
+    pub fn bind(&mut self, device: &wgpu::Device, frame: &FrameSlot, views: [&wgpu::TextureView; 4]) {
         let [camera_depth, distance_map, visibility, receiver_mask] = views;
         self.bind_group = Some(crate::gpu_helpers::bind_group(
             device,

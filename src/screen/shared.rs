@@ -2,6 +2,7 @@
 //! classification's depth test, the tile list they run over, and the pipeline of a pass that
 //! is a draw or a compute pass over the screen.
 
+use crate::frame::FrameSlot;
 use crate::gpu_helpers::Target;
 use crate::gpu_helpers::{
     Binding, bind_group, comparison_sampler, draw_fullscreen_into, entry, fullscreen_pipeline_with,
@@ -95,7 +96,7 @@ impl ShadowLookup {
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
-        (frame, camera_depth, shadow_map): (&wgpu::Buffer, &wgpu::TextureView, &wgpu::TextureView),
+        (frame, camera_depth, shadow_map): (&FrameSlot, &wgpu::TextureView, &wgpu::TextureView),
         shared: Option<&Target>,
         layer: Option<(&wgpu::TextureView, &wgpu::TextureView)>,
     ) {

@@ -12,6 +12,7 @@
 //! can (conservative: see `shaders/tile_classify.wgsl`).
 
 use super::{DistanceMapCompute, LIGHT_KIND, tiles_layout};
+use crate::frame::FrameSlot;
 use crate::gpu_helpers::{Fullscreen, Tiles, entry, screen_target};
 use crate::gpu_helpers::{Target, texture_bytes};
 
@@ -139,7 +140,7 @@ impl TileClassifyPass {
     pub fn bind(
         &mut self,
         device: &wgpu::Device,
-        frame: &wgpu::Buffer,
+        frame: &FrameSlot,
         camera_depth: &wgpu::TextureView,
         fattened_map: &wgpu::TextureView,
         fattened_size: (u32, u32),
@@ -158,7 +159,7 @@ impl TileClassifyPass {
             label: Some("TileClassifyPass::classify"),
             layout: &self.layout,
             entries: &[
-                frame.as_entire_binding(),
+                crate::gpu_helpers::Binding::resource(frame),
                 wgpu::BindingResource::TextureView(camera_depth),
                 wgpu::BindingResource::TextureView(&self.reduced.view),
             ]
@@ -623,7 +624,7 @@ impl TileListPass {
         &mut self,
         device: &wgpu::Device,
         (targets, cleared): (&TileListTargets, &ClearedByList),
-        frame: &wgpu::Buffer,
+        frame: &FrameSlot,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
         (fattened_map, fattened_size): (&wgpu::TextureView, (u32, u32)),
         (shadow_map, shadow_size): (&wgpu::TextureView, (u32, u32)),
@@ -660,7 +661,7 @@ impl TileListPass {
                 label: Some("TileListPass::depth_range"),
                 layout,
                 entries: &entries([
-                    (0, frame.as_entire_binding()),
+                    (0, crate::gpu_helpers::Binding::resource(frame)),
                     (4, wgpu::BindingResource::Sampler(&self.gather)),
                     (15, wgpu::BindingResource::TextureView(shadow_map)),
                     (16, wgpu::BindingResource::TextureView(&self.depth_range.view)),
@@ -675,7 +676,7 @@ impl TileListPass {
             self.candidates = candidate_list(device, tiles);
         }
         let mut classify_entries = entries([
-            (0, frame.as_entire_binding()),
+            (0, crate::gpu_helpers::Binding::resource(frame)),
             (1, wgpu::BindingResource::TextureView(camera_depth)),
             (2, wgpu::BindingResource::TextureView(&self.reduced.view)),
             (4, wgpu::BindingResource::Sampler(&self.gather)),
@@ -723,7 +724,7 @@ impl TileListPass {
             label: Some("TileListPass::reduce"),
             layout: &self.reduce_layout,
             entries: &entries([
-                (0, frame.as_entire_binding()),
+                (0, crate::gpu_helpers::Binding::resource(frame)),
                 (3, wgpu::BindingResource::TextureView(fattened_map)),
                 (4, wgpu::BindingResource::Sampler(&self.gather)),
                 (6, wgpu::BindingResource::TextureView(&self.reduced.view)),

@@ -17,6 +17,7 @@
 use super::ScreenStage;
 use super::tiles_layout;
 use super::{Classification, LIGHT_KIND, VISIBILITY_FORMAT};
+use crate::frame::FrameSlot;
 use crate::frame::PassParams;
 use crate::frame::{DistanceSwitches, PcfSwitches, PcfUniform};
 use crate::gpu_helpers::{Fullscreen, cleared, draw_area, entry, screen_target};
@@ -177,7 +178,7 @@ impl VariablePcfPass {
 
     /// Points the pass at its inputs: `views` are the camera depth, the distance map and the
     /// shadow map, in that order.
-    pub fn bind(&mut self, device: &wgpu::Device, frame: &wgpu::Buffer, views: [&wgpu::TextureView; 3]) {
+    pub fn bind(&mut self, device: &wgpu::Device, frame: &FrameSlot, views: [&wgpu::TextureView; 3]) {
         let [camera_depth, distance_map, shadow_map] = views;
         self.bind_group = Some(crate::gpu_helpers::bind_group(
             device,
@@ -450,7 +451,7 @@ impl VariablePcfCompute {
         &mut self,
         device: &wgpu::Device,
         (visibility, sigma): (&wgpu::TextureView, &wgpu::TextureView),
-        frame: &wgpu::Buffer,
+        frame: &FrameSlot,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
         (distance_map, dummy): (&wgpu::TextureView, &wgpu::TextureView),
         maps: &super::DistanceMaps,

@@ -5,7 +5,7 @@ use crate::casters::Casters;
 pub use crate::chain::Chain;
 use crate::device::DeviceLoss;
 use crate::error::{PenumbraError, Result};
-use crate::frame::PassParams;
+use crate::frame::{FrameSlots, PassParams};
 use crate::gpu_helpers::screen_target;
 use crate::gpu_helpers::{Target, scoped, texture_bytes};
 use crate::light_maps::FarPlaneFill;
@@ -109,6 +109,9 @@ pub struct Shadows {
     far_plane: Option<FarPlaneFill>,
     /// The arrays the lights' maps are layers of.
     map_pools: MapPools,
+    /// Every light's frame uniform, a slot a light (the light's slot in `lights`): one buffer,
+    /// which a pass over several lights can bind whole.
+    frames: FrameSlots,
 }
 
 impl Shadows {
@@ -138,6 +141,7 @@ impl Shadows {
             loss: None,
             far_plane: FarPlaneFill::new(device, &settings.shadow_map),
             map_pools: MapPools::new(device, crate::screen::has_compute(device)),
+            frames: FrameSlots::new(device),
         });
         match error {
             Some(error) => Err(PenumbraError::gpu("creating the shadows", error)),
@@ -202,7 +206,7 @@ impl Shadows {
         }
         for state in self.lights.iter_mut().flatten() {
             if maps_changed {
-                *state = LightState::new(device, state.light);
+                *state = LightState::new(state.frame.clone(), state.light);
             } else {
                 state.bound = None;
             }
@@ -243,10 +247,10 @@ impl Shadows {
     /// - `color` and `intensity` are not used: the visibility is unitless (1 lit, 0 in the
     ///   umbra), and the engine multiplies it into its own light's direct term.
     pub fn add_light(&mut self, device: &wgpu::Device, light: Light) -> Result<LightId> {
-        self.guarded(device, "adding a light", |this| this.add_light_now(device, light))
+        self.guarded(device, "adding a light", |this| this.add_light_now(light))
     }
 
-    fn add_light_now(&mut self, device: &wgpu::Device, light: Light) -> Result<LightId> {
+    fn add_light_now(&mut self, light: Light) -> Result<LightId> {
         light.validate()?;
         let slot = match self.lights.iter().position(Option::is_none) {
             Some(slot) => slot,
@@ -261,7 +265,7 @@ impl Shadows {
                 ));
             }
         };
-        self.lights[slot] = Some(LightState::new(device, light));
+        self.lights[slot] = Some(LightState::new(self.frames.slot(slot), light));
         if self.target.is_none()
             && self
                 .visibility
@@ -323,6 +327,7 @@ impl Shadows {
         };
         own_visibility
             + texture_bytes(&self.dummy.texture)
+            + self.frames.allocated_bytes()
             + self.map_pools.unused_bytes()
             + self.far_plane.as_ref().map_or(0, FarPlaneFill::allocated_bytes)
             + self

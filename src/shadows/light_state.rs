@@ -4,8 +4,7 @@
 
 use crate::casters::Casters;
 use crate::chain::Chain;
-use crate::chain::FRAME_SIZE;
-use crate::frame::{DerivedSpreads, PassParams, light_kind};
+use crate::frame::{DerivedSpreads, FrameSlot, PassParams, light_kind};
 use crate::light_maps::LightMaps;
 use crate::light_space::tile_resolution;
 use crate::light_space::{LightView, MAX_TILES};
@@ -67,7 +66,7 @@ impl Planned {
 /// One light: its maps, its screen-space passes and its cache.
 pub(super) struct LightState {
     pub(super) light: Light,
-    pub(super) frame: wgpu::Buffer,
+    pub(super) frame: FrameSlot,
     /// The maps drawn from the light, made in [`Shadows::prepare`] with the casters' layouts.
     pub(super) maps: Option<LightMaps>,
     /// The chain's screen-space passes.
@@ -90,17 +89,17 @@ pub(super) struct LightState {
 }
 
 impl LightState {
-    /// GPU memory this light's maps, passes and uniform take, in bytes.
+    /// GPU memory this light's maps and passes take, in bytes (its frame uniform is a slot of
+    /// the frame uniforms every light shares, counted by `Shadows`).
     pub(super) fn allocated_bytes(&self) -> u64 {
-        self.frame.size()
-            + self.maps.as_ref().map_or(0, LightMaps::allocated_bytes)
-            + self.screen.allocated_bytes()
+        self.maps.as_ref().map_or(0, LightMaps::allocated_bytes) + self.screen.allocated_bytes()
     }
 
-    pub(super) fn new(device: &wgpu::Device, light: Light) -> Self {
+    /// A light whose frame uniform is `frame` (its slot's).
+    pub(super) fn new(frame: FrameSlot, light: Light) -> Self {
         Self {
             light,
-            frame: crate::gpu_helpers::uniform_buffer(device, "Shadows::frame", FRAME_SIZE as u64),
+            frame,
             maps: None,
             screen: ScreenChain::map_only(),
             bound: None,

@@ -347,10 +347,9 @@ fn upload_frame(
     distance_map: bool,
     map_scale: f32,
 ) {
-    frame.queue.write_buffer(
-        &state.frame,
-        0,
-        bytemuck::bytes_of(&FrameUniform::new(&FrameInputs {
+    state.frame.write(
+        frame.queue,
+        &FrameUniform::new(&FrameInputs {
             camera: frame.camera,
             width: frame.size.0,
             height: frame.size.1,
@@ -364,6 +363,6 @@ fn upload_frame(
             distance_map,
             map_scale,
             map_layers: state.maps.as_ref().map(LightMaps::layers).unwrap_or_default(),
-        })),
+        }),
     );
 }

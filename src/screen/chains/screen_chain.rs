@@ -5,6 +5,7 @@ use super::ours::{OursChain, OursDrawChain};
 use super::single_pass::{HardChain, PcssChain};
 use super::traditional::{TraditionalChain, TraditionalDrawChain};
 use crate::chain::Chain;
+use crate::frame::FrameSlot;
 use crate::frame::{BlurSwitches, DistanceSwitches, PassParams, PcfSwitches};
 use crate::light_maps::{LightMaps, MapViews};
 use crate::map_resolution::WidthProbe;
@@ -15,7 +16,7 @@ use crate::shaders::HalfFloats;
 /// depth and receiver mask (or a stand-in), the light's maps, and a 1 x 1 stand-in for inputs
 /// a chain does not have; and the compute path's intermediates, which every light shares.
 pub(crate) struct ScreenInputs<'a> {
-    pub frame: &'a wgpu::Buffer,
+    pub frame: &'a FrameSlot,
     pub depth: &'a wgpu::TextureView,
     pub mask: &'a wgpu::TextureView,
     pub maps: &'a LightMaps,
@@ -31,7 +32,7 @@ pub(crate) struct ScreenInputs<'a> {
 impl<'a> ScreenInputs<'a> {
     /// What most passes read: the frame uniform, and the camera's depth, the receiver mask and
     /// the stand-in.
-    pub fn common(&self) -> (&'a wgpu::Buffer, [&'a wgpu::TextureView; 3]) {
+    pub fn common(&self) -> (&'a FrameSlot, [&'a wgpu::TextureView; 3]) {
         (self.frame, [self.depth, self.mask, self.dummy])
     }
 }
