@@ -139,7 +139,7 @@ pub(crate) struct FrameUniform {
 /// array of frames in WGSL has the same stride.
 pub(crate) const FRAME_STRIDE: u64 = size_of::<FrameUniform>() as u64;
 const _: () = assert!(
-    FRAME_STRIDE % 256 == 0,
+    FRAME_STRIDE.is_multiple_of(256),
     "pad `struct Frame` (shaders/common/frame.wgsl) and FrameUniform to a multiple of 256 bytes"
 );
 
