@@ -97,7 +97,7 @@ const MAP_TYPES: [(&str, &str); 2] = [
 /// (`shadow_map`, `shadow_depths`, `fattened_map`, `occluder_offset`, `exit_map`) typed as 2D
 /// arrays and every read of them taking the light's layer from the frame uniform
 /// (`frame.maps`): a light's maps are then bound as the arrays every light's maps are layers of
-/// ([`crate::light_maps`]'s pools), which passes over several lights need. `textureLoad`,
+/// (where they share arrays: not on wgpu's GL backend), which passes over several lights need. `textureLoad`,
 /// `textureSampleCompareLevel`, `textureGather` and `textureDimensions` are the reads the
 /// passes make. `None` where the source declares none of the maps or has no frame uniform.
 pub fn with_map_arrays(source: &str) -> Option<String> {
