@@ -124,6 +124,45 @@ pub fn with_map_arrays(source: &str) -> Option<String> {
     Some(out)
 }
 
+/// The frame uniform's declaration in `shaders/common/frame.wgsl`.
+const ONE_FRAME: &str = "@group(0) @binding(0) var<uniform> frame: Frame;";
+
+/// `source` (a pass joined after `shaders/common/frame.wgsl`) reading the frame of one of
+/// several lights: the frame uniform bound whole as an array of every light's frame (the
+/// buffer of `crate::MAX_LIGHTS` slots each light's passes bind one slot of; `struct Frame` is
+/// padded so that the array's stride is the slots'), and each read of `frame` reading
+/// `frames[frame_light]`, where `frame_light` (a private variable, 0 until set) is the light
+/// the invocation works for: a pass over several lights' tiles sets it from the tile's entry
+/// before it reads the frame. Apply it after [`with_map_arrays`] (whose layers are frame reads
+/// too). `None` where the source has no frame uniform.
+pub fn with_light_frames(source: &str) -> Option<String> {
+    if !source.contains(ONE_FRAME) {
+        return None;
+    }
+    let declaration = format!(
+        "@group(0) @binding(0) var<uniform> frames: array<Frame, {}>;\n\
+         // The light this invocation works for (`penumbra::shaders::with_light_frames`).\n\
+         var<private> frame_light: u32 = 0u;",
+        crate::MAX_LIGHTS
+    );
+    let source = source.replace(ONE_FRAME, &declaration);
+    let mut out = String::with_capacity(source.len() + source.len() / 8);
+    let mut rest = source.as_str();
+    while let Some(at) = rest.find("frame.") {
+        let preceded = rest[..at].chars().last().or_else(|| out.chars().last());
+        out.push_str(&rest[..at]);
+        let inside_a_name = preceded.is_some_and(|c| c.is_ascii_alphanumeric() || c == '_');
+        out.push_str(if inside_a_name {
+            "frame."
+        } else {
+            "frames[frame_light]."
+        });
+        rest = &rest[at + "frame.".len()..];
+    }
+    out.push_str(rest);
+    Some(out)
+}
+
 /// `source` with each call of `builtin` on one of `maps` (name, layer expression) given the
 /// layer: before the last argument (`textureLoad`'s level, `textureSampleCompareLevel`'s
 /// reference depth), or after it (`textureGather`'s coordinates).

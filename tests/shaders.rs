@@ -230,3 +230,64 @@ fn passes_validate_with_the_maps_as_arrays() {
         ]
     );
 }
+
+/// A pass over several lights reads each light's frame from the frame uniforms bound whole
+/// (`penumbra::shaders::with_light_frames`): every screen pass that reads the frame validates so
+/// too (with the maps as arrays, as such a pass binds them), reads the frame nowhere else, and
+/// the array's stride is a frame slot's, 1,280 bytes.
+#[test]
+fn passes_validate_reading_one_of_several_lights_frames() {
+    use penumbra::shaders::{with_light_frames, with_map_arrays};
+    let mut made = Vec::new();
+    for (name, source) in penumbra::shaders::ALL {
+        let arrays = with_map_arrays(source).unwrap_or_else(|| source.to_string());
+        let Some(frames) = with_light_frames(&arrays) else {
+            continue;
+        };
+        made.push(*name);
+        let module = validate(name, &frames);
+        let code: String = frames
+            .lines()
+            .filter(|l| !l.trim_start().starts_with("//"))
+            .collect::<Vec<_>>()
+            .join("\n");
+        let left = code.match_indices("frame.").filter(|(at, _)| {
+            !code[..*at]
+                .chars()
+                .last()
+                .is_some_and(|c| c.is_ascii_alphanumeric() || c == '_')
+        });
+        assert_eq!(left.count(), 0, "{name} still reads `frame`");
+        let (_, frames_var) = module
+            .global_variables
+            .iter()
+            .find(|(_, v)| v.name.as_deref() == Some("frames"))
+            .unwrap_or_else(|| panic!("{name} has no `frames`"));
+        match module.types[frames_var.ty].inner {
+            naga::TypeInner::Array {
+                size: naga::ArraySize::Constant(count),
+                stride,
+                ..
+            } => {
+                assert_eq!(count.get() as usize, penumbra::MAX_LIGHTS, "{name}");
+                assert_eq!(stride, 1280, "{name}: a frame is not a slot's 1,280 bytes");
+            }
+            ref other => panic!("{name}: `frames` is {other:?}"),
+        }
+    }
+    assert_eq!(
+        made,
+        [
+            "blur",
+            "composite",
+            "depth_prepass",
+            "distance_map",
+            "pcf",
+            "pcss",
+            "reference",
+            "resolve",
+            "tile_classify",
+            "variable_pcf"
+        ]
+    );
+}
