@@ -163,6 +163,88 @@ pub fn with_light_frames(source: &str) -> Option<String> {
     Some(out)
 }
 
+/// `shaders/common/tile_list.wgsl` as the passes are joined after it, and what
+/// [`with_light_groups`] puts in its place.
+const TILE_LIST: &str = include_str!("../shaders/common/tile_list.wgsl");
+const TILE_GROUPS: &str = include_str!("../shaders/common/tile_groups.wgsl");
+
+/// The storage textures' aliases (`shaders/common/screen_storage.wgsl`, `layer_out.wgsl`), as
+/// [`with_half_floats`] leaves them, up to their texel format.
+const STORAGE_ALIASES: [&str; 4] = [
+    "alias VisibilityStorage = texture_storage_2d<",
+    "alias SigmaStorage = texture_storage_2d<",
+    "alias DistanceStorage = texture_storage_2d<",
+    "alias LayerStorage = texture_storage_2d<",
+];
+
+/// The textures the variable PCF's compute pass over a group of lights binds as arrays
+/// ([`with_light_groups`]): it writes the light's layer of the visibility, and the member's of
+/// the deviations and the distance map.
+pub const PCF_GROUP_LAYERS: [(&str, &str); 3] = [
+    ("visibility_out", "frame_light"),
+    ("sigma_out", "member"),
+    ("distance_out", "member"),
+];
+
+/// The same for the blur's two axes over a group: the horizontal one reads the light's layer
+/// of the visibility (which the PCF wrote) into the member's of the axis's result; the
+/// vertical one reads that into the light's layer.
+pub const BLUR_GROUP_LAYERS: [[(&str, &str); 5]; 2] = [
+    [
+        ("source", "frame_light"),
+        ("distance_map", "member"),
+        ("blur_sigma", "member"),
+        ("blur_out", "member"),
+        ("layer_out", "frame_light"),
+    ],
+    [
+        ("source", "member"),
+        ("distance_map", "member"),
+        ("blur_sigma", "member"),
+        ("blur_out", "member"),
+        ("layer_out", "frame_light"),
+    ],
+];
+
+/// `source` (a pass over the tile list, `shaders/common/tile_list.wgsl`, that reads the frame)
+/// as a pass over the tile lists of a group of lights in one dispatch
+/// (`shaders/common/tile_groups.wgsl`): its light's maps read as layers of arrays
+/// ([`with_map_arrays`]), its light's frame one of several ([`with_light_frames`]), set from the
+/// dispatch's z, and each texture `layers` names (binding, layer expression) bound as a 2D array
+/// of which every read and write takes that layer: `frame_light` (the light's slot: its layer of
+/// the visibility array) or `member` (its place in the group: its layer of the group's
+/// intermediates). The storage textures' aliases all become arrays. `None` where the source
+/// has no tile list, no frame, or does not declare a texture `layers` names.
+pub fn with_light_groups(source: &str, layers: &[(&str, &str)]) -> Option<String> {
+    if !source.contains(TILE_LIST) {
+        return None;
+    }
+    let grouped = source.replace(TILE_LIST, TILE_GROUPS);
+    let arrayed = with_map_arrays(&grouped).unwrap_or(grouped);
+    let mut out = with_light_frames(&arrayed)?;
+    for alias in STORAGE_ALIASES {
+        out = out.replace(
+            alias,
+            &alias.replace("texture_storage_2d<", "texture_storage_2d_array<"),
+        );
+    }
+    for (name, _) in layers {
+        let sampled = format!("var {name}: texture_2d<f32>;");
+        if out.contains(&sampled) {
+            out = out.replace(&sampled, &format!("var {name}: texture_2d_array<f32>;"));
+        } else if !STORAGE_ALIASES.iter().any(|alias| {
+            let alias_name = alias["alias ".len()..].split(' ').next().unwrap_or_default();
+            out.contains(&format!("var {name}: {alias_name};"))
+        }) {
+            return None;
+        }
+    }
+    for builtin in ["textureLoad", "textureStore", "textureSampleLevel"] {
+        out = with_layer_arguments(&out, builtin, layers);
+    }
+    Some(out)
+}
+
 /// `source` with each call of `builtin` on one of `maps` (name, layer expression) given the
 /// layer: before the last argument (`textureLoad`'s level, `textureSampleCompareLevel`'s
 /// reference depth), or after it (`textureGather`'s coordinates).

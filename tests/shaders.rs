@@ -291,3 +291,60 @@ fn passes_validate_reading_one_of_several_lights_frames() {
         ]
     );
 }
+
+/// The passes over a group of lights' tile lists in one dispatch
+/// (`penumbra::shaders::with_light_groups`): the variable PCF and both blur axes validate with
+/// their intermediates as arrays, every read and write of them takes a layer, the frame is
+/// read as one of several, and the pass that computes their dispatch validates as it is.
+#[test]
+fn passes_over_a_group_of_lights_validate() {
+    use penumbra::shaders::{BLUR_GROUP_LAYERS, PCF_GROUP_LAYERS, with_light_groups};
+    let cases = [
+        (
+            "variable_pcf",
+            penumbra::shaders::VARIABLE_PCF,
+            &PCF_GROUP_LAYERS[..],
+        ),
+        (
+            "blur horizontal",
+            penumbra::shaders::BLUR,
+            &BLUR_GROUP_LAYERS[0][..],
+        ),
+        (
+            "blur vertical",
+            penumbra::shaders::BLUR,
+            &BLUR_GROUP_LAYERS[1][..],
+        ),
+    ];
+    for (name, source, layers) in cases {
+        let grouped = with_light_groups(source, layers).unwrap_or_else(|| panic!("{name}: not grouped"));
+        let module = validate(name, &grouped);
+        assert!(grouped.contains("var<storage, read> group_lists"), "{name}");
+        assert!(!grouped.contains("tile_list:"), "{name} still binds one list");
+        for (texture, layer) in layers {
+            let (_, var) = module
+                .global_variables
+                .iter()
+                .find(|(_, v)| v.name.as_deref() == Some(*texture))
+                .unwrap_or_else(|| panic!("{name} has no `{texture}`"));
+            match module.types[var.ty].inner {
+                naga::TypeInner::Image { arrayed, .. } => {
+                    assert!(arrayed, "{name}: `{texture}` is not an array")
+                }
+                ref other => panic!("{name}: `{texture}` is {other:?}"),
+            }
+            // Each call on the texture names its layer.
+            for call in ["textureLoad(", "textureStore(", "textureSampleLevel("] {
+                for (at, _) in grouped.match_indices(&format!("{call}{texture},")) {
+                    let line = grouped[at..].lines().next().unwrap_or_default();
+                    assert!(line.contains(layer), "{name}: `{line}` takes no layer");
+                }
+            }
+        }
+    }
+    // No tile list to group: none.
+    assert!(with_light_groups(penumbra::shaders::COMPOSITE, &[]).is_none());
+    // A texture the pass does not declare: none.
+    assert!(with_light_groups(penumbra::shaders::BLUR, &[("no_such", "member")]).is_none());
+    validate("group_args", penumbra::shaders::GROUP_ARGS);
+}

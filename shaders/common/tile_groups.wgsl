@@ -1,0 +1,59 @@
+// What `penumbra::shaders::with_light_groups` puts in place of `common/tile_list.wgsl`: a pass
+// over the tile lists of a group of lights, one dispatch for all of them. Each light's
+// classification wrote its own list (count, running count, then x | y << 16 a tile) into a
+// region of one buffer; the dispatch's z is the light's place in the group (`member`), and its
+// x and y run over the longest list (`cs_group_args` in `group_args.wgsl`). The buffer opens
+// with a header of 64 words: each region's length in words, the group's size, then each
+// member's light (its frame's slot and its layer of the visibility array).
+
+@group(3) @binding(0) var<storage, read> group_lists: array<u32>;
+
+// Words before the first region; where the members' lights start in it.
+const GROUP_HEADER: u32 = 64u;
+const GROUP_LIGHTS: u32 = 2u;
+
+// Screen pixels per tile side (`TILE` in `tile_classify.wgsl`): the compute passes'
+// workgroups are this size.
+const LIST_TILE: u32 = 16u;
+
+// The member the invocation works for (its place in the group: its layer of the group's
+// intermediates); its light is `frame_light`.
+var<private> member: u32 = 0u;
+
+// The first word of `member`'s list.
+fn member_list() -> u32 {
+    return GROUP_HEADER + member * group_lists[0];
+}
+
+fn listed_tile(index: u32) -> vec2<u32> {
+    let packed = group_lists[member_list() + 2u + index];
+    return vec2<u32>(packed & 0xffffu, packed >> 16u);
+}
+
+// The pixel invocation `local` of workgroup `group` works on, after setting the member and its
+// light from the dispatch's z, or -1 past its list's end or the screen's edge.
+fn listed_pixel(group: vec3<u32>, groups: vec3<u32>, local: vec3<u32>) -> vec2<i32> {
+    member = group.z;
+    frame_light = group_lists[GROUP_LIGHTS + member];
+    let index = group.x + group.y * groups.x;
+    if index >= group_lists[member_list()] {
+        return vec2<i32>(-1);
+    }
+    let pixel = listed_tile(index) * LIST_TILE + local.xy;
+    if any(vec2<f32>(pixel) >= frame.view.size) {
+        return vec2<i32>(-1);
+    }
+    return vec2<i32>(pixel);
+}
+
+// Corner `index` of listed tile `instance`'s quad in the first member's list (the passes over a
+// group are compute passes; this keeps the draws' entry points of a module valid).
+@vertex
+fn vs_listed_tile(@builtin(vertex_index) index: u32, @builtin(instance_index) instance: u32) -> @builtin(position) vec4<f32> {
+    let tile = listed_tile(instance);
+    let k = index % 6u;
+    let corner = vec2<u32>(u32(k == 1u || k == 4u || k == 5u), u32(k == 2u || k == 3u || k == 5u));
+    let pixel = min(vec2<f32>((tile + corner) * LIST_TILE), frame.view.size);
+    let ndc = vec2<f32>(pixel.x * frame.view.inv_size.x * 2.0 - 1.0, 1.0 - pixel.y * frame.view.inv_size.y * 2.0);
+    return vec4<f32>(ndc, 0.0, 1.0);
+}
