@@ -150,12 +150,17 @@ pub(crate) struct FrameSlots {
 
 impl FrameSlots {
     pub fn new(device: &wgpu::Device) -> Self {
+        // A storage buffer too: a pass over several lights binds it whole as one
+        // ([`crate::shaders::with_light_frames`]).
         Self {
-            buffer: crate::gpu_helpers::uniform_buffer(
-                device,
-                "Shadows::frames",
-                FRAME_STRIDE * crate::MAX_LIGHTS as u64,
-            ),
+            buffer: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("Shadows::frames"),
+                size: FRAME_STRIDE * crate::MAX_LIGHTS as u64,
+                usage: wgpu::BufferUsages::UNIFORM
+                    | wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
         }
     }
 
@@ -164,6 +169,17 @@ impl FrameSlots {
         FrameSlot {
             buffer: self.buffer.clone(),
             offset: FRAME_STRIDE * slot as u64,
+            size: FRAME_STRIDE,
+        }
+    }
+
+    /// Every slot, bound whole: a pass over several lights reads each one's frame from it
+    /// ([`crate::shaders::with_light_frames`]).
+    pub fn whole(&self) -> FrameSlot {
+        FrameSlot {
+            buffer: self.buffer.clone(),
+            offset: 0,
+            size: self.buffer.size(),
         }
     }
 
@@ -173,11 +189,13 @@ impl FrameSlots {
     }
 }
 
-/// One light's frame uniform: its slot of [`FrameSlots`], which the light's passes bind.
+/// One light's frame uniform: its slot of [`FrameSlots`], which the light's passes bind (or
+/// every slot, [`FrameSlots::whole`]).
 #[derive(Clone, Debug)]
 pub(crate) struct FrameSlot {
     buffer: wgpu::Buffer,
     offset: u64,
+    size: u64,
 }
 
 impl FrameSlot {
@@ -192,7 +210,7 @@ impl crate::gpu_helpers::Binding for FrameSlot {
         wgpu::BindingResource::Buffer(wgpu::BufferBinding {
             buffer: &self.buffer,
             offset: self.offset,
-            size: wgpu::BufferSize::new(FRAME_STRIDE),
+            size: wgpu::BufferSize::new(self.size),
         })
     }
 }

@@ -210,13 +210,27 @@ pub(crate) mod entry {
 
     /// A 2D storage texture of `format` a compute pass writes.
     pub(crate) fn storage_texture(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+        storage_texture_in(binding, format, false)
+    }
+
+    /// [`storage_texture`], a 2D array with `array`.
+    pub(crate) fn storage_texture_in(
+        binding: u32,
+        format: wgpu::TextureFormat,
+        array: bool,
+    ) -> wgpu::BindGroupLayoutEntry {
+        let view_dimension = if array {
+            wgpu::TextureViewDimension::D2Array
+        } else {
+            wgpu::TextureViewDimension::D2
+        };
         wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::StorageTexture {
                 access: wgpu::StorageTextureAccess::WriteOnly,
                 format,
-                view_dimension: wgpu::TextureViewDimension::D2,
+                view_dimension,
             },
             count: None,
         }

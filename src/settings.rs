@@ -827,6 +827,19 @@ pub struct ExecutionSettings {
     /// Which pass makes the distance-map method's exit map (the casters' faces turned away
     /// from the light). Default [`ExitMapDraw::Auto`].
     pub exit_map_draw: ExitMapDraw,
+    /// Run the screen-space passes of lights alike as one (true): each light's tile
+    /// classification still writes its own list, but the variable PCF and each blur axis are
+    /// then one dispatch over every listed tile of the group, where each light of it would
+    /// run its own. A group is the lights of `ours` of one kind whose maps share arrays and
+    /// whose chains are alike, where the compute passes write the lights' layers, keep half
+    /// floats and test the tiles' pixels by workgroups (a GPU; [`TilePixels::Workgroup`]
+    /// elsewhere), and the light's maps are not sized from the penumbra
+    /// ([`MapResolution::FromPenumbra`]) nor its intermediates inspected
+    /// (`Shadows::inspect`). Fewer dispatches a light (what a GPU pays per dispatch, not per
+    /// pixel), for memory: a group keeps each light's intermediates (the distance map, the
+    /// deviations, the blur's horizontal result: 8 bytes a pixel in half floats) where lights
+    /// run one after the other share one set. Not measured on a GPU yet. Default false.
+    pub light_groups: bool,
 }
 
 /// A choice of [`ExecutionSettings::exit_map_draw`]: the exit map kept by the shadow map's pass,
@@ -886,6 +899,7 @@ impl Default for ExecutionSettings {
             half_intermediates: true,
             raw_visibility: false,
             exit_map_draw: ExitMapDraw::Auto,
+            light_groups: false,
         }
     }
 }

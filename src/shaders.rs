@@ -128,9 +128,10 @@ pub fn with_map_arrays(source: &str) -> Option<String> {
 const ONE_FRAME: &str = "@group(0) @binding(0) var<uniform> frame: Frame;";
 
 /// `source` (a pass joined after `shaders/common/frame.wgsl`) reading the frame of one of
-/// several lights: the frame uniform bound whole as an array of every light's frame (the
-/// buffer of `crate::MAX_LIGHTS` slots each light's passes bind one slot of; `struct Frame` is
-/// padded so that the array's stride is the slots'), and each read of `frame` reading
+/// several lights: the frame uniforms' buffer (`crate::MAX_LIGHTS` slots, each light's passes
+/// bind one slot of) bound whole as a read-only storage buffer, an array of every light's frame
+/// (a uniform binding may be as small as 16 KiB, the slots take 20; `struct Frame` is padded so
+/// that the array's stride is the slots', and its layout is a uniform's), and each read of `frame` reading
 /// `frames[frame_light]`, where `frame_light` (a private variable, 0 until set) is the light
 /// the invocation works for: a pass over several lights' tiles sets it from the tile's entry
 /// before it reads the frame. Apply it after [`with_map_arrays`] (whose layers are frame reads
@@ -140,7 +141,7 @@ pub fn with_light_frames(source: &str) -> Option<String> {
         return None;
     }
     let declaration = format!(
-        "@group(0) @binding(0) var<uniform> frames: array<Frame, {}>;\n\
+        "@group(0) @binding(0) var<storage, read> frames: array<Frame, {}>;\n\
          // The light this invocation works for (`penumbra::shaders::with_light_frames`).\n\
          var<private> frame_light: u32 = 0u;",
         crate::MAX_LIGHTS
@@ -316,4 +317,24 @@ pub(crate) fn module_for(
         }),
         None => module(device, label, source),
     }
+}
+
+/// [`module`] of a pass over a group of lights' tile lists ([`with_light_groups`] with
+/// `layers`), its storage textures typed as `half` says ([`with_half_floats`]).
+pub(crate) fn module_grouped(
+    device: &wgpu::Device,
+    label: &str,
+    source: &'static str,
+    half: HalfFloats,
+    layers: &[(&str, &str)],
+) -> wgpu::ShaderModule {
+    let halves = with_half_floats(source, half);
+    let text = halves.as_deref().unwrap_or(source);
+    // The passes made so are named in the shader tests, which check that each is grouped.
+    let grouped =
+        with_light_groups(text, layers).unwrap_or_else(|| panic!("{label} is not a pass over a tile list"));
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Owned(grouped)),
+    })
 }

@@ -289,6 +289,19 @@ impl LightMaps {
         }
     }
 
+    /// The textures the maps are layers of (the shadow map, the fattened map, its occluder
+    /// offsets, the exit map): lights with the same can be read by one pass
+    /// ([`Self::screen_views`] with `arrays`).
+    pub fn array_textures(&self) -> [Option<wgpu::Texture>; 4] {
+        let fattened = self.fattened.as_ref();
+        [
+            Some(self.shadow.atlas.texture().clone()),
+            fattened.map(|f| f.texture().clone()),
+            fattened.map(|f| f.occluder_offset_layer().0.clone()),
+            self.exit_texture().cloned(),
+        ]
+    }
+
     /// The exit map's texture, wherever it is drawn.
     pub fn exit_texture(&self) -> Option<&wgpu::Texture> {
         match (&self.shadow.exit, &self.exit) {

@@ -355,23 +355,48 @@ impl BlurCompute {
         frame_size: usize,
         switches: BlurSwitches,
         half: crate::shaders::HalfFloats,
-        pcf_in_layer: bool,
+        (pcf_in_layer, grouped): (bool, bool),
     ) -> Self {
         let layers = half.layers;
         let format = super::visibility_storage(half.intermediates);
-        let shader = crate::shaders::module_for(device, "blur.wgsl", crate::shaders::BLUR, (half, false));
+        // Over a group of lights, an axis's module each: the two read their source from
+        // different arrays ([`crate::shaders::BLUR_GROUP_LAYERS`]).
+        let [shader, vertical_shader] = if grouped {
+            crate::shaders::BLUR_GROUP_LAYERS.map(|layers| {
+                crate::shaders::module_grouped(
+                    device,
+                    "blur.wgsl (group)",
+                    crate::shaders::BLUR,
+                    half,
+                    &layers,
+                )
+            })
+        } else {
+            let shader = crate::shaders::module_for(device, "blur.wgsl", crate::shaders::BLUR, (half, false));
+            [shader.clone(), shader]
+        };
         // The values are loaded, never sampled here: a sampler that does not filter.
-        let entries = input_entries(
+        let mut entries = input_entries(
             frame_size,
             wgpu::SamplerBindingType::NonFiltering,
             wgpu::TextureSampleType::Float { filterable: false },
             true,
         );
+        if grouped {
+            // Every light's frame (a storage buffer: [`crate::shaders::with_light_frames`]).
+            entries[0] = entry::storage_buffer(0, entries[0].visibility, true);
+            // The source, the distance map and the deviations, as arrays.
+            for entry in &mut entries[3..6] {
+                if let wgpu::BindingType::Texture { view_dimension, .. } = &mut entry.ty {
+                    *view_dimension = wgpu::TextureViewDimension::D2Array;
+                }
+            }
+        }
         let layout = crate::gpu_helpers::layout(device, "BlurCompute::layout", &entries);
         let out_layout = crate::gpu_helpers::layout(
             device,
             "BlurCompute::out_layout",
-            &[entry::storage_texture(1, format)],
+            &[entry::storage_texture_in(1, format, grouped)],
         );
         let axis_layout = crate::gpu_helpers::layout(
             device,
@@ -388,11 +413,11 @@ impl BlurCompute {
             ("DEPTH_AWARE", flag(switches.depth_aware)),
             ("COMPUTE_PATH", 1.0),
         ];
-        let axes = |label, entry, out_layout: &wgpu::BindGroupLayout| {
+        let axes_of = |shader, label, entry, out_layout: &wgpu::BindGroupLayout| {
             super::compute_pipeline(
                 device,
                 label,
-                &shader,
+                shader,
                 &[
                     Some(&layout),
                     Some(&axis_layout),
@@ -403,13 +428,18 @@ impl BlurCompute {
                 &constants,
             )
         };
+        let axes =
+            |label, entry, out_layout: &wgpu::BindGroupLayout| axes_of(&shader, label, entry, out_layout);
+        let vertical = |label, entry, out_layout: &wgpu::BindGroupLayout| {
+            axes_of(&vertical_shader, label, entry, out_layout)
+        };
         let pcf_in_layer = pcf_in_layer && layers;
         let into_layer = layers.then(|| {
-            let layer = entry::storage_texture(2, super::VISIBILITY_FORMAT);
+            let layer = entry::storage_texture_in(2, super::VISIBILITY_FORMAT, grouped);
             if pcf_in_layer {
                 let outputs = crate::gpu_helpers::layout(device, "BlurCompute::layer_only_layout", &[layer]);
                 (
-                    axes("BlurCompute::into_layer", "cs_layer_only", &outputs),
+                    vertical("BlurCompute::into_layer", "cs_layer_only", &outputs),
                     outputs,
                 )
             } else {
@@ -418,7 +448,7 @@ impl BlurCompute {
                     "BlurCompute::layer_layout",
                     &[entry::storage_texture(1, format), layer],
                 );
-                (axes("BlurCompute::into_layer", "cs_layer", &outputs), outputs)
+                (vertical("BlurCompute::into_layer", "cs_layer", &outputs), outputs)
             }
         });
         let copy = |label, fragment| {

@@ -266,6 +266,26 @@ pub(crate) struct DistanceMaps<'a> {
 }
 
 impl<'a> DistanceMaps<'a> {
+    /// `maps`' maps the distance map reads, as `views` (as a chain binds them) give them (none
+    /// without a fattened map).
+    pub(crate) fn of(
+        maps: &'a crate::light_maps::LightMaps,
+        views: &'a crate::light_maps::MapViews,
+    ) -> Option<Self> {
+        let texture = maps.fattened.as_ref()?.texture();
+        let (fattened_map, occluder_offset) = views.fattened.as_ref()?;
+        let shadow = maps.shadow.atlas.texture();
+        Some(DistanceMaps {
+            shadow_map: &views.shadow,
+            fattened_map,
+            fattened_size: (texture.width(), texture.height()),
+            shadow_size: (shadow.width(), shadow.height()),
+            occluder_offset,
+            // Without an exit map the shader reads none (`EXIT_MAP`): a stand-in is bound.
+            exit_map: views.exit.as_ref().unwrap_or(&views.shadow),
+        })
+    }
+
     /// The distance map shader's inputs at bindings 0-6: the frame uniform, the maps, the
     /// camera depth and the receiver mask, in its order.
     fn inputs(

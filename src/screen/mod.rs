@@ -40,6 +40,7 @@
 mod blur;
 mod chains;
 mod distance_map;
+mod light_group;
 mod pcf;
 mod pcss;
 mod resolve;
@@ -52,8 +53,9 @@ mod variable_pcf;
 #[cfg(test)]
 pub(crate) use blur::BlurUniform;
 pub(crate) use blur::{BlurCompute, BlurInput, BlurPass};
-pub(crate) use chains::{ScreenChain, ScreenInputs};
+pub(crate) use chains::{ChainKey, Mark, ScreenChain, ScreenInputs};
 pub(crate) use distance_map::{DistanceMapCompute, DistanceMapPass, DistanceMaps};
+pub(crate) use light_group::{GroupMember, LightGroup, MAX_MEMBERS as MAX_GROUP_MEMBERS};
 pub(crate) use pcf::PcfPass;
 pub(crate) use pcss::PcssPass;
 pub(crate) use resolve::ResolvePass;

@@ -289,6 +289,9 @@ pub(crate) struct ClearedByList<'a> {
 #[derive(Clone)]
 pub(crate) struct TileListTargets {
     list: wgpu::Buffer,
+    /// Where in `list` the list lies (offset, size): all of it, or a group member's region
+    /// ([`Self::in_region`]).
+    list_range: (u64, u64),
     args: wgpu::Buffer,
     classes: Target,
     /// The list as group [`super::TILE_LIST_GROUP`].
@@ -313,7 +316,7 @@ impl TileListTargets {
         let list_usage = wgpu::BufferUsages::STORAGE;
         let args_usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT;
         // The count, the running count the classification appends with, the tiles.
-        let words = 4 * (2 + u64::from(tiles.0 * tiles.1));
+        let words = list_bytes(tiles);
         let list = buffer("TileListTargets::list", words, list_usage);
         let group = Self::list_group(device, "TileListTargets::list", &list);
         let away = buffer("TileListTargets::away", words, list_usage);
@@ -329,9 +332,48 @@ impl TileListTargets {
                 REDUCED_STORAGE_FORMAT,
                 false,
             ),
+            list_range: (0, words),
             list,
             group,
         }
+    }
+
+    /// The bytes of one screen's list (`width` x `height`): the count, the running count the
+    /// classification appends with, one word a tile.
+    pub fn list_bytes((width, height): (u32, u32)) -> u64 {
+        list_bytes(TileClassifyPass::tiles(width, height))
+    }
+
+    /// For a `width` x `height` screen, the list written at `offset` in `list` (a region of a
+    /// group's lists, [`super::LightGroup`]): the rest its own, as [`Self::new`]'s.
+    pub fn in_region(device: &wgpu::Device, size: (u32, u32), list: &wgpu::Buffer, offset: u64) -> Self {
+        let own = Self::new(device, size);
+        let range = (offset, Self::list_bytes(size));
+        let group = crate::gpu_helpers::bind_group(
+            device,
+            "TileListTargets::region",
+            &TileListPass::list_layout(device),
+            &[&wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: list,
+                offset: range.0,
+                size: wgpu::BufferSize::new(range.1),
+            })],
+        );
+        Self {
+            list: list.clone(),
+            list_range: range,
+            group,
+            ..own
+        }
+    }
+
+    /// The list as the classification binds it.
+    fn list_binding(&self) -> wgpu::BindingResource<'_> {
+        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer: &self.list,
+            offset: self.list_range.0,
+            size: wgpu::BufferSize::new(self.list_range.1),
+        })
     }
 
     /// Every tile of a `width` x `height` screen, listed once (a pass over the whole screen).
@@ -353,6 +395,7 @@ impl TileListTargets {
             )
         };
         let list = filled("TileListTargets::every_tile", wgpu::BufferUsages::STORAGE, &words);
+        let list_range = (0, list.size());
         // As `cs_finish` writes them.
         let dispatch = [count.min(65535), count.div_ceil(65535), 1, 0];
         // No tile is turned away (the classification does not run): none at AWAY_ARGS.
@@ -392,6 +435,7 @@ impl TileListTargets {
         let away_group = Self::list_group(device, "TileListTargets::no_tile", &away);
         Self {
             list,
+            list_range,
             args,
             away: (away, away_group),
             classes: super::storage_target(
@@ -416,7 +460,7 @@ impl TileListTargets {
     }
 
     pub fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.classes.texture) + self.list.size() + self.args.size() + self.away.0.size()
+        texture_bytes(&self.classes.texture) + self.list_range.1 + self.args.size() + self.away.0.size()
     }
 
     /// One texel per screen tile: 1 where it was listed.
@@ -680,7 +724,7 @@ impl TileListPass {
             (1, wgpu::BindingResource::TextureView(camera_depth)),
             (2, wgpu::BindingResource::TextureView(&self.reduced.view)),
             (4, wgpu::BindingResource::Sampler(&self.gather)),
-            (5, targets.list.as_entire_binding()),
+            (5, targets.list_binding()),
             (7, targets.args.as_entire_binding()),
             (8, wgpu::BindingResource::TextureView(&targets.classes.view)),
             (9, targets.away.0.as_entire_binding()),

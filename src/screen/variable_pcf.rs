@@ -355,35 +355,55 @@ impl VariablePcfCompute {
     /// light kind; with `distance`, the distance map's switches, it takes the distance map's
     /// value itself (see the type's documentation); with `half` it stores half floats; with
     /// `arrays` it reads the light's maps as layers of arrays
-    /// ([`crate::shaders::with_map_arrays`]).
+    /// ([`crate::shaders::with_map_arrays`]); with `grouped` it runs over a group of lights'
+    /// lists ([`crate::shaders::with_light_groups`]: the frame uniform bound whole, the
+    /// visibility, deviations and distance map as arrays, see [`super::LightGroup`]).
     pub(crate) fn new(
         device: &wgpu::Device,
         frame_size: usize,
         (switches, distance): (PcfSwitches, Option<DistanceSwitches>),
         light_kind: u32,
-        (half, arrays): (bool, bool),
+        (half, arrays, grouped): (bool, bool, bool),
     ) -> Self {
         let storage = crate::shaders::HalfFloats {
             layers: false,
             intermediates: half,
         };
-        let shader = crate::shaders::module_for(
-            device,
-            "variable_pcf.wgsl",
-            crate::shaders::VARIABLE_PCF,
-            (storage, arrays),
-        );
+        let shader = if grouped {
+            crate::shaders::module_grouped(
+                device,
+                "variable_pcf.wgsl (group)",
+                crate::shaders::VARIABLE_PCF,
+                storage,
+                &crate::shaders::PCF_GROUP_LAYERS,
+            )
+        } else {
+            crate::shaders::module_for(
+                device,
+                "variable_pcf.wgsl",
+                crate::shaders::VARIABLE_PCF,
+                (storage, arrays),
+            )
+        };
+        let arrays = arrays || grouped;
+        let written = |binding, format| entry::storage_texture_in(binding, format, grouped);
         let unfilterable = entry::UNFILTERABLE;
         let map = |binding, sample_type| entry::and_compute(entry::light_map(binding, sample_type, arrays));
+        // Over a group, every light's frame (a storage buffer: [`crate::shaders::with_light_frames`]).
+        let frame = if grouped {
+            entry::storage_buffer(0, wgpu::ShaderStages::COMPUTE, true)
+        } else {
+            entry::uniform(0, wgpu::ShaderStages::COMPUTE, frame_size, false)
+        };
         let mut entries = vec![
-            entry::uniform(0, wgpu::ShaderStages::COMPUTE, frame_size, false),
+            frame,
             entry::and_compute(entry::texture_2d(1, unfilterable)),
             entry::and_compute(entry::texture_2d(2, unfilterable)),
             map(3, wgpu::TextureSampleType::Depth),
             entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::Comparison)),
             entry::uniform(5, wgpu::ShaderStages::COMPUTE, size_of::<PcfUniform>(), false),
-            entry::storage_texture(6, super::visibility_storage(half)),
-            entry::storage_texture(7, super::sigma_storage(half)),
+            written(6, super::visibility_storage(half)),
+            written(7, super::sigma_storage(half)),
             entry::storage_buffer(8, wgpu::ShaderStages::COMPUTE, false),
         ];
         if distance.is_some() {
@@ -394,7 +414,7 @@ impl VariablePcfCompute {
                 entry::and_compute(entry::texture_2d(10, unfilterable)),
                 map(11, unfilterable),
                 map(12, unfilterable),
-                entry::storage_texture(13, super::DistanceMapCompute::format(half)),
+                written(13, super::DistanceMapCompute::format(half)),
                 map(14, unfilterable),
             ]);
         }

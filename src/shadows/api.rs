@@ -11,7 +11,7 @@ use crate::gpu_helpers::{Target, scoped, texture_bytes};
 use crate::light_maps::FarPlaneFill;
 use crate::light_maps::{LightMaps, MapPools, Moved};
 use crate::scene::{Light, MAX_LIGHTS};
-use crate::screen::{ComputeNeeds, ComputeTargets, ScreenChain};
+use crate::screen::{ComputeNeeds, ComputeTargets, DistanceMaps, LightGroup, ScreenChain};
 use crate::settings::{ShadowMethod, ShadowSettings};
 use crate::timing::PassStage;
 
@@ -112,6 +112,9 @@ pub struct Shadows {
     /// Every light's frame uniform, a slot a light (the light's slot in `lights`): one buffer,
     /// which a pass over several lights can bind whole.
     frames: FrameSlots,
+    /// The groups of lights whose screen-space passes run as one
+    /// ([`crate::ExecutionSettings::light_groups`]).
+    groups: Vec<LightGroup>,
 }
 
 impl Shadows {
@@ -142,6 +145,7 @@ impl Shadows {
             far_plane: FarPlaneFill::new(device, &settings.shadow_map),
             map_pools: MapPools::new(device, crate::screen::has_compute(device)),
             frames: FrameSlots::new(device),
+            groups: Vec::new(),
         });
         match error {
             Some(error) => Err(PenumbraError::gpu("creating the shadows", error)),
@@ -340,6 +344,7 @@ impl Shadows {
                 .flatten()
                 .map(LightState::allocated_bytes)
                 .sum::<u64>()
+            + self.groups.iter().map(LightGroup::allocated_bytes).sum::<u64>()
     }
 
     /// The lights, in layer order.
@@ -463,7 +468,21 @@ impl Shadows {
             }
             this.map_pools.flush(device, queue);
             this.fit_compute_targets(device);
-            this.bind_lights(device, layer_writes);
+            this.fit_groups(device, layer_writes);
+            let rebound = this.bind_lights(device, layer_writes);
+            this.bind_groups(device, &rebound);
+            for group in &this.groups {
+                // The parameters of the members' method (one chain key: one method).
+                let first = this.lights.get(group.slots()[0]).and_then(Option::as_ref);
+                let Some(planned) = first.and_then(|s| s.planned) else {
+                    continue;
+                };
+                let settings = ShadowSettings {
+                    method: planned.chain.method(),
+                    ..this.settings
+                };
+                group.prepare(queue, &pass_params(&settings, this.software));
+            }
             // The far-plane buffer as large as the largest 16-bit map the lights hold now.
             if let Some(fill) = &mut this.far_plane {
                 let needed = this
@@ -565,11 +584,13 @@ impl Shadows {
     }
 
     /// Points each light's passes whose chain changed at their inputs (the compute passes at
-    /// the light's layer where they write it, `layer_writes`).
-    fn bind_lights(&mut self, device: &wgpu::Device, layer_writes: bool) {
+    /// the light's layer where they write it, `layer_writes`; a group's member at its part of
+    /// the group); returns the slots of the lights bound.
+    fn bind_lights(&mut self, device: &wgpu::Device, layer_writes: bool) -> Vec<usize> {
         let inputs = self.inputs.as_ref().expect("taken before");
         let mask_view = inputs.mask.as_ref().map_or(&self.dummy.view, |m| &m.view);
         let layers = &self.visibility.as_ref().expect("taken before").2;
+        let mut rebound = Vec::new();
         for (slot, state) in self
             .lights
             .iter_mut()
@@ -580,10 +601,102 @@ impl Shadows {
             if state.bound != Some(chain) {
                 let compute = self.compute_targets.as_ref().filter(|_| chain.compute());
                 let layer = layers.get(slot).filter(|_| layer_writes);
+                let group = self.groups.iter().find_map(|g| g.member(slot));
                 let depth = (&inputs.depth_view, mask_view);
-                state.bind(device, depth, &self.dummy.view, compute, layer);
+                state.bind(device, depth, &self.dummy.view, (compute, layer, group));
                 state.bound = Some(chain);
+                rebound.push(slot);
             }
+        }
+        rebound
+    }
+
+    /// Forms the groups of lights whose screen-space passes run as one, where the settings ask
+    /// for it ([`crate::ExecutionSettings::light_groups`]): the lights planned for chains of
+    /// one key that [`LightGroup::groups`], whose maps are layers of the same arrays, and whose
+    /// intermediates are neither measured ([`crate::MapResolution::FromPenumbra`]) nor
+    /// inspected ([`Shadows::inspect`]), two or more. A group that stays as it was is kept;
+    /// the lights that join or leave a group are bound again.
+    fn fit_groups(&mut self, device: &wgpu::Device, layer_writes: bool) {
+        let mut wanted: Vec<(crate::screen::ChainKey, [Option<wgpu::Texture>; 4], Vec<usize>)> = Vec::new();
+        let on = self.settings.execution.light_groups && layer_writes && self.screen_space;
+        for (slot, state) in self
+            .lights
+            .iter()
+            .enumerate()
+            .filter_map(|(slot, s)| Some((slot, s.as_ref()?)))
+            .filter(|_| on)
+        {
+            let key = *state.screen.key();
+            let (Some(plan), Some(maps)) = (&state.planned, &state.maps) else {
+                continue;
+            };
+            if plan.probe.is_some()
+                || self.inspected == Some(LightId(slot as u32))
+                || !LightGroup::groups(&key, device)
+            {
+                continue;
+            }
+            let arrays = maps.array_textures();
+            let joins = wanted.iter_mut().find(|(k, a, slots)| {
+                *k == key && *a == arrays && slots.len() < crate::screen::MAX_GROUP_MEMBERS
+            });
+            match joins {
+                Some((_, _, slots)) => slots.push(slot),
+                None => wanted.push((key, arrays, vec![slot])),
+            }
+        }
+        wanted.retain(|(_, _, slots)| slots.len() > 1);
+        let mut old: Vec<Option<LightGroup>> =
+            std::mem::take(&mut self.groups).into_iter().map(Some).collect();
+        let mut moved = Vec::new();
+        for (key, _, slots) in wanted {
+            let kept = old
+                .iter_mut()
+                .find(|g| g.as_ref().is_some_and(|g| g.fits(&key, &slots, self.size)))
+                .and_then(Option::take);
+            let group = kept.unwrap_or_else(|| {
+                moved.extend(&slots);
+                LightGroup::new(device, key, slots, self.size)
+            });
+            self.groups.push(group);
+        }
+        moved.extend(old.iter().flatten().flat_map(|g| g.slots().to_vec()));
+        for slot in moved {
+            if let Some(Some(state)) = self.lights.get_mut(slot) {
+                state.bound = None;
+            }
+        }
+    }
+
+    /// Points each group's passes at their inputs where one of its lights was bound again
+    /// (`rebound`) or it is new, and uploads their parameters.
+    fn bind_groups(&mut self, device: &wgpu::Device, rebound: &[usize]) {
+        if self.groups.is_empty() {
+            return;
+        }
+        let inputs = self.inputs.as_ref().expect("taken before");
+        let mask_view = inputs.mask.as_ref().map_or(&self.dummy.view, |m| &m.view);
+        let visibility = &self.visibility.as_ref().expect("taken before").1;
+        for group in &mut self.groups {
+            if group.bound && !group.slots().iter().any(|s| rebound.contains(s)) {
+                continue;
+            }
+            // Every member's maps are layers of the first one's arrays.
+            let first = group.slots()[0];
+            let Some(Some(maps)) = self
+                .lights
+                .get(first)
+                .map(|s| s.as_ref().and_then(|s| s.maps.as_ref()))
+            else {
+                continue;
+            };
+            let views = maps.screen_views(true);
+            let Some(distance_maps) = DistanceMaps::of(maps, &views) else {
+                continue;
+            };
+            let screen = (&inputs.depth_view, mask_view, &self.dummy.view);
+            group.bind(device, &self.frames, screen, &distance_maps, visibility);
         }
     }
 
@@ -658,6 +771,15 @@ impl Shadows {
             let report = plan.report(LightId(slot as u32), state.widths.map(|(w, _)| w));
             state.report = Some(report);
             reports.push(report);
+        }
+        // Each group's passes, after its lights' classifications.
+        if self.screen_space {
+            let visibility = &self.visibility.as_ref().expect("prepared").1;
+            for group in &self.groups {
+                let screen_space =
+                    &mut |e: &mut wgpu::CommandEncoder, pass| mark(e, pass, PassStage::ScreenSpace);
+                group.encode(encoder, visibility, screen_space);
+            }
         }
         reports.sort_by_key(|r| r.light.layer());
         Ok(reports)

@@ -170,15 +170,18 @@ impl LightState {
     }
 
     /// Points every pass of the chain at its inputs: the engine's depth and receiver mask, a
-    /// stand-in, the compute path's intermediates and the light's layer where the compute
-    /// passes write it themselves.
+    /// stand-in, the compute path's intermediates, the light's layer where the compute
+    /// passes write it themselves, and its part of the group it runs in.
     pub(super) fn bind(
         &mut self,
         device: &wgpu::Device,
         (depth, mask): (&wgpu::TextureView, &wgpu::TextureView),
         dummy: &wgpu::TextureView,
-        compute: Option<&ComputeTargets>,
-        layer: Option<&wgpu::TextureView>,
+        (compute, layer, group): (
+            Option<&ComputeTargets>,
+            Option<&wgpu::TextureView>,
+            Option<&crate::screen::GroupMember>,
+        ),
     ) {
         let Some(maps) = &self.maps else { return };
         let views = maps.screen_views(self.screen.map_arrays());
@@ -191,6 +194,7 @@ impl LightState {
             dummy,
             compute,
             layer,
+            group,
         };
         self.screen.bind(device, &inputs);
     }

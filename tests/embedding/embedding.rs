@@ -1903,3 +1903,95 @@ fn maps_only_draws_the_shadow_map_and_no_screen_space_pass() {
         "{shadowed} shadowed pixels once the screen-space passes are back"
     );
 }
+
+/// With `ExecutionSettings::light_groups`, suns alike run the variable PCF and the blur as one
+/// group: one dispatch each over every sun's tile list. Four suns and a spot (a kind of its
+/// own: it runs its own chain) give the same layers to within a half float's rounding as
+/// when each light runs its own chain, with one "pcf" and one "blur" for the suns' group where
+/// each light ran its own; each sun's layer holds its shadow and a penumbra. The tiles' pixels
+/// are tested by workgroups in both runs (the groups need it; a CPU adapter would loop).
+#[test]
+fn suns_alike_run_their_screen_passes_as_one_group() {
+    let gpu = common::gpu();
+    if gpu.adapter.get_info().backend == wgpu::Backend::Gl {
+        return;
+    }
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let w = world(&gpu);
+    let depth = DepthPass::new(device);
+    let azimuths = [0.0, 90.0, 180.0, 270.0];
+    let run = |groups: bool| {
+        let mut settings = ShadowSettings::default();
+        settings.execution.tile_pixels = penumbra::TilePixels::Workgroup;
+        settings.execution.light_groups = groups;
+        let mut shadows = Shadows::new(device, settings).unwrap();
+        let mut ids: Vec<_> = azimuths
+            .iter()
+            .map(|a| shadows.add_light(device, sun(*a)).unwrap())
+            .collect();
+        ids.push(shadows.add_light(device, spot_over_the_box()).unwrap());
+        let camera = top_camera();
+        // Two frames: the second with the maps kept, as a running application's.
+        let mut passes = Vec::new();
+        for _ in 0..2 {
+            passes.clear();
+            let mut encoder = device.create_command_encoder(&Default::default());
+            depth.draw(
+                device,
+                &mut encoder,
+                camera.view_projection(),
+                &[
+                    (&w.box_mesh, Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0))),
+                    (&w.floor_mesh, Mat4::IDENTITY),
+                ],
+            );
+            let view = ViewInputs::new(camera, &depth.depth);
+            shadows.prepare(device, queue, &w.casters, &view).unwrap();
+            shadows
+                .encode_with_marks(&mut encoder, &w.casters, &mut |_, pass, _| passes.push(pass))
+                .unwrap();
+            queue.submit([encoder.finish()]);
+        }
+        let layers: Vec<Vec<f32>> = ids
+            .iter()
+            .map(|id| read_layer(&gpu, &shadows, id.layer()))
+            .collect();
+        (layers, passes, shadows.allocated_bytes())
+    };
+    let (apart, apart_passes, apart_bytes) = run(false);
+    let (grouped, grouped_passes, grouped_bytes) = run(true);
+    let count = |passes: &[&str], name| passes.iter().filter(|p| **p == name).count();
+    // Five lights' classifications either way; the suns' PCF and blur once where grouped.
+    assert_eq!(count(&apart_passes, "distance map"), 5, "{apart_passes:?}");
+    assert_eq!(count(&grouped_passes, "distance map"), 5, "{grouped_passes:?}");
+    assert_eq!(count(&apart_passes, "pcf"), 5, "{apart_passes:?}");
+    assert_eq!(count(&grouped_passes, "pcf"), 2, "{grouped_passes:?}");
+    assert_eq!(count(&grouped_passes, "blur"), 2, "{grouped_passes:?}");
+    // The group keeps each sun's intermediates: more memory, never less.
+    assert!(
+        grouped_bytes > apart_bytes,
+        "{grouped_bytes} against {apart_bytes}"
+    );
+    for (k, (a, g)) in apart.iter().zip(&grouped).enumerate() {
+        let worst = a.iter().zip(g).map(|(a, g)| (a - g).abs()).fold(0.0f32, f32::max);
+        assert!(worst < 2e-3, "light {k}: the group's layer differs by {worst}");
+        let shadowed = g.iter().filter(|v| **v < 0.2).count();
+        let soft = g.iter().filter(|v| **v > 0.05 && **v < 0.95).count();
+        assert!(
+            shadowed > 200 && soft > 50,
+            "light {k}: {shadowed} shadowed, {soft} soft texels"
+        );
+    }
+    // Each sun's shadow where it throws it, lit where the opposite sun throws its own.
+    let shadow_point = |azimuth: f32| {
+        let a = azimuth.to_radians();
+        Vec3::new(a.cos(), 0.0, a.sin()) * 1.5
+    };
+    for (k, azimuth) in azimuths.iter().enumerate() {
+        assert!(grouped[k][top_pixel(shadow_point(*azimuth))] < 0.2, "sun {k}");
+        assert!(
+            grouped[k][top_pixel(shadow_point(azimuth + 180.0))] > 0.95,
+            "sun {k}"
+        );
+    }
+}

@@ -16,4 +16,4 @@ mod screen_chain;
 mod single_pass;
 mod traditional;
 
-pub(crate) use screen_chain::{ScreenChain, ScreenInputs};
+pub(crate) use screen_chain::{ChainKey, Mark, ScreenChain, ScreenInputs};

@@ -22,6 +22,9 @@ pub(crate) struct OursChain {
     resolve: ResolvePass,
     /// The shared intermediates, as bound.
     targets: Option<ComputeTargets>,
+    /// Bound as a member of a group of lights ([`crate::screen::LightGroup`]): the chain runs
+    /// its tile classification alone, and the group the passes after it.
+    grouped: bool,
 }
 
 impl OursChain {
@@ -57,14 +60,15 @@ impl OursChain {
                 FRAME_SIZE,
                 (key.pcf, in_pcf.then_some(key.distance)),
                 kind,
-                (half.intermediates, key.map_arrays),
+                (half.intermediates, key.map_arrays, false),
             ),
             blur: key
                 .blur
-                .map(|switches| BlurCompute::new(device, FRAME_SIZE, switches, half, into_layer)),
+                .map(|switches| BlurCompute::new(device, FRAME_SIZE, switches, half, (into_layer, false))),
             resolve: ResolvePass::new(device, FRAME_SIZE),
             targets: None,
             into_layer,
+            grouped: false,
         }
     }
 }
@@ -74,6 +78,7 @@ impl MethodChain for OursChain {
 
     fn unbind(&mut self) {
         self.targets = None;
+        self.grouped = false;
     }
 
     fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
@@ -81,6 +86,20 @@ impl MethodChain for OursChain {
         let (Some(maps), Some(all)) = (distance_maps(inputs), inputs.compute) else {
             return;
         };
+        self.grouped = false;
+        if let (Some(member), Some(layer)) = (inputs.group, inputs.layer) {
+            // The classification clears the member's layers and the light's.
+            let cleared = ClearedByList {
+                distance: &member.distance,
+                visibility: layer,
+                blurred: Some(&member.blurred),
+            };
+            self.distance
+                .bind(device, (&member.tiles, &cleared), frame, &maps, (depth, mask));
+            self.targets = Some(all.clone());
+            self.grouped = true;
+            return;
+        }
         let Some(shared) = &all.distance_map else {
             return;
         };
@@ -121,6 +140,13 @@ impl MethodChain for OursChain {
         let (Some(listed), Some(targets)) = (self.distance.listed(), &self.targets) else {
             return;
         };
+        let maps_drawn = recorder.maps_drawn;
+        if self.grouped {
+            // The classification clears what the group's passes read (it tests pixels by
+            // workgroups: `LightGroup::groups`).
+            recorder.pass("distance map", |e| self.distance.encode(e, maps_drawn));
+            return;
+        }
         // The tile classification sets the intermediates where it tests pixels by workgroups
         // (a GPU): their clear values, and 0 over the tiles turned away from the light.
         // Otherwise each is cleared before the pass that fills it, and the passes write the 0
@@ -133,7 +159,6 @@ impl MethodChain for OursChain {
         };
         // Where the variable PCF takes the distance itself (the default), the mark "distance
         // map" times the tile list, and "pcf" the distance map with PCF.
-        let maps_drawn = recorder.maps_drawn;
         recorder.pass("distance map", |e| {
             clear(e, Cleared::Distance);
             self.distance.encode(e, maps_drawn)
@@ -171,13 +196,24 @@ impl MethodChain for OursChain {
         Some(self.pcf.probe_mut())
     }
 
+    /// None where grouped: the group holds the light's distance map, in a layer of its own.
     fn distance_texture(&self) -> Option<&wgpu::Texture> {
-        let shared = self.targets.as_ref()?.distance_map.as_ref()?;
+        let shared = self
+            .targets
+            .as_ref()
+            .filter(|_| !self.grouped)?
+            .distance_map
+            .as_ref()?;
         Some(&shared.distance.texture)
     }
 
     fn tile_classes_texture(&self) -> Option<&wgpu::Texture> {
-        let shared = self.targets.as_ref()?.distance_map.as_ref()?;
+        let shared = self
+            .targets
+            .as_ref()
+            .filter(|_| !self.grouped)?
+            .distance_map
+            .as_ref()?;
         Some(shared.tiles.classes_texture())
     }
 
@@ -276,17 +312,5 @@ impl MethodChain for OursDrawChain {
 /// The light's maps the distance map reads, as its chain binds them (none without a fattened
 /// map).
 fn distance_maps<'a>(inputs: &ScreenInputs<'a>) -> Option<DistanceMaps<'a>> {
-    let (maps, views) = (inputs.maps, inputs.views);
-    let texture = maps.fattened.as_ref()?.texture();
-    let (fattened_map, occluder_offset) = views.fattened.as_ref()?;
-    let shadow = maps.shadow.atlas.texture();
-    Some(DistanceMaps {
-        shadow_map: &views.shadow,
-        fattened_map,
-        fattened_size: (texture.width(), texture.height()),
-        shadow_size: (shadow.width(), shadow.height()),
-        occluder_offset,
-        // Without an exit map the shader reads none (`EXIT_MAP`): a stand-in is bound.
-        exit_map: views.exit.as_ref().unwrap_or(&views.shadow),
-    })
+    DistanceMaps::of(inputs.maps, inputs.views)
 }

@@ -27,6 +27,9 @@ pub(crate) struct ScreenInputs<'a> {
     /// The light's layer of the visibility array, where the compute passes write it themselves
     /// ([`PassParams::layer_writes`]).
     pub layer: Option<&'a wgpu::TextureView>,
+    /// The light's part of the group it runs in ([`crate::screen::LightGroup`]): its chain then
+    /// runs its tile classification alone, into these, and the group the rest.
+    pub group: Option<&'a crate::screen::GroupMember>,
 }
 
 impl<'a> ScreenInputs<'a> {
@@ -306,6 +309,11 @@ impl ScreenChain {
         for stage in self.passes.iter().flat_map(|p| p.stages()) {
             stage.prepare(queue, params);
         }
+    }
+
+    /// What the passes were made for.
+    pub fn key(&self) -> &ChainKey {
+        &self.key
     }
 
     /// The compute passes bind the light's maps as the arrays they are layers of

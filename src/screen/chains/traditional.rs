@@ -43,7 +43,7 @@ impl TraditionalChain {
             pcf: PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, pcf_path),
             blur: key
                 .blur
-                .map(|s| BlurCompute::new(device, FRAME_SIZE, s, half, false)),
+                .map(|s| BlurCompute::new(device, FRAME_SIZE, s, half, (false, false))),
             resolve: ResolvePass::new(device, FRAME_SIZE),
             targets: None,
         }
