@@ -53,6 +53,10 @@ pub struct Config {
     /// How many of the "Tiles deep in the umbra" section's four scenes are timed (in its
     /// order: the teapot under its sun and under a smaller one, the room, the outdoor street).
     pub umbra_cases: usize,
+    /// How many spots (22.5 degrees apart) are timed with their screen-space passes run as one
+    /// group and apart (`ExecutionSettings::light_groups` on and off, the tiles' pixels tested
+    /// by workgroups both times).
+    pub grouped_spots: Vec<usize>,
     pub out_dir: PathBuf,
 }
 
@@ -88,6 +92,7 @@ impl Config {
             caster_levels: vec![0, 2, 4],
             cascade_counts: vec![1, 2, 4],
             umbra_cases: 4,
+            grouped_spots: vec![4, penumbra::MAX_LIGHTS],
             out_dir,
         }
     }
@@ -150,6 +155,7 @@ impl Config {
             // The teapot alone: the other three scenes took 30 of the smoke run's 235 s on
             // lavapipe (the room and the outdoor street load and draw far more).
             umbra_cases: 1,
+            grouped_spots: vec![4],
             ..Self::quick(out_dir)
         }
     }
@@ -208,6 +214,9 @@ pub struct LightsRun {
     /// 0.25 for lights whose penumbrae are smaller than the first's.
     pub size_ratio: f32,
     pub lights: usize,
+    /// With the defaults (none), or with the tiles' pixels tested by workgroups and the
+    /// lights' screen-space passes run as one group (true) or apart (false).
+    pub grouped: Option<bool>,
     pub distance_map_ms: f64,
     pub pcf_ms: f64,
     pub blur_ms: f64,
@@ -375,7 +384,7 @@ impl Embedding {
     pub fn first_of(&self, r: &LightsRun) -> Option<&LightsRun> {
         self.added_lights
             .iter()
-            .find(|o| o.kind == r.kind && o.apart_deg == r.apart_deg && o.lights == 1)
+            .find(|o| o.kind == r.kind && o.apart_deg == r.apart_deg && o.lights == 1 && o.grouped.is_none())
     }
 }
 
@@ -1047,21 +1056,36 @@ fn measure_added_lights(
     for kind in ["sun", "spot", "point"] {
         configs.push((kind, 90.0, 4, 0.25));
     }
+    let mut configs: Vec<_> = configs
+        .into_iter()
+        .map(|(k, a, n, s)| (k, a, n, s, None))
+        .collect();
     // Eight and sixteen (`MAX_LIGHTS`) spots 22.5 degrees apart on the circle, each where no
     // other is: how each added light's cost holds up past four (issue 64's 1, 4, 8 lights, and
     // its 16 shadowed lights in one frame).
     for lights in [1usize, 8, penumbra::MAX_LIGHTS] {
-        configs.push(("spot", 22.5, lights, 1.0));
+        configs.push(("spot", 22.5, lights, 1.0, None));
+    }
+    // Spots run apart and as one group (`ExecutionSettings::light_groups`), the tiles tested by
+    // workgroups both times (the groups need it; a GPU's default).
+    for &lights in &config.grouped_spots {
+        for grouped in [false, true] {
+            configs.push(("spot", 22.5, lights, 1.0, Some(grouped)));
+        }
     }
     {
-        for (kind, apart_deg, lights, size_ratio) in configs {
+        for (kind, apart_deg, lights, size_ratio, grouped) in configs {
             {
                 let mut scene = scene.clone();
                 scene.light = added_light(&scene, kind, 0, apart_deg);
                 scene.more_lights = (1..lights)
                     .map(|k| sized_light(&scene, kind, k, apart_deg, size_ratio))
                     .collect();
-                let settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+                let mut settings = ShadowSettings::preset(ShadowMethod::Ours, Quality::Medium);
+                if let Some(grouped) = grouped {
+                    settings.execution.tile_pixels = penumbra::TilePixels::Workgroup;
+                    settings.execution.light_groups = grouped;
+                }
                 let format = wgpu::TextureFormat::Rgba8UnormSrgb;
                 let mut renderer = Renderer::new(&gpu.device, format, settings)?;
                 let mut gpu_scene = GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene)?;
@@ -1084,14 +1108,22 @@ fn measure_added_lights(
                     apart_deg,
                     size_ratio,
                     lights,
+                    grouped,
                     distance_map_ms: pass("distance map"),
                     pcf_ms: pass("pcf"),
                     blur_ms: pass("blur"),
                 };
                 println!(
                     "added lights: {lights} {kind}(s) {apart_deg} degrees apart, sizes x{size_ratio} \
-                     past the first: distance map {:.2}, pcf {:.2}, blur {:.2} ms",
-                    run.distance_map_ms, run.pcf_ms, run.blur_ms
+                     past the first{}: distance map {:.2}, pcf {:.2}, blur {:.2} ms",
+                    match grouped {
+                        Some(true) => ", as one group",
+                        Some(false) => ", apart (tiles by workgroups)",
+                        None => "",
+                    },
+                    run.distance_map_ms,
+                    run.pcf_ms,
+                    run.blur_ms
                 );
                 runs.push(run);
             }
@@ -2059,7 +2091,7 @@ fn write_added_light_targets(md: &mut String, embedding: &Embedding) -> Result<(
         embedding
             .added_lights
             .iter()
-            .filter(|r| r.lights == 4 && r.size_ratio == size_ratio)
+            .filter(|r| r.lights == 4 && r.size_ratio == size_ratio && r.grouped.is_none())
             .filter_map(|r| Some((r, r.added_per_first(embedding.first_of(r)?))))
             .collect()
     };
@@ -2177,7 +2209,7 @@ fn write_embedding(md: &mut String, embedding: &Embedding) -> Result<()> {
          | type | apart | sizes | lights | distance map ms | pcf ms | blur ms | together ms | added ms |\n\
          |---|---|---|---|---|---|---|---|---|"
     )?;
-    for r in &embedding.added_lights {
+    for r in embedding.added_lights.iter().filter(|r| r.grouped.is_none()) {
         let added = match embedding.first_of(r) {
             Some(f) if r.lights > 1 => format!(
                 "{:.2}",
@@ -2200,7 +2232,11 @@ fn write_embedding(md: &mut String, embedding: &Embedding) -> Result<()> {
     }
     // Lights two to four against the first, by type: the screen-space passes together, and the
     // blur alone.
-    for r in embedding.added_lights.iter().filter(|r| r.lights == 4) {
+    for r in embedding
+        .added_lights
+        .iter()
+        .filter(|r| r.lights == 4 && r.grouped.is_none())
+    {
         if let Some(f) = embedding.first_of(r) {
             writeln!(
                 md,
@@ -2219,7 +2255,11 @@ fn write_embedding(md: &mut String, embedding: &Embedding) -> Result<()> {
         }
     }
     // Past four: eight and sixteen spots, every light as large as the first.
-    for r in embedding.added_lights.iter().filter(|r| r.lights > 4) {
+    for r in embedding
+        .added_lights
+        .iter()
+        .filter(|r| r.lights > 4 && r.grouped.is_none())
+    {
         if let Some(f) = embedding.first_of(r) {
             writeln!(
                 md,
@@ -2234,6 +2274,49 @@ fn write_embedding(md: &mut String, embedding: &Embedding) -> Result<()> {
                 r.added_per_first(f),
             )?;
         }
+    }
+    write_grouped_lights(md, embedding)
+}
+
+/// Spots run apart and as one group (`ExecutionSettings::light_groups`): their screen-space
+/// passes, and the group's over the lights run apart.
+fn write_grouped_lights(md: &mut String, embedding: &Embedding) -> Result<()> {
+    use std::fmt::Write;
+    let runs = |grouped: bool| {
+        embedding
+            .added_lights
+            .iter()
+            .filter(move |r| r.grouped == Some(grouped))
+    };
+    if runs(true).next().is_none() {
+        return Ok(());
+    }
+    writeln!(
+        md,
+        "\n### Lights run as one group (`ExecutionSettings::light_groups`)\n\n\
+         Spots 22.5 degrees apart, still, the tiles' pixels tested by workgroups in both runs (the \
+         groups need it; on a GPU it is the default). Apart, each light runs its chain; as one \
+         group, each light's tile classification (\"distance map\") still runs, then the variable \
+         PCF and each blur axis run once over every light's tiles (one \"pcf\" and one \"blur\" \
+         for the group). The group runs fewer dispatches over the same pixels: what it saves is \
+         what a device pays per dispatch.\n\n\
+         | spots | apart ms | as one group ms | group / apart | pcf + blur apart ms | pcf + blur grouped ms |\n\
+         |---|---|---|---|---|---|"
+    )?;
+    for apart in runs(false) {
+        let Some(group) = runs(true).find(|g| g.lights == apart.lights) else {
+            continue;
+        };
+        writeln!(
+            md,
+            "| {} | {:.2} | {:.2} | {:.3} | {:.2} | {:.2} |",
+            apart.lights,
+            apart.screen_space_ms(),
+            group.screen_space_ms(),
+            group.screen_space_ms() / apart.screen_space_ms().max(1e-9),
+            apart.pcf_ms + apart.blur_ms,
+            group.pcf_ms + group.blur_ms,
+        )?;
     }
     Ok(())
 }

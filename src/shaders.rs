@@ -211,7 +211,7 @@ pub const BLUR_GROUP_LAYERS: [[(&str, &str); 5]; 2] = [
 /// as a pass over the tile lists of a group of lights in one dispatch
 /// (`shaders/common/tile_groups.wgsl`): its light's maps read as layers of arrays
 /// ([`with_map_arrays`]), its light's frame one of several ([`with_light_frames`]), set from the
-/// dispatch's z, and each texture `layers` names (binding, layer expression) bound as a 2D array
+/// workgroup's tile, and each texture `layers` names (binding, layer expression) bound as a 2D array
 /// of which every read and write takes that layer: `frame_light` (the light's slot: its layer of
 /// the visibility array) or `member` (its place in the group: its layer of the group's
 /// intermediates). The storage textures' aliases all become arrays. `None` where the source

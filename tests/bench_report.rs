@@ -104,6 +104,9 @@ fn the_bench_writes_its_report() {
         "| spot | 22.5 deg | x1 | 8 |",
         "| spot | 22.5 deg | x1 | 16 |",
         "16 spots 22.5 degrees apart in one frame: lights two to 16 add",
+        // Four spots apart and as one group.
+        "### Lights run as one group (`ExecutionSettings::light_groups`)",
+        "| spots | apart ms | as one group ms | group / apart |",
         "each cost at most 0.5x the first",
         "lights two to four add",
         "lights two to four, with penumbrae smaller than the first's",
@@ -146,8 +149,21 @@ fn the_bench_writes_its_report() {
     let added = embedding["added_lights"].as_array().unwrap();
     // Suns apart and overlapping, spots, point lights; 1, 2 and 4 lights; and four lights of
     // each type whose lights two to four are a quarter of the first's size; one, eight and
-    // sixteen spots 22.5 degrees apart.
-    assert_eq!(added.len(), 4 * 3 + 3 + 3);
+    // sixteen spots 22.5 degrees apart; four spots apart and as one group.
+    assert_eq!(added.len(), 4 * 3 + 3 + 3 + 2);
+    for grouped in [false, true] {
+        let runs: Vec<_> = added
+            .iter()
+            .filter(|r| r["grouped"].as_bool() == Some(grouped))
+            .collect();
+        assert_eq!(runs.len(), 1, "{grouped}: {runs:?}");
+        assert_eq!(runs[0]["lights"].as_u64(), Some(4));
+    }
+    let grouped = md.split("### Lights run as one group").nth(1).unwrap_or_default();
+    assert!(
+        grouped.lines().any(|l| l.starts_with("| 4 | ")),
+        "the grouped table has no row of four spots"
+    );
     assert_eq!(
         added
             .iter()

@@ -1,16 +1,19 @@
 // What `penumbra::shaders::with_light_groups` puts in place of `common/tile_list.wgsl`: a pass
 // over the tile lists of a group of lights, one dispatch for all of them. Each light's
 // classification wrote its own list (count, running count, then x | y << 16 a tile) into a
-// region of one buffer; the dispatch's z is the light's place in the group (`member`), and its
-// x and y run over the longest list (`cs_group_args` in `group_args.wgsl`). The buffer opens
-// with a header of 64 words: each region's length in words, the group's size, then each
-// member's light (its frame's slot and its layer of the visibility array).
+// region of one buffer. The buffer opens with a header of 64 words: each region's length in
+// words, the group's size, each member's light (its frame's slot and its layer of the
+// visibility array) from word 2, and from word 18 where each member's tiles start in the
+// dispatch (`cs_group_args` in `group_args.wgsl` sums the lists' counts there, and the last
+// entry is the whole count). The dispatch runs one workgroup per tile of every list, the
+// first member's tiles first.
 
 @group(3) @binding(0) var<storage, read> group_lists: array<u32>;
 
-// Words before the first region; where the members' lights start in it.
+// Words before the first region; where the members' lights and their first tiles start in it.
 const GROUP_HEADER: u32 = 64u;
 const GROUP_LIGHTS: u32 = 2u;
+const GROUP_STARTS: u32 = 18u;
 
 // Screen pixels per tile side (`TILE` in `tile_classify.wgsl`): the compute passes'
 // workgroups are this size.
@@ -31,15 +34,21 @@ fn listed_tile(index: u32) -> vec2<u32> {
 }
 
 // The pixel invocation `local` of workgroup `group` works on, after setting the member and its
-// light from the dispatch's z, or -1 past its list's end or the screen's edge.
+// light from the workgroup's place among every member's tiles, or -1 past the last tile or the
+// screen's edge.
 fn listed_pixel(group: vec3<u32>, groups: vec3<u32>, local: vec3<u32>) -> vec2<i32> {
-    member = group.z;
-    frame_light = group_lists[GROUP_LIGHTS + member];
     let index = group.x + group.y * groups.x;
-    if index >= group_lists[member_list()] {
+    let members = group_lists[1];
+    if index >= group_lists[GROUP_STARTS + members] {
         return vec2<i32>(-1);
     }
-    let pixel = listed_tile(index) * LIST_TILE + local.xy;
+    var g = 0u;
+    while g + 1u < members && index >= group_lists[GROUP_STARTS + g + 1u] {
+        g += 1u;
+    }
+    member = g;
+    frame_light = group_lists[GROUP_LIGHTS + member];
+    let pixel = listed_tile(index - group_lists[GROUP_STARTS + member]) * LIST_TILE + local.xy;
     if any(vec2<f32>(pixel) >= frame.view.size) {
         return vec2<i32>(-1);
     }

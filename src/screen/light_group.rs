@@ -14,8 +14,9 @@ use crate::gpu_helpers::{entry, texture_bytes};
 /// list starts where a storage binding may.
 const HEADER_BYTES: u64 = 256;
 
-/// The lights a group can hold: the header's room for their slots (words 2 to 63).
-pub(crate) const MAX_MEMBERS: usize = 62;
+/// The lights a group can hold: the header's room for their slots (words 2 to 17) and where
+/// their tiles start (words 18 to 34).
+pub(crate) const MAX_MEMBERS: usize = 16;
 
 /// What a member's chain binds in place of the intermediates lights share: its tile list (a
 /// region of the group's) and its layers of the group's distance map and of the blur's
@@ -28,9 +29,10 @@ pub(crate) struct GroupMember {
 
 /// Several lights whose distance-map chains are alike (one [`ChainKey`], maps in the same
 /// arrays) as one chain after their classifications: each light's tile classification (its own
-/// chain's) writes its list into a region of one buffer, then one dispatch computes the
-/// passes' size (`shaders/group_args.wgsl`), and the variable PCF and each blur axis run once
-/// over every member's list (`shaders/common/tile_groups.wgsl`). Each pass reads a member's
+/// chain's) writes its list into a region of one buffer, then one dispatch sums the lists'
+/// lengths into where each member's tiles start and the passes' size
+/// (`shaders/group_args.wgsl`), and the variable PCF and each blur axis run once over every
+/// member's tiles, one workgroup a tile (`shaders/common/tile_groups.wgsl`). Each pass reads a member's
 /// frame from the frame uniforms bound whole, and keeps its intermediates in the member's
 /// layer of the group's arrays; the PCF and the blur's vertical axis write the light's layer
 /// of the visibility.
@@ -91,7 +93,7 @@ impl LightGroup {
             let mut header = [0u32; (HEADER_BYTES / 4) as usize];
             header[0] = (region / 4) as u32;
             header[1] = n;
-            for (word, slot) in header[2..].iter_mut().zip(&slots) {
+            for (word, slot) in header[2..2 + MAX_MEMBERS].iter_mut().zip(&slots) {
                 *word = *slot as u32;
             }
             if let Ok(mut mapped) = lists.slice(..HEADER_BYTES).get_mapped_range_mut() {
@@ -113,7 +115,8 @@ impl LightGroup {
             device,
             "LightGroup::args_layout",
             &[
-                entry::storage_buffer(0, compute, true),
+                // The header's starts are written.
+                entry::storage_buffer(0, compute, false),
                 entry::storage_buffer(1, compute, false),
             ],
         );
