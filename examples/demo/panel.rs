@@ -368,6 +368,11 @@ impl DemoApp {
                             ui.selectable_value(draw, choice, format!("{choice:?}"));
                         }
                     });
+                // Lights alike run their PCF and blur as one dispatch each (on a GPU).
+                ui.checkbox(
+                    &mut self.shared.execution.light_groups,
+                    "lights alike run their PCF and blur as one group",
+                );
                 let p = &mut self.shared.penumbra;
                 // Every method's: draws instead of compute passes, to compare their cost.
                 ui.checkbox(

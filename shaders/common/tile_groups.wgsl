@@ -39,15 +39,17 @@ fn listed_tile(index: u32) -> vec2<u32> {
 fn listed_pixel(group: vec3<u32>, groups: vec3<u32>, local: vec3<u32>) -> vec2<i32> {
     let index = group.x + group.y * groups.x;
     let members = group_lists[1];
-    if index >= group_lists[GROUP_STARTS + members] {
-        return vec2<i32>(-1);
-    }
+    // The members whose tiles start at or before this one, but the first: no branch (at most
+    // 16 members, `MAX_MEMBERS` in `src/screen/light_group.rs`).
     var g = 0u;
-    while g + 1u < members && index >= group_lists[GROUP_STARTS + g + 1u] {
-        g += 1u;
+    for (var k = 1u; k < 16u; k++) {
+        g += select(0u, 1u, k < members && index >= group_lists[GROUP_STARTS + k]);
     }
     member = g;
     frame_light = group_lists[GROUP_LIGHTS + member];
+    if index >= group_lists[GROUP_STARTS + members] {
+        return vec2<i32>(-1);
+    }
     let pixel = listed_tile(index - group_lists[GROUP_STARTS + member]) * LIST_TILE + local.xy;
     if any(vec2<f32>(pixel) >= frame.view.size) {
         return vec2<i32>(-1);
