@@ -1931,10 +1931,8 @@ fn suns_alike_run_their_screen_passes_as_one_group() {
             .collect();
         ids.push(shadows.add_light(device, spot_over_the_box()).unwrap());
         let camera = top_camera();
-        // Two frames: the second with the maps kept, as a running application's.
-        let mut passes = Vec::new();
-        for _ in 0..2 {
-            passes.clear();
+        let frame = |shadows: &mut Shadows| {
+            let mut passes = Vec::new();
             let mut encoder = device.create_command_encoder(&Default::default());
             depth.draw(
                 device,
@@ -1951,15 +1949,36 @@ fn suns_alike_run_their_screen_passes_as_one_group() {
                 .encode_with_marks(&mut encoder, &w.casters, &mut |_, pass, _| passes.push(pass))
                 .unwrap();
             queue.submit([encoder.finish()]);
-        }
-        let layers: Vec<Vec<f32>> = ids
-            .iter()
-            .map(|id| read_layer(&gpu, &shadows, id.layer()))
-            .collect();
-        (layers, passes, shadows.allocated_bytes())
+            passes
+        };
+        // Two frames: the second with the maps kept, as a running application's.
+        frame(&mut shadows);
+        let passes = frame(&mut shadows);
+        let read = |shadows: &Shadows, ids: &[penumbra::LightId]| -> Vec<Vec<f32>> {
+            ids.iter()
+                .map(|id| read_layer(&gpu, shadows, id.layer()))
+                .collect()
+        };
+        let layers = read(&shadows, &ids);
+        let bytes = shadows.allocated_bytes();
+        // The second sun removed: the group is made again of the three left.
+        shadows.remove_light(ids.remove(1)).unwrap();
+        let after = frame(&mut shadows);
+        let after_layers = read(&shadows, &ids);
+        // The first sun inspected: it runs its own chain (its intermediates kept readable), the
+        // other two as a group; nothing else changed, so only the group's making binds again.
+        shadows.inspect(Some(ids[0]));
+        let inspected = frame(&mut shadows);
+        let inspected_layers = read(&shadows, &ids);
+        (
+            layers,
+            passes,
+            bytes,
+            [(after_layers, after), (inspected_layers, inspected)],
+        )
     };
-    let (apart, apart_passes, apart_bytes) = run(false);
-    let (grouped, grouped_passes, grouped_bytes) = run(true);
+    let (apart, apart_passes, apart_bytes, apart_after) = run(false);
+    let (grouped, grouped_passes, grouped_bytes, grouped_after) = run(true);
     let count = |passes: &[&str], name| passes.iter().filter(|p| **p == name).count();
     // Five lights' classifications either way; the suns' PCF and blur once where grouped.
     assert_eq!(count(&apart_passes, "distance map"), 5, "{apart_passes:?}");
@@ -1981,6 +2000,22 @@ fn suns_alike_run_their_screen_passes_as_one_group() {
             shadowed > 200 && soft > 50,
             "light {k}: {shadowed} shadowed, {soft} soft texels"
         );
+    }
+    // Without the second sun, the three left still run as one group; with the first inspected,
+    // the two others: the layers as apart.
+    for ((what, pcfs), (a, g)) in [("a removal", 2), ("an inspection", 3)]
+        .into_iter()
+        .zip(apart_after.iter().zip(&grouped_after))
+    {
+        assert_eq!(count(&g.1, "pcf"), pcfs, "after {what}: {:?}", g.1);
+        assert_eq!(count(&a.1, "pcf"), 4, "after {what}: {:?}", a.1);
+        for (k, (a, g)) in a.0.iter().zip(&g.0).enumerate() {
+            let worst = a.iter().zip(g).map(|(a, g)| (a - g).abs()).fold(0.0f32, f32::max);
+            assert!(
+                worst < 2e-3,
+                "light {k} after {what}: the group's layer differs by {worst}"
+            );
+        }
     }
     // Each sun's shadow where it throws it, lit where the opposite sun throws its own.
     let shadow_point = |azimuth: f32| {
