@@ -1,4 +1,4 @@
-// after: frame cube fullscreen tiles tile_list layer_out screen_storage
+// after: frame cube fullscreen tiles tile_list tile_quads layer_out screen_storage
 // Separable Gaussian blur of one light's visibility, one axis per draw or compute pass
 // (horizontal, then vertical). The step between taps is fixed (the baseline) or grows with the
 // pixel's distance to its occluder: distance x spread pixels (manual), or the standard

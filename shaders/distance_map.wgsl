@@ -1,4 +1,4 @@
-// after: frame cube fullscreen tiles tile_list fattened distance screen_storage
+// after: frame cube fullscreen tiles tile_list tile_quads fattened distance screen_storage
 // Distance map pass: a full-screen pass over the camera's depth (the engine's, or the
 // renderer's own prepass), or on the compute path (`cs_main`, below) a compute pass over the
 // tiles the tile classification listed. No geometry is drawn: world positions come from the depth and the

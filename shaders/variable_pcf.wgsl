@@ -1,4 +1,4 @@
-// after: frame cube fullscreen tiles tile_list receiver pcf_taps fattened distance screen_storage
+// after: frame cube fullscreen tiles tile_list tile_quads receiver pcf_taps fattened distance screen_storage
 // Variable-spacing PCF pass (the distance-map method): N x N comparison taps on the real shadow
 // map whose spacing grows with the pixel's distance to its occluder: base + distance x spread
 // texels (manual), or, in physical mode, a share of the penumbra's variance. It runs only where

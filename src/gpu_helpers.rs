@@ -53,6 +53,17 @@ pub(crate) fn scoped<T>(device: &wgpu::Device, f: impl FnOnce() -> T) -> (T, Opt
 /// The bytes of GPU memory `texture`'s texels take: every mip level and layer at the format's
 /// size per texel (a depth format as its depth aspect's copy size, 4 bytes for `Depth24Plus`;
 /// a stencil aspect adds 1). What the driver adds for alignment and tiling is not counted.
+/// Layer `layer` of `texture` (an array) as a 2D view.
+pub(crate) fn layer_view(texture: &wgpu::Texture, label: &str, layer: u32) -> wgpu::TextureView {
+    texture.create_view(&wgpu::TextureViewDescriptor {
+        label: Some(label),
+        dimension: Some(wgpu::TextureViewDimension::D2),
+        base_array_layer: layer,
+        array_layer_count: Some(1),
+        ..Default::default()
+    })
+}
+
 pub(crate) fn texture_bytes(texture: &wgpu::Texture) -> u64 {
     use wgpu::TextureFormat as F;
     let format = texture.format();
@@ -153,12 +164,16 @@ pub(crate) mod entry {
         sample_type: wgpu::TextureSampleType,
         array: bool,
     ) -> wgpu::BindGroupLayoutEntry {
-        let dimension = if array {
+        texture(binding, sample_type, dimension(array))
+    }
+
+    /// A 2D view, or with `array` a 2D array's.
+    fn dimension(array: bool) -> wgpu::TextureViewDimension {
+        if array {
             wgpu::TextureViewDimension::D2Array
         } else {
             wgpu::TextureViewDimension::D2
-        };
-        texture(binding, sample_type, dimension)
+        }
     }
 
     /// A 2D float texture read with `textureLoad` in the fragment stage (not filterable).
@@ -219,18 +234,13 @@ pub(crate) mod entry {
         format: wgpu::TextureFormat,
         array: bool,
     ) -> wgpu::BindGroupLayoutEntry {
-        let view_dimension = if array {
-            wgpu::TextureViewDimension::D2Array
-        } else {
-            wgpu::TextureViewDimension::D2
-        };
         wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::StorageTexture {
                 access: wgpu::StorageTextureAccess::WriteOnly,
                 format,
-                view_dimension,
+                view_dimension: dimension(array),
             },
             count: None,
         }

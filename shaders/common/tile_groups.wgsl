@@ -56,15 +56,3 @@ fn listed_pixel(group: vec3<u32>, groups: vec3<u32>, local: vec3<u32>) -> vec2<i
     }
     return vec2<i32>(pixel);
 }
-
-// Corner `index` of listed tile `instance`'s quad in the first member's list (the passes over a
-// group are compute passes; this keeps the draws' entry points of a module valid).
-@vertex
-fn vs_listed_tile(@builtin(vertex_index) index: u32, @builtin(instance_index) instance: u32) -> @builtin(position) vec4<f32> {
-    let tile = listed_tile(instance);
-    let k = index % 6u;
-    let corner = vec2<u32>(u32(k == 1u || k == 4u || k == 5u), u32(k == 2u || k == 3u || k == 5u));
-    let pixel = min(vec2<f32>((tile + corner) * LIST_TILE), frame.view.size);
-    let ndc = vec2<f32>(pixel.x * frame.view.inv_size.x * 2.0 - 1.0, 1.0 - pixel.y * frame.view.inv_size.y * 2.0);
-    return vec4<f32>(ndc, 0.0, 1.0);
-}

@@ -1,7 +1,8 @@
 // Shared by the passes that run over the list of screen tiles a tile classification wrote
 // (`cs_classify` in `tile_classify.wgsl`): the compute passes, one 16 x 16 workgroup per listed
 // tile in a dispatch sized by the list itself (indirect), and a draw that must stay a draw (it
-// writes the engine's render target) as one quad per listed tile (an indirect draw).
+// writes the engine's render target) as one quad per listed tile (an indirect draw,
+// `vs_listed_tile` in `tile_quads.wgsl`).
 
 // The listed tiles: how many, the classification's running count (which its last step copies
 // into `count` and sets back to 0 for the next list), then each tile as x | y << 16 (in no
@@ -36,15 +37,4 @@ fn listed_pixel(group: vec3<u32>, groups: vec3<u32>, local: vec3<u32>) -> vec2<i
         return vec2<i32>(-1);
     }
     return vec2<i32>(pixel);
-}
-
-// Corner `index` (0 to 5, two triangles) of listed tile `instance`'s quad, at depth 0.
-@vertex
-fn vs_listed_tile(@builtin(vertex_index) index: u32, @builtin(instance_index) instance: u32) -> @builtin(position) vec4<f32> {
-    let tile = listed_tile(instance);
-    let k = index % 6u;
-    let corner = vec2<u32>(u32(k == 1u || k == 4u || k == 5u), u32(k == 2u || k == 3u || k == 5u));
-    let pixel = min(vec2<f32>((tile + corner) * LIST_TILE), frame.view.size);
-    let ndc = vec2<f32>(pixel.x * frame.view.inv_size.x * 2.0 - 1.0, 1.0 - pixel.y * frame.view.inv_size.y * 2.0);
-    return vec4<f32>(ndc, 0.0, 1.0);
 }

@@ -7,7 +7,7 @@ use super::{
 use super::{ChainKey, Mark};
 use crate::chain::FRAME_SIZE;
 use crate::frame::{FrameSlots, PassParams};
-use crate::gpu_helpers::{entry, texture_bytes};
+use crate::gpu_helpers::{entry, layer_view, texture_bytes};
 
 /// Bytes before the first member's list in [`LightGroup`]'s buffer of lists: the header
 /// (`GROUP_HEADER` words in `shaders/common/tile_groups.wgsl`), 256 bytes, so that every
@@ -145,8 +145,8 @@ impl LightGroup {
         let members = (0..n)
             .map(|g| GroupMember {
                 tiles: TileListTargets::in_region(device, size, &lists, HEADER_BYTES + region * u64::from(g)),
-                distance: layer_view(&distance.0, g),
-                blurred: layer_view(&blurred.0, g),
+                distance: layer_view(&distance.0, "LightGroup::distance_layer", g),
+                blurred: layer_view(&blurred.0, "LightGroup::blurred_layer", g),
             })
             .collect();
         // Unused where the frames are a storage buffer (as over a group).
@@ -309,15 +309,4 @@ fn layers(
         ..Default::default()
     });
     (texture, view)
-}
-
-/// Layer `layer` of `texture` as a 2D view.
-fn layer_view(texture: &wgpu::Texture, layer: u32) -> wgpu::TextureView {
-    texture.create_view(&wgpu::TextureViewDescriptor {
-        label: Some("LightGroup::layer"),
-        dimension: Some(wgpu::TextureViewDimension::D2),
-        base_array_layer: layer,
-        array_layer_count: Some(1),
-        ..Default::default()
-    })
 }

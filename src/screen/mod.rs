@@ -62,6 +62,6 @@ pub(crate) use resolve::ResolvePass;
 pub use shared::VISIBILITY_FORMAT;
 pub(crate) use shared::*;
 pub(crate) use storage_clear::StorageClear;
-pub(crate) use targets::{Cleared, ComputeNeeds, ComputeTargets};
+pub(crate) use targets::{Cleared, ComputeNeeds, ComputeTargets, DistanceMapTargets};
 pub(crate) use tile_classify::{ClearedByList, TileListPass, TileListTargets};
 pub(crate) use variable_pcf::{VariablePcfCompute, VariablePcfPass};

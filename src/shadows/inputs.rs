@@ -133,15 +133,7 @@ pub(super) fn layer_views(
         ..Default::default()
     });
     let layer_views = (0..layers)
-        .map(|layer| {
-            texture.create_view(&wgpu::TextureViewDescriptor {
-                label: Some("Shadows::visibility_layer"),
-                dimension: Some(wgpu::TextureViewDimension::D2),
-                base_array_layer: layer,
-                array_layer_count: Some(1),
-                ..Default::default()
-            })
-        })
+        .map(|layer| crate::gpu_helpers::layer_view(&texture, "Shadows::visibility_layer", layer))
         .collect();
     (texture, array, layer_views)
 }

@@ -272,15 +272,7 @@ fn render_seen_by(
 ) -> Vec<penumbra::LightReport> {
     let (device, queue) = (&gpu.device, &gpu.queue);
     let mut encoder = device.create_command_encoder(&Default::default());
-    depth.draw(
-        device,
-        &mut encoder,
-        camera.view_projection(),
-        &[
-            (&w.box_mesh, Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0))),
-            (&w.floor_mesh, Mat4::IDENTITY),
-        ],
-    );
+    draw_box_and_floor(device, &mut encoder, w, depth, camera);
     let view = ViewInputs {
         receiver_mask,
         ..ViewInputs::new(camera, &depth.depth)
@@ -290,6 +282,25 @@ fn render_seen_by(
         .unwrap();
     queue.submit([encoder.finish()]);
     reports
+}
+
+/// The box on the floor into `depth`, seen by `camera`.
+fn draw_box_and_floor(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    w: &World,
+    depth: &DepthPass,
+    camera: CameraMatrices,
+) {
+    depth.draw(
+        device,
+        encoder,
+        camera.view_projection(),
+        &[
+            (&w.box_mesh, Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0))),
+            (&w.floor_mesh, Mat4::IDENTITY),
+        ],
+    );
 }
 
 fn world(gpu: &penumbra::HeadlessGpu) -> World {
@@ -1934,15 +1945,7 @@ fn suns_alike_run_their_screen_passes_as_one_group() {
         let frame = |shadows: &mut Shadows| {
             let mut passes = Vec::new();
             let mut encoder = device.create_command_encoder(&Default::default());
-            depth.draw(
-                device,
-                &mut encoder,
-                camera.view_projection(),
-                &[
-                    (&w.box_mesh, Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0))),
-                    (&w.floor_mesh, Mat4::IDENTITY),
-                ],
-            );
+            draw_box_and_floor(device, &mut encoder, &w, &depth, camera);
             let view = ViewInputs::new(camera, &depth.depth);
             shadows.prepare(device, queue, &w.casters, &view).unwrap();
             shadows

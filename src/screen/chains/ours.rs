@@ -73,6 +73,18 @@ impl OursChain {
     }
 }
 
+impl OursChain {
+    /// The shared intermediates the chain's passes wrote, as bound: none where grouped (the
+    /// group holds the light's, in layers of its own).
+    fn own_targets(&self) -> Option<&crate::screen::DistanceMapTargets> {
+        self.targets
+            .as_ref()
+            .filter(|_| !self.grouped)?
+            .distance_map
+            .as_ref()
+    }
+}
+
 impl MethodChain for OursChain {
     stage_lists!(distance, pcf, resolve; blur);
 
@@ -196,25 +208,12 @@ impl MethodChain for OursChain {
         Some(self.pcf.probe_mut())
     }
 
-    /// None where grouped: the group holds the light's distance map, in a layer of its own.
     fn distance_texture(&self) -> Option<&wgpu::Texture> {
-        let shared = self
-            .targets
-            .as_ref()
-            .filter(|_| !self.grouped)?
-            .distance_map
-            .as_ref()?;
-        Some(&shared.distance.texture)
+        Some(&self.own_targets()?.distance.texture)
     }
 
     fn tile_classes_texture(&self) -> Option<&wgpu::Texture> {
-        let shared = self
-            .targets
-            .as_ref()
-            .filter(|_| !self.grouped)?
-            .distance_map
-            .as_ref()?;
-        Some(shared.tiles.classes_texture())
+        Some(self.own_targets()?.tiles.classes_texture())
     }
 
     /// None where the PCF writes the light's layer: the blur overwrites it there.
