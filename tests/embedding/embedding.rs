@@ -1915,14 +1915,14 @@ fn maps_only_draws_the_shadow_map_and_no_screen_space_pass() {
     );
 }
 
-/// With `ExecutionSettings::light_groups`, suns alike run the variable PCF and the blur as one
-/// group: one dispatch each over every sun's tile list. Four suns and a spot (a kind of its
-/// own: it runs its own chain) give the same layers to within a half float's rounding as
-/// when each light runs its own chain, with one "pcf" and one "blur" for the suns' group where
-/// each light ran its own; each sun's layer holds its shadow and a penumbra. The tiles' pixels
-/// are tested by workgroups in both runs (the groups need it; a CPU adapter would loop).
+/// With `ExecutionSettings::light_groups`, lights alike run the variable PCF and the blur as
+/// one group: one dispatch each over every light's tile list. Four suns, two spots and two
+/// point lights (three groups, one a kind) give the same layers to within a half float's
+/// rounding as when each light runs its own chain, with one "pcf" and one "blur" a group where
+/// each light ran its own; each layer holds its light's shadow and a penumbra. The tiles'
+/// pixels are tested by workgroups in both runs (the groups need it; a CPU adapter would loop).
 #[test]
-fn suns_alike_run_their_screen_passes_as_one_group() {
+fn lights_alike_run_their_screen_passes_as_one_group() {
     let gpu = common::gpu();
     if gpu.adapter.get_info().backend == wgpu::Backend::Gl {
         return;
@@ -1940,7 +1940,23 @@ fn suns_alike_run_their_screen_passes_as_one_group() {
             .iter()
             .map(|a| shadows.add_light(device, sun(*a)).unwrap())
             .collect();
-        ids.push(shadows.add_light(device, spot_over_the_box()).unwrap());
+        // A second spot and point light across the box from the first.
+        let mirrored = |light: Light| match light {
+            Light::Spot(l) => Light::Spot(SpotLight {
+                position: l.position * Vec3::new(-1.0, 1.0, -1.0),
+                direction: l.direction * Vec3::new(-1.0, 1.0, -1.0),
+                ..l
+            }),
+            Light::Point(l) => Light::Point(PointLight {
+                position: l.position * Vec3::new(-1.0, 1.0, -1.0),
+                ..l
+            }),
+            other => other,
+        };
+        for light in [spot_over_the_box(), point_beside_the_box()] {
+            ids.push(shadows.add_light(device, light).unwrap());
+            ids.push(shadows.add_light(device, mirrored(light)).unwrap());
+        }
         let camera = top_camera();
         let frame = |shadows: &mut Shadows| {
             let mut passes = Vec::new();
@@ -1983,17 +1999,20 @@ fn suns_alike_run_their_screen_passes_as_one_group() {
     let (apart, apart_passes, apart_bytes, apart_after) = run(false);
     let (grouped, grouped_passes, grouped_bytes, grouped_after) = run(true);
     let count = |passes: &[&str], name| passes.iter().filter(|p| **p == name).count();
-    // Five lights' classifications either way; the suns' PCF and blur once where grouped.
-    assert_eq!(count(&apart_passes, "distance map"), 5, "{apart_passes:?}");
-    assert_eq!(count(&grouped_passes, "distance map"), 5, "{grouped_passes:?}");
-    assert_eq!(count(&apart_passes, "pcf"), 5, "{apart_passes:?}");
-    assert_eq!(count(&grouped_passes, "pcf"), 2, "{grouped_passes:?}");
-    assert_eq!(count(&grouped_passes, "blur"), 2, "{grouped_passes:?}");
-    // The group keeps each sun's intermediates, where lights run one after the other share one
+    // Eight lights' classifications either way; the PCF and blur once a group where grouped.
+    assert_eq!(count(&apart_passes, "distance map"), 8, "{apart_passes:?}");
+    assert_eq!(count(&grouped_passes, "distance map"), 8, "{grouped_passes:?}");
+    assert_eq!(count(&apart_passes, "pcf"), 8, "{apart_passes:?}");
+    assert_eq!(count(&grouped_passes, "pcf"), 3, "{grouped_passes:?}");
+    assert_eq!(count(&grouped_passes, "blur"), 3, "{grouped_passes:?}");
+    // A group keeps each light's intermediates, where lights run one after the other share one
     // set: the distance map, the deviations and the blur's horizontal result in half floats, 8
-    // bytes a pixel a sun (with its tile list and the passes' parameters).
-    let per_sun = (grouped_bytes - apart_bytes) as f64 / (azimuths.len() as f64 * f64::from(SIZE * SIZE));
-    assert!((8.0..8.5).contains(&per_sun), "{per_sun} bytes a pixel a sun");
+    // bytes a pixel a light (with its tile list and the passes' parameters).
+    let per_light = (grouped_bytes - apart_bytes) as f64 / (8.0 * f64::from(SIZE * SIZE));
+    assert!(
+        (8.0..8.5).contains(&per_light),
+        "{per_light} bytes a pixel a light"
+    );
     for (k, (a, g)) in apart.iter().zip(&grouped).enumerate() {
         let worst = a.iter().zip(g).map(|(a, g)| (a - g).abs()).fold(0.0f32, f32::max);
         assert!(worst < 2e-3, "light {k}: the group's layer differs by {worst}");
@@ -2005,13 +2024,13 @@ fn suns_alike_run_their_screen_passes_as_one_group() {
         );
     }
     // Without the second sun, the three left still run as one group; with the first inspected,
-    // the two others: the layers as apart.
-    for ((what, pcfs), (a, g)) in [("a removal", 2), ("an inspection", 3)]
+    // the two others (besides the spots' and the point lights' groups): the layers as apart.
+    for ((what, pcfs), (a, g)) in [("a removal", 3), ("an inspection", 4)]
         .into_iter()
         .zip(apart_after.iter().zip(&grouped_after))
     {
         assert_eq!(count(&g.1, "pcf"), pcfs, "after {what}: {:?}", g.1);
-        assert_eq!(count(&a.1, "pcf"), 4, "after {what}: {:?}", a.1);
+        assert_eq!(count(&a.1, "pcf"), 7, "after {what}: {:?}", a.1);
         for (k, (a, g)) in a.0.iter().zip(&g.0).enumerate() {
             let worst = a.iter().zip(g).map(|(a, g)| (a - g).abs()).fold(0.0f32, f32::max);
             assert!(
