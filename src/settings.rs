@@ -834,8 +834,7 @@ pub struct ExecutionSettings {
     /// whose chains are alike, where the compute passes write the lights' layers, keep half
     /// floats and test the tiles' pixels by workgroups (a GPU; [`TilePixels::Workgroup`]
     /// elsewhere), and the light's maps are not sized from the penumbra
-    /// ([`MapResolution::FromPenumbra`]) nor its intermediates inspected
-    /// (`Shadows::inspect`). Fewer dispatches a light (what a GPU pays per dispatch, not per
+    /// ([`MapResolution::FromPenumbra`]). Fewer dispatches a light (what a GPU pays per dispatch, not per
     /// pixel), for memory: a group keeps each light's intermediates (the distance map, the
     /// deviations, the blur's horizontal result: 8 bytes a pixel in half floats) where lights
     /// run one after the other share one set. Not measured on a GPU yet. Default false.

@@ -282,7 +282,11 @@ pub fn mask_savings(device: &wgpu::Device, queue: &wgpu::Queue, renderer: &Rende
             format!("`{}` has no mask to measure", renderer.settings().method.name()),
         )
     })?;
-    let (values, channels) = read_texture_f32(device, queue, distance)?;
+    // A light in a group keeps its distance map in a layer of the group's.
+    let layer = renderer
+        .debug_texture_layer(LightTexture::DistanceMap)
+        .unwrap_or(0);
+    let (values, channels) = read_texture_layer_f32(device, queue, distance, layer)?;
     let masks: Vec<f32> = values
         .chunks_exact(channels as usize)
         .map(|px| distance_and_mask(px).1)

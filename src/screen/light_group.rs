@@ -195,6 +195,18 @@ impl LightGroup {
         self.members.get(g)
     }
 
+    /// The light at `slot`'s intermediate `which` where the group holds it, and its layer
+    /// there: the distance map (the member's layer of the group's) and the tile classes (the
+    /// member's own). `None` for the others and where the light is not a member.
+    pub fn member_texture(&self, slot: usize, which: crate::LightTexture) -> Option<(&wgpu::Texture, u32)> {
+        let g = self.slots.iter().position(|&s| s == slot)?;
+        match which {
+            crate::LightTexture::DistanceMap => Some((&self.distance.0, u32::try_from(g).ok()?)),
+            crate::LightTexture::TileClasses => Some((self.members.get(g)?.tiles.classes_texture(), 0)),
+            _ => None,
+        }
+    }
+
     /// Points the passes at their inputs: every light's frame, the camera's depth and the
     /// receiver mask, the members' maps (the arrays every member's maps are layers of), the
     /// visibility (its array, the lights' layers) and a stand-in.
@@ -300,7 +312,10 @@ fn layers(
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+        // Copied out by the debug views (`Shadows::light_texture`).
+        usage: wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
     });
     let view = texture.create_view(&wgpu::TextureViewDescriptor {

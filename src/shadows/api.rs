@@ -614,8 +614,9 @@ impl Shadows {
     /// Forms the groups of lights whose screen-space passes run as one, where the settings ask
     /// for it ([`crate::ExecutionSettings::light_groups`]): the lights planned for chains of
     /// one key that [`LightGroup::groups`], whose maps are layers of the same arrays, and whose
-    /// intermediates are neither measured ([`crate::MapResolution::FromPenumbra`]) nor
-    /// inspected ([`Shadows::inspect`]), two or more. A group that stays as it was is kept;
+    /// penumbrae are not measured ([`crate::MapResolution::FromPenumbra`]), two or more. A
+    /// member's intermediates are its own (layers of the group's), so an inspected light
+    /// ([`Shadows::inspect`]) groups too. A group that stays as it was is kept;
     /// the lights that join or leave a group are bound again.
     fn fit_groups(&mut self, device: &wgpu::Device, layer_writes: bool) {
         let mut wanted: Vec<(crate::screen::ChainKey, [Option<wgpu::Texture>; 4], Vec<usize>)> = Vec::new();
@@ -631,10 +632,7 @@ impl Shadows {
             let (Some(plan), Some(maps)) = (&state.planned, &state.maps) else {
                 continue;
             };
-            if plan.probe.is_some()
-                || self.inspected == Some(LightId(slot as u32))
-                || !LightGroup::groups(&key, device)
-            {
+            if plan.probe.is_some() || !LightGroup::groups(&key, device) {
                 continue;
             }
             let arrays = maps.array_textures();
@@ -788,7 +786,9 @@ impl Shadows {
     /// Keeps `light`'s intermediate textures readable after each frame
     /// ([`Shadows::light_texture`]): the compute path's screen-space intermediates are shared
     /// by the lights (each light's chain runs whole before the next one's), so after a frame
-    /// they hold the last light's, and this light's chain runs last. `None`: slot order.
+    /// they hold the last light's, and this light's chain runs last. `None`: slot order. A
+    /// light in a group ([`crate::ExecutionSettings::light_groups`]) keeps its own in the
+    /// group's, whether inspected or not: [`Shadows::light_texture_layer`] says which layer.
     pub fn inspect(&mut self, light: Option<LightId>) {
         self.inspected = light;
     }
@@ -925,6 +925,9 @@ impl Shadows {
     /// (by default the last light in slot order).
     pub fn light_texture(&self, id: LightId, which: LightTexture) -> Option<&wgpu::Texture> {
         let s = self.state(id).ok()?;
+        if let Some((texture, _)) = self.group_texture(id, which) {
+            return Some(texture);
+        }
         let maps = s.maps.as_ref();
         match which {
             LightTexture::ShadowMap => maps.map(|m| m.shadow.atlas.texture()),
@@ -946,6 +949,9 @@ impl Shadows {
     /// The layer of [`Shadows::light_texture`]'s texture that holds light `id`'s (0 for a
     /// texture of one layer), if it has that texture.
     pub fn light_texture_layer(&self, id: LightId, which: LightTexture) -> Option<u32> {
+        if let Some((_, layer)) = self.group_texture(id, which) {
+            return Some(layer);
+        }
         let texture = self.light_texture(id, which)?;
         let s = self.state(id).ok()?;
         let maps = s.maps.as_ref();
@@ -959,6 +965,14 @@ impl Shadows {
             _ => Some(0),
         };
         layer.filter(|&l| l < texture.depth_or_array_layers())
+    }
+
+    /// Light `id`'s intermediate `which` and its layer where a group of lights holds it
+    /// ([`LightGroup::member_texture`]).
+    fn group_texture(&self, id: LightId, which: LightTexture) -> Option<(&wgpu::Texture, u32)> {
+        self.groups
+            .iter()
+            .find_map(|g| g.member_texture(id.0 as usize, which))
     }
 
     fn state(&self, id: LightId) -> Result<&LightState> {

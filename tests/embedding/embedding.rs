@@ -1984,20 +1984,32 @@ fn lights_alike_run_their_screen_passes_as_one_group() {
         shadows.remove_light(ids.remove(1)).unwrap();
         let after = frame(&mut shadows);
         let after_layers = read(&shadows, &ids);
-        // The first sun inspected: it runs its own chain (its intermediates kept readable), the
-        // other two as a group; nothing else changed, so only the group's making binds again.
-        shadows.inspect(Some(ids[0]));
+        // A sun inspected (the group's second member): in a group it stays there, its
+        // intermediates its own layers of the group's; apart, its chain runs last, so that the
+        // shared ones hold its.
+        shadows.inspect(Some(ids[1]));
         let inspected = frame(&mut shadows);
         let inspected_layers = read(&shadows, &ids);
+        let intermediate = |which| {
+            let texture = shadows
+                .light_texture(ids[1], which)
+                .unwrap_or_else(|| panic!("groups {groups}: no {which:?}"));
+            let layer = shadows.light_texture_layer(ids[1], which).unwrap();
+            penumbra::read_texture_layer_f32(device, queue, texture, layer)
+                .unwrap()
+                .0
+        };
+        let intermediates = [LightTexture::DistanceMap, LightTexture::TileClasses].map(intermediate);
         (
             layers,
             passes,
             bytes,
             [(after_layers, after), (inspected_layers, inspected)],
+            intermediates,
         )
     };
-    let (apart, apart_passes, apart_bytes, apart_after) = run(false);
-    let (grouped, grouped_passes, grouped_bytes, grouped_after) = run(true);
+    let (apart, apart_passes, apart_bytes, apart_after, apart_inspected) = run(false);
+    let (grouped, grouped_passes, grouped_bytes, grouped_after, grouped_inspected) = run(true);
     let count = |passes: &[&str], name| passes.iter().filter(|p| **p == name).count();
     // Eight lights' classifications either way; the PCF and blur once a group where grouped.
     assert_eq!(count(&apart_passes, "distance map"), 8, "{apart_passes:?}");
@@ -2023,9 +2035,8 @@ fn lights_alike_run_their_screen_passes_as_one_group() {
             "light {k}: {shadowed} shadowed, {soft} soft texels"
         );
     }
-    // Without the second sun, the three left still run as one group; with the first inspected,
-    // the two others (besides the spots' and the point lights' groups): the layers as apart.
-    for ((what, pcfs), (a, g)) in [("a removal", 3), ("an inspection", 4)]
+    // Without the second sun, the three left still run as one group, with one inspected too (besides the spots' and the point lights' groups): the layers as apart.
+    for ((what, pcfs), (a, g)) in [("a removal", 3), ("an inspection", 3)]
         .into_iter()
         .zip(apart_after.iter().zip(&grouped_after))
     {
@@ -2039,6 +2050,28 @@ fn lights_alike_run_their_screen_passes_as_one_group() {
             );
         }
     }
+    // The inspected sun's distance map and tile classes, read from the group's layer, as the
+    // shared ones hold them apart; and they show its shadow (distances inside the fattened
+    // shadow, tiles kept).
+    let [
+        (apart_distance, grouped_distance),
+        (apart_classes, grouped_classes),
+    ] = [0, 1].map(|i| (&apart_inspected[i], &grouped_inspected[i]));
+    assert_eq!(apart_distance.len(), grouped_distance.len());
+    let worst = apart_distance
+        .iter()
+        .zip(grouped_distance)
+        .map(|(a, g)| (a - g).abs())
+        .fold(0.0f32, f32::max);
+    assert!(
+        worst < 1e-3,
+        "the inspected sun's distance map differs by {worst}"
+    );
+    let inside = grouped_distance.iter().filter(|d| **d >= 0.0).count();
+    assert!(inside > 200, "{inside} pixels inside the fattened shadow");
+    assert_eq!(apart_classes, grouped_classes, "the inspected sun's tile classes");
+    let kept = grouped_classes.iter().filter(|c| **c >= 0.5).count();
+    assert!(kept > 4, "{kept} tiles kept");
     // Each sun's shadow where it throws it, lit where the opposite sun throws its own.
     let shadow_point = |azimuth: f32| {
         let a = azimuth.to_radians();
