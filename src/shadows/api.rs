@@ -467,8 +467,8 @@ impl Shadows {
                 }
             }
             this.map_pools.flush(device, queue);
-            this.fit_compute_targets(device);
             this.fit_groups(device, layer_writes);
+            this.fit_compute_targets(device);
             let rebound = this.bind_lights(device, layer_writes);
             this.bind_groups(device, &rebound);
             for group in &this.groups {
@@ -556,10 +556,18 @@ impl Shadows {
     }
 
     /// Makes or keeps the compute path's intermediates, one set for every light that runs it
-    /// (none when no light does); the lights are bound again when they are made.
+    /// (none when no light does) and what the lights outside a group need of it (a group keeps
+    /// its members' own, [`Shadows::fit_groups`] first); the lights are bound again when they
+    /// are made.
     fn fit_compute_targets(&mut self, device: &wgpu::Device) {
         let planned = || self.lights.iter().flatten().filter_map(|s| s.planned);
-        let needs = planned()
+        let grouped = |slot: usize| self.groups.iter().any(|g| g.slots().contains(&slot));
+        let needs = self
+            .lights
+            .iter()
+            .enumerate()
+            .filter(|(slot, _)| !grouped(*slot))
+            .filter_map(|(_, s)| s.as_ref()?.planned)
             .map(|p| ComputeNeeds::of(&p.chain))
             .fold(ComputeNeeds::default(), ComputeNeeds::union);
         let clears = (self.settings.execution.clears, self.half_intermediates());
