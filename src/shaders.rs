@@ -246,6 +246,93 @@ pub fn with_light_groups(source: &str, layers: &[(&str, &str)]) -> Option<String
     Some(out)
 }
 
+/// The textures the tile classification over a group of lights binds as arrays
+/// ([`with_light_group_classification`]), and their layers: the member's reduced fattened map,
+/// its tile classes and its intermediates it clears, the light's layer of the visibility.
+pub const CLASSIFY_GROUP_LAYERS: [(&str, &str); 6] = [
+    ("reduced_map", "member"),
+    ("reduced_out", "member"),
+    ("classes_out", "member"),
+    ("distance_cleared", "member"),
+    ("visibility_cleared", "frame_light"),
+    ("blurred_cleared", "member"),
+];
+
+/// The list's declaration in `shaders/tile_classify.wgsl`, its append, and the tiles turned
+/// away's append.
+const CLASSIFY_LIST: &str = "@group(0) @binding(5) var<storage, read_write> list_out: TileListOut;";
+const CLASSIFY_APPEND: &str = "list_out.tiles[atomicAdd(&list_out.appended, 1u)] = packed;";
+const CLASSIFY_AWAY_APPEND: &str = "away_out.tiles[atomicAdd(&away_out.appended, 1u)] = packed;";
+
+/// `source` (`shaders/tile_classify.wgsl`) as the classification of a group of lights in one
+/// dispatch (`cs_reduce` and `cs_classify_wide`, each workgroup's z its member): the light's
+/// maps and frame read as in [`with_light_groups`], the textures [`CLASSIFY_GROUP_LAYERS`]
+/// names as arrays of which each read and write takes the member's or the light's layer, and
+/// each member's list appended to its region of the group's buffer of lists (binding 18,
+/// `shaders/common/tile_groups.wgsl`'s layout, whose header names each member's light). The
+/// tiles turned away are not listed: the classification writes their 0 itself (`CLEARS`), and
+/// `shaders/group_args.wgsl` takes each list's running count for its length. `None` where the
+/// source is not the classification.
+pub fn with_light_group_classification(source: &str) -> Option<String> {
+    if !source.contains(CLASSIFY_LIST) || !source.contains(CLASSIFY_APPEND) {
+        return None;
+    }
+    let arrayed = with_map_arrays(source)?;
+    let mut out = with_light_frames(&arrayed)?;
+    out = out.replace(
+        CLASSIFY_LIST,
+        &format!(
+            "{CLASSIFY_LIST}\n\
+             // The group's lists (`penumbra::shaders::with_light_group_classification`).\n\
+             @group(0) @binding(18) var<storage, read_write> group_lists: array<atomic<u32>>;\n\
+             // The member the workgroup classifies for (its z).\n\
+             var<private> member: u32 = 0u;\n\
+             fn member_list() -> u32 {{\n    return 64u + member * atomicLoad(&group_lists[0]);\n}}\n\
+             // Sets the member and its light.\n\
+             fn use_member(z: u32) {{\n    member = z;\n    frame_light = atomicLoad(&group_lists[2u + z]);\n}}"
+        ),
+    );
+    out = out.replace(
+        CLASSIFY_APPEND,
+        "atomicStore(&group_lists[member_list() + 2u + atomicAdd(&group_lists[member_list() + 1u], 1u)], packed);",
+    );
+    out = out.replace(CLASSIFY_AWAY_APPEND, "// (a group lists no tile turned away)");
+    for (entry, z) in [
+        (
+            "fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {",
+            "id.z",
+        ),
+        (
+            "fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>, @builtin(local_invocation_index) index: u32) {",
+            "group.z",
+        ),
+    ] {
+        if !out.contains(entry) {
+            return None;
+        }
+        out = out.replace(entry, &format!("{entry}\n    use_member({z});"));
+    }
+    for alias in STORAGE_ALIASES {
+        out = out.replace(
+            alias,
+            &alias.replace("texture_storage_2d<", "texture_storage_2d_array<"),
+        );
+    }
+    for (name, _) in CLASSIFY_GROUP_LAYERS {
+        let sampled = format!("var {name}: texture_2d<f32>;");
+        let stored = format!("var {name}: texture_storage_2d<");
+        if out.contains(&sampled) {
+            out = out.replace(&sampled, &format!("var {name}: texture_2d_array<f32>;"));
+        } else if out.contains(&stored) {
+            out = out.replace(&stored, &format!("var {name}: texture_storage_2d_array<"));
+        }
+    }
+    for builtin in ["textureLoad", "textureStore", "textureGather"] {
+        out = with_layer_arguments(&out, builtin, &CLASSIFY_GROUP_LAYERS);
+    }
+    Some(out)
+}
+
 /// `source` with each call of `builtin` on one of `maps` (name, layer expression) given the
 /// layer: before the last argument (`textureLoad`'s level, `textureSampleCompareLevel`'s
 /// reference depth), or after it (`textureGather`'s coordinates).

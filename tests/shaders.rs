@@ -347,4 +347,33 @@ fn passes_over_a_group_of_lights_validate() {
     // A texture the pass does not declare: none.
     assert!(with_light_groups(penumbra::shaders::BLUR, &[("no_such", "member")]).is_none());
     validate("group_args", penumbra::shaders::GROUP_ARGS);
+    // The tile classification over a group: its textures arrays, every call on them with its
+    // layer, each member's list appended in its region of the group's, none turned away.
+    let source = penumbra::shaders::TILE_CLASSIFY;
+    let grouped = penumbra::shaders::with_light_group_classification(source).expect("the classification");
+    let module = validate("tile_classify (group)", &grouped);
+    for (texture, layer) in penumbra::shaders::CLASSIFY_GROUP_LAYERS {
+        let (_, var) = module
+            .global_variables
+            .iter()
+            .find(|(_, v)| v.name.as_deref() == Some(texture))
+            .unwrap_or_else(|| panic!("the group's classification has no `{texture}`"));
+        assert!(
+            matches!(
+                module.types[var.ty].inner,
+                naga::TypeInner::Image { arrayed: true, .. }
+            ),
+            "`{texture}` is not an array"
+        );
+        for call in ["textureLoad(", "textureStore("] {
+            for (at, _) in grouped.match_indices(&format!("{call}{texture},")) {
+                let line = grouped[at..].lines().next().unwrap_or_default();
+                assert!(line.contains(layer), "`{line}` takes no layer");
+            }
+        }
+    }
+    assert!(grouped.contains("atomicStore(&group_lists[member_list() + 2u + atomicAdd("));
+    assert!(!grouped.contains("away_out.tiles[atomicAdd("));
+    assert!(grouped.contains("use_member(group.z)") && grouped.contains("use_member(id.z)"));
+    assert!(penumbra::shaders::with_light_group_classification(penumbra::shaders::BLUR).is_none());
 }

@@ -1,13 +1,14 @@
 //! [`LightGroup`]: the screen-space passes of several lights alike run as one
 //! ([`crate::ExecutionSettings::light_groups`]).
 
+use super::tile_classify::{REDUCE, TILE};
 use super::{
     BlurCompute, DistanceMaps, ScreenStage, TileList, TileListPass, TileListTargets, VariablePcfCompute,
 };
 use super::{ChainKey, Mark};
 use crate::chain::FRAME_SIZE;
 use crate::frame::{FrameSlots, PassParams};
-use crate::gpu_helpers::{entry, layer_view, texture_bytes};
+use crate::gpu_helpers::{entry, texture_bytes};
 
 /// Bytes before the first member's list in [`LightGroup`]'s buffer of lists: the header
 /// (`GROUP_HEADER` words in `shaders/common/tile_groups.wgsl`), 256 bytes, so that every
@@ -18,21 +19,126 @@ const HEADER_BYTES: u64 = 256;
 /// their tiles start (words 18 to 34).
 pub(crate) const MAX_MEMBERS: usize = 16;
 
-/// What a member's chain binds in place of the intermediates lights share: its tile list (a
-/// region of the group's) and its layers of the group's distance map and of the blur's
-/// horizontal result, which its classification clears where it lists nothing.
-pub(crate) struct GroupMember {
-    pub tiles: TileListTargets,
-    pub distance: wgpu::TextureView,
-    pub blurred: wgpu::TextureView,
+/// The members' tile classification as one dispatch, after one of the reduction of their
+/// fattened maps where one was drawn: `shaders/tile_classify.wgsl` made over the group
+/// ([`crate::shaders::with_light_group_classification`]), each workgroup's z its member.
+struct GroupClassification {
+    reduce: wgpu::ComputePipeline,
+    classify: wgpu::ComputePipeline,
+    reduce_layout: wgpu::BindGroupLayout,
+    classify_layout: wgpu::BindGroupLayout,
+    /// A layer a member: its reduced fattened map (sized at [`LightGroup::bind`]) and its tile
+    /// classes.
+    reduced: (wgpu::Texture, wgpu::TextureView),
+    classes: (wgpu::Texture, wgpu::TextureView),
+    gather: wgpu::Sampler,
+    /// The classification's and the reduction's, once bound.
+    groups: Option<(wgpu::BindGroup, wgpu::BindGroup)>,
+    /// No reduction since the group was bound.
+    reduce_pending: std::sync::atomic::AtomicBool,
 }
 
+impl GroupClassification {
+    /// For the `n` members of a group of `key` over a screen of `size`, whose buffer of lists
+    /// the passes bind (binding 18).
+    fn new(device: &wgpu::Device, key: &ChainKey, n: u32, size: (u32, u32)) -> Self {
+        let half = key.half_floats();
+        let halves = crate::shaders::with_half_floats(crate::shaders::TILE_CLASSIFY, half);
+        let text = halves.as_deref().unwrap_or(crate::shaders::TILE_CLASSIFY);
+        let source = crate::shaders::with_light_group_classification(text)
+            .expect("tile_classify.wgsl is the classification");
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("tile_classify.wgsl (group)"),
+            source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Owned(source)),
+        });
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let sampled_array = |binding| {
+            entry::and_compute(entry::texture(
+                binding,
+                entry::UNFILTERABLE,
+                wgpu::TextureViewDimension::D2Array,
+            ))
+        };
+        let frames = entry::storage_buffer(0, compute, true);
+        let lists = entry::storage_buffer(18, compute, false);
+        let map = entry::and_compute(entry::light_map(3, entry::UNFILTERABLE, true));
+        let gather = entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::NonFiltering));
+        let intermediates = half.intermediates;
+        let classify_layout = crate::gpu_helpers::layout(
+            device,
+            "LightGroup::classify_layout",
+            &[
+                frames,
+                entry::and_compute(entry::texture_2d(1, entry::UNFILTERABLE)),
+                sampled_array(2),
+                map,
+                gather,
+                entry::storage_texture_in(8, REDUCED_FORMAT, true),
+                entry::and_compute(entry::texture_2d(11, entry::UNFILTERABLE)),
+                entry::storage_texture_in(12, super::DistanceMapCompute::format(intermediates), true),
+                entry::storage_texture_in(13, super::visibility_storage(intermediates), true),
+                entry::storage_texture_in(14, super::visibility_storage(intermediates), true),
+                entry::and_compute(entry::texture_2d(17, entry::UNFILTERABLE)),
+                lists,
+            ],
+        );
+        let reduce_layout = crate::gpu_helpers::layout(
+            device,
+            "LightGroup::reduce_layout",
+            &[
+                frames,
+                map,
+                gather,
+                entry::storage_texture_in(6, REDUCED_FORMAT, true),
+                lists,
+            ],
+        );
+        let on = |b: bool| if b { 1.0 } else { 0.0 };
+        // As each member's own classification is made (`TileListPass::new`): by workgroups,
+        // clearing the intermediates, the visibility its layer.
+        let constants = [
+            (super::LIGHT_KIND, f64::from(key.kind)),
+            ("CLASSIFY", 1.0),
+            ("FACING", on(key.distance.facing_away)),
+            ("UMBRA", 0.0),
+            ("WIDE", 1.0),
+            ("CLEARS", 1.0),
+            ("CLEAR_BLURRED", 1.0),
+            ("CLEAR_LAYER", 1.0),
+            super::row_threads(device),
+        ];
+        let pipeline = |label, layout: &wgpu::BindGroupLayout, entry| {
+            super::compute_pipeline(device, label, &shader, &[Some(layout)], entry, &constants)
+        };
+        let tiles = (size.0.div_ceil(TILE), size.1.div_ceil(TILE));
+        Self {
+            reduce: pipeline("LightGroup::reduce", &reduce_layout, "cs_reduce"),
+            classify: pipeline("LightGroup::classify", &classify_layout, "cs_classify_wide"),
+            reduce_layout,
+            classify_layout,
+            reduced: layers(device, "LightGroup::reduced", ((1, 1), n), REDUCED_FORMAT),
+            classes: layers(device, "LightGroup::classes", (tiles, n), REDUCED_FORMAT),
+            gather: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("LightGroup::gather"),
+                ..Default::default()
+            }),
+            groups: None,
+            reduce_pending: std::sync::atomic::AtomicBool::new(true),
+        }
+    }
+}
+
+/// The classification's reduced fattened map and tile classes (`REDUCED_STORAGE_FORMAT` in
+/// `src/screen/tile_classify.rs`).
+const REDUCED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
 /// Several lights whose distance-map chains are alike (one [`ChainKey`], maps in the same
-/// arrays) as one chain after their classifications: each light's tile classification (its own
-/// chain's) writes its list into a region of one buffer, then one dispatch sums the lists'
-/// lengths into where each member's tiles start and the passes' size
-/// (`shaders/group_args.wgsl`), and the variable PCF and each blur axis run once over every
-/// member's tiles, one workgroup a tile (`shaders/common/tile_groups.wgsl`). Each pass reads a member's
+/// arrays) as one chain: one dispatch classifies every member's tiles (after one that reduces
+/// their fattened maps where one was drawn, [`GroupClassification`]), each member's list into a
+/// region of one buffer; then one dispatch sums the lists' lengths into where each member's
+/// tiles start and the passes' size (`shaders/group_args.wgsl`), and the variable PCF and each
+/// blur axis run once over every member's tiles, one workgroup a tile
+/// (`shaders/common/tile_groups.wgsl`). The members' own chains record nothing. Each pass reads a member's
 /// frame from the frame uniforms bound whole, and keeps its intermediates in the member's
 /// layer of the group's arrays; the PCF and the blur's vertical axis write the light's layer
 /// of the visibility.
@@ -52,7 +158,7 @@ pub(crate) struct LightGroup {
     distance: (wgpu::Texture, wgpu::TextureView),
     sigma: (wgpu::Texture, wgpu::TextureView),
     blurred: (wgpu::Texture, wgpu::TextureView),
-    members: Vec<GroupMember>,
+    classification: GroupClassification,
     pcf: VariablePcfCompute,
     blur: BlurCompute,
     /// The passes were bound to the members' maps and the visibility since they were made.
@@ -63,7 +169,8 @@ impl LightGroup {
     /// Whether lights with chains of `key` can run as a group: `ours` in compute, the PCF
     /// writing the layer, the distance taken in the PCF, a blur, the maps as arrays, the
     /// intermediates in half floats and the tiles' pixels tested by workgroups (which clear
-    /// what the passes read where nothing is listed) on `device`.
+    /// what the passes read where nothing is listed) on `device`, without the umbra's tiles
+    /// listed apart (the group's classification leaves that test out).
     pub fn groups(key: &ChainKey, device: &wgpu::Device) -> bool {
         key.chain.compute()
             && key.chain.pcf_in_layer()
@@ -75,6 +182,7 @@ impl LightGroup {
             && key.blur.is_some_and(|b| !b.fixed_step)
             && key.distance.tiles
             && key.distance.tile_pixels.by_workgroup(device)
+            && !key.distance.umbra
     }
 
     /// A group of the lights at `slots` (at most [`MAX_MEMBERS`]), whose chains are made for
@@ -142,13 +250,6 @@ impl LightGroup {
             "LightGroup::blurred",
             super::visibility_storage(half.intermediates),
         );
-        let members = (0..n)
-            .map(|g| GroupMember {
-                tiles: TileListTargets::in_region(device, size, &lists, HEADER_BYTES + region * u64::from(g)),
-                distance: layer_view(&distance.0, "LightGroup::distance_layer", g),
-                blurred: layer_view(&blurred.0, "LightGroup::blurred_layer", g),
-            })
-            .collect();
         // Unused where the frames are a storage buffer (as over a group).
         let frames = FRAME_SIZE;
         let pcf = VariablePcfCompute::new(
@@ -172,7 +273,7 @@ impl LightGroup {
             distance,
             sigma,
             blurred,
-            members,
+            classification: GroupClassification::new(device, &key, n, size),
             pcf,
             blur,
             bound: false,
@@ -189,12 +290,6 @@ impl LightGroup {
         &self.slots
     }
 
-    /// What the light at `slot` binds as a member (none where it is not one).
-    pub fn member(&self, slot: usize) -> Option<&GroupMember> {
-        let g = self.slots.iter().position(|&s| s == slot)?;
-        self.members.get(g)
-    }
-
     /// The light at `slot`'s intermediate `which` where the group holds it, and its layer
     /// there: the distance map (the member's layer of the group's) and the tile classes (the
     /// member's own). `None` for the others and where the light is not a member.
@@ -202,7 +297,9 @@ impl LightGroup {
         let g = self.slots.iter().position(|&s| s == slot)?;
         match which {
             crate::LightTexture::DistanceMap => Some((&self.distance.0, u32::try_from(g).ok()?)),
-            crate::LightTexture::TileClasses => Some((self.members.get(g)?.tiles.classes_texture(), 0)),
+            crate::LightTexture::TileClasses => {
+                Some((&self.classification.classes.0, u32::try_from(g).ok()?))
+            }
             _ => None,
         }
     }
@@ -219,6 +316,7 @@ impl LightGroup {
         visibility: &wgpu::TextureView,
     ) {
         let frames = frames.whole();
+        self.bind_classification(device, &frames, (depth, mask, dummy), maps, visibility);
         let distance = &self.distance.1;
         self.pcf.bind(
             device,
@@ -240,15 +338,114 @@ impl LightGroup {
         self.bound = true;
     }
 
+    /// Points the classification and the reduction at their inputs (see [`Self::bind`]); the
+    /// reduced maps are made at the fattened maps' size.
+    fn bind_classification(
+        &mut self,
+        device: &wgpu::Device,
+        frames: &crate::frame::FrameSlot,
+        (depth, mask, dummy): (&wgpu::TextureView, &wgpu::TextureView, &wgpu::TextureView),
+        maps: &DistanceMaps,
+        visibility: &wgpu::TextureView,
+    ) {
+        let c = &mut self.classification;
+        let n = self.slots.len() as u32;
+        let size = (
+            maps.fattened_size.0.div_ceil(REDUCE),
+            maps.fattened_size.1.div_ceil(REDUCE),
+        );
+        if (c.reduced.0.width(), c.reduced.0.height()) != size {
+            c.reduced = layers(device, "LightGroup::reduced", (size, n), REDUCED_FORMAT);
+        }
+        let view = wgpu::BindingResource::TextureView;
+        let lists = self.lists.as_entire_binding();
+        let frame = crate::gpu_helpers::Binding::resource(frames);
+        let group = |label, layout, entries: &[(u32, wgpu::BindingResource)]| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout,
+                entries: &entries
+                    .iter()
+                    .map(|(binding, resource)| wgpu::BindGroupEntry {
+                        binding: *binding,
+                        resource: resource.clone(),
+                    })
+                    .collect::<Vec<_>>(),
+            })
+        };
+        let classify = group(
+            "LightGroup::classify",
+            &c.classify_layout,
+            &[
+                (0, frame.clone()),
+                (1, view(depth)),
+                (2, view(&c.reduced.1)),
+                (3, view(maps.fattened_map)),
+                (4, wgpu::BindingResource::Sampler(&c.gather)),
+                (8, view(&c.classes.1)),
+                (11, view(mask)),
+                (12, view(&self.distance.1)),
+                (13, view(visibility)),
+                (14, view(&self.blurred.1)),
+                // The umbra test's reduced shadow map: groups leave the test out.
+                (17, view(dummy)),
+                (18, lists.clone()),
+            ],
+        );
+        let reduce = group(
+            "LightGroup::reduce",
+            &c.reduce_layout,
+            &[
+                (0, frame),
+                (3, view(maps.fattened_map)),
+                (4, wgpu::BindingResource::Sampler(&c.gather)),
+                (6, view(&c.reduced.1)),
+                (18, lists),
+            ],
+        );
+        c.groups = Some((classify, reduce));
+        c.reduce_pending.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+
     /// Uploads the passes' parameters.
     pub fn prepare(&self, queue: &wgpu::Queue, params: &PassParams) {
         self.pcf.prepare(queue, params);
         self.blur.prepare(queue, params);
     }
 
-    /// Records the passes over every member's list (after the members' classifications): the
-    /// arguments and the PCF marked "pcf", both blur axes "blur".
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, visibility: &wgpu::TextureView, mark: Mark) {
+    /// Records the members' classification (with the reduction of their fattened maps before
+    /// it where `maps_drawn`, one of them was drawn, or none was reduced since the group was
+    /// bound) marked "distance map", then the passes over every member's list: the arguments
+    /// and the PCF marked "pcf", both blur axes "blur".
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        visibility: &wgpu::TextureView,
+        maps_drawn: bool,
+        mark: Mark,
+    ) {
+        let c = &self.classification;
+        let Some((classify, reduce)) = &c.groups else {
+            return;
+        };
+        let n = self.slots.len() as u32;
+        let pending = c.reduce_pending.swap(false, std::sync::atomic::Ordering::Relaxed);
+        crate::chain::run(encoder, &mut *mark, "distance map", |e| {
+            let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("LightGroup::classify"),
+                timestamp_writes: None,
+            });
+            if maps_drawn || pending {
+                let (w, h) = (c.reduced.0.width(), c.reduced.0.height());
+                pass.set_pipeline(&c.reduce);
+                pass.set_bind_group(0, reduce, &[]);
+                pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), n);
+            }
+            let (w, h) = (c.classes.0.width(), c.classes.0.height());
+            pass.set_pipeline(&c.classify);
+            pass.set_bind_group(0, classify, &[]);
+            pass.dispatch_workgroups(w, h, n);
+        });
         let tiles = TileList {
             group: &self.lists_group,
             args: &self.args,
@@ -280,15 +477,16 @@ impl LightGroup {
     pub fn allocated_bytes(&self) -> u64 {
         self.lists.size()
             + self.args.size()
-            + [&self.distance.0, &self.sigma.0, &self.blurred.0]
-                .into_iter()
-                .map(texture_bytes)
-                .sum::<u64>()
-            + self
-                .members
-                .iter()
-                .map(|m| m.tiles.allocated_bytes() - TileListTargets::list_bytes(self.size))
-                .sum::<u64>()
+            + [
+                &self.distance.0,
+                &self.sigma.0,
+                &self.blurred.0,
+                &self.classification.reduced.0,
+                &self.classification.classes.0,
+            ]
+            .into_iter()
+            .map(texture_bytes)
+            .sum::<u64>()
             + self.pcf.allocated_bytes()
             + self.blur.allocated_bytes()
     }

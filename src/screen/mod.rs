@@ -55,7 +55,7 @@ pub(crate) use blur::BlurUniform;
 pub(crate) use blur::{BlurCompute, BlurInput, BlurPass};
 pub(crate) use chains::{ChainKey, Mark, ScreenChain, ScreenInputs};
 pub(crate) use distance_map::{DistanceMapCompute, DistanceMapPass, DistanceMaps};
-pub(crate) use light_group::{GroupMember, LightGroup, MAX_MEMBERS as MAX_GROUP_MEMBERS};
+pub(crate) use light_group::{LightGroup, MAX_MEMBERS as MAX_GROUP_MEMBERS};
 pub(crate) use pcf::PcfPass;
 pub(crate) use pcss::PcssPass;
 pub(crate) use resolve::ResolvePass;

@@ -344,29 +344,6 @@ impl TileListTargets {
         list_bytes(TileClassifyPass::tiles(width, height))
     }
 
-    /// For a `width` x `height` screen, the list written at `offset` in `list` (a region of a
-    /// group's lists, [`super::LightGroup`]): the rest its own, as [`Self::new`]'s.
-    pub fn in_region(device: &wgpu::Device, size: (u32, u32), list: &wgpu::Buffer, offset: u64) -> Self {
-        let own = Self::new(device, size);
-        let range = (offset, Self::list_bytes(size));
-        let group = crate::gpu_helpers::bind_group(
-            device,
-            "TileListTargets::region",
-            &TileListPass::list_layout(device),
-            &[&wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                buffer: list,
-                offset: range.0,
-                size: wgpu::BufferSize::new(range.1),
-            })],
-        );
-        Self {
-            list: list.clone(),
-            list_range: range,
-            group,
-            ..own
-        }
-    }
-
     /// The list as the classification binds it.
     fn list_binding(&self) -> wgpu::BindingResource<'_> {
         wgpu::BindingResource::Buffer(wgpu::BufferBinding {

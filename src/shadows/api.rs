@@ -609,9 +609,9 @@ impl Shadows {
             if state.bound != Some(chain) {
                 let compute = self.compute_targets.as_ref().filter(|_| chain.compute());
                 let layer = layers.get(slot).filter(|_| layer_writes);
-                let group = self.groups.iter().find_map(|g| g.member(slot));
+                let grouped = self.groups.iter().any(|g| g.slots().contains(&slot));
                 let depth = (&inputs.depth_view, mask_view);
-                state.bind(device, depth, &self.dummy.view, (compute, layer, group));
+                state.bind(device, depth, &self.dummy.view, (compute, layer, grouped));
                 state.bound = Some(chain);
                 rebound.push(slot);
             }
@@ -747,6 +747,8 @@ impl Shadows {
             order.retain(|&slot| slot != id.0 as usize);
             order.push(id.0 as usize);
         }
+        // The lights whose maps are drawn this frame: a group reduces its fattened maps again.
+        let mut drawn = Vec::new();
         for slot in order {
             let Some(state) = &mut self.lights[slot] else {
                 continue;
@@ -755,6 +757,7 @@ impl Shadows {
                 continue;
             };
             if plan.render_maps {
+                drawn.push(slot);
                 if let Some(maps) = &state.maps {
                     let light_space =
                         &mut |e: &mut wgpu::CommandEncoder, pass| mark(e, pass, PassStage::LightSpace);
@@ -784,7 +787,8 @@ impl Shadows {
             for group in &self.groups {
                 let screen_space =
                     &mut |e: &mut wgpu::CommandEncoder, pass| mark(e, pass, PassStage::ScreenSpace);
-                group.encode(encoder, visibility, screen_space);
+                let maps_drawn = group.slots().iter().any(|s| drawn.contains(s));
+                group.encode(encoder, visibility, maps_drawn, screen_space);
             }
         }
         reports.sort_by_key(|r| r.light.layer());

@@ -171,17 +171,13 @@ impl LightState {
 
     /// Points every pass of the chain at its inputs: the engine's depth and receiver mask, a
     /// stand-in, the compute path's intermediates, the light's layer where the compute
-    /// passes write it themselves, and its part of the group it runs in.
+    /// passes write it themselves, and whether it runs in a group.
     pub(super) fn bind(
         &mut self,
         device: &wgpu::Device,
         (depth, mask): (&wgpu::TextureView, &wgpu::TextureView),
         dummy: &wgpu::TextureView,
-        (compute, layer, group): (
-            Option<&ComputeTargets>,
-            Option<&wgpu::TextureView>,
-            Option<&crate::screen::GroupMember>,
-        ),
+        (compute, layer, grouped): (Option<&ComputeTargets>, Option<&wgpu::TextureView>, bool),
     ) {
         let Some(maps) = &self.maps else { return };
         let views = maps.screen_views(self.screen.map_arrays());
@@ -194,7 +190,7 @@ impl LightState {
             dummy,
             compute,
             layer,
-            group,
+            grouped,
         };
         self.screen.bind(device, &inputs);
     }

@@ -99,15 +99,8 @@ impl MethodChain for OursChain {
             return;
         };
         self.grouped = false;
-        if let (Some(member), Some(layer)) = (inputs.group, inputs.layer) {
-            // The classification clears the member's layers and the light's.
-            let cleared = ClearedByList {
-                distance: &member.distance,
-                visibility: layer,
-                blurred: Some(&member.blurred),
-            };
-            self.distance
-                .bind(device, (&member.tiles, &cleared), frame, &maps, (depth, mask));
+        if inputs.grouped {
+            // The group classifies and runs the passes (`LightGroup`).
             self.targets = Some(all.clone());
             self.grouped = true;
             return;
@@ -154,9 +147,7 @@ impl MethodChain for OursChain {
         };
         let maps_drawn = recorder.maps_drawn;
         if self.grouped {
-            // The classification clears what the group's passes read (it tests pixels by
-            // workgroups: `LightGroup::groups`).
-            recorder.pass("distance map", |e| self.distance.encode(e, maps_drawn));
+            // The group records the light's classification and passes (`LightGroup::encode`).
             return;
         }
         // The tile classification sets the intermediates where it tests pixels by workgroups

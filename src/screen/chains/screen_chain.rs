@@ -27,9 +27,9 @@ pub(crate) struct ScreenInputs<'a> {
     /// The light's layer of the visibility array, where the compute passes write it themselves
     /// ([`PassParams::layer_writes`]).
     pub layer: Option<&'a wgpu::TextureView>,
-    /// The light's part of the group it runs in ([`crate::screen::LightGroup`]): its chain then
-    /// runs its tile classification alone, into these, and the group the rest.
-    pub group: Option<&'a crate::screen::GroupMember>,
+    /// The light runs in a group ([`crate::screen::LightGroup`]), which records its screen
+    /// passes: its chain records none.
+    pub grouped: bool,
 }
 
 impl<'a> ScreenInputs<'a> {
