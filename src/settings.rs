@@ -827,14 +827,15 @@ pub struct ExecutionSettings {
     /// Which pass makes the distance-map method's exit map (the casters' faces turned away
     /// from the light). Default [`ExitMapDraw::Auto`].
     pub exit_map_draw: ExitMapDraw,
-    /// Run the screen-space passes of lights alike as one (true): each light's tile
-    /// classification still writes its own list, but the variable PCF and each blur axis are
-    /// then one dispatch over every listed tile of the group, where each light of it would
-    /// run its own. A group is the lights of `ours` of one kind whose maps share arrays and
-    /// whose chains are alike, where the compute passes write the lights' layers, keep half
-    /// floats and test the tiles' pixels by workgroups (a GPU; [`TilePixels::Workgroup`]
-    /// elsewhere), and the light's maps are not sized from the penumbra
-    /// ([`MapResolution::FromPenumbra`]). Fewer dispatches a light (what a GPU pays per dispatch, not per
+    /// Run the screen-space passes of lights alike as one (true): the tile classification (with
+    /// the reduction of the fattened maps before it), the variable PCF and each blur axis are
+    /// each one dispatch over every light of the group (each light's tiles listed apart in it),
+    /// where each light would run its own. A group is the lights of `ours` of one kind whose
+    /// maps share arrays and whose chains are alike, where the compute passes write the
+    /// lights' layers, keep half floats and test the tiles' pixels by workgroups (a GPU;
+    /// [`TilePixels::Workgroup`] elsewhere), the umbra's tiles are not listed apart
+    /// ([`PenumbraSettings::skip_umbra_tiles`]) and the light's maps are not sized from the
+    /// penumbra ([`MapResolution::FromPenumbra`]). Fewer dispatches a light (what a GPU pays per dispatch, not per
     /// pixel), for memory: a group keeps each light's intermediates (the distance map, the
     /// deviations, the blur's horizontal result: 8 bytes a pixel in half floats) where lights
     /// run one after the other share one set. Not measured on a GPU yet. Default false.
