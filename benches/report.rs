@@ -2296,8 +2296,8 @@ fn write_grouped_lights(md: &mut String, embedding: &Embedding) -> Result<()> {
         "\n### Lights run as one group (`ExecutionSettings::light_groups`)\n\n\
          Spots 22.5 degrees apart, still, the tiles' pixels tested by workgroups in both runs (the \
          groups need it; on a GPU it is the default). Apart, each light runs its chain; as one \
-         group, each light's tile classification (\"distance map\") still runs, then the variable \
-         PCF and each blur axis run once over every light's tiles (one \"pcf\" and one \"blur\" \
+         group, the tile classification (\"distance map\"), the variable PCF and each blur axis \
+         run once over every light's tiles (one \"distance map\", one \"pcf\" and one \"blur\" \
          for the group). The group runs fewer dispatches over the same pixels: what it saves is \
          what a device pays per dispatch.\n\n\
          | spots | apart ms | as one group ms | group / apart | pcf + blur apart ms | pcf + blur grouped ms |\n\
