@@ -263,6 +263,8 @@ pub const CLASSIFY_GROUP_LAYERS: [(&str, &str); 6] = [
 const CLASSIFY_LIST: &str = "@group(0) @binding(5) var<storage, read_write> list_out: TileListOut;";
 const CLASSIFY_APPEND: &str = "list_out.tiles[atomicAdd(&list_out.appended, 1u)] = packed;";
 const CLASSIFY_AWAY_APPEND: &str = "away_out.tiles[atomicAdd(&away_out.appended, 1u)] = packed;";
+/// A block's opening brace (written by its code, so that this file's braces stay in pairs).
+const OPEN_BRACE: char = '\u{7b}';
 
 /// `source` (`shaders/tile_classify.wgsl`) as the classification of a group of lights in one
 /// dispatch (`cs_reduce` and `cs_classify_wide`, each workgroup's z its member): the light's
@@ -297,20 +299,11 @@ pub fn with_light_group_classification(source: &str) -> Option<String> {
         "atomicStore(&group_lists[member_list() + 2u + atomicAdd(&group_lists[member_list() + 1u], 1u)], packed);",
     );
     out = out.replace(CLASSIFY_AWAY_APPEND, "// (a group lists no tile turned away)");
-    for (entry, z) in [
-        (
-            "fn cs_reduce(@builtin(global_invocation_id) id: vec3<u32>) {",
-            "id.z",
-        ),
-        (
-            "fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>, @builtin(local_invocation_index) index: u32) {",
-            "group.z",
-        ),
-    ] {
-        if !out.contains(entry) {
-            return None;
-        }
-        out = out.replace(entry, &format!("{entry}\n    use_member({z});"));
+    // Each entry point first sets its member (its workgroup's z) and its light.
+    for (entry, z) in [("fn cs_reduce(", "id.z"), ("fn cs_classify_wide(", "group.z")] {
+        let at = out.find(entry)?;
+        let body = at + out[at..].find(OPEN_BRACE)? + 1;
+        out.insert_str(body, &format!("\n    use_member({z});"));
     }
     for alias in STORAGE_ALIASES {
         out = out.replace(

@@ -290,18 +290,15 @@ impl LightGroup {
         &self.slots
     }
 
-    /// The light at `slot`'s intermediate `which` where the group holds it, and its layer
-    /// there: the distance map (the member's layer of the group's) and the tile classes (the
-    /// member's own). `None` for the others and where the light is not a member.
-    pub fn member_texture(&self, slot: usize, which: crate::LightTexture) -> Option<(&wgpu::Texture, u32)> {
+    /// The members' distance maps and tile classes (a layer a member), and the layer of the
+    /// light at `slot` (none where it is not a member).
+    pub fn member_intermediates(&self, slot: usize) -> Option<(&wgpu::Texture, &wgpu::Texture, u32)> {
         let g = self.slots.iter().position(|&s| s == slot)?;
-        match which {
-            crate::LightTexture::DistanceMap => Some((&self.distance.0, u32::try_from(g).ok()?)),
-            crate::LightTexture::TileClasses => {
-                Some((&self.classification.classes.0, u32::try_from(g).ok()?))
-            }
-            _ => None,
-        }
+        Some((
+            &self.distance.0,
+            &self.classification.classes.0,
+            u32::try_from(g).ok()?,
+        ))
     }
 
     /// Points the passes at their inputs: every light's frame, the camera's depth and the

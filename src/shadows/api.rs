@@ -979,12 +979,18 @@ impl Shadows {
         layer.filter(|&l| l < texture.depth_or_array_layers())
     }
 
-    /// Light `id`'s intermediate `which` and its layer where a group of lights holds it
-    /// ([`LightGroup::member_texture`]).
+    /// Light `id`'s intermediate `which` and its layer where a group of lights holds it: its
+    /// distance map and tile classes ([`LightGroup::member_intermediates`]).
     fn group_texture(&self, id: LightId, which: LightTexture) -> Option<(&wgpu::Texture, u32)> {
-        self.groups
+        let (distance, classes, layer) = self
+            .groups
             .iter()
-            .find_map(|g| g.member_texture(id.0 as usize, which))
+            .find_map(|g| g.member_intermediates(id.0 as usize))?;
+        match which {
+            LightTexture::DistanceMap => Some((distance, layer)),
+            LightTexture::TileClasses => Some((classes, layer)),
+            _ => None,
+        }
     }
 
     fn state(&self, id: LightId) -> Result<&LightState> {
