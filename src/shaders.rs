@@ -223,12 +223,7 @@ pub fn with_light_groups(source: &str, layers: &[(&str, &str)]) -> Option<String
     let grouped = source.replace(TILE_LIST, TILE_GROUPS);
     let arrayed = with_map_arrays(&grouped).unwrap_or(grouped);
     let mut out = with_light_frames(&arrayed)?;
-    for alias in STORAGE_ALIASES {
-        out = out.replace(
-            alias,
-            &alias.replace("texture_storage_2d<", "texture_storage_2d_array<"),
-        );
-    }
+    out = with_storage_arrays(&out);
     for (name, _) in layers {
         let sampled = format!("var {name}: texture_2d<f32>;");
         if out.contains(&sampled) {
@@ -244,6 +239,16 @@ pub fn with_light_groups(source: &str, layers: &[(&str, &str)]) -> Option<String
         out = with_layer_arguments(&out, builtin, layers);
     }
     Some(out)
+}
+
+/// `source` with the storage textures' aliases ([`STORAGE_ALIASES`]) typed as 2D arrays.
+fn with_storage_arrays(source: &str) -> String {
+    STORAGE_ALIASES.iter().fold(source.to_owned(), |out, alias| {
+        out.replace(
+            alias,
+            &alias.replace("texture_storage_2d<", "texture_storage_2d_array<"),
+        )
+    })
 }
 
 /// The textures the tile classification over a group of lights binds as arrays
@@ -305,12 +310,7 @@ pub fn with_light_group_classification(source: &str) -> Option<String> {
         let body = at + out[at..].find(OPEN_BRACE)? + 1;
         out.insert_str(body, &format!("\n    use_member({z});"));
     }
-    for alias in STORAGE_ALIASES {
-        out = out.replace(
-            alias,
-            &alias.replace("texture_storage_2d<", "texture_storage_2d_array<"),
-        );
-    }
+    out = with_storage_arrays(&out);
     for (name, _) in CLASSIFY_GROUP_LAYERS {
         let sampled = format!("var {name}: texture_2d<f32>;");
         let stored = format!("var {name}: texture_storage_2d<");
