@@ -289,9 +289,6 @@ pub(crate) struct ClearedByList<'a> {
 #[derive(Clone)]
 pub(crate) struct TileListTargets {
     list: wgpu::Buffer,
-    /// Where in `list` the list lies (offset, size): all of it, or a group member's region
-    /// ([`Self::in_region`]).
-    list_range: (u64, u64),
     args: wgpu::Buffer,
     classes: Target,
     /// The list as group [`super::TILE_LIST_GROUP`].
@@ -332,7 +329,6 @@ impl TileListTargets {
                 REDUCED_STORAGE_FORMAT,
                 false,
             ),
-            list_range: (0, words),
             list,
             group,
         }
@@ -342,15 +338,6 @@ impl TileListTargets {
     /// classification appends with, one word a tile.
     pub fn list_bytes((width, height): (u32, u32)) -> u64 {
         list_bytes(TileClassifyPass::tiles(width, height))
-    }
-
-    /// The list as the classification binds it.
-    fn list_binding(&self) -> wgpu::BindingResource<'_> {
-        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-            buffer: &self.list,
-            offset: self.list_range.0,
-            size: wgpu::BufferSize::new(self.list_range.1),
-        })
     }
 
     /// Every tile of a `width` x `height` screen, listed once (a pass over the whole screen).
@@ -372,7 +359,6 @@ impl TileListTargets {
             )
         };
         let list = filled("TileListTargets::every_tile", wgpu::BufferUsages::STORAGE, &words);
-        let list_range = (0, list.size());
         // As `cs_finish` writes them.
         let dispatch = [count.min(65535), count.div_ceil(65535), 1, 0];
         // No tile is turned away (the classification does not run): none at AWAY_ARGS.
@@ -412,7 +398,6 @@ impl TileListTargets {
         let away_group = Self::list_group(device, "TileListTargets::no_tile", &away);
         Self {
             list,
-            list_range,
             args,
             away: (away, away_group),
             classes: super::storage_target(
@@ -437,7 +422,7 @@ impl TileListTargets {
     }
 
     pub fn allocated_bytes(&self) -> u64 {
-        texture_bytes(&self.classes.texture) + self.list_range.1 + self.args.size() + self.away.0.size()
+        texture_bytes(&self.classes.texture) + self.list.size() + self.args.size() + self.away.0.size()
     }
 
     /// One texel per screen tile: 1 where it was listed.
@@ -701,7 +686,7 @@ impl TileListPass {
             (1, wgpu::BindingResource::TextureView(camera_depth)),
             (2, wgpu::BindingResource::TextureView(&self.reduced.view)),
             (4, wgpu::BindingResource::Sampler(&self.gather)),
-            (5, targets.list_binding()),
+            (5, targets.list.as_entire_binding()),
             (7, targets.args.as_entire_binding()),
             (8, wgpu::BindingResource::TextureView(&targets.classes.view)),
             (9, targets.away.0.as_entire_binding()),
