@@ -130,9 +130,13 @@ impl LightView {
                 };
                 let view = Mat4::from_translation(Vec3::new(0.0, 0.0, shift)) * view;
                 let (near, far) = (near - shift, far - shift);
-                // The margin also pads the depth range: the fattened casters reach that far
-                // toward the light.
-                let pad_z = ((far - near) * 0.01).max(radius * 1e-4) + inputs.margin.max(0.0);
+                // A hundredth of the depth range pads it (a ten-thousandth of the window's width
+                // where the casters lie flat across the light), and so does the margin: the
+                // fattened casters reach that far toward the light. Not by the scene's radius: a
+                // 500,000-unit ground padded the depth range by 35 units each way, which made the
+                // fatten distance 3.2x, every window 1.2x as wide and the depths coarser
+                // (tests/lights/large_grounds.rs).
+                let pad_z = ((far - near) * 0.01).max((max - min).max_element() * 1e-4) + inputs.margin.max(0.0);
                 let (near, far) = (near - pad_z, far + pad_z);
                 let projection =
                     glam::camera::rh::proj::directx::orthographic(min.x, max.x, min.y, max.y, near, far);
