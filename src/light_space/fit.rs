@@ -136,7 +136,8 @@ impl LightView {
                 // 500,000-unit ground padded the depth range by 35 units each way, which made the
                 // fatten distance 3.2x, every window 1.2x as wide and the depths coarser
                 // (tests/lights/large_grounds.rs).
-                let pad_z = ((far - near) * 0.01).max((max - min).max_element() * 1e-4) + inputs.margin.max(0.0);
+                let pad_z =
+                    ((far - near) * 0.01).max((max - min).max_element() * 1e-4) + inputs.margin.max(0.0);
                 let (near, far) = (near - pad_z, far + pad_z);
                 let projection =
                     glam::camera::rh::proj::directx::orthographic(min.x, max.x, min.y, max.y, near, far);
@@ -185,8 +186,13 @@ impl LightView {
                 ];
                 let (min_depth, max_depth) = clipped_depth_range(&view, &bounds, inputs.parts, &planes);
                 let margin = inputs.margin.max(0.0);
-                let far = (max_depth * 1.01 + margin).max(1e-3);
-                let near = (min_depth * 0.99 - margin).max(far * 1e-3);
+                let (near, far) = perspective_depth_range(
+                    light,
+                    (min_depth, min_depth),
+                    min_depth * 0.99 - margin,
+                    (max_depth * 1.01 + margin).max(1e-3),
+                    margin,
+                );
                 // A 90-degree projection, then the window scaled and moved to fill clip space:
                 // x' = (x - center.x w) / half (and y), an off-centre frustum.
                 let square =
@@ -244,12 +250,20 @@ pub(super) fn point_faces(inputs: &FitInputs, position: Vec3, bounds: &Aabb) -> 
     // distance), up to sqrt(3) times shorter than the straight one off the axes. Taking the
     // straight one clipped the near side of casters 40 degrees and more off a face's axis (the
     // fattened map, pushed toward the light, first), so the maps held their far sides.
-    let nearest = parts
+    let starts: Vec<f32> = parts
         .iter()
         .filter(|b| !b.is_empty())
         .map(|b| (position.clamp(b.min, b.max) - position).abs().max_element())
-        .fold(f32::INFINITY, f32::min);
-    let near = (nearest * 0.9 - margin).clamp(far * 1e-3, far * 0.5);
+        .collect();
+    let nearest = starts.iter().copied().fold(f32::INFINITY, f32::min);
+    let last_start = starts.iter().copied().fold(0.0, f32::max);
+    let (near, far) = perspective_depth_range(
+        inputs.light,
+        (nearest, last_start),
+        (nearest * 0.9 - margin).min(far * 0.5),
+        far,
+        margin,
+    );
     let guard = tile as f32 / (tile as f32 - 2.0 * FACE_GUARD).max(1.0);
     let projection = glam::camera::rh::proj::directx::perspective(2.0 * guard.atan(), 1.0, near, far);
     let extent = Vec2::splat(2.0 * near * guard);
@@ -661,5 +675,85 @@ impl LightView {
             }
         }
         smallest
+    }
+}
+
+/// The most a spot or point light's far plane lies beyond its near plane: a 16-bit depth map
+/// (`DepthFormat::Depth16`) then knows a receiver's distance to 1.5% of it at the far plane.
+pub(super) const PERSPECTIVE_DEPTH_RATIO: f32 = 1e3;
+
+/// A spot or point light's near and far planes: `wanted` for the near plane (in front of the
+/// nearest part, `nearest` from the light, by the margin), `far` behind the farthest (and within
+/// the light's range, where it has one: past it the light gives nothing). The near plane stays
+/// at least `far / PERSPECTIVE_DEPTH_RATIO` for the depths' precision, as long as some part
+/// starts beyond twice that (`last_start`: the farthest of the parts' nearest points from the
+/// light), so that what it clips is a part around the light (a fixture) while the others keep
+/// their shadows. Where it would clip into every part (a lamp 5 units above a ground 500,000
+/// units wide, whose far corners put the near plane 357 units out and left the teapot 1.8 units
+/// from it without a shadow, `tests/lights/large_grounds.rs`) the near plane stays at half the
+/// nearest part's distance and the far plane comes in instead, to `PERSPECTIVE_DEPTH_RATIO`
+/// times it. What lies beyond then receives no shadow: at 500 times the nearest part's distance,
+/// the light is a quarter of a millionth as bright there. A part holding the light (`nearest` 0)
+/// keeps the precision's near plane.
+pub(super) fn perspective_depth_range(
+    light: &Light,
+    (nearest, last_start): (f32, f32),
+    wanted: f32,
+    far: f32,
+    margin: f32,
+) -> (f32, f32) {
+    let far = match light.range() {
+        Some(range) if range > 0.0 && range.is_finite() => far.min(range * 1.01 + margin).max(1e-3),
+        _ => far,
+    };
+    let precise = far / PERSPECTIVE_DEPTH_RATIO;
+    let keeps_nearest = 0.5 * nearest;
+    if keeps_nearest > 0.0 && keeps_nearest.is_finite() && 0.5 * last_start < precise {
+        let near = wanted.max(keeps_nearest).min(far * 0.5);
+        return (near, far.min(near * PERSPECTIVE_DEPTH_RATIO));
+    }
+    (wanted.max(precise), far)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::PointLight;
+
+    fn lamp(range: Option<f32>) -> Light {
+        Light::Point(PointLight {
+            position: Vec3::ZERO,
+            radius: 0.1,
+            color: Vec3::ONE,
+            intensity: 1.0,
+            range,
+        })
+    }
+
+    /// A fixture a millimetre from the light, the room's furniture two units away: the near
+    /// plane clips the fixture and the far plane stays behind the room.
+    #[test]
+    fn a_fixture_around_the_light_keeps_the_far_plane() {
+        let (near, far) = perspective_depth_range(&lamp(None), (0.001, 2.0), 0.0009, 10.0, 0.0);
+        assert_eq!((near, far), (0.01, 10.0));
+    }
+
+    /// Every part starts nearer than a thousandth of the far plane (a ground's far corners): the
+    /// near plane stays in front of the nearest part and the far plane comes in.
+    #[test]
+    fn a_ground_far_wider_than_the_light_reaches_keeps_the_nearest_caster() {
+        let (near, far) = perspective_depth_range(&lamp(None), (1.8, 5.0), 1.6, 357_000.0, 0.0);
+        assert_eq!(near, 1.6);
+        assert!((far - 1600.0).abs() < 1e-2, "{far}");
+    }
+
+    /// Past its range the light gives nothing: the far plane stops there.
+    #[test]
+    fn the_far_plane_stops_at_the_lights_range() {
+        let (near, far) = perspective_depth_range(&lamp(Some(20.0)), (1.8, 5.0), 1.6, 357_000.0, 0.5);
+        assert!((far - 20.7).abs() < 1e-4, "{far}");
+        assert_eq!(near, 1.6);
+        let (_, far) = perspective_depth_range(&lamp(Some(1e6)), (1.8, 5.0), 1.6, 30.0, 0.0);
+        assert_eq!(far, 30.0);
     }
 }
