@@ -464,8 +464,9 @@ pub(crate) fn extract_penumbra(
             radius: size.map_or(spot.radius, |s| s.0).max(0.0),
             color: linear(spot.color),
             intensity: spot.intensity,
-            // Shadows' visibility is unitless: the range and units are Bevy's to shade.
-            range: None,
+            // Shadows' visibility is unitless: the units are Bevy's to shade. The range ends the
+            // light's maps, as it ends Bevy's own: past it the light gives nothing.
+            range: shadow_range(spot.range),
         });
         let label = label("SpotLight", entity, name);
         add(
@@ -483,7 +484,7 @@ pub(crate) fn extract_penumbra(
             radius: size.map_or(point.radius, |s| s.0).max(0.0),
             color: linear(point.color),
             intensity: point.intensity,
-            range: None,
+            range: shadow_range(point.range),
         });
         let label = label("PointLight", entity, name);
         add(
@@ -688,6 +689,12 @@ fn posed(
         normals,
         indices: rest.indices,
     })
+}
+
+/// A spot or point light's range for its maps' far plane: Bevy's, where it is a length (a
+/// range of 0 or one not finite leaves the maps to the scene's extent).
+fn shadow_range(range: f32) -> Option<f32> {
+    (range > 0.0 && range.is_finite()).then_some(range)
 }
 
 /// A Bevy colour as penumbra's linear RGB.

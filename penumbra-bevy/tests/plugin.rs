@@ -747,6 +747,41 @@ fn a_sun_over_a_ground_far_wider_than_the_view_keeps_a_small_casters_shadow() {
     assert!(overlap >= 0.85, "IoU {overlap} with Bevy's shadow");
 }
 
+/// A point light (range 40) over a plane 6,000 units wide, with a far-off cube 2,000 units away:
+/// the light's maps reached the plane's far corners, and their near plane, kept within a
+/// thousandth of the far one, 4.2 units from the light, past the box's top 3.5 below it: only
+/// the box's lower part cast a shadow (its darkness 0.43x Bevy's, IoU 0.41). The light's range
+/// now ends its maps, as it ends Bevy's own, and the box's shadow is Bevy's.
+#[test]
+fn a_point_light_over_a_wide_ground_keeps_the_boxs_shadow_within_its_range() {
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let mut scene = box_above_plane((point(-3.0, 3.0e6), Name::new("Lamp")), false);
+    let world = scene.headless.app.world_mut();
+    let ground = world
+        .resource_mut::<Assets<Mesh>>()
+        .add(Plane3d::default().mesh().size(6_000.0, 6_000.0));
+    world.entity_mut(scene.plane).insert(Mesh3d(ground));
+    let cube = world
+        .resource_mut::<Assets<Mesh>>()
+        .add(Mesh::from(Cuboid::new(1.0, 1.0, 1.0)));
+    let red = red(world);
+    world.spawn((
+        Mesh3d(cube),
+        MeshMaterial3d(red),
+        Transform::from_xyz(2_000.0, 0.5, 0.0),
+    ));
+    let (ours, bevy) = scene.penumbra_and_bevy("wide_ground_point", 10);
+    let messages = scene.messages();
+    assert!(messages.is_empty(), "the plugin reported {messages:?}");
+    scene.headless.app.world_mut().despawn(scene.box_entity);
+    let empty = scene.headless.render(4);
+    let (ours, bevy) = (darkness(&ours, &empty), darkness(&bevy, &empty));
+    let overlap = iou(&ours, &bevy);
+    println!("wide ground, point light: IoU {overlap:.3} with Bevy's shadow");
+    like_bevys_within("wide ground, point light", &ours, &bevy, (2.0, 0.3));
+    assert!(overlap >= 0.85, "IoU {overlap} with Bevy's shadow");
+}
+
 /// Bevy's `3d/deferred_rendering` switches its camera between deferred, forward and forward +
 /// prepass (`DefaultOpaqueRendererMethod`, the prepass components, every `StandardMaterial`
 /// touched). With the plugin its switch to forward + prepass panicked in Bevy's prepass queue
