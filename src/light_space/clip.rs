@@ -29,42 +29,30 @@ pub(crate) fn frustum_corners(camera: &Camera, aspect: f32, max_distance: f32) -
     corners
 }
 
+/// The faces of a box by its corners' indices (corner `i`: x side `i & 1`, y side `i & 2`, z
+/// side `i & 4`).
+const FACES: [[usize; 4]; 6] = [
+    [0, 2, 6, 4],
+    [1, 3, 7, 5],
+    [0, 1, 5, 4],
+    [2, 3, 7, 6],
+    [0, 1, 3, 2],
+    [4, 5, 7, 6],
+];
+
 /// Depth range (distance along the view's -z) of the parts of `parts` (world boxes; empty:
 /// `bounds` alone) on the inner side of every plane (view space, inside where
 /// `dot(plane.xyz, p) + plane.w >= 0`). When nothing is inside, the range of `bounds`' corners.
-/// Each box's faces are clipped one plane at a time (Sutherland-Hodgman); the extremes of a
-/// clipped box lie on its clipped faces.
 pub(super) fn clipped_depth_range(view: &Mat4, bounds: &Aabb, parts: &[Aabb], planes: &[Vec4]) -> (f32, f32) {
-    const FACES: [[usize; 4]; 6] = [
-        [0, 2, 6, 4],
-        [1, 3, 7, 5],
-        [0, 1, 5, 4],
-        [2, 3, 7, 6],
-        [0, 1, 3, 2],
-        [4, 5, 7, 6],
-    ];
     let parts = if parts.is_empty() {
         std::slice::from_ref(bounds)
     } else {
         parts
     };
-    let (mut near, mut far) = (f32::MAX, f32::MIN);
-    for part in parts {
-        let corners = part.corners().map(|c| view.transform_point3(c));
-        for face in FACES {
-            let mut polygon: Vec<Vec3> = face.iter().map(|&i| corners[i]).collect();
-            for plane in planes {
-                polygon = clip_polygon(&polygon, *plane);
-                if polygon.is_empty() {
-                    break;
-                }
-            }
-            for p in &polygon {
-                near = near.min(-p.z);
-                far = far.max(-p.z);
-            }
-        }
-    }
+    let (near, far) = parts
+        .iter()
+        .filter_map(|part| clipped_part_range(view, part, planes))
+        .fold((f32::MAX, f32::MIN), |(n, f), (a, b)| (n.min(a), f.max(b)));
     if near <= far {
         return (near, far);
     }
@@ -73,6 +61,28 @@ pub(super) fn clipped_depth_range(view: &Mat4, bounds: &Aabb, parts: &[Aabb], pl
         depths.iter().cloned().fold(f32::MAX, f32::min),
         depths.iter().cloned().fold(f32::MIN, f32::max),
     )
+}
+
+/// Depth range of the part of the box `part` on the inner side of every plane, `None` where
+/// none of it is. Each face is clipped one plane at a time (Sutherland-Hodgman); the extremes
+/// of a clipped box lie on its clipped faces.
+pub(super) fn clipped_part_range(view: &Mat4, part: &Aabb, planes: &[Vec4]) -> Option<(f32, f32)> {
+    let corners = part.corners().map(|c| view.transform_point3(c));
+    let (mut near, mut far) = (f32::MAX, f32::MIN);
+    for face in FACES {
+        let mut polygon: Vec<Vec3> = face.iter().map(|&i| corners[i]).collect();
+        for plane in planes {
+            polygon = clip_polygon(&polygon, *plane);
+            if polygon.is_empty() {
+                break;
+            }
+        }
+        for p in &polygon {
+            near = near.min(-p.z);
+            far = far.max(-p.z);
+        }
+    }
+    (near <= far).then_some((near, far))
 }
 
 /// The part of a convex polygon on the inner side of `plane`.

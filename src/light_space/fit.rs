@@ -185,10 +185,20 @@ impl LightView {
                     Vec4::new(0.0, -1.0, -hi.y, 0.0),
                 ];
                 let (min_depth, max_depth) = clipped_depth_range(&view, &bounds, inputs.parts, &planes);
+                // Where each part inside the cone starts: the farthest of those starts.
+                let parts = if inputs.parts.is_empty() {
+                    std::slice::from_ref(&bounds)
+                } else {
+                    inputs.parts
+                };
+                let last_start = parts
+                    .iter()
+                    .filter_map(|part| clipped_part_range(&view, part, &planes))
+                    .fold(0.0, |last, (start, _)| f32::max(last, start));
                 let margin = inputs.margin.max(0.0);
                 let (near, far) = perspective_depth_range(
                     light,
-                    (min_depth, min_depth),
+                    (min_depth, last_start),
                     min_depth * 0.99 - margin,
                     (max_depth * 1.01 + margin).max(1e-3),
                     margin,
@@ -745,6 +755,59 @@ mod tests {
         let (near, far) = perspective_depth_range(&lamp(None), (1.8, 5.0), 1.6, 357_000.0, 0.0);
         assert_eq!(near, 1.6);
         assert!((far - 1600.0).abs() < 1e-2, "{far}");
+    }
+
+    /// A spot with a lens a millimetre in front of it over a floor 5 units down: the lens is
+    /// clipped and the floor kept. The spot tilted toward the horizon over a ground 20,000 units
+    /// wide, a caster 3 units out: the caster is kept and the far plane comes in.
+    #[test]
+    fn a_spots_planes_keep_the_floor_past_a_lens_and_the_caster_over_a_ground() {
+        use crate::scene::SpotLight;
+        let spot = SpotLight {
+            position: Vec3::ZERO,
+            direction: Vec3::NEG_Y,
+            cone_angle_deg: 60.0,
+            radius: 0.05,
+            color: Vec3::ONE,
+            intensity: 1.0,
+            range: None,
+        };
+        let fit = |spot: SpotLight, parts: &[Aabb]| {
+            let all = parts.iter().fold(Aabb::EMPTY, |a, b| a.union(b));
+            LightView::fit_with(&FitInputs {
+                light: &Light::Spot(spot),
+                casters: all,
+                casters_and_receivers: all,
+                parts,
+                margin: 0.0,
+                fit: LightFit::Scene,
+                camera: None,
+                resolution: 1024,
+                snap_to_texels: false,
+                cascades: CascadeSettings::default(),
+            })
+        };
+        let lens = Aabb::new(Vec3::new(-0.01, -0.002, -0.01), Vec3::new(0.01, -0.001, 0.01));
+        let floor = Aabb::new(Vec3::new(-20.0, -5.0, -20.0), Vec3::new(20.0, -5.0, 20.0));
+        let lv = fit(spot, &[lens, floor]);
+        assert!(lv.far > 5.0 && lv.near > 0.002, "near {} far {}", lv.near, lv.far);
+        // Tilted toward the horizon: the ground inside the cone reaches thousands of units out.
+        let tilted = SpotLight {
+            direction: Vec3::new(1.0, -0.3, 0.0).normalize(),
+            ..spot
+        };
+        let caster = Aabb::new(Vec3::new(2.5, -1.5, -0.5), Vec3::new(3.5, -0.5, 0.5));
+        let ground = Aabb::new(
+            Vec3::new(-10_000.0, -5.0, -10_000.0),
+            Vec3::new(10_000.0, -5.0, 10_000.0),
+        );
+        let lv = fit(tilted, &[caster, ground]);
+        assert!(
+            lv.near < 2.5 && lv.far < 3_000.0,
+            "near {} far {}",
+            lv.near,
+            lv.far
+        );
     }
 
     /// Past its range the light gives nothing: the far plane stops there.
