@@ -3,7 +3,7 @@
 //! on a 2,000- and a 500,000-unit one. The camera keeps the teapot in view (its near plane
 //! follows what stands in front of it, not the ground's extent), and with a shadow distance
 //! the sun's maps cover the view, not the ground: the penumbra error against each floor's own
-//! reference stays within 1.1x the 18-unit floor's. Without one, the frame's report names the
+//! reference stays within 1.05x the 18-unit floor's. Without one, the frame's report names the
 //! caster whose shadow the maps cannot hold. The visibility images are written to
 //! `target/penumbra-test-output/large-ground-*.png`.
 
@@ -104,7 +104,8 @@ fn a_lamp_over_a_ground_far_wider_than_the_view_keeps_the_teapots_shadow() {
 
 /// The teapot on the 18-unit floor and the `wider` ones under `light` (the scene's sun where
 /// `None`): the reference's shadow is in the picture, and `ours`' penumbra RMSE against it on
-/// the wider floors is within 1.1x the 18-unit floor's.
+/// the wider floors is within 1.05x the 18-unit floor's (1.1x until the sun's depth range
+/// stopped being padded by the scene's radius: the 500,000-unit floor read 1.094x).
 fn floors_keep_the_shadow(name: &str, light: Option<Light>, wider: &[f32]) {
     let gpu = common::gpu();
     let mut errors = Vec::new();
@@ -148,7 +149,7 @@ fn floors_keep_the_shadow(name: &str, light: Option<Light>, wider: &[f32]) {
             e / base
         );
         assert!(
-            *e <= 1.1 * base,
+            *e <= 1.05 * base,
             "{name}, {size}-unit floor: penumbra RMSE {e:.4} against the 18-unit floor's {base:.4}"
         );
     }
