@@ -184,25 +184,7 @@ impl LightView {
                     Vec4::new(0.0, 1.0, lo.y, 0.0),
                     Vec4::new(0.0, -1.0, -hi.y, 0.0),
                 ];
-                let (min_depth, max_depth) = clipped_depth_range(&view, &bounds, inputs.parts, &planes);
-                // Where each part inside the cone starts: the farthest of those starts.
-                let parts = if inputs.parts.is_empty() {
-                    std::slice::from_ref(&bounds)
-                } else {
-                    inputs.parts
-                };
-                let last_start = parts
-                    .iter()
-                    .filter_map(|part| clipped_part_range(&view, part, &planes))
-                    .fold(0.0, |last, (start, _)| f32::max(last, start));
-                let margin = inputs.margin.max(0.0);
-                let (near, far) = perspective_depth_range(
-                    light,
-                    (min_depth, last_start),
-                    min_depth * 0.99 - margin,
-                    (max_depth * 1.01 + margin).max(1e-3),
-                    margin,
-                );
+                let (near, far) = spot_depth_range(inputs, &view, &bounds, &planes);
                 // A 90-degree projection, then the window scaled and moved to fill clip space:
                 // x' = (x - center.x w) / half (and y), an off-centre frustum.
                 let square =
@@ -688,6 +670,30 @@ impl LightView {
     }
 }
 
+/// A spot light's near and far planes (`perspective_depth_range`) from the parts of the scene
+/// inside its frustum's four sides (`planes`, in its `view`).
+fn spot_depth_range(inputs: &FitInputs, view: &Mat4, bounds: &Aabb, planes: &[Vec4]) -> (f32, f32) {
+    let (min_depth, max_depth) = clipped_depth_range(view, bounds, inputs.parts, planes);
+    // Where each part inside the cone starts: the farthest of those starts.
+    let parts = if inputs.parts.is_empty() {
+        std::slice::from_ref(bounds)
+    } else {
+        inputs.parts
+    };
+    let last_start = parts
+        .iter()
+        .filter_map(|part| clipped_part_range(view, part, planes))
+        .fold(0.0, |last, (start, _)| f32::max(last, start));
+    let margin = inputs.margin.max(0.0);
+    perspective_depth_range(
+        inputs.light,
+        (min_depth, last_start),
+        min_depth * 0.99 - margin,
+        (max_depth * 1.01 + margin).max(1e-3),
+        margin,
+    )
+}
+
 /// The most a spot or point light's far plane lies beyond its near plane: a 16-bit depth map
 /// (`DepthFormat::Depth16`) then knows a receiver's distance to 1.5% of it at the far plane.
 pub(super) const PERSPECTIVE_DEPTH_RATIO: f32 = 1e3;
@@ -712,9 +718,13 @@ pub(super) fn perspective_depth_range(
     far: f32,
     margin: f32,
 ) -> (f32, f32) {
-    let far = match light.range() {
-        Some(range) if range > 0.0 && range.is_finite() => far.min(range * 1.01 + margin).max(1e-3),
-        _ => far,
+    let (far, wanted) = match light.range() {
+        // Every part may lie beyond the range: the near plane stays in front of the far one.
+        Some(range) if range > 0.0 && range.is_finite() && range * 1.01 + margin < far => {
+            let far = (range * 1.01 + margin).max(1e-3);
+            (far, wanted.min(far * 0.5))
+        }
+        _ => (far, wanted),
     };
     let precise = far / PERSPECTIVE_DEPTH_RATIO;
     let keeps_nearest = 0.5 * nearest;
@@ -818,5 +828,8 @@ mod tests {
         assert_eq!(near, 1.6);
         let (_, far) = perspective_depth_range(&lamp(Some(1e6)), (1.8, 5.0), 1.6, 30.0, 0.0);
         assert_eq!(far, 30.0);
+        // Every part past the range: the near plane stays in front of the far one.
+        let (near, far) = perspective_depth_range(&lamp(Some(20.0)), (30.0, 40.0), 27.0, 45.0, 0.0);
+        assert!(near < far && far < 20.3, "near {near} far {far}");
     }
 }
