@@ -280,6 +280,14 @@ fn main() -> Result<()> {
             report.map_resolution, widths.pixels, widths.limits_texels, widths.narrower
         );
     }
+    if let Some(reach) = renderer
+        .last_report()
+        .and_then(|r| r.light.light_view.shadow_reach)
+    {
+        eprintln!(
+            "warning: the key light's maps end {reach:.1} units from it, before the scene's farthest part              (a caster lies near the light while the scene reaches far): receivers beyond get no shadow;              give the light a range"
+        );
+    }
     if let Some(unheld) = renderer.last_report().and_then(|r| r.light.unheld_caster) {
         eprintln!(
             "warning: a caster {:.3} units across at {:.1} units from the camera is narrower than a texel of the \

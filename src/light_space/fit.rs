@@ -165,6 +165,7 @@ impl LightView {
                     cascade_count,
                     grid,
                     tile: inputs.resolution,
+                    shadow_reach: None,
                 }
             }
             Light::Point(_) | Light::Rect(_) | Light::Disk(_) => {
@@ -184,7 +185,7 @@ impl LightView {
                     Vec4::new(0.0, 1.0, lo.y, 0.0),
                     Vec4::new(0.0, -1.0, -hi.y, 0.0),
                 ];
-                let (near, far) = spot_depth_range(inputs, &view, &bounds, &planes);
+                let (near, far, shadow_reach) = spot_depth_range(inputs, &view, &bounds, &planes);
                 // A 90-degree projection, then the window scaled and moved to fill clip space:
                 // x' = (x - center.x w) / half (and y), an off-centre frustum.
                 let square =
@@ -211,6 +212,7 @@ impl LightView {
                     cascade_count,
                     grid,
                     tile: inputs.resolution,
+                    shadow_reach,
                 }
             }
         }
@@ -249,7 +251,7 @@ pub(super) fn point_faces(inputs: &FitInputs, position: Vec3, bounds: &Aabb) -> 
         .collect();
     let nearest = starts.iter().copied().fold(f32::INFINITY, f32::min);
     let last_start = starts.iter().copied().fold(0.0, f32::max);
-    let (near, far) = perspective_depth_range(
+    let (near, far, shadow_reach) = perspective_depth_range(
         inputs.light,
         (nearest, last_start),
         (nearest * 0.9 - margin).min(far * 0.5),
@@ -289,6 +291,7 @@ pub(super) fn point_faces(inputs: &FitInputs, position: Vec3, bounds: &Aabb) -> 
         cascade_count: 6,
         grid: AtlasGrid::CUBE,
         tile,
+        shadow_reach,
     }
 }
 
@@ -672,7 +675,12 @@ impl LightView {
 
 /// A spot light's near and far planes (`perspective_depth_range`) from the parts of the scene
 /// inside its frustum's four sides (`planes`, in its `view`).
-fn spot_depth_range(inputs: &FitInputs, view: &Mat4, bounds: &Aabb, planes: &[Vec4]) -> (f32, f32) {
+fn spot_depth_range(
+    inputs: &FitInputs,
+    view: &Mat4,
+    bounds: &Aabb,
+    planes: &[Vec4],
+) -> (f32, f32, Option<f32>) {
     let (min_depth, max_depth) = clipped_depth_range(view, bounds, inputs.parts, planes);
     // Where each part inside the cone starts: the farthest of those starts.
     let parts = if inputs.parts.is_empty() {
@@ -709,15 +717,16 @@ pub(super) const PERSPECTIVE_DEPTH_RATIO: f32 = 1e3;
 /// from it without a shadow, `tests/lights/large_grounds.rs`) the near plane stays at half the
 /// nearest part's distance and the far plane comes in instead, to `PERSPECTIVE_DEPTH_RATIO`
 /// times it. What lies beyond then receives no shadow: at 500 times the nearest part's distance,
-/// the light is a quarter of a millionth as bright there. A part holding the light (`nearest` 0)
-/// keeps the precision's near plane.
+/// the light is a quarter of a millionth as bright there (the third value, the new far plane:
+/// [`LightView::shadow_reach`]). A part holding the light (`nearest` 0) keeps the precision's
+/// near plane.
 pub(super) fn perspective_depth_range(
     light: &Light,
     (nearest, last_start): (f32, f32),
     wanted: f32,
     far: f32,
     margin: f32,
-) -> (f32, f32) {
+) -> (f32, f32, Option<f32>) {
     let (far, wanted) = match light.range() {
         // Every part may lie beyond the range: the near plane stays in front of the far one.
         Some(range) if range > 0.0 && range.is_finite() && range * 1.01 + margin < far => {
@@ -730,9 +739,10 @@ pub(super) fn perspective_depth_range(
     let keeps_nearest = 0.5 * nearest;
     if keeps_nearest > 0.0 && keeps_nearest.is_finite() && 0.5 * last_start < precise {
         let near = wanted.max(keeps_nearest).min(far * 0.5);
-        return (near, far.min(near * PERSPECTIVE_DEPTH_RATIO));
+        let reach = near * PERSPECTIVE_DEPTH_RATIO;
+        return (near, far.min(reach), (reach < far).then_some(reach));
     }
-    (wanted.max(precise), far)
+    (wanted.max(precise), far, None)
 }
 
 #[cfg(test)]
@@ -754,17 +764,18 @@ mod tests {
     /// plane clips the fixture and the far plane stays behind the room.
     #[test]
     fn a_fixture_around_the_light_keeps_the_far_plane() {
-        let (near, far) = perspective_depth_range(&lamp(None), (0.001, 2.0), 0.0009, 10.0, 0.0);
-        assert_eq!((near, far), (0.01, 10.0));
+        let (near, far, reach) = perspective_depth_range(&lamp(None), (0.001, 2.0), 0.0009, 10.0, 0.0);
+        assert_eq!((near, far, reach), (0.01, 10.0, None));
     }
 
     /// Every part starts nearer than a thousandth of the far plane (a ground's far corners): the
     /// near plane stays in front of the nearest part and the far plane comes in.
     #[test]
     fn a_ground_far_wider_than_the_light_reaches_keeps_the_nearest_caster() {
-        let (near, far) = perspective_depth_range(&lamp(None), (1.8, 5.0), 1.6, 357_000.0, 0.0);
+        let (near, far, reach) = perspective_depth_range(&lamp(None), (1.8, 5.0), 1.6, 357_000.0, 0.0);
         assert_eq!(near, 1.6);
         assert!((far - 1600.0).abs() < 1e-2, "{far}");
+        assert_eq!(reach, Some(far));
     }
 
     /// A spot with a lens a millimetre in front of it over a floor 5 units down: the lens is
@@ -801,6 +812,7 @@ mod tests {
         let floor = Aabb::new(Vec3::new(-20.0, -5.0, -20.0), Vec3::new(20.0, -5.0, 20.0));
         let lv = fit(spot, &[lens, floor]);
         assert!(lv.far > 5.0 && lv.near > 0.002, "near {} far {}", lv.near, lv.far);
+        assert_eq!(lv.shadow_reach, None);
         // Tilted toward the horizon: the ground inside the cone reaches thousands of units out.
         let tilted = SpotLight {
             direction: Vec3::new(1.0, -0.3, 0.0).normalize(),
@@ -818,18 +830,20 @@ mod tests {
             lv.near,
             lv.far
         );
+        assert_eq!(lv.shadow_reach, Some(lv.far));
     }
 
     /// Past its range the light gives nothing: the far plane stops there.
     #[test]
     fn the_far_plane_stops_at_the_lights_range() {
-        let (near, far) = perspective_depth_range(&lamp(Some(20.0)), (1.8, 5.0), 1.6, 357_000.0, 0.5);
+        let (near, far, reach) = perspective_depth_range(&lamp(Some(20.0)), (1.8, 5.0), 1.6, 357_000.0, 0.5);
+        assert_eq!(reach, None);
         assert!((far - 20.7).abs() < 1e-4, "{far}");
         assert_eq!(near, 1.6);
-        let (_, far) = perspective_depth_range(&lamp(Some(1e6)), (1.8, 5.0), 1.6, 30.0, 0.0);
+        let (_, far, _) = perspective_depth_range(&lamp(Some(1e6)), (1.8, 5.0), 1.6, 30.0, 0.0);
         assert_eq!(far, 30.0);
         // Every part past the range: the near plane stays in front of the far one.
-        let (near, far) = perspective_depth_range(&lamp(Some(20.0)), (30.0, 40.0), 27.0, 45.0, 0.0);
+        let (near, far, _) = perspective_depth_range(&lamp(Some(20.0)), (30.0, 40.0), 27.0, 45.0, 0.0);
         assert!(near < far && far < 20.3, "near {near} far {far}");
     }
 }

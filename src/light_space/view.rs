@@ -51,6 +51,13 @@ pub struct LightView {
     pub grid: AtlasGrid,
     /// Texels per side of one tile ([`tile_resolution`](super::tile_resolution)).
     pub tile: u32,
+    /// A spot or point light whose far plane was brought in before the scene's farthest part,
+    /// so that the depths' precision kept a caster near the light in front of the near plane
+    /// (every part starting within a five-hundredth of the far plane: a lamp over a ground
+    /// thousands of units wide): the distance from the light past which receivers get no
+    /// shadow. `None` where the maps reach every part or the light's range ends them first, and
+    /// for a directional light.
+    pub shadow_reach: Option<f32>,
 }
 
 /// The most cascades a directional light's map has.

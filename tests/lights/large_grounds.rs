@@ -101,6 +101,35 @@ fn a_ground_far_wider_than_the_view_keeps_the_teapots_shadow() {
 #[test]
 fn a_lamp_over_a_ground_far_wider_than_the_view_keeps_the_teapots_shadow() {
     floors_keep_the_shadow("lamp", Some(lamp()), &[2_000.0, 20_000.0]);
+    // The report says where the maps end: over the 20,000-unit floor a thousand times the near
+    // plane, before the floor's far corners; over the 18-unit floor they reach every part.
+    let gpu = common::gpu();
+    let reach = |size: f32, range: Option<f32>| {
+        let mut light = lamp();
+        if let Light::Point(p) = &mut light {
+            p.range = range;
+        }
+        let (scene, camera) = teapot_under(size, Some(light));
+        let mut renderer = Renderer::new(
+            &gpu.device,
+            wgpu::TextureFormat::Rgba8UnormSrgb,
+            settings(ShadowMethod::Ours, 0.0),
+        )
+        .unwrap();
+        let gpu_scene = penumbra::GpuScene::new(&gpu.device, &gpu.queue, renderer.layouts(), &scene).unwrap();
+        penumbra::render_to_image(&gpu, &mut renderer, &gpu_scene, &camera, 160, 128).unwrap();
+        let view = renderer.last_report().unwrap().light.light_view;
+        (view.shadow_reach, view.near, view.far)
+    };
+    let (wide, near, far) = reach(20_000.0, None);
+    eprintln!("lamp over the 20000-unit floor: maps end at {wide:?} (near {near}, far {far})");
+    assert!(
+        wide.is_some_and(|r| r == far && (near * 999.0..=near * 1001.0).contains(&r) && r < 14_000.0),
+        "{wide:?}, near {near}, far {far}"
+    );
+    assert_eq!(reach(18.0, None).0, None);
+    // A range that ends the maps first: nothing is lost to the depths' precision.
+    assert_eq!(reach(20_000.0, Some(100.0)).0, None);
 }
 
 /// The teapot on the 18-unit floor and the `wider` ones under `light` (the scene's sun where

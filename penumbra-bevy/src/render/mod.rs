@@ -381,29 +381,7 @@ fn prepare_shadows(
         {
             Ok(()) => {
                 view.prepared = true;
-                // A sun whose maps cannot hold a caster in view (spread over a ground far
-                // wider than the view, with no shadow distance): said once.
-                for (entity, (id, ..)) in &view.lights {
-                    if view.shadows.report(*id).is_none_or(|r| r.unheld_caster.is_none()) {
-                        continue;
-                    }
-                    let light = extracted
-                        .lights
-                        .iter()
-                        .find(|l| l.entity == *entity)
-                        .map_or_else(|| format!("light {entity}"), |l| l.label.clone());
-                    // Said once: the text holds no figure that changes as the camera moves
-                    // (`LightReport::unheld_caster` has them).
-                    messages.push(format!(
-                        "penumbra: in {}, {light}'s shadow map cannot hold a caster in view: one is \
-                         narrower than a texel of the map (spread over a scene far wider than the \
-                         view), and its shadow is lost. Give the light a CascadeShadowConfig whose \
-                         maximum_distance covers what needs shadows \
-                         (PenumbraCamera::bevy_shadow_settings), or set the camera's \
-                         settings.shadow_map.fit max_distance",
-                        view.label
-                    ));
-                }
+                view.map_messages(&extracted, &mut messages);
             }
             Err(e) => messages.push(format!("penumbra: {}: {e}", view.label)),
         }
@@ -414,6 +392,49 @@ fn prepare_shadows(
 }
 
 impl ViewShadows {
+    /// What this camera's lights' maps lose, after a prepare: a sun whose maps cannot hold a
+    /// caster in view, a spot or point light whose maps end before the scene does. Said once
+    /// each: the texts hold no figure that changes as the camera moves (the light's report has
+    /// them).
+    fn map_messages(&self, extracted: &Extracted, messages: &mut Vec<String>) {
+        for (entity, (id, ..)) in &self.lights {
+            let Some(report) = self.shadows.report(*id) else {
+                continue;
+            };
+            let light = || {
+                extracted
+                    .lights
+                    .iter()
+                    .find(|l| l.entity == *entity)
+                    .map_or_else(|| format!("light {entity}"), |l| l.label.clone())
+            };
+            // Spread over a ground far wider than the view, with no shadow distance.
+            if report.unheld_caster.is_some() {
+                messages.push(format!(
+                    "penumbra: in {}, {}'s shadow map cannot hold a caster in view: one is \
+                     narrower than a texel of the map (spread over a scene far wider than the \
+                     view), and its shadow is lost. Give the light a CascadeShadowConfig whose \
+                     maximum_distance covers what needs shadows \
+                     (PenumbraCamera::bevy_shadow_settings), or set the camera's \
+                     settings.shadow_map.fit max_distance",
+                    self.label,
+                    light()
+                ));
+            }
+            // A caster near the light, the scene and the range thousands of times deeper.
+            if report.light_view.shadow_reach.is_some() {
+                messages.push(format!(
+                    "penumbra: in {}, {}'s shadow maps end before its range and the scene's \
+                     farthest part: a caster lies so near the light that the maps' depths keep \
+                     only a thousand times its distance (LightView::shadow_reach), and receivers \
+                     beyond get no shadow. Lower the light's range to what needs shadows",
+                    self.label,
+                    light()
+                ));
+            }
+        }
+    }
+
     /// Where this camera's visibility is copied into the material's array: each light's row of
     /// the table names the layer at its own index, so the copies fill layers 0, 1, ... whatever
     /// the slots (a light's slot can lie past the array's layers, which grow with the lights'
