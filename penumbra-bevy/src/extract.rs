@@ -513,7 +513,7 @@ pub(crate) fn extract_penumbra(
             color: linear(rect.color),
             // Lumens over π times the area: the luminance (Bevy's own conversion).
             intensity: rect.intensity / (std::f32::consts::PI * width * height).max(1e-12),
-            range: None,
+            range: shadow_range(rect.range),
         });
         let label = label("RectLight", entity, name);
         add(entity, render_entity, shadows, light, layers, label);
@@ -691,7 +691,7 @@ fn posed(
     })
 }
 
-/// A spot or point light's range for its maps' far plane: Bevy's, where it is a length (a
+/// A spot, point or rectangle light's range for its maps' far plane: Bevy's, where it is a length (a
 /// range of 0 or one not finite leaves the maps to the scene's extent).
 fn shadow_range(range: f32) -> Option<f32> {
     (range > 0.0 && range.is_finite()).then_some(range)
