@@ -749,7 +749,7 @@ fn a_sun_over_a_ground_far_wider_than_the_view_keeps_a_small_casters_shadow() {
 
 /// A point light (range 40) over a plane 6,000 units wide, with a far-off cube 2,000 units away:
 /// the light's maps reached the plane's far corners, and their near plane, kept within a
-/// thousandth of the far one, 4.2 units from the light, past the box's top 3.5 below it: only
+/// thousandth of the far one, 4.3 units from the light, past the box's top 3.5 below it: only
 /// the box's lower part cast a shadow (its darkness 0.43x Bevy's, IoU 0.41). The light's range
 /// now ends its maps, as it ends Bevy's own, and the box's shadow is Bevy's.
 #[test]

@@ -681,17 +681,25 @@ fn spot_depth_range(
     bounds: &Aabb,
     planes: &[Vec4],
 ) -> (f32, f32, Option<f32>) {
-    let (min_depth, max_depth) = clipped_depth_range(view, bounds, inputs.parts, planes);
-    // Where each part inside the cone starts: the farthest of those starts.
     let parts = if inputs.parts.is_empty() {
         std::slice::from_ref(bounds)
     } else {
         inputs.parts
     };
-    let last_start = parts
+    // Each part's depths inside the frustum, clipped once: their range, and the farthest of
+    // the parts' starts.
+    let ranges: Vec<(f32, f32)> = parts
         .iter()
         .filter_map(|part| clipped_part_range(view, part, planes))
-        .fold(0.0, |last, (start, _)| f32::max(last, start));
+        .collect();
+    let (min_depth, max_depth) = if ranges.is_empty() {
+        clipped_depth_range(view, bounds, &[], &[])
+    } else {
+        ranges
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(n, f), &(a, b)| (n.min(a), f.max(b)))
+    };
+    let last_start = ranges.iter().fold(0.0, |last, &(start, _)| f32::max(last, start));
     let margin = inputs.margin.max(0.0);
     perspective_depth_range(
         inputs.light,
