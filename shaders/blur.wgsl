@@ -272,11 +272,18 @@ fn listed_blurred(group: vec3<u32>, groups: vec3<u32>, local: vec3<u32>) -> List
     return out;
 }
 
+// Over a group of lights, where `blur_out` is held per listed tile (`penumbra::shaders::POOLED`)
+// and nothing clears it: every pixel of the listed tiles is written, 1 where no shadow can fall
+// (what the classification clears an unpooled result to on a listed tile).
+override EVERY_PIXEL: bool = false;
+
 @compute @workgroup_size(16, 16)
 fn cs_main(@builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
     let listed = listed_blurred(group, groups, local);
     if listed.value >= 0.0 {
         textureStore(blur_out, listed.pixel, vec4<f32>(listed.value));
+    } else if EVERY_PIXEL && listed.pixel.x >= 0 {
+        textureStore(blur_out, listed.pixel, vec4<f32>(1.0));
     }
 }
 

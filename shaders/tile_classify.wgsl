@@ -266,6 +266,9 @@ struct AllArgs {
 // turned away.
 override CLEARS: bool = false;
 override CLEAR_BLURRED: bool = false;
+// With CLEARS: the distance map is cleared too (not over a group of lights, whose distance
+// maps are held per listed tile, which the variable PCF writes whole).
+override CLEAR_DISTANCE: bool = true;
 // With CLEARS: the visibility cleared is the light's layer, which the variable PCF writes
 // (`penumbra::Chain::pcf_in_layer`): on a tile turned away from the light 0 only where a receiver
 // is and 1 elsewhere, as the layer must end (the blur's `fs_away`); the blur weighs no other.
@@ -551,7 +554,9 @@ fn cs_classify_wide(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invo
     let kind = workgroupUniformLoad(&class_listed);
     if CLEARS && inside {
         let value = select(1.0, 0.0, kind == AWAY || kind == UMBRA_KIND);
-        textureStore(distance_cleared, pixel, vec4<f32>(NO_SHADOW_HERE));
+        if CLEAR_DISTANCE {
+            textureStore(distance_cleared, pixel, vec4<f32>(NO_SHADOW_HERE));
+        }
         var visibility = value;
         if CLEAR_LAYER && !layer_receives(pixel, depth) {
             visibility = 1.0;

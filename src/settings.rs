@@ -835,11 +835,21 @@ pub struct ExecutionSettings {
     /// lights' layers, keep half floats and test the tiles' pixels by workgroups (a GPU;
     /// [`TilePixels::Workgroup`] elsewhere), the umbra's tiles are not listed apart
     /// ([`PenumbraSettings::skip_umbra_tiles`]) and the light's maps are not sized from the
-    /// penumbra ([`MapResolution::FromPenumbra`]). Fewer dispatches a light (what a GPU pays per dispatch, not per
-    /// pixel), for memory: a group keeps each light's intermediates (the distance map, the
-    /// deviations, the blur's horizontal result: 8 bytes a pixel in half floats) where lights
-    /// run one after the other share one set. Not measured on a GPU yet. Default false.
+    /// penumbra ([`MapResolution::FromPenumbra`]). Fewer dispatches a light (what a GPU pays per
+    /// dispatch, not per pixel). A group keeps its lights' intermediates (the distance map, the
+    /// deviations, the blur's horizontal result: 8 bytes a pixel in half floats) per listed
+    /// tile, in a pool of [`Self::light_group_pool`] screens' worth of tiles. Not measured on a
+    /// GPU yet. Default false.
     pub light_groups: bool,
+    /// How many screens' worth of listed tiles a group of lights' pool of intermediates holds
+    /// ([`Self::light_groups`]; 8 bytes a pixel each in half floats, at most the group's lights;
+    /// 0: as many as the group has lights). Where the group's lights list more tiles than that
+    /// in a frame, whole lights wait for a later round of the PCF and the blur; the passes
+    /// record enough rounds for any lists (the lights over this, rounded up: each round holds at
+    /// least this many lights), each a dispatch of each pass, with no workgroups where every
+    /// light's tiles fit. Default 2: the group's memory then grows by 2 bytes a pixel a light
+    /// (its layer of the visibility) past 16, and sixteen lights record eight rounds.
+    pub light_group_pool: u32,
 }
 
 /// A choice of [`ExecutionSettings::exit_map_draw`]: the exit map kept by the shadow map's pass,
@@ -900,6 +910,7 @@ impl Default for ExecutionSettings {
             raw_visibility: false,
             exit_map_draw: ExitMapDraw::Auto,
             light_groups: false,
+            light_group_pool: 2,
         }
     }
 }

@@ -179,33 +179,49 @@ const STORAGE_ALIASES: [&str; 4] = [
 ];
 
 /// The textures the variable PCF's compute pass over a group of lights binds as arrays
-/// ([`with_light_groups`]): it writes the light's layer of the visibility, and the member's of
-/// the deviations and the distance map.
+/// ([`with_light_groups`]): it writes the light's layer of the visibility, and its tile's slot of
+/// the pool ([`POOLED`]) of the deviations and the distance map.
 pub const PCF_GROUP_LAYERS: [(&str, &str); 3] = [
     ("visibility_out", "frame_light"),
-    ("sigma_out", "member"),
-    ("distance_out", "member"),
+    ("sigma_out", POOLED),
+    ("distance_out", POOLED),
 ];
 
 /// The same for the blur's two axes over a group: the horizontal one reads the light's layer
-/// of the visibility (which the PCF wrote) into the member's of the axis's result; the
-/// vertical one reads that into the light's layer.
+/// of the visibility (which the PCF wrote) into its tile's slot of the pool of the axis's
+/// result; the vertical one reads that, at its neighbours too ([`POOLED_ANYWHERE`]), into the
+/// light's layer. Both read the distance map and the deviations at their own pixel.
 pub const BLUR_GROUP_LAYERS: [[(&str, &str); 5]; 2] = [
     [
         ("source", "frame_light"),
-        ("distance_map", "member"),
-        ("blur_sigma", "member"),
-        ("blur_out", "member"),
+        ("distance_map", POOLED),
+        ("blur_sigma", POOLED),
+        ("blur_out", POOLED),
         ("layer_out", "frame_light"),
     ],
     [
-        ("source", "member"),
-        ("distance_map", "member"),
-        ("blur_sigma", "member"),
-        ("blur_out", "member"),
+        ("source", POOLED_ANYWHERE),
+        ("distance_map", POOLED),
+        ("blur_sigma", POOLED),
+        ("blur_out", POOLED),
         ("layer_out", "frame_light"),
     ],
 ];
+
+/// The same for the copy of the inspected member's distance map out of the pool
+/// (`shaders/group_unpack.wgsl`): its own pixel of the pool into a texture of one layer.
+pub const UNPACK_GROUP_LAYERS: [(&str, &str); 2] = [("pooled_distance", POOLED), ("inspected_distance", "0")];
+
+/// In [`with_light_groups`]' layers: a texture held per listed tile in the group's pool
+/// (`shaders/common/tile_groups.wgsl`), read and written only at the invocation's own pixel,
+/// which its tile's slot holds: each access takes the pixel's texel and layer in the pool.
+pub const POOLED: &str = "pool";
+
+/// In [`with_light_groups`]' layers: a pooled texture read anywhere on the screen: each load
+/// finds the pixel's tile in the member's map, and reads 1 where the tile is not listed and 0
+/// where it is turned away from the light (what the tile classification clears an unpooled
+/// intermediate to).
+pub const POOLED_ANYWHERE: &str = "pool anywhere";
 
 /// `source` (a pass over the tile list, `shaders/common/tile_list.wgsl`, that reads the frame)
 /// as a pass over the tile lists of a group of lights in one dispatch
@@ -213,9 +229,9 @@ pub const BLUR_GROUP_LAYERS: [[(&str, &str); 5]; 2] = [
 /// ([`with_map_arrays`]), its light's frame one of several ([`with_light_frames`]), set from the
 /// workgroup's tile, and each texture `layers` names (binding, layer expression) bound as a 2D array
 /// of which every read and write takes that layer: `frame_light` (the light's slot: its layer of
-/// the visibility array) or `member` (its place in the group: its layer of the group's
-/// intermediates). The storage textures' aliases all become arrays. `None` where the source
-/// has no tile list, no frame, or does not declare a texture `layers` names.
+/// the visibility array), `member` (its place in the group), or the pool's ([`POOLED`],
+/// [`POOLED_ANYWHERE`]). The storage textures' aliases all become arrays. `None` where the
+/// source has no tile list, no frame, or does not declare a texture `layers` names.
 pub fn with_light_groups(source: &str, layers: &[(&str, &str)]) -> Option<String> {
     if !source.contains(TILE_LIST) {
         return None;
@@ -235,10 +251,84 @@ pub fn with_light_groups(source: &str, layers: &[(&str, &str)]) -> Option<String
             return None;
         }
     }
+    // The pooled textures read anywhere: each load and sample through a function of its own.
+    for (name, _) in layers.iter().filter(|(_, layer)| *layer == POOLED_ANYWHERE) {
+        out = with_calls_replaced(&out, "textureLoad", name, &format!("pooled_{name}"));
+        out = with_calls_replaced(&out, "textureSampleLevel", name, &format!("pooled_sample_{name}"));
+        out.push_str(&format!(
+            "\n// `{name}` held per listed tile (`penumbra::shaders::POOLED_ANYWHERE`).\n\
+             fn pooled_{name}(pixel: vec2<i32>, level: i32) -> vec4<f32> {{\n\
+             \x20   let at = pool_place(pixel);\n\
+             \x20   if at.z < 0 {{\n\
+             \x20       return vec4<f32>(select(0.0, 1.0, at.z == -1));\n\
+             \x20   }}\n\
+             \x20   return textureLoad({name}, at.xy, at.z, level);\n\
+             }}\n\
+             fn pooled_sample_{name}(linear: sampler, uv: vec2<f32>, level: f32) -> vec4<f32> {{\n\
+             \x20   return pooled_{name}(vec2<i32>(uv * frames[frame_light].view.size), i32(level));\n\
+             }}\n"
+        ));
+    }
+    // The pooled textures at the invocation's own pixel: the coordinates made the pool's.
+    let own: Vec<(&str, &str)> = layers
+        .iter()
+        .filter(|(_, layer)| *layer == POOLED)
+        .map(|(name, _)| (*name, "pool_layer()"))
+        .collect();
+    for builtin in ["textureLoad", "textureStore"] {
+        out = with_pool_coordinates(&out, builtin, &own);
+    }
+    let layered: Vec<(&str, &str)> = layers
+        .iter()
+        .filter(|(_, layer)| *layer != POOLED_ANYWHERE)
+        .map(|(name, layer)| (*name, if *layer == POOLED { "pool_layer()" } else { *layer }))
+        .collect();
     for builtin in ["textureLoad", "textureStore", "textureSampleLevel"] {
-        out = with_layer_arguments(&out, builtin, layers);
+        out = with_layer_arguments(&out, builtin, &layered);
     }
     Some(out)
+}
+
+/// `source` with each call `builtin(name, rest)` made `function(rest)` (the texture dropped).
+fn with_calls_replaced(source: &str, builtin: &str, name: &str, function: &str) -> String {
+    let call = format!("{builtin}({name},");
+    source.replace(&call, &format!("{function}("))
+}
+
+/// `source` with the coordinates of each call of `builtin` on one of `maps` made the pool's:
+/// `pool_pixel(coordinates)` (`shaders/common/tile_groups.wgsl`).
+fn with_pool_coordinates(source: &str, builtin: &str, maps: &[(&str, &str)]) -> String {
+    maps.iter().fold(source.to_owned(), |out, (name, _)| {
+        let call = format!("{builtin}({name},");
+        let mut result = String::with_capacity(out.len());
+        let mut rest = out.as_str();
+        while let Some(at) = rest.find(&call) {
+            let open = at + call.len();
+            result.push_str(&rest[..open]);
+            rest = &rest[open..];
+            // The coordinates: up to the next comma at depth 0.
+            let mut depth = 0usize;
+            let end = rest.char_indices().find_map(|(i, c)| match c {
+                '(' | '[' => {
+                    depth += 1;
+                    None
+                }
+                ')' | ']' => {
+                    depth = depth.saturating_sub(1);
+                    None
+                }
+                ',' if depth == 0 => Some(i),
+                _ => None,
+            });
+            let Some(end) = end else {
+                continue;
+            };
+            result.push_str(&format!(" pool_pixel({})", rest[..end].trim()));
+            rest = &rest[end..];
+        }
+        result.push_str(rest);
+        result
+    })
 }
 
 /// `source` with the storage textures' aliases ([`STORAGE_ALIASES`]) typed as 2D arrays.
@@ -296,12 +386,27 @@ pub fn with_light_group_classification(source: &str) -> Option<String> {
              var<private> member: u32 = 0u;\n\
              fn member_list() -> u32 {{\n    return 64u + member * atomicLoad(&group_lists[0]);\n}}\n\
              // Sets the member and its light.\n\
-             fn use_member(z: u32) {{\n    member = z;\n    frame_light = atomicLoad(&group_lists[2u + z]);\n}}"
+             fn use_member(z: u32) {{\n    member = z;\n    frame_light = atomicLoad(&group_lists[2u + z]);\n}}\n\
+             // The word of the member's map (after its list) that says where the list holds\n\
+             // `tile` (`shaders/common/tile_groups.wgsl`).\n\
+             fn tile_map(tile: vec2<u32>) -> u32 {{\n    let across = atomicLoad(&group_lists[36]);\n    \
+             return member_list() + 2u + atomicLoad(&group_lists[37]) + tile.y * across + tile.x;\n}}"
         ),
     );
     out = out.replace(
         CLASSIFY_APPEND,
-        "atomicStore(&group_lists[member_list() + 2u + atomicAdd(&group_lists[member_list() + 1u], 1u)], packed);",
+        "let at = atomicAdd(&group_lists[member_list() + 1u], 1u);\n        \
+         atomicStore(&group_lists[member_list() + 2u + at], packed);\n        \
+         atomicStore(&group_lists[tile_map(tile)], at);",
+    );
+    // Every tile's entry in the map, before a listed tile's index replaces it: not listed, or
+    // turned away from the light (its intermediates read 1 or 0 there).
+    let at = out.find("fn list_tile(")?;
+    let body = at + out[at..].find(OPEN_BRACE)? + 1;
+    out.insert_str(
+        body,
+        "\n    let away = tile_kind == AWAY || tile_kind == UMBRA_KIND;\n    \
+         atomicStore(&group_lists[tile_map(tile)], select(0xffffffffu, 0xfffffffeu, away));",
     );
     out = out.replace(CLASSIFY_AWAY_APPEND, "// (a group lists no tile turned away)");
     // Each entry point first sets its member (its workgroup's z) and its light.

@@ -133,6 +133,7 @@ fn passes_validate_with_half_float_storage() {
         [
             "blur",
             "distance_map",
+            "group_unpack",
             "pcf",
             "pcss",
             "tile_classify",
@@ -282,6 +283,7 @@ fn passes_validate_reading_one_of_several_lights_frames() {
             "composite",
             "depth_prepass",
             "distance_map",
+            "group_unpack",
             "pcf",
             "pcss",
             "reference",
@@ -315,6 +317,11 @@ fn passes_over_a_group_of_lights_validate() {
             penumbra::shaders::BLUR,
             &BLUR_GROUP_LAYERS[1][..],
         ),
+        (
+            "group_unpack",
+            penumbra::shaders::GROUP_UNPACK,
+            &penumbra::shaders::UNPACK_GROUP_LAYERS[..],
+        ),
     ];
     for (name, source, layers) in cases {
         let grouped = with_light_groups(source, layers).unwrap_or_else(|| panic!("{name}: not grouped"));
@@ -333,12 +340,27 @@ fn passes_over_a_group_of_lights_validate() {
                 }
                 ref other => panic!("{name}: `{texture}` is {other:?}"),
             }
-            // Each call on the texture names its layer.
+            // Each call on the texture names its layer: a pooled texture's its pixel's in the
+            // pool (`pool_pixel` and `pool_layer`, or where `pool_place` found it).
+            let expected: &[&str] = match *layer {
+                penumbra::shaders::POOLED => &["pool_pixel(", "pool_layer()"],
+                penumbra::shaders::POOLED_ANYWHERE => &["at.xy, at.z"],
+                other => &[other],
+            };
+            let mut calls = 0;
             for call in ["textureLoad(", "textureStore(", "textureSampleLevel("] {
                 for (at, _) in grouped.match_indices(&format!("{call}{texture},")) {
                     let line = grouped[at..].lines().next().unwrap_or_default();
-                    assert!(line.contains(layer), "{name}: `{line}` takes no layer");
+                    for part in expected {
+                        assert!(line.contains(part), "{name}: `{line}` takes no {part}");
+                    }
+                    calls += 1;
                 }
+            }
+            assert!(calls > 0, "{name}: no call on `{texture}`");
+            // A texture read anywhere is read only through the map.
+            if *layer == penumbra::shaders::POOLED_ANYWHERE {
+                assert!(grouped.contains(&format!("pooled_{texture}(")), "{name}");
             }
         }
     }
@@ -372,7 +394,11 @@ fn passes_over_a_group_of_lights_validate() {
             }
         }
     }
-    assert!(grouped.contains("atomicStore(&group_lists[member_list() + 2u + atomicAdd("));
+    // Each listed tile appended to its member's list, and its index in the member's map; every
+    // tile's entry in the map set first (not listed, or turned away).
+    assert!(grouped.contains("atomicStore(&group_lists[member_list() + 2u + at], packed);"));
+    assert!(grouped.contains("atomicStore(&group_lists[tile_map(tile)], at);"));
+    assert!(grouped.contains("atomicStore(&group_lists[tile_map(tile)], select("));
     assert!(!grouped.contains("away_out.tiles[atomicAdd("));
     assert!(grouped.contains("use_member(group.z)") && grouped.contains("use_member(id.z)"));
     assert!(penumbra::shaders::with_light_group_classification(penumbra::shaders::BLUR).is_none());

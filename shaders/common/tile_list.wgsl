@@ -38,3 +38,9 @@ fn listed_pixel(group: vec3<u32>, groups: vec3<u32>, local: vec3<u32>) -> vec2<i
     }
     return vec2<i32>(pixel);
 }
+
+// Whether the invocation works for the inspected light (`Shadows::inspect`): always, over one
+// light's list (over a group's, the header says which member is: `common/tile_groups.wgsl`).
+fn inspected() -> bool {
+    return true;
+}

@@ -412,6 +412,8 @@ impl BlurCompute {
             ("FIXED_STEP", flag(switches.fixed_step)),
             ("DEPTH_AWARE", flag(switches.depth_aware)),
             ("COMPUTE_PATH", 1.0),
+            // Over a group, the horizontal result is pooled: every pixel of a tile written.
+            ("EVERY_PIXEL", flag(grouped)),
         ];
         let axes_of = |shader, label, entry, out_layout: &wgpu::BindGroupLayout| {
             super::compute_pipeline(

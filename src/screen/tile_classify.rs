@@ -463,9 +463,12 @@ impl TileListPass {
         crate::gpu_helpers::layout(
             device,
             "TileListPass::list_layout",
+            // The fragment stage too: over a group, the blur's module reads the pooled
+            // horizontal result through the members' maps in the list's buffer, in each of its
+            // entry points (the copy's are made, never recorded, there).
             &[entry::storage_buffer(
                 0,
-                wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::COMPUTE,
+                wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
                 true,
             )],
         )

@@ -471,6 +471,10 @@ impl Shadows {
             this.fit_compute_targets(device);
             let rebound = this.bind_lights(device, layer_writes);
             this.bind_groups(device, &rebound);
+            let inspected = this.inspected.map(|id| id.0 as usize);
+            for group in &mut this.groups {
+                group.inspect(device, queue, inspected);
+            }
             for group in &this.groups {
                 // The parameters of the members' method (one chain key: one method).
                 let first = this.lights.get(group.slots()[0]).and_then(Option::as_ref);
@@ -656,14 +660,15 @@ impl Shadows {
         let mut old: Vec<Option<LightGroup>> =
             std::mem::take(&mut self.groups).into_iter().map(Some).collect();
         let mut moved = Vec::new();
+        let pool = self.settings.execution.light_group_pool;
         for (key, _, slots) in wanted {
             let kept = old
                 .iter_mut()
-                .find(|g| g.as_ref().is_some_and(|g| g.fits(&key, &slots, self.size)))
+                .find(|g| g.as_ref().is_some_and(|g| g.fits(&key, &slots, self.size, pool)))
                 .and_then(Option::take);
             let group = kept.unwrap_or_else(|| {
                 moved.extend(&slots);
-                LightGroup::new(device, key, slots, self.size)
+                LightGroup::new(device, key, slots, self.size, pool)
             });
             self.groups.push(group);
         }
@@ -799,8 +804,10 @@ impl Shadows {
     /// ([`Shadows::light_texture`]): the compute path's screen-space intermediates are shared
     /// by the lights (each light's chain runs whole before the next one's), so after a frame
     /// they hold the last light's, and this light's chain runs last. `None`: slot order. A
-    /// light in a group ([`crate::ExecutionSettings::light_groups`]) keeps its own in the
-    /// group's, whether inspected or not: [`Shadows::light_texture_layer`] says which layer.
+    /// light in a group ([`crate::ExecutionSettings::light_groups`]) stays there: its tile
+    /// classes are its layer of the group's ([`Shadows::light_texture_layer`] says which), and
+    /// while it is inspected its distance map is copied out of the group's pool (2 bytes a
+    /// pixel more, in half floats), the only way to read it.
     pub fn inspect(&mut self, light: Option<LightId>) {
         self.inspected = light;
     }
@@ -987,7 +994,8 @@ impl Shadows {
             .iter()
             .find_map(|g| g.member_intermediates(id.0 as usize))?;
         match which {
-            LightTexture::DistanceMap => Some((distance, layer)),
+            // Copied out of the group's pool while the light is inspected.
+            LightTexture::DistanceMap => distance.map(|d| (d, 0)),
             LightTexture::TileClasses => Some((classes, layer)),
             _ => None,
         }

@@ -1915,6 +1915,98 @@ fn maps_only_draws_the_shadow_map_and_no_screen_space_pass() {
     );
 }
 
+/// A group whose lights list more tiles than its pool holds runs in rounds: four suns under a
+/// plate that shades most of the floor, seen from between them (the plate behind the camera),
+/// each listing most of the screen's tiles, with a pool of one screen's tiles
+/// (`ExecutionSettings::light_group_pool` 1): a round a sun, the pool reused. The layers are
+/// those of the suns run apart within a half float's rounding, each with its shadow, its
+/// penumbra and light beyond the plate's edge.
+#[test]
+fn a_group_whose_lights_list_more_than_its_pool_runs_in_rounds() {
+    let gpu = common::gpu();
+    if gpu.adapter.get_info().backend == wgpu::Backend::Gl {
+        return;
+    }
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let depth = DepthPass::new(device);
+    let camera = CameraMatrices {
+        view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 2.0, 0.0), Vec3::ZERO, Vec3::NEG_Z),
+        projection: glam::camera::rh::proj::directx::orthographic(-4.0, 4.0, -4.0, 4.0, 0.5, 10.0),
+        depth: DepthConvention::Standard,
+    };
+    let run = |groups: bool| {
+        let mut w = world(&gpu);
+        // The box made a plate 8 x 8 units, 3 units over the floor.
+        let plate =
+            Mat4::from_translation(Vec3::new(0.0, 3.0, 0.0)) * Mat4::from_scale(Vec3::new(8.0, 0.01, 8.0));
+        w.casters.set_transform(queue, w.box_instance, plate).unwrap();
+        let mut settings = ShadowSettings::default();
+        settings.execution.tile_pixels = penumbra::TilePixels::Workgroup;
+        settings.execution.light_groups = groups;
+        settings.execution.light_group_pool = 1;
+        let mut shadows = Shadows::new(device, settings).unwrap();
+        let ids: Vec<_> = [0.0, 90.0, 180.0, 270.0]
+            .iter()
+            .map(|a| shadows.add_light(device, sun(*a)).unwrap())
+            .collect();
+        let mut passes = Vec::new();
+        for _ in 0..2 {
+            passes.clear();
+            let mut encoder = device.create_command_encoder(&Default::default());
+            // Only the floor in the camera's depth: the plate lies behind it.
+            depth.draw(
+                device,
+                &mut encoder,
+                camera.view_projection(),
+                &[(&w.floor_mesh, Mat4::IDENTITY)],
+            );
+            let view = ViewInputs::new(camera, &depth.depth);
+            shadows.prepare(device, queue, &w.casters, &view).unwrap();
+            shadows
+                .encode_with_marks(&mut encoder, &w.casters, &mut |_, pass, _| passes.push(pass))
+                .unwrap();
+            queue.submit([encoder.finish()]);
+        }
+        let layers: Vec<Vec<f32>> = ids
+            .iter()
+            .map(|id| read_layer(&gpu, &shadows, id.layer()))
+            .collect();
+        let listed: Vec<usize> = ids
+            .iter()
+            .map(|id| {
+                let texture = shadows.light_texture(*id, LightTexture::TileClasses).unwrap();
+                let layer = shadows
+                    .light_texture_layer(*id, LightTexture::TileClasses)
+                    .unwrap();
+                let classes = penumbra::read_texture_layer_f32(device, queue, texture, layer)
+                    .unwrap()
+                    .0;
+                classes.iter().filter(|c| **c == 1.0).count()
+            })
+            .collect();
+        (layers, listed, passes)
+    };
+    let (apart, _, _) = run(false);
+    let (grouped, listed, passes) = run(true);
+    assert_eq!(passes.iter().filter(|p| **p == "pcf").count(), 1, "{passes:?}");
+    // Each sun lists more than half the screen's tiles: no two fit the pool at once.
+    let screen_tiles = ((SIZE / 16) * (SIZE / 16)) as usize;
+    for (k, n) in listed.iter().enumerate() {
+        assert!(2 * n > screen_tiles, "sun {k} lists {n} of {screen_tiles} tiles");
+    }
+    for (k, (a, g)) in apart.iter().zip(&grouped).enumerate() {
+        let worst = a.iter().zip(g).map(|(a, g)| (a - g).abs()).fold(0.0f32, f32::max);
+        assert!(worst < 2e-3, "sun {k}: the group's layer differs by {worst}");
+        let shadowed = g.iter().filter(|v| **v < 0.05).count();
+        let soft = g.iter().filter(|v| **v > 0.05 && **v < 0.95).count();
+        let lit = g.iter().filter(|v| **v > 0.95).count();
+        assert!(
+            shadowed > 10_000 && soft > 500 && lit > 2_000,
+            "sun {k}: {shadowed} shadowed, {soft} soft, {lit} lit texels"
+        );
+    }
+}
+
 /// With `ExecutionSettings::light_groups`, lights alike run the variable PCF and the blur as
 /// one group: one dispatch each over every light's tile list. Four suns, two spots and two
 /// point lights (three groups, one a kind) give the same layers to within a half float's
@@ -1930,12 +2022,13 @@ fn lights_alike_run_their_screen_passes_as_one_group() {
     let (device, queue) = (&gpu.device, &gpu.queue);
     let depth = DepthPass::new(device);
     let azimuths = [0.0, 90.0, 180.0, 270.0];
-    let run = |groups: bool| {
+    let run = |groups: bool, pool: u32| {
         // Each run's own world: the box moves in it.
         let mut w = world(&gpu);
         let mut settings = ShadowSettings::default();
         settings.execution.tile_pixels = penumbra::TilePixels::Workgroup;
         settings.execution.light_groups = groups;
+        settings.execution.light_group_pool = pool;
         let mut shadows = Shadows::new(device, settings).unwrap();
         let mut ids: Vec<_> = azimuths
             .iter()
@@ -2001,6 +2094,20 @@ fn lights_alike_run_their_screen_passes_as_one_group() {
                 .0
         };
         let intermediates = [LightTexture::DistanceMap, LightTexture::TileClasses].map(intermediate);
+        // The tiles each sun listed (its tile classes: 1 where listed).
+        let listed: Vec<usize> = ids[..3]
+            .iter()
+            .map(|id| {
+                let texture = shadows.light_texture(*id, LightTexture::TileClasses).unwrap();
+                let layer = shadows
+                    .light_texture_layer(*id, LightTexture::TileClasses)
+                    .unwrap();
+                let classes = penumbra::read_texture_layer_f32(device, queue, texture, layer)
+                    .unwrap()
+                    .0;
+                classes.iter().filter(|c| **c == 1.0).count()
+            })
+            .collect();
         // The first sun turned by 20 degrees, then the box moved: every light's maps drawn
         // again, the group's classification reduces them again (the box's move binds nothing
         // again).
@@ -2032,10 +2139,14 @@ fn lights_alike_run_their_screen_passes_as_one_group() {
                 (alone_layers, alone),
             ],
             intermediates,
+            listed,
         )
     };
-    let (apart, apart_passes, apart_bytes, apart_after, apart_inspected) = run(false);
-    let (grouped, grouped_passes, grouped_bytes, grouped_after, grouped_inspected) = run(true);
+    let (apart, apart_passes, apart_bytes, apart_after, apart_inspected, _) = run(false, 0);
+    // A pool of a screen's tiles a member (one round), and of one screen's tiles a group: where
+    // the suns list more tiles than a screen has, later rounds.
+    let (grouped, grouped_passes, grouped_bytes, grouped_after, grouped_inspected, _) = run(true, 0);
+    let (pooled, pooled_passes, pooled_bytes, pooled_after, pooled_inspected, listed) = run(true, 1);
     let count = |passes: &[&str], name| passes.iter().filter(|p| **p == name).count();
     // Eight lights' classifications, PCF and blur apart; each once a group where grouped.
     assert_eq!(count(&apart_passes, "distance map"), 8, "{apart_passes:?}");
@@ -2052,6 +2163,39 @@ fn lights_alike_run_their_screen_passes_as_one_group() {
         (7.0..7.5).contains(&per_light),
         "{per_light} bytes a pixel a light"
     );
+    // Held per listed tile in a pool of one screen's tiles a group (three groups): 8 bytes a
+    // pixel a group where the lights apart keep 8 in all, 2 a light more.
+    let pooled_per_light = (pooled_bytes - apart_bytes) as f64 / (8.0 * f64::from(SIZE * SIZE));
+    assert!(
+        (2.0..2.5).contains(&pooled_per_light),
+        "{pooled_per_light} bytes a pixel a light in a pool"
+    );
+    assert_eq!(count(&pooled_passes, "pcf"), 3, "{pooled_passes:?}");
+    let screen_tiles = (SIZE / 16) * (SIZE / 16);
+    println!("tiles listed by three suns {listed:?} of {screen_tiles} a screen");
+    for (k, (a, p)) in apart.iter().zip(&pooled).enumerate() {
+        let worst = a.iter().zip(p).map(|(a, p)| (a - p).abs()).fold(0.0f32, f32::max);
+        assert!(
+            worst < 2e-3,
+            "light {k}: the pooled group's layer differs by {worst}"
+        );
+    }
+    for (a, p) in apart_after.iter().zip(&pooled_after) {
+        for (k, (a, p)) in a.0.iter().zip(&p.0).enumerate() {
+            let worst = a.iter().zip(p).map(|(a, p)| (a - p).abs()).fold(0.0f32, f32::max);
+            assert!(
+                worst < 2e-3,
+                "light {k}: the pooled group's layer differs by {worst} later"
+            );
+        }
+    }
+    for (a, p) in apart_inspected.iter().zip(&pooled_inspected) {
+        let worst = a.iter().zip(p).map(|(a, p)| (a - p).abs()).fold(0.0f32, f32::max);
+        assert!(
+            worst < 1e-3,
+            "the pooled group's inspected intermediate differs by {worst}"
+        );
+    }
     for (k, (a, g)) in apart.iter().zip(&grouped).enumerate() {
         let worst = a.iter().zip(g).map(|(a, g)| (a - g).abs()).fold(0.0f32, f32::max);
         assert!(worst < 2e-3, "light {k}: the group's layer differs by {worst}");
