@@ -220,6 +220,9 @@ pub struct LightsRun {
     pub distance_map_ms: f64,
     pub pcf_ms: f64,
     pub blur_ms: f64,
+    /// `Shadows::allocated_bytes` after the timed frames: the lights' maps and the screen-space
+    /// intermediates (a group's pool among them).
+    pub allocated_bytes: u64,
 }
 
 impl LightsRun {
@@ -1112,6 +1115,7 @@ fn measure_added_lights(
                     distance_map_ms: pass("distance map"),
                     pcf_ms: pass("pcf"),
                     blur_ms: pass("blur"),
+                    allocated_bytes: renderer.shadows().allocated_bytes(),
                 };
                 println!(
                     "added lights: {lights} {kind}(s) {apart_deg} degrees apart, sizes x{size_ratio} \
@@ -2299,23 +2303,29 @@ fn write_grouped_lights(md: &mut String, embedding: &Embedding) -> Result<()> {
          group, the tile classification (\"distance map\"), the variable PCF and each blur axis \
          run once over every light's tiles (one \"distance map\", one \"pcf\" and one \"blur\" \
          for the group). The group runs fewer dispatches over the same pixels: what it saves is \
-         what a device pays per dispatch.\n\n\
-         | spots | apart ms | as one group ms | group / apart | pcf + blur apart ms | pcf + blur grouped ms |\n\
-         |---|---|---|---|---|---|"
+         what a device pays per dispatch. The group keeps the lights' intermediates per listed \
+         tile, in a pool of `ExecutionSettings::light_group_pool` screens' worth of tiles (the \
+         default, 2); \"memory\" is the group's `Shadows::allocated_bytes` less the lights' \
+         apart, over the screen's pixels (the maps are the same both ways; the `Renderer` \
+         inspects its key light, whose distance map the group copies out of its pool).\n\n\
+         | spots | apart ms | as one group ms | group / apart | pcf + blur apart ms | pcf + blur grouped ms | memory, group less apart, bytes a pixel |\n\
+         |---|---|---|---|---|---|---|"
     )?;
+    let pixels = (f64::from(embedding.width) * f64::from(embedding.height)).max(1.0);
     for apart in runs(false) {
         let Some(group) = runs(true).find(|g| g.lights == apart.lights) else {
             continue;
         };
         writeln!(
             md,
-            "| {} | {:.2} | {:.2} | {:.3} | {:.2} | {:.2} |",
+            "| {} | {:.2} | {:.2} | {:.3} | {:.2} | {:.2} | {:.2} |",
             apart.lights,
             apart.screen_space_ms(),
             group.screen_space_ms(),
             group.screen_space_ms() / apart.screen_space_ms().max(1e-9),
             apart.pcf_ms + apart.blur_ms,
             group.pcf_ms + group.blur_ms,
+            (group.allocated_bytes as f64 - apart.allocated_bytes as f64) / pixels,
         )?;
     }
     Ok(())

@@ -847,8 +847,9 @@ pub struct ExecutionSettings {
     /// in a frame, whole lights wait for a later round of the PCF and the blur; the passes
     /// record enough rounds for any lists (the lights over this, rounded up: each round holds at
     /// least this many lights), each a dispatch of each pass, with no workgroups where every
-    /// light's tiles fit. Default 2: the group's memory then grows by 2 bytes a pixel a light
-    /// (its layer of the visibility) past 16, and sixteen lights record eight rounds.
+    /// light's tiles fit. Default 2: a group of two lights or more holds 16 bytes a pixel of
+    /// intermediates, each of its lights adds its 2-byte layer of the visibility, and sixteen
+    /// lights record eight rounds.
     pub light_group_pool: u32,
 }
 
