@@ -373,6 +373,14 @@ impl DemoApp {
                     &mut self.shared.execution.light_groups,
                     "lights alike run their PCF and blur as one group",
                 );
+                if self.shared.execution.light_groups {
+                    // The group's intermediates per listed tile: screens' worth of tiles its
+                    // pool holds (0: a screen a light); fewer, less memory, more rounds.
+                    ui.add(
+                        egui::Slider::new(&mut self.shared.execution.light_group_pool, 0..=16)
+                            .text("group's pool, screens of tiles (0: one a light)"),
+                    );
+                }
                 let p = &mut self.shared.penumbra;
                 // Every method's: draws instead of compute passes, to compare their cost.
                 ui.checkbox(
