@@ -143,25 +143,41 @@ const _: () = assert!(
     "pad `struct Frame` (shaders/common/frame.wgsl) and FrameUniform to a multiple of 256 bytes"
 );
 
-/// Every light's frame uniform, one slot a light ([`crate::MAX_LIGHTS`] slots), in one buffer.
+/// Every light's frame uniform, one slot a light, in one buffer: [`FIRST_SLOTS`] slots at first,
+/// twice as many each time a light's slot lies past them ([`FrameSlots::reserve`]).
 pub(crate) struct FrameSlots {
     buffer: wgpu::Buffer,
 }
 
+/// The slots [`FrameSlots`] starts with (20 KiB): the lights of Bevy's `spotlight` example.
+pub(crate) const FIRST_SLOTS: usize = 16;
+
 impl FrameSlots {
     pub fn new(device: &wgpu::Device) -> Self {
-        // A storage buffer too: a pass over several lights binds it whole as one
-        // ([`crate::shaders::with_light_frames`]).
         Self {
-            buffer: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("Shadows::frames"),
-                size: FRAME_STRIDE * crate::MAX_LIGHTS as u64,
-                usage: wgpu::BufferUsages::UNIFORM
-                    | wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            buffer: frames_buffer(device, FIRST_SLOTS),
         }
+    }
+
+    /// Slots the buffer holds.
+    pub fn capacity(&self) -> usize {
+        (self.buffer.size() / FRAME_STRIDE) as usize
+    }
+
+    /// Makes the buffer hold at least `slots` slots, doubling it as often as needed. True where
+    /// it was made again: every [`FrameSlot`] taken before names the old buffer, so the lights
+    /// must take their slots again and their passes be bound again. Nothing is copied: each
+    /// light's frame is uploaded every frame before its passes run.
+    pub fn reserve(&mut self, device: &wgpu::Device, slots: usize) -> bool {
+        let mut capacity = self.capacity();
+        if slots <= capacity {
+            return false;
+        }
+        while capacity < slots {
+            capacity *= 2;
+        }
+        self.buffer = frames_buffer(device, capacity);
+        true
     }
 
     /// Light slot `slot`'s frame.
@@ -187,6 +203,17 @@ impl FrameSlots {
     pub fn allocated_bytes(&self) -> u64 {
         self.buffer.size()
     }
+}
+
+/// A buffer of `slots` frame uniforms; a storage buffer too: a pass over several lights binds it
+/// whole as one ([`crate::shaders::with_light_frames`]).
+fn frames_buffer(device: &wgpu::Device, slots: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("Shadows::frames"),
+        size: FRAME_STRIDE * slots as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
 
 /// One light's frame uniform: its slot of [`FrameSlots`], which the light's passes bind (or

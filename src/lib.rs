@@ -12,8 +12,8 @@
 //! 1. [`Casters`] registers meshes from the engine's vertex and index buffers
 //!    ([`CasterMeshDesc`]) and places instances of them ([`CasterInstance`]); moving one is a
 //!    [`Casters::set_transform`].
-//! 2. [`Shadows`] holds up to [`MAX_LIGHTS`] lights ([`Shadows::add_light`]), each given a
-//!    layer of one texture array.
+//! 2. [`Shadows`] holds the lights ([`Shadows::add_light`]; as many as the device's texture
+//!    arrays have layers, [`Shadows::max_lights`]), each given a layer of one texture array.
 //! 3. Each frame, after its depth prepass, the engine hands over its camera
 //!    ([`CameraMatrices`]) and depth ([`ViewInputs`]); [`Shadows::render`] records every
 //!    light's passes into the engine's encoder.

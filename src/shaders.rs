@@ -128,9 +128,10 @@ pub fn with_map_arrays(source: &str) -> Option<String> {
 const ONE_FRAME: &str = "@group(0) @binding(0) var<uniform> frame: Frame;";
 
 /// `source` (a pass joined after `shaders/common/frame.wgsl`) reading the frame of one of
-/// several lights: the frame uniforms' buffer (`crate::MAX_LIGHTS` slots, each light's passes
-/// bind one slot of) bound whole as a read-only storage buffer, an array of every light's frame
-/// (a uniform binding may be as small as 16 KiB, the slots take 20; `struct Frame` is padded so
+/// several lights: the frame uniforms' buffer (a slot a light, each light's passes bind one
+/// slot of; it grows with the lights) bound whole as a read-only storage buffer, a runtime-sized
+/// array of every light's frame (a uniform binding may be as small as 16 KiB, and sixteen slots
+/// take 20; `struct Frame` is padded so
 /// that the array's stride is the slots', and its layout is a uniform's), and each read of `frame` reading
 /// `frames[frame_light]`, where `frame_light` (a private variable, 0 until set) is the light
 /// the invocation works for: a pass over several lights' tiles sets it from the tile's entry
@@ -140,13 +141,10 @@ pub fn with_light_frames(source: &str) -> Option<String> {
     if !source.contains(ONE_FRAME) {
         return None;
     }
-    let declaration = format!(
-        "@group(0) @binding(0) var<storage, read> frames: array<Frame, {}>;\n\
+    let declaration = "@group(0) @binding(0) var<storage, read> frames: array<Frame>;\n\
          // The light this invocation works for (`penumbra::shaders::with_light_frames`).\n\
-         var<private> frame_light: u32 = 0u;",
-        crate::MAX_LIGHTS
-    );
-    let source = source.replace(ONE_FRAME, &declaration);
+         var<private> frame_light: u32 = 0u;";
+    let source = source.replace(ONE_FRAME, declaration);
     let mut out = String::with_capacity(source.len() + source.len() / 8);
     let mut rest = source.as_str();
     while let Some(at) = rest.find("frame.") {

@@ -235,7 +235,7 @@ fn passes_validate_with_the_maps_as_arrays() {
 /// A pass over several lights reads each light's frame from the frame uniforms bound whole
 /// (`penumbra::shaders::with_light_frames`): every screen pass that reads the frame validates so
 /// too (with the maps as arrays, as such a pass binds them), reads the frame nowhere else, and
-/// the array's stride is a frame slot's, 1,280 bytes.
+/// the array is sized at run time, its stride a frame slot's, 1,280 bytes.
 #[test]
 fn passes_validate_reading_one_of_several_lights_frames() {
     use penumbra::shaders::{with_light_frames, with_map_arrays};
@@ -265,12 +265,12 @@ fn passes_validate_reading_one_of_several_lights_frames() {
             .find(|(_, v)| v.name.as_deref() == Some("frames"))
             .unwrap_or_else(|| panic!("{name} has no `frames`"));
         match module.types[frames_var.ty].inner {
+            // Sized at run time: the buffer grows with the lights a `Shadows` holds.
             naga::TypeInner::Array {
-                size: naga::ArraySize::Constant(count),
+                size: naga::ArraySize::Dynamic,
                 stride,
                 ..
             } => {
-                assert_eq!(count.get() as usize, penumbra::MAX_LIGHTS, "{name}");
                 assert_eq!(stride, 1280, "{name}: a frame is not a slot's 1,280 bytes");
             }
             ref other => panic!("{name}: `frames` is {other:?}"),

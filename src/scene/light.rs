@@ -4,9 +4,11 @@
 
 use glam::Vec3;
 
-/// The most lights one frame shades: the lights one [`crate::Shadows`] holds (layers of its
-/// visibility array), and the lights a scene may have. 16: the spot lights of Bevy's
-/// `spotlight` example. Each light has its own maps and chain of passes (`docs/lights.md`).
+/// The most lights the convenience renderer ([`crate::Renderer`]) shades in one frame, and so
+/// the lights a scene may have: its lit pass reads them from one uniform array. 16: the spot
+/// lights of Bevy's `spotlight` example (the Bevy plugin's materials hold as many). An engine's
+/// own [`crate::Shadows`] holds more: as many as the device's texture arrays have layers
+/// ([`crate::Shadows::max_lights`], `docs/lights.md`).
 pub const MAX_LIGHTS: usize = 16;
 
 /// A light that casts shadows. Its size sets how soft the shadows are.

@@ -10,7 +10,7 @@ use crate::gpu_helpers::screen_target;
 use crate::gpu_helpers::{Target, scoped, texture_bytes};
 use crate::light_maps::FarPlaneFill;
 use crate::light_maps::{LightMaps, MapPools, Moved};
-use crate::scene::{Light, MAX_LIGHTS};
+use crate::scene::Light;
 use crate::screen::{ComputeNeeds, ComputeTargets, DistanceMaps, LightGroup, ScreenChain};
 use crate::settings::{ShadowMethod, ShadowSettings};
 use crate::timing::PassStage;
@@ -240,7 +240,10 @@ impl Shadows {
         self.screen_space = !maps_only;
     }
 
-    /// Adds a shadowed light (validated). At most [`MAX_LIGHTS`].
+    /// Adds a shadowed light (validated). As many as the device's texture arrays hold
+    /// ([`Shadows::max_lights`]: the visibility holds a layer a light, and so do the arrays of
+    /// the lights' maps); each light adds its maps, its layer and a 1,280-byte frame uniform
+    /// (`docs/lights.md`, "How many lights").
     ///
     /// What each field of the [`Light`] means here, where penumbra computes visibility only:
     /// - the position, direction and size (angular diameter, radius) set where the shadows
@@ -251,24 +254,50 @@ impl Shadows {
     /// - `color` and `intensity` are not used: the visibility is unitless (1 lit, 0 in the
     ///   umbra), and the engine multiplies it into its own light's direct term.
     pub fn add_light(&mut self, device: &wgpu::Device, light: Light) -> Result<LightId> {
-        self.guarded(device, "adding a light", |this| this.add_light_now(light))
+        self.guarded(device, "adding a light", |this| this.add_light_now(device, light))
     }
 
-    fn add_light_now(&mut self, light: Light) -> Result<LightId> {
+    /// The most lights a `Shadows` holds on `device`: its `max_texture_array_layers` (256 with the
+    /// limits [`crate::device_descriptor`] asks for, wgpu's downlevel defaults; more where the
+    /// device was made with more). Each light's visibility is a layer of one array, and lights
+    /// whose maps have one size share an array of them.
+    /// (The convenience renderer and the Bevy plugin shade at most [`crate::MAX_LIGHTS`].)
+    pub fn max_lights(device: &wgpu::Device) -> usize {
+        device.limits().max_texture_array_layers as usize
+    }
+
+    fn add_light_now(&mut self, device: &wgpu::Device, light: Light) -> Result<LightId> {
         light.validate()?;
         let slot = match self.lights.iter().position(Option::is_none) {
             Some(slot) => slot,
-            None if self.lights.len() < MAX_LIGHTS => {
+            None if self.lights.len() < Self::max_lights(device) => {
                 self.lights.push(None);
                 self.lights.len() - 1
             }
             None => {
                 return Err(PenumbraError::input(
                     "light",
-                    format!("a Shadows holds at most {MAX_LIGHTS} lights"),
+                    format!(
+                        "a Shadows holds at most {} lights on this device (its max_texture_array_layers: \
+                         each light's visibility is a layer of one texture array)",
+                        Self::max_lights(device)
+                    ),
                 ));
             }
         };
+        if self.frames.reserve(device, slot + 1) {
+            // The frame uniforms moved to a larger buffer: every light takes its slot of it
+            // again, and its passes and its group's are bound again.
+            for (other, state) in self.lights.iter_mut().enumerate() {
+                if let Some(state) = state {
+                    state.frame = self.frames.slot(other);
+                    state.bound = None;
+                }
+            }
+            for group in &mut self.groups {
+                group.bound = false;
+            }
+        }
         self.lights[slot] = Some(LightState::new(self.frames.slot(slot), light));
         if self.target.is_none()
             && self

@@ -471,52 +471,93 @@ fn a_caster_casts_only_for_the_lights_it_shares_a_layer_with() {
     assert!(shadows.light_layers(id).is_err());
 }
 
-/// `MAX_LIGHTS` (16) suns around the box in one frame, each shadowed by penumbra in its own
+/// More suns than the convenience renderer shades (`MAX_LIGHTS`, 16) in one `Shadows`: sixteen
+/// around the box for a frame, then eight more (24, 15 degrees apart), past the frame uniforms'
+/// first buffer, which grows between the two frames; each sun shadowed by penumbra in its own
 /// layer: its shadow of the box where it falls, soft at its edge, and lit where the suns a
-/// quarter turn or more away throw theirs.
+/// quarter turn or more away throw theirs. Each light's chain apart, and (off GL) the suns run
+/// as groups, one of sixteen members and one of eight: one "pcf" pass a group. (The limit,
+/// `Shadows::max_lights`, is checked in `misuse_is_an_error_naming_what_is_wrong`.)
 #[test]
-fn sixteen_lights_share_one_orthographic_depth_and_each_shadows_its_own_layer() {
+fn more_suns_than_the_renderer_shades_each_shadow_their_own_layer() {
     let gpu = common::gpu();
-    let device = &gpu.device;
-    let w = world(&gpu);
+    let mut runs = vec![(ShadowSettings::default(), "apart", 24)];
+    if gpu.adapter.get_info().backend != wgpu::Backend::Gl {
+        let mut groups = ShadowSettings::default();
+        groups.execution.tile_pixels = penumbra::TilePixels::Workgroup;
+        groups.execution.light_groups = true;
+        runs.push((groups, "in groups", 2));
+    }
+    for (settings, what, pcf_passes) in runs {
+        suns_each_shadow_their_own_layer(&gpu, settings, what, pcf_passes);
+    }
+}
+
+/// [`more_suns_than_the_renderer_shades_each_shadow_their_own_layer`] with `settings`, whose
+/// last frame records `pcf_passes` "pcf" passes.
+fn suns_each_shadow_their_own_layer(
+    gpu: &penumbra::HeadlessGpu,
+    settings: ShadowSettings,
+    what: &str,
+    pcf_passes: usize,
+) {
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let w = world(gpu);
     let depth = DepthPass::new(device);
-    let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
-    let n = penumbra::MAX_LIGHTS;
-    assert_eq!(n, 16);
+    let mut shadows = Shadows::new(device, settings).unwrap();
+    let first = penumbra::MAX_LIGHTS;
+    assert_eq!(first, 16);
+    let n = first + 8;
     let azimuths: Vec<f32> = (0..n).map(|k| k as f32 * 360.0 / n as f32).collect();
-    let ids: Vec<_> = azimuths
-        .iter()
-        .map(|a| shadows.add_light(device, sun(*a)).unwrap())
-        .collect();
-    let reports = render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
-    assert_eq!(reports.len(), n);
-    assert!(
-        reports
-            .iter()
-            .all(|r| r.shadow_maps_rendered && r.chain.method() == ShadowMethod::Ours)
-    );
+    let mut ids = Vec::new();
+    let mut passes = Vec::new();
+    for batch in [0..first, first..n] {
+        for azimuth in &azimuths[batch] {
+            ids.push(shadows.add_light(device, sun(*azimuth)).unwrap());
+        }
+        passes.clear();
+        let camera = top_camera();
+        let mut encoder = device.create_command_encoder(&Default::default());
+        draw_box_and_floor(device, &mut encoder, &w, &depth, camera);
+        let view = ViewInputs::new(camera, &depth.depth);
+        shadows.prepare(device, queue, &w.casters, &view).unwrap();
+        let reports = shadows
+            .encode_with_marks(&mut encoder, &w.casters, &mut |_, pass, _| passes.push(pass))
+            .unwrap();
+        queue.submit([encoder.finish()]);
+        assert_eq!(reports.len(), ids.len(), "{what}");
+        assert!(
+            reports.iter().all(|r| r.chain.method() == ShadowMethod::Ours),
+            "{what}"
+        );
+    }
+    let pcf = passes.iter().filter(|p| **p == "pcf").count();
+    assert_eq!(pcf, pcf_passes, "{what}: {passes:?}");
     // Each sun throws the box's shadow away from itself, 1.5 units out on the floor.
     let shadow_point = |azimuth: f32| {
         let a = azimuth.to_radians();
         Vec3::new(a.cos(), 0.0, a.sin()) * 1.5
     };
     for (k, id) in ids.iter().enumerate() {
-        let layer = read_layer(&gpu, &shadows, id.layer());
+        let layer = read_layer(gpu, &shadows, id.layer());
         for (j, azimuth) in azimuths.iter().enumerate() {
             let v = layer[top_pixel(shadow_point(*azimuth))];
             let apart = (j + n - k) % n;
             if j == k {
-                assert!(v < 0.2, "light {k}: visibility {v} in its own shadow");
+                assert!(v < 0.2, "{what}: light {k}: visibility {v} in its own shadow");
             } else if (n / 4..=3 * n / 4).contains(&apart) {
-                assert!(v > 0.95, "light {k}: visibility {v} in light {j}'s shadow");
+                assert!(
+                    v > 0.95,
+                    "{what}: light {k}: visibility {v} in light {j}'s shadow"
+                );
             }
         }
         // The box's top sees every sun; the floor far from it too.
-        assert!(layer[top_pixel(Vec3::new(0.0, 2.0, 0.0))] > 0.95);
-        assert!(layer[top_pixel(Vec3::new(3.0, 0.0, 3.0))] > 0.95);
+        assert!(layer[top_pixel(Vec3::new(0.0, 2.0, 0.0))] > 0.95, "{what}");
+        assert!(layer[top_pixel(Vec3::new(3.0, 0.0, 3.0))] > 0.95, "{what}");
         // A penumbra: texels between lit and shadowed along the shadow's edge.
         let soft = layer.iter().filter(|v| **v > 0.05 && **v < 0.95).count();
-        assert!(soft > 50, "light {k}: {soft} texels in a penumbra");
+        assert!(soft > 50, "{what}: light {k}: {soft} texels in a penumbra");
     }
 }
 
@@ -1162,12 +1203,19 @@ fn misuse_is_an_error_naming_what_is_wrong() {
         "no such instance",
     );
 
-    // Lights: at most sixteen; removed ones are gone.
+    // Lights: as many as the device's texture arrays have layers (256 with the limits
+    // `device_descriptor` asks for), the next refused naming the limit; removed ones are gone.
     let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
-    let ids: Vec<_> = (0..penumbra::MAX_LIGHTS)
+    let max = Shadows::max_lights(device);
+    assert!(max >= 256, "{max}");
+    let ids: Vec<_> = (0..max)
         .map(|k| shadows.add_light(device, sun(k as f32 * 22.5)).unwrap())
         .collect();
-    expect_input_error(shadows.add_light(device, sun(1.0)), "light", "at most 16");
+    expect_input_error(
+        shadows.add_light(device, sun(1.0)),
+        "light",
+        &format!("at most {max} lights on this device (its max_texture_array_layers"),
+    );
     shadows.remove_light(ids[3]).unwrap();
     expect_input_error(shadows.remove_light(ids[3]), "light 3", "no such light");
     assert_eq!(
