@@ -521,8 +521,8 @@ pub(crate) fn extract_penumbra(
     // A stable order: the same lights keep the same layers while they live.
     lights.sort_by_key(|l| l.entity);
     extracted.lights_shadowed = lights.len();
-    extracted.lights_over_limit = lights.len().saturating_sub(penumbra::MAX_LIGHTS);
-    lights.truncate(penumbra::MAX_LIGHTS);
+    extracted.lights_over_limit = lights.len().saturating_sub(crate::MAX_SHADOWED_LIGHTS);
+    lights.truncate(crate::MAX_SHADOWED_LIGHTS);
     extracted.lights = lights;
 }
 

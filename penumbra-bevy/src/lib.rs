@@ -20,7 +20,7 @@
 //!   layer with.
 //! - **Lights** are the `DirectionalLight`s, `SpotLight`s and `PointLight`s with
 //!   `shadow_maps_enabled`, and the `RectLight`s with [`RectLightShadows`] (Bevy gives them no
-//!   shadows), up to [`penumbra::MAX_LIGHTS`]. Their size comes from Bevy's fields:
+//!   shadows), up to [`MAX_SHADOWED_LIGHTS`] (256). Their size comes from Bevy's fields:
 //!   `SpotLight::radius`, `PointLight::radius`, a sun's `SunDisk::angular_size` (or
 //!   [`PenumbraLightSize`] to set it), a `RectLight`'s width and height. Bevy renders no shadow
 //!   map for these lights; lights past the limit keep Bevy's own shadows.
@@ -46,8 +46,8 @@ use bevy::prelude::*;
 use bevy::render::RenderApp;
 
 pub use material::{
-    KeepStandardMaterial, PenumbraBindings, PenumbraMaterial, PenumbraMaterialPlugin, PenumbraShading,
-    PenumbraTargets,
+    KeepStandardMaterial, MAX_SHADOWED_LIGHTS, PenumbraBindings, PenumbraMaterial, PenumbraMaterialPlugin,
+    PenumbraShading, PenumbraTargets,
 };
 pub use penumbra::{Quality, ShadowMethod, ShadowSettings};
 

@@ -51,14 +51,27 @@ pub(crate) struct GpuLight {
     pub direction_to_light: [f32; 4],
 }
 
-/// The table of penumbra's lights (`PenumbraLights` in the shader).
+/// The table of penumbra's lights (`PenumbraLights` in the shader): [`MAX_SHADOWED_LIGHTS`]
+/// rows, 8 KiB.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct GpuLights {
     pub count: u32,
     pub _pad: [u32; 3],
-    pub lights: [GpuLight; penumbra::MAX_LIGHTS],
+    pub lights: [GpuLight; MAX_SHADOWED_LIGHTS],
 }
+
+impl Default for GpuLights {
+    fn default() -> Self {
+        bytemuck::Zeroable::zeroed()
+    }
+}
+
+/// The most lights the plugin shadows (each camera's lights, together): 256, the texture
+/// array layers of Bevy's default render device (wgpu's default limits), which hold each
+/// light's visibility and its maps ([`penumbra::Shadows::max_lights`]). Lights past it keep
+/// Bevy's own shadows, and a warning says how many.
+pub const MAX_SHADOWED_LIGHTS: usize = 256;
 
 pub(crate) const KIND_DIRECTIONAL: u32 = 0;
 pub(crate) const KIND_SPOT: u32 = 1;
@@ -201,15 +214,14 @@ impl PenumbraTargets {
 }
 
 /// The visibility array's layers for `lights` shadowed lights: at least that many, at most
-/// [`penumbra::MAX_LIGHTS`], in powers of two from 2 (a light more or less does not make a
+/// [`MAX_SHADOWED_LIGHTS`], in powers of two from 2 (a light more or less does not make a
 /// new array each time; a single layer would be a plain 2D texture on WebGL2). Each layer is
-/// 2 bytes a pixel, so an app with one light keeps 4 a pixel where [`penumbra::MAX_LIGHTS`]
-/// layers would take 32.
+/// 2 bytes a pixel, so an app with one light keeps 4 a pixel, one with 17 lights 64.
 pub(crate) fn visibility_layers(lights: usize) -> u32 {
     lights
-        .clamp(2, penumbra::MAX_LIGHTS)
+        .clamp(2, MAX_SHADOWED_LIGHTS)
         .next_power_of_two()
-        .min(penumbra::MAX_LIGHTS) as u32
+        .min(MAX_SHADOWED_LIGHTS) as u32
 }
 
 /// The visibility array: `R16Float`, `layers` layers, written by penumbra's passes (its content

@@ -41,14 +41,12 @@ pub(super) struct Instance {
     layers: u32,
 }
 
-/// Registers new meshes and places, moves and removes instances.
-pub(super) fn sync_casters(
-    state: &mut PenumbraState,
-    extracted: &Extracted,
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    (allocator, render_meshes, images): (&MeshAllocator, &RenderAssets<RenderMesh>, &RenderAssets<GpuImage>),
-) {
+/// Keeps the geometry of the meshes extracted this frame and forgets the stale ones: every
+/// frame, whether penumbra shades it or not. The extraction sends a mesh's geometry once
+/// ([`KnownGeometry`]), so a frame that dropped it (a camera refused for want of a depth
+/// prepass, settings refused) left its casters without geometry, and without shadows, once
+/// penumbra shaded again.
+pub(super) fn take_geometry(state: &mut PenumbraState, extracted: &Extracted) {
     for id in &extracted.stale_meshes {
         state.geometry.remove(id);
         drop_mesh(state, *id);
@@ -62,6 +60,21 @@ pub(super) fn sync_casters(
             Err(why) => messages.push(format!("penumbra: mesh {id} casts no shadow: {why}")),
         }
     }
+    for message in messages {
+        state.log_once(message);
+    }
+}
+
+/// Registers new meshes and places, moves and removes instances (the meshes' geometry taken
+/// by [`take_geometry`] first).
+pub(super) fn sync_casters(
+    state: &mut PenumbraState,
+    extracted: &Extracted,
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    (allocator, render_meshes, images): (&MeshAllocator, &RenderAssets<RenderMesh>, &RenderAssets<GpuImage>),
+) {
+    let mut messages = Vec::new();
     let mut seen = HashSet::new();
     for caster in &extracted.casters {
         seen.insert(caster.entity);

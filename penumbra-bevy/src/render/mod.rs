@@ -30,7 +30,7 @@ use crate::{PenumbraDiagnostics, mat4};
 mod casters;
 mod lights;
 
-use casters::{Instance, RegisteredMesh, SkinnedCaster, sync_casters};
+use casters::{Instance, RegisteredMesh, SkinnedCaster, sync_casters, take_geometry};
 use lights::sync_lights;
 
 /// One penumbra camera's shadows: a `Shadows` of its own (the lights' fits to its view, their
@@ -178,6 +178,8 @@ fn prepare_penumbra(
 ) {
     let state = &mut *state;
     state.active = false;
+    // Before any return: the extraction sends each mesh's geometry once.
+    take_geometry(state, &extracted);
     let device = device.wgpu_device();
     let queue: &wgpu::Queue = &queue;
     let Some(table_buffer) = buffers.get(&extracted.lights_buffer) else {
@@ -211,7 +213,7 @@ fn prepare_penumbra(
             extracted.lights_shadowed,
             extracted.lights_shadowed - extracted.lights_over_limit,
             extracted.lights_over_limit,
-            penumbra::MAX_LIGHTS
+            crate::MAX_SHADOWED_LIGHTS
         ));
     }
     for entity in &extracted.high_layers {
