@@ -679,19 +679,9 @@ fn misuse_is_reported_and_leaves_bevys_shadows() {
     let image = world.resource::<Assets<Image>>().get(handle).unwrap();
     assert_eq!(image.texture_descriptor.size.depth_or_array_layers, 32);
     assert_eq!(penumbra_bevy::MAX_SHADOWED_LIGHTS, 256);
-    // The sun's shadow of the box (beside it, toward +x) against the lit plane, alone and with
-    // the spots: as dark, within 10 levels of 255.
-    let contrast = |image: &image::RgbaImage| {
-        let luminance = plane(image);
-        let mean = |x: std::ops::Range<u32>, y: std::ops::Range<u32>| {
-            let values: Vec<f32> = y
-                .flat_map(|y| x.clone().map(move |x| (x, y)))
-                .filter_map(|(x, y)| luminance[(y * SIZE.x + x) as usize])
-                .collect();
-            values.iter().sum::<f32>() / values.len().max(1) as f32
-        };
-        mean(20..60, 180..220) - mean(152..184, 120..136)
-    };
+    // The sun's shadow of the box against the lit plane, alone and with the spots: as dark,
+    // within 10 levels of 255.
+    let contrast = sun_shadow_contrast;
     let (bevys, before, after) = (contrast(&refused), contrast(&alone), contrast(&frame));
     println!(
         "the sun's shadow against the lit plane: {bevys:.1} refused (Bevy's), {before:.1} alone, \
@@ -2181,4 +2171,49 @@ fn a_sphere_under_rectangle_lights_does_not_shadow_itself() {
         "the sphere shadows itself: {off} of {} pixels differ by more than 4 levels (at most {worst})",
         sphere.len()
     );
+}
+
+/// How much darker the plane is in [`sun`]'s shadow of the box (beside it, toward +x) than
+/// where it is lit, in levels of 255: about 85 with a shadow, 0 without.
+fn sun_shadow_contrast(image: &image::RgbaImage) -> f32 {
+    let luminance = plane(image);
+    let mean = |x: std::ops::Range<u32>, y: std::ops::Range<u32>| {
+        let values: Vec<f32> = y
+            .flat_map(|y| x.clone().map(move |x| (x, y)))
+            .filter_map(|(x, y)| luminance[(y * SIZE.x + x) as usize])
+            .collect();
+        values.iter().sum::<f32>() / values.len().max(1) as f32
+    };
+    mean(20..60, 180..220) - mean(152..184, 120..136)
+}
+
+/// A camera that gets its `PenumbraCamera` after its first frames, or whose `PenumbraCamera`
+/// starts disabled, has Bevy's shadows until then and penumbra's from then on. Until
+/// 2026-12-02 it had none at all from then on: the frames penumbra shaded no camera dropped the
+/// meshes' geometry, which the extraction sends once (contrast 0 in this test then).
+#[test]
+fn a_camera_given_penumbra_after_its_first_frames_gets_its_shadows() {
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let mut scene = box_above_plane(sun(4.0), false);
+    let camera = scene.camera;
+    let world = scene.headless.app.world_mut();
+    world.entity_mut(camera).remove::<PenumbraCamera>();
+    let without = sun_shadow_contrast(&scene.headless.render(4));
+    let world = scene.headless.app.world_mut();
+    world.entity_mut(camera).insert(PenumbraCamera {
+        enabled: false,
+        ..default()
+    });
+    let disabled = sun_shadow_contrast(&scene.headless.render(4));
+    let world = scene.headless.app.world_mut();
+    world.get_mut::<PenumbraCamera>(camera).unwrap().enabled = true;
+    let frame = scene.headless.render(6);
+    save("given_penumbra_late.png", &frame);
+    let enabled = sun_shadow_contrast(&frame);
+    println!("the sun's shadow: {without:.1} without penumbra, {disabled:.1} disabled, {enabled:.1} enabled");
+    assert!(
+        without > 40.0 && disabled > 40.0,
+        "Bevy's shadow: {without:.1}, {disabled:.1}"
+    );
+    assert!(enabled > 40.0, "no shadow once penumbra is on: {enabled:.1}");
 }
