@@ -2019,19 +2019,7 @@ fn a_group_whose_lights_list_more_than_its_pool_runs_in_rounds() {
             .iter()
             .map(|id| read_layer(&gpu, &shadows, id.layer()))
             .collect();
-        let listed: Vec<usize> = ids
-            .iter()
-            .map(|id| {
-                let texture = shadows.light_texture(*id, LightTexture::TileClasses).unwrap();
-                let layer = shadows
-                    .light_texture_layer(*id, LightTexture::TileClasses)
-                    .unwrap();
-                let classes = penumbra::read_texture_layer_f32(device, queue, texture, layer)
-                    .unwrap()
-                    .0;
-                classes.iter().filter(|c| **c == 1.0).count()
-            })
-            .collect();
+        let listed = listed_tiles(&gpu, &shadows, &ids);
         (layers, listed, passes)
     };
     let (apart, _, _) = run(false);
@@ -2053,6 +2041,22 @@ fn a_group_whose_lights_list_more_than_its_pool_runs_in_rounds() {
             "sun {k}: {shadowed} shadowed, {soft} soft, {lit} lit texels"
         );
     }
+}
+
+/// The screen tiles each of `ids` listed (its tile classes: 1 where listed).
+fn listed_tiles(gpu: &penumbra::HeadlessGpu, shadows: &Shadows, ids: &[penumbra::LightId]) -> Vec<usize> {
+    ids.iter()
+        .map(|id| {
+            let texture = shadows.light_texture(*id, LightTexture::TileClasses).unwrap();
+            let layer = shadows
+                .light_texture_layer(*id, LightTexture::TileClasses)
+                .unwrap();
+            let classes = penumbra::read_texture_layer_f32(&gpu.device, &gpu.queue, texture, layer)
+                .unwrap()
+                .0;
+            classes.iter().filter(|c| **c == 1.0).count()
+        })
+        .collect()
 }
 
 /// With `ExecutionSettings::light_groups`, lights alike run the variable PCF and the blur as
@@ -2143,19 +2147,7 @@ fn lights_alike_run_their_screen_passes_as_one_group() {
         };
         let intermediates = [LightTexture::DistanceMap, LightTexture::TileClasses].map(intermediate);
         // The tiles each sun listed (its tile classes: 1 where listed).
-        let listed: Vec<usize> = ids[..3]
-            .iter()
-            .map(|id| {
-                let texture = shadows.light_texture(*id, LightTexture::TileClasses).unwrap();
-                let layer = shadows
-                    .light_texture_layer(*id, LightTexture::TileClasses)
-                    .unwrap();
-                let classes = penumbra::read_texture_layer_f32(device, queue, texture, layer)
-                    .unwrap()
-                    .0;
-                classes.iter().filter(|c| **c == 1.0).count()
-            })
-            .collect();
+        let listed = listed_tiles(&gpu, &shadows, &ids[..3]);
         // The first sun turned by 20 degrees, then the box moved: every light's maps drawn
         // again, the group's classification reduces them again (the box's move binds nothing
         // again).
