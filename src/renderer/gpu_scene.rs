@@ -861,7 +861,9 @@ fn instance_surface(m: &crate::scene::Material, tex: &SceneTextures) -> Instance
     }
 }
 
-/// Uploads an sRGB RGBA8 image with a full mip chain (box-filtered on the CPU).
+/// One mip level of a lightmap: its texels and its size.
+type MipLevel<'a> = (&'a [[f32; 3]], (u32, u32));
+
 /// A lightmap as an RGBA16F texture (one level), checked against the device's size limit.
 fn upload_lightmap(
     device: &wgpu::Device,
@@ -878,10 +880,10 @@ fn upload_lightmap(
             ),
         });
     }
-    let levels: Vec<(&Vec<[f32; 3]>, (u32, u32))> = std::iter::once(&image.rgb)
+    let levels: Vec<MipLevel> = std::iter::once(&image.rgb)
         .chain(&image.mips)
         .enumerate()
-        .map(|(i, texels)| (texels, image.level_size(i)))
+        .map(|(i, texels)| (texels.as_slice(), image.level_size(i)))
         .collect();
     let full_chain = 32 - image.width.max(image.height).leading_zeros() as usize;
     if levels.len() > full_chain {
