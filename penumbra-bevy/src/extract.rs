@@ -191,6 +191,51 @@ type SunQuery<'w, 's> = Query<
     ),
 >;
 
+/// The cameras penumbra may shade, with what decides whether it can.
+type CameraQuery<'w, 's> = Query<
+    'w,
+    's,
+    (
+        Entity,
+        RenderEntity,
+        &'static Camera,
+        &'static PenumbraCamera,
+        Has<DepthPrepass>,
+        Has<DeferredPrepass>,
+        Option<&'static Name>,
+    ),
+>;
+
+/// Bevy's spot (`L` = `SpotLight`) or point lights (`PointLight`).
+type LampQuery<'w, 's, L> = Query<
+    'w,
+    's,
+    (
+        Entity,
+        RenderEntity,
+        &'static L,
+        &'static GlobalTransform,
+        Option<&'static PenumbraLightSize>,
+        Option<&'static RenderLayers>,
+        Option<&'static Name>,
+    ),
+>;
+
+/// Bevy's rectangle lights, with whether they ask for penumbra's shadows.
+type RectQuery<'w, 's> = Query<
+    'w,
+    's,
+    (
+        Entity,
+        RenderEntity,
+        &'static RectLight,
+        &'static GlobalTransform,
+        Has<RectLightShadows>,
+        Option<&'static RenderLayers>,
+        Option<&'static Name>,
+    ),
+>;
+
 /// The materials a caster's alpha test is read from: a `StandardMaterial`, or the
 /// `PenumbraMaterial` the plugin switched it to.
 type MaterialAssets<'w> = (
@@ -202,54 +247,14 @@ type MaterialAssets<'w> = (
 pub(crate) fn extract_penumbra(
     mut extracted: ResMut<Extracted>,
     mut known: ResMut<KnownGeometry>,
-    cameras: Extract<
-        Query<(
-            Entity,
-            RenderEntity,
-            &Camera,
-            &PenumbraCamera,
-            Has<DepthPrepass>,
-            Has<DeferredPrepass>,
-            Option<&Name>,
-        )>,
-    >,
+    cameras: Extract<CameraQuery>,
     named_cameras: Extract<Query<(Entity, &Name), With<Camera>>>,
     bevy_maps: Extract<(Res<DirectionalLightShadowMap>, Res<PointLightShadowMap>)>,
     casters: Extract<CasterQuery>,
     suns: Extract<SunQuery>,
-    spots: Extract<
-        Query<(
-            Entity,
-            RenderEntity,
-            &SpotLight,
-            &GlobalTransform,
-            Option<&PenumbraLightSize>,
-            Option<&RenderLayers>,
-            Option<&Name>,
-        )>,
-    >,
-    points: Extract<
-        Query<(
-            Entity,
-            RenderEntity,
-            &PointLight,
-            &GlobalTransform,
-            Option<&PenumbraLightSize>,
-            Option<&RenderLayers>,
-            Option<&Name>,
-        )>,
-    >,
-    rects: Extract<
-        Query<(
-            Entity,
-            RenderEntity,
-            &RectLight,
-            &GlobalTransform,
-            Has<RectLightShadows>,
-            Option<&RenderLayers>,
-            Option<&Name>,
-        )>,
-    >,
+    spots: Extract<LampQuery<SpotLight>>,
+    points: Extract<LampQuery<PointLight>>,
+    rects: Extract<RectQuery>,
     meshes: Extract<Res<Assets<Mesh>>>,
     skins: Extract<(Query<&GlobalTransform>, Res<Assets<SkinnedMeshInverseBindposes>>)>,
     morph_weights: Extract<Query<&MorphWeights>>,
@@ -300,10 +305,10 @@ pub(crate) fn extract_penumbra(
     extracted.stale_meshes.clear();
     for event in mesh_events.read() {
         match event {
-            AssetEvent::Modified { id } | AssetEvent::Removed { id } | AssetEvent::Unused { id } => {
-                if known.0.remove(id) {
-                    extracted.stale_meshes.push(*id);
-                }
+            AssetEvent::Modified { id } | AssetEvent::Removed { id } | AssetEvent::Unused { id }
+                if known.0.remove(id) =>
+            {
+                extracted.stale_meshes.push(*id);
             }
             _ => {}
         }

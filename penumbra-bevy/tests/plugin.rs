@@ -1864,11 +1864,12 @@ fn the_walking_fox_casts_its_posed_shadow_as_bevy_does() {
     let empty = scene.headless.render(6);
     let messages = scene.messages();
     assert!(messages.is_empty(), "the plugin reported {messages:?}");
-    let darkness: Vec<(Vec<Option<f32>>, Vec<Option<f32>>)> = frames
+    // Each pose's darkness map, penumbra's and Bevy's.
+    let darkness: Vec<[Vec<Option<f32>>; 2]> = frames
         .iter()
-        .map(|(ours, bevy)| (darkness(ours, &empty), darkness(bevy, &empty)))
+        .map(|(ours, bevy)| [darkness(ours, &empty), darkness(bevy, &empty)])
         .collect();
-    for (name, (ours, bevy)) in ["a", "b"].iter().zip(&darkness) {
+    for (name, [ours, bevy]) in ["a", "b"].iter().zip(&darkness) {
         like_bevys(&format!("fox pose {name}"), ours, bevy);
     }
     // Where the shadow changes between the poses (darkness moving by over 0.5), in each way.
@@ -1878,8 +1879,8 @@ fn the_walking_fox_casts_its_posed_shadow_as_bevy_does() {
             .map(|(a, b)| matches!((a, b), (Some(a), Some(b)) if (a - b).abs() > 0.5))
             .collect()
     };
-    let ours = changed(&darkness[0].0, &darkness[1].0);
-    let bevy = changed(&darkness[0].1, &darkness[1].1);
+    let ours = changed(&darkness[0][0], &darkness[1][0]);
+    let bevy = changed(&darkness[0][1], &darkness[1][1]);
     let (n_ours, n_bevy) = (
         ours.iter().filter(|c| **c).count(),
         bevy.iter().filter(|c| **c).count(),

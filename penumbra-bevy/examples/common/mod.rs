@@ -104,7 +104,7 @@ pub struct Target {
 /// A target image of `size` that is read back every frame into `captured`.
 fn readback_target(app: &mut App, size: UVec2) -> (Handle<Image>, Captured) {
     assert!(
-        size.x % 64 == 0,
+        size.x.is_multiple_of(64),
         "rows are read back padded to 256 bytes: use a width that is a multiple of 64"
     );
     let mut image = Image::new_target_texture(size.x, size.y, TextureFormat::Rgba8UnormSrgb, None);

@@ -419,7 +419,7 @@ pub(super) fn register(
     }
     let stride = layout.array_stride;
     let positions = VertexStream::new(
-        &vertices.buffer,
+        vertices.buffer,
         vertices.range.start as u64 * stride + attribute.offset,
         stride,
         attribute.format,
@@ -437,7 +437,7 @@ pub(super) fn register(
             wgpu::IndexFormat::Uint32 => 4,
         };
         desc = desc.indices(IndexStream {
-            buffer: &index_slice.buffer,
+            buffer: index_slice.buffer,
             offset: index_slice.range.start as u64 * size,
             format: index_format,
             count,

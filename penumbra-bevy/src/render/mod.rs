@@ -476,17 +476,21 @@ fn whole_target(clip_from_view: Mat4, viewport: UVec4, size: (u32, u32)) -> Mat4
     to_target * clip_from_view
 }
 
+/// What [`penumbra_pass`] reads of its view: its prepass textures, its main-world entity and
+/// whether it is a camera.
+type PassView = (
+    Entity,
+    Option<&'static ViewPrepassTextures>,
+    Option<&'static MainEntity>,
+    Has<ExtractedCamera>,
+);
+
 /// penumbra's passes, recorded for each 3D camera between Bevy's depth prepass and its main
 /// pass (prepared in [`prepare_shadows`]), and the light table that camera's main pass reads:
 /// a penumbra camera's own, an empty one for any other camera.
 #[allow(clippy::too_many_arguments)]
 fn penumbra_pass(
-    view: ViewQuery<(
-        Entity,
-        Option<&ViewPrepassTextures>,
-        Option<&MainEntity>,
-        Has<ExtractedCamera>,
-    )>,
+    view: ViewQuery<PassView>,
     extracted: Res<Extracted>,
     mut state: ResMut<PenumbraState>,
     device: Res<RenderDevice>,
