@@ -1207,6 +1207,7 @@ fn misuse_is_an_error_naming_what_is_wrong() {
     // `device_descriptor` asks for), the next refused naming the limit; removed ones are gone.
     let mut shadows = Shadows::new(device, ShadowSettings::default()).unwrap();
     let max = Shadows::max_lights(device);
+    println!("Shadows::max_lights: {max}");
     assert!(max >= 256, "{max}");
     let ids: Vec<_> = (0..max)
         .map(|k| shadows.add_light(device, sun(k as f32 * 22.5)).unwrap())
