@@ -7,14 +7,22 @@
 //! several lights at once can bind the whole array. Lights of another size (another cascade
 //! count, or a resolution `MapResolution::FromPenumbra` chose) get an array of their own.
 //!
-//! An array grows by a layer when a light needs one and none is free: it is made again, each
-//! map copied into its layer of the new array, and each holder finds its view outdated
-//! ([`MapPools::refresh`]): its passes must then be bound again, and the maps are kept. A layer
-//! is free again once its [`MapSlot`] is dropped; [`MapPools::trim`] then copies the layers above
-//! it one down into an array made without it, and drops an array no map holds, so that the
-//! memory follows the lights. The copies are recorded as the arrays are made and submitted by
-//! [`MapPools::flush`], before the frame's passes. A format that cannot be copied (24-bit depth)
-//! loses its maps instead: they must be drawn again.
+//! An array grows when a light needs a layer and none is free: it is made again with half as
+//! many layers again, at most 8 more (spare ones for the lights to come, so that lights added one
+//! by one make a few arrays, not one each), each map copied into its layer of the new array, and each holder
+//! finds its view outdated ([`MapPools::refresh`]): its passes must then be bound again, and the
+//! maps are kept. A layer is free again once its [`MapSlot`] is dropped; [`MapPools::trim`] then
+//! copies the layers above it one down into an array made without it (or its spare layers), and
+//! drops an array no map holds, so that the memory follows the lights. The copies are recorded
+//! as the arrays are made and submitted by [`MapPools::flush`], before the frame's passes; an
+//! array made again before they are goes without copies of its own (the copies into it go into
+//! its successor), so that the arrays between are never used and go at once. A format that
+//! cannot be copied (24-bit depth) loses its maps instead: they must be drawn again.
+//!
+//! Each array made and dropped leaves a hole in the driver's memory blocks that the lights' small
+//! buffers then fill, and a block lives while any of them does: on lavapipe, 16 suns added one a
+//! frame left 1.7 GB of blocks reserved for 0.25 GB of resources while the arrays grew a layer at
+//! a time, 0.75 GB for 0.28 GB growing by half (`docs/limits.md`).
 //!
 //! Where the device runs no compute passes, or its backend is GL (which cannot bind one layer of
 //! an array as a 2D texture), each map keeps a texture of its own.
@@ -72,8 +80,9 @@ pub(crate) enum Moved {
 struct Pool {
     key: PoolKey,
     texture: wgpu::Texture,
-    /// Layer `i` is taken while `holders[i]` lives (and holds `i`).
-    holders: Vec<Weak<AtomicU32>>,
+    /// Layer `i` is taken while `holders[i]` lives (and holds `i`); `None`: a layer the array
+    /// was grown with that no map has taken yet.
+    holders: Vec<Option<Weak<AtomicU32>>>,
     generation: u64,
     /// The generation before which the maps' texels were lost (a format copies cannot move).
     lost_before: u64,
@@ -81,7 +90,7 @@ struct Pool {
 
 impl Pool {
     fn free_layer(&self) -> Option<usize> {
-        self.holders.iter().position(|h| h.strong_count() == 0)
+        self.holders.iter().position(|h| !held(h))
     }
 
     fn layer_bytes(&self) -> u64 {
@@ -147,7 +156,7 @@ impl MapPools {
                 self.pools.push(Pool {
                     key,
                     texture: array_texture(device, key, 1),
-                    holders: vec![Weak::new()],
+                    holders: vec![None],
                     generation: self.generation,
                     lost_before: 0,
                 });
@@ -155,19 +164,20 @@ impl MapPools {
             }
         };
         if self.pools[index].free_layer().is_none() {
-            let layers = self.pools[index].holders.len() as u32 + 1;
+            let held = self.pools[index].holders.len() as u32;
+            let layers = grown(held);
             self.generation += 1;
             let pool = &mut self.pools[index];
             let texture = array_texture(device, key, layers);
             // Every layer is held (none was free): each keeps its number.
-            let moves: Vec<(u32, u32)> = (0..layers - 1).map(|l| (l, l)).collect();
+            let moves: Vec<(u32, u32)> = (0..held).map(|l| (l, l)).collect();
             move_layers(pool, texture, &moves, self.generation, &mut self.copies);
-            pool.holders.resize(layers as usize, Weak::new());
+            pool.holders.resize(layers as usize, None);
         }
         let pool = &mut self.pools[index];
         let layer = pool.free_layer().expect("a free layer after growing");
         holder.store(layer as u32, Ordering::Relaxed);
-        pool.holders[layer] = Arc::downgrade(&holder);
+        pool.holders[layer] = Some(Arc::downgrade(&holder));
         MapSlot {
             target: layer_target(pool.texture.clone(), layer as u32),
             layer: layer as u32,
@@ -235,18 +245,19 @@ impl MapPools {
     /// down in order, and drops the arrays no map holds a layer of (the holders of an array
     /// made again then see [`MapPools::refresh`] return true).
     pub fn trim(&mut self, device: &wgpu::Device) {
-        self.pools
-            .retain(|p| p.holders.iter().any(|h| h.strong_count() > 0));
+        self.pools.retain(|p| p.holders.iter().any(held));
         for pool in &mut self.pools {
-            let held: Vec<Arc<AtomicU32>> = pool.holders.iter().filter_map(Weak::upgrade).collect();
-            if held.len() == pool.holders.len() {
+            // Only a layer a map gave back makes the array again: the layers it was grown with
+            // are kept for the lights to come.
+            if !pool.holders.iter().flatten().any(|h| h.strong_count() == 0) {
                 continue;
             }
+            let held: Vec<Arc<AtomicU32>> = pool.holders.iter().flatten().filter_map(Weak::upgrade).collect();
             let mut moves = Vec::new();
             for (layer, holder) in held.iter().enumerate() {
                 moves.push((holder.swap(layer as u32, Ordering::Relaxed), layer as u32));
             }
-            pool.holders = held.iter().map(Arc::downgrade).collect();
+            pool.holders = held.iter().map(|h| Some(Arc::downgrade(h))).collect();
             self.generation += 1;
             let texture = array_texture(device, pool.key, held.len() as u32);
             move_layers(pool, texture, &moves, self.generation, &mut self.copies);
@@ -259,7 +270,7 @@ impl MapPools {
         self.pools
             .iter()
             .map(|p| {
-                let free = p.holders.iter().filter(|h| h.strong_count() == 0).count() as u64;
+                let free = p.holders.iter().filter(|h| !held(h)).count() as u64;
                 free * p.layer_bytes()
             })
             .sum()
@@ -271,11 +282,23 @@ impl MapPools {
         self.pools
             .iter()
             .map(|p| {
-                let held = p.holders.iter().filter(|h| h.strong_count() > 0).count();
-                (p.key.label, p.key.size, p.holders.len(), held)
+                let taken = p.holders.iter().filter(|h| held(h)).count();
+                (p.key.label, p.key.size, p.holders.len(), taken)
             })
             .collect()
     }
+}
+
+/// Whether a map holds the layer of `holder`.
+fn held(holder: &Option<Weak<AtomicU32>>) -> bool {
+    holder.as_ref().is_some_and(|h| h.strong_count() > 0)
+}
+
+/// The layers an array of `held` layers, every one taken, is made again with: half as many
+/// again, at least one more and at most 8 (at most 8 spare layers, each a light's map, where a
+/// light is added: 16 suns added one by one make arrays of 2, 3, 5, 8, 12 and 18 layers).
+fn grown(held: u32) -> u32 {
+    held + held.div_ceil(2).clamp(1, 8)
 }
 
 /// Whether `format`'s texels can be copied between textures (24-bit depth cannot).
@@ -297,8 +320,26 @@ fn move_layers(
     copies: &mut Vec<LayerCopy>,
 ) {
     if copyable(pool.key.format) {
-        for &(from, to) in moves {
-            copies.push((pool.texture.clone(), texture.clone(), from, to));
+        if copies.iter().any(|c| c.1 == pool.texture) {
+            // The array replaced was made since the last flush: no pass has drawn into it yet,
+            // and its texels are the copies into it still to be made. Those go straight into
+            // the new array, so that only the arrays of the last flush and the newest live.
+            copies.retain_mut(|(_, to, _, to_layer)| {
+                if *to != pool.texture {
+                    return true;
+                }
+                match moves.iter().find(|m| m.0 == *to_layer) {
+                    Some(&(_, moved_to)) => {
+                        (*to, *to_layer) = (texture.clone(), moved_to);
+                        true
+                    }
+                    None => false,
+                }
+            });
+        } else {
+            for &(from, to) in moves {
+                copies.push((pool.texture.clone(), texture.clone(), from, to));
+            }
         }
     } else {
         pool.lost_before = generation;
@@ -344,16 +385,15 @@ fn layer_target(texture: wgpu::Texture, layer: u32) -> Target {
 mod tests {
     use super::*;
 
-    /// A device of the adapter the environment names (as the crate's headless GPU picks it).
-    fn device() -> wgpu::Device {
+    /// A device of the adapter the environment names (as the crate's headless GPU picks it),
+    /// and its queue.
+    fn device() -> (wgpu::Device, wgpu::Queue) {
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env());
         let adapter = pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(
             &instance, None,
         ))
         .expect("an adapter");
-        pollster::block_on(adapter.request_device(&Default::default()))
-            .expect("a device")
-            .0
+        pollster::block_on(adapter.request_device(&Default::default())).expect("a device")
     }
 
     /// Arrays shared as on a device with compute passes.
@@ -377,7 +417,7 @@ mod tests {
 
     #[test]
     fn layers_are_shared_grown_freed_and_trimmed() {
-        let device = &device();
+        let (device, queue) = &device();
         let mut pools = shared();
         let mut a = pools.slot(device, key(64));
         assert_eq!((a.layer, pools.layout()), (0, vec![("test map", (64, 64), 1, 1)]));
@@ -397,6 +437,7 @@ mod tests {
             "the first map's layer copied into the new array"
         );
         assert_eq!(a.target.texture.depth_or_array_layers(), 2);
+        pools.flush(device, queue);
         // Another size: an array of its own.
         let c = pools.slot(device, key(32));
         assert_eq!(c.layer, 0);
@@ -425,8 +466,58 @@ mod tests {
     }
 
     #[test]
+    fn an_array_grows_by_half_keeps_its_spare_layers_and_copies_once_a_flush() {
+        let (device, queue) = &device();
+        let mut pools = shared();
+        let mut maps = vec![pools.slot(device, key(16)), pools.slot(device, key(16))];
+        pools.flush(device, queue);
+        let flushed = pools.pools[0].texture.clone();
+        // Five more maps before the next flush: the array made 3, 5 and 8 layers deep (half as
+        // many again each time), the two maps of the flushed array copied straight into the
+        // last, none out of the arrays between.
+        for _ in 0..5 {
+            maps.push(pools.slot(device, key(16)));
+        }
+        assert_eq!(pools.layout(), vec![("test map", (16, 16), 8, 7)]);
+        let newest = pools.pools[0].texture.clone();
+        let copies: Vec<(bool, bool, u32, u32)> = pools
+            .copies
+            .iter()
+            .map(|(from, to, f, t)| (*from == flushed, *to == newest, *f, *t))
+            .collect();
+        assert_eq!(copies, vec![(true, true, 0, 0), (true, true, 1, 1)]);
+        for map in &mut maps {
+            assert_ne!(pools.refresh(map), Moved::Lost);
+            assert_eq!(map.target.texture, newest);
+        }
+        let layers: Vec<u32> = maps.iter().map(|m| m.layer).collect();
+        assert_eq!(layers, (0..7).collect::<Vec<_>>());
+        pools.flush(device, queue);
+        // The spare layer stays through a trim and takes the next map without growing.
+        assert_eq!(pools.unused_bytes(), 16 * 16 * 4);
+        pools.trim(device);
+        assert_eq!(pools.layout(), vec![("test map", (16, 16), 8, 7)]);
+        maps.push(pools.slot(device, key(16)));
+        assert_eq!((maps[7].layer, pools.unused_bytes()), (7, 0));
+        // A map given back makes the array again as deep as its maps, the layers above moved
+        // down.
+        maps.remove(3);
+        pools.trim(device);
+        assert_eq!(pools.layout(), vec![("test map", (16, 16), 7, 7)]);
+        for (i, map) in maps.iter_mut().enumerate() {
+            pools.refresh(map);
+            assert_eq!(map.layer, i as u32);
+        }
+        let moved: Vec<(u32, u32)> = pools.copies.iter().map(|c| (c.2, c.3)).collect();
+        assert_eq!(
+            moved,
+            [0, 1, 2, 4, 5, 6, 7].into_iter().zip(0..7).collect::<Vec<_>>()
+        );
+    }
+
+    #[test]
     fn maps_of_a_format_that_cannot_be_copied_are_lost_when_their_array_grows() {
-        let device = &device();
+        let (device, _) = &device();
         let mut pools = shared();
         let depth24 = PoolKey {
             format: wgpu::TextureFormat::Depth24Plus,
@@ -440,7 +531,7 @@ mod tests {
 
     #[test]
     fn unshared_maps_each_get_a_texture() {
-        let device = device();
+        let (device, _) = device();
         let mut pools = MapPools::unshared();
         let a = pools.slot(&device, key(16));
         let b = pools.slot(&device, key(16));

@@ -351,8 +351,10 @@ impl Shadows {
     /// The GPU memory these shadows allocated, in bytes: every light's maps, screen-space
     /// passes and uniforms and the visibility array (not a target given to
     /// [`Shadows::set_visibility_target`], nor anything of the engine's). Texels are counted at
-    /// their format's size; what a driver adds for alignment is not. It follows the lights,
-    /// the methods and the view's size, and comes back to the same value when they do.
+    /// their format's size; what a driver adds for alignment is not, nor the part of its memory
+    /// blocks no resource holds. It follows the lights, the methods and the view's size, and
+    /// comes back to the same value when they do, but for the spare layers a map array keeps
+    /// where it grew (at most 8 maps of each kind; a removed light's layer takes them with it).
     pub fn allocated_bytes(&self) -> u64 {
         let own_visibility = match (&self.target, &self.visibility) {
             (None, Some((texture, ..))) => texture_bytes(texture),
