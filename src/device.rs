@@ -12,7 +12,12 @@ pub fn instance_flags() -> wgpu::InstanceFlags {
 /// has them (for per-pass GPU times; without them timing falls back to wall clock), the
 /// adapter's own texture format features where it has them (a compute pass then writes the
 /// visibility's half floats itself, where a draw would copy them), WebGL2-era limits with the
-/// adapter's own texture size limit (shadow maps up to 8192 texels).
+/// adapter's own texture size limit (shadow maps up to 8192 texels), and wgpu's
+/// `MemoryHints::MemoryUsage`: the lights' maps are arrays made again as lights come and go, and
+/// under `MemoryHints::Performance` (wgpu's default) the driver's memory comes in blocks of 128
+/// to 256 MiB that a few small buffers keep alive after the arrays in them went. With 64 suns
+/// on lavapipe the blocks held 1.2 to 1.3 GB for 1.0 GB of resources, against 2.4 to 2.8 GB
+/// (`docs/limits.md`); the frames took as long.
 pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
     let optional = wgpu::Features::TIMESTAMP_QUERY
         | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
@@ -22,6 +27,7 @@ pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'sta
         label: Some("penumbra device"),
         required_features: adapter.features() & optional,
         required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
+        memory_hints: wgpu::MemoryHints::MemoryUsage,
         ..Default::default()
     }
 }
