@@ -641,8 +641,7 @@ fn misuse_is_reported_and_leaves_bevys_shadows() {
     // sixteen dim spots (Bevy shades at most ten suns) around the box, each aimed down at the
     // plane. Every one is penumbra's (a visibility layer each: 32, the next power of two), none
     // left to Bevy's shadows with a warning, and the sun's shadow is where it was. (The warning
-    // past `MAX_SHADOWED_LIGHTS`, 256, is not rendered here: 257 lights' maps and chains are
-    // more than this test can afford on lavapipe.)
+    // past `MAX_SHADOWED_LIGHTS`, 256: `lights_past_the_plugins_limit_keep_bevys_shadows_with_a_warning`.)
     scene
         .headless
         .app
@@ -706,6 +705,60 @@ fn misuse_is_reported_and_leaves_bevys_shadows() {
     let messages = scene.messages();
     let named = format!("camera {} \"Main view\" has no DepthPrepass", scene.camera);
     assert!(messages.iter().any(|m| m.contains(&named)), "{messages:?}");
+}
+
+/// 257 shadow-mapped lights, one past `MAX_SHADOWED_LIGHTS`: the sun and 256 dim spots around the
+/// box, each aimed down at the plane, their maps at 256 texels (`DirectionalLightShadowMap`) to
+/// keep the test's memory down (about 6 GB of process memory and 80 s on lavapipe, most of it the
+/// frame that makes the lights' maps and chains). penumbra shadows 256 of them (the visibility
+/// array's 256 layers), the last spot keeps Bevy's shadow maps, a warning says so once, and the
+/// sun's shadow, penumbra's (the lights go by entity), is as dark as alone.
+#[test]
+fn lights_past_the_plugins_limit_keep_bevys_shadows_with_a_warning() {
+    use bevy::light::DirectionalLightShadowMap;
+    let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
+    let mut scene = box_above_plane(sun(4.0), false);
+    let world = scene.headless.app.world_mut();
+    world.insert_resource(DirectionalLightShadowMap { size: 256 });
+    let alone = scene.headless.render(4);
+    let spots = penumbra_bevy::MAX_SHADOWED_LIGHTS;
+    for i in 0..spots {
+        let angle = i as f32 * std::f32::consts::TAU / spots as f32;
+        let at = Vec3::new(6.0 * angle.cos(), 0.0, 6.0 * angle.sin());
+        scene.headless.app.world_mut().spawn((
+            SpotLight {
+                intensity: 50.0,
+                radius: 0.3,
+                range: 40.0,
+                outer_angle: 0.5,
+                inner_angle: 0.4,
+                shadow_maps_enabled: true,
+                ..default()
+            },
+            Transform::from_translation(at + Vec3::Y * 6.0).looking_at(at, Vec3::X),
+        ));
+    }
+    let frame = scene.headless.render(3);
+    save("lights_past_the_limit.png", &frame);
+    let messages = scene.messages();
+    let warning = "257 shadowed lights: penumbra shadows 256, the other 1 keep Bevy's own shadows \
+                   (penumbra's limit is 256 lights)";
+    assert_eq!(
+        messages.iter().filter(|m| m.contains(warning)).count(),
+        1,
+        "{messages:?}"
+    );
+    let world = scene.headless.app.world();
+    let handle = world.resource::<penumbra_bevy::PenumbraTargets>().visibility();
+    let image = world.resource::<Assets<Image>>().get(handle).unwrap();
+    assert_eq!(image.texture_descriptor.size.depth_or_array_layers, 256);
+    let (before, after) = (sun_shadow_contrast(&alone), sun_shadow_contrast(&frame));
+    println!("the sun's shadow against the lit plane: {before:.1} alone, {after:.1} with 256 spots");
+    assert!(before > 40.0, "no sun shadow alone: {before:.1}");
+    assert!(
+        (after - before).abs() < 10.0,
+        "{before:.1} alone, {after:.1} with the spots"
+    );
 }
 
 /// The shadowed pixels (darkness over a half) of a darkness map, and their intersection over
