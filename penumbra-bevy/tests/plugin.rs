@@ -649,22 +649,7 @@ fn misuse_is_reported_and_leaves_bevys_shadows() {
         .entity_mut(scene.camera)
         .insert(bevy::core_pipeline::prepass::DepthPrepass);
     let alone = scene.headless.render(6);
-    for i in 0..16 {
-        let angle = i as f32 * std::f32::consts::TAU / 16.0;
-        let at = Vec3::new(6.0 * angle.cos(), 0.0, 6.0 * angle.sin());
-        scene.headless.app.world_mut().spawn((
-            SpotLight {
-                intensity: 1000.0,
-                radius: 0.3,
-                range: 40.0,
-                outer_angle: 0.5,
-                inner_angle: 0.4,
-                shadow_maps_enabled: true,
-                ..default()
-            },
-            Transform::from_translation(at + Vec3::Y * 6.0).looking_at(at, Vec3::X),
-        ));
-    }
+    spots_around_the_box(scene.headless.app.world_mut(), 16, 1000.0);
     let frame = scene.headless.render(6);
     save("seventeen_lights_alone.png", &alone);
     save("seventeen_lights.png", &frame);
@@ -721,23 +706,11 @@ fn lights_past_the_plugins_limit_keep_bevys_shadows_with_a_warning() {
     let world = scene.headless.app.world_mut();
     world.insert_resource(DirectionalLightShadowMap { size: 256 });
     let alone = scene.headless.render(4);
-    let spots = penumbra_bevy::MAX_SHADOWED_LIGHTS;
-    for i in 0..spots {
-        let angle = i as f32 * std::f32::consts::TAU / spots as f32;
-        let at = Vec3::new(6.0 * angle.cos(), 0.0, 6.0 * angle.sin());
-        scene.headless.app.world_mut().spawn((
-            SpotLight {
-                intensity: 50.0,
-                radius: 0.3,
-                range: 40.0,
-                outer_angle: 0.5,
-                inner_angle: 0.4,
-                shadow_maps_enabled: true,
-                ..default()
-            },
-            Transform::from_translation(at + Vec3::Y * 6.0).looking_at(at, Vec3::X),
-        ));
-    }
+    spots_around_the_box(
+        scene.headless.app.world_mut(),
+        penumbra_bevy::MAX_SHADOWED_LIGHTS,
+        50.0,
+    );
     let frame = scene.headless.render(3);
     save("lights_past_the_limit.png", &frame);
     let messages = scene.messages();
@@ -759,6 +732,27 @@ fn lights_past_the_plugins_limit_keep_bevys_shadows_with_a_warning() {
         (after - before).abs() < 10.0,
         "{before:.1} alone, {after:.1} with the spots"
     );
+}
+
+/// `count` shadow-mapped spots of `intensity` on a circle of radius 6 around the box, 6 units
+/// up, each aimed straight down at the plane.
+fn spots_around_the_box(world: &mut World, count: usize, intensity: f32) {
+    for i in 0..count {
+        let angle = i as f32 * std::f32::consts::TAU / count as f32;
+        let at = Vec3::new(6.0 * angle.cos(), 0.0, 6.0 * angle.sin());
+        world.spawn((
+            SpotLight {
+                intensity,
+                radius: 0.3,
+                range: 40.0,
+                outer_angle: 0.5,
+                inner_angle: 0.4,
+                shadow_maps_enabled: true,
+                ..default()
+            },
+            Transform::from_translation(at + Vec3::Y * 6.0).looking_at(at, Vec3::X),
+        ));
+    }
 }
 
 /// The shadowed pixels (darkness over a half) of a darkness map, and their intersection over
