@@ -8,10 +8,10 @@
 //! count, or a resolution `MapResolution::FromPenumbra` chose) get an array of their own.
 //!
 //! An array grows when a light needs a layer and none is free: it is made again with half as
-//! many layers again, at most 8 more (spare ones for the lights to come, so that lights added one
-//! by one make a few arrays, not one each), each map copied into its layer of the new array, and each holder
-//! finds its view outdated ([`MapPools::refresh`]): its passes must then be bound again, and the
-//! maps are kept. A layer is free again once its [`MapSlot`] is dropped; [`MapPools::trim`] then
+//! many layers again, at most 8 more (spare ones for the lights to come, so that lights added
+//! one by one make a few arrays, not one each), each map copied into its layer of the new
+//! array, and each holder finds its view outdated ([`MapPools::refresh`]): its passes must then
+//! be bound again, and the maps are kept. A layer is free again once its [`MapSlot`] is dropped; [`MapPools::trim`] then
 //! copies the layers above it one down into an array made without it (or its spare layers), and
 //! drops an array no map holds, so that the memory follows the lights. The copies are recorded
 //! as the arrays are made and submitted by [`MapPools::flush`], before the frame's passes; an
@@ -20,9 +20,10 @@
 //! cannot be copied (24-bit depth) loses its maps instead: they must be drawn again.
 //!
 //! Each array made and dropped leaves a hole in the driver's memory blocks that the lights' small
-//! buffers then fill, and a block lives while any of them does: on lavapipe, 16 suns added one a
-//! frame left 1.7 GB of blocks reserved for 0.25 GB of resources while the arrays grew a layer at
-//! a time, 0.75 GB for 0.28 GB growing by half (`docs/limits.md`).
+//! buffers then fill, and a block lives while any of them does: on lavapipe, with wgpu's default
+//! memory hints, 16 suns added one a frame left 1.7 GB of blocks reserved for 0.25 GB of
+//! resources while the arrays grew a layer at a time, 0.75 GB for 0.28 GB growing by half
+//! (`docs/limits.md`).
 //!
 //! Where the device runs no compute passes, or its backend is GL (which cannot bind one layer of
 //! an array as a 2D texture), each map keeps a texture of its own.
