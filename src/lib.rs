@@ -110,6 +110,7 @@ mod light_maps;
 pub mod light_samples;
 pub mod light_space;
 pub mod map_resolution;
+mod pipeline_cache;
 pub mod scene;
 mod screen;
 pub mod settings;

@@ -485,7 +485,7 @@ fn with_layer_arguments(source: &str, builtin: &str, maps: &[(&str, &str)]) -> S
 /// ([`with_half_floats`]) and, with `arrays`, the light's maps read as layers of arrays
 /// ([`with_map_arrays`]).
 pub(crate) fn module_for(
-    device: &wgpu::Device,
+    device: &crate::pipeline_cache::CachedDevice<'_>,
     label: &str,
     source: &'static str,
     (half, arrays): (HalfFloats, bool),
@@ -493,19 +493,13 @@ pub(crate) fn module_for(
     let halves = with_half_floats(source, half);
     let text = halves.as_deref().unwrap_or(source);
     let arrayed = arrays.then(|| with_map_arrays(text)).flatten();
-    match arrayed.or(halves) {
-        Some(source) => device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(label),
-            source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Owned(source)),
-        }),
-        None => module(device, label, source),
-    }
+    device.module(label, arrayed.as_deref().or(halves.as_deref()).unwrap_or(source))
 }
 
 /// [`module`] of a pass over a group of lights' tile lists ([`with_light_groups`] with
 /// `layers`), its storage textures typed as `half` says ([`with_half_floats`]).
 pub(crate) fn module_grouped(
-    device: &wgpu::Device,
+    device: &crate::pipeline_cache::CachedDevice<'_>,
     label: &str,
     source: &'static str,
     half: HalfFloats,
@@ -516,8 +510,5 @@ pub(crate) fn module_grouped(
     // The passes made so are named in the shader tests, which check that each is grouped.
     let grouped =
         with_light_groups(text, layers).unwrap_or_else(|| panic!("{label} is not a pass over a tile list"));
-    device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(label),
-        source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Owned(grouped)),
-    })
+    device.module(label, &grouped)
 }

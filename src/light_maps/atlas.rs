@@ -9,6 +9,7 @@ use super::tile_clear::TileClear;
 use crate::casters::{Casters, Cull};
 use crate::gpu_helpers::depth_attachment;
 use crate::light_space::{AtlasGrid, LightView};
+use crate::pipeline_cache::CachedDevice;
 use crate::settings::ShadowMapSettings;
 
 /// A light-space pass's atlas and the per-tile state its draws need.
@@ -33,7 +34,7 @@ impl LightMapAtlas {
     /// `uniform`; `color`: the format of a color target the pass also draws, which a kept
     /// tile's clear clears too.
     pub fn new(
-        (device, pools): (&wgpu::Device, &mut MapPools),
+        (device, pools): (&CachedDevice<'_>, &mut MapPools),
         settings: &ShadowMapSettings,
         (grid, tile): (AtlasGrid, u32),
         label: &'static str,
@@ -87,7 +88,7 @@ impl LightMapAtlas {
     /// bound again.
     pub fn resize(
         &mut self,
-        (device, pools): (&wgpu::Device, &mut MapPools),
+        (device, pools): (&CachedDevice<'_>, &mut MapPools),
         settings: &ShadowMapSettings,
         grid: AtlasGrid,
         tile: u32,
@@ -164,7 +165,7 @@ pub(crate) struct FarPlaneFill {
 impl FarPlaneFill {
     /// A fill for maps of `settings`' depth format on `device`, or `None` where they are not
     /// 16-bit, the backend is GL or the settings ask for the passes' clears.
-    pub fn new(device: &wgpu::Device, settings: &ShadowMapSettings) -> Option<Self> {
+    pub fn new(device: &CachedDevice<'_>, settings: &ShadowMapSettings) -> Option<Self> {
         let wanted = settings.clear_by_copy && device.adapter_info().backend != wgpu::Backend::Gl;
         (wanted && settings.depth_format.texture_format() == FarPlaneFill::FORMAT)
             .then_some(Self { buffer: None })
@@ -187,7 +188,7 @@ impl FarPlaneFill {
     /// Makes the buffer `bytes` long, the largest atlas the lights hold, or drops it for 0 (or
     /// more than the device's largest buffer: the clears stay). It is made again only when that
     /// size changes, as the atlases are.
-    pub fn fit(&mut self, device: &wgpu::Device, bytes: u64) {
+    pub fn fit(&mut self, device: &CachedDevice<'_>, bytes: u64) {
         if self.buffer.as_ref().map_or(0, wgpu::Buffer::size) == bytes {
             return;
         }
@@ -325,7 +326,7 @@ pub(crate) type MapLayout<'a> = (&'a ShadowMapSettings, AtlasGrid, u32);
 /// What a light's maps are drawn from this frame: the casters on `layers` (a mask of caster
 /// layers) seen from the light's fit, uploaded through `queue`.
 pub(crate) struct MapUpload<'a> {
-    pub device: &'a wgpu::Device,
+    pub device: &'a CachedDevice<'a>,
     pub queue: &'a wgpu::Queue,
     pub casters: &'a Casters,
     pub light: &'a LightView,

@@ -34,12 +34,13 @@
 //! - the dilation: four reads of the last level that cover each texel's window exactly, and the
 //!   nearest silhouette where it lies within the radius.
 
+use crate::pipeline_cache::CachedDevice;
 use bytemuck::{Pod, Zeroable};
 
 use super::atlas::MapLayout;
 use super::pool::{MapPools, MapSlot, Moved, PoolKey};
 use crate::frame::DerivedSpreads;
-use crate::gpu_helpers::{Target, compute_pipeline, entry, texture_bytes};
+use crate::gpu_helpers::{Target, entry, texture_bytes};
 use crate::light_space::{AtlasGrid, LightView, MAX_TILES, ProjectionKind};
 
 #[repr(C)]
@@ -82,18 +83,18 @@ pub(crate) struct DilatedMapPass {
     occluder_offset: Target,
     /// The levels, used in turn: level 0 in the second, level k in the first for odd k.
     scratch: [Target; 2],
-    reduce: wgpu::ComputePipeline,
+    reduce: std::sync::Arc<wgpu::ComputePipeline>,
     /// The blocks near a silhouette, along rows then along columns (and listed), the lists'
     /// dispatches, and what the blocks far from every silhouette hold.
-    near_rows: wgpu::ComputePipeline,
-    near_columns: wgpu::ComputePipeline,
-    args: wgpu::ComputePipeline,
-    fill: wgpu::ComputePipeline,
+    near_rows: std::sync::Arc<wgpu::ComputePipeline>,
+    near_columns: std::sync::Arc<wgpu::ComputePipeline>,
+    args: std::sync::Arc<wgpu::ComputePipeline>,
+    fill: std::sync::Arc<wgpu::ComputePipeline>,
     /// A level and a round of the flood, and the dilation: over the list of blocks near a
     /// silhouette, and over every texel (the shader's choice, one of each pair dispatched
     /// empty).
-    level: [wgpu::ComputePipeline; 2],
-    dilate: [wgpu::ComputePipeline; 2],
+    level: [std::sync::Arc<wgpu::ComputePipeline>; 2],
+    dilate: [std::sync::Arc<wgpu::ComputePipeline>; 2],
     io_layout: wgpu::BindGroupLayout,
     shared_layout: wgpu::BindGroupLayout,
     seeds_layout: wgpu::BindGroupLayout,
@@ -134,13 +135,12 @@ impl DilatedMapPass {
     /// device flushes or canonicalizes them as floats.
     const SEEDS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
 
-    pub fn new((device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) -> Self {
+    pub fn new((device, pools): (&CachedDevice<'_>, &mut MapPools), map: MapLayout) -> Self {
         let (_, grid, tile) = map;
-        let shader = crate::shaders::module(device, "dilated_map.wgsl", crate::shaders::DILATED_MAP);
+        let shader = device.module("dilated_map.wgsl", crate::shaders::DILATED_MAP);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let compute = wgpu::ShaderStages::COMPUTE;
-        let io_layout = crate::gpu_helpers::layout(
-            device,
+        let io_layout = device.bind_group_layout(
             "DilatedMapPass::io",
             &[
                 entry::and_compute(entry::texture_2d(0, unfilterable)),
@@ -148,8 +148,7 @@ impl DilatedMapPass {
                 entry::uniform(2, compute, 16, true),
             ],
         );
-        let shared_layout = crate::gpu_helpers::layout(
-            device,
+        let shared_layout = device.bind_group_layout(
             "DilatedMapPass::shared",
             &[
                 entry::uniform(0, compute, size_of::<DilationUniform>(), false),
@@ -159,13 +158,11 @@ impl DilatedMapPass {
                 entry::storage_buffer(4, compute, false),
             ],
         );
-        let args_layout = crate::gpu_helpers::layout(
-            device,
+        let args_layout = device.bind_group_layout(
             "DilatedMapPass::args",
             &[entry::storage_buffer(0, compute, false)],
         );
-        let seeds_layout = crate::gpu_helpers::layout(
-            device,
+        let seeds_layout = device.bind_group_layout(
             "DilatedMapPass::seeds",
             &[
                 entry::and_compute(entry::texture_2d(0, wgpu::TextureSampleType::Uint)),
@@ -174,8 +171,7 @@ impl DilatedMapPass {
         );
         let pipeline = |entry: &str| {
             let label = format!("DilatedMapPass::{entry}");
-            compute_pipeline(
-                device,
+            device.compute_pipeline(
                 &label,
                 &shader,
                 &[Some(&io_layout), Some(&shared_layout), Some(&seeds_layout)],
@@ -195,7 +191,7 @@ impl DilatedMapPass {
             bytes[at..at + 4].copy_from_slice(&level.to_le_bytes());
         }
         let steps = wgpu::util::DeviceExt::create_buffer_init(
-            device,
+            &**device,
             &wgpu::util::BufferInitDescriptor {
                 label: Some("DilatedMapPass::steps"),
                 contents: &bytes,
@@ -216,8 +212,7 @@ impl DilatedMapPass {
         let list_args = small("DilatedMapPass::list_args", 48, wgpu::BufferUsages::INDIRECT);
         let args_group =
             crate::gpu_helpers::bind_group(device, "DilatedMapPass::args", &args_layout, &[&list_args]);
-        let list_args_pipeline = compute_pipeline(
-            device,
+        let list_args_pipeline = device.compute_pipeline(
             "DilatedMapPass::cs_list_args",
             &shader,
             &[None, Some(&shared_layout), None, Some(&args_layout)],
@@ -255,7 +250,7 @@ impl DilatedMapPass {
 
     /// The least depths' buffer and the blocks' for `grid`'s tiles of a shadow map `tile`
     /// texels a side.
-    fn buffers(device: &wgpu::Device, grid: AtlasGrid, tile: u32) -> (wgpu::Buffer, wgpu::Buffer) {
+    fn buffers(device: &CachedDevice<'_>, grid: AtlasGrid, tile: u32) -> (wgpu::Buffer, wgpu::Buffer) {
         let (width, height) = grid.size(dilated_resolution(tile));
         let buffer = |label, bytes: u64| {
             device.create_buffer(&wgpu::BufferDescriptor {
@@ -275,7 +270,7 @@ impl DilatedMapPass {
     /// The map, the offset, the two levels' textures and the flood's two for `grid`'s tiles of
     /// a shadow map `tile` texels a side.
     fn textures(
-        (device, pools): (&wgpu::Device, &mut MapPools),
+        (device, pools): (&CachedDevice<'_>, &mut MapPools),
         grid: AtlasGrid,
         tile: u32,
     ) -> (MapSlot, Target, [Target; 2], [Target; 2]) {
@@ -337,7 +332,7 @@ impl DilatedMapPass {
 
     /// Makes the textures again for a shadow map of `tile` texels a tile; they must then be
     /// made and bound again.
-    pub(crate) fn resize(&mut self, (device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) {
+    pub(crate) fn resize(&mut self, (device, pools): (&CachedDevice<'_>, &mut MapPools), map: MapLayout) {
         let (_, grid, tile) = map;
         (self.map, self.occluder_offset, self.scratch, self.seeds) =
             Self::textures((device, pools), grid, tile);
@@ -387,7 +382,7 @@ impl DilatedMapPass {
     /// `shadow_map` (the shadow map's atlas) where they are not made.
     pub(crate) fn prepare(
         &mut self,
-        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        (device, queue): (&CachedDevice<'_>, &wgpu::Queue),
         light: &LightView,
         spreads: &DerivedSpreads,
         shadow_map: &wgpu::TextureView,
@@ -429,7 +424,7 @@ impl DilatedMapPass {
         }
     }
 
-    fn bind_groups(&self, device: &wgpu::Device, shadow_map: &wgpu::TextureView) -> Groups {
+    fn bind_groups(&self, device: &CachedDevice<'_>, shadow_map: &wgpu::TextureView) -> Groups {
         let step = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
             buffer: &self.steps,
             offset: 0,
@@ -513,7 +508,7 @@ impl DilatedMapPass {
         // of 2^(levels - 1) texels (about the widest radius) down to 1, each round from the
         // texture the last wrote into the other.
         // Each pass twice, over the list and over every texel: one of the two is empty.
-        let both = |pass: &mut wgpu::ComputePass, pipelines: &[wgpu::ComputePipeline; 2]| {
+        let both = |pass: &mut wgpu::ComputePass, pipelines: &[std::sync::Arc<wgpu::ComputePipeline>; 2]| {
             for (pipeline, args) in pipelines.iter().zip([0, 32]) {
                 pass.set_pipeline(pipeline);
                 pass.dispatch_workgroups_indirect(&self.list_args, args);

@@ -27,6 +27,7 @@ use crate::casters::{Casters, Cull, OutwardWinding, Streams};
 use crate::gpu_helpers::entry;
 use crate::layouts::SceneLayouts;
 use crate::light_space::AtlasGrid;
+use crate::pipeline_cache::CachedDevice;
 use crate::settings::ExitFaces;
 
 /// A depth of 1.0 (the far plane) as the buffer keeps it: no face turned away from the light.
@@ -42,7 +43,7 @@ pub(crate) fn supported(device: &wgpu::Device) -> bool {
 /// Whether `map`'s atlas can keep its exit map in the shadow map's pass on `device`: each
 /// tile's rows can be copied (a multiple of 256 bytes) and the buffer fits the device's storage
 /// bindings.
-pub(crate) fn fits(device: &wgpu::Device, (_, grid, tile): MapLayout) -> bool {
+pub(crate) fn fits(device: &CachedDevice<'_>, (_, grid, tile): MapLayout) -> bool {
     let side = support_map_resolution(tile);
     let limits = device.limits();
     (side * 4).is_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
@@ -92,15 +93,14 @@ impl ExitInShadowPass {
     /// keep the back faces, and the buffers and the map for `map`'s atlas; `None` where the
     /// buffer of 1.0's cannot be written.
     pub fn new(
-        (device, pools): (&wgpu::Device, &mut MapPools),
+        (device, pools): (&CachedDevice<'_>, &mut MapPools),
         layouts: &SceneLayouts,
         (shader, light): (&wgpu::ShaderModule, &wgpu::BindGroupLayout),
         map: MapLayout,
     ) -> Option<Self> {
         let (settings, grid, tile) = map;
         let fragment = wgpu::ShaderStages::FRAGMENT;
-        let draw_layout = crate::gpu_helpers::layout(
-            device,
+        let draw_layout = device.bind_group_layout(
             "ExitInShadowPass::draw",
             &[
                 entry::storage_buffer(0, fragment, false),
@@ -110,7 +110,6 @@ impl ExitInShadowPass {
         let primitive = wgpu::PrimitiveState::default();
         let opaque = |label, fs| {
             CasterPipelines::new(
-                device,
                 label,
                 shader,
                 &[Some(light), Some(&layouts.instance), None, Some(&draw_layout)],
@@ -123,7 +122,6 @@ impl ExitInShadowPass {
         };
         let masked = |label, fs| {
             CasterPipelines::new(
-                device,
                 label,
                 shader,
                 &[
@@ -140,7 +138,6 @@ impl ExitInShadowPass {
             )
         };
         let any = CasterPipelines::new(
-            device,
             "ExitInShadowPass::any",
             shader,
             &[Some(light), Some(&layouts.instance), None, Some(&draw_layout)],
@@ -182,7 +179,7 @@ impl ExitInShadowPass {
     /// The buffer, the far plane's buffer (`None` where it cannot be written) and the exit map,
     /// for `grid`'s tiles of `side` texels.
     fn targets(
-        (device, pools): (&wgpu::Device, &mut MapPools),
+        (device, pools): (&CachedDevice<'_>, &mut MapPools),
         grid: AtlasGrid,
         side: u32,
     ) -> Option<(wgpu::Buffer, wgpu::Buffer, MapSlot)> {
@@ -220,7 +217,7 @@ impl ExitInShadowPass {
     }
 
     fn draw_group(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         layout: &wgpu::BindGroupLayout,
         bits: &wgpu::Buffer,
         uniform: &wgpu::Buffer,
@@ -231,7 +228,7 @@ impl ExitInShadowPass {
     /// Makes the buffers and the map again for a shadow map of `grid`'s tiles of `tile`
     /// texels; false where the buffer of 1.0's cannot be written (the exit map must then be
     /// drawn by its own pass). The map must then be drawn and bound again.
-    pub fn resize(&mut self, (device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) -> bool {
+    pub fn resize(&mut self, (device, pools): (&CachedDevice<'_>, &mut MapPools), map: MapLayout) -> bool {
         let (_, grid, tile) = map;
         let side = support_map_resolution(tile);
         let Some((bits, far, target)) = Self::targets((device, pools), grid, side) else {
@@ -244,7 +241,7 @@ impl ExitInShadowPass {
     }
 
     /// Makes the pipelines for the vertex layouts of `casters`.
-    pub fn prepare_pipelines(&mut self, device: &wgpu::Device, casters: &Casters) {
+    pub fn prepare_pipelines(&mut self, device: &CachedDevice<'_>, casters: &Casters) {
         let opaque = casters.draw_layouts(Streams::OpaqueDepth);
         let masked = casters.draw_layouts(Streams::MaskedDepth);
         if self.faces == ExitFaces::Winding {

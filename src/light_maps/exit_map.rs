@@ -10,6 +10,7 @@
 //! culls by it, and otherwise each fragment tests its side ([`ExitFaces`]). Alpha-masked
 //! casters are drawn whole.
 
+use crate::pipeline_cache::CachedDevice;
 use bytemuck::{Pod, Zeroable};
 
 use super::atlas::{LightMapAtlas, MapDraw, MapLayout, MapUpload, depth_state, support_map_resolution};
@@ -44,17 +45,16 @@ impl ExitMapPass {
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
     /// resolution.
     pub fn new(
-        (device, pools): (&wgpu::Device, &mut MapPools),
+        (device, pools): (&CachedDevice<'_>, &mut MapPools),
         layouts: &SceneLayouts,
         map: MapLayout,
     ) -> Self {
         let (settings, grid, tile) = map;
-        let shader = crate::shaders::module(device, "exit_map.wgsl", crate::shaders::EXIT_MAP);
+        let shader = device.module("exit_map.wgsl", crate::shaders::EXIT_MAP);
         let stages = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let uniform = CascadeUniforms::of::<ExitLightUniform>(device, "ExitMapPass::uniform", stages);
         let groups = [Some(&uniform.layout), Some(&layouts.instance)];
         let by_fragment = CasterPipelines::new(
-            device,
             "ExitMapPass::by_fragment",
             &shader,
             &groups,
@@ -67,7 +67,6 @@ impl ExitMapPass {
         );
         let culling = |label, face| {
             CasterPipelines::new(
-                device,
                 label,
                 &shader,
                 &groups,
@@ -101,7 +100,7 @@ impl ExitMapPass {
 
     /// Makes the map again for a shadow map of `tile` texels a tile (the pipelines stay); it
     /// must then be drawn and bound again.
-    pub(crate) fn resize(&mut self, (device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) {
+    pub(crate) fn resize(&mut self, (device, pools): (&CachedDevice<'_>, &mut MapPools), map: MapLayout) {
         let (settings, grid, tile) = map;
         self.atlas
             .resize((device, pools), settings, grid, support_map_resolution(tile));

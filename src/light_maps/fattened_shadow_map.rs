@@ -11,6 +11,7 @@
 //! casters are fattened whole (a superset of their real shadow, so the mask stays
 //! conservative).
 
+use crate::pipeline_cache::CachedDevice;
 use bytemuck::{Pod, Zeroable};
 
 use super::atlas::{
@@ -48,20 +49,15 @@ impl FattenedShadowMapPass {
     /// `grid` x `grid` tiles ([`crate::light_space::atlas_grid`]), each half the shadow map's
     /// resolution.
     pub fn new(
-        (device, pools): (&wgpu::Device, &mut MapPools),
+        (device, pools): (&CachedDevice<'_>, &mut MapPools),
         layouts: &SceneLayouts,
         map: MapLayout,
     ) -> Self {
         let (settings, grid, tile) = map;
-        let shader = crate::shaders::module(
-            device,
-            "fattened_shadow_map.wgsl",
-            crate::shaders::FATTENED_SHADOW_MAP,
-        );
+        let shader = device.module("fattened_shadow_map.wgsl", crate::shaders::FATTENED_SHADOW_MAP);
         let stages = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let uniform = CascadeUniforms::of::<FattenUniform>(device, "FattenedShadowMapPass::uniform", stages);
         let pipelines = CasterPipelines::new(
-            device,
             "FattenedShadowMapPass::pipeline",
             &shader,
             &[Some(&uniform.layout), Some(&layouts.instance)],
@@ -95,7 +91,7 @@ impl FattenedShadowMapPass {
     /// The occluder offsets, as large as `atlas`'s map: a layer of an array the lights' drawn
     /// fattened maps of this size share.
     fn occluder_offset_target(
-        (device, pools): (&wgpu::Device, &mut MapPools),
+        (device, pools): (&CachedDevice<'_>, &mut MapPools),
         atlas: &LightMapAtlas,
     ) -> MapSlot {
         let size = atlas.texture().size();
@@ -118,7 +114,7 @@ impl FattenedShadowMapPass {
 
     /// Makes the maps again for a shadow map of `tile` texels a tile (the pipelines stay); they
     /// must then be drawn and bound again.
-    pub(crate) fn resize(&mut self, (device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) {
+    pub(crate) fn resize(&mut self, (device, pools): (&CachedDevice<'_>, &mut MapPools), map: MapLayout) {
         let (settings, grid, tile) = map;
         self.atlas
             .resize((device, pools), settings, grid, support_map_resolution(tile));

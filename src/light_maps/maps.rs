@@ -11,6 +11,7 @@ use crate::casters::Casters;
 use crate::chain::{Chain, run};
 use crate::frame::{DerivedSpreads, MapLayersUniform};
 use crate::light_space::LightView;
+use crate::pipeline_cache::CachedDevice;
 use crate::settings::ShadowMapSettings;
 
 /// A light's maps drawn from the light: the shadow map, and for the distance-map method the
@@ -46,7 +47,7 @@ pub(crate) enum FattenedMap {
 
 impl FattenedMap {
     fn new(
-        (device, pools): (&wgpu::Device, &mut MapPools),
+        (device, pools): (&CachedDevice<'_>, &mut MapPools),
         layouts: &crate::layouts::SceneLayouts,
         map: MapLayout,
         chain: &Chain,
@@ -67,7 +68,7 @@ impl FattenedMap {
         matches!(self, FattenedMap::Drawn(_)) == chain.draws_fattened_map()
     }
 
-    fn resize(&mut self, (device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) {
+    fn resize(&mut self, (device, pools): (&CachedDevice<'_>, &mut MapPools), map: MapLayout) {
         match self {
             FattenedMap::Drawn(f) => f.resize((device, pools), map),
             FattenedMap::Dilated(d) => d.resize((device, pools), map),
@@ -150,7 +151,7 @@ impl LightMaps {
     /// tiles and their size); true when any was made (they must then be drawn and bound again).
     pub fn allocate(
         maps: &mut Option<LightMaps>,
-        (device, pools): (&wgpu::Device, &mut MapPools),
+        (device, pools): (&CachedDevice<'_>, &mut MapPools),
         casters: &Casters,
         settings: &ShadowMapSettings,
         light_view: &LightView,

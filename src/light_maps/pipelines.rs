@@ -25,14 +25,23 @@ impl CascadeUniforms {
     }
 
     /// Uniforms of `T` seen by the `visibility` stages.
-    pub fn of<T>(device: &wgpu::Device, label: &str, visibility: wgpu::ShaderStages) -> Self {
+    pub fn of<T>(
+        device: &crate::pipeline_cache::CachedDevice<'_>,
+        label: &str,
+        visibility: wgpu::ShaderStages,
+    ) -> Self {
         Self::new(device, label, visibility, size_of::<T>())
     }
 
-    pub fn new(device: &wgpu::Device, label: &str, visibility: wgpu::ShaderStages, size: usize) -> Self {
+    pub fn new(
+        device: &crate::pipeline_cache::CachedDevice<'_>,
+        label: &str,
+        visibility: wgpu::ShaderStages,
+        size: usize,
+    ) -> Self {
         let align = u64::from(device.limits().min_uniform_buffer_offset_alignment).max(1);
         let stride = (size as u64).div_ceil(align) * align;
-        let layout = crate::gpu_helpers::layout(device, label, &[entry::uniform(0, visibility, size, true)]);
+        let layout = device.bind_group_layout(label, &[entry::uniform(0, visibility, size, true)]);
         let buffer =
             crate::gpu_helpers::uniform_buffer(device, label, stride * crate::light_space::MAX_TILES as u64);
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -146,20 +155,19 @@ pub(crate) enum SecondStream {
 pub(crate) struct CasterPipelines {
     label: &'static str,
     shader: wgpu::ShaderModule,
-    layout: wgpu::PipelineLayout,
+    bind_group_layouts: Vec<Option<wgpu::BindGroupLayout>>,
     vertex_entry: &'static str,
     fragment_entry: Option<&'static str>,
     color: Option<wgpu::TextureFormat>,
     second: SecondStream,
     primitive: wgpu::PrimitiveState,
     depth: wgpu::DepthStencilState,
-    pipelines: std::collections::HashMap<crate::casters::DrawLayout, wgpu::RenderPipeline>,
+    pipelines: std::collections::HashMap<crate::casters::DrawLayout, std::sync::Arc<wgpu::RenderPipeline>>,
 }
 
 impl CasterPipelines {
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
-        device: &wgpu::Device,
         label: &'static str,
         shader: &wgpu::ShaderModule,
         bind_group_layouts: &[Option<&wgpu::BindGroupLayout>],
@@ -169,15 +177,10 @@ impl CasterPipelines {
         primitive: wgpu::PrimitiveState,
         depth: wgpu::DepthStencilState,
     ) -> Self {
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(label),
-            bind_group_layouts,
-            immediate_size: 0,
-        });
         Self {
             label,
             shader: shader.clone(),
-            layout,
+            bind_group_layouts: bind_group_layouts.iter().map(|l| l.cloned()).collect(),
             vertex_entry,
             fragment_entry: fragment.map(|(entry, _)| entry),
             color: fragment.and_then(|(_, color)| color),
@@ -189,7 +192,11 @@ impl CasterPipelines {
     }
 
     /// Makes the pipelines `layouts` need that do not exist yet.
-    pub(crate) fn prepare(&mut self, device: &wgpu::Device, layouts: &[crate::casters::DrawLayout]) {
+    pub(crate) fn prepare(
+        &mut self,
+        device: &crate::pipeline_cache::CachedDevice<'_>,
+        layouts: &[crate::casters::DrawLayout],
+    ) {
         use crate::casters::StreamLayout;
         for layout in layouts {
             if self.pipelines.contains_key(layout) {
@@ -207,32 +214,36 @@ impl CasterPipelines {
                 buffers.push(Some(l.buffer_layout(a)));
             }
             let color = [self.color.map(wgpu::ColorTargetState::from)];
-            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(self.label),
-                layout: Some(&self.layout),
-                vertex: wgpu::VertexState {
-                    module: &self.shader,
-                    entry_point: Some(self.vertex_entry),
-                    compilation_options: Default::default(),
-                    buffers: &buffers,
+            let bind_group_layouts: Vec<_> = self.bind_group_layouts.iter().map(Option::as_ref).collect();
+            let pipeline = device.render_pipeline(
+                &bind_group_layouts,
+                &wgpu::RenderPipelineDescriptor {
+                    label: Some(self.label),
+                    layout: None,
+                    vertex: wgpu::VertexState {
+                        module: &self.shader,
+                        entry_point: Some(self.vertex_entry),
+                        compilation_options: Default::default(),
+                        buffers: &buffers,
+                    },
+                    primitive: self.primitive,
+                    depth_stencil: Some(self.depth.clone()),
+                    multisample: Default::default(),
+                    fragment: self.fragment_entry.map(|entry| wgpu::FragmentState {
+                        module: &self.shader,
+                        entry_point: Some(entry),
+                        compilation_options: Default::default(),
+                        targets: if self.color.is_some() { &color } else { &[] },
+                    }),
+                    multiview_mask: None,
+                    cache: None,
                 },
-                primitive: self.primitive,
-                depth_stencil: Some(self.depth.clone()),
-                multisample: Default::default(),
-                fragment: self.fragment_entry.map(|entry| wgpu::FragmentState {
-                    module: &self.shader,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    targets: if self.color.is_some() { &color } else { &[] },
-                }),
-                multiview_mask: None,
-                cache: None,
-            });
+            );
             self.pipelines.insert(*layout, pipeline);
         }
     }
 
     pub(crate) fn get(&self, layout: crate::casters::DrawLayout) -> Option<&wgpu::RenderPipeline> {
-        self.pipelines.get(&layout)
+        self.pipelines.get(&layout).map(|p| &**p)
     }
 }

@@ -8,6 +8,7 @@
 //! applied by the rasterizer. For the distance-map method the same pass can keep the exit map
 //! too ([`ExitInShadowPass`]).
 
+use crate::pipeline_cache::CachedDevice;
 use bytemuck::{Pod, Zeroable};
 
 use super::atlas::{LightMapAtlas, MapDraw, MapLayout, MapUpload, depth_state};
@@ -41,12 +42,12 @@ impl ShadowMapPass {
     /// configured resolution ([`crate::light_space::atlas_grid`]). `settings` must have been
     /// validated. The map is a layer of one of `pools`' arrays.
     pub fn new(
-        (device, pools): (&wgpu::Device, &mut MapPools),
+        (device, pools): (&CachedDevice<'_>, &mut MapPools),
         layouts: &SceneLayouts,
         map: MapLayout,
     ) -> Self {
         let (settings, grid, tile) = map;
-        let shader = crate::shaders::module(device, "shadow_map.wgsl", crate::shaders::SHADOW_MAP);
+        let shader = device.module("shadow_map.wgsl", crate::shaders::SHADOW_MAP);
         let light = CascadeUniforms::of::<LightUniform>(
             device,
             "ShadowMapPass::light",
@@ -58,7 +59,6 @@ impl ShadowMapPass {
             ..Default::default()
         };
         let opaque = CasterPipelines::new(
-            device,
             "ShadowMapPass::opaque",
             &shader,
             &[Some(light_layout), Some(&layouts.instance)],
@@ -69,7 +69,6 @@ impl ShadowMapPass {
             depth_state(settings),
         );
         let masked = CasterPipelines::new(
-            device,
             "ShadowMapPass::masked",
             &shader,
             &[
@@ -103,7 +102,7 @@ impl ShadowMapPass {
     /// then be drawn and bound again).
     pub(crate) fn keep_exit(
         &mut self,
-        (device, pools): (&wgpu::Device, &mut MapPools),
+        (device, pools): (&CachedDevice<'_>, &mut MapPools),
         layouts: &SceneLayouts,
         map: MapLayout,
         on: bool,
@@ -132,7 +131,7 @@ impl ShadowMapPass {
 
     /// Makes the map again as `grid`'s tiles of `tile` texels a side (the pipelines stay); it
     /// must then be drawn and bound again.
-    pub(crate) fn resize(&mut self, (device, pools): (&wgpu::Device, &mut MapPools), map: MapLayout) {
+    pub(crate) fn resize(&mut self, (device, pools): (&CachedDevice<'_>, &mut MapPools), map: MapLayout) {
         let (settings, grid, tile) = map;
         self.atlas.resize((device, pools), settings, grid, tile);
         if let Some(exit) = &mut self.exit

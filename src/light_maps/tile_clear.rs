@@ -7,54 +7,52 @@
 //! the viewport, and 0 in the colour target when there is one.
 
 pub(crate) struct TileClear {
-    pipeline: wgpu::RenderPipeline,
+    pipeline: std::sync::Arc<wgpu::RenderPipeline>,
 }
 
 impl TileClear {
     /// A clear for a pass with a `depth` attachment and optionally one colour target.
     pub fn new(
-        device: &wgpu::Device,
+        device: &crate::pipeline_cache::CachedDevice<'_>,
         depth: wgpu::TextureFormat,
         color: Option<wgpu::TextureFormat>,
     ) -> Self {
-        let shader = crate::shaders::module(device, "tile_clear.wgsl", crate::shaders::TILE_CLEAR);
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("TileClear"),
-            bind_group_layouts: &[],
-            immediate_size: 0,
-        });
+        let shader = device.module("tile_clear.wgsl", crate::shaders::TILE_CLEAR);
         let targets = [color.map(|format| wgpu::ColorTargetState {
             format,
             blend: None,
             write_mask: wgpu::ColorWrites::ALL,
         })];
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("TileClear"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[],
+        let pipeline = device.render_pipeline(
+            &[],
+            &wgpu::RenderPipelineDescriptor {
+                label: Some("TileClear"),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module: &shader,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: depth,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Always),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: color.map(|_| wgpu::FragmentState {
+                    module: &shader,
+                    entry_point: Some("fs_zero"),
+                    compilation_options: Default::default(),
+                    targets: &targets,
+                }),
+                multiview_mask: None,
+                cache: None,
             },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: depth,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Always),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: color.map(|_| wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some("fs_zero"),
-                compilation_options: Default::default(),
-                targets: &targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        );
         Self { pipeline }
     }
 

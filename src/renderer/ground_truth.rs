@@ -153,6 +153,8 @@ pub(crate) struct GroundTruth {
     /// The receivers' triangle normals, drawn after the prepass (made on the first step, with
     /// the scene's layouts).
     normals: Option<GeometricNormals>,
+    /// The pipelines the lights' map passes share.
+    pipelines: crate::pipeline_cache::PipelineCache,
 }
 
 impl GroundTruth {
@@ -165,6 +167,7 @@ impl GroundTruth {
             key: None,
             array: None,
             normals: None,
+            pipelines: Default::default(),
         };
         truth.ensure_lights(device, 1);
         truth
@@ -293,6 +296,7 @@ impl GroundTruth {
             settings: *settings,
         };
         self.ensure_lights(device, lights.len());
+        let device = &crate::pipeline_cache::CachedDevice::new(device, &self.pipelines);
         let max_side = device.limits().max_texture_dimension_2d;
         let sample_maps: Vec<ShadowMapSettings> = lights
             .iter()

@@ -12,10 +12,11 @@ use bytemuck::{Pod, Zeroable};
 
 use super::gpu_scene::{CameraStreams, GpuScene};
 use crate::gpu_helpers::{DepthUse, draw_fullscreen_into};
-use crate::gpu_helpers::{Fullscreen, begin_pass, cleared, depth_attachment, entry, screen_target};
+use crate::gpu_helpers::{begin_pass, cleared, depth_attachment, entry, screen_target};
 use crate::layouts::SceneLayouts;
 use crate::light_samples::Emitter;
 use crate::light_space::{LightView, MAX_TILES, tile_matrix};
+use crate::pipeline_cache::{CachedDevice, Fullscreen, PipelineCache};
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
@@ -50,7 +51,7 @@ fn target(device: &wgpu::Device, width: u32, height: u32) -> Side {
 
 pub struct ReferencePass {
     layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::RenderPipeline,
+    pipeline: std::sync::Arc<wgpu::RenderPipeline>,
     sample: wgpu::Buffer,
     targets: [Side; 2],
     /// Bind group reading target i and writing the other.
@@ -84,7 +85,7 @@ impl ReferencePass {
             depth: None,
             constants: &[],
         }
-        .pipeline(device);
+        .pipeline(&CachedDevice::new(device, &PipelineCache::default()));
         let sample = crate::gpu_helpers::uniform_buffer(
             device,
             "ReferencePass::sample",

@@ -18,12 +18,14 @@ use super::ScreenStage;
 use crate::frame::FrameSlot;
 use crate::frame::PassParams;
 use crate::gpu_helpers::{Target, texture_bytes};
+use crate::pipeline_cache::CachedDevice;
 use bytemuck::{Pod, Zeroable};
 
 use super::tiles_layout;
 use super::{Classification, VISIBILITY_FORMAT, classified_test};
 use crate::frame::{BlurParams, BlurSwitches, gaussian_weights};
-use crate::gpu_helpers::{DepthUse, Fullscreen, draw_fullscreen_into, entry, screen_target};
+use crate::gpu_helpers::{DepthUse, draw_fullscreen_into, entry, screen_target};
+use crate::pipeline_cache::Fullscreen;
 
 /// The standard deviation, in taps, of the discrete kernel `weights` makes with `taps` taps:
 /// less than the Gaussian's own, which is cut at +-taps / 2.
@@ -112,7 +114,7 @@ pub struct BlurPass {
     tiled: bool,
     layout: wgpu::BindGroupLayout,
     /// Tested against the classification (after the distance map), untested otherwise.
-    pipeline: wgpu::RenderPipeline,
+    pipeline: std::sync::Arc<wgpu::RenderPipeline>,
     sampler: wgpu::Sampler,
     axis_buffers: [wgpu::Buffer; 2],
     axis_groups: [wgpu::BindGroup; 2],
@@ -125,10 +127,9 @@ pub struct BlurPass {
 
 impl BlurPass {
     /// The pass for `switches` (compile-time: other switches need a new pass).
-    pub(crate) fn new(device: &wgpu::Device, frame_size: usize, switches: BlurSwitches) -> Self {
-        let shader = crate::shaders::module(device, "blur.wgsl", crate::shaders::BLUR);
-        let layout = crate::gpu_helpers::layout(
-            device,
+    pub(crate) fn new(device: &CachedDevice<'_>, frame_size: usize, switches: BlurSwitches) -> Self {
+        let shader = device.module("blur.wgsl", crate::shaders::BLUR);
+        let layout = device.bind_group_layout(
             "BlurPass::layout",
             &input_entries(
                 frame_size,
@@ -137,8 +138,7 @@ impl BlurPass {
                 false,
             ),
         );
-        let axis_layout = crate::gpu_helpers::layout(
-            device,
+        let axis_layout = device.bind_group_layout(
             "BlurPass::axis_layout",
             &[entry::fragment_uniform(0, size_of::<BlurUniform>())],
         );
@@ -195,7 +195,7 @@ impl BlurPass {
     /// Points the pass at the light's inputs.
     pub(crate) fn bind(
         &mut self,
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         frame: &FrameSlot,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
         light: &BlurInput,
@@ -273,7 +273,7 @@ impl ScreenStage for BlurPass {
             + textures.into_iter().flatten().map(texture_bytes).sum::<u64>()
     }
 
-    fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+    fn resize(&mut self, device: &CachedDevice<'_>, width: u32, height: u32) {
         self.temp = screen_target(device, "BlurPass::horizontal", width, height, VISIBILITY_FORMAT);
         self.output = (!self.switches.after_distance_map).then(|| {
             screen_target(
@@ -321,16 +321,16 @@ pub(crate) struct BlurCompute {
     layout: wgpu::BindGroupLayout,
     out_layout: wgpu::BindGroupLayout,
     /// Both axes (the axis uniform says which).
-    axes: wgpu::ComputePipeline,
+    axes: std::sync::Arc<wgpu::ComputePipeline>,
     /// 0 into the horizontal axis's result over the tiles turned away from the light.
-    away: wgpu::ComputePipeline,
+    away: std::sync::Arc<wgpu::ComputePipeline>,
     /// The result into the light's layer.
-    copy: wgpu::RenderPipeline,
+    copy: std::sync::Arc<wgpu::RenderPipeline>,
     /// 0 into the light's layer over the tiles turned away from the light.
-    copy_away: wgpu::RenderPipeline,
+    copy_away: std::sync::Arc<wgpu::RenderPipeline>,
     /// The vertical axis writing the layer too (`cs_layer`), or the layer alone
     /// (`cs_layer_only`, with `pcf_in_layer`), and its outputs' layout.
-    into_layer: Option<(wgpu::ComputePipeline, wgpu::BindGroupLayout)>,
+    into_layer: Option<(std::sync::Arc<wgpu::ComputePipeline>, wgpu::BindGroupLayout)>,
     /// The variable PCF writes the light's layer, which the horizontal axis reads.
     pcf_in_layer: bool,
     /// The vertical axis's outputs with the light's layer, when bound with one.
@@ -351,7 +351,7 @@ impl BlurCompute {
     /// `pcf_in_layer` (and `half.layers`) the variable PCF writes the layer, which the
     /// horizontal axis reads and the vertical one then writes alone.
     pub(crate) fn new(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         frame_size: usize,
         switches: BlurSwitches,
         half: crate::shaders::HalfFloats,
@@ -392,14 +392,12 @@ impl BlurCompute {
                 }
             }
         }
-        let layout = crate::gpu_helpers::layout(device, "BlurCompute::layout", &entries);
-        let out_layout = crate::gpu_helpers::layout(
-            device,
+        let layout = device.bind_group_layout("BlurCompute::layout", &entries);
+        let out_layout = device.bind_group_layout(
             "BlurCompute::out_layout",
             &[entry::storage_texture_in(1, format, grouped)],
         );
-        let axis_layout = crate::gpu_helpers::layout(
-            device,
+        let axis_layout = device.bind_group_layout(
             "BlurCompute::axis_layout",
             &[entry::and_compute(entry::fragment_uniform(
                 0,
@@ -416,8 +414,7 @@ impl BlurCompute {
             ("EVERY_PIXEL", flag(grouped)),
         ];
         let axes_of = |shader, label, entry, out_layout: &wgpu::BindGroupLayout| {
-            super::compute_pipeline(
-                device,
+            device.compute_pipeline(
                 label,
                 shader,
                 &[
@@ -439,14 +436,13 @@ impl BlurCompute {
         let into_layer = layers.then(|| {
             let layer = entry::storage_texture_in(2, super::VISIBILITY_FORMAT, grouped);
             if pcf_in_layer {
-                let outputs = crate::gpu_helpers::layout(device, "BlurCompute::layer_only_layout", &[layer]);
+                let outputs = device.bind_group_layout("BlurCompute::layer_only_layout", &[layer]);
                 (
                     vertical("BlurCompute::into_layer", "cs_layer_only", &outputs),
                     outputs,
                 )
             } else {
-                let outputs = crate::gpu_helpers::layout(
-                    device,
+                let outputs = device.bind_group_layout(
                     "BlurCompute::layer_layout",
                     &[entry::storage_texture(1, format), layer],
                 );
@@ -498,7 +494,7 @@ impl BlurCompute {
     /// the vertical axis writes it alone.
     pub(crate) fn bind(
         &mut self,
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         temp: &wgpu::TextureView,
         frame: &FrameSlot,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
@@ -655,7 +651,7 @@ impl ScreenStage for BlurCompute {
 /// One axis's bind group: `source` blurred, with the frame uniform, the camera depth and the
 /// receiver mask (`screen`), and the light's distance map and standard deviations (`light`).
 fn axis_group(
-    device: &wgpu::Device,
+    device: &CachedDevice<'_>,
     (label, layout, sampler): (&str, &wgpu::BindGroupLayout, &wgpu::Sampler),
     frame: &FrameSlot,
     (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),

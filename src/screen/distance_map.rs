@@ -31,18 +31,20 @@ use crate::frame::DistanceSwitches;
 use crate::frame::FrameSlot;
 use crate::gpu_helpers::{Target, texture_bytes};
 use crate::gpu_helpers::{begin_pass, depth_attachment};
+use crate::pipeline_cache::CachedDevice;
 
 use super::tile_classify::TileClassifyPass;
 use super::tiles_layout;
 use super::{CLASSIFICATION_FORMAT, Classification, LIGHT_KIND};
-use crate::gpu_helpers::{Fullscreen, cleared, draw_area, entry, screen_target};
+use crate::gpu_helpers::{cleared, draw_area, entry, screen_target};
+use crate::pipeline_cache::Fullscreen;
 
 pub struct DistanceMapPass {
     switches: DistanceSwitches,
     layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::RenderPipeline,
+    pipeline: std::sync::Arc<wgpu::RenderPipeline>,
     /// The second draw: beside a shadow, the distance to the nearest caster (when switched on).
-    nearest_caster: Option<wgpu::RenderPipeline>,
+    nearest_caster: Option<std::sync::Arc<wgpu::RenderPipeline>>,
     distance: Target,
     classification: Target,
     bind_group: Option<wgpu::BindGroup>,
@@ -63,15 +65,14 @@ impl DistanceMapPass {
     /// It is made for one light kind ([`crate::frame::light_kind`]): the other kinds' code is
     /// compiled out. Another switch or kind needs a new pass.
     pub(crate) fn new(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         frame_size: usize,
         switches: DistanceSwitches,
         light_kind: u32,
     ) -> Self {
-        let shader = crate::shaders::module(device, "distance_map.wgsl", crate::shaders::DISTANCE_MAP);
+        let shader = device.module("distance_map.wgsl", crate::shaders::DISTANCE_MAP);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-        let layout = crate::gpu_helpers::layout(
-            device,
+        let layout = device.bind_group_layout(
             "DistanceMapPass::layout",
             &[
                 entry::uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT, frame_size, false),
@@ -154,7 +155,7 @@ impl DistanceMapPass {
     /// says one is bound (any texture otherwise).
     pub fn bind(
         &mut self,
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         frame: &FrameSlot,
         maps: &DistanceMaps,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
@@ -232,7 +233,7 @@ impl ScreenStage for DistanceMapPass {
             + self.tiles.allocated_bytes()
     }
 
-    fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+    fn resize(&mut self, device: &CachedDevice<'_>, width: u32, height: u32) {
         self.distance = screen_target(
             device,
             "DistanceMapPass::distance_map",
@@ -319,7 +320,7 @@ pub(crate) struct DistanceMapCompute {
     switches: DistanceSwitches,
     layout: wgpu::BindGroupLayout,
     /// None where the variable PCF takes the distance itself.
-    pipeline: Option<wgpu::ComputePipeline>,
+    pipeline: Option<std::sync::Arc<wgpu::ComputePipeline>>,
     bind_group: Option<wgpu::BindGroup>,
     tiles: super::TileListPass,
     /// As [`DistanceMapPass`]'s.
@@ -348,7 +349,7 @@ impl DistanceMapCompute {
     /// itself, and this pass only lists the tiles; `arrays`: it and the tile list read the
     /// light's maps as layers of arrays ([`crate::shaders::with_map_arrays`]).
     pub(crate) fn new(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         frame_size: usize,
         switches: DistanceSwitches,
         light_kind: u32,
@@ -376,11 +377,10 @@ impl DistanceMapCompute {
             entry::and_compute(entry::light_map(b, unfilterable, map && arrays))
         }));
         entries.push(entry::storage_texture(7, Self::format(half.intermediates)));
-        let layout = crate::gpu_helpers::layout(device, "DistanceMapCompute::layout", &entries);
+        let layout = device.bind_group_layout("DistanceMapCompute::layout", &entries);
         let list_layout = super::TileListPass::list_layout(device);
         let pipeline = own_pass.then(|| {
-            super::compute_pipeline(
-                device,
+            device.compute_pipeline(
                 "DistanceMapCompute::pipeline",
                 &shader,
                 &[Some(&layout), None, None, Some(&list_layout)],
@@ -413,7 +413,7 @@ impl DistanceMapCompute {
     /// it does, [`Self::clears`]).
     pub fn bind(
         &mut self,
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         (tiles, cleared): (&super::TileListTargets, &super::ClearedByList),
         frame: &FrameSlot,
         maps: &DistanceMaps,

@@ -9,6 +9,7 @@ use super::{ChainKey, Mark, StorageClear};
 use crate::chain::FRAME_SIZE;
 use crate::frame::{FrameSlots, PassParams};
 use crate::gpu_helpers::{entry, texture_bytes};
+use crate::pipeline_cache::CachedDevice;
 
 /// Bytes of the header in [`LightGroup`]'s buffer of lists (`GROUP_HEADER` words in
 /// `shaders/common/tile_groups.wgsl`), and of each round's block before it: 256, so that every
@@ -34,8 +35,8 @@ pub(crate) const MAX_MEMBERS: usize = 16;
 /// fattened maps where one was drawn: `shaders/tile_classify.wgsl` made over the group
 /// ([`crate::shaders::with_light_group_classification`]), each workgroup's z its member.
 struct GroupClassification {
-    reduce: wgpu::ComputePipeline,
-    classify: wgpu::ComputePipeline,
+    reduce: std::sync::Arc<wgpu::ComputePipeline>,
+    classify: std::sync::Arc<wgpu::ComputePipeline>,
     reduce_layout: wgpu::BindGroupLayout,
     classify_layout: wgpu::BindGroupLayout,
     /// A layer a member: its reduced fattened map (sized at [`LightGroup::bind`]) and its tile
@@ -52,16 +53,13 @@ struct GroupClassification {
 impl GroupClassification {
     /// For the `n` members of a group of `key` over a screen of `size`, whose buffer of lists
     /// the passes bind (binding 18).
-    fn new(device: &wgpu::Device, key: &ChainKey, n: u32, size: (u32, u32)) -> Self {
+    fn new(device: &CachedDevice<'_>, key: &ChainKey, n: u32, size: (u32, u32)) -> Self {
         let half = key.half_floats();
         let halves = crate::shaders::with_half_floats(crate::shaders::TILE_CLASSIFY, half);
         let text = halves.as_deref().unwrap_or(crate::shaders::TILE_CLASSIFY);
         let source = crate::shaders::with_light_group_classification(text)
             .expect("tile_classify.wgsl is the classification");
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("tile_classify.wgsl (group)"),
-            source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Owned(source)),
-        });
+        let shader = device.module("tile_classify.wgsl (group)", &source);
         let compute = wgpu::ShaderStages::COMPUTE;
         let sampled_array = |binding| {
             entry::and_compute(entry::texture(
@@ -75,8 +73,7 @@ impl GroupClassification {
         let map = entry::and_compute(entry::light_map(3, entry::UNFILTERABLE, true));
         let gather = entry::and_compute(entry::sampler(4, wgpu::SamplerBindingType::NonFiltering));
         let intermediates = half.intermediates;
-        let classify_layout = crate::gpu_helpers::layout(
-            device,
+        let classify_layout = device.bind_group_layout(
             "LightGroup::classify_layout",
             &[
                 frames,
@@ -93,8 +90,7 @@ impl GroupClassification {
                 lists,
             ],
         );
-        let reduce_layout = crate::gpu_helpers::layout(
-            device,
+        let reduce_layout = device.bind_group_layout(
             "LightGroup::reduce_layout",
             &[
                 frames,
@@ -123,7 +119,7 @@ impl GroupClassification {
             super::row_threads(device),
         ];
         let pipeline = |label, layout: &wgpu::BindGroupLayout, entry| {
-            super::compute_pipeline(device, label, &shader, &[Some(layout)], entry, &constants)
+            device.compute_pipeline(label, &shader, &[Some(layout)], entry, &constants)
         };
         let tiles = (size.0.div_ceil(TILE), size.1.div_ceil(TILE));
         Self {
@@ -174,7 +170,7 @@ pub(crate) struct LightGroup {
     lists_groups: Vec<wgpu::BindGroup>,
     /// The passes' indirect arguments, 16 bytes a round.
     args: wgpu::Buffer,
-    args_pipeline: wgpu::ComputePipeline,
+    args_pipeline: std::sync::Arc<wgpu::ComputePipeline>,
     args_group: wgpu::BindGroup,
     /// The pool: a layer a screen's worth of tiles, each tile's slot 16 x 16 texels.
     distance: (wgpu::Texture, wgpu::TextureView),
@@ -192,7 +188,7 @@ pub(crate) struct LightGroup {
 /// (`shaders/group_unpack.wgsl`), for [`crate::Shadows::light_texture`]: made while a member is
 /// inspected.
 struct Unpack {
-    pipeline: wgpu::ComputePipeline,
+    pipeline: std::sync::Arc<wgpu::ComputePipeline>,
     layout: wgpu::BindGroupLayout,
     /// The distance map's format (the pool's).
     format: wgpu::TextureFormat,
@@ -239,7 +235,13 @@ impl LightGroup {
     /// A group of the lights at `slots` (at most [`MAX_MEMBERS`]), whose chains are made for
     /// `key`, over a screen of `size`, its pool holding `pool` screens' worth of tiles (0:
     /// every member's).
-    pub fn new(device: &wgpu::Device, key: ChainKey, slots: Vec<usize>, size: (u32, u32), pool: u32) -> Self {
+    pub fn new(
+        device: &CachedDevice<'_>,
+        key: ChainKey,
+        slots: Vec<usize>,
+        size: (u32, u32),
+        pool: u32,
+    ) -> Self {
         let n = slots.len() as u32;
         let rounds = rounds(n, pool);
         let layers_in_pool = pool_layers(n, pool);
@@ -301,8 +303,7 @@ impl LightGroup {
             mapped_at_creation: false,
         });
         let compute = wgpu::ShaderStages::COMPUTE;
-        let args_layout = crate::gpu_helpers::layout(
-            device,
+        let args_layout = device.bind_group_layout(
             "LightGroup::args_layout",
             &[
                 // The header's starts are written.
@@ -310,9 +311,8 @@ impl LightGroup {
                 entry::storage_buffer(1, compute, false),
             ],
         );
-        let args_shader = crate::shaders::module(device, "group_args.wgsl", crate::shaders::GROUP_ARGS);
-        let args_pipeline = super::compute_pipeline(
-            device,
+        let args_shader = device.module("group_args.wgsl", crate::shaders::GROUP_ARGS);
+        let args_pipeline = device.compute_pipeline(
             "LightGroup::args",
             &args_shader,
             &[Some(&args_layout)],
@@ -404,7 +404,7 @@ impl LightGroup {
 
     /// Makes the light at `slot` (if a member) the inspected one, whose distance map is copied
     /// out of the pool each frame; a member no longer inspected gives its copy up.
-    pub fn inspect(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, slot: Option<usize>) {
+    pub fn inspect(&mut self, device: &CachedDevice<'_>, queue: &wgpu::Queue, slot: Option<usize>) {
         let member = slot
             .and_then(|slot| self.slots.iter().position(|&s| s == slot))
             .and_then(|g| u32::try_from(g).ok());
@@ -429,7 +429,7 @@ impl LightGroup {
     /// visibility (its array, the lights' layers) and a stand-in.
     pub fn bind(
         &mut self,
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         frames: &FrameSlots,
         (depth, mask, dummy): (&wgpu::TextureView, &wgpu::TextureView, &wgpu::TextureView),
         maps: &DistanceMaps,
@@ -466,7 +466,7 @@ impl LightGroup {
     /// reduced maps are made at the fattened maps' size.
     fn bind_classification(
         &mut self,
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         frames: &crate::frame::FrameSlot,
         (depth, mask, dummy): (&wgpu::TextureView, &wgpu::TextureView, &wgpu::TextureView),
         maps: &DistanceMaps,
@@ -625,7 +625,7 @@ impl LightGroup {
 }
 
 impl Unpack {
-    fn new(device: &wgpu::Device, half: crate::shaders::HalfFloats) -> Self {
+    fn new(device: &CachedDevice<'_>, half: crate::shaders::HalfFloats) -> Self {
         let shader = crate::shaders::module_grouped(
             device,
             "group_unpack.wgsl",
@@ -635,8 +635,7 @@ impl Unpack {
         );
         let compute = wgpu::ShaderStages::COMPUTE;
         let format = super::DistanceMapCompute::format(half.intermediates);
-        let layout = crate::gpu_helpers::layout(
-            device,
+        let layout = device.bind_group_layout(
             "LightGroup::unpack_layout",
             &[
                 entry::storage_buffer(0, compute, true),
@@ -649,8 +648,7 @@ impl Unpack {
             ],
         );
         let list_layout = TileListPass::list_layout(device);
-        let pipeline = super::compute_pipeline(
-            device,
+        let pipeline = device.compute_pipeline(
             "LightGroup::unpack",
             &shader,
             &[Some(&layout), None, None, Some(&list_layout)],
@@ -669,7 +667,7 @@ impl Unpack {
 
     /// Makes the inspected member's distance map over a screen of `size` (the pool's format),
     /// its clear and the pass's bind group, where the group was bound to its frames.
-    fn make_target(&mut self, device: &wgpu::Device, size: (u32, u32), pool: &wgpu::TextureView) {
+    fn make_target(&mut self, device: &CachedDevice<'_>, size: (u32, u32), pool: &wgpu::TextureView) {
         let Some(frames) = &self.frames else {
             return;
         };
@@ -735,7 +733,7 @@ fn from(buffer: &wgpu::Buffer, offset: u64) -> wgpu::BindingResource<'_> {
 
 /// A storage texture of `n` layers of `size`, and its view as an array.
 fn layers(
-    device: &wgpu::Device,
+    device: &CachedDevice<'_>,
     label: &str,
     ((width, height), n): ((u32, u32), u32),
     format: wgpu::TextureFormat,

@@ -9,6 +9,7 @@
 
 use super::{LIGHT_KIND, ScreenStage, ShadowLookup, VisibilityPass};
 use crate::frame::{PassParams, PcfSwitches, PcfUniform};
+use crate::pipeline_cache::CachedDevice;
 
 pub struct PcfPass(ShadowLookup);
 
@@ -18,7 +19,7 @@ impl PcfPass {
     /// light's layer too with layers: hard shadows, whose visibility is final); other switches,
     /// another kind or the other kind of pass need a new pass.
     pub(crate) fn new(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         frame_size: usize,
         switches: PcfSwitches,
         light_kind: u32,
@@ -55,7 +56,7 @@ impl ScreenStage for PcfPass {
         self.0.allocated_bytes()
     }
 
-    fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+    fn resize(&mut self, device: &CachedDevice<'_>, width: u32, height: u32) {
         self.0.resize(device, width, height);
     }
 

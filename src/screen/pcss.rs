@@ -6,6 +6,7 @@
 
 use super::{LIGHT_KIND, ScreenStage, ShadowLookup, VisibilityPass};
 use crate::frame::{PassParams, PcssUniform};
+use crate::pipeline_cache::CachedDevice;
 
 pub struct PcssPass(ShadowLookup);
 
@@ -15,7 +16,7 @@ impl PcssPass {
     /// (a compute pass writing the light's layer too with layers); another kind or the other kind of
     /// pass needs a new pass. The blocker search reads the shadow map unfiltered, a second
     /// binding beside the comparison sampler's.
-    pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32, path: super::PassPath) -> Self {
+    pub fn new(device: &CachedDevice<'_>, frame_size: usize, light_kind: u32, path: super::PassPath) -> Self {
         let shader = crate::shaders::module_for(device, "pcss.wgsl", crate::shaders::PCSS, path.module());
         let constants = [(LIGHT_KIND, light_kind as f64)];
         let sizes = (frame_size, size_of::<PcssUniform>(), true);
@@ -46,7 +47,7 @@ impl ScreenStage for PcssPass {
         self.0.allocated_bytes()
     }
 
-    fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+    fn resize(&mut self, device: &CachedDevice<'_>, width: u32, height: u32) {
         self.0.resize(device, width, height);
     }
 

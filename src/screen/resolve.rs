@@ -8,20 +8,21 @@
 use super::ScreenStage;
 use super::{VISIBILITY_FORMAT, draw_fullscreen};
 use crate::frame::FrameSlot;
-use crate::gpu_helpers::{entry, fullscreen_pipeline};
+use crate::gpu_helpers::entry;
+use crate::pipeline_cache::CachedDevice;
+use crate::pipeline_cache::fullscreen_pipeline;
 
 pub struct ResolvePass {
     layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::RenderPipeline,
+    pipeline: std::sync::Arc<wgpu::RenderPipeline>,
     bind_group: Option<wgpu::BindGroup>,
 }
 
 impl ResolvePass {
-    pub fn new(device: &wgpu::Device, frame_size: usize) -> Self {
-        let shader = crate::shaders::module(device, "resolve.wgsl", crate::shaders::RESOLVE);
+    pub fn new(device: &CachedDevice<'_>, frame_size: usize) -> Self {
+        let shader = device.module("resolve.wgsl", crate::shaders::RESOLVE);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-        let layout = crate::gpu_helpers::layout(
-            device,
+        let layout = device.bind_group_layout(
             "ResolvePass::layout",
             &[
                 entry::fragment_uniform(0, frame_size),
@@ -48,7 +49,7 @@ impl ResolvePass {
     /// Points the pass at its inputs: `views` are the camera depth, the distance map, the
     /// visibility and the receiver mask, in that order (the distance map and the mask are read
     /// only where the frame uniform says they are real).
-    pub fn bind(&mut self, device: &wgpu::Device, frame: &FrameSlot, views: [&wgpu::TextureView; 4]) {
+    pub fn bind(&mut self, device: &CachedDevice<'_>, frame: &FrameSlot, views: [&wgpu::TextureView; 4]) {
         let [camera_depth, distance_map, visibility, receiver_mask] = views;
         self.bind_group = Some(crate::gpu_helpers::bind_group(
             device,

@@ -5,10 +5,11 @@
 use crate::frame::FrameSlot;
 use crate::gpu_helpers::Target;
 use crate::gpu_helpers::{
-    Binding, bind_group, comparison_sampler, draw_fullscreen_into, entry, fullscreen_pipeline_with,
-    screen_target,
+    Binding, bind_group, comparison_sampler, draw_fullscreen_into, entry, screen_target,
 };
 use crate::gpu_helpers::{DepthUse, Tiles};
+use crate::pipeline_cache::CachedDevice;
+use crate::pipeline_cache::fullscreen_pipeline_with;
 use crate::shaders::HalfFloats;
 
 /// What every screen-space stage of a chain has besides its wiring and its place in the frame
@@ -24,7 +25,7 @@ pub(crate) trait ScreenStage {
     }
 
     /// Recreates the stage's screen-sized targets, if it has any; it must then be bound again.
-    fn resize(&mut self, _device: &wgpu::Device, _width: u32, _height: u32) {}
+    fn resize(&mut self, _device: &CachedDevice<'_>, _width: u32, _height: u32) {}
 
     /// Uploads what the stage takes of the frame's parameters (tap counts, spacings, weights).
     fn prepare(&self, _queue: &wgpu::Queue, _params: &crate::frame::PassParams) {}
@@ -64,7 +65,7 @@ impl ShadowLookup {
     /// with `constants`, as `path` says (a compute pass writing the light's layer too with
     /// `path.half.layers`).
     pub fn new(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         label: &'static str,
         (shader, constants): (&wgpu::ShaderModule, &[(&str, f64)]),
         (frame_size, params_size, map_twice): (usize, usize, bool),
@@ -78,7 +79,7 @@ impl ShadowLookup {
         let mut lookup = entry::shadow_lookup(frame_size, &own);
         lookup[2] = entry::light_map(2, wgpu::TextureSampleType::Depth, path.map_arrays);
         let entries = ScreenPipeline::layout_entries(lookup, path);
-        let layout = crate::gpu_helpers::layout(device, label, &entries);
+        let layout = device.bind_group_layout(label, &entries);
         let pipeline = ScreenPipeline::new(device, label, shader, &layout, constants, path);
         Self {
             label,
@@ -95,7 +96,7 @@ impl ShadowLookup {
     /// with `layer` the light's layer (beside it, the receiver mask it reads).
     pub fn bind(
         &mut self,
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         (frame, camera_depth, shadow_map): (&FrameSlot, &wgpu::TextureView, &wgpu::TextureView),
         shared: Option<&Target>,
         layer: Option<(&wgpu::TextureView, &wgpu::TextureView)>,
@@ -137,7 +138,7 @@ impl ShadowLookup {
     }
 
     /// Sizes its own output (a draw's).
-    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+    pub fn resize(&mut self, device: &CachedDevice<'_>, width: u32, height: u32) {
         self.pipeline.resize(device, self.label, width, height);
     }
 
@@ -210,9 +211,8 @@ pub(crate) struct Classification<'a> {
 /// The layout of the kept tiles' bind group ([`TILES_GROUP`](crate::gpu_helpers::TILES_GROUP), `shaders/common/tiles.wgsl`):
 /// the classes, read by the vertex stage. wgpu gives equal layouts one identity, so each pass
 /// that draws tiles makes its own and uses the group the tile classification makes.
-pub(crate) fn tiles_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    crate::gpu_helpers::layout(
-        device,
+pub(crate) fn tiles_layout(device: &CachedDevice<'_>) -> wgpu::BindGroupLayout {
+    device.bind_group_layout(
         "tiles_layout",
         &[wgpu::BindGroupLayoutEntry {
             visibility: wgpu::ShaderStages::VERTEX,
@@ -287,7 +287,7 @@ pub(crate) fn has_compute(device: &wgpu::Device) -> bool {
 /// (Mesa's llvmpipe runs one a processor unless its own `LP_NUM_THREADS` says otherwise, which
 /// penumbra does not read: a different count costs time, not shadows), so that each thread's
 /// run of workgroups covers the screen; on a GPU 1, the rows in order.
-pub(crate) fn row_threads(device: &wgpu::Device) -> (&'static str, f64) {
+pub(crate) fn row_threads(device: &CachedDevice<'_>) -> (&'static str, f64) {
     let threads = if device.adapter_info().device_type == wgpu::DeviceType::Cpu {
         std::thread::available_parallelism()
             .map_or(1, |n| n.get() as u32)
@@ -298,13 +298,11 @@ pub(crate) fn row_threads(device: &wgpu::Device) -> (&'static str, f64) {
     ("ROW_THREADS", threads as f64)
 }
 
-pub(crate) use crate::gpu_helpers::compute_pipeline;
-
 /// A texture a compute pass writes and later passes read, which a render pass can also clear
 /// when `clearable` (a format some devices cannot render to, R32F on GL, is not). The compute
 /// path's shared intermediates are cleared by compute passes instead ([`StorageClear`]).
 pub(crate) fn storage_target(
-    device: &wgpu::Device,
+    device: &CachedDevice<'_>,
     label: &str,
     size: (u32, u32),
     format: wgpu::TextureFormat,
@@ -332,11 +330,11 @@ pub(crate) fn storage_target(
 /// is drawn.
 pub(crate) enum ScreenPipeline {
     Draw {
-        pipeline: wgpu::RenderPipeline,
+        pipeline: std::sync::Arc<wgpu::RenderPipeline>,
         output: Target,
     },
     Compute {
-        pipeline: wgpu::ComputePipeline,
+        pipeline: std::sync::Arc<wgpu::ComputePipeline>,
         output: Option<Target>,
         /// `cs_layer`: the layout ends with the light's layer and the receiver mask.
         layers: bool,
@@ -349,7 +347,7 @@ impl ScreenPipeline {
     /// `layout`, which for compute must end with the output's storage texture, and with
     /// layers the layer's and the receiver mask ([`Self::layout_entries`]).
     pub fn new(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         label: &str,
         shader: &wgpu::ShaderModule,
         layout: &wgpu::BindGroupLayout,
@@ -359,8 +357,7 @@ impl ScreenPipeline {
         let layers = path.half.layers;
         if path.compute {
             ScreenPipeline::Compute {
-                pipeline: compute_pipeline(
-                    device,
+                pipeline: device.compute_pipeline(
                     label,
                     shader,
                     &[Some(layout)],
@@ -413,7 +410,7 @@ impl ScreenPipeline {
     }
 
     /// Sizes a draw's own texture (a compute pass's is given at bind time).
-    pub fn resize(&mut self, device: &wgpu::Device, label: &str, width: u32, height: u32) {
+    pub fn resize(&mut self, device: &CachedDevice<'_>, label: &str, width: u32, height: u32) {
         if let ScreenPipeline::Draw { output, .. } = self {
             *output = screen_target(device, label, width, height, VISIBILITY_FORMAT);
         }
@@ -424,7 +421,7 @@ impl ScreenPipeline {
     /// the receiver mask (none without them).
     pub fn bind_group(
         &mut self,
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         label: &str,
         layout: &wgpu::BindGroupLayout,
         resources: &[&dyn Binding],

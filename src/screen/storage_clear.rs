@@ -7,10 +7,11 @@
 //! the texels' bytes do. Input: the texture (its view and size); output: every texel set to
 //! the value.
 
+use crate::pipeline_cache::CachedDevice;
 /// A compute clear of one storage texture to one value: its pipeline and bind group.
 #[derive(Clone)]
 pub(crate) struct StorageClear {
-    pipeline: wgpu::ComputePipeline,
+    pipeline: std::sync::Arc<wgpu::ComputePipeline>,
     group: wgpu::BindGroup,
     size: (u32, u32),
 }
@@ -18,7 +19,7 @@ pub(crate) struct StorageClear {
 impl StorageClear {
     /// A clear of `view` (a 2D storage texture of `format` and `size`) to `value`.
     pub(crate) fn new(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         label: &str,
         (view, format, size): (&wgpu::TextureView, wgpu::TextureFormat, (u32, u32)),
         value: [f64; 4],
@@ -45,17 +46,10 @@ impl StorageClear {
              \x20   }}\n\
              }}\n"
         );
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(label),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
-        let layout = crate::gpu_helpers::layout(
-            device,
-            label,
-            &[crate::gpu_helpers::entry::storage_texture(0, format)],
-        );
-        let pipeline = super::compute_pipeline(
-            device,
+        let shader = device.module(label, &source);
+        let layout =
+            device.bind_group_layout(label, &[crate::gpu_helpers::entry::storage_texture(0, format)]);
+        let pipeline = device.compute_pipeline(
             label,
             &shader,
             &[Some(&layout)],

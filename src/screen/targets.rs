@@ -4,6 +4,7 @@
 use super::{DistanceMapCompute, StorageClear, TileListTargets, sigma_storage, visibility_storage};
 use crate::chain::Chain;
 use crate::gpu_helpers::Target;
+use crate::pipeline_cache::CachedDevice;
 use crate::settings::DevicePath;
 
 /// The compute path's screen-sized intermediates. Each light's chain runs whole, blur
@@ -124,7 +125,7 @@ impl ComputeTargets {
     /// For a screen of `size`, with the parts `needs` names, cleared as `clears` says, in half
     /// floats with `half` (the device stores them and the lights' chains were made so).
     pub fn new(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         size: (u32, u32),
         needs: ComputeNeeds,
         (clears, half): (DevicePath, bool),
@@ -204,7 +205,7 @@ impl ComputeTargets {
     /// `clears` says on `device`, in half floats exactly with `half`.
     pub fn fit(
         &self,
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         size: (u32, u32),
         needs: ComputeNeeds,
         (clears, half): (DevicePath, bool),

@@ -13,8 +13,10 @@
 
 use super::{DistanceMapCompute, LIGHT_KIND, tiles_layout};
 use crate::frame::FrameSlot;
-use crate::gpu_helpers::{Fullscreen, Tiles, entry, screen_target};
 use crate::gpu_helpers::{Target, texture_bytes};
+use crate::gpu_helpers::{Tiles, entry, screen_target};
+use crate::pipeline_cache::CachedDevice;
+use crate::pipeline_cache::Fullscreen;
 
 /// Screen pixels per tile side (`TILE` in the shader).
 pub const TILE: u32 = 16;
@@ -32,8 +34,8 @@ pub(crate) struct TileClassifyPass {
     /// The classes as the kept tiles' bind group, and the number of tiles.
     tiles: (wgpu::BindGroup, u32),
     reduce_layout: wgpu::BindGroupLayout,
-    classify: wgpu::RenderPipeline,
-    reduce: wgpu::RenderPipeline,
+    classify: std::sync::Arc<wgpu::RenderPipeline>,
+    reduce: std::sync::Arc<wgpu::RenderPipeline>,
     reduced: Target,
     classes: Target,
     groups: Option<(wgpu::BindGroup, wgpu::BindGroup)>,
@@ -47,11 +49,10 @@ impl TileClassifyPass {
     }
 
     /// Made for one light kind ([`crate::frame::light_kind`]), like the distance map.
-    pub fn new(device: &wgpu::Device, frame_size: usize, light_kind: u32) -> Self {
-        let shader = crate::shaders::module(device, "tile_classify.wgsl", crate::shaders::TILE_CLASSIFY);
+    pub fn new(device: &CachedDevice<'_>, frame_size: usize, light_kind: u32) -> Self {
+        let shader = device.module("tile_classify.wgsl", crate::shaders::TILE_CLASSIFY);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-        let layout = crate::gpu_helpers::layout(
-            device,
+        let layout = device.bind_group_layout(
             "TileClassifyPass::layout",
             &[
                 entry::fragment_uniform(0, frame_size),
@@ -60,8 +61,7 @@ impl TileClassifyPass {
                 entry::sampler(4, wgpu::SamplerBindingType::NonFiltering),
             ],
         );
-        let reduce_layout = crate::gpu_helpers::layout(
-            device,
+        let reduce_layout = device.bind_group_layout(
             "TileClassifyPass::reduce_layout",
             &[
                 entry::texture_2d(3, unfilterable),
@@ -110,7 +110,7 @@ impl TileClassifyPass {
     }
 
     /// Sizes the classes for a screen; the pass must then be bound again.
-    pub fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+    pub fn resize(&mut self, device: &CachedDevice<'_>, width: u32, height: u32) {
         let (x, y) = Self::tiles(width, height);
         self.classes = screen_target(device, "TileClassifyPass::classes", x, y, CLASS_FORMAT);
         self.tiles = (
@@ -121,7 +121,7 @@ impl TileClassifyPass {
     }
 
     fn tiles_group(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         layout: &wgpu::BindGroupLayout,
         classes: &wgpu::TextureView,
     ) -> wgpu::BindGroup {
@@ -139,7 +139,7 @@ impl TileClassifyPass {
     /// Points the pass at its inputs; `fattened_map` is `fattened_size` texels (width, height).
     pub fn bind(
         &mut self,
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         frame: &FrameSlot,
         camera_depth: &wgpu::TextureView,
         fattened_map: &wgpu::TextureView,
@@ -240,14 +240,17 @@ impl TileClassifyPass {
 pub(crate) struct TileListPass {
     classify_layout: wgpu::BindGroupLayout,
     reduce_layout: wgpu::BindGroupLayout,
-    reduce: wgpu::ComputePipeline,
+    reduce: std::sync::Arc<wgpu::ComputePipeline>,
     /// The shadow map's least and greatest depth per block, for the umbra test (with `umbra`).
-    depth_range_pass: Option<(wgpu::ComputePipeline, wgpu::BindGroupLayout)>,
-    classify: wgpu::ComputePipeline,
-    finish: wgpu::ComputePipeline,
+    depth_range_pass: Option<(std::sync::Arc<wgpu::ComputePipeline>, wgpu::BindGroupLayout)>,
+    classify: std::sync::Arc<wgpu::ComputePipeline>,
+    finish: std::sync::Arc<wgpu::ComputePipeline>,
     /// One invocation per tile with the umbra test: the kept tiles' count into the test's
     /// dispatch, and the test over them (`cs_candidates_finish`, `cs_umbra`).
-    umbra_pass: Option<(wgpu::ComputePipeline, wgpu::ComputePipeline)>,
+    umbra_pass: Option<(
+        std::sync::Arc<wgpu::ComputePipeline>,
+        std::sync::Arc<wgpu::ComputePipeline>,
+    )>,
     /// `cs_umbra`'s bindings: the classification's but the arguments, which its dispatch reads.
     umbra_layout: wgpu::BindGroupLayout,
     umbra_group: Option<wgpu::BindGroup>,
@@ -300,7 +303,7 @@ pub(crate) struct TileListTargets {
 
 impl TileListTargets {
     /// For a `width` x `height` screen.
-    pub fn new(device: &wgpu::Device, (width, height): (u32, u32)) -> Self {
+    pub fn new(device: &CachedDevice<'_>, (width, height): (u32, u32)) -> Self {
         let tiles = TileClassifyPass::tiles(width, height);
         let buffer = |label, size, usage| {
             device.create_buffer(&wgpu::BufferDescriptor {
@@ -341,7 +344,7 @@ impl TileListTargets {
     }
 
     /// Every tile of a `width` x `height` screen, listed once (a pass over the whole screen).
-    pub fn every_tile(device: &wgpu::Device, (width, height): (u32, u32)) -> Self {
+    pub fn every_tile(device: &CachedDevice<'_>, (width, height): (u32, u32)) -> Self {
         let (across, down) = TileClassifyPass::tiles(width, height);
         let count = across * down;
         let words: Vec<u32> = [count, 0]
@@ -350,7 +353,7 @@ impl TileListTargets {
             .collect();
         let filled = |label, usage, contents: &[u32]| {
             wgpu::util::DeviceExt::create_buffer_init(
-                device,
+                &**device,
                 &wgpu::util::BufferInitDescriptor {
                     label: Some(label),
                     contents: bytemuck::cast_slice(contents),
@@ -412,7 +415,7 @@ impl TileListTargets {
     }
 
     /// `list` as group [`super::TILE_LIST_GROUP`] of the passes over it.
-    fn list_group(device: &wgpu::Device, label: &str, list: &wgpu::Buffer) -> wgpu::BindGroup {
+    fn list_group(device: &CachedDevice<'_>, label: &str, list: &wgpu::Buffer) -> wgpu::BindGroup {
         crate::gpu_helpers::bind_group(
             device,
             label,
@@ -459,9 +462,8 @@ impl TileListPass {
 
     /// The layout of the list's bind group (`shaders/common/tile_list.wgsl`), for the passes
     /// over it.
-    pub(crate) fn list_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-        crate::gpu_helpers::layout(
-            device,
+    pub(crate) fn list_layout(device: &CachedDevice<'_>) -> wgpu::BindGroupLayout {
+        device.bind_group_layout(
             "TileListPass::list_layout",
             // The fragment stage too: over a group, the blur's module reads the pooled
             // horizontal result through the members' maps in the list's buffer, in each of its
@@ -485,7 +487,7 @@ impl TileListPass {
     /// ([`crate::ExecutionSettings::tile_pixels`]); `arrays`: it reads the light's maps as
     /// layers of arrays ([`crate::shaders::with_map_arrays`]).
     pub fn new(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         (frame_size, arrays): (usize, bool),
         light_kind: u32,
         (classify, facing_away, umbra): (bool, bool, bool),
@@ -529,16 +531,14 @@ impl TileListPass {
             entry::and_compute(entry::texture_2d(17, unfilterable)),
         ];
         classify_entries.extend(cleared);
-        let classify_layout =
-            crate::gpu_helpers::layout(device, "TileListPass::classify_layout", &classify_entries);
+        let classify_layout = device.bind_group_layout("TileListPass::classify_layout", &classify_entries);
         let umbra_entries: Vec<_> = classify_entries
             .iter()
             .filter(|e| e.binding != 7)
             .cloned()
             .collect();
-        let umbra_layout = crate::gpu_helpers::layout(device, "TileListPass::umbra_layout", &umbra_entries);
-        let reduce_layout = crate::gpu_helpers::layout(
-            device,
+        let umbra_layout = device.bind_group_layout("TileListPass::umbra_layout", &umbra_entries);
+        let reduce_layout = device.bind_group_layout(
             "TileListPass::reduce_layout",
             &[
                 // The frame uniform: the light's layers where the maps are read as arrays.
@@ -560,11 +560,10 @@ impl TileListPass {
             super::row_threads(device),
         ];
         let pipeline = |label, layout: &wgpu::BindGroupLayout, entry| {
-            super::compute_pipeline(device, label, &shader, &[Some(layout)], entry, &constants)
+            device.compute_pipeline(label, &shader, &[Some(layout)], entry, &constants)
         };
         let depth_range_pass = (classify && umbra).then(|| {
-            let layout = crate::gpu_helpers::layout(
-                device,
+            let layout = device.bind_group_layout(
                 "TileListPass::depth_range_layout",
                 &[
                     entry::uniform(0, compute, frame_size, false),
@@ -631,7 +630,7 @@ impl TileListPass {
     /// where it does ([`Self::clears`]).
     pub fn bind(
         &mut self,
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         (targets, cleared): (&TileListTargets, &ClearedByList),
         frame: &FrameSlot,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),
@@ -821,7 +820,7 @@ fn list_bytes(tiles: (u32, u32)) -> u64 {
 }
 
 /// The umbra test's list of kept tiles for `tiles`.
-fn candidate_list(device: &wgpu::Device, tiles: (u32, u32)) -> wgpu::Buffer {
+fn candidate_list(device: &CachedDevice<'_>, tiles: (u32, u32)) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("TileListPass::candidates"),
         size: list_bytes(tiles),

@@ -20,15 +20,17 @@ use super::{Classification, LIGHT_KIND, VISIBILITY_FORMAT};
 use crate::frame::FrameSlot;
 use crate::frame::PassParams;
 use crate::frame::{DistanceSwitches, PcfSwitches, PcfUniform};
-use crate::gpu_helpers::{Fullscreen, cleared, draw_area, entry, screen_target};
 use crate::gpu_helpers::{Target, texture_bytes};
 use crate::gpu_helpers::{begin_pass, depth_attachment};
+use crate::gpu_helpers::{cleared, draw_area, entry, screen_target};
 use crate::map_resolution::WidthProbe;
+use crate::pipeline_cache::CachedDevice;
+use crate::pipeline_cache::Fullscreen;
 
 pub struct VariablePcfPass {
     switches: PcfSwitches,
     layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::RenderPipeline,
+    pipeline: std::sync::Arc<wgpu::RenderPipeline>,
     params: wgpu::Buffer,
     sampler: wgpu::Sampler,
     visibility: Target,
@@ -37,7 +39,7 @@ pub struct VariablePcfPass {
     /// Group 1 of the full-resolution draw: the half-resolution values.
     half_layout: wgpu::BindGroupLayout,
     /// The half-resolution draw, with reduced resolution on.
-    half_pipeline: Option<wgpu::RenderPipeline>,
+    half_pipeline: Option<std::sync::Arc<wgpu::RenderPipeline>>,
     /// Its target: half the screen's size (rounded up), 1 x 1 with reduced resolution off.
     half: Target,
     half_group: Option<wgpu::BindGroup>,
@@ -57,15 +59,14 @@ impl VariablePcfPass {
     /// The pass for `switches` and one light kind ([`crate::frame::light_kind`]: the other
     /// kinds' code is compiled out); other switches or another kind need a new pass.
     pub(crate) fn new(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         frame_size: usize,
         switches: PcfSwitches,
         light_kind: u32,
     ) -> Self {
-        let shader = crate::shaders::module(device, "variable_pcf.wgsl", crate::shaders::VARIABLE_PCF);
+        let shader = device.module("variable_pcf.wgsl", crate::shaders::VARIABLE_PCF);
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-        let layout = crate::gpu_helpers::layout(
-            device,
+        let layout = device.bind_group_layout(
             "VariablePcfPass::layout",
             &[
                 entry::uniform(0, wgpu::ShaderStages::VERTEX_FRAGMENT, frame_size, false),
@@ -76,8 +77,7 @@ impl VariablePcfPass {
                 entry::fragment_uniform(5, size_of::<PcfUniform>()),
             ],
         );
-        let half_layout = crate::gpu_helpers::layout(
-            device,
+        let half_layout = device.bind_group_layout(
             "VariablePcfPass::half_layout",
             &[
                 entry::texture_2d(0, wgpu::TextureSampleType::Float { filterable: true }),
@@ -139,14 +139,14 @@ impl VariablePcfPass {
     /// `groups` (0, and 1 for the full-resolution draws). The half-resolution draw (`fs_half`,
     /// group 0 only) has no classification test: its target is not the depth's size.
     fn make_pipeline(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         shader: &wgpu::ShaderModule,
         groups: &[&wgpu::BindGroupLayout],
         targets: &[Option<wgpu::ColorTargetState>],
         switches: PcfSwitches,
         light_kind: u32,
         entry: &str,
-    ) -> wgpu::RenderPipeline {
+    ) -> std::sync::Arc<wgpu::RenderPipeline> {
         let mut layouts: Vec<_> = groups.iter().map(|g| Some(*g)).collect();
         // With the tile classification only the kept tiles are drawn (group 2).
         let tiles = tiles_layout(device);
@@ -178,7 +178,7 @@ impl VariablePcfPass {
 
     /// Points the pass at its inputs: `views` are the camera depth, the distance map and the
     /// shadow map, in that order.
-    pub fn bind(&mut self, device: &wgpu::Device, frame: &FrameSlot, views: [&wgpu::TextureView; 3]) {
+    pub fn bind(&mut self, device: &CachedDevice<'_>, frame: &FrameSlot, views: [&wgpu::TextureView; 3]) {
         let [camera_depth, distance_map, shadow_map] = views;
         self.bind_group = Some(crate::gpu_helpers::bind_group(
             device,
@@ -286,7 +286,7 @@ impl ScreenStage for VariablePcfPass {
             + texture_bytes(&self.half.texture)
     }
 
-    fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32) {
+    fn resize(&mut self, device: &CachedDevice<'_>, width: u32, height: u32) {
         self.visibility = screen_target(
             device,
             "VariablePcfPass::visibility",
@@ -335,9 +335,9 @@ pub(crate) struct VariablePcfCompute {
     /// The distance map's switches where the pass takes the distance itself.
     distance: Option<DistanceSwitches>,
     layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::ComputePipeline,
+    pipeline: std::sync::Arc<wgpu::ComputePipeline>,
     /// Visibility 0 over the tiles turned away from the light (`cs_away`).
-    away: wgpu::ComputePipeline,
+    away: std::sync::Arc<wgpu::ComputePipeline>,
     params: wgpu::Buffer,
     sampler: wgpu::Sampler,
     bind_group: Option<wgpu::BindGroup>,
@@ -359,7 +359,7 @@ impl VariablePcfCompute {
     /// lists ([`crate::shaders::with_light_groups`]: the frame uniform bound whole, the
     /// visibility, deviations and distance map as arrays, see [`super::LightGroup`]).
     pub(crate) fn new(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         frame_size: usize,
         (switches, distance): (PcfSwitches, Option<DistanceSwitches>),
         light_kind: u32,
@@ -418,7 +418,7 @@ impl VariablePcfCompute {
                 map(14, unfilterable),
             ]);
         }
-        let layout = crate::gpu_helpers::layout(device, "VariablePcfCompute::layout", &entries);
+        let layout = device.bind_group_layout("VariablePcfCompute::layout", &entries);
         let list_layout = super::TileListPass::list_layout(device);
         let mut constants = vec![
             ("ROTATE_TAPS", if switches.rotate_taps { 1.0 } else { 0.0 }),
@@ -429,8 +429,7 @@ impl VariablePcfCompute {
             constants.extend(d.constants());
         }
         let pipeline = |label, entry| {
-            super::compute_pipeline(
-                device,
+            device.compute_pipeline(
                 label,
                 &shader,
                 &[Some(&layout), None, None, Some(&list_layout)],
@@ -469,7 +468,7 @@ impl VariablePcfCompute {
     /// frame uniform says one is bound.
     pub fn bind(
         &mut self,
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         (visibility, sigma): (&wgpu::TextureView, &wgpu::TextureView),
         frame: &FrameSlot,
         (camera_depth, receiver_mask): (&wgpu::TextureView, &wgpu::TextureView),

@@ -10,6 +10,7 @@ use crate::gpu_helpers::screen_target;
 use crate::gpu_helpers::{Target, scoped, texture_bytes};
 use crate::light_maps::FarPlaneFill;
 use crate::light_maps::{LightMaps, MapPools, Moved};
+use crate::pipeline_cache::{CachedDevice, PipelineCache};
 use crate::scene::Light;
 use crate::screen::{ComputeNeeds, ComputeTargets, DistanceMaps, LightGroup, ScreenChain};
 use crate::settings::{ShadowMethod, ShadowSettings};
@@ -115,6 +116,8 @@ pub struct Shadows {
     /// The groups of lights whose screen-space passes run as one
     /// ([`crate::ExecutionSettings::light_groups`]).
     groups: Vec<LightGroup>,
+    /// The pipelines the lights' passes share ([`crate::pipeline_cache`]).
+    pipelines: std::sync::Arc<PipelineCache>,
 }
 
 impl Shadows {
@@ -122,6 +125,8 @@ impl Shadows {
     /// is an offline renderer, see [`crate::Renderer`]).
     pub fn new(device: &wgpu::Device, settings: ShadowSettings) -> Result<Self> {
         Self::check_settings(device, &settings)?;
+        let pipelines = std::sync::Arc::new(PipelineCache::default());
+        let cached = &CachedDevice::new(device, &pipelines);
         let (shadows, error) = scoped(device, || Self {
             settings,
             lights: Vec::new(),
@@ -142,10 +147,11 @@ impl Shadows {
             compute_targets: None,
             inspected: None,
             loss: None,
-            far_plane: FarPlaneFill::new(device, &settings.shadow_map),
-            map_pools: MapPools::new(device, crate::screen::has_compute(device)),
+            far_plane: FarPlaneFill::new(cached, &settings.shadow_map),
+            map_pools: MapPools::new(cached, crate::screen::has_compute(device)),
             frames: FrameSlots::new(device),
             groups: Vec::new(),
+            pipelines: pipelines.clone(),
         });
         match error {
             Some(error) => Err(PenumbraError::gpu("creating the shadows", error)),
@@ -206,7 +212,9 @@ impl Shadows {
         let maps_changed = settings.shadow_map != self.settings.shadow_map;
         self.settings = settings;
         if maps_changed {
-            self.far_plane = FarPlaneFill::new(device, &self.settings.shadow_map);
+            let pipelines = self.pipelines.clone();
+            self.far_plane =
+                FarPlaneFill::new(&CachedDevice::new(device, &pipelines), &self.settings.shadow_map);
         }
         for state in self.lights.iter_mut().flatten() {
             if maps_changed {
@@ -399,6 +407,8 @@ impl Shadows {
     ) -> Result<()> {
         self.prepared = false;
         self.guarded(device, "preparing the shadows", |this| {
+            let pipelines = this.pipelines.clone();
+            let device = &CachedDevice::new(device, &pipelines);
             let taken = this.take_view(device, view)?;
             let (width, height) = this.size;
             // The compute passes write the layers themselves where the device and the texture
@@ -594,7 +604,7 @@ impl Shadows {
     /// (none when no light does) and what the lights outside a group need of it (a group keeps
     /// its members' own, [`Shadows::fit_groups`] first); the lights are bound again when they
     /// are made.
-    fn fit_compute_targets(&mut self, device: &wgpu::Device) {
+    fn fit_compute_targets(&mut self, device: &CachedDevice<'_>) {
         let planned = || self.lights.iter().flatten().filter_map(|s| s.planned);
         let grouped = |slot: usize| self.groups.iter().any(|g| g.slots().contains(&slot));
         let needs = self
@@ -629,7 +639,7 @@ impl Shadows {
     /// Points each light's passes whose chain changed at their inputs (the compute passes at
     /// the light's layer where they write it, `layer_writes`; a group's member at its part of
     /// the group); returns the slots of the lights bound.
-    fn bind_lights(&mut self, device: &wgpu::Device, layer_writes: bool) -> Vec<usize> {
+    fn bind_lights(&mut self, device: &CachedDevice<'_>, layer_writes: bool) -> Vec<usize> {
         let inputs = self.inputs.as_ref().expect("taken before");
         let mask_view = inputs.mask.as_ref().map_or(&self.dummy.view, |m| &m.view);
         let layers = &self.visibility.as_ref().expect("taken before").2;
@@ -661,7 +671,7 @@ impl Shadows {
     /// member's intermediates are its own (layers of the group's), so an inspected light
     /// ([`Shadows::inspect`]) groups too. A group that stays as it was is kept;
     /// the lights that join or leave a group are bound again.
-    fn fit_groups(&mut self, device: &wgpu::Device, layer_writes: bool) {
+    fn fit_groups(&mut self, device: &CachedDevice<'_>, layer_writes: bool) {
         let mut wanted: Vec<(crate::screen::ChainKey, [Option<wgpu::Texture>; 4], Vec<usize>)> = Vec::new();
         let on = self.settings.execution.light_groups && layer_writes && self.screen_space;
         for (slot, state) in self
@@ -713,7 +723,7 @@ impl Shadows {
 
     /// Points each group's passes at their inputs where one of its lights was bound again
     /// (`rebound`) or it is new, and uploads their parameters.
-    fn bind_groups(&mut self, device: &wgpu::Device, rebound: &[usize]) {
+    fn bind_groups(&mut self, device: &CachedDevice<'_>, rebound: &[usize]) {
         if self.groups.is_empty() {
             return;
         }

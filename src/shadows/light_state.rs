@@ -151,7 +151,7 @@ impl LightState {
     /// ([`LightMaps::allocate`]).
     pub(super) fn allocate_screen(
         &mut self,
-        device: &wgpu::Device,
+        device: &crate::pipeline_cache::CachedDevice<'_>,
         chain: &Chain,
         params: &PassParams,
         size: (u32, u32),
@@ -174,7 +174,7 @@ impl LightState {
     /// passes write it themselves, and whether it runs in a group.
     pub(super) fn bind(
         &mut self,
-        device: &wgpu::Device,
+        device: &crate::pipeline_cache::CachedDevice<'_>,
         (depth, mask): (&wgpu::TextureView, &wgpu::TextureView),
         dummy: &wgpu::TextureView,
         (compute, layer, grouped): (Option<&ComputeTargets>, Option<&wgpu::TextureView>, bool),

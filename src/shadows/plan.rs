@@ -17,7 +17,7 @@ use crate::view::CameraMatrices;
 /// What every light's plan shares in a frame: the device, the view, the settings and the
 /// casters' extent.
 pub(super) struct FramePlan<'a> {
-    pub device: &'a wgpu::Device,
+    pub device: &'a crate::pipeline_cache::CachedDevice<'a>,
     pub queue: &'a wgpu::Queue,
     pub casters: &'a Casters,
     pub camera: &'a CameraMatrices,

@@ -6,6 +6,7 @@ use super::screen_chain::{ChainKey, MethodChain, Recorder, ScreenInputs, stage_l
 use crate::chain::{Chain, FRAME_SIZE};
 use crate::frame::{DistanceSwitches, PassParams};
 use crate::map_resolution::WidthProbe;
+use crate::pipeline_cache::CachedDevice;
 use crate::screen::{
     BlurCompute, BlurInput, BlurPass, Cleared, ClearedByList, ComputeTargets, DistanceMapCompute,
     DistanceMapPass, DistanceMaps, ResolvePass, ScreenStage, VariablePcfCompute, VariablePcfPass,
@@ -41,7 +42,7 @@ impl OursChain {
         }
     }
 
-    pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
+    pub fn new(device: &CachedDevice<'_>, key: &ChainKey) -> Self {
         let (kind, in_pcf) = (key.kind, key.distance_in_pcf);
         let blur = key.blur.is_some();
         let half = key.half_floats();
@@ -93,7 +94,7 @@ impl MethodChain for OursChain {
         self.grouped = false;
     }
 
-    fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
+    fn bind(&mut self, device: &CachedDevice<'_>, inputs: &ScreenInputs) {
         let (frame, [depth, mask, _]) = inputs.common();
         let (Some(maps), Some(all)) = (distance_maps(inputs), inputs.compute) else {
             return;
@@ -236,7 +237,7 @@ impl OursDrawChain {
         }
     }
 
-    pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
+    pub fn new(device: &CachedDevice<'_>, key: &ChainKey) -> Self {
         Self {
             distance: DistanceMapPass::new(device, FRAME_SIZE, key.distance, key.kind),
             pcf: VariablePcfPass::new(device, FRAME_SIZE, key.pcf, key.kind),
@@ -251,7 +252,7 @@ impl OursDrawChain {
 impl MethodChain for OursDrawChain {
     stage_lists!(distance, pcf, resolve; blur);
 
-    fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
+    fn bind(&mut self, device: &CachedDevice<'_>, inputs: &ScreenInputs) {
         let (frame, [depth, mask, _]) = inputs.common();
         let Some(maps) = distance_maps(inputs) else {
             return;

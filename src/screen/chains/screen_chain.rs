@@ -9,6 +9,7 @@ use crate::frame::FrameSlot;
 use crate::frame::{BlurSwitches, DistanceSwitches, PassParams, PcfSwitches};
 use crate::light_maps::{LightMaps, MapViews};
 use crate::map_resolution::WidthProbe;
+use crate::pipeline_cache::CachedDevice;
 use crate::screen::{ComputeTargets, PassPath, ScreenStage};
 use crate::shaders::HalfFloats;
 
@@ -201,7 +202,7 @@ pub(crate) trait MethodChain: wgpu::WasmNotSendSync {
     fn unbind(&mut self) {}
 
     /// Points each pass at its inputs: the chain's wiring, pass by pass.
-    fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs);
+    fn bind(&mut self, device: &CachedDevice<'_>, inputs: &ScreenInputs);
 
     /// Records the passes in order, each through `recorder`.
     fn encode(&self, recorder: &mut Recorder);
@@ -258,7 +259,7 @@ impl ScreenChain {
     /// The passes of `chain` for a light of `kind` ([`crate::frame::light_kind`]), made with
     /// `params`' compile-time switches and sized `width` x `height`.
     pub fn new(
-        device: &wgpu::Device,
+        device: &CachedDevice<'_>,
         chain: &Chain,
         params: &PassParams,
         kind: u32,
@@ -295,7 +296,7 @@ impl ScreenChain {
     }
 
     /// Sizes the screen-sized targets; the passes must then be bound again.
-    pub fn resize(&mut self, device: &wgpu::Device, w: u32, h: u32) {
+    pub fn resize(&mut self, device: &CachedDevice<'_>, w: u32, h: u32) {
         if let Some(passes) = &mut self.passes {
             for stage in passes.stages_mut() {
                 stage.resize(device, w, h);
@@ -323,7 +324,7 @@ impl ScreenChain {
     }
 
     /// Points each pass at its inputs.
-    pub fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
+    pub fn bind(&mut self, device: &CachedDevice<'_>, inputs: &ScreenInputs) {
         if let Some(passes) = &mut self.passes {
             passes.bind(device, inputs);
         }

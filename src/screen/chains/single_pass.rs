@@ -5,6 +5,7 @@
 use super::screen_chain::{ChainKey, MethodChain, Recorder, ScreenInputs, stage_lists};
 use crate::chain::{Chain, FRAME_SIZE};
 use crate::frame::PassParams;
+use crate::pipeline_cache::CachedDevice;
 use crate::screen::{PcfPass, PcssPass, ResolvePass, ScreenStage, VisibilityPass};
 
 /// One screen-space pass, then a resolve unless the pass writes the layer.
@@ -27,7 +28,7 @@ impl PcssChain {
         }
     }
 
-    pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
+    pub fn new(device: &CachedDevice<'_>, key: &ChainKey) -> Self {
         let pass = PcssPass::new(device, FRAME_SIZE, key.kind, key.path());
         Self::with(device, pass)
     }
@@ -43,14 +44,14 @@ impl HardChain {
         }
     }
 
-    pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
+    pub fn new(device: &CachedDevice<'_>, key: &ChainKey) -> Self {
         let pass = PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, key.path());
         Self::with(device, pass)
     }
 }
 
 impl<P> SinglePassChain<P> {
-    fn with(device: &wgpu::Device, pass: P) -> Self {
+    fn with(device: &CachedDevice<'_>, pass: P) -> Self {
         Self {
             pass,
             resolve: ResolvePass::new(device, FRAME_SIZE),
@@ -61,7 +62,7 @@ impl<P> SinglePassChain<P> {
 impl<P: VisibilityPass + wgpu::WasmNotSendSync> MethodChain for SinglePassChain<P> {
     stage_lists!(pass, resolve);
 
-    fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
+    fn bind(&mut self, device: &CachedDevice<'_>, inputs: &ScreenInputs) {
         let (frame, [depth, mask, dummy]) = inputs.common();
         let shared = inputs.compute.and_then(|c| c.visibility.as_ref());
         let layer = inputs.layer.map(|l| (l, mask));

@@ -5,6 +5,7 @@
 use super::screen_chain::{ChainKey, MethodChain, Recorder, ScreenInputs, stage_lists};
 use crate::chain::{Chain, FRAME_SIZE};
 use crate::frame::PassParams;
+use crate::pipeline_cache::CachedDevice;
 use crate::screen::{
     BlurCompute, BlurInput, BlurPass, Cleared, ComputeTargets, PassPath, PcfPass, ResolvePass, ScreenStage,
     TileListTargets, VisibilityPass,
@@ -28,7 +29,7 @@ impl TraditionalChain {
         ChainKey::bare(chain, kind).pcf(params).blur(params, true)
     }
 
-    pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
+    pub fn new(device: &CachedDevice<'_>, key: &ChainKey) -> Self {
         let half = key.half_floats();
         // The PCF writes the intermediate visibility, never the layer (the blur or the
         // resolve does).
@@ -57,7 +58,7 @@ impl MethodChain for TraditionalChain {
         self.targets = None;
     }
 
-    fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
+    fn bind(&mut self, device: &CachedDevice<'_>, inputs: &ScreenInputs) {
         let (frame, [depth, mask, dummy]) = inputs.common();
         // The compute path's targets hold a visibility wherever a chain other than the
         // distance-map method's writing its layer runs (`ComputeNeeds`).
@@ -113,7 +114,7 @@ impl TraditionalDrawChain {
         ChainKey::bare(chain, kind).pcf(params).blur(params, false)
     }
 
-    pub fn new(device: &wgpu::Device, key: &ChainKey) -> Self {
+    pub fn new(device: &CachedDevice<'_>, key: &ChainKey) -> Self {
         Self {
             pcf: PcfPass::new(device, FRAME_SIZE, key.pcf, key.kind, PassPath::DRAW),
             blur: key.blur.map(|s| BlurPass::new(device, FRAME_SIZE, s)),
@@ -125,7 +126,7 @@ impl TraditionalDrawChain {
 impl MethodChain for TraditionalDrawChain {
     stage_lists!(pcf, resolve; blur);
 
-    fn bind(&mut self, device: &wgpu::Device, inputs: &ScreenInputs) {
+    fn bind(&mut self, device: &CachedDevice<'_>, inputs: &ScreenInputs) {
         let (frame, [depth, mask, dummy]) = inputs.common();
         let shadow_map = &inputs.views.shadow;
         self.pcf
