@@ -21,9 +21,10 @@
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, Weak};
 
-/// What one owner made, by description.
-#[derive(Default)]
+/// What one owner made on its device, by description.
 pub(crate) struct PipelineCache {
+    /// The device everything here was made on.
+    device: wgpu::Device,
     made: Mutex<Made>,
 }
 
@@ -101,6 +102,25 @@ fn owned_layouts(layouts: &[Option<&wgpu::BindGroupLayout>]) -> Vec<Option<wgpu:
 }
 
 impl PipelineCache {
+    /// An empty cache for what is made on `device`.
+    pub(crate) fn new(device: &wgpu::Device) -> Self {
+        Self {
+            device: device.clone(),
+            made: Mutex::default(),
+        }
+    }
+
+    /// Whether it holds what is made on `device` (wgpu compares devices by their id, which
+    /// tells apart the devices of one wgpu instance).
+    pub(crate) fn is_for(&self, device: &wgpu::Device) -> bool {
+        self.device == *device
+    }
+
+    /// The device it serves.
+    pub(crate) fn device_handle(&self) -> &wgpu::Device {
+        &self.device
+    }
+
     fn lock(&self) -> std::sync::MutexGuard<'_, Made> {
         // A panic while the lock was held left at most one entry unmade: the rest stand.
         self.made
@@ -126,6 +146,8 @@ impl std::ops::Deref for CachedDevice<'_> {
 }
 
 impl<'a> CachedDevice<'a> {
+    /// `device` with `cache`, which must have been made for it ([`PipelineCache::is_for`]:
+    /// [`crate::Shadows`] checks the device it is given).
     pub(crate) fn new(device: &'a wgpu::Device, cache: &'a PipelineCache) -> Self {
         Self { device, cache }
     }

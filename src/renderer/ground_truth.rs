@@ -167,7 +167,7 @@ impl GroundTruth {
             key: None,
             array: None,
             normals: None,
-            pipelines: Default::default(),
+            pipelines: crate::pipeline_cache::PipelineCache::new(device),
         };
         truth.ensure_lights(device, 1);
         truth

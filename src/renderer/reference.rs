@@ -85,7 +85,7 @@ impl ReferencePass {
             depth: None,
             constants: &[],
         }
-        .pipeline(&CachedDevice::new(device, &PipelineCache::default()));
+        .pipeline(&CachedDevice::new(device, &PipelineCache::new(device)));
         let sample = crate::gpu_helpers::uniform_buffer(
             device,
             "ReferencePass::sample",

@@ -125,7 +125,7 @@ impl Shadows {
     /// is an offline renderer, see [`crate::Renderer`]).
     pub fn new(device: &wgpu::Device, settings: ShadowSettings) -> Result<Self> {
         Self::check_settings(device, &settings)?;
-        let pipelines = std::sync::Arc::new(PipelineCache::default());
+        let pipelines = std::sync::Arc::new(PipelineCache::new(device));
         let cached = &CachedDevice::new(device, &pipelines);
         let (shadows, error) = scoped(device, || Self {
             settings,
@@ -159,6 +159,22 @@ impl Shadows {
         }
     }
 
+    /// Makes this `Shadows` take its passes' pipelines, shader modules and bind group layouts
+    /// from where `other` takes its own: from then on the two compile each pass once between
+    /// them, as the lights of one `Shadows` do, for several views of one scene (an engine's
+    /// cameras, a split screen). Both must have been made on the same device; otherwise the
+    /// error names `other`. The passes this one made before keep what they hold.
+    pub fn share_pipelines_with(&mut self, other: &Shadows) -> Result<()> {
+        if !other.pipelines.is_for(self.pipelines.device_handle()) {
+            return Err(PenumbraError::input(
+                "share_pipelines_with: other",
+                "that Shadows was made on another device: pipelines serve the device they were made on",
+            ));
+        }
+        self.pipelines = other.pipelines.clone();
+        Ok(())
+    }
+
     /// Has every later call report [`PenumbraError::DeviceLost`] once `loss` has seen the
     /// device lost, instead of drawing nothing without a word (a lost device takes commands
     /// and does nothing). See [`DeviceLoss`] for how it learns of the loss.
@@ -171,6 +187,18 @@ impl Shadows {
         self.loss.as_ref().map_or(Ok(()), DeviceLoss::check)
     }
 
+    /// An error naming `device` where it is not the one this `Shadows` was made on (its passes
+    /// and their pipelines serve that one).
+    fn check_same_device(&self, device: &wgpu::Device, during: &str) -> Result<()> {
+        if self.pipelines.is_for(device) {
+            return Ok(());
+        }
+        Err(PenumbraError::input(
+            "device",
+            format!("{during}: not the device this Shadows was made on"),
+        ))
+    }
+
     /// Runs `f` after checking the device, inside wgpu error scopes: a wgpu error it raises is
     /// returned as [`PenumbraError::Gpu`] naming `during`.
     fn guarded<T>(
@@ -180,6 +208,7 @@ impl Shadows {
         f: impl FnOnce(&mut Self) -> Result<T>,
     ) -> Result<T> {
         self.check_device()?;
+        self.check_same_device(device, during)?;
         PenumbraError::scoped(device, || during.into(), || f(self))
     }
 
@@ -861,6 +890,7 @@ impl Shadows {
     /// two later, without a wait.
     pub fn settle(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<bool> {
         self.check_device()?;
+        self.check_same_device(device, "waiting for the penumbra widths")?;
         for state in self.lights.iter_mut().flatten() {
             state.collect_widths(device, queue);
         }

@@ -651,6 +651,67 @@ fn lights_of_a_kind_the_shadows_hold_compile_no_pipeline() {
     );
 }
 
+/// Two `Shadows` of one device, the second sharing the first's pipelines
+/// (`Shadows::share_pipelines_with`), as an engine's two views would: the second's sun compiles
+/// nothing and shadows as the first's. A `Shadows` of another device cannot share them, and a
+/// `Shadows` given another device than its own says so, naming the argument.
+#[test]
+fn views_that_share_pipelines_compile_each_pass_once() {
+    let gpu = common::gpu();
+    let device = &gpu.device;
+    let w = world(&gpu);
+    let depth = DepthPass::new(device);
+    let mut first = Shadows::new(device, ShadowSettings::default()).unwrap();
+    let mut second = Shadows::new(device, ShadowSettings::default()).unwrap();
+    second.share_pipelines_with(&first).unwrap();
+    let a = first.add_light(device, sun(30.0)).unwrap();
+    render_on_box_and_floor(&gpu, &w, &depth, &mut first, None);
+    device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
+    let one_view = compiled(device);
+    let b = second.add_light(device, sun(30.0)).unwrap();
+    render_on_box_and_floor(&gpu, &w, &depth, &mut second, None);
+    device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
+    assert_eq!(
+        compiled(device),
+        one_view,
+        "the second view's sun: [render, compute pipelines, modules, layouts]"
+    );
+    let (seen_first, seen_second) = (
+        read_layer(&gpu, &first, a.layer()),
+        read_layer(&gpu, &second, b.layer()),
+    );
+    let shadowed = seen_first.iter().filter(|v| **v < 0.1).count();
+    assert!(shadowed > 100, "{shadowed} pixels in shadow");
+    assert_eq!(
+        differing_texels(&seen_first, &seen_second),
+        0,
+        "the two views' visibility"
+    );
+
+    // Another device: its Shadows cannot take the first's pipelines, and the first refuses it.
+    let (other, _queue) = pollster::block_on(
+        gpu.adapter
+            .request_device(&penumbra::device_descriptor(&gpu.adapter)),
+    )
+    .unwrap();
+    let mut elsewhere = Shadows::new(&other, ShadowSettings::default()).unwrap();
+    expect_input_error(
+        elsewhere.share_pipelines_with(&first),
+        "share_pipelines_with: other",
+        "another device",
+    );
+    expect_input_error(
+        first.add_light(&other, sun(60.0)),
+        "device",
+        "not the device this Shadows was made on",
+    );
+    expect_input_error(
+        first.set_settings(&other, ShadowSettings::default()),
+        "device",
+        "applying new settings",
+    );
+}
+
 /// [`more_suns_than_the_renderer_shades_each_shadow_their_own_layer`] with `settings`, whose
 /// last frame records `pcf_passes` "pcf" passes.
 fn suns_each_shadow_their_own_layer(

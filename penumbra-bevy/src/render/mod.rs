@@ -237,7 +237,20 @@ fn prepare_penumbra(
                 }
             }
             None => match Shadows::new(device, camera.settings) {
-                Ok(shadows) => {
+                Ok(mut shadows) => {
+                    // The cameras' passes share their pipelines: a second view compiles none
+                    // that the first has. Every view's `Shadows` is made on this device.
+                    let shared = state
+                        .views
+                        .values()
+                        .next()
+                        .map(|v| shadows.share_pipelines_with(&v.shadows));
+                    if let Some(Err(e)) = shared {
+                        state.warn_once(format!(
+                            "penumbra: {} compiles its own pipelines: {e}",
+                            camera.label
+                        ));
+                    }
                     state.views.insert(
                         camera.render_entity,
                         ViewShadows {
