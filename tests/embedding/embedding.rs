@@ -578,7 +578,7 @@ fn compiled(device: &wgpu::Device) -> [isize; 4] {
 /// bind group layouts with the lights of that kind: it adds its maps, targets and buffers, and
 /// compiles nothing. Made afresh for each light, a sun's set took about 21 MB on lavapipe and
 /// the frame that added it waited on the compiles. A light of another kind compiles its own
-/// once; new settings make new ones.
+/// once, which go when the last light of that kind does; new settings make new ones.
 #[test]
 fn lights_of_a_kind_the_shadows_hold_compile_no_pipeline() {
     let gpu = common::gpu();
@@ -635,6 +635,18 @@ fn lights_of_a_kind_the_shadows_hold_compile_no_pipeline() {
             visibility.len()
         );
     }
+    // The spots removed: no pass holds their own pipelines any more, and they are gone.
+    for id in [ids[6], ids[7]] {
+        shadows.remove_light(id).unwrap();
+    }
+    render_on_box_and_floor(&gpu, &w, &depth, &mut shadows, None);
+    device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
+    let suns_again = compiled(device);
+    assert_eq!(
+        suns_again[..2],
+        two_suns[..2],
+        "the spots removed: [render, compute pipelines] {suns_again:?} against {two_suns:?} with suns only"
+    );
     // New settings: the passes made for them are made again, once.
     let pcss = ShadowSettings {
         method: ShadowMethod::Pcss,
