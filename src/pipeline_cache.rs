@@ -1,5 +1,6 @@
-//! The pipelines, shader modules and bind group layouts one [`crate::Shadows`] has made, kept
-//! so that every light whose passes ask for the same ones shares them.
+//! The pipelines, shader modules and bind group layouts a [`crate::Shadows`] has made, kept
+//! so that every light whose passes ask for the same ones shares them (and every `Shadows` that
+//! shares the cache, [`crate::Shadows::share_pipelines_with`]).
 //!
 //! Each light's chain and maps are passes of their own, with their own targets and buffers;
 //! their pipelines depend only on the chain's key (method, light kind, settings, the device's
@@ -111,7 +112,7 @@ impl PipelineCache {
     }
 
     /// Whether it holds what is made on `device` (wgpu compares devices by their id, which
-    /// tells apart the devices of one wgpu instance).
+    /// tells apart the devices of one wgpu instance, not those of two).
     pub(crate) fn is_for(&self, device: &wgpu::Device) -> bool {
         self.device == *device
     }
