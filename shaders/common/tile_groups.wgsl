@@ -43,6 +43,15 @@ const LIST_TILE: u32 = 16u;
 var<private> member: u32 = 0u;
 // The invocation's tile's slot in the pool.
 var<private> pool_slot: u32 = 0u;
+// What the pool's accesses take from the header, read once in `listed_pixel`: the pool's tiles
+// a layer and across, where the member's list starts, where its tiles start among all of them,
+// where the round's start, and the texel and layer of the invocation's own tile's slot.
+var<private> pool_per_layer: u32 = 1u;
+var<private> pool_across: u32 = 1u;
+var<private> member_first_word: u32 = 0u;
+var<private> member_first_tile: u32 = 0u;
+var<private> round_first_tile: u32 = 0u;
+var<private> own_slot_texel: vec3<i32> = vec3<i32>(0);
 
 // Word `word` of the group's header.
 fn group_header(word: u32) -> u32 {
@@ -55,7 +64,7 @@ fn member_list() -> u32 {
 }
 
 fn listed_tile(index: u32) -> vec2<u32> {
-    let packed = group_lists[member_list() + 2u + index];
+    let packed = group_lists[member_first_word + 2u + index];
     return vec2<u32>(packed & 0xffffu, packed >> 16u);
 }
 
@@ -67,19 +76,28 @@ fn listed_pixel(group: vec3<u32>, groups: vec3<u32>, local: vec3<u32>) -> vec2<i
     let first = group_header(GROUP_ROUND_STARTS + round);
     let index = first + group.x + group.y * groups.x;
     let members = group_header(1u);
-    // The members whose tiles start at or before this one, but the first: no branch (at most
-    // 16 members, `MAX_MEMBERS` in `src/screen/light_group.rs`).
+    // The last member whose tiles start at or before this one (the starts rise with the
+    // members; `index` is the workgroup's, so every invocation of it takes the same turns).
     var g = 0u;
-    for (var k = 1u; k < 16u; k++) {
-        g += select(0u, 1u, k < members && index >= group_header(GROUP_STARTS + k));
+    for (var k = 1u; k < members; k++) {
+        if index < group_header(GROUP_STARTS + k) {
+            break;
+        }
+        g = k;
     }
     member = g;
     frame_light = group_header(GROUP_LIGHTS + member);
     pool_slot = index - first;
+    pool_per_layer = group_header(GROUP_PER_LAYER);
+    pool_across = group_header(GROUP_ACROSS);
+    member_first_word = member_list();
+    member_first_tile = group_header(GROUP_STARTS + member);
+    round_first_tile = first;
+    own_slot_texel = pool_texel(pool_slot, vec2<i32>(0));
     if index >= group_header(GROUP_ROUND_STARTS + round + 1u) {
         return vec2<i32>(-1);
     }
-    let pixel = listed_tile(index - group_header(GROUP_STARTS + member)) * LIST_TILE + local.xy;
+    let pixel = listed_tile(index - member_first_tile) * LIST_TILE + local.xy;
     if any(vec2<f32>(pixel) >= frame.view.size) {
         return vec2<i32>(-1);
     }
@@ -89,20 +107,18 @@ fn listed_pixel(group: vec3<u32>, groups: vec3<u32>, local: vec3<u32>) -> vec2<i
 // Where slot `slot` holds `pixel` (which lies in the slot's tile): the texel (xy) and the
 // layer (z).
 fn pool_texel(slot: u32, pixel: vec2<i32>) -> vec3<i32> {
-    let per_layer = group_header(GROUP_PER_LAYER);
-    let across = group_header(GROUP_ACROSS);
-    let t = slot % per_layer;
-    let corner = vec2<u32>(t % across, t / across) * LIST_TILE;
-    return vec3<i32>(vec2<i32>(corner + vec2<u32>(pixel) % LIST_TILE), i32(slot / per_layer));
+    let t = slot % pool_per_layer;
+    let corner = vec2<u32>(t % pool_across, t / pool_across) * LIST_TILE;
+    return vec3<i32>(vec2<i32>(corner + vec2<u32>(pixel) % LIST_TILE), i32(slot / pool_per_layer));
 }
 
 // The invocation's own pixel `pixel` in the pool (its tile's slot).
 fn pool_pixel(pixel: vec2<i32>) -> vec2<i32> {
-    return pool_texel(pool_slot, pixel).xy;
+    return own_slot_texel.xy + vec2<i32>(vec2<u32>(pixel) % LIST_TILE);
 }
 
 fn pool_layer() -> i32 {
-    return pool_texel(pool_slot, vec2<i32>(0)).z;
+    return own_slot_texel.z;
 }
 
 // Where the member's pixel `pixel` (any of the screen's) lies in the pool this round: its
@@ -110,16 +126,14 @@ fn pool_layer() -> i32 {
 // away (`AWAY_SLOT`). A member's tiles all run in one round.
 fn pool_place(pixel: vec2<i32>) -> vec3<i32> {
     let tile = vec2<u32>(pixel) / LIST_TILE;
-    let per_layer = group_header(GROUP_PER_LAYER);
-    let code = group_lists[member_list() + 2u + per_layer + tile.y * group_header(GROUP_ACROSS) + tile.x];
+    let code = group_lists[member_first_word + 2u + pool_per_layer + tile.y * pool_across + tile.x];
     if code == NO_SLOT {
         return vec3<i32>(0, 0, -1);
     }
     if code == AWAY_SLOT {
         return vec3<i32>(0, 0, -2);
     }
-    let index = group_header(GROUP_STARTS + member) + code;
-    return pool_texel(index - group_header(GROUP_ROUND_STARTS + group_lists[1]), pixel);
+    return pool_texel(member_first_tile + code - round_first_tile, pixel);
 }
 
 // Whether the invocation works for the inspected member (`Shadows::inspect`).
