@@ -201,6 +201,26 @@ pub struct LightCost {
     pub still_added_ms: f64,
 }
 
+/// The frames around adding a light of one type to a `Shadows` (lights still, wall clock,
+/// medians of [`ADDING_REPEATS`] fresh `Shadows`): the first light's first frame (its passes
+/// made, its maps drawn), a frame with it alone, the frame that adds a second light of its
+/// type, and a frame with both; and what adding the second compiled (wgpu's counters of
+/// pipelines and shader modules, 0 where they are not kept).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct AddingRun {
+    /// `sun`, `spot` or `point`.
+    pub kind: String,
+    pub first_frame_ms: f64,
+    pub one_light_ms: f64,
+    pub adding_frame_ms: f64,
+    pub two_lights_ms: f64,
+    /// Render and compute pipelines and shader modules the second light added.
+    pub compiled_by_second: i64,
+}
+
+/// Fresh `Shadows` the frames around adding a light are timed on ([`AddingRun`]).
+const ADDING_REPEATS: usize = 3;
+
 /// The screen-space passes of `lights` still lights of one type, per-pass medians summed over
 /// the lights.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -256,6 +276,8 @@ pub struct Embedding {
     pub width: u32,
     pub height: u32,
     pub costs: Vec<LightCost>,
+    /// The frames around adding a second light of each type.
+    pub adding: Vec<AddingRun>,
     pub geometry_passes: Vec<GeometryPasses>,
     /// The renderer's geometry passes in a frame where only the camera moved a little.
     pub camera_moved: u32,
@@ -1605,10 +1627,28 @@ fn measure_embedding(
             }
         }
     }
+    let mut adding = Vec::new();
+    for kind in ["sun", "spot", "point"] {
+        let run = time_adding(gpu, (casters, &view), settings, |k| light(kind, k))?;
+        println!(
+            "adding: {kind}: first frame {:.2} ms, then {:.2}; the frame adding a second {:.2}, then {:.2}; \
+             {} pipelines and modules compiled for the second",
+            run.first_frame_ms,
+            run.one_light_ms,
+            run.adding_frame_ms,
+            run.two_lights_ms,
+            run.compiled_by_second
+        );
+        adding.push(AddingRun {
+            kind: kind.to_string(),
+            ..run
+        });
+    }
     Ok(Embedding {
         width,
         height,
         costs,
+        adding,
         camera_moved,
         cascades: Vec::new(),
         room: Vec::new(),
@@ -1623,6 +1663,53 @@ fn measure_embedding(
         large: Vec::new(),
         casters: Vec::new(),
         geometry_passes,
+    })
+}
+
+/// [`AddingRun`] for the lights `light(0)` and `light(1)` (its `kind` left empty), drawn with
+/// `casters` on `view`.
+fn time_adding(
+    gpu: &HeadlessGpu,
+    (casters, view): (&penumbra::Casters, &penumbra::ViewInputs),
+    settings: ShadowSettings,
+    light: impl Fn(usize) -> penumbra::Light,
+) -> Result<AddingRun> {
+    let compiled = || {
+        let hal = gpu.device.get_internal_counters().hal;
+        (hal.render_pipelines.read() + hal.compute_pipelines.read() + hal.shader_modules.read()) as i64
+    };
+    let mut frames: [Vec<f64>; 4] = Default::default();
+    let mut by_second = Vec::new();
+    for _ in 0..ADDING_REPEATS {
+        let mut shadows = penumbra::Shadows::new(&gpu.device, settings)?;
+        let frame = |shadows: &mut penumbra::Shadows| -> Result<f64> {
+            let start = Instant::now();
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            shadows.render(&gpu.device, &gpu.queue, &mut encoder, casters, view)?;
+            gpu.queue.submit([encoder.finish()]);
+            gpu.device.poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: None,
+            })?;
+            Ok(start.elapsed().as_secs_f64() * 1e3)
+        };
+        shadows.add_light(&gpu.device, light(0))?;
+        frames[0].push(frame(&mut shadows)?);
+        frames[1].push(frame(&mut shadows)?);
+        let before = compiled();
+        shadows.add_light(&gpu.device, light(1))?;
+        frames[2].push(frame(&mut shadows)?);
+        by_second.push(compiled() - before);
+        frames[3].push(frame(&mut shadows)?);
+    }
+    let [first, one, adding, two] = frames.map(median);
+    Ok(AddingRun {
+        kind: String::new(),
+        first_frame_ms: first,
+        one_light_ms: one,
+        adding_frame_ms: adding,
+        two_lights_ms: two,
+        compiled_by_second: by_second.into_iter().max().unwrap_or(0),
     })
 }
 
@@ -2157,6 +2244,36 @@ fn write_light_sweep(md: &mut String, config: &Config, runs: &[Run], largest: (u
     Ok(())
 }
 
+/// The frames around adding a light ([`AddingRun`]).
+fn write_adding(md: &mut String, adding: &[AddingRun]) -> Result<()> {
+    use std::fmt::Write;
+    if adding.is_empty() {
+        return Ok(());
+    }
+    writeln!(
+        md,
+        "\n### Adding a light (lights still; medians of {ADDING_REPEATS} fresh `Shadows`, wall clock)\n\n\
+         The first light's first frame makes its passes and draws its maps; a light added beside one \
+         of its type takes that type's pipelines from the `Shadows`' cache (`compiled` counts the \
+         pipelines and shader modules it added: wgpu's counters) and draws its own maps.\n\n\
+         | type | first light's first frame ms | a frame with it ms | the frame adding a second ms | a frame with two ms | compiled |\n\
+         |---|---|---|---|---|---|"
+    )?;
+    for a in adding {
+        writeln!(
+            md,
+            "| {} | {:.2} | {:.2} | {:.2} | {:.2} | {} |",
+            a.kind,
+            a.first_frame_ms,
+            a.one_light_ms,
+            a.adding_frame_ms,
+            a.two_lights_ms,
+            a.compiled_by_second
+        )?;
+    }
+    Ok(())
+}
+
 /// The embedding path: each added light's cost by type, moving and still, and pass by pass.
 fn write_embedding(md: &mut String, embedding: &Embedding) -> Result<()> {
     use std::fmt::Write;
@@ -2200,6 +2317,7 @@ fn write_embedding(md: &mut String, embedding: &Embedding) -> Result<()> {
             )?;
         }
     }
+    write_adding(md, &embedding.adding)?;
     writeln!(
         md,
         "\n### Lights two to four: the screen-space passes of each added light, by type (lights \
