@@ -693,16 +693,19 @@ fn misuse_is_reported_and_leaves_bevys_shadows() {
 }
 
 /// 257 shadow-mapped lights, one past `MAX_SHADOWED_LIGHTS`: the sun and 256 dim spots around the
-/// box, each aimed down at the plane, at Bevy's default map size (about 0.55 GB of process memory
-/// and 3 s on lavapipe; with the maps at 256 texels it took 6.1 GB and 57 s before the lights
-/// shared their pipelines, and at this size it was killed at 24 GB before the maps' arrays grew
-/// by half). penumbra shadows 256 of them (the visibility
+/// box, each aimed down at the plane, their maps at 256 texels (`DirectionalLightShadowMap`) to
+/// keep the test's memory down (about 0.6 GB of process memory and 8 s on lavapipe, most of it the
+/// frame that makes the lights' maps and chains; 6.1 GB and 57 s while each light compiled its
+/// own pipelines). penumbra shadows 256 of them (the visibility
 /// array's 256 layers), the last spot keeps Bevy's shadow maps, a warning says so once, and the
 /// sun's shadow, penumbra's (the lights go by entity), is as dark as alone.
 #[test]
 fn lights_past_the_plugins_limit_keep_bevys_shadows_with_a_warning() {
+    use bevy::light::DirectionalLightShadowMap;
     let _one = ONE_APP.lock().unwrap_or_else(|e| e.into_inner());
     let mut scene = box_above_plane(sun(4.0), false);
+    let world = scene.headless.app.world_mut();
+    world.insert_resource(DirectionalLightShadowMap { size: 256 });
     let alone = scene.headless.render(4);
     spots_around_the_box(
         scene.headless.app.world_mut(),
