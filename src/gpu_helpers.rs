@@ -65,19 +65,9 @@ pub(crate) fn layer_view(texture: &wgpu::Texture, label: &str, layer: u32) -> wg
 }
 
 pub(crate) fn texture_bytes(texture: &wgpu::Texture) -> u64 {
-    use wgpu::TextureFormat as F;
     let format = texture.format();
     let (block_width, block_height) = format.block_dimensions();
-    let block = match format {
-        F::Depth24Plus => 4,
-        F::Depth24PlusStencil8 => 5,
-        F::Depth32FloatStencil8 => 5,
-        F::Stencil8 => 1,
-        _ => format
-            .block_copy_size(None)
-            .or_else(|| format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)))
-            .unwrap_or(4),
-    };
+    let block = block_bytes(format);
     let layers = match texture.dimension() {
         wgpu::TextureDimension::D3 => 1,
         _ => texture.depth_or_array_layers(),
@@ -95,6 +85,22 @@ pub(crate) fn texture_bytes(texture: &wgpu::Texture) -> u64 {
         .sum::<u64>()
         * layers as u64
         * texture.sample_count() as u64
+}
+
+/// Bytes a block (a texel, for the uncompressed formats) of `format` takes, as a driver stores
+/// it (24-bit depth as 32).
+pub(crate) fn block_bytes(format: wgpu::TextureFormat) -> u32 {
+    use wgpu::TextureFormat as F;
+    match format {
+        F::Depth24Plus => 4,
+        F::Depth24PlusStencil8 => 5,
+        F::Depth32FloatStencil8 => 5,
+        F::Stencil8 => 1,
+        _ => format
+            .block_copy_size(None)
+            .or_else(|| format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)))
+            .unwrap_or(4),
+    }
 }
 
 /// Vertex buffer layout of one tightly packed attribute stream.

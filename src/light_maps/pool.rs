@@ -25,6 +25,11 @@
 //! resources while the arrays grew a layer at a time, 0.75 GB for 0.28 GB growing by half
 //! (`docs/limits.md`).
 //!
+//! An array holds at most [`MAX_ARRAY_BYTES`] (and the device's layer limit): the maps of one
+//! kind past that go into another array of the same kind. One array of 256 spots' 2048-texel
+//! maps (2 GiB) was more than lavapipe could allocate: the texture came out invalid and every
+//! pass on it failed.
+//!
 //! Where the device runs no compute passes, or its backend is GL (which cannot bind one layer of
 //! an array as a 2D texture), each map keeps a texture of its own.
 
@@ -32,6 +37,11 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Weak};
 
 use crate::gpu_helpers::{Target, texture_bytes};
+
+/// The most bytes one array holds: 1 GiB. Drivers cap a single allocation (Vulkan's
+/// `maxMemoryAllocationSize`, at least 1 GiB by the specification; lavapipe refused 2 GiB), and
+/// an array made again copies all of it.
+pub(crate) const MAX_ARRAY_BYTES: u64 = 1 << 30;
 
 /// What maps share an array: the same label (the kind of map), format, size and usages.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -49,7 +59,8 @@ pub(crate) struct MapSlot {
     pub target: Target,
     /// The layer this map holds.
     pub layer: u32,
-    key: PoolKey,
+    /// The array it is a layer of ([`Pool::id`]; 0: a texture of its own).
+    pool: u64,
     /// The array's generation the view was made from (0: a texture of its own).
     generation: u64,
     /// The layer the array keeps for this map (it may move it down, [`MapPools::trim`]), held
@@ -80,6 +91,10 @@ pub(crate) enum Moved {
 /// One array and who holds its layers.
 struct Pool {
     key: PoolKey,
+    /// Which of the arrays it is (several arrays may share a key, [`MAX_ARRAY_BYTES`]).
+    id: u64,
+    /// The most layers it may grow to.
+    most_layers: u32,
     texture: wgpu::Texture,
     /// Layer `i` is taken while `holders[i]` lives (and holds `i`); `None`: a layer the array
     /// was grown with that no map has taken yet.
@@ -112,6 +127,8 @@ pub(crate) struct MapPools {
     generation: u64,
     /// The copies the arrays made again since the last [`MapPools::flush`] need.
     copies: Vec<LayerCopy>,
+    /// The most bytes an array holds ([`MAX_ARRAY_BYTES`]).
+    max_array_bytes: u64,
 }
 
 impl MapPools {
@@ -123,6 +140,7 @@ impl MapPools {
             pools: Vec::new(),
             generation: 0,
             copies: Vec::new(),
+            max_array_bytes: MAX_ARRAY_BYTES,
         }
     }
 
@@ -133,6 +151,7 @@ impl MapPools {
             pools: Vec::new(),
             generation: 0,
             copies: Vec::new(),
+            max_array_bytes: MAX_ARRAY_BYTES,
         }
     }
 
@@ -145,28 +164,40 @@ impl MapPools {
             return MapSlot {
                 target: layer_target(texture, 0),
                 layer: 0,
-                key,
+                pool: 0,
                 generation: 0,
                 holder,
             };
         }
-        let index = match self.pools.iter().position(|p| p.key == key) {
+        // An array of the key with a free layer, or one that may grow, or a new one.
+        let fits =
+            |p: &Pool| p.key == key && (p.free_layer().is_some() || p.holders.len() < p.most_layers as usize);
+        let index = match self
+            .pools
+            .iter()
+            .position(|p| p.key == key && p.free_layer().is_some())
+        {
             Some(i) => i,
-            None => {
-                self.generation += 1;
-                self.pools.push(Pool {
-                    key,
-                    texture: array_texture(device, key, 1),
-                    holders: vec![None],
-                    generation: self.generation,
-                    lost_before: 0,
-                });
-                self.pools.len() - 1
-            }
+            None => match self.pools.iter().position(fits) {
+                Some(i) => i,
+                None => {
+                    self.generation += 1;
+                    self.pools.push(Pool {
+                        key,
+                        id: self.generation,
+                        most_layers: most_layers(device, key, self.max_array_bytes),
+                        texture: array_texture(device, key, 1),
+                        holders: vec![None],
+                        generation: self.generation,
+                        lost_before: 0,
+                    });
+                    self.pools.len() - 1
+                }
+            },
         };
         if self.pools[index].free_layer().is_none() {
             let held = self.pools[index].holders.len() as u32;
-            let layers = grown(held);
+            let layers = grown(held).min(self.pools[index].most_layers);
             self.generation += 1;
             let pool = &mut self.pools[index];
             let texture = array_texture(device, key, layers);
@@ -182,7 +213,7 @@ impl MapPools {
         MapSlot {
             target: layer_target(pool.texture.clone(), layer as u32),
             layer: layer as u32,
-            key,
+            pool: pool.id,
             generation: pool.generation,
             holder,
         }
@@ -229,7 +260,7 @@ impl MapPools {
         if slot.generation == 0 {
             return Moved::No;
         }
-        let Some(pool) = self.pools.iter().find(|p| p.key == slot.key) else {
+        let Some(pool) = self.pools.iter().find(|p| p.id == slot.pool) else {
             return Moved::No;
         };
         if pool.generation == slot.generation {
@@ -300,6 +331,17 @@ fn held(holder: &Option<Weak<AtomicU32>>) -> bool {
 /// light is added: 16 suns added one by one make arrays of 2, 3, 5, 8, 12 and 18 layers).
 fn grown(held: u32) -> u32 {
     held + held.div_ceil(2).clamp(1, 8)
+}
+
+/// The most layers an array of `key` may have: as many as `max_bytes` hold, within the device's
+/// limit, at least one.
+fn most_layers(device: &wgpu::Device, key: PoolKey, max_bytes: u64) -> u32 {
+    let (block_width, block_height) = key.format.block_dimensions();
+    let blocks = u64::from(key.size.0.max(1).div_ceil(block_width))
+        * u64::from(key.size.1.max(1).div_ceil(block_height));
+    let bytes = (blocks * u64::from(crate::gpu_helpers::block_bytes(key.format))).max(1);
+    let by_bytes = (max_bytes / bytes).min(u64::from(u32::MAX)) as u32;
+    by_bytes.min(device.limits().max_texture_array_layers).max(1)
 }
 
 /// Whether `format`'s texels can be copied between textures (24-bit depth cannot).
@@ -404,6 +446,7 @@ mod tests {
             pools: Vec::new(),
             generation: 0,
             copies: Vec::new(),
+            max_array_bytes: MAX_ARRAY_BYTES,
         }
     }
 
@@ -414,6 +457,50 @@ mod tests {
             size: (size, size),
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
         }
+    }
+
+    /// Maps of one key past what an array may hold go into a second array of that key, each
+    /// map told its own array's changes only.
+    #[test]
+    fn maps_past_an_arrays_bytes_go_into_another_array() {
+        let (device, queue) = &device();
+        let mut pools = shared();
+        // Three layers of 64 x 64 32-bit texels an array.
+        pools.max_array_bytes = 3 * 64 * 64 * 4;
+        let mut slots: Vec<MapSlot> = (0..5).map(|_| pools.slot(device, key(64))).collect();
+        assert_eq!(
+            pools.layout(),
+            vec![("test map", (64, 64), 3, 3), ("test map", (64, 64), 2, 2)]
+        );
+        pools.flush(device, queue);
+        let layers: Vec<(u32, Moved)> = slots.iter_mut().map(|s| (s.layer, pools.refresh(s))).collect();
+        // The first three were told of the first array's growth, the last two of the second's
+        // (the fourth saw it grow to two layers).
+        assert_eq!(
+            layers,
+            vec![
+                (0, Moved::Copied),
+                (1, Moved::Copied),
+                (2, Moved::No),
+                (0, Moved::Copied),
+                (1, Moved::No)
+            ]
+        );
+        assert!(slots[0].target.texture != slots[3].target.texture, "two arrays");
+        assert!(slots[0].target.texture == slots[2].target.texture);
+        // A map given back in the first array frees a layer there, which the next map takes.
+        slots.remove(1);
+        pools.trim(device);
+        assert_eq!(
+            pools.layout(),
+            vec![("test map", (64, 64), 2, 2), ("test map", (64, 64), 2, 2)]
+        );
+        let sixth = pools.slot(device, key(64));
+        assert_eq!(
+            pools.layout(),
+            vec![("test map", (64, 64), 3, 3), ("test map", (64, 64), 2, 2)]
+        );
+        assert_eq!(sixth.layer, 2);
     }
 
     #[test]
