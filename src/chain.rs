@@ -3,7 +3,7 @@
 //! `crate::screen::ScreenChain` its screen-space stages.
 
 use crate::frame::{FrameUniform, has_no_size};
-use crate::scene::Light;
+use crate::lights::Light;
 use crate::settings::{ShadowMethod, ShadowSettings};
 
 /// The size of the frame uniform every screen-space pass reads.

@@ -8,8 +8,9 @@
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
+use crate::bounds::Aabb;
 use crate::light_space::{LightView, MAX_TILES, ProjectionKind, tile_matrix, tile_viewport};
-use crate::scene::{Aabb, Light};
+use crate::lights::Light;
 use crate::settings::{ShadowMethod, ShadowSettings, SpreadMode};
 use crate::view::{CameraMatrices, DepthConvention};
 

@@ -99,6 +99,8 @@
 #![cfg_attr(not(feature = "renderer"), allow(dead_code))]
 #![warn(missing_docs)]
 
+mod bounds;
+mod camera;
 pub mod casters;
 mod chain;
 pub mod device;
@@ -109,6 +111,7 @@ mod layouts;
 mod light_maps;
 pub mod light_samples;
 pub mod light_space;
+mod lights;
 pub mod map_resolution;
 mod pipeline_cache;
 pub mod scene;
@@ -140,6 +143,8 @@ pub use renderer::{
 #[cfg(feature = "renderer")]
 pub use scene::{SceneFile, file::load_scene, loaders, loaders::load_model};
 
+pub use bounds::Aabb;
+pub use camera::Camera;
 pub use casters::{
     ALL_LAYERS, AlphaMask, CasterInstance, CasterMeshDesc, Casters, IndexStream, InstanceId, MeshGeometry,
     MeshId, VertexStream,
@@ -149,11 +154,14 @@ pub use error::{PenumbraError, Result};
 pub use frame::DerivedSpreads;
 pub use layouts::SceneLayouts;
 pub use light_space::{Cascade, LightView, MAX_CASCADES, UnheldCaster};
+pub use lights::{
+    AreaLight, AreaShape, DirectionalLight, DiskLight, Exposure, Light, MAX_LIGHTS, PointLight, RectLight,
+    SpotLight,
+};
 pub use map_resolution::PenumbraWidths;
 pub use scene::{
-    Aabb, AlphaMode, AreaLight, AreaShape, Camera, DirectionalLight, DiskLight, Exposure, Instance, Light,
-    LightingMode, LightmapFilter, LightmapImage, LightmapRect, Lightmaps, MAX_LIGHTS, Material, Mesh, Model,
-    OrbitCamera, PointLight, RectLight, Scene, Shading, SpotLight, TextureImage, Viewpoint,
+    AlphaMode, Instance, LightingMode, LightmapFilter, LightmapImage, LightmapRect, Lightmaps, Material,
+    Mesh, Model, OrbitCamera, Scene, Shading, TextureImage, Viewpoint,
 };
 pub use screen::VISIBILITY_FORMAT;
 pub use settings::{

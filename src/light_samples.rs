@@ -36,7 +36,7 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::scene::{DirectionalLight, DiskLight, Light, PointLight, RectLight, SpotLight};
+use crate::lights::{DirectionalLight, DiskLight, Light, PointLight, RectLight, SpotLight};
 
 /// Point `k` of `n` on the unit disk: a Vogel (golden-angle) spiral, radius
 /// `sqrt((k + 0.5) / n)`, angle `k x 137.5 degrees`, which covers the disk evenly for any `n`.

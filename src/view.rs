@@ -5,8 +5,8 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
+use crate::camera::Camera;
 use crate::error::{PenumbraError, Result};
-use crate::scene::Camera;
 
 /// How a depth buffer maps distance to depth.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -160,6 +160,33 @@ fn no_module_reaches_back_a_module_that_reaches_it() {
     }
 }
 
+/// The convenience layer's modules: the scene model with its loaders and files, and the renderer.
+const CONVENIENCE: [&str; 2] = ["scene", "renderer"];
+
+#[test]
+fn the_embedding_core_reaches_neither_the_scene_model_nor_the_renderer() {
+    let graph = module_graph();
+    assert!(
+        graph.contains_key("scene") && graph.contains_key("lights"),
+        "modules: {:?}",
+        graph.keys()
+    );
+    let reaching: Vec<String> = graph
+        .iter()
+        .filter(|(module, _)| !CONVENIENCE.contains(&module.as_str()))
+        .flat_map(|(module, edges)| {
+            edges
+                .iter()
+                .filter(|(target, _)| CONVENIENCE.contains(&target.as_str()))
+                .map(move |(target, at)| format!("{module} -> {target} ({at})"))
+        })
+        .collect();
+    assert!(
+        reaching.is_empty(),
+        "the core reaches the convenience layer: {reaching:?}"
+    );
+}
+
 #[test]
 fn the_gpu_helpers_reach_no_other_module() {
     let graph = module_graph();

@@ -12,6 +12,7 @@
 //! its frustum ([`Casters::changed_inside`]).
 
 mod desc;
+pub(crate) mod normals;
 mod read_back;
 mod registry;
 pub use desc::{

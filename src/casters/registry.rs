@@ -7,10 +7,10 @@ use super::desc::{
     NORMAL_FORMATS, POSITION_FORMATS, check_indices, check_stream, check_transform, index_size,
 };
 use super::read_back::{decode_vec3, read_indices, read_stream};
+use crate::bounds::Aabb;
+pub(crate) use crate::casters::normals::OutwardWinding;
 use crate::error::{PenumbraError, Result};
 use crate::layouts::{InstanceUniform, MaterialUniform, SceneLayouts};
-use crate::scene::Aabb;
-pub(crate) use crate::scene::mesh::OutwardWinding;
 use glam::{Mat3, Mat4, Vec3};
 
 /// Which casters a light-space draw takes.
@@ -128,7 +128,7 @@ struct CasterMesh {
     element_count: u32,
     vertex_count: u32,
     bounds: Aabb,
-    /// Which way its triangles turn seen from outside ([`crate::scene::mesh::outward_winding`]).
+    /// Which way its triangles turn seen from outside ([`crate::casters::normals::outward_winding`]).
     winding: OutwardWinding,
 }
 
@@ -389,8 +389,9 @@ impl Casters {
             None => (0..desc.vertex_count).collect(),
         };
         let bounds = Aabb::from_points(positions.iter());
-        let smoothed = crate::scene::mesh::smoothed_normals(&positions, &indices, bounds, normals.as_deref());
-        let winding = crate::scene::mesh::outward_winding(&positions, &indices, &smoothed);
+        let smoothed =
+            crate::casters::normals::smoothed_normals(&positions, &indices, bounds, normals.as_deref());
+        let winding = crate::casters::normals::outward_winding(&positions, &indices, &smoothed);
         let smoothed_buffer = vertex_buffer(
             device,
             "Casters::smoothed_normals",
@@ -536,9 +537,9 @@ impl Casters {
             }
         };
         let bounds = Aabb::from_points(positions.iter());
-        let smoothed = crate::scene::mesh::smoothed_normals(positions, indices, bounds, normals);
+        let smoothed = crate::casters::normals::smoothed_normals(positions, indices, bounds, normals);
         queue.write_buffer(&mesh.smoothed_normals.buffer, 0, bytemuck::cast_slice(&smoothed));
-        let winding = crate::scene::mesh::outward_winding(positions, indices, &smoothed);
+        let winding = crate::casters::normals::outward_winding(positions, indices, &smoothed);
         if let Some(mesh) = self.meshes.get_mut(id.0 as usize).and_then(Option::as_mut) {
             mesh.bounds = bounds;
             mesh.winding = winding;

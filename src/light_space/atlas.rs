@@ -1,6 +1,6 @@
 //! How a light's maps lay out their tiles (cascades, cube faces) in one atlas.
 
-use crate::scene::Light;
+use crate::lights::Light;
 use crate::settings::CascadeSettings;
 use glam::{Mat4, Vec4};
 

@@ -1,9 +1,9 @@
 //! Clipping boxes against a light's frustum: the depth range the scene takes in it, and
 //! whether a caster's box can reach a tile.
 
-use crate::scene::Aabb;
+use crate::bounds::Aabb;
 #[cfg(test)]
-use crate::scene::Camera;
+use crate::camera::Camera;
 use glam::{Mat4, Vec3, Vec4};
 
 /// The eight world-space corners of the camera's frustum from its near plane to
@@ -105,12 +105,12 @@ pub(super) fn clip_polygon(polygon: &[Vec3], plane: Vec4) -> Vec<Vec3> {
 /// Whether the box `b`, grown by `margin` on every side, reaches into the clip volume of
 /// `view_projection` (x and y in [-w, w], depth in [0, w]): false only when all its corners lie
 /// beyond one plane, so a draw culled by it can miss nothing.
-pub(crate) fn box_reaches_clip(view_projection: &glam::Mat4, b: &crate::scene::Aabb, margin: f32) -> bool {
+pub(crate) fn box_reaches_clip(view_projection: &glam::Mat4, b: &crate::bounds::Aabb, margin: f32) -> bool {
     if b.is_empty() {
         return false;
     }
     let m = glam::Vec3::splat(margin);
-    let clip = crate::scene::Aabb::new(b.min - m, b.max + m)
+    let clip = crate::bounds::Aabb::new(b.min - m, b.max + m)
         .corners()
         .map(|c| *view_projection * c.extend(1.0));
     let beyond = |f: &dyn Fn(&glam::Vec4) -> bool| clip.iter().all(f);

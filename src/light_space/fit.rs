@@ -4,7 +4,8 @@
 use super::atlas::{AtlasGrid, tile_resolution};
 use super::clip::*;
 use super::view::*;
-use crate::scene::{Aabb, Light};
+use crate::bounds::Aabb;
+use crate::lights::Light;
 use crate::settings::{CascadeSettings, LightFit};
 use crate::view::CameraMatrices;
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -756,7 +757,7 @@ pub(super) fn perspective_depth_range(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::PointLight;
+    use crate::lights::PointLight;
 
     fn lamp(range: Option<f32>) -> Light {
         Light::Point(PointLight {
@@ -791,7 +792,7 @@ mod tests {
     /// wide, a caster 3 units out: the caster is kept and the far plane comes in.
     #[test]
     fn a_spots_planes_keep_the_floor_past_a_lens_and_the_caster_over_a_ground() {
-        use crate::scene::SpotLight;
+        use crate::lights::SpotLight;
         let spot = SpotLight {
             position: Vec3::ZERO,
             direction: Vec3::NEG_Y,

@@ -3,9 +3,9 @@
 use super::atlas::AtlasGrid;
 #[cfg(test)]
 use super::clip::frustum_corners;
-use crate::scene::Aabb;
+use crate::bounds::Aabb;
 #[cfg(test)]
-use crate::scene::Camera;
+use crate::camera::Camera;
 use crate::view::CameraMatrices;
 use glam::{Mat4, Vec2, Vec3};
 
@@ -230,7 +230,7 @@ impl LightView {
 mod tests {
     use super::*;
     use crate::light_space::*;
-    use crate::scene::{DirectionalLight, Light, SpotLight};
+    use crate::lights::{DirectionalLight, Light, SpotLight};
     use crate::settings::{CascadeSettings, LightFit};
     use glam::Vec4;
 
@@ -346,7 +346,7 @@ mod tests {
                 intensity: 1.0,
                 range: None,
             }),
-            Light::Point(crate::scene::PointLight {
+            Light::Point(crate::lights::PointLight {
                 position: Vec3::new(0.5, 1.5, -0.5),
                 radius: 0.1,
                 color: Vec3::ONE,
@@ -752,7 +752,7 @@ mod tests {
     #[test]
     fn cube_faces_near_plane_lies_before_every_caster() {
         let position = Vec3::new(0.0, 6.0, -4.8);
-        let light = Light::Point(crate::scene::PointLight {
+        let light = Light::Point(crate::lights::PointLight {
             position,
             radius: 0.25,
             color: Vec3::ONE,

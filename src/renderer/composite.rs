@@ -12,7 +12,7 @@ use crate::gpu_helpers::{begin_pass, cleared, depth_attachment};
 use crate::layouts::SceneLayouts;
 
 use crate::frame::ShadedLights;
-use crate::scene::Light;
+use crate::lights::Light;
 
 pub struct CompositePass {
     lights: wgpu::Buffer,

@@ -169,7 +169,7 @@ impl ForwardPass {
 
     /// Makes ready the pipelines for `light` (the area lights' shading only where it has an
     /// area).
-    pub fn shade(&mut self, device: &wgpu::Device, light: &crate::scene::Light) {
+    pub fn shade(&mut self, device: &wgpu::Device, light: &crate::lights::Light) {
         self.pipelines.shade_area_lights(device, light.area().is_some());
     }
 

@@ -5,11 +5,13 @@
 use glam::{Mat4, Vec3, Vec4};
 use wgpu::util::DeviceExt;
 
+use crate::bounds::Aabb;
 use crate::error::{PenumbraError, Result};
 use crate::layouts::{MaterialUniform, SceneLayouts, SurfaceUniform};
+use crate::lights::{Exposure, Light};
 use crate::scene::{
-    Aabb, AlphaMode, Exposure, FilterMode, Light, LightingMode, LightmapFilter, LightmapImage, Scene,
-    Shading, TextureSampler, WrapMode,
+    AlphaMode, FilterMode, LightingMode, LightmapFilter, LightmapImage, Scene, Shading, TextureSampler,
+    WrapMode,
 };
 
 /// One mesh's vertex streams.
@@ -770,7 +772,11 @@ fn add_casters(
                 &gpu.indices,
                 (gpu.index_count, mesh.vertex_count() as u32),
                 mesh.bounds,
-                crate::scene::mesh::outward_winding(&mesh.positions, &mesh.indices, &mesh.smoothed_normals),
+                crate::casters::normals::outward_winding(
+                    &mesh.positions,
+                    &mesh.indices,
+                    &mesh.smoothed_normals,
+                ),
             )
         })
         .collect();

@@ -7,12 +7,14 @@
 use super::depth_prepass::DepthPrepass;
 use super::gpu_scene::GpuScene;
 use super::reference::{GeometricNormals, ReferencePass};
+use crate::bounds::Aabb;
+use crate::camera::Camera;
 use crate::error::Result;
 use crate::gpu_helpers::Target;
 use crate::light_maps::{MapPools, MapUpload, ShadowMapPass};
 use crate::light_samples::{Emitter, light_sample};
 use crate::light_space::{AtlasGrid, CUBE_AXES, FitInputs, LightView, atlas_grid, tile_resolution};
-use crate::scene::{Aabb, Camera, Light};
+use crate::lights::Light;
 use crate::settings::{ShadowMapSettings, ShadowSettings};
 use crate::view::CameraMatrices;
 use glam::Vec3;
@@ -421,7 +423,7 @@ impl GroundTruth {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{PointLight, SpotLight};
+    use crate::lights::{PointLight, SpotLight};
     use glam::Vec3;
 
     /// The face `cube_face` (shaders/common/cube.wgsl) picks for `v`.

@@ -11,8 +11,9 @@
 //! feature, NVIDIA's FLIP perceptual metric compares final images.
 
 use super::gpu::{HeadlessGpu, read_texture_f32};
+use crate::camera::Camera;
 use crate::error::{PenumbraError, Result};
-use crate::scene::{Camera, Scene};
+use crate::scene::Scene;
 use crate::settings::{ShadowMethod, ShadowSettings};
 use crate::{GpuScene, Renderer};
 

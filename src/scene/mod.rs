@@ -2,7 +2,6 @@
 //!
 //! Everything here is plain CPU data; [`crate::GpuScene`] uploads it.
 
-mod bounds;
 mod camera;
 pub mod character;
 #[cfg(feature = "renderer")]
@@ -18,14 +17,18 @@ pub mod primitives;
 pub mod teapot;
 mod teapot_data;
 
-pub use bounds::Aabb;
-pub use camera::{Camera, OrbitCamera};
+pub use crate::bounds::Aabb;
+pub use crate::camera::Camera;
+pub use crate::lights::{
+    AreaLight, AreaShape, DirectionalLight, DiskLight, Exposure, Light, MAX_LIGHTS, PointLight, RectLight,
+    SpotLight, light_axes,
+};
+pub use camera::OrbitCamera;
 #[cfg(feature = "renderer")]
 pub use file::{LightsFrom, MeshSource, SceneFile, TextureSource};
 pub use light::{
-    AreaLight, AreaShape, DirectionalLight, DiskLight, Exposure, Light, MAX_LIGHTS,
     MODEL_SPOT_RADIUS_PER_DISTANCE, MODEL_SUN_DIAMETER_DEG, ModelLight, ModelLightKind, ModelLightSizes,
-    PointLight, RectLight, SpotLight, light_axes, lights_from_model,
+    lights_from_model,
 };
 pub use lightmap::{LightingMode, LightmapFilter, LightmapImage, LightmapRect, Lightmaps, rg11b10, rgb9e5};
 pub use material::{AlphaMode, FilterMode, Material, Shading, TextureImage, TextureSampler, WrapMode};

@@ -2,14 +2,15 @@
 //! what decides when they are redrawn (its key, the tiles of its maps a frame redraws), and
 //! the spreads and map resolution a frame derives for it.
 
+use crate::bounds::Aabb;
 use crate::casters::Casters;
 use crate::chain::Chain;
 use crate::frame::{DerivedSpreads, FrameSlot, PassParams, light_kind};
 use crate::light_maps::LightMaps;
 use crate::light_space::tile_resolution;
 use crate::light_space::{LightView, MAX_TILES};
+use crate::lights::Light;
 use crate::map_resolution::PenumbraWidths;
-use crate::scene::{Aabb, Light};
 use crate::screen::{ComputeTargets, ScreenChain, ScreenInputs};
 use crate::settings::{MapResolution, ShadowMapSettings, ShadowSettings, SpreadMode};
 use crate::view::CameraMatrices;

@@ -5,12 +5,13 @@
 use super::api::{SCENE_FATTEN_RATIO, pass_params};
 use super::light_state::{LightState, Planned, ShadowKey, narrowest_texels, redrawn_tiles, sees, spreads};
 use super::report::LightId;
+use crate::bounds::Aabb;
 use crate::casters::Casters;
 use crate::chain::Chain;
 use crate::frame::{DerivedSpreads, FrameInputs, FrameUniform, PassParams, derive_spreads};
 use crate::light_maps::{LightMaps, MapPools, MapUpload, Moved};
 use crate::light_space::{FitInputs, LightView};
-use crate::scene::{Aabb, Light};
+use crate::lights::Light;
 use crate::settings::{CascadeSettings, LightFit, ShadowMapSettings, ShadowSettings};
 use crate::view::CameraMatrices;
 
