@@ -669,3 +669,70 @@ fn empty_and_one_triangle_scenes_render() {
     let image = common::render(&gpu, &one, &camera, settings(ShadowMethod::Hardware2x2), 64, 48);
     assert!(image.pixels().any(|p| *p != background), "the triangle is drawn");
 }
+
+/// What the device compiled so far: render and compute pipelines, shader modules.
+fn compiled(device: &wgpu::Device) -> [isize; 3] {
+    let hal = device.get_internal_counters().hal;
+    [
+        hal.render_pipelines.read(),
+        hal.compute_pipelines.read(),
+        hal.shader_modules.read(),
+    ]
+}
+
+/// Two renderers of one device (the demo's two sides) share their shadow passes' pipelines when
+/// asked: the second's first frame compiles nothing (its own passes were made with it), and it
+/// draws the same image. Without the call that frame compiles the shadow passes again.
+#[test]
+fn renderers_that_share_pipelines_compile_the_shadow_passes_once() {
+    let gpu = common::gpu();
+    let scene = load_scene(&common::asset("scenes/teapot.ron")).unwrap();
+    let camera = scene.view(0).unwrap();
+    let format = wgpu::TextureFormat::Rgba8UnormSrgb;
+    let first_renderer = || penumbra::Renderer::new(&gpu.device, format, ShadowSettings::default()).unwrap();
+    let mut first = first_renderer();
+    let gpu_scene = penumbra::GpuScene::new(&gpu.device, &gpu.queue, first.layouts(), &scene).unwrap();
+    let image = penumbra::render_to_image(&gpu, &mut first, &gpu_scene, &camera, 96, 72).unwrap();
+    let grown = |second: &mut penumbra::Renderer| {
+        let before = compiled(&gpu.device);
+        let second_image = penumbra::render_to_image(&gpu, second, &gpu_scene, &camera, 96, 72).unwrap();
+        let after = compiled(&gpu.device);
+        (
+            std::array::from_fn::<isize, 3, _>(|k| after[k] - before[k]),
+            second_image,
+        )
+    };
+    let mut shared = penumbra::Renderer::with_layouts(
+        &gpu.device,
+        format,
+        ShadowSettings::default(),
+        first.layouts().clone(),
+    )
+    .unwrap();
+    shared.share_pipelines_with(&first).unwrap();
+    let (with_sharing, shared_image) = grown(&mut shared);
+    let mut apart = penumbra::Renderer::with_layouts(
+        &gpu.device,
+        format,
+        ShadowSettings::default(),
+        first.layouts().clone(),
+    )
+    .unwrap();
+    let (without, apart_image) = grown(&mut apart);
+    println!(
+        "compiled by a second renderer (render, compute, modules): sharing {with_sharing:?}, apart {without:?}"
+    );
+    assert!(
+        shared_image == image && apart_image == image,
+        "the renderers drew different images"
+    );
+    assert_eq!(
+        with_sharing,
+        [0, 0, 0],
+        "a sharing renderer compiled pipelines or modules"
+    );
+    assert!(
+        without[0] >= 4 && without[1] >= 4,
+        "apart, the second renderer compiled {without:?} against {with_sharing:?} sharing"
+    );
+}

@@ -741,7 +741,13 @@ impl DemoApp {
         shared.execution.raw_visibility |= self.map == MapView::Debug(DebugView::Pcf);
         for i in 0..count {
             let measure_mask = self.sides[i].stats.redraws.is_multiple_of(15);
-            let result = self.sides[i].draw(
+            let (left, right) = self.sides.split_at_mut(1);
+            let (side, other) = if i == 0 {
+                (&mut left[0], &right[0])
+            } else {
+                (&mut right[0], &left[0])
+            };
+            let result = side.draw(
                 &self.render_state,
                 &self.layouts,
                 &self.gpu_scene,
@@ -750,6 +756,7 @@ impl DemoApp {
                 size,
                 self.continuous,
                 measure_mask,
+                other.renderer(),
             );
             self.sides[i].set_debug_light(self.selected_light);
             match result {

@@ -117,6 +117,7 @@ impl Side {
         size: (u32, u32),
         force: bool,
         measure_mask: bool,
+        other: Option<&Renderer>,
     ) -> Result<bool, penumbra::PenumbraError> {
         let (device, queue) = (&render_state.device, &render_state.queue);
         if size.0 == 0 || size.1 == 0 {
@@ -131,6 +132,10 @@ impl Side {
             }
             None => {
                 let mut r = Renderer::with_layouts(device, COLOR_FORMAT, settings, layouts.clone())?;
+                // The other side's shadow passes serve this one too: each is compiled once.
+                if let Some(other) = other {
+                    r.share_pipelines_with(other)?;
+                }
                 r.enable_timing(device, queue);
                 self.renderer = Some(r);
             }

@@ -422,6 +422,16 @@ impl Renderer {
         Ok(timed)
     }
 
+    /// Makes this renderer's shadows take their passes' pipelines, shader modules and bind
+    /// group layouts from where `other`'s take theirs ([`Shadows::share_pipelines_with`]): two
+    /// renderers of one device (a side-by-side comparison, several views) then compile each
+    /// shadow pass once between them. Call it before the first frame: the passes made before
+    /// keep their own. The renderer's own passes (prepass, composite, forward) stay its own. A
+    /// renderer of another device is refused with an error naming `other`.
+    pub fn share_pipelines_with(&mut self, other: &Renderer) -> Result<()> {
+        self.shadows.share_pipelines_with(&other.shadows)
+    }
+
     /// Has [`Renderer::render`] and the reference's calls report
     /// [`PenumbraError::DeviceLost`] once `loss` has seen the device lost (see
     /// [`crate::DeviceLoss`]; a [`crate::HeadlessGpu`] has one).
